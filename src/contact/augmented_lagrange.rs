@@ -1,0 +1,235 @@
+//! The paper's augmented Lagrange iteration on the gap rate (method.md section 3) and our
+//! reading of its adaptive penalty (eqs. 18-20).
+//!
+//! Inside a time step, iteration k gives every candidate node of an interface a pressure
+//!
+//! $T_N^{(k+1)} = H\, \langle T_N^{(k)} + \epsilon_N\, m^{(k+1)} \rangle$
+//!
+//! where $m = \dot g$ for `constraint = "gap_rate"` (the paper) and
+//! $m = \gamma g / (\beta \Delta t)$ for `constraint = "gap"` (the classical position
+//! constraint, scaled so that one penalty value means the same iteration for both).
+//! The penalty acts only in this update, not in the stiffness, so the iteration is a
+//! projected fixed point (Uzawa) iteration: it converges for $0 < \epsilon s < 2$, where s
+//! is the contact compliance (gap-rate response per unit pressure), and oscillates or
+//! diverges beyond. That is why the paper adapts $\epsilon$.
+//!
+//! **Our reading of eqs. 18-20** (`docs/method-notes.md` has the full argument):
+//! $\epsilon_{k+1} = f\,\epsilon_k$ with $f = 10^{x}$ and x a real exponent (not INT, which
+//! makes f = 1 for every decrease and jumps by up to 10^5 on an increase):
+//! - 20b, oscillation: when the pressure change reverses sign between iterations and its
+//!   relative size exceeds T_MAX (`max_force_change`), $x = -\log_{10}(\epsilon \hat s)$,
+//!   where $\hat s = -\Delta T \cdot \Delta m / |\Delta T|^2$ is the compliance measured from
+//!   the last two iterations; this brings $\epsilon \hat s$ to 1, the centre of the stable
+//!   range. The penalty that oscillated becomes a ceiling for increases in the same step.
+//! - 20a, too loose: when the iteration creeps monotonically and the largest gap-rate
+//!   violation exceeds MAR (`max_gap_rate`), $x = \log_{10}\min(R_N, 1/(\epsilon\hat s), 100)$
+//!   with $R_N = |\dot g|_{max} / \mathrm{MAR}$, kept below half the ceiling.
+//! - both laws move at most 6 decades per iteration.
+
+use crate::scene::PenaltyLaw;
+
+/// Adaptive (or fixed) penalty of one interface, kept from step to step.
+#[derive(Debug, Clone)]
+pub struct Penalty {
+    pub eps: f64,
+    pub law: PenaltyLaw,
+    /// MAR: largest admissible gap rate.
+    pub max_gap_rate: f64,
+    /// T_MAX: largest relative force change allowed to alternate in sign.
+    pub max_force_change: f64,
+    /// Smallest penalty seen to oscillate in the current step (the compliance changes from
+    /// step to step, so the ceiling does not outlive its step).
+    pub ceiling: f64,
+    /// Counters for the summary.
+    pub increases: usize,
+    pub decreases: usize,
+}
+
+impl Penalty {
+    pub fn new(eps: f64, law: PenaltyLaw, max_gap_rate: f64, max_force_change: f64) -> Self {
+        Penalty {
+            eps,
+            law,
+            max_gap_rate,
+            max_force_change,
+            ceiling: f64::INFINITY,
+            increases: 0,
+            decreases: 0,
+        }
+    }
+
+    /// Forgets the ceiling of the previous step.
+    pub fn new_step(&mut self) {
+        self.ceiling = f64::INFINITY;
+    }
+}
+
+/// Per-step iteration memory of one interface.
+#[derive(Debug, Clone, Default)]
+pub struct IterationMemory {
+    /// Pressures and measures of the previous iteration.
+    prev_lambda: Vec<f64>,
+    prev_measure: Vec<f64>,
+    /// Pressure change of the previous iteration.
+    prev_delta: Vec<f64>,
+    have_prev: bool,
+}
+
+impl IterationMemory {
+    pub fn reset(&mut self) {
+        self.have_prev = false;
+    }
+}
+
+/// Result of one multiplier update.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct UpdateReport {
+    /// Relative change of the contact force (area-weighted pressures).
+    pub relative_change: f64,
+    /// Largest violation of the constraint (in gap-rate units).
+    pub violation: f64,
+    pub oscillating: bool,
+}
+
+fn new_lambda(lambda: &[f64], measure: &[f64], candidate: &[bool], eps: f64, out: &mut [f64]) {
+    for i in 0..lambda.len() {
+        out[i] = if candidate[i] {
+            (lambda[i] + eps * measure[i]).max(0.0)
+        } else {
+            0.0
+        };
+    }
+}
+
+/// One augmented Lagrange update of an interface:
+/// `lambda_next = H <lambda + eps m>`, with the penalty adapted first when the law says so.
+pub fn update(
+    penalty: &mut Penalty,
+    memory: &mut IterationMemory,
+    lambda: &[f64],
+    measure: &[f64],
+    candidate: &[bool],
+    area: &[f64],
+    lambda_next: &mut [f64],
+) -> UpdateReport {
+    let n = lambda.len();
+    new_lambda(lambda, measure, candidate, penalty.eps, lambda_next);
+
+    let weighted_norm = |it: &mut dyn Iterator<Item = f64>| it.map(|x| x * x).sum::<f64>().sqrt();
+    let change = |next: &[f64]| {
+        let d = weighted_norm(&mut (0..n).map(|i| (next[i] - lambda[i]) * area[i]));
+        let s = weighted_norm(&mut (0..n).map(|i| next[i].max(lambda[i]) * area[i]));
+        if d == 0.0 {
+            0.0
+        } else {
+            d / s.max(f64::MIN_POSITIVE)
+        }
+    };
+    let violation = (0..n)
+        .filter(|&i| candidate[i])
+        .map(|i| {
+            if lambda_next[i] > 0.0 {
+                measure[i].abs()
+            } else {
+                measure[i].max(0.0)
+            }
+        })
+        .fold(0.0, f64::max);
+    let mut report = UpdateReport {
+        relative_change: change(lambda_next),
+        violation,
+        oscillating: false,
+    };
+
+    if memory.have_prev && memory.prev_lambda.len() == n {
+        // measured compliance along the last pressure change: s = -dT.dm / |dT|^2
+        let (mut tt, mut tm, mut dd) = (0.0, 0.0, 0.0);
+        for i in 0..n {
+            let dt = lambda[i] - memory.prev_lambda[i];
+            tt += dt * dt;
+            tm += dt * (measure[i] - memory.prev_measure[i]);
+            dd += (lambda_next[i] - lambda[i]) * memory.prev_delta[i];
+        }
+        let s_hat = if tt > 0.0 { -tm / tt } else { 0.0 };
+        report.oscillating = dd < 0.0 && report.relative_change > penalty.max_force_change;
+        if penalty.law == PenaltyLaw::Adaptive {
+            let eps = penalty.eps;
+            let mut factor = 1.0;
+            if report.oscillating {
+                // eq. 20b: lower the penalty to the centre of the stable range
+                factor = if s_hat > 0.0 && eps * s_hat > 1.0 {
+                    1.0 / (eps * s_hat)
+                } else {
+                    0.5
+                };
+                factor = factor.max(1e-6);
+                penalty.ceiling = penalty.ceiling.min(eps);
+                penalty.decreases += 1;
+            } else if violation > penalty.max_gap_rate && s_hat > 0.0 && eps * s_hat < 0.5 {
+                // eq. 20a: raise the penalty of a loose, creeping iteration
+                let r_n = violation / penalty.max_gap_rate;
+                factor = r_n.min(1.0 / (eps * s_hat)).min(100.0);
+                factor = factor.min(0.5 * penalty.ceiling / eps).max(1.0);
+                if factor > 1.0 {
+                    penalty.increases += 1;
+                }
+            }
+            if factor != 1.0 {
+                penalty.eps = eps * factor;
+                new_lambda(lambda, measure, candidate, penalty.eps, lambda_next);
+                report.relative_change = change(lambda_next);
+            }
+        }
+    }
+    memory.prev_lambda.clear();
+    memory.prev_lambda.extend_from_slice(lambda);
+    memory.prev_measure.clear();
+    memory.prev_measure.extend_from_slice(measure);
+    memory.prev_delta.clear();
+    memory
+        .prev_delta
+        .extend((0..n).map(|i| lambda_next[i] - lambda[i]));
+    memory.have_prev = true;
+    report
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A single constraint with linear response m = m0 - s T: the exact answer is T = m0 / s.
+    fn iterate(law: PenaltyLaw, eps0: f64, s: f64, iters: usize) -> (f64, usize, f64) {
+        let m0 = 1.0;
+        let mut p = Penalty::new(eps0, law, 1e-6, 0.05);
+        let mut mem = IterationMemory::default();
+        let mut lam = [0.0];
+        for k in 0..iters {
+            let m = [m0 - s * lam[0]];
+            let mut next = [0.0];
+            let r = update(&mut p, &mut mem, &lam, &m, &[true], &[1.0], &mut next);
+            if r.relative_change < 1e-10 {
+                return (lam[0], k, p.eps);
+            }
+            lam = next;
+        }
+        (lam[0], iters, p.eps)
+    }
+
+    #[test]
+    fn fixed_penalty_converges_inside_the_stable_range_only() {
+        let (t, k, _) = iterate(PenaltyLaw::Fixed, 0.8, 2.0, 200);
+        assert!((t - 0.5).abs() < 1e-9 && k < 40, "t {t} k {k}");
+        let (_, k, _) = iterate(PenaltyLaw::Fixed, 1.5, 2.0, 200);
+        assert_eq!(k, 200, "eps s = 3 must not converge");
+    }
+
+    #[test]
+    fn adaptive_penalty_recovers_from_too_large_and_too_small() {
+        for eps0 in [1e3, 1e-5] {
+            let (t, k, eps) = iterate(PenaltyLaw::Adaptive, eps0, 2.0, 200);
+            assert!((t - 0.5).abs() < 1e-9, "eps0 {eps0}: t {t}");
+            assert!(k < 30, "eps0 {eps0}: {k} iterations");
+            assert!(eps * 2.0 < 2.0, "final eps s = {}", eps * 2.0);
+        }
+    }
+}

@@ -1,0 +1,76 @@
+//! Broad phase: for each secondary node, the primary faces it may touch during the step.
+//!
+//! A uniform grid of cells as large as the biggest face holds every face whose bounding
+//! box, grown by a margin, overlaps the cell; a node's candidates are the faces of its cell
+//! whose grown box contains it. Rebuilt at the start of every step from the current
+//! configuration, with a margin that covers the step's motion.
+
+use std::collections::HashMap;
+
+use crate::kernels::ContactQueries;
+
+/// Fills `queries.offsets` and `queries.candidates` for the queries in `query_range`
+/// against the faces in `face_range`. `x` holds current positions (3 per node).
+pub fn find_candidates(
+    queries: &mut ContactQueries,
+    x: &[[f64; 3]],
+    query_range: std::ops::Range<usize>,
+    face_range: std::ops::Range<usize>,
+    margin: f64,
+    out: &mut Vec<Vec<u32>>,
+) {
+    let mut boxes = Vec::with_capacity(face_range.len());
+    let mut cell = 0.0f64;
+    for fi in face_range.clone() {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for &n in &queries.faces[fi] {
+            for a in 0..3 {
+                lo[a] = lo[a].min(x[n as usize][a]);
+                hi[a] = hi[a].max(x[n as usize][a]);
+            }
+        }
+        for a in 0..3 {
+            lo[a] -= margin;
+            hi[a] += margin;
+            cell = cell.max(hi[a] - lo[a]);
+        }
+        boxes.push((fi as u32, lo, hi));
+    }
+    let key = |p: [f64; 3]| p.map(|c| (c / cell).floor() as i64);
+    let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+    for (b, (_, lo, hi)) in boxes.iter().enumerate() {
+        let (k0, k1) = (key(*lo), key(*hi));
+        for i in k0[0]..=k1[0] {
+            for j in k0[1]..=k1[1] {
+                for k in k0[2]..=k1[2] {
+                    grid.entry([i, j, k]).or_default().push(b);
+                }
+            }
+        }
+    }
+    for qi in query_range {
+        let p = x[queries.secondary[qi] as usize];
+        let list = &mut out[qi];
+        list.clear();
+        if let Some(cands) = grid.get(&key(p)) {
+            for &b in cands {
+                let (fi, lo, hi) = &boxes[b];
+                if (0..3).all(|a| p[a] >= lo[a] && p[a] <= hi[a]) {
+                    list.push(*fi);
+                }
+            }
+        }
+    }
+}
+
+/// Flattens per-query candidate lists into the CSR arrays of `queries`.
+pub fn flatten(queries: &mut ContactQueries, lists: &[Vec<u32>]) {
+    queries.offsets.clear();
+    queries.candidates.clear();
+    queries.offsets.push(0);
+    for l in lists {
+        queries.candidates.extend_from_slice(l);
+        queries.offsets.push(queries.candidates.len() as u32);
+    }
+}

@@ -1,0 +1,237 @@
+//! The trilinear hexahedron (hex8) with 2x2x2 Gauss quadrature.
+//!
+//! Corner k sits at $(\xi, \eta, \zeta) = $ `CORNERS[k]` in the parent cube $[-1, 1]^3$,
+//! with shape function $N_k = \tfrac18 (1 + \xi_k \xi)(1 + \eta_k \eta)(1 + \zeta_k \zeta)$.
+
+use crate::material::Elastic;
+
+pub const CORNERS: [[f64; 3]; 8] = [
+    [-1.0, -1.0, -1.0],
+    [1.0, -1.0, -1.0],
+    [1.0, 1.0, -1.0],
+    [-1.0, 1.0, -1.0],
+    [-1.0, -1.0, 1.0],
+    [1.0, -1.0, 1.0],
+    [1.0, 1.0, 1.0],
+    [-1.0, 1.0, 1.0],
+];
+
+/// The 2x2x2 Gauss points (all weights are 1).
+pub fn gauss_points() -> [[f64; 3]; 8] {
+    let g = 1.0 / 3f64.sqrt();
+    CORNERS.map(|c| c.map(|x| x * g))
+}
+
+/// Shape functions at a parent point.
+pub fn shape(p: [f64; 3]) -> [f64; 8] {
+    CORNERS.map(|c| 0.125 * (1.0 + c[0] * p[0]) * (1.0 + c[1] * p[1]) * (1.0 + c[2] * p[2]))
+}
+
+/// Parent derivatives dN_k/dxi_a at a parent point.
+pub fn shape_derivatives(p: [f64; 3]) -> [[f64; 3]; 8] {
+    CORNERS.map(|c| {
+        let f = [1.0 + c[0] * p[0], 1.0 + c[1] * p[1], 1.0 + c[2] * p[2]];
+        [
+            0.125 * c[0] * f[1] * f[2],
+            0.125 * f[0] * c[1] * f[2],
+            0.125 * f[0] * f[1] * c[2],
+        ]
+    })
+}
+
+/// Physical gradients dN_k/dx and the Jacobian determinant at a parent point.
+///
+/// $J_{ab} = \sum_k x_{k,a}\, \partial N_k/\partial\xi_b$, $\nabla N_k = J^{-T} \nabla_\xi N_k$.
+pub fn gradients(x: &[[f64; 3]; 8], p: [f64; 3]) -> ([[f64; 3]; 8], f64) {
+    let dn = shape_derivatives(p);
+    let mut j = [[0.0; 3]; 3];
+    for k in 0..8 {
+        for a in 0..3 {
+            for b in 0..3 {
+                j[a][b] += x[k][a] * dn[k][b];
+            }
+        }
+    }
+    let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+        - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+        + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
+    // inverse of J (cofactors / det); grad N = J^{-T} dN/dxi
+    let inv = [
+        [
+            (j[1][1] * j[2][2] - j[1][2] * j[2][1]) / det,
+            (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det,
+            (j[0][1] * j[1][2] - j[0][2] * j[1][1]) / det,
+        ],
+        [
+            (j[1][2] * j[2][0] - j[1][0] * j[2][2]) / det,
+            (j[0][0] * j[2][2] - j[0][2] * j[2][0]) / det,
+            (j[0][2] * j[1][0] - j[0][0] * j[1][2]) / det,
+        ],
+        [
+            (j[1][0] * j[2][1] - j[1][1] * j[2][0]) / det,
+            (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det,
+            (j[0][0] * j[1][1] - j[0][1] * j[1][0]) / det,
+        ],
+    ];
+    let grads = dn.map(|d| {
+        // (J^{-T} d)_a = sum_b inv[b][a] d_b
+        [
+            inv[0][0] * d[0] + inv[1][0] * d[1] + inv[2][0] * d[2],
+            inv[0][1] * d[0] + inv[1][1] * d[1] + inv[2][1] * d[2],
+            inv[0][2] * d[0] + inv[1][2] * d[1] + inv[2][2] * d[2],
+        ]
+    });
+    (grads, det)
+}
+
+/// Element stiffness, 24x24 row-major in (node, component) order:
+/// $K_{ij} = \sum_g w_g \det J\, [\lambda\, \nabla N_i \otimes \nabla N_j
+///   + \mu (\nabla N_i \cdot \nabla N_j) I + \mu\, \nabla N_j \otimes \nabla N_i]$.
+pub fn stiffness(x: &[[f64; 3]; 8], m: &Elastic) -> [[f64; 24]; 24] {
+    let mut k = [[0.0; 24]; 24];
+    for p in gauss_points() {
+        let (g, det) = gradients(x, p);
+        for i in 0..8 {
+            for j in 0..8 {
+                let dot = g[i][0] * g[j][0] + g[i][1] * g[j][1] + g[i][2] * g[j][2];
+                for a in 0..3 {
+                    for b in 0..3 {
+                        let mut v = m.lambda * g[i][a] * g[j][b] + m.mu * g[j][a] * g[i][b];
+                        if a == b {
+                            v += m.mu * dot;
+                        }
+                        k[3 * i + a][3 * j + b] += v * det;
+                    }
+                }
+            }
+        }
+    }
+    k
+}
+
+/// Consistent mass (scalar, per node pair): $M_{ij} = \sum_g w_g \det J\, \rho N_i N_j$.
+pub fn consistent_mass(x: &[[f64; 3]; 8], density: f64) -> [[f64; 8]; 8] {
+    let mut mm = [[0.0; 8]; 8];
+    for p in gauss_points() {
+        let n = shape(p);
+        let (_, det) = gradients(x, p);
+        for i in 0..8 {
+            for j in 0..8 {
+                mm[i][j] += density * n[i] * n[j] * det;
+            }
+        }
+    }
+    mm
+}
+
+/// Lumped mass: the row sums of the consistent mass (exact total mass, positive for
+/// any element whose Jacobian stays positive).
+pub fn lumped_mass(x: &[[f64; 3]; 8], density: f64) -> [f64; 8] {
+    consistent_mass(x, density).map(|row| row.iter().sum())
+}
+
+/// Element volume.
+pub fn volume(x: &[[f64; 3]; 8]) -> f64 {
+    gauss_points().iter().map(|&p| gradients(x, p).1).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn distorted() -> [[f64; 3]; 8] {
+        let mut x = CORNERS.map(|c| c.map(|v| 0.5 * (v + 1.0)));
+        let jit = [0.11, -0.07, 0.05, 0.13, -0.09, 0.02, -0.12, 0.08];
+        for (k, p) in x.iter_mut().enumerate() {
+            p[0] += jit[k];
+            p[1] += 0.5 * jit[(k + 3) % 8];
+            p[2] -= 0.7 * jit[(k + 5) % 8];
+        }
+        x
+    }
+
+    #[test]
+    fn partition_of_unity_and_zero_gradient_sum() {
+        let x = distorted();
+        for p in gauss_points() {
+            let s: f64 = shape(p).iter().sum();
+            assert!((s - 1.0).abs() < 1e-14);
+            let (g, det) = gradients(&x, p);
+            assert!(det > 0.0);
+            for a in 0..3 {
+                let s: f64 = g.iter().map(|gi| gi[a]).sum();
+                assert!(s.abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn stiffness_is_symmetric_and_has_six_rigid_modes() {
+        let x = distorted();
+        let m = Elastic::from_engineering(200.0, 0.3, 1.0);
+        let k = stiffness(&x, &m);
+        for i in 0..24 {
+            for j in 0..24 {
+                assert!((k[i][j] - k[j][i]).abs() < 1e-10 * k[i][i].abs());
+            }
+        }
+        // translations and (linearised) rotations produce no force
+        let mut modes: Vec<[f64; 24]> = Vec::new();
+        for a in 0..3 {
+            let mut u = [0.0; 24];
+            for n in 0..8 {
+                u[3 * n + a] = 1.0;
+            }
+            modes.push(u);
+        }
+        for axis in 0..3 {
+            let mut u = [0.0; 24];
+            for n in 0..8 {
+                let p = x[n];
+                let w = [[0.0, -p[2], p[1]], [p[2], 0.0, -p[0]], [-p[1], p[0], 0.0]][axis];
+                u[3 * n..3 * n + 3].copy_from_slice(&w);
+            }
+            modes.push(u);
+        }
+        for u in modes {
+            for row in &k {
+                let f: f64 = row.iter().zip(&u).map(|(a, b)| a * b).sum();
+                assert!(f.abs() < 1e-10, "rigid mode gives force {f}");
+            }
+        }
+    }
+
+    #[test]
+    fn patch_test_uniform_strain_gives_the_exact_energy() {
+        // u = E x with a constant symmetric strain E: energy = V (lambda tr^2 / 2 + mu E:E)
+        let x = distorted();
+        let m = Elastic::from_engineering(70.0, 0.25, 1.0);
+        let e = [
+            [0.01, 0.002, -0.003],
+            [0.002, -0.004, 0.005],
+            [-0.003, 0.005, 0.006],
+        ];
+        let mut u = [0.0; 24];
+        for n in 0..8 {
+            for a in 0..3 {
+                u[3 * n + a] = (0..3).map(|b| e[a][b] * x[n][b]).sum();
+            }
+        }
+        let k = stiffness(&x, &m);
+        let energy: f64 = (0..24)
+            .map(|i| u[i] * (0..24).map(|j| k[i][j] * u[j]).sum::<f64>())
+            .sum::<f64>()
+            / 2.0;
+        let tr = e[0][0] + e[1][1] + e[2][2];
+        let ee: f64 = e.iter().flatten().map(|v| v * v).sum();
+        let want = volume(&x) * (0.5 * m.lambda * tr * tr + m.mu * ee);
+        assert!((energy - want).abs() < 1e-12 * want.abs().max(1e-30) * 1e3);
+    }
+
+    #[test]
+    fn mass_sums_to_rho_v() {
+        let x = distorted();
+        let total: f64 = lumped_mass(&x, 2.5).iter().sum();
+        assert!((total - 2.5 * volume(&x)).abs() < 1e-12);
+    }
+}

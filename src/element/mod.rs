@@ -1,0 +1,3 @@
+//! Finite elements: shape functions, quadrature, element matrices.
+
+pub mod hex8;

@@ -1,0 +1,599 @@
+//! Implicit Newmark with the paper's adaptive augmented Lagrange contact iteration.
+//!
+//! **Time discretisation.** With $\tilde u = u_n + \Delta t\, v_n + \Delta t^2(\tfrac12 - \beta) a_n$
+//! and $\tilde v = v_n + \Delta t (1-\gamma) a_n$, the step solves
+//!
+//! $(K + M/(\beta\Delta t^2))\, u_{n+1} = f_{ext} + M\tilde u/(\beta\Delta t^2) + \bar f_c / (2\beta)$
+//!
+//! where $\bar f_c$ is the contact force of the step, held constant over it (the impulse of the
+//! step divided by $\Delta t$). Then $w = M^{-1}\bar f_c$,
+//! $a_{n+1} = (u_{n+1} - \tilde u)/(\beta\Delta t^2) - w/(2\beta)$ (the acceleration of the
+//! elastic and body forces) and $v_{n+1} = \tilde v + \gamma\Delta t\, a_{n+1} + \Delta t\, w$.
+//! So the contact impulse is exactly $\Delta t\,\bar f_c$, and for the trapezoidal rule
+//! $u_{n+1} - u_n = \tfrac{\Delta t}{2}(v_n + v_{n+1})$: the work of the contact force over a
+//! step is $-\tfrac{\Delta t}{2}\sum_i T_i A_i (\dot g_{i,n} + \dot g_{i,n+1})$, which the gap-rate
+//! constraint ($\dot g_{n+1} = 0$ wherever $T > 0$) makes zero in persistent contact and
+//! negative at impact: the total energy cannot rise.
+//!
+//! **Iteration.** Each iteration solves with the current pressures (one triangular solve pair;
+//! the effective matrix does not depend on the contact, so it is factorised once per run),
+//! computes the contact kinematics of the new state with the kernels, and updates the
+//! pressures with [`augmented_lagrange::update`]. The residual is formed with the kernels'
+//! internal forces, so a backend in f32 is corrected iteratively.
+
+use crate::contact::augmented_lagrange::{self, IterationMemory, Penalty};
+use crate::contact::quad::{self, dot};
+use crate::contact::{search, Primary};
+use crate::error::{ImpactError, Result};
+use crate::kernels::{ContactPoint, ContactQueries, Kernels};
+use crate::linalg::{assemble, Assembled, SpdSolver};
+use crate::model::Model;
+use crate::scene::{Constraint, ImplicitSettings};
+
+use super::state::{ContactReport, Energies};
+
+/// Contact state of one interface, carried from step to step.
+#[derive(Debug, Clone)]
+pub struct InterfaceState {
+    /// Converged pressure of each secondary node over the last step.
+    pub lambda: Vec<f64>,
+    /// Kinematics at the end of the last step.
+    pub points: Vec<ContactPoint>,
+    pub penalty: Penalty,
+    memory: IterationMemory,
+    candidate: Vec<bool>,
+    measure: Vec<f64>,
+    next: Vec<f64>,
+    pub report: ContactReport,
+}
+
+/// What one step did.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StepReport {
+    /// Augmented Lagrange iterations (= linear solves) of the step.
+    pub iterations: usize,
+    pub converged: bool,
+}
+
+pub struct ImplicitSolver<'m> {
+    model: &'m Model,
+    settings: ImplicitSettings,
+    pub dt: f64,
+    pub time: f64,
+    pub steps: usize,
+    asm: Assembled,
+    solver: SpdSolver,
+    mass_solver: Option<SpdSolver>,
+    kernels: Box<dyn Kernels + 'm>,
+    pub u: Vec<f64>,
+    pub v: Vec<f64>,
+    pub a: Vec<f64>,
+    f_ext: Vec<f64>,
+    pub interfaces: Vec<InterfaceState>,
+    queries: ContactQueries,
+    candidate_lists: Vec<Vec<u32>>,
+    face_size: f64,
+    // scratch
+    f_int: Vec<f64>,
+    f_c: Vec<f64>,
+    w: Vec<f64>,
+    rhs: Vec<f64>,
+    tmp: Vec<f64>,
+    u_tilde: Vec<f64>,
+    v_tilde: Vec<f64>,
+    u_new: Vec<f64>,
+    v_new: Vec<f64>,
+    a_new: Vec<f64>,
+}
+
+impl<'m> ImplicitSolver<'m> {
+    /// Assembles, factorises once, and sets the initial state (u = 0, v = v0, a = M^-1 f_ext).
+    pub fn new(
+        model: &'m Model,
+        settings: ImplicitSettings,
+        dt: f64,
+        speed_scale: f64,
+        kernels: Box<dyn Kernels + 'm>,
+    ) -> Result<Self> {
+        let c_m = 1.0 / (settings.beta * dt * dt);
+        let asm = assemble(model, settings.mass, c_m);
+        let solver = SpdSolver::new(&asm.effective)?;
+        let mass_solver = match &asm.consistent_mass {
+            Some(m) => Some(SpdSolver::new(m)?),
+            None => None,
+        };
+        let ndof = model.dofs();
+        let mut f_ext = vec![0.0; ndof];
+        for (n, &m) in asm.nodal_mass.iter().enumerate() {
+            for a in 0..3 {
+                if !model.fixed[3 * n + a] {
+                    f_ext[3 * n + a] = m * model.gravity[a];
+                }
+            }
+        }
+        let mut v = model.initial_velocity.clone();
+        for d in 0..ndof {
+            if model.fixed[d] {
+                v[d] = 0.0;
+            }
+        }
+        let mar = settings
+            .max_gap_rate
+            .unwrap_or(1e-3 * speed_scale.max(f64::MIN_POSITIVE));
+        let interfaces = model
+            .interfaces
+            .iter()
+            .map(|itf| {
+                let eps = settings
+                    .penalty_normal
+                    .unwrap_or_else(|| default_penalty(model, &asm, itf, dt));
+                let n = itf.nodes.len();
+                InterfaceState {
+                    lambda: vec![0.0; n],
+                    points: vec![ContactPoint::default(); n],
+                    penalty: Penalty::new(eps, settings.penalty, mar, settings.max_force_change),
+                    memory: IterationMemory::default(),
+                    candidate: vec![false; n],
+                    measure: vec![0.0; n],
+                    next: vec![0.0; n],
+                    report: ContactReport::default(),
+                }
+            })
+            .collect();
+        let face_size = model
+            .queries
+            .faces
+            .iter()
+            .map(|f| {
+                let p = f.map(|n| model.mesh.nodes[n as usize]);
+                quad::norm(quad::sub(p[2], p[0])).max(quad::norm(quad::sub(p[3], p[1])))
+            })
+            .fold(0.0, f64::max);
+        let nq = model.queries.len();
+        let mut s = ImplicitSolver {
+            model,
+            settings,
+            dt,
+            time: 0.0,
+            steps: 0,
+            solver,
+            mass_solver,
+            kernels,
+            u: vec![0.0; ndof],
+            v,
+            a: vec![0.0; ndof],
+            f_ext,
+            interfaces,
+            queries: model.queries.clone(),
+            candidate_lists: vec![Vec::new(); nq],
+            face_size,
+            f_int: vec![0.0; ndof],
+            f_c: vec![0.0; ndof],
+            w: vec![0.0; ndof],
+            rhs: vec![0.0; asm.dof_of.len()],
+            tmp: vec![0.0; asm.dof_of.len()],
+            u_tilde: vec![0.0; ndof],
+            v_tilde: vec![0.0; ndof],
+            u_new: vec![0.0; ndof],
+            v_new: vec![0.0; ndof],
+            a_new: vec![0.0; ndof],
+            asm,
+        };
+        // a_0 = M^-1 f_ext (u_0 = 0, no contact force at t = 0)
+        let f = s.f_ext.clone();
+        let mut a0 = vec![0.0; ndof];
+        s.apply_mass_inverse(&f, &mut a0);
+        s.a = a0;
+        // initial contact kinematics, for the history's first row
+        s.broad_phase();
+        let (u, v) = (s.u.clone(), s.v.clone());
+        s.kinematics(&u, &v)?;
+        Ok(s)
+    }
+
+    pub fn device_name(&self) -> String {
+        self.kernels.device_name()
+    }
+
+    pub fn factorizations(&self) -> usize {
+        self.solver.factorizations + self.mass_solver.as_ref().map_or(0, |m| m.factorizations)
+    }
+
+    pub fn nodal_mass(&self) -> &[f64] {
+        &self.asm.nodal_mass
+    }
+
+    /// out = M^-1 f (on the free dofs; zero on fixed ones).
+    fn apply_mass_inverse(&mut self, f: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        match &self.mass_solver {
+            None => {
+                for &d in &self.asm.dof_of {
+                    out[d as usize] = f[d as usize] / self.asm.nodal_mass[d as usize / 3];
+                }
+            }
+            Some(ms) => {
+                for (e, &d) in self.asm.dof_of.iter().enumerate() {
+                    self.tmp[e] = f[d as usize];
+                }
+                ms.solve_in_place(&mut self.tmp);
+                for (e, &d) in self.asm.dof_of.iter().enumerate() {
+                    out[d as usize] = self.tmp[e];
+                }
+            }
+        }
+    }
+
+    /// Candidate primary faces of every secondary node, from the current configuration.
+    fn broad_phase(&mut self) {
+        let model = self.model;
+        let x: Vec<[f64; 3]> = model
+            .mesh
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(n, p)| {
+                [
+                    p[0] + self.u[3 * n],
+                    p[1] + self.u[3 * n + 1],
+                    p[2] + self.u[3 * n + 2],
+                ]
+            })
+            .collect();
+        let vmax = self
+            .v
+            .chunks_exact(3)
+            .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
+            .fold(0.0, f64::max);
+        let margin = self.face_size + 4.0 * self.dt * vmax;
+        let queries = &mut self.queries;
+        for itf in &model.interfaces {
+            if let Primary::Surface {
+                faces, queries: q, ..
+            } = &itf.primary
+            {
+                search::find_candidates(
+                    queries,
+                    &x,
+                    q.clone(),
+                    faces.clone(),
+                    margin,
+                    &mut self.candidate_lists,
+                );
+            }
+        }
+        search::flatten(queries, &self.candidate_lists);
+    }
+
+    /// Contact kinematics of every interface at (u, v): surfaces through the kernels,
+    /// rigid planes analytically.
+    fn kinematics(&mut self, u: &[f64], v: &[f64]) -> Result<()> {
+        let model = self.model;
+        if !self.queries.is_empty() {
+            let mut pts = vec![ContactPoint::default(); self.queries.len()];
+            self.kernels
+                .contact_gap_into(u, v, &self.queries, &mut pts)?;
+            for (itf, st) in model.interfaces.iter().zip(&mut self.interfaces) {
+                if let Primary::Surface { queries, .. } = &itf.primary {
+                    st.points.copy_from_slice(&pts[queries.clone()]);
+                }
+            }
+        }
+        for (itf, st) in model.interfaces.iter().zip(&mut self.interfaces) {
+            if let Primary::Plane { point, normal } = &itf.primary {
+                for (i, &n) in itf.nodes.iter().enumerate() {
+                    let n = n as usize;
+                    let x0 = model.mesh.nodes[n];
+                    let x = [x0[0] + u[3 * n], x0[1] + u[3 * n + 1], x0[2] + u[3 * n + 2]];
+                    let vel = [v[3 * n], v[3 * n + 1], v[3 * n + 2]];
+                    st.points[i] = ContactPoint {
+                        face: 0,
+                        xi: [0.0; 2],
+                        normal: *normal,
+                        gap: -dot(quad::sub(x, *point), *normal),
+                        gap_rate: -dot(vel, *normal),
+                    };
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Nodal contact forces of the current pressures and geometry into `self.f_c`.
+    fn contact_forces(&mut self) {
+        self.f_c.fill(0.0);
+        for (itf, st) in self.model.interfaces.iter().zip(&self.interfaces) {
+            for (i, &node) in itf.nodes.iter().enumerate() {
+                let t = st.lambda[i];
+                if t == 0.0 {
+                    continue;
+                }
+                let p = st.points[i];
+                let f = t * itf.area[i];
+                for a in 0..3 {
+                    self.f_c[3 * node as usize + a] += f * p.normal[a];
+                }
+                if let Primary::Surface { .. } = itf.primary {
+                    let face = self.queries.faces[p.face as usize];
+                    let nsh = quad::shape(p.xi);
+                    for k in 0..4 {
+                        for a in 0..3 {
+                            self.f_c[3 * face[k] as usize + a] -= f * nsh[k] * p.normal[a];
+                        }
+                    }
+                }
+            }
+        }
+        for d in 0..self.f_c.len() {
+            if self.model.fixed[d] {
+                self.f_c[d] = 0.0;
+            }
+        }
+    }
+
+    /// One time step. Returns the number of iterations and whether the contact converged.
+    pub fn step(&mut self) -> Result<StepReport> {
+        let (dt, beta, gamma) = (self.dt, self.settings.beta, self.settings.gamma);
+        let ndof = self.u.len();
+        for d in 0..ndof {
+            self.u_tilde[d] = self.u[d] + dt * self.v[d] + dt * dt * (0.5 - beta) * self.a[d];
+            self.v_tilde[d] = self.v[d] + dt * (1.0 - gamma) * self.a[d];
+            self.u_new[d] = self.u_tilde[d] + beta * dt * dt * self.a[d];
+        }
+        // broad phase and start-of-step kinematics (g_n decides who is a candidate)
+        self.broad_phase();
+        let (u0, v0) = (std::mem::take(&mut self.u), std::mem::take(&mut self.v));
+        self.kinematics(&u0, &v0)?;
+        self.u = u0;
+        self.v = v0;
+        for st in &mut self.interfaces {
+            st.memory.reset();
+            st.penalty.new_step();
+            for i in 0..st.lambda.len() {
+                st.candidate[i] = st.points[i].face != crate::kernels::contact_gap::NO_FACE
+                    && (st.lambda[i] > 0.0 || st.points[i].gap >= 0.0);
+                if !st.candidate[i] {
+                    st.lambda[i] = 0.0;
+                }
+            }
+        }
+        let c_m = 1.0 / (beta * dt * dt);
+        let exact = self.kernels.unit_roundoff() < 1e-12;
+        let tol = self.settings.tolerance;
+        let mut report = StepReport::default();
+        for _k in 0..self.settings.max_iterations {
+            self.contact_forces();
+            let f_c = std::mem::take(&mut self.f_c);
+            let mut w = std::mem::take(&mut self.w);
+            self.apply_mass_inverse(&f_c, &mut w);
+            // residual of the effective equation at u_new
+            let u_new = std::mem::take(&mut self.u_new);
+            self.kernels.internal_forces_into(&u_new, &mut self.f_int)?;
+            let mass_term = self.mass_times(&u_new);
+            for (e, &d) in self.asm.dof_of.iter().enumerate() {
+                let d = d as usize;
+                self.rhs[e] =
+                    self.f_ext[d] + f_c[d] / (2.0 * beta) - c_m * mass_term[e] - self.f_int[d];
+            }
+            self.u_new = u_new;
+            self.f_c = f_c;
+            self.w = w;
+            let mut delta = std::mem::take(&mut self.rhs);
+            self.solver.solve_in_place(&mut delta);
+            let mut corr = 0.0f64;
+            let mut size = 0.0f64;
+            for (e, &d) in self.asm.dof_of.iter().enumerate() {
+                let d = d as usize;
+                self.u_new[d] += delta[e];
+                corr = corr.max(delta[e].abs());
+                size = size.max((self.u_new[d] - self.u[d]).abs());
+            }
+            self.rhs = delta;
+            report.iterations += 1;
+            for d in 0..ndof {
+                self.a_new[d] = c_m * (self.u_new[d] - self.u_tilde[d]) - self.w[d] / (2.0 * beta);
+                self.v_new[d] = self.v_tilde[d] + gamma * dt * self.a_new[d] + dt * self.w[d];
+                if self.model.fixed[d] {
+                    self.a_new[d] = 0.0;
+                    self.v_new[d] = 0.0;
+                }
+            }
+            let (un, vn) = (
+                std::mem::take(&mut self.u_new),
+                std::mem::take(&mut self.v_new),
+            );
+            self.kinematics(&un, &vn)?;
+            self.u_new = un;
+            self.v_new = vn;
+
+            // augmented Lagrange update of every interface
+            let mut converged = true;
+            let measure_scale = match self.settings.constraint {
+                Constraint::GapRate => 0.0,
+                Constraint::Gap => gamma / (beta * dt),
+            };
+            for (itf, st) in self.model.interfaces.iter().zip(&mut self.interfaces) {
+                let mut grew = false;
+                for i in 0..st.lambda.len() {
+                    let p = st.points[i];
+                    if p.face != crate::kernels::contact_gap::NO_FACE
+                        && p.gap >= 0.0
+                        && !st.candidate[i]
+                    {
+                        st.candidate[i] = true;
+                        grew = true;
+                    }
+                    st.measure[i] = match self.settings.constraint {
+                        Constraint::GapRate => p.gap_rate,
+                        Constraint::Gap => measure_scale * p.gap,
+                    };
+                }
+                let r = augmented_lagrange::update(
+                    &mut st.penalty,
+                    &mut st.memory,
+                    &st.lambda,
+                    &st.measure,
+                    &st.candidate,
+                    &itf.area,
+                    &mut st.next,
+                );
+                if grew || r.relative_change > tol {
+                    converged = false;
+                }
+            }
+            let residual_ok =
+                exact || corr <= 1e3 * self.kernels.unit_roundoff() * size.max(f64::MIN_POSITIVE);
+            if converged && residual_ok {
+                report.converged = true;
+                break;
+            }
+            if !converged {
+                for st in &mut self.interfaces {
+                    std::mem::swap(&mut st.lambda, &mut st.next);
+                }
+            }
+        }
+        // accept the step
+        std::mem::swap(&mut self.u, &mut self.u_new);
+        std::mem::swap(&mut self.v, &mut self.v_new);
+        std::mem::swap(&mut self.a, &mut self.a_new);
+        self.steps += 1;
+        self.time = self.steps as f64 * self.dt;
+        for (itf, st) in self.model.interfaces.iter().zip(&mut self.interfaces) {
+            let mut r = ContactReport::default();
+            for i in 0..st.lambda.len() {
+                if st.lambda[i] > 0.0 {
+                    r.normal_force += st.lambda[i] * itf.area[i];
+                    r.active += 1;
+                }
+                if st.points[i].face != crate::kernels::contact_gap::NO_FACE {
+                    r.max_penetration = r.max_penetration.max(st.points[i].gap);
+                }
+            }
+            st.report = r;
+        }
+        if !self.u.iter().chain(&self.v).all(|x| x.is_finite()) {
+            return Err(ImpactError::Solver(
+                "non-finite displacement or velocity".into(),
+            ));
+        }
+        Ok(report)
+    }
+
+    /// M x on the free dofs (equation order).
+    fn mass_times(&self, x: &[f64]) -> Vec<f64> {
+        let n = self.asm.dof_of.len();
+        let mut out = vec![0.0; n];
+        match &self.asm.consistent_mass {
+            None => {
+                for (e, &d) in self.asm.dof_of.iter().enumerate() {
+                    out[e] = self.asm.nodal_mass[d as usize / 3]
+                        * (x[d as usize] - self.u_tilde[d as usize]);
+                }
+            }
+            Some(m) => {
+                let xe: Vec<f64> = self
+                    .asm
+                    .dof_of
+                    .iter()
+                    .map(|&d| x[d as usize] - self.u_tilde[d as usize])
+                    .collect();
+                m.mul_into(&xe, &mut out);
+            }
+        }
+        out
+    }
+
+    /// Energies of the current state (one internal force evaluation).
+    pub fn energies(&mut self) -> Result<Energies> {
+        let u = std::mem::take(&mut self.u);
+        self.kernels.internal_forces_into(&u, &mut self.f_int)?;
+        self.u = u;
+        let strain = 0.5 * dot_slices(&self.u, &self.f_int);
+        let kinetic = match &self.asm.consistent_mass {
+            None => {
+                0.5 * self
+                    .v
+                    .iter()
+                    .enumerate()
+                    .map(|(d, v)| self.asm.nodal_mass[d / 3] * v * v)
+                    .sum::<f64>()
+            }
+            Some(m) => {
+                let ve: Vec<f64> = self
+                    .asm
+                    .dof_of
+                    .iter()
+                    .map(|&d| self.v[d as usize])
+                    .collect();
+                let mut mv = vec![0.0; ve.len()];
+                m.mul_into(&ve, &mut mv);
+                0.5 * dot_slices(&ve, &mv)
+            }
+        };
+        Ok(Energies {
+            kinetic,
+            strain,
+            potential: -dot_slices(&self.f_ext, &self.u),
+        })
+    }
+
+    /// Centre-of-mass velocity of each body.
+    pub fn body_velocities(&self) -> Vec<[f64; 3]> {
+        self.model
+            .mesh
+            .bodies
+            .iter()
+            .map(|b| {
+                let mut p = [0.0; 3];
+                let mut m = 0.0;
+                for n in b.nodes.clone() {
+                    let mn = self.asm.nodal_mass[n];
+                    m += mn;
+                    for a in 0..3 {
+                        p[a] += mn * self.v[3 * n + a];
+                    }
+                }
+                p.map(|x| x / m)
+            })
+            .collect()
+    }
+}
+
+fn dot_slices(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// The initial eps_N when the scene gives none: $1/\hat s$ with the mass-only compliance
+/// $\hat s = \Delta t\, A (1/m_s + 1/m_p)$ (median over the interface's nodes, m the
+/// lumped mass or the consistent mass's diagonal), the gap-rate
+/// change per unit pressure if the elastic stiffness did not resist. The true compliance is
+/// smaller, so $\epsilon s \le 1$: inside the stable range, near its centre.
+fn default_penalty(
+    model: &Model,
+    asm: &Assembled,
+    itf: &crate::contact::Interface,
+    dt: f64,
+) -> f64 {
+    let inv_mp = match &itf.primary {
+        Primary::Plane { .. } => 0.0,
+        Primary::Surface { faces, .. } => {
+            let nodes = crate::mesh::Mesh::quad_nodes(&model.queries.faces[faces.clone()]);
+            let mean: f64 = nodes
+                .iter()
+                .map(|&n| asm.impulse_mass[n as usize])
+                .sum::<f64>()
+                / nodes.len() as f64;
+            1.0 / mean
+        }
+    };
+    let mut s: Vec<f64> = itf
+        .nodes
+        .iter()
+        .zip(&itf.area)
+        .map(|(&n, &a)| dt * a * (1.0 / asm.impulse_mass[n as usize] + inv_mp))
+        .collect();
+    s.sort_by(f64::total_cmp);
+    let med = s.get(s.len() / 2).copied().unwrap_or(1.0);
+    1.0 / med
+}

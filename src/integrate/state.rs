@@ -1,0 +1,30 @@
+//! Quantities an integrator reports after each step.
+
+/// Energies of the whole model at the end of a step.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Energies {
+    pub kinetic: f64,
+    pub strain: f64,
+    /// Potential of the constant body force (gravity): $-f_{ext} \cdot u$.
+    pub potential: f64,
+}
+
+impl Energies {
+    /// Kinetic + strain + gravity potential.
+    pub fn total(&self) -> f64 {
+        self.kinetic + self.strain + self.potential
+    }
+}
+
+/// One interface over one step.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ContactReport {
+    /// Total compressive force, impulse over the step / time step.
+    pub normal_force: f64,
+    /// Magnitude of the total friction force (impulse / time step).
+    pub tangential_force: f64,
+    /// Secondary nodes carrying pressure.
+    pub active: usize,
+    /// Largest penetration at the end of the step (>= 0).
+    pub max_penetration: f64,
+}

@@ -1,0 +1,107 @@
+//! CPU twin of `shaders/contact_gap.wgsl`: closest-point projection of secondary nodes onto
+//! candidate primary quads, with the normal, gap and gap rate of `method.md`:
+//! $g = -(x_1 - y(\bar\xi)) \cdot n$ (positive = penetration, n the primary's outward normal),
+//! $\dot g = -(v_1 - v_2(\bar\xi)) \cdot n$ (positive = approaching).
+
+use crate::contact::quad::{self, dot, norm, sub, V3};
+
+/// No candidate face: the query is open (far from the primary surface).
+pub const NO_FACE: u32 = u32::MAX;
+
+/// The contact kinematics of one secondary node.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactPoint {
+    /// Index into `ContactQueries::faces`, or [`NO_FACE`].
+    pub face: u32,
+    pub xi: [f64; 2],
+    /// Outward unit normal of the primary face at xi.
+    pub normal: [f64; 3],
+    /// Penetration (> 0) or separation (< 0) along the normal.
+    pub gap: f64,
+    /// Rate of penetration (> 0 approaching).
+    pub gap_rate: f64,
+}
+
+impl Default for ContactPoint {
+    fn default() -> Self {
+        ContactPoint {
+            face: NO_FACE,
+            xi: [0.0; 2],
+            normal: [0.0; 3],
+            gap: f64::NEG_INFINITY,
+            gap_rate: 0.0,
+        }
+    }
+}
+
+/// Secondary nodes and their candidate primary faces, flattened (CSR), for all pairs at once.
+#[derive(Debug, Clone, Default)]
+pub struct ContactQueries {
+    /// Global node number of each query.
+    pub secondary: Vec<u32>,
+    /// `candidates[offsets[q]..offsets[q + 1]]` are the candidate faces of query q.
+    pub offsets: Vec<u32>,
+    pub candidates: Vec<u32>,
+    /// Primary quads (global node numbers), outward-oriented.
+    pub faces: Vec<[u32; 4]>,
+}
+
+impl ContactQueries {
+    pub fn len(&self) -> usize {
+        self.secondary.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.secondary.is_empty()
+    }
+    pub fn candidates_of(&self, q: usize) -> &[u32] {
+        &self.candidates[self.offsets[q] as usize..self.offsets[q + 1] as usize]
+    }
+}
+
+#[inline]
+fn add(a: V3, b: V3) -> V3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+/// Contact kinematics of every query (overwrites `out`).
+pub fn contact_gap(
+    reference: &[[f64; 3]],
+    u: &[[f64; 3]],
+    v: &[[f64; 3]],
+    q: &ContactQueries,
+    out: &mut [ContactPoint],
+) {
+    let pos = |n: u32| add(reference[n as usize], u[n as usize]);
+    for (i, o) in out.iter_mut().enumerate().take(q.len()) {
+        let s = q.secondary[i];
+        let x = pos(s);
+        let mut best = ContactPoint::default();
+        let mut best_d = f64::INFINITY;
+        for &fi in q.candidates_of(i) {
+            let face = q.faces[fi as usize];
+            let p = face.map(pos);
+            let xi = quad::project(&p, x);
+            let (y, ..) = quad::geometry(&p, xi);
+            let d = norm(sub(x, y));
+            if d < best_d {
+                let n = quad::normal(&p, xi);
+                let nsh = quad::shape(xi);
+                let mut v2 = [0.0; 3];
+                for k in 0..4 {
+                    for a in 0..3 {
+                        v2[a] += nsh[k] * v[face[k] as usize][a];
+                    }
+                }
+                best_d = d;
+                best = ContactPoint {
+                    face: fi,
+                    xi,
+                    normal: n,
+                    gap: -dot(sub(x, y), n),
+                    gap_rate: -dot(sub(v[s as usize], v2), n),
+                };
+            }
+        }
+        *o = best;
+    }
+}

@@ -1,0 +1,110 @@
+//! The kernels the integrators call, behind one interface ([`Kernels`]).
+//!
+//! Each kernel has a CPU version in f64 here (the "twin") and a WGSL version in
+//! `shaders/<name>.wgsl` run by [`crate::gpu`]. Both take the same flat inputs:
+//! reference coordinates plus displacements (so that f32 keeps its precision on the GPU),
+//! velocities, connectivity, and for contact a list of queries (secondary node, candidate
+//! primary faces).
+
+pub mod contact_gap;
+pub mod hex8_forces;
+pub mod slip_rate;
+
+pub use contact_gap::{contact_gap, ContactPoint, ContactQueries};
+pub use hex8_forces::hex8_forces;
+pub use slip_rate::slip_rate;
+
+use crate::error::Result;
+use crate::material::Elastic;
+
+/// Element data every kernel backend is built from.
+#[derive(Debug, Clone)]
+pub struct ElementData {
+    pub reference: Vec<[f64; 3]>,
+    pub hexes: Vec<[u32; 8]>,
+    pub element_material: Vec<u32>,
+    pub materials: Vec<Elastic>,
+}
+
+/// What an integrator needs from the element and contact kernels.
+pub trait Kernels {
+    /// Name of the device the kernels run on ("cpu" or the adapter's name).
+    fn device_name(&self) -> String;
+    /// Relative accuracy of the kernels' arithmetic (1e-15 on the CPU, ~1e-7 for f32).
+    fn unit_roundoff(&self) -> f64;
+    /// Internal nodal forces $f = \int B^T \sigma(u)$ for the displacement `u` (3 per node).
+    fn internal_forces_into(&mut self, u: &[f64], f: &mut [f64]) -> Result<()>;
+    /// Closest-point projection, normal, gap and gap rate of every contact query.
+    fn contact_gap_into(
+        &mut self,
+        u: &[f64],
+        v: &[f64],
+        queries: &ContactQueries,
+        out: &mut [ContactPoint],
+    ) -> Result<()>;
+    /// Covariant slip rates of every contact point (zero where `face` is none).
+    fn slip_rate_into(
+        &mut self,
+        u: &[f64],
+        v: &[f64],
+        queries: &ContactQueries,
+        points: &[ContactPoint],
+        out: &mut [[f64; 2]],
+    ) -> Result<()>;
+}
+
+/// The kernels on the CPU, in f64.
+pub struct CpuKernels {
+    pub data: ElementData,
+}
+
+impl Kernels for CpuKernels {
+    fn device_name(&self) -> String {
+        "cpu".into()
+    }
+    fn unit_roundoff(&self) -> f64 {
+        f64::EPSILON
+    }
+    fn internal_forces_into(&mut self, u: &[f64], f: &mut [f64]) -> Result<()> {
+        hex8_forces(&self.data, as_vec3(u), as_vec3_mut(f));
+        Ok(())
+    }
+    fn contact_gap_into(
+        &mut self,
+        u: &[f64],
+        v: &[f64],
+        queries: &ContactQueries,
+        out: &mut [ContactPoint],
+    ) -> Result<()> {
+        contact_gap(&self.data.reference, as_vec3(u), as_vec3(v), queries, out);
+        Ok(())
+    }
+    fn slip_rate_into(
+        &mut self,
+        u: &[f64],
+        v: &[f64],
+        queries: &ContactQueries,
+        points: &[ContactPoint],
+        out: &mut [[f64; 2]],
+    ) -> Result<()> {
+        slip_rate(
+            &self.data.reference,
+            as_vec3(u),
+            as_vec3(v),
+            queries,
+            points,
+            out,
+        );
+        Ok(())
+    }
+}
+
+/// Views a flat dof vector as nodal 3-vectors.
+pub fn as_vec3(x: &[f64]) -> &[[f64; 3]] {
+    bytemuck::cast_slice(x)
+}
+
+/// Views a flat dof vector as nodal 3-vectors, mutably.
+pub fn as_vec3_mut(x: &mut [f64]) -> &mut [[f64; 3]] {
+    bytemuck::cast_slice_mut(x)
+}

@@ -1,0 +1,23 @@
+//! `impact`: a contact-impact finite-element solver implementing Duan & Ye (2002):
+//! elastic hex8 bodies, node-to-surface contact in convected coordinates, implicit Newmark,
+//! and contact forces from an adaptive-penalty augmented Lagrange iteration on the gap rate.
+//!
+//! The layout follows the flow of a run: [`scene`] (read and check) -> [`model`] (mesh,
+//! constraints, interfaces) -> [`integrate`] (time loop, using [`kernels`] for element forces
+//! and contact kinematics, [`linalg`] for the linear solves, [`contact`] for enforcement) ->
+//! [`output`].
+
+pub mod contact;
+pub mod element;
+pub mod error;
+pub mod integrate;
+pub mod kernels;
+pub mod linalg;
+pub mod material;
+pub mod mesh;
+pub mod model;
+pub mod output;
+pub mod run;
+pub mod scene;
+
+pub use error::{ImpactError, Result};

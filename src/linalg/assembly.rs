@@ -1,0 +1,151 @@
+//! Global assembly of stiffness and mass on the free degrees of freedom.
+
+use crate::element::hex8;
+use crate::model::Model;
+use crate::scene::MassKind;
+
+/// A compressed sparse column matrix (full storage, sorted row indices).
+#[derive(Debug, Clone, Default)]
+pub struct Csc {
+    pub n: usize,
+    pub col_ptr: Vec<usize>,
+    pub row_idx: Vec<usize>,
+    pub values: Vec<f64>,
+}
+
+impl Csc {
+    /// Builds from (row, col, value) triplets, summing duplicates.
+    pub fn from_triplets(n: usize, mut t: Vec<(u32, u32, f64)>) -> Csc {
+        t.sort_unstable_by_key(|&(r, c, _)| ((c as u64) << 32) | r as u64);
+        let mut col_ptr = vec![0usize; n + 1];
+        let mut row_idx = Vec::with_capacity(t.len() / 2);
+        let mut values: Vec<f64> = Vec::with_capacity(t.len() / 2);
+        let mut last = (u32::MAX, u32::MAX);
+        for (r, c, v) in t {
+            if (r, c) == last {
+                *values.last_mut().expect("a previous entry") += v;
+            } else {
+                row_idx.push(r as usize);
+                values.push(v);
+                col_ptr[c as usize + 1] += 1;
+                last = (r, c);
+            }
+        }
+        for j in 0..n {
+            col_ptr[j + 1] += col_ptr[j];
+        }
+        Csc {
+            n,
+            col_ptr,
+            row_idx,
+            values,
+        }
+    }
+
+    /// y = A x
+    pub fn mul_into(&self, x: &[f64], y: &mut [f64]) {
+        y.fill(0.0);
+        for j in 0..self.n {
+            let xj = x[j];
+            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                y[self.row_idx[p]] += self.values[p] * xj;
+            }
+        }
+    }
+
+    pub fn nnz(&self) -> usize {
+        self.values.len()
+    }
+}
+
+/// Everything the implicit integrator needs from assembly.
+#[derive(Debug, Clone)]
+pub struct Assembled {
+    /// Free dof -> equation number, or `u32::MAX` for a fixed dof.
+    pub equation: Vec<u32>,
+    /// Equation number -> dof.
+    pub dof_of: Vec<u32>,
+    /// K + c_m M on the free dofs.
+    pub effective: Csc,
+    /// Consistent mass on the free dofs (None for lumped mass).
+    pub consistent_mass: Option<Csc>,
+    /// Lumped (row-sum) nodal mass, one per node; used for momentum and lumped dynamics.
+    pub nodal_mass: Vec<f64>,
+    /// The mass a node answers an impulse with at first: the lumped mass, or the consistent
+    /// mass's diagonal (its inverse bounds the consistent inverse's diagonal from below).
+    pub impulse_mass: Vec<f64>,
+}
+
+/// Assembles K + `c_m` M on the free dofs, and the masses.
+pub fn assemble(model: &Model, mass: MassKind, c_m: f64) -> Assembled {
+    let ndof = model.dofs();
+    let mut equation = vec![u32::MAX; ndof];
+    let mut dof_of = Vec::new();
+    for d in 0..ndof {
+        if !model.fixed[d] {
+            equation[d] = dof_of.len() as u32;
+            dof_of.push(d as u32);
+        }
+    }
+    let n = dof_of.len();
+    let mesh = &model.mesh;
+    let mut nodal_mass = vec![0.0; mesh.node_count()];
+    let mut diagonal_mass = vec![0.0; mesh.node_count()];
+    let mut kt = Vec::with_capacity(mesh.hexes.len() * 576);
+    let mut mt = Vec::new();
+    for (e, hex) in mesh.hexes.iter().enumerate() {
+        let m = &model.materials[mesh.element_material[e] as usize];
+        let x = hex.map(|i| mesh.nodes[i as usize]);
+        let ke = hex8::stiffness(&x, m);
+        let me = hex8::consistent_mass(&x, m.density);
+        for i in 0..8 {
+            nodal_mass[hex[i] as usize] += me[i].iter().sum::<f64>();
+            diagonal_mass[hex[i] as usize] += me[i][i];
+        }
+        for i in 0..8 {
+            for a in 0..3 {
+                let r = equation[3 * hex[i] as usize + a];
+                if r == u32::MAX {
+                    continue;
+                }
+                for j in 0..8 {
+                    for b in 0..3 {
+                        let c = equation[3 * hex[j] as usize + b];
+                        if c == u32::MAX {
+                            continue;
+                        }
+                        let mut v = ke[3 * i + a][3 * j + b];
+                        if a == b {
+                            let mij = match mass {
+                                MassKind::Consistent => {
+                                    mt.push((r, c, me[i][j]));
+                                    me[i][j]
+                                }
+                                MassKind::Lumped => {
+                                    if i == j {
+                                        me[i].iter().sum()
+                                    } else {
+                                        0.0
+                                    }
+                                }
+                            };
+                            v += c_m * mij;
+                        }
+                        kt.push((r, c, v));
+                    }
+                }
+            }
+        }
+    }
+    Assembled {
+        equation,
+        dof_of,
+        effective: Csc::from_triplets(n, kt),
+        consistent_mass: (mass == MassKind::Consistent).then(|| Csc::from_triplets(n, mt)),
+        impulse_mass: match mass {
+            MassKind::Lumped => nodal_mass.clone(),
+            MassKind::Consistent => diagonal_mass,
+        },
+        nodal_mass,
+    }
+}

@@ -1,0 +1,56 @@
+//! `summary.json`: what the run did, in one object.
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use crate::error::{ImpactError, Result};
+
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct InterfaceSummary {
+    pub name: String,
+    /// Penalty eps_N at the end of the run.
+    pub penalty_normal_final: f64,
+    pub penalty_increases: usize,
+    pub penalty_decreases: usize,
+    pub peak_normal_force: f64,
+}
+
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct Summary {
+    /// "completed" or "diverged".
+    pub status: String,
+    pub scene: String,
+    pub title: String,
+    pub steps: usize,
+    pub wall_seconds: f64,
+    pub method: String,
+    pub device: String,
+    pub time_step: f64,
+    pub end_time: f64,
+    pub constraint: String,
+    pub penalty: String,
+    pub mass: String,
+    pub elements: usize,
+    pub nodes: usize,
+    pub free_dofs: usize,
+    pub iterations_total: usize,
+    pub iterations_max: usize,
+    pub iterations_mean: f64,
+    /// Steps whose augmented Lagrange iteration hit max_iterations.
+    pub unconverged_steps: usize,
+    pub factorizations: usize,
+    pub energy_initial: f64,
+    pub energy_final: f64,
+    pub energy_max: f64,
+    pub interfaces: Vec<InterfaceSummary>,
+    pub message: Option<String>,
+}
+
+impl Summary {
+    pub fn write(&self, dir: &Path) -> Result<()> {
+        let path = dir.join("summary.json");
+        let text = serde_json::to_string_pretty(self).expect("summary serialises");
+        std::fs::write(&path, text + "\n").map_err(|source| ImpactError::Write { path, source })
+    }
+}

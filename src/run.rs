@@ -1,0 +1,254 @@
+//! Runs a scene: build the model, choose the device, integrate, write the results.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use crate::error::{ImpactError, Result};
+use crate::integrate::ImplicitSolver;
+use crate::kernels::{CpuKernels, Kernels};
+use crate::model::Model;
+use crate::output::summary::InterfaceSummary;
+use crate::output::{History, Summary};
+use crate::scene::{Constraint, DeviceChoice, MassKind, PenaltyLaw, Scene};
+
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Overrides `output.dir`.
+    pub out: Option<PathBuf>,
+    /// Overrides `run.device`.
+    pub device: Option<DeviceChoice>,
+    /// No progress lines on stderr.
+    pub quiet: bool,
+}
+
+/// The output folder a run will write to.
+pub fn output_dir(scene: &Scene, opts: &RunOptions) -> PathBuf {
+    opts.out.clone().unwrap_or_else(|| scene.output_dir.clone())
+}
+
+/// Picks the kernels for the requested device.
+fn kernels<'m>(
+    scene: &Scene,
+    model: &'m Model,
+    device: DeviceChoice,
+) -> Result<Box<dyn Kernels + 'm>> {
+    match device {
+        DeviceChoice::Cpu | DeviceChoice::Auto => Ok(Box::new(CpuKernels {
+            data: model.element_data(),
+        })),
+        DeviceChoice::Gpu => Err(ImpactError::Unsupported {
+            path: scene.path.clone(),
+            key: "run.device".into(),
+            message: "device = \"gpu\" is not available yet: the WGSL kernels come with a later release; use \"cpu\" or \"auto\"".into(),
+        }),
+    }
+}
+
+/// Runs the scene to its end time, writing `history.csv` and `summary.json`.
+///
+/// A diverging run stops with [`ImpactError::Diverged`] after flushing the history and
+/// writing a summary with `status = "diverged"`.
+pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
+    let start = Instant::now();
+    let dir = output_dir(scene, opts);
+    std::fs::create_dir_all(&dir).map_err(|source| ImpactError::Write {
+        path: dir.clone(),
+        source,
+    })?;
+    let device = opts.device.unwrap_or(scene.run.device);
+    let model = Model::from_scene(scene);
+    for itf in &model.interfaces {
+        if itf.friction > 0.0 {
+            return Err(ImpactError::Unsupported {
+                path: scene.path.clone(),
+                key: format!("friction (interface `{}`)", itf.name),
+                message: "friction > 0 is not available yet: Coulomb friction comes with a later release; set friction = 0".into(),
+            });
+        }
+    }
+    let dt = scene
+        .run
+        .time_step
+        .expect("validated: implicit has a time step");
+    let steps = (scene.run.end_time / dt - 1e-9).ceil() as usize;
+    let kern = kernels(scene, &model, device)?;
+    let mut solver = ImplicitSolver::new(
+        &model,
+        scene.implicit.clone(),
+        dt,
+        scene.speed_scale(),
+        kern,
+    )?;
+    let mut history = History::create(&dir, &model)?;
+    let mut summary = Summary {
+        status: "running".into(),
+        scene: scene.path.display().to_string(),
+        title: scene.title.clone(),
+        method: "implicit".into(),
+        device: solver.device_name(),
+        time_step: dt,
+        end_time: steps as f64 * dt,
+        constraint: match scene.implicit.constraint {
+            Constraint::GapRate => "gap_rate",
+            Constraint::Gap => "gap",
+        }
+        .into(),
+        penalty: match scene.implicit.penalty {
+            PenaltyLaw::Adaptive => "adaptive",
+            PenaltyLaw::Fixed => "fixed",
+        }
+        .into(),
+        mass: match scene.implicit.mass {
+            MassKind::Lumped => "lumped",
+            MassKind::Consistent => "consistent",
+        }
+        .into(),
+        elements: model.mesh.hexes.len(),
+        nodes: model.mesh.node_count(),
+        free_dofs: model.fixed.iter().filter(|f| !**f).count(),
+        ..Default::default()
+    };
+    let e0 = solver.energies()?;
+    summary.energy_initial = e0.total();
+    summary.energy_max = e0.total();
+    let total_mass: f64 = solver.nodal_mass().iter().sum();
+    let energy_scale = e0
+        .total()
+        .abs()
+        .max(total_mass * crate::scene::norm3(scene.gravity) * bbox_diagonal(&model));
+    let write_row = |solver: &mut ImplicitSolver, history: &mut History| -> Result<f64> {
+        let e = solver.energies()?;
+        let contacts: Vec<_> = solver.interfaces.iter().map(|s| s.report).collect();
+        let probes: Vec<_> = model
+            .probes
+            .iter()
+            .map(|p| {
+                let d = 3 * p.node as usize;
+                (
+                    [solver.u[d], solver.u[d + 1], solver.u[d + 2]],
+                    [solver.v[d], solver.v[d + 1], solver.v[d + 2]],
+                )
+            })
+            .collect();
+        history.row(
+            solver.time,
+            solver.steps,
+            &e,
+            &solver.body_velocities(),
+            &contacts,
+            &probes,
+        )?;
+        Ok(e.total())
+    };
+    write_row(&mut solver, &mut history)?;
+    let mut peak = vec![0.0f64; model.interfaces.len()];
+    let mut last_report = Instant::now();
+    for n in 0..steps {
+        let outcome = solver.step().and_then(|r| {
+            let e = write_row(&mut solver, &mut history)?;
+            Ok((r, e))
+        });
+        let (r, e) = match outcome {
+            Ok(x) => x,
+            Err(err) => {
+                return Err(fail(
+                    &mut summary,
+                    &mut history,
+                    &dir,
+                    n + 1,
+                    (n + 1) as f64 * dt,
+                    err.to_string(),
+                    start,
+                ))
+            }
+        };
+        if !e.is_finite() || e.abs() > 1e6 * energy_scale.max(f64::MIN_POSITIVE) {
+            let reason = format!(
+                "total energy {e:.6e} against {:.6e} at the start",
+                summary.energy_initial
+            );
+            return Err(fail(
+                &mut summary,
+                &mut history,
+                &dir,
+                n + 1,
+                solver.time,
+                reason,
+                start,
+            ));
+        }
+        summary.steps += 1;
+        summary.iterations_total += r.iterations;
+        summary.iterations_max = summary.iterations_max.max(r.iterations);
+        summary.unconverged_steps += usize::from(!r.converged);
+        summary.energy_final = e;
+        summary.energy_max = summary.energy_max.max(e);
+        for (p, st) in peak.iter_mut().zip(&solver.interfaces) {
+            *p = p.max(st.report.normal_force);
+        }
+        if !opts.quiet && last_report.elapsed().as_secs_f64() > 2.0 {
+            eprintln!(
+                "step {}/{} t = {:.4e} iterations {}",
+                n + 1,
+                steps,
+                solver.time,
+                r.iterations
+            );
+            last_report = Instant::now();
+        }
+    }
+    history.flush()?;
+    summary.status = "completed".into();
+    summary.factorizations = solver.factorizations();
+    summary.iterations_mean = summary.iterations_total as f64 / summary.steps.max(1) as f64;
+    summary.interfaces = model
+        .interfaces
+        .iter()
+        .zip(&solver.interfaces)
+        .zip(&peak)
+        .map(|((itf, st), &p)| InterfaceSummary {
+            name: itf.name.clone(),
+            penalty_normal_final: st.penalty.eps,
+            penalty_increases: st.penalty.increases,
+            penalty_decreases: st.penalty.decreases,
+            peak_normal_force: p,
+        })
+        .collect();
+    summary.wall_seconds = start.elapsed().as_secs_f64();
+    summary.write(&dir)?;
+    Ok(summary)
+}
+
+fn fail(
+    summary: &mut Summary,
+    history: &mut History,
+    dir: &std::path::Path,
+    step: usize,
+    time: f64,
+    reason: String,
+    start: Instant,
+) -> ImpactError {
+    let _ = history.flush();
+    summary.status = "diverged".into();
+    summary.message = Some(reason.clone());
+    summary.wall_seconds = start.elapsed().as_secs_f64();
+    let _ = summary.write(dir);
+    ImpactError::Diverged {
+        step,
+        time,
+        reason,
+        dir: dir.to_path_buf(),
+    }
+}
+
+fn bbox_diagonal(model: &Model) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in &model.mesh.nodes {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    crate::scene::norm3([hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]])
+}

@@ -1,0 +1,278 @@
+//! The input format: read a scene file, check every value, and hand out a validated [`Scene`].
+//!
+//! `docs/scene-format.md` documents each key (meaning, units, default).
+
+mod raw;
+pub mod suggest;
+mod validate;
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{ImpactError, Result};
+
+/// Which integrator runs the scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    Implicit,
+    Explicit,
+    Auto,
+}
+
+impl Method {
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Implicit => "implicit",
+            Method::Explicit => "explicit",
+            Method::Auto => "auto",
+        }
+    }
+}
+
+/// Where the element and contact kernels run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DeviceChoice {
+    Auto,
+    Gpu,
+    Cpu,
+}
+
+impl std::str::FromStr for DeviceChoice {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "auto" => Ok(DeviceChoice::Auto),
+            "gpu" => Ok(DeviceChoice::Gpu),
+            "cpu" => Ok(DeviceChoice::Cpu),
+            other => Err(format!(
+                "unknown device `{other}`, expected one of `auto`, `gpu`, `cpu`"
+            )),
+        }
+    }
+}
+
+/// Which kinematic quantity the augmented Lagrange multiplier update is driven by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Constraint {
+    /// The paper's choice: the normal gap rate (velocity level).
+    GapRate,
+    /// The classical choice, for comparison: the normal gap (position level).
+    Gap,
+}
+
+/// Whether the penalty of the multiplier update adapts (paper eqs. 18-20) or stays fixed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PenaltyLaw {
+    Adaptive,
+    Fixed,
+}
+
+/// Mass matrix of the implicit integrator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MassKind {
+    Lumped,
+    Consistent,
+}
+
+#[derive(Debug, Clone)]
+pub struct RunSettings {
+    pub end_time: f64,
+    pub time_step: Option<f64>,
+    pub method: Method,
+    pub device: DeviceChoice,
+}
+
+#[derive(Debug, Clone)]
+pub struct ImplicitSettings {
+    pub beta: f64,
+    pub gamma: f64,
+    pub constraint: Constraint,
+    pub penalty: PenaltyLaw,
+    /// Initial eps_N; `None` means "estimate from the scene" (see `contact::penalty`).
+    pub penalty_normal: Option<f64>,
+    /// Initial eps_T; `None` means "equal to eps_N".
+    pub penalty_tangential: Option<f64>,
+    pub max_iterations: usize,
+    pub tolerance: f64,
+    pub mass: MassKind,
+    /// MAR of eq. 20a, the largest admissible gap rate; `None`: 1e-3 of the scene's speed scale.
+    pub max_gap_rate: Option<f64>,
+    /// T_MAX of eq. 20b, the largest relative force change allowed to alternate in sign.
+    pub max_force_change: f64,
+}
+
+impl Default for ImplicitSettings {
+    fn default() -> Self {
+        ImplicitSettings {
+            beta: 0.25,
+            gamma: 0.5,
+            constraint: Constraint::GapRate,
+            penalty: PenaltyLaw::Adaptive,
+            penalty_normal: None,
+            penalty_tangential: None,
+            max_iterations: 50,
+            tolerance: 1e-6,
+            mass: MassKind::Consistent,
+            max_gap_rate: None,
+            max_force_change: 0.05,
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct Material {
+    pub name: String,
+    pub density: f64,
+    pub youngs_modulus: f64,
+    pub poissons_ratio: f64,
+}
+
+/// The six faces of a structured box, named by their outward normal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BoxFace {
+    XMinus,
+    XPlus,
+    YMinus,
+    YPlus,
+    ZMinus,
+    ZPlus,
+}
+
+impl BoxFace {
+    pub const ALL: [BoxFace; 6] = [
+        BoxFace::XMinus,
+        BoxFace::XPlus,
+        BoxFace::YMinus,
+        BoxFace::YPlus,
+        BoxFace::ZMinus,
+        BoxFace::ZPlus,
+    ];
+    pub const NAMES: [&'static str; 6] = ["x-", "x+", "y-", "y+", "z-", "z+"];
+
+    pub fn parse(s: &str) -> Option<BoxFace> {
+        Self::NAMES
+            .iter()
+            .position(|&n| n == s)
+            .map(|i| Self::ALL[i])
+    }
+    /// Axis of the outward normal (0, 1, 2).
+    pub fn axis(self) -> usize {
+        self as usize / 2
+    }
+    /// True for the face on the positive side of its axis.
+    pub fn positive(self) -> bool {
+        self as usize % 2 == 1
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct BoxSpec {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+    pub divisions: [usize; 3],
+}
+
+#[derive(Debug, Clone)]
+pub struct BodySpec {
+    pub name: String,
+    pub material: usize,
+    pub mesh: BoxSpec,
+    pub velocity: [f64; 3],
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct SurfaceRef {
+    pub body: usize,
+    pub face: BoxFace,
+}
+
+#[derive(Debug, Clone)]
+pub struct ContactSpec {
+    pub name: String,
+    pub secondary: SurfaceRef,
+    pub primary: SurfaceRef,
+    pub friction: f64,
+}
+
+#[derive(Debug, Clone)]
+pub struct PlaneSpec {
+    pub name: String,
+    pub point: [f64; 3],
+    /// Unit normal into the free side.
+    pub normal: [f64; 3],
+    pub friction: f64,
+    pub bodies: Vec<usize>,
+}
+
+#[derive(Debug, Clone)]
+pub enum NodeSelection {
+    Face(BoxFace),
+    Region { min: [f64; 3], max: [f64; 3] },
+}
+
+#[derive(Debug, Clone)]
+pub struct FixSpec {
+    pub body: usize,
+    pub nodes: NodeSelection,
+    pub components: [bool; 3],
+}
+
+#[derive(Debug, Clone)]
+pub struct ProbeSpec {
+    pub name: String,
+    pub body: usize,
+    pub point: [f64; 3],
+}
+
+/// A checked scene: every name resolved to an index, every number in range.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub path: PathBuf,
+    pub title: String,
+    pub gravity: [f64; 3],
+    pub run: RunSettings,
+    pub implicit: ImplicitSettings,
+    pub materials: Vec<Material>,
+    pub bodies: Vec<BodySpec>,
+    pub contacts: Vec<ContactSpec>,
+    pub planes: Vec<PlaneSpec>,
+    pub fixes: Vec<FixSpec>,
+    pub probes: Vec<ProbeSpec>,
+    pub output_dir: PathBuf,
+}
+
+impl Scene {
+    /// Reads and checks a scene file.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scene> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| ImpactError::ReadScene {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::parse(&text, path)
+    }
+
+    /// Checks scene text; `path` is used in messages and for the default output folder.
+    pub fn parse(text: &str, path: &Path) -> Result<Scene> {
+        let raw: raw::RawScene = toml::from_str(text).map_err(|e| ImpactError::SceneSyntax {
+            path: path.to_path_buf(),
+            message: suggest::with_suggestion(&e.to_string()),
+        })?;
+        validate::validate(raw, path)
+    }
+
+    /// Speed scale of the scene: the largest initial speed, or the speed gravity gives over the
+    /// run, whichever is larger (used for default tolerances).
+    pub fn speed_scale(&self) -> f64 {
+        let v0 = self
+            .bodies
+            .iter()
+            .map(|b| norm3(b.velocity))
+            .fold(0.0, f64::max);
+        let vg = norm3(self.gravity) * self.run.end_time;
+        v0.max(vg)
+    }
+}
+
+pub(crate) fn norm3(v: [f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}

@@ -1,0 +1,137 @@
+//! The scene file as written: serde structs that mirror the TOML keys one to one.
+//!
+//! Every struct denies unknown keys, so a misspelt key is an error (with the line, from the
+//! TOML reader) and [`super::suggest`] adds the closest known key to the message. Values are
+//! checked afterwards in [`super::validate`].
+
+use serde::Deserialize;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawScene {
+    pub title: Option<String>,
+    pub gravity: Option<[f64; 3]>,
+    pub run: Option<RawRun>,
+    pub implicit: Option<RawImplicit>,
+    #[serde(default)]
+    pub material: Vec<RawMaterial>,
+    #[serde(default)]
+    pub body: Vec<RawBody>,
+    #[serde(default)]
+    pub contact: Vec<RawContact>,
+    #[serde(default)]
+    pub rigid_plane: Vec<RawPlane>,
+    #[serde(default)]
+    pub fix: Vec<RawFix>,
+    #[serde(default)]
+    pub probe: Vec<RawProbe>,
+    pub output: Option<RawOutput>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRun {
+    pub end_time: Option<f64>,
+    pub time_step: Option<f64>,
+    pub method: Option<String>,
+    pub device: Option<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawImplicit {
+    pub beta: Option<f64>,
+    pub gamma: Option<f64>,
+    pub constraint: Option<String>,
+    pub penalty: Option<String>,
+    pub penalty_normal: Option<f64>,
+    pub penalty_tangential: Option<f64>,
+    pub max_iterations: Option<i64>,
+    pub tolerance: Option<f64>,
+    pub mass: Option<String>,
+    pub max_gap_rate: Option<f64>,
+    pub max_force_change: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawMaterial {
+    pub name: String,
+    pub density: f64,
+    pub youngs_modulus: f64,
+    pub poissons_ratio: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBox {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+    pub divisions: [i64; 3],
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBody {
+    pub name: String,
+    pub material: String,
+    #[serde(rename = "box")]
+    pub box_: RawBox,
+    pub velocity: Option<[f64; 3]>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSurfaceRef {
+    pub body: String,
+    pub face: String,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawContact {
+    pub name: String,
+    pub secondary: RawSurfaceRef,
+    pub primary: RawSurfaceRef,
+    pub friction: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPlane {
+    pub name: String,
+    pub point: [f64; 3],
+    pub normal: [f64; 3],
+    pub friction: Option<f64>,
+    pub bodies: Option<Vec<String>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRegion {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawFix {
+    pub body: String,
+    pub face: Option<String>,
+    pub region: Option<RawRegion>,
+    pub components: Vec<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawProbe {
+    pub name: String,
+    pub body: String,
+    pub point: [f64; 3],
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawOutput {
+    pub dir: Option<String>,
+}

@@ -1,0 +1,464 @@
+//! Checks a [`RawScene`] value by value and resolves names to indices.
+
+use std::path::{Path, PathBuf};
+
+use super::raw::*;
+use super::suggest::closest;
+use super::*;
+use crate::error::{ImpactError, Result};
+
+struct Checker<'a> {
+    path: &'a Path,
+}
+
+impl Checker<'_> {
+    fn err(&self, key: impl Into<String>, message: impl Into<String>) -> ImpactError {
+        ImpactError::SceneValue {
+            path: self.path.to_path_buf(),
+            key: key.into(),
+            message: message.into(),
+        }
+    }
+
+    fn positive(&self, key: &str, v: f64) -> Result<f64> {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("must be a finite number > 0, got {v}")))
+        }
+    }
+
+    fn finite3(&self, key: &str, v: [f64; 3]) -> Result<[f64; 3]> {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("must be finite, got {v:?}")))
+        }
+    }
+
+    fn friction(&self, key: &str, mu: Option<f64>) -> Result<f64> {
+        let mu = mu.unwrap_or(0.0);
+        if mu.is_finite() && mu >= 0.0 {
+            Ok(mu)
+        } else {
+            Err(self.err(
+                key,
+                format!("the Coulomb coefficient must be >= 0, got {mu}"),
+            ))
+        }
+    }
+
+    fn choice<T: Copy>(
+        &self,
+        key: &str,
+        value: Option<&str>,
+        default: T,
+        options: &[(&str, T)],
+    ) -> Result<T> {
+        let Some(v) = value else { return Ok(default) };
+        if let Some(&(_, t)) = options.iter().find(|(n, _)| *n == v) {
+            return Ok(t);
+        }
+        let names: Vec<&str> = options.iter().map(|(n, _)| *n).collect();
+        let hint = closest(v, names.iter().copied())
+            .map(|c| format!(" (did you mean `{c}`?)"))
+            .unwrap_or_default();
+        Err(self.err(
+            key,
+            format!("unknown value `{v}`, expected one of {names:?}{hint}"),
+        ))
+    }
+
+    fn body_index(&self, key: &str, name: &str, bodies: &[RawBody]) -> Result<usize> {
+        bodies.iter().position(|b| b.name == name).ok_or_else(|| {
+            let hint = closest(name, bodies.iter().map(|b| b.name.as_str()))
+                .map(|c| format!(" (did you mean `{c}`?)"))
+                .unwrap_or_default();
+            let known: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
+            self.err(
+                key,
+                format!("no body named `{name}`; the bodies are {known:?}{hint}"),
+            )
+        })
+    }
+
+    fn face(&self, key: &str, name: &str) -> Result<BoxFace> {
+        BoxFace::parse(name).ok_or_else(|| {
+            self.err(
+                key,
+                format!("no face named `{name}`; box faces are {:?}", BoxFace::NAMES),
+            )
+        })
+    }
+}
+
+pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
+    let c = Checker { path };
+
+    // [run]
+    let run = raw
+        .run
+        .ok_or_else(|| c.err("run", "the [run] table is required (it holds end_time)"))?;
+    let end_time = run
+        .end_time
+        .ok_or_else(|| c.err("run.end_time", "is required"))?;
+    let end_time = c.positive("run.end_time", end_time)?;
+    let method = c.choice(
+        "run.method",
+        run.method.as_deref(),
+        Method::Implicit,
+        &[
+            ("implicit", Method::Implicit),
+            ("explicit", Method::Explicit),
+            ("auto", Method::Auto),
+        ],
+    )?;
+    let device = c.choice(
+        "run.device",
+        run.device.as_deref(),
+        DeviceChoice::Auto,
+        &[
+            ("auto", DeviceChoice::Auto),
+            ("gpu", DeviceChoice::Gpu),
+            ("cpu", DeviceChoice::Cpu),
+        ],
+    )?;
+    let time_step = match run.time_step {
+        Some(dt) => Some(c.positive("run.time_step", dt)?),
+        None => None,
+    };
+    if time_step.is_none() && method == Method::Implicit {
+        return Err(c.err(
+            "run.time_step",
+            "is required for method = \"implicit\" (the implicit step is not chosen automatically)",
+        ));
+    }
+    if let Some(dt) = time_step {
+        if dt > end_time {
+            return Err(c.err(
+                "run.time_step",
+                format!("{dt} is longer than run.end_time = {end_time}"),
+            ));
+        }
+    }
+    if method != Method::Implicit {
+        return Err(ImpactError::Unsupported {
+            path: path.to_path_buf(),
+            key: "run.method".into(),
+            message: format!(
+                "method = \"{}\" is not available yet: the explicit central-difference path comes with a later release; use method = \"implicit\"",
+                method.name()
+            ),
+        });
+    }
+
+    // [implicit]
+    let mut implicit = ImplicitSettings::default();
+    if let Some(ri) = raw.implicit {
+        if let Some(b) = ri.beta {
+            if !(b.is_finite() && b > 0.0 && b <= 0.5) {
+                return Err(c.err("implicit.beta", format!("must be in (0, 0.5], got {b}")));
+            }
+            implicit.beta = b;
+        }
+        if let Some(g) = ri.gamma {
+            if !(g.is_finite() && (0.5..=1.0).contains(&g)) {
+                return Err(c.err("implicit.gamma", format!("must be in [0.5, 1], got {g}")));
+            }
+            implicit.gamma = g;
+        }
+        if 2.0 * implicit.beta < implicit.gamma - 1e-12 {
+            return Err(c.err(
+                "implicit.beta",
+                format!(
+                    "beta = {} with gamma = {} is only conditionally stable; the implicit path needs 2 beta >= gamma",
+                    implicit.beta, implicit.gamma
+                ),
+            ));
+        }
+        implicit.constraint = c.choice(
+            "implicit.constraint",
+            ri.constraint.as_deref(),
+            Constraint::GapRate,
+            &[("gap_rate", Constraint::GapRate), ("gap", Constraint::Gap)],
+        )?;
+        implicit.penalty = c.choice(
+            "implicit.penalty",
+            ri.penalty.as_deref(),
+            PenaltyLaw::Adaptive,
+            &[
+                ("adaptive", PenaltyLaw::Adaptive),
+                ("fixed", PenaltyLaw::Fixed),
+            ],
+        )?;
+        implicit.mass = c.choice(
+            "implicit.mass",
+            ri.mass.as_deref(),
+            MassKind::Consistent,
+            &[
+                ("lumped", MassKind::Lumped),
+                ("consistent", MassKind::Consistent),
+            ],
+        )?;
+        if let Some(e) = ri.penalty_normal {
+            implicit.penalty_normal = Some(c.positive("implicit.penalty_normal", e)?);
+        }
+        if let Some(e) = ri.penalty_tangential {
+            implicit.penalty_tangential = Some(c.positive("implicit.penalty_tangential", e)?);
+        }
+        if let Some(n) = ri.max_iterations {
+            if n < 1 {
+                return Err(c.err("implicit.max_iterations", format!("must be >= 1, got {n}")));
+            }
+            implicit.max_iterations = n as usize;
+        }
+        if let Some(t) = ri.tolerance {
+            implicit.tolerance = c.positive("implicit.tolerance", t)?;
+        }
+        if let Some(m) = ri.max_gap_rate {
+            implicit.max_gap_rate = Some(c.positive("implicit.max_gap_rate", m)?);
+        }
+        if let Some(m) = ri.max_force_change {
+            implicit.max_force_change = c.positive("implicit.max_force_change", m)?;
+        }
+    }
+
+    // [[material]]
+    let mut materials = Vec::with_capacity(raw.material.len());
+    for (i, m) in raw.material.iter().enumerate() {
+        let key = |k: &str| format!("material[{i}].{k} (material `{}`)", m.name);
+        if raw.material[..i].iter().any(|o| o.name == m.name) {
+            return Err(c.err(key("name"), "is used by an earlier material"));
+        }
+        let density = c.positive(&key("density"), m.density)?;
+        let youngs_modulus = c.positive(&key("youngs_modulus"), m.youngs_modulus)?;
+        let nu = m.poissons_ratio;
+        if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
+            return Err(c.err(
+                key("poissons_ratio"),
+                format!("must lie in (-1, 0.5) for a stable isotropic solid, got {nu}"),
+            ));
+        }
+        materials.push(Material {
+            name: m.name.clone(),
+            density,
+            youngs_modulus,
+            poissons_ratio: nu,
+        });
+    }
+
+    // [[body]]
+    if raw.body.is_empty() {
+        return Err(c.err("body", "the scene has no [[body]]"));
+    }
+    let mut bodies = Vec::with_capacity(raw.body.len());
+    for (i, b) in raw.body.iter().enumerate() {
+        let key = |k: &str| format!("body[{i}].{k} (body `{}`)", b.name);
+        if raw.body[..i].iter().any(|o| o.name == b.name) {
+            return Err(c.err(key("name"), "is used by an earlier body"));
+        }
+        let material = materials
+            .iter()
+            .position(|m| m.name == b.material)
+            .ok_or_else(|| {
+                let known: Vec<&str> = materials.iter().map(|m| m.name.as_str()).collect();
+                let hint = closest(&b.material, known.iter().copied())
+                    .map(|s| format!(" (did you mean `{s}`?)"))
+                    .unwrap_or_default();
+                c.err(
+                    key("material"),
+                    format!(
+                        "no [[material]] named `{}`; the materials are {known:?}{hint}",
+                        b.material
+                    ),
+                )
+            })?;
+        let min = c.finite3(&key("box.min"), b.box_.min)?;
+        let max = c.finite3(&key("box.max"), b.box_.max)?;
+        for a in 0..3 {
+            if max[a] <= min[a] {
+                return Err(c.err(
+                    key("box.max"),
+                    format!("must exceed box.min on every axis, got min {min:?} max {max:?}"),
+                ));
+            }
+        }
+        let mut divisions = [0usize; 3];
+        for a in 0..3 {
+            let d = b.box_.divisions[a];
+            if d < 1 {
+                return Err(c.err(
+                    key("box.divisions"),
+                    format!(
+                        "every division count must be >= 1, got {:?}",
+                        b.box_.divisions
+                    ),
+                ));
+            }
+            divisions[a] = d as usize;
+        }
+        let velocity = c.finite3(&key("velocity"), b.velocity.unwrap_or([0.0; 3]))?;
+        bodies.push(BodySpec {
+            name: b.name.clone(),
+            material,
+            mesh: BoxSpec {
+                min,
+                max,
+                divisions,
+            },
+            velocity,
+        });
+    }
+
+    // [[contact]]
+    let mut contacts = Vec::new();
+    for (i, ct) in raw.contact.iter().enumerate() {
+        let key = |k: &str| format!("contact[{i}].{k} (contact `{}`)", ct.name);
+        let secondary = SurfaceRef {
+            body: c.body_index(&key("secondary.body"), &ct.secondary.body, &raw.body)?,
+            face: c.face(&key("secondary.face"), &ct.secondary.face)?,
+        };
+        let primary = SurfaceRef {
+            body: c.body_index(&key("primary.body"), &ct.primary.body, &raw.body)?,
+            face: c.face(&key("primary.face"), &ct.primary.face)?,
+        };
+        if secondary.body == primary.body {
+            return Err(c.err(
+                key("primary.body"),
+                "self-contact (secondary and primary on the same body) is not supported",
+            ));
+        }
+        contacts.push(ContactSpec {
+            name: ct.name.clone(),
+            secondary,
+            primary,
+            friction: c.friction(&key("friction"), ct.friction)?,
+        });
+    }
+
+    // [[rigid_plane]]
+    let mut planes = Vec::new();
+    for (i, p) in raw.rigid_plane.iter().enumerate() {
+        let key = |k: &str| format!("rigid_plane[{i}].{k} (plane `{}`)", p.name);
+        let point = c.finite3(&key("point"), p.point)?;
+        let n = c.finite3(&key("normal"), p.normal)?;
+        let len = norm3(n);
+        if len < 1e-12 {
+            return Err(c.err(key("normal"), "must not be the zero vector"));
+        }
+        let bodies_idx = match &p.bodies {
+            None => (0..bodies.len()).collect(),
+            Some(names) => names
+                .iter()
+                .map(|nm| c.body_index(&key("bodies"), nm, &raw.body))
+                .collect::<Result<Vec<_>>>()?,
+        };
+        planes.push(PlaneSpec {
+            name: p.name.clone(),
+            point,
+            normal: [n[0] / len, n[1] / len, n[2] / len],
+            friction: c.friction(&key("friction"), p.friction)?,
+            bodies: bodies_idx,
+        });
+    }
+
+    // names of contacts and planes share the history's column namespace
+    let mut names: Vec<&str> = Vec::new();
+    for (kind, nm) in contacts
+        .iter()
+        .map(|x| ("contact", x.name.as_str()))
+        .chain(planes.iter().map(|x| ("rigid_plane", x.name.as_str())))
+    {
+        if names.contains(&nm) {
+            return Err(c.err(
+                format!("{kind}.name"),
+                format!("`{nm}` is used twice among contacts and rigid planes"),
+            ));
+        }
+        names.push(nm);
+    }
+
+    // [[fix]]
+    let mut fixes = Vec::new();
+    for (i, f) in raw.fix.iter().enumerate() {
+        let key = |k: &str| format!("fix[{i}].{k}");
+        let body = c.body_index(&key("body"), &f.body, &raw.body)?;
+        let nodes = match (&f.face, &f.region) {
+            (Some(face), None) => NodeSelection::Face(c.face(&key("face"), face)?),
+            (None, Some(r)) => NodeSelection::Region {
+                min: c.finite3(&key("region.min"), r.min)?,
+                max: c.finite3(&key("region.max"), r.max)?,
+            },
+            _ => return Err(c.err(key("face"), "give exactly one of `face` or `region`")),
+        };
+        let mut components = [false; 3];
+        if f.components.is_empty() {
+            return Err(c.err(
+                key("components"),
+                "must name at least one of \"x\" \"y\" \"z\"",
+            ));
+        }
+        for comp in &f.components {
+            let a = match comp.as_str() {
+                "x" => 0,
+                "y" => 1,
+                "z" => 2,
+                other => {
+                    return Err(c.err(
+                        key("components"),
+                        format!("unknown component `{other}`, expected \"x\", \"y\" or \"z\""),
+                    ))
+                }
+            };
+            components[a] = true;
+        }
+        fixes.push(FixSpec {
+            body,
+            nodes,
+            components,
+        });
+    }
+
+    // [[probe]]
+    let mut probes = Vec::new();
+    for (i, p) in raw.probe.iter().enumerate() {
+        let key = |k: &str| format!("probe[{i}].{k} (probe `{}`)", p.name);
+        probes.push(ProbeSpec {
+            name: p.name.clone(),
+            body: c.body_index(&key("body"), &p.body, &raw.body)?,
+            point: c.finite3(&key("point"), p.point)?,
+        });
+    }
+
+    let output_dir = match raw.output.and_then(|o| o.dir) {
+        Some(d) if d.trim().is_empty() => return Err(c.err("output.dir", "must not be empty")),
+        Some(d) => PathBuf::from(d),
+        None => {
+            let stem = path
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "scene".into());
+            PathBuf::from("results").join(stem)
+        }
+    };
+
+    Ok(Scene {
+        path: path.to_path_buf(),
+        title: raw.title.unwrap_or_default(),
+        gravity: c.finite3("gravity", raw.gravity.unwrap_or([0.0; 3]))?,
+        run: RunSettings {
+            end_time,
+            time_step,
+            method,
+            device,
+        },
+        implicit,
+        materials,
+        bodies,
+        contacts,
+        planes,
+        fixes,
+        probes,
+        output_dir,
+    })
+}
