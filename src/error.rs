@@ -34,7 +34,7 @@ pub enum ImpactError {
     #[error("linear solver: {0}")]
     Solver(String),
     /// The time integration produced a non-finite or exploding state.
-    #[error("the run diverged at step {step} (t = {time:.6e}): {reason}; the history up to the previous step is kept in {dir}")]
+    #[error("the run diverged at step {step} (t = {time:.6e}): {reason}; the history written so far is kept in {dir}")]
     Diverged {
         step: usize,
         time: f64,

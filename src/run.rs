@@ -11,6 +11,10 @@ use crate::output::summary::InterfaceSummary;
 use crate::output::{History, Summary};
 use crate::scene::{Constraint, DeviceChoice, MassKind, PenaltyLaw, Scene};
 
+/// A run whose total energy exceeds this multiple of its scale (the initial energy, or the
+/// work gravity can do across the model) has diverged: elastic contact can only lose energy.
+pub const DIVERGENCE_FACTOR: f64 = 100.0;
+
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {
     /// Overrides `output.dir`.
@@ -162,7 +166,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
                 ))
             }
         };
-        if !e.is_finite() || e.abs() > 1e6 * energy_scale.max(f64::MIN_POSITIVE) {
+        if !e.is_finite() || e.abs() > DIVERGENCE_FACTOR * energy_scale.max(f64::MIN_POSITIVE) {
             let reason = format!(
                 "total energy {e:.6e} against {:.6e} at the start",
                 summary.energy_initial

@@ -15,6 +15,12 @@
 //! constraint ($\dot g_{n+1} = 0$ wherever $T > 0$) makes zero in persistent contact and
 //! negative at impact: the total energy cannot rise.
 //!
+//! **The classical comparison** (`constraint = "gap"`): the multiplier enforces the gap
+//! $g_{n+1} = 0$ and the contact force acts at $t_{n+1}$ in Newmark's equilibrium
+//! $M a_{n+1} + K u_{n+1} = f_{ext} + f_{c,n+1}$, as in the classical contact codes the paper
+//! compares against; the reported force is then the step's impulse / dt,
+//! $(1-\gamma) f_{c,n} + \gamma f_{c,n+1}$.
+//!
 //! **Iteration.** Each iteration solves with the current pressures (one triangular solve pair;
 //! the effective matrix does not depend on the contact, so it is factorised once per run),
 //! computes the contact kinematics of the new state with the kernels, and updates the
@@ -44,6 +50,8 @@ pub struct InterfaceState {
     candidate: Vec<bool>,
     measure: Vec<f64>,
     next: Vec<f64>,
+    /// Total normal force at the end of the last step (classical endpoint forces only).
+    endpoint_force: f64,
     pub report: ContactReport,
 }
 
@@ -136,6 +144,7 @@ impl<'m> ImplicitSolver<'m> {
                     candidate: vec![false; n],
                     measure: vec![0.0; n],
                     next: vec![0.0; n],
+                    endpoint_force: 0.0,
                     report: ContactReport::default(),
                 }
             })
@@ -358,6 +367,10 @@ impl<'m> ImplicitSolver<'m> {
             }
         }
         let c_m = 1.0 / (beta * dt * dt);
+        // the paper's gap rate holds the contact force constant over the step; the classical
+        // gap constraint applies it at t_{n+1} in Newmark's equilibrium (module docs)
+        let endpoint = self.settings.constraint == Constraint::Gap;
+        let force_weight = if endpoint { 1.0 } else { 1.0 / (2.0 * beta) };
         let exact = self.kernels.unit_roundoff() < 1e-12;
         let tol = self.settings.tolerance;
         let mut report = StepReport::default();
@@ -365,7 +378,11 @@ impl<'m> ImplicitSolver<'m> {
             self.contact_forces();
             let f_c = std::mem::take(&mut self.f_c);
             let mut w = std::mem::take(&mut self.w);
-            self.apply_mass_inverse(&f_c, &mut w);
+            if endpoint {
+                w.fill(0.0);
+            } else {
+                self.apply_mass_inverse(&f_c, &mut w);
+            }
             // residual of the effective equation at u_new
             let u_new = std::mem::take(&mut self.u_new);
             self.kernels.internal_forces_into(&u_new, &mut self.f_int)?;
@@ -373,7 +390,7 @@ impl<'m> ImplicitSolver<'m> {
             for (e, &d) in self.asm.dof_of.iter().enumerate() {
                 let d = d as usize;
                 self.rhs[e] =
-                    self.f_ext[d] + f_c[d] / (2.0 * beta) - c_m * mass_term[e] - self.f_int[d];
+                    self.f_ext[d] + force_weight * f_c[d] - c_m * mass_term[e] - self.f_int[d];
             }
             self.u_new = u_new;
             self.f_c = f_c;
@@ -469,6 +486,12 @@ impl<'m> ImplicitSolver<'m> {
                 if st.points[i].face != crate::kernels::contact_gap::NO_FACE {
                     r.max_penetration = r.max_penetration.max(st.points[i].gap);
                 }
+            }
+            if endpoint {
+                // impulse of the step / dt with forces at both ends
+                let f_end = r.normal_force;
+                r.normal_force = (1.0 - gamma) * st.endpoint_force + gamma * f_end;
+                st.endpoint_force = f_end;
             }
             st.report = r;
         }

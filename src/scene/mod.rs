@@ -109,7 +109,7 @@ impl Default for ImplicitSettings {
             penalty: PenaltyLaw::Adaptive,
             penalty_normal: None,
             penalty_tangential: None,
-            max_iterations: 50,
+            max_iterations: 100,
             tolerance: 1e-6,
             mass: MassKind::Consistent,
             max_gap_rate: None,
