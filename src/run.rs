@@ -166,6 +166,12 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
                 ))
             }
         };
+        summary.steps += 1;
+        summary.iterations_total += r.iterations;
+        summary.iterations_max = summary.iterations_max.max(r.iterations);
+        summary.unconverged_steps += usize::from(!r.converged);
+        summary.energy_final = e;
+        summary.energy_max = summary.energy_max.max(e);
         if !e.is_finite() || e.abs() > DIVERGENCE_FACTOR * energy_scale.max(f64::MIN_POSITIVE) {
             let reason = format!(
                 "total energy {e:.6e} against {:.6e} at the start",
@@ -181,12 +187,6 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
                 start,
             ));
         }
-        summary.steps += 1;
-        summary.iterations_total += r.iterations;
-        summary.iterations_max = summary.iterations_max.max(r.iterations);
-        summary.unconverged_steps += usize::from(!r.converged);
-        summary.energy_final = e;
-        summary.energy_max = summary.energy_max.max(e);
         for (p, st) in peak.iter_mut().zip(&solver.interfaces) {
             *p = p.max(st.report.normal_force);
         }

@@ -217,7 +217,7 @@ mod tests {
 
     #[test]
     fn fixed_penalty_converges_inside_the_stable_range_only() {
-        let (t, k, _) = iterate(PenaltyLaw::Fixed, 0.8, 2.0, 200);
+        let (t, k, _) = iterate(PenaltyLaw::Fixed, 0.4, 2.0, 200);
         assert!((t - 0.5).abs() < 1e-9 && k < 40, "t {t} k {k}");
         let (_, k, _) = iterate(PenaltyLaw::Fixed, 1.5, 2.0, 200);
         assert_eq!(k, 200, "eps s = 3 must not converge");

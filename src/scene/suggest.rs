@@ -37,7 +37,7 @@ pub fn with_suggestion(message: &str) -> String {
             continue;
         };
         let word = &rest[..end];
-        let expected = &rest[end..];
+        let expected = &rest[end + 1..];
         let candidates: Vec<&str> = expected
             .split('`')
             .skip(1)

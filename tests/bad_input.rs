@@ -1,0 +1,159 @@
+//! Bad input gives an error that names the file and the key (and the line where TOML gives
+//! one), never a panic. One test per case.
+
+mod common;
+use common::*;
+use impact::scene::Scene;
+use std::path::Path;
+
+fn error_of(text: &str) -> String {
+    let e = Scene::parse(text, Path::new("bad.toml")).expect_err("must be rejected");
+    let msg = e.to_string();
+    assert!(msg.starts_with("bad.toml:"), "names the file: {msg}");
+    msg
+}
+
+fn base() -> String {
+    scene_text("two_bars.toml")
+}
+
+fn expect(text: &str, parts: &[&str]) {
+    let msg = error_of(text);
+    for p in parts {
+        assert!(msg.contains(p), "{msg:?} should contain {p:?}");
+    }
+}
+
+#[test]
+fn malformed_toml_names_the_line() {
+    let text = edit(&base(), "end_time = 0.4", "end_time = = 0.4");
+    expect(&text, &["line 7"]);
+}
+
+#[test]
+fn unknown_key_is_named_with_a_suggestion() {
+    let text = edit(&base(), "density = 0.01", "densty = 0.01");
+    expect(&text, &["densty", "did you mean `density`?", "line"]);
+}
+
+#[test]
+fn missing_material_is_named() {
+    let text = edit(&base(), "material = \"elastic\"", "material = \"steel\"");
+    expect(&text, &["body[0].material", "steel"]);
+}
+
+#[test]
+fn non_positive_density() {
+    expect(
+        &edit(&base(), "density = 0.01", "density = 0.0"),
+        &["density", "> 0"],
+    );
+}
+
+#[test]
+fn non_positive_modulus() {
+    expect(
+        &edit(&base(), "youngs_modulus = 100.0", "youngs_modulus = -1.0"),
+        &["youngs_modulus"],
+    );
+}
+
+#[test]
+fn poissons_ratio_out_of_range() {
+    expect(
+        &edit(&base(), "poissons_ratio = 0.0", "poissons_ratio = 0.5"),
+        &["poissons_ratio", "(-1, 0.5)"],
+    );
+    expect(
+        &edit(&base(), "poissons_ratio = 0.0", "poissons_ratio = -1.0"),
+        &["poissons_ratio"],
+    );
+}
+
+#[test]
+fn contact_face_that_does_not_exist() {
+    expect(
+        &edit(&base(), "face = \"x+\"", "face = \"x*\""),
+        &["contact[0].secondary.face", "x*"],
+    );
+}
+
+#[test]
+fn contact_body_that_does_not_exist() {
+    expect(
+        &edit(
+            &base(),
+            "primary = { body = \"B\"",
+            "primary = { body = \"C\"",
+        ),
+        &["contact[0].primary.body", "`C`"],
+    );
+}
+
+#[test]
+fn zero_divisions() {
+    expect(
+        &edit(&base(), "divisions = [10, 1, 1]", "divisions = [10, 0, 1]"),
+        &["body[0].box.divisions", ">= 1"],
+    );
+}
+
+#[test]
+fn non_positive_end_time() {
+    expect(
+        &edit(&base(), "end_time = 0.4", "end_time = 0.0"),
+        &["run.end_time"],
+    );
+}
+
+#[test]
+fn implicit_without_time_step() {
+    expect(
+        &edit(&base(), "time_step = 0.01\n", ""),
+        &["run.time_step", "required"],
+    );
+}
+
+#[test]
+fn negative_friction() {
+    expect(
+        &edit(&base(), "friction = 0.0", "friction = -0.1"),
+        &["contact[0].friction", ">= 0"],
+    );
+}
+
+#[test]
+fn rigid_plane_with_zero_normal() {
+    let text = edit(
+        &scene_text("bar_on_wall.toml"),
+        "normal = [-1.0, 0.0, 0.0]",
+        "normal = [0.0, 0.0, 0.0]",
+    );
+    expect(&text, &["rigid_plane[0].normal", "zero"]);
+}
+
+#[test]
+fn unknown_choice_suggests_the_closest() {
+    expect(
+        &edit(
+            &base(),
+            "constraint = \"gap_rate\"",
+            "constraint = \"gaprate\"",
+        ),
+        &["implicit.constraint", "did you mean `gap_rate`?"],
+    );
+}
+
+#[test]
+fn explicit_method_is_a_clear_error_until_it_exists() {
+    expect(
+        &edit(&base(), "method = \"implicit\"", "method = \"explicit\""),
+        &["run.method", "not available yet"],
+    );
+}
+
+#[test]
+fn missing_scene_file() {
+    let e = Scene::load("no/such/scene.toml").expect_err("missing file");
+    assert!(e.to_string().contains("no/such/scene.toml"));
+}

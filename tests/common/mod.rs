@@ -1,0 +1,119 @@
+//! Helpers shared by the integration tests: run a scene text, read its history back.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+use impact::output::Summary;
+use impact::run::{run, RunOptions};
+use impact::scene::Scene;
+
+pub struct History {
+    pub columns: Vec<String>,
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl History {
+    pub fn read(path: &Path) -> History {
+        let text = std::fs::read_to_string(path).expect("history.csv exists");
+        let mut lines = text.lines();
+        let columns: Vec<String> = lines
+            .next()
+            .expect("header")
+            .split(',')
+            .map(String::from)
+            .collect();
+        let rows = lines
+            .map(|l| {
+                l.split(',')
+                    .map(|v| v.parse::<f64>().expect("number"))
+                    .collect()
+            })
+            .collect();
+        History { columns, rows }
+    }
+
+    pub fn col(&self, name: &str) -> Vec<f64> {
+        let i = self
+            .columns
+            .iter()
+            .position(|c| c == name)
+            .unwrap_or_else(|| panic!("no column {name} in {:?}", self.columns));
+        self.rows.iter().map(|r| r[i]).collect()
+    }
+
+    pub fn last(&self, name: &str) -> f64 {
+        *self.col(name).last().expect("rows")
+    }
+}
+
+pub fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+pub fn scene_text(name: &str) -> String {
+    std::fs::read_to_string(repo().join("scenes").join(name)).expect("shipped scene")
+}
+
+/// Replaces `from` (which must occur) by `to`.
+pub fn edit(text: &str, from: &str, to: &str) -> String {
+    assert!(text.contains(from), "scene text lacks {from:?}");
+    text.replacen(from, to, 1)
+}
+
+pub fn out_dir(tag: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(tag);
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// Runs a scene given as text; returns the summary (or error) and the history written.
+pub fn run_text(tag: &str, text: &str) -> (impact::Result<Summary>, History) {
+    let dir = out_dir(tag);
+    let scene = Scene::parse(text, Path::new(&format!("{tag}.toml"))).expect("valid scene");
+    let opts = RunOptions {
+        out: Some(dir.clone()),
+        device: None,
+        quiet: true,
+    };
+    let s = run(&scene, &opts);
+    (s, History::read(&dir.join("history.csv")))
+}
+
+/// Wave-theory measures of a history's contact force.
+pub struct ForceMeasures {
+    pub plateau_mean: f64,
+    pub plateau_max_dev: f64,
+    pub last_contact: f64,
+    pub impulse: f64,
+    pub max_energy_rise: f64,
+    pub energy_loss: f64,
+}
+
+pub fn measures(h: &History, contact: &str, exact: f64, dt: f64) -> ForceMeasures {
+    let t = h.col("time");
+    let f = h.col(&format!("{contact}.normal_force"));
+    let e = h.col("total_energy");
+    let plateau: Vec<f64> = t
+        .iter()
+        .zip(&f)
+        .filter(|(t, _)| **t >= 0.02 - 1e-9 && **t <= 0.18 + 1e-9)
+        .map(|(_, f)| *f)
+        .collect();
+    let mean = plateau.iter().sum::<f64>() / plateau.len() as f64;
+    ForceMeasures {
+        plateau_mean: mean,
+        plateau_max_dev: plateau
+            .iter()
+            .map(|p| (p - exact).abs() / exact)
+            .fold(0.0, f64::max),
+        last_contact: t
+            .iter()
+            .zip(&f)
+            .filter(|(_, f)| **f > 0.0)
+            .map(|(t, _)| *t)
+            .fold(0.0, f64::max),
+        impulse: f.iter().sum::<f64>() * dt,
+        max_energy_rise: e.windows(2).map(|w| w[1] - w[0]).fold(f64::MIN, f64::max) / e[0],
+        energy_loss: (e[0] - e[e.len() - 1]) / e[0],
+    }
+}
