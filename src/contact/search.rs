@@ -17,7 +17,7 @@ pub fn find_candidates(
     query_range: std::ops::Range<usize>,
     face_range: std::ops::Range<usize>,
     margin: f64,
-    out: &mut Vec<Vec<u32>>,
+    out: &mut [Vec<u32>],
 ) {
     let mut boxes = Vec::with_capacity(face_range.len());
     let mut cell = 0.0f64;

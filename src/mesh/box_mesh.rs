@@ -7,7 +7,10 @@ use crate::scene::{BoxFace, BoxSpec};
 /// Returns local node coordinates, connectivity, and the boundary quads of the six faces
 /// (indexed by `BoxFace as usize`), each ordered so that its first two edges span the face
 /// with `tau_1 x tau_2` along the outward normal.
-pub fn box_mesh(spec: &BoxSpec) -> (Vec<[f64; 3]>, Vec<[u32; 8]>, [Vec<[u32; 4]>; 6]) {
+/// Nodes, hex8 connectivity and the quads of the six faces of one meshed body.
+pub type MeshParts = (Vec<[f64; 3]>, Vec<[u32; 8]>, [Vec<[u32; 4]>; 6]);
+
+pub fn box_mesh(spec: &BoxSpec) -> MeshParts {
     let [nx, ny, nz] = spec.divisions;
     let (px, py) = (nx + 1, ny + 1);
     let id = |i: usize, j: usize, k: usize| (i + px * (j + py * k)) as u32;
