@@ -66,20 +66,14 @@ fn classical_gap_chatters_and_gap_rate_does_not() {
 
 #[test]
 fn too_large_fixed_penalty_fails_where_adaptive_converges() {
-    let with = |law: &str| {
-        edit(
-            &scene_text("two_bars.toml"),
-            "penalty = \"adaptive\"",
-            &format!("penalty = \"{law}\"\npenalty_normal = 1.0e3"),
-        )
-    };
+    let with = |law| penalty_scene(law, "1.0e3");
     let (fixed, _) = run_text("penalty_fixed_1e3", &with("fixed"));
     let err = fixed.expect_err("a fixed penalty of 1e3 (eps s ~ 1e4) must not converge");
     let msg = err.to_string();
     eprintln!("fixed eps = 1e3: {msg}");
     assert!(msg.contains("diverged"), "{msg}");
     let summary: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(out_dir_path("penalty_fixed_1e3").join("summary.json")).unwrap(),
+        &std::fs::read_to_string(out_path("penalty_fixed_1e3").join("summary.json")).unwrap(),
     )
     .unwrap();
     assert_eq!(summary["status"], "diverged");
@@ -110,13 +104,7 @@ fn too_large_fixed_penalty_fails_where_adaptive_converges() {
 
 #[test]
 fn too_small_fixed_penalty_is_slow_where_adaptive_is_not() {
-    let with = |law: &str| {
-        edit(
-            &scene_text("two_bars.toml"),
-            "penalty = \"adaptive\"",
-            &format!("penalty = \"{law}\"\npenalty_normal = 1.0e-3"),
-        )
-    };
+    let with = |law| penalty_scene(law, "1.0e-3");
     let (fixed, _) = run_text("penalty_fixed_1e-3", &with("fixed"));
     let fixed = fixed.expect("runs");
     let (adaptive, _) = run_text("penalty_adaptive_1e-3", &with("adaptive"));
@@ -133,6 +121,11 @@ fn too_small_fixed_penalty_is_slow_where_adaptive_is_not() {
     assert!(adaptive.iterations_mean * 5.0 < fixed.iterations_mean);
 }
 
-fn out_dir_path(tag: &str) -> std::path::PathBuf {
-    std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(tag)
+/// The paper's two bars with the given penalty law started from `eps`.
+fn penalty_scene(law: &str, eps: &str) -> String {
+    edit(
+        &scene_text("two_bars.toml"),
+        "penalty = \"adaptive\"",
+        &format!("penalty = \"{law}\"\npenalty_normal = {eps}"),
+    )
 }

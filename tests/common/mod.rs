@@ -60,8 +60,14 @@ pub fn edit(text: &str, from: &str, to: &str) -> String {
     text.replacen(from, to, 1)
 }
 
+/// Where the run tagged `tag` writes.
+pub fn out_path(tag: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(tag)
+}
+
+/// [`out_path`], emptied for a new run.
 pub fn out_dir(tag: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(tag);
+    let d = out_path(tag);
     let _ = std::fs::remove_dir_all(&d);
     d
 }
