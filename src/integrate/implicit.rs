@@ -31,6 +31,7 @@ use crate::contact::augmented_lagrange::{self, IterationMemory, Penalty};
 use crate::contact::quad::{self, dot};
 use crate::contact::{search, Primary};
 use crate::error::{ImpactError, Result};
+use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::{ContactPoint, ContactQueries, Kernels};
 use crate::linalg::{assemble, Assembled, SpdSolver};
 use crate::model::Model;
@@ -89,6 +90,11 @@ pub struct ImplicitSolver<'m> {
     tmp: Vec<f64>,
     u_tilde: Vec<f64>,
     v_tilde: Vec<f64>,
+    /// M (u - u_tilde) and u - u_tilde on the free dofs.
+    inertia: Vec<f64>,
+    increment: Vec<f64>,
+    /// Kinematics of every surface query.
+    query_points: Vec<ContactPoint>,
     u_new: Vec<f64>,
     v_new: Vec<f64>,
     a_new: Vec<f64>,
@@ -183,6 +189,9 @@ impl<'m> ImplicitSolver<'m> {
             tmp: vec![0.0; asm.dof_of.len()],
             u_tilde: vec![0.0; ndof],
             v_tilde: vec![0.0; ndof],
+            inertia: vec![0.0; asm.dof_of.len()],
+            increment: vec![0.0; asm.dof_of.len()],
+            query_points: vec![ContactPoint::default(); nq],
             u_new: vec![0.0; ndof],
             v_new: vec![0.0; ndof],
             a_new: vec![0.0; ndof],
@@ -279,9 +288,8 @@ impl<'m> ImplicitSolver<'m> {
     fn kinematics(&mut self, u: &[f64], v: &[f64]) -> Result<()> {
         let model = self.model;
         if !self.queries.is_empty() {
-            let mut pts = vec![ContactPoint::default(); self.queries.len()];
-            self.kernels
-                .contact_gap_into(u, v, &self.queries, &mut pts)?;
+            let pts = &mut self.query_points;
+            self.kernels.contact_gap_into(u, v, &self.queries, pts)?;
             for (itf, st) in model.interfaces.iter().zip(&mut self.interfaces) {
                 if let Primary::Surface { queries, .. } = &itf.primary {
                     st.points.copy_from_slice(&pts[queries.clone()]);
@@ -359,8 +367,8 @@ impl<'m> ImplicitSolver<'m> {
             st.memory.reset();
             st.penalty.new_step();
             for i in 0..st.lambda.len() {
-                st.candidate[i] = st.points[i].face != crate::kernels::contact_gap::NO_FACE
-                    && (st.lambda[i] > 0.0 || st.points[i].gap >= 0.0);
+                st.candidate[i] =
+                    st.points[i].face != NO_FACE && (st.lambda[i] > 0.0 || st.points[i].gap >= 0.0);
                 if !st.candidate[i] {
                     st.lambda[i] = 0.0;
                 }
@@ -386,12 +394,16 @@ impl<'m> ImplicitSolver<'m> {
             // residual of the effective equation at u_new
             let u_new = std::mem::take(&mut self.u_new);
             self.kernels.internal_forces_into(&u_new, &mut self.f_int)?;
-            let mass_term = self.mass_times(&u_new);
+            let mut inertia = std::mem::take(&mut self.inertia);
+            let mut increment = std::mem::take(&mut self.increment);
+            self.inertia_into(&u_new, &mut increment, &mut inertia);
             for (e, &d) in self.asm.dof_of.iter().enumerate() {
                 let d = d as usize;
                 self.rhs[e] =
-                    self.f_ext[d] + force_weight * f_c[d] - c_m * mass_term[e] - self.f_int[d];
+                    self.f_ext[d] + force_weight * f_c[d] - c_m * inertia[e] - self.f_int[d];
             }
+            self.inertia = inertia;
+            self.increment = increment;
             self.u_new = u_new;
             self.f_c = f_c;
             self.w = w;
@@ -433,10 +445,7 @@ impl<'m> ImplicitSolver<'m> {
                 let mut grew = false;
                 for i in 0..st.lambda.len() {
                     let p = st.points[i];
-                    if p.face != crate::kernels::contact_gap::NO_FACE
-                        && p.gap >= 0.0
-                        && !st.candidate[i]
-                    {
+                    if p.face != NO_FACE && p.gap >= 0.0 && !st.candidate[i] {
                         st.candidate[i] = true;
                         grew = true;
                     }
@@ -483,7 +492,7 @@ impl<'m> ImplicitSolver<'m> {
                     r.normal_force += st.lambda[i] * itf.area[i];
                     r.active += 1;
                 }
-                if st.points[i].face != crate::kernels::contact_gap::NO_FACE {
+                if st.points[i].face != NO_FACE {
                     r.max_penetration = r.max_penetration.max(st.points[i].gap);
                 }
             }
@@ -503,28 +512,20 @@ impl<'m> ImplicitSolver<'m> {
         Ok(report)
     }
 
-    /// M x on the free dofs (equation order).
-    fn mass_times(&self, x: &[f64]) -> Vec<f64> {
-        let n = self.asm.dof_of.len();
-        let mut out = vec![0.0; n];
+    /// M (x - u_tilde) on the free dofs (equation order) into `out`; `increment` receives
+    /// x - u_tilde.
+    fn inertia_into(&self, x: &[f64], increment: &mut [f64], out: &mut [f64]) {
+        for (e, &d) in self.asm.dof_of.iter().enumerate() {
+            increment[e] = x[d as usize] - self.u_tilde[d as usize];
+        }
         match &self.asm.consistent_mass {
             None => {
                 for (e, &d) in self.asm.dof_of.iter().enumerate() {
-                    out[e] = self.asm.nodal_mass[d as usize / 3]
-                        * (x[d as usize] - self.u_tilde[d as usize]);
+                    out[e] = self.asm.nodal_mass[d as usize / 3] * increment[e];
                 }
             }
-            Some(m) => {
-                let xe: Vec<f64> = self
-                    .asm
-                    .dof_of
-                    .iter()
-                    .map(|&d| x[d as usize] - self.u_tilde[d as usize])
-                    .collect();
-                m.mul_into(&xe, &mut out);
-            }
+            Some(m) => m.mul_into(increment, out),
         }
-        out
     }
 
     /// Energies of the current state (one internal force evaluation).
