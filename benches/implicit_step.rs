@@ -80,9 +80,7 @@ fn main() {
             solver.solve_in_place(&mut b);
         }
         let t_solve = t.elapsed().as_secs_f64() / reps as f64;
-        let kernels = Box::new(CpuKernels {
-            data: model.element_data(),
-        });
+        let kernels = Box::new(CpuKernels::new(model.element_data()));
         let mut s = ImplicitSolver::new(&model, sc.implicit.clone(), dt, sc.speed_scale(), kernels)
             .expect("solver");
         let steps = 5;

@@ -14,6 +14,7 @@
 pub mod contact;
 pub mod element;
 pub mod error;
+pub mod gpu;
 pub mod integrate;
 pub mod kernels;
 pub mod linalg;

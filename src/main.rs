@@ -35,6 +35,9 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// List the GPU adapters found, the one each device setting would use, and the limits
+    /// and features that matter to the kernels.
+    Info,
 }
 
 fn main() -> ExitCode {
@@ -76,6 +79,10 @@ fn real_main() -> anyhow::Result<()> {
                 s.energy_final,
                 dir.display()
             );
+            Ok(())
+        }
+        Command::Info => {
+            print!("{}", impact::gpu::context::info_report()?);
             Ok(())
         }
     }

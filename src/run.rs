@@ -4,6 +4,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use crate::error::{ImpactError, Result};
+use crate::gpu::{AdapterPolicy, GpuContext, GpuKernels};
 use crate::integrate::ImplicitSolver;
 use crate::kernels::{CpuKernels, Kernels};
 use crate::model::Model;
@@ -30,21 +31,52 @@ pub fn output_dir(scene: &Scene, opts: &RunOptions) -> PathBuf {
     opts.out.clone().unwrap_or_else(|| scene.output_dir.clone())
 }
 
-/// Picks the kernels for the requested device.
-fn kernels<'m>(
+/// Under `device = "auto"`, scenes with at least this many elements run their kernels on a
+/// hardware GPU when there is one. Smaller scenes stay on the CPU in f64: there the kernels
+/// cost less than a few milliseconds per iteration, and f64 keeps the contact iteration's
+/// convergence test at its tightest. Software adapters are never chosen by "auto": on the
+/// same cores they are slower than the CPU twins (README, kernel benchmark).
+pub const AUTO_GPU_MIN_ELEMENTS: usize = 20_000;
+
+/// Picks the kernels for the requested device; `notice` receives the one-line reason when
+/// "auto" falls back to the CPU.
+pub fn kernels<'m>(
     scene: &Scene,
     model: &'m Model,
     device: DeviceChoice,
+    notice: &mut dyn FnMut(&str),
 ) -> Result<Box<dyn Kernels + 'm>> {
-    match device {
-        DeviceChoice::Cpu | DeviceChoice::Auto => Ok(Box::new(CpuKernels {
-            data: model.element_data(),
-        })),
-        DeviceChoice::Gpu => Err(ImpactError::Unsupported {
+    let data = model.element_data();
+    let gpu_error = |e: ImpactError| match e {
+        ImpactError::Gpu(message) => ImpactError::Unsupported {
             path: scene.path.clone(),
             key: "run.device".into(),
-            message: "device = \"gpu\" is not available yet: the WGSL kernels come with a later release; use \"cpu\" or \"auto\"".into(),
-        }),
+            message: format!("device = \"gpu\": {message}"),
+        },
+        other => other,
+    };
+    match device {
+        DeviceChoice::Cpu => Ok(Box::new(CpuKernels::new(data))),
+        DeviceChoice::Gpu => {
+            let ctx = GpuContext::new().map_err(gpu_error)?;
+            Ok(Box::new(GpuKernels::new(ctx, &data)?))
+        }
+        DeviceChoice::Auto => {
+            let elements = data.hexes.len();
+            if elements < AUTO_GPU_MIN_ELEMENTS {
+                notice(&format!(
+                    "device auto: {elements} elements (< {AUTO_GPU_MIN_ELEMENTS}): kernels on the CPU in f64"
+                ));
+                return Ok(Box::new(CpuKernels::new(data)));
+            }
+            match GpuContext::open(AdapterPolicy::HardwareOnly)? {
+                Some(ctx) => Ok(Box::new(GpuKernels::new(ctx, &data)?)),
+                None => {
+                    notice("device auto: no hardware GPU found: kernels on the CPU in f64");
+                    Ok(Box::new(CpuKernels::new(data)))
+                }
+            }
+        }
     }
 }
 
@@ -75,7 +107,12 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         .time_step
         .expect("validated: implicit has a time step");
     let steps = (scene.run.end_time / dt - 1e-9).ceil() as usize;
-    let kern = kernels(scene, &model, device)?;
+    let quiet = opts.quiet;
+    let kern = kernels(scene, &model, device, &mut |line| {
+        if !quiet {
+            eprintln!("{line}");
+        }
+    })?;
     let mut solver = ImplicitSolver::new(
         &model,
         scene.implicit.clone(),

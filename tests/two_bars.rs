@@ -4,6 +4,8 @@
 mod common;
 use common::*;
 
+use impact::scene::DeviceChoice;
+
 const EXACT_FORCE: f64 = 0.5;
 
 fn check_release_and_energy(h: &History, dt: f64, loss_max: f64) -> ForceMeasures {
@@ -38,8 +40,8 @@ struct Tolerances {
     loss: f64,
 }
 
-fn check_two_bars(tag: &str, scene: &str, dt: f64, tol: Tolerances) {
-    let (s, h) = run_text(tag, &scene_text(scene));
+fn check_two_bars(tag: &str, scene: &str, dt: f64, tol: Tolerances, device: Option<DeviceChoice>) {
+    let (s, h) = run_text_on(tag, &scene_text(scene), device);
     let s = s.expect("run completes");
     let m = check_release_and_energy(&h, dt, tol.loss);
     eprintln!(
@@ -70,20 +72,33 @@ fn check_two_bars(tag: &str, scene: &str, dt: f64, tol: Tolerances) {
     assert_eq!(s.unconverged_steps, 0);
 }
 
+const FINE: Tolerances = Tolerances {
+    mean: 0.01,
+    row: 0.03,
+    impulse: 0.02,
+    rest_a: 0.03,
+    speed_b: 0.03,
+    loss: 0.015,
+};
+
 #[test]
 fn fine_two_bars_match_wave_theory() {
+    check_two_bars("two_bars_fine", "two_bars_fine.toml", 0.0025, FINE, None);
+}
+
+/// The same on the GPU kernels (f32), with the same tolerances.
+#[test]
+fn fine_two_bars_match_wave_theory_on_gpu() {
+    if skip_gpu("fine_two_bars_on_gpu") {
+        return;
+    }
+    let device = Some(DeviceChoice::Gpu);
     check_two_bars(
-        "two_bars_fine",
+        "two_bars_fine_gpu",
         "two_bars_fine.toml",
         0.0025,
-        Tolerances {
-            mean: 0.01,
-            row: 0.03,
-            impulse: 0.02,
-            rest_a: 0.03,
-            speed_b: 0.03,
-            loss: 0.015,
-        },
+        FINE,
+        device,
     );
 }
 
@@ -94,21 +109,27 @@ fn fine_two_bars_match_wave_theory() {
 /// v0^2, O(h)) together with the trapezoidal rule's dispersion at Courant number 1; both vanish
 /// with refinement (see `fine_two_bars_match_wave_theory`). The bounds below pin today's
 /// accuracy so that a regression fails.
+const PAPER: Tolerances = Tolerances {
+    mean: 0.02,
+    row: 0.14,
+    impulse: 0.035,
+    rest_a: 0.035,
+    speed_b: 0.035,
+    loss: 0.05,
+};
+
 #[test]
 fn paper_two_bars_match_wave_theory() {
-    check_two_bars(
-        "two_bars",
-        "two_bars.toml",
-        0.01,
-        Tolerances {
-            mean: 0.02,
-            row: 0.14,
-            impulse: 0.035,
-            rest_a: 0.035,
-            speed_b: 0.035,
-            loss: 0.05,
-        },
-    );
+    check_two_bars("two_bars", "two_bars.toml", 0.01, PAPER, None);
+}
+
+#[test]
+fn paper_two_bars_match_wave_theory_on_gpu() {
+    if skip_gpu("paper_two_bars_on_gpu") {
+        return;
+    }
+    let device = Some(DeviceChoice::Gpu);
+    check_two_bars("two_bars_gpu", "two_bars.toml", 0.01, PAPER, device);
 }
 
 /// Momentum is conserved at every step (no external force): m_A v_A + m_B v_B = m_A v0.

@@ -37,19 +37,15 @@ pub fn element_forces(x: &[[f64; 3]; 8], u: &[[f64; 3]; 8], lambda: f64, mu: f64
     f
 }
 
-/// Internal nodal forces of every element, summed to the nodes (overwrites `f`).
-pub fn hex8_forces(data: &ElementData, u: &[[f64; 3]], f: &mut [[f64; 3]]) {
-    f.fill([0.0; 3]);
+/// Corner forces of every element: `corner_forces[8 e + k]` is corner k of element e
+/// (overwrites it). [`super::node_gather`] sums them to the nodes.
+pub fn hex8_forces(data: &ElementData, u: &[[f64; 3]], corner_forces: &mut [[f64; 3]]) {
     for (e, hex) in data.hexes.iter().enumerate() {
         let m = data.materials[data.element_material[e] as usize];
         let x = hex.map(|n| data.reference[n as usize]);
         let ue = hex.map(|n| u[n as usize]);
         let fe = element_forces(&x, &ue, m.lambda, m.mu);
-        for (k, &n) in hex.iter().enumerate() {
-            for a in 0..3 {
-                f[n as usize][a] += fe[k][a];
-            }
-        }
+        corner_forces[8 * e..8 * e + 8].copy_from_slice(&fe);
     }
 }
 

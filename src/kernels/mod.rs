@@ -8,10 +8,12 @@
 
 pub mod contact_gap;
 pub mod hex8_forces;
+pub mod node_gather;
 pub mod slip_rate;
 
 pub use contact_gap::{contact_gap, ContactPoint, ContactQueries};
 pub use hex8_forces::hex8_forces;
+pub use node_gather::{node_gather, Incidence};
 pub use slip_rate::slip_rate;
 
 use crate::error::Result;
@@ -55,7 +57,25 @@ pub trait Kernels {
 
 /// The kernels on the CPU, in f64.
 pub struct CpuKernels {
-    pub data: ElementData,
+    data: ElementData,
+    incidence: Incidence,
+    corner_forces: Vec<[f64; 3]>,
+}
+
+impl CpuKernels {
+    pub fn new(data: ElementData) -> Self {
+        let incidence = Incidence::new(&data.hexes, data.reference.len());
+        let corner_forces = vec![[0.0; 3]; 8 * data.hexes.len()];
+        CpuKernels {
+            data,
+            incidence,
+            corner_forces,
+        }
+    }
+
+    pub fn data(&self) -> &ElementData {
+        &self.data
+    }
 }
 
 impl Kernels for CpuKernels {
@@ -66,7 +86,8 @@ impl Kernels for CpuKernels {
         f64::EPSILON
     }
     fn internal_forces_into(&mut self, u: &[f64], f: &mut [f64]) -> Result<()> {
-        hex8_forces(&self.data, as_vec3(u), as_vec3_mut(f));
+        hex8_forces(&self.data, as_vec3(u), &mut self.corner_forces);
+        node_gather(&self.incidence, &self.corner_forces, as_vec3_mut(f));
         Ok(())
     }
     fn contact_gap_into(

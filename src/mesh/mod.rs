@@ -1,6 +1,6 @@
 //! Nodes, hex8 elements, boundary quads and node sets of all bodies in one numbering.
 
-mod box_mesh;
+pub mod box_mesh;
 
 pub use box_mesh::box_mesh;
 

@@ -74,15 +74,7 @@ pub fn out_dir(tag: &str) -> PathBuf {
 
 /// Runs a scene given as text; returns the summary (or error) and the history written.
 pub fn run_text(tag: &str, text: &str) -> (impact::Result<Summary>, History) {
-    let dir = out_dir(tag);
-    let scene = Scene::parse(text, Path::new(&format!("{tag}.toml"))).expect("valid scene");
-    let opts = RunOptions {
-        out: Some(dir.clone()),
-        device: None,
-        quiet: true,
-    };
-    let s = run(&scene, &opts);
-    (s, History::read(&dir.join("history.csv")))
+    run_text_on(tag, text, None)
 }
 
 /// Wave-theory measures of a history's contact force.
@@ -122,4 +114,61 @@ pub fn measures(h: &History, contact: &str, exact: f64, dt: f64) -> ForceMeasure
         max_energy_rise: e.windows(2).map(|w| w[1] - w[0]).fold(f64::MIN, f64::max) / e[0],
         energy_loss: (e[0] - e[e.len() - 1]) / e[0],
     }
+}
+
+/// A GPU context for a test, or `None` when `IMPACT_SKIP_GPU_TESTS=1` says to skip (printed).
+/// With no adapter and no skip request the test fails with a message naming the packages.
+pub fn gpu_context(test: &str) -> Option<impact::gpu::GpuContext> {
+    if std::env::var("IMPACT_SKIP_GPU_TESTS").as_deref() == Ok("1") {
+        eprintln!("{test}: SKIPPED because IMPACT_SKIP_GPU_TESTS=1");
+        return None;
+    }
+    match impact::gpu::GpuContext::new() {
+        Ok(ctx) => {
+            eprintln!("{test}: adapter {}", ctx.adapter.describe());
+            Some(ctx)
+        }
+        Err(e) => panic!(
+            "{test} needs a GPU adapter (hardware or software) and found none: {e}. \
+             Set IMPACT_SKIP_GPU_TESTS=1 to skip the GPU tests deliberately."
+        ),
+    }
+}
+
+/// True when the GPU tests are deliberately skipped (see [`gpu_context`]).
+pub fn skip_gpu(test: &str) -> bool {
+    gpu_context(test).is_none()
+}
+
+/// A fresh seed for randomised tests (or `IMPACT_TEST_SEED`), printed so a failure can be
+/// replayed.
+pub fn seed(test: &str) -> u64 {
+    let s = std::env::var("IMPACT_TEST_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| {
+            std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map(|d| d.as_nanos() as u64)
+                .unwrap_or(1)
+        });
+    eprintln!("{test}: seed {s} (replay with IMPACT_TEST_SEED={s})");
+    s
+}
+
+/// Runs a scene text, on the given device if one is named (else the scene's).
+pub fn run_text_on(
+    tag: &str,
+    text: &str,
+    device: Option<impact::scene::DeviceChoice>,
+) -> (impact::Result<Summary>, History) {
+    let dir = out_dir(tag);
+    let scene = Scene::parse(text, Path::new(&format!("{tag}.toml"))).expect("valid scene");
+    let opts = RunOptions {
+        out: Some(dir.clone()),
+        device,
+        quiet: true,
+    };
+    let s = run(&scene, &opts);
+    (s, History::read(&dir.join("history.csv")))
 }

@@ -1,0 +1,65 @@
+// Closest-point projection of secondary nodes onto their candidate primary quads: xi, outward
+// normal, gap g = -(x1 - y) . n (> 0 penetration) and gap rate -(v1 - v2(xi)) . n
+// (twin: `kernels::contact_gap`). Positions are taken relative to the secondary node, so f32
+// keeps the precision of the local geometry.
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> reference: array<Split3>;
+@group(0) @binding(2) var<storage, read> displacement: array<Split3>;
+@group(0) @binding(3) var<storage, read> velocity: array<f32>;
+@group(0) @binding(4) var<storage, read> queries: array<ContactQuery>;
+@group(0) @binding(5) var<storage, read> candidates: array<u32>;
+@group(0) @binding(6) var<storage, read> faces: array<Quad>;
+@group(0) @binding(7) var<storage, read_write> points: array<ContactPoint>;
+
+fn load_v(n: u32) -> vec3<f32> {
+    return vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
+}
+
+@compute @workgroup_size(64)
+fn contact_gap(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let q = item_index(gid, params);
+    if (q >= params.count) {
+        return;
+    }
+    let query = queries[q];
+    let s = query.secondary;
+    let rs = reference[s];
+    let us = displacement[s];
+    let vs = load_v(s);
+    var best: ContactPoint;
+    best.face = NO_FACE;
+    best.xi = array<f32, 2>(0.0, 0.0);
+    best.normal = array<f32, 3>(0.0, 0.0, 0.0);
+    best.gap = bitcast<f32>(0xff800000u); // -inf
+    best.gap_rate = 0.0;
+    var best_d = bitcast<f32>(0x7f800000u); // +inf
+    for (var c = query.first; c < query.end; c++) {
+        let fi = candidates[c];
+        let face = faces[fi];
+        var p: array<vec3<f32>, 4>;
+        for (var k = 0u; k < 4u; k++) {
+            let n = face.nodes[k];
+            p[k] = split_difference(reference[n], rs) + split_difference(displacement[n], us);
+        }
+        // the secondary node is the origin
+        let xi = quad_project(p, vec3<f32>(0.0));
+        let g = quad_geometry(p, xi);
+        let d = length(g.y);
+        if (d < best_d) {
+            let nrm = normalize(cross(g.t1, g.t2));
+            let nsh = quad_shape(xi);
+            var v2 = vec3<f32>(0.0);
+            for (var k = 0u; k < 4u; k++) {
+                v2 += nsh[k] * load_v(face.nodes[k]);
+            }
+            best_d = d;
+            best.face = fi;
+            best.xi = array<f32, 2>(xi.x, xi.y);
+            best.normal = array<f32, 3>(nrm.x, nrm.y, nrm.z);
+            best.gap = dot(g.y, nrm);
+            best.gap_rate = -dot(vs - v2, nrm);
+        }
+    }
+    points[q] = best;
+}

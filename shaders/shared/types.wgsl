@@ -1,0 +1,66 @@
+// Buffer element types shared by the kernels. Must be kept in sync with `src/gpu/types.rs`
+// (a test compares the Rust sizes and offsets with naga's layout of these structs).
+
+// Launch parameters of a kernel: `count` items, dispatched over a 2D grid of workgroups whose
+// row is `row` items long (so that more than 65535 workgroups fit).
+struct Params {
+    count: u32,
+    row: u32,
+    aux: u32,
+    pad: u32,
+}
+
+// A nodal 3-vector (reference coordinates, displacements) split into an f32 pair, hi + lo =
+// the f64 value to ~1e-14, so that differences of nearby nodes keep f32's relative precision
+// (a rigid translation does not eat the digits of a strain or a gap).
+struct Split3 {
+    hi: array<f32, 3>,
+    lo: array<f32, 3>,
+}
+
+struct Hex8 {
+    nodes: array<u32, 8>,
+    material: u32,
+}
+
+// Lame parameters.
+struct Material {
+    lambda: f32,
+    mu: f32,
+}
+
+// One contact query: a secondary node and its candidate faces candidates[first..end].
+struct ContactQuery {
+    secondary: u32,
+    first: u32,
+    end: u32,
+}
+
+// A primary quad, outward oriented (global node numbers).
+struct Quad {
+    nodes: array<u32, 4>,
+}
+
+// Contact kinematics of one query; face = 0xffffffff when it has no candidate.
+struct ContactPoint {
+    face: u32,
+    xi: array<f32, 2>,
+    normal: array<f32, 3>,
+    gap: f32,
+    gap_rate: f32,
+}
+
+const NO_FACE: u32 = 0xffffffffu;
+const WORKGROUP: u32 = 64u;
+
+// The item index of an invocation in a 2D dispatch (see Params.row).
+fn item_index(gid: vec3<u32>, p: Params) -> u32 {
+    return gid.x + gid.y * p.row;
+}
+
+// a - b of two split vectors: the hi parts of nearby values subtract exactly.
+fn split_difference(a: Split3, b: Split3) -> vec3<f32> {
+    let dhi = vec3<f32>(a.hi[0] - b.hi[0], a.hi[1] - b.hi[1], a.hi[2] - b.hi[2]);
+    let dlo = vec3<f32>(a.lo[0] - b.lo[0], a.lo[1] - b.lo[1], a.lo[2] - b.lo[2]);
+    return dhi + dlo;
+}

@@ -1,0 +1,140 @@
+//! Storage buffers that grow on demand, and the read-back path.
+
+use super::context::GpuContext;
+use crate::error::{ImpactError, Result};
+
+/// A storage buffer with room for `capacity` bytes; [`Self::ensure`] replaces it with a larger
+/// one when needed (and says so, so that bind groups can be rebuilt).
+pub struct Storage {
+    pub buffer: wgpu::Buffer,
+    pub capacity: u64,
+    label: &'static str,
+    usage: wgpu::BufferUsages,
+}
+
+/// Every buffer has at least this many bytes (a binding cannot be empty).
+const MIN_BYTES: u64 = 32;
+
+impl Storage {
+    pub fn new(ctx: &GpuContext, label: &'static str, bytes: u64) -> Result<Self> {
+        Self::with_usage(
+            ctx,
+            label,
+            bytes,
+            wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
+        )
+    }
+
+    pub fn with_usage(
+        ctx: &GpuContext,
+        label: &'static str,
+        bytes: u64,
+        usage: wgpu::BufferUsages,
+    ) -> Result<Self> {
+        let capacity = bytes.max(MIN_BYTES).next_multiple_of(16);
+        if usage.contains(wgpu::BufferUsages::STORAGE) && capacity > ctx.max_binding() {
+            return Err(ImpactError::Gpu(format!(
+                "{}: buffer `{label}` needs {capacity} bytes but the adapter binds at most {} bytes; use a smaller mesh or device = \"cpu\"",
+                ctx.adapter.name,
+                ctx.max_binding()
+            )));
+        }
+        let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: capacity,
+            usage,
+            mapped_at_creation: false,
+        });
+        Ok(Storage {
+            buffer,
+            capacity,
+            label,
+            usage,
+        })
+    }
+
+    /// Makes room for `bytes`; true if the buffer was replaced.
+    pub fn ensure(&mut self, ctx: &GpuContext, bytes: u64) -> Result<bool> {
+        if bytes <= self.capacity {
+            return Ok(false);
+        }
+        *self = Self::with_usage(ctx, self.label, bytes.max(2 * self.capacity), self.usage)?;
+        Ok(true)
+    }
+
+    /// Uploads `data` at the start (growing first if needed); true if the buffer was replaced.
+    pub fn upload<T: bytemuck::Pod>(&mut self, ctx: &GpuContext, data: &[T]) -> Result<bool> {
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        let grew = self.ensure(ctx, bytes.len() as u64)?;
+        if !bytes.is_empty() {
+            ctx.queue.write_buffer(&self.buffer, 0, bytes);
+        }
+        Ok(grew)
+    }
+
+    /// Fills the first `bytes` with f32 NaN (the kernel tests use this so that an entry a
+    /// kernel fails to write cannot pass).
+    pub fn fill_nan(&self, ctx: &GpuContext, bytes: u64) {
+        let words = (bytes.min(self.capacity) / 4) as usize;
+        let nan = vec![f32::NAN.to_bits(); words];
+        ctx.queue
+            .write_buffer(&self.buffer, 0, bytemuck::cast_slice(&nan));
+    }
+}
+
+/// Copies `bytes` of `source` to the host after `encoder`'s work, submitting it.
+pub fn submit_and_read<T: bytemuck::Pod>(
+    ctx: &GpuContext,
+    staging: &mut Storage,
+    mut encoder: wgpu::CommandEncoder,
+    source: &wgpu::Buffer,
+    count: usize,
+) -> Result<Vec<T>> {
+    let bytes = (count * std::mem::size_of::<T>()) as u64;
+    staging.ensure(ctx, bytes)?;
+    if bytes > 0 {
+        encoder.copy_buffer_to_buffer(source, 0, &staging.buffer, 0, bytes);
+    }
+    ctx.queue.submit([encoder.finish()]);
+    if bytes == 0 {
+        return Ok(Vec::new());
+    }
+    let slice = staging.buffer.slice(..bytes);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    ctx.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| {
+            ImpactError::Gpu(format!("{}: waiting for the device: {e}", ctx.adapter.name))
+        })?;
+    rx.recv()
+        .map_err(|_| ImpactError::Gpu("read-back callback dropped".into()))?
+        .map_err(|e| {
+            ImpactError::Gpu(format!(
+                "{}: cannot map the read-back buffer: {e}",
+                ctx.adapter.name
+            ))
+        })?;
+    let out = {
+        let view = slice
+            .get_mapped_range()
+            .map_err(|e| ImpactError::Gpu(format!("read-back: {e}")))?;
+        bytemuck::pod_collect_to_vec::<u8, T>(&view)
+    };
+    staging.buffer.unmap();
+    Ok(out)
+}
+
+/// A staging buffer for read-back.
+pub fn staging(ctx: &GpuContext) -> Result<Storage> {
+    Storage::with_usage(
+        ctx,
+        "readback",
+        1 << 16,
+        wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+    )
+}

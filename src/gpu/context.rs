@@ -1,0 +1,239 @@
+//! Instance, adapter choice and device: the one place that talks to wgpu's adapters.
+//!
+//! Order of preference: a hardware GPU (discrete, then integrated, then virtual), then a
+//! software adapter (lavapipe on Vulkan before llvmpipe on GL). Adapters without compute
+//! shaders are never chosen. `WGPU_BACKEND=vulkan|gl` restricts the backends searched.
+
+use crate::error::{ImpactError, Result};
+
+/// What a user needs to know about one adapter.
+#[derive(Debug, Clone)]
+pub struct AdapterSummary {
+    pub name: String,
+    pub backend: wgpu::Backend,
+    pub device_type: wgpu::DeviceType,
+    pub driver: String,
+    pub driver_info: String,
+    /// Runs compute shaders (the kernels need them).
+    pub compute: bool,
+    /// A CPU implementation (lavapipe, llvmpipe, SwiftShader, WARP).
+    pub software: bool,
+}
+
+impl AdapterSummary {
+    fn of(adapter: &wgpu::Adapter) -> Self {
+        let info = adapter.get_info();
+        let compute = adapter
+            .get_downlevel_capabilities()
+            .flags
+            .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS);
+        let lower = info.name.to_lowercase();
+        let software = info.device_type == wgpu::DeviceType::Cpu
+            || ["llvmpipe", "lavapipe", "swiftshader", "softpipe", "warp"]
+                .iter()
+                .any(|s| lower.contains(s));
+        AdapterSummary {
+            name: info.name,
+            backend: info.backend,
+            device_type: info.device_type,
+            driver: info.driver,
+            driver_info: info.driver_info,
+            compute,
+            software,
+        }
+    }
+
+    /// Sort key: lower is preferred.
+    fn rank(&self) -> (u8, u8) {
+        let kind = if self.software {
+            4
+        } else {
+            match self.device_type {
+                wgpu::DeviceType::DiscreteGpu => 0,
+                wgpu::DeviceType::IntegratedGpu => 1,
+                wgpu::DeviceType::VirtualGpu => 2,
+                wgpu::DeviceType::Other => 3,
+                wgpu::DeviceType::Cpu => 4,
+            }
+        };
+        let backend = match self.backend {
+            wgpu::Backend::Vulkan | wgpu::Backend::Metal | wgpu::Backend::Dx12 => 0,
+            _ => 1,
+        };
+        (kind, backend)
+    }
+
+    /// One line: "NAME (Vulkan, Cpu, driver DRIVER INFO)".
+    pub fn describe(&self) -> String {
+        let driver = format!("{} {}", self.driver, self.driver_info);
+        let driver = driver.trim();
+        let sep = if driver.is_empty() { "" } else { ", " };
+        format!(
+            "{} ({:?}, {:?}{sep}{driver})",
+            self.name, self.backend, self.device_type
+        )
+    }
+}
+
+/// Which adapters a caller accepts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AdapterPolicy {
+    /// Hardware first, then software.
+    Any,
+    /// Hardware GPUs only.
+    HardwareOnly,
+}
+
+/// A device and queue on the chosen adapter.
+pub struct GpuContext {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub adapter: AdapterSummary,
+    pub limits: wgpu::Limits,
+    /// The adapter's features (none is required by the kernels; `impact info` reports them).
+    pub features: wgpu::Features,
+}
+
+fn instance() -> wgpu::Instance {
+    wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env())
+}
+
+/// Every adapter wgpu finds, best first.
+pub fn list_adapters() -> Vec<AdapterSummary> {
+    let adapters = pollster::block_on(instance().enumerate_adapters(wgpu::Backends::all()));
+    let mut all: Vec<AdapterSummary> = adapters.iter().map(AdapterSummary::of).collect();
+    all.sort_by_key(AdapterSummary::rank);
+    all
+}
+
+/// The packages that provide a software adapter, for error messages.
+pub const SOFTWARE_ADAPTER_HINT: &str = "no GPU adapter with compute shaders was found; on Debian/Ubuntu install a software adapter with `apt-get install -y mesa-vulkan-drivers libvulkan1` (lavapipe) or `libgl1-mesa-dri libegl1` (llvmpipe), or use device = \"cpu\"";
+
+impl GpuContext {
+    /// Opens the best adapter the policy accepts, or `Ok(None)` if there is none.
+    pub fn open(policy: AdapterPolicy) -> Result<Option<Self>> {
+        let instance = instance();
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        let mut ranked: Vec<(AdapterSummary, wgpu::Adapter)> = adapters
+            .into_iter()
+            .map(|a| (AdapterSummary::of(&a), a))
+            .filter(|(s, _)| s.compute && (policy == AdapterPolicy::Any || !s.software))
+            .collect();
+        ranked.sort_by_key(|(s, _)| s.rank());
+        let Some((summary, adapter)) = ranked.into_iter().next() else {
+            return Ok(None);
+        };
+        let limits = adapter.limits();
+        let features = adapter.features();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("impact"),
+            required_limits: limits.clone(),
+            memory_hints: wgpu::MemoryHints::Performance,
+            ..Default::default()
+        }))
+        .map_err(|e| ImpactError::Gpu(format!("{}: cannot open the device: {e}", summary.name)))?;
+        Ok(Some(GpuContext {
+            device,
+            queue,
+            adapter: summary,
+            limits,
+            features,
+        }))
+    }
+
+    /// Opens the best adapter, hardware or software; a clear error naming the packages to
+    /// install if there is none.
+    pub fn new() -> Result<Self> {
+        Self::open(AdapterPolicy::Any)?
+            .ok_or_else(|| ImpactError::Gpu(SOFTWARE_ADAPTER_HINT.into()))
+    }
+
+    /// Largest storage buffer one binding may hold, in bytes.
+    pub fn max_binding(&self) -> u64 {
+        self.limits
+            .max_storage_buffer_binding_size
+            .min(self.limits.max_buffer_size)
+    }
+}
+
+/// The report of `impact info`: every adapter found, the ones `device = "gpu"` and
+/// `device = "auto"` would use, and the limits and features that matter to the kernels.
+pub fn info_report() -> Result<String> {
+    use std::fmt::Write;
+    let mut r = String::new();
+    let all = list_adapters();
+    let _ = writeln!(r, "adapters found ({}), best first:", all.len());
+    for a in &all {
+        let _ = writeln!(
+            r,
+            "  {}{}{}",
+            a.describe(),
+            if a.software { " [software]" } else { "" },
+            if a.compute {
+                ""
+            } else {
+                " [no compute shaders: unusable]"
+            }
+        );
+    }
+    match GpuContext::open(AdapterPolicy::Any)? {
+        None => {
+            let _ = writeln!(r, "device = \"gpu\": none usable. {SOFTWARE_ADAPTER_HINT}");
+        }
+        Some(ctx) => {
+            let l = &ctx.limits;
+            let _ = writeln!(r, "device = \"gpu\" uses: {}", ctx.adapter.describe());
+            let _ = writeln!(
+                r,
+                "  max storage buffer binding: {} MiB",
+                l.max_storage_buffer_binding_size >> 20
+            );
+            let _ = writeln!(r, "  max buffer size: {} MiB", l.max_buffer_size >> 20);
+            let _ = writeln!(
+                r,
+                "  storage buffers per shader stage: {} (kernels use at most 7)",
+                l.max_storage_buffers_per_shader_stage
+            );
+            let _ = writeln!(
+                r,
+                "  workgroups per dimension: {} (kernels dispatch 2D grids of 64-wide groups)",
+                l.max_compute_workgroups_per_dimension
+            );
+            let _ = writeln!(
+                r,
+                "  invocations per workgroup: {} (kernels use 64)",
+                l.max_compute_invocations_per_workgroup
+            );
+            let f = ctx.features;
+            let _ = writeln!(
+                r,
+                "  features: shader f64 {}, f32 atomics {}, timestamp queries {}",
+                yes(f.contains(wgpu::Features::SHADER_F64)),
+                yes(f.contains(wgpu::Features::SHADER_FLOAT32_ATOMIC)),
+                yes(f.contains(wgpu::Features::TIMESTAMP_QUERY))
+            );
+        }
+    }
+    let hardware = all.iter().find(|a| a.compute && !a.software);
+    let _ = writeln!(
+        r,
+        "device = \"auto\" uses: {}",
+        match hardware {
+            Some(a) => format!(
+                "{} for scenes of at least {} elements, the CPU (f64) below",
+                a.name,
+                crate::run::AUTO_GPU_MIN_ELEMENTS
+            ),
+            None => "the CPU (f64): no hardware GPU".into(),
+        }
+    );
+    Ok(r)
+}
+
+fn yes(b: bool) -> &'static str {
+    if b {
+        "yes"
+    } else {
+        "no"
+    }
+}

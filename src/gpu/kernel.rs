@@ -1,0 +1,103 @@
+//! One compute pipeline with its bind-group layout and launch-parameter buffer, built once.
+//! Binding 0 of every kernel is its [`Params`] uniform; bindings 1.. are storage buffers.
+
+use super::context::GpuContext;
+use super::types::Params;
+
+/// Invocations per workgroup (`WORKGROUP` in `shaders/shared/types.wgsl`).
+pub const WORKGROUP: u32 = 64;
+
+pub struct Kernel {
+    pub name: &'static str,
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    params: wgpu::Buffer,
+    max_groups: u32,
+}
+
+impl Kernel {
+    /// Compiles `source` and builds the pipeline of its entry point `name`.
+    pub fn new(ctx: &GpuContext, name: &'static str, source: &str) -> Self {
+        let module = ctx
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(name),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+        let pipeline = ctx
+            .device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(name),
+                layout: None,
+                module: &module,
+                entry_point: Some(name),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+        let layout = pipeline.get_bind_group_layout(0);
+        let params = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(name),
+            size: std::mem::size_of::<Params>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Kernel {
+            name,
+            pipeline,
+            layout,
+            params,
+            max_groups: ctx.limits.max_compute_workgroups_per_dimension.max(1),
+        }
+    }
+
+    /// A bind group with the params at binding 0 and `storage[i]` at binding i + 1.
+    pub fn bind(&self, ctx: &GpuContext, storage: &[&wgpu::Buffer]) -> wgpu::BindGroup {
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: self.params.as_entire_binding(),
+        }];
+        for (i, b) in storage.iter().enumerate() {
+            entries.push(wgpu::BindGroupEntry {
+                binding: i as u32 + 1,
+                resource: b.as_entire_binding(),
+            });
+        }
+        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(self.name),
+            layout: &self.layout,
+            entries: &entries,
+        })
+    }
+
+    /// Sets the item count (applied at the next submission) and returns the dispatch grid.
+    pub fn set_count(&self, ctx: &GpuContext, count: u32) -> [u32; 2] {
+        let groups = count.div_ceil(WORKGROUP);
+        let x = groups.clamp(1, self.max_groups);
+        let y = groups.div_ceil(x).max(1);
+        let p = Params {
+            count,
+            row: x * WORKGROUP,
+            aux: 0,
+            pad: 0,
+        };
+        ctx.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
+        [x, y]
+    }
+
+    /// Records one dispatch over `grid` (from [`Self::set_count`]).
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        bind: &wgpu::BindGroup,
+        grid: [u32; 2],
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(self.name),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind, &[]);
+        pass.dispatch_workgroups(grid[0], grid[1], 1);
+    }
+}

@@ -1,0 +1,22 @@
+//! The GPU engine: wgpu context and adapter choice ([`context`]), one host module per WGSL
+//! kernel (same name as `shaders/<name>.wgsl` and as its CPU twin in [`crate::kernels`]),
+//! the Pod buffer types ([`types`]) and [`GpuKernels`], the [`crate::kernels::Kernels`]
+//! interface on a device.
+
+pub mod buffer;
+pub mod contact_gap;
+pub mod context;
+pub mod engine;
+pub mod hex8_forces;
+pub mod kernel;
+pub mod node_gather;
+pub mod shaders;
+pub mod slip_rate;
+pub mod types;
+
+pub use contact_gap::ContactGap;
+pub use context::{list_adapters, AdapterPolicy, AdapterSummary, GpuContext};
+pub use engine::{GpuKernels, KernelId};
+pub use hex8_forces::Hex8Forces;
+pub use node_gather::NodeGather;
+pub use slip_rate::SlipRate;

@@ -1,0 +1,20 @@
+//! The WGSL source of each kernel: the shared files, then the kernel's own file (the same
+//! assembly `build.rs` validates with naga).
+
+macro_rules! kernel_source {
+    ($name:literal) => {
+        concat!(
+            include_str!("../../shaders/shared/types.wgsl"),
+            include_str!("../../shaders/shared/quad.wgsl"),
+            include_str!(concat!("../../shaders/", $name, ".wgsl"))
+        )
+    };
+}
+
+pub const HEX8_FORCES: &str = kernel_source!("hex8_forces");
+pub const NODE_GATHER: &str = kernel_source!("node_gather");
+pub const CONTACT_GAP: &str = kernel_source!("contact_gap");
+pub const SLIP_RATE: &str = kernel_source!("slip_rate");
+
+/// The shared struct definitions alone (for the layout test).
+pub const TYPES: &str = include_str!("../../shaders/shared/types.wgsl");

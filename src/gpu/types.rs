@@ -1,0 +1,176 @@
+//! Buffer element types. Must be kept in sync with `shaders/shared/types.wgsl`: the test
+//! `gpu_types_match_wgsl` compares these sizes and offsets with naga's layout of the WGSL
+//! structs.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::kernels::contact_gap::{ContactPoint as CpuContactPoint, NO_FACE};
+
+/// Launch parameters: `count` items over a 2D grid whose rows are `row` items long.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Params {
+    pub count: u32,
+    pub row: u32,
+    pub aux: u32,
+    pub pad: u32,
+}
+
+/// A nodal 3-vector (reference coordinates, displacements) split into an f32 pair, `hi + lo`
+/// equal to the f64 value to about 1e-14 relative, so that differences of nearby nodes keep
+/// f32's relative precision: a rigid translation does not eat the digits of a strain or a gap.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Split3 {
+    pub hi: [f32; 3],
+    pub lo: [f32; 3],
+}
+
+impl Split3 {
+    pub fn split(x: [f64; 3]) -> Self {
+        let hi = x.map(|c| c as f32);
+        let lo = [0, 1, 2].map(|a| (x[a] - hi[a] as f64) as f32);
+        Split3 { hi, lo }
+    }
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Hex8 {
+    pub nodes: [u32; 8],
+    pub material: u32,
+}
+
+/// Lamé parameters.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Material {
+    pub lambda: f32,
+    pub mu: f32,
+}
+
+/// A secondary node and its candidate faces `candidates[first..end]`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct ContactQuery {
+    pub secondary: u32,
+    pub first: u32,
+    pub end: u32,
+}
+
+/// A primary quad, outward oriented.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct Quad {
+    pub nodes: [u32; 4],
+}
+
+/// Contact kinematics of one query (`face = 0xffffffff`: no candidate).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct ContactPoint {
+    pub face: u32,
+    pub xi: [f32; 2],
+    pub normal: [f32; 3],
+    pub gap: f32,
+    pub gap_rate: f32,
+}
+
+impl From<ContactPoint> for CpuContactPoint {
+    fn from(p: ContactPoint) -> Self {
+        CpuContactPoint {
+            face: p.face,
+            xi: p.xi.map(f64::from),
+            normal: p.normal.map(f64::from),
+            gap: p.gap as f64,
+            gap_rate: p.gap_rate as f64,
+        }
+    }
+}
+
+impl From<&CpuContactPoint> for ContactPoint {
+    fn from(p: &CpuContactPoint) -> Self {
+        if p.face == NO_FACE {
+            return ContactPoint {
+                face: NO_FACE,
+                ..Default::default()
+            };
+        }
+        ContactPoint {
+            face: p.face,
+            xi: p.xi.map(|x| x as f32),
+            normal: p.normal.map(|x| x as f32),
+            gap: p.gap as f32,
+            gap_rate: p.gap_rate as f32,
+        }
+    }
+}
+
+/// A struct's WGSL name, Rust size, and (field name, Rust offset) in declaration order.
+pub type StructLayout = (&'static str, usize, Vec<(&'static str, usize)>);
+
+/// Sizes and field offsets of every struct, by WGSL name, for the layout test.
+pub fn layouts() -> Vec<StructLayout> {
+    use std::mem::{offset_of, size_of};
+    vec![
+        (
+            "Params",
+            size_of::<Params>(),
+            vec![
+                ("count", offset_of!(Params, count)),
+                ("row", offset_of!(Params, row)),
+                ("aux", offset_of!(Params, aux)),
+                ("pad", offset_of!(Params, pad)),
+            ],
+        ),
+        (
+            "Split3",
+            size_of::<Split3>(),
+            vec![
+                ("hi", offset_of!(Split3, hi)),
+                ("lo", offset_of!(Split3, lo)),
+            ],
+        ),
+        (
+            "Hex8",
+            size_of::<Hex8>(),
+            vec![
+                ("nodes", offset_of!(Hex8, nodes)),
+                ("material", offset_of!(Hex8, material)),
+            ],
+        ),
+        (
+            "Material",
+            size_of::<Material>(),
+            vec![
+                ("lambda", offset_of!(Material, lambda)),
+                ("mu", offset_of!(Material, mu)),
+            ],
+        ),
+        (
+            "ContactQuery",
+            size_of::<ContactQuery>(),
+            vec![
+                ("secondary", offset_of!(ContactQuery, secondary)),
+                ("first", offset_of!(ContactQuery, first)),
+                ("end", offset_of!(ContactQuery, end)),
+            ],
+        ),
+        (
+            "Quad",
+            size_of::<Quad>(),
+            vec![("nodes", offset_of!(Quad, nodes))],
+        ),
+        (
+            "ContactPoint",
+            size_of::<ContactPoint>(),
+            vec![
+                ("face", offset_of!(ContactPoint, face)),
+                ("xi", offset_of!(ContactPoint, xi)),
+                ("normal", offset_of!(ContactPoint, normal)),
+                ("gap", offset_of!(ContactPoint, gap)),
+                ("gap_rate", offset_of!(ContactPoint, gap_rate)),
+            ],
+        ),
+    ]
+}

@@ -1,0 +1,418 @@
+//! Every WGSL kernel against its CPU f64 twin on random distorted meshes (nodes jittered by up
+//! to 20% of the element size, a large rigid offset so that f32 precision is tested, sizes
+//! that are not multiples of the workgroup size), with the outputs filled with NaN before
+//! each dispatch so that an unwritten entry fails. Tolerance: relative error <= 1e-5 in the
+//! 2-norm. Fresh random inputs each run; the seed is printed.
+
+mod common;
+use common::*;
+
+use impact::gpu::GpuKernels;
+use impact::kernels::contact_gap::NO_FACE;
+use impact::kernels::{self, ContactPoint, ContactQueries, ElementData, Incidence, Kernels};
+use impact::material::Elastic;
+use impact::mesh::box_mesh::box_mesh;
+use impact::scene::{BoxFace, BoxSpec};
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+
+const TOL: f64 = 1e-5;
+
+/// A distorted box mesh, its top-face quads, and the element size.
+struct Problem {
+    data: ElementData,
+    top: Vec<[u32; 4]>,
+    h: f64,
+}
+
+fn distorted_box(rng: &mut StdRng) -> Problem {
+    let divisions = [
+        rng.random_range(3..=14),
+        rng.random_range(2..=9),
+        rng.random_range(2..=6),
+    ];
+    let h = 0.5;
+    // far from the origin: the f32 kernels must keep the precision of the element scale
+    let origin = [120.0, -64.0, 30.0];
+    let spec = BoxSpec {
+        min: origin,
+        max: std::array::from_fn(|a| origin[a] + h * divisions[a] as f64),
+        divisions,
+    };
+    let (mut nodes, hexes, faces) = box_mesh(&spec);
+    for x in &mut nodes {
+        for c in x.iter_mut() {
+            *c += rng.random_range(-0.2..0.2) * h;
+        }
+    }
+    let element_material = (0..hexes.len()).map(|_| rng.random_range(0..2)).collect();
+    let materials = vec![
+        Elastic::from_engineering(100.0, 0.3, 1.0),
+        Elastic::from_engineering(2.5e3, 0.45, 7.8),
+    ];
+    Problem {
+        data: ElementData {
+            reference: nodes,
+            hexes,
+            element_material,
+            materials,
+        },
+        top: faces[BoxFace::ZPlus as usize].clone(),
+        h,
+    }
+}
+
+/// Displacements: a rigid translation of several element sizes plus a random part.
+fn displacements(rng: &mut StdRng, nodes: usize, h: f64) -> Vec<f64> {
+    let rigid = [3.7 * h, -2.2 * h, 1.3 * h];
+    (0..3 * nodes)
+        .map(|d| rigid[d % 3] + rng.random_range(-0.05..0.05) * h)
+        .collect()
+}
+
+fn velocities(rng: &mut StdRng, nodes: usize) -> Vec<f64> {
+    (0..3 * nodes)
+        .map(|_| rng.random_range(-1.0..1.0))
+        .collect()
+}
+
+fn rel_err(gpu: impl Iterator<Item = f64>, cpu: impl Iterator<Item = f64>) -> f64 {
+    let (mut num, mut den) = (0.0f64, 0.0f64);
+    for (g, c) in gpu.zip(cpu) {
+        num += (g - c) * (g - c);
+        den += c * c;
+    }
+    if num.is_nan() {
+        return f64::INFINITY;
+    }
+    (num / den.max(f64::MIN_POSITIVE)).sqrt()
+}
+
+fn flat(v: &[[f64; 3]]) -> impl Iterator<Item = f64> + '_ {
+    v.iter().flatten().copied()
+}
+
+#[test]
+fn hex8_forces_matches_its_cpu_twin() {
+    let Some(ctx) = gpu_context("hex8_forces") else {
+        return;
+    };
+    let seed = seed("hex8_forces");
+    let mut rng = StdRng::seed_from_u64(seed);
+    let p = distorted_box(&mut rng);
+    let n = p.data.reference.len();
+    let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
+    gpu.fill_nan = true;
+    for round in 0..3 {
+        let u = displacements(&mut rng, n, p.h);
+        let mut cpu = vec![[0.0; 3]; 8 * p.data.hexes.len()];
+        kernels::hex8_forces(&p.data, kernels::as_vec3(&u), &mut cpu);
+        let g = gpu.corner_forces(&u).expect("dispatch");
+        let e = rel_err(flat(&g), flat(&cpu));
+        eprintln!(
+            "round {round}: {} elements, relative error {e:.2e}",
+            p.data.hexes.len()
+        );
+        assert!(
+            e <= TOL,
+            "seed {seed}: hex8_forces error {e:.3e} > {TOL:.0e}"
+        );
+    }
+}
+
+#[test]
+fn node_gather_matches_its_cpu_twin() {
+    let Some(ctx) = gpu_context("node_gather") else {
+        return;
+    };
+    let seed = seed("node_gather");
+    let mut rng = StdRng::seed_from_u64(seed);
+    let p = distorted_box(&mut rng);
+    let n = p.data.reference.len();
+    let inc = Incidence::new(&p.data.hexes, n);
+    let corners: Vec<[f64; 3]> = (0..8 * p.data.hexes.len())
+        .map(|_| std::array::from_fn(|_| rng.random_range(-1.0..1.0)))
+        .collect();
+    let mut cpu = vec![[0.0; 3]; n];
+    kernels::node_gather(&inc, &corners, &mut cpu);
+    let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
+    gpu.fill_nan = true;
+    let g = gpu.gather(&corners).expect("dispatch");
+    let e = rel_err(flat(&g), flat(&cpu));
+    eprintln!("{n} nodes, relative error {e:.2e}");
+    assert!(e <= TOL, "seed {seed}: node_gather error {e:.3e}");
+}
+
+/// Internal forces through the `Kernels` interface (hex8_forces then node_gather).
+#[test]
+fn internal_forces_match_the_cpu_kernels() {
+    let Some(ctx) = gpu_context("internal_forces") else {
+        return;
+    };
+    let seed = seed("internal_forces");
+    let mut rng = StdRng::seed_from_u64(seed);
+    let p = distorted_box(&mut rng);
+    let n = p.data.reference.len();
+    let u = displacements(&mut rng, n, p.h);
+    let mut cpu = kernels::CpuKernels::new(p.data.clone());
+    let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
+    gpu.fill_nan = true;
+    let (mut fc, mut fg) = (vec![0.0; 3 * n], vec![0.0; 3 * n]);
+    cpu.internal_forces_into(&u, &mut fc).unwrap();
+    gpu.internal_forces_into(&u, &mut fg).unwrap();
+    let e = rel_err(fg.iter().copied(), fc.iter().copied());
+    eprintln!("{n} nodes, relative error {e:.2e}");
+    assert!(e <= TOL, "seed {seed}: internal forces error {e:.3e}");
+}
+
+/// Secondary nodes near the top surface: extra nodes appended to the mesh, each with its
+/// candidate faces. Kinds: over a face with its neighbours as candidates (Newton inside the
+/// square); anywhere within 1.5 face sizes of a single candidate (the edge/corner fallback);
+/// no candidate at all.
+fn contact_problem(rng: &mut StdRng, p: &mut Problem, count: usize) -> ContactQueries {
+    let first_extra = p.data.reference.len();
+    let mut q = ContactQueries {
+        faces: p.top.clone(),
+        offsets: vec![0],
+        ..Default::default()
+    };
+    for i in 0..count {
+        let f = rng.random_range(0..p.top.len());
+        let corners = p.top[f].map(|n| p.data.reference[n as usize]);
+        let centre: [f64; 3] =
+            std::array::from_fn(|a| corners.iter().map(|c| c[a]).sum::<f64>() / 4.0);
+        let (x, cands): ([f64; 3], Vec<u32>) = match i % 3 {
+            0 => {
+                let xi = [rng.random_range(-0.9..0.9), rng.random_range(-0.9..0.9)];
+                let (y, ..) = impact::contact::quad::geometry(&corners, xi);
+                let nrm = impact::contact::quad::normal(&corners, xi);
+                let s = rng.random_range(-0.15..0.15) * p.h;
+                let near: Vec<u32> = (0..p.top.len() as u32)
+                    .filter(|&g| p.top[g as usize].iter().any(|n| p.top[f].contains(n)))
+                    .collect();
+                (std::array::from_fn(|a| y[a] + s * nrm[a]), near)
+            }
+            1 => (
+                std::array::from_fn(|a| centre[a] + rng.random_range(-1.5..1.5) * p.h),
+                vec![f as u32],
+            ),
+            _ => (centre, vec![]),
+        };
+        p.data.reference.push(x);
+        q.secondary.push((first_extra + i) as u32);
+        q.candidates.extend(cands);
+        q.offsets.push(q.candidates.len() as u32);
+    }
+    q
+}
+
+/// Distance from the secondary node to the closest point of a face (CPU, f64).
+fn face_distance(x: [f64; 3], corners: &[[f64; 3]; 4]) -> f64 {
+    use impact::contact::quad;
+    let xi = quad::project(corners, x);
+    let (y, ..) = quad::geometry(corners, xi);
+    quad::norm(quad::sub(x, y))
+}
+
+#[test]
+fn contact_gap_and_slip_rate_match_their_cpu_twins() {
+    let Some(ctx) = gpu_context("contact_gap") else {
+        return;
+    };
+    let seed = seed("contact_gap");
+    let mut rng = StdRng::seed_from_u64(seed);
+    let mut p = distorted_box(&mut rng);
+    // 3 * 67 + 2 queries: not a multiple of the workgroup size
+    let q = contact_problem(&mut rng, &mut p, 203);
+    let n = p.data.reference.len();
+    let u = displacements(&mut rng, n, p.h);
+    let v = velocities(&mut rng, n);
+    let mut cpu_pts = vec![ContactPoint::default(); q.len()];
+    kernels::contact_gap(
+        &p.data.reference,
+        kernels::as_vec3(&u),
+        kernels::as_vec3(&v),
+        &q,
+        &mut cpu_pts,
+    );
+    let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
+    gpu.fill_nan = true;
+    let mut gpu_pts = vec![ContactPoint::default(); q.len()];
+    gpu.contact_gap_into(&u, &v, &q, &mut gpu_pts).unwrap();
+
+    // the same face, except where two candidates are equally close (a point over a shared
+    // edge): then the distances must agree
+    let pos = |nd: u32| -> [f64; 3] {
+        let (x, d) = (p.data.reference[nd as usize], &u[3 * nd as usize..]);
+        [x[0] + d[0], x[1] + d[1], x[2] + d[2]]
+    };
+    let mut same = Vec::new();
+    let mut ties = 0;
+    for i in 0..q.len() {
+        let (c, g) = (cpu_pts[i], gpu_pts[i]);
+        if c.face == g.face {
+            same.push(i);
+            continue;
+        }
+        assert!(
+            c.face != NO_FACE && g.face != NO_FACE && (g.face as usize) < q.faces.len(),
+            "seed {seed}: query {i}: cpu face {} gpu face {} (unwritten or wrong)",
+            c.face,
+            g.face
+        );
+        let x = pos(q.secondary[i]);
+        let dc = face_distance(x, &q.faces[c.face as usize].map(pos));
+        let dg = face_distance(x, &q.faces[g.face as usize].map(pos));
+        assert!(
+            (dc - dg).abs() <= 1e-5 * p.h,
+            "seed {seed}: query {i}: gpu chose face {} at distance {dg}, cpu face {} at {dc}",
+            g.face,
+            c.face
+        );
+        ties += 1;
+    }
+    eprintln!(
+        "{} queries, {} equidistant faces resolved differently",
+        q.len(),
+        ties
+    );
+    assert!(
+        ties * 20 <= q.len(),
+        "seed {seed}: {ties} ties of {}",
+        q.len()
+    );
+    let with_face: Vec<usize> = same
+        .iter()
+        .copied()
+        .filter(|&i| cpu_pts[i].face != NO_FACE)
+        .collect();
+    let sel = |pts: &[ContactPoint], f: fn(&ContactPoint) -> Vec<f64>| -> Vec<f64> {
+        with_face.iter().flat_map(|&i| f(&pts[i])).collect()
+    };
+    type Field = (&'static str, fn(&ContactPoint) -> Vec<f64>);
+    let fields: [Field; 4] = [
+        ("xi", |p| p.xi.to_vec()),
+        ("normal", |p| p.normal.to_vec()),
+        ("gap", |p| vec![p.gap]),
+        ("gap_rate", |p| vec![p.gap_rate]),
+    ];
+    for (name, f) in fields {
+        let e = rel_err(sel(&gpu_pts, f).into_iter(), sel(&cpu_pts, f).into_iter());
+        eprintln!("contact_gap {name}: relative error {e:.2e}");
+        assert!(e <= TOL, "seed {seed}: contact_gap {name} error {e:.3e}");
+    }
+    for &i in &same {
+        if cpu_pts[i].face == NO_FACE {
+            assert_eq!(
+                gpu_pts[i].gap,
+                f64::NEG_INFINITY,
+                "seed {seed}: open query {i}"
+            );
+        }
+    }
+
+    // slip rates at the CPU's contact points (the same xi for both)
+    let mut cpu_slip = vec![[0.0; 2]; q.len()];
+    kernels::slip_rate(
+        &p.data.reference,
+        kernels::as_vec3(&u),
+        kernels::as_vec3(&v),
+        &q,
+        &cpu_pts,
+        &mut cpu_slip,
+    );
+    let mut gpu_slip = vec![[f64::NAN; 2]; q.len()];
+    gpu.slip_rate_into(&u, &v, &q, &cpu_pts, &mut gpu_slip)
+        .unwrap();
+    let e = rel_err(
+        gpu_slip.iter().flatten().copied(),
+        cpu_slip.iter().flatten().copied(),
+    );
+    eprintln!("slip_rate: relative error {e:.2e}");
+    assert!(e <= TOL, "seed {seed}: slip_rate error {e:.3e}");
+}
+
+/// The same input gives the same bits on every run (the nodal sums have a fixed order).
+#[test]
+fn kernels_are_deterministic() {
+    let Some(ctx) = gpu_context("determinism") else {
+        return;
+    };
+    let seed = seed("determinism");
+    let mut rng = StdRng::seed_from_u64(seed);
+    let mut p = distorted_box(&mut rng);
+    let q = contact_problem(&mut rng, &mut p, 130);
+    let n = p.data.reference.len();
+    let u = displacements(&mut rng, n, p.h);
+    let v = velocities(&mut rng, n);
+    let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
+    let bits = |x: &[f64]| x.iter().map(|a| a.to_bits()).collect::<Vec<u64>>();
+    let mut runs = Vec::new();
+    for _ in 0..2 {
+        let mut f = vec![0.0; 3 * n];
+        gpu.internal_forces_into(&u, &mut f).unwrap();
+        let mut pts = vec![ContactPoint::default(); q.len()];
+        gpu.contact_gap_into(&u, &v, &q, &mut pts).unwrap();
+        let mut slip = vec![[0.0; 2]; q.len()];
+        gpu.slip_rate_into(&u, &v, &q, &pts, &mut slip).unwrap();
+        let g: Vec<f64> = pts
+            .iter()
+            .flat_map(|p| {
+                [
+                    p.face as f64,
+                    p.xi[0],
+                    p.xi[1],
+                    p.normal[0],
+                    p.gap,
+                    p.gap_rate,
+                ]
+            })
+            .chain(slip.iter().flatten().copied())
+            .collect();
+        runs.push((bits(&f), bits(&g)));
+    }
+    assert!(
+        runs[0].0 == runs[1].0,
+        "seed {seed}: internal forces differ between runs"
+    );
+    assert!(
+        runs[0].1 == runs[1].1,
+        "seed {seed}: contact kinematics differ between runs"
+    );
+}
+
+/// The Rust buffer types have the sizes and field offsets naga computes for the WGSL structs.
+#[test]
+fn gpu_types_match_wgsl() {
+    let module =
+        naga::front::wgsl::parse_str(impact::gpu::shaders::TYPES).expect("types.wgsl parses");
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).expect("layout");
+    for (name, size, fields) in impact::gpu::types::layouts() {
+        let (handle, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no struct {name} in types.wgsl"));
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("{name} is not a struct")
+        };
+        assert_eq!(
+            *span as usize, size,
+            "{name}: WGSL size {span}, Rust {size}"
+        );
+        assert_eq!(
+            layouter[handle].size as usize, size,
+            "{name}: layouter size"
+        );
+        assert_eq!(members.len(), fields.len(), "{name}: field count");
+        for (m, (fname, off)) in members.iter().zip(fields) {
+            assert_eq!(m.name.as_deref(), Some(fname), "{name}: field order");
+            assert_eq!(
+                m.offset as usize, off,
+                "{name}.{fname}: WGSL offset {}, Rust {off}",
+                m.offset
+            );
+        }
+    }
+}
