@@ -106,11 +106,7 @@ pub fn submit_and_read<T: bytemuck::Pod>(
     slice.map_async(wgpu::MapMode::Read, move |r| {
         let _ = tx.send(r);
     });
-    ctx.device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| {
-            ImpactError::Gpu(format!("{}: waiting for the device: {e}", ctx.adapter.name))
-        })?;
+    ctx.wait()?;
     rx.recv()
         .map_err(|_| ImpactError::Gpu("read-back callback dropped".into()))?
         .map_err(|e| {

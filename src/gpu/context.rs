@@ -148,6 +148,19 @@ impl GpuContext {
             .ok_or_else(|| ImpactError::Gpu(SOFTWARE_ADAPTER_HINT.into()))
     }
 
+    /// Blocks until the device has finished all submitted work.
+    pub fn wait(&self) -> Result<()> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| {
+                ImpactError::Gpu(format!(
+                    "{}: waiting for the device: {e}",
+                    self.adapter.name
+                ))
+            })
+    }
+
     /// Largest storage buffer one binding may hold, in bytes.
     pub fn max_binding(&self) -> u64 {
         self.limits

@@ -24,9 +24,10 @@ pub enum KernelId {
 /// Contact data as last uploaded (re-uploaded only when it changes).
 #[derive(Default)]
 struct UploadedQueries {
-    queries: Vec<ContactQuery>,
+    secondary: Vec<u32>,
+    offsets: Vec<u32>,
     candidates: Vec<u32>,
-    faces: Vec<Quad>,
+    faces: Vec<[u32; 4]>,
 }
 
 pub struct GpuKernels {
@@ -267,32 +268,35 @@ impl GpuKernels {
 
     /// Uploads the contact queries if they differ from the last ones.
     fn sync_queries(&mut self, q: &ContactQueries) -> Result<()> {
-        let queries: Vec<ContactQuery> = (0..q.len())
-            .map(|i| ContactQuery {
-                secondary: q.secondary[i],
-                first: q.offsets[i],
-                end: q.offsets[i + 1],
-            })
-            .collect();
         let mut grew = false;
-        if queries != self.uploaded.queries {
+        // compared in the caller's CSR form, so an unchanged set costs no conversion
+        if q.secondary != self.uploaded.secondary || q.offsets != self.uploaded.offsets {
+            let queries: Vec<ContactQuery> = (0..q.len())
+                .map(|i| ContactQuery {
+                    secondary: q.secondary[i],
+                    first: q.offsets[i],
+                    end: q.offsets[i + 1],
+                })
+                .collect();
             grew |= self.queries.upload(&self.ctx, &queries)?;
             grew |= self
                 .points
-                .ensure(&self.ctx, bytes_of::<types::ContactPoint>(queries.len()))?;
+                .ensure(&self.ctx, bytes_of::<types::ContactPoint>(q.len()))?;
             grew |= self
                 .slips
-                .ensure(&self.ctx, bytes_of::<[f32; 2]>(queries.len()))?;
-            self.uploaded.queries = queries;
+                .ensure(&self.ctx, bytes_of::<[f32; 2]>(q.len()))?;
+            self.uploaded.secondary.clone_from(&q.secondary);
+            self.uploaded.offsets.clone_from(&q.offsets);
         }
         if q.candidates != self.uploaded.candidates {
             grew |= self.candidates.upload(&self.ctx, &q.candidates)?;
-            self.uploaded.candidates = q.candidates.clone();
+            self.uploaded.candidates.clone_from(&q.candidates);
         }
-        let faces: Vec<Quad> = q.faces.iter().map(|&nodes| Quad { nodes }).collect();
-        if faces != self.uploaded.faces {
+        if q.faces != self.uploaded.faces {
+            // `Quad` is `[u32; 4]` with the WGSL struct's layout
+            let faces: Vec<Quad> = q.faces.iter().map(|&nodes| Quad { nodes }).collect();
             grew |= self.faces.upload(&self.ctx, &faces)?;
-            self.uploaded.faces = faces;
+            self.uploaded.faces.clone_from(&q.faces);
         }
         self.query_count = q.len();
         if grew || self.contact_binds.is_none() {
@@ -344,16 +348,10 @@ impl GpuKernels {
             k.record(&mut enc, bind, grid);
         }
         // settle earlier work (the params write) before timing
-        self.ctx
-            .device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| ImpactError::Gpu(e.to_string()))?;
+        self.ctx.wait()?;
         let start = Instant::now();
         self.ctx.queue.submit([enc.finish()]);
-        self.ctx
-            .device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| ImpactError::Gpu(e.to_string()))?;
+        self.ctx.wait()?;
         Ok(start.elapsed())
     }
 
@@ -370,24 +368,18 @@ impl GpuKernels {
             })
         };
         let (a, b) = (make("copy.a"), make("copy.b"));
-        let wait = || {
-            self.ctx
-                .device
-                .poll(wgpu::PollType::wait_indefinitely())
-                .map_err(|e| ImpactError::Gpu(e.to_string()))
-        };
         // warm up (first touch allocates on software adapters)
         let mut enc = self.encoder("copy");
         enc.copy_buffer_to_buffer(&a, 0, &b, 0, bytes);
         self.ctx.queue.submit([enc.finish()]);
-        wait()?;
+        self.ctx.wait()?;
         let mut enc = self.encoder("copy");
         for _ in 0..reps {
             enc.copy_buffer_to_buffer(&a, 0, &b, 0, bytes);
         }
         let start = Instant::now();
         self.ctx.queue.submit([enc.finish()]);
-        wait()?;
+        self.ctx.wait()?;
         // a copy reads and writes every byte
         Ok(2.0 * bytes as f64 * reps as f64 / start.elapsed().as_secs_f64())
     }
