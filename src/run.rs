@@ -93,15 +93,6 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     })?;
     let device = opts.device.unwrap_or(scene.run.device);
     let model = Model::from_scene(scene);
-    for itf in &model.interfaces {
-        if itf.friction > 0.0 {
-            return Err(ImpactError::Unsupported {
-                path: scene.path.clone(),
-                key: format!("friction (interface `{}`)", itf.name),
-                message: "friction > 0 is not available yet: Coulomb friction comes with a later release; set friction = 0".into(),
-            });
-        }
-    }
     let dt = scene
         .run
         .time_step
@@ -250,6 +241,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         .map(|((itf, st), &p)| InterfaceSummary {
             name: itf.name.clone(),
             penalty_normal_final: st.penalty.eps,
+            penalty_tangential_final: st.friction.as_ref().map(|f| f.penalty.eps),
+            friction_work: st.friction.as_ref().map_or(0.0, |f| f.work),
             penalty_increases: st.penalty.increases,
             penalty_decreases: st.penalty.decreases,
             peak_normal_force: p,

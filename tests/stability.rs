@@ -121,11 +121,12 @@ fn too_small_fixed_penalty_is_slow_where_adaptive_is_not() {
     assert!(adaptive.iterations_mean * 5.0 < fixed.iterations_mean);
 }
 
-/// The paper's two bars with the given penalty law started from `eps`.
+/// The paper's two bars with the given penalty law started from `eps`, and the plain
+/// iteration (Anderson acceleration would hide what the penalty law does).
 fn penalty_scene(law: &str, eps: &str) -> String {
     edit(
         &scene_text("two_bars.toml"),
         "penalty = \"adaptive\"",
-        &format!("penalty = \"{law}\"\npenalty_normal = {eps}"),
+        &format!("penalty = \"{law}\"\npenalty_normal = {eps}\nacceleration = \"none\""),
     )
 }

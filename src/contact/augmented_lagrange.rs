@@ -84,7 +84,11 @@ impl IterationMemory {
 /// Result of one multiplier update.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct UpdateReport {
-    /// Relative change of the contact force (area-weighted pressures).
+    /// Area-weighted norm of the change of the multipliers (force units).
+    pub change: f64,
+    /// Area-weighted norm of the larger of the old and new multipliers (force units).
+    pub scale: f64,
+    /// `change / scale` (0 when nothing changed).
     pub relative_change: f64,
     /// Largest violation of the constraint (in gap-rate units).
     pub violation: f64,
@@ -101,7 +105,7 @@ fn new_lambda(lambda: &[f64], measure: &[f64], candidate: &[bool], eps: f64, out
     }
 }
 
-/// One augmented Lagrange update of an interface:
+/// One augmented Lagrange update of an interface's pressures:
 /// `lambda_next = H <lambda + eps m>`, with the penalty adapted first when the law says so.
 pub fn update(
     penalty: &mut Penalty,
@@ -112,37 +116,81 @@ pub fn update(
     area: &[f64],
     lambda_next: &mut [f64],
 ) -> UpdateReport {
-    let n = lambda.len();
-    new_lambda(lambda, measure, candidate, penalty.eps, lambda_next);
-
-    let weighted_norm = |it: &mut dyn Iterator<Item = f64>| it.map(|x| x * x).sum::<f64>().sqrt();
-    let change = |next: &[f64]| {
-        let d = weighted_norm(&mut (0..n).map(|i| (next[i] - lambda[i]) * area[i]));
-        let s = weighted_norm(&mut (0..n).map(|i| next[i].max(lambda[i]) * area[i]));
-        if d == 0.0 {
-            0.0
-        } else {
-            d / s.max(f64::MIN_POSITIVE)
-        }
+    let mut project =
+        |eps: f64, next: &mut [f64]| new_lambda(lambda, measure, candidate, eps, next);
+    let violation = |next: &[f64]| {
+        (0..next.len())
+            .filter(|&i| candidate[i])
+            .map(|i| {
+                if next[i] > 0.0 {
+                    measure[i].abs()
+                } else {
+                    measure[i].max(0.0)
+                }
+            })
+            .fold(0.0, f64::max)
     };
-    let violation = (0..n)
-        .filter(|&i| candidate[i])
-        .map(|i| {
-            if lambda_next[i] > 0.0 {
-                measure[i].abs()
+    update_with(
+        penalty,
+        memory,
+        lambda,
+        measure,
+        area,
+        &mut project,
+        &violation,
+        lambda_next,
+    )
+}
+
+/// The update shared by the normal pressures and the tangential tractions:
+/// `project(eps, next)` writes the projected trial `P(lambda + eps m)`, `violation(next)`
+/// measures how far the constraint is from holding (gap-rate units), `weight` is each
+/// component's area. The measured compliance, the oscillation test and the adaptive law
+/// (module docs) act on all components together.
+#[allow(clippy::too_many_arguments)]
+pub fn update_with(
+    penalty: &mut Penalty,
+    memory: &mut IterationMemory,
+    lambda: &[f64],
+    measure: &[f64],
+    weight: &[f64],
+    project: &mut dyn FnMut(f64, &mut [f64]),
+    violation: &dyn Fn(&[f64]) -> f64,
+    lambda_next: &mut [f64],
+) -> UpdateReport {
+    let n = lambda.len();
+    project(penalty.eps, lambda_next);
+
+    let change = |next: &[f64]| {
+        let (mut d, mut s) = (0.0, 0.0);
+        for i in 0..n {
+            let dd = (next[i] - lambda[i]) * weight[i];
+            let ss = next[i].abs().max(lambda[i].abs()) * weight[i];
+            d += dd * dd;
+            s += ss * ss;
+        }
+        let (d, s) = (d.sqrt(), s.sqrt());
+        (
+            d,
+            s,
+            if d == 0.0 {
+                0.0
             } else {
-                measure[i].max(0.0)
-            }
-        })
-        .fold(0.0, f64::max);
+                d / s.max(f64::MIN_POSITIVE)
+            },
+        )
+    };
+    let (d, s, rel) = change(lambda_next);
     let mut report = UpdateReport {
-        relative_change: change(lambda_next),
-        violation,
+        change: d,
+        scale: s,
+        relative_change: rel,
+        violation: violation(lambda_next),
         oscillating: false,
     };
 
     if memory.have_prev && memory.prev_lambda.len() == n {
-        // measured compliance along the last pressure change: s = -dT.dm / |dT|^2
+        // measured compliance along the last multiplier change: s = -dT.dm / |dT|^2
         let (mut tt, mut tm, mut dd) = (0.0, 0.0, 0.0);
         for i in 0..n {
             let dt = lambda[i] - memory.prev_lambda[i];
@@ -165,9 +213,9 @@ pub fn update(
                 factor = factor.max(1e-6);
                 penalty.ceiling = penalty.ceiling.min(eps);
                 penalty.decreases += 1;
-            } else if violation > penalty.max_gap_rate && s_hat > 0.0 && eps * s_hat < 0.5 {
+            } else if report.violation > penalty.max_gap_rate && s_hat > 0.0 && eps * s_hat < 0.5 {
                 // eq. 20a: raise the penalty of a loose, creeping iteration
-                let r_n = violation / penalty.max_gap_rate;
+                let r_n = report.violation / penalty.max_gap_rate;
                 factor = r_n.min(1.0 / (eps * s_hat)).min(100.0);
                 factor = factor.min(0.5 * penalty.ceiling / eps).max(1.0);
                 if factor > 1.0 {
@@ -176,8 +224,12 @@ pub fn update(
             }
             if factor != 1.0 {
                 penalty.eps = eps * factor;
-                new_lambda(lambda, measure, candidate, penalty.eps, lambda_next);
-                report.relative_change = change(lambda_next);
+                project(penalty.eps, lambda_next);
+                let (d, s, rel) = change(lambda_next);
+                report.change = d;
+                report.scale = s;
+                report.relative_change = rel;
+                report.violation = violation(lambda_next);
             }
         }
     }

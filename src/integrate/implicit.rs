@@ -27,7 +27,9 @@
 //! pressures with [`augmented_lagrange::update`]. The residual is formed with the kernels'
 //! internal forces, so a backend in f32 is corrected iteratively.
 
+use crate::contact::anderson::Anderson;
 use crate::contact::augmented_lagrange::{self, IterationMemory, Penalty};
+use crate::contact::friction::{cone_projection, plane_basis, Friction};
 use crate::contact::quad::{self, dot};
 use crate::contact::{search, Primary};
 use crate::error::{ImpactError, Result};
@@ -35,7 +37,7 @@ use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::{ContactPoint, ContactQueries, Kernels};
 use crate::linalg::{assemble, Assembled, SpdSolver};
 use crate::model::Model;
-use crate::scene::{Constraint, ImplicitSettings};
+use crate::scene::{Acceleration, Constraint, ImplicitSettings};
 
 use super::state::{ContactReport, Energies};
 
@@ -51,6 +53,8 @@ pub struct InterfaceState {
     /// Kinematics at the end of the last step.
     pub points: Vec<ContactPoint>,
     pub penalty: Penalty,
+    /// Coulomb friction, where the interface has mu > 0.
+    pub friction: Option<Friction>,
     memory: IterationMemory,
     candidate: Vec<bool>,
     measure: Vec<f64>,
@@ -99,6 +103,15 @@ pub struct ImplicitSolver<'m> {
     increment: Vec<f64>,
     /// Kinematics of every surface query.
     query_points: Vec<ContactPoint>,
+    /// Covariant slip rates of every surface query (only when some surface has friction).
+    query_slip: Vec<[f64; 2]>,
+    surface_friction: bool,
+    pub anderson: Anderson,
+    /// Multipliers of all interfaces in one vector (Anderson acceleration).
+    aa_x: Vec<f64>,
+    aa_g: Vec<f64>,
+    aa_w: Vec<f64>,
+    aa_out: Vec<f64>,
     u_new: Vec<f64>,
     v_new: Vec<f64>,
     a_new: Vec<f64>,
@@ -146,10 +159,16 @@ impl<'m> ImplicitSolver<'m> {
                     .penalty_normal
                     .unwrap_or_else(|| default_penalty(model, &asm, itf, dt));
                 let n = itf.nodes.len();
+                let friction = (itf.friction > 0.0).then(|| {
+                    let eps_t = settings.penalty_tangential.unwrap_or(eps);
+                    let p = Penalty::new(eps_t, settings.penalty, mar, settings.max_force_change);
+                    Friction::new(itf.friction, p, &itf.area)
+                });
                 InterfaceState {
                     lambda: vec![0.0; n],
                     points: vec![ContactPoint::default(); n],
                     penalty: Penalty::new(eps, settings.penalty, mar, settings.max_force_change),
+                    friction,
                     memory: IterationMemory::default(),
                     candidate: vec![false; n],
                     measure: vec![0.0; n],
@@ -196,6 +215,16 @@ impl<'m> ImplicitSolver<'m> {
             inertia: vec![0.0; asm.dof_of.len()],
             increment: vec![0.0; asm.dof_of.len()],
             query_points: vec![ContactPoint::default(); nq],
+            query_slip: vec![[0.0; 2]; nq],
+            surface_friction: model
+                .interfaces
+                .iter()
+                .any(|i| i.friction > 0.0 && !i.is_plane()),
+            anderson: Anderson::default(),
+            aa_x: Vec::new(),
+            aa_g: Vec::new(),
+            aa_w: Vec::new(),
+            aa_out: Vec::new(),
             u_new: vec![0.0; ndof],
             v_new: vec![0.0; ndof],
             a_new: vec![0.0; ndof],
@@ -317,6 +346,54 @@ impl<'m> ImplicitSolver<'m> {
                 }
             }
         }
+        self.friction_kinematics(u, v)
+    }
+
+    /// Slip rates and tangents of the interfaces with friction: surfaces through the
+    /// `slip_rate` kernel (tangents from the face at the projected point), planes with a
+    /// fixed orthonormal basis.
+    fn friction_kinematics(&mut self, u: &[f64], v: &[f64]) -> Result<()> {
+        let model = self.model;
+        if self.surface_friction {
+            self.kernels.slip_rate_into(
+                u,
+                v,
+                &self.queries,
+                &self.query_points,
+                &mut self.query_slip,
+            )?;
+        }
+        let pos = |n: u32| {
+            let n = n as usize;
+            let x0 = model.mesh.nodes[n];
+            [x0[0] + u[3 * n], x0[1] + u[3 * n + 1], x0[2] + u[3 * n + 2]]
+        };
+        for (itf, st) in model.interfaces.iter().zip(&mut self.interfaces) {
+            let Some(fr) = &mut st.friction else { continue };
+            match &itf.primary {
+                Primary::Surface { queries, .. } => {
+                    fr.slip.copy_from_slice(&self.query_slip[queries.clone()]);
+                    for (i, p) in st.points.iter().enumerate() {
+                        fr.tangents[i] = if p.face == NO_FACE {
+                            [[0.0; 3]; 2]
+                        } else {
+                            let x = self.queries.faces[p.face as usize].map(pos);
+                            let (_, t1, t2, _) = quad::geometry(&x, p.xi);
+                            [t1, t2]
+                        };
+                    }
+                }
+                Primary::Plane { normal, .. } => {
+                    let e = plane_basis(*normal);
+                    for (i, &n) in itf.nodes.iter().enumerate() {
+                        let n = n as usize;
+                        let vel = [v[3 * n], v[3 * n + 1], v[3 * n + 2]];
+                        fr.tangents[i] = e;
+                        fr.slip[i] = [dot(vel, e[0]), dot(vel, e[1])];
+                    }
+                }
+            }
+        }
         Ok(())
     }
 
@@ -330,16 +407,24 @@ impl<'m> ImplicitSolver<'m> {
                     continue;
                 }
                 let p = st.points[i];
-                let f = t * itf.area[i];
+                // traction on the secondary node: T_N n + T_T
+                let mut traction = p.normal.map(|x| t * x);
+                if let Some(fr) = &st.friction {
+                    let tt = fr.traction_of(i);
+                    for a in 0..3 {
+                        traction[a] += tt[a];
+                    }
+                }
+                let f = traction.map(|x| x * itf.area[i]);
                 for a in 0..3 {
-                    self.f_c[3 * node as usize + a] += f * p.normal[a];
+                    self.f_c[3 * node as usize + a] += f[a];
                 }
                 if let Primary::Surface { .. } = itf.primary {
                     let face = self.queries.faces[p.face as usize];
                     let nsh = quad::shape(p.xi);
                     for k in 0..4 {
                         for a in 0..3 {
-                            self.f_c[3 * face[k] as usize + a] -= f * nsh[k] * p.normal[a];
+                            self.f_c[3 * face[k] as usize + a] -= nsh[k] * f[a];
                         }
                     }
                 }
@@ -377,6 +462,9 @@ impl<'m> ImplicitSolver<'m> {
                     st.lambda[i] = 0.0;
                 }
             }
+            if let Some(fr) = &mut st.friction {
+                fr.start_step(&st.points, &st.candidate);
+            }
         }
         let c_m = 1.0 / (beta * dt * dt);
         // the paper's gap rate holds the contact force constant over the step; the classical
@@ -390,6 +478,7 @@ impl<'m> ImplicitSolver<'m> {
             .tolerance
             .max(KERNEL_NOISE_FACTOR * self.kernels.unit_roundoff());
         let mut report = StepReport::default();
+        self.anderson.reset();
         for _k in 0..self.settings.max_iterations {
             self.contact_forces();
             let f_c = std::mem::take(&mut self.f_c);
@@ -445,6 +534,7 @@ impl<'m> ImplicitSolver<'m> {
 
             // augmented Lagrange update of every interface
             let mut converged = true;
+            let mut map_changed = false;
             let measure_scale = match self.settings.constraint {
                 Constraint::GapRate => 0.0,
                 Constraint::Gap => gamma / (beta * dt),
@@ -462,6 +552,10 @@ impl<'m> ImplicitSolver<'m> {
                         Constraint::Gap => measure_scale * p.gap,
                     };
                 }
+                let eps_before = (
+                    st.penalty.eps,
+                    st.friction.as_ref().map_or(0.0, |f| f.penalty.eps),
+                );
                 let r = augmented_lagrange::update(
                     &mut st.penalty,
                     &mut st.memory,
@@ -474,6 +568,19 @@ impl<'m> ImplicitSolver<'m> {
                 if grew || r.relative_change > tol {
                     converged = false;
                 }
+                if let Some(fr) = &mut st.friction {
+                    // tangential change relative to the larger of the normal and tangential
+                    // force scales: the relative change of the contact force as a whole
+                    let rt = fr.update(&st.next, &st.candidate, &st.points);
+                    if rt.change > tol * rt.scale.max(r.scale) {
+                        converged = false;
+                    }
+                }
+                let eps_after = (
+                    st.penalty.eps,
+                    st.friction.as_ref().map_or(0.0, |f| f.penalty.eps),
+                );
+                map_changed |= grew || eps_after != eps_before;
             }
             let residual_ok =
                 exact || corr <= 1e3 * self.kernels.unit_roundoff() * size.max(f64::MIN_POSITIVE);
@@ -482,8 +589,18 @@ impl<'m> ImplicitSolver<'m> {
                 break;
             }
             if !converged {
-                for st in &mut self.interfaces {
-                    std::mem::swap(&mut st.lambda, &mut st.next);
+                if self.settings.acceleration == Acceleration::Anderson {
+                    if map_changed {
+                        self.anderson.reset();
+                    }
+                    self.accelerate();
+                } else {
+                    for st in &mut self.interfaces {
+                        std::mem::swap(&mut st.lambda, &mut st.next);
+                        if let Some(fr) = &mut st.friction {
+                            fr.accept_update();
+                        }
+                    }
                 }
             }
         }
@@ -504,6 +621,12 @@ impl<'m> ImplicitSolver<'m> {
                     r.max_penetration = r.max_penetration.max(st.points[i].gap);
                 }
             }
+            if let Some(fr) = &mut st.friction {
+                let (total, sliding) = fr.end_step(dt, &itf.area, &st.lambda, &st.points);
+                r.tangential_force = quad::norm(total);
+                r.sliding = sliding;
+                r.friction_work = fr.work;
+            }
             if endpoint {
                 // impulse of the step / dt with forces at both ends
                 let f_end = r.normal_force;
@@ -518,6 +641,53 @@ impl<'m> ImplicitSolver<'m> {
             ));
         }
         Ok(report)
+    }
+
+    /// The next multipliers from the current ones and their update G by Anderson's method,
+    /// projected back onto the admissible set: pressures >= 0 on candidates (0 elsewhere),
+    /// tractions in the tangent plane and inside the Coulomb cone of the new pressure.
+    fn accelerate(&mut self) {
+        let (x, g, w) = (&mut self.aa_x, &mut self.aa_g, &mut self.aa_w);
+        x.clear();
+        g.clear();
+        w.clear();
+        for (itf, st) in self.model.interfaces.iter().zip(&self.interfaces) {
+            x.extend_from_slice(&st.lambda);
+            g.extend_from_slice(&st.next);
+            w.extend(itf.area.iter().map(|a| a.max(f64::MIN_POSITIVE)));
+            if let Some(fr) = &st.friction {
+                x.extend_from_slice(&fr.traction);
+                g.extend_from_slice(&fr.next);
+                w.extend(itf.area.iter().flat_map(|&a| [a.max(f64::MIN_POSITIVE); 3]));
+            }
+        }
+        self.aa_out.resize(x.len(), 0.0);
+        self.anderson.step(x, g, w, &mut self.aa_out);
+        let mut k = 0;
+        for st in &mut self.interfaces {
+            let n = st.lambda.len();
+            for i in 0..n {
+                st.lambda[i] = if st.candidate[i] {
+                    self.aa_out[k + i].max(0.0)
+                } else {
+                    0.0
+                };
+            }
+            k += n;
+            if let Some(fr) = &mut st.friction {
+                for i in 0..n {
+                    let t = [0, 1, 2].map(|a| self.aa_out[k + 3 * i + a]);
+                    let r = if st.points[i].face == NO_FACE {
+                        0.0
+                    } else {
+                        fr.mu * st.lambda[i]
+                    };
+                    let t = cone_projection(t, st.points[i].normal, r);
+                    fr.traction[3 * i..3 * i + 3].copy_from_slice(&t);
+                }
+                k += 3 * n;
+            }
+        }
     }
 
     /// M (x - u_tilde) on the free dofs (equation order) into `out`; `increment` receives

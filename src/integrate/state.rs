@@ -27,4 +27,8 @@ pub struct ContactReport {
     pub active: usize,
     /// Largest penetration at the end of the step (>= 0).
     pub max_penetration: f64,
+    /// Secondary nodes whose traction is on the Coulomb cone (sliding).
+    pub sliding: usize,
+    /// Energy dissipated by friction since the start of the run.
+    pub friction_work: f64,
 }

@@ -11,6 +11,8 @@ use crate::model::Model;
 
 pub struct History {
     path: PathBuf,
+    /// Interfaces with friction, whose `sliding` and `friction_work` close the row.
+    frictional: Vec<usize>,
     out: BufWriter<File>,
     line: String,
 }
@@ -55,8 +57,18 @@ impl History {
                 cols.push(format!("{}.{c}", p.name));
             }
         }
+        // columns beyond scene-format.md go last, so the fixed ones keep their places
+        let frictional: Vec<usize> = (0..model.interfaces.len())
+            .filter(|&i| model.interfaces[i].friction > 0.0)
+            .collect();
+        for &i in &frictional {
+            for c in ["sliding", "friction_work"] {
+                cols.push(format!("{}.{c}", model.interfaces[i].name));
+            }
+        }
         let mut h = History {
             path,
+            frictional,
             out: BufWriter::new(file),
             line: String::new(),
         };
@@ -102,6 +114,9 @@ impl History {
         }
         for (u, v) in probes {
             let _ = write!(l, ",{},{},{},{},{},{}", u[0], u[1], u[2], v[0], v[1], v[2]);
+        }
+        for &i in &self.frictional {
+            let _ = write!(l, ",{},{}", contacts[i].sliding, contacts[i].friction_work);
         }
         self.flush_line()
     }

@@ -11,6 +11,10 @@ pub struct InterfaceSummary {
     pub name: String,
     /// Penalty eps_N at the end of the run.
     pub penalty_normal_final: f64,
+    /// Penalty eps_T at the end of the run (interfaces with friction only).
+    pub penalty_tangential_final: Option<f64>,
+    /// Energy dissipated by friction over the run.
+    pub friction_work: f64,
     pub penalty_increases: usize,
     pub penalty_decreases: usize,
     pub peak_normal_force: f64,

@@ -66,6 +66,14 @@ pub enum PenaltyLaw {
     Fixed,
 }
 
+/// How the multiplier iteration is driven: the plain augmented Lagrange update, or that
+/// update with Anderson acceleration (`contact::anderson`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Acceleration {
+    Anderson,
+    None,
+}
+
 /// Mass matrix of the implicit integrator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MassKind {
@@ -98,6 +106,7 @@ pub struct ImplicitSettings {
     pub max_gap_rate: Option<f64>,
     /// T_MAX of eq. 20b, the largest relative force change allowed to alternate in sign.
     pub max_force_change: f64,
+    pub acceleration: Acceleration,
 }
 
 impl Default for ImplicitSettings {
@@ -114,6 +123,7 @@ impl Default for ImplicitSettings {
             mass: MassKind::Consistent,
             max_gap_rate: None,
             max_force_change: 0.05,
+            acceleration: Acceleration::Anderson,
         }
     }
 }

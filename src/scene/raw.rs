@@ -51,6 +51,7 @@ pub struct RawImplicit {
     pub mass: Option<String>,
     pub max_gap_rate: Option<f64>,
     pub max_force_change: Option<f64>,
+    pub acceleration: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]

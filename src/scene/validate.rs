@@ -200,6 +200,15 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
                 ("consistent", MassKind::Consistent),
             ],
         )?;
+        implicit.acceleration = c.choice(
+            "implicit.acceleration",
+            ri.acceleration.as_deref(),
+            Acceleration::Anderson,
+            &[
+                ("anderson", Acceleration::Anderson),
+                ("none", Acceleration::None),
+            ],
+        )?;
         if let Some(e) = ri.penalty_normal {
             implicit.penalty_normal = Some(c.positive("implicit.penalty_normal", e)?);
         }

@@ -1,0 +1,176 @@
+//! Coulomb friction against the exact answers of rigid-body mechanics: a block sliding to rest
+//! on a floor, a block on an incline (stuck below the friction angle, sliding above it), an
+//! oblique impact that slides throughout. Every run also checks that the total energy
+//! (kinetic + strain + gravity potential) never rises from one step to the next by more than
+//! 1e-6 of its scale, and that the energy lost is the friction work reported.
+//!
+//! The block is 0.2 x 0.2 x 0.1 (2 x 2 x 1 hex8), stiff (E = 1e8, rho = 1000), resting on an
+//! analytic floor z = 0; an incline is the same floor with gravity turned by theta.
+
+mod common;
+use common::*;
+
+const G: f64 = 9.81;
+
+fn block_scene(gravity: [f64; 3], velocity: [f64; 3], mu: f64, end: f64, dt: f64) -> String {
+    format!(
+        r#"title = "Block on a rigid floor"
+gravity = [{}, {}, {}]
+
+[run]
+end_time = {end}
+time_step = {dt}
+
+[[material]]
+name = "stiff"
+density = 1000.0
+youngs_modulus = 1.0e8
+poissons_ratio = 0.25
+
+[[body]]
+name = "block"
+material = "stiff"
+box = {{ min = [0.0, 0.0, 0.0], max = [0.2, 0.2, 0.1], divisions = [2, 2, 1] }}
+velocity = [{}, {}, {}]
+
+[[rigid_plane]]
+name = "floor"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+friction = {mu}
+
+[[probe]]
+name = "base"
+body = "block"
+point = [0.1, 0.1, 0.0]
+"#,
+        gravity[0], gravity[1], gravity[2], velocity[0], velocity[1], velocity[2]
+    )
+}
+
+/// Largest rise of the total energy from one row to the next, and the energy balance error
+/// |E_0 - E_end - W_friction|, both relative to `scale`.
+fn energy_checks(h: &History, scale: f64) -> (f64, f64) {
+    let e = h.col("total_energy");
+    let rise = e.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max) / scale;
+    let balance = (e[0] - e[e.len() - 1] - h.last("floor.friction_work")).abs() / scale;
+    (rise, balance)
+}
+
+#[test]
+fn block_sliding_on_a_floor_stops_at_v0_over_mu_g() {
+    let (v0, mu, dt) = (2.0, 0.2, 1e-3);
+    let text = block_scene([0.0, 0.0, -G], [v0, 0.0, 0.0], mu, 1.5, dt);
+    let (s, h) = run_text("friction_slide", &text);
+    let s = s.expect("run completes");
+    let t = h.col("time");
+    let vx = h.col("block.vx");
+    let ux = h.col("base.ux");
+    // stopped: the velocity is within one step's friction change of zero
+    let stop = vx
+        .iter()
+        .position(|v| *v <= mu * G * dt)
+        .expect("the block stops");
+    let (t_stop, distance) = (t[stop], h.last("base.ux"));
+    let (t_exact, d_exact) = (v0 / (mu * G), v0 * v0 / (2.0 * mu * G));
+    let creep = ux[stop..].iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b))
+        - ux[stop..].iter().fold(f64::INFINITY, |a, &b| a.min(b));
+    let ringing = vx[stop..].iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let (rise, balance) = energy_checks(&h, h.col("total_energy")[0]);
+    eprintln!(
+        "slide: stop {t_stop:.4} (exact {t_exact:.4}), distance {distance:.5} (exact {d_exact:.5}), creep {creep:.2e}, velocity after stop <= {ringing:.2e}, energy rise {rise:.2e}, balance {balance:.2e}, {:.2} iterations/step",
+        s.iterations_mean
+    );
+    assert!((t_stop / t_exact - 1.0).abs() <= 0.02, "stop time {t_stop}");
+    assert!(
+        (distance / d_exact - 1.0).abs() <= 0.02,
+        "distance {distance}"
+    );
+    assert!(creep <= 1e-3 * d_exact, "creep {creep}");
+    assert!(ringing <= mu * G * dt, "velocity after the stop {ringing}");
+    assert!(rise <= 1e-6, "energy rise {rise}");
+    assert!(
+        balance <= 1e-3,
+        "friction work against energy lost {balance}"
+    );
+    assert_eq!(s.unconverged_steps, 0);
+}
+
+/// Gravity turned by theta about y: the floor becomes an incline of angle theta.
+fn incline(theta_deg: f64) -> (String, f64) {
+    let th = theta_deg.to_radians();
+    let text = block_scene([G * th.sin(), 0.0, -G * th.cos()], [0.0; 3], 0.2, 1.0, 1e-3);
+    (text, th)
+}
+
+#[test]
+fn block_on_an_incline_below_the_friction_angle_stays() {
+    // tan(theta) = 0.15 < mu = 0.2
+    let (text, th) = incline(0.15f64.atan().to_degrees());
+    let (s, h) = run_text("friction_incline_stick", &text);
+    s.expect("run completes");
+    let free = 0.5 * G * th.sin() * 1.0f64.powi(2);
+    let moved = h.col("base.ux").iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    // energy scale: m g h of the 4 kg block
+    let (rise, _) = energy_checks(&h, 4.0 * G * 0.1);
+    eprintln!(
+        "incline tan 0.15: base moved {moved:.3e} (frictionless: {free:.3}), energy rise {rise:.2e}"
+    );
+    assert!(moved <= 1e-5 * free, "moved {moved}");
+    assert!(rise <= 1e-6, "energy rise {rise}");
+}
+
+#[test]
+fn block_on_an_incline_above_the_friction_angle_slides_at_g_sin_minus_mu_cos() {
+    // tan(theta) = 0.3 > mu = 0.2
+    let (text, th) = incline(0.3f64.atan().to_degrees());
+    let (s, h) = run_text("friction_incline_slide", &text);
+    let s = s.expect("run completes");
+    let exact = G * (th.sin() - 0.2 * th.cos());
+    // the mean acceleration over the second half (past the start's settling)
+    let t = h.col("time");
+    let vx = h.col("block.vx");
+    let half = t.len() / 2;
+    let a = (vx[t.len() - 1] - vx[half]) / (t[t.len() - 1] - t[half]);
+    // energy scale: the work gravity does over the run
+    let scale = 4.0 * G * th.sin() * h.last("base.ux");
+    let (rise, balance) = energy_checks(&h, scale);
+    eprintln!(
+        "incline tan 0.3: acceleration {a:.5} (exact {exact:.5}), energy rise {rise:.2e}, balance {balance:.2e}, {:.2} iterations/step",
+        s.iterations_mean
+    );
+    assert!((a / exact - 1.0).abs() <= 0.02, "acceleration {a}");
+    assert!(rise <= 1e-6, "energy rise {rise}");
+    assert!(balance <= 1e-3, "balance {balance}");
+}
+
+#[test]
+fn oblique_impact_sliding_throughout_loses_mu_times_the_normal_impulse() {
+    let mu = 0.3;
+    let text = block_scene([0.0; 3], [3.0, 0.0, -1.0], mu, 0.015, 1e-4)
+        .replace("youngs_modulus = 1.0e8", "youngs_modulus = 1.0e6");
+    let (s, h) = run_text("friction_oblique", &text);
+    let s = s.expect("run completes");
+    let (vx, vz) = (h.col("block.vx"), h.col("block.vz"));
+    let lost = vx[0] - h.last("block.vx");
+    let normal = h.last("block.vz") - vz[0];
+    let active = h.col("floor.active");
+    let sliding = h.col("floor.sliding");
+    let all_slide = active.iter().zip(&sliding).all(|(a, s)| a == s);
+    let released = *active.last().unwrap() == 0.0;
+    let (rise, _) = energy_checks(&h, h.col("total_energy")[0]);
+    eprintln!(
+        "oblique: tangential momentum lost / normal impulse = {:.5} (mu {mu}), rebound vz {:.4}, all contact nodes slide: {all_slide}, energy rise {rise:.2e}, {:.2} iterations/step",
+        lost / normal,
+        h.last("block.vz"),
+        s.iterations_mean
+    );
+    assert!(released, "the block leaves the floor within the run");
+    assert!(all_slide, "every contact node slides in every step");
+    assert!(
+        (lost / normal / mu - 1.0).abs() <= 0.02,
+        "ratio {}",
+        lost / normal
+    );
+    assert!(rise <= 1e-6, "energy rise {rise}");
+}
