@@ -174,3 +174,48 @@ fn oblique_impact_sliding_throughout_loses_mu_times_the_normal_impulse() {
     );
     assert!(rise <= 1e-6, "energy rise {rise}");
 }
+
+/// When the contact stops sliding (the first step with contact nodes and none sliding) and
+/// when it ends (the first step after contact with none active).
+fn events(h: &History, name: &str) -> (Option<f64>, Option<f64>) {
+    let t = h.col("time");
+    let active = h.col(&format!("{name}.active"));
+    let sliding = h.col(&format!("{name}.sliding"));
+    let first = active.iter().position(|a| *a > 0.0).expect("contact");
+    let stop = (first..t.len()).find(|&i| active[i] > 0.0 && sliding[i] == 0.0);
+    let end = (first..t.len()).find(|&i| active[i] == 0.0);
+    (stop.map(|i| t[i]), end.map(|i| t[i]))
+}
+
+/// The paper's example 2 as shipped: a regression pin on our own result (sliding stops at
+/// 0.030 s, contact ends at 0.034 s; the paper reports 0.026 s and 0.06 s, README and
+/// docs/method-notes.md say why they differ), plus the energy laws.
+#[test]
+fn cube_on_plate_events_are_pinned() {
+    let (s, h) = run_text_on(
+        "cube_on_plate",
+        &scene_text("cube_on_plate.toml"),
+        Some(impact::scene::DeviceChoice::Cpu),
+    );
+    let s = s.expect("run completes");
+    let (stop, end) = events(&h, "impact");
+    let e = h.col("total_energy");
+    let rise = e.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max) / e[0];
+    let lost = e[0] - e[e.len() - 1];
+    let work = h.last("impact.friction_work");
+    eprintln!(
+        "cube on plate: sliding stops {stop:?}, contact ends {end:?}, energy lost {lost:.5} of which friction {work:.5}, rise {rise:.2e}, {:.2} iterations/step",
+        s.iterations_mean
+    );
+    let dt = 0.002;
+    let stop = stop.expect("sliding stops");
+    let end = end.expect("contact ends");
+    assert!((stop - 0.030).abs() <= 0.5 * dt, "sliding stops at {stop}");
+    assert!((end - 0.034).abs() <= 0.5 * dt, "contact ends at {end}");
+    assert!(rise <= 1e-6, "energy rise {rise}");
+    assert!(
+        work > 0.0 && work <= lost * (1.0 + 1e-6),
+        "friction work {work}, lost {lost}"
+    );
+    assert_eq!(s.unconverged_steps, 0);
+}

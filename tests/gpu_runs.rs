@@ -95,3 +95,25 @@ fn two_bars_gpu_and_cpu_agree_row_by_row() {
         ],
     );
 }
+
+/// The oblique cube on a plate with friction: the surface contact's slip rates come from the
+/// `slip_rate` kernel, so this compares the frictional path on both devices.
+#[test]
+fn cube_on_plate_gpu_and_cpu_agree_row_by_row() {
+    compare(
+        "cube_on_plate_devices",
+        &scene_text("cube_on_plate.toml"),
+        &[
+            "impact.normal_force",
+            "impact.tangential_force",
+            "impact.friction_work",
+            "kinetic_energy",
+            "strain_energy",
+            "total_energy",
+            "cube.v",
+            "plate.v",
+            "bottom.ux",
+            "bottom.uz",
+        ],
+    );
+}
