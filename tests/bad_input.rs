@@ -157,3 +157,37 @@ fn missing_scene_file() {
     let e = Scene::load("no/such/scene.toml").expect_err("missing file");
     assert!(e.to_string().contains("no/such/scene.toml"));
 }
+
+#[test]
+fn negative_friction_on_a_rigid_plane() {
+    let text = edit(
+        &scene_text("bar_on_wall.toml"),
+        "friction = 0.0",
+        "friction = -0.3",
+    );
+    expect(&text, &["rigid_plane[0].friction", ">= 0", "-0.3"]);
+}
+
+#[test]
+fn unknown_acceleration_is_named() {
+    expect(
+        &edit(
+            &base(),
+            "penalty = \"adaptive\"",
+            "penalty = \"adaptive\"\nacceleration = \"aitken\"",
+        ),
+        &["implicit.acceleration", "aitken", "anderson"],
+    );
+}
+
+#[test]
+fn non_positive_tangential_penalty() {
+    expect(
+        &edit(
+            &base(),
+            "penalty = \"adaptive\"",
+            "penalty = \"adaptive\"\npenalty_tangential = 0.0",
+        ),
+        &["implicit.penalty_tangential"],
+    );
+}
