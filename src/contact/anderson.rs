@@ -30,9 +30,6 @@ pub struct Anderson {
     /// (G(x_j), f_j) of the last iterates, oldest first, already weighted.
     history: VecDeque<(Vec<f64>, Vec<f64>)>,
     last_residual: f64,
-    /// Accelerated steps and restarts since the start of the run.
-    pub accelerated: usize,
-    pub restarts: usize,
 }
 
 impl Anderson {
@@ -51,7 +48,6 @@ impl Anderson {
         let norm = fw.iter().map(|v| v * v).sum::<f64>().sqrt();
         if norm > self.last_residual && !self.history.is_empty() {
             self.history.clear();
-            self.restarts += 1;
         }
         self.last_residual = norm;
         self.history.push_back((gw, fw));
@@ -96,7 +92,6 @@ impl Anderson {
         for i in 0..n {
             out[i] = (gk[i] - step[i]) / w[i];
         }
-        self.accelerated += 1;
         true
     }
 }

@@ -83,6 +83,15 @@ pub fn cone_projection(t: V3, n: V3, r: f64) -> V3 {
     t.map(|x| x * scale)
 }
 
+/// Radius of a node's Coulomb cone: mu T_N for a candidate with a contact point, else 0.
+pub fn cone_radius(mu: f64, pressure: f64, candidate: bool, point: &ContactPoint) -> f64 {
+    if candidate && point.face != NO_FACE {
+        mu * pressure
+    } else {
+        0.0
+    }
+}
+
 /// $m^{ab} c_b \tau_a$: the vector whose covariant components in the basis `t` are `c`.
 pub fn from_covariant(t: &[V3; 2], c: [f64; 2]) -> V3 {
     let (m11, m12, m22) = (dot(t[0], t[0]), dot(t[0], t[1]), dot(t[1], t[1]));
@@ -205,15 +214,9 @@ impl Friction {
                 self.measure[3 * i + a] = -(v[a] + v0[a]);
             }
         }
-        let mu = self.mu;
         let (traction, measure) = (&self.traction, &self.measure);
-        let radius = |i: usize| {
-            if candidate[i] && points[i].face != NO_FACE {
-                mu * pressure[i]
-            } else {
-                0.0
-            }
-        };
+        let mu = self.mu;
+        let radius = |i: usize| cone_radius(mu, pressure[i], candidate[i], &points[i]);
         let mut project = |eps: f64, next: &mut [f64]| {
             for i in 0..n {
                 let r = radius(i);
@@ -280,8 +283,7 @@ impl Friction {
             // trial exceeds it by eps |v_T,n + v_T,n+1|; a sticking node's is its traction)
             let r = self.mu * pressure[i];
             let trial = [0, 1, 2].map(|a| t[a] + self.penalty.eps * self.measure[3 * i + a]);
-            let tn = dot(trial, points[i].normal);
-            let tangential = [0, 1, 2].map(|a| trial[a] - tn * points[i].normal[a]);
+            let tangential = cone_projection(trial, points[i].normal, f64::INFINITY);
             if r > 0.0 && norm(tangential) > r * (1.0 + ON_CONE) {
                 sliding += 1;
             }

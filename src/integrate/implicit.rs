@@ -29,7 +29,7 @@
 
 use crate::contact::anderson::Anderson;
 use crate::contact::augmented_lagrange::{self, IterationMemory, Penalty};
-use crate::contact::friction::{cone_projection, plane_basis, Friction};
+use crate::contact::friction::{cone_projection, cone_radius, plane_basis, Friction};
 use crate::contact::quad::{self, dot};
 use crate::contact::{search, Primary};
 use crate::error::{ImpactError, Result};
@@ -106,7 +106,7 @@ pub struct ImplicitSolver<'m> {
     /// Covariant slip rates of every surface query (only when some surface has friction).
     query_slip: Vec<[f64; 2]>,
     surface_friction: bool,
-    pub anderson: Anderson,
+    anderson: Anderson,
     /// Multipliers of all interfaces in one vector (Anderson acceleration).
     aa_x: Vec<f64>,
     aa_g: Vec<f64>,
@@ -677,11 +677,7 @@ impl<'m> ImplicitSolver<'m> {
             if let Some(fr) = &mut st.friction {
                 for i in 0..n {
                     let t = [0, 1, 2].map(|a| self.aa_out[k + 3 * i + a]);
-                    let r = if st.points[i].face == NO_FACE {
-                        0.0
-                    } else {
-                        fr.mu * st.lambda[i]
-                    };
+                    let r = cone_radius(fr.mu, st.lambda[i], st.candidate[i], &st.points[i]);
                     let t = cone_projection(t, st.points[i].normal, r);
                     fr.traction[3 * i..3 * i + 3].copy_from_slice(&t);
                 }
