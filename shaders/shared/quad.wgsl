@@ -45,61 +45,105 @@ fn quad_geometry(p: array<vec3<f32>, 4>, xi: vec2<f32>) -> QuadGeometry {
     return g;
 }
 
-const NEWTON_ITERATIONS: u32 = 12u;
+const NEWTON_ITERATIONS: u32 = 16u;
+const HESSIAN_DEFINITE: f32 = 1e-3;
+const HELD_BAND: f32 = 1e-2;
+const BLOCKED: f32 = 1e-2;
+// f32 rounding allowance and step tolerance (the twin uses 1e-12 and 1e-13 in f64)
+const ROUNDING: f32 = 1e-5;
+const STEP_TOLERANCE: f32 = 1e-6;
 
-// Closest point of the quad to x (twin of `quad::project`): Newton with the full Hessian from
-// the centre; if it leaves the square or does not converge, clamp and slide along the edges.
+// The largest fraction alpha <= 1 of the step -d from xi that stays in the square.
+fn quad_box_step(xi: vec2<f32>, d: vec2<f32>) -> f32 {
+    var alpha = 1.0;
+    for (var a = 0u; a < 2u; a++) {
+        if (d[a] > 0.0) {
+            alpha = min(alpha, (xi[a] + 1.0) / d[a]);
+        } else if (d[a] < 0.0) {
+            alpha = min(alpha, (xi[a] - 1.0) / d[a]);
+        }
+    }
+    return max(alpha, 0.0);
+}
+
+// Closest point of the quad to x (twin of `quad::project`): projected Newton from the centre
+// with a line search, every iterate in the square; coordinates near an edge with the gradient
+// pointing out are held on it; full Hessian where safely positive definite, else the metric;
+// steps shortened to the square, the scaled gradient where that blocks them; uphill steps
+// halved; the closest iterate kept if it does not converge.
 fn quad_project(p: array<vec3<f32>, 4>, x: vec3<f32>) -> vec2<f32> {
     var xi = vec2<f32>(0.0);
-    var converged = false;
-    // tolerance scaled to f32 (the twin uses 1e-13 in f64)
+    var last_d2 = bitcast<f32>(0x7f800000u); // +inf
+    var last_xi = xi;
+    var last_allowance = 0.0;
+    var best_d2 = bitcast<f32>(0x7f800000u);
+    var best_xi = xi;
+    var have_last = false;
     for (var it = 0u; it < NEWTON_ITERATIONS; it++) {
         let g = quad_geometry(p, xi);
         let r = g.y - x;
+        let d2 = dot(r, r);
+        if (have_last && !(d2 <= last_d2 + last_allowance)) {
+            // uphill: back to half the step
+            xi = 0.5 * (xi + last_xi);
+            continue;
+        }
+        let m00 = dot(g.t1, g.t1);
+        let m01 = dot(g.t1, g.t2);
+        let m11 = dot(g.t2, g.t2);
+        have_last = true;
+        last_d2 = d2;
+        last_xi = xi;
+        last_allowance = ROUNDING * (d2 + m00 + m11);
+        if (d2 < best_d2) {
+            best_d2 = d2;
+            best_xi = xi;
+        }
         let f = vec2<f32>(dot(r, g.t1), dot(r, g.t2));
-        let h01 = dot(g.t1, g.t2) + dot(r, g.t12);
-        let h00 = dot(g.t1, g.t1);
-        let h11 = dot(g.t2, g.t2);
-        let det = h00 * h11 - h01 * h01;
-        if (abs(det) <= 1e-30) {
+        let m = vec2<f32>(m00, m11);
+        var held = vec2<bool>(false, false);
+        for (var a = 0u; a < 2u; a++) {
+            held[a] = f[a] * xi[a] <= 0.0 && 1.0 - abs(xi[a]) <= min(HELD_BAND, abs(f[a]) / m[a]);
+        }
+        let start = xi;
+        for (var a = 0u; a < 2u; a++) {
+            if (held[a]) {
+                xi[a] = sign(xi[a]);
+            }
+        }
+        if (held.x && held.y) {
+            return xi;
+        }
+        let gradient = select(f / m, vec2<f32>(0.0), held);
+        var d = gradient;
+        if (!held.x && !held.y) {
+            var h01 = m01 + dot(r, g.t12);
+            if (m00 * m11 - h01 * h01 <= HESSIAN_DEFINITE * m00 * m11) {
+                h01 = m01;
+            }
+            let det = m00 * m11 - h01 * h01;
+            d = vec2<f32>((m11 * f.x - h01 * f.y) / det, (m00 * f.y - h01 * f.x) / det);
+        }
+        var alpha = quad_box_step(xi, d);
+        if (alpha < BLOCKED) {
+            d = gradient;
+            alpha = quad_box_step(xi, d);
+        }
+        let next = clamp(xi - alpha * d, vec2<f32>(-1.0), vec2<f32>(1.0));
+        // NaN guard: a NaN compares false both ways
+        if (!(abs(next.x) <= 1.0) || !(abs(next.y) <= 1.0)) {
             break;
         }
-        let d = vec2<f32>((h11 * f.x - h01 * f.y) / det, (h00 * f.y - h01 * f.x) / det);
-        xi = clamp(xi - d, vec2<f32>(-3.0), vec2<f32>(3.0));
-        if (max(abs(d.x), abs(d.y)) < 1e-6) {
-            converged = true;
-            break;
+        let step = max(abs(next.x - start.x), abs(next.y - start.y));
+        if (step < STEP_TOLERANCE) {
+            return next;
         }
+        xi = next;
     }
-    if (converged && abs(xi.x) <= 1.0 && abs(xi.y) <= 1.0) {
+    let g = quad_geometry(p, xi);
+    let r = g.y - x;
+    if (dot(r, r) < best_d2) {
         return xi;
     }
-    xi = clamp(xi, vec2<f32>(-1.0), vec2<f32>(1.0));
-    // NaN guard: a NaN compares false both ways
-    if (!(abs(xi.x) <= 1.0) || !(abs(xi.y) <= 1.0)) {
-        xi = vec2<f32>(0.0);
-    }
-    for (var sweep = 0u; sweep < 2u; sweep++) {
-        for (var free = 0u; free < 2u; free++) {
-            let fixed = 1u - free;
-            if (abs(xi[fixed]) < 1.0) {
-                continue;
-            }
-            for (var it = 0u; it < NEWTON_ITERATIONS; it++) {
-                let g = quad_geometry(p, xi);
-                var t = g.t1;
-                if (free == 1u) {
-                    t = g.t2;
-                }
-                let step = dot(g.y - x, t) / dot(t, t);
-                let next = clamp(xi[free] - step, -1.0, 1.0);
-                let done = abs(next - xi[free]) < 1e-7;
-                xi[free] = next;
-                if (done) {
-                    break;
-                }
-            }
-        }
-    }
-    return xi;
+    return best_xi;
 }
