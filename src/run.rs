@@ -5,12 +5,13 @@ use std::time::Instant;
 
 use crate::error::{ImpactError, Result};
 use crate::gpu::{AdapterPolicy, GpuContext, GpuKernels};
-use crate::integrate::ImplicitSolver;
+use crate::integrate::stable_step::stable_step;
+use crate::integrate::{ContactReport, Energies, ExplicitSolver, ImplicitSolver, StepReport};
 use crate::kernels::{CpuKernels, Kernels};
 use crate::model::Model;
 use crate::output::summary::InterfaceSummary;
 use crate::output::{History, Summary};
-use crate::scene::{Constraint, DeviceChoice, MassKind, PenaltyLaw, Scene};
+use crate::scene::{Constraint, DeviceChoice, MassKind, Method, PenaltyLaw, Scene};
 
 /// A run whose total energy exceeds this multiple of its scale (the initial energy, or the
 /// work gravity can do across the model) has diverged: elastic contact can only lose energy.
@@ -80,6 +81,89 @@ pub fn kernels<'m>(
     }
 }
 
+/// The integrator a scene asked for.
+enum Solver<'m> {
+    Implicit(Box<ImplicitSolver<'m>>),
+    Explicit(Box<ExplicitSolver<'m>>),
+}
+
+impl Solver<'_> {
+    fn step(&mut self) -> Result<StepReport> {
+        match self {
+            Solver::Implicit(s) => s.step(),
+            Solver::Explicit(s) => s.step(),
+        }
+    }
+    fn energies(&mut self) -> Result<Energies> {
+        match self {
+            Solver::Implicit(s) => s.energies(),
+            Solver::Explicit(s) => s.energies(),
+        }
+    }
+    fn body_velocities(&self) -> Vec<[f64; 3]> {
+        match self {
+            Solver::Implicit(s) => s.body_velocities(),
+            Solver::Explicit(s) => s.body_velocities(),
+        }
+    }
+    fn time(&self) -> f64 {
+        match self {
+            Solver::Implicit(s) => s.time,
+            Solver::Explicit(s) => s.time,
+        }
+    }
+    fn steps(&self) -> usize {
+        match self {
+            Solver::Implicit(s) => s.steps,
+            Solver::Explicit(s) => s.steps,
+        }
+    }
+    fn state(&self) -> (&[f64], &[f64]) {
+        match self {
+            Solver::Implicit(s) => (&s.u, &s.v),
+            Solver::Explicit(s) => (&s.u, &s.v),
+        }
+    }
+    fn reports(&self) -> Vec<ContactReport> {
+        match self {
+            Solver::Implicit(s) => s.interfaces.iter().map(|i| i.report).collect(),
+            Solver::Explicit(s) => s.interfaces.iter().map(|i| i.report).collect(),
+        }
+    }
+    fn nodal_mass(&self) -> &[f64] {
+        match self {
+            Solver::Implicit(s) => s.nodal_mass(),
+            Solver::Explicit(s) => s.nodal_mass(),
+        }
+    }
+    fn device_name(&self) -> String {
+        match self {
+            Solver::Implicit(s) => s.device_name(),
+            Solver::Explicit(s) => s.device_name(),
+        }
+    }
+}
+
+/// The time step of an explicit run: the scene's, if it is within the stable bound, else
+/// `safety_factor` of the bound. Returns (step, bound).
+pub fn explicit_time_step(scene: &Scene, model: &Model) -> Result<(f64, f64)> {
+    let (stable, element) = stable_step(model);
+    match scene.run.time_step {
+        // a step equal to the bound up to rounding is the bound
+        Some(dt) if dt > stable * (1.0 + 1e-9) => Err(ImpactError::SceneValue {
+            path: scene.path.clone(),
+            key: "run.time_step".into(),
+            message: format!(
+                "{dt:.4e} is above the stable explicit step {stable:.4e} (set by element {element}: 2/omega_max of its lumped-mass eigenproblem); use at most that, or leave time_step out for {:.4e} (explicit.safety_factor = {} of it)",
+                scene.explicit.safety_factor * stable,
+                scene.explicit.safety_factor
+            ),
+        }),
+        Some(dt) => Ok((dt, stable)),
+        None => Ok((scene.explicit.safety_factor * stable, stable)),
+    }
+}
+
 /// Runs the scene to its end time, writing `history.csv` and `summary.json`.
 ///
 /// A diverging run stops with [`ImpactError::Diverged`] after flushing the history and
@@ -93,10 +177,19 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     })?;
     let device = opts.device.unwrap_or(scene.run.device);
     let model = Model::from_scene(scene);
-    let dt = scene
-        .run
-        .time_step
-        .expect("validated: implicit has a time step");
+    let (dt, stable) = match scene.run.method {
+        Method::Explicit => {
+            let (dt, stable) = explicit_time_step(scene, &model)?;
+            (dt, Some(stable))
+        }
+        _ => (
+            scene
+                .run
+                .time_step
+                .expect("validated: implicit has a time step"),
+            None,
+        ),
+    };
     let steps = (scene.run.end_time / dt - 1e-9).ceil() as usize;
     let quiet = opts.quiet;
     let kern = kernels(scene, &model, device, &mut |line| {
@@ -104,35 +197,58 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
             eprintln!("{line}");
         }
     })?;
-    let mut solver = ImplicitSolver::new(
-        &model,
-        scene.implicit.clone(),
-        dt,
-        scene.speed_scale(),
-        kern,
-    )?;
+    let mut solver = match scene.run.method {
+        Method::Explicit => Solver::Explicit(Box::new(ExplicitSolver::new(
+            &model,
+            scene.explicit.clone(),
+            dt,
+            scene.speed_scale(),
+            kern,
+        )?)),
+        _ => Solver::Implicit(Box::new(ImplicitSolver::new(
+            &model,
+            scene.implicit.clone(),
+            dt,
+            scene.speed_scale(),
+            kern,
+        )?)),
+    };
+    let explicit = matches!(solver, Solver::Explicit(_));
     let mut history = History::create(&dir, &model)?;
     let mut summary = Summary {
         status: "running".into(),
         scene: scene.path.display().to_string(),
         title: scene.title.clone(),
-        method: "implicit".into(),
+        method: if explicit { "explicit" } else { "implicit" }.into(),
         device: solver.device_name(),
         time_step: dt,
+        stable_time_step: stable,
         end_time: steps as f64 * dt,
-        constraint: match scene.implicit.constraint {
-            Constraint::GapRate => "gap_rate",
-            Constraint::Gap => "gap",
+        constraint: if explicit {
+            "gap_rate_impulse"
+        } else {
+            match scene.implicit.constraint {
+                Constraint::GapRate => "gap_rate",
+                Constraint::Gap => "gap",
+            }
         }
         .into(),
-        penalty: match scene.implicit.penalty {
-            PenaltyLaw::Adaptive => "adaptive",
-            PenaltyLaw::Fixed => "fixed",
+        penalty: if explicit {
+            "none"
+        } else {
+            match scene.implicit.penalty {
+                PenaltyLaw::Adaptive => "adaptive",
+                PenaltyLaw::Fixed => "fixed",
+            }
         }
         .into(),
-        mass: match scene.implicit.mass {
-            MassKind::Lumped => "lumped",
-            MassKind::Consistent => "consistent",
+        mass: if explicit {
+            "lumped"
+        } else {
+            match scene.implicit.mass {
+                MassKind::Lumped => "lumped",
+                MassKind::Consistent => "consistent",
+            }
         }
         .into(),
         elements: model.mesh.hexes.len(),
@@ -148,23 +264,21 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         .total()
         .abs()
         .max(total_mass * crate::scene::norm3(scene.gravity) * bbox_diagonal(&model));
-    let write_row = |solver: &mut ImplicitSolver, history: &mut History| -> Result<f64> {
+    let write_row = |solver: &mut Solver, history: &mut History| -> Result<f64> {
         let e = solver.energies()?;
-        let contacts: Vec<_> = solver.interfaces.iter().map(|s| s.report).collect();
+        let contacts = solver.reports();
+        let (u, v) = solver.state();
         let probes: Vec<_> = model
             .probes
             .iter()
             .map(|p| {
                 let d = 3 * p.node as usize;
-                (
-                    [solver.u[d], solver.u[d + 1], solver.u[d + 2]],
-                    [solver.v[d], solver.v[d + 1], solver.v[d + 2]],
-                )
+                ([u[d], u[d + 1], u[d + 2]], [v[d], v[d + 1], v[d + 2]])
             })
             .collect();
         history.row(
-            solver.time,
-            solver.steps,
+            solver.time(),
+            solver.steps(),
             &e,
             &solver.body_velocities(),
             &contacts,
@@ -210,20 +324,20 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
                 &mut history,
                 &dir,
                 n + 1,
-                solver.time,
+                solver.time(),
                 reason,
                 start,
             ));
         }
-        for (p, st) in peak.iter_mut().zip(&solver.interfaces) {
-            *p = p.max(st.report.normal_force);
+        for (p, r) in peak.iter_mut().zip(solver.reports()) {
+            *p = p.max(r.normal_force);
         }
         if !opts.quiet && last_report.elapsed().as_secs_f64() > 2.0 {
             eprintln!(
                 "step {}/{} t = {:.4e} iterations {}",
                 n + 1,
                 steps,
-                solver.time,
+                solver.time(),
                 r.iterations
             );
             last_report = Instant::now();
@@ -231,23 +345,42 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     }
     history.flush()?;
     summary.status = "completed".into();
-    summary.factorizations = solver.factorizations();
     summary.iterations_mean = summary.iterations_total as f64 / summary.steps.max(1) as f64;
-    summary.interfaces = model
-        .interfaces
-        .iter()
-        .zip(&solver.interfaces)
-        .zip(&peak)
-        .map(|((itf, st), &p)| InterfaceSummary {
-            name: itf.name.clone(),
-            penalty_normal_final: st.penalty.eps,
-            penalty_tangential_final: st.friction.as_ref().map(|f| f.penalty.eps),
-            friction_work: st.friction.as_ref().map_or(0.0, |f| f.work),
-            penalty_increases: st.penalty.increases,
-            penalty_decreases: st.penalty.decreases,
-            peak_normal_force: p,
-        })
-        .collect();
+    summary.interfaces = match &solver {
+        Solver::Implicit(solver) => {
+            summary.factorizations = solver.factorizations();
+            model
+                .interfaces
+                .iter()
+                .zip(&solver.interfaces)
+                .zip(&peak)
+                .map(|((itf, st), &p)| InterfaceSummary {
+                    name: itf.name.clone(),
+                    penalty_normal_final: Some(st.penalty.eps),
+                    penalty_tangential_final: st.friction.as_ref().map(|f| f.penalty.eps),
+                    friction_work: st.friction.as_ref().map_or(0.0, |f| f.work),
+                    penalty_increases: st.penalty.increases,
+                    penalty_decreases: st.penalty.decreases,
+                    peak_normal_force: p,
+                })
+                .collect()
+        }
+        Solver::Explicit(solver) => model
+            .interfaces
+            .iter()
+            .zip(&solver.interfaces)
+            .zip(&peak)
+            .map(|((itf, st), &p)| InterfaceSummary {
+                name: itf.name.clone(),
+                penalty_normal_final: None,
+                penalty_tangential_final: None,
+                friction_work: st.report.friction_work,
+                penalty_increases: 0,
+                penalty_decreases: 0,
+                peak_normal_force: p,
+            })
+            .collect(),
+    };
     summary.wall_seconds = start.elapsed().as_secs_f64();
     summary.write(&dir)?;
     Ok(summary)

@@ -145,10 +145,41 @@ fn unknown_choice_suggests_the_closest() {
 }
 
 #[test]
-fn explicit_method_is_a_clear_error_until_it_exists() {
+fn auto_method_is_a_clear_error_until_it_exists() {
     expect(
-        &edit(&base(), "method = \"implicit\"", "method = \"explicit\""),
+        &edit(&base(), "method = \"implicit\"", "method = \"auto\""),
         &["run.method", "not available yet"],
+    );
+}
+
+/// An explicit step above the stable bound is refused with both numbers.
+#[test]
+fn explicit_step_above_the_stable_step() {
+    let text = edit(&base(), "method = \"implicit\"", "method = \"explicit\"")
+        .replace("time_step = 0.01", "time_step = 0.011");
+    let scene = Scene::parse(&text, Path::new("bad.toml")).expect("valid scene");
+    let opts = impact::run::RunOptions {
+        out: Some(out_dir("explicit_step_too_long")),
+        device: None,
+        quiet: true,
+    };
+    let msg = impact::run::run(&scene, &opts)
+        .expect_err("refused")
+        .to_string();
+    for part in [
+        "run.time_step",
+        "1.1000e-2",
+        "above the stable explicit step 1.0000e-2",
+    ] {
+        assert!(msg.contains(part), "{msg:?} should contain {part:?}");
+    }
+}
+
+#[test]
+fn explicit_safety_factor_out_of_range() {
+    expect(
+        &format!("{}\n[explicit]\nsafety_factor = 1.5\n", base()),
+        &["explicit.safety_factor", "(0, 1]"],
     );
 }
 

@@ -117,3 +117,34 @@ fn cube_on_plate_gpu_and_cpu_agree_row_by_row() {
         ],
     );
 }
+
+/// The explicit path over 1,000 steps: the cube on the plate with friction at a fifth of the
+/// stable step (5e-5 for 0.05), element forces and contact kinematics on the GPU kernels
+/// (f32) against the CPU twins (f64).
+#[test]
+fn explicit_cube_on_plate_gpu_and_cpu_agree_over_1000_steps() {
+    let text = edit(
+        &scene_text("cube_on_plate.toml"),
+        "time_step = 0.002",
+        "time_step = 0.00005",
+    )
+    .replace("end_time = 0.1", "end_time = 0.05")
+    .replace("[run]", "[run]\nmethod = \"explicit\"");
+    assert!(text.contains("end_time = 0.05") && text.contains("\"explicit\""));
+    compare(
+        "explicit_cube_on_plate_devices",
+        &text,
+        &[
+            "impact.normal_force",
+            "impact.tangential_force",
+            "impact.friction_work",
+            "kinetic_energy",
+            "strain_energy",
+            "total_energy",
+            "cube.v",
+            "plate.v",
+            "bottom.ux",
+            "bottom.uz",
+        ],
+    );
+}

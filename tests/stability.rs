@@ -88,7 +88,7 @@ fn too_large_fixed_penalty_fails_where_adaptive_converges() {
         "adaptive from eps = 1e3: {:.2} iterations per step (max {}), final eps {:.4e}, {} decreases, {} increases",
         s.iterations_mean,
         s.iterations_max,
-        s.interfaces[0].penalty_normal_final,
+        s.interfaces[0].penalty_normal_final.expect("an implicit run has a penalty"),
         s.interfaces[0].penalty_decreases,
         s.interfaces[0].penalty_increases
     );

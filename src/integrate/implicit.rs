@@ -738,23 +738,7 @@ impl<'m> ImplicitSolver<'m> {
 
     /// Centre-of-mass velocity of each body.
     pub fn body_velocities(&self) -> Vec<[f64; 3]> {
-        self.model
-            .mesh
-            .bodies
-            .iter()
-            .map(|b| {
-                let mut p = [0.0; 3];
-                let mut m = 0.0;
-                for n in b.nodes.clone() {
-                    let mn = self.asm.nodal_mass[n];
-                    m += mn;
-                    for a in 0..3 {
-                        p[a] += mn * self.v[3 * n + a];
-                    }
-                }
-                p.map(|x| x / m)
-            })
-            .collect()
+        super::body_velocities(self.model, &self.asm.nodal_mass, &self.v)
     }
 }
 

@@ -1,7 +1,33 @@
 //! Time integration.
 
+pub mod explicit;
 pub mod implicit;
+pub mod stable_step;
 pub mod state;
 
+pub use explicit::ExplicitSolver;
 pub use implicit::{ImplicitSolver, StepReport};
 pub use state::{ContactReport, Energies};
+
+use crate::model::Model;
+
+/// Centre-of-mass velocity of each body from the nodal masses and velocities.
+pub fn body_velocities(model: &Model, nodal_mass: &[f64], v: &[f64]) -> Vec<[f64; 3]> {
+    model
+        .mesh
+        .bodies
+        .iter()
+        .map(|b| {
+            let mut p = [0.0; 3];
+            let mut m = 0.0;
+            for n in b.nodes.clone() {
+                let mn = nodal_mass[n];
+                m += mn;
+                for a in 0..3 {
+                    p[a] += mn * v[3 * n + a];
+                }
+            }
+            p.map(|x| x / m)
+        })
+        .collect()
+}

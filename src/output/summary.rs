@@ -9,8 +9,8 @@ use crate::error::{ImpactError, Result};
 #[derive(Debug, Clone, Serialize, Default)]
 pub struct InterfaceSummary {
     pub name: String,
-    /// Penalty eps_N at the end of the run.
-    pub penalty_normal_final: f64,
+    /// Penalty eps_N at the end of the run (implicit runs; the explicit path has none).
+    pub penalty_normal_final: Option<f64>,
     /// Penalty eps_T at the end of the run (interfaces with friction only).
     pub penalty_tangential_final: Option<f64>,
     /// Energy dissipated by friction over the run.
@@ -31,6 +31,8 @@ pub struct Summary {
     pub method: String,
     pub device: String,
     pub time_step: f64,
+    /// Explicit runs: the stable step bound of the mesh (the step is at most this).
+    pub stable_time_step: Option<f64>,
     pub end_time: f64,
     pub constraint: String,
     pub penalty: String,

@@ -89,6 +89,28 @@ pub struct RunSettings {
     pub device: DeviceChoice,
 }
 
+/// Settings of the explicit central-difference path (`[explicit]`).
+#[derive(Debug, Clone)]
+pub struct ExplicitSettings {
+    /// The default step is this fraction of the stable step.
+    pub safety_factor: f64,
+    /// Sweeps of the contact impulse iteration per step.
+    pub max_iterations: usize,
+    /// The contact iteration ends when no constraint is violated by more than this fraction
+    /// of the scene's speed scale.
+    pub tolerance: f64,
+}
+
+impl Default for ExplicitSettings {
+    fn default() -> Self {
+        ExplicitSettings {
+            safety_factor: 0.9,
+            max_iterations: 200,
+            tolerance: 1e-6,
+        }
+    }
+}
+
 #[derive(Debug, Clone)]
 pub struct ImplicitSettings {
     pub beta: f64,
@@ -241,6 +263,7 @@ pub struct Scene {
     pub gravity: [f64; 3],
     pub run: RunSettings,
     pub implicit: ImplicitSettings,
+    pub explicit: ExplicitSettings,
     pub materials: Vec<Material>,
     pub bodies: Vec<BodySpec>,
     pub contacts: Vec<ContactSpec>,

@@ -13,6 +13,7 @@ pub struct RawScene {
     pub gravity: Option<[f64; 3]>,
     pub run: Option<RawRun>,
     pub implicit: Option<RawImplicit>,
+    pub explicit: Option<RawExplicit>,
     #[serde(default)]
     pub material: Vec<RawMaterial>,
     #[serde(default)]
@@ -52,6 +53,14 @@ pub struct RawImplicit {
     pub max_gap_rate: Option<f64>,
     pub max_force_change: Option<f64>,
     pub acceleration: Option<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawExplicit {
+    pub safety_factor: Option<f64>,
+    pub max_iterations: Option<i64>,
+    pub tolerance: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

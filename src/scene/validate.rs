@@ -141,14 +141,12 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
             ));
         }
     }
-    if method != Method::Implicit {
+    if method == Method::Auto {
         return Err(ImpactError::Unsupported {
             path: path.to_path_buf(),
             key: "run.method".into(),
-            message: format!(
-                "method = \"{}\" is not available yet: the explicit central-difference path comes with a later release; use method = \"implicit\"",
-                method.name()
-            ),
+            message: "method = \"auto\" is not available yet: choose \"implicit\" or \"explicit\""
+                .into(),
         });
     }
 
@@ -229,6 +227,29 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         }
         if let Some(m) = ri.max_force_change {
             implicit.max_force_change = c.positive("implicit.max_force_change", m)?;
+        }
+    }
+
+    // [explicit]
+    let mut explicit = ExplicitSettings::default();
+    if let Some(re) = raw.explicit {
+        if let Some(f) = re.safety_factor {
+            if !(f.is_finite() && f > 0.0 && f <= 1.0) {
+                return Err(c.err(
+                    "explicit.safety_factor",
+                    format!("must be in (0, 1], got {f}"),
+                ));
+            }
+            explicit.safety_factor = f;
+        }
+        if let Some(n) = re.max_iterations {
+            if n < 1 {
+                return Err(c.err("explicit.max_iterations", format!("must be >= 1, got {n}")));
+            }
+            explicit.max_iterations = n as usize;
+        }
+        if let Some(t) = re.tolerance {
+            explicit.tolerance = c.positive("explicit.tolerance", t)?;
         }
     }
 
@@ -462,6 +483,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
             device,
         },
         implicit,
+        explicit,
         materials,
         bodies,
         contacts,

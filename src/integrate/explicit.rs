@@ -1,0 +1,541 @@
+//! Explicit central difference with lumped mass and velocity-level contact impulses.
+//!
+//! **Time discretisation** (central difference in its velocity-Verlet form, one internal
+//! force evaluation per step):
+//!
+//! $v_{n+1/2}^* = v_n + \tfrac{\Delta t}{2} a_n$, contact impulses $J$ correct it to
+//! $v_{n+1/2} = v_{n+1/2}^* + M^{-1} G J$, then $u_{n+1} = u_n + \Delta t\, v_{n+1/2}$,
+//! $a_{n+1} = M^{-1}(f_{ext} - f_{int}(u_{n+1}))$ and
+//! $v_{n+1} = v_{n+1/2} + \tfrac{\Delta t}{2} a_{n+1}$.
+//!
+//! **Contact** (in the spirit of the paper: a constraint on the gap *rate* of the step,
+//! Carpenter, Taylor and Katona's forward increment): each secondary node's mid-step gap rate
+//! must close at most its current gap over the step,
+//! $g_n + \Delta t\, \dot g_{n+1/2} \le 0$, with $J_N \ge 0$ and complementarity. The normal,
+//! the projection and $g_n$ come from the `contact_gap` kernel at $u_n$ (the same kinematics
+//! as the implicit path); $\dot g$ is linear in the velocities, so the impulses are found by a
+//! projected Jacobi iteration on the host. Its diagonal is the row-sum bound of the coupled
+//! compliance, $\tilde C_{ii} = \sum_{node} w_{node} |g_{i,node}| \sum_j |g_{j,node}|$
+//! (w the node's inverse mass along the normal, g the constraint's weight on the node: 1 on the
+//! secondary node, $N_k$ on the face nodes), which is $\ge C$ by Cauchy-Schwarz. So each sweep
+//! is a projected-gradient step in a metric that majorises the compliance: the iteration
+//! descends monotonically, and a lone constraint is solved in one sweep.
+//! Coulomb friction takes the tangential impulse that stops the relative tangential
+//! velocity and returns it onto the cone $|J_T| \le \mu J_N$ in the same sweep.
+//!
+//! Momentum is exact (every impulse acts with its opposite on the primary face's nodes by
+//! the shape functions). The history's contact force is the impulse / dt.
+
+use crate::contact::quad::{self, dot};
+use crate::contact::{search, Primary};
+use crate::element::hex8;
+use crate::error::Result;
+use crate::kernels::contact_gap::NO_FACE;
+use crate::kernels::{ContactPoint, ContactQueries, Kernels};
+use crate::model::Model;
+use crate::scene::ExplicitSettings;
+
+use super::implicit::StepReport;
+use super::state::{ContactReport, Energies};
+
+/// One contact constraint of a step: a secondary node against a face point or a plane.
+#[derive(Debug, Clone, Copy)]
+struct Constraint {
+    interface: u32,
+    /// Index of the secondary node within its interface.
+    local: u32,
+    node: u32,
+    /// Primary face nodes and their shape function values (none for a plane).
+    face: Option<[u32; 4]>,
+    weights: [f64; 4],
+    normal: [f64; 3],
+    gap: f64,
+    mu: f64,
+    /// Split compliance: gap-rate change per unit normal impulse, bounded from above.
+    compliance: f64,
+}
+
+/// Contact state of one interface over the last step.
+#[derive(Debug, Clone, Default)]
+pub struct ExplicitInterface {
+    /// Normal impulse of each secondary node over the last step.
+    pub impulse: Vec<f64>,
+    /// Tangential (friction) impulse of each secondary node over the last step.
+    pub tangential: Vec<[f64; 3]>,
+    pub report: ContactReport,
+}
+
+pub struct ExplicitSolver<'m> {
+    model: &'m Model,
+    settings: ExplicitSettings,
+    pub dt: f64,
+    pub time: f64,
+    pub steps: usize,
+    kernels: Box<dyn Kernels + 'm>,
+    /// Lumped nodal mass.
+    mass: Vec<f64>,
+    /// Inverse mass per dof, zero on prescribed dofs.
+    inv_mass: Vec<f64>,
+    f_ext: Vec<f64>,
+    pub u: Vec<f64>,
+    pub v: Vec<f64>,
+    /// Acceleration of the elastic and body forces at the current u.
+    a: Vec<f64>,
+    /// Internal forces at the current u.
+    f_int: Vec<f64>,
+    /// u_n and v_{n+1/2} of the last step (the time-centred energy).
+    u_prev: Vec<f64>,
+    v_half: Vec<f64>,
+    pub interfaces: Vec<ExplicitInterface>,
+    queries: ContactQueries,
+    candidate_lists: Vec<Vec<u32>>,
+    face_size: f64,
+    query_points: Vec<ContactPoint>,
+    /// Absolute tolerance of the contact iteration (a gap rate).
+    tolerance: f64,
+    // scratch
+    constraints: Vec<Constraint>,
+    /// Sum of the weights of the step's constraints on each node.
+    touches: Vec<f64>,
+    delta: Vec<[f64; 3]>,
+    slip_before: Vec<[f64; 3]>,
+}
+
+impl<'m> ExplicitSolver<'m> {
+    /// Lumps the mass and sets the initial state (u = 0, v = v0, a = M^-1 f_ext).
+    pub fn new(
+        model: &'m Model,
+        settings: ExplicitSettings,
+        dt: f64,
+        speed_scale: f64,
+        kernels: Box<dyn Kernels + 'm>,
+    ) -> Result<Self> {
+        let nodes = model.mesh.node_count();
+        let ndof = 3 * nodes;
+        let mut mass = vec![0.0; nodes];
+        for (e, hex) in model.mesh.hexes.iter().enumerate() {
+            let x = hex.map(|n| model.mesh.nodes[n as usize]);
+            let rho = model.materials[model.mesh.element_material[e] as usize].density;
+            for (k, m) in hex8::lumped_mass(&x, rho).into_iter().enumerate() {
+                mass[hex[k] as usize] += m;
+            }
+        }
+        let inv_mass: Vec<f64> = (0..ndof)
+            .map(|d| {
+                if model.fixed[d] {
+                    0.0
+                } else {
+                    1.0 / mass[d / 3]
+                }
+            })
+            .collect();
+        let f_ext: Vec<f64> = (0..ndof)
+            .map(|d| {
+                if model.fixed[d] {
+                    0.0
+                } else {
+                    mass[d / 3] * model.gravity[d % 3]
+                }
+            })
+            .collect();
+        let mut v = model.initial_velocity.clone();
+        for d in 0..ndof {
+            if model.fixed[d] {
+                v[d] = 0.0;
+            }
+        }
+        let a: Vec<f64> = (0..ndof).map(|d| f_ext[d] * inv_mass[d]).collect();
+        let face_size = model
+            .queries
+            .faces
+            .iter()
+            .map(|f| {
+                let p = f.map(|n| model.mesh.nodes[n as usize]);
+                quad::norm(quad::sub(p[2], p[0])).max(quad::norm(quad::sub(p[3], p[1])))
+            })
+            .fold(0.0, f64::max);
+        let interfaces = model
+            .interfaces
+            .iter()
+            .map(|itf| ExplicitInterface {
+                impulse: vec![0.0; itf.nodes.len()],
+                tangential: vec![[0.0; 3]; itf.nodes.len()],
+                report: ContactReport::default(),
+            })
+            .collect();
+        let nq = model.queries.len();
+        Ok(ExplicitSolver {
+            model,
+            dt,
+            time: 0.0,
+            steps: 0,
+            kernels,
+            mass,
+            inv_mass,
+            f_ext,
+            u: vec![0.0; ndof],
+            v,
+            a,
+            f_int: vec![0.0; ndof],
+            u_prev: vec![0.0; ndof],
+            v_half: vec![0.0; ndof],
+            interfaces,
+            queries: model.queries.clone(),
+            candidate_lists: vec![Vec::new(); nq],
+            face_size,
+            query_points: vec![ContactPoint::default(); nq],
+            tolerance: settings.tolerance * speed_scale.max(f64::MIN_POSITIVE),
+            settings,
+            constraints: Vec::new(),
+            touches: vec![0.0; nodes],
+            delta: vec![[0.0; 3]; nodes],
+            slip_before: Vec::new(),
+        })
+    }
+
+    pub fn device_name(&self) -> String {
+        self.kernels.device_name()
+    }
+
+    pub fn nodal_mass(&self) -> &[f64] {
+        &self.mass
+    }
+
+    /// One step: predictor, contact impulses, position update, forces, corrector.
+    pub fn step(&mut self) -> Result<StepReport> {
+        let dt = self.dt;
+        let ndof = self.u.len();
+        for d in 0..ndof {
+            self.v[d] += 0.5 * dt * self.a[d];
+        }
+        let report = self.contact()?;
+        self.u_prev.copy_from_slice(&self.u);
+        self.v_half.copy_from_slice(&self.v);
+        for d in 0..ndof {
+            self.u[d] += dt * self.v[d];
+        }
+        self.kernels
+            .internal_forces_into(&self.u, &mut self.f_int)?;
+        for d in 0..ndof {
+            self.a[d] = (self.f_ext[d] - self.f_int[d]) * self.inv_mass[d];
+            self.v[d] += 0.5 * dt * self.a[d];
+        }
+        self.time += dt;
+        self.steps += 1;
+        Ok(report)
+    }
+
+    /// Candidate faces of every surface query at the current positions.
+    fn broad_phase(&mut self) {
+        let model = self.model;
+        let x: Vec<[f64; 3]> = model
+            .mesh
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(n, p)| std::array::from_fn(|a| p[a] + self.u[3 * n + a]))
+            .collect();
+        let vmax = self
+            .v
+            .chunks_exact(3)
+            .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
+            .fold(0.0, f64::max);
+        let margin = self.face_size + 4.0 * self.dt * vmax;
+        for itf in &model.interfaces {
+            if let Primary::Surface {
+                faces, queries: q, ..
+            } = &itf.primary
+            {
+                search::find_candidates(
+                    &mut self.queries,
+                    &x,
+                    q.clone(),
+                    faces.clone(),
+                    margin,
+                    &mut self.candidate_lists,
+                );
+            }
+        }
+        search::flatten(&mut self.queries, &self.candidate_lists);
+    }
+
+    /// The constraints of the step at (u_n, v*): surfaces through the kernels, planes
+    /// analytically; only nodes within one face size plus four steps of the fastest node's
+    /// motion of their primary surface.
+    fn gather_constraints(&mut self) -> Result<()> {
+        let model = self.model;
+        self.constraints.clear();
+        if !self.queries.is_empty() {
+            self.broad_phase();
+            self.kernels.contact_gap_into(
+                &self.u,
+                &self.v,
+                &self.queries,
+                &mut self.query_points,
+            )?;
+        }
+        // nodes that could reach their surface within the step (with room for the impulses
+        // of their neighbours) take part; the rest cannot touch
+        let vmax = self
+            .v
+            .chunks_exact(3)
+            .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
+            .fold(0.0, f64::max);
+        let reach = -(self.face_size + 4.0 * self.dt * vmax).max(f64::MIN_POSITIVE);
+        for (k, itf) in model.interfaces.iter().enumerate() {
+            for (i, &node) in itf.nodes.iter().enumerate() {
+                let n = node as usize;
+                let (face, weights, normal, gap) = match &itf.primary {
+                    Primary::Surface { queries, .. } => {
+                        let p = self.query_points[queries.start + i];
+                        if p.face == NO_FACE {
+                            continue;
+                        }
+                        (
+                            Some(self.queries.faces[p.face as usize]),
+                            quad::shape(p.xi),
+                            p.normal,
+                            p.gap,
+                        )
+                    }
+                    Primary::Plane { point, normal } => {
+                        let x0 = model.mesh.nodes[n];
+                        let x = std::array::from_fn(|a| x0[a] + self.u[3 * n + a]);
+                        (None, [0.0; 4], *normal, -dot(quad::sub(x, *point), *normal))
+                    }
+                };
+                if gap < reach {
+                    continue;
+                }
+                self.constraints.push(Constraint {
+                    interface: k as u32,
+                    local: i as u32,
+                    node,
+                    face,
+                    weights,
+                    normal,
+                    gap,
+                    mu: itf.friction,
+                    compliance: 0.0,
+                });
+            }
+        }
+        // the row-sum bound of the coupled compliance: each node's inverse mass times the sum
+        // of the weights with which the step's constraints act on it
+        self.touches.fill(0.0);
+        for c in &self.constraints {
+            self.touches[c.node as usize] += 1.0;
+            if let Some(f) = c.face {
+                for k in 0..4 {
+                    self.touches[f[k] as usize] += c.weights[k].abs();
+                }
+            }
+        }
+        let inv = |n: u32, nrm: [f64; 3], inv_mass: &[f64]| -> f64 {
+            (0..3)
+                .map(|a| nrm[a] * nrm[a] * inv_mass[3 * n as usize + a])
+                .sum::<f64>()
+        };
+        for c in &mut self.constraints {
+            let mut s = self.touches[c.node as usize] * inv(c.node, c.normal, &self.inv_mass);
+            if let Some(f) = c.face {
+                for k in 0..4 {
+                    s += c.weights[k].abs()
+                        * self.touches[f[k] as usize]
+                        * inv(f[k], c.normal, &self.inv_mass);
+                }
+            }
+            c.compliance = s;
+        }
+        Ok(())
+    }
+
+    /// Relative velocity of a constraint's secondary node against its primary point.
+    fn relative_velocity(&self, c: &Constraint) -> [f64; 3] {
+        let n = c.node as usize;
+        let mut rel = [self.v[3 * n], self.v[3 * n + 1], self.v[3 * n + 2]];
+        if let Some(f) = c.face {
+            for k in 0..4 {
+                let m = f[k] as usize;
+                for a in 0..3 {
+                    rel[a] -= c.weights[k] * self.v[3 * m + a];
+                }
+            }
+        }
+        rel
+    }
+
+    /// Contact impulses of the step: projected Jacobi sweeps until no constraint is violated
+    /// by more than the tolerance.
+    fn contact(&mut self) -> Result<StepReport> {
+        self.gather_constraints()?;
+        for st in &mut self.interfaces {
+            st.impulse.fill(0.0);
+            st.tangential.fill([0.0; 3]);
+        }
+        let dt = self.dt;
+        let count = self.constraints.len();
+        let mut jn = vec![0.0f64; count];
+        let mut jt = vec![[0.0f64; 3]; count];
+        self.slip_before.clear();
+        for i in 0..count {
+            let c = self.constraints[i];
+            let rel = self.relative_velocity(&c);
+            let rn = dot(rel, c.normal);
+            self.slip_before
+                .push(std::array::from_fn(|a| rel[a] - rn * c.normal[a]));
+        }
+        let mut report = StepReport {
+            iterations: 0,
+            converged: true,
+        };
+        if count > 0 {
+            report.converged = false;
+            for sweep in 0..self.settings.max_iterations {
+                report.iterations = sweep + 1;
+                let mut violation = 0.0f64;
+                for d in &mut self.delta {
+                    *d = [0.0; 3];
+                }
+                for i in 0..count {
+                    let c = self.constraints[i];
+                    if c.compliance <= 0.0 {
+                        continue;
+                    }
+                    let rel = self.relative_velocity(&c);
+                    let rn = dot(rel, c.normal);
+                    // g_n + dt gdot <= 0, gdot = -rel . n
+                    let r = c.gap / dt - rn;
+                    let new_n = (jn[i] + r / c.compliance).max(0.0);
+                    violation = violation.max(if new_n > 0.0 { r.abs() } else { r.max(0.0) });
+                    let mut dj = c.normal.map(|x| (new_n - jn[i]) * x);
+                    jn[i] = new_n;
+                    if c.mu > 0.0 {
+                        let slip: [f64; 3] = std::array::from_fn(|a| rel[a] - rn * c.normal[a]);
+                        let trial: [f64; 3] =
+                            std::array::from_fn(|a| jt[i][a] - slip[a] / c.compliance);
+                        let radius = c.mu * new_n;
+                        let size = quad::norm(trial);
+                        let next = if size > radius {
+                            trial.map(|x| x * radius / size)
+                        } else {
+                            if new_n > 0.0 {
+                                violation = violation.max(quad::norm(slip));
+                            }
+                            trial
+                        };
+                        for a in 0..3 {
+                            dj[a] += next[a] - jt[i][a];
+                        }
+                        jt[i] = next;
+                    }
+                    let n = c.node as usize;
+                    for a in 0..3 {
+                        self.delta[n][a] += dj[a];
+                    }
+                    if let Some(f) = c.face {
+                        for k in 0..4 {
+                            for a in 0..3 {
+                                self.delta[f[k] as usize][a] -= c.weights[k] * dj[a];
+                            }
+                        }
+                    }
+                }
+                for (n, d) in self.delta.iter().enumerate() {
+                    for a in 0..3 {
+                        self.v[3 * n + a] += d[a] * self.inv_mass[3 * n + a];
+                    }
+                }
+                if violation <= self.tolerance {
+                    report.converged = true;
+                    break;
+                }
+            }
+        }
+        // reports
+        let mut force = vec![[0.0f64; 3]; self.interfaces.len()];
+        for st in &mut self.interfaces {
+            let work = st.report.friction_work;
+            st.report = ContactReport {
+                friction_work: work,
+                ..Default::default()
+            };
+        }
+        for i in 0..count {
+            let c = self.constraints[i];
+            let rel = self.relative_velocity(&c);
+            let rn = dot(rel, c.normal);
+            let st = &mut self.interfaces[c.interface as usize];
+            st.impulse[c.local as usize] = jn[i];
+            st.tangential[c.local as usize] = jt[i];
+            let r = &mut st.report;
+            if jn[i] > 0.0 {
+                r.active += 1;
+                r.normal_force += jn[i] / dt;
+                if c.mu > 0.0 && quad::norm(jt[i]) >= c.mu * jn[i] * (1.0 - 1e-9) {
+                    r.sliding += 1;
+                }
+            }
+            for a in 0..3 {
+                force[c.interface as usize][a] += jt[i][a] / dt;
+            }
+            // the linearised end-of-step gap
+            r.max_penetration = r.max_penetration.max(c.gap - dt * rn);
+            if c.mu > 0.0 {
+                let slip: [f64; 3] = std::array::from_fn(|a| rel[a] - rn * c.normal[a]);
+                let before = self.slip_before[i];
+                r.friction_work -= (0..3)
+                    .map(|a| jt[i][a] * 0.5 * (before[a] + slip[a]))
+                    .sum::<f64>();
+            }
+        }
+        for (st, f) in self.interfaces.iter_mut().zip(&force) {
+            st.report.tangential_force = quad::norm(*f);
+        }
+        Ok(report)
+    }
+
+    /// Energies of the last step in the time-centred form that central difference conserves
+    /// exactly for linear elasticity: kinetic $\tfrac12 v_{n+1/2}^T M v_{n+1/2}$, strain
+    /// $\tfrac12 u_n^T K u_{n+1}$, gravity $-f_{ext} \cdot (u_n + u_{n+1})/2$ (proof in
+    /// `docs/method-notes.md`). So a rise of the total is a real error (the contact impulses
+    /// can only remove energy), not the O(dt^2) wobble of the kinetic energy at whole steps.
+    /// Before the first step: the initial state.
+    pub fn energies(&mut self) -> Result<Energies> {
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        if self.steps == 0 {
+            self.kernels
+                .internal_forces_into(&self.u, &mut self.f_int)?;
+            let kinetic = 0.5
+                * self
+                    .v
+                    .iter()
+                    .enumerate()
+                    .map(|(d, v)| self.mass[d / 3] * v * v)
+                    .sum::<f64>();
+            return Ok(Energies {
+                kinetic,
+                strain: 0.5 * dot(&self.u, &self.f_int),
+                potential: -dot(&self.f_ext, &self.u),
+            });
+        }
+        let kinetic = 0.5
+            * self
+                .v_half
+                .iter()
+                .enumerate()
+                .map(|(d, v)| self.mass[d / 3] * v * v)
+                .sum::<f64>();
+        let potential = -0.5 * (dot(&self.f_ext, &self.u_prev) + dot(&self.f_ext, &self.u));
+        Ok(Energies {
+            kinetic,
+            strain: 0.5 * dot(&self.u_prev, &self.f_int),
+            potential,
+        })
+    }
+
+    /// Centre-of-mass velocity of each body.
+    pub fn body_velocities(&self) -> Vec<[f64; 3]> {
+        super::body_velocities(self.model, &self.mass, &self.v)
+    }
+}

@@ -1,0 +1,306 @@
+//! The explicit central-difference path against the same exact answers as the implicit one:
+//! 1D wave theory for two bars (equal and unequal lengths) and a bar on a rigid wall, the
+//! nodes' inelastic first contact computed exactly, momentum, the time-centred energy that
+//! central difference conserves, and agreement with the implicit path on the 3D cube on a
+//! plate.
+
+mod common;
+use common::*;
+
+fn explicit(text: &str) -> String {
+    if text.contains("method = \"implicit\"") {
+        edit(text, "method = \"implicit\"", "method = \"explicit\"")
+    } else {
+        edit(text, "[run]", "[run]\nmethod = \"explicit\"")
+    }
+}
+
+fn without_time_step(text: &str) -> String {
+    text.lines()
+        .filter(|l| !l.starts_with("time_step"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The coarse two bars at the stable step itself (c dt = h, lumped mass): central difference
+/// carries the 1D wave exactly, so every plateau row is 0.5 and contact ends at 0.2 exactly.
+/// What is lost is the tip nodes' perfectly inelastic first contact: two masses m/2 (m = rho S h
+/// = 0.01) meeting at v0 lose (m/4) v0^2 / 2 = 1.25e-3, 2.5% of the initial energy, exactly.
+/// The same O(h) loss leaves 2.5% of the impulse behind (the issue's 2% is met from 20
+/// elements per bar; see the fine test).
+#[test]
+fn explicit_two_bars_at_the_stable_step_carry_the_wave_exactly() {
+    let (s, h) = run_text(
+        "explicit_two_bars_cfl1",
+        &explicit(&scene_text("two_bars.toml")),
+    );
+    let s = s.expect("run completes");
+    let dt = 0.01;
+    assert!((s.time_step - dt).abs() < 1e-15);
+    assert!((s.stable_time_step.unwrap() - dt).abs() < 1e-12);
+    let m = measures(&h, "impact", 0.5, dt);
+    eprintln!(
+        "explicit c dt = h: mean {:.6} row {:.2e} release {} impulse {:.6} loss {:.6} A {:.5} B {:.5} rise {:.2e}",
+        m.plateau_mean, m.plateau_max_dev, m.last_contact, m.impulse, m.energy_loss,
+        h.last("A.vx"), h.last("B.vx"), m.max_energy_rise
+    );
+    assert!(
+        m.plateau_max_dev <= 1e-9,
+        "row deviation {}",
+        m.plateau_max_dev
+    );
+    assert!(
+        (m.last_contact - 0.2).abs() <= 1e-9,
+        "release {}",
+        m.last_contact
+    );
+    assert!(
+        (m.energy_loss - 0.025).abs() <= 1e-9,
+        "loss {}",
+        m.energy_loss
+    );
+    assert!(
+        m.max_energy_rise <= 1e-9,
+        "energy rise {}",
+        m.max_energy_rise
+    );
+    assert!(
+        (m.impulse - 0.1).abs() <= 0.025 * 0.1 + 1e-9,
+        "impulse {}",
+        m.impulse
+    );
+    assert!(h.last("A.vx").abs() <= 0.03);
+    assert!((h.last("B.vx") - 1.0).abs() <= 0.03);
+    // momentum: equal masses, va + vb = 1 at every step
+    for (va, vb) in h.col("A.vx").iter().zip(h.col("B.vx")) {
+        assert!((va + vb - 1.0).abs() < 1e-12, "va + vb = {}", va + vb);
+    }
+}
+
+/// The default step (0.9 of the stable one): the issue's coarse-mesh tolerances (rows 10%,
+/// mean 2%, release 0.2 +- 2 dt, |v_A| <= 0.03, v_B within 3%, loss <= 5%, no energy rise),
+/// with the impulse at 2.5% for the reason above.
+#[test]
+fn explicit_two_bars_at_the_default_step() {
+    let text = without_time_step(&explicit(&scene_text("two_bars.toml")));
+    let (s, h) = run_text("explicit_two_bars", &text);
+    let s = s.expect("run completes");
+    let dt = s.time_step;
+    assert!((dt - 0.009).abs() < 1e-12, "default step {dt}");
+    let m = measures(&h, "impact", 0.5, dt);
+    eprintln!(
+        "explicit 0.9 c dt = h: mean {:.5} row {:.4} release {} impulse {:.5} loss {:.4} A {:.4} B {:.4} sweeps/step {:.2} (max {})",
+        m.plateau_mean, m.plateau_max_dev, m.last_contact, m.impulse, m.energy_loss,
+        h.last("A.vx"), h.last("B.vx"), s.iterations_mean, s.iterations_max
+    );
+    assert!((m.plateau_mean - 0.5).abs() <= 0.02 * 0.5);
+    assert!(
+        m.plateau_max_dev <= 0.10,
+        "row deviation {}",
+        m.plateau_max_dev
+    );
+    assert!((m.last_contact - 0.2).abs() <= 2.0 * dt + 1e-9);
+    assert!(
+        (m.impulse - 0.1).abs() <= 0.025 * 0.1,
+        "impulse {}",
+        m.impulse
+    );
+    assert!(h.last("A.vx").abs() <= 0.03);
+    assert!((h.last("B.vx") - 1.0).abs() <= 0.03);
+    assert!(
+        m.max_energy_rise <= 1e-6,
+        "energy rise {}",
+        m.max_energy_rise
+    );
+    assert!(m.energy_loss >= 0.0 && m.energy_loss <= 0.05);
+    assert_eq!(s.unconverged_steps, 0);
+}
+
+/// 40 elements per bar at the default step: the fine-mesh tolerances of the core issue
+/// (mean 1%, rows 3%, impulse 2%, loss <= 1.5%).
+#[test]
+fn explicit_fine_two_bars_match_wave_theory() {
+    let text = without_time_step(&explicit(&scene_text("two_bars_fine.toml")));
+    let (s, h) = run_text("explicit_two_bars_fine", &text);
+    let s = s.expect("run completes");
+    let dt = s.time_step;
+    let m = measures(&h, "impact", 0.5, dt);
+    eprintln!(
+        "explicit fine: dt {dt:.5} mean {:.5} row {:.4} release {} impulse {:.5} loss {:.4}",
+        m.plateau_mean, m.plateau_max_dev, m.last_contact, m.impulse, m.energy_loss
+    );
+    assert!((m.plateau_mean - 0.5).abs() <= 0.01 * 0.5);
+    assert!(
+        m.plateau_max_dev <= 0.03,
+        "row deviation {}",
+        m.plateau_max_dev
+    );
+    assert!((m.last_contact - 0.2).abs() <= 2.0 * dt + 1e-9);
+    assert!(
+        (m.impulse - 0.1).abs() <= 0.02 * 0.1,
+        "impulse {}",
+        m.impulse
+    );
+    assert!(h.last("A.vx").abs() <= 0.03);
+    assert!((h.last("B.vx") - 1.0).abs() <= 0.03);
+    assert!(
+        m.max_energy_rise <= 1e-6,
+        "energy rise {}",
+        m.max_energy_rise
+    );
+    assert!(m.energy_loss >= 0.0 && m.energy_loss <= 0.015);
+}
+
+/// Bar A of length 10 strikes bar B of length 20 (40 elements per 10): contact lasts
+/// 2 l_A / c = 0.2 at force 0.5; then A is at rest and B's centre of mass moves at
+/// m_A v0 / m_B = 0.5. Measured: mean 0.49999, rows 0.7%, impulse +0.3%, A -0.003, B 0.5015.
+#[test]
+fn explicit_unequal_bars_match_wave_theory() {
+    let text = without_time_step(&explicit(&scene_text("two_bars_fine.toml"))).replace(
+        "max = [10.0, 1.0, 1.0], divisions = [40, 1, 1]",
+        "max = [20.0, 1.0, 1.0], divisions = [80, 1, 1]",
+    );
+    assert!(text.contains("[80, 1, 1]"), "scene edit applies");
+    let (s, h) = run_text("explicit_unequal_bars", &text);
+    let s = s.expect("run completes");
+    let dt = s.time_step;
+    let m = measures(&h, "impact", 0.5, dt);
+    eprintln!(
+        "explicit unequal: mean {:.5} row {:.4} release {} impulse {:.5} A {:.4} B {:.4}",
+        m.plateau_mean,
+        m.plateau_max_dev,
+        m.last_contact,
+        m.impulse,
+        h.last("A.vx"),
+        h.last("B.vx")
+    );
+    assert!((m.plateau_mean - 0.5).abs() <= 0.01 * 0.5);
+    assert!(
+        m.plateau_max_dev <= 0.03,
+        "row deviation {}",
+        m.plateau_max_dev
+    );
+    // release: the force falls below half the plateau within 0.2 +- 2 dt; its dispersed
+    // tail (A's unloading front spreads over about three steps at 0.9 of the stable step, and
+    // here B does not unload at the same time to cut it) ends one step later
+    let t = h.col("time");
+    let f = h.col("impact.normal_force");
+    let k = (1..t.len())
+        .find(|&k| t[k] > 0.1 && f[k] < 0.25)
+        .expect("the force drops");
+    // linear interpolation of the crossing between the rows around it
+    let half = t[k - 1] + (t[k] - t[k - 1]) * (f[k - 1] - 0.25) / (f[k - 1] - f[k]);
+    assert!(
+        (half - 0.2).abs() <= 2.0 * dt + 1e-9,
+        "half force at {half}"
+    );
+    assert!(
+        (m.last_contact - 0.2).abs() <= 3.0 * dt + 1e-9,
+        "release {}",
+        m.last_contact
+    );
+    assert!(
+        (m.impulse - 0.1).abs() <= 0.02 * 0.1,
+        "impulse {}",
+        m.impulse
+    );
+    assert!(h.last("A.vx").abs() <= 0.03);
+    assert!((h.last("B.vx") - 0.5).abs() <= 0.03 * 0.5);
+    assert!(
+        m.max_energy_rise <= 1e-6,
+        "energy rise {}",
+        m.max_energy_rise
+    );
+}
+
+/// A 40-element bar on the analytic wall at the default step: force rho c S v0 = 1 for 0.2,
+/// rebound at -1 (the implicit test's tolerances: mean 2%, rows 5%, rebound 3%).
+#[test]
+fn explicit_bar_on_rigid_wall_rebounds_at_minus_one() {
+    let text = without_time_step(&explicit(&scene_text("bar_on_wall.toml")))
+        .replace("divisions = [10, 1, 1]", "divisions = [40, 1, 1]");
+    let (s, h) = run_text("explicit_bar_on_wall", &text);
+    let s = s.expect("run completes");
+    let dt = s.time_step;
+    let m = measures(&h, "wall", 1.0, dt);
+    eprintln!(
+        "explicit wall: mean {:.5} row {:.4} release {} rebound {:.5} loss {:.4}",
+        m.plateau_mean,
+        m.plateau_max_dev,
+        m.last_contact,
+        h.last("bar.vx"),
+        m.energy_loss
+    );
+    assert!((m.plateau_mean - 1.0).abs() <= 0.02);
+    assert!(
+        m.plateau_max_dev <= 0.05,
+        "row deviation {}",
+        m.plateau_max_dev
+    );
+    assert!((m.last_contact - 0.2).abs() <= 2.0 * dt + 1e-9);
+    assert!(
+        (h.last("bar.vx") + 1.0).abs() <= 0.03,
+        "rebound {}",
+        h.last("bar.vx")
+    );
+    assert!(
+        m.max_energy_rise <= 1e-6,
+        "energy rise {}",
+        m.max_energy_rise
+    );
+    // the wall takes the bar's change of momentum (mass 0.1)
+    assert!((m.impulse - 0.1 * (1.0 - h.last("bar.vx"))).abs() < 1e-9);
+}
+
+/// Explicit against implicit on the 3D cube striking the supported plate (with friction),
+/// both with lumped mass at dt = 2.5e-4 (a tenth of the explicit bound): the bottom probe's
+/// peak displacement and the contact duration agree within 2%.
+#[test]
+fn explicit_and_implicit_agree_on_the_cube_on_plate() {
+    let base = edit(
+        &scene_text("cube_on_plate.toml"),
+        "time_step = 0.002",
+        "time_step = 0.00025",
+    )
+    .replace("end_time = 0.1", "end_time = 0.05");
+    assert!(base.contains("end_time = 0.05"), "scene edit applies");
+    let implicit = format!("{base}\n[implicit]\nmass = \"lumped\"\n");
+    let runs = [
+        run_text("cube_on_plate_implicit_lumped", &implicit),
+        run_text("cube_on_plate_explicit", &explicit(&base)),
+    ];
+    let mut peak = Vec::new();
+    let mut duration = Vec::new();
+    for (s, h) in &runs {
+        s.as_ref().expect("run completes");
+        let t = h.col("time");
+        let uz = h.col("bottom.uz");
+        let f = h.col("impact.normal_force");
+        let on: Vec<f64> = t
+            .iter()
+            .zip(&f)
+            .filter(|(_, f)| **f > 0.0)
+            .map(|(t, _)| *t)
+            .collect();
+        peak.push(uz.iter().copied().fold(f64::INFINITY, f64::min));
+        duration.push(on[on.len() - 1] - on[0]);
+        let rise = h
+            .col("total_energy")
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .fold(f64::MIN, f64::max);
+        assert!(
+            rise <= 1e-6 * h.col("total_energy")[0],
+            "energy rise {rise}"
+        );
+    }
+    eprintln!(
+        "cube on plate: peak uz implicit {:.6} explicit {:.6}; contact {:.5} / {:.5}",
+        peak[0], peak[1], duration[0], duration[1]
+    );
+    assert!((peak[1] / peak[0] - 1.0).abs() <= 0.02, "peaks {peak:?}");
+    assert!(
+        (duration[1] / duration[0] - 1.0).abs() <= 0.02,
+        "durations {duration:?}"
+    );
+}
