@@ -164,6 +164,48 @@ pub fn explicit_time_step(scene: &Scene, model: &Model) -> Result<(f64, f64)> {
     }
 }
 
+/// The cost of one implicit step in explicit steps of the same mesh, from this project's
+/// benchmarks on one machine (README, "Performance"): 95 at 3,072 elements and 180 at 18,000
+/// (a factorised solve pair per contact iteration, about 15 iterations, against one element
+/// sweep), so $K(n) = 95\,(n / 3072)^{0.36}$.
+pub fn implicit_step_cost(elements: usize) -> f64 {
+    95.0 * (elements.max(1) as f64 / 3072.0).powf(0.36)
+}
+
+/// `method = "auto"`: explicit unless the scene asks for a step so much longer than the
+/// explicit one that the implicit path's fewer, dearer steps cost less. Without a
+/// `time_step` the scene asks for no particular accuracy in time and the explicit path's
+/// stable step is the wave-resolving one, so it is explicit. With one, implicit is chosen
+/// when time_step / (explicit step) exceeds [`implicit_step_cost`]. Returns the method and a
+/// sentence for `summary.json`.
+pub fn choose_method(scene: &Scene, model: &Model) -> (Method, String) {
+    let (stable, _) = stable_step(model);
+    let explicit_dt = scene.explicit.safety_factor * stable;
+    let cost = implicit_step_cost(model.mesh.hexes.len());
+    match scene.run.time_step {
+        None => (
+            Method::Explicit,
+            format!("explicit: no time_step asked; the explicit step is {explicit_dt:.4e}"),
+        ),
+        Some(dt) => {
+            let ratio = dt / explicit_dt;
+            let method = if ratio > cost {
+                Method::Implicit
+            } else {
+                Method::Explicit
+            };
+            (
+                method,
+                format!(
+                    "{}: time_step {dt:.4e} is {ratio:.3} explicit steps ({explicit_dt:.4e}); an implicit step costs about {cost:.0} explicit steps on {} elements",
+                    method.name(),
+                    model.mesh.hexes.len()
+                ),
+            )
+        }
+    }
+}
+
 /// Runs the scene to its end time, writing `history.csv` and `summary.json`.
 ///
 /// A diverging run stops with [`ImpactError::Diverged`] after flushing the history and
@@ -177,16 +219,37 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     })?;
     let device = opts.device.unwrap_or(scene.run.device);
     let model = Model::from_scene(scene);
-    let (dt, stable) = match scene.run.method {
+    let (method, method_choice) = match scene.run.method {
+        Method::Auto => {
+            let (m, why) = choose_method(scene, &model);
+            (m, Some(why))
+        }
+        m => (m, None),
+    };
+    if let Some(why) = &method_choice {
+        if !opts.quiet {
+            eprintln!("method auto: {why}");
+        }
+    }
+    let (dt, stable) = match method {
         Method::Explicit => {
-            let (dt, stable) = explicit_time_step(scene, &model)?;
+            let (stable, _) = stable_step(&model);
+            let dt = if method_choice.is_some() {
+                // auto: the scene's step if the explicit path can take it, else its own
+                match scene.run.time_step {
+                    Some(dt) if dt <= stable * (1.0 + 1e-9) => dt,
+                    _ => scene.explicit.safety_factor * stable,
+                }
+            } else {
+                explicit_time_step(scene, &model)?.0
+            };
             (dt, Some(stable))
         }
         _ => (
             scene
                 .run
                 .time_step
-                .expect("validated: implicit has a time step"),
+                .expect("validated: implicit has a time step; auto picks implicit only with one"),
             None,
         ),
     };
@@ -197,7 +260,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
             eprintln!("{line}");
         }
     })?;
-    let mut solver = match scene.run.method {
+    let mut solver = match method {
         Method::Explicit => Solver::Explicit(Box::new(ExplicitSolver::new(
             &model,
             scene.explicit.clone(),
@@ -220,6 +283,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         scene: scene.path.display().to_string(),
         title: scene.title.clone(),
         method: if explicit { "explicit" } else { "implicit" }.into(),
+        method_choice,
         device: solver.device_name(),
         time_step: dt,
         stable_time_step: stable,

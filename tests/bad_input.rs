@@ -144,14 +144,6 @@ fn unknown_choice_suggests_the_closest() {
     );
 }
 
-#[test]
-fn auto_method_is_a_clear_error_until_it_exists() {
-    expect(
-        &edit(&base(), "method = \"implicit\"", "method = \"auto\""),
-        &["run.method", "not available yet"],
-    );
-}
-
 /// An explicit step above the stable bound is refused with both numbers.
 #[test]
 fn explicit_step_above_the_stable_step() {

@@ -164,6 +164,8 @@ impl<'m> ExplicitSolver<'m> {
             })
             .collect();
         let nq = model.queries.len();
+        // v_{-1/2} := v_0, so that the first step's energy starts from the initial one
+        let v_half = v.clone();
         Ok(ExplicitSolver {
             model,
             dt,
@@ -178,7 +180,7 @@ impl<'m> ExplicitSolver<'m> {
             a,
             f_int: vec![0.0; ndof],
             u_prev: vec![0.0; ndof],
-            v_half: vec![0.0; ndof],
+            v_half,
             interfaces,
             queries: model.queries.clone(),
             candidate_lists: vec![Vec::new(); nq],
@@ -352,17 +354,7 @@ impl<'m> ExplicitSolver<'m> {
 
     /// Relative velocity of a constraint's secondary node against its primary point.
     fn relative_velocity(&self, c: &Constraint) -> [f64; 3] {
-        let n = c.node as usize;
-        let mut rel = [self.v[3 * n], self.v[3 * n + 1], self.v[3 * n + 2]];
-        if let Some(f) = c.face {
-            for k in 0..4 {
-                let m = f[k] as usize;
-                for a in 0..3 {
-                    rel[a] -= c.weights[k] * self.v[3 * m + a];
-                }
-            }
-        }
-        rel
+        relative_velocity(c, &self.v)
     }
 
     /// Contact impulses of the step: projected Jacobi sweeps until no constraint is violated
@@ -377,10 +369,12 @@ impl<'m> ExplicitSolver<'m> {
         let count = self.constraints.len();
         let mut jn = vec![0.0f64; count];
         let mut jt = vec![[0.0f64; 3]; count];
+        // the slip at v_{n-1/2}: with it the friction work is the tangential share of the
+        // impulses' change of the time-centred energy (docs/method-notes.md)
         self.slip_before.clear();
         for i in 0..count {
             let c = self.constraints[i];
-            let rel = self.relative_velocity(&c);
+            let rel = relative_velocity(&c, &self.v_half);
             let rn = dot(rel, c.normal);
             self.slip_before
                 .push(std::array::from_fn(|a| rel[a] - rn * c.normal[a]));
@@ -538,4 +532,20 @@ impl<'m> ExplicitSolver<'m> {
     pub fn body_velocities(&self) -> Vec<[f64; 3]> {
         super::body_velocities(self.model, &self.mass, &self.v)
     }
+}
+
+/// Relative velocity of a constraint's secondary node against its primary point in the
+/// velocity field `v`.
+fn relative_velocity(c: &Constraint, v: &[f64]) -> [f64; 3] {
+    let n = c.node as usize;
+    let mut rel = [v[3 * n], v[3 * n + 1], v[3 * n + 2]];
+    if let Some(f) = c.face {
+        for k in 0..4 {
+            let m = f[k] as usize;
+            for a in 0..3 {
+                rel[a] -= c.weights[k] * v[3 * m + a];
+            }
+        }
+    }
+    rel
 }

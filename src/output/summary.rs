@@ -29,6 +29,8 @@ pub struct Summary {
     pub steps: usize,
     pub wall_seconds: f64,
     pub method: String,
+    /// Under `method = "auto"`: which path the rule chose and why.
+    pub method_choice: Option<String>,
     pub device: String,
     pub time_step: f64,
     /// Explicit runs: the stable step bound of the mesh (the step is at most this).

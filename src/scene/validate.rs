@@ -141,15 +141,6 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
             ));
         }
     }
-    if method == Method::Auto {
-        return Err(ImpactError::Unsupported {
-            path: path.to_path_buf(),
-            key: "run.method".into(),
-            message: "method = \"auto\" is not available yet: choose \"implicit\" or \"explicit\""
-                .into(),
-        });
-    }
-
     // [implicit]
     let mut implicit = ImplicitSettings::default();
     if let Some(ri) = raw.implicit {
