@@ -10,6 +10,7 @@ use crate::integrate::{ContactReport, Energies, ExplicitSolver, ImplicitSolver, 
 use crate::kernels::{CpuKernels, Kernels};
 use crate::model::Model;
 use crate::output::summary::InterfaceSummary;
+use crate::output::vtu::{NodeContact, VtuWriter};
 use crate::output::{History, Summary};
 use crate::scene::{Constraint, DeviceChoice, MassKind, Method, PenaltyLaw, Scene};
 
@@ -141,6 +142,36 @@ impl Solver<'_> {
             Solver::Implicit(s) => s.device_name(),
             Solver::Explicit(s) => s.device_name(),
         }
+    }
+    /// Contact pressure (summed) and gap (the largest) of every node, for VTU frames.
+    fn node_contact(&self, model: &Model) -> Vec<NodeContact> {
+        let mut out = vec![NodeContact::default(); model.mesh.node_count()];
+        for (k, itf) in model.interfaces.iter().enumerate() {
+            for (i, &n) in itf.nodes.iter().enumerate() {
+                let (pressure, gap) = match self {
+                    Solver::Implicit(s) => {
+                        let st = &s.interfaces[k];
+                        let p = st.points[i];
+                        let gap = if p.face == crate::kernels::contact_gap::NO_FACE {
+                            f64::NAN
+                        } else {
+                            p.gap
+                        };
+                        (st.lambda[i], gap)
+                    }
+                    Solver::Explicit(s) => {
+                        let st = &s.interfaces[k];
+                        (st.impulse[i] / (s.dt * itf.area[i]), st.gap[i])
+                    }
+                };
+                let c = &mut out[n as usize];
+                c.pressure += pressure;
+                if gap.is_finite() && (c.gap.is_nan() || gap > c.gap) {
+                    c.gap = gap;
+                }
+            }
+        }
+        out
     }
 }
 
@@ -351,11 +382,37 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         Ok(e.total())
     };
     write_row(&mut solver, &mut history)?;
+    let stem = scene
+        .path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "frame".into());
+    let mut frames = scene
+        .vtu_every
+        .map(|every| (every, VtuWriter::new(&dir, &stem)));
+    let write_frame = |solver: &Solver, frames: &mut Option<(usize, VtuWriter)>| -> Result<()> {
+        if let Some((every, w)) = frames {
+            if solver.steps() % *every == 0 {
+                let (u, v) = solver.state();
+                w.frame(
+                    &model,
+                    solver.steps(),
+                    solver.time(),
+                    u,
+                    v,
+                    &solver.node_contact(&model),
+                )?;
+            }
+        }
+        Ok(())
+    };
+    write_frame(&solver, &mut frames)?;
     let mut peak = vec![0.0f64; model.interfaces.len()];
     let mut last_report = Instant::now();
     for n in 0..steps {
         let outcome = solver.step().and_then(|r| {
             let e = write_row(&mut solver, &mut history)?;
+            write_frame(&solver, &mut frames)?;
             Ok((r, e))
         });
         let (r, e) = match outcome {

@@ -214,3 +214,11 @@ fn non_positive_tangential_penalty() {
         &["implicit.penalty_tangential"],
     );
 }
+
+#[test]
+fn vtu_every_must_be_positive() {
+    expect(
+        &format!("{}\n[output]\nvtu_every = 0\n", base()),
+        &["output.vtu_every", ">= 1"],
+    );
+}

@@ -62,6 +62,8 @@ pub struct ExplicitInterface {
     pub impulse: Vec<f64>,
     /// Tangential (friction) impulse of each secondary node over the last step.
     pub tangential: Vec<[f64; 3]>,
+    /// Linearised end-of-step gap of each secondary node (NaN where no surface is in reach).
+    pub gap: Vec<f64>,
     pub report: ContactReport,
 }
 
@@ -160,6 +162,7 @@ impl<'m> ExplicitSolver<'m> {
             .map(|itf| ExplicitInterface {
                 impulse: vec![0.0; itf.nodes.len()],
                 tangential: vec![[0.0; 3]; itf.nodes.len()],
+                gap: vec![f64::NAN; itf.nodes.len()],
                 report: ContactReport::default(),
             })
             .collect();
@@ -364,6 +367,7 @@ impl<'m> ExplicitSolver<'m> {
         for st in &mut self.interfaces {
             st.impulse.fill(0.0);
             st.tangential.fill([0.0; 3]);
+            st.gap.fill(f64::NAN);
         }
         let dt = self.dt;
         let count = self.constraints.len();
@@ -462,6 +466,7 @@ impl<'m> ExplicitSolver<'m> {
             let st = &mut self.interfaces[c.interface as usize];
             st.impulse[c.local as usize] = jn[i];
             st.tangential[c.local as usize] = jt[i];
+            st.gap[c.local as usize] = c.gap - dt * rn;
             let r = &mut st.report;
             if jn[i] > 0.0 {
                 r.active += 1;

@@ -1,7 +1,8 @@
-//! What a run writes: `history.csv` and `summary.json`.
+//! What a run writes: `history.csv`, `summary.json` and, when asked, VTU frames.
 
 pub mod history;
 pub mod summary;
+pub mod vtu;
 
 pub use history::History;
 pub use summary::Summary;

@@ -271,6 +271,8 @@ pub struct Scene {
     pub fixes: Vec<FixSpec>,
     pub probes: Vec<ProbeSpec>,
     pub output_dir: PathBuf,
+    /// Write a VTU frame every this many steps (and at t = 0); `None`: no frames.
+    pub vtu_every: Option<usize>,
 }
 
 impl Scene {

@@ -144,4 +144,5 @@ pub struct RawProbe {
 #[serde(deny_unknown_fields)]
 pub struct RawOutput {
     pub dir: Option<String>,
+    pub vtu_every: Option<i64>,
 }

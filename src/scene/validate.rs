@@ -451,7 +451,21 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         });
     }
 
-    let output_dir = match raw.output.and_then(|o| o.dir) {
+    let (output_dir, vtu_every) = match raw.output {
+        Some(o) => (o.dir, o.vtu_every),
+        None => (None, None),
+    };
+    let vtu_every = match vtu_every {
+        Some(n) if n < 1 => {
+            return Err(c.err(
+                "output.vtu_every",
+                format!("must be >= 1 (a frame every n steps), got {n}"),
+            ))
+        }
+        Some(n) => Some(n as usize),
+        None => None,
+    };
+    let output_dir = match output_dir {
         Some(d) if d.trim().is_empty() => return Err(c.err("output.dir", "must not be empty")),
         Some(d) => PathBuf::from(d),
         None => {
@@ -482,5 +496,6 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         fixes,
         probes,
         output_dir,
+        vtu_every,
     })
 }

@@ -1,0 +1,248 @@
+//! VTU frames for ParaView: one XML UnstructuredGrid file per frame with its arrays in a raw
+//! binary appended block, and a `.pvd` collection that indexes the frames by time.
+//!
+//! Points are the reference coordinates (ParaView's "Warp By Vector" on `displacement` shows
+//! the deformed shape); cells are the hex8 elements (VTK_HEXAHEDRON, whose corner order is
+//! ours). Point data: `displacement`, `velocity`, `contact_pressure` (the normal traction of
+//! the step on secondary nodes, summed over interfaces; 0 elsewhere) and `contact_gap` (the
+//! gap on secondary nodes, g > 0 penetration; NaN on nodes that are no interface's secondary
+//! node, or whose primary surface is out of reach). Cell data: `stress` (xx, yy, zz, xy, yz,
+//! xz at the element centre) and `von_mises`.
+//!
+//! The `.pvd` is rewritten after every frame, so a run that stops early leaves a valid
+//! collection of what it wrote.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::element::hex8;
+use crate::error::{ImpactError, Result};
+use crate::model::Model;
+
+/// VTK's cell type of the trilinear hexahedron.
+const VTK_HEXAHEDRON: u8 = 12;
+
+/// Contact values of one node for a frame.
+#[derive(Debug, Clone, Copy)]
+pub struct NodeContact {
+    pub pressure: f64,
+    pub gap: f64,
+}
+
+impl Default for NodeContact {
+    fn default() -> Self {
+        NodeContact {
+            pressure: 0.0,
+            gap: f64::NAN,
+        }
+    }
+}
+
+pub struct VtuWriter {
+    dir: PathBuf,
+    stem: String,
+    /// (time, file name) of every frame written.
+    frames: Vec<(f64, String)>,
+}
+
+/// Stress at the element centre: (xx, yy, zz, xy, yz, xz), from the linear strain of u.
+pub fn centre_stress(
+    x: &[[f64; 3]; 8],
+    u: &[[f64; 3]; 8],
+    m: &crate::material::Elastic,
+) -> [f64; 6] {
+    let (grads, _) = hex8::gradients(x, [0.0; 3]);
+    let mut h = [[0.0f64; 3]; 3];
+    for k in 0..8 {
+        for a in 0..3 {
+            for b in 0..3 {
+                h[a][b] += u[k][a] * grads[k][b];
+            }
+        }
+    }
+    let e = |a: usize, b: usize| 0.5 * (h[a][b] + h[b][a]);
+    let tr = h[0][0] + h[1][1] + h[2][2];
+    [
+        m.lambda * tr + 2.0 * m.mu * e(0, 0),
+        m.lambda * tr + 2.0 * m.mu * e(1, 1),
+        m.lambda * tr + 2.0 * m.mu * e(2, 2),
+        2.0 * m.mu * e(0, 1),
+        2.0 * m.mu * e(1, 2),
+        2.0 * m.mu * e(0, 2),
+    ]
+}
+
+/// von Mises equivalent stress of (xx, yy, zz, xy, yz, xz).
+pub fn von_mises(s: [f64; 6]) -> f64 {
+    let d = (s[0] - s[1]).powi(2) + (s[1] - s[2]).powi(2) + (s[2] - s[0]).powi(2);
+    (0.5 * d + 3.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5])).sqrt()
+}
+
+/// The raw appended block: each array as its byte count (u64) then its bytes.
+struct Appended {
+    bytes: Vec<u8>,
+    headers: String,
+}
+
+impl Appended {
+    fn array(&mut self, name: &str, kind: &str, components: usize, data: &[u8]) {
+        let offset = self.bytes.len();
+        self.bytes
+            .extend_from_slice(&(data.len() as u64).to_le_bytes());
+        self.bytes.extend_from_slice(data);
+        let comps = if components > 1 {
+            format!(" NumberOfComponents=\"{components}\"")
+        } else {
+            String::new()
+        };
+        self.headers.push_str(&format!(
+            "        <DataArray type=\"{kind}\" Name=\"{name}\"{comps} format=\"appended\" offset=\"{offset}\"/>\n"
+        ));
+    }
+    fn take_headers(&mut self) -> String {
+        std::mem::take(&mut self.headers)
+    }
+}
+
+fn f64_bytes(x: &[f64]) -> Vec<u8> {
+    x.iter().flat_map(|v| v.to_le_bytes()).collect()
+}
+
+impl VtuWriter {
+    /// Frames go to `dir/<stem>_NNNNNN.vtu`, the collection to `dir/<stem>.pvd`.
+    pub fn new(dir: &Path, stem: &str) -> VtuWriter {
+        VtuWriter {
+            dir: dir.to_path_buf(),
+            stem: stem.to_string(),
+            frames: Vec::new(),
+        }
+    }
+
+    /// Writes one frame of the state (u, v) with the contact values of each node.
+    pub fn frame(
+        &mut self,
+        model: &Model,
+        step: usize,
+        time: f64,
+        u: &[f64],
+        v: &[f64],
+        contact: &[NodeContact],
+    ) -> Result<()> {
+        let mesh = &model.mesh;
+        let (n_points, n_cells) = (mesh.node_count(), mesh.hexes.len());
+        let mut app = Appended {
+            bytes: Vec::new(),
+            headers: String::new(),
+        };
+        let points: Vec<f64> = mesh.nodes.iter().flatten().copied().collect();
+        app.array("Points", "Float64", 3, &f64_bytes(&points));
+        let points_xml = app.take_headers();
+
+        let conn: Vec<u8> = mesh
+            .hexes
+            .iter()
+            .flatten()
+            .flat_map(|&n| (n as i64).to_le_bytes())
+            .collect();
+        app.array("connectivity", "Int64", 1, &conn);
+        let offsets: Vec<u8> = (1..=n_cells)
+            .flat_map(|c| (8 * c as i64).to_le_bytes())
+            .collect();
+        app.array("offsets", "Int64", 1, &offsets);
+        app.array("types", "UInt8", 1, &vec![VTK_HEXAHEDRON; n_cells]);
+        let cells_xml = app.take_headers();
+
+        app.array("displacement", "Float64", 3, &f64_bytes(u));
+        app.array("velocity", "Float64", 3, &f64_bytes(v));
+        let pressure: Vec<f64> = contact.iter().map(|c| c.pressure).collect();
+        let gap: Vec<f64> = contact.iter().map(|c| c.gap).collect();
+        app.array("contact_pressure", "Float64", 1, &f64_bytes(&pressure));
+        app.array("contact_gap", "Float64", 1, &f64_bytes(&gap));
+        let point_data_xml = app.take_headers();
+
+        let mut stress = Vec::with_capacity(6 * n_cells);
+        let mut vm = Vec::with_capacity(n_cells);
+        for (e, hex) in mesh.hexes.iter().enumerate() {
+            let x = hex.map(|n| mesh.nodes[n as usize]);
+            let ue = hex.map(|n| {
+                let d = 3 * n as usize;
+                [u[d], u[d + 1], u[d + 2]]
+            });
+            let s = centre_stress(&x, &ue, &model.materials[mesh.element_material[e] as usize]);
+            stress.extend_from_slice(&s);
+            vm.push(von_mises(s));
+        }
+        app.array("stress", "Float64", 6, &f64_bytes(&stress));
+        app.array("von_mises", "Float64", 1, &f64_bytes(&vm));
+        let cell_data_xml = app.take_headers();
+
+        let name = format!("{}_{step:06}.vtu", self.stem);
+        let path = self.dir.join(&name);
+        let write_err = |source| ImpactError::Write {
+            path: path.clone(),
+            source,
+        };
+        let mut out = std::io::BufWriter::new(std::fs::File::create(&path).map_err(write_err)?);
+        let head = format!(
+            "<?xml version=\"1.0\"?>\n\
+<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n\
+  <UnstructuredGrid>\n\
+    <FieldData>\n\
+      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">{time:e}</DataArray>\n\
+    </FieldData>\n\
+    <Piece NumberOfPoints=\"{n_points}\" NumberOfCells=\"{n_cells}\">\n\
+      <PointData Vectors=\"displacement\">\n{point_data_xml}      </PointData>\n\
+      <CellData>\n{cell_data_xml}      </CellData>\n\
+      <Points>\n{points_xml}      </Points>\n\
+      <Cells>\n{cells_xml}      </Cells>\n\
+    </Piece>\n\
+  </UnstructuredGrid>\n\
+  <AppendedData encoding=\"raw\">\n_"
+        );
+        out.write_all(head.as_bytes()).map_err(write_err)?;
+        out.write_all(&app.bytes).map_err(write_err)?;
+        out.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
+            .map_err(write_err)?;
+        out.flush().map_err(write_err)?;
+        self.frames.push((time, name));
+        self.write_collection()
+    }
+
+    /// Rewrites `<stem>.pvd` with every frame so far.
+    fn write_collection(&self) -> Result<()> {
+        let path = self.dir.join(format!("{}.pvd", self.stem));
+        let mut text = String::from(
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n  <Collection>\n",
+        );
+        for (t, name) in &self.frames {
+            text.push_str(&format!(
+                "    <DataSet timestep=\"{t:e}\" part=\"0\" file=\"{name}\"/>\n"
+            ));
+        }
+        text.push_str("  </Collection>\n</VTKFile>\n");
+        std::fs::write(&path, text).map_err(|source| ImpactError::Write { path, source })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::Elastic;
+
+    /// A unit cube stretched by 1% along x with nu = 0: sigma_xx = E 0.01, the rest 0, and von
+    /// Mises equals |sigma_xx|; a simple shear gives sqrt(3) |tau|.
+    #[test]
+    fn centre_stress_of_uniform_states() {
+        let m = Elastic::from_engineering(200.0, 0.0, 1.0);
+        let x = hex8::CORNERS.map(|c| c.map(|v| 0.5 * (v + 1.0)));
+        let stretch = x.map(|p| [0.01 * p[0], 0.0, 0.0]);
+        let s = centre_stress(&x, &stretch, &m);
+        assert!((s[0] - 2.0).abs() < 1e-12 && s[1..].iter().all(|v| v.abs() < 1e-12));
+        assert!((von_mises(s) - 2.0).abs() < 1e-12);
+        let shear = x.map(|p| [0.01 * p[1], 0.0, 0.0]);
+        let s = centre_stress(&x, &shear, &m);
+        // tau_xy = mu gamma = 100 * 0.01
+        assert!((s[3] - 1.0).abs() < 1e-12);
+        assert!((von_mises(s) - 3f64.sqrt()).abs() < 1e-12);
+    }
+}
