@@ -9,6 +9,7 @@ use crate::integrate::stable_step::stable_step;
 use crate::integrate::{ContactReport, Energies, ExplicitSolver, ImplicitSolver, StepReport};
 use crate::kernels::{CpuKernels, Kernels};
 use crate::model::Model;
+use crate::output::progress::Progress;
 use crate::output::summary::InterfaceSummary;
 use crate::output::vtu::{NodeContact, VtuWriter};
 use crate::output::{History, Summary};
@@ -408,7 +409,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     };
     write_frame(&solver, &mut frames)?;
     let mut peak = vec![0.0f64; model.interfaces.len()];
-    let mut last_report = Instant::now();
+    let mut progress = Progress::new(steps, opts.quiet);
     for n in 0..steps {
         let outcome = solver.step().and_then(|r| {
             let e = write_row(&mut solver, &mut history)?;
@@ -453,17 +454,9 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         for (p, r) in peak.iter_mut().zip(solver.reports()) {
             *p = p.max(r.normal_force);
         }
-        if !opts.quiet && last_report.elapsed().as_secs_f64() > 2.0 {
-            eprintln!(
-                "step {}/{} t = {:.4e} iterations {}",
-                n + 1,
-                steps,
-                solver.time(),
-                r.iterations
-            );
-            last_report = Instant::now();
-        }
+        progress.step(n + 1, solver.time(), r.iterations);
     }
+    progress.finish();
     history.flush()?;
     summary.status = "completed".into();
     summary.iterations_mean = summary.iterations_total as f64 / summary.steps.max(1) as f64;
