@@ -35,6 +35,17 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Draw history columns of a run against time: DIR/NAME.svg and DIR/NAME.png.
+    Plot {
+        /// A run's output folder (it holds history.csv).
+        dir: PathBuf,
+        /// Columns to draw, comma-separated (default: every contact's normal force).
+        #[arg(long, value_delimiter = ',')]
+        columns: Vec<String>,
+        /// File name of the chart, without extension.
+        #[arg(long, default_value = "plot")]
+        name: String,
+    },
     /// List the GPU adapters found, the one each device setting would use, and the limits
     /// and features that matter to the kernels.
     Info,
@@ -53,6 +64,42 @@ fn main() -> ExitCode {
 fn real_main() -> anyhow::Result<()> {
     let cli = Cli::parse();
     match cli.command {
+        Command::Plot { dir, columns, name } => {
+            use impact::output::plot::{chart, Table};
+            let table = Table::read(&dir.join("history.csv"))
+                .with_context(|| format!("reading the history of {}", dir.display()))?;
+            let columns = if columns.is_empty() {
+                table
+                    .columns
+                    .iter()
+                    .filter(|c| c.ends_with(".normal_force"))
+                    .cloned()
+                    .collect()
+            } else {
+                columns
+            };
+            if let Some(bad) = columns.iter().find(|c| !table.columns.contains(c)) {
+                anyhow::bail!(
+                    "{}: no column \"{bad}\" (the columns are: {})",
+                    dir.join("history.csv").display(),
+                    table.columns.join(", ")
+                );
+            }
+            if columns.is_empty() {
+                anyhow::bail!(
+                    "{}: no columns to draw; name them with --columns a,b",
+                    dir.display()
+                );
+            }
+            chart(&table, &columns.join(", "), &columns).write(&dir, &name)?;
+            println!(
+                "{}: {} and {}",
+                columns.join(", "),
+                dir.join(format!("{name}.svg")).display(),
+                dir.join(format!("{name}.png")).display()
+            );
+            Ok(())
+        }
         Command::Run {
             scene,
             out,

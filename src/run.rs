@@ -238,6 +238,60 @@ pub fn choose_method(scene: &Scene, model: &Model) -> (Method, String) {
     }
 }
 
+/// Writes the run's charts into `dir`: `forces` (every interface's normal force) and
+/// `energies` (kinetic, strain, total, and the friction work of interfaces with friction),
+/// each with the scene's exact curves for its columns, and one chart `exact_<column>` for an
+/// exact curve of any other column. SVG and PNG each.
+pub fn write_charts(scene: &Scene, model: &Model, dir: &std::path::Path) -> Result<()> {
+    use crate::output::plot::{chart, Series, Table};
+    let table = Table::read(&dir.join("history.csv"))?;
+    let forces: Vec<String> = model
+        .interfaces
+        .iter()
+        .map(|i| format!("{}.normal_force", i.name))
+        .collect();
+    let mut energies: Vec<String> = ["kinetic_energy", "strain_energy", "total_energy"]
+        .map(String::from)
+        .to_vec();
+    energies.extend(
+        model
+            .interfaces
+            .iter()
+            .filter(|i| i.friction > 0.0)
+            .map(|i| format!("{}.friction_work", i.name)),
+    );
+    let exact_of = |cols: &[String]| -> Vec<Series> {
+        scene
+            .exact
+            .iter()
+            .filter(|e| cols.contains(&e.column))
+            .map(|e| Series {
+                name: format!("{} ({})", e.column, e.label),
+                x: e.points.iter().map(|p| p[0]).collect(),
+                y: e.points.iter().map(|p| p[1]).collect(),
+                exact: true,
+            })
+            .collect()
+    };
+    let mut charts = Vec::new();
+    if !forces.is_empty() {
+        charts.push(("forces".to_string(), "contact forces".to_string(), forces));
+    }
+    charts.push(("energies".into(), "energies".into(), energies));
+    for e in &scene.exact {
+        if !charts.iter().any(|(_, _, cols)| cols.contains(&e.column)) {
+            let name = format!("exact_{}", e.column.replace(['.', '/'], "_"));
+            charts.push((name, e.column.clone(), vec![e.column.clone()]));
+        }
+    }
+    for (name, title, cols) in charts {
+        let mut c = chart(&table, &title, &cols);
+        c.series.extend(exact_of(&cols));
+        c.write(dir, &name)?;
+    }
+    Ok(())
+}
+
 /// Runs the scene to its end time, writing `history.csv` and `summary.json`.
 ///
 /// A diverging run stops with [`ImpactError::Diverged`] after flushing the history and
@@ -309,6 +363,20 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         )?)),
     };
     let explicit = matches!(solver, Solver::Explicit(_));
+    let columns = crate::output::history::column_names(&model);
+    for (i, e) in scene.exact.iter().enumerate() {
+        if !columns.contains(&e.column) {
+            return Err(ImpactError::SceneValue {
+                path: scene.path.clone(),
+                key: format!("exact[{i}].column"),
+                message: format!(
+                    "\"{}\" is not a history column (they are: {})",
+                    e.column,
+                    columns.join(", ")
+                ),
+            });
+        }
+    }
     let mut history = History::create(&dir, &model)?;
     let mut summary = Summary {
         status: "running".into(),
@@ -419,7 +487,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         let (r, e) = match outcome {
             Ok(x) => x,
             Err(err) => {
-                return Err(fail(
+                let err = fail(
                     &mut summary,
                     &mut history,
                     &dir,
@@ -427,7 +495,9 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
                     (n + 1) as f64 * dt,
                     err.to_string(),
                     start,
-                ))
+                );
+                let _ = write_charts(scene, &model, &dir);
+                return Err(err);
             }
         };
         summary.steps += 1;
@@ -441,7 +511,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
                 "total energy {e:.6e} against {:.6e} at the start",
                 summary.energy_initial
             );
-            return Err(fail(
+            let err = fail(
                 &mut summary,
                 &mut history,
                 &dir,
@@ -449,7 +519,9 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
                 solver.time(),
                 reason,
                 start,
-            ));
+            );
+            let _ = write_charts(scene, &model, &dir);
+            return Err(err);
         }
         for (p, r) in peak.iter_mut().zip(solver.reports()) {
             *p = p.max(r.normal_force);
@@ -458,6 +530,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     }
     progress.finish();
     history.flush()?;
+    write_charts(scene, &model, &dir)?;
     summary.status = "completed".into();
     summary.iterations_mean = summary.iterations_total as f64 / summary.steps.max(1) as f64;
     summary.interfaces = match &solver {

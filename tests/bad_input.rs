@@ -222,3 +222,37 @@ fn vtu_every_must_be_positive() {
         &["output.vtu_every", ">= 1"],
     );
 }
+
+#[test]
+fn exact_curve_needs_two_points() {
+    // the scene's own [[exact]] table comes last: replace it by one with a single point
+    let head = base().split("[[exact]]").next().unwrap().to_string();
+    expect(
+        &format!("{head}[[exact]]\ncolumn = \"impact.normal_force\"\npoints = [[0.0, 0.5]]\n"),
+        &["exact[0].points", "at least two"],
+    );
+}
+
+/// An exact curve for a column the history does not have is refused before the run.
+#[test]
+fn exact_curve_of_an_unknown_column() {
+    let text = base().replace(
+        "column = \"impact.normal_force\"",
+        "column = \"impact.force\"",
+    );
+    let scene = Scene::parse(&text, Path::new("bad.toml")).expect("parses");
+    let opts = impact::run::RunOptions {
+        out: Some(out_dir("exact_unknown_column")),
+        device: None,
+        quiet: true,
+    };
+    let msg = impact::run::run(&scene, &opts)
+        .expect_err("refused")
+        .to_string();
+    for part in [
+        "exact[0].column",
+        "\"impact.force\" is not a history column",
+    ] {
+        assert!(msg.contains(part), "{msg:?} should contain {part:?}");
+    }
+}

@@ -28,44 +28,10 @@ impl History {
             path: path.clone(),
             source,
         })?;
-        let mut cols: Vec<String> = [
-            "time",
-            "step",
-            "kinetic_energy",
-            "strain_energy",
-            "total_energy",
-        ]
-        .map(String::from)
-        .to_vec();
-        for b in &model.body_names {
-            for c in ["vx", "vy", "vz"] {
-                cols.push(format!("{b}.{c}"));
-            }
-        }
-        for itf in &model.interfaces {
-            for c in [
-                "normal_force",
-                "tangential_force",
-                "active",
-                "max_penetration",
-            ] {
-                cols.push(format!("{}.{c}", itf.name));
-            }
-        }
-        for p in &model.probes {
-            for c in ["ux", "uy", "uz", "vx", "vy", "vz"] {
-                cols.push(format!("{}.{c}", p.name));
-            }
-        }
-        // columns beyond scene-format.md go last, so the fixed ones keep their places
+        let cols = column_names(model);
         let frictional: Vec<usize> = (0..model.interfaces.len())
             .filter(|&i| model.interfaces[i].friction > 0.0)
             .collect();
-        for &i in &frictional {
-            for c in ["sliding", "friction_work"] {
-                cols.push(format!("{}.{c}", model.interfaces[i].name));
-            }
-        }
         let mut h = History {
             path,
             frictional,
@@ -128,4 +94,44 @@ impl History {
             source,
         })
     }
+}
+
+/// The history's columns for a model, in order.
+pub fn column_names(model: &Model) -> Vec<String> {
+    let mut cols: Vec<String> = [
+        "time",
+        "step",
+        "kinetic_energy",
+        "strain_energy",
+        "total_energy",
+    ]
+    .map(String::from)
+    .to_vec();
+    for b in &model.body_names {
+        for c in ["vx", "vy", "vz"] {
+            cols.push(format!("{b}.{c}"));
+        }
+    }
+    for itf in &model.interfaces {
+        for c in [
+            "normal_force",
+            "tangential_force",
+            "active",
+            "max_penetration",
+        ] {
+            cols.push(format!("{}.{c}", itf.name));
+        }
+    }
+    for p in &model.probes {
+        for c in ["ux", "uy", "uz", "vx", "vy", "vz"] {
+            cols.push(format!("{}.{c}", p.name));
+        }
+    }
+    // columns beyond scene-format.md go last, so the fixed ones keep their places
+    for itf in model.interfaces.iter().filter(|i| i.friction > 0.0) {
+        for c in ["sliding", "friction_work"] {
+            cols.push(format!("{}.{c}", itf.name));
+        }
+    }
+    cols
 }

@@ -248,6 +248,15 @@ pub struct FixSpec {
     pub components: [bool; 3],
 }
 
+/// A known solution of one history column, drawn beside the computed curve: a piecewise
+/// linear curve through (time, value) points.
+#[derive(Debug, Clone)]
+pub struct ExactCurve {
+    pub column: String,
+    pub points: Vec<[f64; 2]>,
+    pub label: String,
+}
+
 #[derive(Debug, Clone)]
 pub struct ProbeSpec {
     pub name: String,
@@ -273,6 +282,7 @@ pub struct Scene {
     pub output_dir: PathBuf,
     /// Write a VTU frame every this many steps (and at t = 0); `None`: no frames.
     pub vtu_every: Option<usize>,
+    pub exact: Vec<ExactCurve>,
 }
 
 impl Scene {

@@ -27,6 +27,8 @@ pub struct RawScene {
     #[serde(default)]
     pub probe: Vec<RawProbe>,
     pub output: Option<RawOutput>,
+    #[serde(default)]
+    pub exact: Vec<RawExact>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -53,6 +55,14 @@ pub struct RawImplicit {
     pub max_gap_rate: Option<f64>,
     pub max_force_change: Option<f64>,
     pub acceleration: Option<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawExact {
+    pub column: String,
+    pub points: Vec<[f64; 2]>,
+    pub label: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]

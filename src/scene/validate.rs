@@ -451,6 +451,26 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         });
     }
 
+    let mut exact = Vec::new();
+    for (i, e) in raw.exact.iter().enumerate() {
+        let key = format!("exact[{i}].points");
+        if e.points.len() < 2 {
+            return Err(c.err(&key, "needs at least two [time, value] points"));
+        }
+        for (k, p) in e.points.iter().enumerate() {
+            if !(p[0].is_finite() && p[1].is_finite()) {
+                return Err(c.err(&key, format!("point {k} is not finite")));
+            }
+            if k > 0 && p[0] < e.points[k - 1][0] {
+                return Err(c.err(&key, format!("times must not decrease (point {k})")));
+            }
+        }
+        exact.push(ExactCurve {
+            column: e.column.clone(),
+            points: e.points.clone(),
+            label: e.label.clone().unwrap_or_else(|| "exact".into()),
+        });
+    }
     let (output_dir, vtu_every) = match raw.output {
         Some(o) => (o.dir, o.vtu_every),
         None => (None, None),
@@ -497,5 +517,6 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         probes,
         output_dir,
         vtu_every,
+        exact,
     })
 }

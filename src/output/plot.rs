@@ -1,0 +1,458 @@
+//! Line charts of history columns against time, as SVG (vector, with text) and PNG (raster,
+//! text in an 8x8 bitmap font). Every run writes `forces` (the contact forces, with any exact
+//! curve the scene gives) and `energies`; `impact plot DIR --columns a,b` draws any columns.
+
+use std::path::Path;
+
+use crate::error::{ImpactError, Result};
+
+pub const WIDTH: usize = 800;
+pub const HEIGHT: usize = 480;
+const LEFT: f64 = 84.0;
+const RIGHT: f64 = 20.0;
+const TOP: f64 = 36.0;
+const BOTTOM: f64 = 48.0;
+
+/// Series colours (RGB); exact curves are drawn dashed in black.
+const PALETTE: [[u8; 3]; 6] = [
+    [31, 119, 180],
+    [214, 39, 40],
+    [44, 160, 44],
+    [255, 127, 14],
+    [148, 103, 189],
+    [140, 86, 75],
+];
+const BLACK: [u8; 3] = [0, 0, 0];
+const GRID: [u8; 3] = [225, 225, 225];
+const WHITE: [u8; 3] = [255, 255, 255];
+
+/// One curve.
+#[derive(Debug, Clone)]
+pub struct Series {
+    pub name: String,
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+    /// Exact solutions: dashed, black.
+    pub exact: bool,
+}
+
+#[derive(Debug, Clone)]
+pub struct Chart {
+    pub title: String,
+    pub x_label: String,
+    pub series: Vec<Series>,
+}
+
+/// Tick positions covering [lo, hi] with a step of 1, 2 or 5 times a power of ten.
+pub fn ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let range = (hi - lo).max(f64::MIN_POSITIVE);
+    let raw = range / 6.0;
+    let p = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * p)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * p);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    (first..=last).map(|k| k as f64 * step).collect()
+}
+
+fn label(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let a = v.abs();
+    if (1e-3..1e4).contains(&a) {
+        let s = format!("{v:.4}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        s.to_string()
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
+fn colour_hex(c: [u8; 3]) -> String {
+    format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
+}
+
+impl Chart {
+    /// The data range, padded, with zero included for y.
+    fn bounds(&self) -> (f64, f64, f64, f64) {
+        let mut b = [f64::INFINITY, f64::NEG_INFINITY, 0.0f64, 0.0f64];
+        for s in &self.series {
+            for (&x, &y) in s.x.iter().zip(&s.y) {
+                if x.is_finite() && y.is_finite() {
+                    b[0] = b[0].min(x);
+                    b[1] = b[1].max(x);
+                    b[2] = b[2].min(y);
+                    b[3] = b[3].max(y);
+                }
+            }
+        }
+        if !b[0].is_finite() {
+            b[0] = 0.0;
+            b[1] = 1.0;
+        }
+        if b[1] <= b[0] {
+            b[1] = b[0] + 1.0;
+        }
+        let pad = 0.05 * (b[3] - b[2]).max(f64::MIN_POSITIVE);
+        if b[3] - b[2] <= f64::MIN_POSITIVE {
+            (b[0], b[1], b[2] - 1.0, b[3] + 1.0)
+        } else {
+            (b[0], b[1], b[2] - pad, b[3] + pad)
+        }
+    }
+
+    /// Maps data to pixel coordinates.
+    fn mapping(&self) -> impl Fn(f64, f64) -> (f64, f64) {
+        let (x0, x1, y0, y1) = self.bounds();
+        let (w, h) = (WIDTH as f64 - LEFT - RIGHT, HEIGHT as f64 - TOP - BOTTOM);
+        move |x, y| {
+            (
+                LEFT + (x - x0) / (x1 - x0) * w,
+                TOP + (1.0 - (y - y0) / (y1 - y0)) * h,
+            )
+        }
+    }
+
+    /// Left end of the legend's line samples: room for the longest name in the 8 px font.
+    fn legend_x(&self) -> f64 {
+        let longest = self
+            .series
+            .iter()
+            .map(|s| s.name.chars().count())
+            .max()
+            .unwrap_or(0);
+        (WIDTH as f64 - RIGHT - 12.0 - 30.0 - 8.0 * longest as f64).max(LEFT + 8.0)
+    }
+
+    fn colour(&self, i: usize) -> [u8; 3] {
+        if self.series[i].exact {
+            BLACK
+        } else {
+            let k = self.series[..i].iter().filter(|s| !s.exact).count();
+            PALETTE[k % PALETTE.len()]
+        }
+    }
+
+    pub fn svg(&self) -> String {
+        let (x0, x1, y0, y1) = self.bounds();
+        let map = self.mapping();
+        let (right, bottom) = (WIDTH as f64 - RIGHT, HEIGHT as f64 - BOTTOM);
+        let mut s = format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{WIDTH}\" height=\"{HEIGHT}\" font-family=\"sans-serif\" font-size=\"12\">\n\
+<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n\
+<text x=\"{}\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">{}</text>\n",
+            WIDTH / 2,
+            xml(&self.title)
+        );
+        for t in ticks(x0, x1) {
+            let (px, _) = map(t, y0);
+            s += &format!(
+                "<line x1=\"{px:.1}\" y1=\"{TOP}\" x2=\"{px:.1}\" y2=\"{bottom}\" stroke=\"#e1e1e1\"/>\n\
+<text x=\"{px:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{}</text>\n",
+                bottom + 16.0,
+                label(t)
+            );
+        }
+        for t in ticks(y0, y1) {
+            let (_, py) = map(x0, t);
+            s += &format!(
+                "<line x1=\"{LEFT}\" y1=\"{py:.1}\" x2=\"{right}\" y2=\"{py:.1}\" stroke=\"#e1e1e1\"/>\n\
+<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{}</text>\n",
+                LEFT - 6.0,
+                py + 4.0,
+                label(t)
+            );
+        }
+        s += &format!(
+            "<rect x=\"{LEFT}\" y=\"{TOP}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"none\" stroke=\"black\"/>\n\
+<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{}</text>\n",
+            right - LEFT,
+            bottom - TOP,
+            (LEFT + right) / 2.0,
+            HEIGHT as f64 - 8.0,
+            xml(&self.x_label)
+        );
+        for (i, ser) in self.series.iter().enumerate() {
+            let pts: Vec<String> = ser
+                .x
+                .iter()
+                .zip(&ser.y)
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .map(|(&x, &y)| {
+                    let (px, py) = map(x, y);
+                    format!("{px:.2},{py:.2}")
+                })
+                .collect();
+            let dash = if ser.exact {
+                " stroke-dasharray=\"6,4\""
+            } else {
+                ""
+            };
+            s += &format!(
+                "<polyline fill=\"none\" stroke=\"{}\" stroke-width=\"1.6\"{dash} points=\"{}\"/>\n",
+                colour_hex(self.colour(i)),
+                pts.join(" ")
+            );
+            let (ly, lx) = (TOP + 16.0 + 16.0 * i as f64, self.legend_x());
+            s += &format!(
+                "<line x1=\"{lx:.1}\" y1=\"{ly:.1}\" x2=\"{:.1}\" y2=\"{ly:.1}\" stroke=\"{}\" stroke-width=\"2\"{dash}/>\n\
+<text x=\"{:.1}\" y=\"{:.1}\">{}</text>\n",
+                lx + 24.0,
+                colour_hex(self.colour(i)),
+                lx + 30.0,
+                ly + 4.0,
+                xml(&ser.name)
+            );
+        }
+        s += "</svg>\n";
+        s
+    }
+
+    /// RGB pixels, row by row.
+    pub fn pixels(&self) -> Vec<u8> {
+        let mut c = Canvas::new();
+        let (x0, x1, y0, y1) = self.bounds();
+        let map = self.mapping();
+        let (right, bottom) = (WIDTH as f64 - RIGHT, HEIGHT as f64 - BOTTOM);
+        for t in ticks(x0, x1) {
+            let (px, _) = map(t, y0);
+            c.line(px, TOP, px, bottom, GRID, 1.0, false);
+            let l = label(t);
+            c.text(px - 4.0 * l.len() as f64, bottom + 8.0, &l, BLACK, 1);
+        }
+        for t in ticks(y0, y1) {
+            let (_, py) = map(x0, t);
+            c.line(LEFT, py, right, py, GRID, 1.0, false);
+            let l = label(t);
+            c.text(LEFT - 6.0 - 8.0 * l.len() as f64, py - 4.0, &l, BLACK, 1);
+        }
+        c.line(LEFT, TOP, right, TOP, BLACK, 1.0, false);
+        c.line(LEFT, bottom, right, bottom, BLACK, 1.0, false);
+        c.line(LEFT, TOP, LEFT, bottom, BLACK, 1.0, false);
+        c.line(right, TOP, right, bottom, BLACK, 1.0, false);
+        c.text(
+            WIDTH as f64 / 2.0 - 8.0 * self.title.len() as f64,
+            10.0,
+            &self.title,
+            BLACK,
+            2,
+        );
+        c.text(
+            (LEFT + right) / 2.0 - 4.0 * self.x_label.len() as f64,
+            HEIGHT as f64 - 18.0,
+            &self.x_label,
+            BLACK,
+            1,
+        );
+        for (i, ser) in self.series.iter().enumerate() {
+            let col = self.colour(i);
+            let pts: Vec<(f64, f64)> = ser
+                .x
+                .iter()
+                .zip(&ser.y)
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .map(|(&x, &y)| map(x, y))
+                .collect();
+            for w in pts.windows(2) {
+                c.line(w[0].0, w[0].1, w[1].0, w[1].1, col, 2.0, ser.exact);
+            }
+            let (ly, lx) = (TOP + 16.0 + 16.0 * i as f64, self.legend_x());
+            c.line(lx, ly, lx + 24.0, ly, col, 2.0, ser.exact);
+            c.text(lx + 30.0, ly - 4.0, &ser.name, BLACK, 1);
+        }
+        c.rgb
+    }
+
+    pub fn png(&self) -> Vec<u8> {
+        let mut out = Vec::new();
+        {
+            let mut enc = png::Encoder::new(&mut out, WIDTH as u32, HEIGHT as u32);
+            enc.set_color(png::ColorType::Rgb);
+            enc.set_depth(png::BitDepth::Eight);
+            let mut w = enc.write_header().expect("png header to memory");
+            w.write_image_data(&self.pixels())
+                .expect("png data to memory");
+        }
+        out
+    }
+
+    /// Writes `dir/name.svg` and `dir/name.png`.
+    pub fn write(&self, dir: &Path, name: &str) -> Result<()> {
+        let svg = dir.join(format!("{name}.svg"));
+        std::fs::write(&svg, self.svg())
+            .map_err(|source| ImpactError::Write { path: svg, source })?;
+        let png = dir.join(format!("{name}.png"));
+        std::fs::write(&png, self.png()).map_err(|source| ImpactError::Write { path: png, source })
+    }
+}
+
+fn xml(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+struct Canvas {
+    rgb: Vec<u8>,
+}
+
+impl Canvas {
+    fn new() -> Canvas {
+        Canvas {
+            rgb: WHITE.repeat(WIDTH * HEIGHT),
+        }
+    }
+
+    fn put(&mut self, x: i64, y: i64, c: [u8; 3]) {
+        if x >= 0 && y >= 0 && (x as usize) < WIDTH && (y as usize) < HEIGHT {
+            let i = 3 * (y as usize * WIDTH + x as usize);
+            self.rgb[i..i + 3].copy_from_slice(&c);
+        }
+    }
+
+    /// A line of the given thickness; dashed lines alternate 6 px drawn, 4 px gap.
+    #[allow(clippy::too_many_arguments)]
+    fn line(&mut self, x0: f64, y0: f64, x1: f64, y1: f64, c: [u8; 3], width: f64, dashed: bool) {
+        let len = ((x1 - x0).powi(2) + (y1 - y0).powi(2)).sqrt();
+        let n = (2.0 * len).ceil().max(1.0) as usize;
+        let r = (width / 2.0).max(0.5);
+        for k in 0..=n {
+            let s = k as f64 / n as f64;
+            if dashed && (s * len) % 10.0 >= 6.0 {
+                continue;
+            }
+            let (x, y) = (x0 + s * (x1 - x0), y0 + s * (y1 - y0));
+            let ri = r.ceil() as i64;
+            for dy in -ri..=ri {
+                for dx in -ri..=ri {
+                    if ((dx * dx + dy * dy) as f64) <= r * r {
+                        self.put(x.round() as i64 + dx, y.round() as i64 + dy, c);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Text in the 8x8 font, top-left at (x, y), each font pixel `scale` pixels wide.
+    fn text(&mut self, x: f64, y: f64, s: &str, c: [u8; 3], scale: i64) {
+        use font8x8::UnicodeFonts;
+        let (x, y) = (x.round() as i64, y.round() as i64);
+        for (k, ch) in s.chars().enumerate() {
+            let glyph = font8x8::BASIC_FONTS.get(ch).unwrap_or([0; 8]);
+            for (row, bits) in glyph.iter().enumerate() {
+                for col in 0..8 {
+                    if bits & (1 << col) != 0 {
+                        for sy in 0..scale {
+                            for sx in 0..scale {
+                                self.put(
+                                    x + (8 * k as i64 + col) * scale + sx,
+                                    y + row as i64 * scale + sy,
+                                    c,
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Columns of a `history.csv` by name.
+pub struct Table {
+    pub columns: Vec<String>,
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl Table {
+    pub fn read(path: &Path) -> Result<Table> {
+        let text = std::fs::read_to_string(path).map_err(|source| ImpactError::ReadScene {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut lines = text.lines();
+        let columns: Vec<String> = lines
+            .next()
+            .unwrap_or("")
+            .split(',')
+            .map(String::from)
+            .collect();
+        let rows = lines
+            .filter(|l| !l.trim().is_empty())
+            .map(|l| {
+                l.split(',')
+                    .map(|v| v.parse::<f64>().unwrap_or(f64::NAN))
+                    .collect()
+            })
+            .collect();
+        Ok(Table { columns, rows })
+    }
+
+    pub fn col(&self, name: &str) -> Option<Vec<f64>> {
+        let i = self.columns.iter().position(|c| c == name)?;
+        Some(self.rows.iter().map(|r| r[i]).collect())
+    }
+}
+
+/// A chart of the named columns of `table` against time.
+pub fn chart(table: &Table, title: &str, columns: &[String]) -> Chart {
+    let t = table.col("time").unwrap_or_default();
+    Chart {
+        title: title.into(),
+        x_label: "time".into(),
+        series: columns
+            .iter()
+            .filter_map(|c| {
+                table.col(c).map(|y| Series {
+                    name: c.clone(),
+                    x: t.clone(),
+                    y,
+                    exact: false,
+                })
+            })
+            .collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ticks_are_round_numbers_inside_the_range() {
+        assert_eq!(
+            ticks(0.0, 0.4),
+            vec![0.0, 0.1, 0.2, 0.30000000000000004, 0.4]
+        );
+        let t = ticks(-0.013, 0.52);
+        assert!(t.len() >= 4 && t.len() <= 8, "{t:?}");
+        assert!(t.iter().all(|v| (-0.013..=0.52).contains(v)));
+        assert_eq!(label(0.5), "0.5");
+        assert_eq!(label(2.5e-6), "2.50e-6");
+    }
+
+    /// A chart's PNG decodes to the right size and holds the series colour, black and white.
+    #[test]
+    fn png_holds_the_curves() {
+        let chart = Chart {
+            title: "test".into(),
+            x_label: "time".into(),
+            series: vec![Series {
+                name: "a".into(),
+                x: vec![0.0, 1.0, 2.0],
+                y: vec![0.0, 1.0, 0.5],
+                exact: false,
+            }],
+        };
+        let px = chart.pixels();
+        assert_eq!(px.len(), 3 * WIDTH * HEIGHT);
+        let has = |c: [u8; 3]| px.chunks_exact(3).any(|p| p == c);
+        assert!(has(PALETTE[0]) && has(BLACK) && has(WHITE));
+        let png = chart.png();
+        assert_eq!(&png[1..4], b"PNG");
+    }
+}
