@@ -24,5 +24,6 @@ pub mod model;
 pub mod output;
 pub mod run;
 pub mod scene;
+pub mod study;
 
 pub use error::{ImpactError, Result};

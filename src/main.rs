@@ -46,6 +46,25 @@ enum Command {
         #[arg(long, default_value = "plot")]
         name: String,
     },
+    /// Accuracy against speed on a problem with an exact answer: a grid of methods, devices,
+    /// meshes and time steps; writes study.csv, study.svg/png, atlas.svg/png and atlas.md.
+    Study {
+        /// two_bars, bar_on_wall or sliding_block.
+        problem: String,
+        /// Output folder (default: results/study_<problem>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// A small grid (about a minute at most; CPU only unless --devices says otherwise).
+        #[arg(long)]
+        quick: bool,
+        /// Devices to run on, comma-separated (default: cpu, and gpu when an adapter exists;
+        /// --quick: cpu).
+        #[arg(long, value_delimiter = ',')]
+        devices: Vec<String>,
+        /// Keep every run's own folder (history, summary, charts) under OUT/runs.
+        #[arg(long)]
+        keep_runs: bool,
+    },
     /// List the GPU adapters found, the one each device setting would use, and the limits
     /// and features that matter to the kernels.
     Info,
@@ -64,6 +83,57 @@ fn main() -> ExitCode {
 fn real_main() -> anyhow::Result<()> {
     let cli = Cli::parse();
     match cli.command {
+        Command::Study {
+            problem,
+            out,
+            quick,
+            devices,
+            keep_runs,
+        } => {
+            use impact::study::{study, Problem};
+            let p = Problem::parse(&problem).ok_or_else(|| {
+                anyhow::anyhow!(
+                    "unknown problem \"{problem}\" (the problems are: {})",
+                    Problem::NAMES
+                )
+            })?;
+            let out = out.unwrap_or_else(|| PathBuf::from(format!("results/study_{problem}")));
+            let devices: Vec<String> = if !devices.is_empty() {
+                devices
+            } else if quick || impact::gpu::GpuContext::new().is_err() {
+                vec!["cpu".into()]
+            } else {
+                vec!["cpu".into(), "gpu".into()]
+            };
+            let devices: Vec<&str> = devices.iter().map(String::as_str).collect();
+            let rows = study(p, &out, quick, &devices, keep_runs, &mut |r| {
+                eprintln!(
+                    "{} {} {} el, c dt/h {}: force error {:.3e}, {:.3} s, {}",
+                    r.method.name(),
+                    r.device,
+                    r.elements,
+                    r.courant,
+                    r.errors.force,
+                    r.wall_seconds,
+                    r.status
+                );
+            })?;
+            println!(
+                "{} runs; {} written",
+                rows.len(),
+                [
+                    "study.csv",
+                    "study.svg",
+                    "study.png",
+                    "atlas.svg",
+                    "atlas.png",
+                    "atlas.md"
+                ]
+                .map(|f| out.join(f).display().to_string())
+                .join(", ")
+            );
+            Ok(())
+        }
         Command::Plot { dir, columns, name } => {
             use impact::output::plot::{chart, Table};
             let table = Table::read(&dir.join("history.csv"))

@@ -182,7 +182,7 @@ pub fn explicit_time_step(scene: &Scene, model: &Model) -> Result<(f64, f64)> {
     let (stable, element) = stable_step(model);
     match scene.run.time_step {
         // a step equal to the bound up to rounding is the bound
-        Some(dt) if dt > stable * (1.0 + 1e-9) => Err(ImpactError::SceneValue {
+        Some(dt) if dt > stable * (1.0 + 1e-9) && !scene.explicit.allow_unstable => Err(ImpactError::SceneValue {
             path: scene.path.clone(),
             key: "run.time_step".into(),
             message: format!(
@@ -243,7 +243,7 @@ pub fn choose_method(scene: &Scene, model: &Model) -> (Method, String) {
 /// each with the scene's exact curves for its columns, and one chart `exact_<column>` for an
 /// exact curve of any other column. SVG and PNG each.
 pub fn write_charts(scene: &Scene, model: &Model, dir: &std::path::Path) -> Result<()> {
-    use crate::output::plot::{chart, Series, Table};
+    use crate::output::plot::{chart, Series, Style, Table};
     let table = Table::read(&dir.join("history.csv"))?;
     let forces: Vec<String> = model
         .interfaces
@@ -269,7 +269,7 @@ pub fn write_charts(scene: &Scene, model: &Model, dir: &std::path::Path) -> Resu
                 name: format!("{} ({})", e.column, e.label),
                 x: e.points.iter().map(|p| p[0]).collect(),
                 y: e.points.iter().map(|p| p[1]).collect(),
-                exact: true,
+                style: Style::Exact,
             })
             .collect()
     };

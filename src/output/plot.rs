@@ -14,17 +14,33 @@ const TOP: f64 = 36.0;
 const BOTTOM: f64 = 48.0;
 
 /// Series colours (RGB); exact curves are drawn dashed in black.
-const PALETTE: [[u8; 3]; 6] = [
+const PALETTE: [[u8; 3]; 10] = [
     [31, 119, 180],
     [214, 39, 40],
     [44, 160, 44],
     [255, 127, 14],
     [148, 103, 189],
     [140, 86, 75],
+    [227, 119, 194],
+    [188, 189, 34],
+    [23, 190, 207],
+    [127, 127, 127],
 ];
 const BLACK: [u8; 3] = [0, 0, 0];
 const GRID: [u8; 3] = [225, 225, 225];
 const WHITE: [u8; 3] = [255, 255, 255];
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Style {
+    Line,
+    /// Exact solutions: dashed, black.
+    Exact,
+    /// Points only (one per run of a study).
+    Markers,
+    /// Crosses without a line (failed runs).
+    Crosses,
+}
 
 /// One curve.
 #[derive(Debug, Clone)]
@@ -32,8 +48,7 @@ pub struct Series {
     pub name: String,
     pub x: Vec<f64>,
     pub y: Vec<f64>,
-    /// Exact solutions: dashed, black.
-    pub exact: bool,
+    pub style: Style,
 }
 
 #[derive(Debug, Clone)]
@@ -41,6 +56,20 @@ pub struct Chart {
     pub title: String,
     pub x_label: String,
     pub series: Vec<Series>,
+    /// Logarithmic axes (non-positive values are left out).
+    pub log_x: bool,
+    pub log_y: bool,
+}
+
+/// Tick positions of an axis in plotted coordinates: decades for a log axis.
+fn axis_ticks(lo: f64, hi: f64, log: bool) -> Vec<f64> {
+    if log {
+        let (a, b) = (lo.ceil() as i64, hi.floor() as i64);
+        if b - a >= 1 {
+            return (a..=b).map(|k| k as f64).collect();
+        }
+    }
+    ticks(lo, hi)
 }
 
 /// Tick positions covering [lo, hi] with a step of 1, 2 or 5 times a power of ten.
@@ -72,17 +101,37 @@ fn label(v: f64) -> String {
     }
 }
 
+fn tick_label(v: f64, log: bool) -> String {
+    if log {
+        format!("1e{}", v.round() as i64)
+    } else {
+        label(v)
+    }
+}
+
 fn colour_hex(c: [u8; 3]) -> String {
     format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
 }
 
 impl Chart {
-    /// The data range, padded, with zero included for y.
+    /// A data point in plotted coordinates (log10 on a log axis), if it can be drawn.
+    fn tx(&self, x: f64, y: f64) -> Option<(f64, f64)> {
+        let x = if self.log_x { x.log10() } else { x };
+        let y = if self.log_y { y.log10() } else { y };
+        (x.is_finite() && y.is_finite()).then_some((x, y))
+    }
+
+    /// The plotted range, padded; zero included for a linear y.
     fn bounds(&self) -> (f64, f64, f64, f64) {
-        let mut b = [f64::INFINITY, f64::NEG_INFINITY, 0.0f64, 0.0f64];
+        let y_init = if self.log_y {
+            [f64::INFINITY, f64::NEG_INFINITY]
+        } else {
+            [0.0, 0.0]
+        };
+        let mut b = [f64::INFINITY, f64::NEG_INFINITY, y_init[0], y_init[1]];
         for s in &self.series {
             for (&x, &y) in s.x.iter().zip(&s.y) {
-                if x.is_finite() && y.is_finite() {
+                if let Some((x, y)) = self.tx(x, y) {
                     b[0] = b[0].min(x);
                     b[1] = b[1].max(x);
                     b[2] = b[2].min(y);
@@ -93,6 +142,10 @@ impl Chart {
         if !b[0].is_finite() {
             b[0] = 0.0;
             b[1] = 1.0;
+        }
+        if !b[2].is_finite() {
+            b[2] = 0.0;
+            b[3] = 1.0;
         }
         if b[1] <= b[0] {
             b[1] = b[0] + 1.0;
@@ -105,7 +158,7 @@ impl Chart {
         }
     }
 
-    /// Maps data to pixel coordinates.
+    /// Maps plotted coordinates to pixels.
     fn mapping(&self) -> impl Fn(f64, f64) -> (f64, f64) {
         let (x0, x1, y0, y1) = self.bounds();
         let (w, h) = (WIDTH as f64 - LEFT - RIGHT, HEIGHT as f64 - TOP - BOTTOM);
@@ -129,11 +182,16 @@ impl Chart {
     }
 
     fn colour(&self, i: usize) -> [u8; 3] {
-        if self.series[i].exact {
-            BLACK
-        } else {
-            let k = self.series[..i].iter().filter(|s| !s.exact).count();
-            PALETTE[k % PALETTE.len()]
+        match self.series[i].style {
+            Style::Exact => BLACK,
+            Style::Crosses => [110, 110, 110],
+            _ => {
+                let k = self.series[..i]
+                    .iter()
+                    .filter(|s| matches!(s.style, Style::Line | Style::Markers))
+                    .count();
+                PALETTE[k % PALETTE.len()]
+            }
         }
     }
 
@@ -148,23 +206,23 @@ impl Chart {
             WIDTH / 2,
             xml(&self.title)
         );
-        for t in ticks(x0, x1) {
+        for t in axis_ticks(x0, x1, self.log_x) {
             let (px, _) = map(t, y0);
             s += &format!(
                 "<line x1=\"{px:.1}\" y1=\"{TOP}\" x2=\"{px:.1}\" y2=\"{bottom}\" stroke=\"#e1e1e1\"/>\n\
 <text x=\"{px:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{}</text>\n",
                 bottom + 16.0,
-                label(t)
+                tick_label(t, self.log_x)
             );
         }
-        for t in ticks(y0, y1) {
+        for t in axis_ticks(y0, y1, self.log_y) {
             let (_, py) = map(x0, t);
             s += &format!(
                 "<line x1=\"{LEFT}\" y1=\"{py:.1}\" x2=\"{right}\" y2=\"{py:.1}\" stroke=\"#e1e1e1\"/>\n\
 <text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{}</text>\n",
                 LEFT - 6.0,
                 py + 4.0,
-                label(t)
+                tick_label(t, self.log_y)
             );
         }
         s += &format!(
@@ -177,32 +235,50 @@ impl Chart {
             xml(&self.x_label)
         );
         for (i, ser) in self.series.iter().enumerate() {
-            let pts: Vec<String> = ser
+            let col = colour_hex(self.colour(i));
+            let pts: Vec<(f64, f64)> = ser
                 .x
                 .iter()
                 .zip(&ser.y)
-                .filter(|(x, y)| x.is_finite() && y.is_finite())
-                .map(|(&x, &y)| {
-                    let (px, py) = map(x, y);
-                    format!("{px:.2},{py:.2}")
-                })
+                .filter_map(|(&x, &y)| self.tx(x, y))
+                .map(|(x, y)| map(x, y))
                 .collect();
-            let dash = if ser.exact {
+            let dash = if ser.style == Style::Exact {
                 " stroke-dasharray=\"6,4\""
             } else {
                 ""
             };
-            s += &format!(
-                "<polyline fill=\"none\" stroke=\"{}\" stroke-width=\"1.6\"{dash} points=\"{}\"/>\n",
-                colour_hex(self.colour(i)),
-                pts.join(" ")
-            );
+            if matches!(ser.style, Style::Line | Style::Exact) {
+                let line: Vec<String> = pts.iter().map(|(x, y)| format!("{x:.2},{y:.2}")).collect();
+                let width = if ser.style == Style::Markers {
+                    1.0
+                } else {
+                    1.6
+                };
+                s += &format!(
+                    "<polyline fill=\"none\" stroke=\"{col}\" stroke-width=\"{width}\"{dash} points=\"{}\"/>\n",
+                    line.join(" ")
+                );
+            }
+            for (x, y) in &pts {
+                match ser.style {
+                    Style::Markers => {
+                        s += &format!("<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"3.5\" fill=\"{col}\"/>\n")
+                    }
+                    Style::Crosses => {
+                        s += &format!(
+                            "<path d=\"M{:.2},{:.2}L{:.2},{:.2}M{:.2},{:.2}L{:.2},{:.2}\" stroke=\"{col}\" stroke-width=\"2\"/>\n",
+                            x - 5.0, y - 5.0, x + 5.0, y + 5.0, x - 5.0, y + 5.0, x + 5.0, y - 5.0
+                        )
+                    }
+                    _ => {}
+                }
+            }
             let (ly, lx) = (TOP + 16.0 + 16.0 * i as f64, self.legend_x());
             s += &format!(
-                "<line x1=\"{lx:.1}\" y1=\"{ly:.1}\" x2=\"{:.1}\" y2=\"{ly:.1}\" stroke=\"{}\" stroke-width=\"2\"{dash}/>\n\
+                "<line x1=\"{lx:.1}\" y1=\"{ly:.1}\" x2=\"{:.1}\" y2=\"{ly:.1}\" stroke=\"{col}\" stroke-width=\"2\"{dash}/>\n\
 <text x=\"{:.1}\" y=\"{:.1}\">{}</text>\n",
                 lx + 24.0,
-                colour_hex(self.colour(i)),
                 lx + 30.0,
                 ly + 4.0,
                 xml(&ser.name)
@@ -218,16 +294,16 @@ impl Chart {
         let (x0, x1, y0, y1) = self.bounds();
         let map = self.mapping();
         let (right, bottom) = (WIDTH as f64 - RIGHT, HEIGHT as f64 - BOTTOM);
-        for t in ticks(x0, x1) {
+        for t in axis_ticks(x0, x1, self.log_x) {
             let (px, _) = map(t, y0);
             c.line(px, TOP, px, bottom, GRID, 1.0, false);
-            let l = label(t);
+            let l = tick_label(t, self.log_x);
             c.text(px - 4.0 * l.len() as f64, bottom + 8.0, &l, BLACK, 1);
         }
-        for t in ticks(y0, y1) {
+        for t in axis_ticks(y0, y1, self.log_y) {
             let (_, py) = map(x0, t);
             c.line(LEFT, py, right, py, GRID, 1.0, false);
-            let l = label(t);
+            let l = tick_label(t, self.log_y);
             c.text(LEFT - 6.0 - 8.0 * l.len() as f64, py - 4.0, &l, BLACK, 1);
         }
         c.line(LEFT, TOP, right, TOP, BLACK, 1.0, false);
@@ -254,14 +330,34 @@ impl Chart {
                 .x
                 .iter()
                 .zip(&ser.y)
-                .filter(|(x, y)| x.is_finite() && y.is_finite())
-                .map(|(&x, &y)| map(x, y))
+                .filter_map(|(&x, &y)| self.tx(x, y))
+                .map(|(x, y)| map(x, y))
                 .collect();
-            for w in pts.windows(2) {
-                c.line(w[0].0, w[0].1, w[1].0, w[1].1, col, 2.0, ser.exact);
+            let exact = ser.style == Style::Exact;
+            if matches!(ser.style, Style::Line | Style::Exact) {
+                for w in pts.windows(2) {
+                    c.line(w[0].0, w[0].1, w[1].0, w[1].1, col, 2.0, exact);
+                }
+            }
+            for &(x, y) in &pts {
+                match ser.style {
+                    Style::Markers => c.line(x, y, x, y, col, 7.0, false),
+                    Style::Crosses => {
+                        c.line(x - 5.0, y - 5.0, x + 5.0, y + 5.0, col, 2.0, false);
+                        c.line(x - 5.0, y + 5.0, x + 5.0, y - 5.0, col, 2.0, false);
+                    }
+                    _ => {}
+                }
             }
             let (ly, lx) = (TOP + 16.0 + 16.0 * i as f64, self.legend_x());
-            c.line(lx, ly, lx + 24.0, ly, col, 2.0, ser.exact);
+            match ser.style {
+                Style::Markers => c.line(lx + 12.0, ly, lx + 12.0, ly, col, 7.0, false),
+                Style::Crosses => {
+                    c.line(lx + 7.0, ly - 5.0, lx + 17.0, ly + 5.0, col, 2.0, false);
+                    c.line(lx + 7.0, ly + 5.0, lx + 17.0, ly - 5.0, col, 2.0, false);
+                }
+                _ => c.line(lx, ly, lx + 24.0, ly, col, 2.0, exact),
+            }
             c.text(lx + 30.0, ly - 4.0, &ser.name, BLACK, 1);
         }
         c.rgb
@@ -411,10 +507,12 @@ pub fn chart(table: &Table, title: &str, columns: &[String]) -> Chart {
                     name: c.clone(),
                     x: t.clone(),
                     y,
-                    exact: false,
+                    style: Style::Line,
                 })
             })
             .collect(),
+        log_x: false,
+        log_y: false,
     }
 }
 
@@ -445,8 +543,10 @@ mod tests {
                 name: "a".into(),
                 x: vec![0.0, 1.0, 2.0],
                 y: vec![0.0, 1.0, 0.5],
-                exact: false,
+                style: Style::Line,
             }],
+            log_x: false,
+            log_y: false,
         };
         let px = chart.pixels();
         assert_eq!(px.len(), 3 * WIDTH * HEIGHT);

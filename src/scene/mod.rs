@@ -99,6 +99,8 @@ pub struct ExplicitSettings {
     /// The contact iteration ends when no constraint is violated by more than this fraction
     /// of the scene's speed scale.
     pub tolerance: f64,
+    /// Run a `time_step` above the stable bound instead of refusing it (stability studies).
+    pub allow_unstable: bool,
 }
 
 impl Default for ExplicitSettings {
@@ -107,6 +109,7 @@ impl Default for ExplicitSettings {
             safety_factor: 0.9,
             max_iterations: 200,
             tolerance: 1e-6,
+            allow_unstable: false,
         }
     }
 }

@@ -69,6 +69,7 @@ pub struct RawExact {
 #[serde(deny_unknown_fields)]
 pub struct RawExplicit {
     pub safety_factor: Option<f64>,
+    pub allow_unstable: Option<bool>,
     pub max_iterations: Option<i64>,
     pub tolerance: Option<f64>,
 }

@@ -242,6 +242,9 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         if let Some(t) = re.tolerance {
             explicit.tolerance = c.positive("explicit.tolerance", t)?;
         }
+        if let Some(a) = re.allow_unstable {
+            explicit.allow_unstable = a;
+        }
     }
 
     // [[material]]
