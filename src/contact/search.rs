@@ -7,7 +7,10 @@
 
 use std::collections::HashMap;
 
+use crate::contact::quad;
+use crate::contact::Primary;
 use crate::kernels::ContactQueries;
+use crate::model::Model;
 
 /// Fills `queries.offsets` and `queries.candidates` for the queries in `query_range`
 /// against the faces in `face_range`. `x` holds current positions (3 per node).
@@ -73,4 +76,53 @@ pub fn flatten(queries: &mut ContactQueries, lists: &[Vec<u32>]) {
         queries.candidates.extend_from_slice(l);
         queries.offsets.push(queries.candidates.len() as u32);
     }
+}
+
+/// The largest diagonal of the model's primary faces (reference configuration): the search
+/// grid's cell size and the reach of a candidate.
+pub fn largest_face_diagonal(model: &Model) -> f64 {
+    model
+        .queries
+        .faces
+        .iter()
+        .map(|f| {
+            let p = f.map(|n| model.mesh.nodes[n as usize]);
+            quad::norm(quad::sub(p[2], p[0])).max(quad::norm(quad::sub(p[3], p[1])))
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The broad phase of every surface interface at displacement `u` and velocity `v`: margin
+/// `face_size + 4 dt |v|max`, so that a node's candidates cover its motion over the step.
+/// Fills `queries`' CSR arrays (through `lists`, one per query).
+pub fn surface_candidates(
+    model: &Model,
+    queries: &mut ContactQueries,
+    lists: &mut [Vec<u32>],
+    u: &[f64],
+    v: &[f64],
+    dt: f64,
+    face_size: f64,
+) {
+    let x: Vec<[f64; 3]> = model
+        .mesh
+        .nodes
+        .iter()
+        .enumerate()
+        .map(|(n, p)| std::array::from_fn(|a| p[a] + u[3 * n + a]))
+        .collect();
+    let vmax = v
+        .chunks_exact(3)
+        .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
+        .fold(0.0, f64::max);
+    let margin = face_size + 4.0 * dt * vmax;
+    for itf in &model.interfaces {
+        if let Primary::Surface {
+            faces, queries: q, ..
+        } = &itf.primary
+        {
+            find_candidates(queries, &x, q.clone(), faces.clone(), margin, lists);
+        }
+    }
+    flatten(queries, lists);
 }

@@ -147,15 +147,7 @@ impl<'m> ExplicitSolver<'m> {
             }
         }
         let a: Vec<f64> = (0..ndof).map(|d| f_ext[d] * inv_mass[d]).collect();
-        let face_size = model
-            .queries
-            .faces
-            .iter()
-            .map(|f| {
-                let p = f.map(|n| model.mesh.nodes[n as usize]);
-                quad::norm(quad::sub(p[2], p[0])).max(quad::norm(quad::sub(p[3], p[1])))
-            })
-            .fold(0.0, f64::max);
+        let face_size = search::largest_face_diagonal(model);
         let interfaces = model
             .interfaces
             .iter()
@@ -232,36 +224,15 @@ impl<'m> ExplicitSolver<'m> {
 
     /// Candidate faces of every surface query at the current positions.
     fn broad_phase(&mut self) {
-        let model = self.model;
-        let x: Vec<[f64; 3]> = model
-            .mesh
-            .nodes
-            .iter()
-            .enumerate()
-            .map(|(n, p)| std::array::from_fn(|a| p[a] + self.u[3 * n + a]))
-            .collect();
-        let vmax = self
-            .v
-            .chunks_exact(3)
-            .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
-            .fold(0.0, f64::max);
-        let margin = self.face_size + 4.0 * self.dt * vmax;
-        for itf in &model.interfaces {
-            if let Primary::Surface {
-                faces, queries: q, ..
-            } = &itf.primary
-            {
-                search::find_candidates(
-                    &mut self.queries,
-                    &x,
-                    q.clone(),
-                    faces.clone(),
-                    margin,
-                    &mut self.candidate_lists,
-                );
-            }
-        }
-        search::flatten(&mut self.queries, &self.candidate_lists);
+        search::surface_candidates(
+            self.model,
+            &mut self.queries,
+            &mut self.candidate_lists,
+            &self.u,
+            &self.v,
+            self.dt,
+            self.face_size,
+        );
     }
 
     /// The constraints of the step at (u_n, v*): surfaces through the kernels, planes

@@ -178,15 +178,7 @@ impl<'m> ImplicitSolver<'m> {
                 }
             })
             .collect();
-        let face_size = model
-            .queries
-            .faces
-            .iter()
-            .map(|f| {
-                let p = f.map(|n| model.mesh.nodes[n as usize]);
-                quad::norm(quad::sub(p[2], p[0])).max(quad::norm(quad::sub(p[3], p[1])))
-            })
-            .fold(0.0, f64::max);
+        let face_size = search::largest_face_diagonal(model);
         let nq = model.queries.len();
         let mut s = ImplicitSolver {
             model,
@@ -277,43 +269,15 @@ impl<'m> ImplicitSolver<'m> {
 
     /// Candidate primary faces of every secondary node, from the current configuration.
     fn broad_phase(&mut self) {
-        let model = self.model;
-        let x: Vec<[f64; 3]> = model
-            .mesh
-            .nodes
-            .iter()
-            .enumerate()
-            .map(|(n, p)| {
-                [
-                    p[0] + self.u[3 * n],
-                    p[1] + self.u[3 * n + 1],
-                    p[2] + self.u[3 * n + 2],
-                ]
-            })
-            .collect();
-        let vmax = self
-            .v
-            .chunks_exact(3)
-            .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
-            .fold(0.0, f64::max);
-        let margin = self.face_size + 4.0 * self.dt * vmax;
-        let queries = &mut self.queries;
-        for itf in &model.interfaces {
-            if let Primary::Surface {
-                faces, queries: q, ..
-            } = &itf.primary
-            {
-                search::find_candidates(
-                    queries,
-                    &x,
-                    q.clone(),
-                    faces.clone(),
-                    margin,
-                    &mut self.candidate_lists,
-                );
-            }
-        }
-        search::flatten(queries, &self.candidate_lists);
+        search::surface_candidates(
+            self.model,
+            &mut self.queries,
+            &mut self.candidate_lists,
+            &self.u,
+            &self.v,
+            self.dt,
+            self.face_size,
+        );
     }
 
     /// Contact kinematics of every interface at (u, v): surfaces through the kernels,
