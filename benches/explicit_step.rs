@@ -14,6 +14,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use impact::gpu::{GpuContext, GpuKernels};
+use impact::integrate::stable_step::stable_step;
 use impact::integrate::ExplicitSolver;
 use impact::kernels::{CpuKernels, Kernels};
 use impact::model::Model;
@@ -82,7 +83,7 @@ fn main() {
     for &n in sizes {
         let sc = Scene::parse(&scene(n), Path::new("bench.toml")).expect("bench scene");
         let model = Model::from_scene(&sc);
-        let (dt, _) = explicit_time_step(&sc, &model).expect("stable step");
+        let dt = explicit_time_step(&sc, stable_step(&model)).expect("stable step");
         let (cpu, sweeps) = time_steps(
             &model,
             &sc,

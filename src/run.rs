@@ -176,10 +176,10 @@ impl Solver<'_> {
     }
 }
 
-/// The time step of an explicit run: the scene's, if it is within the stable bound, else
-/// `safety_factor` of the bound. Returns (step, bound).
-pub fn explicit_time_step(scene: &Scene, model: &Model) -> Result<(f64, f64)> {
-    let (stable, element) = stable_step(model);
+/// The time step of an explicit run given the mesh's stable bound `(step, element)` from
+/// [`stable_step`]: the scene's, which must not exceed the bound (unless
+/// `explicit.allow_unstable`), or `safety_factor` of the bound.
+pub fn explicit_time_step(scene: &Scene, (stable, element): (f64, usize)) -> Result<f64> {
     match scene.run.time_step {
         // a step equal to the bound up to rounding is the bound
         Some(dt) if dt > stable * (1.0 + 1e-9) && !scene.explicit.allow_unstable => Err(ImpactError::SceneValue {
@@ -191,8 +191,8 @@ pub fn explicit_time_step(scene: &Scene, model: &Model) -> Result<(f64, f64)> {
                 scene.explicit.safety_factor
             ),
         }),
-        Some(dt) => Ok((dt, stable)),
-        None => Ok((scene.explicit.safety_factor * stable, stable)),
+        Some(dt) => Ok(dt),
+        None => Ok(scene.explicit.safety_factor * stable),
     }
 }
 
@@ -210,8 +210,8 @@ pub fn implicit_step_cost(elements: usize) -> f64 {
 /// stable step is the wave-resolving one, so it is explicit. With one, implicit is chosen
 /// when time_step / (explicit step) exceeds [`implicit_step_cost`]. Returns the method and a
 /// sentence for `summary.json`.
-pub fn choose_method(scene: &Scene, model: &Model) -> (Method, String) {
-    let (stable, _) = stable_step(model);
+/// `stable` is the mesh's stable explicit step ([`stable_step`]).
+pub fn choose_method(scene: &Scene, model: &Model, stable: f64) -> (Method, String) {
     let explicit_dt = scene.explicit.safety_factor * stable;
     let cost = implicit_step_cost(model.mesh.hexes.len());
     match scene.run.time_step {
@@ -305,21 +305,24 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     })?;
     let device = opts.device.unwrap_or(scene.run.device);
     let model = Model::from_scene(scene);
-    let (method, method_choice) = match scene.run.method {
-        Method::Auto => {
-            let (m, why) = choose_method(scene, &model);
+    // the stable explicit step, once, where the explicit path may run
+    let bound =
+        matches!(scene.run.method, Method::Explicit | Method::Auto).then(|| stable_step(&model));
+    let (method, method_choice) = match (scene.run.method, bound) {
+        (Method::Auto, Some((stable, _))) => {
+            let (m, why) = choose_method(scene, &model, stable);
             (m, Some(why))
         }
-        m => (m, None),
+        (m, _) => (m, None),
     };
     if let Some(why) = &method_choice {
         if !opts.quiet {
             eprintln!("method auto: {why}");
         }
     }
-    let (dt, stable) = match method {
-        Method::Explicit => {
-            let (stable, _) = stable_step(&model);
+    let (dt, stable) = match (method, bound) {
+        (Method::Explicit, Some(bound)) => {
+            let stable = bound.0;
             let dt = if method_choice.is_some() {
                 // auto: the scene's step if the explicit path can take it, else its own
                 match scene.run.time_step {
@@ -327,7 +330,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
                     _ => scene.explicit.safety_factor * stable,
                 }
             } else {
-                explicit_time_step(scene, &model)?.0
+                explicit_time_step(scene, bound)?
             };
             (dt, Some(stable))
         }

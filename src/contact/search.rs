@@ -92,17 +92,25 @@ pub fn largest_face_diagonal(model: &Model) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The broad phase of every surface interface at displacement `u` and velocity `v`: margin
-/// `face_size + 4 dt |v|max`, so that a node's candidates cover its motion over the step.
-/// Fills `queries`' CSR arrays (through `lists`, one per query).
+/// The reach of a step: the largest face diagonal plus four steps of the fastest node's
+/// motion. The broad phase grows face boxes by it, so that a node's candidates cover its
+/// motion over the step.
+pub fn margin(v: &[f64], dt: f64, face_size: f64) -> f64 {
+    let vmax = v
+        .chunks_exact(3)
+        .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
+        .fold(0.0, f64::max);
+    face_size + 4.0 * dt * vmax
+}
+
+/// The broad phase of every surface interface at displacement `u` with face boxes grown by
+/// `margin`. Fills `queries`' CSR arrays (through `lists`, one per query).
 pub fn surface_candidates(
     model: &Model,
     queries: &mut ContactQueries,
     lists: &mut [Vec<u32>],
     u: &[f64],
-    v: &[f64],
-    dt: f64,
-    face_size: f64,
+    margin: f64,
 ) {
     let x: Vec<[f64; 3]> = model
         .mesh
@@ -111,11 +119,6 @@ pub fn surface_candidates(
         .enumerate()
         .map(|(n, p)| std::array::from_fn(|a| p[a] + u[3 * n + a]))
         .collect();
-    let vmax = v
-        .chunks_exact(3)
-        .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
-        .fold(0.0, f64::max);
-    let margin = face_size + 4.0 * dt * vmax;
     for itf in &model.interfaces {
         if let Primary::Surface {
             faces, queries: q, ..

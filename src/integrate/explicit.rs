@@ -222,27 +222,23 @@ impl<'m> ExplicitSolver<'m> {
         Ok(report)
     }
 
-    /// Candidate faces of every surface query at the current positions.
-    fn broad_phase(&mut self) {
-        search::surface_candidates(
-            self.model,
-            &mut self.queries,
-            &mut self.candidate_lists,
-            &self.u,
-            &self.v,
-            self.dt,
-            self.face_size,
-        );
-    }
-
     /// The constraints of the step at (u_n, v*): surfaces through the kernels, planes
     /// analytically; only nodes within one face size plus four steps of the fastest node's
     /// motion of their primary surface.
     fn gather_constraints(&mut self) -> Result<()> {
         let model = self.model;
         self.constraints.clear();
+        // the broad phase's margin is also the reach of the step: nodes farther from their
+        // surface cannot touch it within the step, even with their neighbours' impulses
+        let margin = search::margin(&self.v, self.dt, self.face_size);
         if !self.queries.is_empty() {
-            self.broad_phase();
+            search::surface_candidates(
+                model,
+                &mut self.queries,
+                &mut self.candidate_lists,
+                &self.u,
+                margin,
+            );
             self.kernels.contact_gap_into(
                 &self.u,
                 &self.v,
@@ -250,14 +246,7 @@ impl<'m> ExplicitSolver<'m> {
                 &mut self.query_points,
             )?;
         }
-        // nodes that could reach their surface within the step (with room for the impulses
-        // of their neighbours) take part; the rest cannot touch
-        let vmax = self
-            .v
-            .chunks_exact(3)
-            .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
-            .fold(0.0, f64::max);
-        let reach = -(self.face_size + 4.0 * self.dt * vmax).max(f64::MIN_POSITIVE);
+        let reach = -margin.max(f64::MIN_POSITIVE);
         for (k, itf) in model.interfaces.iter().enumerate() {
             for (i, &node) in itf.nodes.iter().enumerate() {
                 let n = node as usize;
@@ -326,11 +315,6 @@ impl<'m> ExplicitSolver<'m> {
         Ok(())
     }
 
-    /// Relative velocity of a constraint's secondary node against its primary point.
-    fn relative_velocity(&self, c: &Constraint) -> [f64; 3] {
-        relative_velocity(c, &self.v)
-    }
-
     /// Contact impulses of the step: projected Jacobi sweeps until no constraint is violated
     /// by more than the tolerance.
     fn contact(&mut self) -> Result<StepReport> {
@@ -371,7 +355,7 @@ impl<'m> ExplicitSolver<'m> {
                     if c.compliance <= 0.0 {
                         continue;
                     }
-                    let rel = self.relative_velocity(&c);
+                    let rel = relative_velocity(&c, &self.v);
                     let rn = dot(rel, c.normal);
                     // g_n + dt gdot <= 0, gdot = -rel . n
                     let r = c.gap / dt - rn;
@@ -432,7 +416,7 @@ impl<'m> ExplicitSolver<'m> {
         }
         for i in 0..count {
             let c = self.constraints[i];
-            let rel = self.relative_velocity(&c);
+            let rel = relative_velocity(&c, &self.v);
             let rn = dot(rel, c.normal);
             let st = &mut self.interfaces[c.interface as usize];
             st.impulse[c.local as usize] = jn[i];

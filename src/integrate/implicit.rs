@@ -269,14 +269,13 @@ impl<'m> ImplicitSolver<'m> {
 
     /// Candidate primary faces of every secondary node, from the current configuration.
     fn broad_phase(&mut self) {
+        let margin = search::margin(&self.v, self.dt, self.face_size);
         search::surface_candidates(
             self.model,
             &mut self.queries,
             &mut self.candidate_lists,
             &self.u,
-            &self.v,
-            self.dt,
-            self.face_size,
+            margin,
         );
     }
 

@@ -241,10 +241,9 @@ fn series_key(r: &StudyRow) -> String {
 /// log-log: one series of points per method and device (its "ok" runs), and the failed runs
 /// as crosses (at their error, at most 10).
 pub fn speed_chart(rows: &[StudyRow]) -> Chart {
-    let mut keys: Vec<String> = rows.iter().map(series_key).collect();
-    keys.dedup();
-    let mut seen = Vec::new();
-    for k in keys {
+    // method-and-device keys in order of first appearance
+    let mut seen: Vec<String> = Vec::new();
+    for k in rows.iter().map(series_key) {
         if !seen.contains(&k) {
             seen.push(k);
         }
