@@ -12,6 +12,13 @@ pub enum ImpactError {
         #[source]
         source: std::io::Error,
     },
+    /// A run's output (a history read back for charts) could not be read.
+    #[error("{path}: cannot read: {source}")]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
     /// The scene file is not valid TOML, or a key is unknown or has the wrong type.
     #[error("{path}: {message}")]
     SceneSyntax { path: PathBuf, message: String },

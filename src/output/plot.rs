@@ -466,7 +466,7 @@ pub struct Table {
 
 impl Table {
     pub fn read(path: &Path) -> Result<Table> {
-        let text = std::fs::read_to_string(path).map_err(|source| ImpactError::ReadScene {
+        let text = std::fs::read_to_string(path).map_err(|source| ImpactError::Read {
             path: path.to_path_buf(),
             source,
         })?;
