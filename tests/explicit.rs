@@ -87,33 +87,15 @@ fn explicit_two_bars_at_the_default_step() {
     let s = s.expect("run completes");
     let dt = s.time_step;
     assert!((dt - 0.009).abs() < 1e-12, "default step {dt}");
-    let m = measures(&h, "impact", 0.5, dt);
-    eprintln!(
-        "explicit 0.9 c dt = h: mean {:.5} row {:.4} release {} impulse {:.5} loss {:.4} A {:.4} B {:.4} sweeps/step {:.2} (max {})",
-        m.plateau_mean, m.plateau_max_dev, m.last_contact, m.impulse, m.energy_loss,
-        h.last("A.vx"), h.last("B.vx"), s.iterations_mean, s.iterations_max
-    );
-    assert!((m.plateau_mean - 0.5).abs() <= 0.02 * 0.5);
-    assert!(
-        m.plateau_max_dev <= 0.10,
-        "row deviation {}",
-        m.plateau_max_dev
-    );
-    assert!((m.last_contact - 0.2).abs() <= 2.0 * dt + 1e-9);
-    assert!(
-        (m.impulse - 0.1).abs() <= 0.025 * 0.1,
-        "impulse {}",
-        m.impulse
-    );
-    assert!(h.last("A.vx").abs() <= 0.03);
-    assert!((h.last("B.vx") - 1.0).abs() <= 0.03);
-    assert!(
-        m.max_energy_rise <= 1e-6,
-        "energy rise {}",
-        m.max_energy_rise
-    );
-    assert!(m.energy_loss >= 0.0 && m.energy_loss <= 0.05);
-    assert_eq!(s.unconverged_steps, 0);
+    let tol = Tolerances {
+        mean: 0.02,
+        row: 0.10,
+        impulse: 0.025,
+        rest_a: 0.03,
+        speed_b: 0.03,
+        loss: 0.05,
+    };
+    check_two_bars_history("explicit 0.9 c dt = h", &h, &s, dt, &tol);
 }
 
 /// 40 elements per bar at the default step: the fine-mesh tolerances of the core issue
@@ -123,32 +105,7 @@ fn explicit_fine_two_bars_match_wave_theory() {
     let text = without_time_step(&explicit(&scene_text("two_bars_fine.toml")));
     let (s, h) = run_text("explicit_two_bars_fine", &text);
     let s = s.expect("run completes");
-    let dt = s.time_step;
-    let m = measures(&h, "impact", 0.5, dt);
-    eprintln!(
-        "explicit fine: dt {dt:.5} mean {:.5} row {:.4} release {} impulse {:.5} loss {:.4}",
-        m.plateau_mean, m.plateau_max_dev, m.last_contact, m.impulse, m.energy_loss
-    );
-    assert!((m.plateau_mean - 0.5).abs() <= 0.01 * 0.5);
-    assert!(
-        m.plateau_max_dev <= 0.03,
-        "row deviation {}",
-        m.plateau_max_dev
-    );
-    assert!((m.last_contact - 0.2).abs() <= 2.0 * dt + 1e-9);
-    assert!(
-        (m.impulse - 0.1).abs() <= 0.02 * 0.1,
-        "impulse {}",
-        m.impulse
-    );
-    assert!(h.last("A.vx").abs() <= 0.03);
-    assert!((h.last("B.vx") - 1.0).abs() <= 0.03);
-    assert!(
-        m.max_energy_rise <= 1e-6,
-        "energy rise {}",
-        m.max_energy_rise
-    );
-    assert!(m.energy_loss >= 0.0 && m.energy_loss <= 0.015);
+    check_two_bars_history("explicit fine", &h, &s, s.time_step, &FINE);
 }
 
 /// Bar A of length 10 strikes bar B of length 20 (40 elements per 10): contact lasts
@@ -355,36 +312,10 @@ fn auto_picks_implicit_for_a_long_step_on_a_stiff_mesh() {
 #[test]
 fn explicit_block_sliding_on_a_floor_stops_at_v0_over_mu_g() {
     let (v0, mu, g) = (2.0, 0.2, 9.81);
+    // the study's block (2 x 2 x 1 elements, v0 2, mu 0.2, gravity), explicit at its own step
     let text = format!(
-        r#"gravity = [0.0, 0.0, -{g}]
-
-[run]
-method = "explicit"
-end_time = 1.5
-
-[[material]]
-name = "stiff"
-density = 1000.0
-youngs_modulus = 1.0e8
-poissons_ratio = 0.25
-
-[[body]]
-name = "block"
-material = "stiff"
-box = {{ min = [0.0, 0.0, 0.0], max = [0.2, 0.2, 0.1], divisions = [2, 2, 1] }}
-velocity = [{v0}, 0.0, 0.0]
-
-[[rigid_plane]]
-name = "floor"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-friction = {mu}
-
-[[probe]]
-name = "base"
-body = "block"
-point = [0.1, 0.1, 0.0]
-"#
+        "{}\n[run]\nmethod = \"explicit\"\nend_time = 1.5\n",
+        impact::study::Problem::SlidingBlock.scene(2)
     );
     let (s, h) = run_text("explicit_slide", &text);
     let s = s.expect("run completes");

@@ -6,80 +6,11 @@ use common::*;
 
 use impact::scene::DeviceChoice;
 
-const EXACT_FORCE: f64 = 0.5;
-
-fn check_release_and_energy(h: &History, dt: f64, loss_max: f64) -> ForceMeasures {
-    let m = measures(h, "impact", EXACT_FORCE, dt);
-    assert!(
-        (m.last_contact - 0.2).abs() <= 2.0 * dt + 1e-9,
-        "release at {} (exact 0.2 +- 2 dt)",
-        m.last_contact
-    );
-    assert!(
-        m.max_energy_rise <= 1e-6,
-        "total energy rose by {:.3e} of its initial value in one step",
-        m.max_energy_rise
-    );
-    assert!(
-        m.energy_loss >= 0.0 && m.energy_loss <= loss_max,
-        "energy loss {}",
-        m.energy_loss
-    );
-    m
-}
-
-/// Tolerances of one two-bar check (relative unless named otherwise).
-struct Tolerances {
-    mean: f64,
-    row: f64,
-    impulse: f64,
-    /// Largest |v_A| after release.
-    rest_a: f64,
-    /// Largest |v_B - 1| after release.
-    speed_b: f64,
-    loss: f64,
-}
-
 fn check_two_bars(tag: &str, scene: &str, dt: f64, tol: Tolerances, device: Option<DeviceChoice>) {
     let (s, h) = run_text_on(tag, &scene_text(scene), device);
     let s = s.expect("run completes");
-    let m = check_release_and_energy(&h, dt, tol.loss);
-    eprintln!(
-        "{tag}: plateau mean {:.5} max dev {:.4} release {} impulse {:.5} loss {:.4} iterations/step {:.2} (max {})",
-        m.plateau_mean, m.plateau_max_dev, m.last_contact, m.impulse, m.energy_loss, s.iterations_mean, s.iterations_max
-    );
-    assert!((m.plateau_mean - EXACT_FORCE).abs() <= tol.mean * EXACT_FORCE);
-    assert!(
-        m.plateau_max_dev <= tol.row,
-        "row deviation {}",
-        m.plateau_max_dev
-    );
-    assert!(
-        (m.impulse - 0.1).abs() <= tol.impulse * 0.1,
-        "impulse {}",
-        m.impulse
-    );
-    assert!(
-        h.last("A.vx").abs() <= tol.rest_a,
-        "A keeps {}",
-        h.last("A.vx")
-    );
-    assert!(
-        (h.last("B.vx") - 1.0).abs() <= tol.speed_b,
-        "B moves at {}",
-        h.last("B.vx")
-    );
-    assert_eq!(s.unconverged_steps, 0);
+    check_two_bars_history(tag, &h, &s, dt, &tol);
 }
-
-const FINE: Tolerances = Tolerances {
-    mean: 0.01,
-    row: 0.03,
-    impulse: 0.02,
-    rest_a: 0.03,
-    speed_b: 0.03,
-    loss: 0.015,
-};
 
 #[test]
 fn fine_two_bars_match_wave_theory() {
@@ -154,7 +85,7 @@ fn fine_two_bars_with_lumped_mass() {
     let (s, h) = run_text("two_bars_fine_lumped", &text);
     s.expect("run completes");
     let m = check_release_and_energy(&h, 0.0025, 0.015);
-    assert!((m.plateau_mean - EXACT_FORCE).abs() <= 0.01 * EXACT_FORCE);
+    assert!((m.plateau_mean - TWO_BARS_FORCE).abs() <= 0.01 * TWO_BARS_FORCE);
     assert!(
         m.plateau_max_dev <= 0.03,
         "row deviation {}",

@@ -172,3 +172,89 @@ pub fn run_text_on(
     let s = run(&scene, &opts);
     (s, History::read(&dir.join("history.csv")))
 }
+
+/// The two bars' exact contact force, rho c S v0 / 2.
+pub const TWO_BARS_FORCE: f64 = 0.5;
+
+/// Release at 0.2 +- 2 dt, no step raising the energy by more than 1e-6 of E0, and a loss
+/// in [0, loss_max].
+pub fn check_release_and_energy(h: &History, dt: f64, loss_max: f64) -> ForceMeasures {
+    let m = measures(h, "impact", TWO_BARS_FORCE, dt);
+    assert!(
+        (m.last_contact - 0.2).abs() <= 2.0 * dt + 1e-9,
+        "release at {} (exact 0.2 +- 2 dt)",
+        m.last_contact
+    );
+    assert!(
+        m.max_energy_rise <= 1e-6,
+        "total energy rose by {:.3e} of its initial value in one step",
+        m.max_energy_rise
+    );
+    assert!(
+        m.energy_loss >= 0.0 && m.energy_loss <= loss_max,
+        "energy loss {}",
+        m.energy_loss
+    );
+    m
+}
+
+/// Tolerances of one two-bar check (relative unless named otherwise).
+pub struct Tolerances {
+    pub mean: f64,
+    pub row: f64,
+    pub impulse: f64,
+    /// Largest |v_A| after release.
+    pub rest_a: f64,
+    /// Largest |v_B - 1| after release.
+    pub speed_b: f64,
+    pub loss: f64,
+}
+
+/// The two bars' history against wave theory with the given tolerances (and every step's
+/// contact iteration converged).
+pub fn check_two_bars_history(
+    tag: &str,
+    h: &History,
+    s: &Summary,
+    dt: f64,
+    tol: &Tolerances,
+) -> ForceMeasures {
+    let m = check_release_and_energy(h, dt, tol.loss);
+    eprintln!(
+        "{tag}: plateau mean {:.5} max dev {:.4} release {} impulse {:.5} loss {:.4} iterations/step {:.2} (max {})",
+        m.plateau_mean, m.plateau_max_dev, m.last_contact, m.impulse, m.energy_loss, s.iterations_mean, s.iterations_max
+    );
+    assert!((m.plateau_mean - TWO_BARS_FORCE).abs() <= tol.mean * TWO_BARS_FORCE);
+    assert!(
+        m.plateau_max_dev <= tol.row,
+        "row deviation {}",
+        m.plateau_max_dev
+    );
+    assert!(
+        (m.impulse - 0.1).abs() <= tol.impulse * 0.1,
+        "impulse {}",
+        m.impulse
+    );
+    assert!(
+        h.last("A.vx").abs() <= tol.rest_a,
+        "A keeps {}",
+        h.last("A.vx")
+    );
+    assert!(
+        (h.last("B.vx") - 1.0).abs() <= tol.speed_b,
+        "B moves at {}",
+        h.last("B.vx")
+    );
+    assert_eq!(s.unconverged_steps, 0);
+    m
+}
+
+/// The core issue's fine-mesh tolerances.
+pub const FINE: Tolerances = Tolerances {
+    mean: 0.01,
+    row: 0.03,
+    impulse: 0.02,
+    rest_a: 0.03,
+    speed_b: 0.03,
+    loss: 0.015,
+};
