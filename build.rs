@@ -4,7 +4,13 @@
 //! assembles it.
 
 const SHARED: [&str; 2] = ["shaders/shared/types.wgsl", "shaders/shared/quad.wgsl"];
-const KERNELS: [&str; 4] = ["hex8_forces", "node_gather", "contact_gap", "slip_rate"];
+const KERNELS: [&str; 5] = [
+    "hex8_forces",
+    "tet4_forces",
+    "node_gather",
+    "contact_gap",
+    "slip_rate",
+];
 
 fn main() {
     println!("cargo:rerun-if-changed=shaders");

@@ -26,8 +26,9 @@ fn problem(div: [usize; 3]) -> (ElementData, ContactQueries) {
         max: div.map(|d| d as f64),
         divisions: div,
     };
-    let (nodes, hexes, faces) = box_mesh(&spec);
-    let top = faces[BoxFace::ZPlus as usize].clone();
+    let parts = box_mesh(&spec);
+    let top = parts.surfaces[BoxFace::ZPlus as usize].faces.clone();
+    let (nodes, hexes) = (parts.nodes, parts.hexes);
     // every top-face node against the top faces around it
     let mut around: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
     for (f, q) in top.iter().enumerate() {
@@ -46,9 +47,11 @@ fn problem(div: [usize; 3]) -> (ElementData, ContactQueries) {
         q.offsets.push(q.candidates.len() as u32);
     }
     let data = ElementData {
-        element_material: vec![0; hexes.len()],
+        hex_material: vec![0; hexes.len()],
         reference: nodes,
         hexes,
+        tets: Vec::new(),
+        tet_material: Vec::new(),
         materials: vec![Elastic::from_engineering(100.0, 0.3, 1.0)],
     };
     (data, q)
@@ -107,7 +110,7 @@ fn main() {
             gpu.time_kernel(k, reps).expect("time").as_secs_f64() / reps as f64
         };
         // CPU twins
-        let inc = Incidence::new(&data.hexes, nn);
+        let inc = Incidence::new(&data.hexes, &[], nn);
         let mut corners = vec![[0.0; 3]; 8 * ne];
         let mut nodal = vec![[0.0; 3]; nn];
         let uu = kernels::as_vec3(&u);

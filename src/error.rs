@@ -36,6 +36,13 @@ pub enum ImpactError {
         key: String,
         message: String,
     },
+    /// A mesh file (`.msh`, `.inp`) could not be read or is malformed; `line` is 1-based.
+    #[error("{path}{}: {message}", line.map(|l| format!(":{l}")).unwrap_or_default())]
+    Mesh {
+        path: PathBuf,
+        line: Option<usize>,
+        message: String,
+    },
     /// The effective matrix could not be factorised (not positive definite: a body with no
     /// mass, or a NaN in the input).
     #[error("linear solver: {0}")]

@@ -4,7 +4,7 @@
 use crate::contact::{tributary_areas, Interface, Primary};
 use crate::kernels::{ContactQueries, ElementData};
 use crate::material::Elastic;
-use crate::mesh::{box_mesh, Mesh};
+use crate::mesh::Mesh;
 use crate::scene::{NodeSelection, Scene};
 
 #[derive(Debug, Clone)]
@@ -39,18 +39,19 @@ impl Model {
             .collect();
         let mut initial_velocity = Vec::new();
         for b in &scene.bodies {
-            let (nodes, hexes, faces) = box_mesh(&b.mesh);
-            for _ in 0..nodes.len() {
+            let parts = b.parts();
+            for _ in 0..parts.nodes.len() {
                 initial_velocity.extend_from_slice(&b.velocity);
             }
-            mesh.push_body(nodes, hexes, faces, b.material);
+            mesh.push_body(parts, b.material);
         }
 
         let mut fixed = vec![false; 3 * mesh.node_count()];
         for f in &scene.fixes {
             let body = &mesh.bodies[f.body];
             let nodes: Vec<u32> = match &f.nodes {
-                NodeSelection::Face(face) => Mesh::quad_nodes(body.face(*face)),
+                NodeSelection::Surface(s) => Mesh::quad_nodes(&body.surfaces[*s].faces),
+                NodeSelection::Set(s) => body.node_sets[*s].nodes.clone(),
                 NodeSelection::Region { min, max } => body
                     .nodes
                     .clone()
@@ -73,14 +74,12 @@ impl Model {
         let mut queries = ContactQueries::default();
         let mut interfaces = Vec::new();
         for c in &scene.contacts {
-            let sec = mesh.bodies[c.secondary.body]
-                .face(c.secondary.face)
-                .to_vec();
-            let (nodes, area) = tributary_areas(&mesh, &sec);
+            let sec = &mesh.bodies[c.secondary.body].surfaces[c.secondary.surface].faces;
+            let (nodes, area) = tributary_areas(&mesh, sec);
             let f0 = queries.faces.len();
             queries
                 .faces
-                .extend_from_slice(mesh.bodies[c.primary.body].face(c.primary.face));
+                .extend_from_slice(&mesh.bodies[c.primary.body].surfaces[c.primary.surface].faces);
             let q0 = queries.secondary.len();
             queries.secondary.extend_from_slice(&nodes);
             interfaces.push(Interface {
@@ -100,7 +99,7 @@ impl Model {
             let quads: Vec<[u32; 4]> = p
                 .bodies
                 .iter()
-                .flat_map(|&b| mesh.bodies[b].boundary().copied())
+                .flat_map(|&b| mesh.bodies[b].boundary.iter().copied())
                 .collect();
             let (nodes, area) = tributary_areas(&mesh, &quads);
             interfaces.push(Interface {
@@ -159,7 +158,9 @@ impl Model {
         ElementData {
             reference: self.mesh.nodes.clone(),
             hexes: self.mesh.hexes.clone(),
-            element_material: self.mesh.element_material.clone(),
+            hex_material: self.mesh.hex_material.clone(),
+            tets: self.mesh.tets.clone(),
+            tet_material: self.mesh.tet_material.clone(),
             materials: self.materials.clone(),
         }
     }

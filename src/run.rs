@@ -65,7 +65,7 @@ pub fn kernels<'m>(
             Ok(Box::new(GpuKernels::new(ctx, &data)?))
         }
         DeviceChoice::Auto => {
-            let elements = data.hexes.len();
+            let elements = data.hexes.len() + data.tets.len();
             if elements < AUTO_GPU_MIN_ELEMENTS {
                 notice(&format!(
                     "device auto: {elements} elements (< {AUTO_GPU_MIN_ELEMENTS}): kernels on the CPU in f64"
@@ -213,7 +213,7 @@ pub fn implicit_step_cost(elements: usize) -> f64 {
 /// `stable` is the mesh's stable explicit step ([`stable_step`]).
 pub fn choose_method(scene: &Scene, model: &Model, stable: f64) -> (Method, String) {
     let explicit_dt = scene.explicit.safety_factor * stable;
-    let cost = implicit_step_cost(model.mesh.hexes.len());
+    let cost = implicit_step_cost(model.mesh.element_count());
     match scene.run.time_step {
         None => (
             Method::Explicit,
@@ -231,7 +231,7 @@ pub fn choose_method(scene: &Scene, model: &Model, stable: f64) -> (Method, Stri
                 format!(
                     "{}: time_step {dt:.4e} is {ratio:.3} explicit steps ({explicit_dt:.4e}); an implicit step costs about {cost:.0} explicit steps on {} elements",
                     method.name(),
-                    model.mesh.hexes.len()
+                    model.mesh.element_count()
                 ),
             )
         }
@@ -418,7 +418,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
             }
         }
         .into(),
-        elements: model.mesh.hexes.len(),
+        elements: model.mesh.element_count(),
         nodes: model.mesh.node_count(),
         free_dofs: model.fixed.iter().filter(|f| !**f).count(),
         ..Default::default()

@@ -18,7 +18,8 @@ use rand::{Rng, SeedableRng};
 
 const TOL: f64 = 1e-5;
 
-/// A distorted box mesh, its top-face quads, and the element size.
+/// A distorted box mesh, some of its hexes split into six tets each (so every kernel sees a
+/// mixed mesh), its top-face quads, and the element size.
 struct Problem {
     data: ElementData,
     top: Vec<[u32; 4]>,
@@ -39,13 +40,27 @@ fn distorted_box(rng: &mut StdRng) -> Problem {
         max: std::array::from_fn(|a| origin[a] + h * divisions[a] as f64),
         divisions,
     };
-    let (mut nodes, hexes, faces) = box_mesh(&spec);
+    let parts = box_mesh(&spec);
+    let mut nodes = parts.nodes;
     for x in &mut nodes {
         for c in x.iter_mut() {
             *c += rng.random_range(-0.2..0.2) * h;
         }
     }
-    let element_material = (0..hexes.len()).map(|_| rng.random_range(0..2)).collect();
+    // six tets around the diagonal 0-6 of a hex, for a third of the hexes
+    let (mut hexes, mut tets) = (Vec::new(), Vec::new());
+    for hx in parts.hexes {
+        if rng.random_range(0..3) == 0 {
+            for [a, b] in [[1, 2], [2, 3], [3, 7], [7, 4], [4, 5], [5, 1]] {
+                tets.push([hx[0], hx[a], hx[b], hx[6]]);
+            }
+        } else {
+            hexes.push(hx);
+        }
+    }
+    impact::mesh::boundary::orient(&nodes, &mut hexes, &mut tets).expect("valid elements");
+    let hex_material = (0..hexes.len()).map(|_| rng.random_range(0..2)).collect();
+    let tet_material = (0..tets.len()).map(|_| rng.random_range(0..2)).collect();
     let materials = vec![
         Elastic::from_engineering(100.0, 0.3, 1.0),
         Elastic::from_engineering(2.5e3, 0.45, 7.8),
@@ -54,10 +69,12 @@ fn distorted_box(rng: &mut StdRng) -> Problem {
         data: ElementData {
             reference: nodes,
             hexes,
-            element_material,
+            hex_material,
+            tets,
+            tet_material,
             materials,
         },
-        top: faces[BoxFace::ZPlus as usize].clone(),
+        top: parts.surfaces[BoxFace::ZPlus as usize].faces.clone(),
         h,
     }
 }
@@ -103,12 +120,13 @@ fn hex8_forces_matches_its_cpu_twin() {
     let n = p.data.reference.len();
     let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
     gpu.fill_nan = true;
+    let hex_corners = 8 * p.data.hexes.len();
     for round in 0..3 {
         let u = displacements(&mut rng, n, p.h);
-        let mut cpu = vec![[0.0; 3]; 8 * p.data.hexes.len()];
+        let mut cpu = vec![[0.0; 3]; hex_corners];
         kernels::hex8_forces(&p.data, kernels::as_vec3(&u), &mut cpu);
         let g = gpu.corner_forces(&u).expect("dispatch");
-        let e = rel_err(flat(&g), flat(&cpu));
+        let e = rel_err(flat(&g[..hex_corners]), flat(&cpu));
         eprintln!(
             "round {round}: {} elements, relative error {e:.2e}",
             p.data.hexes.len()
@@ -116,6 +134,36 @@ fn hex8_forces_matches_its_cpu_twin() {
         assert!(
             e <= TOL,
             "seed {seed}: hex8_forces error {e:.3e} > {TOL:.0e}"
+        );
+    }
+}
+
+#[test]
+fn tet4_forces_matches_its_cpu_twin() {
+    let Some(ctx) = gpu_context("tet4_forces") else {
+        return;
+    };
+    let seed = seed("tet4_forces");
+    let mut rng = StdRng::seed_from_u64(seed);
+    let p = distorted_box(&mut rng);
+    let n = p.data.reference.len();
+    let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
+    gpu.fill_nan = true;
+    let hex_corners = 8 * p.data.hexes.len();
+    for round in 0..3 {
+        let u = displacements(&mut rng, n, p.h);
+        let mut cpu = vec![[0.0; 3]; 4 * p.data.tets.len()];
+        kernels::tet4_forces(&p.data, kernels::as_vec3(&u), &mut cpu);
+        let g = gpu.corner_forces(&u).expect("dispatch");
+        assert_eq!(g.len(), hex_corners + cpu.len());
+        let e = rel_err(flat(&g[hex_corners..]), flat(&cpu));
+        eprintln!(
+            "round {round}: {} tets, relative error {e:.2e}",
+            p.data.tets.len()
+        );
+        assert!(
+            e <= TOL,
+            "seed {seed}: tet4_forces error {e:.3e} > {TOL:.0e}"
         );
     }
 }
@@ -129,8 +177,8 @@ fn node_gather_matches_its_cpu_twin() {
     let mut rng = StdRng::seed_from_u64(seed);
     let p = distorted_box(&mut rng);
     let n = p.data.reference.len();
-    let inc = Incidence::new(&p.data.hexes, n);
-    let corners: Vec<[f64; 3]> = (0..8 * p.data.hexes.len())
+    let inc = Incidence::new(&p.data.hexes, &p.data.tets, n);
+    let corners: Vec<[f64; 3]> = (0..p.data.corner_count())
         .map(|_| std::array::from_fn(|_| rng.random_range(-1.0..1.0)))
         .collect();
     let mut cpu = vec![[0.0; 3]; n];
@@ -143,7 +191,7 @@ fn node_gather_matches_its_cpu_twin() {
     assert!(e <= TOL, "seed {seed}: node_gather error {e:.3e}");
 }
 
-/// Internal forces through the `Kernels` interface (hex8_forces then node_gather).
+/// Internal forces through the `Kernels` interface (hex8_forces, tet4_forces, node_gather).
 #[test]
 fn internal_forces_match_the_cpu_kernels() {
     let Some(ctx) = gpu_context("internal_forces") else {

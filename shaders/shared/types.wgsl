@@ -23,6 +23,11 @@ struct Hex8 {
     material: u32,
 }
 
+struct Tet4 {
+    nodes: array<u32, 4>,
+    material: u32,
+}
+
 // Lame parameters.
 struct Material {
     lambda: f32,

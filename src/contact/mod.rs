@@ -59,17 +59,24 @@ pub fn quad_area(p: &[[f64; 3]; 4]) -> f64 {
         + norm(cross(sub(p[2], p[0]), sub(p[3], p[0]))))
 }
 
-/// Secondary nodes of a set of quads with their tributary areas (reference configuration).
+/// Secondary nodes of a set of faces with their tributary areas (reference configuration):
+/// a quad gives a quarter of its area to each corner, a triangle (`[a, b, c, c]`) a third.
 pub fn tributary_areas(mesh: &Mesh, quads: &[[u32; 4]]) -> (Vec<u32>, Vec<f64>) {
     let nodes = Mesh::quad_nodes(quads);
     let mut area = vec![0.0; nodes.len()];
     for q in quads {
         let a = quad_area(&q.map(|n| mesh.nodes[n as usize]));
-        for n in q {
+        let corners: &[u32] = if crate::mesh::is_triangle(q) {
+            &q[..3]
+        } else {
+            q
+        };
+        let share = a / corners.len() as f64;
+        for n in corners {
             let i = nodes
                 .binary_search(n)
                 .expect("quad node in its own node list");
-            area[i] += 0.25 * a;
+            area[i] += share;
         }
     }
     (nodes, area)

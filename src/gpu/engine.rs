@@ -7,8 +7,8 @@ use std::time::{Duration, Instant};
 
 use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
-use super::types::{self, ContactQuery, Hex8, Material, Quad, Split3};
-use super::{ContactGap, Hex8Forces, NodeGather, SlipRate};
+use super::types::{self, ContactQuery, Hex8, Material, Quad, Split3, Tet4};
+use super::{ContactGap, Hex8Forces, NodeGather, SlipRate, Tet4Forces};
 use crate::error::{ImpactError, Result};
 use crate::kernels::{ContactPoint, ContactQueries, ElementData, Incidence, Kernels};
 
@@ -16,6 +16,7 @@ use crate::kernels::{ContactPoint, ContactQueries, ElementData, Incidence, Kerne
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum KernelId {
     Hex8Forces,
+    Tet4Forces,
     NodeGather,
     ContactGap,
     SlipRate,
@@ -33,13 +34,17 @@ struct UploadedQueries {
 pub struct GpuKernels {
     ctx: GpuContext,
     nodes: usize,
+    /// Hex8 elements.
     elements: usize,
+    tets_count: usize,
     hex8_forces: Hex8Forces,
+    tet4_forces: Tet4Forces,
     node_gather: NodeGather,
     contact_gap: ContactGap,
     slip_rate: SlipRate,
     reference: Storage,
     hexes: Storage,
+    tets: Storage,
     materials: Storage,
     offsets: Storage,
     incidence: Storage,
@@ -56,6 +61,7 @@ pub struct GpuKernels {
     uploaded: UploadedQueries,
     query_count: usize,
     hex8_bind: wgpu::BindGroup,
+    tet4_bind: wgpu::BindGroup,
     gather_bind: wgpu::BindGroup,
     contact_binds: Option<(wgpu::BindGroup, wgpu::BindGroup)>,
     scratch: Vec<f32>,
@@ -72,17 +78,26 @@ impl GpuKernels {
     pub fn new(ctx: GpuContext, data: &ElementData) -> Result<Self> {
         let nodes = data.reference.len();
         let elements = data.hexes.len();
-        if elements > u32::MAX as usize / 24 {
+        let tets_count = data.tets.len();
+        let corner_count = data.corner_count();
+        if corner_count > u32::MAX as usize / 3 {
             return Err(ImpactError::Gpu(format!(
-                "{elements} elements exceed the GPU kernels' 32-bit indexing"
+                "{} elements exceed the GPU kernels' 32-bit indexing",
+                elements + tets_count
             )));
         }
         let reference: Vec<Split3> = data.reference.iter().map(|&x| Split3::split(x)).collect();
         let hexes: Vec<Hex8> = data
             .hexes
             .iter()
-            .zip(&data.element_material)
+            .zip(&data.hex_material)
             .map(|(&nodes, &material)| Hex8 { nodes, material })
+            .collect();
+        let tets: Vec<Tet4> = data
+            .tets
+            .iter()
+            .zip(&data.tet_material)
+            .map(|(&nodes, &material)| Tet4 { nodes, material })
             .collect();
         let materials: Vec<Material> = data
             .materials
@@ -92,7 +107,7 @@ impl GpuKernels {
                 mu: m.mu as f32,
             })
             .collect();
-        let inc = Incidence::new(&data.hexes, nodes);
+        let inc = Incidence::new(&data.hexes, &data.tets, nodes);
         let upload = |label, bytes: &[u8]| -> Result<Storage> {
             let mut s = Storage::new(&ctx, label, bytes.len() as u64)?;
             s.upload(&ctx, bytes)?;
@@ -100,12 +115,13 @@ impl GpuKernels {
         };
         let reference = upload("reference", bytemuck::cast_slice(&reference))?;
         let hexes = upload("hexes", bytemuck::cast_slice(&hexes))?;
+        let tets = upload("tets", bytemuck::cast_slice(&tets))?;
         let materials = upload("materials", bytemuck::cast_slice(&materials))?;
         let offsets = upload("incidence.offsets", bytemuck::cast_slice(&inc.offsets))?;
         let incidence = upload("incidence", bytemuck::cast_slice(&inc.corners))?;
         let u = Storage::new(&ctx, "displacement", bytes_of::<Split3>(nodes))?;
         let v = Storage::new(&ctx, "velocity", bytes_of::<f32>(3 * nodes))?;
-        let corners = Storage::new(&ctx, "corner_forces", bytes_of::<f32>(24 * elements))?;
+        let corners = Storage::new(&ctx, "corner_forces", bytes_of::<f32>(3 * corner_count))?;
         let forces = Storage::new(&ctx, "forces", bytes_of::<f32>(3 * nodes))?;
         let queries = Storage::new(&ctx, "contact.queries", 0)?;
         let candidates = Storage::new(&ctx, "contact.candidates", 0)?;
@@ -114,6 +130,7 @@ impl GpuKernels {
         let slips = Storage::new(&ctx, "contact.slip", 0)?;
         let staging = staging(&ctx)?;
         let hex8_forces = Hex8Forces::new(&ctx);
+        let tet4_forces = Tet4Forces::new(&ctx);
         let node_gather = NodeGather::new(&ctx);
         let contact_gap = ContactGap::new(&ctx);
         let slip_rate = SlipRate::new(&ctx);
@@ -122,6 +139,14 @@ impl GpuKernels {
             &reference.buffer,
             &u.buffer,
             &hexes.buffer,
+            &materials.buffer,
+            &corners.buffer,
+        );
+        let tet4_bind = tet4_forces.bind(
+            &ctx,
+            &reference.buffer,
+            &u.buffer,
+            &tets.buffer,
             &materials.buffer,
             &corners.buffer,
         );
@@ -136,12 +161,15 @@ impl GpuKernels {
             ctx,
             nodes,
             elements,
+            tets_count,
             hex8_forces,
+            tet4_forces,
             node_gather,
             contact_gap,
             slip_rate,
             reference,
             hexes,
+            tets,
             materials,
             offsets,
             incidence,
@@ -158,6 +186,7 @@ impl GpuKernels {
             uploaded: UploadedQueries::default(),
             query_count: 0,
             hex8_bind,
+            tet4_bind,
             gather_bind,
             contact_binds: None,
             scratch: Vec::new(),
@@ -175,6 +204,7 @@ impl GpuKernels {
         [
             &self.reference,
             &self.hexes,
+            &self.tets,
             &self.materials,
             &self.offsets,
             &self.incidence,
@@ -222,25 +252,47 @@ impl GpuKernels {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) })
     }
 
-    /// Runs `hex8_forces` alone: corner forces `[8 e + k]` for the displacement `u`.
+    fn corner_floats(&self) -> usize {
+        24 * self.elements + 12 * self.tets_count
+    }
+
+    /// Records the element kernels (hex8 then tet4, each only if the mesh has such
+    /// elements) that fill the corner forces.
+    fn record_elements(&self, enc: &mut wgpu::CommandEncoder) {
+        if self.elements > 0 {
+            let grid = self
+                .hex8_forces
+                .0
+                .set_count(&self.ctx, self.elements as u32);
+            self.hex8_forces.0.record(enc, &self.hex8_bind, grid);
+        }
+        if self.tets_count > 0 {
+            let grid = self.tet4_forces.0.set_count_aux(
+                &self.ctx,
+                self.tets_count as u32,
+                24 * self.elements as u32,
+            );
+            self.tet4_forces.0.record(enc, &self.tet4_bind, grid);
+        }
+    }
+
+    /// Runs the element kernels alone: corner forces `[8 e + k]` of the hexes, then
+    /// `[8 hexes + 4 t + k]` of the tets, for the displacement `u`.
     pub fn corner_forces(&mut self, u: &[f64]) -> Result<Vec<[f64; 3]>> {
         self.upload_nodal(false, u)?;
         if self.fill_nan {
             self.corners
-                .fill_nan(&self.ctx, bytes_of::<f32>(24 * self.elements));
+                .fill_nan(&self.ctx, bytes_of::<f32>(self.corner_floats()));
         }
-        let mut enc = self.encoder("hex8_forces");
-        let grid = self
-            .hex8_forces
-            .0
-            .set_count(&self.ctx, self.elements as u32);
-        self.hex8_forces.0.record(&mut enc, &self.hex8_bind, grid);
+        let mut enc = self.encoder("element_forces");
+        self.record_elements(&mut enc);
+        let corners = self.corner_floats() / 3;
         let out: Vec<[f32; 3]> = submit_and_read(
             &self.ctx,
             &mut self.staging,
             enc,
             &self.corners.buffer,
-            8 * self.elements,
+            corners,
         )?;
         Ok(out.into_iter().map(|f| f.map(f64::from)).collect())
     }
@@ -331,6 +383,7 @@ impl GpuKernels {
         let mut enc = self.encoder("timing");
         let (k, bind, count) = match kernel {
             KernelId::Hex8Forces => (&self.hex8_forces.0, &self.hex8_bind, self.elements),
+            KernelId::Tet4Forces => (&self.tet4_forces.0, &self.tet4_bind, self.tets_count),
             KernelId::NodeGather => (&self.node_gather.0, &self.gather_bind, self.nodes),
             KernelId::ContactGap | KernelId::SlipRate => {
                 let Some((gap, slip)) = &self.contact_binds else {
@@ -343,7 +396,12 @@ impl GpuKernels {
                 }
             }
         };
-        let grid = k.set_count(&self.ctx, count as u32);
+        let aux = if kernel == KernelId::Tet4Forces {
+            24 * self.elements as u32
+        } else {
+            0
+        };
+        let grid = k.set_count_aux(&self.ctx, count as u32, aux);
         for _ in 0..reps {
             k.record(&mut enc, bind, grid);
         }
@@ -398,16 +456,12 @@ impl Kernels for GpuKernels {
         self.upload_nodal(false, u)?;
         if self.fill_nan {
             self.corners
-                .fill_nan(&self.ctx, bytes_of::<f32>(24 * self.elements));
+                .fill_nan(&self.ctx, bytes_of::<f32>(self.corner_floats()));
             self.forces
                 .fill_nan(&self.ctx, bytes_of::<f32>(3 * self.nodes));
         }
         let mut enc = self.encoder("internal_forces");
-        let grid = self
-            .hex8_forces
-            .0
-            .set_count(&self.ctx, self.elements as u32);
-        self.hex8_forces.0.record(&mut enc, &self.hex8_bind, grid);
+        self.record_elements(&mut enc);
         let grid = self.node_gather.0.set_count(&self.ctx, self.nodes as u32);
         self.node_gather.0.record(&mut enc, &self.gather_bind, grid);
         let out: Vec<f32> = submit_and_read(

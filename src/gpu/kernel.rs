@@ -71,13 +71,18 @@ impl Kernel {
 
     /// Sets the item count (applied at the next submission) and returns the dispatch grid.
     pub fn set_count(&self, ctx: &GpuContext, count: u32) -> [u32; 2] {
+        self.set_count_aux(ctx, count, 0)
+    }
+
+    /// [`Self::set_count`] with the kernel-specific `Params.aux` (an offset, a flag).
+    pub fn set_count_aux(&self, ctx: &GpuContext, count: u32, aux: u32) -> [u32; 2] {
         let groups = count.div_ceil(WORKGROUP);
         let x = groups.clamp(1, self.max_groups);
         let y = groups.div_ceil(x).max(1);
         let p = Params {
             count,
             row: x * WORKGROUP,
-            aux: 0,
+            aux,
             pad: 0,
         };
         ctx.queue

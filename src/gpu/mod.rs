@@ -12,6 +12,7 @@ pub mod kernel;
 pub mod node_gather;
 pub mod shaders;
 pub mod slip_rate;
+pub mod tet4_forces;
 pub mod types;
 
 pub use contact_gap::ContactGap;
@@ -20,3 +21,4 @@ pub use engine::{GpuKernels, KernelId};
 pub use hex8_forces::Hex8Forces;
 pub use node_gather::NodeGather;
 pub use slip_rate::SlipRate;
+pub use tet4_forces::Tet4Forces;

@@ -15,6 +15,7 @@ pub const HEX8_FORCES: &str = kernel_source!("hex8_forces");
 pub const NODE_GATHER: &str = kernel_source!("node_gather");
 pub const CONTACT_GAP: &str = kernel_source!("contact_gap");
 pub const SLIP_RATE: &str = kernel_source!("slip_rate");
+pub const TET4_FORCES: &str = kernel_source!("tet4_forces");
 
 /// The shared struct definitions alone (for the layout test).
 pub const TYPES: &str = include_str!("../../shaders/shared/types.wgsl");

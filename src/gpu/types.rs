@@ -41,6 +41,13 @@ pub struct Hex8 {
     pub material: u32,
 }
 
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Tet4 {
+    pub nodes: [u32; 4],
+    pub material: u32,
+}
+
 /// Lamé parameters.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
@@ -137,6 +144,14 @@ pub fn layouts() -> Vec<StructLayout> {
             vec![
                 ("nodes", offset_of!(Hex8, nodes)),
                 ("material", offset_of!(Hex8, material)),
+            ],
+        ),
+        (
+            "Tet4",
+            size_of::<Tet4>(),
+            vec![
+                ("nodes", offset_of!(Tet4, nodes)),
+                ("material", offset_of!(Tet4, material)),
             ],
         ),
         (

@@ -28,7 +28,7 @@
 
 use crate::contact::quad::{self, dot};
 use crate::contact::{search, Primary};
-use crate::element::hex8;
+use crate::element;
 use crate::error::Result;
 use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::{ContactPoint, ContactQueries, Kernels};
@@ -115,11 +115,11 @@ impl<'m> ExplicitSolver<'m> {
         let nodes = model.mesh.node_count();
         let ndof = 3 * nodes;
         let mut mass = vec![0.0; nodes];
-        for (e, hex) in model.mesh.hexes.iter().enumerate() {
-            let x = hex.map(|n| model.mesh.nodes[n as usize]);
-            let rho = model.materials[model.mesh.element_material[e] as usize].density;
-            for (k, m) in hex8::lumped_mass(&x, rho).into_iter().enumerate() {
-                mass[hex[k] as usize] += m;
+        for (el, material) in model.mesh.elements() {
+            let x = model.mesh.corners(el);
+            let rho = model.materials[material as usize].density;
+            for (k, m) in element::lumped_mass(&x, rho).into_iter().enumerate() {
+                mass[el[k] as usize] += m;
             }
         }
         let inv_mass: Vec<f64> = (0..ndof)

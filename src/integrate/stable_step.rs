@@ -19,73 +19,80 @@
 
 use std::collections::HashMap;
 
-use crate::element::hex8;
+use crate::element;
 use crate::material::Elastic;
 use crate::model::Model;
 
-/// $2 / \sqrt{\max_i \sum_j |K_{ij}| / m_i}$ for one element at coordinates `x`.
-pub fn element_stable_step(x: &[[f64; 3]; 8], m: &Elastic) -> f64 {
-    let k = hex8::stiffness(x, m);
-    let ml = hex8::lumped_mass(x, m.density);
-    let w2 = (0..24)
+/// $2 / \sqrt{\max_i \sum_j |K_{ij}| / m_i}$ for one element (hex8 or tet4) at coordinates `x`.
+pub fn element_stable_step(x: &[[f64; 3]], m: &Elastic) -> f64 {
+    let k = element::stiffness(x, m);
+    let ml = element::lumped_mass(x, m.density);
+    let w2 = (0..k.len())
         .map(|i| k[i].iter().map(|v| v.abs()).sum::<f64>() / ml[i / 3])
         .fold(0.0, f64::max);
     2.0 / w2.sqrt()
 }
 
-/// $2/\omega_{max}$ of one element from its lumped-mass eigenproblem (a 24 x 24 symmetric
-/// eigenvalue problem; exact, but about 30 times the cost of the Gershgorin bound).
-pub fn element_critical_step(x: &[[f64; 3]; 8], m: &Elastic) -> f64 {
-    let k = hex8::stiffness(x, m);
-    let ml = hex8::lumped_mass(x, m.density);
-    let s = nalgebra::DMatrix::from_fn(24, 24, |i, j| k[i][j] / (ml[i / 3] * ml[j / 3]).sqrt());
+/// $2/\omega_{max}$ of one element from its lumped-mass eigenproblem (a 24 x 24 or 12 x 12
+/// symmetric eigenvalue problem; exact, but for the hex8 about 30 times the cost of the
+/// Gershgorin bound).
+pub fn element_critical_step(x: &[[f64; 3]], m: &Elastic) -> f64 {
+    let k = element::stiffness(x, m);
+    let ml = element::lumped_mass(x, m.density);
+    let n = k.len();
+    let s = nalgebra::DMatrix::from_fn(n, n, |i, j| k[i][j] / (ml[i / 3] * ml[j / 3]).sqrt());
     let w2 = nalgebra::SymmetricEigen::new(s).eigenvalues.max();
     2.0 / w2.sqrt()
 }
 
 /// Up to this many distinct element shapes, each one's limit is its exact eigenvalue;
 /// beyond, every element uses the Gershgorin bound (a distorted mesh of a million elements
-/// would otherwise spend a minute in eigensolvers).
+/// would otherwise spend a minute in eigensolvers). Tet4 shapes count a fifth each (their
+/// eigenproblem is 12 x 12), so an unstructured tet mesh of up to 20,480 elements gets the
+/// exact limit.
 pub const EXACT_SHAPES: usize = 4096;
 
 /// The smallest element step of the model in its reference configuration, and the element
-/// that sets it.
+/// that sets it (index in [`crate::mesh::Mesh::elements`] order: hexes, then tets).
 pub fn stable_step(model: &Model) -> (f64, usize) {
     // element shapes up to a translation, to 1e-9 of the element's size
-    let mut shapes: HashMap<(u32, [i64; 24]), usize> = HashMap::new();
-    let mut shape_of = Vec::with_capacity(model.mesh.hexes.len());
+    let mut shapes: HashMap<(u32, Vec<i64>), usize> = HashMap::new();
+    let mut shape_of = Vec::with_capacity(model.mesh.element_count());
     let mut first = Vec::new();
-    for (e, hex) in model.mesh.hexes.iter().enumerate() {
-        let x = hex.map(|n| model.mesh.nodes[n as usize]);
+    let mut cost = 0usize;
+    for (corners, material) in model.mesh.elements() {
+        let x = model.mesh.corners(corners);
         let size = (0..3)
-            .map(|a| (x[6][a] - x[0][a]).abs())
+            .map(|a| {
+                let (lo, hi) = x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |m, p| {
+                    (m.0.min(p[a]), m.1.max(p[a]))
+                });
+                hi - lo
+            })
             .fold(0.0, f64::max)
             .max(f64::MIN_POSITIVE);
-        let mut key = [0i64; 24];
-        for k in 0..8 {
-            for a in 0..3 {
-                key[3 * k + a] = ((x[k][a] - x[0][a]) / size * 1e9).round() as i64;
-            }
-        }
+        let origin = x[0];
+        let key: Vec<i64> = x
+            .iter()
+            .flat_map(|p| (0..3).map(move |a| ((p[a] - origin[a]) / size * 1e9).round() as i64))
+            .collect();
         let next = shapes.len();
-        let id = *shapes
-            .entry((model.mesh.element_material[e], key))
-            .or_insert(next);
+        let id = *shapes.entry((material, key)).or_insert(next);
         if id == next {
-            first.push(e);
+            first.push((x, material));
+            cost += if corners.len() == 8 { 5 } else { 1 };
         }
         shape_of.push(id);
     }
-    let exact = first.len() <= EXACT_SHAPES;
+    let exact = cost <= 5 * EXACT_SHAPES;
     let limit: Vec<f64> = first
         .iter()
-        .map(|&e| {
-            let x = model.mesh.hexes[e].map(|n| model.mesh.nodes[n as usize]);
-            let m = &model.materials[model.mesh.element_material[e] as usize];
+        .map(|(x, material)| {
+            let m = &model.materials[*material as usize];
             if exact {
-                element_critical_step(&x, m)
+                element_critical_step(x, m)
             } else {
-                element_stable_step(&x, m)
+                element_stable_step(x, m)
             }
         })
         .collect();
@@ -137,6 +144,13 @@ mod tests {
             assert!(
                 (0.65..=1.0 + 1e-12).contains(&ratio),
                 "case {case}: bound {ratio} of 2/omega (nu {nu})"
+            );
+            // a tet of four of the same corners (0, 1, 3, 4: a corner tet, distorted)
+            let t = [x[0], x[1], x[3], x[4]];
+            let ratio = element_stable_step(&t, &m) / element_critical_step(&t, &m);
+            assert!(
+                (0.4..=1.0 + 1e-12).contains(&ratio),
+                "case {case}: tet bound {ratio} of 2/omega (nu {nu})"
             );
         }
     }

@@ -41,7 +41,7 @@ pub fn element_forces(x: &[[f64; 3]; 8], u: &[[f64; 3]; 8], lambda: f64, mu: f64
 /// (overwrites it). [`super::node_gather`] sums them to the nodes.
 pub fn hex8_forces(data: &ElementData, u: &[[f64; 3]], corner_forces: &mut [[f64; 3]]) {
     for (e, hex) in data.hexes.iter().enumerate() {
-        let m = data.materials[data.element_material[e] as usize];
+        let m = data.materials[data.hex_material[e] as usize];
         let x = hex.map(|n| data.reference[n as usize]);
         let ue = hex.map(|n| u[n as usize]);
         let fe = element_forces(&x, &ue, m.lambda, m.mu);

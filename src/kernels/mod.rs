@@ -10,11 +10,13 @@ pub mod contact_gap;
 pub mod hex8_forces;
 pub mod node_gather;
 pub mod slip_rate;
+pub mod tet4_forces;
 
 pub use contact_gap::{contact_gap, ContactPoint, ContactQueries};
 pub use hex8_forces::hex8_forces;
 pub use node_gather::{node_gather, Incidence};
 pub use slip_rate::slip_rate;
+pub use tet4_forces::tet4_forces;
 
 use crate::error::Result;
 use crate::material::Elastic;
@@ -24,8 +26,17 @@ use crate::material::Elastic;
 pub struct ElementData {
     pub reference: Vec<[f64; 3]>,
     pub hexes: Vec<[u32; 8]>,
-    pub element_material: Vec<u32>,
+    pub hex_material: Vec<u32>,
+    pub tets: Vec<[u32; 4]>,
+    pub tet_material: Vec<u32>,
     pub materials: Vec<Elastic>,
+}
+
+impl ElementData {
+    /// Element corners in the corner-force array: 8 per hex8, then 4 per tet4.
+    pub fn corner_count(&self) -> usize {
+        8 * self.hexes.len() + 4 * self.tets.len()
+    }
 }
 
 /// What an integrator needs from the element and contact kernels.
@@ -64,8 +75,8 @@ pub struct CpuKernels {
 
 impl CpuKernels {
     pub fn new(data: ElementData) -> Self {
-        let incidence = Incidence::new(&data.hexes, data.reference.len());
-        let corner_forces = vec![[0.0; 3]; 8 * data.hexes.len()];
+        let incidence = Incidence::new(&data.hexes, &data.tets, data.reference.len());
+        let corner_forces = vec![[0.0; 3]; data.corner_count()];
         CpuKernels {
             data,
             incidence,
@@ -86,7 +97,9 @@ impl Kernels for CpuKernels {
         f64::EPSILON
     }
     fn internal_forces_into(&mut self, u: &[f64], f: &mut [f64]) -> Result<()> {
-        hex8_forces(&self.data, as_vec3(u), &mut self.corner_forces);
+        let (hex, tet) = self.corner_forces.split_at_mut(8 * self.data.hexes.len());
+        hex8_forces(&self.data, as_vec3(u), hex);
+        tet4_forces(&self.data, as_vec3(u), tet);
         node_gather(&self.incidence, &self.corner_forces, as_vec3_mut(f));
         Ok(())
     }

@@ -1,7 +1,8 @@
 //! CPU twin of `shaders/node_gather.wgsl`: the nodal sum of element corner forces, in the
 //! fixed order of each node's incidence list (so the GPU result is the same bits every run).
 
-/// For every node, the element corners (8 e + k) that touch it, in CSR form.
+/// For every node, the element corners that touch it, in CSR form: corner k of hex e is
+/// `8 e + k`, corner k of tet t is `8 hexes + 4 t + k`.
 #[derive(Debug, Clone, Default)]
 pub struct Incidence {
     /// `corners[offsets[n]..offsets[n + 1]]` belong to node n.
@@ -10,26 +11,29 @@ pub struct Incidence {
 }
 
 impl Incidence {
-    /// The incidence table of a hex8 connectivity over `nodes` nodes, corners in increasing
-    /// order for each node.
-    pub fn new(hexes: &[[u32; 8]], nodes: usize) -> Self {
+    /// The incidence table of hex8 and tet4 connectivities over `nodes` nodes, corners in
+    /// increasing order for each node.
+    pub fn new(hexes: &[[u32; 8]], tets: &[[u32; 4]], nodes: usize) -> Self {
+        let corner_nodes = || {
+            hexes
+                .iter()
+                .flat_map(|h| h.iter())
+                .chain(tets.iter().flat_map(|t| t.iter()))
+                .copied()
+        };
         let mut count = vec![0u32; nodes + 1];
-        for hex in hexes {
-            for &n in hex {
-                count[n as usize + 1] += 1;
-            }
+        for n in corner_nodes() {
+            count[n as usize + 1] += 1;
         }
         for n in 0..nodes {
             count[n + 1] += count[n];
         }
         let offsets = count.clone();
         let mut next = count;
-        let mut corners = vec![0u32; 8 * hexes.len()];
-        for (e, hex) in hexes.iter().enumerate() {
-            for (k, &n) in hex.iter().enumerate() {
-                corners[next[n as usize] as usize] = (8 * e + k) as u32;
-                next[n as usize] += 1;
-            }
+        let mut corners = vec![0u32; 8 * hexes.len() + 4 * tets.len()];
+        for (c, n) in corner_nodes().enumerate() {
+            corners[next[n as usize] as usize] = c as u32;
+            next[n as usize] += 1;
         }
         Incidence { offsets, corners }
     }
@@ -61,7 +65,7 @@ mod tests {
     #[test]
     fn every_corner_appears_once_in_increasing_order() {
         let hexes = [[0, 1, 2, 3, 4, 5, 6, 7], [1, 8, 9, 2, 5, 10, 11, 6]];
-        let inc = Incidence::new(&hexes, 12);
+        let inc = Incidence::new(&hexes, &[], 12);
         let mut seen = inc.corners.clone();
         seen.sort();
         assert_eq!(seen, (0..16).collect::<Vec<u32>>());

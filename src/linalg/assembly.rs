@@ -1,6 +1,6 @@
 //! Global assembly of stiffness and mass on the free degrees of freedom.
 
-use crate::element::hex8;
+use crate::element;
 use crate::model::Model;
 use crate::scene::MassKind;
 
@@ -91,26 +91,27 @@ pub fn assemble(model: &Model, mass: MassKind, c_m: f64) -> Assembled {
     let mesh = &model.mesh;
     let mut nodal_mass = vec![0.0; mesh.node_count()];
     let mut diagonal_mass = vec![0.0; mesh.node_count()];
-    let mut kt = Vec::with_capacity(mesh.hexes.len() * 576);
+    let mut kt = Vec::with_capacity(mesh.hexes.len() * 576 + mesh.tets.len() * 144);
     let mut mt = Vec::new();
-    for (e, hex) in mesh.hexes.iter().enumerate() {
-        let m = &model.materials[mesh.element_material[e] as usize];
-        let x = hex.map(|i| mesh.nodes[i as usize]);
-        let ke = hex8::stiffness(&x, m);
-        let me = hex8::consistent_mass(&x, m.density);
-        for i in 0..8 {
-            nodal_mass[hex[i] as usize] += me[i].iter().sum::<f64>();
-            diagonal_mass[hex[i] as usize] += me[i][i];
+    for (el, material) in mesh.elements() {
+        let m = &model.materials[material as usize];
+        let x = mesh.corners(el);
+        let ke = element::stiffness(&x, m);
+        let me = element::consistent_mass(&x, m.density);
+        let n = el.len();
+        for i in 0..n {
+            nodal_mass[el[i] as usize] += me[i].iter().sum::<f64>();
+            diagonal_mass[el[i] as usize] += me[i][i];
         }
-        for i in 0..8 {
+        for i in 0..n {
             for a in 0..3 {
-                let r = equation[3 * hex[i] as usize + a];
+                let r = equation[3 * el[i] as usize + a];
                 if r == u32::MAX {
                     continue;
                 }
-                for j in 0..8 {
+                for j in 0..n {
                     for b in 0..3 {
-                        let c = equation[3 * hex[j] as usize + b];
+                        let c = equation[3 * el[j] as usize + b];
                         if c == u32::MAX {
                             continue;
                         }

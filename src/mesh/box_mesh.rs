@@ -1,16 +1,15 @@
 //! Structured hex8 grids of boxes.
 
+use super::{BodyParts, Surface};
 use crate::scene::{BoxFace, BoxSpec};
 
 /// Meshes a box as `divisions[0] x divisions[1] x divisions[2]` hex8 elements.
 ///
-/// Returns local node coordinates, connectivity, and the boundary quads of the six faces
-/// (indexed by `BoxFace as usize`), each ordered so that its first two edges span the face
-/// with `tau_1 x tau_2` along the outward normal.
-/// Nodes, hex8 connectivity and the quads of the six faces of one meshed body.
-pub type MeshParts = (Vec<[f64; 3]>, Vec<[u32; 8]>, [Vec<[u32; 4]>; 6]);
-
-pub fn box_mesh(spec: &BoxSpec) -> MeshParts {
+/// Returns local node coordinates, connectivity, and the six faces as surfaces named
+/// `x-`, `x+`, `y-`, `y+`, `z-`, `z+` (in [`BoxFace::ALL`] order, so surface `f as usize` is
+/// face `f`), each quad ordered so that its first two edges span the face with
+/// `tau_1 x tau_2` along the outward normal. The boundary is the six faces together.
+pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
     let [nx, ny, nz] = spec.divisions;
     let (px, py) = (nx + 1, ny + 1);
     let id = |i: usize, j: usize, k: usize| (i + px * (j + py * k)) as u32;
@@ -82,7 +81,23 @@ pub fn box_mesh(spec: &BoxSpec) -> MeshParts {
         }
         quads
     });
-    (nodes, hexes, faces)
+    let boundary = faces.iter().flatten().copied().collect();
+    let surfaces = BoxFace::ALL
+        .iter()
+        .zip(faces)
+        .map(|(f, faces)| Surface {
+            name: BoxFace::NAMES[*f as usize].to_string(),
+            faces,
+        })
+        .collect();
+    BodyParts {
+        nodes,
+        hexes,
+        tets: Vec::new(),
+        boundary,
+        surfaces,
+        node_sets: Vec::new(),
+    }
 }
 
 #[cfg(test)]
@@ -107,11 +122,12 @@ mod tests {
             max: [3.0, 1.0, 2.5],
             divisions: [3, 2, 4],
         };
-        let (nodes, hexes, faces) = box_mesh(&spec);
+        let parts = box_mesh(&spec);
+        let nodes = &parts.nodes;
         assert_eq!(nodes.len(), 4 * 3 * 5);
-        assert_eq!(hexes.len(), 24);
+        assert_eq!(parts.hexes.len(), 24);
         for face in BoxFace::ALL {
-            let quads = &faces[face as usize];
+            let quads = &parts.surfaces[face as usize].faces;
             let a = face.axis();
             let mut area = 0.0;
             for q in quads {

@@ -2,8 +2,8 @@
 //! binary appended block, and a `.pvd` collection that indexes the frames by time.
 //!
 //! Points are the reference coordinates (ParaView's "Warp By Vector" on `displacement` shows
-//! the deformed shape); cells are the hex8 elements (VTK_HEXAHEDRON, whose corner order is
-//! ours). Point data: `displacement`, `velocity`, `contact_pressure` (the normal traction of
+//! the deformed shape); cells are the hex8 elements (VTK_HEXAHEDRON) and then the tet4
+//! elements (VTK_TETRA), both with our corner order. Point data: `displacement`, `velocity`, `contact_pressure` (the normal traction of
 //! the step on secondary nodes, summed over interfaces; 0 elsewhere) and `contact_gap` (the
 //! gap on secondary nodes, g > 0 penetration; NaN on nodes that are no interface's secondary
 //! node, or whose primary surface is out of reach). Cell data: `stress` (xx, yy, zz, xy, yz,
@@ -15,12 +15,14 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::element::hex8;
+use crate::element::{hex8, tet4};
 use crate::error::{ImpactError, Result};
 use crate::model::Model;
 
 /// VTK's cell type of the trilinear hexahedron.
 const VTK_HEXAHEDRON: u8 = 12;
+/// VTK's linear tetrahedron; its corner order is ours.
+const VTK_TETRA: u8 = 10;
 
 /// Contact values of one node for a frame.
 #[derive(Debug, Clone, Copy)]
@@ -46,14 +48,15 @@ pub struct VtuWriter {
 }
 
 /// Stress at the element centre: (xx, yy, zz, xy, yz, xz), from the linear strain of u.
-pub fn centre_stress(
-    x: &[[f64; 3]; 8],
-    u: &[[f64; 3]; 8],
-    m: &crate::material::Elastic,
-) -> [f64; 6] {
-    let (grads, _) = hex8::gradients(x, [0.0; 3]);
+pub fn centre_stress(x: &[[f64; 3]], u: &[[f64; 3]], m: &crate::material::Elastic) -> [f64; 6] {
+    let grads: Vec<[f64; 3]> = match (<&[[f64; 3]; 8]>::try_from(x), <&[[f64; 3]; 4]>::try_from(x))
+    {
+        (Ok(h), _) => hex8::gradients(h, [0.0; 3]).0.to_vec(),
+        (_, Ok(t)) => tet4::gradients(t).0.to_vec(),
+        _ => panic!("an element has 8 (hex8) or 4 (tet4) corners"),
+    };
     let mut h = [[0.0f64; 3]; 3];
-    for k in 0..8 {
+    for k in 0..grads.len() {
         for a in 0..3 {
             for b in 0..3 {
                 h[a][b] += u[k][a] * grads[k][b];
@@ -129,7 +132,7 @@ impl VtuWriter {
         contact: &[NodeContact],
     ) -> Result<()> {
         let mesh = &model.mesh;
-        let (n_points, n_cells) = (mesh.node_count(), mesh.hexes.len());
+        let (n_points, n_cells) = (mesh.node_count(), mesh.element_count());
         let mut app = Appended {
             bytes: Vec::new(),
             headers: String::new(),
@@ -139,17 +142,31 @@ impl VtuWriter {
         let points_xml = app.take_headers();
 
         let conn: Vec<u8> = mesh
-            .hexes
-            .iter()
-            .flatten()
+            .elements()
+            .flat_map(|(e, _)| e.iter())
             .flat_map(|&n| (n as i64).to_le_bytes())
             .collect();
         app.array("connectivity", "Int64", 1, &conn);
-        let offsets: Vec<u8> = (1..=n_cells)
-            .flat_map(|c| (8 * c as i64).to_le_bytes())
+        let offsets: Vec<u8> = mesh
+            .elements()
+            .scan(0i64, |end, (e, _)| {
+                *end += e.len() as i64;
+                Some(*end)
+            })
+            .flat_map(|c| c.to_le_bytes())
             .collect();
         app.array("offsets", "Int64", 1, &offsets);
-        app.array("types", "UInt8", 1, &vec![VTK_HEXAHEDRON; n_cells]);
+        let types: Vec<u8> = mesh
+            .elements()
+            .map(|(e, _)| {
+                if e.len() == 8 {
+                    VTK_HEXAHEDRON
+                } else {
+                    VTK_TETRA
+                }
+            })
+            .collect();
+        app.array("types", "UInt8", 1, &types);
         let cells_xml = app.take_headers();
 
         app.array("displacement", "Float64", 3, &f64_bytes(u));
@@ -162,13 +179,16 @@ impl VtuWriter {
 
         let mut stress = Vec::with_capacity(6 * n_cells);
         let mut vm = Vec::with_capacity(n_cells);
-        for (e, hex) in mesh.hexes.iter().enumerate() {
-            let x = hex.map(|n| mesh.nodes[n as usize]);
-            let ue = hex.map(|n| {
-                let d = 3 * n as usize;
-                [u[d], u[d + 1], u[d + 2]]
-            });
-            let s = centre_stress(&x, &ue, &model.materials[mesh.element_material[e] as usize]);
+        for (el, material) in mesh.elements() {
+            let x = mesh.corners(el);
+            let ue: Vec<[f64; 3]> = el
+                .iter()
+                .map(|&n| {
+                    let d = 3 * n as usize;
+                    [u[d], u[d + 1], u[d + 2]]
+                })
+                .collect();
+            let s = centre_stress(&x, &ue, &model.materials[material as usize]);
             stress.extend_from_slice(&s);
             vm.push(von_mises(s));
         }

@@ -7,6 +7,9 @@ pub mod suggest;
 mod validate;
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::mesh::BodyParts;
 
 use crate::error::{ImpactError, Result};
 
@@ -206,18 +209,42 @@ pub struct BoxSpec {
     pub divisions: [usize; 3],
 }
 
+/// Where a body's mesh comes from.
+#[derive(Debug, Clone)]
+pub enum BodyShape {
+    /// A structured hex8 box; its surfaces are the six faces in [`BoxFace::ALL`] order.
+    Box(BoxSpec),
+    /// A mesh file, read (and scaled, translated) while the scene is checked.
+    Imported {
+        path: PathBuf,
+        parts: Arc<BodyParts>,
+    },
+}
+
 #[derive(Debug, Clone)]
 pub struct BodySpec {
     pub name: String,
     pub material: usize,
-    pub mesh: BoxSpec,
+    pub shape: BodyShape,
     pub velocity: [f64; 3],
 }
 
+impl BodySpec {
+    /// The body's mesh in its own node numbering.
+    pub fn parts(&self) -> BodyParts {
+        match &self.shape {
+            BodyShape::Box(b) => crate::mesh::box_mesh(b),
+            BodyShape::Imported { parts, .. } => (**parts).clone(),
+        }
+    }
+}
+
+/// A surface of a body: for a box, `surface` is a [`BoxFace`] as `usize`; for an imported
+/// mesh, an index into its named surfaces.
 #[derive(Debug, Clone, Copy)]
 pub struct SurfaceRef {
     pub body: usize,
-    pub face: BoxFace,
+    pub surface: usize,
 }
 
 #[derive(Debug, Clone)]
@@ -240,8 +267,14 @@ pub struct PlaneSpec {
 
 #[derive(Debug, Clone)]
 pub enum NodeSelection {
-    Face(BoxFace),
-    Region { min: [f64; 3], max: [f64; 3] },
+    /// The nodes of a surface (a box face or a named surface of a mesh file).
+    Surface(usize),
+    /// A named node set of a mesh file.
+    Set(usize),
+    Region {
+        min: [f64; 3],
+        max: [f64; 3],
+    },
 }
 
 #[derive(Debug, Clone)]

@@ -97,7 +97,10 @@ pub struct RawBody {
     pub name: String,
     pub material: String,
     #[serde(rename = "box")]
-    pub box_: RawBox,
+    pub box_: Option<RawBox>,
+    pub mesh: Option<String>,
+    pub scale: Option<f64>,
+    pub translate: Option<[f64; 3]>,
     pub velocity: Option<[f64; 3]>,
 }
 
@@ -105,7 +108,8 @@ pub struct RawBody {
 #[serde(deny_unknown_fields)]
 pub struct RawSurfaceRef {
     pub body: String,
-    pub face: String,
+    pub face: Option<String>,
+    pub surface: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -139,6 +143,7 @@ pub struct RawRegion {
 pub struct RawFix {
     pub body: String,
     pub face: Option<String>,
+    pub set: Option<String>,
     pub region: Option<RawRegion>,
     pub components: Vec<String>,
 }

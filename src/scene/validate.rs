@@ -82,14 +82,146 @@ impl Checker<'_> {
         })
     }
 
-    fn face(&self, key: &str, name: &str) -> Result<BoxFace> {
-        BoxFace::parse(name).ok_or_else(|| {
+    fn box_spec(&self, key: &dyn Fn(&str) -> String, b: &RawBox) -> Result<BoxSpec> {
+        let min = self.finite3(&key("box.min"), b.min)?;
+        let max = self.finite3(&key("box.max"), b.max)?;
+        for a in 0..3 {
+            if max[a] <= min[a] {
+                return Err(self.err(
+                    key("box.max"),
+                    format!("must exceed box.min on every axis, got min {min:?} max {max:?}"),
+                ));
+            }
+        }
+        let mut divisions = [0usize; 3];
+        for a in 0..3 {
+            let d = b.divisions[a];
+            if d < 1 {
+                return Err(self.err(
+                    key("box.divisions"),
+                    format!("every division count must be >= 1, got {:?}", b.divisions),
+                ));
+            }
+            divisions[a] = d as usize;
+        }
+        Ok(BoxSpec {
+            min,
+            max,
+            divisions,
+        })
+    }
+
+    /// A box face by name (`x-` ... `z+`); only box bodies have them.
+    fn face_of(&self, key: &str, name: &str, body: &BodySpec) -> Result<usize> {
+        if let BodyShape::Imported { path, parts } = &body.shape {
+            let names: Vec<&str> = parts.surfaces.iter().map(|s| s.name.as_str()).collect();
+            return Err(self.err(
+                key,
+                format!(
+                    "body `{}` is meshed from {}, which has no box faces; name one of its surfaces with `surface` (they are {names:?})",
+                    body.name,
+                    path.display()
+                ),
+            ));
+        }
+        BoxFace::parse(name).map(|f| f as usize).ok_or_else(|| {
             self.err(
                 key,
                 format!("no face named `{name}`; box faces are {:?}", BoxFace::NAMES),
             )
         })
     }
+
+    /// A named surface of an imported mesh.
+    fn surface_of(&self, key: &str, name: &str, body: &BodySpec) -> Result<usize> {
+        let BodyShape::Imported { path, parts } = &body.shape else {
+            return Err(self.err(
+                key,
+                format!(
+                    "body `{}` is a box: name one of its faces with `face` ({:?})",
+                    body.name,
+                    BoxFace::NAMES
+                ),
+            ));
+        };
+        let names: Vec<&str> = parts.surfaces.iter().map(|s| s.name.as_str()).collect();
+        find_name(&names, name).ok_or_else(|| {
+            let hint = closest(name, names.iter().copied())
+                .map(|c| format!(" (did you mean `{c}`?)"))
+                .unwrap_or_default();
+            self.err(
+                key,
+                format!(
+                    "{} has no surface named `{name}`; its surfaces are {names:?}{hint}",
+                    path.display()
+                ),
+            )
+        })
+    }
+
+    /// A named node set of an imported mesh, or failing that the nodes of a named surface.
+    fn node_set(&self, key: &str, name: &str, body: &BodySpec) -> Result<NodeSelection> {
+        let BodyShape::Imported { path, parts } = &body.shape else {
+            return Err(self.err(
+                key,
+                format!(
+                    "body `{}` is a box, which has no named node sets: use `face` or `region`",
+                    body.name
+                ),
+            ));
+        };
+        let sets: Vec<&str> = parts.node_sets.iter().map(|s| s.name.as_str()).collect();
+        if let Some(i) = find_name(&sets, name) {
+            return Ok(NodeSelection::Set(i));
+        }
+        let surfaces: Vec<&str> = parts.surfaces.iter().map(|s| s.name.as_str()).collect();
+        if let Some(i) = find_name(&surfaces, name) {
+            return Ok(NodeSelection::Surface(i));
+        }
+        let hint = closest(name, sets.iter().chain(&surfaces).copied())
+            .map(|c| format!(" (did you mean `{c}`?)"))
+            .unwrap_or_default();
+        Err(self.err(
+            key,
+            format!(
+                "{} has no node set or surface named `{name}`; its node sets are {sets:?}{hint}",
+                path.display()
+            ),
+        ))
+    }
+
+    /// `secondary` / `primary` of a `[[contact]]`: a body and one of `face` or `surface`.
+    fn surface_ref(
+        &self,
+        key: &dyn Fn(&str) -> String,
+        side: &str,
+        r: &RawSurfaceRef,
+        raw_bodies: &[RawBody],
+        bodies: &[BodySpec],
+    ) -> Result<SurfaceRef> {
+        let body = self.body_index(&key(&format!("{side}.body")), &r.body, raw_bodies)?;
+        let surface = match (&r.face, &r.surface) {
+            (Some(f), None) => self.face_of(&key(&format!("{side}.face")), f, &bodies[body])?,
+            (None, Some(s)) => {
+                self.surface_of(&key(&format!("{side}.surface")), s, &bodies[body])?
+            }
+            _ => {
+                return Err(self.err(
+                    key(&format!("{side}.face")),
+                    "give exactly one of `face` (a box face) or `surface` (a named surface of a mesh file)",
+                ))
+            }
+        };
+        Ok(SurfaceRef { body, surface })
+    }
+}
+
+/// Position of a name: exact match first, then without regard to case (Abaqus names).
+fn find_name(names: &[&str], name: &str) -> Option<usize> {
+    names
+        .iter()
+        .position(|n| *n == name)
+        .or_else(|| names.iter().position(|n| n.eq_ignore_ascii_case(name)))
 }
 
 pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
@@ -297,39 +429,41 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
                     ),
                 )
             })?;
-        let min = c.finite3(&key("box.min"), b.box_.min)?;
-        let max = c.finite3(&key("box.max"), b.box_.max)?;
-        for a in 0..3 {
-            if max[a] <= min[a] {
-                return Err(c.err(
-                    key("box.max"),
-                    format!("must exceed box.min on every axis, got min {min:?} max {max:?}"),
-                ));
+        let shape = match (&b.box_, &b.mesh) {
+            (Some(bx), None) => {
+                if b.scale.is_some() || b.translate.is_some() {
+                    return Err(c.err(
+                        key(if b.scale.is_some() { "scale" } else { "translate" }),
+                        "applies to `mesh` files only; a box is placed by box.min and box.max",
+                    ));
+                }
+                BodyShape::Box(c.box_spec(&key, bx)?)
             }
-        }
-        let mut divisions = [0usize; 3];
-        for a in 0..3 {
-            let d = b.box_.divisions[a];
-            if d < 1 {
-                return Err(c.err(
-                    key("box.divisions"),
-                    format!(
-                        "every division count must be >= 1, got {:?}",
-                        b.box_.divisions
-                    ),
-                ));
+            (None, Some(file)) => {
+                let scale = c.positive(&key("scale"), b.scale.unwrap_or(1.0))?;
+                let translate = c.finite3(&key("translate"), b.translate.unwrap_or([0.0; 3]))?;
+                let file_path = path
+                    .parent()
+                    .map(|d| d.join(file))
+                    .unwrap_or_else(|| PathBuf::from(file));
+                let parts = crate::mesh::import(&file_path, scale, translate)?;
+                BodyShape::Imported {
+                    path: file_path,
+                    parts: Arc::new(parts),
+                }
             }
-            divisions[a] = d as usize;
-        }
+            _ => {
+                return Err(c.err(
+                    key("box"),
+                    "give exactly one of `box` (a structured hex8 block) or `mesh` (a .msh or .inp file)",
+                ))
+            }
+        };
         let velocity = c.finite3(&key("velocity"), b.velocity.unwrap_or([0.0; 3]))?;
         bodies.push(BodySpec {
             name: b.name.clone(),
             material,
-            mesh: BoxSpec {
-                min,
-                max,
-                divisions,
-            },
+            shape,
             velocity,
         });
     }
@@ -338,14 +472,17 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
     let mut contacts = Vec::new();
     for (i, ct) in raw.contact.iter().enumerate() {
         let key = |k: &str| format!("contact[{i}].{k} (contact `{}`)", ct.name);
-        let secondary = SurfaceRef {
-            body: c.body_index(&key("secondary.body"), &ct.secondary.body, &raw.body)?,
-            face: c.face(&key("secondary.face"), &ct.secondary.face)?,
-        };
-        let primary = SurfaceRef {
-            body: c.body_index(&key("primary.body"), &ct.primary.body, &raw.body)?,
-            face: c.face(&key("primary.face"), &ct.primary.face)?,
-        };
+        let secondary = c.surface_ref(&key, "secondary", &ct.secondary, &raw.body, &bodies)?;
+        let primary = c.surface_ref(&key, "primary", &ct.primary, &raw.body, &bodies)?;
+        if let BodyShape::Imported { parts, .. } = &bodies[primary.body].shape {
+            let faces = &parts.surfaces[primary.surface].faces;
+            if faces.iter().any(crate::mesh::is_triangle) {
+                return Err(c.err(
+                    key("primary.surface"),
+                    "the primary surface has triangular faces (tet4 boundary); primary surfaces must be made of quadrilaterals for now: use the tet4 body as the secondary side, or a rigid plane",
+                ));
+            }
+        }
         if secondary.body == primary.body {
             return Err(c.err(
                 key("primary.body"),
@@ -407,13 +544,16 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
     for (i, f) in raw.fix.iter().enumerate() {
         let key = |k: &str| format!("fix[{i}].{k}");
         let body = c.body_index(&key("body"), &f.body, &raw.body)?;
-        let nodes = match (&f.face, &f.region) {
-            (Some(face), None) => NodeSelection::Face(c.face(&key("face"), face)?),
-            (None, Some(r)) => NodeSelection::Region {
+        let nodes = match (&f.face, &f.set, &f.region) {
+            (Some(face), None, None) => {
+                NodeSelection::Surface(c.face_of(&key("face"), face, &bodies[body])?)
+            }
+            (None, Some(set), None) => c.node_set(&key("set"), set, &bodies[body])?,
+            (None, None, Some(r)) => NodeSelection::Region {
                 min: c.finite3(&key("region.min"), r.min)?,
                 max: c.finite3(&key("region.max"), r.max)?,
             },
-            _ => return Err(c.err(key("face"), "give exactly one of `face` or `region`")),
+            _ => return Err(c.err(key("face"), "give exactly one of `face`, `set` or `region`")),
         };
         let mut components = [false; 3];
         if f.components.is_empty() {

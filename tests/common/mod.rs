@@ -258,3 +258,18 @@ pub const FINE: Tolerances = Tolerances {
     speed_b: 0.03,
     loss: 0.015,
 };
+
+/// Runs a scene text as if it were the file `scenes/<tag>.toml`, so that its mesh paths
+/// resolve against the shipped `scenes/` folder.
+pub fn run_scene_text(tag: &str, text: &str) -> (impact::Result<Summary>, History) {
+    let dir = out_dir(tag);
+    let path = repo().join("scenes").join(format!("{tag}.toml"));
+    let scene = Scene::parse(text, &path).expect("valid scene");
+    let opts = RunOptions {
+        out: Some(dir.clone()),
+        device: None,
+        quiet: true,
+    };
+    let s = run(&scene, &opts);
+    (s, History::read(&dir.join("history.csv")))
+}

@@ -1,0 +1,577 @@
+//! Abaqus/CalculiX input deck reader (flat decks, no parts or instances).
+//!
+//! Keywords read (case-insensitive): `*NODE` (`NSET=`), `*ELEMENT` with `TYPE=C3D8` or
+//! `TYPE=C3D4` (`ELSET=`; data lines may continue after a trailing comma), `*NSET` and
+//! `*ELSET` (`GENERATE`, or lists of numbers and names of earlier sets), `*SURFACE`
+//! (`TYPE=ELEMENT`, the default: lines `element-or-elset, Sn`; `TYPE=NODE`: a node set).
+//! Other keywords (materials, steps, ...) are skipped with their data lines; `**` starts a
+//! comment. Every element set is also offered as a node set (its elements' nodes) unless a
+//! node set has the same name. Names compare without regard to case, as in Abaqus.
+
+use std::collections::HashMap;
+
+use super::import::{FileMesh, FileSurface, ParseError};
+use super::NodeSet;
+
+type Res<T> = std::result::Result<T, ParseError>;
+
+/// Abaqus face numbering (1-based corner lists) of C3D8 and C3D4 sides S1, S2, ...
+const C3D8_SIDES: [&[usize]; 6] = [
+    &[1, 2, 3, 4],
+    &[5, 8, 7, 6],
+    &[1, 5, 6, 2],
+    &[2, 6, 7, 3],
+    &[3, 7, 8, 4],
+    &[4, 8, 5, 1],
+];
+const C3D4_SIDES: [&[usize]; 4] = [&[1, 2, 3], &[1, 4, 2], &[2, 4, 3], &[3, 4, 1]];
+
+#[derive(Clone, Copy, PartialEq)]
+enum Mode {
+    Skip,
+    Node,
+    Element { corners: usize },
+    NSet { generate: bool },
+    ElSet { generate: bool },
+    SurfaceElement,
+    SurfaceNode,
+}
+
+struct Element {
+    id: u64,
+    nodes: Vec<u64>,
+    line: usize,
+}
+
+/// A set as written: numbers, or names of earlier sets.
+#[derive(Default)]
+struct Set {
+    name: String,
+    ids: Vec<u64>,
+}
+
+/// A `*SURFACE, TYPE=ELEMENT` as written: its name, its (element-or-elset, side, line)
+/// entries, and the line of its keyword.
+type SideSurface = (String, Vec<(String, usize, usize)>, usize);
+
+struct Reader {
+    node_ids: HashMap<u64, u32>,
+    nodes: Vec<[f64; 3]>,
+    elements: Vec<Element>,
+    /// Element number -> index in `elements`.
+    element_ids: HashMap<u64, usize>,
+    nsets: Vec<Set>,
+    elsets: Vec<Set>,
+    surfaces: Vec<SideSurface>,
+    node_surfaces: Vec<(String, Vec<String>, usize)>,
+}
+
+fn params(line: &str) -> (String, HashMap<String, String>) {
+    let mut parts = line[1..].split(',');
+    let keyword = parts.next().unwrap_or("").trim().to_ascii_uppercase();
+    let mut map = HashMap::new();
+    for p in parts {
+        let (k, v) = match p.split_once('=') {
+            Some((k, v)) => (k.trim(), v.trim()),
+            None => (p.trim(), ""),
+        };
+        if !k.is_empty() {
+            map.insert(k.to_ascii_uppercase(), v.to_string());
+        }
+    }
+    (keyword, map)
+}
+
+fn find_set<'a>(sets: &'a [Set], name: &str) -> Option<&'a Set> {
+    sets.iter().find(|s| s.name.eq_ignore_ascii_case(name))
+}
+
+fn set_mut<'a>(sets: &'a mut Vec<Set>, name: &str) -> &'a mut Set {
+    match sets.iter().position(|s| s.name.eq_ignore_ascii_case(name)) {
+        Some(i) => &mut sets[i],
+        None => {
+            sets.push(Set {
+                name: name.to_string(),
+                ids: Vec::new(),
+            });
+            sets.last_mut().expect("just pushed")
+        }
+    }
+}
+
+fn integer(token: &str, line: usize, what: &str) -> Res<u64> {
+    token
+        .parse::<u64>()
+        .map_err(|_| ParseError::at(line, format!("expected {what}, found `{token}`")))
+}
+
+/// Reads a deck's text.
+pub fn read(text: &str) -> Res<FileMesh> {
+    let mut r = Reader {
+        node_ids: HashMap::new(),
+        nodes: Vec::new(),
+        elements: Vec::new(),
+        element_ids: HashMap::new(),
+        nsets: Vec::new(),
+        elsets: Vec::new(),
+        surfaces: Vec::new(),
+        node_surfaces: Vec::new(),
+    };
+    let mut mode = Mode::Skip;
+    let mut set_name = String::new();
+    let mut pending: Vec<u64> = Vec::new();
+    let mut pending_line = 0usize;
+    for (i, raw) in text.lines().enumerate() {
+        let line_no = i + 1;
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with("**") {
+            continue;
+        }
+        if line.starts_with('*') {
+            if !pending.is_empty() {
+                return Err(ParseError::at(
+                    pending_line,
+                    format!("element {} lists too few nodes", pending[0]),
+                ));
+            }
+            let (keyword, p) = params(line);
+            let need = |key: &str| -> Res<String> {
+                p.get(key)
+                    .filter(|v| !v.is_empty())
+                    .cloned()
+                    .ok_or_else(|| ParseError::at(line_no, format!("*{keyword} needs {key}=")))
+            };
+            let generate = p.contains_key("GENERATE");
+            mode = match keyword.as_str() {
+                "NODE" => {
+                    set_name = p.get("NSET").cloned().unwrap_or_default();
+                    Mode::Node
+                }
+                "ELEMENT" => {
+                    let ty = need("TYPE")?.to_ascii_uppercase();
+                    set_name = p.get("ELSET").cloned().unwrap_or_default();
+                    match ty.as_str() {
+                        "C3D8" => Mode::Element { corners: 8 },
+                        "C3D4" => Mode::Element { corners: 4 },
+                        other => {
+                            return Err(ParseError::at(
+                                line_no,
+                                format!(
+                                    "element type {other} is not supported: only C3D8 (hex8) and C3D4 (tet4) are"
+                                ),
+                            ))
+                        }
+                    }
+                }
+                "NSET" => {
+                    set_name = need("NSET")?;
+                    set_mut(&mut r.nsets, &set_name);
+                    Mode::NSet { generate }
+                }
+                "ELSET" => {
+                    set_name = need("ELSET")?;
+                    set_mut(&mut r.elsets, &set_name);
+                    Mode::ElSet { generate }
+                }
+                "SURFACE" => {
+                    set_name = need("NAME")?;
+                    let ty = p
+                        .get("TYPE")
+                        .map(|t| t.to_ascii_uppercase())
+                        .unwrap_or_else(|| "ELEMENT".into());
+                    match ty.as_str() {
+                        "ELEMENT" => {
+                            r.surfaces.push((set_name.clone(), Vec::new(), line_no));
+                            Mode::SurfaceElement
+                        }
+                        "NODE" => {
+                            r.node_surfaces.push((set_name.clone(), Vec::new(), line_no));
+                            Mode::SurfaceNode
+                        }
+                        other => {
+                            return Err(ParseError::at(
+                                line_no,
+                                format!("*SURFACE TYPE={other} is not supported (ELEMENT or NODE)"),
+                            ))
+                        }
+                    }
+                }
+                "PART" | "INSTANCE" => {
+                    return Err(ParseError::at(
+                        line_no,
+                        format!("*{keyword}: decks with parts and instances are not supported; write a flat deck (nodes and elements at the top level)"),
+                    ))
+                }
+                _ => Mode::Skip,
+            };
+            continue;
+        }
+        let fields: Vec<&str> = line
+            .split(',')
+            .map(|f| f.trim())
+            .filter(|f| !f.is_empty())
+            .collect();
+        match mode {
+            Mode::Skip => {}
+            Mode::Node => {
+                if fields.len() < 4 {
+                    return Err(ParseError::at(
+                        line_no,
+                        format!("a *NODE line needs `id, x, y, z`, found `{line}`"),
+                    ));
+                }
+                let id = integer(fields[0], line_no, "a node number")?;
+                let mut p = [0.0; 3];
+                for a in 0..3 {
+                    p[a] = fields[1 + a]
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| {
+                            ParseError::at(
+                                line_no,
+                                format!("expected a coordinate, found `{}`", fields[1 + a]),
+                            )
+                        })?;
+                }
+                if r.node_ids.insert(id, r.nodes.len() as u32).is_some() {
+                    return Err(ParseError::at(
+                        line_no,
+                        format!("node {id} is defined twice"),
+                    ));
+                }
+                r.nodes.push(p);
+                if !set_name.is_empty() {
+                    set_mut(&mut r.nsets, &set_name).ids.push(id);
+                }
+            }
+            Mode::Element { corners } => {
+                if pending.is_empty() {
+                    pending_line = line_no;
+                }
+                for f in &fields {
+                    pending.push(integer(f, line_no, "an element or node number")?);
+                }
+                if pending.len() > corners + 1 {
+                    return Err(ParseError::at(
+                        pending_line,
+                        format!(
+                            "element {} lists {} nodes; a {} element has {corners}",
+                            pending[0],
+                            pending.len() - 1,
+                            if corners == 8 { "C3D8" } else { "C3D4" }
+                        ),
+                    ));
+                }
+                if pending.len() == corners + 1 {
+                    let id = pending[0];
+                    if r.element_ids.insert(id, r.elements.len()).is_some() {
+                        return Err(ParseError::at(
+                            pending_line,
+                            format!("element {id} is defined twice"),
+                        ));
+                    }
+                    r.elements.push(Element {
+                        id,
+                        nodes: pending[1..].to_vec(),
+                        line: pending_line,
+                    });
+                    if !set_name.is_empty() {
+                        set_mut(&mut r.elsets, &set_name).ids.push(id);
+                    }
+                    pending.clear();
+                } else if !line.ends_with(',') {
+                    return Err(ParseError::at(
+                        pending_line,
+                        format!(
+                            "element {} lists {} nodes; a {} element has {corners} (continue a long line with a trailing comma)",
+                            pending[0],
+                            pending.len() - 1,
+                            if corners == 8 { "C3D8" } else { "C3D4" }
+                        ),
+                    ));
+                }
+            }
+            Mode::NSet { generate } | Mode::ElSet { generate } => {
+                let node = matches!(mode, Mode::NSet { .. });
+                let ids = set_ids(&r, &fields, generate, node, line_no)?;
+                let sets = if node { &mut r.nsets } else { &mut r.elsets };
+                set_mut(sets, &set_name).ids.extend(ids);
+            }
+            Mode::SurfaceElement => {
+                if fields.len() != 2 {
+                    return Err(ParseError::at(
+                        line_no,
+                        format!("a *SURFACE line needs `element-or-elset, Sn`, found `{line}`"),
+                    ));
+                }
+                let side = fields[1]
+                    .to_ascii_uppercase()
+                    .strip_prefix('S')
+                    .and_then(|s| s.parse::<usize>().ok())
+                    .filter(|&s| s >= 1)
+                    .ok_or_else(|| {
+                        ParseError::at(
+                            line_no,
+                            format!("expected a side S1, S2, ..., found `{}`", fields[1]),
+                        )
+                    })?;
+                r.surfaces.last_mut().expect("a surface is open").1.push((
+                    fields[0].to_string(),
+                    side,
+                    line_no,
+                ));
+            }
+            Mode::SurfaceNode => {
+                r.node_surfaces
+                    .last_mut()
+                    .expect("a surface is open")
+                    .1
+                    .push(fields[0].to_string());
+            }
+        }
+    }
+    if !pending.is_empty() {
+        return Err(ParseError::at(
+            pending_line,
+            format!("element {} lists too few nodes", pending[0]),
+        ));
+    }
+    r.finish()
+}
+
+/// The numbers of a set's data line: plain, `GENERATE` triples, or names of earlier sets.
+fn set_ids(r: &Reader, fields: &[&str], generate: bool, node: bool, line: usize) -> Res<Vec<u64>> {
+    if generate {
+        if !(2..=3).contains(&fields.len()) {
+            return Err(ParseError::at(
+                line,
+                "a GENERATE line needs `first, last[, step]`",
+            ));
+        }
+        let a = integer(fields[0], line, "a first number")?;
+        let b = integer(fields[1], line, "a last number")?;
+        let s = match fields.get(2) {
+            Some(f) => integer(f, line, "a step")?,
+            None => 1,
+        };
+        if s == 0 || b < a {
+            return Err(ParseError::at(
+                line,
+                format!("GENERATE {a}, {b}, {s}: need first <= last and step >= 1"),
+            ));
+        }
+        return Ok((a..=b).step_by(s as usize).collect());
+    }
+    let mut ids = Vec::new();
+    for f in fields {
+        match f.parse::<u64>() {
+            Ok(id) => ids.push(id),
+            Err(_) => {
+                let sets = if node { &r.nsets } else { &r.elsets };
+                let set = find_set(sets, f).ok_or_else(|| {
+                    ParseError::at(
+                        line,
+                        format!(
+                            "`{f}` is neither a number nor the name of an earlier {}",
+                            if node { "*NSET" } else { "*ELSET" }
+                        ),
+                    )
+                })?;
+                ids.extend_from_slice(&set.ids);
+            }
+        }
+    }
+    Ok(ids)
+}
+
+impl Reader {
+    fn node(&self, id: u64, line: usize, whose: &str) -> Res<u32> {
+        self.node_ids.get(&id).copied().ok_or_else(|| {
+            ParseError::at(
+                line,
+                format!("{whose} uses node {id}, which no *NODE defines"),
+            )
+        })
+    }
+
+    fn element(&self, id: u64, line: usize) -> Res<usize> {
+        self.element_ids
+            .get(&id)
+            .copied()
+            .ok_or_else(|| ParseError::at(line, format!("element {id} is not defined")))
+    }
+
+    fn finish(self) -> Res<FileMesh> {
+        let mut mesh = FileMesh {
+            nodes: self.nodes.clone(),
+            ..Default::default()
+        };
+        let mut corners: Vec<Vec<u32>> = Vec::with_capacity(self.elements.len());
+        for e in &self.elements {
+            let whose = format!("element {}", e.id);
+            let c: Vec<u32> = e
+                .nodes
+                .iter()
+                .map(|&n| self.node(n, e.line, &whose))
+                .collect::<Res<_>>()?;
+            if c.len() == 8 {
+                mesh.hexes.push(std::array::from_fn(|i| c[i]));
+            } else {
+                mesh.tets.push(std::array::from_fn(|i| c[i]));
+            }
+            corners.push(c);
+        }
+        for (name, entries, surface_line) in &self.surfaces {
+            let mut faces = Vec::new();
+            for (target, side, line) in entries {
+                let elements: Vec<u64> = match target.parse::<u64>() {
+                    Ok(id) => vec![id],
+                    Err(_) => find_set(&self.elsets, target)
+                        .ok_or_else(|| {
+                            ParseError::at(*line, format!("no *ELSET named `{target}`"))
+                        })?
+                        .ids
+                        .clone(),
+                };
+                for id in elements {
+                    let c = &corners[self.element(id, *line)?];
+                    let sides: &[&[usize]] = if c.len() == 8 {
+                        &C3D8_SIDES
+                    } else {
+                        &C3D4_SIDES
+                    };
+                    let s = sides.get(side - 1).ok_or_else(|| {
+                        ParseError::at(
+                            *line,
+                            format!("element {id} has sides S1 to S{}, not S{side}", sides.len()),
+                        )
+                    })?;
+                    faces.push(s.iter().map(|&k| c[k - 1]).collect());
+                }
+            }
+            mesh.surfaces.push(FileSurface {
+                name: name.clone(),
+                faces,
+                line: *surface_line,
+            });
+        }
+        let mut node_sets = Vec::new();
+        for s in &self.nsets {
+            let nodes = s
+                .ids
+                .iter()
+                .map(|&n| self.node(n, 0, &format!("*NSET {}", s.name)))
+                .collect::<Res<Vec<u32>>>()
+                .map_err(|mut e| {
+                    e.line = None;
+                    e
+                })?;
+            node_sets.push(NodeSet {
+                name: s.name.clone(),
+                nodes,
+            });
+        }
+        for (name, entries, line) in &self.node_surfaces {
+            let mut nodes = Vec::new();
+            for t in entries {
+                match t.parse::<u64>() {
+                    Ok(id) => nodes.push(self.node(id, *line, &format!("surface {name}"))?),
+                    Err(_) => {
+                        let set = find_set(&self.nsets, t).ok_or_else(|| {
+                            ParseError::at(*line, format!("no *NSET named `{t}`"))
+                        })?;
+                        for &id in &set.ids {
+                            nodes.push(self.node(id, *line, &format!("surface {name}"))?);
+                        }
+                    }
+                }
+            }
+            node_sets.push(NodeSet {
+                name: name.clone(),
+                nodes,
+            });
+        }
+        for s in &self.elsets {
+            if node_sets
+                .iter()
+                .any(|n| n.name.eq_ignore_ascii_case(&s.name))
+            {
+                continue;
+            }
+            let mut nodes = Vec::new();
+            for &id in &s.ids {
+                let k = self.element(id, 0).map_err(|mut e| {
+                    e.line = None;
+                    e.message = format!("*ELSET {}: {}", s.name, e.message);
+                    e
+                })?;
+                nodes.extend_from_slice(&corners[k]);
+            }
+            node_sets.push(NodeSet {
+                name: s.name.clone(),
+                nodes,
+            });
+        }
+        mesh.node_sets = node_sets;
+        Ok(mesh)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CUBE: &str = "\
+** a unit cube as one C3D8, bottom face as a surface
+*HEADING
+unit cube
+*NODE, NSET=ALL
+1, 0, 0, 0
+2, 1, 0, 0
+3, 1, 1, 0
+4, 0, 1, 0
+5, 0, 0, 1
+6, 1, 0, 1
+7, 1, 1, 1
+8, 0, 1, 1
+*ELEMENT, TYPE=C3D8, ELSET=CUBE
+10, 1, 2, 3, 4,
+    5, 6, 7, 8
+*NSET, NSET=TOP, GENERATE
+5, 8
+*SURFACE, NAME=Bottom, TYPE=ELEMENT
+CUBE, S1
+*MATERIAL, NAME=STEEL
+*ELASTIC
+2.1e5, 0.3
+";
+
+    #[test]
+    fn reads_nodes_elements_sets_and_surfaces() {
+        let m = read(CUBE).unwrap();
+        assert_eq!(m.nodes.len(), 8);
+        assert_eq!(m.hexes, vec![[0, 1, 2, 3, 4, 5, 6, 7]]);
+        assert_eq!(m.surfaces[0].name, "Bottom");
+        assert_eq!(m.surfaces[0].faces, vec![vec![0, 1, 2, 3]]);
+        let top = m.node_sets.iter().find(|s| s.name == "TOP").unwrap();
+        assert_eq!(top.nodes, vec![4, 5, 6, 7]);
+        assert!(m.node_sets.iter().any(|s| s.name == "CUBE"));
+    }
+
+    #[test]
+    fn an_unsupported_element_type_names_the_type_and_line() {
+        let t = CUBE.replace("TYPE=C3D8,", "TYPE=C3D20R,");
+        let e = read(&t).unwrap_err();
+        assert_eq!(e.line, Some(13));
+        assert!(e.message.contains("C3D20R"), "{}", e.message);
+    }
+
+    #[test]
+    fn a_missing_node_names_the_element_line() {
+        let t = CUBE.replace("5, 6, 7, 8", "5, 6, 7, 99");
+        let e = read(&t).unwrap_err();
+        assert_eq!(e.line, Some(14));
+        assert!(e.message.contains("node 99"), "{}", e.message);
+    }
+}

@@ -1,0 +1,627 @@
+//! Gmsh MSH 4.1 reader, ASCII and binary (little-endian, 8-byte `size_t`).
+//!
+//! Sections read: `$MeshFormat`, `$PhysicalNames`, `$Entities` (which physical groups each
+//! entity belongs to), `$Nodes`, `$Elements`; others are skipped. Hexahedra (type 5) and
+//! tetrahedra (type 4) make the body; triangles (2) and quadrangles (3) make the surfaces:
+//! each physical group of dimension 2 is a surface named by its `$PhysicalNames` entry (or
+//! by its number), and every physical group, of any dimension, is also a node set of the
+//! nodes of its elements. Higher-order and other volume elements are refused.
+
+use std::collections::HashMap;
+
+use super::import::{FileMesh, FileSurface, ParseError};
+use super::NodeSet;
+
+type Res<T> = std::result::Result<T, ParseError>;
+
+/// Nodes per element of the Gmsh element types a mesh may hold, and a name for messages.
+fn element_kind(t: i64) -> Option<(usize, &'static str)> {
+    Some(match t {
+        1 => (2, "2-node line"),
+        2 => (3, "3-node triangle"),
+        3 => (4, "4-node quadrangle"),
+        4 => (4, "4-node tetrahedron"),
+        5 => (8, "8-node hexahedron"),
+        6 => (6, "6-node prism"),
+        7 => (5, "5-node pyramid"),
+        8 => (3, "3-node line"),
+        9 => (6, "6-node triangle"),
+        10 => (9, "9-node quadrangle"),
+        11 => (10, "10-node tetrahedron"),
+        12 => (27, "27-node hexahedron"),
+        13 => (18, "18-node prism"),
+        14 => (14, "14-node pyramid"),
+        15 => (1, "point"),
+        16 => (8, "8-node quadrangle"),
+        17 => (20, "20-node hexahedron"),
+        18 => (15, "15-node prism"),
+        19 => (13, "13-node pyramid"),
+        _ => return None,
+    })
+}
+
+/// Dimension of the Gmsh element types above.
+fn element_dim(t: i64) -> usize {
+    match t {
+        15 => 0,
+        1 | 8 => 1,
+        2 | 3 | 9 | 10 | 16 => 2,
+        _ => 3,
+    }
+}
+
+struct Cursor<'a> {
+    b: &'a [u8],
+    pos: usize,
+    binary: bool,
+}
+
+impl<'a> Cursor<'a> {
+    fn line_at(&self, pos: usize) -> usize {
+        1 + self.b[..pos.min(self.b.len())]
+            .iter()
+            .filter(|&&c| c == b'\n')
+            .count()
+    }
+
+    fn err(&self, message: impl Into<String>) -> ParseError {
+        ParseError::at(self.line_at(self.pos), message)
+    }
+
+    fn skip_space(&mut self) {
+        while self.pos < self.b.len() && self.b[self.pos].is_ascii_whitespace() {
+            self.pos += 1;
+        }
+    }
+
+    fn at_end(&mut self) -> bool {
+        self.skip_space();
+        self.pos >= self.b.len()
+    }
+
+    /// The next line (without its end), after skipping blank space.
+    fn line(&mut self) -> Res<&'a str> {
+        self.skip_space();
+        let start = self.pos;
+        while self.pos < self.b.len() && self.b[self.pos] != b'\n' {
+            self.pos += 1;
+        }
+        let raw = &self.b[start..self.pos];
+        if self.pos < self.b.len() {
+            self.pos += 1;
+        }
+        std::str::from_utf8(raw)
+            .map(|s| s.trim_end_matches('\r'))
+            .map_err(|_| ParseError::at(self.line_at(start), "expected a line of text"))
+    }
+
+    fn token(&mut self, what: &str) -> Res<&'a str> {
+        self.skip_space();
+        let start = self.pos;
+        while self.pos < self.b.len() && !self.b[self.pos].is_ascii_whitespace() {
+            self.pos += 1;
+        }
+        if start == self.pos {
+            return Err(self.err(format!("the file ends where {what} was expected")));
+        }
+        std::str::from_utf8(&self.b[start..self.pos])
+            .map_err(|_| ParseError::at(self.line_at(start), format!("expected {what}")))
+    }
+
+    fn number<T: std::str::FromStr>(&mut self, what: &str) -> Res<T> {
+        let start = self.pos;
+        let t = self.token(what)?;
+        t.parse().map_err(|_| {
+            let mut c = Cursor {
+                pos: start,
+                ..*self
+            };
+            c.skip_space();
+            c.err(format!("expected {what}, found `{t}`"))
+        })
+    }
+
+    fn bytes(&mut self, n: usize, what: &str) -> Res<&'a [u8]> {
+        if self.pos + n > self.b.len() {
+            return Err(self.err(format!("the file ends inside {what}")));
+        }
+        let s = &self.b[self.pos..self.pos + n];
+        self.pos += n;
+        Ok(s)
+    }
+
+    /// An integer: a text token, or in binary sections an `int` (4 bytes).
+    fn int(&mut self, what: &str) -> Res<i64> {
+        if self.binary {
+            let b = self.bytes(4, what)?;
+            Ok(i32::from_le_bytes(b.try_into().expect("4 bytes")) as i64)
+        } else {
+            self.number(what)
+        }
+    }
+
+    /// A count or a tag of type `size_t`: a text token, or 8 bytes in binary sections.
+    fn size(&mut self, what: &str) -> Res<u64> {
+        if self.binary {
+            let b = self.bytes(8, what)?;
+            Ok(u64::from_le_bytes(b.try_into().expect("8 bytes")))
+        } else {
+            self.number(what)
+        }
+    }
+
+    fn real(&mut self, what: &str) -> Res<f64> {
+        if self.binary {
+            let b = self.bytes(8, what)?;
+            Ok(f64::from_le_bytes(b.try_into().expect("8 bytes")))
+        } else {
+            self.number(what)
+        }
+    }
+
+    /// Expects the line `$End<name>`.
+    fn end(&mut self, name: &str) -> Res<()> {
+        let l = self.line()?;
+        if l.trim() == format!("$End{name}") {
+            Ok(())
+        } else {
+            Err(self.err_prev(format!("expected `$End{name}`, found `{}`", l.trim())))
+        }
+    }
+
+    /// An error about the line just read.
+    fn err_prev(&self, message: impl Into<String>) -> ParseError {
+        ParseError::at(self.line_at(self.pos.saturating_sub(1)), message)
+    }
+
+    /// A count that must fit in memory: refuse absurd values from a corrupt file.
+    fn count(&mut self, what: &str) -> Res<usize> {
+        let n = self.size(what)?;
+        if n as usize > self.b.len() {
+            return Err(self.err(format!("{what} = {n} is more than the file can hold")));
+        }
+        Ok(n as usize)
+    }
+}
+
+struct Block {
+    dim: usize,
+    tag: i64,
+    kind: i64,
+    elements: Vec<Vec<u64>>,
+    line: usize,
+}
+
+/// Reads a whole `.msh` file.
+pub fn read(bytes: &[u8]) -> Res<FileMesh> {
+    let mut c = Cursor {
+        b: bytes,
+        pos: 0,
+        binary: false,
+    };
+    let mut seen_format = false;
+    let mut binary = false;
+    let mut names: HashMap<(usize, i64), String> = HashMap::new();
+    let mut physicals: HashMap<(usize, i64), Vec<i64>> = HashMap::new();
+    let mut node_tags: HashMap<u64, u32> = HashMap::new();
+    let mut nodes: Vec<[f64; 3]> = Vec::new();
+    let mut blocks: Vec<Block> = Vec::new();
+    while !c.at_end() {
+        let header = c.line()?.trim();
+        let Some(section) = header.strip_prefix('$') else {
+            return Err(c.err_prev(format!(
+                "expected a section such as `$Nodes`, found `{header}`"
+            )));
+        };
+        if section != "MeshFormat" && !seen_format {
+            return Err(c.err_prev("the file does not start with `$MeshFormat`: not a Gmsh mesh"));
+        }
+        c.binary = false;
+        match section {
+            "MeshFormat" => {
+                let version: String = c.token("the format version")?.to_string();
+                let file_type: i64 = c.number("the file type (0 ASCII, 1 binary)")?;
+                let data_size: i64 = c.number("the data size")?;
+                if version != "4.1" {
+                    return Err(c.err(format!(
+                        "MSH format version {version} is not supported: save the mesh as version 4.1 (`-format msh41`, or Mesh.MshFileVersion = 4.1)"
+                    )));
+                }
+                if data_size != 8 {
+                    return Err(c.err(format!(
+                        "data size {data_size} is not supported (expected 8)"
+                    )));
+                }
+                match file_type {
+                    0 => {}
+                    1 => {
+                        // the rest of the line, then the binary one
+                        while c.pos < c.b.len() && c.b[c.pos] != b'\n' {
+                            c.pos += 1;
+                        }
+                        c.pos += 1;
+                        binary = true;
+                        let one = c.bytes(4, "the endianness check")?;
+                        if i32::from_le_bytes(one.try_into().expect("4 bytes")) != 1 {
+                            return Err(c.err("a big-endian binary file is not supported"));
+                        }
+                    }
+                    t => return Err(c.err(format!("unknown file type {t} (expected 0 or 1)"))),
+                }
+                seen_format = true;
+                c.end("MeshFormat")?;
+            }
+            "PhysicalNames" => {
+                let n: usize = c.number("the number of physical names")?;
+                for _ in 0..n {
+                    let dim: usize = c.number("a physical dimension")?;
+                    let tag: i64 = c.number("a physical tag")?;
+                    let name = c.line()?.trim().trim_matches('"').to_string();
+                    names.insert((dim, tag), name);
+                }
+                c.end("PhysicalNames")?;
+            }
+            "Entities" => {
+                c.binary = binary;
+                let counts = [
+                    c.count("the number of points")?,
+                    c.count("the number of curves")?,
+                    c.count("the number of surfaces")?,
+                    c.count("the number of volumes")?,
+                ];
+                for (dim, &n) in counts.iter().enumerate() {
+                    for _ in 0..n {
+                        let tag = c.int("an entity tag")?;
+                        let coords = if dim == 0 { 3 } else { 6 };
+                        for _ in 0..coords {
+                            c.real("an entity coordinate")?;
+                        }
+                        let np = c.count("the number of physical tags")?;
+                        let mut tags = Vec::with_capacity(np);
+                        for _ in 0..np {
+                            tags.push(c.int("a physical tag")?);
+                        }
+                        physicals.insert((dim, tag), tags);
+                        if dim > 0 {
+                            let nb = c.count("the number of bounding entities")?;
+                            for _ in 0..nb {
+                                c.int("a bounding entity tag")?;
+                            }
+                        }
+                    }
+                }
+                c.binary = false;
+                c.end("Entities")?;
+            }
+            "Nodes" => {
+                c.binary = binary;
+                let nblocks = c.count("the number of node blocks")?;
+                let total = c.count("the number of nodes")?;
+                c.size("the smallest node tag")?;
+                c.size("the largest node tag")?;
+                nodes.reserve(total);
+                for _ in 0..nblocks {
+                    let dim = c.int("an entity dimension")?;
+                    c.int("an entity tag")?;
+                    let parametric = c.int("the parametric flag")?;
+                    let n = c.count("the number of nodes in the block")?;
+                    let mut tags = Vec::with_capacity(n);
+                    for _ in 0..n {
+                        tags.push(c.size("a node tag")?);
+                    }
+                    let extra = if parametric != 0 {
+                        dim.max(0) as usize
+                    } else {
+                        0
+                    };
+                    for tag in tags {
+                        let p = [
+                            c.real("a node coordinate")?,
+                            c.real("a node coordinate")?,
+                            c.real("a node coordinate")?,
+                        ];
+                        for _ in 0..extra {
+                            c.real("a parametric coordinate")?;
+                        }
+                        if !p.iter().all(|v| v.is_finite()) {
+                            return Err(
+                                c.err(format!("node {tag} has a coordinate that is not finite"))
+                            );
+                        }
+                        if node_tags.insert(tag, nodes.len() as u32).is_some() {
+                            return Err(c.err(format!("node tag {tag} is defined twice")));
+                        }
+                        nodes.push(p);
+                    }
+                }
+                c.binary = false;
+                c.end("Nodes")?;
+            }
+            "Elements" => {
+                if !binary {
+                    read_ascii_elements(&mut c, &mut blocks)?;
+                } else {
+                    c.binary = true;
+                    let nblocks = c.count("the number of element blocks")?;
+                    c.count("the number of elements")?;
+                    c.size("the smallest element tag")?;
+                    c.size("the largest element tag")?;
+                    for _ in 0..nblocks {
+                        let line = c.line_at(c.pos);
+                        let dim = c.int("an entity dimension")?;
+                        let tag = c.int("an entity tag")?;
+                        let kind = c.int("an element type")?;
+                        let n = c.count("the number of elements in the block")?;
+                        let Some((per, _)) = element_kind(kind) else {
+                            return Err(c.err(format!("unknown element type {kind}")));
+                        };
+                        let mut elements = Vec::with_capacity(n);
+                        for _ in 0..n {
+                            c.size("an element tag")?;
+                            let mut e = Vec::with_capacity(per);
+                            for _ in 0..per {
+                                e.push(c.size("a node tag")?);
+                            }
+                            elements.push(e);
+                        }
+                        blocks.push(Block {
+                            dim: dim.max(0) as usize,
+                            tag,
+                            kind,
+                            elements,
+                            line,
+                        });
+                    }
+                    c.binary = false;
+                }
+                c.end("Elements")?;
+            }
+            other => {
+                // a section we do not use: skip to its end marker
+                let end = format!("$End{other}");
+                let start = c.pos;
+                let rest = &c.b[start..];
+                let Some(at) = rest.windows(end.len()).position(|w| w == end.as_bytes()) else {
+                    return Err(c.err_prev(format!("section `${other}` has no `{end}`")));
+                };
+                c.pos = start + at + end.len();
+            }
+        }
+    }
+    if !seen_format {
+        return Err(ParseError::whole("empty file: not a Gmsh mesh"));
+    }
+    assemble(nodes, &node_tags, &blocks, &physicals, &names)
+}
+
+fn read_ascii_elements(c: &mut Cursor, blocks: &mut Vec<Block>) -> Res<()> {
+    let nblocks = c.count("the number of element blocks")?;
+    c.count("the number of elements")?;
+    c.size("the smallest element tag")?;
+    c.size("the largest element tag")?;
+    for _ in 0..nblocks {
+        c.skip_space();
+        let line = c.line_at(c.pos);
+        let dim: i64 = c.number("an entity dimension")?;
+        let tag: i64 = c.number("an entity tag")?;
+        let kind: i64 = c.number("an element type")?;
+        let n = c.count("the number of elements in the block")?;
+        let per = element_kind(kind).map(|k| k.0);
+        let mut elements = Vec::with_capacity(n);
+        for _ in 0..n {
+            let text = c.line()?;
+            let mut fields = text.split_whitespace();
+            fields.next(); // element tag
+            let e: Vec<u64> = fields
+                .map(|f| f.parse::<u64>())
+                .collect::<Result<_, _>>()
+                .map_err(|_| {
+                    c.err_prev(format!(
+                        "expected an element tag and its node tags, found `{text}`"
+                    ))
+                })?;
+            if let Some(per) = per {
+                if e.len() != per {
+                    return Err(c.err_prev(format!(
+                        "an element of type {kind} has {per} nodes, this line gives {}",
+                        e.len()
+                    )));
+                }
+            }
+            elements.push(e);
+        }
+        if per.is_none() && !elements.is_empty() {
+            return Err(ParseError::at(line, format!("unknown element type {kind}")));
+        }
+        blocks.push(Block {
+            dim: dim.max(0) as usize,
+            tag,
+            kind,
+            elements,
+            line,
+        });
+    }
+    Ok(())
+}
+
+/// A physical group as collected: (dimension, tag), its faces (2D groups), its nodes, and
+/// the line of its first block.
+type Group = ((usize, i64), Vec<Vec<u32>>, Vec<u32>, usize);
+
+fn assemble(
+    nodes: Vec<[f64; 3]>,
+    node_tags: &HashMap<u64, u32>,
+    blocks: &[Block],
+    physicals: &HashMap<(usize, i64), Vec<i64>>,
+    names: &HashMap<(usize, i64), String>,
+) -> Res<FileMesh> {
+    let mut mesh = FileMesh {
+        nodes,
+        ..Default::default()
+    };
+    let mut groups: Vec<Group> = Vec::new();
+    for b in blocks {
+        let (_, kind_name) = element_kind(b.kind).expect("checked while reading");
+        let dim = element_dim(b.kind);
+        let resolve = |e: &[u64]| -> Res<Vec<u32>> {
+            e.iter()
+                .map(|t| {
+                    node_tags.get(t).copied().ok_or_else(|| {
+                        ParseError::at(
+                            b.line,
+                            format!("an element of this block uses node {t}, which `$Nodes` does not define"),
+                        )
+                    })
+                })
+                .collect()
+        };
+        let mut block_nodes: Vec<Vec<u32>> = Vec::with_capacity(b.elements.len());
+        for e in &b.elements {
+            block_nodes.push(resolve(e)?);
+        }
+        match b.kind {
+            5 => mesh
+                .hexes
+                .extend(block_nodes.iter().map(|e| std::array::from_fn(|k| e[k]))),
+            4 => mesh
+                .tets
+                .extend(block_nodes.iter().map(|e| std::array::from_fn(|k| e[k]))),
+            1 | 2 | 3 | 15 => {}
+            _ if dim == 3 || dim == 2 => {
+                return Err(ParseError::at(
+                    b.line,
+                    format!(
+                        "element type {} ({kind_name}) is not supported: mesh with linear tetrahedra (type 4) or hexahedra (type 5), `-order 1`",
+                        b.kind
+                    ),
+                ))
+            }
+            _ => {}
+        }
+        for &p in physicals
+            .get(&(b.dim, b.tag))
+            .map(|v| v.as_slice())
+            .unwrap_or(&[])
+        {
+            let key = (b.dim, p);
+            let g = match groups.iter().position(|g| g.0 == key) {
+                Some(i) => i,
+                None => {
+                    groups.push((key, Vec::new(), Vec::new(), b.line));
+                    groups.len() - 1
+                }
+            };
+            for e in &block_nodes {
+                groups[g].2.extend_from_slice(e);
+                if matches!(b.kind, 2 | 3) {
+                    groups[g].1.push(e.clone());
+                }
+            }
+        }
+    }
+    for ((dim, tag), faces, mut set, line) in groups {
+        let name = names
+            .get(&(dim, tag))
+            .cloned()
+            .unwrap_or_else(|| tag.to_string());
+        if dim == 2 {
+            mesh.surfaces.push(FileSurface {
+                name: name.clone(),
+                faces,
+                line,
+            });
+        }
+        set.sort_unstable();
+        set.dedup();
+        mesh.node_sets.push(NodeSet { name, nodes: set });
+    }
+    Ok(mesh)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit cube as one hex, its bottom face a physical surface and its volume a physical
+    /// group, laid out as Gmsh 4.1 writes it.
+    pub(crate) const CUBE: &str = r#"$MeshFormat
+4.1 0 8
+$EndMeshFormat
+$PhysicalNames
+2
+2 1 "bottom"
+3 2 "cube"
+$EndPhysicalNames
+$Entities
+0 0 1 1
+1 0 0 0 1 1 0 1 1 0
+1 0 0 0 1 1 1 1 2 1 1
+$EndEntities
+$Nodes
+2 8 1 8
+2 1 0 4
+1
+2
+3
+4
+0 0 0
+1 0 0
+1 1 0
+0 1 0
+3 1 0 4
+5
+6
+7
+8
+0 0 1
+1 0 1
+1 1 1
+0 1 1
+$EndNodes
+$Elements
+2 2 1 2
+2 1 3 1
+1 1 4 3 2
+3 1 5 1
+2 1 2 3 4 5 6 7 8
+$EndElements
+"#;
+
+    #[test]
+    fn reads_a_hex_with_a_named_surface() {
+        let m = read(CUBE.as_bytes()).unwrap();
+        assert_eq!(m.nodes.len(), 8);
+        assert_eq!(m.hexes, vec![[0, 1, 2, 3, 4, 5, 6, 7]]);
+        assert_eq!(m.surfaces.len(), 1);
+        assert_eq!(m.surfaces[0].name, "bottom");
+        assert_eq!(m.surfaces[0].faces, vec![vec![0, 3, 2, 1]]);
+        let cube = m.node_sets.iter().find(|s| s.name == "cube").unwrap();
+        assert_eq!(cube.nodes, (0..8).collect::<Vec<u32>>());
+    }
+
+    #[test]
+    fn a_bad_node_coordinate_names_its_line() {
+        let bad = CUBE.replace("1 1 0\n0 1 0\n3 1", "1 1 0\n0 x 0\n3 1");
+        let e = read(bad.as_bytes()).unwrap_err();
+        assert_eq!(e.line, Some(24), "{e:?}");
+        assert!(e.message.contains("`x`"), "{}", e.message);
+    }
+
+    #[test]
+    fn an_old_format_is_refused_with_the_fix() {
+        let old = CUBE.replace("4.1 0 8", "2.2 0 8");
+        let e = read(old.as_bytes()).unwrap_err();
+        assert_eq!(e.line, Some(2));
+        assert!(e.message.contains("version 4.1"), "{}", e.message);
+    }
+
+    #[test]
+    fn second_order_elements_are_refused() {
+        let t = CUBE.replace(
+            "3 1 5 1\n2 1 2 3 4 5 6 7 8",
+            "3 1 11 1\n2 1 2 3 4 5 6 7 8 1 2",
+        );
+        let e = read(t.as_bytes()).unwrap_err();
+        assert!(e.message.contains("10-node tetrahedron"), "{}", e.message);
+    }
+}

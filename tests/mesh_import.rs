@@ -1,0 +1,266 @@
+//! Meshes from files: Gmsh `.msh` 4.1 (ASCII and binary) and Abaqus/CalculiX `.inp`, hex8
+//! and tet4 bodies, named surfaces and node sets in `[[contact]]` and `[[fix]]`, and the
+//! errors of malformed files and missing names.
+
+mod common;
+use common::*;
+
+use impact::mesh::import;
+use impact::scene::Scene;
+
+fn meshes() -> std::path::PathBuf {
+    repo().join("scenes").join("meshes")
+}
+
+/// Sum of force x dt over the rows of a history (the rows' impulse).
+fn impulse(h: &History, column: &str) -> f64 {
+    let t = h.col("time");
+    let f = h.col(column);
+    (1..t.len()).map(|i| f[i] * (t[i] - t[i - 1])).sum()
+}
+
+/// The same unit cube as 8 x 8 x 8 hex8 (`.inp`) and as 2740 tet4 (`.msh`) strikes a rigid
+/// plane flat at 1: the rebound centre-of-mass velocities agree within 3%, each has left the
+/// plane, and the plane's impulse equals each block's change of momentum (rho V = 0.01)
+/// to 1e-9 of it.
+#[test]
+fn hex8_and_tet4_blocks_rebound_alike() {
+    let mut rebound = Vec::new();
+    for kind in ["hex", "tet"] {
+        let name = format!("block_{kind}_drop");
+        let (s, h) = run_scene_text(&name, &scene_text(&format!("{name}.toml")));
+        let s = s.expect("run completes");
+        let vz = h.last("block.vz");
+        let f = h.col("ground.normal_force");
+        let p = impulse(&h, "ground.normal_force");
+        let dp = 0.01 * (vz - (-1.0));
+        eprintln!(
+            "{kind}: {} elements, {} steps, rebound {vz:.5}, impulse {p:.6e} vs m dv {dp:.6e}",
+            s.elements, s.steps
+        );
+        assert!(vz > 0.5, "{kind}: rebound {vz}");
+        assert_eq!(*f.last().unwrap(), 0.0, "{kind}: still in contact at the end");
+        assert!((p - dp).abs() <= 1e-9 * dp, "{kind}: impulse {p} vs {dp}");
+        rebound.push(vz);
+    }
+    let diff = (rebound[0] - rebound[1]).abs() / rebound[0];
+    eprintln!("hex8 {:.5} tet4 {:.5}: {:.3}% apart", rebound[0], rebound[1], 100.0 * diff);
+    assert!(diff <= 0.03, "hex8 {} and tet4 {} differ by {diff}", rebound[0], rebound[1]);
+}
+
+/// A tet4 block (`.msh`, secondary surface `bottom`) drops onto a hex8 block (`.inp`,
+/// primary surface `TOP`) whose base is held by the node set `BASE`: contact forces
+/// appear, the dropped block's vertical momentum changes by the contact's impulse (to 1e-3:
+/// the impulse sums normal impulses, and the normals of the deforming primary face tilt by
+/// a little), and the base nodes never move.
+#[test]
+fn named_surfaces_and_sets_drive_contact_and_fixes() {
+    let text = r#"
+title = "tet block on hex block"
+[run]
+end_time = 0.05
+method = "explicit"
+[[material]]
+name = "elastic"
+density = 0.01
+youngs_modulus = 100.0
+poissons_ratio = 0.3
+[[body]]
+name = "base"
+material = "elastic"
+mesh = "meshes/block_hex.inp"
+[[body]]
+name = "drop"
+material = "elastic"
+mesh = "meshes/block_tet.msh"
+scale = 0.5
+translate = [0.1, 0.0, 1.01]
+velocity = [0.0, 0.0, -1.0]
+[[contact]]
+name = "stack"
+secondary = { body = "drop", surface = "bottom" }
+primary = { body = "base", surface = "TOP" }
+[[fix]]
+body = "base"
+set = "BASE"
+components = ["x", "y", "z"]
+[[probe]]
+name = "corner"
+body = "base"
+point = [-0.5, -0.5, 0.0]
+"#;
+    let (s, h) = run_scene_text("stacked_blocks", text);
+    let s = s.expect("run completes");
+    let f = h.col("stack.normal_force");
+    let peak = f.iter().copied().fold(0.0, f64::max);
+    let p = impulse(&h, "stack.normal_force");
+    // the dropped block is a cube of side 0.5: mass 0.01 * 0.125
+    let dp = 0.01 * 0.125 * (h.last("drop.vz") + 1.0);
+    eprintln!(
+        "{} steps: peak force {peak:.4}, impulse {p:.6e}, m dv {dp:.6e}, drop vz {:.4}",
+        s.steps,
+        h.last("drop.vz")
+    );
+    assert!(peak > 0.0 && p > 0.0);
+    assert!((p - dp).abs() <= 1e-3 * dp, "impulse {p} vs momentum change {dp}");
+    for c in ["corner.ux", "corner.uy", "corner.uz"] {
+        assert!(h.col(c).iter().all(|&u| u == 0.0), "{c} moved");
+    }
+}
+
+/// The binary copy of the block mesh reads to the ASCII one: the same elements, surfaces and
+/// sets, and coordinates equal to the 16 digits the ASCII file keeps.
+#[test]
+fn ascii_and_binary_msh_read_alike() {
+    let a = import(&meshes().join("block_tet.msh"), 1.0, [0.0; 3]).expect("ascii");
+    let b = import(&meshes().join("block_tet_binary.msh"), 1.0, [0.0; 3]).expect("binary");
+    assert_eq!(a.nodes.len(), b.nodes.len());
+    let dx = a
+        .nodes
+        .iter()
+        .zip(&b.nodes)
+        .flat_map(|(p, q)| (0..3).map(move |k| (p[k] - q[k]).abs()))
+        .fold(0.0, f64::max);
+    assert!(dx <= 1e-15, "coordinates differ by {dx}");
+    assert!(a.tets == b.tets, "tets differ");
+    assert!(a.surfaces == b.surfaces, "surfaces differ");
+    assert!(a.node_sets == b.node_sets, "node sets differ");
+    assert_eq!(a.tets.len(), 2740);
+    // the boundary of a unit cube: area 6, and the named surfaces cover it
+    let area = |faces: &[[u32; 4]]| -> f64 {
+        faces
+            .iter()
+            .map(|q| impact::contact::quad_area(&q.map(|n| a.nodes[n as usize])))
+            .sum()
+    };
+    assert!((area(&a.boundary) - 6.0).abs() < 1e-9);
+    assert!((area(&a.surface("bottom").unwrap().faces) - 1.0).abs() < 1e-9);
+    assert!((area(&a.surface("sides").unwrap().faces) - 4.0).abs() < 1e-9);
+}
+
+/// Scale, then translate: the `.inp` cube becomes [0, 2] x [0, 2] x [1, 3].
+#[test]
+fn scale_then_translate() {
+    let m = import(&meshes().join("block_hex.inp"), 2.0, [1.0, 1.0, 1.0]).expect("deck");
+    let lo = [0, 1, 2].map(|a| m.nodes.iter().map(|p| p[a]).fold(f64::INFINITY, f64::min));
+    let hi = [0, 1, 2].map(|a| m.nodes.iter().map(|p| p[a]).fold(f64::NEG_INFINITY, f64::max));
+    assert_eq!((lo, hi), ([0.0, 0.0, 1.0], [2.0, 2.0, 3.0]));
+    assert_eq!(m.hexes.len(), 512);
+    assert_eq!(m.node_set("BASE").unwrap().nodes.len(), 81);
+}
+
+/// Writes `contents` as `name` in a fresh folder with a scene that imports it, and returns
+/// the error of reading that scene.
+fn scene_error(name: &str, contents: &[u8], extra: &str) -> String {
+    let dir = out_dir(&format!("bad_mesh_{name}"));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join(name), contents).unwrap();
+    let scene = format!(
+        r#"
+[run]
+end_time = 1.0
+time_step = 0.1
+[[material]]
+name = "m"
+density = 1.0
+youngs_modulus = 1.0
+poissons_ratio = 0.0
+[[body]]
+name = "b"
+material = "m"
+mesh = "{name}"
+{extra}"#
+    );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, scene).unwrap();
+    let e = Scene::load(&path).expect_err("must be rejected");
+    e.to_string()
+}
+
+#[test]
+fn malformed_msh_names_the_file_and_line() {
+    let text = std::fs::read_to_string(meshes().join("block_tet.msh")).unwrap();
+    // break the 3rd line of the node coordinates block
+    let lines: Vec<&str> = text.lines().collect();
+    let at = lines.iter().position(|l| *l == "$Nodes").unwrap() + 4;
+    let mut bad: Vec<String> = lines.iter().map(|s| s.to_string()).collect();
+    bad[at] = "oops".into();
+    let msg = scene_error("bad.msh", bad.join("\n").as_bytes(), "");
+    eprintln!("{msg}");
+    assert!(msg.contains(&format!("bad.msh:{}:", at + 1)), "{msg}");
+    assert!(msg.contains("`oops`"), "{msg}");
+}
+
+#[test]
+fn malformed_inp_names_the_file_and_line() {
+    let text = std::fs::read_to_string(meshes().join("block_hex.inp")).unwrap();
+    let bad = text.replacen("2, -0.375000, -0.500000, 0.000000", "2, -0.375000, abc, 0.000000", 1);
+    let msg = scene_error("bad.inp", bad.as_bytes(), "");
+    eprintln!("{msg}");
+    assert!(msg.contains("bad.inp:6:"), "{msg}");
+    assert!(msg.contains("`abc`"), "{msg}");
+}
+
+#[test]
+fn unsupported_element_type_is_named() {
+    let text = std::fs::read_to_string(meshes().join("block_hex.inp")).unwrap();
+    let bad = text.replace("TYPE=C3D8,", "TYPE=C3D8R,");
+    let msg = scene_error("reduced.inp", bad.as_bytes(), "");
+    assert!(msg.contains("C3D8R") && msg.contains("reduced.inp:"), "{msg}");
+}
+
+#[test]
+fn missing_surface_lists_the_surfaces() {
+    let text = std::fs::read_to_string(meshes().join("block_tet.msh")).unwrap();
+    let msg = scene_error(
+        "block.msh",
+        text.as_bytes(),
+        r#"
+[[rigid_plane]]
+name = "p"
+point = [0.0, 0.0, -1.0]
+normal = [0.0, 0.0, 1.0]
+[[body]]
+name = "c"
+material = "m"
+box = { min = [0.0, 0.0, -1.0], max = [1.0, 1.0, -0.5], divisions = [1, 1, 1] }
+[[contact]]
+name = "k"
+secondary = { body = "b", surface = "botom" }
+primary = { body = "c", face = "z+" }
+"#,
+    );
+    eprintln!("{msg}");
+    assert!(msg.contains("contact[0].secondary.surface"), "{msg}");
+    assert!(msg.contains("no surface named `botom`"), "{msg}");
+    assert!(msg.contains("did you mean `bottom`"), "{msg}");
+}
+
+#[test]
+fn missing_node_set_lists_the_sets() {
+    let text = std::fs::read_to_string(meshes().join("block_hex.inp")).unwrap();
+    let msg = scene_error(
+        "block.inp",
+        text.as_bytes(),
+        r#"
+[[fix]]
+body = "b"
+set = "BOTTOM_NODES"
+components = ["z"]
+"#,
+    );
+    eprintln!("{msg}");
+    assert!(msg.contains("fix[0].set") && msg.contains("BOTTOM_NODES"), "{msg}");
+    assert!(msg.contains("\"BASE\""), "{msg}");
+}
+
+#[test]
+fn a_missing_mesh_file_is_named() {
+    let dir = out_dir("missing_mesh");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.toml");
+    let text = scene_text("block_tet_drop.toml").replace("meshes/block_tet.msh", "nowhere.msh");
+    std::fs::write(&path, text).unwrap();
+    let msg = Scene::load(&path).expect_err("must be rejected").to_string();
+    assert!(msg.contains("nowhere.msh") && msg.contains("cannot read"), "{msg}");
+}
