@@ -6,7 +6,8 @@
 Reads RUN_DIR/STEM.pvd and every frame it lists, and RUN_DIR/history.csv. For each probe
 NAME=NODE (the probe's node number), the displacement meshio reads at that node must equal
 the history's NAME.ux/uy/uz in the row of the frame's time (to 1e-12 relative to the
-largest displacement). Also checks: every frame has the same points and hexahedra, the
+largest displacement). Also checks: every frame has the same points and cells (hexahedra
+and/or tetrahedra), the
 arrays the docs promise are there with the right shapes, and von_mises agrees with the
 stress components. Prints one line per frame; exits 1 on the first failure.
 """
@@ -41,27 +42,32 @@ def main():
     worst = 0.0
     for t, name in frames:
         mesh = meshio.read(f"{run_dir}/{name}")
-        cells = mesh.cells_dict.get("hexahedron")
-        if cells is None:
-            fail(f"{name}: no hexahedra")
+        kinds = [k for k in ("hexahedron", "tetra") if k in mesh.cells_dict]
+        if not kinds or len(kinds) != len(mesh.cells_dict):
+            fail(f"{name}: cells {list(mesh.cells_dict)}, expected hexahedra and/or tetrahedra")
+        shape = (mesh.points.shape, [(k, mesh.cells_dict[k].shape) for k in kinds])
         if first is None:
-            first = (mesh.points.shape, cells.shape)
-        elif (mesh.points.shape, cells.shape) != first:
+            first = shape
+        elif shape != first:
             fail(f"{name}: mesh changed")
-        n, m = mesh.points.shape[0], cells.shape[0]
+        n = mesh.points.shape[0]
         for key, shape in [("displacement", (n, 3)), ("velocity", (n, 3)),
                            ("contact_pressure", (n,)), ("contact_gap", (n,))]:
             if key not in mesh.point_data or mesh.point_data[key].shape != shape:
                 fail(f"{name}: point data {key} missing or not {shape}")
-        stress = mesh.cell_data_dict.get("stress", {}).get("hexahedron")
-        vm = mesh.cell_data_dict.get("von_mises", {}).get("hexahedron")
-        if stress is None or stress.shape != (m, 6) or vm is None or vm.shape != (m,):
-            fail(f"{name}: cell data stress (m, 6) and von_mises (m,) expected")
-        for s, v in zip(stress, vm):
-            d = (s[0] - s[1]) ** 2 + (s[1] - s[2]) ** 2 + (s[2] - s[0]) ** 2
-            ref = math.sqrt(0.5 * d + 3 * (s[3] ** 2 + s[4] ** 2 + s[5] ** 2))
-            if abs(ref - v) > 1e-9 * max(1.0, abs(ref)):
-                fail(f"{name}: von_mises {v} against {ref} from the components")
+        counts = []
+        for kind in kinds:
+            m = mesh.cells_dict[kind].shape[0]
+            counts.append(f"{m} {kind}")
+            stress = mesh.cell_data_dict.get("stress", {}).get(kind)
+            vm = mesh.cell_data_dict.get("von_mises", {}).get(kind)
+            if stress is None or stress.shape != (m, 6) or vm is None or vm.shape != (m,):
+                fail(f"{name}: cell data stress (m, 6) and von_mises (m,) expected on {kind}")
+            for s, v in zip(stress, vm):
+                d = (s[0] - s[1]) ** 2 + (s[1] - s[2]) ** 2 + (s[2] - s[0]) ** 2
+                ref = math.sqrt(0.5 * d + 3 * (s[3] ** 2 + s[4] ** 2 + s[5] ** 2))
+                if abs(ref - v) > 1e-9 * max(1.0, abs(ref)):
+                    fail(f"{name}: von_mises {v} against {ref} from the components")
         row = min(range(len(times)), key=lambda i: abs(times[i] - t))
         if abs(times[row] - t) > 1e-12 * max(1.0, abs(t)):
             fail(f"{name}: no history row at t = {t}")
@@ -72,7 +78,7 @@ def main():
                 worst = max(worst, d)
                 if d > 1e-12:
                     fail(f"{name}: {pname}.u{c} {mesh.point_data['displacement'][node][a]} against history {h}")
-        print(f"check_vtu: {name}: t = {t:.6e}, {n} points, {m} hexahedra, ok")
+        print(f"check_vtu: {name}: t = {t:.6e}, {n} points, {', '.join(counts)}, ok")
     print(f"check_vtu: {len(frames)} frames ok; worst probe difference {worst:.2e} of scale")
 
 

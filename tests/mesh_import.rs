@@ -39,13 +39,27 @@ fn hex8_and_tet4_blocks_rebound_alike() {
             s.elements, s.steps
         );
         assert!(vz > 0.5, "{kind}: rebound {vz}");
-        assert_eq!(*f.last().unwrap(), 0.0, "{kind}: still in contact at the end");
+        assert_eq!(
+            *f.last().unwrap(),
+            0.0,
+            "{kind}: still in contact at the end"
+        );
         assert!((p - dp).abs() <= 1e-9 * dp, "{kind}: impulse {p} vs {dp}");
         rebound.push(vz);
     }
     let diff = (rebound[0] - rebound[1]).abs() / rebound[0];
-    eprintln!("hex8 {:.5} tet4 {:.5}: {:.3}% apart", rebound[0], rebound[1], 100.0 * diff);
-    assert!(diff <= 0.03, "hex8 {} and tet4 {} differ by {diff}", rebound[0], rebound[1]);
+    eprintln!(
+        "hex8 {:.5} tet4 {:.5}: {:.3}% apart",
+        rebound[0],
+        rebound[1],
+        100.0 * diff
+    );
+    assert!(
+        diff <= 0.03,
+        "hex8 {} and tet4 {} differ by {diff}",
+        rebound[0],
+        rebound[1]
+    );
 }
 
 /// A tet4 block (`.msh`, secondary surface `bottom`) drops onto a hex8 block (`.inp`,
@@ -102,7 +116,10 @@ point = [-0.5, -0.5, 0.0]
         h.last("drop.vz")
     );
     assert!(peak > 0.0 && p > 0.0);
-    assert!((p - dp).abs() <= 1e-3 * dp, "impulse {p} vs momentum change {dp}");
+    assert!(
+        (p - dp).abs() <= 1e-3 * dp,
+        "impulse {p} vs momentum change {dp}"
+    );
     for c in ["corner.ux", "corner.uy", "corner.uz"] {
         assert!(h.col(c).iter().all(|&u| u == 0.0), "{c} moved");
     }
@@ -143,7 +160,12 @@ fn ascii_and_binary_msh_read_alike() {
 fn scale_then_translate() {
     let m = import(&meshes().join("block_hex.inp"), 2.0, [1.0, 1.0, 1.0]).expect("deck");
     let lo = [0, 1, 2].map(|a| m.nodes.iter().map(|p| p[a]).fold(f64::INFINITY, f64::min));
-    let hi = [0, 1, 2].map(|a| m.nodes.iter().map(|p| p[a]).fold(f64::NEG_INFINITY, f64::max));
+    let hi = [0, 1, 2].map(|a| {
+        m.nodes
+            .iter()
+            .map(|p| p[a])
+            .fold(f64::NEG_INFINITY, f64::max)
+    });
     assert_eq!((lo, hi), ([0.0, 0.0, 1.0], [2.0, 2.0, 3.0]));
     assert_eq!(m.hexes.len(), 512);
     assert_eq!(m.node_set("BASE").unwrap().nodes.len(), 81);
@@ -194,7 +216,11 @@ fn malformed_msh_names_the_file_and_line() {
 #[test]
 fn malformed_inp_names_the_file_and_line() {
     let text = std::fs::read_to_string(meshes().join("block_hex.inp")).unwrap();
-    let bad = text.replacen("2, -0.375000, -0.500000, 0.000000", "2, -0.375000, abc, 0.000000", 1);
+    let bad = text.replacen(
+        "2, -0.375000, -0.500000, 0.000000",
+        "2, -0.375000, abc, 0.000000",
+        1,
+    );
     let msg = scene_error("bad.inp", bad.as_bytes(), "");
     eprintln!("{msg}");
     assert!(msg.contains("bad.inp:6:"), "{msg}");
@@ -206,7 +232,10 @@ fn unsupported_element_type_is_named() {
     let text = std::fs::read_to_string(meshes().join("block_hex.inp")).unwrap();
     let bad = text.replace("TYPE=C3D8,", "TYPE=C3D8R,");
     let msg = scene_error("reduced.inp", bad.as_bytes(), "");
-    assert!(msg.contains("C3D8R") && msg.contains("reduced.inp:"), "{msg}");
+    assert!(
+        msg.contains("C3D8R") && msg.contains("reduced.inp:"),
+        "{msg}"
+    );
 }
 
 #[test]
@@ -250,7 +279,10 @@ components = ["z"]
 "#,
     );
     eprintln!("{msg}");
-    assert!(msg.contains("fix[0].set") && msg.contains("BOTTOM_NODES"), "{msg}");
+    assert!(
+        msg.contains("fix[0].set") && msg.contains("BOTTOM_NODES"),
+        "{msg}"
+    );
     assert!(msg.contains("\"BASE\""), "{msg}");
 }
 
@@ -261,6 +293,11 @@ fn a_missing_mesh_file_is_named() {
     let path = dir.join("scene.toml");
     let text = scene_text("block_tet_drop.toml").replace("meshes/block_tet.msh", "nowhere.msh");
     std::fs::write(&path, text).unwrap();
-    let msg = Scene::load(&path).expect_err("must be rejected").to_string();
-    assert!(msg.contains("nowhere.msh") && msg.contains("cannot read"), "{msg}");
+    let msg = Scene::load(&path)
+        .expect_err("must be rejected")
+        .to_string();
+    assert!(
+        msg.contains("nowhere.msh") && msg.contains("cannot read"),
+        "{msg}"
+    );
 }

@@ -6,15 +6,16 @@
 mod common;
 use common::*;
 
-use std::path::Path;
 use std::process::Command;
 
 use impact::model::Model;
 use impact::scene::Scene;
 
 fn check(tag: &str, text: &str, frames: usize) {
-    let scene = Scene::parse(text, Path::new(&format!("{tag}.toml"))).expect("valid scene");
-    let (s, _) = run_text(tag, text);
+    // parsed as a file of scenes/, so that mesh paths resolve
+    let path = repo().join("scenes").join(format!("{tag}.toml"));
+    let scene = Scene::parse(text, &path).expect("valid scene");
+    let (s, _) = run_scene_text(tag, text);
     s.expect("run completes");
     let model = Model::from_scene(&scene);
     let dir = out_path(tag);
@@ -61,4 +62,15 @@ fn explicit_frames_read_back_with_meshio() {
             .replace("end_time = 0.1", "end_time = 0.045")
     );
     check("vtu_cube_on_plate", &text, 2);
+}
+
+/// A tet4 body from a Gmsh file (VTK_TETRA cells, constant stress per cell), a frame every
+/// 100 steps of the block drop.
+#[test]
+fn tet4_frames_read_back_with_meshio() {
+    let text = format!(
+        "{}\n[output]\nvtu_every = 100\n",
+        scene_text("block_tet_drop.toml")
+    );
+    check("vtu_block_tet", &text, 4);
 }
