@@ -148,3 +148,14 @@ fn explicit_cube_on_plate_gpu_and_cpu_agree_over_1000_steps() {
         ],
     );
 }
+
+/// A tet4 body from a Gmsh file (the tet4_forces kernel in a run): the cube dropped on a
+/// plane, explicit, 392 steps.
+#[test]
+fn tet4_block_drop_gpu_and_cpu_agree_row_by_row() {
+    compare(
+        "gpu_block_tet",
+        &scene_text("block_tet_drop.toml"),
+        &["ground.normal_force", "block.v", "top.v", "total_energy"],
+    );
+}

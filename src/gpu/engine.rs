@@ -70,6 +70,13 @@ pub struct GpuKernels {
     pub fill_nan: bool,
 }
 
+fn at_least_one<T: Default>(mut v: Vec<T>) -> Vec<T> {
+    if v.is_empty() {
+        v.push(T::default());
+    }
+    v
+}
+
 fn bytes_of<T>(n: usize) -> u64 {
     (n * std::mem::size_of::<T>()) as u64
 }
@@ -114,8 +121,10 @@ impl GpuKernels {
             Ok(s)
         };
         let reference = upload("reference", bytemuck::cast_slice(&reference))?;
-        let hexes = upload("hexes", bytemuck::cast_slice(&hexes))?;
-        let tets = upload("tets", bytemuck::cast_slice(&tets))?;
+        // a binding holds at least one struct: a mesh without hexes (or tets) binds one
+        // unused placeholder, never dispatched
+        let hexes = upload("hexes", bytemuck::cast_slice(&at_least_one(hexes)))?;
+        let tets = upload("tets", bytemuck::cast_slice(&at_least_one(tets)))?;
         let materials = upload("materials", bytemuck::cast_slice(&materials))?;
         let offsets = upload("incidence.offsets", bytemuck::cast_slice(&inc.offsets))?;
         let incidence = upload("incidence", bytemuck::cast_slice(&inc.corners))?;

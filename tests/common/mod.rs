@@ -163,7 +163,9 @@ pub fn run_text_on(
     device: Option<impact::scene::DeviceChoice>,
 ) -> (impact::Result<Summary>, History) {
     let dir = out_dir(tag);
-    let scene = Scene::parse(text, Path::new(&format!("{tag}.toml"))).expect("valid scene");
+    // as if it were the file scenes/<tag>.toml, so that mesh paths resolve against scenes/
+    let path = repo().join("scenes").join(format!("{tag}.toml"));
+    let scene = Scene::parse(text, &path).expect("valid scene");
     let opts = RunOptions {
         out: Some(dir.clone()),
         device,
@@ -259,17 +261,7 @@ pub const FINE: Tolerances = Tolerances {
     loss: 0.015,
 };
 
-/// Runs a scene text as if it were the file `scenes/<tag>.toml`, so that its mesh paths
-/// resolve against the shipped `scenes/` folder.
+/// [`run_text`]; the name says that the text's mesh paths resolve against `scenes/`.
 pub fn run_scene_text(tag: &str, text: &str) -> (impact::Result<Summary>, History) {
-    let dir = out_dir(tag);
-    let path = repo().join("scenes").join(format!("{tag}.toml"));
-    let scene = Scene::parse(text, &path).expect("valid scene");
-    let opts = RunOptions {
-        out: Some(dir.clone()),
-        device: None,
-        quiet: true,
-    };
-    let s = run(&scene, &opts);
-    (s, History::read(&dir.join("history.csv")))
+    run_text(tag, text)
 }
