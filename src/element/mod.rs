@@ -51,6 +51,41 @@ pub fn lumped_mass(x: &[[f64; 3]], density: f64) -> Vec<f64> {
     }
 }
 
+/// Cauchy stress $\sigma = \lambda\, \mathrm{tr}(\varepsilon) I + 2\mu\varepsilon$ of the linear
+/// strain $\varepsilon = \mathrm{sym} H$, $H = \sum_k u_k \otimes \nabla N_k$, from the shape
+/// function gradients at a point and the corner displacements (either element kind).
+pub fn stress(grads: &[[f64; 3]], u: &[[f64; 3]], lambda: f64, mu: f64) -> [[f64; 3]; 3] {
+    let mut h = [[0.0; 3]; 3];
+    for (g, uk) in grads.iter().zip(u) {
+        for a in 0..3 {
+            for b in 0..3 {
+                h[a][b] += uk[a] * g[b];
+            }
+        }
+    }
+    let tr = h[0][0] + h[1][1] + h[2][2];
+    let mut s = [[0.0; 3]; 3];
+    for a in 0..3 {
+        for b in 0..3 {
+            s[a][b] = mu * (h[a][b] + h[b][a]);
+        }
+        s[a][a] += lambda * tr;
+    }
+    s
+}
+
+/// The longest side of the bounding box of an element's corners (a size for tolerances).
+pub fn extent(x: &[[f64; 3]]) -> f64 {
+    (0..3)
+        .map(|a| {
+            let (lo, hi) = x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |m, p| {
+                (m.0.min(p[a]), m.1.max(p[a]))
+            });
+            hi - lo
+        })
+        .fold(0.0, f64::max)
+}
+
 /// Element volume.
 pub fn volume(x: &[[f64; 3]]) -> f64 {
     match as_hex(x) {

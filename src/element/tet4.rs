@@ -76,39 +76,14 @@ pub fn lumped_mass(x: &[[f64; 3]; 4], density: f64) -> [f64; 4] {
 /// `shaders/tet4_forces.wgsl`, through [`crate::kernels::tet4_forces`]).
 pub fn forces(x: &[[f64; 3]; 4], u: &[[f64; 3]; 4], lambda: f64, mu: f64) -> [[f64; 3]; 4] {
     let (g, vol) = gradients(x);
-    let s = stress_from_gradients(&g, u, lambda, mu);
+    let s = super::stress(&g, u, lambda, mu);
     g.map(|gk| [0, 1, 2].map(|a| (s[a][0] * gk[0] + s[a][1] * gk[1] + s[a][2] * gk[2]) * vol))
 }
 
 /// The (constant) Cauchy stress of the element.
 pub fn stress(x: &[[f64; 3]; 4], u: &[[f64; 3]; 4], m: &Elastic) -> [[f64; 3]; 3] {
     let (g, _) = gradients(x);
-    stress_from_gradients(&g, u, m.lambda, m.mu)
-}
-
-fn stress_from_gradients(
-    g: &[[f64; 3]; 4],
-    u: &[[f64; 3]; 4],
-    lambda: f64,
-    mu: f64,
-) -> [[f64; 3]; 3] {
-    let mut h = [[0.0; 3]; 3];
-    for k in 0..4 {
-        for a in 0..3 {
-            for b in 0..3 {
-                h[a][b] += u[k][a] * g[k][b];
-            }
-        }
-    }
-    let tr = h[0][0] + h[1][1] + h[2][2];
-    let mut s = [[0.0; 3]; 3];
-    for a in 0..3 {
-        for b in 0..3 {
-            s[a][b] = mu * (h[a][b] + h[b][a]);
-        }
-        s[a][a] += lambda * tr;
-    }
-    s
+    super::stress(&g, u, m.lambda, m.mu)
 }
 
 /// The four faces, ordered so that $(x_1 - x_0) \times (x_2 - x_0)$ of each points out of a

@@ -62,15 +62,7 @@ pub fn stable_step(model: &Model) -> (f64, usize) {
     let mut cost = 0usize;
     for (corners, material) in model.mesh.elements() {
         let x = model.mesh.corners(corners);
-        let size = (0..3)
-            .map(|a| {
-                let (lo, hi) = x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |m, p| {
-                    (m.0.min(p[a]), m.1.max(p[a]))
-                });
-                hi - lo
-            })
-            .fold(0.0, f64::max)
-            .max(f64::MIN_POSITIVE);
+        let size = element::extent(&x).max(f64::MIN_POSITIVE);
         let origin = x[0];
         let key: Vec<i64> = x
             .iter()

@@ -11,23 +11,7 @@ pub fn element_forces(x: &[[f64; 3]; 8], u: &[[f64; 3]; 8], lambda: f64, mu: f64
     let mut f = [[0.0; 3]; 8];
     for p in hex8::gauss_points() {
         let (g, det) = hex8::gradients(x, p);
-        // displacement gradient H_ab = sum_k u_k,a g_k,b
-        let mut h = [[0.0; 3]; 3];
-        for k in 0..8 {
-            for a in 0..3 {
-                for b in 0..3 {
-                    h[a][b] += u[k][a] * g[k][b];
-                }
-            }
-        }
-        let tr = h[0][0] + h[1][1] + h[2][2];
-        let mut s = [[0.0; 3]; 3];
-        for a in 0..3 {
-            for b in 0..3 {
-                s[a][b] = mu * (h[a][b] + h[b][a]);
-            }
-            s[a][a] += lambda * tr;
-        }
+        let s = crate::element::stress(&g, u, lambda, mu);
         for k in 0..8 {
             for a in 0..3 {
                 f[k][a] += (s[a][0] * g[k][0] + s[a][1] * g[k][1] + s[a][2] * g[k][2]) * det;

@@ -45,23 +45,14 @@ pub fn orient(
     hexes: &mut [[u32; 8]],
     tets: &mut [[u32; 4]],
 ) -> Result<(), Degenerate> {
-    let scale = |corners: &[u32]| {
-        let mut d = 0.0f64;
-        for a in 0..3 {
-            let (lo, hi) = corners
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |m, &n| {
-                    let x = nodes[n as usize][a];
-                    (m.0.min(x), m.1.max(x))
-                });
-            d = d.max(hi - lo);
-        }
+    let scale = |x: &[[f64; 3]]| {
+        let d = crate::element::extent(x);
         d * d * d
     };
     for (index, h) in hexes.iter_mut().enumerate() {
         let x = h.map(|n| nodes[n as usize]);
         let v = hex8::volume(&x);
-        if v.abs() <= 1e-12 * scale(h) || !v.is_finite() {
+        if v.abs() <= 1e-12 * scale(&x) || !v.is_finite() {
             return Err(Degenerate {
                 index,
                 tet: false,
@@ -75,7 +66,7 @@ pub fn orient(
     for (index, t) in tets.iter_mut().enumerate() {
         let x = t.map(|n| nodes[n as usize]);
         let v = tet4::volume(&x);
-        if v.abs() <= 1e-12 * scale(t) || !v.is_finite() {
+        if v.abs() <= 1e-12 * scale(&x) || !v.is_finite() {
             return Err(Degenerate {
                 index,
                 tet: true,

@@ -55,24 +55,8 @@ pub fn centre_stress(x: &[[f64; 3]], u: &[[f64; 3]], m: &crate::material::Elasti
         (_, Ok(t)) => tet4::gradients(t).0.to_vec(),
         _ => panic!("an element has 8 (hex8) or 4 (tet4) corners"),
     };
-    let mut h = [[0.0f64; 3]; 3];
-    for k in 0..grads.len() {
-        for a in 0..3 {
-            for b in 0..3 {
-                h[a][b] += u[k][a] * grads[k][b];
-            }
-        }
-    }
-    let e = |a: usize, b: usize| 0.5 * (h[a][b] + h[b][a]);
-    let tr = h[0][0] + h[1][1] + h[2][2];
-    [
-        m.lambda * tr + 2.0 * m.mu * e(0, 0),
-        m.lambda * tr + 2.0 * m.mu * e(1, 1),
-        m.lambda * tr + 2.0 * m.mu * e(2, 2),
-        2.0 * m.mu * e(0, 1),
-        2.0 * m.mu * e(1, 2),
-        2.0 * m.mu * e(0, 2),
-    ]
+    let s = crate::element::stress(&grads, u, m.lambda, m.mu);
+    [s[0][0], s[1][1], s[2][2], s[0][1], s[1][2], s[0][2]]
 }
 
 /// von Mises equivalent stress of (xx, yy, zz, xy, yz, xz).
