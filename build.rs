@@ -4,12 +4,17 @@
 //! assembles it.
 
 const SHARED: [&str; 2] = ["shaders/shared/types.wgsl", "shaders/shared/quad.wgsl"];
-const KERNELS: [&str; 5] = [
+const KERNELS: [&str; 10] = [
     "hex8_forces",
     "tet4_forces",
     "node_gather",
     "contact_gap",
     "slip_rate",
+    "explicit_predict",
+    "plane_contact",
+    "explicit_drift",
+    "explicit_correct",
+    "history_reduce",
 ];
 
 fn main() {

@@ -6,7 +6,9 @@ use std::time::Instant;
 use crate::error::{ImpactError, Result};
 use crate::gpu::{AdapterPolicy, GpuContext, GpuKernels};
 use crate::integrate::stable_step::stable_step;
-use crate::integrate::{ContactReport, Energies, ExplicitSolver, ImplicitSolver, StepReport};
+use crate::integrate::{
+    resident, ContactReport, Energies, ExplicitSolver, ImplicitSolver, ResidentSolver, StepReport,
+};
 use crate::kernels::{CpuKernels, Kernels};
 use crate::model::Model;
 use crate::output::progress::Progress;
@@ -41,6 +43,44 @@ pub fn output_dir(scene: &Scene, opts: &RunOptions) -> PathBuf {
 /// same cores they are slower than the CPU twins (README, kernel benchmark).
 pub const AUTO_GPU_MIN_ELEMENTS: usize = 20_000;
 
+/// The GPU the requested device resolves to, or `None` for the CPU twins; `notice` receives
+/// the one-line reason when "auto" falls back to the CPU.
+pub fn gpu_context(
+    scene: &Scene,
+    elements: usize,
+    device: DeviceChoice,
+    notice: &mut dyn FnMut(&str),
+) -> Result<Option<GpuContext>> {
+    match device {
+        DeviceChoice::Cpu => Ok(None),
+        DeviceChoice::Gpu => GpuContext::new().map(Some).map_err(|e| gpu_error(scene, e)),
+        DeviceChoice::Auto => {
+            if elements < AUTO_GPU_MIN_ELEMENTS {
+                notice(&format!(
+                    "device auto: {elements} elements (< {AUTO_GPU_MIN_ELEMENTS}): kernels on the CPU in f64"
+                ));
+                return Ok(None);
+            }
+            let ctx = GpuContext::open(AdapterPolicy::HardwareOnly)?;
+            if ctx.is_none() {
+                notice("device auto: no hardware GPU found: kernels on the CPU in f64");
+            }
+            Ok(ctx)
+        }
+    }
+}
+
+fn gpu_error(scene: &Scene, e: ImpactError) -> ImpactError {
+    match e {
+        ImpactError::Gpu(message) => ImpactError::Unsupported {
+            path: scene.path.clone(),
+            key: "run.device".into(),
+            message: format!("device = \"gpu\": {message}"),
+        },
+        other => other,
+    }
+}
+
 /// Picks the kernels for the requested device; `notice` receives the one-line reason when
 /// "auto" falls back to the CPU.
 pub fn kernels<'m>(
@@ -50,43 +90,19 @@ pub fn kernels<'m>(
     notice: &mut dyn FnMut(&str),
 ) -> Result<Box<dyn Kernels + 'm>> {
     let data = model.element_data();
-    let gpu_error = |e: ImpactError| match e {
-        ImpactError::Gpu(message) => ImpactError::Unsupported {
-            path: scene.path.clone(),
-            key: "run.device".into(),
-            message: format!("device = \"gpu\": {message}"),
-        },
-        other => other,
-    };
-    match device {
-        DeviceChoice::Cpu => Ok(Box::new(CpuKernels::new(data))),
-        DeviceChoice::Gpu => {
-            let ctx = GpuContext::new().map_err(gpu_error)?;
-            Ok(Box::new(GpuKernels::new(ctx, &data)?))
-        }
-        DeviceChoice::Auto => {
-            let elements = data.hexes.len() + data.tets.len();
-            if elements < AUTO_GPU_MIN_ELEMENTS {
-                notice(&format!(
-                    "device auto: {elements} elements (< {AUTO_GPU_MIN_ELEMENTS}): kernels on the CPU in f64"
-                ));
-                return Ok(Box::new(CpuKernels::new(data)));
-            }
-            match GpuContext::open(AdapterPolicy::HardwareOnly)? {
-                Some(ctx) => Ok(Box::new(GpuKernels::new(ctx, &data)?)),
-                None => {
-                    notice("device auto: no hardware GPU found: kernels on the CPU in f64");
-                    Ok(Box::new(CpuKernels::new(data)))
-                }
-            }
-        }
-    }
+    let elements = data.hexes.len() + data.tets.len();
+    Ok(match gpu_context(scene, elements, device, notice)? {
+        Some(ctx) => Box::new(GpuKernels::new(ctx, &data).map_err(|e| gpu_error(scene, e))?),
+        None => Box::new(CpuKernels::new(data)),
+    })
 }
 
 /// The integrator a scene asked for.
 enum Solver<'m> {
     Implicit(Box<ImplicitSolver<'m>>),
     Explicit(Box<ExplicitSolver<'m>>),
+    /// The explicit path with the whole step on the GPU.
+    Resident(Box<ResidentSolver<'m>>),
 }
 
 impl Solver<'_> {
@@ -94,56 +110,89 @@ impl Solver<'_> {
         match self {
             Solver::Implicit(s) => s.step(),
             Solver::Explicit(s) => s.step(),
+            Solver::Resident(s) => s.step(),
         }
     }
     fn energies(&mut self) -> Result<Energies> {
         match self {
             Solver::Implicit(s) => s.energies(),
             Solver::Explicit(s) => s.energies(),
+            Solver::Resident(s) => Ok(s.energies()),
         }
     }
     fn body_velocities(&self) -> Vec<[f64; 3]> {
         match self {
             Solver::Implicit(s) => s.body_velocities(),
             Solver::Explicit(s) => s.body_velocities(),
+            Solver::Resident(s) => s.body_velocities(),
         }
     }
     fn time(&self) -> f64 {
         match self {
             Solver::Implicit(s) => s.time,
             Solver::Explicit(s) => s.time,
+            Solver::Resident(s) => s.time,
         }
     }
     fn steps(&self) -> usize {
         match self {
             Solver::Implicit(s) => s.steps,
             Solver::Explicit(s) => s.steps,
+            Solver::Resident(s) => s.steps,
         }
     }
     fn state(&self) -> (&[f64], &[f64]) {
         match self {
             Solver::Implicit(s) => (&s.u, &s.v),
             Solver::Explicit(s) => (&s.u, &s.v),
+            Solver::Resident(s) => (&s.u, &s.v),
         }
     }
     fn reports(&self) -> Vec<ContactReport> {
         match self {
             Solver::Implicit(s) => s.interfaces.iter().map(|i| i.report).collect(),
             Solver::Explicit(s) => s.interfaces.iter().map(|i| i.report).collect(),
+            Solver::Resident(s) => s.reports(),
         }
     }
     fn nodal_mass(&self) -> &[f64] {
         match self {
             Solver::Implicit(s) => s.nodal_mass(),
             Solver::Explicit(s) => s.nodal_mass(),
+            Solver::Resident(s) => s.nodal_mass(),
         }
     }
     fn device_name(&self) -> String {
         match self {
             Solver::Implicit(s) => s.device_name(),
             Solver::Explicit(s) => s.device_name(),
+            Solver::Resident(s) => s.device_name(),
         }
     }
+    fn engine(&self) -> &'static str {
+        match self {
+            Solver::Resident(_) => "gpu resident",
+            _ if self.device_name() == "cpu" => "cpu",
+            _ => "gpu kernels, host loop",
+        }
+    }
+
+    /// Displacement and velocity of every probe node after the last step.
+    fn probes(&self, model: &Model) -> Vec<crate::output::history::ProbeValues> {
+        if let Solver::Resident(s) = self {
+            return s.probes();
+        }
+        let (u, v) = self.state();
+        model
+            .probes
+            .iter()
+            .map(|p| {
+                let d = 3 * p.node as usize;
+                ([u[d], u[d + 1], u[d + 2]], [v[d], v[d + 1], v[d + 2]])
+            })
+            .collect()
+    }
+
     /// Contact pressure (summed) and gap (the largest) of every node, for VTU frames.
     fn node_contact(&self, model: &Model) -> Vec<NodeContact> {
         let mut out = vec![NodeContact::default(); model.mesh.node_count()];
@@ -163,6 +212,10 @@ impl Solver<'_> {
                     Solver::Explicit(s) => {
                         let st = &s.interfaces[k];
                         (st.impulse[i] / (s.dt * itf.area[i]), st.gap[i])
+                    }
+                    Solver::Resident(s) => {
+                        let (impulse, gap) = s.node_contact(k, i);
+                        (impulse / (s.dt * itf.area[i]), gap)
                     }
                 };
                 let c = &mut out[n as usize];
@@ -344,28 +397,51 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     };
     let steps = (scene.run.end_time / dt - 1e-9).ceil() as usize;
     let quiet = opts.quiet;
-    let kern = kernels(scene, &model, device, &mut |line| {
+    let mut notice = |line: &str| {
         if !quiet {
             eprintln!("{line}");
         }
-    })?;
-    let mut solver = match method {
-        Method::Explicit => Solver::Explicit(Box::new(ExplicitSolver::new(
-            &model,
-            scene.explicit.clone(),
-            dt,
-            scene.speed_scale(),
-            kern,
-        )?)),
-        _ => Solver::Implicit(Box::new(ImplicitSolver::new(
-            &model,
-            scene.implicit.clone(),
-            dt,
-            scene.speed_scale(),
-            kern,
-        )?)),
     };
-    let explicit = matches!(solver, Solver::Explicit(_));
+    let ctx = gpu_context(scene, model.mesh.element_count(), device, &mut notice)?;
+    let mut solver = match (method, ctx) {
+        (Method::Explicit, Some(ctx)) if resident::supports(&model) => Solver::Resident(Box::new(
+            ResidentSolver::new(
+                ctx,
+                &model,
+                &scene.explicit,
+                dt,
+                scene.speed_scale(),
+                steps,
+                scene.vtu_every,
+            )
+            .map_err(|e| gpu_error(scene, e))?,
+        )),
+        (method, ctx) => {
+            let kern: Box<dyn Kernels> = match ctx {
+                Some(ctx) => Box::new(
+                    GpuKernels::new(ctx, &model.element_data()).map_err(|e| gpu_error(scene, e))?,
+                ),
+                None => Box::new(CpuKernels::new(model.element_data())),
+            };
+            match method {
+                Method::Explicit => Solver::Explicit(Box::new(ExplicitSolver::new(
+                    &model,
+                    scene.explicit.clone(),
+                    dt,
+                    scene.speed_scale(),
+                    kern,
+                )?)),
+                _ => Solver::Implicit(Box::new(ImplicitSolver::new(
+                    &model,
+                    scene.implicit.clone(),
+                    dt,
+                    scene.speed_scale(),
+                    kern,
+                )?)),
+            }
+        }
+    };
+    let explicit = !matches!(solver, Solver::Implicit(_));
     let columns = crate::output::history::column_names(&model);
     for (i, e) in scene.exact.iter().enumerate() {
         if !columns.contains(&e.column) {
@@ -388,6 +464,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         method: if explicit { "explicit" } else { "implicit" }.into(),
         method_choice,
         device: solver.device_name(),
+        engine: solver.engine().into(),
         time_step: dt,
         stable_time_step: stable,
         end_time: steps as f64 * dt,
@@ -434,15 +511,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     let write_row = |solver: &mut Solver, history: &mut History| -> Result<f64> {
         let e = solver.energies()?;
         let contacts = solver.reports();
-        let (u, v) = solver.state();
-        let probes: Vec<_> = model
-            .probes
-            .iter()
-            .map(|p| {
-                let d = 3 * p.node as usize;
-                ([u[d], u[d + 1], u[d + 2]], [v[d], v[d + 1], v[d + 2]])
-            })
-            .collect();
+        let probes = solver.probes(&model);
         history.row(
             solver.time(),
             solver.steps(),
@@ -555,16 +624,16 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
                 })
                 .collect()
         }
-        Solver::Explicit(solver) => model
+        Solver::Explicit(_) | Solver::Resident(_) => model
             .interfaces
             .iter()
-            .zip(&solver.interfaces)
+            .zip(solver.reports())
             .zip(&peak)
-            .map(|((itf, st), &p)| InterfaceSummary {
+            .map(|((itf, r), &p)| InterfaceSummary {
                 name: itf.name.clone(),
                 penalty_normal_final: None,
                 penalty_tangential_final: None,
-                friction_work: st.report.friction_work,
+                friction_work: r.friction_work,
                 penalty_increases: 0,
                 penalty_decreases: 0,
                 peak_normal_force: p,

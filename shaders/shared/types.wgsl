@@ -3,11 +3,12 @@
 
 // Launch parameters of a kernel: `count` items, dispatched over a 2D grid of workgroups whose
 // row is `row` items long (so that more than 65535 workgroups fit).
+// `aux` and `aux2` are kernel-specific (an offset, a count).
 struct Params {
     count: u32,
     row: u32,
     aux: u32,
-    pad: u32,
+    aux2: u32,
 }
 
 // A nodal 3-vector (reference coordinates, displacements) split into an f32 pair, hi + lo =
@@ -68,4 +69,45 @@ fn split_difference(a: Split3, b: Split3) -> vec3<f32> {
     let dhi = vec3<f32>(a.hi[0] - b.hi[0], a.hi[1] - b.hi[1], a.hi[2] - b.hi[2]);
     let dlo = vec3<f32>(a.lo[0] - b.lo[0], a.lo[1] - b.lo[1], a.lo[2] - b.lo[2]);
     return dhi + dlo;
+}
+
+// Lumped nodal data of the explicit step: the node's mass, the inverse mass of each dof (zero
+// on prescribed dofs) and the body-force acceleration of each dof (f_ext / m, zero where
+// prescribed).
+struct Lumped {
+    mass: f32,
+    inv_mass: array<f32, 3>,
+    ext_acc: array<f32, 3>,
+}
+
+// An analytic rigid plane: a point on it (split like the nodes), the unit normal pointing
+// into the half-space the bodies stay in, and its Coulomb friction coefficient.
+struct Plane {
+    point: Split3,
+    normal: array<f32, 3>,
+    mu: f32,
+}
+
+// A secondary node of the rigid planes and the planes it is secondary to (bit p: plane p).
+struct PlaneNode {
+    node: u32,
+    planes: u32,
+}
+
+// One history value: `op` over `count` entries `first + k * stride` of its source (see
+// `history_reduce.wgsl`).
+struct ReduceColumn {
+    first: u32,
+    count: u32,
+    stride: u32,
+    op: u32,
+}
+
+// Constants of the explicit step: the time step, the contact iteration's tolerance (a gap
+// rate) and its sweep limit.
+struct Step {
+    dt: f32,
+    tolerance: f32,
+    max_iterations: u32,
+    pad: u32,
 }

@@ -32,8 +32,8 @@ struct UploadedQueries {
 }
 
 pub struct GpuKernels {
-    ctx: GpuContext,
-    nodes: usize,
+    pub(super) ctx: GpuContext,
+    pub(super) nodes: usize,
     /// Hex8 elements.
     elements: usize,
     tets_count: usize,
@@ -42,22 +42,22 @@ pub struct GpuKernels {
     node_gather: NodeGather,
     contact_gap: ContactGap,
     slip_rate: SlipRate,
-    reference: Storage,
+    pub(super) reference: Storage,
     hexes: Storage,
     tets: Storage,
     materials: Storage,
     offsets: Storage,
     incidence: Storage,
-    u: Storage,
-    v: Storage,
+    pub(super) u: Storage,
+    pub(super) v: Storage,
     corners: Storage,
-    forces: Storage,
+    pub(super) forces: Storage,
     queries: Storage,
     candidates: Storage,
     faces: Storage,
     points: Storage,
     slips: Storage,
-    staging: Storage,
+    pub(super) staging: Storage,
     uploaded: UploadedQueries,
     query_count: usize,
     hex8_bind: wgpu::BindGroup,
@@ -283,6 +283,46 @@ impl GpuKernels {
             );
             self.tet4_forces.0.record(enc, &self.tet4_bind, grid);
         }
+    }
+
+    /// Sets the launch counts of the element kernels and the gather (which never change) for
+    /// [`Self::record_internal_forces`].
+    pub(super) fn prepare_internal_forces(&self) {
+        if self.elements > 0 {
+            self.hex8_forces
+                .0
+                .set_count(&self.ctx, self.elements as u32);
+        }
+        if self.tets_count > 0 {
+            self.tet4_forces.0.set_count_aux(
+                &self.ctx,
+                self.tets_count as u32,
+                24 * self.elements as u32,
+            );
+        }
+        self.node_gather.0.set_count(&self.ctx, self.nodes as u32);
+    }
+
+    /// Records the element kernels and the gather, with the counts of
+    /// [`Self::prepare_internal_forces`] (no parameter upload per step): the internal forces
+    /// at the device's displacement into the forces buffer.
+    pub(super) fn record_internal_forces(&self, enc: &mut wgpu::CommandEncoder) {
+        if self.elements > 0 {
+            let grid = self.hex8_forces.0.grid(self.elements as u32);
+            self.hex8_forces.0.record(enc, &self.hex8_bind, grid);
+        }
+        if self.tets_count > 0 {
+            let grid = self.tet4_forces.0.grid(self.tets_count as u32);
+            self.tet4_forces.0.record(enc, &self.tet4_bind, grid);
+        }
+        let grid = self.node_gather.0.grid(self.nodes as u32);
+        self.node_gather.0.record(enc, &self.gather_bind, grid);
+    }
+
+    /// Uploads displacements (split pairs) and velocities.
+    pub(super) fn upload_state(&mut self, u: &[f64], v: &[f64]) -> Result<()> {
+        self.upload_nodal(false, u)?;
+        self.upload_nodal(true, v)
     }
 
     /// Runs the element kernels alone: corner forces `[8 e + k]` of the hexes, then

@@ -7,6 +7,27 @@ use super::types::Params;
 /// Invocations per workgroup (`WORKGROUP` in `shaders/shared/types.wgsl`).
 pub const WORKGROUP: u32 = 64;
 
+/// One launch of a kernel with its own parameters and bindings, built once and recorded at
+/// every step.
+pub struct Launch {
+    params_buffer: wgpu::Buffer,
+    params: Params,
+    pub bind: wgpu::BindGroup,
+    pub grid: [u32; 2],
+    /// Workgroups of the grid (some of the last row may have no items).
+    pub groups: u32,
+}
+
+impl Launch {
+    /// Changes `Params.count` alone (the grid stays): for kernels whose items are not
+    /// invocations (one workgroup per item).
+    pub fn set_count(&mut self, ctx: &GpuContext, count: u32) {
+        self.params.count = count;
+        ctx.queue
+            .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&self.params));
+    }
+}
+
 pub struct Kernel {
     pub name: &'static str,
     pipeline: wgpu::ComputePipeline,
@@ -76,6 +97,19 @@ impl Kernel {
 
     /// [`Self::set_count`] with the kernel-specific `Params.aux` (an offset, a flag).
     pub fn set_count_aux(&self, ctx: &GpuContext, count: u32, aux: u32) -> [u32; 2] {
+        let (p, grid) = self.params_for(count, aux, 0);
+        ctx.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
+        grid
+    }
+
+    /// The dispatch grid of `count` items (as [`Self::set_count`] returns it).
+    pub fn grid(&self, count: u32) -> [u32; 2] {
+        self.params_for(count, 0, 0).1
+    }
+
+    /// The launch parameters and dispatch grid of `count` items.
+    fn params_for(&self, count: u32, aux: u32, aux2: u32) -> (Params, [u32; 2]) {
         let groups = count.div_ceil(WORKGROUP);
         let x = groups.clamp(1, self.max_groups);
         let y = groups.div_ceil(x).max(1);
@@ -83,11 +117,57 @@ impl Kernel {
             count,
             row: x * WORKGROUP,
             aux,
-            pad: 0,
+            aux2,
         };
-        ctx.queue
-            .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
-        [x, y]
+        (p, [x, y])
+    }
+
+    /// A launch fixed for a whole run: its own params uniform (so that several launches of
+    /// one kernel, e.g. one per body, can be recorded in one submission) bound with
+    /// `storage[i]` at binding i + 1, and its grid.
+    pub fn launch(
+        &self,
+        ctx: &GpuContext,
+        count: u32,
+        aux: u32,
+        aux2: u32,
+        storage: &[&wgpu::Buffer],
+    ) -> Launch {
+        let (p, grid) = self.params_for(count, aux, aux2);
+        let params = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(self.name),
+            size: std::mem::size_of::<Params>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        ctx.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: params.as_entire_binding(),
+        }];
+        for (i, b) in storage.iter().enumerate() {
+            entries.push(wgpu::BindGroupEntry {
+                binding: i as u32 + 1,
+                resource: b.as_entire_binding(),
+            });
+        }
+        let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(self.name),
+            layout: &self.layout,
+            entries: &entries,
+        });
+        Launch {
+            params_buffer: params,
+            params: p,
+            bind,
+            grid,
+            groups: grid[0] * grid[1],
+        }
+    }
+
+    /// Records a [`Launch`] of this kernel.
+    pub fn record_launch(&self, encoder: &mut wgpu::CommandEncoder, launch: &Launch) {
+        self.record(encoder, &launch.bind, launch.grid);
     }
 
     /// Records one dispatch over `grid` (from [`Self::set_count`]).

@@ -16,6 +16,11 @@ pub const NODE_GATHER: &str = kernel_source!("node_gather");
 pub const CONTACT_GAP: &str = kernel_source!("contact_gap");
 pub const SLIP_RATE: &str = kernel_source!("slip_rate");
 pub const TET4_FORCES: &str = kernel_source!("tet4_forces");
+pub const EXPLICIT_PREDICT: &str = kernel_source!("explicit_predict");
+pub const PLANE_CONTACT: &str = kernel_source!("plane_contact");
+pub const EXPLICIT_DRIFT: &str = kernel_source!("explicit_drift");
+pub const EXPLICIT_CORRECT: &str = kernel_source!("explicit_correct");
+pub const HISTORY_REDUCE: &str = kernel_source!("history_reduce");
 
 /// The shared struct definitions alone (for the layout test).
 pub const TYPES: &str = include_str!("../../shaders/shared/types.wgsl");

@@ -13,7 +13,7 @@ pub struct Params {
     pub count: u32,
     pub row: u32,
     pub aux: u32,
-    pub pad: u32,
+    pub aux2: u32,
 }
 
 /// A nodal 3-vector (reference coordinates, displacements) split into an f32 pair, `hi + lo`
@@ -113,6 +113,52 @@ impl From<&CpuContactPoint> for ContactPoint {
     }
 }
 
+/// Lumped nodal data of the explicit step (twin: [`crate::kernels::explicit_correct::LumpedNode`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Lumped {
+    pub mass: f32,
+    pub inv_mass: [f32; 3],
+    pub ext_acc: [f32; 3],
+}
+
+/// An analytic rigid plane (twin: [`crate::kernels::plane_contact::PlaneData`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Plane {
+    pub point: Split3,
+    pub normal: [f32; 3],
+    pub mu: f32,
+}
+
+/// A secondary node of the rigid planes and its planes as a bit set.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct PlaneNode {
+    pub node: u32,
+    pub planes: u32,
+}
+
+/// One history value (twin: [`crate::kernels::history_reduce::ReduceColumn`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct ReduceColumn {
+    pub first: u32,
+    pub count: u32,
+    pub stride: u32,
+    pub op: u32,
+}
+
+/// Constants of the explicit step.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Step {
+    pub dt: f32,
+    pub tolerance: f32,
+    pub max_iterations: u32,
+    pub pad: u32,
+}
+
 /// A struct's WGSL name, Rust size, and (field name, Rust offset) in declaration order.
 pub type StructLayout = (&'static str, usize, Vec<(&'static str, usize)>);
 
@@ -127,7 +173,7 @@ pub fn layouts() -> Vec<StructLayout> {
                 ("count", offset_of!(Params, count)),
                 ("row", offset_of!(Params, row)),
                 ("aux", offset_of!(Params, aux)),
-                ("pad", offset_of!(Params, pad)),
+                ("aux2", offset_of!(Params, aux2)),
             ],
         ),
         (
@@ -185,6 +231,52 @@ pub fn layouts() -> Vec<StructLayout> {
                 ("normal", offset_of!(ContactPoint, normal)),
                 ("gap", offset_of!(ContactPoint, gap)),
                 ("gap_rate", offset_of!(ContactPoint, gap_rate)),
+            ],
+        ),
+        (
+            "Lumped",
+            size_of::<Lumped>(),
+            vec![
+                ("mass", offset_of!(Lumped, mass)),
+                ("inv_mass", offset_of!(Lumped, inv_mass)),
+                ("ext_acc", offset_of!(Lumped, ext_acc)),
+            ],
+        ),
+        (
+            "Plane",
+            size_of::<Plane>(),
+            vec![
+                ("point", offset_of!(Plane, point)),
+                ("normal", offset_of!(Plane, normal)),
+                ("mu", offset_of!(Plane, mu)),
+            ],
+        ),
+        (
+            "PlaneNode",
+            size_of::<PlaneNode>(),
+            vec![
+                ("node", offset_of!(PlaneNode, node)),
+                ("planes", offset_of!(PlaneNode, planes)),
+            ],
+        ),
+        (
+            "ReduceColumn",
+            size_of::<ReduceColumn>(),
+            vec![
+                ("first", offset_of!(ReduceColumn, first)),
+                ("count", offset_of!(ReduceColumn, count)),
+                ("stride", offset_of!(ReduceColumn, stride)),
+                ("op", offset_of!(ReduceColumn, op)),
+            ],
+        ),
+        (
+            "Step",
+            size_of::<Step>(),
+            vec![
+                ("dt", offset_of!(Step, dt)),
+                ("tolerance", offset_of!(Step, tolerance)),
+                ("max_iterations", offset_of!(Step, max_iterations)),
+                ("pad", offset_of!(Step, pad)),
             ],
         ),
     ]

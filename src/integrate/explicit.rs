@@ -16,8 +16,9 @@
 //! as the implicit path); $\dot g$ is linear in the velocities, so the impulses are found by a
 //! projected Jacobi iteration on the host. Its diagonal is the row-sum bound of the coupled
 //! compliance, $\tilde C_{ii} = \sum_{node} w_{node} |g_{i,node}| \sum_j |g_{j,node}|$
-//! (w the node's inverse mass along the normal, g the constraint's weight on the node: 1 on the
-//! secondary node, $N_k$ on the face nodes), which is $\ge C$ by Cauchy-Schwarz. So each sweep
+//! (w the node's largest inverse mass, g the constraint's weight on the node: 1 on the
+//! secondary node, $N_k$ on the face nodes), which bounds each row of C in absolute value
+//! (Gershgorin), partly prescribed nodes included. So each sweep
 //! is a projected-gradient step in a metric that majorises the compliance: the iteration
 //! descends monotonically, and a lone constraint is solved in one sweep.
 //! Coulomb friction takes the tangential impulse that stops the relative tangential
@@ -31,7 +32,7 @@ use crate::contact::{search, Primary};
 use crate::element;
 use crate::error::Result;
 use crate::kernels::contact_gap::NO_FACE;
-use crate::kernels::{ContactPoint, ContactQueries, Kernels};
+use crate::kernels::{self, ContactPoint, ContactQueries, Kernels};
 use crate::model::Model;
 use crate::scene::ExplicitSettings;
 
@@ -114,14 +115,7 @@ impl<'m> ExplicitSolver<'m> {
     ) -> Result<Self> {
         let nodes = model.mesh.node_count();
         let ndof = 3 * nodes;
-        let mut mass = vec![0.0; nodes];
-        for (el, material) in model.mesh.elements() {
-            let x = model.mesh.corners(el);
-            let rho = model.materials[material as usize].density;
-            for (k, m) in element::lumped_mass(&x, rho).into_iter().enumerate() {
-                mass[el[k] as usize] += m;
-            }
-        }
+        let mass = lumped_mass(model);
         let inv_mass: Vec<f64> = (0..ndof)
             .map(|d| {
                 if model.fixed[d] {
@@ -202,15 +196,11 @@ impl<'m> ExplicitSolver<'m> {
     pub fn step(&mut self) -> Result<StepReport> {
         let dt = self.dt;
         let ndof = self.u.len();
-        for d in 0..ndof {
-            self.v[d] += 0.5 * dt * self.a[d];
-        }
+        kernels::explicit_predict(dt, &self.a, &mut self.v);
         let report = self.contact()?;
         self.u_prev.copy_from_slice(&self.u);
         self.v_half.copy_from_slice(&self.v);
-        for d in 0..ndof {
-            self.u[d] += dt * self.v[d];
-        }
+        kernels::explicit_drift(dt, &self.v, &mut self.u);
         self.kernels
             .internal_forces_into(&self.u, &mut self.f_int)?;
         for d in 0..ndof {
@@ -224,7 +214,7 @@ impl<'m> ExplicitSolver<'m> {
 
     /// The constraints of the step at (u_n, v*): surfaces through the kernels, planes
     /// analytically; only nodes within one face size plus four steps of the fastest node's
-    /// motion of their primary surface.
+    /// motion of their primary surface, or within four steps of their own motion of a plane.
     fn gather_constraints(&mut self) -> Result<()> {
         let model = self.model;
         self.constraints.clear();
@@ -247,6 +237,7 @@ impl<'m> ExplicitSolver<'m> {
             )?;
         }
         let reach = -margin.max(f64::MIN_POSITIVE);
+        let dt = self.dt;
         for (k, itf) in model.interfaces.iter().enumerate() {
             for (i, &node) in itf.nodes.iter().enumerate() {
                 let n = node as usize;
@@ -268,6 +259,13 @@ impl<'m> ExplicitSolver<'m> {
                         let x = std::array::from_fn(|a| x0[a] + self.u[3 * n + a]);
                         (None, [0.0; 4], *normal, -dot(quad::sub(x, *point), *normal))
                     }
+                };
+                // a plane constrains a node alone: its reach is four steps of the node's own
+                // motion (the device step's rule, kernels/plane_contact.rs)
+                let reach = if face.is_none() {
+                    -4.0 * dt * quad::norm([self.v[3 * n], self.v[3 * n + 1], self.v[3 * n + 2]])
+                } else {
+                    reach
                 };
                 if gap < reach {
                     continue;
@@ -301,16 +299,27 @@ impl<'m> ExplicitSolver<'m> {
                 .map(|a| nrm[a] * nrm[a] * inv_mass[3 * n as usize + a])
                 .sum::<f64>()
         };
+        // the largest inverse mass of a node bounds |n_i . M^-1 n_j| for any two unit normals,
+        // also where some of its dofs are prescribed (the inverse mass along one normal does
+        // not: the iteration could diverge there)
+        let inv_max = |n: u32, inv_mass: &[f64]| -> f64 {
+            (0..3)
+                .map(|a| inv_mass[3 * n as usize + a])
+                .fold(0.0, f64::max)
+        };
         for c in &mut self.constraints {
-            let mut s = self.touches[c.node as usize] * inv(c.node, c.normal, &self.inv_mass);
+            // a constraint whose normal meets only prescribed dofs cannot be enforced
+            let mut along = inv(c.node, c.normal, &self.inv_mass);
+            let mut s = self.touches[c.node as usize] * inv_max(c.node, &self.inv_mass);
             if let Some(f) = c.face {
                 for k in 0..4 {
+                    along += c.weights[k].abs() * inv(f[k], c.normal, &self.inv_mass);
                     s += c.weights[k].abs()
                         * self.touches[f[k] as usize]
-                        * inv(f[k], c.normal, &self.inv_mass);
+                        * inv_max(f[k], &self.inv_mass);
                 }
             }
-            c.compliance = s;
+            c.compliance = if along > 0.0 { s } else { 0.0 };
         }
         Ok(())
     }
@@ -492,6 +501,19 @@ impl<'m> ExplicitSolver<'m> {
     pub fn body_velocities(&self) -> Vec<[f64; 3]> {
         super::body_velocities(self.model, &self.mass, &self.v)
     }
+}
+
+/// The lumped mass of every node.
+pub fn lumped_mass(model: &Model) -> Vec<f64> {
+    let mut mass = vec![0.0; model.mesh.node_count()];
+    for (el, material) in model.mesh.elements() {
+        let x = model.mesh.corners(el);
+        let rho = model.materials[material as usize].density;
+        for (k, m) in element::lumped_mass(&x, rho).into_iter().enumerate() {
+            mass[el[k] as usize] += m;
+        }
+    }
+    mass
 }
 
 /// Relative velocity of a constraint's secondary node against its primary point in the

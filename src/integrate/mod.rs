@@ -2,11 +2,13 @@
 
 pub mod explicit;
 pub mod implicit;
+pub mod resident;
 pub mod stable_step;
 pub mod state;
 
 pub use explicit::ExplicitSolver;
 pub use implicit::{ImplicitSolver, StepReport};
+pub use resident::ResidentSolver;
 pub use state::{ContactReport, Energies};
 
 use crate::model::Model;

@@ -7,14 +7,24 @@
 //! primary faces).
 
 pub mod contact_gap;
+pub mod explicit_correct;
+pub mod explicit_drift;
+pub mod explicit_predict;
 pub mod hex8_forces;
+pub mod history_reduce;
 pub mod node_gather;
+pub mod plane_contact;
 pub mod slip_rate;
 pub mod tet4_forces;
 
 pub use contact_gap::{contact_gap, ContactPoint, ContactQueries};
+pub use explicit_correct::{explicit_correct, LumpedNode};
+pub use explicit_drift::explicit_drift;
+pub use explicit_predict::explicit_predict;
 pub use hex8_forces::hex8_forces;
+pub use history_reduce::{history_reduce, ReduceColumn};
 pub use node_gather::{node_gather, Incidence};
+pub use plane_contact::{plane_contact, PlaneData, PlaneNode, SweepLimits};
 pub use slip_rate::slip_rate;
 pub use tet4_forces::tet4_forces;
 

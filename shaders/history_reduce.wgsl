@@ -1,0 +1,68 @@
+// One history row of the explicit step, one workgroup per value (twin:
+// `kernels::history_reduce`). Column c reduces the entries first + k * stride, k < count, of
+// its source by its op:
+//   0: sum of the correctors' workgroup partials,
+//   1: sum of the plane contact results,
+//   2: largest plane contact result, and 0 (penetration, sweeps),
+//   3: displacement component `first` (3 n + axis; a probe),
+//   4: velocity component `first` (a probe).
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> columns: array<ReduceColumn>;
+@group(0) @binding(2) var<storage, read> partials: array<f32>;
+@group(0) @binding(3) var<storage, read> results: array<f32>;
+@group(0) @binding(4) var<storage, read> displacement: array<Split3>;
+@group(0) @binding(5) var<storage, read> velocity: array<f32>;
+@group(0) @binding(6) var<storage, read_write> row: array<f32>;
+
+var<workgroup> scratch: array<f32, 64>;
+
+fn entry(col: ReduceColumn, at: u32) -> f32 {
+    switch col.op {
+        case 0u: {
+            return partials[at];
+        }
+        case 1u, 2u: {
+            return results[at];
+        }
+        case 3u: {
+            let u = displacement[at / 3u];
+            return u.hi[at % 3u] + u.lo[at % 3u];
+        }
+        default: {
+            return velocity[at];
+        }
+    }
+}
+
+@compute @workgroup_size(64)
+fn history_reduce(
+    @builtin(local_invocation_index) local: u32,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    let c = wid.x + wid.y * groups.x;
+    let valid = c < params.count;
+    let col = columns[min(c, params.count - 1u)];
+    let is_max = col.op == 2u;
+    var acc = 0.0;
+    if (valid) {
+        for (var k = local; k < col.count; k += 64u) {
+            let x = entry(col, col.first + k * col.stride);
+            acc = select(acc + x, max(acc, x), is_max);
+        }
+    }
+    scratch[local] = acc;
+    workgroupBarrier();
+    for (var s = 32u; s > 0u; s >>= 1u) {
+        if (local < s) {
+            let a = scratch[local];
+            let b = scratch[local + s];
+            scratch[local] = select(a + b, max(a, b), is_max);
+        }
+        workgroupBarrier();
+    }
+    if (valid && local == 0u) {
+        row[c] = scratch[0];
+    }
+}

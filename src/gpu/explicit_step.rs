@@ -1,0 +1,630 @@
+//! [`ResidentExplicit`]: the whole explicit central-difference step on the device, many steps
+//! per submission, with the history values reduced on the device and read back
+//! asynchronously once per submission.
+//!
+//! A step records: `explicit_predict` (v* = v + dt/2 a), `plane_contact` (impulses against
+//! the rigid planes, if any), `explicit_drift` (u += dt v), the element kernels and
+//! `node_gather` (internal forces), `explicit_correct` once per body (a, v and the body's
+//! energy and momentum sums per workgroup) and `history_reduce` (one row of history
+//! values), whose row is then copied into a mapped read-back buffer at the step's place.
+//! Two read-back buffers alternate: the host decodes one submission's rows while the device
+//! runs the next.
+//!
+//! The state stays on the device; [`ResidentExplicit::read_state`] fetches it (VTU frames).
+//! Surface-to-surface contact is not part of this step: scenes with a `[[contact]]` run the
+//! host loop over the GPU kernels ([`super::GpuKernels`]).
+
+use std::ops::Range;
+use std::sync::mpsc;
+
+use super::buffer::{submit_and_read, Storage};
+use super::context::GpuContext;
+use super::engine::GpuKernels;
+use super::explicit_correct::ExplicitCorrectBuffers;
+use super::history_reduce::HistoryReduceBuffers;
+use super::kernel::Launch;
+use super::plane_contact::PlaneContactBuffers;
+use super::types::{self, Split3};
+use super::{ExplicitCorrect, ExplicitDrift, ExplicitPredict, HistoryReduce, PlaneContact};
+use crate::error::{ImpactError, Result};
+use crate::kernels::explicit_correct::FIELDS;
+use crate::kernels::history_reduce::{OP_DISPLACEMENT, OP_MAX, OP_PARTIALS, OP_SUM, OP_VELOCITY};
+use crate::kernels::plane_contact::{MAX_PLANES, SLOT};
+use crate::kernels::{ElementData, LumpedNode, PlaneData, PlaneNode, ReduceColumn};
+
+/// What the resident step needs besides the elements, in f64 (the CPU twins take the same).
+#[derive(Debug, Clone)]
+pub struct ResidentSetup {
+    pub dt: f64,
+    /// The contact iteration's tolerance (a gap rate) and sweep limit.
+    pub tolerance: f64,
+    pub max_iterations: u32,
+    pub lumped: Vec<LumpedNode>,
+    pub planes: Vec<PlaneData>,
+    pub plane_nodes: Vec<PlaneNode>,
+    /// Node range of each body.
+    pub bodies: Vec<Range<usize>>,
+    /// Probe nodes.
+    pub probes: Vec<u32>,
+    /// Initial velocity and acceleration, 3 per node.
+    pub velocity: Vec<f64>,
+    pub acceleration: Vec<f64>,
+}
+
+/// Values of a history row, in order: per body [`FIELDS`] (kinetic, strain, gravity,
+/// momentum x y z), per plane [`SLOT`] (the plane contact results, summed; the gap and the
+/// sweeps as maxima), per probe 6 (displacement, velocity).
+pub fn row_len(bodies: usize, planes: usize, probes: usize) -> usize {
+    FIELDS * bodies + SLOT * planes + 6 * probes
+}
+
+/// The row's columns given each body's first workgroup slot and workgroup count in the
+/// correctors' partials.
+pub fn row_columns(
+    groups: &[(u32, u32)],
+    planes: usize,
+    plane_nodes: usize,
+    probes: &[u32],
+) -> Vec<ReduceColumn> {
+    let mut cols = Vec::new();
+    for &(base, count) in groups {
+        for q in 0..FIELDS as u32 {
+            cols.push(ReduceColumn {
+                first: base * FIELDS as u32 + q,
+                count,
+                stride: FIELDS as u32,
+                op: OP_PARTIALS,
+            });
+        }
+    }
+    for p in 0..planes as u32 {
+        for f in 0..SLOT as u32 {
+            cols.push(ReduceColumn {
+                first: p * SLOT as u32 + f,
+                count: plane_nodes as u32,
+                stride: SLOT as u32 * planes as u32,
+                op: if f == 6 || f == 8 { OP_MAX } else { OP_SUM },
+            });
+        }
+    }
+    for &n in probes {
+        for (op, a) in [OP_DISPLACEMENT, OP_VELOCITY]
+            .into_iter()
+            .flat_map(|op| (0..3).map(move |a| (op, a)))
+        {
+            cols.push(ReduceColumn {
+                first: 3 * n + a,
+                count: 1,
+                stride: 1,
+                op,
+            });
+        }
+    }
+    cols
+}
+
+/// One stage of the step, for running it alone ([`ResidentExplicit::run_stage`]; the kernel
+/// tests compare each with its CPU twin).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stage {
+    Predict,
+    PlaneContact,
+    Drift,
+    InternalForces,
+    Correct,
+    Reduce,
+}
+
+struct Launches {
+    predict: Launch,
+    plane: Option<Launch>,
+    drift: Launch,
+    correct: Vec<Launch>,
+    reduce: Launch,
+}
+
+/// A submission whose rows are being read back.
+struct Pending {
+    steps: usize,
+    index: wgpu::SubmissionIndex,
+    mapped: mpsc::Receiver<std::result::Result<(), wgpu::BufferAsyncError>>,
+}
+
+pub struct ResidentExplicit {
+    k: GpuKernels,
+    predict: ExplicitPredict,
+    plane: PlaneContact,
+    drift: ExplicitDrift,
+    correct: ExplicitCorrect,
+    reduce: HistoryReduce,
+    _step: wgpu::Buffer,
+    a: Storage,
+    lumped: Storage,
+    planes: Storage,
+    plane_nodes: Storage,
+    results: Storage,
+    partials: Storage,
+    columns: Storage,
+    row: Storage,
+    launches: Launches,
+    column_list: Vec<ReduceColumn>,
+    row_len: usize,
+    plane_count: usize,
+    plane_node_count: usize,
+    readback: [Storage; 2],
+    pending: [Option<Pending>; 2],
+    /// Steps one submission can hold (the read-back buffers' size).
+    pub chunk_capacity: usize,
+}
+
+impl ResidentExplicit {
+    pub fn new(
+        ctx: GpuContext,
+        data: &ElementData,
+        setup: &ResidentSetup,
+        chunk_capacity: usize,
+    ) -> Result<Self> {
+        if setup.planes.len() > MAX_PLANES {
+            return Err(ImpactError::Gpu(format!(
+                "{} rigid planes: the device step takes at most {MAX_PLANES}",
+                setup.planes.len()
+            )));
+        }
+        let mut k = GpuKernels::new(ctx, data)?;
+        let nodes = k.nodes;
+        k.upload_state(&vec![0.0; 3 * nodes], &setup.velocity)?;
+        k.prepare_internal_forces();
+        let ctx = &k.ctx;
+        let upload = |label, bytes: &[u8]| -> Result<Storage> {
+            let mut s = Storage::new(ctx, label, bytes.len() as u64)?;
+            s.upload(ctx, bytes)?;
+            Ok(s)
+        };
+        let f32s = |x: &[f64]| -> Vec<f32> { x.iter().map(|&a| a as f32).collect() };
+        let a = upload(
+            "acceleration",
+            bytemuck::cast_slice(&f32s(&setup.acceleration)),
+        )?;
+        let lumped: Vec<types::Lumped> = setup
+            .lumped
+            .iter()
+            .map(|l| types::Lumped {
+                mass: l.mass as f32,
+                inv_mass: l.inv_mass.map(|x| x as f32),
+                ext_acc: l.ext_acc.map(|x| x as f32),
+            })
+            .collect();
+        let lumped = upload("lumped", bytemuck::cast_slice(&lumped))?;
+        let planes: Vec<types::Plane> = setup
+            .planes
+            .iter()
+            .map(|p| types::Plane {
+                point: Split3::split(p.point),
+                normal: p.normal.map(|x| x as f32),
+                mu: p.mu as f32,
+            })
+            .collect();
+        let planes = upload("planes", bytemuck::cast_slice(&at_least_one(planes)))?;
+        let pn: Vec<types::PlaneNode> = setup
+            .plane_nodes
+            .iter()
+            .map(|p| types::PlaneNode {
+                node: p.node,
+                planes: p.planes,
+            })
+            .collect();
+        let plane_node_count = pn.len();
+        let plane_nodes = upload("plane_nodes", bytemuck::cast_slice(&at_least_one(pn)))?;
+        let plane_count = setup.planes.len();
+        let results = upload(
+            "plane_results",
+            bytemuck::cast_slice(&vec![0.0f32; SLOT * plane_count * plane_node_count]),
+        )?;
+        let step_consts = types::Step {
+            dt: setup.dt as f32,
+            tolerance: setup.tolerance as f32,
+            max_iterations: setup.max_iterations,
+            pad: 0,
+        };
+        let step = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("explicit_step"),
+            size: std::mem::size_of::<types::Step>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        ctx.queue
+            .write_buffer(&step, 0, bytemuck::bytes_of(&step_consts));
+        let predict = ExplicitPredict::new(ctx);
+        let plane = PlaneContact::new(ctx);
+        let drift = ExplicitDrift::new(ctx);
+        let correct = ExplicitCorrect::new(ctx);
+        let reduce = HistoryReduce::new(ctx);
+
+        // the correctors' partials: one slot of FIELDS per workgroup, body after body
+        let mut groups = Vec::new();
+        let mut total_groups = 0u32;
+        for b in &setup.bodies {
+            let g = correct.0.grid(b.len() as u32);
+            groups.push((total_groups, g[0] * g[1]));
+            total_groups += g[0] * g[1];
+        }
+        let partials = Storage::new(ctx, "partials", (total_groups as usize * FIELDS * 4) as u64)?;
+        let columns = row_columns(&groups, plane_count, plane_node_count, &setup.probes);
+        let row_len = columns.len();
+        let cols: Vec<types::ReduceColumn> = columns
+            .iter()
+            .map(|c| types::ReduceColumn {
+                first: c.first,
+                count: c.count,
+                stride: c.stride,
+                op: c.op,
+            })
+            .collect();
+        let column_list = columns;
+        let columns = upload("history.columns", bytemuck::cast_slice(&cols))?;
+        let row = Storage::new(ctx, "history.row", (row_len * 4) as u64)?;
+
+        let launches = Launches {
+            predict: predict.launch(ctx, 3 * nodes as u32, &step, &a.buffer, &k.v.buffer),
+            plane: (plane_node_count > 0).then(|| {
+                plane.launch(
+                    ctx,
+                    plane_node_count as u32,
+                    plane_count as u32,
+                    &PlaneContactBuffers {
+                        step: &step,
+                        reference: &k.reference.buffer,
+                        displacement: &k.u.buffer,
+                        acceleration: &a.buffer,
+                        lumped: &lumped.buffer,
+                        planes: &planes.buffer,
+                        plane_nodes: &plane_nodes.buffer,
+                        velocity: &k.v.buffer,
+                        results: &results.buffer,
+                    },
+                )
+            }),
+            drift: drift.launch(ctx, nodes as u32, &step, &k.v.buffer, &k.u.buffer),
+            correct: setup
+                .bodies
+                .iter()
+                .zip(&groups)
+                .map(|(b, &(base, _))| {
+                    correct.launch(
+                        ctx,
+                        b.start as u32,
+                        b.len() as u32,
+                        base,
+                        &ExplicitCorrectBuffers {
+                            step: &step,
+                            displacement: &k.u.buffer,
+                            forces: &k.forces.buffer,
+                            lumped: &lumped.buffer,
+                            velocity: &k.v.buffer,
+                            acceleration: &a.buffer,
+                            partials: &partials.buffer,
+                        },
+                    )
+                })
+                .collect(),
+            reduce: reduce.launch(
+                ctx,
+                row_len as u32,
+                &HistoryReduceBuffers {
+                    columns: &columns.buffer,
+                    partials: &partials.buffer,
+                    results: &results.buffer,
+                    displacement: &k.u.buffer,
+                    velocity: &k.v.buffer,
+                    row: &row.buffer,
+                },
+            ),
+        };
+        let chunk_capacity = chunk_capacity.max(1);
+        let make_readback = || {
+            Storage::with_usage(
+                ctx,
+                "history.readback",
+                (chunk_capacity * row_len * 4) as u64,
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            )
+        };
+        let readback = [make_readback()?, make_readback()?];
+        Ok(ResidentExplicit {
+            predict,
+            plane,
+            drift,
+            correct,
+            reduce,
+            _step: step,
+            a,
+            lumped,
+            planes,
+            plane_nodes,
+            results,
+            partials,
+            columns,
+            row,
+            launches,
+            column_list,
+            row_len,
+            plane_count,
+            plane_node_count,
+            readback,
+            pending: [None, None],
+            chunk_capacity,
+            k,
+        })
+    }
+
+    pub fn device_name(&self) -> String {
+        self.k.ctx.adapter.name.clone()
+    }
+
+    pub fn context(&self) -> &GpuContext {
+        &self.k.ctx
+    }
+
+    /// The history row's columns (the inputs of `history_reduce`).
+    pub fn columns(&self) -> &[ReduceColumn] {
+        &self.column_list
+    }
+
+    /// Floats per history row (see [`row_len`]).
+    pub fn row_len(&self) -> usize {
+        self.row_len
+    }
+
+    /// Bytes held on the device.
+    pub fn device_bytes(&self) -> u64 {
+        self.k.device_bytes()
+            + [
+                &self.a,
+                &self.lumped,
+                &self.planes,
+                &self.plane_nodes,
+                &self.results,
+                &self.partials,
+                &self.columns,
+                &self.row,
+                &self.readback[0],
+                &self.readback[1],
+            ]
+            .iter()
+            .map(|s| s.capacity)
+            .sum::<u64>()
+    }
+
+    /// Runs one stage alone on the device's current buffers and waits for it.
+    pub fn run_stage(&mut self, stage: Stage) -> Result<()> {
+        let ctx = &self.k.ctx;
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("explicit_stage"),
+            });
+        let l = &self.launches;
+        match stage {
+            Stage::Predict => self.predict.0.record_launch(&mut enc, &l.predict),
+            Stage::PlaneContact => {
+                if let Some(p) = &l.plane {
+                    self.plane.0.record_launch(&mut enc, p);
+                }
+            }
+            Stage::Drift => self.drift.0.record_launch(&mut enc, &l.drift),
+            Stage::InternalForces => self.k.record_internal_forces(&mut enc),
+            Stage::Correct => {
+                for c in &l.correct {
+                    self.correct.0.record_launch(&mut enc, c);
+                }
+            }
+            Stage::Reduce => self.reduce.0.record_launch(&mut enc, &l.reduce),
+        }
+        ctx.queue.submit([enc.finish()]);
+        ctx.wait()
+    }
+
+    /// Overwrites the device state: displacement, velocity, acceleration (3 per node), the
+    /// internal forces (3 per node) and the plane contact results.
+    pub fn upload(
+        &mut self,
+        u: &[f64],
+        v: &[f64],
+        a: &[f64],
+        forces: &[f64],
+        results: &[f64],
+    ) -> Result<()> {
+        self.k.upload_state(u, v)?;
+        let ctx = &self.k.ctx;
+        let f32s = |x: &[f64]| -> Vec<f32> { x.iter().map(|&a| a as f32).collect() };
+        self.a.upload(ctx, &f32s(a))?;
+        self.k.forces.upload(ctx, &f32s(forces))?;
+        self.results.upload(ctx, &f32s(results))?;
+        Ok(())
+    }
+
+    fn read_f32(&mut self, which: Buffer, count: usize) -> Result<Vec<f64>> {
+        let ctx = &self.k.ctx;
+        let enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("read_back"),
+            });
+        let source = match which {
+            Buffer::Acceleration => &self.a.buffer,
+            Buffer::Partials => &self.partials.buffer,
+            Buffer::Row => &self.row.buffer,
+        };
+        let out: Vec<f32> = submit_and_read(ctx, &mut self.k.staging, enc, source, count)?;
+        Ok(out.into_iter().map(f64::from).collect())
+    }
+
+    /// The acceleration (3 per node).
+    pub fn read_acceleration(&mut self) -> Result<Vec<f64>> {
+        self.read_f32(Buffer::Acceleration, 3 * self.k.nodes)
+    }
+
+    /// The correctors' workgroup sums, `FIELDS` per workgroup, body after body.
+    pub fn read_partials(&mut self) -> Result<Vec<f64>> {
+        let n = (self.partials.capacity / 4) as usize;
+        self.read_f32(Buffer::Partials, n)
+    }
+
+    /// The last history row.
+    pub fn read_row(&mut self) -> Result<Vec<f64>> {
+        self.read_f32(Buffer::Row, self.row_len)
+    }
+
+    /// Records one whole step.
+    fn record_step(&self, enc: &mut wgpu::CommandEncoder) {
+        let l = &self.launches;
+        self.predict.0.record_launch(enc, &l.predict);
+        if let Some(p) = &l.plane {
+            self.plane.0.record_launch(enc, p);
+        }
+        self.drift.0.record_launch(enc, &l.drift);
+        self.k.record_internal_forces(enc);
+        for c in &l.correct {
+            self.correct.0.record_launch(enc, c);
+        }
+        self.reduce.0.record_launch(enc, &l.reduce);
+    }
+
+    /// Records and submits `steps` steps whose history rows go to read-back buffer `slot`,
+    /// and starts mapping it; [`Self::collect`] waits for them. Does not wait.
+    pub fn submit(&mut self, slot: usize, steps: usize) -> Result<()> {
+        if self.pending[slot].is_some() {
+            return Err(ImpactError::Gpu(format!(
+                "read-back buffer {slot} is still in use"
+            )));
+        }
+        let steps = steps.min(self.chunk_capacity);
+        let row_bytes = (self.row_len * 4) as u64;
+        let ctx = &self.k.ctx;
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("explicit_steps"),
+            });
+        for j in 0..steps {
+            self.record_step(&mut enc);
+            enc.copy_buffer_to_buffer(
+                &self.row.buffer,
+                0,
+                &self.readback[slot].buffer,
+                j as u64 * row_bytes,
+                row_bytes,
+            );
+        }
+        let index = ctx.queue.submit([enc.finish()]);
+        let (tx, rx) = mpsc::channel();
+        self.readback[slot]
+            .buffer
+            .slice(..steps as u64 * row_bytes)
+            .map_async(wgpu::MapMode::Read, move |r| {
+                let _ = tx.send(r);
+            });
+        self.pending[slot] = Some(Pending {
+            steps,
+            index,
+            mapped: rx,
+        });
+        Ok(())
+    }
+
+    /// Waits for submission `slot` and returns its rows (steps x [`Self::row_len`]).
+    pub fn collect(&mut self, slot: usize) -> Result<Vec<f32>> {
+        let Some(p) = self.pending[slot].take() else {
+            return Err(ImpactError::Gpu(format!(
+                "nothing submitted to read-back buffer {slot}"
+            )));
+        };
+        let ctx = &self.k.ctx;
+        ctx.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: Some(p.index),
+                timeout: None,
+            })
+            .map_err(|e| {
+                ImpactError::Gpu(format!(
+                    "{}: waiting for the explicit steps: {e}",
+                    ctx.adapter.name
+                ))
+            })?;
+        p.mapped
+            .recv()
+            .map_err(|_| ImpactError::Gpu("read-back callback dropped".into()))?
+            .map_err(|e| {
+                ImpactError::Gpu(format!(
+                    "{}: cannot map the history rows: {e}",
+                    ctx.adapter.name
+                ))
+            })?;
+        let bytes = (p.steps * self.row_len * 4) as u64;
+        let buffer = &self.readback[slot].buffer;
+        let rows = {
+            let view = buffer
+                .slice(..bytes)
+                .get_mapped_range()
+                .map_err(|e| ImpactError::Gpu(format!("history read-back: {e}")))?;
+            bytemuck::pod_collect_to_vec::<u8, f32>(&view)
+        };
+        buffer.unmap();
+        Ok(rows)
+    }
+
+    /// Whether read-back buffer `slot` holds a submission not yet collected.
+    pub fn is_pending(&self, slot: usize) -> bool {
+        self.pending[slot].is_some()
+    }
+
+    /// The device's state after everything submitted: displacement and velocity (3 per
+    /// node) and the plane contact results ([`SLOT`] per (plane node, plane)).
+    pub fn read_state(&mut self) -> Result<(Vec<f64>, Vec<f64>, Vec<f64>)> {
+        let ctx = &self.k.ctx;
+        let new_encoder = || {
+            ctx.device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("read_state"),
+                })
+        };
+        let n = self.k.nodes;
+        let u: Vec<Split3> =
+            submit_and_read(ctx, &mut self.k.staging, new_encoder(), &self.k.u.buffer, n)?;
+        let v: Vec<f32> = submit_and_read(
+            ctx,
+            &mut self.k.staging,
+            new_encoder(),
+            &self.k.v.buffer,
+            3 * n,
+        )?;
+        let r: Vec<f32> = submit_and_read(
+            ctx,
+            &mut self.k.staging,
+            new_encoder(),
+            &self.results.buffer,
+            SLOT * self.plane_count * self.plane_node_count,
+        )?;
+        let u = u
+            .iter()
+            .flat_map(|s| (0..3).map(|a| s.hi[a] as f64 + s.lo[a] as f64))
+            .collect();
+        let v = v.into_iter().map(f64::from).collect();
+        let r = r.into_iter().map(f64::from).collect();
+        Ok((u, v, r))
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Buffer {
+    Acceleration,
+    Partials,
+    Row,
+}
+
+fn at_least_one<T: Default>(mut v: Vec<T>) -> Vec<T> {
+    if v.is_empty() {
+        v.push(T::default());
+    }
+    v
+}

@@ -1,0 +1,371 @@
+//! [`ResidentSolver`]: the explicit path with every stage of the step on the GPU
+//! ([`crate::gpu::ResidentExplicit`]), for scenes whose contacts are rigid planes. The same
+//! time discretisation and the same contact iteration as [`super::ExplicitSolver`], its CPU
+//! twin (`device = "cpu"`): see `integrate/explicit.rs` and `kernels/plane_contact.rs`.
+//!
+//! The host submits many steps at a time and decodes the history rows the device reduced, one
+//! submission behind the device. VTU frames end a submission; the state is read back there.
+
+use std::collections::VecDeque;
+
+use super::explicit::lumped_mass;
+use super::implicit::StepReport;
+use super::state::{ContactReport, Energies};
+use crate::contact::Primary;
+use crate::error::Result;
+use crate::gpu::explicit_step::row_len;
+use crate::gpu::{GpuContext, ResidentExplicit, ResidentSetup};
+use crate::kernels::explicit_correct::FIELDS;
+use crate::kernels::plane_contact::{MAX_PLANES, SLOT};
+use crate::kernels::{LumpedNode, PlaneData, PlaneNode};
+use crate::model::Model;
+use crate::scene::ExplicitSettings;
+
+/// Whether the resident step can run the model: no surface-to-surface contact and at most
+/// [`MAX_PLANES`] rigid planes.
+pub fn supports(model: &Model) -> bool {
+    model
+        .interfaces
+        .iter()
+        .all(|i| matches!(i.primary, Primary::Plane { .. }))
+        && model.interfaces.len() <= MAX_PLANES
+}
+
+/// Steps per submission: about 4 million element-steps, from 8 to 1024.
+pub fn chunk_steps(elements: usize) -> usize {
+    ((1usize << 22) / elements.max(1)).clamp(8, 1024)
+}
+
+/// The resident step's inputs for a model (planes are the model's interfaces, in order).
+pub fn setup(
+    model: &Model,
+    settings: &ExplicitSettings,
+    dt: f64,
+    speed_scale: f64,
+) -> (ResidentSetup, Vec<Vec<usize>>) {
+    let mass = lumped_mass(model);
+    let nodes = model.mesh.node_count();
+    let lumped: Vec<LumpedNode> = (0..nodes)
+        .map(|n| {
+            let free = |a: usize| !model.fixed[3 * n + a];
+            LumpedNode {
+                mass: mass[n],
+                inv_mass: std::array::from_fn(|a| if free(a) { 1.0 / mass[n] } else { 0.0 }),
+                ext_acc: std::array::from_fn(|a| if free(a) { model.gravity[a] } else { 0.0 }),
+            }
+        })
+        .collect();
+    let mut planes = Vec::new();
+    let mut index = vec![usize::MAX; nodes];
+    let mut plane_nodes: Vec<PlaneNode> = Vec::new();
+    // for each plane interface, each secondary node's place in `plane_nodes`
+    let mut places = Vec::new();
+    for itf in &model.interfaces {
+        let Primary::Plane { point, normal } = itf.primary else {
+            continue;
+        };
+        let p = planes.len();
+        planes.push(PlaneData {
+            point,
+            normal,
+            mu: itf.friction,
+        });
+        let mut place = Vec::with_capacity(itf.nodes.len());
+        for &n in &itf.nodes {
+            if index[n as usize] == usize::MAX {
+                index[n as usize] = plane_nodes.len();
+                plane_nodes.push(PlaneNode { node: n, planes: 0 });
+            }
+            let i = index[n as usize];
+            plane_nodes[i].planes |= 1 << p;
+            place.push(i);
+        }
+        places.push(place);
+    }
+    let mut velocity = model.initial_velocity.clone();
+    for (d, v) in velocity.iter_mut().enumerate() {
+        if model.fixed[d] {
+            *v = 0.0;
+        }
+    }
+    let acceleration = (0..3 * nodes)
+        .map(|d| lumped[d / 3].ext_acc[d % 3])
+        .collect();
+    let setup = ResidentSetup {
+        dt,
+        tolerance: settings.tolerance * speed_scale.max(f64::MIN_POSITIVE),
+        max_iterations: settings.max_iterations as u32,
+        lumped,
+        planes,
+        plane_nodes,
+        bodies: model.mesh.bodies.iter().map(|b| b.nodes.clone()).collect(),
+        probes: model.probes.iter().map(|p| p.node).collect(),
+        velocity,
+        acceleration,
+    };
+    (setup, places)
+}
+
+/// One decoded history row.
+#[derive(Debug, Clone, Default)]
+struct Row {
+    energies: Energies,
+    bodies: Vec<[f64; 3]>,
+    reports: Vec<ContactReport>,
+    probes: Vec<([f64; 3], [f64; 3])>,
+    report: StepReport,
+}
+
+pub struct ResidentSolver<'m> {
+    model: &'m Model,
+    engine: ResidentExplicit,
+    pub dt: f64,
+    pub time: f64,
+    pub steps: usize,
+    /// Steps the run takes.
+    total: usize,
+    frame_every: Option<usize>,
+    submitted: usize,
+    /// The read-back buffer to collect next.
+    slot: usize,
+    chunk: usize,
+    rows: VecDeque<Row>,
+    current: Row,
+    mass: Vec<f64>,
+    body_mass: Vec<f64>,
+    max_iterations: usize,
+    places: Vec<Vec<usize>>,
+    plane_count: usize,
+    /// State at the last frame (or the start): displacement, velocity, plane results.
+    pub u: Vec<f64>,
+    pub v: Vec<f64>,
+    results: Vec<f64>,
+    initial: Energies,
+}
+
+impl<'m> ResidentSolver<'m> {
+    /// `total` steps, reading the state back every `frame_every` steps.
+    pub fn new(
+        ctx: GpuContext,
+        model: &'m Model,
+        settings: &ExplicitSettings,
+        dt: f64,
+        speed_scale: f64,
+        total: usize,
+        frame_every: Option<usize>,
+    ) -> Result<Self> {
+        let (setup, places) = setup(model, settings, dt, speed_scale);
+        let chunk = chunk_steps(model.mesh.element_count());
+        let engine = ResidentExplicit::new(ctx, &model.element_data(), &setup, chunk)?;
+        let mass = lumped_mass(model);
+        let body_mass = model
+            .mesh
+            .bodies
+            .iter()
+            .map(|b| b.nodes.clone().map(|n| mass[n]).sum())
+            .collect();
+        let kinetic = 0.5
+            * setup
+                .velocity
+                .iter()
+                .enumerate()
+                .map(|(d, v)| mass[d / 3] * v * v)
+                .sum::<f64>();
+        let plane_count = setup.planes.len();
+        Ok(ResidentSolver {
+            model,
+            engine,
+            dt,
+            time: 0.0,
+            steps: 0,
+            total,
+            frame_every: frame_every.filter(|&e| e > 0),
+            submitted: 0,
+            slot: 0,
+            chunk,
+            rows: VecDeque::new(),
+            current: Row {
+                bodies: super::body_velocities(model, &mass, &setup.velocity),
+                reports: vec![ContactReport::default(); model.interfaces.len()],
+                ..Default::default()
+            },
+            mass,
+            body_mass,
+            max_iterations: settings.max_iterations,
+            places,
+            plane_count,
+            u: vec![0.0; 3 * model.mesh.node_count()],
+            v: setup.velocity.clone(),
+            results: vec![0.0; SLOT * plane_count * setup.plane_nodes.len()],
+            initial: Energies {
+                kinetic,
+                strain: 0.0,
+                potential: 0.0,
+            },
+        })
+    }
+
+    pub fn device_name(&self) -> String {
+        self.engine.device_name()
+    }
+
+    pub fn nodal_mass(&self) -> &[f64] {
+        &self.mass
+    }
+
+    /// Steps per submission.
+    pub fn chunk(&self) -> usize {
+        self.chunk
+    }
+
+    /// Steps of the next submission from step `from`: a chunk, cut at the end and at the
+    /// next frame.
+    fn plan(&self, from: usize) -> usize {
+        let mut n = self.chunk.min(self.total - from);
+        if let Some(e) = self.frame_every {
+            n = n.min((from / e + 1) * e - from);
+        }
+        n
+    }
+
+    fn at_frame(&self, step: usize) -> bool {
+        self.frame_every.is_some_and(|e| step % e == 0)
+    }
+
+    /// Makes sure the next rows are decoded: collects the oldest submission, keeping the
+    /// device one submission ahead (never past a frame, where the state must be read).
+    fn fill(&mut self) -> Result<()> {
+        if !self.engine.is_pending(self.slot) {
+            let n = self.plan(self.submitted).max(1);
+            self.engine.submit(self.slot, n)?;
+            self.submitted += n;
+        }
+        let other = 1 - self.slot;
+        if !self.engine.is_pending(other)
+            && self.submitted < self.total
+            && !self.at_frame(self.submitted)
+        {
+            let n = self.plan(self.submitted);
+            self.engine.submit(other, n)?;
+            self.submitted += n;
+        }
+        let rows = self.engine.collect(self.slot)?;
+        self.slot = other;
+        let len = self.engine.row_len();
+        for r in rows.chunks_exact(len) {
+            let r: Vec<f64> = r.iter().map(|&x| x as f64).collect();
+            let row = self.decode(&r);
+            self.rows.push_back(row);
+        }
+        Ok(())
+    }
+
+    fn decode(&self, r: &[f64]) -> Row {
+        let nb = self.model.mesh.bodies.len();
+        let np = self.plane_count;
+        debug_assert_eq!(r.len(), row_len(nb, np, self.model.probes.len()));
+        let mut e = Energies::default();
+        let mut bodies = Vec::with_capacity(nb);
+        for b in 0..nb {
+            let q = &r[FIELDS * b..FIELDS * (b + 1)];
+            e.kinetic += q[0];
+            e.strain += q[1];
+            e.potential += q[2];
+            bodies.push([q[3], q[4], q[5]].map(|p| p / self.body_mass[b]));
+        }
+        let mut report = StepReport {
+            iterations: 0,
+            converged: true,
+        };
+        let mut reports = Vec::with_capacity(np);
+        for p in 0..np {
+            let q = &r[FIELDS * nb + SLOT * p..FIELDS * nb + SLOT * (p + 1)];
+            let sweeps = q[8].round() as usize;
+            report.iterations = report.iterations.max(sweeps.min(self.max_iterations));
+            report.converged &= sweeps <= self.max_iterations;
+            let jt = [q[1], q[2], q[3]];
+            reports.push(ContactReport {
+                normal_force: q[0] / self.dt,
+                tangential_force: crate::contact::quad::norm(jt) / self.dt,
+                active: q[4].round() as usize,
+                max_penetration: q[6],
+                sliding: q[5].round() as usize,
+                friction_work: q[7],
+            });
+        }
+        let base = FIELDS * nb + SLOT * np;
+        let probes = (0..self.model.probes.len())
+            .map(|i| {
+                let q = &r[base + 6 * i..base + 6 * (i + 1)];
+                ([q[0], q[1], q[2]], [q[3], q[4], q[5]])
+            })
+            .collect();
+        Row {
+            energies: e,
+            bodies,
+            reports,
+            probes,
+            report,
+        }
+    }
+
+    /// One step (from the rows the device computed); at a frame step the state is read back.
+    pub fn step(&mut self) -> Result<StepReport> {
+        if self.rows.is_empty() {
+            self.fill()?;
+        }
+        self.current = self
+            .rows
+            .pop_front()
+            .expect("fill decodes at least one row");
+        self.steps += 1;
+        self.time = self.steps as f64 * self.dt;
+        if self.at_frame(self.steps) || self.steps == self.total {
+            let (u, v, results) = self.engine.read_state()?;
+            self.u = u;
+            self.v = v;
+            self.results = results;
+        }
+        Ok(self.current.report)
+    }
+
+    pub fn energies(&self) -> Energies {
+        if self.steps == 0 {
+            self.initial
+        } else {
+            self.current.energies
+        }
+    }
+
+    pub fn body_velocities(&self) -> Vec<[f64; 3]> {
+        self.current.bodies.clone()
+    }
+
+    pub fn reports(&self) -> Vec<ContactReport> {
+        self.current.reports.clone()
+    }
+
+    /// Probe displacement and velocity of the last step.
+    pub fn probes(&self) -> Vec<([f64; 3], [f64; 3])> {
+        if self.steps == 0 {
+            return self
+                .model
+                .probes
+                .iter()
+                .map(|p| {
+                    let d = 3 * p.node as usize;
+                    ([0.0; 3], [self.v[d], self.v[d + 1], self.v[d + 2]])
+                })
+                .collect();
+        }
+        self.current.probes.clone()
+    }
+
+    /// Normal impulse and end-of-step gap of secondary node `local` of plane interface
+    /// `interface` at the last state read back.
+    pub fn node_contact(&self, interface: usize, local: usize) -> (f64, f64) {
+        let i = self.places[interface][local];
+        let o = SLOT * (i * self.plane_count + interface);
+        (self.results[o], self.results[o + 6])
+    }
+}
