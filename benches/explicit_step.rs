@@ -3,9 +3,10 @@
 //! finds: a hardware GPU, else lavapipe or llvmpipe). Prints a table.
 //!
 //! The scene: a steel-like block dropped at 1 on a rigid floor it touches at t = 0, at the
-//! default step (0.9 of the stable bound). Today only the element forces and the contact
-//! kinematics run on the GPU, with a host round trip per step; the contact impulses and the
-//! vector updates run on the host.
+//! default step (0.9 of the stable bound). Three engines: the CPU twin (f64), the GPU kernels
+//! with the host loop (element forces on the device, a round trip per step; what scenes with
+//! surface-to-surface contact use), and the device-resident step (every stage on the device,
+//! many steps per submission, the history rows read back asynchronously).
 //!
 //! `cargo bench --bench explicit_step` (10^4, 10^5 and 10^6 elements; `-- --quick` for 10^4
 //! and 10^5 only).
@@ -15,7 +16,7 @@ use std::time::Instant;
 
 use impact::gpu::{GpuContext, GpuKernels};
 use impact::integrate::stable_step::stable_step;
-use impact::integrate::ExplicitSolver;
+use impact::integrate::{resident, ExplicitSolver, ResidentSolver};
 use impact::kernels::{CpuKernels, Kernels};
 use impact::model::Model;
 use impact::run::explicit_time_step;
@@ -68,6 +69,23 @@ fn time_steps(model: &Model, sc: &Scene, dt: f64, kernels: Box<dyn Kernels + '_>
     (per_step * 1e9 / elements, sweeps as f64 / steps as f64)
 }
 
+/// ns per element-step of the device-resident step, after one submission of warm-up.
+fn time_resident(model: &Model, sc: &Scene, dt: f64, ctx: GpuContext) -> f64 {
+    let elements = model.mesh.hexes.len() as f64;
+    let chunk = resident::chunk_steps(model.mesh.hexes.len());
+    let steps = ((3e7 / elements) as usize).clamp(2 * chunk.min(16), 2000);
+    let mut s = ResidentSolver::new(ctx, model, &sc.explicit, dt, 1.0, chunk + steps, None)
+        .expect("resident solver");
+    for _ in 0..chunk {
+        s.step().expect("warm-up");
+    }
+    let t = Instant::now();
+    for _ in 0..steps {
+        s.step().expect("step");
+    }
+    t.elapsed().as_secs_f64() / steps as f64 * 1e9 / elements
+}
+
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let sizes: &[[usize; 3]] = if quick {
@@ -77,9 +95,9 @@ fn main() {
     };
     let adapter = GpuContext::new().ok().map(|c| c.adapter.name.clone());
     println!(
-        "| elements | floor nodes | dt | CPU twin ns/element-step | GPU kernels ns/element-step | adapter | contact sweeps/step |"
+        "| elements | floor nodes | dt | CPU twin ns/element-step | GPU kernels + host loop | GPU resident | adapter | contact sweeps/step |"
     );
-    println!("|---:|---:|---:|---:|---:|---|---:|");
+    println!("|---:|---:|---:|---:|---:|---:|---|---:|");
     for &n in sizes {
         let sc = Scene::parse(&scene(n), Path::new("bench.toml")).expect("bench scene");
         let model = Model::from_scene(&sc);
@@ -97,8 +115,12 @@ fn main() {
             }
             None => "-".into(),
         };
+        let resident_ns = match GpuContext::new().ok() {
+            Some(ctx) => format!("{:.1}", time_resident(&model, &sc, dt, ctx)),
+            None => "-".into(),
+        };
         println!(
-            "| {} | {} | {dt:.3e} | {cpu:.0} | {gpu_ns} | {} | {sweeps:.2} |",
+            "| {} | {} | {dt:.3e} | {cpu:.0} | {gpu_ns} | {resident_ns} | {} | {sweeps:.2} |",
             model.mesh.hexes.len(),
             model.interfaces[0].nodes.len(),
             adapter.as_deref().unwrap_or("none"),

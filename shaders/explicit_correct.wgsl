@@ -17,22 +17,9 @@
 
 const FIELDS: u32 = 6u;
 
-var<workgroup> scratch: array<f32, 64>;
-
-// The sum of x over the workgroup (every invocation must call it).
-fn workgroup_sum(local: u32, x: f32) -> f32 {
-    scratch[local] = x;
-    workgroupBarrier();
-    for (var s = 32u; s > 0u; s >>= 1u) {
-        if (local < s) {
-            scratch[local] += scratch[local + s];
-        }
-        workgroupBarrier();
-    }
-    let total = scratch[0];
-    workgroupBarrier();
-    return total;
-}
+// the invocations' sums, FIELDS rows of 64: one barrier, then FIELDS invocations add a row
+// each (a tree of barriers per field is much slower on software adapters)
+var<workgroup> scratch: array<f32, 384>;
 
 @compute @workgroup_size(64)
 fn explicit_correct(
@@ -65,9 +52,14 @@ fn explicit_correct(
     }
     let group = wid.x + wid.y * groups.x;
     for (var k = 0u; k < FIELDS; k++) {
-        let s = workgroup_sum(local, q[k]);
-        if (local == 0u) {
-            partials[(params.aux2 + group) * FIELDS + k] = s;
+        scratch[k * 64u + local] = q[k];
+    }
+    workgroupBarrier();
+    if (local < FIELDS) {
+        var total = 0.0;
+        for (var j = 0u; j < 64u; j++) {
+            total += scratch[local * 64u + j];
         }
+        partials[(params.aux2 + group) * FIELDS + local] = total;
     }
 }

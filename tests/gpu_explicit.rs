@@ -338,12 +338,12 @@ fn explicit_stages_match_their_cpu_twins() {
     assert!(e <= TOL, "seed {seed}: history_reduce error {e:.3e}");
 }
 
-/// A block thrown obliquely onto a frictional floor under gravity, sliding into a frictional
-/// wall (nodes on the floor-wall edge have two planes), with probes.
-fn throw_scene(end_time: f64, vtu: bool) -> String {
+/// A block sliding on a frictional floor under gravity into a frictional wall (nodes on the
+/// floor-wall edge have two planes), with probes.
+fn slide_scene(end_time: f64, vtu: bool) -> String {
     let mut s = String::from(
         r#"
-title = "block thrown along a floor into a wall"
+title = "block sliding along a floor into a wall"
 gravity = [0.0, 0.0, -10.0]
 
 [run]
@@ -359,8 +359,8 @@ poissons_ratio = 0.3
 [[body]]
 name = "block"
 material = "elastic"
-box = { min = [0.0, 0.0, 0.01], max = [0.5, 0.5, 0.51], divisions = [4, 4, 4] }
-velocity = [1.5, 0.5, -1.0]
+box = { min = [0.0, 0.0, 0.0], max = [0.5, 0.5, 0.5], divisions = [4, 4, 4] }
+velocity = [1.0, 0.3, 0.0]
 
 [[rigid_plane]]
 name = "floor"
@@ -370,19 +370,19 @@ friction = 0.3
 
 [[rigid_plane]]
 name = "wall"
-point = [0.8, 0.0, 0.0]
+point = [0.6, 0.0, 0.0]
 normal = [-1.0, 0.0, 0.0]
 friction = 0.1
 
 [[probe]]
 name = "corner"
 body = "block"
-point = [0.5, 0.5, 0.01]
+point = [0.5, 0.5, 0.0]
 
 [[probe]]
 name = "top"
 body = "block"
-point = [0.25, 0.25, 0.51]
+point = [0.25, 0.25, 0.5]
 "#,
     )
     .replace("END", &end_time.to_string());
@@ -405,10 +405,11 @@ fn resident_explicit_matches_the_cpu_twin_over_1000_steps() {
     if skip_gpu("resident explicit run") {
         return;
     }
-    // the step of this mesh (0.9 of the stable one) is 7.26e-4: 1,006 steps. The block
-    // rattles on its corners, a sequence of impacts that amplifies the f32/f64 difference:
-    // about 1e-6 of the scale at 1,000 steps, 1e-4 at 1,750
-    let text = throw_scene(0.73, false);
+    // the step of this mesh (0.9 of the stable one) is 7.26e-4: 1,006 steps. (A block
+    // thrown so that it lands on an edge and rattles on its corners is a poorer check: each
+    // corner impact amplifies the f32/f64 difference, to 3e-4 of the force scale at 1,000
+    // steps on llvmpipe's GL driver.)
+    let text = slide_scene(0.73, false);
     let (cpu, hc) = run_text_on(
         "resident_cpu",
         &text,
@@ -451,13 +452,7 @@ fn resident_explicit_matches_the_cpu_twin_over_1000_steps() {
             .map(|(a, b)| (a[j] - b[j]).abs())
             .fold(0.0, f64::max)
             / scale;
-        // the block strikes the floor on its corners again and again and its nodes ring at
-        // the mesh's highest frequency, near the stability limit (omega dt ~ 1.8), where the
-        // f32 forces' 1e-7 becomes a phase error: nodal velocities differ by up to 2e-4 of
-        // the speed scale at 1,000 steps (measured on lavapipe). Everything else, the nodal
-        // displacements included, stays within 1e-4 (measured: at most 2.3e-5).
-        let probe_velocity = ["corner.v", "top.v"].iter().any(|p| c.starts_with(p));
-        let bound = if probe_velocity { 1e-3 } else { 1e-4 };
+        let bound = 1e-4;
         eprintln!("{c}: {worst:.2e} of {scale:.3e} (bound {bound:.0e})");
         assert!(
             worst <= bound,
@@ -486,8 +481,8 @@ fn resident_frames_do_not_change_the_history() {
         return;
     }
     let gpu = Some(impact::scene::DeviceChoice::Gpu);
-    let (a, ha) = run_text_on("resident_plain", &throw_scene(0.2, false), gpu);
-    let (b, hb) = run_text_on("resident_frames", &throw_scene(0.2, true), gpu);
+    let (a, ha) = run_text_on("resident_plain", &slide_scene(0.2, false), gpu);
+    let (b, hb) = run_text_on("resident_frames", &slide_scene(0.2, true), gpu);
     a.expect("run");
     b.expect("run with frames");
     assert_eq!(ha.rows, hb.rows, "frames changed the history");
