@@ -4,7 +4,7 @@
 //! assembles it.
 
 const SHARED: [&str; 2] = ["shaders/shared/types.wgsl", "shaders/shared/quad.wgsl"];
-const KERNELS: [&str; 10] = [
+const KERNELS: [&str; 11] = [
     "hex8_forces",
     "tet4_forces",
     "node_gather",
@@ -15,6 +15,7 @@ const KERNELS: [&str; 10] = [
     "explicit_drift",
     "explicit_correct",
     "history_reduce",
+    "stable_step",
 ];
 
 fn main() {

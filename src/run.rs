@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use crate::error::{ImpactError, Result};
 use crate::gpu::{AdapterPolicy, GpuContext, GpuKernels};
-use crate::integrate::stable_step::stable_step;
+use crate::integrate::stable_step::stable_step_on;
 use crate::integrate::{
     resident, ContactReport, Energies, ExplicitSolver, ImplicitSolver, ResidentSolver, StepReport,
 };
@@ -358,9 +358,21 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     })?;
     let device = opts.device.unwrap_or(scene.run.device);
     let model = Model::from_scene(scene);
-    // the stable explicit step, once, where the explicit path may run
-    let bound =
-        matches!(scene.run.method, Method::Explicit | Method::Auto).then(|| stable_step(&model));
+    let quiet = opts.quiet;
+    let mut notice = |line: &str| {
+        if !quiet {
+            eprintln!("{line}");
+        }
+    };
+    let ctx = gpu_context(scene, model.mesh.element_count(), device, &mut notice)?;
+    // the stable explicit step, once, where the explicit path may run (on the GPU for a mesh
+    // of many element shapes)
+    let bound = match scene.run.method {
+        Method::Explicit | Method::Auto => {
+            Some(stable_step_on(&model, ctx.as_ref()).map_err(|e| gpu_error(scene, e))?)
+        }
+        Method::Implicit => None,
+    };
     let (method, method_choice) = match (scene.run.method, bound) {
         (Method::Auto, Some((stable, _))) => {
             let (m, why) = choose_method(scene, &model, stable);
@@ -396,13 +408,6 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         ),
     };
     let steps = (scene.run.end_time / dt - 1e-9).ceil() as usize;
-    let quiet = opts.quiet;
-    let mut notice = |line: &str| {
-        if !quiet {
-            eprintln!("{line}");
-        }
-    };
-    let ctx = gpu_context(scene, model.mesh.element_count(), device, &mut notice)?;
     let mut solver = match (method, ctx) {
         (Method::Explicit, Some(ctx)) if resident::supports(&model) => Solver::Resident(Box::new(
             ResidentSolver::new(

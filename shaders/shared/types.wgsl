@@ -29,10 +29,11 @@ struct Tet4 {
     material: u32,
 }
 
-// Lame parameters.
+// Lame parameters and density.
 struct Material {
     lambda: f32,
     mu: f32,
+    density: f32,
 }
 
 // One contact query: a secondary node and its candidate faces candidates[first..end].

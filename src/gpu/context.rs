@@ -84,7 +84,8 @@ pub enum AdapterPolicy {
     HardwareOnly,
 }
 
-/// A device and queue on the chosen adapter.
+/// A device and queue on the chosen adapter (cloning shares them).
+#[derive(Clone)]
 pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,

@@ -70,7 +70,37 @@ pub struct GpuKernels {
     pub fill_nan: bool,
 }
 
-fn at_least_one<T: Default>(mut v: Vec<T>) -> Vec<T> {
+/// The element data as the kernels' buffer types: split reference coordinates, hexes, tets
+/// and materials.
+pub(super) fn device_elements(
+    data: &ElementData,
+) -> (Vec<Split3>, Vec<Hex8>, Vec<Tet4>, Vec<Material>) {
+    let reference = data.reference.iter().map(|&x| Split3::split(x)).collect();
+    let hexes = data
+        .hexes
+        .iter()
+        .zip(&data.hex_material)
+        .map(|(&nodes, &material)| Hex8 { nodes, material })
+        .collect();
+    let tets = data
+        .tets
+        .iter()
+        .zip(&data.tet_material)
+        .map(|(&nodes, &material)| Tet4 { nodes, material })
+        .collect();
+    let materials = data
+        .materials
+        .iter()
+        .map(|m| Material {
+            lambda: m.lambda as f32,
+            mu: m.mu as f32,
+            density: m.density as f32,
+        })
+        .collect();
+    (reference, hexes, tets, materials)
+}
+
+pub(super) fn at_least_one<T: Default>(mut v: Vec<T>) -> Vec<T> {
     if v.is_empty() {
         v.push(T::default());
     }
@@ -93,27 +123,7 @@ impl GpuKernels {
                 elements + tets_count
             )));
         }
-        let reference: Vec<Split3> = data.reference.iter().map(|&x| Split3::split(x)).collect();
-        let hexes: Vec<Hex8> = data
-            .hexes
-            .iter()
-            .zip(&data.hex_material)
-            .map(|(&nodes, &material)| Hex8 { nodes, material })
-            .collect();
-        let tets: Vec<Tet4> = data
-            .tets
-            .iter()
-            .zip(&data.tet_material)
-            .map(|(&nodes, &material)| Tet4 { nodes, material })
-            .collect();
-        let materials: Vec<Material> = data
-            .materials
-            .iter()
-            .map(|m| Material {
-                lambda: m.lambda as f32,
-                mu: m.mu as f32,
-            })
-            .collect();
+        let (reference, hexes, tets, materials) = device_elements(data);
         let inc = Incidence::new(&data.hexes, &data.tets, nodes);
         let upload = |label, bytes: &[u8]| -> Result<Storage> {
             let mut s = Storage::new(&ctx, label, bytes.len() as u64)?;

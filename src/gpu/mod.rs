@@ -18,6 +18,7 @@ pub mod node_gather;
 pub mod plane_contact;
 pub mod shaders;
 pub mod slip_rate;
+pub mod stable_step;
 pub mod tet4_forces;
 pub mod types;
 
@@ -33,4 +34,5 @@ pub use history_reduce::HistoryReduce;
 pub use node_gather::NodeGather;
 pub use plane_contact::PlaneContact;
 pub use slip_rate::SlipRate;
+pub use stable_step::{element_steps, StableStep};
 pub use tet4_forces::Tet4Forces;

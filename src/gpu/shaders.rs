@@ -21,6 +21,7 @@ pub const PLANE_CONTACT: &str = kernel_source!("plane_contact");
 pub const EXPLICIT_DRIFT: &str = kernel_source!("explicit_drift");
 pub const EXPLICIT_CORRECT: &str = kernel_source!("explicit_correct");
 pub const HISTORY_REDUCE: &str = kernel_source!("history_reduce");
+pub const STABLE_STEP: &str = kernel_source!("stable_step");
 
 /// The shared struct definitions alone (for the layout test).
 pub const TYPES: &str = include_str!("../../shaders/shared/types.wgsl");

@@ -48,12 +48,13 @@ pub struct Tet4 {
     pub material: u32,
 }
 
-/// Lamé parameters.
+/// Lamé parameters and density.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
 pub struct Material {
     pub lambda: f32,
     pub mu: f32,
+    pub density: f32,
 }
 
 /// A secondary node and its candidate faces `candidates[first..end]`.
@@ -206,6 +207,7 @@ pub fn layouts() -> Vec<StructLayout> {
             vec![
                 ("lambda", offset_of!(Material, lambda)),
                 ("mu", offset_of!(Material, mu)),
+                ("density", offset_of!(Material, density)),
             ],
         ),
         (

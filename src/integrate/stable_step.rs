@@ -20,6 +20,8 @@
 use std::collections::HashMap;
 
 use crate::element;
+use crate::error::Result;
+use crate::gpu::GpuContext;
 use crate::material::Elastic;
 use crate::model::Model;
 
@@ -55,6 +57,13 @@ pub const EXACT_SHAPES: usize = 4096;
 /// The smallest element step of the model in its reference configuration, and the element
 /// that sets it (index in [`crate::mesh::Mesh::elements`] order: hexes, then tets).
 pub fn stable_step(model: &Model) -> (f64, usize) {
+    stable_step_on(model, None).expect("the CPU path cannot fail")
+}
+
+/// [`stable_step`], with the Gershgorin bounds of a mesh of many shapes computed by the
+/// `stable_step` kernel on `gpu` (the same bound as the CPU, in f32; the smallest element's
+/// step is then recomputed in f64, so the result does not depend on the device).
+pub fn stable_step_on(model: &Model, gpu: Option<&GpuContext>) -> Result<(f64, usize)> {
     // element shapes up to a translation, to 1e-9 of the element's size
     let mut shapes: HashMap<(u32, Vec<i64>), usize> = HashMap::new();
     let mut shape_of = Vec::with_capacity(model.mesh.element_count());
@@ -77,6 +86,20 @@ pub fn stable_step(model: &Model) -> (f64, usize) {
         shape_of.push(id);
     }
     let exact = cost <= 5 * EXACT_SHAPES;
+    if let (false, Some(ctx)) = (exact, gpu) {
+        let steps = crate::gpu::element_steps(ctx, &model.element_data())?;
+        let (e, _) =
+            steps.iter().enumerate().fold(
+                (0, f64::INFINITY),
+                |b, (e, &s)| if s < b.1 { (e, s) } else { b },
+            );
+        // f32 picks the element; f64 gives its step (an element within f32's rounding of the
+        // smallest may have been passed over: a relative 1e-6 of the step)
+        let (corners, material) = model.mesh.elements().nth(e).expect("element index");
+        let x = model.mesh.corners(corners);
+        let step = element_stable_step(&x, &model.materials[material as usize]);
+        return Ok((step, e));
+    }
     let limit: Vec<f64> = first
         .iter()
         .map(|(x, material)| {
@@ -94,7 +117,7 @@ pub fn stable_step(model: &Model) -> (f64, usize) {
             best = (limit[id], e);
         }
     }
-    best
+    Ok(best)
 }
 
 #[cfg(test)]

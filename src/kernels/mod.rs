@@ -15,6 +15,7 @@ pub mod history_reduce;
 pub mod node_gather;
 pub mod plane_contact;
 pub mod slip_rate;
+pub mod stable_step;
 pub mod tet4_forces;
 
 pub use contact_gap::{contact_gap, ContactPoint, ContactQueries};
@@ -26,6 +27,7 @@ pub use history_reduce::{history_reduce, ReduceColumn};
 pub use node_gather::{node_gather, Incidence};
 pub use plane_contact::{plane_contact, PlaneData, PlaneNode, SweepLimits};
 pub use slip_rate::slip_rate;
+pub use stable_step::stable_step;
 pub use tet4_forces::tet4_forces;
 
 use crate::error::Result;

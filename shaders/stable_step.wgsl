@@ -1,0 +1,149 @@
+// Each element's stable explicit step, 2 / sqrt(max_i sum_j |K_ij| / m_i): Gershgorin's bound
+// on the largest eigenvalue of M_e^-1 K_e with the row-sum lumped mass (twin:
+// `kernels::stable_step`, the same bound as `integrate::stable_step::element_stable_step`).
+// One invocation per element: hexes 0..params.aux (2x2x2 Gauss, as the force kernel), then
+// tets. The smallest over the mesh bounds the step of central difference (Irons' element
+// eigenvalue inequality).
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> reference: array<Split3>;
+@group(0) @binding(2) var<storage, read> hexes: array<Hex8>;
+@group(0) @binding(3) var<storage, read> tets: array<Tet4>;
+@group(0) @binding(4) var<storage, read> materials: array<Material>;
+@group(0) @binding(5) var<storage, read_write> steps: array<f32>;
+
+const CORNERS: array<vec3<f32>, 8> = array<vec3<f32>, 8>(
+    vec3<f32>(-1.0, -1.0, -1.0),
+    vec3<f32>(1.0, -1.0, -1.0),
+    vec3<f32>(1.0, 1.0, -1.0),
+    vec3<f32>(-1.0, 1.0, -1.0),
+    vec3<f32>(-1.0, -1.0, 1.0),
+    vec3<f32>(1.0, -1.0, 1.0),
+    vec3<f32>(1.0, 1.0, 1.0),
+    vec3<f32>(-1.0, 1.0, 1.0),
+);
+
+// Entry (i, j) of the 3x3 stiffness block of nodes a, b for one integration point with weight
+// w: w (lambda ga_i gb_j + mu ga_j gb_i + mu delta_ij ga . gb).
+fn block(ga: vec3<f32>, gb: vec3<f32>, m: Material, w: f32) -> mat3x3<f32> {
+    // columns j: column j holds the entries (., j)
+    let d = m.mu * dot(ga, gb);
+    var k = mat3x3<f32>(
+        m.lambda * ga * gb.x + m.mu * gb * ga.x,
+        m.lambda * ga * gb.y + m.mu * gb * ga.y,
+        m.lambda * ga * gb.z + m.mu * gb * ga.z,
+    );
+    k[0].x += d;
+    k[1].y += d;
+    k[2].z += d;
+    return k * w;
+}
+
+// The largest absolute row sum of rows 3a..3a+3 given the node's eight blocks, over its mass.
+fn row_bound(k: array<mat3x3<f32>, 8>, mass: f32) -> f32 {
+    var r = vec3<f32>(0.0);
+    for (var b = 0u; b < 8u; b++) {
+        r += abs(k[b][0]) + abs(k[b][1]) + abs(k[b][2]);
+    }
+    return max(r.x, max(r.y, r.z)) / mass;
+}
+
+fn hex_step(e: u32) -> f32 {
+    let hex = hexes[e];
+    let m = materials[hex.material];
+    let r0 = reference[hex.nodes[0]];
+    var x: array<vec3<f32>, 8>;
+    for (var k = 0u; k < 8u; k++) {
+        x[k] = split_difference(reference[hex.nodes[k]], r0);
+    }
+    // gradients and weights (det J) at the eight Gauss points
+    var grads: array<vec3<f32>, 64>;
+    var dets: array<f32, 8>;
+    let gp = 0.57735026918962576;
+    for (var g = 0u; g < 8u; g++) {
+        let p = CORNERS[g] * gp;
+        var dn: array<vec3<f32>, 8>;
+        var j0 = vec3<f32>(0.0);
+        var j1 = vec3<f32>(0.0);
+        var j2 = vec3<f32>(0.0);
+        for (var k = 0u; k < 8u; k++) {
+            let c = CORNERS[k];
+            let s = vec3<f32>(1.0) + c * p;
+            dn[k] = 0.125 * vec3<f32>(c.x * s.y * s.z, s.x * c.y * s.z, s.x * s.y * c.z);
+            j0 += x[k] * dn[k].x;
+            j1 += x[k] * dn[k].y;
+            j2 += x[k] * dn[k].z;
+        }
+        let det = determinant(mat3x3<f32>(j0, j1, j2));
+        let inv_t = mat3x3<f32>(cross(j1, j2), cross(j2, j0), cross(j0, j1)) * (1.0 / det);
+        dets[g] = det;
+        for (var k = 0u; k < 8u; k++) {
+            grads[8u * g + k] = inv_t * dn[k];
+        }
+    }
+    var w2 = 0.0;
+    for (var a = 0u; a < 8u; a++) {
+        var k: array<mat3x3<f32>, 8>;
+        var mass = 0.0;
+        for (var b = 0u; b < 8u; b++) {
+            k[b] = mat3x3<f32>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
+        }
+        let ca = CORNERS[a];
+        for (var g = 0u; g < 8u; g++) {
+            let p = CORNERS[g] * gp;
+            let s = vec3<f32>(1.0) + ca * p;
+            // row-sum lumping: m_a = rho sum_g N_a det J
+            mass += m.density * 0.125 * s.x * s.y * s.z * dets[g];
+            let ga = grads[8u * g + a];
+            for (var b = 0u; b < 8u; b++) {
+                k[b] += block(ga, grads[8u * g + b], m, dets[g]);
+            }
+        }
+        w2 = max(w2, row_bound(k, mass));
+    }
+    return 2.0 / sqrt(w2);
+}
+
+fn tet_step(t: u32) -> f32 {
+    let tet = tets[t];
+    let m = materials[tet.material];
+    let r0 = reference[tet.nodes[0]];
+    let a = split_difference(reference[tet.nodes[1]], r0);
+    let b = split_difference(reference[tet.nodes[2]], r0);
+    let c = split_difference(reference[tet.nodes[3]], r0);
+    let bc = cross(b, c);
+    let ca = cross(c, a);
+    let ab = cross(a, b);
+    let det = dot(a, bc);
+    let g1 = bc / det;
+    let g2 = ca / det;
+    let g3 = ab / det;
+    let grads = array<vec3<f32>, 4>(-(g1 + g2 + g3), g1, g2, g3);
+    let vol = det / 6.0;
+    let mass = m.density * vol / 4.0;
+    var w2 = 0.0;
+    for (var i = 0u; i < 4u; i++) {
+        var k: array<mat3x3<f32>, 8>;
+        for (var j = 0u; j < 8u; j++) {
+            k[j] = mat3x3<f32>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
+        }
+        for (var j = 0u; j < 4u; j++) {
+            k[j] = block(grads[i], grads[j], m, vol);
+        }
+        w2 = max(w2, row_bound(k, mass));
+    }
+    return 2.0 / sqrt(w2);
+}
+
+@compute @workgroup_size(64)
+fn stable_step(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let e = item_index(gid, params);
+    if (e >= params.count) {
+        return;
+    }
+    if (e < params.aux) {
+        steps[e] = hex_step(e);
+    } else {
+        steps[e] = tet_step(e - params.aux);
+    }
+}

@@ -1,0 +1,55 @@
+//! Host side of `shaders/stable_step.wgsl` (CPU twin: [`crate::kernels::stable_step`]).
+
+use super::buffer::{staging, submit_and_read, Storage};
+use super::context::GpuContext;
+use super::engine::{at_least_one, device_elements};
+use super::kernel::Kernel;
+use super::shaders;
+use crate::error::Result;
+use crate::kernels::ElementData;
+
+pub struct StableStep(pub Kernel);
+
+impl StableStep {
+    pub fn new(ctx: &GpuContext) -> Self {
+        StableStep(Kernel::new(ctx, "stable_step", shaders::STABLE_STEP))
+    }
+}
+
+/// Every element's Gershgorin step on the device (hexes, then tets), in f64.
+pub fn element_steps(ctx: &GpuContext, data: &ElementData) -> Result<Vec<f64>> {
+    let (reference, hexes, tets, materials) = device_elements(data);
+    let count = hexes.len() + tets.len();
+    let upload = |label, bytes: &[u8]| -> Result<Storage> {
+        let mut s = Storage::new(ctx, label, bytes.len() as u64)?;
+        s.upload(ctx, bytes)?;
+        Ok(s)
+    };
+    let nhex = hexes.len() as u32;
+    let reference = upload("reference", bytemuck::cast_slice(&reference))?;
+    let hexes = upload("hexes", bytemuck::cast_slice(&at_least_one(hexes)))?;
+    let tets = upload("tets", bytemuck::cast_slice(&at_least_one(tets)))?;
+    let materials = upload("materials", bytemuck::cast_slice(&materials))?;
+    let steps = Storage::new(ctx, "element_steps", (4 * count) as u64)?;
+    let kernel = StableStep::new(ctx);
+    let bind = kernel.0.bind(
+        ctx,
+        &[
+            &reference.buffer,
+            &hexes.buffer,
+            &tets.buffer,
+            &materials.buffer,
+            &steps.buffer,
+        ],
+    );
+    let grid = kernel.0.set_count_aux(ctx, count as u32, nhex);
+    let mut enc = ctx
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("stable_step"),
+        });
+    kernel.0.record(&mut enc, &bind, grid);
+    let mut staging = staging(ctx)?;
+    let out: Vec<f32> = submit_and_read(ctx, &mut staging, enc, &steps.buffer, count)?;
+    Ok(out.into_iter().map(f64::from).collect())
+}
