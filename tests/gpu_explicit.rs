@@ -500,3 +500,43 @@ fn resident_frames_do_not_change_the_history() {
         "frames written"
     );
 }
+
+/// A step three times the stable one (allowed for the study) diverges on the device: the run
+/// stops with a message, the summary says so, and the rows computed before are kept.
+#[test]
+fn resident_divergence_stops_cleanly_and_keeps_the_history() {
+    if skip_gpu("resident divergence") {
+        return;
+    }
+    let text = edit(
+        &slide_scene(0.5, false),
+        "method = \"explicit\"",
+        "method = \"explicit\"\ntime_step = 2.5e-3",
+    ) + "\n[explicit]\nallow_unstable = true\n";
+    let (res, h) = run_text_on(
+        "resident_diverges",
+        &text,
+        Some(impact::scene::DeviceChoice::Gpu),
+    );
+    let msg = res
+        .expect_err("3x the stable step must diverge")
+        .to_string();
+    eprintln!("{msg}");
+    assert!(msg.contains("diverged"), "{msg}");
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out_path("resident_diverges").join("summary.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(summary["status"], "diverged");
+    assert_eq!(summary["engine"], "gpu resident");
+    let steps = summary["steps"].as_u64().unwrap() as usize;
+    // the initial row and one per step up to the one that diverged
+    assert!(
+        h.rows.len() >= 2 && h.rows.len() <= steps + 2,
+        "{} rows, {steps} steps",
+        h.rows.len()
+    );
+    assert!(steps < 200, "diverged at step {steps} of 200");
+    let e = h.col("total_energy");
+    assert!(e[..e.len() - 1].iter().all(|x| x.is_finite()));
+}
