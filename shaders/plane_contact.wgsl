@@ -78,9 +78,11 @@ fn plane_contact(@builtin(global_invocation_id) gid: vec3<u32>) {
     // the largest inverse mass bounds |n_p . M^-1 n_q| (Gershgorin), prescribed dofs included
     let inv_max = max(inv.x, max(inv.y, inv.z));
     var sweeps = 0u;
-    var converged = false;
+    // a node with no plane in reach takes no sweep (as the host path, which has no
+    // constraint for it)
+    var converged = mask == 0u;
     loop {
-        if (sweeps >= step.max_iterations) {
+        if (converged || sweeps >= step.max_iterations) {
             break;
         }
         sweeps++;

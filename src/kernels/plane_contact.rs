@@ -83,8 +83,9 @@ pub fn plane_contact(
         // the largest inverse mass bounds |n_p . M^-1 n_q| (Gershgorin), prescribed dofs too
         let inv_max = inv.iter().copied().fold(0.0, f64::max);
         let mut sweeps = 0;
-        let mut converged = false;
-        while sweeps < limits.max_iterations {
+        // a node with no plane in reach takes no sweep
+        let mut converged = !(0..np).any(on);
+        while !converged && sweeps < limits.max_iterations {
             sweeps += 1;
             let mut violation = 0.0f64;
             let mut dv = [0.0f64; 3];
