@@ -4,7 +4,7 @@
 //! assembles it.
 
 const SHARED: [&str; 2] = ["shaders/shared/types.wgsl", "shaders/shared/quad.wgsl"];
-const KERNELS: [&str; 11] = [
+const KERNELS: [&str; 16] = [
     "hex8_forces",
     "tet4_forces",
     "node_gather",
@@ -16,6 +16,11 @@ const KERNELS: [&str; 11] = [
     "explicit_correct",
     "history_reduce",
     "stable_step",
+    "face_cells",
+    "bucket_count",
+    "prefix_sum",
+    "bucket_fill",
+    "contact_search",
 ];
 
 fn main() {

@@ -43,22 +43,19 @@ fn contact_gap(@builtin(global_invocation_id) gid: vec3<u32>) {
             p[k] = split_difference(reference[n], rs) + split_difference(displacement[n], us);
         }
         // the secondary node is the origin
-        let xi = quad_project(p, vec3<f32>(0.0));
-        let g = quad_geometry(p, xi);
-        let d = length(g.y);
-        if (d < best_d) {
-            let nrm = normalize(cross(g.t1, g.t2));
-            let nsh = quad_shape(xi);
+        let hit = face_hit(p);
+        if (hit.distance < best_d) {
+            let nsh = quad_shape(hit.xi);
             var v2 = vec3<f32>(0.0);
             for (var k = 0u; k < 4u; k++) {
                 v2 += nsh[k] * load_v(face.nodes[k]);
             }
-            best_d = d;
+            best_d = hit.distance;
             best.face = fi;
-            best.xi = array<f32, 2>(xi.x, xi.y);
-            best.normal = array<f32, 3>(nrm.x, nrm.y, nrm.z);
-            best.gap = dot(g.y, nrm);
-            best.gap_rate = -dot(vs - v2, nrm);
+            best.xi = array<f32, 2>(hit.xi.x, hit.xi.y);
+            best.normal = array<f32, 3>(hit.normal.x, hit.normal.y, hit.normal.z);
+            best.gap = dot(hit.y, hit.normal);
+            best.gap_rate = -dot(vs - v2, hit.normal);
         }
     }
     points[q] = best;

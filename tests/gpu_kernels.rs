@@ -527,3 +527,188 @@ box = { min = [0.0, 0.0, 0.0], max = [1.8, 1.8, 1.8], divisions = [18, 18, 18] }
         cpu.0
     );
 }
+
+/// A jittered block pressed into a jittered plate far from the origin, with random
+/// displacements: the device contact search against the host's broad phase with the f64
+/// `contact_gap` (an independent reference), and each stage of it against its twin.
+#[test]
+fn contact_search_matches_the_host_search_and_its_twins() {
+    let Some(ctx) = gpu_context("contact_search") else {
+        return;
+    };
+    let seed = seed("contact_search");
+    let mut rng = StdRng::seed_from_u64(seed);
+    let (nx, bx) = (rng.random_range(5..=12), rng.random_range(4..=9));
+    let text = format!(
+        r#"
+[run]
+method = "explicit"
+end_time = 1.0
+
+[[material]]
+name = "m"
+density = 1.0
+youngs_modulus = 100.0
+poissons_ratio = 0.3
+
+[[body]]
+name = "plate"
+material = "m"
+box = {{ min = [118.0, -66.0, 29.0], max = [124.0, -60.0, 30.0], divisions = [{nx}, {nx}, 2] }}
+
+[[body]]
+name = "block"
+material = "m"
+box = {{ min = [119.3, -64.6, 30.0], max = [122.1, -61.9, 31.5], divisions = [{bx}, {bx}, 3] }}
+
+[[contact]]
+name = "c"
+secondary = {{ body = "block", face = "z-" }}
+primary = {{ body = "plate", face = "z+" }}
+
+[[contact]]
+name = "d"
+secondary = {{ body = "plate", face = "z+" }}
+primary = {{ body = "block", face = "z-" }}
+"#
+    );
+    let scene = impact::scene::Scene::parse(&text, std::path::Path::new("search.toml")).unwrap();
+    let mut model = impact::model::Model::from_scene(&scene);
+    let h = 6.0 / nx as f64;
+    for x in &mut model.mesh.nodes {
+        for c in x.iter_mut() {
+            *c += rng.random_range(-0.15..0.15) * h;
+        }
+    }
+    let n = model.mesh.node_count();
+    let u: Vec<f64> = (0..3 * n)
+        .map(|d| [0.3, -0.2, -0.05][d % 3] * h + rng.random_range(-0.03..0.03) * h)
+        .collect();
+    let v = velocities(&mut rng, n);
+    let margin = 0.7 * h;
+    let mut data = model.element_data();
+    data.reference = model.mesh.nodes.clone();
+    let mut gpu = GpuKernels::new(ctx, &data).expect("engine");
+    let nq = model.queries.len();
+    let mut queries = model.queries.clone();
+    let mut lists = vec![Vec::new(); nq];
+    let mut got = vec![ContactPoint::default(); nq];
+    gpu.contact_search_into(&model, &u, &v, margin, &mut queries, &mut lists, &mut got)
+        .expect("device search");
+
+    // the independent reference: the host grid and contact_gap in f64
+    let mut host_q = model.queries.clone();
+    impact::contact::search::surface_candidates(&model, &mut host_q, &mut lists, &u, margin);
+    let u3: Vec<[f64; 3]> = u.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let v3: Vec<[f64; 3]> = v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let mut want = vec![ContactPoint::default(); nq];
+    kernels::contact_gap(&model.mesh.nodes, &u3, &v3, &host_q, &mut want);
+    // every block node lies over the plate: interface "c" (the first queries) finds a face
+    let block_nodes = (bx + 1) * (bx + 1);
+    let found = want[..block_nodes]
+        .iter()
+        .filter(|p| p.face != NO_FACE)
+        .count();
+    assert_eq!(
+        found, block_nodes,
+        "seed {seed}: block nodes without a face"
+    );
+    let compare = |name: &str, got: &[ContactPoint], want: &[ContactPoint]| {
+        let mut ties = 0;
+        let (mut g, mut c) = (Vec::new(), Vec::new());
+        for (a, b) in got.iter().zip(want) {
+            if a.face != b.face {
+                ties += 1;
+                continue;
+            }
+            if a.face == NO_FACE {
+                continue;
+            }
+            g.extend([
+                a.xi[0],
+                a.xi[1],
+                a.normal[0],
+                a.normal[1],
+                a.normal[2],
+                a.gap,
+                a.gap_rate,
+            ]);
+            c.extend([
+                b.xi[0],
+                b.xi[1],
+                b.normal[0],
+                b.normal[1],
+                b.normal[2],
+                b.gap,
+                b.gap_rate,
+            ]);
+        }
+        let e = rel_err(g.into_iter(), c.into_iter());
+        eprintln!("{name}: {e:.3e}, {ties} of {} faces differ", got.len());
+        // two equidistant faces (a node over a shared edge) may resolve differently in f32
+        assert!(
+            ties * 50 <= got.len().max(50),
+            "seed {seed}: {name}: {ties} faces differ"
+        );
+        assert!(e <= TOL, "seed {seed}: {name} error {e:.3e}");
+    };
+    compare("contact_search against the host search", &got, &want);
+
+    // each stage against its twin, on the device's own intermediate buffers
+    let (ctx, search) = gpu.search_parts().expect("search built");
+    let [keys, ranks, counts, starts, sorted] = search.read_sort(ctx).unwrap();
+    let mask = search.mask();
+    let positions: Vec<[f64; 3]> = (0..n)
+        .map(|i| std::array::from_fn(|a| model.mesh.nodes[i][a] + u[3 * i + a]))
+        .collect();
+    let (face_first, layout) = impact::contact::search::search_layout(&model);
+    let cell =
+        impact::contact::search::search_cell(&model.mesh.nodes, &u, &model.queries.faces, margin);
+    let cpu_keys = kernels::face_cells(&positions, &model.queries.faces, &face_first, cell, mask);
+    let key_misses = keys.iter().zip(&cpu_keys).filter(|(a, b)| a != b).count();
+    eprintln!(
+        "face_cells: {key_misses} of {} keys differ (centroids on a cell boundary)",
+        keys.len()
+    );
+    assert!(
+        key_misses * 100 <= keys.len().max(100),
+        "seed {seed}: face_cells"
+    );
+    let (cpu_counts, _) = kernels::bucket_count(&keys, counts.len());
+    assert_eq!(counts, cpu_counts, "seed {seed}: bucket_count sizes");
+    for (k, &count) in counts.iter().enumerate() {
+        let mut r: Vec<u32> = (0..keys.len())
+            .filter(|&i| keys[i] as usize == k)
+            .map(|i| ranks[i])
+            .collect();
+        r.sort_unstable();
+        assert!(
+            r.iter().copied().eq(0..count),
+            "seed {seed}: ranks of bucket {k}"
+        );
+    }
+    assert_eq!(
+        starts,
+        kernels::prefix_sum(&counts),
+        "seed {seed}: prefix_sum"
+    );
+    assert_eq!(
+        sorted,
+        kernels::bucket_fill(&keys, &ranks, &starts),
+        "seed {seed}: bucket_fill"
+    );
+    let range: Vec<(u32, u32)> = layout.iter().map(|&(_, a, b)| (a, b)).collect();
+    let twin = kernels::contact_search(
+        &model.mesh.nodes,
+        &u3,
+        &v3,
+        &model.queries.secondary,
+        &range,
+        &model.queries.faces,
+        &starts,
+        &sorted,
+        kernels::SearchGrid { cell, margin, mask },
+    );
+    compare("contact_search against its twin", &got, &twin);
+    compare("contact_search twin against the host search", &twin, &want);
+}

@@ -147,3 +147,23 @@ fn quad_project(p: array<vec3<f32>, 4>, x: vec3<f32>) -> vec2<f32> {
     }
     return best_xi;
 }
+
+// The closest point of quad p to the origin (corners given relative to the point sought):
+// its xi, distance, offset y from the point, and the unit outward normal there.
+struct FaceHit {
+    xi: vec2<f32>,
+    distance: f32,
+    y: vec3<f32>,
+    normal: vec3<f32>,
+}
+
+fn face_hit(p: array<vec3<f32>, 4>) -> FaceHit {
+    let xi = quad_project(p, vec3<f32>(0.0));
+    let g = quad_geometry(p, xi);
+    var h: FaceHit;
+    h.xi = xi;
+    h.distance = length(g.y);
+    h.y = g.y;
+    h.normal = normalize(cross(g.t1, g.t2));
+    return h;
+}

@@ -112,3 +112,31 @@ struct Step {
     max_iterations: u32,
     pad: u32,
 }
+
+// The uniform grid of the contact search: cubic cells of side `cell`, hashed into a table of
+// mask + 1 buckets (a power of two); `margin` grows each face's box for the candidate test.
+struct SearchGrid {
+    cell: f32,
+    margin: f32,
+    mask: u32,
+    pad: u32,
+}
+
+// The bucket of cell c of the interface whose faces start at `salt` (twin:
+// `kernels::face_cells::cell_key`).
+fn cell_key(c: vec3<i32>, salt: u32, mask: u32) -> u32 {
+    let h = (bitcast<u32>(c.x) * 73856093u) ^ (bitcast<u32>(c.y) * 19349663u)
+        ^ (bitcast<u32>(c.z) * 83492791u) ^ (salt * 2654435761u);
+    return h & mask;
+}
+
+// The grid cell of a point.
+fn cell_of(x: vec3<f32>, cell: f32) -> vec3<i32> {
+    return vec3<i32>(floor(x / cell));
+}
+
+// A split position as one f32 vector (cells need no more).
+fn split_sum(a: Split3, b: Split3) -> vec3<f32> {
+    return vec3<f32>(a.hi[0], a.hi[1], a.hi[2]) + vec3<f32>(b.hi[0], b.hi[1], b.hi[2])
+        + (vec3<f32>(a.lo[0], a.lo[1], a.lo[2]) + vec3<f32>(b.lo[0], b.lo[1], b.lo[2]));
+}

@@ -129,3 +129,44 @@ pub fn surface_candidates(
     }
     flatten(queries, lists);
 }
+
+/// The layout of the device search: the first face of each face's interface, and for each
+/// query its secondary node and its interface's face range.
+pub fn search_layout(model: &Model) -> (Vec<u32>, Vec<(u32, u32, u32)>) {
+    let mut face_first = vec![0u32; model.queries.faces.len()];
+    let mut queries = vec![(0u32, 0u32, 0u32); model.queries.len()];
+    for itf in &model.interfaces {
+        if let Primary::Surface {
+            faces, queries: q, ..
+        } = &itf.primary
+        {
+            for f in faces.clone() {
+                face_first[f] = faces.start as u32;
+            }
+            for i in q.clone() {
+                queries[i] = (
+                    model.queries.secondary[i],
+                    faces.start as u32,
+                    faces.end as u32,
+                );
+            }
+        }
+    }
+    (face_first, queries)
+}
+
+/// The search grid's cell side at displacement `u`: the largest box side of a face plus the
+/// margin, and a thousandth more, so that a node inside a face's grown box lies within one
+/// cell of the cell of the face's centroid.
+pub fn search_cell(reference: &[[f64; 3]], u: &[f64], faces: &[[u32; 4]], margin: f64) -> f64 {
+    let mut extent = 0.0f64;
+    for f in faces {
+        for a in 0..3 {
+            let x = f.map(|n| reference[n as usize][a] + u[3 * n as usize + a]);
+            let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            extent = extent.max(hi - lo);
+        }
+    }
+    ((extent + margin) * 1.001).max(f64::MIN_POSITIVE)
+}

@@ -7,10 +7,13 @@ use std::time::{Duration, Instant};
 
 use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
+use super::search::GpuSearch;
 use super::types::{self, ContactQuery, Hex8, Material, Quad, Split3, Tet4};
 use super::{ContactGap, Hex8Forces, NodeGather, SlipRate, Tet4Forces};
+use crate::contact::search;
 use crate::error::{ImpactError, Result};
-use crate::kernels::{ContactPoint, ContactQueries, ElementData, Incidence, Kernels};
+use crate::kernels::{ContactPoint, ContactQueries, ElementData, Incidence, Kernels, SearchGrid};
+use crate::model::Model;
 
 /// The kernels of the engine, for timing them one by one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -64,6 +67,8 @@ pub struct GpuKernels {
     tet4_bind: wgpu::BindGroup,
     gather_bind: wgpu::BindGroup,
     contact_binds: Option<(wgpu::BindGroup, wgpu::BindGroup)>,
+    /// The device contact search, built at its first use.
+    search: Option<GpuSearch>,
     scratch: Vec<f32>,
     scratch_split: Vec<Split3>,
     /// Fill every output with NaN before each dispatch (tests: an unwritten entry fails).
@@ -208,6 +213,7 @@ impl GpuKernels {
             tet4_bind,
             gather_bind,
             contact_binds: None,
+            search: None,
             scratch: Vec::new(),
             scratch_split: Vec::new(),
             fill_nan: false,
@@ -216,6 +222,12 @@ impl GpuKernels {
 
     pub fn context(&self) -> &GpuContext {
         &self.ctx
+    }
+
+    /// The device contact search (after the first `contact_search_into`) and the context,
+    /// for the kernel tests.
+    pub fn search_parts(&mut self) -> Option<(&GpuContext, &mut GpuSearch)> {
+        self.search.as_mut().map(|s| (&self.ctx, s))
     }
 
     /// Bytes held on the device by the mesh and the per-call buffers.
@@ -563,6 +575,50 @@ impl Kernels for GpuKernels {
         for (o, p) in out.iter_mut().zip(pts) {
             *o = p.into();
         }
+        Ok(())
+    }
+
+    fn contact_search_into(
+        &mut self,
+        model: &Model,
+        u: &[f64],
+        v: &[f64],
+        margin: f64,
+        queries: &mut ContactQueries,
+        _lists: &mut [Vec<u32>],
+        out: &mut [ContactPoint],
+    ) -> Result<()> {
+        if queries.is_empty() {
+            return Ok(());
+        }
+        self.upload_nodal(false, u)?;
+        self.upload_nodal(true, v)?;
+        if self.search.is_none() {
+            let (face_first, q) = search::search_layout(model);
+            self.search = Some(GpuSearch::new(
+                &self.ctx,
+                &self.reference.buffer,
+                &self.u.buffer,
+                &self.v.buffer,
+                &queries.faces,
+                &face_first,
+                &q,
+            )?);
+        }
+        let search = self.search.as_mut().expect("built above");
+        let grid = SearchGrid {
+            cell: search::search_cell(&model.mesh.nodes, u, &queries.faces, margin),
+            margin,
+            mask: search.mask(),
+        };
+        let enc = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("contact_search"),
+            });
+        let pts = search.run(&self.ctx, enc, grid)?;
+        out[..pts.len()].copy_from_slice(&pts);
         Ok(())
     }
 

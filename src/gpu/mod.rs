@@ -3,36 +3,48 @@
 //! the Pod buffer types ([`types`]) and [`GpuKernels`], the [`crate::kernels::Kernels`]
 //! interface on a device.
 
+pub mod bucket_count;
+pub mod bucket_fill;
 pub mod buffer;
 pub mod contact_gap;
+pub mod contact_search;
 pub mod context;
 pub mod engine;
 pub mod explicit_correct;
 pub mod explicit_drift;
 pub mod explicit_predict;
 pub mod explicit_step;
+pub mod face_cells;
 pub mod hex8_forces;
 pub mod history_reduce;
 pub mod kernel;
 pub mod node_gather;
 pub mod plane_contact;
+pub mod prefix_sum;
+pub mod search;
 pub mod shaders;
 pub mod slip_rate;
 pub mod stable_step;
 pub mod tet4_forces;
 pub mod types;
 
+pub use bucket_count::BucketCount;
+pub use bucket_fill::BucketFill;
 pub use contact_gap::ContactGap;
+pub use contact_search::ContactSearch;
 pub use context::{list_adapters, AdapterPolicy, AdapterSummary, GpuContext};
 pub use engine::{GpuKernels, KernelId};
 pub use explicit_correct::ExplicitCorrect;
 pub use explicit_drift::ExplicitDrift;
 pub use explicit_predict::ExplicitPredict;
 pub use explicit_step::{ResidentExplicit, ResidentSetup, Stage};
+pub use face_cells::FaceCells;
 pub use hex8_forces::Hex8Forces;
 pub use history_reduce::HistoryReduce;
 pub use node_gather::NodeGather;
 pub use plane_contact::PlaneContact;
+pub use prefix_sum::PrefixSum;
+pub use search::GpuSearch;
 pub use slip_rate::SlipRate;
 pub use stable_step::{element_steps, StableStep};
 pub use tet4_forces::Tet4Forces;

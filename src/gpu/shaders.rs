@@ -22,6 +22,11 @@ pub const EXPLICIT_DRIFT: &str = kernel_source!("explicit_drift");
 pub const EXPLICIT_CORRECT: &str = kernel_source!("explicit_correct");
 pub const HISTORY_REDUCE: &str = kernel_source!("history_reduce");
 pub const STABLE_STEP: &str = kernel_source!("stable_step");
+pub const FACE_CELLS: &str = kernel_source!("face_cells");
+pub const BUCKET_COUNT: &str = kernel_source!("bucket_count");
+pub const PREFIX_SUM: &str = kernel_source!("prefix_sum");
+pub const BUCKET_FILL: &str = kernel_source!("bucket_fill");
+pub const CONTACT_SEARCH: &str = kernel_source!("contact_search");
 
 /// The shared struct definitions alone (for the layout test).
 pub const TYPES: &str = include_str!("../../shaders/shared/types.wgsl");

@@ -160,6 +160,16 @@ pub struct Step {
     pub pad: u32,
 }
 
+/// The contact search grid (twin: [`crate::kernels::SearchGrid`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct SearchGrid {
+    pub cell: f32,
+    pub margin: f32,
+    pub mask: u32,
+    pub pad: u32,
+}
+
 /// A struct's WGSL name, Rust size, and (field name, Rust offset) in declaration order.
 pub type StructLayout = (&'static str, usize, Vec<(&'static str, usize)>);
 
@@ -279,6 +289,16 @@ pub fn layouts() -> Vec<StructLayout> {
                 ("tolerance", offset_of!(Step, tolerance)),
                 ("max_iterations", offset_of!(Step, max_iterations)),
                 ("pad", offset_of!(Step, pad)),
+            ],
+        ),
+        (
+            "SearchGrid",
+            size_of::<SearchGrid>(),
+            vec![
+                ("cell", offset_of!(SearchGrid, cell)),
+                ("margin", offset_of!(SearchGrid, margin)),
+                ("mask", offset_of!(SearchGrid, mask)),
+                ("pad", offset_of!(SearchGrid, pad)),
             ],
         ),
     ]

@@ -222,17 +222,13 @@ impl<'m> ExplicitSolver<'m> {
         // surface cannot touch it within the step, even with their neighbours' impulses
         let margin = search::margin(&self.v, self.dt, self.face_size);
         if !self.queries.is_empty() {
-            search::surface_candidates(
+            self.kernels.contact_search_into(
                 model,
-                &mut self.queries,
-                &mut self.candidate_lists,
-                &self.u,
-                margin,
-            );
-            self.kernels.contact_gap_into(
                 &self.u,
                 &self.v,
-                &self.queries,
+                margin,
+                &mut self.queries,
+                &mut self.candidate_lists,
                 &mut self.query_points,
             )?;
         }

@@ -6,32 +6,43 @@
 //! velocities, connectivity, and for contact a list of queries (secondary node, candidate
 //! primary faces).
 
+pub mod bucket_count;
+pub mod bucket_fill;
 pub mod contact_gap;
+pub mod contact_search;
 pub mod explicit_correct;
 pub mod explicit_drift;
 pub mod explicit_predict;
+pub mod face_cells;
 pub mod hex8_forces;
 pub mod history_reduce;
 pub mod node_gather;
 pub mod plane_contact;
+pub mod prefix_sum;
 pub mod slip_rate;
 pub mod stable_step;
 pub mod tet4_forces;
 
+pub use bucket_count::bucket_count;
+pub use bucket_fill::bucket_fill;
 pub use contact_gap::{contact_gap, ContactPoint, ContactQueries};
+pub use contact_search::{contact_search, SearchGrid};
 pub use explicit_correct::{explicit_correct, LumpedNode};
 pub use explicit_drift::explicit_drift;
 pub use explicit_predict::explicit_predict;
+pub use face_cells::face_cells;
 pub use hex8_forces::hex8_forces;
 pub use history_reduce::{history_reduce, ReduceColumn};
 pub use node_gather::{node_gather, Incidence};
 pub use plane_contact::{plane_contact, PlaneData, PlaneNode, SweepLimits};
+pub use prefix_sum::prefix_sum;
 pub use slip_rate::slip_rate;
 pub use stable_step::stable_step;
 pub use tet4_forces::tet4_forces;
 
 use crate::error::Result;
 use crate::material::Elastic;
+use crate::model::Model;
 
 /// Element data every kernel backend is built from.
 #[derive(Debug, Clone)]
@@ -67,6 +78,25 @@ pub trait Kernels {
         queries: &ContactQueries,
         out: &mut [ContactPoint],
     ) -> Result<()>;
+    /// Broad and narrow phase of every surface interface at (u, v): each query's candidates
+    /// are the faces of its interface whose box, grown by `margin`, holds the node, and its
+    /// point the closest of them (as [`Self::contact_gap_into`]). The default runs the host's
+    /// grid (`contact::search`, filling `queries`' candidate lists) and then
+    /// `contact_gap_into`; the GPU runs the whole search on the device.
+    #[allow(clippy::too_many_arguments)]
+    fn contact_search_into(
+        &mut self,
+        model: &Model,
+        u: &[f64],
+        v: &[f64],
+        margin: f64,
+        queries: &mut ContactQueries,
+        lists: &mut [Vec<u32>],
+        out: &mut [ContactPoint],
+    ) -> Result<()> {
+        crate::contact::search::surface_candidates(model, queries, lists, u, margin);
+        self.contact_gap_into(u, v, queries, out)
+    }
     /// Covariant slip rates of every contact point (zero where `face` is none).
     fn slip_rate_into(
         &mut self,

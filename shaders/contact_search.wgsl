@@ -1,0 +1,83 @@
+// Narrow phase of the GPU contact search, one secondary node per invocation (twin:
+// `kernels::contact_search`): the faces of the 27 grid cells around the node (of its own
+// interface, faces first..end) whose box grown by the margin holds the node are its
+// candidates, the same test as the host's broad phase (`contact::search`); of those, the
+// closest by projection gives the contact point, as `contact_gap` computes it (ties: the
+// lower face index).
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<uniform> grid: SearchGrid;
+@group(0) @binding(2) var<storage, read> reference: array<Split3>;
+@group(0) @binding(3) var<storage, read> displacement: array<Split3>;
+@group(0) @binding(4) var<storage, read> velocity: array<f32>;
+// first..end: the faces of the query's interface
+@group(0) @binding(5) var<storage, read> queries: array<ContactQuery>;
+@group(0) @binding(6) var<storage, read> faces: array<Quad>;
+// bucket k holds sorted[starts[k]..starts[k + 1]]
+@group(0) @binding(7) var<storage, read> starts: array<u32>;
+@group(0) @binding(8) var<storage, read> sorted: array<u32>;
+@group(0) @binding(9) var<storage, read_write> points: array<ContactPoint>;
+
+fn load_v(n: u32) -> vec3<f32> {
+    return vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
+}
+
+@compute @workgroup_size(64)
+fn contact_search(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let q = item_index(gid, params);
+    if (q >= params.count) {
+        return;
+    }
+    let query = queries[q];
+    let s = query.secondary;
+    let rs = reference[s];
+    let us = displacement[s];
+    let vs = load_v(s);
+    let home = cell_of(split_sum(rs, us), grid.cell);
+    var best: ContactPoint;
+    best.face = NO_FACE;
+    best.xi = array<f32, 2>(0.0, 0.0);
+    best.normal = array<f32, 3>(0.0, 0.0, 0.0);
+    best.gap = bitcast<f32>(0xff800000u); // -inf
+    best.gap_rate = 0.0;
+    var best_d = bitcast<f32>(0x7f800000u); // +inf
+    for (var c = 0; c < 27; c++) {
+        let offset = vec3<i32>(c % 3 - 1, (c / 3) % 3 - 1, c / 9 - 1);
+        let key = cell_key(home + offset, query.first, grid.mask);
+        for (var j = starts[key]; j < starts[key + 1u]; j++) {
+            let fi = sorted[j];
+            if (fi < query.first || fi >= query.end) {
+                continue;
+            }
+            let face = faces[fi];
+            var p: array<vec3<f32>, 4>;
+            var lo = vec3<f32>(bitcast<f32>(0x7f800000u));
+            var hi = -lo;
+            for (var k = 0u; k < 4u; k++) {
+                let n = face.nodes[k];
+                p[k] = split_difference(reference[n], rs) + split_difference(displacement[n], us);
+                lo = min(lo, p[k]);
+                hi = max(hi, p[k]);
+            }
+            // the candidate test: the grown box holds the node (the origin)
+            if (any(lo - grid.margin > vec3<f32>(0.0)) || any(hi + grid.margin < vec3<f32>(0.0))) {
+                continue;
+            }
+            let hit = face_hit(p);
+            if (hit.distance < best_d || (hit.distance == best_d && fi < best.face)) {
+                let nsh = quad_shape(hit.xi);
+                var v2 = vec3<f32>(0.0);
+                for (var k = 0u; k < 4u; k++) {
+                    v2 += nsh[k] * load_v(face.nodes[k]);
+                }
+                best_d = hit.distance;
+                best.face = fi;
+                best.xi = array<f32, 2>(hit.xi.x, hit.xi.y);
+                best.normal = array<f32, 3>(hit.normal.x, hit.normal.y, hit.normal.z);
+                best.gap = dot(hit.y, hit.normal);
+                best.gap_rate = -dot(vs - v2, hit.normal);
+            }
+        }
+    }
+    points[q] = best;
+}

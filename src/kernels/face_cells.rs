@@ -1,0 +1,38 @@
+//! The contact search grid's bucket of every primary face (CPU twin of
+//! `shaders/face_cells.wgsl`): the cell of the face's centroid, hashed with its interface.
+
+/// The bucket of grid cell `c` of the interface whose faces start at `salt`, in a table of
+/// `mask + 1` buckets (the WGSL `cell_key`, in the same wrapping u32 arithmetic).
+pub fn cell_key(c: [i32; 3], salt: u32, mask: u32) -> u32 {
+    let h = (c[0] as u32).wrapping_mul(73856093)
+        ^ (c[1] as u32).wrapping_mul(19349663)
+        ^ (c[2] as u32).wrapping_mul(83492791)
+        ^ salt.wrapping_mul(2654435761);
+    h & mask
+}
+
+/// The grid cell of a point.
+pub fn cell_of(x: [f64; 3], cell: f64) -> [i32; 3] {
+    x.map(|c| (c / cell).floor() as i32)
+}
+
+/// `positions` are the current node positions; `face_first[f]` the first face of face f's
+/// interface.
+pub fn face_cells(
+    positions: &[[f64; 3]],
+    faces: &[[u32; 4]],
+    face_first: &[u32],
+    cell: f64,
+    mask: u32,
+) -> Vec<u32> {
+    faces
+        .iter()
+        .zip(face_first)
+        .map(|(f, &salt)| {
+            let c: [f64; 3] = std::array::from_fn(|a| {
+                0.25 * f.iter().map(|&n| positions[n as usize][a]).sum::<f64>()
+            });
+            cell_key(cell_of(c, cell), salt, mask)
+        })
+        .collect()
+}
