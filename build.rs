@@ -3,7 +3,11 @@
 //! (`shaders/shared/`) followed by the kernel's own file, exactly as `src/gpu/shaders.rs`
 //! assembles it.
 
-const SHARED: [&str; 2] = ["shaders/shared/types.wgsl", "shaders/shared/quad.wgsl"];
+const SHARED: [&str; 3] = [
+    "shaders/shared/types.wgsl",
+    "shaders/shared/quad.wgsl",
+    "shaders/shared/element.wgsl",
+];
 const KERNELS: [&str; 16] = [
     "hex8_forces",
     "tet4_forces",

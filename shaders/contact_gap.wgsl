@@ -27,12 +27,7 @@ fn contact_gap(@builtin(global_invocation_id) gid: vec3<u32>) {
     let rs = reference[s];
     let us = displacement[s];
     let vs = load_v(s);
-    var best: ContactPoint;
-    best.face = NO_FACE;
-    best.xi = array<f32, 2>(0.0, 0.0);
-    best.normal = array<f32, 3>(0.0, 0.0, 0.0);
-    best.gap = bitcast<f32>(0xff800000u); // -inf
-    best.gap_rate = 0.0;
+    var best = open_point();
     var best_d = bitcast<f32>(0x7f800000u); // +inf
     for (var c = query.first; c < query.end; c++) {
         let fi = candidates[c];
@@ -51,11 +46,7 @@ fn contact_gap(@builtin(global_invocation_id) gid: vec3<u32>) {
                 v2 += nsh[k] * load_v(face.nodes[k]);
             }
             best_d = hit.distance;
-            best.face = fi;
-            best.xi = array<f32, 2>(hit.xi.x, hit.xi.y);
-            best.normal = array<f32, 3>(hit.normal.x, hit.normal.y, hit.normal.z);
-            best.gap = dot(hit.y, hit.normal);
-            best.gap_rate = -dot(vs - v2, hit.normal);
+            best = hit_point(fi, hit, vs - v2);
         }
     }
     points[q] = best;

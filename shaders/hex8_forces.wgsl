@@ -10,17 +10,6 @@
 // 24 per element: corner k, component a at 24 e + 3 k + a
 @group(0) @binding(5) var<storage, read_write> corner_forces: array<f32>;
 
-const HEX_CORNERS: array<vec3<f32>, 8> = array<vec3<f32>, 8>(
-    vec3<f32>(-1.0, -1.0, -1.0),
-    vec3<f32>(1.0, -1.0, -1.0),
-    vec3<f32>(1.0, 1.0, -1.0),
-    vec3<f32>(-1.0, 1.0, -1.0),
-    vec3<f32>(-1.0, -1.0, 1.0),
-    vec3<f32>(1.0, -1.0, 1.0),
-    vec3<f32>(1.0, 1.0, 1.0),
-    vec3<f32>(-1.0, 1.0, 1.0),
-);
-
 @compute @workgroup_size(64)
 fn hex8_forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     let e = item_index(gid, params);
@@ -44,32 +33,13 @@ fn hex8_forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     for (var k = 0u; k < 8u; k++) {
         f[k] = vec3<f32>(0.0);
     }
-    let gp = 0.57735026918962576;
     for (var g = 0u; g < 8u; g++) {
-        let p = HEX_CORNERS[g] * gp;
-        // parent derivatives and the Jacobian J[a][b] = sum_k x_k,a dN_k/dxi_b (columns: b)
-        var dn: array<vec3<f32>, 8>;
-        var j0 = vec3<f32>(0.0); // column d/dxi
-        var j1 = vec3<f32>(0.0);
-        var j2 = vec3<f32>(0.0);
-        for (var k = 0u; k < 8u; k++) {
-            let c = HEX_CORNERS[k];
-            let s = vec3<f32>(1.0) + c * p;
-            dn[k] = 0.125 * vec3<f32>(c.x * s.y * s.z, s.x * c.y * s.z, s.x * s.y * c.z);
-            j0 += x[k] * dn[k].x;
-            j1 += x[k] * dn[k].y;
-            j2 += x[k] * dn[k].z;
-        }
-        let jm = mat3x3<f32>(j0, j1, j2); // columns: jm[b][a] = J[a][b]
-        let det = determinant(jm);
-        // the rows of J^{-1} are (j1 x j2, j2 x j0, j0 x j1) / det, so the matrix with these
-        // as columns is J^{-T}, and grad N = J^{-T} dN/dxi
-        let inv_t = mat3x3<f32>(cross(j1, j2), cross(j2, j0), cross(j0, j1)) * (1.0 / det);
+        let hg = hex_gauss(x, g);
+        let det = hg.det;
         var h = mat3x3<f32>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
-        var grads: array<vec3<f32>, 8>;
+        let grads = hg.grads;
         for (var k = 0u; k < 8u; k++) {
-            let gk = inv_t * dn[k];
-            grads[k] = gk;
+            let gk = grads[k];
             // H[a][b] = sum_k u_k,a g_k,b; column b of h holds H[.][b]
             h[0] += u[k] * gk.x;
             h[1] += u[k] * gk.y;

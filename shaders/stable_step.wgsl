@@ -12,17 +12,6 @@
 @group(0) @binding(4) var<storage, read> materials: array<Material>;
 @group(0) @binding(5) var<storage, read_write> steps: array<f32>;
 
-const CORNERS: array<vec3<f32>, 8> = array<vec3<f32>, 8>(
-    vec3<f32>(-1.0, -1.0, -1.0),
-    vec3<f32>(1.0, -1.0, -1.0),
-    vec3<f32>(1.0, 1.0, -1.0),
-    vec3<f32>(-1.0, 1.0, -1.0),
-    vec3<f32>(-1.0, -1.0, 1.0),
-    vec3<f32>(1.0, -1.0, 1.0),
-    vec3<f32>(1.0, 1.0, 1.0),
-    vec3<f32>(-1.0, 1.0, 1.0),
-);
-
 // Entry (i, j) of the 3x3 stiffness block of nodes a, b for one integration point with weight
 // w: w (lambda ga_i gb_j + mu ga_j gb_i + mu delta_ij ga . gb).
 fn block(ga: vec3<f32>, gb: vec3<f32>, m: Material, w: f32) -> mat3x3<f32> {
@@ -59,26 +48,11 @@ fn hex_step(e: u32) -> f32 {
     // gradients and weights (det J) at the eight Gauss points
     var grads: array<vec3<f32>, 64>;
     var dets: array<f32, 8>;
-    let gp = 0.57735026918962576;
     for (var g = 0u; g < 8u; g++) {
-        let p = CORNERS[g] * gp;
-        var dn: array<vec3<f32>, 8>;
-        var j0 = vec3<f32>(0.0);
-        var j1 = vec3<f32>(0.0);
-        var j2 = vec3<f32>(0.0);
+        let hg = hex_gauss(x, g);
+        dets[g] = hg.det;
         for (var k = 0u; k < 8u; k++) {
-            let c = CORNERS[k];
-            let s = vec3<f32>(1.0) + c * p;
-            dn[k] = 0.125 * vec3<f32>(c.x * s.y * s.z, s.x * c.y * s.z, s.x * s.y * c.z);
-            j0 += x[k] * dn[k].x;
-            j1 += x[k] * dn[k].y;
-            j2 += x[k] * dn[k].z;
-        }
-        let det = determinant(mat3x3<f32>(j0, j1, j2));
-        let inv_t = mat3x3<f32>(cross(j1, j2), cross(j2, j0), cross(j0, j1)) * (1.0 / det);
-        dets[g] = det;
-        for (var k = 0u; k < 8u; k++) {
-            grads[8u * g + k] = inv_t * dn[k];
+            grads[8u * g + k] = hg.grads[k];
         }
     }
     var w2 = 0.0;
@@ -88,9 +62,9 @@ fn hex_step(e: u32) -> f32 {
         for (var b = 0u; b < 8u; b++) {
             k[b] = mat3x3<f32>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
         }
-        let ca = CORNERS[a];
+        let ca = HEX_CORNERS[a];
         for (var g = 0u; g < 8u; g++) {
-            let p = CORNERS[g] * gp;
+            let p = HEX_CORNERS[g] * 0.57735026918962576;
             let s = vec3<f32>(1.0) + ca * p;
             // row-sum lumping: m_a = rho sum_g N_a det J
             mass += m.density * 0.125 * s.x * s.y * s.z * dets[g];
@@ -111,15 +85,9 @@ fn tet_step(t: u32) -> f32 {
     let a = split_difference(reference[tet.nodes[1]], r0);
     let b = split_difference(reference[tet.nodes[2]], r0);
     let c = split_difference(reference[tet.nodes[3]], r0);
-    let bc = cross(b, c);
-    let ca = cross(c, a);
-    let ab = cross(a, b);
-    let det = dot(a, bc);
-    let g1 = bc / det;
-    let g2 = ca / det;
-    let g3 = ab / det;
-    let grads = array<vec3<f32>, 4>(-(g1 + g2 + g3), g1, g2, g3);
-    let vol = det / 6.0;
+    let tg = tet_gradients(a, b, c);
+    let grads = tg.grads;
+    let vol = tg.volume;
     let mass = m.density * vol / 4.0;
     var w2 = 0.0;
     for (var i = 0u; i < 4u; i++) {

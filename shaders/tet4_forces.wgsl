@@ -28,15 +28,10 @@ fn tet4_forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     let u1 = split_difference(displacement[tet.nodes[1]], u0);
     let u2 = split_difference(displacement[tet.nodes[2]], u0);
     let u3 = split_difference(displacement[tet.nodes[3]], u0);
-    // J = [a b c] (columns); the rows of J^{-1} are (b x c, c x a, a x b) / det
-    let bc = cross(b, c);
-    let ca = cross(c, a);
-    let ab = cross(a, b);
-    let det = dot(a, bc);
-    let g1 = bc / det;
-    let g2 = ca / det;
-    let g3 = ab / det;
-    let g0 = -(g1 + g2 + g3);
+    let tg = tet_gradients(a, b, c);
+    let g1 = tg.grads[1];
+    let g2 = tg.grads[2];
+    let g3 = tg.grads[3];
     // H[a][b] = sum_k u_k,a g_k,b (column b of h holds H[.][b]); corner 0 moves by zero
     let h = mat3x3<f32>(
         u1 * g1.x + u2 * g2.x + u3 * g3.x,
@@ -48,10 +43,8 @@ fn tet4_forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     s[0].x += m.lambda * tr;
     s[1].y += m.lambda * tr;
     s[2].z += m.lambda * tr;
-    let vol = det / 6.0;
-    let grads = array<vec3<f32>, 4>(g0, g1, g2, g3);
     for (var k = 0u; k < 4u; k++) {
-        let f = (s * grads[k]) * vol;
+        let f = (s * tg.grads[k]) * tg.volume;
         let o = params.aux + 12u * t + 3u * k;
         corner_forces[o] = f.x;
         corner_forces[o + 1u] = f.y;

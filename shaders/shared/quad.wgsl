@@ -167,3 +167,26 @@ fn face_hit(p: array<vec3<f32>, 4>) -> FaceHit {
     h.normal = normalize(cross(g.t1, g.t2));
     return h;
 }
+
+// A query with no face in reach.
+fn open_point() -> ContactPoint {
+    var p: ContactPoint;
+    p.face = NO_FACE;
+    p.xi = array<f32, 2>(0.0, 0.0);
+    p.normal = array<f32, 3>(0.0, 0.0, 0.0);
+    p.gap = bitcast<f32>(0xff800000u); // -inf
+    p.gap_rate = 0.0;
+    return p;
+}
+
+// The contact point of a hit on face `face`, with `rel` the secondary node's velocity less the
+// face's at xi: gap g = y . n (> 0 penetration) and gap rate -rel . n.
+fn hit_point(face: u32, hit: FaceHit, rel: vec3<f32>) -> ContactPoint {
+    var p: ContactPoint;
+    p.face = face;
+    p.xi = array<f32, 2>(hit.xi.x, hit.xi.y);
+    p.normal = array<f32, 3>(hit.normal.x, hit.normal.y, hit.normal.z);
+    p.gap = dot(hit.y, hit.normal);
+    p.gap_rate = -dot(rel, hit.normal);
+    return p;
+}

@@ -605,18 +605,13 @@ impl Kernels for GpuKernels {
                 &q,
             )?);
         }
+        let enc = self.encoder("contact_search");
         let search = self.search.as_mut().expect("built above");
         let grid = SearchGrid {
             cell: search::search_cell(&model.mesh.nodes, u, &queries.faces, margin),
             margin,
             mask: search.mask(),
         };
-        let enc = self
-            .ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("contact_search"),
-            });
         let pts = search.run(&self.ctx, enc, grid)?;
         out[..pts.len()].copy_from_slice(&pts);
         Ok(())
