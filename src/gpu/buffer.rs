@@ -55,6 +55,17 @@ impl Storage {
         })
     }
 
+    /// A storage buffer holding `data`.
+    pub fn with_data<T: bytemuck::Pod>(
+        ctx: &GpuContext,
+        label: &'static str,
+        data: &[T],
+    ) -> Result<Self> {
+        let mut s = Self::new(ctx, label, std::mem::size_of_val(data) as u64)?;
+        s.upload(ctx, data)?;
+        Ok(s)
+    }
+
     /// Makes room for `bytes`; true if the buffer was replaced.
     pub fn ensure(&mut self, ctx: &GpuContext, bytes: u64) -> Result<bool> {
         if bytes <= self.capacity {

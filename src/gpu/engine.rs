@@ -130,19 +130,14 @@ impl GpuKernels {
         }
         let (reference, hexes, tets, materials) = device_elements(data);
         let inc = Incidence::new(&data.hexes, &data.tets, nodes);
-        let upload = |label, bytes: &[u8]| -> Result<Storage> {
-            let mut s = Storage::new(&ctx, label, bytes.len() as u64)?;
-            s.upload(&ctx, bytes)?;
-            Ok(s)
-        };
-        let reference = upload("reference", bytemuck::cast_slice(&reference))?;
+        let reference = Storage::with_data(&ctx, "reference", &reference)?;
         // a binding holds at least one struct: a mesh without hexes (or tets) binds one
         // unused placeholder, never dispatched
-        let hexes = upload("hexes", bytemuck::cast_slice(&at_least_one(hexes)))?;
-        let tets = upload("tets", bytemuck::cast_slice(&at_least_one(tets)))?;
-        let materials = upload("materials", bytemuck::cast_slice(&materials))?;
-        let offsets = upload("incidence.offsets", bytemuck::cast_slice(&inc.offsets))?;
-        let incidence = upload("incidence", bytemuck::cast_slice(&inc.corners))?;
+        let hexes = Storage::with_data(&ctx, "hexes", &at_least_one(hexes))?;
+        let tets = Storage::with_data(&ctx, "tets", &at_least_one(tets))?;
+        let materials = Storage::with_data(&ctx, "materials", &materials)?;
+        let offsets = Storage::with_data(&ctx, "incidence.offsets", &inc.offsets)?;
+        let incidence = Storage::with_data(&ctx, "incidence", &inc.corners)?;
         let u = Storage::new(&ctx, "displacement", bytes_of::<Split3>(nodes))?;
         let v = Storage::new(&ctx, "velocity", bytes_of::<f32>(3 * nodes))?;
         let corners = Storage::new(&ctx, "corner_forces", bytes_of::<f32>(3 * corner_count))?;

@@ -19,7 +19,7 @@ use std::sync::mpsc;
 
 use super::buffer::{submit_and_read, Storage};
 use super::context::GpuContext;
-use super::engine::GpuKernels;
+use super::engine::{at_least_one, GpuKernels};
 use super::explicit_correct::ExplicitCorrectBuffers;
 use super::history_reduce::HistoryReduceBuffers;
 use super::kernel::Launch;
@@ -175,16 +175,7 @@ impl ResidentExplicit {
         k.upload_state(&vec![0.0; 3 * nodes], &setup.velocity)?;
         k.prepare_internal_forces();
         let ctx = &k.ctx;
-        let upload = |label, bytes: &[u8]| -> Result<Storage> {
-            let mut s = Storage::new(ctx, label, bytes.len() as u64)?;
-            s.upload(ctx, bytes)?;
-            Ok(s)
-        };
-        let f32s = |x: &[f64]| -> Vec<f32> { x.iter().map(|&a| a as f32).collect() };
-        let a = upload(
-            "acceleration",
-            bytemuck::cast_slice(&f32s(&setup.acceleration)),
-        )?;
+        let a = Storage::with_data(ctx, "acceleration", &to_f32(&setup.acceleration))?;
         let lumped: Vec<types::Lumped> = setup
             .lumped
             .iter()
@@ -194,7 +185,7 @@ impl ResidentExplicit {
                 ext_acc: l.ext_acc.map(|x| x as f32),
             })
             .collect();
-        let lumped = upload("lumped", bytemuck::cast_slice(&lumped))?;
+        let lumped = Storage::with_data(ctx, "lumped", &lumped)?;
         let planes: Vec<types::Plane> = setup
             .planes
             .iter()
@@ -204,7 +195,7 @@ impl ResidentExplicit {
                 mu: p.mu as f32,
             })
             .collect();
-        let planes = upload("planes", bytemuck::cast_slice(&at_least_one(planes)))?;
+        let planes = Storage::with_data(ctx, "planes", &at_least_one(planes))?;
         let pn: Vec<types::PlaneNode> = setup
             .plane_nodes
             .iter()
@@ -214,11 +205,12 @@ impl ResidentExplicit {
             })
             .collect();
         let plane_node_count = pn.len();
-        let plane_nodes = upload("plane_nodes", bytemuck::cast_slice(&at_least_one(pn)))?;
+        let plane_nodes = Storage::with_data(ctx, "plane_nodes", &at_least_one(pn))?;
         let plane_count = setup.planes.len();
-        let results = upload(
+        let results = Storage::with_data(
+            ctx,
             "plane_results",
-            bytemuck::cast_slice(&vec![0.0f32; SLOT * plane_count * plane_node_count]),
+            &vec![0.0f32; SLOT * plane_count * plane_node_count],
         )?;
         let step_consts = types::Step {
             dt: setup.dt as f32,
@@ -261,7 +253,7 @@ impl ResidentExplicit {
             })
             .collect();
         let column_list = columns;
-        let columns = upload("history.columns", bytemuck::cast_slice(&cols))?;
+        let columns = Storage::with_data(ctx, "history.columns", &cols)?;
         let row = Storage::new(ctx, "history.row", (row_len * 4) as u64)?;
 
         let launches = Launches {
@@ -436,10 +428,9 @@ impl ResidentExplicit {
     ) -> Result<()> {
         self.k.upload_state(u, v)?;
         let ctx = &self.k.ctx;
-        let f32s = |x: &[f64]| -> Vec<f32> { x.iter().map(|&a| a as f32).collect() };
-        self.a.upload(ctx, &f32s(a))?;
-        self.k.forces.upload(ctx, &f32s(forces))?;
-        self.results.upload(ctx, &f32s(results))?;
+        self.a.upload(ctx, &to_f32(a))?;
+        self.k.forces.upload(ctx, &to_f32(forces))?;
+        self.results.upload(ctx, &to_f32(results))?;
         Ok(())
     }
 
@@ -622,9 +613,7 @@ enum Buffer {
     Row,
 }
 
-fn at_least_one<T: Default>(mut v: Vec<T>) -> Vec<T> {
-    if v.is_empty() {
-        v.push(T::default());
-    }
-    v
+/// f64 values as the device's f32.
+fn to_f32(x: &[f64]) -> Vec<f32> {
+    x.iter().map(|&a| a as f32).collect()
 }

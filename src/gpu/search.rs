@@ -53,14 +53,9 @@ impl GpuSearch {
         queries: &[(u32, u32, u32)],
     ) -> Result<Self> {
         let table = table_size(faces.len());
-        let upload = |label, bytes: &[u8]| -> Result<Storage> {
-            let mut s = Storage::new(ctx, label, bytes.len() as u64)?;
-            s.upload(ctx, bytes)?;
-            Ok(s)
-        };
         let quads: Vec<Quad> = faces.iter().map(|&nodes| Quad { nodes }).collect();
-        let face_buf = upload("search.faces", bytemuck::cast_slice(&quads))?;
-        let first_buf = upload("search.face_first", bytemuck::cast_slice(face_first))?;
+        let face_buf = Storage::with_data(ctx, "search.faces", &quads)?;
+        let first_buf = Storage::with_data(ctx, "search.face_first", face_first)?;
         let q: Vec<ContactQuery> = queries
             .iter()
             .map(|&(secondary, first, end)| ContactQuery {
@@ -69,7 +64,7 @@ impl GpuSearch {
                 end,
             })
             .collect();
-        let query_buf = upload("search.queries", bytemuck::cast_slice(&q))?;
+        let query_buf = Storage::with_data(ctx, "search.queries", &q)?;
         let words = |n: usize| (4 * n) as u64;
         let keys = Storage::new(ctx, "search.keys", words(faces.len()))?;
         let ranks = Storage::new(ctx, "search.ranks", words(faces.len()))?;

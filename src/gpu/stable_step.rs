@@ -20,16 +20,11 @@ impl StableStep {
 pub fn element_steps(ctx: &GpuContext, data: &ElementData) -> Result<Vec<f64>> {
     let (reference, hexes, tets, materials) = device_elements(data);
     let count = hexes.len() + tets.len();
-    let upload = |label, bytes: &[u8]| -> Result<Storage> {
-        let mut s = Storage::new(ctx, label, bytes.len() as u64)?;
-        s.upload(ctx, bytes)?;
-        Ok(s)
-    };
     let nhex = hexes.len() as u32;
-    let reference = upload("reference", bytemuck::cast_slice(&reference))?;
-    let hexes = upload("hexes", bytemuck::cast_slice(&at_least_one(hexes)))?;
-    let tets = upload("tets", bytemuck::cast_slice(&at_least_one(tets)))?;
-    let materials = upload("materials", bytemuck::cast_slice(&materials))?;
+    let reference = Storage::with_data(ctx, "reference", &reference)?;
+    let hexes = Storage::with_data(ctx, "hexes", &at_least_one(hexes))?;
+    let tets = Storage::with_data(ctx, "tets", &at_least_one(tets))?;
+    let materials = Storage::with_data(ctx, "materials", &materials)?;
     let steps = Storage::new(ctx, "element_steps", (4 * count) as u64)?;
     let kernel = StableStep::new(ctx);
     let bind = kernel.0.bind(

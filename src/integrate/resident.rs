@@ -157,7 +157,8 @@ impl<'m> ResidentSolver<'m> {
         let (setup, places) = setup(model, settings, dt, speed_scale);
         let chunk = chunk_steps(model.mesh.element_count());
         let engine = ResidentExplicit::new(ctx, &model.element_data(), &setup, chunk)?;
-        let mass = lumped_mass(model);
+        // the setup lumped the mass already (an element loop over the whole mesh)
+        let mass: Vec<f64> = setup.lumped.iter().map(|l| l.mass).collect();
         let body_mass = model
             .mesh
             .bodies
