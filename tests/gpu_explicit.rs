@@ -14,8 +14,6 @@ use impact::kernels::explicit_correct::{FIELDS, GROUP};
 use impact::kernels::plane_contact::SLOT;
 use impact::kernels::{self, ElementData, LumpedNode, PlaneData, PlaneNode, SweepLimits};
 use impact::material::Elastic;
-use impact::mesh::box_mesh::box_mesh;
-use impact::scene::BoxSpec;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
@@ -53,20 +51,9 @@ fn random_inputs(rng: &mut StdRng) -> Inputs {
         rng.random_range(3..=7),
         rng.random_range(2..=5),
     ];
-    let h = 0.5;
-    let origin = [120.0, -64.0, 30.0];
-    let spec = BoxSpec {
-        min: origin,
-        max: std::array::from_fn(|a| origin[a] + h * divisions[a] as f64),
-        divisions,
-    };
-    let parts = box_mesh(&spec);
-    let mut nodes = parts.nodes;
-    for x in &mut nodes {
-        for c in x.iter_mut() {
-            *c += rng.random_range(-0.2..0.2) * h;
-        }
-    }
+    let (h, origin) = (JITTER_H, JITTER_ORIGIN);
+    let parts = jittered_box(rng, divisions);
+    let nodes = parts.nodes;
     let n = nodes.len();
     let centre: [f64; 3] = std::array::from_fn(|a| origin[a] + 0.5 * h * divisions[a] as f64);
     let lumped: Vec<LumpedNode> = (0..n)

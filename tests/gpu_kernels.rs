@@ -11,8 +11,7 @@ use impact::gpu::GpuKernels;
 use impact::kernels::contact_gap::NO_FACE;
 use impact::kernels::{self, ContactPoint, ContactQueries, ElementData, Incidence, Kernels};
 use impact::material::Elastic;
-use impact::mesh::box_mesh::box_mesh;
-use impact::scene::{BoxFace, BoxSpec};
+use impact::scene::BoxFace;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
@@ -32,21 +31,9 @@ fn distorted_box(rng: &mut StdRng) -> Problem {
         rng.random_range(2..=9),
         rng.random_range(2..=6),
     ];
-    let h = 0.5;
-    // far from the origin: the f32 kernels must keep the precision of the element scale
-    let origin = [120.0, -64.0, 30.0];
-    let spec = BoxSpec {
-        min: origin,
-        max: std::array::from_fn(|a| origin[a] + h * divisions[a] as f64),
-        divisions,
-    };
-    let parts = box_mesh(&spec);
-    let mut nodes = parts.nodes;
-    for x in &mut nodes {
-        for c in x.iter_mut() {
-            *c += rng.random_range(-0.2..0.2) * h;
-        }
-    }
+    let h = JITTER_H;
+    let parts = jittered_box(rng, divisions);
+    let nodes = parts.nodes;
     // six tets around the diagonal 0-6 of a hex, for a third of the hexes
     let (mut hexes, mut tets) = (Vec::new(), Vec::new());
     for hx in parts.hexes {

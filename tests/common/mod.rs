@@ -265,3 +265,26 @@ pub const FINE: Tolerances = Tolerances {
 pub fn run_scene_text(tag: &str, text: &str) -> (impact::Result<Summary>, History) {
     run_text(tag, text)
 }
+
+/// Element size and origin of [`jittered_box`]: far from the origin, so that the f32 kernels
+/// must keep the precision of the element scale.
+pub const JITTER_H: f64 = 0.5;
+pub const JITTER_ORIGIN: [f64; 3] = [120.0, -64.0, 30.0];
+
+/// A box of `divisions` cells of size [`JITTER_H`] from [`JITTER_ORIGIN`], every node moved by
+/// up to 0.2 of the cell size along each axis (a distorted mesh).
+pub fn jittered_box(rng: &mut impl rand::Rng, divisions: [usize; 3]) -> impact::mesh::BodyParts {
+    let (h, origin) = (JITTER_H, JITTER_ORIGIN);
+    let spec = impact::scene::BoxSpec {
+        min: origin,
+        max: std::array::from_fn(|a| origin[a] + h * divisions[a] as f64),
+        divisions,
+    };
+    let mut parts = impact::mesh::box_mesh::box_mesh(&spec);
+    for x in &mut parts.nodes {
+        for c in x.iter_mut() {
+            *c += rng.random_range(-0.2..0.2) * h;
+        }
+    }
+    parts
+}
