@@ -8,7 +8,7 @@ const SHARED: [&str; 3] = [
     "shaders/shared/quad.wgsl",
     "shaders/shared/element.wgsl",
 ];
-const KERNELS: [&str; 16] = [
+const KERNELS: [&str; 25] = [
     "hex8_forces",
     "tet4_forces",
     "node_gather",
@@ -25,6 +25,15 @@ const KERNELS: [&str; 16] = [
     "prefix_sum",
     "bucket_fill",
     "contact_search",
+    "search_bounds",
+    "search_grid",
+    "contact_constraints",
+    "contact_touches",
+    "contact_compliance",
+    "contact_sweep",
+    "contact_apply",
+    "sweep_control",
+    "contact_report",
 ];
 
 fn main() {

@@ -6,7 +6,7 @@
 // lower face index).
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var<uniform> grid: SearchGrid;
+@group(0) @binding(1) var<storage, read> grid: SearchGrid;
 @group(0) @binding(2) var<storage, read> reference: array<Split3>;
 @group(0) @binding(3) var<storage, read> displacement: array<Split3>;
 @group(0) @binding(4) var<storage, read> velocity: array<f32>;

@@ -2,7 +2,7 @@
 // interface (twin: `kernels::face_cells`). One invocation per face.
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var<uniform> grid: SearchGrid;
+@group(0) @binding(1) var<storage, read> grid: SearchGrid;
 @group(0) @binding(2) var<storage, read> reference: array<Split3>;
 @group(0) @binding(3) var<storage, read> displacement: array<Split3>;
 @group(0) @binding(4) var<storage, read> faces: array<Quad>;

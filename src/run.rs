@@ -7,7 +7,7 @@ use crate::error::{ImpactError, Result};
 use crate::gpu::{AdapterPolicy, GpuContext, GpuKernels};
 use crate::integrate::stable_step::stable_step_on;
 use crate::integrate::{
-    resident, ContactReport, Energies, ExplicitSolver, ImplicitSolver, ResidentSolver, StepReport,
+    ContactReport, Energies, ExplicitSolver, ImplicitSolver, ResidentSolver, StepReport,
 };
 use crate::kernels::{CpuKernels, Kernels};
 use crate::model::Model;
@@ -409,7 +409,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     };
     let steps = (scene.run.end_time / dt - 1e-9).ceil() as usize;
     let mut solver = match (method, ctx) {
-        (Method::Explicit, Some(ctx)) if resident::supports(&model) => Solver::Resident(Box::new(
+        (Method::Explicit, Some(ctx)) => Solver::Resident(Box::new(
             ResidentSolver::new(
                 ctx,
                 &model,

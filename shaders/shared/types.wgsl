@@ -140,3 +140,50 @@ fn split_sum(a: Split3, b: Split3) -> vec3<f32> {
     return vec3<f32>(a.hi[0], a.hi[1], a.hi[2]) + vec3<f32>(b.hi[0], b.hi[1], b.hi[2])
         + (vec3<f32>(a.lo[0], a.lo[1], a.lo[2]) + vec3<f32>(b.lo[0], b.lo[1], b.lo[2]));
 }
+
+// A pair of the explicit step's contact iteration: secondary node `node` of an interface
+// against its surface query `query` (its contact point), or against a rigid plane (`query` =
+// NO_FACE; the plane's point, split like the nodes, and its unit normal into the bodies'
+// side), with the interface's friction coefficient.
+struct ContactPair {
+    node: u32,
+    query: u32,
+    mu: f32,
+    point: Split3,
+    normal: array<f32, 3>,
+}
+
+// One constraint of the step (see `contact_constraints.wgsl`): the primary face's nodes and
+// shape function values (face[0] = NO_FACE for a plane), the unit normal, the gap at u_n, the
+// split compliance, the impulses J_N and J_T, the slip at v_{n-1/2} (friction work) and
+// whether the pair is in reach this step (0/1).
+struct Constraint {
+    face: array<u32, 4>,
+    weights: array<f32, 4>,
+    normal: array<f32, 3>,
+    gap: f32,
+    compliance: f32,
+    jn: f32,
+    jt: array<f32, 3>,
+    slip: array<f32, 3>,
+    in_reach: u32,
+}
+
+// A node the contact iteration moves: the pairs it is the secondary node of,
+// links[pair_first..pair_end], and the primary face corners it is, links[face_first..face_end]
+// (each 4 face + corner).
+struct ContactNode {
+    node: u32,
+    pair_first: u32,
+    pair_end: u32,
+    face_first: u32,
+    face_end: u32,
+}
+
+// The contact iteration's state words (`state` buffers): the sweep's largest violation (f32
+// bits: non-negative floats order as their bits), the pairs in reach, the sweeps done, and
+// the phase (0 not started, 1 sweeping, 2 converged, 3 stopped at the sweep limit).
+const STATE_VIOLATION: u32 = 0u;
+const STATE_ACTIVE: u32 = 1u;
+const STATE_SWEEPS: u32 = 2u;
+const STATE_PHASE: u32 = 3u;

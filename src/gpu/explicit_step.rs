@@ -2,8 +2,9 @@
 //! per submission, with the history values reduced on the device and read back
 //! asynchronously once per submission.
 //!
-//! A step records: `explicit_predict` (v* = v + dt/2 a), `plane_contact` (impulses against
-//! the rigid planes, if any), `explicit_drift` (u += dt v), the element kernels and
+//! A step records: `explicit_predict` (v* = v + dt/2 a), the contact impulses
+//! (`plane_contact` where all contacts are rigid planes, at most 8; otherwise the contact
+//! iteration, [`super::ContactIteration`]), `explicit_drift` (u += dt v), the element kernels and
 //! `node_gather` (internal forces), `explicit_correct` once per body (a, v and the body's
 //! energy and momentum sums per workgroup) and `history_reduce` (one row of history
 //! values), whose row is then copied into a mapped read-back buffer at the step's place.
@@ -11,13 +12,12 @@
 //! runs the next.
 //!
 //! The state stays on the device; [`ResidentExplicit::read_state`] fetches it (VTU frames).
-//! Surface-to-surface contact is not part of this step: scenes with a `[[contact]]` run the
-//! host loop over the GPU kernels ([`super::GpuKernels`]).
 
 use std::ops::Range;
 use std::sync::mpsc;
 
 use super::buffer::{submit_and_read, Storage};
+use super::contact_iteration::{ContactIteration, ContactSetup, StepBuffers};
 use super::context::GpuContext;
 use super::engine::{at_least_one, GpuKernels};
 use super::explicit_correct::ExplicitCorrectBuffers;
@@ -49,21 +49,40 @@ pub struct ResidentSetup {
     /// Initial velocity and acceleration, 3 per node.
     pub velocity: Vec<f64>,
     pub acceleration: Vec<f64>,
+    /// Contact between meshed bodies: the device contact iteration, which then takes the
+    /// rigid planes too (as pairs); `planes` and `plane_nodes` are left empty.
+    pub contact: Option<ContactSetup>,
 }
 
 /// Values of a history row, in order: per body [`FIELDS`] (kinetic, strain, gravity,
-/// momentum x y z), per plane [`SLOT`] (the plane contact results, summed; the gap and the
-/// sweeps as maxima), per probe 6 (displacement, velocity).
-pub fn row_len(bodies: usize, planes: usize, probes: usize) -> usize {
-    FIELDS * bodies + SLOT * planes + 6 * probes
+/// momentum x y z), per contact interface [`SLOT`] (its contact results, summed; the gap and
+/// the sweeps as maxima), per probe 6 (displacement, velocity).
+pub fn row_len(bodies: usize, interfaces: usize, probes: usize) -> usize {
+    FIELDS * bodies + SLOT * interfaces + 6 * probes
+}
+
+/// The contact results' place of each interface in the plane kernel's layout: `plane_nodes`
+/// nodes, each with [`SLOT`] floats per plane.
+pub fn plane_slots(planes: usize, plane_nodes: usize) -> Vec<(u32, u32, u32)> {
+    (0..planes as u32)
+        .map(|p| (p * SLOT as u32, plane_nodes as u32, (SLOT * planes) as u32))
+        .collect()
+}
+
+/// The contact results' place of each interface in the contact iteration's layout:
+/// [`SLOT`] floats per pair, interface after interface.
+pub fn pair_slots(interfaces: &[Range<usize>]) -> Vec<(u32, u32, u32)> {
+    interfaces
+        .iter()
+        .map(|r| ((SLOT * r.start) as u32, r.len() as u32, SLOT as u32))
+        .collect()
 }
 
 /// The row's columns given each body's first workgroup slot and workgroup count in the
-/// correctors' partials.
+/// correctors' partials, and each interface's (first, count, stride) in the contact results.
 pub fn row_columns(
     groups: &[(u32, u32)],
-    planes: usize,
-    plane_nodes: usize,
+    slots: &[(u32, u32, u32)],
     probes: &[u32],
 ) -> Vec<ReduceColumn> {
     let mut cols = Vec::new();
@@ -77,12 +96,12 @@ pub fn row_columns(
             });
         }
     }
-    for p in 0..planes as u32 {
+    for &(first, count, stride) in slots {
         for f in 0..SLOT as u32 {
             cols.push(ReduceColumn {
-                first: p * SLOT as u32 + f,
-                count: plane_nodes as u32,
-                stride: SLOT as u32 * planes as u32,
+                first: first + f,
+                count,
+                stride,
                 op: if f == 6 || f == 8 { OP_MAX } else { OP_SUM },
             });
         }
@@ -151,6 +170,7 @@ pub struct ResidentExplicit {
     row_len: usize,
     plane_count: usize,
     plane_node_count: usize,
+    contact: Option<ContactIteration>,
     readback: [Storage; 2],
     pending: [Option<Pending>; 2],
     /// Steps one submission can hold (the read-back buffers' size).
@@ -241,7 +261,29 @@ impl ResidentExplicit {
             total_groups += g[0] * g[1];
         }
         let partials = Storage::new(ctx, "partials", (total_groups as usize * FIELDS * 4) as u64)?;
-        let columns = row_columns(&groups, plane_count, plane_node_count, &setup.probes);
+        let contact = match &setup.contact {
+            Some(c) => Some(ContactIteration::new(
+                ctx,
+                &StepBuffers {
+                    step: &step,
+                    reference: &k.reference.buffer,
+                    displacement: &k.u.buffer,
+                    velocity: &k.v.buffer,
+                    acceleration: &a.buffer,
+                    lumped: &lumped.buffer,
+                },
+                c,
+                nodes,
+                setup.tolerance,
+                setup.max_iterations,
+            )?),
+            None => None,
+        };
+        let slots = match &setup.contact {
+            Some(c) => pair_slots(&c.interfaces),
+            None => plane_slots(plane_count, plane_node_count),
+        };
+        let columns = row_columns(&groups, &slots, &setup.probes);
         let row_len = columns.len();
         let cols: Vec<types::ReduceColumn> = columns
             .iter()
@@ -305,7 +347,9 @@ impl ResidentExplicit {
                 &HistoryReduceBuffers {
                     columns: &columns.buffer,
                     partials: &partials.buffer,
-                    results: &results.buffer,
+                    results: contact
+                        .as_ref()
+                        .map_or(&results.buffer, |c| c.results_buffer()),
                     displacement: &k.u.buffer,
                     velocity: &k.v.buffer,
                     row: &row.buffer,
@@ -342,6 +386,7 @@ impl ResidentExplicit {
             row_len,
             plane_count,
             plane_node_count,
+            contact,
             readback,
             pending: [None, None],
             chunk_capacity,
@@ -355,6 +400,13 @@ impl ResidentExplicit {
 
     pub fn context(&self) -> &GpuContext {
         &self.k.ctx
+    }
+
+    /// The device contact iteration, if the step has one, with the context (the kernel
+    /// tests run its stages alone).
+    pub fn contact_iteration(&mut self) -> Option<(&GpuContext, &mut ContactIteration)> {
+        let ctx = &self.k.ctx;
+        self.contact.as_mut().map(|c| (ctx, c))
     }
 
     /// The history row's columns (the inputs of `history_reduce`).
@@ -385,6 +437,7 @@ impl ResidentExplicit {
             .iter()
             .map(|s| s.capacity)
             .sum::<u64>()
+            + self.contact.as_ref().map_or(0, |c| c.device_bytes())
     }
 
     /// Runs one stage alone on the device's current buffers and waits for it.
@@ -401,6 +454,9 @@ impl ResidentExplicit {
             Stage::PlaneContact => {
                 if let Some(p) = &l.plane {
                     self.plane.0.record_launch(&mut enc, p);
+                }
+                if let Some(c) = &self.contact {
+                    c.record(&mut enc);
                 }
             }
             Stage::Drift => self.drift.0.record_launch(&mut enc, &l.drift),
@@ -472,6 +528,9 @@ impl ResidentExplicit {
         self.predict.0.record_launch(enc, &l.predict);
         if let Some(p) = &l.plane {
             self.plane.0.record_launch(enc, p);
+        }
+        if let Some(c) = &self.contact {
+            c.record(enc);
         }
         self.drift.0.record_launch(enc, &l.drift);
         self.k.record_internal_forces(enc);
@@ -570,7 +629,8 @@ impl ResidentExplicit {
     }
 
     /// The device's state after everything submitted: displacement and velocity (3 per
-    /// node) and the plane contact results ([`SLOT`] per (plane node, plane)).
+    /// node) and the contact results ([`SLOT`] per (plane node, plane), or per pair of the
+    /// contact iteration).
     pub fn read_state(&mut self) -> Result<(Vec<f64>, Vec<f64>, Vec<f64>)> {
         let ctx = &self.k.ctx;
         let new_encoder = || {
@@ -589,13 +649,14 @@ impl ResidentExplicit {
             &self.k.v.buffer,
             3 * n,
         )?;
-        let r: Vec<f32> = submit_and_read(
-            ctx,
-            &mut self.k.staging,
-            new_encoder(),
-            &self.results.buffer,
-            SLOT * self.plane_count * self.plane_node_count,
-        )?;
+        let (results, count) = match &self.contact {
+            Some(c) => (c.results_buffer(), SLOT * c.pair_count()),
+            None => (
+                &self.results.buffer,
+                SLOT * self.plane_count * self.plane_node_count,
+            ),
+        };
+        let r: Vec<f32> = submit_and_read(ctx, &mut self.k.staging, new_encoder(), results, count)?;
         let u = u
             .iter()
             .flat_map(|s| (0..3).map(|a| s.hi[a] as f64 + s.lo[a] as f64))

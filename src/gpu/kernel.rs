@@ -170,6 +170,45 @@ impl Kernel {
         self.record(encoder, &launch.bind, launch.grid);
     }
 
+    /// Records a [`Launch`] whose grid is read from `args` at byte `offset` (three u32, the
+    /// launch's grid or an empty one) when the dispatch runs.
+    pub fn record_indirect(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        launch: &Launch,
+        args: &wgpu::Buffer,
+        offset: u64,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(self.name),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &launch.bind, &[]);
+        pass.dispatch_workgroups_indirect(args, offset);
+    }
+
+    /// Dispatches a [`Launch`] of this kernel inside an open compute pass (the dispatches
+    /// of one pass see each other's writes, in order).
+    pub fn dispatch(&self, pass: &mut wgpu::ComputePass, launch: &Launch) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &launch.bind, &[]);
+        pass.dispatch_workgroups(launch.grid[0], launch.grid[1], 1);
+    }
+
+    /// [`Self::record_indirect`] inside an open compute pass.
+    pub fn dispatch_indirect(
+        &self,
+        pass: &mut wgpu::ComputePass,
+        launch: &Launch,
+        args: &wgpu::Buffer,
+        offset: u64,
+    ) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &launch.bind, &[]);
+        pass.dispatch_workgroups_indirect(args, offset);
+    }
+
     /// Records one dispatch over `grid` (from [`Self::set_count`]).
     pub fn record(
         &self,

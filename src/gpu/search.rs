@@ -24,7 +24,8 @@ pub struct GpuSearch {
     prefix_sum: PrefixSum,
     bucket_fill: BucketFill,
     contact_search: ContactSearch,
-    grid: wgpu::Buffer,
+    grid: Storage,
+    faces_buffer: Storage,
     counts: Storage,
     points: Storage,
     staging: Storage,
@@ -76,12 +77,13 @@ impl GpuSearch {
             "search.points",
             (queries.len() * std::mem::size_of::<types::ContactPoint>()) as u64,
         )?;
-        let grid = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("search.grid"),
-            size: std::mem::size_of::<types::SearchGrid>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        // a storage buffer: the host writes it (`record`) or a kernel does (the resident
+        // step's `search_grid`)
+        let grid = Storage::new(
+            ctx,
+            "search.grid",
+            std::mem::size_of::<types::SearchGrid>() as u64,
+        )?;
         let face_cells = FaceCells::new(ctx);
         let bucket_count = BucketCount::new(ctx);
         let prefix_sum = PrefixSum::new(ctx);
@@ -91,7 +93,7 @@ impl GpuSearch {
             face_cells.0.bind(
                 ctx,
                 &[
-                    &grid,
+                    &grid.buffer,
                     reference,
                     displacement,
                     &face_buf.buffer,
@@ -110,7 +112,7 @@ impl GpuSearch {
             contact_search.0.bind(
                 ctx,
                 &[
-                    &grid,
+                    &grid.buffer,
                     reference,
                     displacement,
                     velocity,
@@ -142,7 +144,8 @@ impl GpuSearch {
             ranks,
             starts,
             sorted,
-            _buffers: vec![face_buf, first_buf, query_buf],
+            faces_buffer: face_buf,
+            _buffers: vec![first_buf, query_buf],
             binds,
             faces: faces.len(),
             queries: queries.len(),
@@ -159,7 +162,12 @@ impl GpuSearch {
             pad: 0,
         };
         ctx.queue
-            .write_buffer(&self.grid, 0, bytemuck::bytes_of(&g));
+            .write_buffer(&self.grid.buffer, 0, bytemuck::bytes_of(&g));
+        self.record_stages(enc);
+    }
+
+    /// Records a whole search with the grid already in [`Self::grid_buffer`] when it runs.
+    pub fn record_stages(&self, enc: &mut wgpu::CommandEncoder) {
         enc.clear_buffer(&self.counts.buffer, 0, None);
         let f = self.faces as u32;
         self.face_cells
@@ -178,6 +186,21 @@ impl GpuSearch {
             &self.binds[4],
             self.contact_search.0.grid(self.queries as u32),
         );
+    }
+
+    /// The search grid ([`types::SearchGrid`]) the stages read.
+    pub fn grid_buffer(&self) -> &wgpu::Buffer {
+        &self.grid.buffer
+    }
+
+    /// The contact point of each query after a search.
+    pub fn points_buffer(&self) -> &wgpu::Buffer {
+        &self.points.buffer
+    }
+
+    /// The primary faces ([`types::Quad`]).
+    pub fn faces_buffer(&self) -> &wgpu::Buffer {
+        &self.faces_buffer.buffer
     }
 
     /// The table's mask (buckets - 1).

@@ -28,6 +28,15 @@ pub const BUCKET_COUNT: &str = kernel_source!("bucket_count");
 pub const PREFIX_SUM: &str = kernel_source!("prefix_sum");
 pub const BUCKET_FILL: &str = kernel_source!("bucket_fill");
 pub const CONTACT_SEARCH: &str = kernel_source!("contact_search");
+pub const SEARCH_BOUNDS: &str = kernel_source!("search_bounds");
+pub const SEARCH_GRID: &str = kernel_source!("search_grid");
+pub const CONTACT_CONSTRAINTS: &str = kernel_source!("contact_constraints");
+pub const CONTACT_TOUCHES: &str = kernel_source!("contact_touches");
+pub const CONTACT_COMPLIANCE: &str = kernel_source!("contact_compliance");
+pub const CONTACT_SWEEP: &str = kernel_source!("contact_sweep");
+pub const CONTACT_APPLY: &str = kernel_source!("contact_apply");
+pub const SWEEP_CONTROL: &str = kernel_source!("sweep_control");
+pub const CONTACT_REPORT: &str = kernel_source!("contact_report");
 
 /// The shared struct definitions alone (for the layout test).
 pub const TYPES: &str = include_str!("../../shaders/shared/types.wgsl");

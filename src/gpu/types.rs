@@ -170,6 +170,75 @@ pub struct SearchGrid {
     pub pad: u32,
 }
 
+/// A pair of the device contact iteration (twin: [`crate::kernels::ContactPair`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct ContactPair {
+    pub node: u32,
+    pub query: u32,
+    pub mu: f32,
+    pub point: Split3,
+    pub normal: [f32; 3],
+}
+
+/// One constraint of the device contact iteration (twin: [`crate::kernels::Constraint`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub struct Constraint {
+    pub face: [u32; 4],
+    pub weights: [f32; 4],
+    pub normal: [f32; 3],
+    pub gap: f32,
+    pub compliance: f32,
+    pub jn: f32,
+    pub jt: [f32; 3],
+    pub slip: [f32; 3],
+    pub in_reach: u32,
+}
+
+impl From<Constraint> for crate::kernels::Constraint {
+    fn from(c: Constraint) -> Self {
+        crate::kernels::Constraint {
+            face: c.face,
+            weights: c.weights.map(f64::from),
+            normal: c.normal.map(f64::from),
+            gap: c.gap as f64,
+            compliance: c.compliance as f64,
+            jn: c.jn as f64,
+            jt: c.jt.map(f64::from),
+            slip: c.slip.map(f64::from),
+            in_reach: c.in_reach != 0,
+        }
+    }
+}
+
+impl From<&crate::kernels::Constraint> for Constraint {
+    fn from(c: &crate::kernels::Constraint) -> Self {
+        Constraint {
+            face: c.face,
+            weights: c.weights.map(|x| x as f32),
+            normal: c.normal.map(|x| x as f32),
+            gap: c.gap as f32,
+            compliance: c.compliance as f32,
+            jn: c.jn as f32,
+            jt: c.jt.map(|x| x as f32),
+            slip: c.slip.map(|x| x as f32),
+            in_reach: c.in_reach as u32,
+        }
+    }
+}
+
+/// A node of the device contact iteration (twin: [`crate::kernels::ContactNode`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct ContactNode {
+    pub node: u32,
+    pub pair_first: u32,
+    pub pair_end: u32,
+    pub face_first: u32,
+    pub face_end: u32,
+}
+
 /// A struct's WGSL name, Rust size, and (field name, Rust offset) in declaration order.
 pub type StructLayout = (&'static str, usize, Vec<(&'static str, usize)>);
 
@@ -299,6 +368,43 @@ pub fn layouts() -> Vec<StructLayout> {
                 ("margin", offset_of!(SearchGrid, margin)),
                 ("mask", offset_of!(SearchGrid, mask)),
                 ("pad", offset_of!(SearchGrid, pad)),
+            ],
+        ),
+        (
+            "ContactPair",
+            size_of::<ContactPair>(),
+            vec![
+                ("node", offset_of!(ContactPair, node)),
+                ("query", offset_of!(ContactPair, query)),
+                ("mu", offset_of!(ContactPair, mu)),
+                ("point", offset_of!(ContactPair, point)),
+                ("normal", offset_of!(ContactPair, normal)),
+            ],
+        ),
+        (
+            "Constraint",
+            size_of::<Constraint>(),
+            vec![
+                ("face", offset_of!(Constraint, face)),
+                ("weights", offset_of!(Constraint, weights)),
+                ("normal", offset_of!(Constraint, normal)),
+                ("gap", offset_of!(Constraint, gap)),
+                ("compliance", offset_of!(Constraint, compliance)),
+                ("jn", offset_of!(Constraint, jn)),
+                ("jt", offset_of!(Constraint, jt)),
+                ("slip", offset_of!(Constraint, slip)),
+                ("in_reach", offset_of!(Constraint, in_reach)),
+            ],
+        ),
+        (
+            "ContactNode",
+            size_of::<ContactNode>(),
+            vec![
+                ("node", offset_of!(ContactNode, node)),
+                ("pair_first", offset_of!(ContactNode, pair_first)),
+                ("pair_end", offset_of!(ContactNode, pair_end)),
+                ("face_first", offset_of!(ContactNode, face_first)),
+                ("face_end", offset_of!(ContactNode, face_end)),
             ],
         ),
     ]

@@ -1,34 +1,99 @@
 //! [`ResidentSolver`]: the explicit path with every stage of the step on the GPU
-//! ([`crate::gpu::ResidentExplicit`]), for scenes whose contacts are rigid planes. The same
-//! time discretisation and the same contact iteration as [`super::ExplicitSolver`], its CPU
-//! twin (`device = "cpu"`): see `integrate/explicit.rs` and `kernels/plane_contact.rs`.
+//! ([`crate::gpu::ResidentExplicit`]). The same time discretisation and the same contact
+//! iteration as [`super::ExplicitSolver`], its CPU twin (`device = "cpu"`): see
+//! `integrate/explicit.rs`, `kernels/plane_contact.rs` (rigid planes alone) and
+//! `gpu/contact_iteration.rs` (contact between meshed bodies).
 //!
 //! The host submits many steps at a time and decodes the history rows the device reduced, one
 //! submission behind the device. VTU frames end a submission; the state is read back there.
 
-use std::collections::VecDeque;
+use std::collections::{BTreeMap, VecDeque};
+use std::ops::Range;
 
 use super::explicit::lumped_mass;
 use super::implicit::StepReport;
 use super::state::{ContactReport, Energies};
-use crate::contact::Primary;
+use crate::contact::{search, Primary};
 use crate::error::Result;
 use crate::gpu::explicit_step::row_len;
-use crate::gpu::{GpuContext, ResidentExplicit, ResidentSetup};
+use crate::gpu::{ContactSetup, GpuContext, ResidentExplicit, ResidentSetup};
+use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::explicit_correct::FIELDS;
 use crate::kernels::plane_contact::{MAX_PLANES, SLOT};
-use crate::kernels::{LumpedNode, PlaneData, PlaneNode};
+use crate::kernels::{ContactNode, ContactPair, LumpedNode, PlaneData, PlaneNode};
 use crate::model::Model;
 use crate::scene::ExplicitSettings;
 
-/// Whether the resident step can run the model: no surface-to-surface contact and at most
-/// [`MAX_PLANES`] rigid planes.
-pub fn supports(model: &Model) -> bool {
-    model
-        .interfaces
-        .iter()
-        .all(|i| matches!(i.primary, Primary::Plane { .. }))
-        && model.interfaces.len() <= MAX_PLANES
+/// Whether the model's contacts take the plane kernel (every interface a rigid plane, at
+/// most [`MAX_PLANES`]) rather than the device contact iteration.
+pub fn planes_only(model: &Model) -> bool {
+    model.interfaces.iter().all(|i| i.is_plane()) && model.interfaces.len() <= MAX_PLANES
+}
+
+/// The device contact iteration's inputs: a pair per (interface, secondary node), the nodes
+/// the iteration moves (secondary nodes and primary face corners, in node order) with their
+/// pairs and face corners, and the search layout.
+pub fn contact_setup(model: &Model) -> ContactSetup {
+    let mut pairs = Vec::new();
+    let mut interfaces = Vec::with_capacity(model.interfaces.len());
+    for itf in &model.interfaces {
+        let start = pairs.len();
+        for (i, &node) in itf.nodes.iter().enumerate() {
+            pairs.push(match itf.primary {
+                Primary::Surface { ref queries, .. } => ContactPair {
+                    node,
+                    query: (queries.start + i) as u32,
+                    mu: itf.friction,
+                    ..Default::default()
+                },
+                Primary::Plane { point, normal } => ContactPair {
+                    node,
+                    query: NO_FACE,
+                    mu: itf.friction,
+                    point,
+                    normal,
+                },
+            });
+        }
+        interfaces.push(start..pairs.len());
+    }
+    let faces = model.queries.faces.clone();
+    // each node's pairs and face corners, in node order
+    let mut own: BTreeMap<u32, (Vec<u32>, Vec<u32>)> = BTreeMap::new();
+    for (p, pair) in pairs.iter().enumerate() {
+        own.entry(pair.node).or_default().0.push(p as u32);
+    }
+    for (f, face) in faces.iter().enumerate() {
+        for (k, &n) in face.iter().enumerate() {
+            own.entry(n).or_default().1.push(4 * f as u32 + k as u32);
+        }
+    }
+    let mut nodes = Vec::with_capacity(own.len());
+    let mut links = Vec::new();
+    for (node, (p, f)) in own {
+        let pair_first = links.len() as u32;
+        links.extend_from_slice(&p);
+        let face_first = links.len() as u32;
+        links.extend_from_slice(&f);
+        nodes.push(ContactNode {
+            node,
+            pair_first,
+            pair_end: face_first,
+            face_first,
+            face_end: links.len() as u32,
+        });
+    }
+    let (face_first, queries) = search::search_layout(model);
+    ContactSetup {
+        pairs,
+        interfaces,
+        nodes,
+        links,
+        faces,
+        face_first,
+        queries,
+        face_size: search::largest_face_diagonal(model),
+    }
 }
 
 /// Steps per submission: about 4 million element-steps, from 8 to 1024.
@@ -36,7 +101,8 @@ pub fn chunk_steps(elements: usize) -> usize {
     ((1usize << 22) / elements.max(1)).clamp(8, 1024)
 }
 
-/// The resident step's inputs for a model (planes are the model's interfaces, in order).
+/// The resident step's inputs for a model (with the plane kernel, the planes are the model's
+/// interfaces, in order, and `places` each plane's secondary nodes' places in `plane_nodes`).
 pub fn setup(
     model: &Model,
     settings: &ExplicitSettings,
@@ -60,7 +126,8 @@ pub fn setup(
     let mut plane_nodes: Vec<PlaneNode> = Vec::new();
     // for each plane interface, each secondary node's place in `plane_nodes`
     let mut places = Vec::new();
-    for itf in &model.interfaces {
+    let contact = (!planes_only(model)).then(|| contact_setup(model));
+    for itf in model.interfaces.iter().filter(|_| contact.is_none()) {
         let Primary::Plane { point, normal } = itf.primary else {
             continue;
         };
@@ -102,6 +169,7 @@ pub fn setup(
         probes: model.probes.iter().map(|p| p.node).collect(),
         velocity,
         acceleration,
+        contact,
     };
     (setup, places)
 }
@@ -136,6 +204,8 @@ pub struct ResidentSolver<'m> {
     max_iterations: usize,
     places: Vec<Vec<usize>>,
     plane_count: usize,
+    /// The pairs of each interface (the device contact iteration).
+    pair_ranges: Option<Vec<Range<usize>>>,
     /// State at the last frame (or the start): displacement, velocity, plane results.
     pub u: Vec<f64>,
     pub v: Vec<f64>,
@@ -173,6 +243,11 @@ impl<'m> ResidentSolver<'m> {
                 .map(|(d, v)| mass[d / 3] * v * v)
                 .sum::<f64>();
         let plane_count = setup.planes.len();
+        let pair_ranges = setup.contact.as_ref().map(|c| c.interfaces.clone());
+        let result_len = match &setup.contact {
+            Some(c) => SLOT * c.pairs.len(),
+            None => SLOT * plane_count * setup.plane_nodes.len(),
+        };
         Ok(ResidentSolver {
             model,
             engine,
@@ -195,9 +270,10 @@ impl<'m> ResidentSolver<'m> {
             max_iterations: settings.max_iterations,
             places,
             plane_count,
+            pair_ranges,
             u: vec![0.0; 3 * model.mesh.node_count()],
             v: setup.velocity.clone(),
-            results: vec![0.0; SLOT * plane_count * setup.plane_nodes.len()],
+            results: vec![0.0; result_len],
             initial: Energies {
                 kinetic,
                 strain: 0.0,
@@ -263,7 +339,7 @@ impl<'m> ResidentSolver<'m> {
 
     fn decode(&self, r: &[f64]) -> Row {
         let nb = self.model.mesh.bodies.len();
-        let np = self.plane_count;
+        let np = self.model.interfaces.len();
         debug_assert_eq!(r.len(), row_len(nb, np, self.model.probes.len()));
         let mut e = Energies::default();
         let mut bodies = Vec::with_capacity(nb);
@@ -362,11 +438,14 @@ impl<'m> ResidentSolver<'m> {
         self.current.probes.clone()
     }
 
-    /// Normal impulse and end-of-step gap of secondary node `local` of plane interface
-    /// `interface` at the last state read back.
+    /// Normal impulse and end-of-step gap of secondary node `local` of interface
+    /// `interface` at the last state read back (the gap is -inf where the node was out of
+    /// reach of a surface).
     pub fn node_contact(&self, interface: usize, local: usize) -> (f64, f64) {
-        let i = self.places[interface][local];
-        let o = SLOT * (i * self.plane_count + interface);
+        let o = match &self.pair_ranges {
+            Some(r) => SLOT * (r[interface].start + local),
+            None => SLOT * (self.places[interface][local] * self.plane_count + interface),
+        };
         (self.results[o], self.results[o + 6])
     }
 }

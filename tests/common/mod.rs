@@ -288,3 +288,77 @@ pub fn jittered_box(rng: &mut impl rand::Rng, divisions: [usize; 3]) -> impact::
     }
     parts
 }
+
+/// Two runs' histories agree: each column within `bound` of its family's scale (energies and
+/// friction work, velocities, displacements, forces; penetrations against the element size
+/// `h`); the contact counts differ in at most 1% of the rows or by at most 1% of their total
+/// over the run, and by at most 2 nodes in any row (a node at zero pressure or on the cone's
+/// edge may flip).
+pub fn compare_histories(hc: &History, hg: &History, h: f64, bound: f64) {
+    assert_eq!(hc.rows.len(), hg.rows.len());
+    assert_eq!(hc.columns, hg.columns);
+    let energy = family_scale(hc, &["_energy", "friction_work"]);
+    let speed = family_scale(hc, &[".vx", ".vy", ".vz"]);
+    let disp = family_scale(hc, &[".ux", ".uy", ".uz"]);
+    let force = family_scale(hc, &["normal_force", "tangential_force"]);
+    for (j, c) in hc.columns.iter().enumerate() {
+        let scale = if c.ends_with("_energy") || c.ends_with("friction_work") {
+            energy
+        } else if c.ends_with(".vx") || c.ends_with(".vy") || c.ends_with(".vz") {
+            speed
+        } else if c.ends_with(".ux") || c.ends_with(".uy") || c.ends_with(".uz") {
+            disp
+        } else if c.ends_with("_force") {
+            force
+        } else if c.ends_with("max_penetration") {
+            h
+        } else {
+            continue; // time, step, counts (below)
+        };
+        let worst = hc
+            .rows
+            .iter()
+            .zip(&hg.rows)
+            .map(|(a, b)| (a[j] - b[j]).abs())
+            .fold(0.0, f64::max)
+            / scale;
+        eprintln!("{c}: {worst:.2e} of {scale:.3e} (bound {bound:.0e})");
+        assert!(
+            worst <= bound,
+            "{c}: GPU and CPU differ by {worst:.2e} of the scale {scale:.3e}"
+        );
+    }
+    // contact counts: a node at zero pressure or on the cone's edge may flip
+    for c in hc
+        .columns
+        .iter()
+        .filter(|c| c.ends_with(".active") || c.ends_with(".sliding"))
+    {
+        let (a, b) = (hc.col(c), hg.col(c));
+        let flips = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+        let moved: f64 = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).sum();
+        let worst = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        let total: f64 = a.iter().sum();
+        eprintln!(
+            "{c}: {flips} of {} rows differ, by {moved} of {total} node-steps (at most {worst})",
+            a.len()
+        );
+        assert!(total > 0.0, "{c}: the scene must exercise it");
+        assert!(
+            (flips * 100 <= a.len() || moved <= 0.01 * total) && worst <= 2.0,
+            "{c}: {flips} rows differ, by {moved} node-steps, at most {worst} in a row"
+        );
+    }
+}
+
+pub fn family_scale(h: &History, suffixes: &[&str]) -> f64 {
+    h.columns
+        .iter()
+        .filter(|c| suffixes.iter().any(|s| c.ends_with(s)))
+        .flat_map(|c| h.col(c))
+        .fold(0.0f64, |m, x| m.max(x.abs()))
+}

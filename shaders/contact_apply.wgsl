@@ -1,0 +1,45 @@
+// The velocity change of one sweep, one contact node per invocation (twin:
+// `kernels::contact_apply`): the impulse changes of the pairs it is the secondary node of,
+// minus N_k times those of the pairs on each primary face whose corner k it is, times its
+// inverse mass. The node gathers, so no two invocations write one velocity. Dispatched
+// indirectly, as `contact_sweep`.
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> nodes: array<ContactNode>;
+@group(0) @binding(2) var<storage, read> links: array<u32>;
+@group(0) @binding(3) var<storage, read> constraints: array<Constraint>;
+@group(0) @binding(4) var<storage, read> starts: array<u32>;
+@group(0) @binding(5) var<storage, read> sorted: array<u32>;
+@group(0) @binding(6) var<storage, read> dj: array<f32>;
+@group(0) @binding(7) var<storage, read> lumped: array<Lumped>;
+@group(0) @binding(8) var<storage, read_write> velocity: array<f32>;
+
+fn load_dj(p: u32) -> vec3<f32> {
+    return vec3<f32>(dj[3u * p], dj[3u * p + 1u], dj[3u * p + 2u]);
+}
+
+@compute @workgroup_size(64)
+fn contact_apply(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = item_index(gid, params);
+    if (i >= params.count) {
+        return;
+    }
+    let cn = nodes[i];
+    var delta = vec3<f32>(0.0);
+    for (var j = cn.pair_first; j < cn.pair_end; j++) {
+        delta += load_dj(links[j]);
+    }
+    for (var j = cn.face_first; j < cn.face_end; j++) {
+        let f = links[j] / 4u;
+        let k = links[j] % 4u;
+        for (var b = starts[f]; b < starts[f + 1u]; b++) {
+            let q = sorted[b];
+            delta -= constraints[q].weights[k] * load_dj(q);
+        }
+    }
+    let n = cn.node;
+    let inv = lumped[n].inv_mass;
+    velocity[3u * n] += delta.x * inv[0];
+    velocity[3u * n + 1u] += delta.y * inv[1];
+    velocity[3u * n + 2u] += delta.z * inv[2];
+}

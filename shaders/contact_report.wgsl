@@ -1,0 +1,62 @@
+// The contact results of the step, one pair per invocation (twin: `kernels::contact_report`),
+// in the plane kernel's layout (`plane_contact.wgsl`), SLOT floats per pair: normal impulse,
+// friction impulse (3), active (0/1), sliding (0/1), linearised end-of-step gap (-inf out of
+// reach), friction work since the start (the tangential impulse against the mean of the slip
+// at v_{n-1/2} and at v_{n+1/2}), and the iteration's sweeps (max_iterations + 1 where it
+// did not converge).
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<uniform> step: Step;
+@group(0) @binding(2) var<storage, read> constraints: array<Constraint>;
+@group(0) @binding(3) var<storage, read> pairs: array<ContactPair>;
+@group(0) @binding(4) var<storage, read> velocity: array<f32>;
+@group(0) @binding(5) var<storage, read> state: array<u32, 4>;
+@group(0) @binding(6) var<storage, read_write> results: array<f32>;
+
+const SLOT: u32 = 9u;
+
+fn load_v(n: u32) -> vec3<f32> {
+    return vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
+}
+
+@compute @workgroup_size(64)
+fn contact_report(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let p = item_index(gid, params);
+    if (p >= params.count) {
+        return;
+    }
+    let o = SLOT * p;
+    let c = constraints[p];
+    let reported = select(step.max_iterations + 1u, state[STATE_SWEEPS], state[STATE_PHASE] == 2u);
+    results[o + 8u] = f32(reported);
+    if (c.in_reach == 0u) {
+        for (var k = 0u; k < 6u; k++) {
+            results[o + k] = 0.0;
+        }
+        results[o + 6u] = bitcast<f32>(0xff800000u);
+        return;
+    }
+    let nrm = vec3<f32>(c.normal[0], c.normal[1], c.normal[2]);
+    var rel = load_v(pairs[p].node);
+    if (c.face[0] != NO_FACE) {
+        for (var k = 0u; k < 4u; k++) {
+            rel -= c.weights[k] * load_v(c.face[k]);
+        }
+    }
+    let rn = dot(rel, nrm);
+    let jt = vec3<f32>(c.jt[0], c.jt[1], c.jt[2]);
+    let mu = pairs[p].mu;
+    results[o] = c.jn;
+    results[o + 1u] = jt.x;
+    results[o + 2u] = jt.y;
+    results[o + 3u] = jt.z;
+    results[o + 4u] = select(0.0, 1.0, c.jn > 0.0);
+    let sliding = mu > 0.0 && c.jn > 0.0 && length(jt) >= mu * c.jn * (1.0 - 1e-6);
+    results[o + 5u] = select(0.0, 1.0, sliding);
+    results[o + 6u] = c.gap - step.dt * rn;
+    if (mu > 0.0) {
+        let slip = rel - rn * nrm;
+        let before = vec3<f32>(c.slip[0], c.slip[1], c.slip[2]);
+        results[o + 7u] -= dot(jt, 0.5 * (before + slip));
+    }
+}

@@ -1,0 +1,80 @@
+// One projected Jacobi sweep of the explicit step's contact iteration, one pair per
+// invocation (twin: `kernels::contact_sweep`), the host path's sweep (`integrate::explicit`):
+// from the relative velocity at the sweep's start, the normal impulse moves by the residual
+// of g_n + dt gdot <= 0 over the compliance and is kept >= 0; with friction the tangential
+// impulse that stops the slip is returned onto the cone |J_T| <= mu J_N. dj[p] is the
+// impulse change (zero for a pair out of reach or not enforceable); the sweep's largest
+// violation goes into the state (workgroup maximum, then one atomicMax of its bits).
+// Dispatched indirectly: `sweep_control` empties the grid once the iteration has stopped.
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<uniform> step: Step;
+@group(0) @binding(2) var<storage, read_write> constraints: array<Constraint>;
+@group(0) @binding(3) var<storage, read> pairs: array<ContactPair>;
+@group(0) @binding(4) var<storage, read> velocity: array<f32>;
+@group(0) @binding(5) var<storage, read_write> dj: array<f32>;
+@group(0) @binding(6) var<storage, read_write> state: array<atomic<u32>, 4>;
+
+var<workgroup> worst: array<f32, 64>;
+
+fn load_v(n: u32) -> vec3<f32> {
+    return vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
+}
+
+@compute @workgroup_size(64)
+fn contact_sweep(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let p = item_index(gid, params);
+    var violation = 0.0;
+    if (p < params.count) {
+        var d = vec3<f32>(0.0);
+        let c = constraints[p];
+        if (c.in_reach != 0u && c.compliance > 0.0) {
+            let nrm = vec3<f32>(c.normal[0], c.normal[1], c.normal[2]);
+            var rel = load_v(pairs[p].node);
+            if (c.face[0] != NO_FACE) {
+                for (var k = 0u; k < 4u; k++) {
+                    rel -= c.weights[k] * load_v(c.face[k]);
+                }
+            }
+            let rn = dot(rel, nrm);
+            let r = c.gap / step.dt - rn;
+            let new_n = max(c.jn + r / c.compliance, 0.0);
+            violation = select(max(r, 0.0), abs(r), new_n > 0.0);
+            d = (new_n - c.jn) * nrm;
+            constraints[p].jn = new_n;
+            let mu = pairs[p].mu;
+            if (mu > 0.0) {
+                let jt = vec3<f32>(c.jt[0], c.jt[1], c.jt[2]);
+                let slip = rel - rn * nrm;
+                let trial = jt - slip / c.compliance;
+                let radius = mu * new_n;
+                let size = length(trial);
+                var next = trial;
+                if (size > radius) {
+                    next = trial * (radius / size);
+                } else if (new_n > 0.0) {
+                    violation = max(violation, length(slip));
+                }
+                d += next - jt;
+                constraints[p].jt = array<f32, 3>(next.x, next.y, next.z);
+            }
+        }
+        dj[3u * p] = d.x;
+        dj[3u * p + 1u] = d.y;
+        dj[3u * p + 2u] = d.z;
+    }
+    worst[local] = violation;
+    workgroupBarrier();
+    for (var s = 32u; s > 0u; s >>= 1u) {
+        if (local < s) {
+            worst[local] = max(worst[local], worst[local + s]);
+        }
+        workgroupBarrier();
+    }
+    if (local == 0u && worst[0] > 0.0) {
+        atomicMax(&state[STATE_VIOLATION], bitcast<u32>(worst[0]));
+    }
+}

@@ -1,0 +1,57 @@
+// The two bounds of the step's search grid (twin: `kernels::search_bounds`): the fastest
+// node's speed and the largest box side of a primary face at u_n, folded into bounds[0] and
+// bounds[1] (zeroed before) by atomicMax on their f32 bits (non-negative floats order as
+// their bits). One invocation per node (params.aux nodes) and per face (params.aux2 faces);
+// each workgroup reduces in workgroup memory, then takes one atomic per bound.
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> reference: array<Split3>;
+@group(0) @binding(2) var<storage, read> displacement: array<Split3>;
+@group(0) @binding(3) var<storage, read> velocity: array<f32>;
+@group(0) @binding(4) var<storage, read> faces: array<Quad>;
+@group(0) @binding(5) var<storage, read_write> bounds: array<atomic<u32>, 2>;
+
+var<workgroup> speeds: array<f32, 64>;
+var<workgroup> sides: array<f32, 64>;
+
+@compute @workgroup_size(64)
+fn search_bounds(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
+) {
+    let i = item_index(gid, params);
+    var speed = 0.0;
+    var side = 0.0;
+    if (i < params.aux) {
+        speed = length(vec3<f32>(velocity[3u * i], velocity[3u * i + 1u], velocity[3u * i + 2u]));
+    }
+    if (i < params.aux2) {
+        let f = faces[i];
+        let r0 = reference[f.nodes[0]];
+        let u0 = displacement[f.nodes[0]];
+        var lo = vec3<f32>(0.0);
+        var hi = vec3<f32>(0.0);
+        for (var k = 1u; k < 4u; k++) {
+            let n = f.nodes[k];
+            let p = split_difference(reference[n], r0) + split_difference(displacement[n], u0);
+            lo = min(lo, p);
+            hi = max(hi, p);
+        }
+        let e = hi - lo;
+        side = max(e.x, max(e.y, e.z));
+    }
+    speeds[local] = speed;
+    sides[local] = side;
+    workgroupBarrier();
+    for (var s = 32u; s > 0u; s >>= 1u) {
+        if (local < s) {
+            speeds[local] = max(speeds[local], speeds[local + s]);
+            sides[local] = max(sides[local], sides[local + s]);
+        }
+        workgroupBarrier();
+    }
+    if (local == 0u) {
+        atomicMax(&bounds[0], bitcast<u32>(speeds[0]));
+        atomicMax(&bounds[1], bitcast<u32>(sides[0]));
+    }
+}

@@ -1,0 +1,42 @@
+//! The velocity change of one sweep of the device contact iteration (CPU twin of
+//! `shaders/contact_apply.wgsl`): each contact node gathers the impulse changes of the pairs
+//! it is the secondary node of, minus $N_k$ times those of the pairs on each primary face
+//! whose corner k it is, times its inverse mass.
+
+use super::contact_constraints::Constraint;
+use super::contact_touches::ContactNode;
+use super::explicit_correct::LumpedNode;
+
+#[allow(clippy::too_many_arguments)]
+pub fn contact_apply(
+    nodes: &[ContactNode],
+    links: &[u32],
+    constraints: &[Constraint],
+    starts: &[u32],
+    sorted: &[u32],
+    dj: &[f64],
+    lumped: &[LumpedNode],
+    v: &mut [f64],
+) {
+    for cn in nodes {
+        let mut delta = [0.0f64; 3];
+        for &p in &links[cn.pair_first as usize..cn.pair_end as usize] {
+            for a in 0..3 {
+                delta[a] += dj[3 * p as usize + a];
+            }
+        }
+        for &l in &links[cn.face_first as usize..cn.face_end as usize] {
+            let (f, k) = ((l / 4) as usize, (l % 4) as usize);
+            for &q in &sorted[starts[f] as usize..starts[f + 1] as usize] {
+                let w = constraints[q as usize].weights[k];
+                for a in 0..3 {
+                    delta[a] -= w * dj[3 * q as usize + a];
+                }
+            }
+        }
+        let n = cn.node as usize;
+        for a in 0..3 {
+            v[3 * n + a] += delta[a] * lumped[n].inv_mass[a];
+        }
+    }
+}

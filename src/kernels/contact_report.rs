@@ -1,0 +1,43 @@
+//! The contact results of the step (CPU twin of `shaders/contact_report.wgsl`), in the plane
+//! kernel's layout ([`super::plane_contact::SLOT`] per pair): normal impulse, friction
+//! impulse (3), active, sliding, linearised end-of-step gap ($-\infty$ out of reach), friction
+//! work since the start, and the iteration's sweeps.
+
+use super::contact_constraints::{relative, Constraint, ContactPair};
+use super::plane_contact::SLOT;
+use crate::contact::quad::{dot, norm};
+
+/// `sweeps`: the count to report ([`super::sweep_control::SweepState::reported`]); the
+/// friction work entries of `results` carry over from the last step.
+pub fn contact_report(
+    dt: f64,
+    sweeps: u32,
+    constraints: &[Constraint],
+    pairs: &[ContactPair],
+    v: &[f64],
+    results: &mut [f64],
+) {
+    for (p, (c, pair)) in constraints.iter().zip(pairs).enumerate() {
+        let r = &mut results[SLOT * p..SLOT * (p + 1)];
+        r[8] = sweeps as f64;
+        if !c.in_reach {
+            r[..6].fill(0.0);
+            r[6] = f64::NEG_INFINITY;
+            continue;
+        }
+        let rel = relative(c, pair.node, v);
+        let rn = dot(rel, c.normal);
+        r[0] = c.jn;
+        r[1..4].copy_from_slice(&c.jt);
+        r[4] = if c.jn > 0.0 { 1.0 } else { 0.0 };
+        let sliding = pair.mu > 0.0 && c.jn > 0.0 && norm(c.jt) >= pair.mu * c.jn * (1.0 - 1e-6);
+        r[5] = if sliding { 1.0 } else { 0.0 };
+        r[6] = c.gap - dt * rn;
+        if pair.mu > 0.0 {
+            let slip: [f64; 3] = std::array::from_fn(|a| rel[a] - rn * c.normal[a]);
+            r[7] -= (0..3)
+                .map(|a| c.jt[a] * 0.5 * (c.slip[a] + slip[a]))
+                .sum::<f64>();
+        }
+    }
+}

@@ -1,0 +1,47 @@
+//! The row-sum bound's weight on each node of the device contact iteration (CPU twin of
+//! `shaders/contact_touches.wgsl`): the in-reach pairs a node is the secondary node of, plus
+//! the shape function values $|N_k|$ of the in-reach pairs on each primary face whose corner
+//! k it is. Also the number of pairs in reach.
+
+use super::contact_constraints::Constraint;
+
+/// A node the contact iteration moves: the pairs it is the secondary node of,
+/// `links[pair_first..pair_end]`, and the face corners it is, `links[face_first..face_end]`
+/// (each `4 face + corner`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ContactNode {
+    pub node: u32,
+    pub pair_first: u32,
+    pub pair_end: u32,
+    pub face_first: u32,
+    pub face_end: u32,
+}
+
+/// Writes `touches[node]` of every contact node; returns the pairs in reach. Bucket f of the
+/// sort by face holds `sorted[starts[f]..starts[f + 1]]`.
+pub fn contact_touches(
+    nodes: &[ContactNode],
+    links: &[u32],
+    constraints: &[Constraint],
+    starts: &[u32],
+    sorted: &[u32],
+    touches: &mut [f64],
+) -> u32 {
+    let mut active = 0;
+    for cn in nodes {
+        let own = links[cn.pair_first as usize..cn.pair_end as usize]
+            .iter()
+            .filter(|&&p| constraints[p as usize].in_reach)
+            .count() as u32;
+        let mut t = own as f64;
+        for &l in &links[cn.face_first as usize..cn.face_end as usize] {
+            let (f, k) = ((l / 4) as usize, (l % 4) as usize);
+            for &q in &sorted[starts[f] as usize..starts[f + 1] as usize] {
+                t += constraints[q as usize].weights[k].abs();
+            }
+        }
+        touches[cn.node as usize] = t;
+        active += own;
+    }
+    active
+}

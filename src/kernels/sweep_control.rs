@@ -1,0 +1,60 @@
+//! The stopping rule of the device contact iteration (CPU twin of
+//! `shaders/sweep_control.wgsl`), run once before the first sweep and once after each:
+//! no pair in reach stops it at once (0 sweeps); otherwise it stops, converged, after the
+//! first sweep whose violation is within the tolerance, or, not converged, at the sweep
+//! limit. The host path's loop (`integrate::explicit`), one decision at a time.
+
+/// Phases of the iteration (`STATE_PHASE` in `shaders/shared/types.wgsl`).
+pub const NOT_STARTED: u32 = 0;
+pub const SWEEPING: u32 = 1;
+pub const CONVERGED: u32 = 2;
+pub const STOPPED: u32 = 3;
+
+/// The iteration's state (the `state` words of the shaders).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SweepState {
+    /// Largest violation of the last sweep.
+    pub violation: f64,
+    /// Pairs in reach.
+    pub active: u32,
+    pub sweeps: u32,
+    pub phase: u32,
+}
+
+impl SweepState {
+    /// Whether the next sweep runs.
+    pub fn sweeping(&self) -> bool {
+        self.phase == SWEEPING
+    }
+
+    /// Sweeps to report: `max_iterations + 1` where the iteration did not converge.
+    pub fn reported(&self, max_iterations: u32) -> u32 {
+        if self.phase == CONVERGED {
+            self.sweeps
+        } else {
+            max_iterations + 1
+        }
+    }
+}
+
+pub fn sweep_control(state: &mut SweepState, tolerance: f64, max_iterations: u32) {
+    match state.phase {
+        NOT_STARTED => {
+            state.phase = if state.active == 0 {
+                CONVERGED
+            } else {
+                SWEEPING
+            };
+        }
+        SWEEPING => {
+            state.sweeps += 1;
+            if state.violation <= tolerance {
+                state.phase = CONVERGED;
+            } else if state.sweeps >= max_iterations {
+                state.phase = STOPPED;
+            }
+            state.violation = 0.0;
+        }
+        _ => {}
+    }
+}
