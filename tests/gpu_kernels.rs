@@ -452,6 +452,27 @@ fn gpu_types_match_wgsl() {
     }
 }
 
+/// No kernel binds more storage buffers than `STORAGE_BINDINGS`, the limit an adapter must
+/// meet, and the most demanding one binds exactly that many.
+#[test]
+fn kernels_bind_at_most_the_storage_buffers_adapters_are_asked_for() {
+    let mut most = 0;
+    for (name, source) in impact::gpu::shaders::ALL {
+        let module = naga::front::wgsl::parse_str(source).expect("kernel parses");
+        let storage = module
+            .global_variables
+            .iter()
+            .filter(|(_, g)| matches!(g.space, naga::AddressSpace::Storage { .. }))
+            .count() as u32;
+        assert!(
+            storage <= impact::gpu::kernel::STORAGE_BINDINGS,
+            "{name} binds {storage} storage buffers"
+        );
+        most = most.max(storage);
+    }
+    assert_eq!(most, impact::gpu::kernel::STORAGE_BINDINGS);
+}
+
 #[test]
 fn stable_step_matches_its_cpu_twin() {
     let Some(ctx) = gpu_context("stable_step") else {

@@ -14,7 +14,8 @@ pub struct AdapterSummary {
     pub device_type: wgpu::DeviceType,
     pub driver: String,
     pub driver_info: String,
-    /// Runs compute shaders (the kernels need them).
+    /// Runs the kernels: compute shaders, indirect dispatch and at least
+    /// [`super::kernel::STORAGE_BINDINGS`] storage buffers per shader stage.
     pub compute: bool,
     /// A CPU implementation (lavapipe, llvmpipe, SwiftShader, WARP).
     pub software: bool,
@@ -23,10 +24,11 @@ pub struct AdapterSummary {
 impl AdapterSummary {
     fn of(adapter: &wgpu::Adapter) -> Self {
         let info = adapter.get_info();
-        let compute = adapter
-            .get_downlevel_capabilities()
-            .flags
-            .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS);
+        let flags = adapter.get_downlevel_capabilities().flags;
+        let compute = flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS)
+            && flags.contains(wgpu::DownlevelFlags::INDIRECT_EXECUTION)
+            && adapter.limits().max_storage_buffers_per_shader_stage
+                >= super::kernel::STORAGE_BINDINGS;
         let lower = info.name.to_lowercase();
         let software = info.device_type == wgpu::DeviceType::Cpu
             || ["llvmpipe", "lavapipe", "swiftshader", "softpipe", "warp"]
@@ -205,8 +207,9 @@ pub fn info_report() -> Result<String> {
             let _ = writeln!(r, "  max buffer size: {} MiB", l.max_buffer_size >> 20);
             let _ = writeln!(
                 r,
-                "  storage buffers per shader stage: {} (kernels use at most 7)",
-                l.max_storage_buffers_per_shader_stage
+                "  storage buffers per shader stage: {} (kernels use at most {})",
+                l.max_storage_buffers_per_shader_stage,
+                super::kernel::STORAGE_BINDINGS
             );
             let _ = writeln!(
                 r,

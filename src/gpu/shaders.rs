@@ -38,5 +38,34 @@ pub const CONTACT_APPLY: &str = kernel_source!("contact_apply");
 pub const SWEEP_CONTROL: &str = kernel_source!("sweep_control");
 pub const CONTACT_REPORT: &str = kernel_source!("contact_report");
 
+/// Every kernel: its name (the entry point) and its source.
+pub const ALL: [(&str, &str); 25] = [
+    ("hex8_forces", HEX8_FORCES),
+    ("node_gather", NODE_GATHER),
+    ("contact_gap", CONTACT_GAP),
+    ("slip_rate", SLIP_RATE),
+    ("tet4_forces", TET4_FORCES),
+    ("explicit_predict", EXPLICIT_PREDICT),
+    ("plane_contact", PLANE_CONTACT),
+    ("explicit_drift", EXPLICIT_DRIFT),
+    ("explicit_correct", EXPLICIT_CORRECT),
+    ("history_reduce", HISTORY_REDUCE),
+    ("stable_step", STABLE_STEP),
+    ("face_cells", FACE_CELLS),
+    ("bucket_count", BUCKET_COUNT),
+    ("prefix_sum", PREFIX_SUM),
+    ("bucket_fill", BUCKET_FILL),
+    ("contact_search", CONTACT_SEARCH),
+    ("search_bounds", SEARCH_BOUNDS),
+    ("search_grid", SEARCH_GRID),
+    ("contact_constraints", CONTACT_CONSTRAINTS),
+    ("contact_touches", CONTACT_TOUCHES),
+    ("contact_compliance", CONTACT_COMPLIANCE),
+    ("contact_sweep", CONTACT_SWEEP),
+    ("contact_apply", CONTACT_APPLY),
+    ("sweep_control", SWEEP_CONTROL),
+    ("contact_report", CONTACT_REPORT),
+];
+
 /// The shared struct definitions alone (for the layout test).
 pub const TYPES: &str = include_str!("../../shaders/shared/types.wgsl");
