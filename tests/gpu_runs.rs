@@ -119,8 +119,8 @@ fn cube_on_plate_gpu_and_cpu_agree_row_by_row() {
 }
 
 /// The explicit path over 1,000 steps: the cube on the plate with friction at a fifth of the
-/// stable step (5e-5 for 0.05), element forces and contact kinematics on the GPU kernels
-/// (f32) against the CPU twins (f64).
+/// stable step (5e-5 for 0.05), the whole step on the device (f32; the contact between the
+/// meshed bodies by the device contact iteration) against the CPU twin (f64).
 #[test]
 fn explicit_cube_on_plate_gpu_and_cpu_agree_over_1000_steps() {
     let text = edit(
