@@ -167,7 +167,10 @@ fn table(title: &str, scenes: &[String], adapter: Option<&str>, max_steps: usize
         let gpu_ns = match GpuContext::new().ok() {
             Some(ctx) => {
                 let k = GpuKernels::new(ctx, &model.element_data()).expect("gpu kernels");
-                format!("{:.0}", time_steps(&model, &sc, dt, Box::new(k), max_steps).0)
+                format!(
+                    "{:.0}",
+                    time_steps(&model, &sc, dt, Box::new(k), max_steps).0
+                )
             }
             None => "-".into(),
         };

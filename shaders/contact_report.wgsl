@@ -3,7 +3,8 @@
 // friction impulse (3), active (0/1), sliding (0/1), linearised end-of-step gap (-inf out of
 // reach), friction work since the start (the tangential impulse against the mean of the slip
 // at v_{n-1/2} and at v_{n+1/2}), and the iteration's sweeps (max_iterations + 1 where it
-// did not converge).
+// stopped unconverged at the limit, max_iterations + 2 where it was still sweeping when the
+// recorded sweeps ran out: the host then runs the submission again with more).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<uniform> step: Step;
@@ -27,7 +28,14 @@ fn contact_report(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let o = SLOT * p;
     let c = constraints[p];
-    let reported = select(step.max_iterations + 1u, state[STATE_SWEEPS], state[STATE_PHASE] == 2u);
+    let phase = state[STATE_PHASE];
+    var reported = state[STATE_SWEEPS];
+    if (phase == 3u) {
+        reported = step.max_iterations + 1u;
+    } else if (phase == 1u) {
+        // still sweeping: the step ran out of recorded sweeps before the limit
+        reported = step.max_iterations + 2u;
+    }
     results[o + 8u] = f32(reported);
     if (c.in_reach == 0u) {
         for (var k = 0u; k < 6u; k++) {

@@ -12,6 +12,7 @@ use common::*;
 use impact::contact::quad::norm;
 use impact::gpu::{GpuContext, ResidentExplicit};
 use impact::integrate::resident;
+use impact::integrate::ResidentSolver;
 use impact::kernels::contact_gap::NO_FACE;
 use impact::kernels::plane_contact::SLOT;
 use impact::kernels::{self, Constraint, SweepState};
@@ -395,4 +396,59 @@ point = [1.0, 0.5, 0.0]
     // tolerance (1e-7) does not change it. Every other column stays within 1e-4 (the bodies'
     // velocities 6e-6, the forces 6e-5).
     compare_histories(&hc, &hg, 0.125, 2e-4);
+}
+
+/// The device records a number of contact sweeps per step that follows the last submission's
+/// needs; a step that runs out of them makes the host run its submission again from a
+/// snapshot with every sweep recorded. The results must not depend on it: starting from one
+/// recorded sweep (many reruns) gives the same rows, bit for bit, as recording every sweep.
+#[test]
+fn recorded_sweeps_do_not_change_the_results() {
+    let Some(ctx) = gpu_context("recorded sweeps") else {
+        return;
+    };
+    let model = stack_model();
+    let settings = model_settings();
+    let dt = 5e-4;
+    let steps = 120;
+    let run = |min_sweeps: u32| {
+        // 25 steps per submission: the device runs one submission ahead of the host, so a
+        // rerun also discards the submission after it
+        let mut s =
+            ResidentSolver::with_chunk(ctx.clone(), &model, &settings, dt, 1.0, steps, None, 25)
+                .expect("resident solver");
+        s.set_min_sweeps(min_sweeps);
+        let mut rows = Vec::new();
+        for _ in 0..steps {
+            let r = s.step().expect("step");
+            let e = s.energies();
+            let reports = s.reports();
+            rows.push((
+                r.iterations,
+                r.converged,
+                [e.kinetic, e.strain, e.potential],
+                reports
+                    .iter()
+                    .map(|c| [c.normal_force, c.tangential_force, c.friction_work])
+                    .collect::<Vec<_>>(),
+                s.body_velocities(),
+            ));
+        }
+        (rows, s.reruns(), s.u.clone(), s.v.clone())
+    };
+    let (all, reruns_all, u_all, v_all) = run(settings.max_iterations as u32);
+    let (few, reruns_few, u_few, v_few) = run(1);
+    let sweeps: usize = all.iter().map(|r| r.0).sum();
+    eprintln!("{sweeps} sweeps; reruns: {reruns_all} recording all, {reruns_few} from one");
+    assert!(
+        sweeps > 2 * steps,
+        "the scene must need several sweeps per step"
+    );
+    assert_eq!(reruns_all, 0);
+    assert!(
+        reruns_few > 0,
+        "starting from one sweep must run submissions again"
+    );
+    assert_eq!(all, few, "the rows differ");
+    assert_eq!((u_all, v_all), (u_few, v_few), "the final state differs");
 }

@@ -171,6 +171,12 @@ pub struct ResidentExplicit {
     plane_count: usize,
     plane_node_count: usize,
     contact: Option<ContactIteration>,
+    /// Sweeps of the contact iteration recorded per step (at most `max_iterations`).
+    sweeps: u32,
+    max_iterations: u32,
+    /// The state at the start of each read-back slot's submission (u, v, a, contact
+    /// results), so that a submission can be run again (contact iteration only).
+    snapshots: [Vec<Storage>; 2],
     readback: [Storage; 2],
     pending: [Option<Pending>; 2],
     /// Steps one submission can hold (the read-back buffers' size).
@@ -366,6 +372,21 @@ impl ResidentExplicit {
             )
         };
         let readback = [make_readback()?, make_readback()?];
+        let make_snapshot = || -> Result<Vec<Storage>> {
+            match &contact {
+                Some(c) => [
+                    ("snapshot.u", k.u.capacity),
+                    ("snapshot.v", k.v.capacity),
+                    ("snapshot.a", a.capacity),
+                    ("snapshot.results", (SLOT * c.pair_count() * 4) as u64),
+                ]
+                .into_iter()
+                .map(|(label, bytes)| Storage::new(ctx, label, bytes))
+                .collect(),
+                None => Ok(Vec::new()),
+            }
+        };
+        let snapshots = [make_snapshot()?, make_snapshot()?];
         Ok(ResidentExplicit {
             predict,
             plane,
@@ -387,6 +408,9 @@ impl ResidentExplicit {
             plane_count,
             plane_node_count,
             contact,
+            sweeps: setup.max_iterations,
+            max_iterations: setup.max_iterations,
+            snapshots,
             readback,
             pending: [None, None],
             chunk_capacity,
@@ -530,7 +554,9 @@ impl ResidentExplicit {
             self.plane.0.record_launch(enc, p);
         }
         if let Some(c) = &self.contact {
-            c.record(enc);
+            c.record_setup(enc);
+            c.record_sweeps(enc, self.sweeps);
+            c.record_report(enc);
         }
         self.drift.0.record_launch(enc, &l.drift);
         self.k.record_internal_forces(enc);
@@ -556,6 +582,7 @@ impl ResidentExplicit {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("explicit_steps"),
             });
+        self.record_snapshot(&mut enc, slot, true);
         for j in 0..steps {
             self.record_step(&mut enc);
             enc.copy_buffer_to_buffer(
@@ -579,6 +606,62 @@ impl ResidentExplicit {
             index,
             mapped: rx,
         });
+        Ok(())
+    }
+
+    /// The live state's buffers a snapshot holds: u, v, a and the contact results.
+    fn live(&self) -> Vec<&wgpu::Buffer> {
+        match &self.contact {
+            Some(c) => vec![
+                &self.k.u.buffer,
+                &self.k.v.buffer,
+                &self.a.buffer,
+                c.results_buffer(),
+            ],
+            None => Vec::new(),
+        }
+    }
+
+    /// Records a copy of the live state into snapshot `slot` (`take`) or back from it.
+    fn record_snapshot(&self, enc: &mut wgpu::CommandEncoder, slot: usize, take: bool) {
+        for (live, snap) in self.live().into_iter().zip(&self.snapshots[slot]) {
+            let bytes = live.size().min(snap.capacity);
+            if take {
+                enc.copy_buffer_to_buffer(live, 0, &snap.buffer, 0, bytes);
+            } else {
+                enc.copy_buffer_to_buffer(&snap.buffer, 0, live, 0, bytes);
+            }
+        }
+    }
+
+    /// Sweeps of the contact iteration recorded per step from the next submission on
+    /// (clamped to 1..=max_iterations). A step whose iteration has not stopped after them
+    /// reports `max_iterations + 2` sweeps: its submission must be run again with more
+    /// ([`Self::restore`]).
+    pub fn set_sweeps(&mut self, sweeps: u32) {
+        self.sweeps = sweeps.clamp(1, self.max_iterations.max(1));
+    }
+
+    pub fn sweeps(&self) -> u32 {
+        self.sweeps
+    }
+
+    /// Puts the state back as it was at the start of submission `slot` (collected or
+    /// discarded before), so that it can be submitted again.
+    pub fn restore(&mut self, slot: usize) -> Result<()> {
+        if self.pending[slot].is_some() || self.pending[1 - slot].is_some() {
+            return Err(ImpactError::Gpu(
+                "restore: a submission is still in flight".into(),
+            ));
+        }
+        let ctx = &self.k.ctx;
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("restore"),
+            });
+        self.record_snapshot(&mut enc, slot, false);
+        ctx.queue.submit([enc.finish()]);
         Ok(())
     }
 

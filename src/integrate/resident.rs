@@ -96,6 +96,10 @@ pub fn contact_setup(model: &Model) -> ContactSetup {
     }
 }
 
+/// Sweeps of the device contact iteration recorded per step at the start (see
+/// [`ResidentSolver::rerun_if_short`]).
+pub const MIN_SWEEPS: u32 = 16;
+
 /// Steps per submission: about 4 million element-steps, from 8 to 1024.
 pub fn chunk_steps(elements: usize) -> usize {
     ((1usize << 22) / elements.max(1)).clamp(8, 1024)
@@ -206,6 +210,8 @@ pub struct ResidentSolver<'m> {
     plane_count: usize,
     /// The pairs of each interface (the device contact iteration).
     pair_ranges: Option<Vec<Range<usize>>>,
+    reruns: usize,
+    min_sweeps: u32,
     /// State at the last frame (or the start): displacement, velocity, plane results.
     pub u: Vec<f64>,
     pub v: Vec<f64>,
@@ -224,9 +230,35 @@ impl<'m> ResidentSolver<'m> {
         total: usize,
         frame_every: Option<usize>,
     ) -> Result<Self> {
-        let (setup, places) = setup(model, settings, dt, speed_scale);
         let chunk = chunk_steps(model.mesh.element_count());
-        let engine = ResidentExplicit::new(ctx, &model.element_data(), &setup, chunk)?;
+        Self::with_chunk(
+            ctx,
+            model,
+            settings,
+            dt,
+            speed_scale,
+            total,
+            frame_every,
+            chunk,
+        )
+    }
+
+    /// [`Self::new`] with `chunk` steps per submission instead of [`chunk_steps`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_chunk(
+        ctx: GpuContext,
+        model: &'m Model,
+        settings: &ExplicitSettings,
+        dt: f64,
+        speed_scale: f64,
+        total: usize,
+        frame_every: Option<usize>,
+        chunk: usize,
+    ) -> Result<Self> {
+        let (setup, places) = setup(model, settings, dt, speed_scale);
+        let chunk = chunk.max(1);
+        let mut engine = ResidentExplicit::new(ctx, &model.element_data(), &setup, chunk)?;
+        engine.set_sweeps(MIN_SWEEPS);
         // the setup lumped the mass already (an element loop over the whole mesh)
         let mass: Vec<f64> = setup.lumped.iter().map(|l| l.mass).collect();
         let body_mass = model
@@ -271,6 +303,8 @@ impl<'m> ResidentSolver<'m> {
             places,
             plane_count,
             pair_ranges,
+            reruns: 0,
+            min_sweeps: MIN_SWEEPS,
             u: vec![0.0; 3 * model.mesh.node_count()],
             v: setup.velocity.clone(),
             results: vec![0.0; result_len],
@@ -326,7 +360,10 @@ impl<'m> ResidentSolver<'m> {
             self.engine.submit(other, n)?;
             self.submitted += n;
         }
-        let rows = self.engine.collect(self.slot)?;
+        let mut rows = self.engine.collect(self.slot)?;
+        if self.pair_ranges.is_some() {
+            rows = self.rerun_if_short(rows)?;
+        }
         self.slot = other;
         let len = self.engine.row_len();
         for r in rows.chunks_exact(len) {
@@ -335,6 +372,58 @@ impl<'m> ResidentSolver<'m> {
             self.rows.push_back(row);
         }
         Ok(())
+    }
+
+    /// The most sweeps any step of `rows` reports (the contact slots' sweep fields).
+    fn most_sweeps(&self, rows: &[f32]) -> u32 {
+        let len = self.engine.row_len();
+        let base = FIELDS * self.model.mesh.bodies.len();
+        rows.chunks_exact(len)
+            .flat_map(|r| (0..self.model.interfaces.len()).map(move |i| r[base + SLOT * i + 8]))
+            .filter(|x| x.is_finite())
+            .fold(0.0f32, f32::max) as u32
+    }
+
+    /// The device contact iteration records a number of sweeps per step that follows the
+    /// sweeps the last submission needed: twice its most, at least [`MIN_SWEEPS`] (see
+    /// [`Self::set_min_sweeps`]), at most
+    /// `max_iterations` (empty sweeps cost a dispatch each). A step that runs out of them
+    /// before its iteration stops reports `max_iterations + 2`; then its submission (and the
+    /// one after it, which started from its end) is run again from its snapshot with every
+    /// sweep recorded, so the results are those of the full iteration.
+    fn rerun_if_short(&mut self, rows: Vec<f32>) -> Result<Vec<f32>> {
+        let len = self.engine.row_len();
+        let most = self.most_sweeps(&rows);
+        let limit = self.max_iterations as u32;
+        let rows = if most == limit + 2 {
+            let other = 1 - self.slot;
+            if self.engine.is_pending(other) {
+                let discarded = self.engine.collect(other)?.len() / len;
+                self.submitted -= discarded;
+            }
+            self.engine.restore(self.slot)?;
+            self.engine.set_sweeps(limit);
+            self.reruns += 1;
+            self.engine.submit(self.slot, rows.len() / len)?;
+            self.engine.collect(self.slot)?
+        } else {
+            rows
+        };
+        let most = self.most_sweeps(&rows).min(limit);
+        self.engine.set_sweeps((2 * most).max(self.min_sweeps));
+        Ok(rows)
+    }
+
+    /// Sets the fewest sweeps recorded per step (from the next submission on; the default is
+    /// [`MIN_SWEEPS`]). The results do not depend on it: a step that needs more is run again.
+    pub fn set_min_sweeps(&mut self, sweeps: u32) {
+        self.min_sweeps = sweeps.max(1);
+        self.engine.set_sweeps(self.min_sweeps);
+    }
+
+    /// Submissions run again because a step ran out of recorded sweeps.
+    pub fn reruns(&self) -> usize {
+        self.reruns
     }
 
     fn decode(&self, r: &[f64]) -> Row {

@@ -27,12 +27,14 @@ impl SweepState {
         self.phase == SWEEPING
     }
 
-    /// Sweeps to report: `max_iterations + 1` where the iteration did not converge.
+    /// Sweeps to report: `max_iterations + 1` where the iteration stopped unconverged at
+    /// the limit, `max_iterations + 2` where it was still sweeping when the recorded sweeps
+    /// ran out (the step must be run again with more).
     pub fn reported(&self, max_iterations: u32) -> u32 {
-        if self.phase == CONVERGED {
-            self.sweeps
-        } else {
-            max_iterations + 1
+        match self.phase {
+            SWEEPING => max_iterations + 2,
+            STOPPED => max_iterations + 1,
+            _ => self.sweeps,
         }
     }
 }
