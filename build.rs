@@ -3,10 +3,11 @@
 //! (`shaders/shared/`) followed by the kernel's own file, exactly as `src/gpu/shaders.rs`
 //! assembles it.
 
-const SHARED: [&str; 3] = [
+const SHARED: [&str; 4] = [
     "shaders/shared/types.wgsl",
     "shaders/shared/quad.wgsl",
     "shaders/shared/element.wgsl",
+    "shaders/shared/contact.wgsl",
 ];
 const KERNELS: [&str; 25] = [
     "hex8_forces",

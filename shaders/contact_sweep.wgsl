@@ -32,35 +32,26 @@ fn contact_sweep(
         var d = vec3<f32>(0.0);
         let c = constraints[p];
         if (c.in_reach != 0u && c.compliance > 0.0) {
-            let nrm = vec3<f32>(c.normal[0], c.normal[1], c.normal[2]);
             var rel = load_v(pairs[p].node);
             if (c.face[0] != NO_FACE) {
                 for (var k = 0u; k < 4u; k++) {
                     rel -= c.weights[k] * load_v(c.face[k]);
                 }
             }
-            let rn = dot(rel, nrm);
-            let r = c.gap / step.dt - rn;
-            let new_n = max(c.jn + r / c.compliance, 0.0);
-            violation = select(max(r, 0.0), abs(r), new_n > 0.0);
-            d = (new_n - c.jn) * nrm;
-            constraints[p].jn = new_n;
-            let mu = pairs[p].mu;
-            if (mu > 0.0) {
-                let jt = vec3<f32>(c.jt[0], c.jt[1], c.jt[2]);
-                let slip = rel - rn * nrm;
-                let trial = jt - slip / c.compliance;
-                let radius = mu * new_n;
-                let size = length(trial);
-                var next = trial;
-                if (size > radius) {
-                    next = trial * (radius / size);
-                } else if (new_n > 0.0) {
-                    violation = max(violation, length(slip));
-                }
-                d += next - jt;
-                constraints[p].jt = array<f32, 3>(next.x, next.y, next.z);
-            }
+            let up = impulse_update(
+                c.gap,
+                step.dt,
+                rel,
+                vec3<f32>(c.normal[0], c.normal[1], c.normal[2]),
+                c.compliance,
+                pairs[p].mu,
+                c.jn,
+                vec3<f32>(c.jt[0], c.jt[1], c.jt[2]),
+            );
+            violation = up.violation;
+            d = up.dj;
+            constraints[p].jn = up.jn;
+            constraints[p].jt = array<f32, 3>(up.jt.x, up.jt.y, up.jt.z);
         }
         dj[3u * p] = d.x;
         dj[3u * p + 1u] = d.y;

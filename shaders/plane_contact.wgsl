@@ -97,28 +97,20 @@ fn plane_contact(@builtin(global_invocation_id) gid: vec3<u32>) {
             if (dot(nrm * nrm, inv) <= 0.0) {
                 continue;
             }
-            let c = touches * inv_max;
-            let rn = dot(vel, nrm);
-            let r = gap[p] / dt - rn;
-            let new_n = max(jn[p] + r / c, 0.0);
-            violation = max(violation, select(max(r, 0.0), abs(r), new_n > 0.0));
-            var dj = (new_n - jn[p]) * nrm;
-            jn[p] = new_n;
-            let mu = planes[p].mu;
-            if (mu > 0.0) {
-                let slip = vel - rn * nrm;
-                let trial = jt[p] - slip / c;
-                let radius = mu * new_n;
-                let size = length(trial);
-                var next = trial;
-                if (size > radius) {
-                    next = trial * (radius / size);
-                } else if (new_n > 0.0) {
-                    violation = max(violation, length(slip));
-                }
-                dj += next - jt[p];
-                jt[p] = next;
-            }
+            let up = impulse_update(
+                gap[p],
+                dt,
+                vel,
+                nrm,
+                touches * inv_max,
+                planes[p].mu,
+                jn[p],
+                jt[p],
+            );
+            violation = max(violation, up.violation);
+            jn[p] = up.jn;
+            jt[p] = up.jt;
+            let dj = up.dj;
             dv += dj * inv;
         }
         vel += dv;

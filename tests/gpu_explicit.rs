@@ -388,35 +388,9 @@ fn resident_explicit_matches_the_cpu_twin_over_1000_steps() {
     // thrown so that it lands on an edge and rattles on its corners is a poorer check: each
     // corner impact amplifies the f32/f64 difference, to 3e-4 of the force scale at 1,000
     // steps on llvmpipe's GL driver.)
-    let text = slide_scene(0.73, false);
-    let (cpu, hc) = run_text_on(
-        "resident_cpu",
-        &text,
-        Some(impact::scene::DeviceChoice::Cpu),
-    );
-    let (gpu, hg) = run_text_on(
-        "resident_gpu",
-        &text,
-        Some(impact::scene::DeviceChoice::Gpu),
-    );
-    let (cpu, gpu) = (cpu.expect("cpu run"), gpu.expect("gpu run"));
-    assert_eq!(gpu.engine, "gpu resident");
-    assert_eq!(cpu.engine, "cpu");
-    assert!(cpu.steps >= 1000, "{} steps", cpu.steps);
-    // the same contact iteration: the sweeps differ only where f32 stops a sweep earlier
-    eprintln!(
-        "sweeps: cpu {} (max {}), gpu {} (max {})",
-        cpu.iterations_total, cpu.iterations_max, gpu.iterations_total, gpu.iterations_max
-    );
-    let sweeps = (cpu.iterations_total as f64, gpu.iterations_total as f64);
-    assert!(
-        (sweeps.0 - sweeps.1).abs() <= 0.02 * sweeps.0,
-        "sweeps {sweeps:?}"
-    );
     // (two steps of 1,026 reach the sweep limit on both: nodes on the floor-wall edge, with
     // friction on both planes)
-    assert!(gpu.unconverged_steps.abs_diff(cpu.unconverged_steps) <= 1);
-    compare_histories(&hc, &hg, 0.125, 1e-4);
+    resident_against_cpu("resident", &slide_scene(0.73, false), 0.125, 1e-4);
 }
 
 /// Frames cut the submissions (the state is read back at each): the history must not change.

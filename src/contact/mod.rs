@@ -13,6 +13,7 @@
 pub mod anderson;
 pub mod augmented_lagrange;
 pub mod friction;
+pub mod impulse;
 pub mod quad;
 pub mod search;
 

@@ -7,6 +7,7 @@ macro_rules! kernel_source {
             include_str!("../../shaders/shared/types.wgsl"),
             include_str!("../../shaders/shared/quad.wgsl"),
             include_str!("../../shaders/shared/element.wgsl"),
+            include_str!("../../shaders/shared/contact.wgsl"),
             include_str!(concat!("../../shaders/", $name, ".wgsl"))
         )
     };

@@ -27,6 +27,7 @@
 //! Momentum is exact (every impulse acts with its opposite on the primary face's nodes by
 //! the shape functions). The history's contact force is the impulse / dt.
 
+use crate::contact::impulse::impulse_update;
 use crate::contact::quad::{self, dot};
 use crate::contact::{search, Primary};
 use crate::element;
@@ -360,33 +361,19 @@ impl<'m> ExplicitSolver<'m> {
                     if c.compliance <= 0.0 {
                         continue;
                     }
-                    let rel = relative_velocity(&c, &self.v);
-                    let rn = dot(rel, c.normal);
-                    // g_n + dt gdot <= 0, gdot = -rel . n
-                    let r = c.gap / dt - rn;
-                    let new_n = (jn[i] + r / c.compliance).max(0.0);
-                    violation = violation.max(if new_n > 0.0 { r.abs() } else { r.max(0.0) });
-                    let mut dj = c.normal.map(|x| (new_n - jn[i]) * x);
-                    jn[i] = new_n;
-                    if c.mu > 0.0 {
-                        let slip: [f64; 3] = std::array::from_fn(|a| rel[a] - rn * c.normal[a]);
-                        let trial: [f64; 3] =
-                            std::array::from_fn(|a| jt[i][a] - slip[a] / c.compliance);
-                        let radius = c.mu * new_n;
-                        let size = quad::norm(trial);
-                        let next = if size > radius {
-                            trial.map(|x| x * radius / size)
-                        } else {
-                            if new_n > 0.0 {
-                                violation = violation.max(quad::norm(slip));
-                            }
-                            trial
-                        };
-                        for a in 0..3 {
-                            dj[a] += next[a] - jt[i][a];
-                        }
-                        jt[i] = next;
-                    }
+                    let up = impulse_update(
+                        c.gap,
+                        dt,
+                        relative_velocity(&c, &self.v),
+                        c.normal,
+                        c.compliance,
+                        c.mu,
+                        jn[i],
+                        jt[i],
+                    );
+                    violation = violation.max(up.violation);
+                    (jn[i], jt[i]) = (up.jn, up.jt);
+                    let dj = up.dj;
                     let n = c.node as usize;
                     for a in 0..3 {
                         self.delta[n][a] += dj[a];

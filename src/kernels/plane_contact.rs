@@ -10,6 +10,7 @@
 //! sweep.
 
 use super::explicit_correct::LumpedNode;
+use crate::contact::impulse::impulse_update;
 use crate::contact::quad::{dot, norm};
 
 /// Results per (plane node, plane): normal impulse, friction impulse (3), active (0/1),
@@ -95,32 +96,19 @@ pub fn plane_contact(
                 if (0..3).map(|ax| nrm[ax] * nrm[ax] * inv[ax]).sum::<f64>() <= 0.0 {
                     continue;
                 }
-                let c = touches * inv_max;
-                let rn = dot(vel, nrm);
-                let r = gap[p] / dt - rn;
-                let new_n = (jn[p] + r / c).max(0.0);
-                violation = violation.max(if new_n > 0.0 { r.abs() } else { r.max(0.0) });
-                let mut dj = nrm.map(|x| (new_n - jn[p]) * x);
-                jn[p] = new_n;
-                let mu = planes[p].mu;
-                if mu > 0.0 {
-                    let slip: [f64; 3] = std::array::from_fn(|ax| vel[ax] - rn * nrm[ax]);
-                    let trial: [f64; 3] = std::array::from_fn(|ax| jt[p][ax] - slip[ax] / c);
-                    let radius = mu * new_n;
-                    let size = norm(trial);
-                    let next = if size > radius {
-                        trial.map(|x| x * radius / size)
-                    } else {
-                        if new_n > 0.0 {
-                            violation = violation.max(norm(slip));
-                        }
-                        trial
-                    };
-                    for ax in 0..3 {
-                        dj[ax] += next[ax] - jt[p][ax];
-                    }
-                    jt[p] = next;
-                }
+                let up = impulse_update(
+                    gap[p],
+                    dt,
+                    vel,
+                    nrm,
+                    touches * inv_max,
+                    planes[p].mu,
+                    jn[p],
+                    jt[p],
+                );
+                violation = violation.max(up.violation);
+                (jn[p], jt[p]) = (up.jn, up.jt);
+                let dj = up.dj;
                 for ax in 0..3 {
                     dv[ax] += dj[ax] * inv[ax];
                 }

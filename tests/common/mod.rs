@@ -362,3 +362,40 @@ pub fn family_scale(h: &History, suffixes: &[&str]) -> f64 {
         .flat_map(|c| h.col(c))
         .fold(0.0f64, |m, x| m.max(x.abs()))
 }
+
+/// Runs `text` on the CPU twin and with the whole step on the device ("gpu resident"), at
+/// least 1,000 steps: the same contact iteration (sweeps within 2%, unconverged steps within
+/// one) and the same history ([`compare_histories`] with `h` and `bound`).
+pub fn resident_against_cpu(tag: &str, text: &str, h: f64, bound: f64) {
+    let (cpu, hc) = run_text_on(
+        &format!("{tag}_cpu"),
+        text,
+        Some(impact::scene::DeviceChoice::Cpu),
+    );
+    let (gpu, hg) = run_text_on(
+        &format!("{tag}_gpu"),
+        text,
+        Some(impact::scene::DeviceChoice::Gpu),
+    );
+    let (cpu, gpu) = (cpu.expect("cpu run"), gpu.expect("gpu run"));
+    assert_eq!(gpu.engine, "gpu resident");
+    assert_eq!(cpu.engine, "cpu");
+    assert!(cpu.steps >= 1000, "{} steps", cpu.steps);
+    // the sweeps differ only where f32 stops an iteration a sweep earlier or later
+    eprintln!(
+        "sweeps: cpu {} (max {}, {} unconverged), gpu {} (max {}, {} unconverged)",
+        cpu.iterations_total,
+        cpu.iterations_max,
+        cpu.unconverged_steps,
+        gpu.iterations_total,
+        gpu.iterations_max,
+        gpu.unconverged_steps
+    );
+    let sweeps = (cpu.iterations_total as f64, gpu.iterations_total as f64);
+    assert!(
+        (sweeps.0 - sweeps.1).abs() <= 0.02 * sweeps.0,
+        "sweeps {sweeps:?}"
+    );
+    assert!(gpu.unconverged_steps.abs_diff(cpu.unconverged_steps) <= 1);
+    compare_histories(&hc, &hg, h, bound);
+}

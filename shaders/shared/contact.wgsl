@@ -1,0 +1,46 @@
+// One projected Jacobi update of an explicit contact constraint (twin:
+// `contact::impulse::impulse_update`, which the host path uses too): the step's gap rate in
+// forward-increment form, g_n + dt gdot <= 0 with gdot = -rel . n. The normal impulse moves
+// by the residual over the split compliance and is kept >= 0; with friction the tangential
+// impulse that stops the slip is returned onto the cone |J_T| <= mu J_N. The violation is
+// the residual where pressed or opening too fast, and the slip where sticking.
+
+struct ImpulseUpdate {
+    jn: f32,
+    jt: vec3<f32>,
+    dj: vec3<f32>,
+    violation: f32,
+}
+
+fn impulse_update(
+    gap: f32,
+    dt: f32,
+    rel: vec3<f32>,
+    nrm: vec3<f32>,
+    compliance: f32,
+    mu: f32,
+    jn: f32,
+    jt: vec3<f32>,
+) -> ImpulseUpdate {
+    var out: ImpulseUpdate;
+    let rn = dot(rel, nrm);
+    let r = gap / dt - rn;
+    out.jn = max(jn + r / compliance, 0.0);
+    out.violation = select(max(r, 0.0), abs(r), out.jn > 0.0);
+    out.dj = (out.jn - jn) * nrm;
+    out.jt = jt;
+    if (mu > 0.0) {
+        let slip = rel - rn * nrm;
+        let trial = jt - slip / compliance;
+        let radius = mu * out.jn;
+        let size = length(trial);
+        out.jt = trial;
+        if (size > radius) {
+            out.jt = trial * (radius / size);
+        } else if (out.jn > 0.0) {
+            out.violation = max(out.violation, length(slip));
+        }
+        out.dj += out.jt - jt;
+    }
+    return out;
+}

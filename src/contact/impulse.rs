@@ -1,0 +1,66 @@
+//! One projected Jacobi update of an explicit contact constraint, shared by the host path
+//! (`integrate::explicit`) and the CPU twins of the device's contact kernels
+//! (`kernels::plane_contact`, `kernels::contact_sweep`); `shaders/shared/contact.wgsl` is its
+//! WGSL copy.
+//!
+//! The constraint is the step's gap rate in forward-increment form,
+//! $g_n + \Delta t\, \dot g \le 0$ with $\dot g = -v_{rel} \cdot n$: the normal impulse moves
+//! by the residual $r = g_n / \Delta t - v_{rel} \cdot n$ over the split compliance and is
+//! kept $\ge 0$. With friction, the tangential impulse that stops the slip is returned onto
+//! the cone $|J_T| \le \mu J_N$.
+
+use super::quad::{dot, norm};
+
+/// The constraint's new impulses, their change and its violation (a gap rate: the residual
+/// where pressed or opening too fast, and the slip where sticking).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImpulseUpdate {
+    pub jn: f64,
+    pub jt: [f64; 3],
+    pub dj: [f64; 3],
+    pub violation: f64,
+}
+
+/// `rel` is the relative velocity of the secondary node against its primary point at the
+/// sweep's start; `jn`, `jt` the impulses so far.
+#[allow(clippy::too_many_arguments)]
+pub fn impulse_update(
+    gap: f64,
+    dt: f64,
+    rel: [f64; 3],
+    normal: [f64; 3],
+    compliance: f64,
+    mu: f64,
+    jn: f64,
+    jt: [f64; 3],
+) -> ImpulseUpdate {
+    let rn = dot(rel, normal);
+    let r = gap / dt - rn;
+    let new_n = (jn + r / compliance).max(0.0);
+    let mut violation = if new_n > 0.0 { r.abs() } else { r.max(0.0) };
+    let mut dj = normal.map(|x| (new_n - jn) * x);
+    let mut next = jt;
+    if mu > 0.0 {
+        let slip: [f64; 3] = std::array::from_fn(|a| rel[a] - rn * normal[a]);
+        let trial: [f64; 3] = std::array::from_fn(|a| jt[a] - slip[a] / compliance);
+        let radius = mu * new_n;
+        let size = norm(trial);
+        next = if size > radius {
+            trial.map(|x| x * radius / size)
+        } else {
+            if new_n > 0.0 {
+                violation = violation.max(norm(slip));
+            }
+            trial
+        };
+        for a in 0..3 {
+            dj[a] += next[a] - jt[a];
+        }
+    }
+    ImpulseUpdate {
+        jn: new_n,
+        jt: next,
+        dj,
+        violation,
+    }
+}
