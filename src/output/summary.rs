@@ -33,8 +33,8 @@ pub struct Summary {
     pub method_choice: Option<String>,
     pub device: String,
     /// Where the step runs: "cpu" (the f64 twins), "gpu kernels, host loop" (element and
-    /// contact kernels on the GPU, the rest on the host each step) or "gpu resident" (every
-    /// stage of the explicit step on the GPU).
+    /// contact kernels on the GPU, the rest on the host each step: implicit runs) or "gpu
+    /// resident" (every stage of the explicit step on the GPU, contact included).
     pub engine: String,
     pub time_step: f64,
     /// Explicit runs: the stable step bound of the mesh (the step is at most this).
