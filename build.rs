@@ -9,7 +9,7 @@ const SHARED: [&str; 4] = [
     "shaders/shared/element.wgsl",
     "shaders/shared/contact.wgsl",
 ];
-const KERNELS: [&str; 25] = [
+const KERNELS: [&str; 26] = [
     "hex8_forces",
     "tet4_forces",
     "node_gather",
@@ -35,6 +35,7 @@ const KERNELS: [&str; 25] = [
     "contact_apply",
     "sweep_control",
     "contact_report",
+    "bucket_order",
 ];
 
 fn main() {

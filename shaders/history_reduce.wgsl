@@ -2,8 +2,8 @@
 // `kernels::history_reduce`). Column c reduces the entries first + k * stride, k < count, of
 // its source by its op:
 //   0: sum of the correctors' workgroup partials,
-//   1: sum of the plane contact results,
-//   2: largest plane contact result, and 0 (penetration, sweeps),
+//   1: sum of the contact results (per plane node and plane, or per contact pair),
+//   2: largest contact result, and 0 (penetration, sweeps),
 //   3: displacement component `first` (3 n + axis; a probe),
 //   4: velocity component `first` (a probe).
 

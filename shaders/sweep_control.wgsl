@@ -4,8 +4,8 @@
 // no pair in reach, stops at once (0 sweeps, as the host path). After a sweep it counts it,
 // stops (converged) when the sweep's violation is within the tolerance or (not converged) at
 // the sweep limit, and resets the violation. A stopped iteration empties both grids, so the
-// sweeps recorded after it cost nothing. params.aux: the sweep limit; params.aux2: the
-// tolerance (f32 bits).
+// sweeps recorded after it do no work (each still costs a dispatch). params.aux: the sweep
+// limit; params.aux2: the tolerance (f32 bits).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read_write> state: array<u32, 4>;

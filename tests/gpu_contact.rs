@@ -212,6 +212,10 @@ fn contact_iteration_stages_match_their_cpu_twins() {
             .collect();
         assert_eq!(bucket, expected, "seed {seed}: bucket {f}");
     }
+    // bucket_order: each face's bucket in pair order (the gathers then add in a fixed order)
+    let mut ordered = sorted.clone();
+    kernels::bucket_order(nf, &starts, &mut ordered);
+    assert_eq!(sorted, ordered, "seed {seed}: bucket_order");
 
     // touches and compliance
     let gpu_t = it.read_touches(&ctx, nodes).unwrap();

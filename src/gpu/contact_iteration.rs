@@ -1,26 +1,30 @@
 //! [`ContactIteration`]: the contact impulses of the explicit step on the device, for scenes
 //! with contact between meshed bodies (and any number of rigid planes). The same constraints
 //! and the same projected Jacobi sweeps as the host path (`integrate::explicit`), staged so
-//! that no two invocations write one value:
+//! that every value has one writer (the bounds and the state words aside, which are
+//! atomics) and every sum is gathered in a fixed order:
 //!
 //! 1. the search grid from the step's bounds (`search_bounds`, `search_grid`) and the device
 //!    search ([`GpuSearch`]), if any interface has a primary surface;
 //! 2. `contact_constraints`, one per pair (secondary node of an interface), then the pairs
 //!    in reach bucket-sorted by their primary face (`bucket_count`, `prefix_sum`,
-//!    `bucket_fill`, as the search sorts faces by cell);
+//!    `bucket_fill`, as the search sorts faces by cell) and each bucket put in pair order
+//!    (`bucket_order`: the atomics rank them in a different order every run);
 //! 3. the row-sum compliance: `contact_touches` per contact node (it gathers the pairs of
-//!    its faces from the buckets) and `contact_compliance` per pair;
+//!    its faces from the buckets) and `contact_compliance` per pair, then a first
+//!    `sweep_control`;
 //! 4. the sweeps: `contact_sweep` per pair (impulse changes), `contact_apply` per contact
-//!    node (it gathers them into its velocity), `sweep_control` (the stopping rule). Both
-//!    sweep kernels are dispatched indirectly from arguments `sweep_control` empties once
-//!    the iteration has stopped, so all `max_iterations` sweeps are recorded and the ones
-//!    after convergence cost nothing;
+//!    node (it gathers them into its velocity), `sweep_control` (the stopping rule). The
+//!    caller says how many sweeps to record; both sweep kernels are dispatched indirectly
+//!    from arguments `sweep_control` empties once the iteration has stopped, so the sweeps
+//!    recorded after that do no work (each still costs a dispatch);
 //! 5. `contact_report`, one per pair: the results `history_reduce` sums per interface.
 
 use std::ops::Range;
 
 use super::bucket_count::BucketCount;
 use super::bucket_fill::BucketFill;
+use super::bucket_order::BucketOrder;
 use super::buffer::{submit_and_read, Storage};
 use super::contact_apply::ContactApply;
 use super::contact_compliance::ContactCompliance;
@@ -76,6 +80,7 @@ struct Kernels {
     count: BucketCount,
     prefix: PrefixSum,
     fill: BucketFill,
+    order: BucketOrder,
     touches: ContactTouches,
     compliance: ContactCompliance,
     sweep: ContactSweep,
@@ -91,6 +96,7 @@ struct Launches {
     count: Launch,
     prefix: Launch,
     fill: Launch,
+    order: Launch,
     touches: Launch,
     compliance: Launch,
     sweep: Launch,
@@ -151,6 +157,7 @@ impl ContactIteration {
             count: BucketCount::new(ctx),
             prefix: PrefixSum::new(ctx),
             fill: BucketFill::new(ctx),
+            order: BucketOrder::new(ctx),
             touches: ContactTouches::new(ctx),
             compliance: ContactCompliance::new(ctx),
             sweep: ContactSweep::new(ctx),
@@ -289,6 +296,11 @@ impl ContactIteration {
                 0,
                 &[&keys.buffer, &ranks.buffer, &starts.buffer, &sorted.buffer],
             ),
+            // the face buckets only: the sentinel bucket is never gathered
+            order: k
+                .order
+                .0
+                .launch(ctx, nf as u32, 0, 0, &[&starts.buffer, &sorted.buffer]),
             touches: k.touches.0.launch(
                 ctx,
                 nc as u32,
@@ -437,6 +449,7 @@ impl ContactIteration {
         // one workgroup scans the whole table
         k.prefix.0.record(enc, &l.prefix.bind, [1, 1]);
         k.fill.0.record_launch(enc, &l.fill);
+        k.order.0.record_launch(enc, &l.order);
         enc.clear_buffer(&self.state.buffer, 0, None);
         k.touches.0.record_launch(enc, &l.touches);
         k.compliance.0.record_launch(enc, &l.compliance);

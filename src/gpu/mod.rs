@@ -5,6 +5,7 @@
 
 pub mod bucket_count;
 pub mod bucket_fill;
+pub mod bucket_order;
 pub mod buffer;
 pub mod contact_apply;
 pub mod contact_compliance;

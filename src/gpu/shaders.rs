@@ -38,9 +38,10 @@ pub const CONTACT_SWEEP: &str = kernel_source!("contact_sweep");
 pub const CONTACT_APPLY: &str = kernel_source!("contact_apply");
 pub const SWEEP_CONTROL: &str = kernel_source!("sweep_control");
 pub const CONTACT_REPORT: &str = kernel_source!("contact_report");
+pub const BUCKET_ORDER: &str = kernel_source!("bucket_order");
 
 /// Every kernel: its name (the entry point) and its source.
-pub const ALL: [(&str, &str); 25] = [
+pub const ALL: [(&str, &str); 26] = [
     ("hex8_forces", HEX8_FORCES),
     ("node_gather", NODE_GATHER),
     ("contact_gap", CONTACT_GAP),
@@ -66,6 +67,7 @@ pub const ALL: [(&str, &str); 25] = [
     ("contact_apply", CONTACT_APPLY),
     ("sweep_control", SWEEP_CONTROL),
     ("contact_report", CONTACT_REPORT),
+    ("bucket_order", BUCKET_ORDER),
 ];
 
 /// The shared struct definitions alone (for the layout test).

@@ -212,7 +212,8 @@ pub struct ResidentSolver<'m> {
     pair_ranges: Option<Vec<Range<usize>>>,
     reruns: usize,
     min_sweeps: u32,
-    /// State at the last frame (or the start): displacement, velocity, plane results.
+    /// State at the last frame (or the start): displacement, velocity, contact results (per
+    /// plane node and plane, or per contact pair).
     pub u: Vec<f64>,
     pub v: Vec<f64>,
     results: Vec<f64>,

@@ -8,6 +8,7 @@
 
 pub mod bucket_count;
 pub mod bucket_fill;
+pub mod bucket_order;
 pub mod contact_apply;
 pub mod contact_compliance;
 pub mod contact_constraints;
@@ -34,6 +35,7 @@ pub mod tet4_forces;
 
 pub use bucket_count::bucket_count;
 pub use bucket_fill::bucket_fill;
+pub use bucket_order::bucket_order;
 pub use contact_apply::contact_apply;
 pub use contact_compliance::contact_compliance;
 pub use contact_constraints::{contact_constraints, Constraint, ContactPair};
