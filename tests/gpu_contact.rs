@@ -23,22 +23,6 @@ use rand::{Rng, SeedableRng};
 
 const TOL: f64 = 1e-5;
 
-fn rel_err(gpu: &[f64], cpu: &[f64]) -> f64 {
-    assert_eq!(gpu.len(), cpu.len());
-    let (mut num, mut den) = (0.0f64, 0.0f64);
-    for (g, c) in gpu.iter().zip(cpu) {
-        if g.is_infinite() && g == c {
-            continue;
-        }
-        num += (g - c) * (g - c);
-        den += c * c;
-    }
-    if num.is_nan() {
-        return f64::INFINITY;
-    }
-    (num / den.max(f64::MIN_POSITIVE)).sqrt()
-}
-
 /// A block on a plate on a frictional floor; `extra` is appended (runs add probes).
 fn stack_scene(end_time: f64, extra: &str) -> String {
     format!(

@@ -399,3 +399,21 @@ pub fn resident_against_cpu(tag: &str, text: &str, h: f64, bound: f64) {
     assert!(gpu.unconverged_steps.abs_diff(cpu.unconverged_steps) <= 1);
     compare_histories(&hc, &hg, h, bound);
 }
+
+/// Relative 2-norm error of a device result against its CPU twin's, entries equal and
+/// infinite (a gap out of reach) left out; a NaN counts as infinite error.
+pub fn rel_err(gpu: &[f64], cpu: &[f64]) -> f64 {
+    assert_eq!(gpu.len(), cpu.len());
+    let (mut num, mut den) = (0.0f64, 0.0f64);
+    for (g, c) in gpu.iter().zip(cpu) {
+        if g.is_infinite() && g == c {
+            continue;
+        }
+        num += (g - c) * (g - c);
+        den += c * c;
+    }
+    if num.is_nan() {
+        return f64::INFINITY;
+    }
+    (num / den.max(f64::MIN_POSITIVE)).sqrt()
+}
