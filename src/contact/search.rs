@@ -96,11 +96,28 @@ pub fn largest_face_diagonal(model: &Model) -> f64 {
 /// motion. The broad phase grows face boxes by it, so that a node's candidates cover its
 /// motion over the step.
 pub fn margin(v: &[f64], dt: f64, face_size: f64) -> f64 {
-    let vmax = v
-        .chunks_exact(3)
+    face_size + 4.0 * dt * fastest_speed(v)
+}
+
+/// The fastest node's speed (`v`: 3 per node).
+pub fn fastest_speed(v: &[f64]) -> f64 {
+    v.chunks_exact(3)
         .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
-        .fold(0.0, f64::max);
-    face_size + 4.0 * dt * vmax
+        .fold(0.0, f64::max)
+}
+
+/// The largest side of a face's box at displacement `u` (3 per node).
+pub fn largest_face_side(reference: &[[f64; 3]], u: &[f64], faces: &[[u32; 4]]) -> f64 {
+    let mut extent = 0.0f64;
+    for f in faces {
+        for a in 0..3 {
+            let x = f.map(|n| reference[n as usize][a] + u[3 * n as usize + a]);
+            let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            extent = extent.max(hi - lo);
+        }
+    }
+    extent
 }
 
 /// The broad phase of every surface interface at displacement `u` with face boxes grown by
@@ -159,14 +176,5 @@ pub fn search_layout(model: &Model) -> (Vec<u32>, Vec<(u32, u32, u32)>) {
 /// margin, and a thousandth more, so that a node inside a face's grown box lies within one
 /// cell of the cell of the face's centroid.
 pub fn search_cell(reference: &[[f64; 3]], u: &[f64], faces: &[[u32; 4]], margin: f64) -> f64 {
-    let mut extent = 0.0f64;
-    for f in faces {
-        for a in 0..3 {
-            let x = f.map(|n| reference[n as usize][a] + u[3 * n as usize + a]);
-            let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
-            let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            extent = extent.max(hi - lo);
-        }
-    }
-    ((extent + margin) * 1.001).max(f64::MIN_POSITIVE)
+    ((largest_face_side(reference, u, faces) + margin) * 1.001).max(f64::MIN_POSITIVE)
 }
