@@ -11,6 +11,23 @@
 
 use super::quad::{dot, norm};
 
+/// The relative velocity of secondary node `node` against its primary point in the velocity
+/// field `v` (3 per node): the face's nodes weighted by their shape functions, or nothing (a
+/// rigid plane).
+pub fn relative_velocity(v: &[f64], node: u32, face: Option<(&[u32; 4], &[f64; 4])>) -> [f64; 3] {
+    let n = node as usize;
+    let mut rel = [v[3 * n], v[3 * n + 1], v[3 * n + 2]];
+    if let Some((nodes, weights)) = face {
+        for k in 0..4 {
+            let m = nodes[k] as usize;
+            for a in 0..3 {
+                rel[a] -= weights[k] * v[3 * m + a];
+            }
+        }
+    }
+    rel
+}
+
 /// The constraint's new impulses, their change and its violation (a gap rate: the residual
 /// where pressed or opening too fast, and the slip where sticking).
 #[derive(Debug, Clone, Copy, PartialEq)]

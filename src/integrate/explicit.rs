@@ -27,7 +27,7 @@
 //! Momentum is exact (every impulse acts with its opposite on the primary face's nodes by
 //! the shape functions). The history's contact force is the impulse / dt.
 
-use crate::contact::impulse::impulse_update;
+use crate::contact::impulse::{self, impulse_update};
 use crate::contact::quad::{self, dot};
 use crate::contact::{search, Primary};
 use crate::element;
@@ -502,15 +502,5 @@ pub fn lumped_mass(model: &Model) -> Vec<f64> {
 /// Relative velocity of a constraint's secondary node against its primary point in the
 /// velocity field `v`.
 fn relative_velocity(c: &Constraint, v: &[f64]) -> [f64; 3] {
-    let n = c.node as usize;
-    let mut rel = [v[3 * n], v[3 * n + 1], v[3 * n + 2]];
-    if let Some(f) = c.face {
-        for k in 0..4 {
-            let m = f[k] as usize;
-            for a in 0..3 {
-                rel[a] -= c.weights[k] * v[3 * m + a];
-            }
-        }
-    }
-    rel
+    impulse::relative_velocity(v, c.node, c.face.as_ref().map(|f| (f, &c.weights)))
 }

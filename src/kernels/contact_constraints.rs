@@ -6,6 +6,7 @@
 //! $v_{n-1/2} = v^* - \Delta t\, a_n$ is kept for the friction work.
 
 use super::contact_gap::{ContactPoint, NO_FACE};
+use crate::contact::impulse::relative_velocity;
 use crate::contact::quad::{self, dot, norm};
 
 /// A pair of the iteration: secondary node `node` against surface query `query`, or against
@@ -53,17 +54,11 @@ impl Default for Constraint {
 /// The relative velocity of a constraint's secondary node `node` against its primary point
 /// in the velocity field `v` (3 per node).
 pub fn relative(c: &Constraint, node: u32, v: &[f64]) -> [f64; 3] {
-    let n = node as usize;
-    let mut rel = [v[3 * n], v[3 * n + 1], v[3 * n + 2]];
-    if c.face[0] != NO_FACE {
-        for k in 0..4 {
-            let m = c.face[k] as usize;
-            for a in 0..3 {
-                rel[a] -= c.weights[k] * v[3 * m + a];
-            }
-        }
-    }
-    rel
+    relative_velocity(
+        v,
+        node,
+        (c.face[0] != NO_FACE).then_some((&c.face, &c.weights)),
+    )
 }
 
 /// Returns the constraints and the bucket keys (the face of an in-reach surface pair,
