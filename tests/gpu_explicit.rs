@@ -73,10 +73,27 @@ fn random_inputs(rng: &mut StdRng) -> Inputs {
     }
     let half = n / 3;
     let rigid = [3.7 * h, -2.2 * h, 1.3 * h];
-    let u = (0..3 * n)
+    let mut u: Vec<f64> = (0..3 * n)
         .map(|d| rigid[d % 3] + rng.random_range(-0.05..0.05) * h)
         .collect();
-    let v = (0..3 * n).map(|_| rng.random_range(-10.0..10.0)).collect();
+    let mut v: Vec<f64> = (0..3 * n).map(|_| rng.random_range(-10.0..10.0)).collect();
+    // fast nodes slide on their planes; the nodes on the first or the last plane alone (both
+    // frictional) are made to stick: 0.05 inside it, nearly at rest (a small mesh could
+    // otherwise have no sticking constraint)
+    for pn in &plane_nodes {
+        let p = match pn.planes {
+            0b001 => 0,
+            0b100 => 2,
+            _ => continue,
+        };
+        let (k, pl) = (pn.node as usize, &planes[p]);
+        let x: [f64; 3] = std::array::from_fn(|a| nodes[k][a] + u[3 * k + a] - pl.point[a]);
+        let out = (0..3).map(|a| x[a] * pl.normal[a]).sum::<f64>() + 0.05;
+        for a in 0..3 {
+            u[3 * k + a] -= out * pl.normal[a];
+            v[3 * k + a] = rng.random_range(-0.02..0.02);
+        }
+    }
     let a = (0..3 * n).map(|_| rng.random_range(-50.0..50.0)).collect();
     let forces = (0..3 * n).map(|_| rng.random_range(-5.0..5.0)).collect();
     let results = (0..SLOT * 3 * plane_nodes.len())
@@ -214,8 +231,40 @@ fn explicit_stages_match_their_cpu_twins() {
     let e = rel_err(&fields(&results, 0..4), &fields(&cpu_r, 0..4));
     eprintln!("plane_contact impulses: {e:.3e}");
     assert!(e <= TOL, "seed {seed}: plane_contact impulse error {e:.3e}");
+    // The friction work is compared where the node's iteration converged on both. Projected
+    // Jacobi with Coulomb friction need not converge on a node with two or three planes (a
+    // few percent of these random nodes stop at the sweep limit, as the floor-wall edge does
+    // in the run tests); over 200 non-contracting sweeps the f32 and f64 iterates drift
+    // apart, and the work, a product of impulse and slip, by up to 1.4e-5 (their velocities
+    // and impulses are compared above, all nodes included).
+    let limit = (s.max_iterations + 1) as f64;
+    let converged = |r: &[f64], other: &[f64]| -> Vec<f64> {
+        r.chunks_exact(SLOT)
+            .zip(other.chunks_exact(SLOT))
+            .filter(|(a, b)| a[8] != limit && b[8] != limit)
+            .map(|(a, _)| a[7])
+            .collect()
+    };
+    let work = (converged(&results, &cpu_r), converged(&cpu_r, &results));
+    let frictional = cpu_r
+        .chunks_exact(SLOT)
+        .filter(|c| c[8] != limit && c[4] > 0.0 && (c[1] != 0.0 || c[2] != 0.0 || c[3] != 0.0))
+        .count();
+    eprintln!(
+        "plane_contact friction work compared on {} of {} slots ({frictional} active with friction)",
+        work.0.len(),
+        cpu_r.len() / SLOT
+    );
+    assert!(
+        frictional > 0,
+        "seed {seed}: no converged frictional constraint"
+    );
     for f in [6, 7] {
-        let e = rel_err(&fields(&results, f..f + 1), &fields(&cpu_r, f..f + 1));
+        let e = if f == 7 {
+            rel_err(&work.0, &work.1)
+        } else {
+            rel_err(&fields(&results, f..f + 1), &fields(&cpu_r, f..f + 1))
+        };
         eprintln!("plane_contact field {f}: {e:.3e}");
         assert!(
             e <= TOL,
