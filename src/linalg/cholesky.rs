@@ -35,6 +35,28 @@ impl SpdSolver {
         })
     }
 
+    /// A factorisation of another matrix with the same pattern (the effective matrix of another
+    /// step size), reusing this one's symbolic analysis.
+    pub fn sibling(&self, a: &Csc) -> Result<SpdSolver> {
+        if a.n != self.pattern.nrows()
+            || a.col_ptr != self.pattern.col_ptr()
+            || a.row_idx != self.pattern.row_idx()
+        {
+            return Err(ImpactError::Solver(
+                "sibling factorisation: the matrix has another sparsity pattern".into(),
+            ));
+        }
+        let mat = SparseColMat::new(self.pattern.clone(), a.values.clone());
+        let llt = Llt::try_new_with_symbolic(self.symbolic.clone(), mat.as_ref(), Side::Upper)
+            .map_err(|e| ImpactError::Solver(format!("factorisation failed: {e:?}")))?;
+        Ok(SpdSolver {
+            symbolic: self.symbolic.clone(),
+            llt,
+            pattern: self.pattern.clone(),
+            factorizations: 1,
+        })
+    }
+
     /// Numeric refactorisation with new values on the same pattern.
     pub fn refactor(&mut self, values: &[f64]) -> Result<()> {
         let mat = SparseColMat::new(self.pattern.clone(), values.to_vec());
@@ -78,5 +100,34 @@ mod tests {
         for i in 0..n {
             assert!((b[i] - x[i]).abs() < 1e-12);
         }
+    }
+
+    /// A sibling factorisation (another step size: another diagonal shift on the same
+    /// pattern) solves its own matrix, and refuses a matrix with another pattern.
+    #[test]
+    fn a_sibling_solves_its_own_matrix_on_the_shared_pattern() {
+        let tridiagonal = |n: usize, diag: f64| {
+            let mut t = Vec::new();
+            for i in 0..n as u32 {
+                t.push((i, i, diag));
+                if i + 1 < n as u32 {
+                    t.push((i, i + 1, -1.0));
+                    t.push((i + 1, i, -1.0));
+                }
+            }
+            Csc::from_triplets(n, t)
+        };
+        let n = 7;
+        let first = SpdSolver::new(&tridiagonal(n, 2.5)).unwrap();
+        let shifted = tridiagonal(n, 40.0);
+        let second = first.sibling(&shifted).unwrap();
+        let x: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+        let mut b = vec![0.0; n];
+        shifted.mul_into(&x, &mut b);
+        second.solve_in_place(&mut b);
+        for i in 0..n {
+            assert!((b[i] - x[i]).abs() < 1e-13, "{} vs {}", b[i], x[i]);
+        }
+        assert!(first.sibling(&tridiagonal(n + 1, 40.0)).is_err());
     }
 }
