@@ -613,6 +613,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     summary.interfaces = match &solver {
         Solver::Implicit(solver) => {
             summary.factorizations = solver.factorizations();
+            summary.event_steps = solver.event_steps;
             model
                 .interfaces
                 .iter()

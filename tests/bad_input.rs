@@ -216,6 +216,30 @@ fn non_positive_tangential_penalty() {
 }
 
 #[test]
+fn event_substeps_out_of_range() {
+    expect(
+        &edit(
+            &base(),
+            "penalty = \"adaptive\"",
+            "penalty = \"adaptive\"\nevent_substeps = 0",
+        ),
+        &["implicit.event_substeps", "from 1 (off) to 1000", "got 0"],
+    );
+}
+
+#[test]
+fn non_positive_event_force_change() {
+    expect(
+        &edit(
+            &base(),
+            "penalty = \"adaptive\"",
+            "penalty = \"adaptive\"\nevent_force_change = -0.2",
+        ),
+        &["implicit.event_force_change", "> 0"],
+    );
+}
+
+#[test]
 fn vtu_every_must_be_positive() {
     expect(
         &format!("{}\n[output]\nvtu_every = 0\n", base()),

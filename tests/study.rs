@@ -60,7 +60,10 @@ fn quick_study_writes_a_csv_with_every_method_and_its_charts() {
 /// Refining mesh and step together (c dt / h = 0.95, 10 to 80 elements per bar): the
 /// energy lost to the contact nodes' inelastic first contact halves with h (first order;
 /// exactly for the explicit path), the final velocity error falls at order >= 0.6 and the
-/// L2 force error at order >= 0.3 (a jump smeared over a few steps: about h^(1/2)).
+/// L2 force error at order >= 0.25 (a jump smeared over a few steps: about h^(1/2)). The
+/// implicit path's event sub-steps lower its force error most on the coarsest mesh (0.137 to
+/// 0.095 at 10 elements, 0.061 to 0.051 at 80), which flattens its measured order from 0.39
+/// to 0.30.
 #[test]
 fn errors_fall_with_step_and_mesh_at_their_orders() {
     let dir = out_dir("study_order");
@@ -88,7 +91,7 @@ fn errors_fall_with_step_and_mesh_at_their_orders() {
         }
         assert!(loss >= 0.9, "{}: energy loss order {loss}", method.name());
         assert!(vel >= 0.6, "{}: velocity order {vel}", method.name());
-        assert!(force >= 0.3, "{}: force order {force}", method.name());
+        assert!(force >= 0.25, "{}: force order {force}", method.name());
     }
 }
 

@@ -33,21 +33,68 @@ fn fine_two_bars_match_wave_theory_on_gpu() {
     );
 }
 
-/// The paper's coarse mesh (10 elements per bar, c dt = h). The issue asks for rows within
-/// 10%, impulse within 2%, |v_A| <= 0.03 and v_B within 3%; this build reaches 13.4%, 3.4%,
-/// 0.034 and 3.4%. The shortfall is the velocity-level constraint's inelastic stop of the
-/// contact nodes at first contact (a loss of about half the tip nodes' reduced mass times
-/// v0^2, O(h)) together with the trapezoidal rule's dispersion at Courant number 1; both vanish
-/// with refinement (see `fine_two_bars_match_wave_theory`). The bounds below pin today's
-/// accuracy so that a regression fails.
+/// The paper's coarse mesh (10 elements per bar, c dt = h), with the issue's tolerances
+/// except the impulse: rows within 10%, mean within 2%, |v_A| <= 0.03, v_B within 3%, loss
+/// <= 5%. This build reaches 5.2%, 0.06%, 0.0265, 2.65% and 1.6% (event sub-steps on, the
+/// default). The impulse is 2.65% short where the issue asks 2%: no time integrator reaches
+/// that on this mesh. The same 10-element bars integrated exactly in time (the trapezoidal
+/// rule at dt / 100) lose 3.0% with consistent mass and 3.6% with lumped mass, and central
+/// differences at c dt = h lose 2.5%: it is the spatial discretisation's O(h) loss at first
+/// contact and its smeared release (`docs/method-notes.md`, "Contact events"). The fine mesh
+/// meets every tolerance, the impulse included.
 const PAPER: Tolerances = Tolerances {
     mean: 0.02,
-    row: 0.14,
-    impulse: 0.035,
-    rest_a: 0.035,
-    speed_b: 0.035,
+    row: 0.10,
+    impulse: 0.03,
+    rest_a: 0.03,
+    speed_b: 0.03,
     loss: 0.05,
 };
+
+/// Taking the steps of an impact or a release again in sub-steps (`event_substeps`, on by
+/// default) moves every measure of the coarse two bars towards wave theory, against the same
+/// scene with plain steps (measured: worst row 5.2% against 13.4%, impulse -2.65% against
+/// -3.4%, v_A 0.0265 against 0.034, energy loss 1.6% against 2.9%).
+#[test]
+fn event_substeps_improve_the_paper_two_bars() {
+    let text = scene_text("two_bars.toml");
+    let plain_text = edit(
+        &text,
+        "penalty = \"adaptive\"",
+        "penalty = \"adaptive\"\nevent_substeps = 1",
+    );
+    let (s, h) = run_text("two_bars_events", &text);
+    let events = s.expect("run completes");
+    let (s, hp) = run_text("two_bars_plain", &plain_text);
+    let plain = s.expect("run completes");
+    let (m, mp) = (
+        check_release_and_energy(&h, 0.01, 0.05),
+        check_release_and_energy(&hp, 0.01, 0.05),
+    );
+    eprintln!(
+        "events: {} steps refined, row {:.4}, impulse {:.5}, v_A {:.4}, loss {:.4}; plain: row {:.4}, impulse {:.5}, v_A {:.4}, loss {:.4}",
+        events.event_steps,
+        m.plateau_max_dev,
+        m.impulse,
+        h.last("A.vx"),
+        m.energy_loss,
+        mp.plateau_max_dev,
+        mp.impulse,
+        hp.last("A.vx"),
+        mp.energy_loss
+    );
+    // impact, the two steps after it, and the release ramp
+    assert!(
+        (2..=8).contains(&events.event_steps),
+        "{}",
+        events.event_steps
+    );
+    assert_eq!(plain.event_steps, 0);
+    assert!(m.plateau_max_dev < 0.5 * mp.plateau_max_dev);
+    assert!((m.impulse - 0.1).abs() < 0.85 * (mp.impulse - 0.1).abs());
+    assert!(h.last("A.vx").abs() < 0.85 * hp.last("A.vx").abs());
+    assert!(m.energy_loss < 0.6 * mp.energy_loss);
+}
 
 #[test]
 fn paper_two_bars_match_wave_theory() {
@@ -61,6 +108,42 @@ fn paper_two_bars_match_wave_theory_on_gpu() {
     }
     let device = Some(DeviceChoice::Gpu);
     check_two_bars("two_bars_gpu", "two_bars.toml", 0.01, PAPER, device);
+}
+
+/// Why the coarse mesh cannot meet the 2% impulse bound: the same 10-element bars integrated
+/// (nearly) exactly in time, at dt = 1e-4 and 2e-4 (c dt = h / 100 and h / 50) with plain
+/// steps, converge in time to impulses 3.0% (consistent mass) and 3.6% (lumped mass) short of
+/// wave theory's 0.1. That is the spatial discretisation's error, which no time integrator
+/// removes; the shipped run at dt = 0.01 (-2.65%) is already better than this limit.
+#[test]
+fn the_paper_mesh_misses_the_impulse_even_exactly_in_time() {
+    for (mass, low, high) in [("consistent", 0.028, 0.032), ("lumped", 0.034, 0.038)] {
+        let impulse = |dt: f64| {
+            let text = edit(
+                &edit(
+                    &scene_text("two_bars.toml"),
+                    "time_step = 0.01",
+                    &format!("time_step = {dt}"),
+                ),
+                "penalty = \"adaptive\"",
+                &format!("penalty = \"adaptive\"\nevent_substeps = 1\nmass = \"{mass}\""),
+            );
+            let (s, h) = run_text(&format!("two_bars_time_exact_{mass}_{dt}"), &text);
+            assert_eq!(s.expect("run completes").unconverged_steps, 0);
+            measures(&h, "impact", TWO_BARS_FORCE, dt).impulse
+        };
+        let (fine, finer) = (impulse(2e-4), impulse(1e-4));
+        let shortfall = 1.0 - finer / 0.1;
+        eprintln!(
+            "{mass} mass: impulse {fine:.6} at dt 2e-4, {finer:.6} at 1e-4: {:.2}% short",
+            100.0 * shortfall
+        );
+        assert!(
+            (fine - finer).abs() <= 1e-3 * 0.1,
+            "not converged in time: {fine} vs {finer}"
+        );
+        assert!((low..=high).contains(&shortfall), "{mass}: {shortfall}");
+    }
 }
 
 /// Momentum is conserved at every step (no external force): m_A v_A + m_B v_B = m_A v0.

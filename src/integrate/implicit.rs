@@ -41,6 +41,10 @@ use crate::scene::{Acceleration, Constraint, ImplicitSettings};
 
 use super::state::{ContactReport, Energies};
 
+/// Forces below this fraction of an interface's peak normal force so far do not make a
+/// contact event (round-off forces of a grazing contact would otherwise refine every step).
+pub const EVENT_FORCE_FLOOR: f64 = 1e-3;
+
 /// The contact iteration's tolerance is at least this many times the kernels' unit roundoff
 /// (3.6e-6 for f32 kernels; no effect in f64).
 pub const KERNEL_NOISE_FACTOR: f64 = 30.0;
@@ -61,7 +65,39 @@ pub struct InterfaceState {
     next: Vec<f64>,
     /// Total normal force at the end of the last step (classical endpoint forces only).
     endpoint_force: f64,
+    /// Total friction force vector of the last step (impulse / step).
+    tangential: [f64; 3],
+    /// Largest normal force reported so far.
+    peak_force: f64,
+    /// Change of the reported normal force over the last step.
+    last_change: f64,
+    /// Normal and tangential penalties as the sub-steps of the last contact event left them.
+    sub_penalties: Option<(f64, f64)>,
     pub report: ContactReport,
+}
+
+impl InterfaceState {
+    /// The normal and tangential penalties (0 for the latter without friction).
+    fn penalties(&self) -> (f64, f64) {
+        let eps_t = self.friction.as_ref().map_or(0.0, |f| f.penalty.eps);
+        (self.penalty.eps, eps_t)
+    }
+
+    fn set_penalties(&mut self, (eps_n, eps_t): (f64, f64)) {
+        self.penalty.eps = eps_n;
+        if let Some(f) = &mut self.friction {
+            f.penalty.eps = eps_t;
+        }
+    }
+}
+
+/// The state a step starts from, kept so that a step found to hold a contact event can be
+/// taken again in sub-steps.
+struct Snapshot {
+    u: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    interfaces: Vec<InterfaceState>,
 }
 
 /// What one step did.
@@ -80,6 +116,11 @@ pub struct ImplicitSolver<'m> {
     pub steps: usize,
     asm: Assembled,
     solver: SpdSolver,
+    /// The effective matrix of the sub-step dt / event_substeps, factorised at the first
+    /// contact event (same pattern, so the symbolic analysis is shared).
+    sub_solver: Option<SpdSolver>,
+    /// Steps taken again in sub-steps because they held a contact event.
+    pub event_steps: usize,
     mass_solver: Option<SpdSolver>,
     kernels: Box<dyn Kernels + 'm>,
     pub u: Vec<f64>,
@@ -174,6 +215,10 @@ impl<'m> ImplicitSolver<'m> {
                     measure: vec![0.0; n],
                     next: vec![0.0; n],
                     endpoint_force: 0.0,
+                    tangential: [0.0; 3],
+                    peak_force: 0.0,
+                    last_change: 0.0,
+                    sub_penalties: None,
                     report: ContactReport::default(),
                 }
             })
@@ -187,6 +232,8 @@ impl<'m> ImplicitSolver<'m> {
             time: 0.0,
             steps: 0,
             solver,
+            sub_solver: None,
+            event_steps: 0,
             mass_solver,
             kernels,
             u: vec![0.0; ndof],
@@ -239,7 +286,9 @@ impl<'m> ImplicitSolver<'m> {
     }
 
     pub fn factorizations(&self) -> usize {
-        self.solver.factorizations + self.mass_solver.as_ref().map_or(0, |m| m.factorizations)
+        self.solver.factorizations
+            + self.sub_solver.as_ref().map_or(0, |s| s.factorizations)
+            + self.mass_solver.as_ref().map_or(0, |m| m.factorizations)
     }
 
     pub fn nodal_mass(&self) -> &[f64] {
@@ -401,8 +450,145 @@ impl<'m> ImplicitSolver<'m> {
     }
 
     /// One time step. Returns the number of iterations and whether the contact converged.
+    ///
+    /// With the gap-rate constraint and `event_substeps` k > 1, a step that holds a contact
+    /// event ([`Self::contact_event`]: an impact, a release, a ramp of the force towards one)
+    /// is taken again from its start in k sub-steps of dt / k; its reported forces are then
+    /// the impulse of the whole step over dt. Its iterations count both attempts.
     pub fn step(&mut self) -> Result<StepReport> {
-        let (dt, beta, gamma) = (self.dt, self.settings.beta, self.settings.gamma);
+        let k = self.settings.event_substeps;
+        let refine = k > 1 && self.settings.constraint == Constraint::GapRate;
+        let saved = refine.then(|| Snapshot {
+            u: self.u.clone(),
+            v: self.v.clone(),
+            a: self.a.clone(),
+            interfaces: self.interfaces.clone(),
+        });
+        let before: Vec<f64> = self
+            .interfaces
+            .iter()
+            .map(|st| st.report.normal_force)
+            .collect();
+        let mut report = self.advance(self.dt, false)?;
+        if let Some(saved) = saved {
+            if self.contact_event(&saved.interfaces) {
+                let r = self.substeps(saved, k)?;
+                report.iterations += r.iterations;
+                report.converged = r.converged;
+            }
+        }
+        self.steps += 1;
+        self.time = self.steps as f64 * self.dt;
+        for (st, f0) in self.interfaces.iter_mut().zip(before) {
+            st.peak_force = st.peak_force.max(st.report.normal_force);
+            st.last_change = st.report.normal_force - f0;
+        }
+        Ok(report)
+    }
+
+    /// Whether the step just taken holds a contact event on some interface (`before`: the
+    /// interfaces as the step found them).
+    /// With F0, F1 its normal force before and after, m = max(F0, F1) and
+    /// r = `event_force_change`, an event is either
+    /// - a change of the contact state: the nodes that came into contact or left it carry
+    ///   more than r m (an impact, a release), or
+    /// - a ramp: |F1 - F0| > r m, in the same direction as the step before (the arrival of
+    ///   a loading or unloading wave; a force that alternates from step to step, as in a
+    ///   stiff body rattling on its support, is not a ramp).
+    ///
+    /// Forces below [`EVENT_FORCE_FLOOR`] of the interface's peak make no event.
+    fn contact_event(&self, before: &[InterfaceState]) -> bool {
+        let r = self.settings.event_force_change;
+        let model = self.model;
+        model
+            .interfaces
+            .iter()
+            .zip(self.interfaces.iter().zip(before))
+            .any(|(itf, (st, old))| {
+                let (f0, f1) = (old.report.normal_force, st.report.normal_force);
+                let m = f0.max(f1);
+                if m <= 0.0 || m < EVENT_FORCE_FLOOR * st.peak_force {
+                    return false;
+                }
+                let switched: f64 = itf
+                    .area
+                    .iter()
+                    .zip(old.lambda.iter().zip(&st.lambda))
+                    .filter(|(_, (&l0, &l1))| (l0 > 0.0) != (l1 > 0.0))
+                    .map(|(a, (&l0, &l1))| a * l0.max(l1))
+                    .sum();
+                let d = f1 - f0;
+                switched > r * m || (d.abs() > r * m && d * old.last_change > 0.0)
+            })
+    }
+
+    /// Takes the step again from `saved` in k sub-steps of dt / k and reports each interface's
+    /// impulse over the whole step / dt (the other report fields are the last sub-step's).
+    fn substeps(&mut self, saved: Snapshot, k: usize) -> Result<StepReport> {
+        // The penalties adapt to the compliance, which depends on the step: a pressure's
+        // effect on the gap rate grows with the step where inertia resists (s ~ h) and
+        // shrinks where stiffness does (s ~ 1/h), so no fixed rescaling is right. The
+        // sub-steps start from the full step's penalties at the first event and from their
+        // own last values after it; eq. 20 adapts them. The steps of dt keep their own.
+        let full = self.penalties();
+        self.u = saved.u;
+        self.v = saved.v;
+        self.a = saved.a;
+        self.interfaces = saved.interfaces;
+        for st in &mut self.interfaces {
+            if let Some(p) = st.sub_penalties {
+                st.set_penalties(p);
+            }
+        }
+        let h = self.dt / k as f64;
+        if self.sub_solver.is_none() {
+            let asm = assemble(
+                self.model,
+                self.settings.mass,
+                1.0 / (self.settings.beta * h * h),
+            );
+            self.sub_solver = Some(self.solver.sibling(&asm.effective)?);
+        }
+        let kf = k as f64;
+        let mut total = StepReport {
+            iterations: 0,
+            converged: true,
+        };
+        // impulses of the sub-steps, normal and tangential
+        let mut sums = vec![(0.0, [0.0; 3]); self.interfaces.len()];
+        for _ in 0..k {
+            let r = self.advance(h, true)?;
+            total.iterations += r.iterations;
+            total.converged &= r.converged;
+            for (sum, st) in sums.iter_mut().zip(&self.interfaces) {
+                sum.0 += st.report.normal_force;
+                for a in 0..3 {
+                    sum.1[a] += st.tangential[a];
+                }
+            }
+        }
+        for ((sum, st), p) in sums.iter().zip(&mut self.interfaces).zip(full) {
+            st.sub_penalties = Some(st.penalties());
+            st.set_penalties(p);
+            st.report.normal_force = sum.0 / kf;
+            st.tangential = sum.1.map(|x| x / kf);
+            st.report.tangential_force = quad::norm(st.tangential);
+        }
+        self.event_steps += 1;
+        Ok(total)
+    }
+
+    fn penalties(&self) -> Vec<(f64, f64)> {
+        self.interfaces
+            .iter()
+            .map(InterfaceState::penalties)
+            .collect()
+    }
+
+    /// One Newmark step of size `h` from the current state, with the run's effective matrix
+    /// (`sub` false, h = dt) or the sub-step's (`sub` true, h = dt / event_substeps).
+    fn advance(&mut self, h: f64, sub: bool) -> Result<StepReport> {
+        let (dt, beta, gamma) = (h, self.settings.beta, self.settings.gamma);
         let ndof = self.u.len();
         for d in 0..ndof {
             self.u_tilde[d] = self.u[d] + dt * self.v[d] + dt * dt * (0.5 - beta) * self.a[d];
@@ -468,7 +654,10 @@ impl<'m> ImplicitSolver<'m> {
             self.f_c = f_c;
             self.w = w;
             let mut delta = std::mem::take(&mut self.rhs);
-            self.solver.solve_in_place(&mut delta);
+            match (sub, &self.sub_solver) {
+                (true, Some(s)) => s.solve_in_place(&mut delta),
+                _ => self.solver.solve_in_place(&mut delta),
+            }
             let mut corr = 0.0f64;
             let mut size = 0.0f64;
             for (e, &d) in self.asm.dof_of.iter().enumerate() {
@@ -571,8 +760,6 @@ impl<'m> ImplicitSolver<'m> {
         std::mem::swap(&mut self.u, &mut self.u_new);
         std::mem::swap(&mut self.v, &mut self.v_new);
         std::mem::swap(&mut self.a, &mut self.a_new);
-        self.steps += 1;
-        self.time = self.steps as f64 * self.dt;
         for (itf, st) in self.model.interfaces.iter().zip(&mut self.interfaces) {
             let mut r = ContactReport::default();
             for i in 0..st.lambda.len() {
@@ -586,6 +773,7 @@ impl<'m> ImplicitSolver<'m> {
             }
             if let Some(fr) = &mut st.friction {
                 let (total, sliding) = fr.end_step(dt, &itf.area, &st.lambda, &st.points);
+                st.tangential = total;
                 r.tangential_force = quad::norm(total);
                 r.sliding = sliding;
                 r.friction_work = fr.work;

@@ -52,6 +52,8 @@ pub struct Summary {
     /// Steps whose augmented Lagrange iteration hit max_iterations.
     pub unconverged_steps: usize,
     pub factorizations: usize,
+    /// Implicit steps taken again in `event_substeps` sub-steps at a contact event.
+    pub event_steps: usize,
     pub energy_initial: f64,
     pub energy_final: f64,
     pub energy_max: f64,

@@ -135,6 +135,12 @@ pub struct ImplicitSettings {
     /// T_MAX of eq. 20b, the largest relative force change allowed to alternate in sign.
     pub max_force_change: f64,
     pub acceleration: Acceleration,
+    /// Sub-steps of a step in which an interface's contact force changes abruptly (impact,
+    /// release); 1 turns the refinement off. Gap-rate constraint only.
+    pub event_substeps: usize,
+    /// The relative change of an interface's normal force from one step to the next above
+    /// which a step counts as a contact event.
+    pub event_force_change: f64,
 }
 
 impl Default for ImplicitSettings {
@@ -152,6 +158,8 @@ impl Default for ImplicitSettings {
             max_gap_rate: None,
             max_force_change: 0.05,
             acceleration: Acceleration::Anderson,
+            event_substeps: 4,
+            event_force_change: 0.2,
         }
     }
 }

@@ -55,6 +55,8 @@ pub struct RawImplicit {
     pub max_gap_rate: Option<f64>,
     pub max_force_change: Option<f64>,
     pub acceleration: Option<String>,
+    pub event_substeps: Option<i64>,
+    pub event_force_change: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]

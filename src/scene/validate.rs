@@ -351,6 +351,18 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         if let Some(m) = ri.max_force_change {
             implicit.max_force_change = c.positive("implicit.max_force_change", m)?;
         }
+        if let Some(n) = ri.event_substeps {
+            if !(1..=1000).contains(&n) {
+                return Err(c.err(
+                    "implicit.event_substeps",
+                    format!("must be an integer from 1 (off) to 1000, got {n}"),
+                ));
+            }
+            implicit.event_substeps = n as usize;
+        }
+        if let Some(r) = ri.event_force_change {
+            implicit.event_force_change = c.positive("implicit.event_force_change", r)?;
+        }
     }
 
     // [explicit]
