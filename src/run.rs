@@ -207,7 +207,7 @@ impl Solver<'_> {
                         } else {
                             p.gap
                         };
-                        (st.lambda[i], gap)
+                        (st.step_pressure(i), gap)
                     }
                     Solver::Explicit(s) => {
                         let st = &s.interfaces[k];

@@ -229,7 +229,7 @@ fn event_substeps_bring_the_cube_on_plate_closer_to_a_fine_step() {
     let text = scene_text("cube_on_plate.toml");
     let cpu = Some(impact::scene::DeviceChoice::Cpu);
     let with = |extra: &str| format!("{text}\n[implicit]\n{extra}\n");
-    let (s, events) = run_text_on("cube_events", &text, cpu);
+    let (s, refined) = run_text_on("cube_events", &text, cpu);
     assert!(s.expect("run completes").event_steps > 0);
     let (s, plain) = run_text_on("cube_plain", &with("event_substeps = 1"), cpu);
     assert_eq!(s.expect("run completes").event_steps, 0);
@@ -240,6 +240,14 @@ fn event_substeps_bring_the_cube_on_plate_closer_to_a_fine_step() {
     );
     let (s, fine) = run_text_on("cube_fine_step", &fine_text, cpu);
     s.expect("run completes");
+    // the reference also slides until the contact ends, at 0.0315 (the events pinned above)
+    let (stop, end) = events(&fine, "impact");
+    assert_eq!(stop, None, "the reference slides until the contact ends");
+    let end = end.expect("the reference's contact ends");
+    assert!(
+        (end - 0.032).abs() <= 0.001,
+        "the reference's contact ends at {end}"
+    );
     let reference: Vec<f64> = fine.col("bottom.uz").iter().step_by(8).copied().collect();
     let scale = reference.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let error = |h: &History| {
@@ -250,7 +258,7 @@ fn event_substeps_bring_the_cube_on_plate_closer_to_a_fine_step() {
             .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
             / scale
     };
-    let (e_events, e_plain) = (error(&events), error(&plain));
+    let (e_events, e_plain) = (error(&refined), error(&plain));
     eprintln!("cube on plate, bottom uz against dt / 8: events {e_events:.4}, plain {e_plain:.4}");
     assert!(
         e_events < 0.75 * e_plain,

@@ -83,7 +83,7 @@ fn event_substeps_improve_the_paper_two_bars() {
         hp.last("A.vx"),
         mp.energy_loss
     );
-    // impact, the two steps after it, and the release ramp
+    // impact, the step after it, and the release ramp
     assert!(
         (2..=8).contains(&events.event_steps),
         "{}",

@@ -22,7 +22,8 @@
 //! $(1-\gamma) f_{c,n} + \gamma f_{c,n+1}$.
 //!
 //! **Iteration.** Each iteration solves with the current pressures (one triangular solve pair;
-//! the effective matrix does not depend on the contact, so it is factorised once per run),
+//! the effective matrix does not depend on the contact, so it is factorised once per run, and
+//! once more for the sub-step at the first contact event: see [`ImplicitSolver::step`]),
 //! computes the contact kinematics of the new state with the kernels, and updates the
 //! pressures with [`augmented_lagrange::update`]. The residual is formed with the kernels'
 //! internal forces, so a backend in f32 is corrected iteratively.
@@ -73,10 +74,40 @@ pub struct InterfaceState {
     last_change: f64,
     /// Normal and tangential penalties as the sub-steps of the last contact event left them.
     sub_penalties: Option<(f64, f64)>,
+    /// The last step's mean pressure of each node (impulse / (dt A)) when the step was
+    /// refined into sub-steps; empty otherwise (then it is `lambda`).
+    step_pressure: Vec<f64>,
     pub report: ContactReport,
 }
 
 impl InterfaceState {
+    /// Node i's contact pressure over the last step: its impulse / (dt A).
+    pub fn step_pressure(&self, i: usize) -> f64 {
+        if self.step_pressure.is_empty() {
+            self.lambda[i]
+        } else {
+            self.step_pressure[i]
+        }
+    }
+
+    /// Increases and decreases of the normal and tangential penalties so far.
+    fn penalty_counts(&self) -> [usize; 4] {
+        let (ti, td) = self
+            .friction
+            .as_ref()
+            .map_or((0, 0), |f| (f.penalty.increases, f.penalty.decreases));
+        [self.penalty.increases, self.penalty.decreases, ti, td]
+    }
+
+    fn set_penalty_counts(&mut self, c: [usize; 4]) {
+        self.penalty.increases = c[0];
+        self.penalty.decreases = c[1];
+        if let Some(f) = &mut self.friction {
+            f.penalty.increases = c[2];
+            f.penalty.decreases = c[3];
+        }
+    }
+
     /// The normal and tangential penalties (0 for the latter without friction).
     fn penalties(&self) -> (f64, f64) {
         let eps_t = self.friction.as_ref().map_or(0.0, |f| f.penalty.eps);
@@ -219,6 +250,7 @@ impl<'m> ImplicitSolver<'m> {
                     peak_force: 0.0,
                     last_change: 0.0,
                     sub_penalties: None,
+                    step_pressure: Vec::new(),
                     report: ContactReport::default(),
                 }
             })
@@ -458,6 +490,9 @@ impl<'m> ImplicitSolver<'m> {
     pub fn step(&mut self) -> Result<StepReport> {
         let k = self.settings.event_substeps;
         let refine = k > 1 && self.settings.constraint == Constraint::GapRate;
+        for st in &mut self.interfaces {
+            st.step_pressure.clear();
+        }
         let saved = refine.then(|| Snapshot {
             u: self.u.clone(),
             v: self.v.clone(),
@@ -507,7 +542,10 @@ impl<'m> ImplicitSolver<'m> {
             .any(|(itf, (st, old))| {
                 let (f0, f1) = (old.report.normal_force, st.report.normal_force);
                 let m = f0.max(f1);
-                if m <= 0.0 || m < EVENT_FORCE_FLOOR * st.peak_force {
+                // no node pressed at the step's start or end: a release inside the last
+                // step's sub-steps left an average F0 > 0, but nothing happens in this one
+                let pressed = old.lambda.iter().chain(&st.lambda).any(|&l| l > 0.0);
+                if !pressed || m <= 0.0 || m < EVENT_FORCE_FLOOR * st.peak_force {
                     return false;
                 }
                 let switched: f64 = itf
@@ -531,6 +569,16 @@ impl<'m> ImplicitSolver<'m> {
         // sub-steps start from the full step's penalties at the first event and from their
         // own last values after it; eq. 20 adapts them. The steps of dt keep their own.
         let full = self.penalties();
+        // the penalty law's counters: the first attempt's changes, then the sub-steps'
+        let counts: Vec<[usize; 4]> = self
+            .interfaces
+            .iter()
+            .zip(&saved.interfaces)
+            .map(|(st, old)| {
+                let (now, before) = (st.penalty_counts(), old.penalty_counts());
+                [0, 1, 2, 3].map(|i| now[i] - before[i])
+            })
+            .collect();
         self.u = saved.u;
         self.v = saved.v;
         self.a = saved.a;
@@ -554,22 +602,30 @@ impl<'m> ImplicitSolver<'m> {
             iterations: 0,
             converged: true,
         };
-        // impulses of the sub-steps, normal and tangential
+        // impulses of the sub-steps, normal and tangential, and each node's
         let mut sums = vec![(0.0, [0.0; 3]); self.interfaces.len()];
+        for st in &mut self.interfaces {
+            st.step_pressure = vec![0.0; st.lambda.len()];
+        }
         for _ in 0..k {
             let r = self.advance(h, true)?;
             total.iterations += r.iterations;
             total.converged &= r.converged;
-            for (sum, st) in sums.iter_mut().zip(&self.interfaces) {
+            for (sum, st) in sums.iter_mut().zip(&mut self.interfaces) {
+                for (p, l) in st.step_pressure.iter_mut().zip(&st.lambda) {
+                    *p += l / kf;
+                }
                 sum.0 += st.report.normal_force;
                 for a in 0..3 {
                     sum.1[a] += st.tangential[a];
                 }
             }
         }
-        for ((sum, st), p) in sums.iter().zip(&mut self.interfaces).zip(full) {
+        for (((sum, st), p), c) in sums.iter().zip(&mut self.interfaces).zip(full).zip(counts) {
             st.sub_penalties = Some(st.penalties());
             st.set_penalties(p);
+            let now = st.penalty_counts();
+            st.set_penalty_counts([0, 1, 2, 3].map(|i| now[i] + c[i]));
             st.report.normal_force = sum.0 / kf;
             st.tangential = sum.1.map(|x| x / kf);
             st.report.tangential_force = quad::norm(st.tangential);
