@@ -489,7 +489,9 @@ impl<'m> ImplicitSolver<'m> {
     /// the impulse of the whole step over dt. Its iterations count both attempts.
     pub fn step(&mut self) -> Result<StepReport> {
         let k = self.settings.event_substeps;
-        let refine = k > 1 && self.settings.constraint == Constraint::GapRate;
+        // a scene without contact has no events: no snapshot to keep
+        let refine =
+            k > 1 && self.settings.constraint == Constraint::GapRate && !self.interfaces.is_empty();
         for st in &mut self.interfaces {
             st.step_pressure.clear();
         }
@@ -499,25 +501,26 @@ impl<'m> ImplicitSolver<'m> {
             a: self.a.clone(),
             interfaces: self.interfaces.clone(),
         });
-        let before: Vec<f64> = self
-            .interfaces
-            .iter()
-            .map(|st| st.report.normal_force)
-            .collect();
         let mut report = self.advance(self.dt, false)?;
         if let Some(saved) = saved {
+            // what the event test needs of the next step: this step's change and the peak
+            let before: Vec<f64> = saved
+                .interfaces
+                .iter()
+                .map(|st| st.report.normal_force)
+                .collect();
             if self.contact_event(&saved.interfaces) {
                 let r = self.substeps(saved, k)?;
                 report.iterations += r.iterations;
                 report.converged = r.converged;
             }
+            for (st, f0) in self.interfaces.iter_mut().zip(before) {
+                st.peak_force = st.peak_force.max(st.report.normal_force);
+                st.last_change = st.report.normal_force - f0;
+            }
         }
         self.steps += 1;
         self.time = self.steps as f64 * self.dt;
-        for (st, f0) in self.interfaces.iter_mut().zip(before) {
-            st.peak_force = st.peak_force.max(st.report.normal_force);
-            st.last_change = st.report.normal_force - f0;
-        }
         Ok(report)
     }
 
