@@ -183,13 +183,8 @@ impl Kernel {
         args: &wgpu::Buffer,
         offset: u64,
     ) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(self.name),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &launch.bind, &[]);
-        pass.dispatch_workgroups_indirect(args, offset);
+        let mut pass = self.begin_pass(encoder);
+        self.dispatch_indirect(&mut pass, launch, args, offset);
     }
 
     /// Dispatches a [`Launch`] of this kernel inside an open compute pass (the dispatches
@@ -213,6 +208,14 @@ impl Kernel {
         pass.dispatch_workgroups_indirect(args, offset);
     }
 
+    /// A compute pass of its own, named after this kernel.
+    fn begin_pass<'e>(&self, encoder: &'e mut wgpu::CommandEncoder) -> wgpu::ComputePass<'e> {
+        encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(self.name),
+            timestamp_writes: None,
+        })
+    }
+
     /// Records one dispatch over `grid` (from [`Self::set_count`]).
     pub fn record(
         &self,
@@ -220,10 +223,7 @@ impl Kernel {
         bind: &wgpu::BindGroup,
         grid: [u32; 2],
     ) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(self.name),
-            timestamp_writes: None,
-        });
+        let mut pass = self.begin_pass(encoder);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind, &[]);
         pass.dispatch_workgroups(grid[0], grid[1], 1);
