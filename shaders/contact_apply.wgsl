@@ -38,8 +38,8 @@ fn contact_apply(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
     let n = cn.node;
-    let inv = lumped[n].inv_mass;
-    velocity[3u * n] += delta.x * inv[0];
-    velocity[3u * n + 1u] += delta.y * inv[1];
-    velocity[3u * n + 2u] += delta.z * inv[2];
+    let dv = delta * vec3_of(lumped[n].inv_mass);
+    velocity[3u * n] += dv.x;
+    velocity[3u * n + 1u] += dv.y;
+    velocity[3u * n + 2u] += dv.z;
 }

@@ -11,13 +11,17 @@
 @group(0) @binding(4) var<storage, read> pairs: array<ContactPair>;
 
 fn along(n: u32, nrm: vec3<f32>) -> f32 {
-    let inv = lumped[n].inv_mass;
-    return nrm.x * nrm.x * inv[0] + nrm.y * nrm.y * inv[1] + nrm.z * nrm.z * inv[2];
+    return dot(nrm * nrm, vec3_of(lumped[n].inv_mass));
 }
 
 fn inv_max(n: u32) -> f32 {
     let inv = lumped[n].inv_mass;
-    return max(inv[0], max(inv[1], inv[2]));
+    return max(inv.x, max(inv.y, inv.z));
+}
+
+// Corner k's share (weight w) of the compliance: along the normal, and the row-sum bound.
+fn corner_share(m: u32, w: f32, nrm: vec3<f32>) -> vec2<f32> {
+    return abs(w) * vec2<f32>(along(m, nrm), touches[m] * inv_max(m));
 }
 
 @compute @workgroup_size(64)
@@ -31,16 +35,14 @@ fn contact_compliance(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let s = pairs[p].node;
-    let nrm = vec3<f32>(c.normal[0], c.normal[1], c.normal[2]);
-    var a = along(s, nrm);
-    var bound = touches[s] * inv_max(s);
+    let nrm = vec3_of(c.normal);
+    // (along the normal, row-sum bound)
+    var sum = vec2<f32>(along(s, nrm), touches[s] * inv_max(s));
     if (c.face[0] != NO_FACE) {
-        for (var k = 0u; k < 4u; k++) {
-            let m = c.face[k];
-            let w = abs(c.weights[k]);
-            a += w * along(m, nrm);
-            bound += w * touches[m] * inv_max(m);
-        }
+        sum += corner_share(c.face[0], c.weights[0], nrm);
+        sum += corner_share(c.face[1], c.weights[1], nrm);
+        sum += corner_share(c.face[2], c.weights[2], nrm);
+        sum += corner_share(c.face[3], c.weights[3], nrm);
     }
-    constraints[p].compliance = select(0.0, bound, a > 0.0);
+    constraints[p].compliance = select(0.0, sum.y, sum.x > 0.0);
 }

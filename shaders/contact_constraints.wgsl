@@ -36,12 +36,8 @@ fn contact_constraints(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let pair = pairs[p];
     let n = pair.node;
-    var c: Constraint;
-    c.face = array<u32, 4>(NO_FACE, NO_FACE, NO_FACE, NO_FACE);
-    c.weights = array<f32, 4>(0.0, 0.0, 0.0, 0.0);
-    c.compliance = 0.0;
-    c.jn = 0.0;
-    c.jt = array<f32, 3>(0.0, 0.0, 0.0);
+    var face = vec4<u32>(NO_FACE);
+    var w = vec4<f32>(0.0);
     var nrm = vec3<f32>(0.0);
     var gap = 0.0;
     var reach = false;
@@ -52,36 +48,40 @@ fn contact_constraints(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (pair.query != NO_FACE) {
         let pt = points[pair.query];
         if (pt.face != NO_FACE) {
-            let w = quad_shape(vec2<f32>(pt.xi[0], pt.xi[1]));
-            let f = faces[pt.face];
-            nrm = vec3<f32>(pt.normal[0], pt.normal[1], pt.normal[2]);
+            nrm = vec3_of(pt.normal);
             gap = pt.gap;
             reach = gap >= -max(grid.margin, 1e-30);
             if (reach) {
-                c.face = f.nodes;
-                c.weights = array<f32, 4>(w.x, w.y, w.z, w.w);
+                face = faces[pt.face].nodes;
+                w = quad_shape(vec2<f32>(pt.xi.x, pt.xi.y));
                 key = pt.face;
-                for (var k = 0u; k < 4u; k++) {
-                    let m = f.nodes[k];
-                    rel_before -= c.weights[k] * (load_v(m) - step.dt * load_a(m));
-                }
+                rel_before -= quad_interpolate(
+                    w,
+                    load_v(face.x) - step.dt * load_a(face.x),
+                    load_v(face.y) - step.dt * load_a(face.y),
+                    load_v(face.z) - step.dt * load_a(face.z),
+                    load_v(face.w) - step.dt * load_a(face.w),
+                );
             }
         }
     } else {
-        nrm = vec3<f32>(pair.normal[0], pair.normal[1], pair.normal[2]);
-        let x = split_difference(reference[n], pair.point) + vec3<f32>(
-            displacement[n].hi[0] + displacement[n].lo[0],
-            displacement[n].hi[1] + displacement[n].lo[1],
-            displacement[n].hi[2] + displacement[n].lo[2],
-        );
+        nrm = vec3_of(pair.normal);
+        let x = split_difference(reference[n], pair.point) + split_value(displacement[n]);
         gap = -dot(x, nrm);
         reach = gap >= -4.0 * step.dt * length(vn);
     }
-    c.normal = array<f32, 3>(nrm.x, nrm.y, nrm.z);
-    c.gap = gap;
     let slip = rel_before - dot(rel_before, nrm) * nrm;
-    c.slip = array<f32, 3>(slip.x, slip.y, slip.z);
-    c.in_reach = select(0u, 1u, reach);
-    constraints[p] = c;
+    let zero = Float3(0.0, 0.0, 0.0);
+    constraints[p] = Constraint(
+        array<u32, 4>(face.x, face.y, face.z, face.w),
+        array<f32, 4>(w.x, w.y, w.z, w.w),
+        float3(nrm),
+        gap,
+        0.0,
+        0.0,
+        zero,
+        float3(slip),
+        select(0u, 1u, reach),
+    );
     keys[p] = key;
 }

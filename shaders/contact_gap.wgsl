@@ -16,6 +16,21 @@ fn load_v(n: u32) -> vec3<f32> {
     return vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
 }
 
+// The corners of face f at u relative to a point (split reference rs, displacement us).
+fn corners_from(f: vec4<u32>, rs: Split3, us: Split3) -> QuadCorners {
+    return QuadCorners(
+        split_difference(reference[f.x], rs) + split_difference(displacement[f.x], us),
+        split_difference(reference[f.y], rs) + split_difference(displacement[f.y], us),
+        split_difference(reference[f.z], rs) + split_difference(displacement[f.z], us),
+        split_difference(reference[f.w], rs) + split_difference(displacement[f.w], us),
+    );
+}
+
+// The velocity of face f at xi.
+fn face_velocity(f: vec4<u32>, xi: vec2<f32>) -> vec3<f32> {
+    return quad_interpolate(quad_shape(xi), load_v(f.x), load_v(f.y), load_v(f.z), load_v(f.w));
+}
+
 @compute @workgroup_size(64)
 fn contact_gap(@builtin(global_invocation_id) gid: vec3<u32>) {
     let q = item_index(gid, params);
@@ -31,22 +46,12 @@ fn contact_gap(@builtin(global_invocation_id) gid: vec3<u32>) {
     var best_d = bitcast<f32>(0x7f800000u); // +inf
     for (var c = query.first; c < query.end; c++) {
         let fi = candidates[c];
-        let face = faces[fi];
-        var p: array<vec3<f32>, 4>;
-        for (var k = 0u; k < 4u; k++) {
-            let n = face.nodes[k];
-            p[k] = split_difference(reference[n], rs) + split_difference(displacement[n], us);
-        }
+        let face = faces[fi].nodes;
         // the secondary node is the origin
-        let hit = face_hit(p);
+        let hit = face_hit(corners_from(face, rs, us));
         if (hit.distance < best_d) {
-            let nsh = quad_shape(hit.xi);
-            var v2 = vec3<f32>(0.0);
-            for (var k = 0u; k < 4u; k++) {
-                v2 += nsh[k] * load_v(face.nodes[k]);
-            }
             best_d = hit.distance;
-            best = hit_point(fi, hit, vs - v2);
+            best = hit_point(fi, hit, vs - face_velocity(face, hit.xi));
         }
     }
     points[q] = best;

@@ -44,15 +44,19 @@ fn contact_report(@builtin(global_invocation_id) gid: vec3<u32>) {
         results[o + 6u] = bitcast<f32>(0xff800000u);
         return;
     }
-    let nrm = vec3<f32>(c.normal[0], c.normal[1], c.normal[2]);
+    let nrm = vec3_of(c.normal);
     var rel = load_v(pairs[p].node);
     if (c.face[0] != NO_FACE) {
-        for (var k = 0u; k < 4u; k++) {
-            rel -= c.weights[k] * load_v(c.face[k]);
-        }
+        rel -= quad_interpolate(
+            vec4<f32>(c.weights[0], c.weights[1], c.weights[2], c.weights[3]),
+            load_v(c.face[0]),
+            load_v(c.face[1]),
+            load_v(c.face[2]),
+            load_v(c.face[3]),
+        );
     }
     let rn = dot(rel, nrm);
-    let jt = vec3<f32>(c.jt[0], c.jt[1], c.jt[2]);
+    let jt = vec3_of(c.jt);
     let mu = pairs[p].mu;
     results[o] = c.jn;
     results[o + 1u] = jt.x;
@@ -64,7 +68,7 @@ fn contact_report(@builtin(global_invocation_id) gid: vec3<u32>) {
     results[o + 6u] = c.gap - step.dt * rn;
     if (mu > 0.0) {
         let slip = rel - rn * nrm;
-        let before = vec3<f32>(c.slip[0], c.slip[1], c.slip[2]);
+        let before = vec3_of(c.slip);
         results[o + 7u] -= dot(jt, 0.5 * (before + slip));
     }
 }

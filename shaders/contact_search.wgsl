@@ -22,6 +22,21 @@ fn load_v(n: u32) -> vec3<f32> {
     return vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
 }
 
+// The corners of face f at u relative to a point (split reference rs, displacement us).
+fn corners_from(f: vec4<u32>, rs: Split3, us: Split3) -> QuadCorners {
+    return QuadCorners(
+        split_difference(reference[f.x], rs) + split_difference(displacement[f.x], us),
+        split_difference(reference[f.y], rs) + split_difference(displacement[f.y], us),
+        split_difference(reference[f.z], rs) + split_difference(displacement[f.z], us),
+        split_difference(reference[f.w], rs) + split_difference(displacement[f.w], us),
+    );
+}
+
+// The velocity of face f at xi.
+fn face_velocity(f: vec4<u32>, xi: vec2<f32>) -> vec3<f32> {
+    return quad_interpolate(quad_shape(xi), load_v(f.x), load_v(f.y), load_v(f.z), load_v(f.w));
+}
+
 @compute @workgroup_size(64)
 fn contact_search(@builtin(global_invocation_id) gid: vec3<u32>) {
     let q = item_index(gid, params);
@@ -44,29 +59,18 @@ fn contact_search(@builtin(global_invocation_id) gid: vec3<u32>) {
             if (fi < query.first || fi >= query.end) {
                 continue;
             }
-            let face = faces[fi];
-            var p: array<vec3<f32>, 4>;
-            var lo = vec3<f32>(bitcast<f32>(0x7f800000u));
-            var hi = -lo;
-            for (var k = 0u; k < 4u; k++) {
-                let n = face.nodes[k];
-                p[k] = split_difference(reference[n], rs) + split_difference(displacement[n], us);
-                lo = min(lo, p[k]);
-                hi = max(hi, p[k]);
-            }
+            let face = faces[fi].nodes;
+            let p = corners_from(face, rs, us);
+            let lo = min(min(p.p0, p.p1), min(p.p2, p.p3));
+            let hi = max(max(p.p0, p.p1), max(p.p2, p.p3));
             // the candidate test: the grown box holds the node (the origin)
             if (any(lo - grid.margin > vec3<f32>(0.0)) || any(hi + grid.margin < vec3<f32>(0.0))) {
                 continue;
             }
             let hit = face_hit(p);
             if (hit.distance < best_d || (hit.distance == best_d && fi < best.face)) {
-                let nsh = quad_shape(hit.xi);
-                var v2 = vec3<f32>(0.0);
-                for (var k = 0u; k < 4u; k++) {
-                    v2 += nsh[k] * load_v(face.nodes[k]);
-                }
                 best_d = hit.distance;
-                best = hit_point(fi, hit, vs - v2);
+                best = hit_point(fi, hit, vs - face_velocity(face, hit.xi));
             }
         }
     }

@@ -34,24 +34,28 @@ fn contact_sweep(
         if (c.in_reach != 0u && c.compliance > 0.0) {
             var rel = load_v(pairs[p].node);
             if (c.face[0] != NO_FACE) {
-                for (var k = 0u; k < 4u; k++) {
-                    rel -= c.weights[k] * load_v(c.face[k]);
-                }
+                rel -= quad_interpolate(
+                    vec4<f32>(c.weights[0], c.weights[1], c.weights[2], c.weights[3]),
+                    load_v(c.face[0]),
+                    load_v(c.face[1]),
+                    load_v(c.face[2]),
+                    load_v(c.face[3]),
+                );
             }
             let up = impulse_update(
                 c.gap,
                 step.dt,
                 rel,
-                vec3<f32>(c.normal[0], c.normal[1], c.normal[2]),
+                vec3_of(c.normal),
                 c.compliance,
                 pairs[p].mu,
                 c.jn,
-                vec3<f32>(c.jt[0], c.jt[1], c.jt[2]),
+                vec3_of(c.jt),
             );
             violation = up.violation;
             d = up.dj;
             constraints[p].jn = up.jn;
-            constraints[p].jt = array<f32, 3>(up.jt.x, up.jt.y, up.jt.z);
+            constraints[p].jt = float3(up.jt);
         }
         dj[3u * p] = d.x;
         dj[3u * p + 1u] = d.y;

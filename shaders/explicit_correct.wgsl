@@ -29,31 +29,38 @@ fn explicit_correct(
     @builtin(num_workgroups) groups: vec3<u32>,
 ) {
     let i = item_index(gid, params);
-    var q = array<f32, 6>(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    var kinetic = 0.0;
+    var strain = 0.0;
+    var gravity = 0.0;
+    var momentum = vec3<f32>(0.0);
     if (i < params.count) {
         let n = params.aux + i;
         let lm = lumped[n];
-        let u = displacement[n];
+        let un1 = split_value(displacement[n]);
         let dt = step.dt;
-        for (var a = 0u; a < 3u; a++) {
-            let d = 3u * n + a;
-            let vh = velocity[d];
-            let f = forces[d];
-            let acc = lm.ext_acc[a] - f * lm.inv_mass[a];
-            let v1 = vh + 0.5 * dt * acc;
-            acceleration[d] = acc;
-            velocity[d] = v1;
-            let un1 = u.hi[a] + u.lo[a];
-            q[0] += 0.5 * lm.mass * vh * vh;
-            q[1] += 0.5 * (un1 - dt * vh) * f;
-            q[2] -= lm.mass * lm.ext_acc[a] * (un1 - 0.5 * dt * vh);
-            q[3 + a] = lm.mass * v1;
-        }
+        let vh = vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
+        let f = vec3<f32>(forces[3u * n], forces[3u * n + 1u], forces[3u * n + 2u]);
+        let ext = vec3_of(lm.ext_acc);
+        let acc = ext - f * vec3_of(lm.inv_mass);
+        let v1 = vh + 0.5 * dt * acc;
+        acceleration[3u * n] = acc.x;
+        acceleration[3u * n + 1u] = acc.y;
+        acceleration[3u * n + 2u] = acc.z;
+        velocity[3u * n] = v1.x;
+        velocity[3u * n + 1u] = v1.y;
+        velocity[3u * n + 2u] = v1.z;
+        kinetic = 0.5 * lm.mass * dot(vh, vh);
+        strain = 0.5 * dot(un1 - dt * vh, f);
+        gravity = -lm.mass * dot(ext, un1 - 0.5 * dt * vh);
+        momentum = lm.mass * v1;
     }
     let group = wid.x + wid.y * groups.x;
-    for (var k = 0u; k < FIELDS; k++) {
-        scratch[k * 64u + local] = q[k];
-    }
+    scratch[local] = kinetic;
+    scratch[64u + local] = strain;
+    scratch[128u + local] = gravity;
+    scratch[192u + local] = momentum.x;
+    scratch[256u + local] = momentum.y;
+    scratch[320u + local] = momentum.z;
     workgroupBarrier();
     if (local < FIELDS) {
         var total = 0.0;

@@ -8,14 +8,15 @@
 @group(0) @binding(2) var<storage, read> velocity: array<f32>;
 @group(0) @binding(3) var<storage, read_write> displacement: array<Split3>;
 
-// (hi, lo) + d renormalised: hi the f32 nearest the sum, lo the rest.
-fn split_add(hi: f32, lo: f32, d: f32) -> vec2<f32> {
+// (hi, lo) + d renormalised, componentwise: hi the f32 nearest the sum, lo the rest.
+fn split_add(u: Split3, d: vec3<f32>) -> Split3 {
+    let hi = vec3_of(u.hi);
     let s = hi + d;
     let bp = s - hi;
     let err = (hi - (s - bp)) + (d - bp);
-    let l = lo + err;
+    let l = vec3_of(u.lo) + err;
     let h2 = s + l;
-    return vec2<f32>(h2, l - (h2 - s));
+    return Split3(float3(h2), float3(l - (h2 - s)));
 }
 
 @compute @workgroup_size(64)
@@ -24,11 +25,6 @@ fn explicit_drift(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (n >= params.count) {
         return;
     }
-    var u = displacement[n];
-    for (var a = 0u; a < 3u; a++) {
-        let r = split_add(u.hi[a], u.lo[a], step.dt * velocity[3u * n + a]);
-        u.hi[a] = r.x;
-        u.lo[a] = r.y;
-    }
-    displacement[n] = u;
+    let v = vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
+    displacement[n] = split_add(displacement[n], step.dt * v);
 }

@@ -1,64 +1,86 @@
 // Corner forces of linear elastic hex8 elements, f_e = sum_g det J B^T sigma over the 2x2x2
-// Gauss points (twin: `kernels::hex8_forces`). One invocation per element; node_gather sums the
-// corners to the nodes in a fixed order.
+// Gauss points (twin: `kernels::hex8_forces`), unrolled in `shared/element.wgsl`.
+// One invocation per element; node_gather sums the corners to the nodes in a fixed order.
+//
+// Layouts (neighbouring invocations touch neighbouring words): node k of element e at
+// hex_nodes[k E + e] (E = params.count); the corner forces component-major, component a of
+// corner k of element e at corner_forces[a C + k E + e] (C = params.aux, the corner slots of
+// all elements: 8 E, then the tets').
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> reference: array<Split3>;
 @group(0) @binding(2) var<storage, read> displacement: array<Split3>;
-@group(0) @binding(3) var<storage, read> hexes: array<Hex8>;
-@group(0) @binding(4) var<storage, read> materials: array<Material>;
-// 24 per element: corner k, component a at 24 e + 3 k + a
-@group(0) @binding(5) var<storage, read_write> corner_forces: array<f32>;
+@group(0) @binding(3) var<storage, read> hex_nodes: array<u32>;
+@group(0) @binding(4) var<storage, read> hex_material: array<u32>;
+@group(0) @binding(5) var<storage, read> materials: array<Material>;
+@group(0) @binding(6) var<storage, read_write> corner_forces: array<f32>;
+
+const GAUSS: f32 = 0.57735026918962576;
+
+fn store_corner(slot: u32, f: vec3<f32>) {
+    let c = params.aux;
+    corner_forces[slot] = f.x;
+    corner_forces[c + slot] = f.y;
+    corner_forces[2u * c + slot] = f.z;
+}
 
 @compute @workgroup_size(64)
 fn hex8_forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     let e = item_index(gid, params);
-    if (e >= params.count) {
+    let ne = params.count;
+    if (e >= ne) {
         return;
     }
-    let hex = hexes[e];
-    let m = materials[hex.material];
+    let n0 = hex_nodes[e];
+    let n1 = hex_nodes[ne + e];
+    let n2 = hex_nodes[2u * ne + e];
+    let n3 = hex_nodes[3u * ne + e];
+    let n4 = hex_nodes[4u * ne + e];
+    let n5 = hex_nodes[5u * ne + e];
+    let n6 = hex_nodes[6u * ne + e];
+    let n7 = hex_nodes[7u * ne + e];
     // corner positions and displacements relative to corner 0 (the gradient of a constant is
     // zero), so f32 keeps the element's own scale
-    let r0 = reference[hex.nodes[0]];
-    let u0 = displacement[hex.nodes[0]];
-    var x: array<vec3<f32>, 8>;
-    var u: array<vec3<f32>, 8>;
-    for (var k = 0u; k < 8u; k++) {
-        let n = hex.nodes[k];
-        x[k] = split_difference(reference[n], r0);
-        u[k] = split_difference(displacement[n], u0);
-    }
-    var f: array<vec3<f32>, 8>;
-    for (var k = 0u; k < 8u; k++) {
-        f[k] = vec3<f32>(0.0);
-    }
-    for (var g = 0u; g < 8u; g++) {
-        let hg = hex_gauss(x, g);
-        let det = hg.det;
-        var h = mat3x3<f32>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
-        let grads = hg.grads;
-        for (var k = 0u; k < 8u; k++) {
-            let gk = grads[k];
-            // H[a][b] = sum_k u_k,a g_k,b; column b of h holds H[.][b]
-            h[0] += u[k] * gk.x;
-            h[1] += u[k] * gk.y;
-            h[2] += u[k] * gk.z;
-        }
-        let tr = h[0].x + h[1].y + h[2].z;
-        var s = (h + transpose(h)) * m.mu;
-        s[0].x += m.lambda * tr;
-        s[1].y += m.lambda * tr;
-        s[2].z += m.lambda * tr;
-        for (var k = 0u; k < 8u; k++) {
-            // (sigma g_k) * det; sigma is symmetric
-            f[k] += (s * grads[k]) * det;
-        }
-    }
-    for (var k = 0u; k < 8u; k++) {
-        let o = 24u * e + 3u * k;
-        corner_forces[o] = f[k].x;
-        corner_forces[o + 1u] = f[k].y;
-        corner_forces[o + 2u] = f[k].z;
-    }
+    let r0 = reference[n0];
+    let d0 = displacement[n0];
+    let zero = vec3<f32>(0.0);
+    let x = HexCorners(
+        zero,
+        split_difference(reference[n1], r0),
+        split_difference(reference[n2], r0),
+        split_difference(reference[n3], r0),
+        split_difference(reference[n4], r0),
+        split_difference(reference[n5], r0),
+        split_difference(reference[n6], r0),
+        split_difference(reference[n7], r0),
+    );
+    let u = HexCorners(
+        zero,
+        split_difference(displacement[n1], d0),
+        split_difference(displacement[n2], d0),
+        split_difference(displacement[n3], d0),
+        split_difference(displacement[n4], d0),
+        split_difference(displacement[n5], d0),
+        split_difference(displacement[n6], d0),
+        split_difference(displacement[n7], d0),
+    );
+    let m = materials[hex_material[e]];
+    let q = GAUSS;
+    var f = HexCorners(zero, zero, zero, zero, zero, zero, zero, zero);
+    f = hex_gauss_corners(f, x, u, m, vec3<f32>(-q, -q, -q));
+    f = hex_gauss_corners(f, x, u, m, vec3<f32>(q, -q, -q));
+    f = hex_gauss_corners(f, x, u, m, vec3<f32>(q, q, -q));
+    f = hex_gauss_corners(f, x, u, m, vec3<f32>(-q, q, -q));
+    f = hex_gauss_corners(f, x, u, m, vec3<f32>(-q, -q, q));
+    f = hex_gauss_corners(f, x, u, m, vec3<f32>(q, -q, q));
+    f = hex_gauss_corners(f, x, u, m, vec3<f32>(q, q, q));
+    f = hex_gauss_corners(f, x, u, m, vec3<f32>(-q, q, q));
+    store_corner(e, f.c0);
+    store_corner(ne + e, f.c1);
+    store_corner(2u * ne + e, f.c2);
+    store_corner(3u * ne + e, f.c3);
+    store_corner(4u * ne + e, f.c4);
+    store_corner(5u * ne + e, f.c5);
+    store_corner(6u * ne + e, f.c6);
+    store_corner(7u * ne + e, f.c7);
 }

@@ -13,7 +13,8 @@
 @group(0) @binding(3) var<storage, read> results: array<f32>;
 @group(0) @binding(4) var<storage, read> displacement: array<Split3>;
 @group(0) @binding(5) var<storage, read> velocity: array<f32>;
-@group(0) @binding(6) var<storage, read_write> row: array<f32>;
+// the submission's rows; this launch writes its row at rows[params.aux..]
+@group(0) @binding(6) var<storage, read_write> rows: array<f32>;
 
 var<workgroup> scratch: array<f32, 64>;
 
@@ -26,8 +27,7 @@ fn entry(col: ReduceColumn, at: u32) -> f32 {
             return results[at];
         }
         case 3u: {
-            let u = displacement[at / 3u];
-            return u.hi[at % 3u] + u.lo[at % 3u];
+            return split_value(displacement[at / 3u])[at % 3u];
         }
         default: {
             return velocity[at];
@@ -63,6 +63,6 @@ fn history_reduce(
         workgroupBarrier();
     }
     if (valid && local == 0u) {
-        row[c] = scratch[0];
+        rows[params.aux + c] = scratch[0];
     }
 }

@@ -1,8 +1,10 @@
 // Sum of the element corner forces at each node, in the fixed order of the node's incidence
 // list, so that the same input gives the same bits on every run (twin: `kernels::node_gather`).
+// The corner forces are component-major (see `hex8_forces.wgsl`): component a of corner
+// slot s at corner_forces[a C + s], C = params.aux.
 
 @group(0) @binding(0) var<uniform> params: Params;
-// incidence[offsets[n]..offsets[n + 1]] are the corners (8 e + k) that touch node n
+// incidence[offsets[n]..offsets[n + 1]] are the corner slots that touch node n
 @group(0) @binding(1) var<storage, read> offsets: array<u32>;
 @group(0) @binding(2) var<storage, read> incidence: array<u32>;
 @group(0) @binding(3) var<storage, read> corner_forces: array<f32>;
@@ -14,10 +16,11 @@ fn node_gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (n >= params.count) {
         return;
     }
+    let c = params.aux;
     var f = vec3<f32>(0.0);
     for (var i = offsets[n]; i < offsets[n + 1u]; i++) {
-        let o = 3u * incidence[i];
-        f += vec3<f32>(corner_forces[o], corner_forces[o + 1u], corner_forces[o + 2u]);
+        let s = incidence[i];
+        f += vec3<f32>(corner_forces[s], corner_forces[c + s], corner_forces[2u * c + s]);
     }
     forces[3u * n] = f.x;
     forces[3u * n + 1u] = f.y;

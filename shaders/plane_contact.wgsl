@@ -26,8 +26,18 @@
 const SLOT: u32 = 9u;
 const MAX_PLANES: u32 = 8u;
 
-fn vec3_of(a: array<f32, 3>) -> vec3<f32> {
-    return vec3<f32>(a[0], a[1], a[2]);
+// While the node iterates, its slot of plane p holds that constraint's state: the impulses
+// J_N and J_T in the first four floats and the gap at u_n where the end-of-step gap goes.
+const GAP: u32 = 6u;
+
+fn load3(o: u32) -> vec3<f32> {
+    return vec3<f32>(results[o], results[o + 1u], results[o + 2u]);
+}
+
+fn store3(o: u32, v: vec3<f32>) {
+    results[o] = v.x;
+    results[o + 1u] = v.y;
+    results[o + 2u] = v.z;
 }
 
 @compute @workgroup_size(64)
@@ -41,39 +51,31 @@ fn plane_contact(@builtin(global_invocation_id) gid: vec3<u32>) {
     let pn = plane_nodes[i];
     let n = pn.node;
     let dt = step.dt;
-    let lm = lumped[n];
-    let inv = vec3_of(lm.inv_mass);
+    let inv = vec3_of(lumped[n].inv_mass);
     var vel = vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
     let acc = vec3<f32>(acceleration[3u * n], acceleration[3u * n + 1u], acceleration[3u * n + 2u]);
     // v_{n-1/2} = v* - dt a_n: the slip before the step, for the friction work
     let before = vel - dt * acc;
-    let u = displacement[n];
-    let un = vec3_of(u.hi) + vec3_of(u.lo);
-    var gap: array<f32, 8>;
-    var normal: array<vec3<f32>, 8>;
-    var jn: array<f32, 8>;
-    var jt: array<vec3<f32>, 8>;
+    let un = split_value(displacement[n]);
     // the planes in reach: those the node could meet within four steps of its motion
     let reach = -4.0 * dt * length(vel);
     var mask = 0u;
     var touches = 0.0;
     for (var p = 0u; p < np; p++) {
-        jn[p] = 0.0;
-        jt[p] = vec3<f32>(0.0);
-        normal[p] = vec3<f32>(0.0);
-        gap[p] = 0.0;
+        let o = SLOT * (i * np + p);
+        results[o] = 0.0;
+        store3(o + 1u, vec3<f32>(0.0));
+        var gap = 0.0;
         if ((pn.planes & (1u << p)) != 0u) {
-            let pl = planes[p];
-            let nrm = vec3_of(pl.normal);
             // x - point with the split reference: the plane's and the node's large parts cancel
-            let rel = split_difference(reference[n], pl.point) + un;
-            normal[p] = nrm;
-            gap[p] = -dot(rel, nrm);
-            if (gap[p] >= reach) {
+            let rel = split_difference(reference[n], planes[p].point) + un;
+            gap = -dot(rel, vec3_of(planes[p].normal));
+            if (gap >= reach) {
                 mask |= 1u << p;
                 touches += 1.0;
             }
         }
+        results[o + GAP] = gap;
     }
     // the largest inverse mass bounds |n_p . M^-1 n_q| (Gershgorin), prescribed dofs included
     let inv_max = max(inv.x, max(inv.y, inv.z));
@@ -92,26 +94,26 @@ fn plane_contact(@builtin(global_invocation_id) gid: vec3<u32>) {
             if ((mask & (1u << p)) == 0u) {
                 continue;
             }
-            let nrm = normal[p];
+            let nrm = vec3_of(planes[p].normal);
             // a normal that meets only prescribed dofs cannot be enforced
             if (dot(nrm * nrm, inv) <= 0.0) {
                 continue;
             }
+            let o = SLOT * (i * np + p);
             let up = impulse_update(
-                gap[p],
+                results[o + GAP],
                 dt,
                 vel,
                 nrm,
                 touches * inv_max,
                 planes[p].mu,
-                jn[p],
-                jt[p],
+                results[o],
+                load3(o + 1u),
             );
             violation = max(violation, up.violation);
-            jn[p] = up.jn;
-            jt[p] = up.jt;
-            let dj = up.dj;
-            dv += dj * inv;
+            results[o] = up.jn;
+            store3(o + 1u, up.jt);
+            dv += up.dj * inv;
         }
         vel += dv;
         if (violation <= step.tolerance) {
@@ -130,27 +132,23 @@ fn plane_contact(@builtin(global_invocation_id) gid: vec3<u32>) {
                 results[o + k] = 0.0;
             }
             // no gap: below any penetration
-            results[o + 6u] = bitcast<f32>(0xff800000u);
+            results[o + GAP] = bitcast<f32>(0xff800000u);
             continue;
         }
-        let nrm = normal[p];
+        let nrm = vec3_of(planes[p].normal);
         let mu = planes[p].mu;
         let rn = dot(vel, nrm);
-        results[o] = jn[p];
-        results[o + 1u] = jt[p].x;
-        results[o + 2u] = jt[p].y;
-        results[o + 3u] = jt[p].z;
-        results[o + 4u] = select(0.0, 1.0, jn[p] > 0.0);
-        let sliding = mu > 0.0 && jn[p] > 0.0 && length(jt[p]) >= mu * jn[p] * (1.0 - 1e-6);
+        let jn = results[o];
+        let jt = load3(o + 1u);
+        results[o + 4u] = select(0.0, 1.0, jn > 0.0);
+        let sliding = mu > 0.0 && jn > 0.0 && length(jt) >= mu * jn * (1.0 - 1e-6);
         results[o + 5u] = select(0.0, 1.0, sliding);
-        results[o + 6u] = gap[p] - dt * rn;
-        var work = results[o + 7u];
+        results[o + GAP] -= dt * rn;
         if (mu > 0.0) {
             let slip = vel - rn * nrm;
             let slip_before = before - dot(before, nrm) * nrm;
-            work -= dot(jt[p], 0.5 * (slip_before + slip));
+            results[o + 7u] -= dot(jt, 0.5 * (slip_before + slip));
         }
-        results[o + 7u] = work;
         results[o + 8u] = reported;
     }
 }

@@ -14,6 +14,21 @@ fn load_v(n: u32) -> vec3<f32> {
     return vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
 }
 
+// The corners of face f at u relative to a point (split reference rs, displacement us).
+fn corners_from(f: vec4<u32>, rs: Split3, us: Split3) -> QuadCorners {
+    return QuadCorners(
+        split_difference(reference[f.x], rs) + split_difference(displacement[f.x], us),
+        split_difference(reference[f.y], rs) + split_difference(displacement[f.y], us),
+        split_difference(reference[f.z], rs) + split_difference(displacement[f.z], us),
+        split_difference(reference[f.w], rs) + split_difference(displacement[f.w], us),
+    );
+}
+
+// The velocity of face f at xi.
+fn face_velocity(f: vec4<u32>, xi: vec2<f32>) -> vec3<f32> {
+    return quad_interpolate(quad_shape(xi), load_v(f.x), load_v(f.y), load_v(f.z), load_v(f.w));
+}
+
 @compute @workgroup_size(64)
 fn slip_rate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let q = item_index(gid, params);
@@ -28,19 +43,9 @@ fn slip_rate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let s = queries[q].secondary;
     let rs = reference[s];
     let us = displacement[s];
-    let face = faces[cp.face];
-    var p: array<vec3<f32>, 4>;
-    for (var k = 0u; k < 4u; k++) {
-        let n = face.nodes[k];
-        p[k] = split_difference(reference[n], rs) + split_difference(displacement[n], us);
-    }
-    let xi = vec2<f32>(cp.xi[0], cp.xi[1]);
-    let g = quad_geometry(p, xi);
-    let nsh = quad_shape(xi);
-    var v2 = vec3<f32>(0.0);
-    for (var k = 0u; k < 4u; k++) {
-        v2 += nsh[k] * load_v(face.nodes[k]);
-    }
-    let rel = load_v(s) - v2;
+    let face = faces[cp.face].nodes;
+    let xi = vec2<f32>(cp.xi.x, cp.xi.y);
+    let g = quad_geometry(corners_from(face, rs, us), xi);
+    let rel = load_v(s) - face_velocity(face, xi);
     slip[q] = vec2<f32>(dot(rel, g.t1), dot(rel, g.t2));
 }

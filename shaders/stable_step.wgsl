@@ -12,6 +12,52 @@
 @group(0) @binding(4) var<storage, read> materials: array<Material>;
 @group(0) @binding(5) var<storage, read_write> steps: array<f32>;
 
+// This kernel runs once, at setup, and keeps the plain per-corner arrays of the textbook
+// form (the per-step kernels use the array-free forms of `shared/element.wgsl`).
+
+// The hex8's corners in its parent cube; the 2x2x2 Gauss points are these times 1/sqrt(3).
+const HEX_CORNERS: array<vec3<f32>, 8> = array<vec3<f32>, 8>(
+    vec3<f32>(-1.0, -1.0, -1.0),
+    vec3<f32>(1.0, -1.0, -1.0),
+    vec3<f32>(1.0, 1.0, -1.0),
+    vec3<f32>(-1.0, 1.0, -1.0),
+    vec3<f32>(-1.0, -1.0, 1.0),
+    vec3<f32>(1.0, -1.0, 1.0),
+    vec3<f32>(1.0, 1.0, 1.0),
+    vec3<f32>(-1.0, 1.0, 1.0),
+);
+
+// Shape function gradients and det J at one Gauss point.
+struct HexGauss {
+    grads: array<vec3<f32>, 8>,
+    det: f32,
+}
+
+// The gradients and det J at Gauss point g of a hex8 with corners x (relative to any origin).
+fn hex_gauss(x: array<vec3<f32>, 8>, g: u32) -> HexGauss {
+    let p = HEX_CORNERS[g] * 0.57735026918962576;
+    // parent derivatives and the Jacobian J[a][b] = sum_k x_k,a dN_k/dxi_b (columns: b)
+    var dn: array<vec3<f32>, 8>;
+    var j0 = vec3<f32>(0.0); // column d/dxi
+    var j1 = vec3<f32>(0.0);
+    var j2 = vec3<f32>(0.0);
+    for (var k = 0u; k < 8u; k++) {
+        let c = HEX_CORNERS[k];
+        let s = vec3<f32>(1.0) + c * p;
+        dn[k] = 0.125 * vec3<f32>(c.x * s.y * s.z, s.x * c.y * s.z, s.x * s.y * c.z);
+        j0 += x[k] * dn[k].x;
+        j1 += x[k] * dn[k].y;
+        j2 += x[k] * dn[k].z;
+    }
+    var out: HexGauss;
+    out.det = determinant(mat3x3<f32>(j0, j1, j2));
+    let inv_t = cofactor(mat3x3<f32>(j0, j1, j2)) * (1.0 / out.det);
+    for (var k = 0u; k < 8u; k++) {
+        out.grads[k] = inv_t * dn[k];
+    }
+    return out;
+}
+
 // Entry (i, j) of the 3x3 stiffness block of nodes a, b for one integration point with weight
 // w: w (lambda ga_i gb_j + mu ga_j gb_i + mu delta_ij ga . gb).
 fn block(ga: vec3<f32>, gb: vec3<f32>, m: Material, w: f32) -> mat3x3<f32> {
@@ -86,7 +132,7 @@ fn tet_step(t: u32) -> f32 {
     let b = split_difference(reference[tet.nodes[2]], r0);
     let c = split_difference(reference[tet.nodes[3]], r0);
     let tg = tet_gradients(a, b, c);
-    let grads = tg.grads;
+    let grads = array<vec3<f32>, 4>(tg.g0, tg.g1, tg.g2, tg.g3);
     let vol = tg.volume;
     let mass = m.density * vol / 4.0;
     var w2 = 0.0;

@@ -1,53 +1,98 @@
-// Element geometry shared by the element kernels (twins: `element::hex8`, `element::tet4`).
+// Element geometry shared by the element kernels (twins: `element::hex8`, `element::tet4`),
+// written without arrays (corners as named struct fields, loops unrolled) so that every
+// value stays in registers on GPU hardware (`tests/shader_rules.rs`).
 
-// The hex8's corners in its parent cube; the 2x2x2 Gauss points are these times 1/sqrt(3).
-const HEX_CORNERS: array<vec3<f32>, 8> = array<vec3<f32>, 8>(
-    vec3<f32>(-1.0, -1.0, -1.0),
-    vec3<f32>(1.0, -1.0, -1.0),
-    vec3<f32>(1.0, 1.0, -1.0),
-    vec3<f32>(-1.0, 1.0, -1.0),
-    vec3<f32>(-1.0, -1.0, 1.0),
-    vec3<f32>(1.0, -1.0, 1.0),
-    vec3<f32>(1.0, 1.0, 1.0),
-    vec3<f32>(-1.0, 1.0, 1.0),
-);
-
-// Shape function gradients and det J at one Gauss point.
-struct HexGauss {
-    grads: array<vec3<f32>, 8>,
-    det: f32,
+// The cofactor matrix det(J) J^{-T} of J (columns j0 j1 j2): its columns are
+// j1 x j2, j2 x j0, j0 x j1.
+fn cofactor(j: mat3x3<f32>) -> mat3x3<f32> {
+    return mat3x3<f32>(cross(j[1], j[2]), cross(j[2], j[0]), cross(j[0], j[1]));
 }
 
-// The gradients and det J at Gauss point g of a hex8 with corners x (relative to any origin).
-fn hex_gauss(x: array<vec3<f32>, 8>, g: u32) -> HexGauss {
-    let p = HEX_CORNERS[g] * 0.57735026918962576;
-    // parent derivatives and the Jacobian J[a][b] = sum_k x_k,a dN_k/dxi_b (columns: b)
-    var dn: array<vec3<f32>, 8>;
-    var j0 = vec3<f32>(0.0); // column d/dxi
-    var j1 = vec3<f32>(0.0);
-    var j2 = vec3<f32>(0.0);
-    for (var k = 0u; k < 8u; k++) {
-        let c = HEX_CORNERS[k];
-        let s = vec3<f32>(1.0) + c * p;
-        dn[k] = 0.125 * vec3<f32>(c.x * s.y * s.z, s.x * c.y * s.z, s.x * s.y * c.z);
-        j0 += x[k] * dn[k].x;
-        j1 += x[k] * dn[k].y;
-        j2 += x[k] * dn[k].z;
-    }
-    var out: HexGauss;
-    out.det = determinant(mat3x3<f32>(j0, j1, j2));
-    // the rows of J^{-1} are (j1 x j2, j2 x j0, j0 x j1) / det, so the matrix with these as
-    // columns is J^{-T}, and grad N = J^{-T} dN/dxi
-    let inv_t = mat3x3<f32>(cross(j1, j2), cross(j2, j0), cross(j0, j1)) * (1.0 / out.det);
-    for (var k = 0u; k < 8u; k++) {
-        out.grads[k] = inv_t * dn[k];
-    }
+// Linear elastic stress of the displacement gradient h (h[b] holds du/dx_b).
+fn elastic_stress(h: mat3x3<f32>, m: Material) -> mat3x3<f32> {
+    let tr = h[0].x + h[1].y + h[2].z;
+    var s = (h + transpose(h)) * m.mu;
+    s[0].x += m.lambda * tr;
+    s[1].y += m.lambda * tr;
+    s[2].z += m.lambda * tr;
+    return s;
+}
+
+// Eight corner vectors of a hex8 (positions, displacements or forces).
+struct HexCorners {
+    c0: vec3<f32>,
+    c1: vec3<f32>,
+    c2: vec3<f32>,
+    c3: vec3<f32>,
+    c4: vec3<f32>,
+    c5: vec3<f32>,
+    c6: vec3<f32>,
+    c7: vec3<f32>,
+}
+
+// dN_k/dxi at p for the corner at c of the parent cube.
+fn hex_dn(c: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
+    let s = vec3<f32>(1.0) + c * p;
+    return 0.125 * vec3<f32>(c.x * s.y * s.z, s.x * c.y * s.z, s.x * s.y * c.z);
+}
+
+// Adds Gauss point p (weight 1) to the corner forces f: f_k += det J sigma grad N_k.
+fn hex_gauss_corners(f: HexCorners, x: HexCorners, u: HexCorners, m: Material, p: vec3<f32>) -> HexCorners {
+    let d0 = hex_dn(vec3<f32>(-1.0, -1.0, -1.0), p);
+    let d1 = hex_dn(vec3<f32>(1.0, -1.0, -1.0), p);
+    let d2 = hex_dn(vec3<f32>(1.0, 1.0, -1.0), p);
+    let d3 = hex_dn(vec3<f32>(-1.0, 1.0, -1.0), p);
+    let d4 = hex_dn(vec3<f32>(-1.0, -1.0, 1.0), p);
+    let d5 = hex_dn(vec3<f32>(1.0, -1.0, 1.0), p);
+    let d6 = hex_dn(vec3<f32>(1.0, 1.0, 1.0), p);
+    let d7 = hex_dn(vec3<f32>(-1.0, 1.0, 1.0), p);
+    // J (columns d/dxi_b) = sum_k x_k dN_k/dxi_b
+    let j = mat3x3<f32>(x.c0 * d0.x, x.c0 * d0.y, x.c0 * d0.z)
+        + mat3x3<f32>(x.c1 * d1.x, x.c1 * d1.y, x.c1 * d1.z)
+        + mat3x3<f32>(x.c2 * d2.x, x.c2 * d2.y, x.c2 * d2.z)
+        + mat3x3<f32>(x.c3 * d3.x, x.c3 * d3.y, x.c3 * d3.z)
+        + mat3x3<f32>(x.c4 * d4.x, x.c4 * d4.y, x.c4 * d4.z)
+        + mat3x3<f32>(x.c5 * d5.x, x.c5 * d5.y, x.c5 * d5.z)
+        + mat3x3<f32>(x.c6 * d6.x, x.c6 * d6.y, x.c6 * d6.z)
+        + mat3x3<f32>(x.c7 * d7.x, x.c7 * d7.y, x.c7 * d7.z);
+    let det = determinant(j);
+    let inv_t = cofactor(j) * (1.0 / det);
+    let g0 = inv_t * d0;
+    let g1 = inv_t * d1;
+    let g2 = inv_t * d2;
+    let g3 = inv_t * d3;
+    let g4 = inv_t * d4;
+    let g5 = inv_t * d5;
+    let g6 = inv_t * d6;
+    let g7 = inv_t * d7;
+    // h[b] = sum_k u_k g_k,b
+    let h = mat3x3<f32>(u.c0 * g0.x, u.c0 * g0.y, u.c0 * g0.z)
+        + mat3x3<f32>(u.c1 * g1.x, u.c1 * g1.y, u.c1 * g1.z)
+        + mat3x3<f32>(u.c2 * g2.x, u.c2 * g2.y, u.c2 * g2.z)
+        + mat3x3<f32>(u.c3 * g3.x, u.c3 * g3.y, u.c3 * g3.z)
+        + mat3x3<f32>(u.c4 * g4.x, u.c4 * g4.y, u.c4 * g4.z)
+        + mat3x3<f32>(u.c5 * g5.x, u.c5 * g5.y, u.c5 * g5.z)
+        + mat3x3<f32>(u.c6 * g6.x, u.c6 * g6.y, u.c6 * g6.z)
+        + mat3x3<f32>(u.c7 * g7.x, u.c7 * g7.y, u.c7 * g7.z);
+    let s = elastic_stress(h, m);
+    var out = f;
+    out.c0 += (s * g0) * det;
+    out.c1 += (s * g1) * det;
+    out.c2 += (s * g2) * det;
+    out.c3 += (s * g3) * det;
+    out.c4 += (s * g4) * det;
+    out.c5 += (s * g5) * det;
+    out.c6 += (s * g6) * det;
+    out.c7 += (s * g7) * det;
     return out;
 }
 
 // Shape function gradients and volume of a tet4.
 struct TetGradients {
-    grads: array<vec3<f32>, 4>,
+    g0: vec3<f32>,
+    g1: vec3<f32>,
+    g2: vec3<f32>,
+    g3: vec3<f32>,
     volume: f32,
 }
 
@@ -56,11 +101,11 @@ struct TetGradients {
 fn tet_gradients(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> TetGradients {
     let bc = cross(b, c);
     let det = dot(a, bc);
-    let g1 = bc / det;
-    let g2 = cross(c, a) / det;
-    let g3 = cross(a, b) / det;
     var out: TetGradients;
-    out.grads = array<vec3<f32>, 4>(-(g1 + g2 + g3), g1, g2, g3);
+    out.g1 = bc / det;
+    out.g2 = cross(c, a) / det;
+    out.g3 = cross(a, b) / det;
+    out.g0 = -(out.g1 + out.g2 + out.g3);
     out.volume = det / 6.0;
     return out;
 }

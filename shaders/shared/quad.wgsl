@@ -1,20 +1,19 @@
 // The bilinear quad of a primary face in convected coordinates (twin of
 // `src/contact/quad.rs`). Corners at (-1,-1), (1,-1), (1,1), (-1,1).
 
-const QUAD_CORNERS: array<vec2<f32>, 4> = array<vec2<f32>, 4>(
-    vec2<f32>(-1.0, -1.0),
-    vec2<f32>(1.0, -1.0),
-    vec2<f32>(1.0, 1.0),
-    vec2<f32>(-1.0, 1.0),
-);
-
+// Shape functions at xi, corner k in component k.
 fn quad_shape(xi: vec2<f32>) -> vec4<f32> {
-    var n: vec4<f32>;
-    for (var k = 0u; k < 4u; k++) {
-        let c = QUAD_CORNERS[k];
-        n[k] = 0.25 * (1.0 + c.x * xi.x) * (1.0 + c.y * xi.y);
-    }
-    return n;
+    let a = 1.0 - xi;
+    let b = 1.0 + xi;
+    return 0.25 * vec4<f32>(a.x * a.y, b.x * a.y, b.x * b.y, a.x * b.y);
+}
+
+// The four corners of a quad (positions relative to some origin).
+struct QuadCorners {
+    p0: vec3<f32>,
+    p1: vec3<f32>,
+    p2: vec3<f32>,
+    p3: vec3<f32>,
 }
 
 // Point y, tangents t1 = dy/dxi1, t2 = dy/dxi2 and the mixed derivative t12 at xi.
@@ -25,24 +24,23 @@ struct QuadGeometry {
     t12: vec3<f32>,
 }
 
-fn quad_geometry(p: array<vec3<f32>, 4>, xi: vec2<f32>) -> QuadGeometry {
+fn quad_geometry(p: QuadCorners, xi: vec2<f32>) -> QuadGeometry {
+    let n = quad_shape(xi);
+    let a = 1.0 - xi;
+    let b = 1.0 + xi;
     var g: QuadGeometry;
-    g.y = vec3<f32>(0.0);
-    g.t1 = vec3<f32>(0.0);
-    g.t2 = vec3<f32>(0.0);
-    g.t12 = vec3<f32>(0.0);
-    for (var k = 0u; k < 4u; k++) {
-        let c = QUAD_CORNERS[k];
-        let nk = 0.25 * (1.0 + c.x * xi.x) * (1.0 + c.y * xi.y);
-        let d1 = 0.25 * c.x * (1.0 + c.y * xi.y);
-        let d2 = 0.25 * (1.0 + c.x * xi.x) * c.y;
-        let d12 = 0.25 * c.x * c.y;
-        g.y += nk * p[k];
-        g.t1 += d1 * p[k];
-        g.t2 += d2 * p[k];
-        g.t12 += d12 * p[k];
-    }
+    g.y = n.x * p.p0 + n.y * p.p1 + n.z * p.p2 + n.w * p.p3;
+    // dN_k/dxi1 = c_k.x (1 + c_k.y xi2) / 4, dN_k/dxi2 = (1 + c_k.x xi1) c_k.y / 4
+    g.t1 = 0.25 * (a.y * (p.p1 - p.p0) + b.y * (p.p2 - p.p3));
+    g.t2 = 0.25 * (a.x * (p.p3 - p.p0) + b.x * (p.p2 - p.p1));
+    g.t12 = 0.25 * ((p.p0 - p.p1) + (p.p2 - p.p3));
     return g;
+}
+
+// The velocity at shape function values w of a face whose corners have velocities
+// v0..v3.
+fn quad_interpolate(w: vec4<f32>, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, v3: vec3<f32>) -> vec3<f32> {
+    return w.x * v0 + w.y * v1 + w.z * v2 + w.w * v3;
 }
 
 const NEWTON_ITERATIONS: u32 = 16u;
@@ -55,15 +53,10 @@ const STEP_TOLERANCE: f32 = 1e-6;
 
 // The largest fraction alpha <= 1 of the step -d from xi that stays in the square.
 fn quad_box_step(xi: vec2<f32>, d: vec2<f32>) -> f32 {
-    var alpha = 1.0;
-    for (var a = 0u; a < 2u; a++) {
-        if (d[a] > 0.0) {
-            alpha = min(alpha, (xi[a] + 1.0) / d[a]);
-        } else if (d[a] < 0.0) {
-            alpha = min(alpha, (xi[a] - 1.0) / d[a]);
-        }
-    }
-    return max(alpha, 0.0);
+    // per axis: the distance to the side the step moves towards, over the step
+    let room = select(select(vec2<f32>(1.0), xi - 1.0, d < vec2<f32>(0.0)), xi + 1.0, d > vec2<f32>(0.0));
+    let limit = select(vec2<f32>(1.0), room / d, d != vec2<f32>(0.0));
+    return max(min(1.0, min(limit.x, limit.y)), 0.0);
 }
 
 // Closest point of the quad to x (twin of `quad::project`): projected Newton from the centre
@@ -71,7 +64,7 @@ fn quad_box_step(xi: vec2<f32>, d: vec2<f32>) -> f32 {
 // pointing out are held on it; full Hessian where safely positive definite, else the metric;
 // steps shortened to the square, the scaled gradient where that blocks them; uphill steps
 // halved; the closest iterate kept if it does not converge.
-fn quad_project(p: array<vec3<f32>, 4>, x: vec3<f32>) -> vec2<f32> {
+fn quad_project(p: QuadCorners, x: vec3<f32>) -> vec2<f32> {
     var xi = vec2<f32>(0.0);
     var last_d2 = bitcast<f32>(0x7f800000u); // +inf
     var last_xi = xi;
@@ -101,16 +94,10 @@ fn quad_project(p: array<vec3<f32>, 4>, x: vec3<f32>) -> vec2<f32> {
         }
         let f = vec2<f32>(dot(r, g.t1), dot(r, g.t2));
         let m = vec2<f32>(m00, m11);
-        var held = vec2<bool>(false, false);
-        for (var a = 0u; a < 2u; a++) {
-            held[a] = f[a] * xi[a] <= 0.0 && 1.0 - abs(xi[a]) <= min(HELD_BAND, abs(f[a]) / m[a]);
-        }
+        let held = f * xi <= vec2<f32>(0.0)
+            & vec2<f32>(1.0) - abs(xi) <= min(vec2<f32>(HELD_BAND), abs(f) / m);
         let start = xi;
-        for (var a = 0u; a < 2u; a++) {
-            if (held[a]) {
-                xi[a] = sign(xi[a]);
-            }
-        }
+        xi = select(xi, sign(xi), held);
         if (held.x && held.y) {
             return xi;
         }
@@ -157,7 +144,7 @@ struct FaceHit {
     normal: vec3<f32>,
 }
 
-fn face_hit(p: array<vec3<f32>, 4>) -> FaceHit {
+fn face_hit(p: QuadCorners) -> FaceHit {
     let xi = quad_project(p, vec3<f32>(0.0));
     let g = quad_geometry(p, xi);
     var h: FaceHit;
@@ -172,8 +159,8 @@ fn face_hit(p: array<vec3<f32>, 4>) -> FaceHit {
 fn open_point() -> ContactPoint {
     var p: ContactPoint;
     p.face = NO_FACE;
-    p.xi = array<f32, 2>(0.0, 0.0);
-    p.normal = array<f32, 3>(0.0, 0.0, 0.0);
+    p.xi = Float2(0.0, 0.0);
+    p.normal = Float3(0.0, 0.0, 0.0);
     p.gap = bitcast<f32>(0xff800000u); // -inf
     p.gap_rate = 0.0;
     return p;
@@ -184,8 +171,8 @@ fn open_point() -> ContactPoint {
 fn hit_point(face: u32, hit: FaceHit, rel: vec3<f32>) -> ContactPoint {
     var p: ContactPoint;
     p.face = face;
-    p.xi = array<f32, 2>(hit.xi.x, hit.xi.y);
-    p.normal = array<f32, 3>(hit.normal.x, hit.normal.y, hit.normal.z);
+    p.xi = Float2(hit.xi.x, hit.xi.y);
+    p.normal = float3(hit.normal);
     p.gap = dot(hit.y, hit.normal);
     p.gap_rate = -dot(rel, hit.normal);
     return p;

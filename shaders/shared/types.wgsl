@@ -11,14 +11,39 @@ struct Params {
     aux2: u32,
 }
 
+// A 3-vector packed in 12 bytes (a vec3<f32> takes 16 in a buffer) and a 2-vector, as
+// named fields rather than arrays: a struct that holds an array and is loaded whole, passed
+// to a function or indexed by a variable ends up in per-thread local memory on GPU hardware
+// (`tests/shader_rules.rs`).
+struct Float3 {
+    x: f32,
+    y: f32,
+    z: f32,
+}
+
+struct Float2 {
+    x: f32,
+    y: f32,
+}
+
+fn vec3_of(p: Float3) -> vec3<f32> {
+    return vec3<f32>(p.x, p.y, p.z);
+}
+
+fn float3(v: vec3<f32>) -> Float3 {
+    return Float3(v.x, v.y, v.z);
+}
+
 // A nodal 3-vector (reference coordinates, displacements) split into an f32 pair, hi + lo =
 // the f64 value to ~1e-14, so that differences of nearby nodes keep f32's relative precision
 // (a rigid translation does not eat the digits of a strain or a gap).
 struct Split3 {
-    hi: array<f32, 3>,
-    lo: array<f32, 3>,
+    hi: Float3,
+    lo: Float3,
 }
 
+// A hex8 and a tet4 with their material (the setup kernel `stable_step`; the per-step
+// element kernels read the connectivity column by column, see `hex8_forces.wgsl`).
 struct Hex8 {
     nodes: array<u32, 8>,
     material: u32,
@@ -43,16 +68,16 @@ struct ContactQuery {
     end: u32,
 }
 
-// A primary quad, outward oriented (global node numbers).
+// A primary quad, outward oriented (global node numbers, corners 0-3 as x y z w).
 struct Quad {
-    nodes: array<u32, 4>,
+    nodes: vec4<u32>,
 }
 
 // Contact kinematics of one query; face = 0xffffffff when it has no candidate.
 struct ContactPoint {
     face: u32,
-    xi: array<f32, 2>,
-    normal: array<f32, 3>,
+    xi: Float2,
+    normal: Float3,
     gap: f32,
     gap_rate: f32,
 }
@@ -67,9 +92,12 @@ fn item_index(gid: vec3<u32>, p: Params) -> u32 {
 
 // a - b of two split vectors: the hi parts of nearby values subtract exactly.
 fn split_difference(a: Split3, b: Split3) -> vec3<f32> {
-    let dhi = vec3<f32>(a.hi[0] - b.hi[0], a.hi[1] - b.hi[1], a.hi[2] - b.hi[2]);
-    let dlo = vec3<f32>(a.lo[0] - b.lo[0], a.lo[1] - b.lo[1], a.lo[2] - b.lo[2]);
-    return dhi + dlo;
+    return (vec3_of(a.hi) - vec3_of(b.hi)) + (vec3_of(a.lo) - vec3_of(b.lo));
+}
+
+// The value of a split vector in f32.
+fn split_value(a: Split3) -> vec3<f32> {
+    return vec3_of(a.hi) + vec3_of(a.lo);
 }
 
 // Lumped nodal data of the explicit step: the node's mass, the inverse mass of each dof (zero
@@ -77,15 +105,15 @@ fn split_difference(a: Split3, b: Split3) -> vec3<f32> {
 // prescribed).
 struct Lumped {
     mass: f32,
-    inv_mass: array<f32, 3>,
-    ext_acc: array<f32, 3>,
+    inv_mass: Float3,
+    ext_acc: Float3,
 }
 
 // An analytic rigid plane: a point on it (split like the nodes), the unit normal pointing
 // into the half-space the bodies stay in, and its Coulomb friction coefficient.
 struct Plane {
     point: Split3,
-    normal: array<f32, 3>,
+    normal: Float3,
     mu: f32,
 }
 
@@ -137,8 +165,7 @@ fn cell_of(x: vec3<f32>, cell: f32) -> vec3<i32> {
 
 // A split position as one f32 vector (cells need no more).
 fn split_sum(a: Split3, b: Split3) -> vec3<f32> {
-    return vec3<f32>(a.hi[0], a.hi[1], a.hi[2]) + vec3<f32>(b.hi[0], b.hi[1], b.hi[2])
-        + (vec3<f32>(a.lo[0], a.lo[1], a.lo[2]) + vec3<f32>(b.lo[0], b.lo[1], b.lo[2]));
+    return vec3_of(a.hi) + vec3_of(b.hi) + (vec3_of(a.lo) + vec3_of(b.lo));
 }
 
 // A pair of the explicit step's contact iteration: secondary node `node` of an interface
@@ -150,22 +177,24 @@ struct ContactPair {
     query: u32,
     mu: f32,
     point: Split3,
-    normal: array<f32, 3>,
+    normal: Float3,
 }
 
 // One constraint of the step (see `contact_constraints.wgsl`): the primary face's nodes and
 // shape function values (face[0] = NO_FACE for a plane), the unit normal, the gap at u_n, the
 // split compliance, the impulses J_N and J_T, the slip at v_{n-1/2} (friction work) and
 // whether the pair is in reach this step (0/1).
+// face and weights are indexed by a corner through the buffer (`constraints[q].weights[k]`);
+// a constraint loaded whole reads them with constant indices only.
 struct Constraint {
     face: array<u32, 4>,
     weights: array<f32, 4>,
-    normal: array<f32, 3>,
+    normal: Float3,
     gap: f32,
     compliance: f32,
     jn: f32,
-    jt: array<f32, 3>,
-    slip: array<f32, 3>,
+    jt: Float3,
+    slip: Float3,
     in_reach: u32,
 }
 

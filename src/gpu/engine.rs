@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 
 use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
+use super::kernel::Launch;
 use super::search::GpuSearch;
 use super::types::{self, ContactQuery, Hex8, Material, Quad, Split3, Tet4};
 use super::{ContactGap, Hex8Forces, NodeGather, SlipRate, Tet4Forces};
@@ -46,8 +47,11 @@ pub struct GpuKernels {
     contact_gap: ContactGap,
     slip_rate: SlipRate,
     pub(super) reference: Storage,
-    hexes: Storage,
-    tets: Storage,
+    /// Connectivity column by column (see [`ElementColumns`]).
+    hex_nodes: Storage,
+    hex_material: Storage,
+    tet_nodes: Storage,
+    tet_material: Storage,
     materials: Storage,
     offsets: Storage,
     incidence: Storage,
@@ -63,9 +67,9 @@ pub struct GpuKernels {
     pub(super) staging: Storage,
     uploaded: UploadedQueries,
     query_count: usize,
-    hex8_bind: wgpu::BindGroup,
-    tet4_bind: wgpu::BindGroup,
-    gather_bind: wgpu::BindGroup,
+    hex8_launch: Launch,
+    tet4_launch: Launch,
+    gather_launch: Launch,
     contact_binds: Option<(wgpu::BindGroup, wgpu::BindGroup)>,
     /// The device contact search, built at its first use.
     search: Option<GpuSearch>,
@@ -112,6 +116,58 @@ pub(super) fn at_least_one<T: Default>(mut v: Vec<T>) -> Vec<T> {
     v
 }
 
+/// The element kernels' layouts, chosen so that neighbouring invocations (elements, nodes)
+/// read and write neighbouring words:
+/// - connectivity column by column: node k of hex e at `hex_nodes[k E + e]`, of tet t at
+///   `tet_nodes[k T + t]`;
+/// - corner forces component-major: component a of corner slot s at `a C + s`, where hex
+///   corner k of element e has slot `k E + e` and tet corner k of tet t has slot
+///   `8 E + k T + t` (C = 8 E + 4 T slots);
+/// - the gather's incidence lists hold those slots, in the order of the twin's corner ids
+///   (`8 e + k`, then `8 E + 4 t + k`), so the sums run in the twin's order.
+pub struct ElementColumns {
+    pub hex_nodes: Vec<u32>,
+    pub hex_material: Vec<u32>,
+    pub tet_nodes: Vec<u32>,
+    pub tet_material: Vec<u32>,
+    /// The incidence table with slots in place of corner ids.
+    pub incidence: Incidence,
+}
+
+impl ElementColumns {
+    pub fn new(data: &ElementData) -> Self {
+        let (e, t) = (data.hexes.len(), data.tets.len());
+        let hex_nodes = (0..8)
+            .flat_map(|k| data.hexes.iter().map(move |h| h[k]))
+            .collect();
+        let tet_nodes = (0..4)
+            .flat_map(|k| data.tets.iter().map(move |h| h[k]))
+            .collect();
+        let mut incidence = Incidence::new(&data.hexes, &data.tets, data.reference.len());
+        for c in incidence.corners.iter_mut() {
+            *c = corner_slot(*c as usize, e, t) as u32;
+        }
+        ElementColumns {
+            hex_nodes,
+            hex_material: data.hex_material.clone(),
+            tet_nodes,
+            tet_material: data.tet_material.clone(),
+            incidence,
+        }
+    }
+}
+
+/// The slot of the twin's corner id `c` (`8 e + k` for hexes, then `8 E + 4 t + k`) in the
+/// device's corner-force layout, for `hexes` hexes and `tets` tets (see [`ElementColumns`]).
+pub fn corner_slot(c: usize, hexes: usize, tets: usize) -> usize {
+    if c < 8 * hexes {
+        (c % 8) * hexes + c / 8
+    } else {
+        let c = c - 8 * hexes;
+        8 * hexes + (c % 4) * tets + c / 4
+    }
+}
+
 fn bytes_of<T>(n: usize) -> u64 {
     (n * std::mem::size_of::<T>()) as u64
 }
@@ -128,16 +184,20 @@ impl GpuKernels {
                 elements + tets_count
             )));
         }
-        let (reference, hexes, tets, materials) = device_elements(data);
-        let inc = Incidence::new(&data.hexes, &data.tets, nodes);
+        let (reference, _, _, materials) = device_elements(data);
+        let columns = ElementColumns::new(data);
         let reference = Storage::with_data(&ctx, "reference", &reference)?;
-        // a binding holds at least one struct: a mesh without hexes (or tets) binds one
+        // a binding holds at least one word: a mesh without hexes (or tets) binds one
         // unused placeholder, never dispatched
-        let hexes = Storage::with_data(&ctx, "hexes", &at_least_one(hexes))?;
-        let tets = Storage::with_data(&ctx, "tets", &at_least_one(tets))?;
+        let hex_nodes = Storage::with_data(&ctx, "hex_nodes", &at_least_one(columns.hex_nodes))?;
+        let hex_material =
+            Storage::with_data(&ctx, "hex_material", &at_least_one(columns.hex_material))?;
+        let tet_nodes = Storage::with_data(&ctx, "tet_nodes", &at_least_one(columns.tet_nodes))?;
+        let tet_material =
+            Storage::with_data(&ctx, "tet_material", &at_least_one(columns.tet_material))?;
         let materials = Storage::with_data(&ctx, "materials", &materials)?;
-        let offsets = Storage::with_data(&ctx, "incidence.offsets", &inc.offsets)?;
-        let incidence = Storage::with_data(&ctx, "incidence", &inc.corners)?;
+        let offsets = Storage::with_data(&ctx, "incidence.offsets", &columns.incidence.offsets)?;
+        let incidence = Storage::with_data(&ctx, "incidence", &columns.incidence.corners)?;
         let u = Storage::new(&ctx, "displacement", bytes_of::<Split3>(nodes))?;
         let v = Storage::new(&ctx, "velocity", bytes_of::<f32>(3 * nodes))?;
         let corners = Storage::new(&ctx, "corner_forces", bytes_of::<f32>(3 * corner_count))?;
@@ -153,28 +213,46 @@ impl GpuKernels {
         let node_gather = NodeGather::new(&ctx);
         let contact_gap = ContactGap::new(&ctx);
         let slip_rate = SlipRate::new(&ctx);
-        let hex8_bind = hex8_forces.bind(
+        let slots = corner_count as u32;
+        let hex8_launch = hex8_forces.0.launch(
             &ctx,
-            &reference.buffer,
-            &u.buffer,
-            &hexes.buffer,
-            &materials.buffer,
-            &corners.buffer,
+            elements as u32,
+            slots,
+            0,
+            &[
+                &reference.buffer,
+                &u.buffer,
+                &hex_nodes.buffer,
+                &hex_material.buffer,
+                &materials.buffer,
+                &corners.buffer,
+            ],
         );
-        let tet4_bind = tet4_forces.bind(
+        let tet4_launch = tet4_forces.0.launch(
             &ctx,
-            &reference.buffer,
-            &u.buffer,
-            &tets.buffer,
-            &materials.buffer,
-            &corners.buffer,
+            tets_count as u32,
+            slots,
+            8 * elements as u32,
+            &[
+                &reference.buffer,
+                &u.buffer,
+                &tet_nodes.buffer,
+                &tet_material.buffer,
+                &materials.buffer,
+                &corners.buffer,
+            ],
         );
-        let gather_bind = node_gather.bind(
+        let gather_launch = node_gather.0.launch(
             &ctx,
-            &offsets.buffer,
-            &incidence.buffer,
-            &corners.buffer,
-            &forces.buffer,
+            nodes as u32,
+            slots,
+            0,
+            &[
+                &offsets.buffer,
+                &incidence.buffer,
+                &corners.buffer,
+                &forces.buffer,
+            ],
         );
         Ok(GpuKernels {
             ctx,
@@ -187,8 +265,10 @@ impl GpuKernels {
             contact_gap,
             slip_rate,
             reference,
-            hexes,
-            tets,
+            hex_nodes,
+            hex_material,
+            tet_nodes,
+            tet_material,
             materials,
             offsets,
             incidence,
@@ -204,9 +284,9 @@ impl GpuKernels {
             staging,
             uploaded: UploadedQueries::default(),
             query_count: 0,
-            hex8_bind,
-            tet4_bind,
-            gather_bind,
+            hex8_launch,
+            tet4_launch,
+            gather_launch,
             contact_binds: None,
             search: None,
             scratch: Vec::new(),
@@ -229,8 +309,10 @@ impl GpuKernels {
     pub fn device_bytes(&self) -> u64 {
         [
             &self.reference,
-            &self.hexes,
-            &self.tets,
+            &self.hex_nodes,
+            &self.hex_material,
+            &self.tet_nodes,
+            &self.tet_material,
             &self.materials,
             &self.offsets,
             &self.incidence,
@@ -282,58 +364,37 @@ impl GpuKernels {
         24 * self.elements + 12 * self.tets_count
     }
 
-    /// Records the element kernels (hex8 then tet4, each only if the mesh has such
-    /// elements) that fill the corner forces.
+    /// Records the element kernels (hex8 then tet4, each only if the mesh has such elements)
+    /// that fill the corner forces, each in a pass of its own.
     fn record_elements(&self, enc: &mut wgpu::CommandEncoder) {
         if self.elements > 0 {
-            let grid = self
-                .hex8_forces
-                .0
-                .set_count(&self.ctx, self.elements as u32);
-            self.hex8_forces.0.record(enc, &self.hex8_bind, grid);
+            self.hex8_forces.0.record_launch(enc, &self.hex8_launch);
         }
         if self.tets_count > 0 {
-            let grid = self.tet4_forces.0.set_count_aux(
-                &self.ctx,
-                self.tets_count as u32,
-                24 * self.elements as u32,
-            );
-            self.tet4_forces.0.record(enc, &self.tet4_bind, grid);
+            self.tet4_forces.0.record_launch(enc, &self.tet4_launch);
         }
     }
 
-    /// Sets the launch counts of the element kernels and the gather (which never change) for
-    /// [`Self::record_internal_forces`].
-    pub(super) fn prepare_internal_forces(&self) {
+    /// Dispatches the element kernels and the gather in an open pass: the internal forces at
+    /// the device's displacement into the forces buffer.
+    pub(super) fn dispatch_internal_forces(&self, pass: &mut wgpu::ComputePass) {
         if self.elements > 0 {
-            self.hex8_forces
-                .0
-                .set_count(&self.ctx, self.elements as u32);
+            self.hex8_forces.0.dispatch(pass, &self.hex8_launch);
         }
         if self.tets_count > 0 {
-            self.tet4_forces.0.set_count_aux(
-                &self.ctx,
-                self.tets_count as u32,
-                24 * self.elements as u32,
-            );
+            self.tet4_forces.0.dispatch(pass, &self.tet4_launch);
         }
-        self.node_gather.0.set_count(&self.ctx, self.nodes as u32);
+        self.node_gather.0.dispatch(pass, &self.gather_launch);
     }
 
-    /// Records the element kernels and the gather, with the counts of
-    /// [`Self::prepare_internal_forces`] (no parameter upload per step): the internal forces
-    /// at the device's displacement into the forces buffer.
+    /// Records the element kernels and the gather in one pass (see
+    /// [`Self::dispatch_internal_forces`]).
     pub(super) fn record_internal_forces(&self, enc: &mut wgpu::CommandEncoder) {
-        if self.elements > 0 {
-            let grid = self.hex8_forces.0.grid(self.elements as u32);
-            self.hex8_forces.0.record(enc, &self.hex8_bind, grid);
-        }
-        if self.tets_count > 0 {
-            let grid = self.tet4_forces.0.grid(self.tets_count as u32);
-            self.tet4_forces.0.record(enc, &self.tet4_bind, grid);
-        }
-        let grid = self.node_gather.0.grid(self.nodes as u32);
-        self.node_gather.0.record(enc, &self.gather_bind, grid);
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("internal_forces"),
+            timestamp_writes: None,
+        });
+        self.dispatch_internal_forces(&mut pass);
     }
 
     /// Uploads displacements (split pairs) and velocities.
@@ -342,8 +403,13 @@ impl GpuKernels {
         self.upload_nodal(true, v)
     }
 
+    /// The device's corner slot of each of the twin's corner ids, in twin order.
+    fn slot_of(&self, c: usize) -> usize {
+        corner_slot(c, self.elements, self.tets_count)
+    }
+
     /// Runs the element kernels alone: corner forces `[8 e + k]` of the hexes, then
-    /// `[8 hexes + 4 t + k]` of the tets, for the displacement `u`.
+    /// `[8 hexes + 4 t + k]` of the tets (the twin's order), for the displacement `u`.
     pub fn corner_forces(&mut self, u: &[f64]) -> Result<Vec<[f64; 3]>> {
         self.upload_nodal(false, u)?;
         if self.fill_nan {
@@ -352,28 +418,41 @@ impl GpuKernels {
         }
         let mut enc = self.encoder("element_forces");
         self.record_elements(&mut enc);
-        let corners = self.corner_floats() / 3;
-        let out: Vec<[f32; 3]> = submit_and_read(
+        let slots = self.corner_floats() / 3;
+        let out: Vec<f32> = submit_and_read(
             &self.ctx,
             &mut self.staging,
             enc,
             &self.corners.buffer,
-            corners,
+            3 * slots,
         )?;
-        Ok(out.into_iter().map(|f| f.map(f64::from)).collect())
+        Ok((0..slots)
+            .map(|c| {
+                let s = self.slot_of(c);
+                [0, 1, 2].map(|a| out[a * slots + s] as f64)
+            })
+            .collect())
     }
 
-    /// Runs `node_gather` alone on the given corner forces.
+    /// Runs `node_gather` alone on the given corner forces (the twin's order).
     pub fn gather(&mut self, corners: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
-        let c: Vec<[f32; 3]> = corners.iter().map(|f| f.map(|x| x as f32)).collect();
+        let slots = corners.len();
+        let mut c = vec![0f32; 3 * slots];
+        for (i, f) in corners.iter().enumerate() {
+            let s = self.slot_of(i);
+            for a in 0..3 {
+                c[a * slots + s] = f[a] as f32;
+            }
+        }
         self.corners.upload(&self.ctx, &c)?;
         if self.fill_nan {
             self.forces
                 .fill_nan(&self.ctx, bytes_of::<f32>(3 * self.nodes));
         }
         let mut enc = self.encoder("node_gather");
-        let grid = self.node_gather.0.set_count(&self.ctx, self.nodes as u32);
-        self.node_gather.0.record(&mut enc, &self.gather_bind, grid);
+        self.node_gather
+            .0
+            .record_launch(&mut enc, &self.gather_launch);
         let out: Vec<[f32; 3]> = submit_and_read(
             &self.ctx,
             &mut self.staging,
@@ -443,33 +522,43 @@ impl GpuKernels {
         Ok(())
     }
 
-    /// Records `reps` dispatches of one kernel on the current data, waits, and returns the
-    /// elapsed wall time (for the benchmarks; contact kernels use the last queries).
+    /// Records `reps` dispatches of one kernel on the current data in one pass, waits, and
+    /// returns the elapsed wall time (for the benchmarks; contact kernels use the last
+    /// queries).
     pub fn time_kernel(&mut self, kernel: KernelId, reps: usize) -> Result<Duration> {
         let mut enc = self.encoder("timing");
-        let (k, bind, count) = match kernel {
-            KernelId::Hex8Forces => (&self.hex8_forces.0, &self.hex8_bind, self.elements),
-            KernelId::Tet4Forces => (&self.tet4_forces.0, &self.tet4_bind, self.tets_count),
-            KernelId::NodeGather => (&self.node_gather.0, &self.gather_bind, self.nodes),
-            KernelId::ContactGap | KernelId::SlipRate => {
-                let Some((gap, slip)) = &self.contact_binds else {
-                    return Err(ImpactError::Gpu("no contact queries uploaded".into()));
-                };
-                if kernel == KernelId::ContactGap {
-                    (&self.contact_gap.0, gap, self.query_count)
-                } else {
-                    (&self.slip_rate.0, slip, self.query_count)
+        let contact = |k: &super::kernel::Kernel, which: usize| {
+            let Some(binds) = &self.contact_binds else {
+                return Err(ImpactError::Gpu("no contact queries uploaded".into()));
+            };
+            let bind = if which == 0 { &binds.0 } else { &binds.1 };
+            Ok((k.set_count(&self.ctx, self.query_count as u32), bind))
+        };
+        let contact_launch = match kernel {
+            KernelId::ContactGap => Some((&self.contact_gap.0, contact(&self.contact_gap.0, 0)?)),
+            KernelId::SlipRate => Some((&self.slip_rate.0, contact(&self.slip_rate.0, 1)?)),
+            _ => None,
+        };
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("timing"),
+                timestamp_writes: None,
+            });
+            for _ in 0..reps {
+                match (kernel, &contact_launch) {
+                    (KernelId::Hex8Forces, _) => {
+                        self.hex8_forces.0.dispatch(&mut pass, &self.hex8_launch)
+                    }
+                    (KernelId::Tet4Forces, _) => {
+                        self.tet4_forces.0.dispatch(&mut pass, &self.tet4_launch)
+                    }
+                    (KernelId::NodeGather, _) => {
+                        self.node_gather.0.dispatch(&mut pass, &self.gather_launch)
+                    }
+                    (_, Some((k, (grid, bind)))) => k.dispatch_with(&mut pass, bind, *grid),
+                    (_, None) => unreachable!("contact kernels have a launch"),
                 }
             }
-        };
-        let aux = if kernel == KernelId::Tet4Forces {
-            24 * self.elements as u32
-        } else {
-            0
-        };
-        let grid = k.set_count_aux(&self.ctx, count as u32, aux);
-        for _ in 0..reps {
-            k.record(&mut enc, bind, grid);
         }
         // settle earlier work (the params write) before timing
         self.ctx.wait()?;
@@ -527,9 +616,7 @@ impl Kernels for GpuKernels {
                 .fill_nan(&self.ctx, bytes_of::<f32>(3 * self.nodes));
         }
         let mut enc = self.encoder("internal_forces");
-        self.record_elements(&mut enc);
-        let grid = self.node_gather.0.set_count(&self.ctx, self.nodes as u32);
-        self.node_gather.0.record(&mut enc, &self.gather_bind, grid);
+        self.record_internal_forces(&mut enc);
         let out: Vec<f32> = submit_and_read(
             &self.ctx,
             &mut self.staging,

@@ -7,9 +7,10 @@
 //! iteration, [`super::ContactIteration`]), `explicit_drift` (u += dt v), the element kernels and
 //! `node_gather` (internal forces), `explicit_correct` once per body (a, v and the body's
 //! energy and momentum sums per workgroup) and `history_reduce` (one row of history
-//! values), whose row is then copied into a mapped read-back buffer at the step's place.
-//! Two read-back buffers alternate: the host decodes one submission's rows while the device
-//! runs the next.
+//! values, written at the step's place in the submission's rows). Without a contact
+//! iteration a whole submission is one compute pass. The rows are copied into a mapped
+//! read-back buffer at the end of the submission; two read-back buffers alternate: the host
+//! decodes one submission's rows while the device runs the next.
 //!
 //! The state stays on the device; [`ResidentExplicit::read_state`] fetches it (VTU frames).
 
@@ -139,7 +140,8 @@ struct Launches {
     plane: Option<Launch>,
     drift: Launch,
     correct: Vec<Launch>,
-    reduce: Launch,
+    /// One per row of a submission: launch j writes the row of the submission's step j.
+    reduce: Vec<Launch>,
 }
 
 /// A submission whose rows are being read back.
@@ -164,7 +166,8 @@ pub struct ResidentExplicit {
     results: Storage,
     partials: Storage,
     columns: Storage,
-    row: Storage,
+    /// The history rows of one submission, `chunk_capacity` rows of `row_len` floats.
+    rows: Storage,
     launches: Launches,
     column_list: Vec<ReduceColumn>,
     row_len: usize,
@@ -199,7 +202,6 @@ impl ResidentExplicit {
         let mut k = GpuKernels::new(ctx, data)?;
         let nodes = k.nodes;
         k.upload_state(&vec![0.0; 3 * nodes], &setup.velocity)?;
-        k.prepare_internal_forces();
         let ctx = &k.ctx;
         let a = Storage::with_data(ctx, "acceleration", &to_f32(&setup.acceleration))?;
         let lumped: Vec<types::Lumped> = setup
@@ -302,7 +304,8 @@ impl ResidentExplicit {
             .collect();
         let column_list = columns;
         let columns = Storage::with_data(ctx, "history.columns", &cols)?;
-        let row = Storage::new(ctx, "history.row", (row_len * 4) as u64)?;
+        let chunk_capacity = chunk_capacity.max(1);
+        let rows = Storage::new(ctx, "history.rows", (chunk_capacity * row_len * 4) as u64)?;
 
         let launches = Launches {
             predict: predict.launch(ctx, 3 * nodes as u32, &step, &a.buffer, &k.v.buffer),
@@ -347,22 +350,26 @@ impl ResidentExplicit {
                     )
                 })
                 .collect(),
-            reduce: reduce.launch(
-                ctx,
-                row_len as u32,
-                &HistoryReduceBuffers {
-                    columns: &columns.buffer,
-                    partials: &partials.buffer,
-                    results: contact
-                        .as_ref()
-                        .map_or(&results.buffer, |c| c.results_buffer()),
-                    displacement: &k.u.buffer,
-                    velocity: &k.v.buffer,
-                    row: &row.buffer,
-                },
-            ),
+            reduce: (0..chunk_capacity)
+                .map(|j| {
+                    reduce.launch(
+                        ctx,
+                        row_len as u32,
+                        (j * row_len) as u32,
+                        &HistoryReduceBuffers {
+                            columns: &columns.buffer,
+                            partials: &partials.buffer,
+                            results: contact
+                                .as_ref()
+                                .map_or(&results.buffer, |c| c.results_buffer()),
+                            displacement: &k.u.buffer,
+                            velocity: &k.v.buffer,
+                            rows: &rows.buffer,
+                        },
+                    )
+                })
+                .collect(),
         };
-        let chunk_capacity = chunk_capacity.max(1);
         let make_readback = || {
             Storage::with_usage(
                 ctx,
@@ -401,7 +408,7 @@ impl ResidentExplicit {
             results,
             partials,
             columns,
-            row,
+            rows,
             launches,
             column_list,
             row_len,
@@ -454,7 +461,7 @@ impl ResidentExplicit {
                 &self.results,
                 &self.partials,
                 &self.columns,
-                &self.row,
+                &self.rows,
                 &self.readback[0],
                 &self.readback[1],
             ]
@@ -490,7 +497,7 @@ impl ResidentExplicit {
                     self.correct.0.record_launch(&mut enc, c);
                 }
             }
-            Stage::Reduce => self.reduce.0.record_launch(&mut enc, &l.reduce),
+            Stage::Reduce => self.reduce.0.record_launch(&mut enc, &l.reduce[0]),
         }
         ctx.queue.submit([enc.finish()]);
         ctx.wait()
@@ -524,7 +531,7 @@ impl ResidentExplicit {
         let source = match which {
             Buffer::Acceleration => &self.a.buffer,
             Buffer::Partials => &self.partials.buffer,
-            Buffer::Row => &self.row.buffer,
+            Buffer::Row => &self.rows.buffer,
         };
         let out: Vec<f32> = submit_and_read(ctx, &mut self.k.staging, enc, source, count)?;
         Ok(out.into_iter().map(f64::from).collect())
@@ -541,29 +548,62 @@ impl ResidentExplicit {
         self.read_f32(Buffer::Partials, n)
     }
 
-    /// The last history row.
+    /// The first history row of the rows buffer (the row [`Stage::Reduce`] writes).
     pub fn read_row(&mut self) -> Result<Vec<f64>> {
         self.read_f32(Buffer::Row, self.row_len)
     }
 
-    /// Records one whole step.
-    fn record_step(&self, enc: &mut wgpu::CommandEncoder) {
+    /// Dispatches the step's stages before the contact iteration (the predictor, and the
+    /// rigid planes' impulses when they are the only contacts).
+    fn dispatch_front(&self, pass: &mut wgpu::ComputePass) {
         let l = &self.launches;
-        self.predict.0.record_launch(enc, &l.predict);
+        self.predict.0.dispatch(pass, &l.predict);
         if let Some(p) = &l.plane {
-            self.plane.0.record_launch(enc, p);
+            self.plane.0.dispatch(pass, p);
         }
-        if let Some(c) = &self.contact {
-            c.record_setup(enc);
-            c.record_sweeps(enc, self.sweeps);
-            c.record_report(enc);
-        }
-        self.drift.0.record_launch(enc, &l.drift);
-        self.k.record_internal_forces(enc);
+    }
+
+    /// Dispatches the step's stages after the contact iteration: drift, internal forces,
+    /// correctors and the history row of the submission's step `j`.
+    fn dispatch_back(&self, pass: &mut wgpu::ComputePass, j: usize) {
+        let l = &self.launches;
+        self.drift.0.dispatch(pass, &l.drift);
+        self.k.dispatch_internal_forces(pass);
         for c in &l.correct {
-            self.correct.0.record_launch(enc, c);
+            self.correct.0.dispatch(pass, c);
         }
-        self.reduce.0.record_launch(enc, &l.reduce);
+        self.reduce.0.dispatch(pass, &l.reduce[j]);
+    }
+
+    /// Records `steps` whole steps, writing their history rows into the rows buffer. Without
+    /// a contact iteration the steps are one compute pass (wgpu orders each dispatch after
+    /// the writes of the ones before); the contact iteration clears buffers between its
+    /// stages, so a step with one is three passes and its iteration's commands.
+    fn record_steps(&self, enc: &mut wgpu::CommandEncoder, steps: usize) {
+        fn pass(enc: &mut wgpu::CommandEncoder) -> wgpu::ComputePass<'_> {
+            enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("explicit_step"),
+                timestamp_writes: None,
+            })
+        }
+        match &self.contact {
+            None => {
+                let mut p = pass(enc);
+                for j in 0..steps {
+                    self.dispatch_front(&mut p);
+                    self.dispatch_back(&mut p, j);
+                }
+            }
+            Some(c) => {
+                for j in 0..steps {
+                    self.dispatch_front(&mut pass(enc));
+                    c.record_setup(enc);
+                    c.record_sweeps(enc, self.sweeps);
+                    c.record_report(enc);
+                    self.dispatch_back(&mut pass(enc), j);
+                }
+            }
+        }
     }
 
     /// Records and submits `steps` steps whose history rows go to read-back buffer `slot`,
@@ -575,7 +615,7 @@ impl ResidentExplicit {
             )));
         }
         let steps = steps.min(self.chunk_capacity);
-        let row_bytes = (self.row_len * 4) as u64;
+        let bytes = (steps * self.row_len * 4) as u64;
         let ctx = &self.k.ctx;
         let mut enc = ctx
             .device
@@ -583,21 +623,13 @@ impl ResidentExplicit {
                 label: Some("explicit_steps"),
             });
         self.record_snapshot(&mut enc, slot, true);
-        for j in 0..steps {
-            self.record_step(&mut enc);
-            enc.copy_buffer_to_buffer(
-                &self.row.buffer,
-                0,
-                &self.readback[slot].buffer,
-                j as u64 * row_bytes,
-                row_bytes,
-            );
-        }
+        self.record_steps(&mut enc, steps);
+        enc.copy_buffer_to_buffer(&self.rows.buffer, 0, &self.readback[slot].buffer, 0, bytes);
         let index = ctx.queue.submit([enc.finish()]);
         let (tx, rx) = mpsc::channel();
         self.readback[slot]
             .buffer
-            .slice(..steps as u64 * row_bytes)
+            .slice(..bytes)
             .map_async(wgpu::MapMode::Read, move |r| {
                 let _ = tx.send(r);
             });

@@ -1,4 +1,5 @@
-//! Host side of `shaders/hex8_forces.wgsl` (CPU twin: [`crate::kernels::hex8_forces`]).
+//! Host side of `shaders/hex8_forces.wgsl` (CPU twin: [`crate::kernels::hex8_forces`]); its launch and
+//! buffer layouts are built by [`super::GpuKernels`] (see [`super::engine::ElementColumns`]).
 
 use super::context::GpuContext;
 use super::kernel::Kernel;
@@ -10,22 +11,5 @@ pub struct Hex8Forces(pub Kernel);
 impl Hex8Forces {
     pub fn new(ctx: &GpuContext) -> Self {
         Hex8Forces(Kernel::new(ctx, "hex8_forces", shaders::HEX8_FORCES))
-    }
-
-    /// Bind group in the shader's binding order (binding 0 is the params uniform).
-    #[allow(clippy::too_many_arguments)]
-    pub fn bind(
-        &self,
-        ctx: &GpuContext,
-        reference: &wgpu::Buffer,
-        displacement: &wgpu::Buffer,
-        hexes: &wgpu::Buffer,
-        materials: &wgpu::Buffer,
-        corner_forces: &wgpu::Buffer,
-    ) -> wgpu::BindGroup {
-        self.0.bind(
-            ctx,
-            &[reference, displacement, hexes, materials, corner_forces],
-        )
     }
 }

@@ -13,7 +13,8 @@ pub struct HistoryReduceBuffers<'a> {
     pub results: &'a wgpu::Buffer,
     pub displacement: &'a wgpu::Buffer,
     pub velocity: &'a wgpu::Buffer,
-    pub row: &'a wgpu::Buffer,
+    /// The rows of a submission; this launch writes the row at float `first`.
+    pub rows: &'a wgpu::Buffer,
 }
 
 impl HistoryReduce {
@@ -21,13 +22,19 @@ impl HistoryReduce {
         HistoryReduce(Kernel::new(ctx, "history_reduce", shaders::HISTORY_REDUCE))
     }
 
-    /// A launch of one workgroup per column.
-    pub fn launch(&self, ctx: &GpuContext, columns: u32, b: &HistoryReduceBuffers) -> Launch {
+    /// A launch of one workgroup per column that writes its row at `rows[first..]`.
+    pub fn launch(
+        &self,
+        ctx: &GpuContext,
+        columns: u32,
+        first: u32,
+        b: &HistoryReduceBuffers,
+    ) -> Launch {
         // Params.count is the column count; the grid has one workgroup per column
         let mut l = self.0.launch(
             ctx,
             columns * WORKGROUP,
-            0,
+            first,
             0,
             &[
                 b.columns,
@@ -35,10 +42,10 @@ impl HistoryReduce {
                 b.results,
                 b.displacement,
                 b.velocity,
-                b.row,
+                b.rows,
             ],
         );
-        l.set_count(ctx, columns);
+        l.set_count(ctx, columns, first);
         l
     }
 }

@@ -23,10 +23,11 @@ pub struct Launch {
 }
 
 impl Launch {
-    /// Changes `Params.count` alone (the grid stays): for kernels whose items are not
-    /// invocations (one workgroup per item).
-    pub fn set_count(&mut self, ctx: &GpuContext, count: u32) {
+    /// Changes `Params.count` and `Params.aux` (the grid stays): for kernels whose items are
+    /// not invocations (one workgroup per item).
+    pub fn set_count(&mut self, ctx: &GpuContext, count: u32, aux: u32) {
         self.params.count = count;
+        self.params.aux = aux;
         ctx.queue
             .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&self.params));
     }
@@ -193,6 +194,18 @@ impl Kernel {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &launch.bind, &[]);
         pass.dispatch_workgroups(launch.grid[0], launch.grid[1], 1);
+    }
+
+    /// Dispatches `grid` with bind group `bind` inside an open compute pass.
+    pub fn dispatch_with(
+        &self,
+        pass: &mut wgpu::ComputePass,
+        bind: &wgpu::BindGroup,
+        grid: [u32; 2],
+    ) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind, &[]);
+        pass.dispatch_workgroups(grid[0], grid[1], 1);
     }
 
     /// [`Self::record_indirect`] inside an open compute pass.

@@ -1,4 +1,5 @@
-//! Host side of `shaders/node_gather.wgsl` (CPU twin: [`crate::kernels::node_gather`]).
+//! Host side of `shaders/node_gather.wgsl` (CPU twin: [`crate::kernels::node_gather`]); its launch and
+//! buffer layouts are built by [`super::GpuKernels`] (see [`super::engine::ElementColumns`]).
 
 use super::context::GpuContext;
 use super::kernel::Kernel;
@@ -10,19 +11,5 @@ pub struct NodeGather(pub Kernel);
 impl NodeGather {
     pub fn new(ctx: &GpuContext) -> Self {
         NodeGather(Kernel::new(ctx, "node_gather", shaders::NODE_GATHER))
-    }
-
-    /// Bind group in the shader's binding order (binding 0 is the params uniform).
-    #[allow(clippy::too_many_arguments)]
-    pub fn bind(
-        &self,
-        ctx: &GpuContext,
-        offsets: &wgpu::Buffer,
-        incidence: &wgpu::Buffer,
-        corner_forces: &wgpu::Buffer,
-        forces: &wgpu::Buffer,
-    ) -> wgpu::BindGroup {
-        self.0
-            .bind(ctx, &[offsets, incidence, corner_forces, forces])
     }
 }

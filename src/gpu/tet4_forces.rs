@@ -1,4 +1,5 @@
-//! Host side of `shaders/tet4_forces.wgsl` (CPU twin: [`crate::kernels::tet4_forces`]).
+//! Host side of `shaders/tet4_forces.wgsl` (CPU twin: [`crate::kernels::tet4_forces`]); its launch and
+//! buffer layouts are built by [`super::GpuKernels`] (see [`super::engine::ElementColumns`]).
 
 use super::context::GpuContext;
 use super::kernel::Kernel;
@@ -10,22 +11,5 @@ pub struct Tet4Forces(pub Kernel);
 impl Tet4Forces {
     pub fn new(ctx: &GpuContext) -> Self {
         Tet4Forces(Kernel::new(ctx, "tet4_forces", shaders::TET4_FORCES))
-    }
-
-    /// Bind group in the shader's binding order (binding 0 is the params uniform).
-    #[allow(clippy::too_many_arguments)]
-    pub fn bind(
-        &self,
-        ctx: &GpuContext,
-        reference: &wgpu::Buffer,
-        displacement: &wgpu::Buffer,
-        tets: &wgpu::Buffer,
-        materials: &wgpu::Buffer,
-        corner_forces: &wgpu::Buffer,
-    ) -> wgpu::BindGroup {
-        self.0.bind(
-            ctx,
-            &[reference, displacement, tets, materials, corner_forces],
-        )
     }
 }
