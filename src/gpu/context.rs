@@ -2,7 +2,16 @@
 //!
 //! Order of preference: a hardware GPU (discrete, then integrated, then virtual), then a
 //! software adapter (lavapipe on Vulkan before llvmpipe on GL). Adapters without compute
-//! shaders are never chosen. `WGPU_BACKEND=vulkan|gl` restricts the backends searched.
+//! shaders are never chosen. `WGPU_BACKEND=vulkan|gl` restricts the backends searched (read
+//! once, when the process first looks for adapters).
+//!
+//! The process holds one wgpu instance and one device per adapter for its whole life: every
+//! run, on every thread, shares them. A Vulkan driver library is unloaded when the last
+//! instance goes away; with an instance per run, a thread that dropped its run's instance
+//! could unload the driver while another thread still ran in it (or still had to run its
+//! thread-local destructors), which crashed programs that ran scenes on several threads.
+
+use std::sync::{Mutex, OnceLock};
 
 use crate::error::{ImpactError, Result};
 
@@ -97,8 +106,19 @@ pub struct GpuContext {
     pub features: wgpu::Features,
 }
 
-fn instance() -> wgpu::Instance {
-    wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env())
+/// The process's wgpu instance, made at the first use and never dropped.
+fn instance() -> &'static wgpu::Instance {
+    static INSTANCE: OnceLock<wgpu::Instance> = OnceLock::new();
+    INSTANCE.get_or_init(|| {
+        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env())
+    })
+}
+
+/// The devices opened so far, one per adapter (by its summary's name and backend).
+fn opened() -> std::sync::MutexGuard<'static, Vec<GpuContext>> {
+    static OPENED: Mutex<Vec<GpuContext>> = Mutex::new(Vec::new());
+    // a thread that panicked while holding the lock left the list whole (pushes only)
+    OPENED.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 /// Every adapter wgpu finds, best first.
@@ -113,10 +133,12 @@ pub fn list_adapters() -> Vec<AdapterSummary> {
 pub const SOFTWARE_ADAPTER_HINT: &str = "no GPU adapter with compute shaders was found; on Debian/Ubuntu install a software adapter with `apt-get install -y mesa-vulkan-drivers libvulkan1` (lavapipe) or `libgl1-mesa-dri libegl1` (llvmpipe), or use device = \"cpu\"";
 
 impl GpuContext {
-    /// Opens the best adapter the policy accepts, or `Ok(None)` if there is none.
+    /// The device of the best adapter the policy accepts, or `Ok(None)` if there is none.
+    /// The first call for an adapter opens its device; later calls, from any thread, share
+    /// it (a clone).
     pub fn open(policy: AdapterPolicy) -> Result<Option<Self>> {
-        let instance = instance();
-        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        let mut opened = opened();
+        let adapters = pollster::block_on(instance().enumerate_adapters(wgpu::Backends::all()));
         let mut ranked: Vec<(AdapterSummary, wgpu::Adapter)> = adapters
             .into_iter()
             .map(|a| (AdapterSummary::of(&a), a))
@@ -126,6 +148,12 @@ impl GpuContext {
         let Some((summary, adapter)) = ranked.into_iter().next() else {
             return Ok(None);
         };
+        let same = |c: &&GpuContext| {
+            c.adapter.name == summary.name && c.adapter.backend == summary.backend
+        };
+        if let Some(ctx) = opened.iter().find(same) {
+            return Ok(Some(ctx.clone()));
+        }
         let limits = adapter.limits();
         let features = adapter.features();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
@@ -135,13 +163,15 @@ impl GpuContext {
             ..Default::default()
         }))
         .map_err(|e| ImpactError::Gpu(format!("{}: cannot open the device: {e}", summary.name)))?;
-        Ok(Some(GpuContext {
+        let ctx = GpuContext {
             device,
             queue,
             adapter: summary,
             limits,
             features,
-        }))
+        };
+        opened.push(ctx.clone());
+        Ok(Some(ctx))
     }
 
     /// Opens the best adapter, hardware or software; a clear error naming the packages to
