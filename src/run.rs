@@ -12,7 +12,7 @@ use crate::integrate::{
 use crate::kernels::{CpuKernels, Kernels};
 use crate::model::Model;
 use crate::output::progress::Progress;
-use crate::output::summary::InterfaceSummary;
+use crate::output::summary::{InterfaceSummary, SetupClock};
 use crate::output::vtu::{NodeContact, VtuWriter};
 use crate::output::{History, Summary};
 use crate::scene::{Constraint, DeviceChoice, MassKind, Method, PenaltyLaw, Scene};
@@ -356,8 +356,10 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         path: dir.clone(),
         source,
     })?;
+    let mut clock = SetupClock::start();
     let device = opts.device.unwrap_or(scene.run.device);
     let model = Model::from_scene(scene);
+    clock.lap("model");
     let quiet = opts.quiet;
     let mut notice = |line: &str| {
         if !quiet {
@@ -365,6 +367,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         }
     };
     let ctx = gpu_context(scene, model.mesh.element_count(), device, &mut notice)?;
+    clock.lap("device");
     // the stable explicit step, once, where the explicit path may run (on the GPU for a mesh
     // of many element shapes)
     let bound = match scene.run.method {
@@ -373,6 +376,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         }
         Method::Implicit => None,
     };
+    clock.lap("stable step");
     let (method, method_choice) = match (scene.run.method, bound) {
         (Method::Auto, Some((stable, _))) => {
             let (m, why) = choose_method(scene, &model, stable);
@@ -446,6 +450,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
             }
         }
     };
+    clock.lap("solver");
     let explicit = !matches!(solver, Solver::Implicit(_));
     let columns = crate::output::history::column_names(&model);
     for (i, e) in scene.exact.iter().enumerate() {
@@ -553,6 +558,9 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         Ok(())
     };
     write_frame(&solver, &mut frames)?;
+    clock.lap("first row");
+    summary.setup_seconds = clock.total();
+    summary.setup_stages = clock.stages();
     let mut peak = vec![0.0f64; model.interfaces.len()];
     let mut progress = Progress::new(steps, opts.quiet);
     for n in 0..steps {

@@ -20,6 +20,51 @@ pub struct InterfaceSummary {
     pub peak_normal_force: f64,
 }
 
+/// One stage of a run's setup and its wall time.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct SetupStage {
+    pub stage: String,
+    pub seconds: f64,
+}
+
+/// Wall time of the setup stages, in order.
+#[derive(Debug, Clone)]
+pub struct SetupClock {
+    start: std::time::Instant,
+    last: std::time::Instant,
+    stages: Vec<SetupStage>,
+}
+
+impl SetupClock {
+    pub fn start() -> Self {
+        let now = std::time::Instant::now();
+        SetupClock {
+            start: now,
+            last: now,
+            stages: Vec::new(),
+        }
+    }
+
+    /// Ends the stage `name` (begun at the end of the one before).
+    pub fn lap(&mut self, name: &str) {
+        let now = std::time::Instant::now();
+        self.stages.push(SetupStage {
+            stage: name.into(),
+            seconds: (now - self.last).as_secs_f64(),
+        });
+        self.last = now;
+    }
+
+    /// Seconds since the start.
+    pub fn total(&self) -> f64 {
+        self.start.elapsed().as_secs_f64()
+    }
+
+    pub fn stages(&self) -> Vec<SetupStage> {
+        self.stages.clone()
+    }
+}
+
 #[derive(Debug, Clone, Serialize, Default)]
 pub struct Summary {
     /// "completed" or "diverged".
@@ -28,6 +73,10 @@ pub struct Summary {
     pub title: String,
     pub steps: usize,
     pub wall_seconds: f64,
+    /// Of `wall_seconds`, the setup before the first step (model, device, stable step,
+    /// solver and uploads), with its stages in order.
+    pub setup_seconds: f64,
+    pub setup_stages: Vec<SetupStage>,
     pub method: String,
     /// Under `method = "auto"`: which path the rule chose and why.
     pub method_choice: Option<String>,
