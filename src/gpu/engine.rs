@@ -9,7 +9,7 @@ use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
 use super::kernel::Launch;
 use super::search::GpuSearch;
-use super::types::{self, ContactQuery, Hex8, Material, Quad, Split3, Tet4};
+use super::types::{self, ContactQuery, Material, Quad, Split3};
 use super::{ContactGap, Hex8Forces, NodeGather, SlipRate, Tet4Forces};
 use crate::contact::search;
 use crate::error::{ImpactError, Result};
@@ -79,34 +79,25 @@ pub struct GpuKernels {
     pub fill_nan: bool,
 }
 
-/// The element data as the kernels' buffer types: split reference coordinates, hexes, tets
-/// and materials.
-pub(super) fn device_elements(
-    data: &ElementData,
-) -> (Vec<Split3>, Vec<Hex8>, Vec<Tet4>, Vec<Material>) {
-    let reference = data.reference.iter().map(|&x| Split3::split(x)).collect();
-    let hexes = data
-        .hexes
-        .iter()
-        .zip(&data.hex_material)
-        .map(|(&nodes, &material)| Hex8 { nodes, material })
-        .collect();
-    let tets = data
-        .tets
-        .iter()
-        .zip(&data.tet_material)
-        .map(|(&nodes, &material)| Tet4 { nodes, material })
-        .collect();
-    let materials = data
-        .materials
+/// The reference coordinates as split pairs (on all threads).
+pub(super) fn split_reference(data: &ElementData) -> Vec<Split3> {
+    use rayon::prelude::*;
+    data.reference
+        .par_iter()
+        .map(|&x| Split3::split(x))
+        .collect()
+}
+
+/// The materials as the kernels' type.
+pub(super) fn device_materials(data: &ElementData) -> Vec<Material> {
+    data.materials
         .iter()
         .map(|m| Material {
             lambda: m.lambda as f32,
             mu: m.mu as f32,
             density: m.density as f32,
         })
-        .collect();
-    (reference, hexes, tets, materials)
+        .collect()
 }
 
 pub(super) fn at_least_one<T: Default>(mut v: Vec<T>) -> Vec<T> {
@@ -136,17 +127,21 @@ pub struct ElementColumns {
 
 impl ElementColumns {
     pub fn new(data: &ElementData) -> Self {
+        use rayon::prelude::*;
         let (e, t) = (data.hexes.len(), data.tets.len());
-        let hex_nodes = (0..8)
-            .flat_map(|k| data.hexes.iter().map(move |h| h[k]))
+        let hex_nodes = (0..8 * e)
+            .into_par_iter()
+            .map(|i| data.hexes[i % e][i / e])
             .collect();
-        let tet_nodes = (0..4)
-            .flat_map(|k| data.tets.iter().map(move |h| h[k]))
+        let tet_nodes = (0..4 * t)
+            .into_par_iter()
+            .map(|i| data.tets[i % t][i / t])
             .collect();
         let mut incidence = Incidence::new(&data.hexes, &data.tets, data.reference.len());
-        for c in incidence.corners.iter_mut() {
-            *c = corner_slot(*c as usize, e, t) as u32;
-        }
+        incidence
+            .corners
+            .par_iter_mut()
+            .for_each(|c| *c = corner_slot(*c as usize, e, t) as u32);
         ElementColumns {
             hex_nodes,
             hex_material: data.hex_material.clone(),
@@ -184,7 +179,7 @@ impl GpuKernels {
                 elements + tets_count
             )));
         }
-        let (reference, _, _, materials) = device_elements(data);
+        let (reference, materials) = (split_reference(data), device_materials(data));
         let columns = ElementColumns::new(data);
         let reference = Storage::with_data(&ctx, "reference", &reference)?;
         // a binding holds at least one word: a mesh without hexes (or tets) binds one
@@ -340,15 +335,19 @@ impl GpuKernels {
                 self.nodes
             )));
         }
+        use rayon::prelude::*;
         if velocity {
             self.scratch.clear();
-            self.scratch.extend(x.iter().map(|&a| a as f32));
+            x.par_iter()
+                .map(|&a| a as f32)
+                .collect_into_vec(&mut self.scratch);
             self.v.upload(&self.ctx, &self.scratch)?;
         } else {
             // displacements as split pairs (see `Split3`)
             self.scratch_split.clear();
-            self.scratch_split
-                .extend(x.chunks_exact(3).map(|c| Split3::split([c[0], c[1], c[2]])));
+            x.par_chunks_exact(3)
+                .map(|c| Split3::split([c[0], c[1], c[2]]))
+                .collect_into_vec(&mut self.scratch_split);
             self.u.upload(&self.ctx, &self.scratch_split)?;
         }
         Ok(())
@@ -395,6 +394,11 @@ impl GpuKernels {
             timestamp_writes: None,
         });
         self.dispatch_internal_forces(&mut pass);
+    }
+
+    /// Uploads the velocities alone.
+    pub(super) fn upload_velocity(&mut self, v: &[f64]) -> Result<()> {
+        self.upload_nodal(true, v)
     }
 
     /// Uploads displacements (split pairs) and velocities.

@@ -17,6 +17,8 @@
 use std::ops::Range;
 use std::sync::mpsc;
 
+use rayon::prelude::*;
+
 use super::buffer::{submit_and_read, Storage};
 use super::contact_iteration::{ContactIteration, ContactSetup, StepBuffers};
 use super::context::GpuContext;
@@ -201,12 +203,13 @@ impl ResidentExplicit {
         }
         let mut k = GpuKernels::new(ctx, data)?;
         let nodes = k.nodes;
-        k.upload_state(&vec![0.0; 3 * nodes], &setup.velocity)?;
+        // the displacement starts at zero, as a new buffer is
+        k.upload_velocity(&setup.velocity)?;
         let ctx = &k.ctx;
         let a = Storage::with_data(ctx, "acceleration", &to_f32(&setup.acceleration))?;
         let lumped: Vec<types::Lumped> = setup
             .lumped
-            .iter()
+            .par_iter()
             .map(|l| types::Lumped {
                 mass: l.mass as f32,
                 inv_mass: l.inv_mass.map(|x| x as f32),
@@ -791,5 +794,5 @@ enum Buffer {
 
 /// f64 values as the device's f32.
 fn to_f32(x: &[f64]) -> Vec<f32> {
-    x.iter().map(|&a| a as f32).collect()
+    x.par_iter().map(|&a| a as f32).collect()
 }

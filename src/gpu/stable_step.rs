@@ -2,9 +2,10 @@
 
 use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
-use super::engine::{at_least_one, device_elements};
+use super::engine::{at_least_one, device_materials, split_reference};
 use super::kernel::Kernel;
 use super::shaders;
+use super::types::{Hex8, Tet4};
 use crate::error::Result;
 use crate::kernels::ElementData;
 
@@ -18,7 +19,13 @@ impl StableStep {
 
 /// Every element's Gershgorin step on the device (hexes, then tets), in f64.
 pub fn element_steps(ctx: &GpuContext, data: &ElementData) -> Result<Vec<f64>> {
-    let (reference, hexes, tets, materials) = device_elements(data);
+    let (reference, materials) = (split_reference(data), device_materials(data));
+    let hexes: Vec<Hex8> = (data.hexes.iter().zip(&data.hex_material))
+        .map(|(&nodes, &material)| Hex8 { nodes, material })
+        .collect();
+    let tets: Vec<Tet4> = (data.tets.iter().zip(&data.tet_material))
+        .map(|(&nodes, &material)| Tet4 { nodes, material })
+        .collect();
     let count = hexes.len() + tets.len();
     let nhex = hexes.len() as u32;
     let reference = Storage::with_data(ctx, "reference", &reference)?;

@@ -486,17 +486,40 @@ impl<'m> ExplicitSolver<'m> {
     }
 }
 
-/// The lumped mass of every node.
+/// The lumped mass of every node: each element's corner masses on all threads, a block of
+/// elements at a time, then summed to the nodes in element order (the same sums, bit for
+/// bit, on any number of threads).
 pub fn lumped_mass(model: &Model) -> Vec<f64> {
-    let mut mass = vec![0.0; model.mesh.node_count()];
-    for (el, material) in model.mesh.elements() {
-        let x = model.mesh.corners(el);
-        let rho = model.materials[material as usize].density;
-        for (k, m) in element::lumped_mass(&x, rho).into_iter().enumerate() {
-            mass[el[k] as usize] += m;
+    let mesh = &model.mesh;
+    let rho = |m: u32| model.materials[m as usize].density;
+    let mut mass = vec![0.0; mesh.node_count()];
+    scatter_blocks(&mesh.hexes, &mesh.hex_material, &mut mass, |h, m| {
+        element::hex8::lumped_mass(&h.map(|n| mesh.nodes[n as usize]), rho(m))
+    });
+    scatter_blocks(&mesh.tets, &mesh.tet_material, &mut mass, |t, m| {
+        element::tet4::lumped_mass(&t.map(|n| mesh.nodes[n as usize]), rho(m))
+    });
+    mass
+}
+
+/// Adds each element's corner values `f(element, material)` to its nodes in `out`: the values
+/// of a block of elements on all threads, then the sums in element order.
+fn scatter_blocks<const N: usize>(
+    elements: &[[u32; N]],
+    material: &[u32],
+    out: &mut [f64],
+    f: impl Fn(&[u32; N], u32) -> [f64; N] + Sync,
+) {
+    use rayon::prelude::*;
+    const BLOCK: usize = 1 << 16;
+    for (els, mats) in elements.chunks(BLOCK).zip(material.chunks(BLOCK)) {
+        let values: Vec<[f64; N]> = (els.par_iter().zip(mats)).map(|(e, &m)| f(e, m)).collect();
+        for (e, v) in els.iter().zip(&values) {
+            for k in 0..N {
+                out[e[k] as usize] += v[k];
+            }
         }
     }
-    mass
 }
 
 /// Relative velocity of a constraint's secondary node against its primary point in the

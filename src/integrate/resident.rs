@@ -10,6 +10,8 @@
 use std::collections::{BTreeMap, VecDeque};
 use std::ops::Range;
 
+use rayon::prelude::*;
+
 use super::explicit::lumped_mass;
 use super::implicit::StepReport;
 use super::state::{ContactReport, Energies};
@@ -116,6 +118,7 @@ pub fn setup(
     let mass = lumped_mass(model);
     let nodes = model.mesh.node_count();
     let lumped: Vec<LumpedNode> = (0..nodes)
+        .into_par_iter()
         .map(|n| {
             let free = |a: usize| !model.fixed[3 * n + a];
             LumpedNode {
@@ -160,6 +163,7 @@ pub fn setup(
         }
     }
     let acceleration = (0..3 * nodes)
+        .into_par_iter()
         .map(|d| lumped[d / 3].ext_acc[d % 3])
         .collect();
     let setup = ResidentSetup {

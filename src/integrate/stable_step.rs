@@ -19,6 +19,8 @@
 
 use std::collections::HashMap;
 
+use rayon::prelude::*;
+
 use crate::element;
 use crate::error::Result;
 use crate::gpu::GpuContext;
@@ -64,28 +66,8 @@ pub fn stable_step(model: &Model) -> (f64, usize) {
 /// `stable_step` kernel on `gpu` (the same bound as the CPU, in f32; the smallest element's
 /// step is then recomputed in f64, so the result does not depend on the device).
 pub fn stable_step_on(model: &Model, gpu: Option<&GpuContext>) -> Result<(f64, usize)> {
-    // element shapes up to a translation, to 1e-9 of the element's size
-    let mut shapes: HashMap<(u32, Vec<i64>), usize> = HashMap::new();
-    let mut shape_of = Vec::with_capacity(model.mesh.element_count());
-    let mut first = Vec::new();
-    let mut cost = 0usize;
-    for (corners, material) in model.mesh.elements() {
-        let x = model.mesh.corners(corners);
-        let size = element::extent(&x).max(f64::MIN_POSITIVE);
-        let origin = x[0];
-        let key: Vec<i64> = x
-            .iter()
-            .flat_map(|p| (0..3).map(move |a| ((p[a] - origin[a]) / size * 1e9).round() as i64))
-            .collect();
-        let next = shapes.len();
-        let id = *shapes.entry((material, key)).or_insert(next);
-        if id == next {
-            first.push((x, material));
-            cost += if corners.len() == 8 { 5 } else { 1 };
-        }
-        shape_of.push(id);
-    }
-    let exact = cost <= 5 * EXACT_SHAPES;
+    let shapes = Shapes::of(model);
+    let exact = shapes.cost <= 5 * EXACT_SHAPES;
     if let (false, Some(ctx)) = (exact, gpu) {
         let steps = crate::gpu::element_steps(ctx, &model.element_data())?;
         let (e, _) =
@@ -95,29 +77,132 @@ pub fn stable_step_on(model: &Model, gpu: Option<&GpuContext>) -> Result<(f64, u
             );
         // f32 picks the element; f64 gives its step (an element within f32's rounding of the
         // smallest may have been passed over: a relative 1e-6 of the step)
-        let (corners, material) = model.mesh.elements().nth(e).expect("element index");
+        let (corners, material) = model.mesh.element(e);
         let x = model.mesh.corners(corners);
         let step = element_stable_step(&x, &model.materials[material as usize]);
         return Ok((step, e));
     }
-    let limit: Vec<f64> = first
-        .iter()
-        .map(|(x, material)| {
-            let m = &model.materials[*material as usize];
+    let limit: Vec<f64> = shapes
+        .first
+        .par_iter()
+        .map(|&e| {
+            let (corners, material) = model.mesh.element(e);
+            let x = model.mesh.corners(corners);
+            let m = &model.materials[material as usize];
             if exact {
-                element_critical_step(x, m)
+                element_critical_step(&x, m)
             } else {
-                element_stable_step(x, m)
+                element_stable_step(&x, m)
             }
         })
         .collect();
-    let mut best = (f64::INFINITY, 0);
-    for (e, &id) in shape_of.iter().enumerate() {
-        if limit[id] < best.0 {
-            best = (limit[id], e);
+    Ok(shapes.smallest(&limit))
+}
+
+/// A shape key: the material, the corner count and the corners relative to corner 0 in
+/// units of 1e-9 of the element's extent (tets leave the last four corners zero).
+type ShapeKey = (u32, usize, [i64; 24]);
+
+fn shape_key(model: &Model, corners: &[u32], material: u32) -> ShapeKey {
+    let x = model.mesh.corners(corners);
+    let size = element::extent(&x).max(f64::MIN_POSITIVE);
+    let origin = x[0];
+    let mut key = [0i64; 24];
+    for (k, p) in x.iter().enumerate() {
+        for a in 0..3 {
+            key[3 * k + a] = ((p[a] - origin[a]) / size * 1e9).round() as i64;
         }
     }
-    Ok(best)
+    (material, corners.len(), key)
+}
+
+/// The distinct element shapes of a mesh (up to a translation, to 1e-9 of the element's
+/// size), numbered in the order of their first element.
+struct Shapes {
+    /// The first element of each shape.
+    first: Vec<usize>,
+    /// Each block's shapes' numbers, by the block's own numbering.
+    global: Vec<Vec<usize>>,
+    /// Each element's shape in its block's numbering.
+    local: Vec<u32>,
+    /// 5 per hex8 shape, 1 per tet4 shape (their eigenproblems' relative cost).
+    cost: usize,
+}
+
+const SHAPE_BLOCK: usize = 1 << 15;
+
+/// A block's shapes (key, first element) in the order they appear, and each of its elements'
+/// shape in that order.
+type BlockShapes = (Vec<(ShapeKey, usize)>, Vec<u32>);
+
+impl Shapes {
+    /// Blocks of elements find their shapes on all threads; the blocks' lists are then
+    /// merged in order, so the numbering is the one a single pass gives.
+    fn of(model: &Model) -> Self {
+        let n = model.mesh.element_count();
+        let blocks: Vec<BlockShapes> = (0..n.div_ceil(SHAPE_BLOCK))
+            .into_par_iter()
+            .map(|b| {
+                let mut seen: HashMap<ShapeKey, u32> = HashMap::new();
+                let mut order = Vec::new();
+                let local = (b * SHAPE_BLOCK..n.min((b + 1) * SHAPE_BLOCK))
+                    .map(|e| {
+                        let (corners, material) = model.mesh.element(e);
+                        let key = shape_key(model, corners, material);
+                        let next = seen.len() as u32;
+                        *seen.entry(key).or_insert_with(|| {
+                            order.push((key, e));
+                            next
+                        })
+                    })
+                    .collect();
+                (order, local)
+            })
+            .collect();
+        let mut ids: HashMap<ShapeKey, usize> = HashMap::new();
+        let mut first = Vec::new();
+        let mut cost = 0;
+        let mut global = Vec::with_capacity(blocks.len());
+        let mut local = Vec::with_capacity(n);
+        for (order, block_local) in blocks {
+            let map = order
+                .into_iter()
+                .map(|(key, e)| {
+                    *ids.entry(key).or_insert_with(|| {
+                        first.push(e);
+                        cost += if key.1 == 8 { 5 } else { 1 };
+                        first.len() - 1
+                    })
+                })
+                .collect();
+            global.push(map);
+            local.extend(block_local);
+        }
+        Shapes {
+            first,
+            global,
+            local,
+            cost,
+        }
+    }
+
+    /// The smallest limit over the elements, and the first element that has it.
+    fn smallest(&self, limit: &[f64]) -> (f64, usize) {
+        self.local
+            .par_iter()
+            .enumerate()
+            .map(|(e, &l)| (limit[self.global[e / SHAPE_BLOCK][l as usize]], e))
+            .reduce(
+                || (f64::INFINITY, 0),
+                |a, b| {
+                    if b.0 < a.0 || (b.0 == a.0 && b.1 < a.1) {
+                        b
+                    } else {
+                        a
+                    }
+                },
+            )
+    }
 }
 
 #[cfg(test)]

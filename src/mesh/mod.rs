@@ -129,6 +129,14 @@ impl Mesh {
             )
     }
 
+    /// Element `e` of [`Self::elements`]: its corner nodes and material.
+    pub fn element(&self, e: usize) -> (&[u32], u32) {
+        match e.checked_sub(self.hexes.len()) {
+            None => (&self.hexes[e], self.hex_material[e]),
+            Some(t) => (&self.tets[t], self.tet_material[t]),
+        }
+    }
+
     /// Corner coordinates of an element given by its nodes.
     pub fn corners(&self, element: &[u32]) -> Vec<[f64; 3]> {
         element.iter().map(|&n| self.nodes[n as usize]).collect()
