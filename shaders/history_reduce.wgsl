@@ -16,7 +16,13 @@
 // the submission's rows; this launch writes its row at rows[params.aux..]
 @group(0) @binding(6) var<storage, read_write> rows: array<f32>;
 
-var<workgroup> scratch: array<f32, 64>;
+// invocations per column; each keeps four running values (independent loads in flight)
+const LANES: u32 = 256u;
+var<workgroup> scratch: array<f32, 256>;
+
+fn combine(a: f32, b: f32, is_max: bool) -> f32 {
+    return select(a + b, max(a, b), is_max);
+}
 
 fn entry(col: ReduceColumn, at: u32) -> f32 {
     switch col.op {
@@ -35,7 +41,7 @@ fn entry(col: ReduceColumn, at: u32) -> f32 {
     }
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(256)
 fn history_reduce(
     @builtin(local_invocation_index) local: u32,
     @builtin(workgroup_id) wid: vec3<u32>,
@@ -45,20 +51,30 @@ fn history_reduce(
     let valid = c < params.count;
     let col = columns[min(c, params.count - 1u)];
     let is_max = col.op == 2u;
-    var acc = 0.0;
+    var acc = vec4<f32>(0.0);
     if (valid) {
-        for (var k = local; k < col.count; k += 64u) {
-            let x = entry(col, col.first + k * col.stride);
+        // entries local, local + LANES, ...: four at a time, then the rest
+        var k = local;
+        for (; k + 3u * LANES < col.count; k += 4u * LANES) {
+            let at = col.first + k * col.stride;
+            let step = LANES * col.stride;
+            let x = vec4<f32>(
+                entry(col, at),
+                entry(col, at + step),
+                entry(col, at + 2u * step),
+                entry(col, at + 3u * step),
+            );
             acc = select(acc + x, max(acc, x), is_max);
         }
+        for (; k < col.count; k += LANES) {
+            acc.x = combine(acc.x, entry(col, col.first + k * col.stride), is_max);
+        }
     }
-    scratch[local] = acc;
+    scratch[local] = combine(combine(acc.x, acc.y, is_max), combine(acc.z, acc.w, is_max), is_max);
     workgroupBarrier();
-    for (var s = 32u; s > 0u; s >>= 1u) {
+    for (var s = LANES / 2u; s > 0u; s >>= 1u) {
         if (local < s) {
-            let a = scratch[local];
-            let b = scratch[local + s];
-            scratch[local] = select(a + b, max(a, b), is_max);
+            scratch[local] = combine(scratch[local], scratch[local + s], is_max);
         }
         workgroupBarrier();
     }
