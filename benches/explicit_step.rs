@@ -10,14 +10,20 @@
 //! stage on the device, many steps per submission, the history rows read back
 //! asynchronously; what `device = "gpu"` runs).
 //!
-//! `cargo bench --bench explicit_step` (10^4, 10^5 and 10^6 elements; `-- --quick` for 10^4
-//! and 10^5 only).
+//! Each table row also gives the resident engine's setup time (model, stable step, solver and
+//! uploads) and its achieved bandwidth: the bytes a step must move at least (each node's and
+//! element's data once per kernel, see [`step_bytes`]) over its time, against the adapter's
+//! measured buffer copy. A second table splits the resident step into its stages.
+//!
+//! `cargo bench --bench explicit_step` (10^4 to 10^6 elements on the three engines, and a
+//! 10^7-element row on the resident engine alone where the adapter is a hardware GPU;
+//! `-- --quick` for 10^4 and 10^5 only; `-- --large` adds the 10^7 row on any adapter).
 
 use std::path::Path;
 use std::time::Instant;
 
-use impact::gpu::{GpuContext, GpuKernels};
-use impact::integrate::stable_step::stable_step;
+use impact::gpu::{GpuContext, GpuKernels, Stage};
+use impact::integrate::stable_step::{stable_step, stable_step_on};
 use impact::integrate::{resident, ExplicitSolver, ResidentSolver};
 use impact::kernels::{CpuKernels, Kernels};
 use impact::model::Model;
@@ -77,13 +83,45 @@ fn time_steps(
     (per_step * 1e9 / elements, sweeps as f64 / steps as f64)
 }
 
-/// ns per element-step of the device-resident step, after one submission of warm-up.
-fn time_resident(model: &Model, sc: &Scene, dt: f64, ctx: GpuContext, max_steps: usize) -> f64 {
+/// What the resident engine measured at one size.
+struct Resident {
+    ns: f64,
+    /// Model, stable step and solver (uploads included), seconds.
+    setup: f64,
+    /// Stage name and microseconds per step.
+    stages: Vec<(&'static str, f64)>,
+    copy: f64,
+}
+
+/// The bytes one explicit step moves at least: per node the predictor (a, v), drift (v, u),
+/// gather (offsets, forces), corrector (lumped data, u, f, v, a) and each node's reference
+/// and displacement read once by the element kernel; per element its connectivity, corner
+/// forces written and read, and the incidence entries; per contact node a plane or pair's
+/// state. (f32 values, split pairs of two.)
+fn step_bytes(nodes: usize, elements: usize, contact_nodes: usize) -> f64 {
+    let node = 36.0 + 60.0 + 16.0 + 100.0 + 48.0;
+    let element = 36.0 + 96.0 + 96.0 + 32.0;
+    node * nodes as f64 + element * elements as f64 + 200.0 * contact_nodes as f64
+}
+
+/// ns per element-step of the device-resident step, after one submission of warm-up; the
+/// setup time, each stage's time alone, and the device copy bandwidth.
+fn time_resident(
+    model_time: f64,
+    model: &Model,
+    sc: &Scene,
+    ctx: GpuContext,
+    max_steps: usize,
+) -> Resident {
+    let start = Instant::now();
+    let (stable, _) = stable_step_on(model, Some(&ctx)).expect("stable step");
+    let dt = explicit_time_step(sc, (stable, 0)).expect("time step");
     let elements = model.mesh.hexes.len() as f64;
     let chunk = resident::chunk_steps(model.mesh.hexes.len());
     let steps = ((3e7 / elements) as usize).clamp(2 * chunk.min(16), max_steps);
     let mut s = ResidentSolver::new(ctx, model, &sc.explicit, dt, 1.0, chunk + steps, None)
         .expect("resident solver");
+    let setup = model_time + start.elapsed().as_secs_f64();
     for _ in 0..chunk {
         s.step().expect("warm-up");
     }
@@ -91,7 +129,30 @@ fn time_resident(model: &Model, sc: &Scene, dt: f64, ctx: GpuContext, max_steps:
     for _ in 0..steps {
         s.step().expect("step");
     }
-    t.elapsed().as_secs_f64() / steps as f64 * 1e9 / elements
+    let ns = t.elapsed().as_secs_f64() / steps as f64 * 1e9 / elements;
+    let engine = s.engine_mut();
+    let reps = steps.clamp(4, 50);
+    let stages = [
+        ("predict", Stage::Predict),
+        ("contact", Stage::PlaneContact),
+        ("drift", Stage::Drift),
+        ("forces", Stage::InternalForces),
+        ("correct", Stage::Correct),
+        ("reduce", Stage::Reduce),
+    ]
+    .into_iter()
+    .map(|(name, stage)| {
+        let t = engine.time_stage(stage, reps).expect("stage timing");
+        (name, t.as_secs_f64() / reps as f64 * 1e6)
+    })
+    .collect();
+    let copy = engine.copy_bandwidth(256 << 20, 20).expect("copy bandwidth");
+    Resident {
+        ns,
+        setup,
+        stages,
+        copy,
+    }
 }
 
 /// A block resting on a plate supported along its four bottom edges, pressed by gravity and
@@ -146,59 +207,125 @@ components = ["x", "y", "z"]
     )
 }
 
-/// One table row per scene text: the three engines' ns per element-step.
-fn table(title: &str, scenes: &[String], adapter: Option<&str>, max_steps: usize) {
+/// Which engines a table row times.
+#[derive(Clone, Copy, PartialEq)]
+enum Engines {
+    All,
+    ResidentOnly,
+}
+
+/// One table row per scene text: the three engines' ns per element-step, then the resident
+/// step's stages.
+fn table(title: &str, scenes: &[(String, Engines)], adapter: Option<&str>, max_steps: usize) {
     println!("\n{title}\n");
     println!(
-        "| elements | contact nodes | dt | CPU twin ns/element-step | GPU kernels + host loop | GPU resident | adapter | contact sweeps/step |"
+        "| elements | contact nodes | dt | CPU twin ns/element-step | GPU kernels + host loop | GPU resident | resident setup s | resident GB/s | % of copy | adapter | contact sweeps/step |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|---|---:|");
-    for text in scenes {
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|");
+    let mut stage_rows = Vec::new();
+    for (text, engines) in scenes {
+        let t = Instant::now();
         let sc = Scene::parse(text, Path::new("bench.toml")).expect("bench scene");
         let model = Model::from_scene(&sc);
+        let model_time = t.elapsed().as_secs_f64();
         let dt = explicit_time_step(&sc, stable_step(&model)).expect("stable step");
-        let (cpu, sweeps) = time_steps(
-            &model,
-            &sc,
-            dt,
-            Box::new(CpuKernels::new(model.element_data())),
-            max_steps,
-        );
-        let gpu_ns = match GpuContext::new().ok() {
-            Some(ctx) => {
-                let k = GpuKernels::new(ctx, &model.element_data()).expect("gpu kernels");
-                format!(
-                    "{:.0}",
-                    time_steps(&model, &sc, dt, Box::new(k), max_steps).0
+        let (cpu, gpu_ns, sweeps) = if *engines == Engines::All {
+            let (cpu, sweeps) = time_steps(
+                &model,
+                &sc,
+                dt,
+                Box::new(CpuKernels::new(model.element_data())),
+                max_steps,
+            );
+            let gpu_ns = match GpuContext::new().ok() {
+                Some(ctx) => {
+                    let k = GpuKernels::new(ctx, &model.element_data()).expect("gpu kernels");
+                    format!(
+                        "{:.0}",
+                        time_steps(&model, &sc, dt, Box::new(k), max_steps).0
+                    )
+                }
+                None => "-".into(),
+            };
+            (format!("{cpu:.0}"), gpu_ns, format!("{sweeps:.2}"))
+        } else {
+            ("(not timed)".into(), "(not timed)".into(), "-".into())
+        };
+        let elements = model.mesh.hexes.len();
+        let contact_nodes = model.interfaces[0].nodes.len();
+        let resident = GpuContext::new()
+            .ok()
+            .map(|ctx| time_resident(model_time, &model, &sc, ctx, max_steps));
+        let (ns, setup, gbs, share) = match &resident {
+            Some(r) => {
+                let bytes = step_bytes(model.mesh.node_count(), elements, contact_nodes);
+                let rate = bytes / (r.ns * 1e-9 * elements as f64);
+                (
+                    format!("{:.2}", r.ns),
+                    format!("{:.2}", r.setup),
+                    format!("{:.0}", rate * 1e-9),
+                    format!("{:.0}%", 100.0 * rate / r.copy),
                 )
             }
-            None => "-".into(),
-        };
-        let resident_ns = match GpuContext::new().ok() {
-            Some(ctx) => format!("{:.1}", time_resident(&model, &sc, dt, ctx, max_steps)),
-            None => "-".into(),
+            None => ("-".into(), "-".into(), "-".into(), "-".into()),
         };
         println!(
-            "| {} | {} | {dt:.3e} | {cpu:.0} | {gpu_ns} | {resident_ns} | {} | {sweeps:.2} |",
-            model.mesh.hexes.len(),
-            model.interfaces[0].nodes.len(),
+            "| {elements} | {contact_nodes} | {dt:.3e} | {cpu} | {gpu_ns} | {ns} | {setup} | {gbs} | {share} | {} | {sweeps} |",
             adapter.unwrap_or("none"),
+        );
+        if let Some(r) = resident {
+            stage_rows.push((elements, r));
+        }
+    }
+    if stage_rows.is_empty() {
+        return;
+    }
+    println!("\nThe resident step's stages alone (microseconds per step; each stage repeated in one submission):\n");
+    let names: Vec<&str> = stage_rows[0].1.stages.iter().map(|s| s.0).collect();
+    println!("| elements | {} | sum | whole step |", names.join(" | "));
+    println!("|---:|{}---:|---:|", "---:|".repeat(names.len()));
+    for (elements, r) in &stage_rows {
+        let cells: Vec<String> = r.stages.iter().map(|s| format!("{:.1}", s.1)).collect();
+        let sum: f64 = r.stages.iter().map(|s| s.1).sum();
+        println!(
+            "| {elements} | {} | {sum:.1} | {:.1} |",
+            cells.join(" | "),
+            r.ns * *elements as f64 * 1e-3
         );
     }
 }
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
-    let sizes: &[[usize; 3]] = if quick {
-        &[[25, 20, 20], [50, 50, 40]]
-    } else {
-        &[[25, 20, 20], [50, 50, 40], [100, 100, 100]]
-    };
-    let plates: &[usize] = if quick { &[36, 76] } else { &[36, 76, 164] };
-    let adapter = GpuContext::new().ok().map(|c| c.adapter.name.clone());
+    let large = std::env::args().any(|a| a == "--large");
+    let ctx = GpuContext::new().ok();
+    let adapter = ctx.as_ref().map(|c| c.adapter.name.clone());
+    let hardware = ctx.as_ref().is_some_and(|c| !c.adapter.software);
+    let mut sizes: Vec<([usize; 3], Engines)> = vec![
+        ([25, 20, 20], Engines::All),
+        ([50, 50, 40], Engines::All),
+    ];
+    let mut plates: Vec<(usize, Engines)> = vec![(36, Engines::All), (76, Engines::All)];
+    if !quick {
+        sizes.push(([100, 100, 100], Engines::All));
+        plates.push((164, Engines::All));
+    }
+    if (!quick && hardware) || large {
+        // the CPU engines would take minutes a step: the resident engine alone
+        sizes.push(([216, 216, 216], Engines::ResidentOnly));
+        plates.push((354, Engines::ResidentOnly));
+    } else if !quick {
+        println!(
+            "(the 10^7-element rows run on a hardware GPU, or with --large: this adapter is {})",
+            adapter.as_deref().unwrap_or("none")
+        );
+    }
     table(
         "Block dropped on a rigid floor (plane contact)",
-        &sizes.iter().map(|&n| scene(n)).collect::<Vec<_>>(),
+        &sizes
+            .iter()
+            .map(|&(n, e)| (scene(n), e))
+            .collect::<Vec<_>>(),
         adapter.as_deref(),
         2000,
     );
@@ -206,7 +333,10 @@ fn main() {
     // once it has converged), which a software adapter pays for: fewer steps are timed
     table(
         "Block sliding on a supported plate (contact between meshed bodies, friction 0.2)",
-        &plates.iter().map(|&n| contact_scene(n)).collect::<Vec<_>>(),
+        &plates
+            .iter()
+            .map(|&(n, e)| (contact_scene(n), e))
+            .collect::<Vec<_>>(),
         adapter.as_deref(),
         200,
     );

@@ -3,7 +3,9 @@
 //! (contact_gap, slip_rate), with the effective bandwidth of each GPU kernel against the
 //! adapter's buffer-copy bandwidth. Prints a Markdown table.
 //!
-//! `cargo bench --bench kernels` (add `-- --quick` to stop at 10^5 elements).
+//! `cargo bench --bench kernels` (add `-- --quick` to stop at 10^5 elements). On a hardware GPU
+//! (or with `-- --large`) a 10^7-element row follows, its CPU twins not timed (seconds a
+//! call).
 
 use std::time::Instant;
 
@@ -15,7 +17,7 @@ use impact::scene::{BoxFace, BoxSpec};
 
 /// Bytes each kernel moves per item, counting every distinct value once (a node's data is
 /// shared by about 8 elements, so per element about one node's worth is read).
-const HEX8_BYTES: f64 = 36.0 + 24.0 + 24.0 + 96.0; // connectivity, reference, u, corner forces
+const HEX8_BYTES: f64 = 36.0 + 24.0 + 24.0 + 96.0; // connectivity and material, reference, u, corner forces
 const GATHER_BYTES: f64 = 4.0 + 32.0 + 96.0 + 12.0; // offsets, incidence, corners, forces (per element)
 const GAP_BYTES: f64 = 12.0 + 16.0 + 4.0 * 4.0 + 48.0 + 12.0 + 32.0; // query, candidates, faces, nodes, v, point
 const SLIP_BYTES: f64 = 12.0 + 16.0 + 32.0 + 48.0 + 12.0 + 8.0;
@@ -58,7 +60,7 @@ fn problem(div: [usize; 3]) -> (ElementData, ContactQueries) {
 }
 
 /// Seconds per call of `f`, repeated until about `budget` seconds have passed.
-fn per_call(budget: f64, mut f: impl FnMut()) -> f64 {
+fn per_call(budget: f64, f: &mut dyn FnMut()) -> f64 {
     let t = Instant::now();
     f();
     let first = t.elapsed().as_secs_f64();
@@ -72,19 +74,22 @@ fn per_call(budget: f64, mut f: impl FnMut()) -> f64 {
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
-    let sizes: &[[usize; 3]] = if quick {
-        &[[10, 10, 10], [22, 22, 21], [47, 47, 46]]
-    } else {
-        &[[10, 10, 10], [22, 22, 21], [47, 47, 46], [100, 100, 100]]
-    };
+    let large = std::env::args().any(|a| a == "--large");
     let ctx = GpuContext::new().expect("a GPU adapter (see `impact info`)");
+    let mut sizes = vec![[10, 10, 10], [22, 22, 21], [47, 47, 46]];
+    if !quick {
+        sizes.push([100, 100, 100]);
+    }
+    if (!quick && !ctx.adapter.software) || large {
+        sizes.push([216, 216, 216]);
+    }
     let adapter = ctx.adapter.describe();
     println!("adapter: {adapter}");
     println!();
     println!("| elements | contact nodes | kernel | GPU ns/item | CPU twin ns/item | GPU GB/s | % of copy |");
     println!("|---:|---:|---|---:|---:|---:|---:|");
     let mut ctx = Some(ctx);
-    for &div in sizes {
+    for &div in &sizes {
         let (data, q) = problem(div);
         let (ne, nn, nq) = (data.hexes.len(), data.reference.len(), q.len());
         let u: Vec<f64> = (0..3 * nn).map(|d| 1e-3 * ((d % 7) as f64 - 3.0)).collect();
@@ -94,7 +99,7 @@ fn main() {
             .take()
             .unwrap_or_else(|| GpuContext::new().expect("adapter"));
         let mut gpu = GpuKernels::new(ctx_now, &data).expect("engine");
-        let copy = gpu.copy_bandwidth(64 << 20, 5).expect("copy");
+        let copy = gpu.copy_bandwidth(256 << 20, 20).expect("copy");
         // upload u, v and the queries once, then time dispatches alone
         let mut f = vec![0.0; 3 * nn];
         use impact::kernels::Kernels;
@@ -109,20 +114,22 @@ fn main() {
             let reps = ((0.3 / one.max(1e-7)) as usize).clamp(2, 200);
             gpu.time_kernel(k, reps).expect("time").as_secs_f64() / reps as f64
         };
-        // CPU twins
+        // CPU twins (not above 10^6 elements: seconds a call)
+        let twins = ne <= 2_000_000;
         let inc = Incidence::new(&data.hexes, &[], nn);
         let mut corners = vec![[0.0; 3]; 8 * ne];
         let mut nodal = vec![[0.0; 3]; nn];
         let uu = kernels::as_vec3(&u);
         let vv = kernels::as_vec3(&v);
-        let c_hex = per_call(0.3, || kernels::hex8_forces(&data, uu, &mut corners));
-        let c_gather = per_call(0.3, || kernels::node_gather(&inc, &corners, &mut nodal));
+        let twin = |budget, f: &mut dyn FnMut()| twins.then(|| per_call(budget, f));
+        let c_hex = twin(0.3, &mut || kernels::hex8_forces(&data, uu, &mut corners));
+        let c_gather = twin(0.3, &mut || kernels::node_gather(&inc, &corners, &mut nodal));
         let mut cpts = vec![ContactPoint::default(); nq];
-        let c_gap = per_call(0.2, || {
+        let c_gap = twin(0.2, &mut || {
             kernels::contact_gap(&data.reference, uu, vv, &q, &mut cpts)
         });
         let mut cslip = vec![[0.0; 2]; nq];
-        let c_slip = per_call(0.2, || {
+        let c_slip = twin(0.2, &mut || {
             kernels::slip_rate(&data.reference, uu, vv, &q, &cpts, &mut cslip)
         });
         let rows = [
@@ -140,10 +147,10 @@ fn main() {
         for (name, id, items, cpu, bytes) in rows {
             let g = gpu_time(&mut gpu, id);
             let bw = bytes * items as f64 / g;
+            let cpu = cpu.map_or("-".into(), |c| format!("{:.2}", c * 1e9 / items as f64));
             println!(
-                "| {ne} | {nq} | {name} | {:.2} | {:.2} | {:.2} | {:.0}% |",
+                "| {ne} | {nq} | {name} | {:.2} | {cpu} | {:.2} | {:.0}% |",
                 g * 1e9 / items as f64,
-                cpu * 1e9 / items as f64,
                 bw * 1e-9,
                 100.0 * bw / copy
             );

@@ -474,6 +474,30 @@ impl ResidentExplicit {
             + self.contact.as_ref().map_or(0, |c| c.device_bytes())
     }
 
+    /// Records one stage of the step (the contact iteration whole, with all its sweeps).
+    fn record_stage(&self, enc: &mut wgpu::CommandEncoder, stage: Stage) {
+        let l = &self.launches;
+        match stage {
+            Stage::Predict => self.predict.0.record_launch(enc, &l.predict),
+            Stage::PlaneContact => {
+                if let Some(p) = &l.plane {
+                    self.plane.0.record_launch(enc, p);
+                }
+                if let Some(c) = &self.contact {
+                    c.record(enc);
+                }
+            }
+            Stage::Drift => self.drift.0.record_launch(enc, &l.drift),
+            Stage::InternalForces => self.k.record_internal_forces(enc),
+            Stage::Correct => {
+                for c in &l.correct {
+                    self.correct.0.record_launch(enc, c);
+                }
+            }
+            Stage::Reduce => self.reduce.0.record_launch(enc, &l.reduce[0]),
+        }
+    }
+
     /// Runs one stage alone on the device's current buffers and waits for it.
     pub fn run_stage(&mut self, stage: Stage) -> Result<()> {
         let ctx = &self.k.ctx;
@@ -482,28 +506,35 @@ impl ResidentExplicit {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("explicit_stage"),
             });
-        let l = &self.launches;
-        match stage {
-            Stage::Predict => self.predict.0.record_launch(&mut enc, &l.predict),
-            Stage::PlaneContact => {
-                if let Some(p) = &l.plane {
-                    self.plane.0.record_launch(&mut enc, p);
-                }
-                if let Some(c) = &self.contact {
-                    c.record(&mut enc);
-                }
-            }
-            Stage::Drift => self.drift.0.record_launch(&mut enc, &l.drift),
-            Stage::InternalForces => self.k.record_internal_forces(&mut enc),
-            Stage::Correct => {
-                for c in &l.correct {
-                    self.correct.0.record_launch(&mut enc, c);
-                }
-            }
-            Stage::Reduce => self.reduce.0.record_launch(&mut enc, &l.reduce[0]),
-        }
+        self.record_stage(&mut enc, stage);
         ctx.queue.submit([enc.finish()]);
         ctx.wait()
+    }
+
+    /// Wall time of `reps` runs of one stage in one submission, after the device is idle
+    /// (the benchmarks' per-stage figures; the state moves on as the stage runs).
+    pub fn time_stage(&mut self, stage: Stage, reps: usize) -> Result<std::time::Duration> {
+        let ctx = &self.k.ctx;
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("stage_timing"),
+            });
+        for _ in 0..reps {
+            self.record_stage(&mut enc, stage);
+        }
+        let commands = enc.finish();
+        ctx.wait()?;
+        let start = std::time::Instant::now();
+        ctx.queue.submit([commands]);
+        ctx.wait()?;
+        Ok(start.elapsed())
+    }
+
+    /// The device's buffer-copy bandwidth in bytes per second (see
+    /// [`GpuKernels::copy_bandwidth`]).
+    pub fn copy_bandwidth(&self, bytes: u64, reps: usize) -> Result<f64> {
+        self.k.copy_bandwidth(bytes, reps)
     }
 
     /// Overwrites the device state: displacement, velocity, acceleration (3 per node), the

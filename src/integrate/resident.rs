@@ -321,6 +321,11 @@ impl<'m> ResidentSolver<'m> {
         })
     }
 
+    /// The device step (the benchmarks time its stages).
+    pub fn engine_mut(&mut self) -> &mut ResidentExplicit {
+        &mut self.engine
+    }
+
     pub fn device_name(&self) -> String {
         self.engine.device_name()
     }
