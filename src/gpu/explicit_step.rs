@@ -531,6 +531,26 @@ impl ResidentExplicit {
         Ok(start.elapsed())
     }
 
+    /// The host's time to record and submit `steps` steps (without waiting for the device,
+    /// which then runs them; the device's time is apart): the benchmarks compare it with the
+    /// step's time to tell a step bound by the host from one bound by the device.
+    pub fn recording_time(&mut self, steps: usize) -> Result<std::time::Duration> {
+        let steps = steps.clamp(1, self.chunk_capacity);
+        let ctx = &self.k.ctx;
+        ctx.wait()?;
+        let start = std::time::Instant::now();
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("recording_timing"),
+            });
+        self.record_steps(&mut enc, steps);
+        ctx.queue.submit([enc.finish()]);
+        let host = start.elapsed();
+        ctx.wait()?;
+        Ok(host)
+    }
+
     /// The device's buffer-copy bandwidth in bytes per second (see
     /// [`GpuKernels::copy_bandwidth`]).
     pub fn copy_bandwidth(&self, bytes: u64, reps: usize) -> Result<f64> {
