@@ -1,7 +1,16 @@
-//! Parses and validates every WGSL kernel with naga, so that a broken shader fails
-//! `cargo build` rather than a user's run. Each kernel is compiled as the shared files
-//! (`shaders/shared/`) followed by the kernel's own file, exactly as `src/gpu/shaders.rs`
-//! assembles it.
+//! Assembles and validates every WGSL kernel, so that a broken shader fails `cargo build`
+//! rather than a user's run.
+//!
+//! Each `shaders/<name>.wgsl` is a kernel whose entry point is `<name>`. Its source is the
+//! shared files (`shaders/shared/`, in the order of [`SHARED`]) followed by the kernel's own
+//! file, in which a line `// #import <part>` is replaced by `shaders/parts/<part>.wgsl`
+//! (functions over bindings that several kernels declare alike). Every assembled source is
+//! parsed and validated with naga and written to `$OUT_DIR/shaders.rs` as a constant named
+//! after the kernel in upper case, with the table `ALL` of every kernel (found by scanning
+//! the folder: adding a kernel is adding its file).
+
+use std::fmt::Write as _;
+use std::path::Path;
 
 const SHARED: [&str; 4] = [
     "shaders/shared/types.wgsl",
@@ -9,67 +18,88 @@ const SHARED: [&str; 4] = [
     "shaders/shared/element.wgsl",
     "shaders/shared/contact.wgsl",
 ];
-const KERNELS: [&str; 26] = [
-    "hex8_forces",
-    "tet4_forces",
-    "node_gather",
-    "contact_gap",
-    "slip_rate",
-    "explicit_predict",
-    "plane_contact",
-    "explicit_drift",
-    "explicit_correct",
-    "history_reduce",
-    "stable_step",
-    "face_cells",
-    "bucket_count",
-    "prefix_sum",
-    "bucket_fill",
-    "contact_search",
-    "search_bounds",
-    "search_grid",
-    "contact_constraints",
-    "contact_touches",
-    "contact_compliance",
-    "contact_sweep",
-    "contact_apply",
-    "sweep_control",
-    "contact_report",
-    "bucket_order",
-];
+
+fn read(path: &str) -> String {
+    println!("cargo:rerun-if-changed={path}");
+    std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+/// The kernel's own file with its imports expanded.
+fn expand(path: &str) -> String {
+    let mut out = String::new();
+    for line in read(path).lines() {
+        match line.trim().strip_prefix("// #import ") {
+            Some(part) => {
+                let part = format!("shaders/parts/{}.wgsl", part.trim());
+                out.push_str(&read(&part));
+            }
+            None => {
+                out.push_str(line);
+                out.push('\n');
+            }
+        }
+    }
+    out
+}
+
+fn validate(name: &str, source: &str) {
+    // line numbers count through the shared files first, then the kernel
+    let path = format!("shaders/shared/*.wgsl + shaders/{name}.wgsl");
+    let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| {
+        panic!(
+            "{path}: WGSL parse error:\n{}",
+            e.emit_to_string_with_path(source, &path)
+        )
+    });
+    let mut validator = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::empty(),
+    );
+    if let Err(e) = validator.validate(&module) {
+        panic!(
+            "{path}: WGSL validation error:\n{}",
+            e.emit_to_string_with_path(source, &path)
+        );
+    }
+    if !module.entry_points.iter().any(|ep| ep.name == name) {
+        panic!(
+            "{path}: no entry point named `{name}` (the file, entry point and twin share one name)"
+        );
+    }
+}
 
 fn main() {
     println!("cargo:rerun-if-changed=shaders");
-    let mut shared = String::new();
-    for f in SHARED {
-        println!("cargo:rerun-if-changed={f}");
-        shared.push_str(&std::fs::read_to_string(f).unwrap_or_else(|e| panic!("{f}: {e}")));
-    }
-    for k in KERNELS {
-        let path = format!("shaders/{k}.wgsl");
-        println!("cargo:rerun-if-changed={path}");
-        let own = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
-        let source = format!("{shared}{own}");
-        // line numbers count through the shared files first, then the kernel
-        let path = format!("shaders/shared/*.wgsl + {path}");
-        let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| {
-            panic!(
-                "{path}: WGSL parse error:\n{}",
-                e.emit_to_string_with_path(&source, &path)
-            )
-        });
-        let mut validator = naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::empty(),
+    println!("cargo:rerun-if-changed=shaders/parts");
+    let shared: String = SHARED.iter().map(|f| read(f)).collect();
+    let mut names: Vec<String> = std::fs::read_dir("shaders")
+        .expect("the shaders folder")
+        .filter_map(|e| {
+            let p = e.expect("a shaders entry").path();
+            (p.extension().is_some_and(|x| x == "wgsl"))
+                .then(|| p.file_stem().unwrap().to_string_lossy().into_owned())
+        })
+        .collect();
+    names.sort();
+    let mut out = String::from("// Generated by build.rs from shaders/: do not edit.\n\n");
+    for name in &names {
+        let source = format!("{shared}{}", expand(&format!("shaders/{name}.wgsl")));
+        validate(name, &source);
+        let _ = writeln!(
+            out,
+            "/// `shaders/{name}.wgsl` after the shared files.\npub const {}: &str = {source:?};\n",
+            name.to_uppercase()
         );
-        if let Err(e) = validator.validate(&module) {
-            panic!(
-                "{path}: WGSL validation error:\n{}",
-                e.emit_to_string_with_path(&source, &path)
-            );
-        }
-        if !module.entry_points.iter().any(|ep| ep.name == k) {
-            panic!("{path}: no entry point named `{k}` (the file, entry point and twin share one name)");
-        }
     }
+    let _ = writeln!(
+        out,
+        "/// Every kernel: its name (the entry point) and its source.\npub const ALL: [(&str, &str); {}] = [",
+        names.len()
+    );
+    for name in &names {
+        let _ = writeln!(out, "    ({name:?}, {}),", name.to_uppercase());
+    }
+    out.push_str("];\n");
+    let dest = Path::new(&std::env::var("OUT_DIR").expect("OUT_DIR")).join("shaders.rs");
+    std::fs::write(&dest, out).unwrap_or_else(|e| panic!("{}: {e}", dest.display()));
 }

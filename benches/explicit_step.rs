@@ -150,8 +150,13 @@ fn time_resident(
     .collect::<Vec<_>>();
     let host = engine.recording_time(chunk).expect("recording time");
     let mut stages: Vec<(&'static str, f64)> = stages;
-    stages.push(("host recording", host.as_secs_f64() / chunk.min(engine.chunk_capacity) as f64 * 1e6));
-    let copy = engine.copy_bandwidth(256 << 20, 20).expect("copy bandwidth");
+    stages.push((
+        "host recording",
+        host.as_secs_f64() / chunk.min(engine.chunk_capacity) as f64 * 1e6,
+    ));
+    let copy = engine
+        .copy_bandwidth(256 << 20, 20)
+        .expect("copy bandwidth");
     Resident {
         ns,
         setup,
@@ -292,7 +297,12 @@ fn table(title: &str, scenes: &[(String, Engines)], adapter: Option<&str>, max_s
     for (elements, r) in &stage_rows {
         let cells: Vec<String> = r.stages.iter().map(|s| format!("{:.1}", s.1)).collect();
         // the stages' sum leaves the host's recording out: it overlaps the device
-        let sum: f64 = r.stages.iter().filter(|s| s.0 != "host recording").map(|s| s.1).sum();
+        let sum: f64 = r
+            .stages
+            .iter()
+            .filter(|s| s.0 != "host recording")
+            .map(|s| s.1)
+            .sum();
         println!(
             "| {elements} | {} | {sum:.1} | {:.1} |",
             cells.join(" | "),
@@ -309,10 +319,8 @@ fn main() {
     let ctx = GpuContext::new().ok();
     let adapter = ctx.as_ref().map(|c| c.adapter.name.clone());
     let hardware = ctx.as_ref().is_some_and(|c| !c.adapter.software);
-    let mut sizes: Vec<([usize; 3], Engines)> = vec![
-        ([25, 20, 20], Engines::All),
-        ([50, 50, 40], Engines::All),
-    ];
+    let mut sizes: Vec<([usize; 3], Engines)> =
+        vec![([25, 20, 20], Engines::All), ([50, 50, 40], Engines::All)];
     let mut plates: Vec<(usize, Engines)> = vec![(36, Engines::All), (76, Engines::All)];
     if !quick {
         sizes.push(([100, 100, 100], Engines::All));

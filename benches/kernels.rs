@@ -123,7 +123,9 @@ fn main() {
         let vv = kernels::as_vec3(&v);
         let twin = |budget, f: &mut dyn FnMut()| twins.then(|| per_call(budget, f));
         let c_hex = twin(0.3, &mut || kernels::hex8_forces(&data, uu, &mut corners));
-        let c_gather = twin(0.3, &mut || kernels::node_gather(&inc, &corners, &mut nodal));
+        let c_gather = twin(0.3, &mut || {
+            kernels::node_gather(&inc, &corners, &mut nodal)
+        });
         let mut cpts = vec![ContactPoint::default(); nq];
         let c_gap = twin(0.2, &mut || {
             kernels::contact_gap(&data.reference, uu, vv, &q, &mut cpts)

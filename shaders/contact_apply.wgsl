@@ -14,32 +14,12 @@
 @group(0) @binding(7) var<storage, read> lumped: array<Lumped>;
 @group(0) @binding(8) var<storage, read_write> velocity: array<f32>;
 
-fn load_dj(p: u32) -> vec3<f32> {
-    return vec3<f32>(dj[3u * p], dj[3u * p + 1u], dj[3u * p + 2u]);
-}
+// #import contact_apply_node
 
 @compute @workgroup_size(64)
 fn contact_apply(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = item_index(gid, params);
-    if (i >= params.count) {
-        return;
+    if (i < params.count) {
+        apply_node(i);
     }
-    let cn = nodes[i];
-    var delta = vec3<f32>(0.0);
-    for (var j = cn.pair_first; j < cn.pair_end; j++) {
-        delta += load_dj(links[j]);
-    }
-    for (var j = cn.face_first; j < cn.face_end; j++) {
-        let f = links[j] / 4u;
-        let k = links[j] % 4u;
-        for (var b = starts[f]; b < starts[f + 1u]; b++) {
-            let q = sorted[b];
-            delta -= constraints[q].weights[k] * load_dj(q);
-        }
-    }
-    let n = cn.node;
-    let dv = delta * vec3_of(lumped[n].inv_mass);
-    velocity[3u * n] += dv.x;
-    velocity[3u * n + 1u] += dv.y;
-    velocity[3u * n + 2u] += dv.z;
 }

@@ -17,9 +17,7 @@
 
 var<workgroup> worst: array<f32, 64>;
 
-fn load_v(n: u32) -> vec3<f32> {
-    return vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
-}
+// #import contact_sweep_pair
 
 @compute @workgroup_size(64)
 fn contact_sweep(
@@ -29,37 +27,7 @@ fn contact_sweep(
     let p = item_index(gid, params);
     var violation = 0.0;
     if (p < params.count) {
-        var d = vec3<f32>(0.0);
-        let c = constraints[p];
-        if (c.in_reach != 0u && c.compliance > 0.0) {
-            var rel = load_v(pairs[p].node);
-            if (c.face[0] != NO_FACE) {
-                rel -= quad_interpolate(
-                    vec4<f32>(c.weights[0], c.weights[1], c.weights[2], c.weights[3]),
-                    load_v(c.face[0]),
-                    load_v(c.face[1]),
-                    load_v(c.face[2]),
-                    load_v(c.face[3]),
-                );
-            }
-            let up = impulse_update(
-                c.gap,
-                step.dt,
-                rel,
-                vec3_of(c.normal),
-                c.compliance,
-                pairs[p].mu,
-                c.jn,
-                vec3_of(c.jt),
-            );
-            violation = up.violation;
-            d = up.dj;
-            constraints[p].jn = up.jn;
-            constraints[p].jt = float3(up.jt);
-        }
-        dj[3u * p] = d.x;
-        dj[3u * p + 1u] = d.y;
-        dj[3u * p + 2u] = d.z;
+        violation = sweep_pair(p);
     }
     worst[local] = violation;
     workgroupBarrier();

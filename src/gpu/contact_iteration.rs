@@ -14,7 +14,9 @@
 //!    its faces from the buckets) and `contact_compliance` per pair, then a first
 //!    `sweep_control`;
 //! 4. the sweeps: `contact_sweep` per pair (impulse changes), `contact_apply` per contact
-//!    node (it gathers them into its velocity), `sweep_control` (the stopping rule). The
+//!    node (it gathers them into its velocity), `sweep_control` (the stopping rule). Up to
+//!    [`MAX_PAIRS`] pairs, `contact_solve` runs them all in one workgroup until the
+//!    iteration stops (one dispatch a step, no sweep after convergence). Beyond, the
 //!    caller says how many sweeps to record; both sweep kernels are dispatched indirectly
 //!    from arguments `sweep_control` empties once the iteration has stopped, so the sweeps
 //!    recorded after that do no work (each still costs a dispatch);
@@ -30,6 +32,7 @@ use super::contact_apply::ContactApply;
 use super::contact_compliance::ContactCompliance;
 use super::contact_constraints::ContactConstraints;
 use super::contact_report::ContactReportKernel;
+use super::contact_solve::{ContactSolve, MAX_PAIRS};
 use super::contact_sweep::ContactSweep;
 use super::contact_touches::ContactTouches;
 use super::context::GpuContext;
@@ -61,6 +64,16 @@ pub struct ContactSetup {
     pub queries: Vec<(u32, u32, u32)>,
     /// The largest face diagonal (the search margin's base).
     pub face_size: f64,
+    /// Run the sweeps in one workgroup (`contact_solve`) rather than three dispatches a
+    /// sweep; [`ContactSetup::one_dispatch`] chooses by the pair count.
+    pub sweeps_in_one_dispatch: bool,
+}
+
+impl ContactSetup {
+    /// Whether a contact set of `pairs` pairs takes `contact_solve` (at most [`MAX_PAIRS`]).
+    pub fn one_dispatch(pairs: usize) -> bool {
+        pairs <= MAX_PAIRS
+    }
 }
 
 /// The device buffers of the explicit step the iteration reads and writes.
@@ -107,6 +120,8 @@ struct Launches {
 
 pub struct ContactIteration {
     search: Option<GpuSearch>,
+    /// The sweeps in one workgroup, for a contact set of at most [`MAX_PAIRS`] pairs.
+    solve: Option<(ContactSolve, Launch)>,
     kernels: Kernels,
     launches: Launches,
     bounds: Storage,
@@ -380,8 +395,32 @@ impl ContactIteration {
                 ],
             ),
         };
+        let solve = setup.sweeps_in_one_dispatch.then(|| {
+            let kernel = ContactSolve::new(ctx);
+            let launch = kernel.kernel.launch(
+                ctx,
+                np as u32,
+                nc as u32,
+                0,
+                &[
+                    b.step,
+                    &constraints.buffer,
+                    &pairs.buffer,
+                    b.velocity,
+                    &dj.buffer,
+                    &state.buffer,
+                    &cnodes.buffer,
+                    &links.buffer,
+                    &starts.buffer,
+                    &sorted.buffer,
+                    b.lumped,
+                ],
+            );
+            (kernel, launch)
+        });
         Ok(ContactIteration {
             search,
+            solve,
             kernels,
             launches,
             bounds,
@@ -457,12 +496,41 @@ impl ContactIteration {
         k.control.0.record_launch(enc, &l.control);
     }
 
-    /// Records `sweeps` sweeps (at most `max_iterations`), each with its `sweep_control`,
-    /// in one compute pass.
+    /// Whether the sweeps run in one workgroup, until the iteration stops (`contact_solve`):
+    /// then no step runs out of recorded sweeps.
+    pub fn solves_in_one_dispatch(&self) -> bool {
+        self.solve.is_some()
+    }
+
+    /// Records the sweeps in one compute pass: `contact_solve` once, or `sweeps` sweeps (at
+    /// most `max_iterations`), each with its `sweep_control`.
     pub fn record_sweeps(&self, enc: &mut wgpu::CommandEncoder, sweeps: u32) {
+        match &self.solve {
+            Some((solve, launch)) => {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("contact_solve"),
+                    timestamp_writes: None,
+                });
+                solve.kernel.dispatch_with(&mut pass, &launch.bind, [1, 1]);
+            }
+            None => self.record_sweep_stages(enc, sweeps),
+        }
+    }
+
+    /// Records the report of the step's results.
+    pub fn record_report(&self, enc: &mut wgpu::CommandEncoder) {
+        self.kernels
+            .report
+            .0
+            .record_launch(enc, &self.launches.report);
+    }
+
+    /// Records `sweeps` sweeps as three dispatches each (`contact_sweep`, `contact_apply`,
+    /// `sweep_control`), whichever way the step sweeps (the stage tests).
+    pub fn record_sweep_stages(&self, enc: &mut wgpu::CommandEncoder, sweeps: u32) {
         let (k, l) = (&self.kernels, &self.launches);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("contact_sweeps"),
+            label: Some("contact_sweep_stages"),
             timestamp_writes: None,
         });
         for _ in 0..sweeps.min(self.max_iterations) {
@@ -474,14 +542,6 @@ impl ContactIteration {
                 .dispatch_indirect(&mut pass, &l.apply, &self.args.buffer, 12);
             k.control.0.dispatch(&mut pass, &l.control);
         }
-    }
-
-    /// Records the report of the step's results.
-    pub fn record_report(&self, enc: &mut wgpu::CommandEncoder) {
-        self.kernels
-            .report
-            .0
-            .record_launch(enc, &self.launches.report);
     }
 
     /// Records the whole iteration of a step.

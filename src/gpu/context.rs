@@ -114,9 +114,13 @@ fn instance() -> &'static wgpu::Instance {
     })
 }
 
-/// The devices opened so far, one per adapter (by its summary's name and backend).
-fn opened() -> std::sync::MutexGuard<'static, Vec<GpuContext>> {
-    static OPENED: Mutex<Vec<GpuContext>> = Mutex::new(Vec::new());
+/// The device each adapter policy chose (none, where no adapter qualifies), found once: on
+/// the GL backend, looking for adapters again while another thread runs on the device
+/// would make the instance's EGL context current on two threads at once.
+type Opened = Vec<(AdapterPolicy, Option<GpuContext>)>;
+
+fn opened() -> std::sync::MutexGuard<'static, Opened> {
+    static OPENED: Mutex<Opened> = Mutex::new(Vec::new());
     // a thread that panicked while holding the lock left the list whole (pushes only)
     OPENED.lock().unwrap_or_else(|e| e.into_inner())
 }
@@ -138,6 +142,17 @@ impl GpuContext {
     /// it (a clone).
     pub fn open(policy: AdapterPolicy) -> Result<Option<Self>> {
         let mut opened = opened();
+        if let Some((_, ctx)) = opened.iter().find(|(p, _)| *p == policy) {
+            return Ok(ctx.clone());
+        }
+        let ctx = Self::open_device(policy, &opened)?;
+        opened.push((policy, ctx.clone()));
+        Ok(ctx)
+    }
+
+    /// The device of the best adapter the policy accepts: the one another policy opened on
+    /// it, or a new one.
+    fn open_device(policy: AdapterPolicy, opened: &Opened) -> Result<Option<Self>> {
         let adapters = pollster::block_on(instance().enumerate_adapters(wgpu::Backends::all()));
         let mut ranked: Vec<(AdapterSummary, wgpu::Adapter)> = adapters
             .into_iter()
@@ -148,10 +163,13 @@ impl GpuContext {
         let Some((summary, adapter)) = ranked.into_iter().next() else {
             return Ok(None);
         };
-        let same = |c: &&GpuContext| {
-            c.adapter.name == summary.name && c.adapter.backend == summary.backend
-        };
-        if let Some(ctx) = opened.iter().find(same) {
+        let same =
+            |c: &GpuContext| c.adapter.name == summary.name && c.adapter.backend == summary.backend;
+        if let Some(ctx) = opened
+            .iter()
+            .filter_map(|(_, c)| c.as_ref())
+            .find(|c| same(c))
+        {
             return Ok(Some(ctx.clone()));
         }
         let limits = adapter.limits();
@@ -163,15 +181,13 @@ impl GpuContext {
             ..Default::default()
         }))
         .map_err(|e| ImpactError::Gpu(format!("{}: cannot open the device: {e}", summary.name)))?;
-        let ctx = GpuContext {
+        Ok(Some(GpuContext {
             device,
             queue,
             adapter: summary,
             limits,
             features,
-        };
-        opened.push(ctx.clone());
-        Ok(Some(ctx))
+        }))
     }
 
     /// Opens the best adapter, hardware or software; a clear error naming the packages to

@@ -86,6 +86,7 @@ pub fn contact_setup(model: &Model) -> ContactSetup {
         });
     }
     let (face_first, queries) = search::search_layout(model);
+    let pairs_len = pairs.len();
     ContactSetup {
         pairs,
         interfaces,
@@ -95,6 +96,7 @@ pub fn contact_setup(model: &Model) -> ContactSetup {
         face_first,
         queries,
         face_size: search::largest_face_diagonal(model),
+        sweeps_in_one_dispatch: ContactSetup::one_dispatch(pairs_len),
     }
 }
 
@@ -182,6 +184,17 @@ pub fn setup(
     (setup, places)
 }
 
+/// How the resident step runs; [`ResidentSolver::new`] picks for the model, tests vary them
+/// (the results do not depend on them).
+#[derive(Debug, Clone, Copy)]
+pub struct ResidentOptions {
+    /// Steps per submission ([`chunk_steps`]).
+    pub chunk: usize,
+    /// The contact iteration's sweeps in one workgroup, or three dispatches each; `None`
+    /// chooses by the pair count ([`ContactSetup::one_dispatch`]).
+    pub sweeps_in_one_dispatch: Option<bool>,
+}
+
 /// One decoded history row.
 #[derive(Debug, Clone, Default)]
 struct Row {
@@ -235,8 +248,11 @@ impl<'m> ResidentSolver<'m> {
         total: usize,
         frame_every: Option<usize>,
     ) -> Result<Self> {
-        let chunk = chunk_steps(model.mesh.element_count());
-        Self::with_chunk(
+        let options = ResidentOptions {
+            chunk: chunk_steps(model.mesh.element_count()),
+            sweeps_in_one_dispatch: None,
+        };
+        Self::with_options(
             ctx,
             model,
             settings,
@@ -244,13 +260,13 @@ impl<'m> ResidentSolver<'m> {
             speed_scale,
             total,
             frame_every,
-            chunk,
+            options,
         )
     }
 
-    /// [`Self::new`] with `chunk` steps per submission instead of [`chunk_steps`].
+    /// [`Self::new`] with other [`ResidentOptions`].
     #[allow(clippy::too_many_arguments)]
-    pub fn with_chunk(
+    pub fn with_options(
         ctx: GpuContext,
         model: &'m Model,
         settings: &ExplicitSettings,
@@ -258,10 +274,13 @@ impl<'m> ResidentSolver<'m> {
         speed_scale: f64,
         total: usize,
         frame_every: Option<usize>,
-        chunk: usize,
+        options: ResidentOptions,
     ) -> Result<Self> {
-        let (setup, places) = setup(model, settings, dt, speed_scale);
-        let chunk = chunk.max(1);
+        let (mut setup, places) = setup(model, settings, dt, speed_scale);
+        if let (Some(c), Some(one)) = (&mut setup.contact, options.sweeps_in_one_dispatch) {
+            c.sweeps_in_one_dispatch = one;
+        }
+        let chunk = options.chunk.max(1);
         let mut engine = ResidentExplicit::new(ctx, &model.element_data(), &setup, chunk)?;
         engine.set_sweeps(MIN_SWEEPS);
         // the setup lumped the mass already (an element loop over the whole mesh)

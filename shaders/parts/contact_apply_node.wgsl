@@ -1,0 +1,30 @@
+// One contact node's velocity change in a sweep of the contact iteration (see
+// `contact_apply.wgsl`). The kernel declares `nodes`, `links`, `constraints`, `starts`,
+// `sorted`, `dj`, `lumped` and `velocity` as `contact_apply` does.
+
+fn load_dj(p: u32) -> vec3<f32> {
+    return vec3<f32>(dj[3u * p], dj[3u * p + 1u], dj[3u * p + 2u]);
+}
+
+// Contact node i gathers the impulse changes of the pairs it is the secondary node of, less
+// N_k times those of the pairs on each face whose corner k it is, into its velocity.
+fn apply_node(i: u32) {
+    let cn = nodes[i];
+    var delta = vec3<f32>(0.0);
+    for (var j = cn.pair_first; j < cn.pair_end; j++) {
+        delta += load_dj(links[j]);
+    }
+    for (var j = cn.face_first; j < cn.face_end; j++) {
+        let f = links[j] / 4u;
+        let k = links[j] % 4u;
+        for (var b = starts[f]; b < starts[f + 1u]; b++) {
+            let q = sorted[b];
+            delta -= constraints[q].weights[k] * load_dj(q);
+        }
+    }
+    let n = cn.node;
+    let dv = delta * vec3_of(lumped[n].inv_mass);
+    velocity[3u * n] += dv.x;
+    velocity[3u * n + 1u] += dv.y;
+    velocity[3u * n + 2u] += dv.z;
+}
