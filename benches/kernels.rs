@@ -112,6 +112,8 @@ fn main() {
         let gpu_time = |gpu: &mut GpuKernels, k| {
             let one = gpu.time_kernel(k, 1).expect("time").as_secs_f64();
             let reps = ((0.3 / one.max(1e-7)) as usize).clamp(2, 200);
+            // the same run once first: a GPU that was idle runs at a low clock
+            gpu.time_kernel(k, reps).expect("warm-up");
             gpu.time_kernel(k, reps).expect("time").as_secs_f64() / reps as f64
         };
         // CPU twins (not above 10^6 elements: seconds a call)
