@@ -126,10 +126,7 @@ fn time_resident(
     if software {
         chunk = chunk.min(16);
     }
-    let options = ResidentOptions {
-        chunk,
-        sweeps_in_one_dispatch: None,
-    };
+    let options = ResidentOptions { chunk };
     // no last step within reach: the run reads the state back at its last step
     let mut s = ResidentSolver::with_options(
         ctx,

@@ -5,7 +5,9 @@
 // impulse that stops the slip is returned onto the cone |J_T| <= mu J_N. dj[p] is the
 // impulse change (zero for a pair out of reach or not enforceable); the sweep's largest
 // violation goes into the state (workgroup maximum, then one atomicMax of its bits).
-// Dispatched indirectly: `sweep_control` empties the grid once the iteration has stopped.
+// Once the iteration has stopped (`contact_apply` applies the stopping rule) the sweep does
+// nothing; its first invocation arms the grid of the apply that follows (params.aux,
+// params.aux2: its width and height), or empties it once the iteration has stopped.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<uniform> step: Step;
@@ -14,10 +16,14 @@
 @group(0) @binding(4) var<storage, read> velocity: array<f32>;
 @group(0) @binding(5) var<storage, read_write> dj: array<f32>;
 @group(0) @binding(6) var<storage, read_write> state: array<atomic<u32>, 4>;
+@group(0) @binding(7) var<storage, read_write> apply_args: array<u32, 3>;
 
 var<workgroup> worst: array<f32, 64>;
+var<workgroup> phase: u32;
 
-// #import contact_sweep_pair
+fn load_v(n: u32) -> vec3<f32> {
+    return vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
+}
 
 @compute @workgroup_size(64)
 fn contact_sweep(
@@ -25,9 +31,52 @@ fn contact_sweep(
     @builtin(local_invocation_index) local: u32,
 ) {
     let p = item_index(gid, params);
+    if (local == 0u) {
+        phase = atomicLoad(&state[STATE_PHASE]);
+    }
+    let sweeping = workgroupUniformLoad(&phase) == 1u;
+    if (p == 0u) {
+        // the apply's grid, or an empty one (0, 1, 1)
+        apply_args[0] = select(0u, params.aux, sweeping);
+        apply_args[1] = select(1u, params.aux2, sweeping);
+        apply_args[2] = 1u;
+    }
+    if (!sweeping) {
+        return;
+    }
     var violation = 0.0;
     if (p < params.count) {
-        violation = sweep_pair(p);
+        var d = vec3<f32>(0.0);
+        let c = constraints[p];
+        if (c.in_reach != 0u && c.compliance > 0.0) {
+            var rel = load_v(pairs[p].node);
+            if (c.face[0] != NO_FACE) {
+                rel -= quad_interpolate(
+                    vec4<f32>(c.weights[0], c.weights[1], c.weights[2], c.weights[3]),
+                    load_v(c.face[0]),
+                    load_v(c.face[1]),
+                    load_v(c.face[2]),
+                    load_v(c.face[3]),
+                );
+            }
+            let up = impulse_update(
+                c.gap,
+                step.dt,
+                rel,
+                vec3_of(c.normal),
+                c.compliance,
+                pairs[p].mu,
+                c.jn,
+                vec3_of(c.jt),
+            );
+            violation = up.violation;
+            d = up.dj;
+            constraints[p].jn = up.jn;
+            constraints[p].jt = float3(up.jt);
+        }
+        dj[3u * p] = d.x;
+        dj[3u * p + 1u] = d.y;
+        dj[3u * p + 2u] = d.z;
     }
     worst[local] = violation;
     workgroupBarrier();

@@ -13,13 +13,11 @@
 //! 3. the row-sum compliance: `contact_touches` per contact node (it gathers the pairs of
 //!    its faces from the buckets) and `contact_compliance` per pair, then a first
 //!    `sweep_control`;
-//! 4. the sweeps: `contact_sweep` per pair (impulse changes), `contact_apply` per contact
-//!    node (it gathers them into its velocity), `sweep_control` (the stopping rule). Up to
-//!    [`MAX_PAIRS`] pairs, `contact_solve` runs them all in one workgroup until the
-//!    iteration stops (one dispatch a step, no sweep after convergence). Beyond, the
-//!    caller says how many sweeps to record; both sweep kernels are dispatched indirectly
-//!    from arguments `sweep_control` empties once the iteration has stopped, so the sweeps
-//!    recorded after that do no work (each still costs a dispatch);
+//! 4. the sweeps: `contact_sweep` per pair (impulse changes), then `contact_apply` per
+//!    contact node (it gathers them into its velocity; its first invocation applies the
+//!    stopping rule). The caller says how many sweeps to record; once the iteration has
+//!    stopped, a sweep does nothing and arms an empty grid for the apply after it, which is
+//!    dispatched indirectly (each sweep recorded after that still costs two dispatches);
 //! 5. `contact_report`, one per pair: the results `history_reduce` sums per interface.
 
 use std::ops::Range;
@@ -32,7 +30,6 @@ use super::contact_apply::ContactApply;
 use super::contact_compliance::ContactCompliance;
 use super::contact_constraints::ContactConstraints;
 use super::contact_report::ContactReportKernel;
-use super::contact_solve::{ContactSolve, MAX_PAIRS};
 use super::contact_sweep::ContactSweep;
 use super::contact_touches::ContactTouches;
 use super::context::GpuContext;
@@ -64,16 +61,6 @@ pub struct ContactSetup {
     pub queries: Vec<(u32, u32, u32)>,
     /// The largest face diagonal (the search margin's base).
     pub face_size: f64,
-    /// Run the sweeps in one workgroup (`contact_solve`) rather than three dispatches a
-    /// sweep; [`ContactSetup::one_dispatch`] chooses by the pair count.
-    pub sweeps_in_one_dispatch: bool,
-}
-
-impl ContactSetup {
-    /// Whether a contact set of `pairs` pairs takes `contact_solve` (at most [`MAX_PAIRS`]).
-    pub fn one_dispatch(pairs: usize) -> bool {
-        pairs <= MAX_PAIRS
-    }
 }
 
 /// The device buffers of the explicit step the iteration reads and writes.
@@ -120,8 +107,6 @@ struct Launches {
 
 pub struct ContactIteration {
     search: Option<GpuSearch>,
-    /// The sweeps in one workgroup, for a contact set of at most [`MAX_PAIRS`] pairs.
-    solve: Option<(ContactSolve, Launch)>,
     kernels: Kernels,
     launches: Launches,
     bounds: Storage,
@@ -133,6 +118,7 @@ pub struct ContactIteration {
     touches: Storage,
     dj: Storage,
     state: Storage,
+    /// The apply's indirect grid.
     args: Storage,
     results: Storage,
     staging: Storage,
@@ -224,10 +210,11 @@ impl ContactIteration {
         let touches = Storage::new(ctx, "contact.touches", words(nodes))?;
         let dj = Storage::new(ctx, "contact.dj", words(3 * np))?;
         let state = Storage::new(ctx, "contact.state", 16)?;
+        // the apply's grid, armed by each sweep (empty once the iteration has stopped)
         let args = Storage::with_usage(
             ctx,
-            "contact.args",
-            24,
+            "contact.apply_args",
+            12,
             wgpu::BufferUsages::STORAGE
                 | wgpu::BufferUsages::INDIRECT
                 | wgpu::BufferUsages::COPY_DST
@@ -241,10 +228,8 @@ impl ContactIteration {
             None => (&none.buffer, &none.buffer, &none.buffer),
         };
         let k = &kernels;
-        // the full grids of the two indirect dispatches
-        let sg = k.sweep.0.grid(np as u32);
+        // the apply's grid, which the sweep arms
         let ag = k.apply.0.grid(nc as u32);
-        let full = Storage::with_data(ctx, "contact.full", &[sg[0], sg[1], 1, ag[0], ag[1], 1])?;
         let item_count = nodes.max(nf) as u32;
         let launches = Launches {
             bounds: search.as_ref().map(|s| {
@@ -346,8 +331,8 @@ impl ContactIteration {
             sweep: k.sweep.0.launch(
                 ctx,
                 np as u32,
-                0,
-                0,
+                ag[0],
+                ag[1],
                 &[
                     b.step,
                     &constraints.buffer,
@@ -355,13 +340,14 @@ impl ContactIteration {
                     b.velocity,
                     &dj.buffer,
                     &state.buffer,
+                    &args.buffer,
                 ],
             ),
             apply: k.apply.0.launch(
                 ctx,
                 nc as u32,
-                0,
-                0,
+                max_iterations,
+                (tolerance as f32).to_bits(),
                 &[
                     &cnodes.buffer,
                     &links.buffer,
@@ -371,15 +357,10 @@ impl ContactIteration {
                     &dj.buffer,
                     b.lumped,
                     b.velocity,
+                    &state.buffer,
                 ],
             ),
-            control: k.control.0.launch(
-                ctx,
-                1,
-                max_iterations,
-                (tolerance as f32).to_bits(),
-                &[&state.buffer, &args.buffer, &full.buffer],
-            ),
+            control: k.control.0.launch(ctx, 1, 0, 0, &[&state.buffer]),
             report: k.report.0.launch(
                 ctx,
                 np as u32,
@@ -395,32 +376,8 @@ impl ContactIteration {
                 ],
             ),
         };
-        let solve = setup.sweeps_in_one_dispatch.then(|| {
-            let kernel = ContactSolve::new(ctx);
-            let launch = kernel.kernel.launch(
-                ctx,
-                np as u32,
-                nc as u32,
-                0,
-                &[
-                    b.step,
-                    &constraints.buffer,
-                    &pairs.buffer,
-                    b.velocity,
-                    &dj.buffer,
-                    &state.buffer,
-                    &cnodes.buffer,
-                    &links.buffer,
-                    &starts.buffer,
-                    &sorted.buffer,
-                    b.lumped,
-                ],
-            );
-            (kernel, launch)
-        });
         Ok(ContactIteration {
             search,
-            solve,
             kernels,
             launches,
             bounds,
@@ -435,7 +392,7 @@ impl ContactIteration {
             args,
             results,
             staging: super::buffer::staging(ctx)?,
-            _buffers: vec![pairs, cnodes, links, ranks, full, none],
+            _buffers: vec![pairs, cnodes, links, ranks, none],
             pairs: np,
             faces: nf,
             max_iterations,
@@ -496,24 +453,19 @@ impl ContactIteration {
         k.control.0.record_launch(enc, &l.control);
     }
 
-    /// Whether the sweeps run in one workgroup, until the iteration stops (`contact_solve`):
-    /// then no step runs out of recorded sweeps.
-    pub fn solves_in_one_dispatch(&self) -> bool {
-        self.solve.is_some()
-    }
-
-    /// Records the sweeps in one compute pass: `contact_solve` once, or `sweeps` sweeps (at
-    /// most `max_iterations`), each with its `sweep_control`.
+    /// Records `sweeps` sweeps (at most `max_iterations`), each a `contact_sweep` and a
+    /// `contact_apply` (which applies the stopping rule after the sweep), in one compute pass.
     pub fn record_sweeps(&self, enc: &mut wgpu::CommandEncoder, sweeps: u32) {
-        match &self.solve {
-            Some((solve, launch)) => {
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("contact_solve"),
-                    timestamp_writes: None,
-                });
-                solve.kernel.dispatch_with(&mut pass, &launch.bind, [1, 1]);
-            }
-            None => self.record_sweep_stages(enc, sweeps),
+        let (k, l) = (&self.kernels, &self.launches);
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("contact_sweeps"),
+            timestamp_writes: None,
+        });
+        for _ in 0..sweeps.min(self.max_iterations) {
+            k.sweep.0.dispatch(&mut pass, &l.sweep);
+            k.apply
+                .0
+                .dispatch_indirect(&mut pass, &l.apply, &self.args.buffer, 0);
         }
     }
 
@@ -523,25 +475,6 @@ impl ContactIteration {
             .report
             .0
             .record_launch(enc, &self.launches.report);
-    }
-
-    /// Records `sweeps` sweeps as three dispatches each (`contact_sweep`, `contact_apply`,
-    /// `sweep_control`), whichever way the step sweeps (the stage tests).
-    pub fn record_sweep_stages(&self, enc: &mut wgpu::CommandEncoder, sweeps: u32) {
-        let (k, l) = (&self.kernels, &self.launches);
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("contact_sweep_stages"),
-            timestamp_writes: None,
-        });
-        for _ in 0..sweeps.min(self.max_iterations) {
-            k.sweep
-                .0
-                .dispatch_indirect(&mut pass, &l.sweep, &self.args.buffer, 0);
-            k.apply
-                .0
-                .dispatch_indirect(&mut pass, &l.apply, &self.args.buffer, 12);
-            k.control.0.dispatch(&mut pass, &l.control);
-        }
     }
 
     /// Records the whole iteration of a step.

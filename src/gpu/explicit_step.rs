@@ -384,7 +384,7 @@ impl ResidentExplicit {
         let readback = [make_readback()?, make_readback()?];
         let make_snapshot = || -> Result<Vec<Storage>> {
             match &contact {
-                Some(c) if !c.solves_in_one_dispatch() => [
+                Some(c) => [
                     ("snapshot.u", k.u.capacity),
                     ("snapshot.v", k.v.capacity),
                     ("snapshot.a", a.capacity),
@@ -393,7 +393,7 @@ impl ResidentExplicit {
                 .into_iter()
                 .map(|(label, bytes)| Storage::new(ctx, label, bytes))
                 .collect(),
-                _ => Ok(Vec::new()),
+                None => Ok(Vec::new()),
             }
         };
         let snapshots = [make_snapshot()?, make_snapshot()?];
@@ -695,17 +695,16 @@ impl ResidentExplicit {
         Ok(())
     }
 
-    /// The live state's buffers a snapshot holds: u, v, a and the contact results (none
-    /// where no step can run out of recorded sweeps).
+    /// The live state's buffers a snapshot holds: u, v, a and the contact results.
     fn live(&self) -> Vec<&wgpu::Buffer> {
         match &self.contact {
-            Some(c) if !c.solves_in_one_dispatch() => vec![
+            Some(c) => vec![
                 &self.k.u.buffer,
                 &self.k.v.buffer,
                 &self.a.buffer,
                 c.results_buffer(),
             ],
-            _ => Vec::new(),
+            None => Vec::new(),
         }
     }
 

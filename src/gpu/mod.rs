@@ -14,7 +14,6 @@ pub mod contact_gap;
 pub mod contact_iteration;
 pub mod contact_report;
 pub mod contact_search;
-pub mod contact_solve;
 pub mod contact_sweep;
 pub mod contact_touches;
 pub mod context;

@@ -1,5 +1,5 @@
-//! The WGSL source of each kernel: the shared files, then the kernel's own file with its
-//! `// #import` parts, as `build.rs` assembles and validates them (with naga) at build time.
+//! The WGSL source of each kernel: the shared files, then the kernel's own file, as
+//! `build.rs` assembles and validates them (with naga) at build time.
 //! One constant per kernel, named after it in upper case (`HEX8_FORCES` for
 //! `shaders/hex8_forces.wgsl`), and the table [`ALL`].
 

@@ -86,7 +86,6 @@ pub fn contact_setup(model: &Model) -> ContactSetup {
         });
     }
     let (face_first, queries) = search::search_layout(model);
-    let pairs_len = pairs.len();
     ContactSetup {
         pairs,
         interfaces,
@@ -96,7 +95,6 @@ pub fn contact_setup(model: &Model) -> ContactSetup {
         face_first,
         queries,
         face_size: search::largest_face_diagonal(model),
-        sweeps_in_one_dispatch: ContactSetup::one_dispatch(pairs_len),
     }
 }
 
@@ -190,9 +188,6 @@ pub fn setup(
 pub struct ResidentOptions {
     /// Steps per submission ([`chunk_steps`]).
     pub chunk: usize,
-    /// The contact iteration's sweeps in one workgroup, or three dispatches each; `None`
-    /// chooses by the pair count ([`ContactSetup::one_dispatch`]).
-    pub sweeps_in_one_dispatch: Option<bool>,
 }
 
 /// One decoded history row.
@@ -250,7 +245,6 @@ impl<'m> ResidentSolver<'m> {
     ) -> Result<Self> {
         let options = ResidentOptions {
             chunk: chunk_steps(model.mesh.element_count()),
-            sweeps_in_one_dispatch: None,
         };
         Self::with_options(
             ctx,
@@ -276,10 +270,7 @@ impl<'m> ResidentSolver<'m> {
         frame_every: Option<usize>,
         options: ResidentOptions,
     ) -> Result<Self> {
-        let (mut setup, places) = setup(model, settings, dt, speed_scale);
-        if let (Some(c), Some(one)) = (&mut setup.contact, options.sweeps_in_one_dispatch) {
-            c.sweeps_in_one_dispatch = one;
-        }
+        let (setup, places) = setup(model, settings, dt, speed_scale);
         let chunk = options.chunk.max(1);
         let mut engine = ResidentExplicit::new(ctx, &model.element_data(), &setup, chunk)?;
         engine.set_sweeps(MIN_SWEEPS);

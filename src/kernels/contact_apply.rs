@@ -1,7 +1,9 @@
 //! The velocity change of one sweep of the device contact iteration (CPU twin of
 //! `shaders/contact_apply.wgsl`): each contact node gathers the impulse changes of the pairs
 //! it is the secondary node of, minus $N_k$ times those of the pairs on each primary face
-//! whose corner k it is, times its inverse mass.
+//! whose corner k it is, times its inverse mass. (The kernel's first invocation also applies
+//! the iteration's stopping rule after the sweep, whose twin is
+//! [`super::sweep_control`].)
 
 use super::contact_constraints::Constraint;
 use super::contact_touches::ContactNode;
