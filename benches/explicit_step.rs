@@ -93,6 +93,11 @@ struct Resident {
     /// Stage name and microseconds per step.
     stages: Vec<(&'static str, f64)>,
     copy: f64,
+    /// Steps timed, submissions run again in them (a step ran out of recorded contact
+    /// sweeps), and the sweeps recorded per step at the end.
+    steps: usize,
+    reruns: usize,
+    recorded: Option<u32>,
 }
 
 /// The bytes one explicit step moves at least: per node the predictor (a, v), drift (v, u),
@@ -153,6 +158,7 @@ fn time_resident(
     }
     // then whole submissions (the device runs one ahead of the host) for about a second, at
     // least one and at most `max_steps` steps' worth (the scene stays in contact)
+    let reruns_before = s.reruns();
     let t = Instant::now();
     let mut steps = 0;
     while steps == 0 || (steps + chunk <= max_steps && t.elapsed().as_secs_f64() < 1.0) {
@@ -162,6 +168,12 @@ fn time_resident(
         steps += chunk;
     }
     let ns = t.elapsed().as_secs_f64() / steps as f64 * 1e9 / elements;
+    let reruns = s.reruns() - reruns_before;
+    let engine = s.engine_mut();
+    let recorded = engine
+        .contact_iteration()
+        .is_some()
+        .then(|| engine.sweeps());
     let engine = s.engine_mut();
     let reps = steps.clamp(4, 50);
     let stages = [
@@ -192,6 +204,9 @@ fn time_resident(
         setup,
         stages,
         copy,
+        steps,
+        reruns,
+        recorded,
     }
 }
 
@@ -329,8 +344,14 @@ fn table(
     }
     println!("\nThe resident step's stages alone (microseconds per step; each stage repeated in one submission), and the host's time to record and submit a step (it overlaps the device's work on the submission before):\n");
     let names: Vec<&str> = stage_rows[0].1.stages.iter().map(|s| s.0).collect();
-    println!("| elements | {} | sum | whole step |", names.join(" | "));
-    println!("|---:|{}---:|---:|", "---:|".repeat(names.len()));
+    println!(
+        "| elements | {} | sum | whole step | steps timed | reruns | contact sweeps recorded per step |",
+        names.join(" | ")
+    );
+    println!(
+        "|---:|{}---:|---:|---:|---:|---:|",
+        "---:|".repeat(names.len())
+    );
     for (elements, r) in &stage_rows {
         let cells: Vec<String> = r.stages.iter().map(|s| format!("{:.1}", s.1)).collect();
         // the stages' sum leaves the host's recording out: it overlaps the device
@@ -341,9 +362,12 @@ fn table(
             .map(|s| s.1)
             .sum();
         println!(
-            "| {elements} | {} | {sum:.1} | {:.1} |",
+            "| {elements} | {} | {sum:.1} | {:.1} | {} | {} | {} |",
             cells.join(" | "),
-            r.ns * *elements as f64 * 1e-3
+            r.ns * *elements as f64 * 1e-3,
+            r.steps,
+            r.reruns,
+            r.recorded.map_or("-".into(), |x| x.to_string())
         );
     }
 }
