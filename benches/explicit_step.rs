@@ -24,7 +24,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use impact::gpu::{GpuContext, GpuKernels, Stage};
-use impact::integrate::resident::{self, ResidentOptions};
+use impact::integrate::resident;
 use impact::integrate::stable_step::{stable_step, stable_step_on};
 use impact::integrate::{ExplicitSolver, ResidentSolver};
 use impact::kernels::{CpuKernels, Kernels};
@@ -131,9 +131,8 @@ fn time_resident(
     if software {
         chunk = chunk.min(16);
     }
-    let options = ResidentOptions { chunk };
     // no last step within reach: the run reads the state back at its last step
-    let mut s = ResidentSolver::with_options(
+    let mut s = ResidentSolver::with_chunk(
         ctx,
         model,
         &sc.explicit,
@@ -141,7 +140,7 @@ fn time_resident(
         1.0,
         usize::MAX / 2,
         None,
-        options,
+        chunk,
     )
     .expect("resident solver");
     let setup = model_time + start.elapsed().as_secs_f64();

@@ -11,7 +11,7 @@ use common::*;
 
 use impact::contact::quad::norm;
 use impact::gpu::{GpuContext, ResidentExplicit};
-use impact::integrate::resident::{self, ResidentOptions};
+use impact::integrate::resident;
 use impact::integrate::ResidentSolver;
 use impact::kernels::contact_gap::NO_FACE;
 use impact::kernels::plane_contact::SLOT;
@@ -382,18 +382,9 @@ fn recorded_sweeps_do_not_change_the_results() {
     let run = |min_sweeps: u32| {
         // 25 steps per submission: the device runs one submission ahead of the host, so a
         // rerun also discards the submission after it
-        let options = ResidentOptions { chunk: 25 };
-        let mut s = ResidentSolver::with_options(
-            ctx.clone(),
-            &model,
-            &settings,
-            dt,
-            1.0,
-            steps,
-            None,
-            options,
-        )
-        .expect("resident solver");
+        let mut s =
+            ResidentSolver::with_chunk(ctx.clone(), &model, &settings, dt, 1.0, steps, None, 25)
+                .expect("resident solver");
         s.set_min_sweeps(min_sweeps);
         let mut rows = Vec::new();
         for _ in 0..steps {

@@ -44,16 +44,6 @@ pub struct Kernel {
 impl Kernel {
     /// Compiles `source` and builds the pipeline of its entry point `name`.
     pub fn new(ctx: &GpuContext, name: &'static str, source: &str) -> Self {
-        Self::with_constants(ctx, name, source, &[])
-    }
-
-    /// [`Self::new`] with values for the shader's pipeline-overridable constants.
-    pub fn with_constants(
-        ctx: &GpuContext,
-        name: &'static str,
-        source: &str,
-        constants: &[(&str, f64)],
-    ) -> Self {
         let module = ctx
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -68,7 +58,7 @@ impl Kernel {
                 module: &module,
                 entry_point: Some(name),
                 compilation_options: wgpu::PipelineCompilationOptions {
-                    constants,
+                    constants: &[],
                     // every kernel writes its workgroup memory before it reads it
                     zero_initialize_workgroup_memory: false,
                 },

@@ -182,14 +182,6 @@ pub fn setup(
     (setup, places)
 }
 
-/// How the resident step runs; [`ResidentSolver::new`] picks for the model, tests vary them
-/// (the results do not depend on them).
-#[derive(Debug, Clone, Copy)]
-pub struct ResidentOptions {
-    /// Steps per submission ([`chunk_steps`]).
-    pub chunk: usize,
-}
-
 /// One decoded history row.
 #[derive(Debug, Clone, Default)]
 struct Row {
@@ -243,10 +235,8 @@ impl<'m> ResidentSolver<'m> {
         total: usize,
         frame_every: Option<usize>,
     ) -> Result<Self> {
-        let options = ResidentOptions {
-            chunk: chunk_steps(model.mesh.element_count()),
-        };
-        Self::with_options(
+        let chunk = chunk_steps(model.mesh.element_count());
+        Self::with_chunk(
             ctx,
             model,
             settings,
@@ -254,13 +244,13 @@ impl<'m> ResidentSolver<'m> {
             speed_scale,
             total,
             frame_every,
-            options,
+            chunk,
         )
     }
 
-    /// [`Self::new`] with other [`ResidentOptions`].
+    /// [`Self::new`] with `chunk` steps per submission instead of [`chunk_steps`].
     #[allow(clippy::too_many_arguments)]
-    pub fn with_options(
+    pub fn with_chunk(
         ctx: GpuContext,
         model: &'m Model,
         settings: &ExplicitSettings,
@@ -268,10 +258,10 @@ impl<'m> ResidentSolver<'m> {
         speed_scale: f64,
         total: usize,
         frame_every: Option<usize>,
-        options: ResidentOptions,
+        chunk: usize,
     ) -> Result<Self> {
         let (setup, places) = setup(model, settings, dt, speed_scale);
-        let chunk = options.chunk.max(1);
+        let chunk = chunk.max(1);
         let mut engine = ResidentExplicit::new(ctx, &model.element_data(), &setup, chunk)?;
         engine.set_sweeps(MIN_SWEEPS);
         // the setup lumped the mass already (an element loop over the whole mesh)
