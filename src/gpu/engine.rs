@@ -531,17 +531,35 @@ impl GpuKernels {
     /// queries).
     pub fn time_kernel(&mut self, kernel: KernelId, reps: usize) -> Result<Duration> {
         let mut enc = self.encoder("timing");
-        let contact = |k: &super::kernel::Kernel, which: usize| {
-            let Some(binds) = &self.contact_binds else {
-                return Err(ImpactError::Gpu("no contact queries uploaded".into()));
-            };
-            let bind = if which == 0 { &binds.0 } else { &binds.1 };
-            Ok((k.set_count(&self.ctx, self.query_count as u32), bind))
-        };
-        let contact_launch = match kernel {
-            KernelId::ContactGap => Some((&self.contact_gap.0, contact(&self.contact_gap.0, 0)?)),
-            KernelId::SlipRate => Some((&self.slip_rate.0, contact(&self.slip_rate.0, 1)?)),
-            _ => None,
+        // the element kernels' launches are fixed; the contact kernels' counts follow the
+        // last queries
+        let (k, bind, grid) = match kernel {
+            KernelId::Hex8Forces => (
+                &self.hex8_forces.0,
+                &self.hex8_launch.bind,
+                self.hex8_launch.grid,
+            ),
+            KernelId::Tet4Forces => (
+                &self.tet4_forces.0,
+                &self.tet4_launch.bind,
+                self.tet4_launch.grid,
+            ),
+            KernelId::NodeGather => (
+                &self.node_gather.0,
+                &self.gather_launch.bind,
+                self.gather_launch.grid,
+            ),
+            KernelId::ContactGap | KernelId::SlipRate => {
+                let Some((gap, slip)) = &self.contact_binds else {
+                    return Err(ImpactError::Gpu("no contact queries uploaded".into()));
+                };
+                let (k, bind) = if kernel == KernelId::ContactGap {
+                    (&self.contact_gap.0, gap)
+                } else {
+                    (&self.slip_rate.0, slip)
+                };
+                (k, bind, k.set_count(&self.ctx, self.query_count as u32))
+            }
         };
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -549,19 +567,7 @@ impl GpuKernels {
                 timestamp_writes: None,
             });
             for _ in 0..reps {
-                match (kernel, &contact_launch) {
-                    (KernelId::Hex8Forces, _) => {
-                        self.hex8_forces.0.dispatch(&mut pass, &self.hex8_launch)
-                    }
-                    (KernelId::Tet4Forces, _) => {
-                        self.tet4_forces.0.dispatch(&mut pass, &self.tet4_launch)
-                    }
-                    (KernelId::NodeGather, _) => {
-                        self.node_gather.0.dispatch(&mut pass, &self.gather_launch)
-                    }
-                    (_, Some((k, (grid, bind)))) => k.dispatch_with(&mut pass, bind, *grid),
-                    (_, None) => unreachable!("contact kernels have a launch"),
-                }
+                k.dispatch_with(&mut pass, bind, grid);
             }
         }
         // settle earlier work (the params write) before timing

@@ -195,9 +195,7 @@ impl Kernel {
     /// Dispatches a [`Launch`] of this kernel inside an open compute pass (the dispatches
     /// of one pass see each other's writes, in order).
     pub fn dispatch(&self, pass: &mut wgpu::ComputePass, launch: &Launch) {
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &launch.bind, &[]);
-        pass.dispatch_workgroups(launch.grid[0], launch.grid[1], 1);
+        self.dispatch_with(pass, &launch.bind, launch.grid);
     }
 
     /// Dispatches `grid` with bind group `bind` inside an open compute pass.
@@ -240,9 +238,6 @@ impl Kernel {
         bind: &wgpu::BindGroup,
         grid: [u32; 2],
     ) {
-        let mut pass = self.begin_pass(encoder);
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, bind, &[]);
-        pass.dispatch_workgroups(grid[0], grid[1], 1);
+        self.dispatch_with(&mut self.begin_pass(encoder), bind, grid);
     }
 }
