@@ -24,12 +24,17 @@ fn load_dj(p: u32) -> vec3<f32> {
     return vec3<f32>(dj[3u * p], dj[3u * p + 1u], dj[3u * p + 2u]);
 }
 
-// sweep_control's rule after a sweep
+// The stopping rule after a sweep (twin: `kernels::sweep_control`): it counts the sweep and
+// sets the phase, 2 converged, 3 stopped unconverged at the sweep limit, or 1 sweeping on.
 fn stopping_rule() {
     let sweeps = state[STATE_SWEEPS] + 1u;
     state[STATE_SWEEPS] = sweeps;
-    let violation = bitcast<f32>(state[STATE_VIOLATION]);
-    let phase = phase_after_sweep(sweeps, violation, bitcast<f32>(params.aux2), params.aux);
+    var phase = 1u;
+    if (bitcast<f32>(state[STATE_VIOLATION]) <= bitcast<f32>(params.aux2)) {
+        phase = 2u;
+    } else if (sweeps >= params.aux) {
+        phase = 3u;
+    }
     state[STATE_PHASE] = phase;
     state[STATE_VIOLATION] = 0u;
 }

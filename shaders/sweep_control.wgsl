@@ -1,7 +1,7 @@
 // The start of the contact iteration, one invocation before its first sweep (twin:
 // `kernels::sweep_control`): it starts the sweeps, or, with no pair in reach, stops at once
 // (0 sweeps, as the host path). After each sweep `contact_apply` applies the stopping rule
-// (`phase_after_sweep`).
+// (its `stopping_rule`).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read_write> state: array<u32, 4>;

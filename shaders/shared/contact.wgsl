@@ -44,16 +44,3 @@ fn impulse_update(
     }
     return out;
 }
-
-// The stopping rule of the contact iteration after sweep number `sweeps` whose largest
-// violation was `violation` (twin: `kernels::sweep_control`): the next phase, 2 converged,
-// 3 stopped unconverged at the sweep limit, or 1 sweeping on.
-fn phase_after_sweep(sweeps: u32, violation: f32, tolerance: f32, limit: u32) -> u32 {
-    if (violation <= tolerance) {
-        return 2u;
-    }
-    if (sweeps >= limit) {
-        return 3u;
-    }
-    return 1u;
-}

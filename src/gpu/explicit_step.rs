@@ -501,11 +501,7 @@ impl ResidentExplicit {
     /// Runs one stage alone on the device's current buffers and waits for it.
     pub fn run_stage(&mut self, stage: Stage) -> Result<()> {
         let ctx = &self.k.ctx;
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("explicit_stage"),
-            });
+        let mut enc = self.k.encoder("explicit_stage");
         self.record_stage(&mut enc, stage);
         ctx.queue.submit([enc.finish()]);
         ctx.wait()
@@ -515,11 +511,7 @@ impl ResidentExplicit {
     /// (the benchmarks' per-stage figures; the state moves on as the stage runs).
     pub fn time_stage(&mut self, stage: Stage, reps: usize) -> Result<std::time::Duration> {
         let ctx = &self.k.ctx;
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("stage_timing"),
-            });
+        let mut enc = self.k.encoder("stage_timing");
         for _ in 0..reps {
             self.record_stage(&mut enc, stage);
         }
@@ -539,11 +531,7 @@ impl ResidentExplicit {
         let ctx = &self.k.ctx;
         ctx.wait()?;
         let start = std::time::Instant::now();
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("recording_timing"),
-            });
+        let mut enc = self.k.encoder("recording_timing");
         self.record_steps(&mut enc, steps);
         ctx.queue.submit([enc.finish()]);
         let host = start.elapsed();
@@ -577,11 +565,7 @@ impl ResidentExplicit {
 
     fn read_f32(&mut self, which: Buffer, count: usize) -> Result<Vec<f64>> {
         let ctx = &self.k.ctx;
-        let enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("read_back"),
-            });
+        let enc = self.k.encoder("read_back");
         let source = match which {
             Buffer::Acceleration => &self.a.buffer,
             Buffer::Partials => &self.partials.buffer,
@@ -671,11 +655,7 @@ impl ResidentExplicit {
         let steps = steps.min(self.chunk_capacity);
         let bytes = (steps * self.row_len * 4) as u64;
         let ctx = &self.k.ctx;
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("explicit_steps"),
-            });
+        let mut enc = self.k.encoder("explicit_steps");
         self.record_snapshot(&mut enc, slot, true);
         self.record_steps(&mut enc, steps);
         enc.copy_buffer_to_buffer(&self.rows.buffer, 0, &self.readback[slot].buffer, 0, bytes);
@@ -741,11 +721,7 @@ impl ResidentExplicit {
             ));
         }
         let ctx = &self.k.ctx;
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("restore"),
-            });
+        let mut enc = self.k.encoder("restore");
         self.record_snapshot(&mut enc, slot, false);
         ctx.queue.submit([enc.finish()]);
         Ok(())
