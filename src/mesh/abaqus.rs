@@ -8,7 +8,7 @@
 //! comment. Every element set is also offered as a node set (its elements' nodes) unless a
 //! node set has the same name. Names compare without regard to case, as in Abaqus.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use super::import::{FileMesh, FileSurface, ParseError};
 use super::NodeSet;
@@ -43,11 +43,21 @@ struct Element {
     line: usize,
 }
 
-/// A set as written: numbers, or names of earlier sets.
+/// A set as written: numbers, or names of earlier sets; each number kept once, in the
+/// order first named.
 #[derive(Default)]
 struct Set {
     name: String,
     ids: Vec<u64>,
+    seen: HashSet<u64>,
+}
+
+impl Set {
+    fn add(&mut self, id: u64) {
+        if self.seen.insert(id) {
+            self.ids.push(id);
+        }
+    }
 }
 
 /// A `*SURFACE, TYPE=ELEMENT` as written: its name, its (element-or-elset, side, line)
@@ -64,6 +74,9 @@ struct Reader {
     elsets: Vec<Set>,
     surfaces: Vec<SideSurface>,
     node_surfaces: Vec<(String, Vec<String>, usize)>,
+    /// At most this many nodes and elements are defined (see [`defined_bounds`]).
+    max_nodes: usize,
+    max_elements: usize,
 }
 
 fn params(line: &str) -> (String, HashMap<String, String>) {
@@ -92,7 +105,7 @@ fn set_mut<'a>(sets: &'a mut Vec<Set>, name: &str) -> &'a mut Set {
         None => {
             sets.push(Set {
                 name: name.to_string(),
-                ids: Vec::new(),
+                ..Set::default()
             });
             sets.last_mut().expect("just pushed")
         }
@@ -105,8 +118,30 @@ fn integer(token: &str, line: usize, what: &str) -> Res<u64> {
         .map_err(|_| ParseError::at(line, format!("expected {what}, found `{token}`")))
 }
 
+/// Upper bounds of the number of nodes and of elements a deck defines: its data lines under
+/// `*NODE` (each defines one node) and under `*ELEMENT` (each element starts one).
+fn defined_bounds(text: &str) -> (usize, usize) {
+    let (mut nodes, mut elements) = (0, 0);
+    let mut keyword = String::new();
+    for raw in text.lines() {
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with("**") {
+            continue;
+        }
+        if line.starts_with('*') {
+            keyword = params(line).0;
+        } else if keyword == "NODE" {
+            nodes += 1;
+        } else if keyword == "ELEMENT" {
+            elements += 1;
+        }
+    }
+    (nodes, elements)
+}
+
 /// Reads a deck's text.
 pub fn read(text: &str) -> Res<FileMesh> {
+    let (max_nodes, max_elements) = defined_bounds(text);
     let mut r = Reader {
         node_ids: HashMap::new(),
         nodes: Vec::new(),
@@ -116,6 +151,8 @@ pub fn read(text: &str) -> Res<FileMesh> {
         elsets: Vec::new(),
         surfaces: Vec::new(),
         node_surfaces: Vec::new(),
+        max_nodes,
+        max_elements,
     };
     let mut mode = Mode::Skip;
     let mut set_name = String::new();
@@ -242,7 +279,7 @@ pub fn read(text: &str) -> Res<FileMesh> {
                 }
                 r.nodes.push(p);
                 if !set_name.is_empty() {
-                    set_mut(&mut r.nsets, &set_name).ids.push(id);
+                    set_mut(&mut r.nsets, &set_name).add(id);
                 }
             }
             Mode::Element { corners } => {
@@ -277,7 +314,7 @@ pub fn read(text: &str) -> Res<FileMesh> {
                         line: pending_line,
                     });
                     if !set_name.is_empty() {
-                        set_mut(&mut r.elsets, &set_name).ids.push(id);
+                        set_mut(&mut r.elsets, &set_name).add(id);
                     }
                     pending.clear();
                 } else if !line.ends_with(',') {
@@ -294,9 +331,7 @@ pub fn read(text: &str) -> Res<FileMesh> {
             }
             Mode::NSet { generate } | Mode::ElSet { generate } => {
                 let node = matches!(mode, Mode::NSet { .. });
-                let ids = set_ids(&r, &fields, generate, node, line_no)?;
-                let sets = if node { &mut r.nsets } else { &mut r.elsets };
-                set_mut(sets, &set_name).ids.extend(ids);
+                set_line(&mut r, &set_name, &fields, generate, node, line_no)?;
             }
             Mode::SurfaceElement => {
                 if fields.len() != 2 {
@@ -340,8 +375,39 @@ pub fn read(text: &str) -> Res<FileMesh> {
     r.finish()
 }
 
-/// The numbers of a set's data line: plain, `GENERATE` triples, or names of earlier sets.
-fn set_ids(r: &Reader, fields: &[&str], generate: bool, node: bool, line: usize) -> Res<Vec<u64>> {
+/// Adds a set's data line to the set `name`: plain numbers, a `GENERATE` triple, or names
+/// of earlier sets.
+///
+/// A set may not name more distinct numbers than the deck can define. Every node is defined
+/// by a `*NODE` data line of its own and every element starts a data line under `*ELEMENT`
+/// ([`defined_bounds`]), so a set of more numbers than those lines names one that no line
+/// defines, which [`Reader::finish`] refuses anyway: the bound is exact (it refuses no deck
+/// that would otherwise be read). A `GENERATE` range is counted before it is expanded, so
+/// `1, 9223372036854775807` is refused without allocating, and the set is checked after every
+/// field, so names of earlier sets cannot make it grow without bound. (An element set hidden
+/// by a node set of the same name is not resolved by `finish`; it may not name undefined
+/// elements either.)
+fn set_line(
+    r: &mut Reader,
+    name: &str,
+    fields: &[&str],
+    generate: bool,
+    node: bool,
+    line: usize,
+) -> Res<()> {
+    let (what, limit, keyword, sets) = if node {
+        ("node", r.max_nodes, "*NODE", &mut r.nsets)
+    } else {
+        ("element", r.max_elements, "*ELEMENT", &mut r.elsets)
+    };
+    set_mut(sets, name);
+    let t = sets
+        .iter()
+        .position(|s| s.name.eq_ignore_ascii_case(name))
+        .expect("just made");
+    let defines = format!(
+        "the file defines at most {limit} {what}s (one per {keyword} data line), so the set would name {what}s that do not exist"
+    );
     if generate {
         if !(2..=3).contains(&fields.len()) {
             return Err(ParseError::at(
@@ -361,28 +427,60 @@ fn set_ids(r: &Reader, fields: &[&str], generate: bool, node: bool, line: usize)
                 format!("GENERATE {a}, {b}, {s}: need first <= last and step >= 1"),
             ));
         }
-        return Ok((a..=b).step_by(s as usize).collect());
-    }
-    let mut ids = Vec::new();
-    for f in fields {
-        match f.parse::<u64>() {
-            Ok(id) => ids.push(id),
-            Err(_) => {
-                let sets = if node { &r.nsets } else { &r.elsets };
-                let set = find_set(sets, f).ok_or_else(|| {
-                    ParseError::at(
-                        line,
-                        format!(
-                            "`{f}` is neither a number nor the name of an earlier {}",
-                            if node { "*NSET" } else { "*ELSET" }
-                        ),
-                    )
-                })?;
-                ids.extend_from_slice(&set.ids);
+        let count = u128::from(b - a) / u128::from(s) + 1;
+        if count > limit as u128 {
+            return Err(ParseError::at(
+                line,
+                format!("GENERATE {a}, {b}, {s} makes {count} {what} numbers, but {defines}"),
+            ));
+        }
+        let mut id = a;
+        loop {
+            sets[t].add(id);
+            match id.checked_add(s) {
+                Some(next) if next <= b => id = next,
+                _ => break,
+            }
+        }
+    } else {
+        for f in fields {
+            match f.parse::<u64>() {
+                Ok(id) => sets[t].add(id),
+                Err(_) => {
+                    let from = sets
+                        .iter()
+                        .position(|s| s.name.eq_ignore_ascii_case(f))
+                        .ok_or_else(|| {
+                            ParseError::at(
+                                line,
+                                format!(
+                                    "`{f}` is neither a number nor the name of an earlier {}",
+                                    if node { "*NSET" } else { "*ELSET" }
+                                ),
+                            )
+                        })?;
+                    for k in 0..sets[from].ids.len() {
+                        let id = sets[from].ids[k];
+                        sets[t].add(id);
+                    }
+                }
+            }
+            if sets[t].ids.len() > limit {
+                break;
             }
         }
     }
-    Ok(ids)
+    let n = sets[t].ids.len();
+    if n > limit {
+        return Err(ParseError::at(
+            line,
+            format!(
+                "{} {name} names {n} distinct {what} numbers here, but {defines}",
+                if node { "*NSET" } else { "*ELSET" }
+            ),
+        ));
+    }
+    Ok(())
 }
 
 impl Reader {
@@ -424,6 +522,9 @@ impl Reader {
         }
         for (name, entries, surface_line) in &self.surfaces {
             let mut faces = Vec::new();
+            // each (element, side) once, however many lines name it: the faces are at most
+            // six per element, not lines times elements
+            let mut done = HashSet::new();
             for (target, side, line) in entries {
                 let elements: Vec<u64> = match target.parse::<u64>() {
                     Ok(id) => vec![id],
@@ -435,7 +536,11 @@ impl Reader {
                         .clone(),
                 };
                 for id in elements {
-                    let c = &corners[self.element(id, *line)?];
+                    let k = self.element(id, *line)?;
+                    if !done.insert((k, *side)) {
+                        continue;
+                    }
+                    let c = &corners[k];
                     let sides: &[&[usize]] = if c.len() == 8 {
                         &C3D8_SIDES
                     } else {
@@ -474,15 +579,22 @@ impl Reader {
         }
         for (name, entries, line) in &self.node_surfaces {
             let mut nodes = Vec::new();
+            // each node once, however many entries name it
+            let mut seen = HashSet::new();
+            let mut add = |n: u32| {
+                if seen.insert(n) {
+                    nodes.push(n);
+                }
+            };
             for t in entries {
                 match t.parse::<u64>() {
-                    Ok(id) => nodes.push(self.node(id, *line, &format!("surface {name}"))?),
+                    Ok(id) => add(self.node(id, *line, &format!("surface {name}"))?),
                     Err(_) => {
                         let set = find_set(&self.nsets, t).ok_or_else(|| {
                             ParseError::at(*line, format!("no *NSET named `{t}`"))
                         })?;
                         for &id in &set.ids {
-                            nodes.push(self.node(id, *line, &format!("surface {name}"))?);
+                            add(self.node(id, *line, &format!("surface {name}"))?);
                         }
                     }
                 }
@@ -573,5 +685,99 @@ CUBE, S1
         let e = read(&t).unwrap_err();
         assert_eq!(e.line, Some(14));
         assert!(e.message.contains("node 99"), "{}", e.message);
+    }
+
+    /// Writes `text` as `<name>.inp` in a fresh temporary folder and imports it; returns the
+    /// path and the error's message (which must name the file).
+    fn import_error(name: &str, text: &str) -> (std::path::PathBuf, String) {
+        let dir = std::env::temp_dir().join(format!("impact_abaqus_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(format!("{name}.inp"));
+        std::fs::write(&path, text).unwrap();
+        let e = crate::mesh::import(&path, 1.0, [0.0; 3]).expect_err("must be refused");
+        (path, e.to_string())
+    }
+
+    /// `CUBE` with a set keyword and its data line appended; returns the text and the data
+    /// line's number.
+    fn with_set(keyword: &str, data: &str) -> (String, usize) {
+        let line = CUBE.lines().count() + 2;
+        (format!("{CUBE}{keyword}\n{data}\n"), line)
+    }
+
+    #[test]
+    fn generate_to_i64_max_is_refused_before_it_is_expanded() {
+        let (t, line) = with_set(
+            "*ELSET, ELSET=ALL_EL, GENERATE",
+            "1, 9223372036854775807, 1",
+        );
+        let (path, msg) = import_error("generate_i64_max", &t);
+        assert!(
+            msg.starts_with(&format!("{}:{line}: ", path.display())),
+            "names the file and line: {msg}"
+        );
+        assert!(
+            msg.contains(
+                "GENERATE 1, 9223372036854775807, 1 makes 9223372036854775807 element numbers"
+            ),
+            "{msg}"
+        );
+        // the element's data line and its continuation
+        assert!(msg.contains("at most 2 elements"), "{msg}");
+    }
+
+    #[test]
+    fn generate_of_a_billion_nodes_is_refused_before_it_is_expanded() {
+        let (t, line) = with_set("*NSET, NSET=MANY, GENERATE", "1, 1000000000, 1");
+        let (path, msg) = import_error("generate_billion", &t);
+        assert!(
+            msg.starts_with(&format!("{}:{line}: ", path.display())),
+            "names the file and line: {msg}"
+        );
+        assert!(
+            msg.contains("makes 1000000000 node numbers, but the file defines at most 8 nodes"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn generate_near_u64_max_neither_overflows_nor_panics() {
+        let (t, line) = with_set(
+            "*NSET, NSET=TOP_END, GENERATE",
+            "18446744073709551610, 18446744073709551615, 3",
+        );
+        // two numbers, within the bound; neither is a node, which `finish` refuses
+        let e = read(&t).unwrap_err();
+        assert!(e.message.contains("node 18446744073709551610"), "{e:?}");
+        let (t, _) = with_set("*NSET, NSET=ALL_U64, GENERATE", "0, 18446744073709551615");
+        let e = read(&t).unwrap_err();
+        assert_eq!(e.line, Some(line));
+        assert!(
+            e.message
+                .contains("makes 18446744073709551616 node numbers"),
+            "{e:?}"
+        );
+    }
+
+    #[test]
+    fn a_set_naming_itself_keeps_each_number_once() {
+        // each line would triple the set if numbers were kept as often as named
+        let lines = "TWICE, TWICE, TWICE\n".repeat(64);
+        let t = format!("{CUBE}*NSET, NSET=TWICE\n1, 2\n{lines}");
+        let m = read(&t).unwrap();
+        let set = m.node_sets.iter().find(|s| s.name == "TWICE").unwrap();
+        assert_eq!(set.nodes, vec![0, 1]);
+    }
+
+    #[test]
+    fn a_set_of_more_numbers_than_nodes_names_the_line() {
+        let (t, line) = with_set("*NSET, NSET=LISTED", "1, 2, 3, 4, 5, 6, 7, 8, 9");
+        let e = read(&t).unwrap_err();
+        assert_eq!(e.line, Some(line));
+        assert!(
+            e.message
+                .contains("*NSET LISTED names 9 distinct node numbers"),
+            "{e:?}"
+        );
     }
 }

@@ -54,14 +54,13 @@ struct Cursor<'a> {
     b: &'a [u8],
     pos: usize,
     binary: bool,
+    /// Offsets of the file's `\n` bytes, so that a line number costs a binary search.
+    newlines: &'a [usize],
 }
 
 impl<'a> Cursor<'a> {
     fn line_at(&self, pos: usize) -> usize {
-        1 + self.b[..pos.min(self.b.len())]
-            .iter()
-            .filter(|&&c| c == b'\n')
-            .count()
+        1 + self.newlines.partition_point(|&n| n < pos)
     }
 
     fn err(&self, message: impl Into<String>) -> ParseError {
@@ -174,13 +173,30 @@ impl<'a> Cursor<'a> {
         ParseError::at(self.line_at(self.pos.saturating_sub(1)), message)
     }
 
-    /// A count that must fit in memory: refuse absurd values from a corrupt file.
-    fn count(&mut self, what: &str) -> Res<usize> {
+    /// A count of entries that follow, each at least `tokens` text tokens or, in binary
+    /// sections, `bytes` bytes: refused when the rest of the file is too short to hold them,
+    /// so no count from a corrupt file can drive an allocation or a loop past the file's own
+    /// size. A text token takes at least 2 bytes, itself and the space after it (every
+    /// section ends with a `$End` line, so even its last token is followed by one).
+    fn count(&mut self, what: &str, tokens: usize, bytes: usize) -> Res<usize> {
         let n = self.size(what)?;
-        if n as usize > self.b.len() {
-            return Err(self.err(format!("{what} = {n} is more than the file can hold")));
+        let each = if self.binary { bytes } else { 2 * tokens }.max(1);
+        let left = self.b.len().saturating_sub(self.pos);
+        if n > (left / each) as u64 {
+            return Err(self.err(format!(
+                "{what} = {n} is more than the rest of the file can hold ({left} bytes left, each entry takes at least {each})"
+            )));
         }
         Ok(n as usize)
+    }
+
+    /// An entity dimension, 0 to 3.
+    fn dim(&mut self) -> Res<usize> {
+        let d = self.int("an entity dimension")?;
+        if !(0..=3).contains(&d) {
+            return Err(self.err(format!("entity dimension {d} (expected 0 to 3)")));
+        }
+        Ok(d as usize)
     }
 }
 
@@ -194,10 +210,12 @@ struct Block {
 
 /// Reads a whole `.msh` file.
 pub fn read(bytes: &[u8]) -> Res<FileMesh> {
+    let newlines: Vec<usize> = (0..bytes.len()).filter(|&i| bytes[i] == b'\n').collect();
     let mut c = Cursor {
         b: bytes,
         pos: 0,
         binary: false,
+        newlines: &newlines,
     };
     let mut seen_format = false;
     let mut binary = false;
@@ -252,7 +270,8 @@ pub fn read(bytes: &[u8]) -> Res<FileMesh> {
                 c.end("MeshFormat")?;
             }
             "PhysicalNames" => {
-                let n: usize = c.number("the number of physical names")?;
+                // `dim tag "name"`
+                let n = c.count("the number of physical names", 3, 0)?;
                 for _ in 0..n {
                     let dim: usize = c.number("a physical dimension")?;
                     let tag: i64 = c.number("a physical tag")?;
@@ -263,11 +282,13 @@ pub fn read(bytes: &[u8]) -> Res<FileMesh> {
             }
             "Entities" => {
                 c.binary = binary;
+                // a point: tag, 3 coordinates, a count of physical tags; a curve, surface or
+                // volume: tag, 6 coordinates and two counts
                 let counts = [
-                    c.count("the number of points")?,
-                    c.count("the number of curves")?,
-                    c.count("the number of surfaces")?,
-                    c.count("the number of volumes")?,
+                    c.count("the number of points", 5, 4 + 3 * 8 + 8)?,
+                    c.count("the number of curves", 9, 4 + 6 * 8 + 2 * 8)?,
+                    c.count("the number of surfaces", 9, 4 + 6 * 8 + 2 * 8)?,
+                    c.count("the number of volumes", 9, 4 + 6 * 8 + 2 * 8)?,
                 ];
                 for (dim, &n) in counts.iter().enumerate() {
                     for _ in 0..n {
@@ -276,14 +297,14 @@ pub fn read(bytes: &[u8]) -> Res<FileMesh> {
                         for _ in 0..coords {
                             c.real("an entity coordinate")?;
                         }
-                        let np = c.count("the number of physical tags")?;
+                        let np = c.count("the number of physical tags", 1, 4)?;
                         let mut tags = Vec::with_capacity(np);
                         for _ in 0..np {
                             tags.push(c.int("a physical tag")?);
                         }
                         physicals.insert((dim, tag), tags);
                         if dim > 0 {
-                            let nb = c.count("the number of bounding entities")?;
+                            let nb = c.count("the number of bounding entities", 1, 4)?;
                             for _ in 0..nb {
                                 c.int("a bounding entity tag")?;
                             }
@@ -295,25 +316,23 @@ pub fn read(bytes: &[u8]) -> Res<FileMesh> {
             }
             "Nodes" => {
                 c.binary = binary;
-                let nblocks = c.count("the number of node blocks")?;
-                let total = c.count("the number of nodes")?;
+                // a block header: dimension, tag, parametric flag, count; a node: its tag and
+                // 3 coordinates
+                let nblocks = c.count("the number of node blocks", 4, 3 * 4 + 8)?;
+                let total = c.count("the number of nodes", 4, 8 + 3 * 8)?;
                 c.size("the smallest node tag")?;
                 c.size("the largest node tag")?;
                 nodes.reserve(total);
                 for _ in 0..nblocks {
-                    let dim = c.int("an entity dimension")?;
+                    let dim = c.dim()?;
                     c.int("an entity tag")?;
                     let parametric = c.int("the parametric flag")?;
-                    let n = c.count("the number of nodes in the block")?;
+                    let n = c.count("the number of nodes in the block", 4, 8 + 3 * 8)?;
                     let mut tags = Vec::with_capacity(n);
                     for _ in 0..n {
                         tags.push(c.size("a node tag")?);
                     }
-                    let extra = if parametric != 0 {
-                        dim.max(0) as usize
-                    } else {
-                        0
-                    };
+                    let extra = if parametric != 0 { dim } else { 0 };
                     for tag in tags {
                         let p = [
                             c.real("a node coordinate")?,
@@ -342,19 +361,22 @@ pub fn read(bytes: &[u8]) -> Res<FileMesh> {
                     read_ascii_elements(&mut c, &mut blocks)?;
                 } else {
                     c.binary = true;
-                    let nblocks = c.count("the number of element blocks")?;
-                    c.count("the number of elements")?;
+                    // a block header: dimension, tag, type, count; an element: its tag and at
+                    // least one node tag
+                    let nblocks = c.count("the number of element blocks", 4, 3 * 4 + 8)?;
+                    c.count("the number of elements", 2, 2 * 8)?;
                     c.size("the smallest element tag")?;
                     c.size("the largest element tag")?;
                     for _ in 0..nblocks {
                         let line = c.line_at(c.pos);
-                        let dim = c.int("an entity dimension")?;
+                        let dim = c.dim()?;
                         let tag = c.int("an entity tag")?;
                         let kind = c.int("an element type")?;
-                        let n = c.count("the number of elements in the block")?;
                         let Some((per, _)) = element_kind(kind) else {
                             return Err(c.err(format!("unknown element type {kind}")));
                         };
+                        let n =
+                            c.count("the number of elements in the block", 1 + per, 8 + 8 * per)?;
                         let mut elements = Vec::with_capacity(n);
                         for _ in 0..n {
                             c.size("an element tag")?;
@@ -365,7 +387,7 @@ pub fn read(bytes: &[u8]) -> Res<FileMesh> {
                             elements.push(e);
                         }
                         blocks.push(Block {
-                            dim: dim.max(0) as usize,
+                            dim,
                             tag,
                             kind,
                             elements,
@@ -395,20 +417,26 @@ pub fn read(bytes: &[u8]) -> Res<FileMesh> {
 }
 
 fn read_ascii_elements(c: &mut Cursor, blocks: &mut Vec<Block>) -> Res<()> {
-    let nblocks = c.count("the number of element blocks")?;
-    c.count("the number of elements")?;
+    // as in the binary reader in [`read`]
+    let nblocks = c.count("the number of element blocks", 4, 0)?;
+    c.count("the number of elements", 2, 0)?;
     c.size("the smallest element tag")?;
     c.size("the largest element tag")?;
     for _ in 0..nblocks {
         c.skip_space();
         let line = c.line_at(c.pos);
-        let dim: i64 = c.number("an entity dimension")?;
+        let dim = c.dim()?;
         let tag: i64 = c.number("an entity tag")?;
         let kind: i64 = c.number("an element type")?;
-        let n = c.count("the number of elements in the block")?;
-        let per = element_kind(kind).map(|k| k.0);
+        let Some((per, _)) = element_kind(kind) else {
+            return Err(ParseError::at(line, format!("unknown element type {kind}")));
+        };
+        let n = c.count("the number of elements in the block", 1 + per, 0)?;
         let mut elements = Vec::with_capacity(n);
         for _ in 0..n {
+            if c.at_end() {
+                return Err(c.err("the file ends inside an element block"));
+            }
             let text = c.line()?;
             let mut fields = text.split_whitespace();
             fields.next(); // element tag
@@ -420,21 +448,16 @@ fn read_ascii_elements(c: &mut Cursor, blocks: &mut Vec<Block>) -> Res<()> {
                         "expected an element tag and its node tags, found `{text}`"
                     ))
                 })?;
-            if let Some(per) = per {
-                if e.len() != per {
-                    return Err(c.err_prev(format!(
-                        "an element of type {kind} has {per} nodes, this line gives {}",
-                        e.len()
-                    )));
-                }
+            if e.len() != per {
+                return Err(c.err_prev(format!(
+                    "an element of type {kind} has {per} nodes, this line gives {}",
+                    e.len()
+                )));
             }
             elements.push(e);
         }
-        if per.is_none() && !elements.is_empty() {
-            return Err(ParseError::at(line, format!("unknown element type {kind}")));
-        }
         blocks.push(Block {
-            dim: dim.max(0) as usize,
+            dim,
             tag,
             kind,
             elements,
@@ -623,5 +646,99 @@ $EndElements
         );
         let e = read(t.as_bytes()).unwrap_err();
         assert!(e.message.contains("10-node tetrahedron"), "{}", e.message);
+    }
+
+    /// Writes `bytes` as `<name>.msh` in a fresh temporary folder and imports it; returns the
+    /// path and the error's message (which must name the file).
+    fn import_error(name: &str, bytes: &[u8]) -> (std::path::PathBuf, String) {
+        let dir = std::env::temp_dir().join(format!("impact_gmsh_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(format!("{name}.msh"));
+        std::fs::write(&path, bytes).unwrap();
+        let e = crate::mesh::import(&path, 1.0, [0.0; 3]).expect_err("must be refused");
+        (path, e.to_string())
+    }
+
+    #[test]
+    fn a_huge_node_count_in_the_header_is_refused_before_allocating() {
+        let t = CUBE.replace("$Nodes\n2 8 1 8", "$Nodes\n2 9223372036854775807 1 8");
+        let (path, msg) = import_error("huge_nodes", t.as_bytes());
+        assert!(
+            msg.starts_with(&format!("{}:15: ", path.display())),
+            "names the file and line: {msg}"
+        );
+        assert!(
+            msg.contains("the number of nodes = 9223372036854775807 is more than the rest of the file can hold"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn huge_counts_anywhere_are_refused_with_their_line() {
+        for (from, to, line, what) in [
+            (
+                "$PhysicalNames\n2",
+                "$PhysicalNames\n18446744073709551615",
+                5,
+                "physical names",
+            ),
+            ("0 0 1 1", "0 0 1 4294967296", 10, "the number of volumes"),
+            ("1 1 0 1 1 0", "1 1 0 2147483648 1 0", 11, "physical tags"),
+            ("$Nodes\n2 8", "$Nodes\n1000000 8", 15, "node blocks"),
+            ("2 1 0 4\n1", "2 1 0 400000\n1", 16, "nodes in the block"),
+            (
+                "$Elements\n2 2",
+                "$Elements\n2 2000000000",
+                36,
+                "the number of elements",
+            ),
+            (
+                "3 1 5 1\n",
+                "3 1 5 9223372036854775807\n",
+                39,
+                "elements in the block",
+            ),
+        ] {
+            let t = CUBE.replace(from, to);
+            assert_ne!(t, CUBE, "{from:?}");
+            let e = read(t.as_bytes()).unwrap_err();
+            assert_eq!(e.line, Some(line), "{to:?}: {e:?}");
+            assert!(
+                e.message.contains(what) && e.message.contains("more than the rest of the file"),
+                "{to:?}: {e:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn an_empty_block_of_an_unknown_type_is_refused() {
+        // it used to be accepted while reading and then panic while the body was assembled
+        let t = CUBE.replace("2 1 3 1\n1 1 4 3 2", "2 1 99 0");
+        let e = read(t.as_bytes()).unwrap_err();
+        assert_eq!(e.line, Some(37), "{e:?}");
+        assert!(e.message.contains("unknown element type 99"), "{e:?}");
+    }
+
+    #[test]
+    fn an_entity_dimension_out_of_range_is_refused() {
+        let t = CUBE.replace("2 1 0 4\n1", "2147483647 1 1 4\n1");
+        let e = read(t.as_bytes()).unwrap_err();
+        assert!(e.message.contains("entity dimension 2147483647"), "{e:?}");
+    }
+
+    #[test]
+    fn a_huge_count_in_a_binary_file_is_refused() {
+        let good: &[u8] = include_bytes!("../../scenes/meshes/block_tet_binary.msh");
+        assert!(read(good).is_ok());
+        let at = good.windows(7).position(|w| w == b"$Nodes\n").unwrap() + 7;
+        for (k, what) in [(0, "node blocks"), (8, "the number of nodes")] {
+            let mut bad = good.to_vec();
+            bad[at + k..at + k + 8].copy_from_slice(&u64::MAX.to_le_bytes());
+            let e = read(&bad).unwrap_err();
+            assert!(
+                e.message.contains(what) && e.message.contains("18446744073709551615"),
+                "{e:?}"
+            );
+        }
     }
 }
