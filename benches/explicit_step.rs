@@ -29,8 +29,8 @@ use impact::integrate::stable_step::{stable_step, stable_step_on};
 use impact::integrate::{ExplicitSolver, ResidentSolver};
 use impact::kernels::{CpuKernels, Kernels};
 use impact::model::Model;
-use impact::run::explicit_time_step;
 use impact::scene::Scene;
+use impact::setup::explicit_time_step;
 
 fn scene(n: [usize; 3]) -> String {
     let h = 1.0 / n[0] as f64;
@@ -287,7 +287,7 @@ fn table(
     for (text, engines) in scenes {
         let t = Instant::now();
         let sc = Scene::parse(text, Path::new("bench.toml")).expect("bench scene");
-        let model = Model::from_scene(&sc);
+        let model = Model::from_scene(&sc).expect("model");
         let model_time = t.elapsed().as_secs_f64();
         let dt = explicit_time_step(&sc, stable_step(&model)).expect("stable step");
         let (cpu, gpu_ns, sweeps) = if *engines == Engines::All {

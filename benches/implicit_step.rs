@@ -69,7 +69,7 @@ fn main() {
     println!("|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|");
     for &n in sizes {
         let sc = Scene::parse(&scene(n), Path::new("bench.toml")).expect("bench scene");
-        let model = Model::from_scene(&sc);
+        let model = Model::from_scene(&sc).expect("model");
         let dt = sc.run.time_step.unwrap();
         let c_m = 1.0 / (0.25 * dt * dt);
         let t = Instant::now();

@@ -65,6 +65,84 @@ pub enum ImpactError {
     /// The GPU engine could not be used.
     #[error("gpu: {0}")]
     Gpu(String),
+    /// A mesh file named by the scene could not be opened.
+    #[error("{scene}: key `{key}`: cannot read the mesh file {}: {source}", path.display())]
+    MeshFile {
+        scene: PathBuf,
+        key: String,
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The model would need more memory than the machine or the process may use.
+    #[error("{path}: the model needs about {} ({what}), more than the {} this process may use ({limit_source}); use fewer elements or a machine with more memory", bytes(*estimate), bytes(*limit))]
+    TooLarge {
+        path: PathBuf,
+        what: String,
+        estimate: u64,
+        limit: u64,
+        limit_source: String,
+    },
+    /// The output folder holds an earlier run's files.
+    #[error("{}: holds the files of an earlier run ({found}); pass --overwrite to replace them, or --resume to continue that run", dir.display())]
+    OutputExists { dir: PathBuf, found: String },
+    /// A run cannot be resumed from the folder (no checkpoint, another scene, ...).
+    #[error("{}: cannot resume: {message}", dir.display())]
+    Resume { dir: PathBuf, message: String },
+    /// The run was stopped by a signal (SIGINT or SIGTERM) after writing a checkpoint.
+    #[error("interrupted at step {step} (t = {time:.6e}); the checkpoint, the history so far and a summary are in {}; continue with --resume", dir.display())]
+    Interrupted {
+        step: usize,
+        time: f64,
+        dir: PathBuf,
+    },
+}
+
+/// A byte count in the largest binary unit that keeps it at least 1.
+pub fn bytes(n: u64) -> String {
+    const UNITS: [&str; 5] = ["B", "KiB", "MiB", "GiB", "TiB"];
+    let mut x = n as f64;
+    let mut u = 0;
+    while x >= 1024.0 && u + 1 < UNITS.len() {
+        x /= 1024.0;
+        u += 1;
+    }
+    if u == 0 {
+        format!("{n} B")
+    } else {
+        format!("{x:.1} {}", UNITS[u])
+    }
+}
+
+/// The exit status of each outcome (documented in README.md, "Exit status").
+pub mod exit {
+    pub const SUCCESS: u8 = 0;
+    /// A failure that is none of the below (the GPU driver, say).
+    pub const OTHER: u8 = 1;
+    pub const USAGE: u8 = 2;
+    pub const INVALID_INPUT: u8 = 3;
+    pub const DIVERGED: u8 = 4;
+    pub const IO: u8 = 5;
+    pub const WARNINGS_STRICT: u8 = 6;
+    pub const INTERRUPTED: u8 = 130;
+}
+
+impl ImpactError {
+    /// The process exit status this error ends a command with.
+    pub fn exit_code(&self) -> u8 {
+        use ImpactError::*;
+        match self {
+            ReadScene { .. } | SceneSyntax { .. } | SceneValue { .. } | Unsupported { .. } => {
+                exit::INVALID_INPUT
+            }
+            Mesh { .. } | MeshFile { .. } | TooLarge { .. } => exit::INVALID_INPUT,
+            Solver(_) | Diverged { .. } => exit::DIVERGED,
+            Read { .. } | Write { .. } => exit::IO,
+            OutputExists { .. } | Resume { .. } => exit::USAGE,
+            Interrupted { .. } => exit::INTERRUPTED,
+            Gpu(_) => exit::OTHER,
+        }
+    }
 }
 
 pub type Result<T, E = ImpactError> = std::result::Result<T, E>;

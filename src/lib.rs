@@ -11,6 +11,8 @@
 // with their WGSL kernels (vello does the same in its CPU shaders).
 #![allow(clippy::needless_range_loop)]
 
+pub mod check;
+pub mod checkpoint;
 pub mod contact;
 pub mod element;
 pub mod error;
@@ -24,6 +26,7 @@ pub mod model;
 pub mod output;
 pub mod run;
 pub mod scene;
+pub mod setup;
 pub mod study;
 
 pub use error::{ImpactError, Result};

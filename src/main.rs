@@ -3,10 +3,15 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
 use anyhow::Context;
 use clap::{Parser, Subcommand};
+use impact::error::exit;
 use impact::run::{run, RunOptions};
 use impact::scene::{DeviceChoice, Scene};
+use impact::ImpactError;
 
 #[derive(Parser)]
 #[command(
@@ -34,6 +39,25 @@ enum Command {
         /// No progress lines.
         #[arg(long)]
         quiet: bool,
+        /// Replace the files of an earlier run in the output folder.
+        #[arg(long, conflicts_with = "resume")]
+        overwrite: bool,
+        /// Continue the run in the output folder from its latest checkpoint, to the scene's
+        /// end_time (the scene may differ from the first run's only in end_time and [output]).
+        #[arg(long)]
+        resume: bool,
+        /// Fail (exit status 6) when the run completes with warnings.
+        #[arg(long)]
+        strict: bool,
+    },
+    /// Read, build and check a scene's model without running it: bodies, stable step,
+    /// contact interfaces and their initial gaps, fixes, method and memory.
+    Check {
+        /// The scene file (TOML).
+        scene: PathBuf,
+        /// Where the kernels would run; overrides the scene's run.device.
+        #[arg(long, value_parser = ["auto", "gpu", "cpu"])]
+        device: Option<String>,
     },
     /// Draw history columns of a run against time: DIR/NAME.svg and DIR/NAME.png.
     Plot {
@@ -72,15 +96,55 @@ enum Command {
 
 fn main() -> ExitCode {
     match real_main() {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => ExitCode::from(code),
         Err(e) => {
-            eprintln!("error: {e:#}");
-            ExitCode::FAILURE
+            eprintln!("error: {}", chain(&e));
+            ExitCode::from(
+                e.downcast_ref::<ImpactError>()
+                    .map_or(exit::OTHER, ImpactError::exit_code),
+            )
         }
     }
 }
 
-fn real_main() -> anyhow::Result<()> {
+/// The error and its causes on one line, each cause once: a cause whose text its parent
+/// already quotes (an OS error inside a message) is not repeated.
+fn chain(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if !out.contains(&text) {
+            if !out.is_empty() {
+                out.push_str(": ");
+            }
+            out.push_str(&text);
+        }
+    }
+    out
+}
+
+/// Sets a flag on SIGINT and SIGTERM; the run polls it between steps.
+fn interrupt_flag() -> Option<Arc<AtomicBool>> {
+    let flag = Arc::new(AtomicBool::new(false));
+    let f = flag.clone();
+    ctrlc::set_handler(move || {
+        if f.swap(true, Ordering::SeqCst) {
+            // a second signal: stop now, without the checkpoint
+            std::process::exit(i32::from(exit::INTERRUPTED));
+        }
+    })
+    .ok()?;
+    Some(flag)
+}
+
+fn parse_device(device: Option<String>) -> anyhow::Result<Option<DeviceChoice>> {
+    device
+        .map(|d| d.parse::<DeviceChoice>())
+        .transpose()
+        .map_err(anyhow::Error::msg)
+}
+
+fn real_main() -> anyhow::Result<u8> {
     let cli = Cli::parse();
     match cli.command {
         Command::Study {
@@ -91,12 +155,13 @@ fn real_main() -> anyhow::Result<()> {
             keep_runs,
         } => {
             use impact::study::{study, Problem};
-            let p = Problem::parse(&problem).ok_or_else(|| {
-                anyhow::anyhow!(
-                    "unknown problem \"{problem}\" (the problems are: {})",
+            let Some(p) = Problem::parse(&problem) else {
+                eprintln!(
+                    "error: unknown problem \"{problem}\" (the problems are: {})",
                     Problem::NAMES
-                )
-            })?;
+                );
+                return Ok(exit::USAGE);
+            };
             let out = out.unwrap_or_else(|| PathBuf::from(format!("results/study_{problem}")));
             let devices: Vec<String> = if !devices.is_empty() {
                 devices
@@ -132,7 +197,7 @@ fn real_main() -> anyhow::Result<()> {
                 .map(|f| out.join(f).display().to_string())
                 .join(", ")
             );
-            Ok(())
+            Ok(exit::SUCCESS)
         }
         Command::Plot { dir, columns, name } => {
             use impact::output::plot::{chart, Table};
@@ -168,24 +233,30 @@ fn real_main() -> anyhow::Result<()> {
                 dir.join(format!("{name}.svg")).display(),
                 dir.join(format!("{name}.png")).display()
             );
-            Ok(())
+            Ok(exit::SUCCESS)
         }
         Command::Run {
             scene,
             out,
             device,
             quiet,
+            overwrite,
+            resume,
+            strict,
         } => {
             let sc = Scene::load(&scene)?;
-            let device = device
-                .map(|d| d.parse::<DeviceChoice>())
-                .transpose()
-                .map_err(anyhow::Error::msg)?;
-            let opts = RunOptions { out, device, quiet };
+            let opts = RunOptions {
+                out,
+                device: parse_device(device)?,
+                quiet,
+                overwrite,
+                resume,
+                interrupt: interrupt_flag(),
+            };
             let dir = impact::run::output_dir(&sc, &opts);
-            let s = run(&sc, &opts).with_context(|| format!("running {}", scene.display()))?;
+            let s = run(&sc, &opts)?;
             println!(
-                "{}: {} steps in {:.2} s on {} ({} iterations, at most {} per step); energy {:.6e} -> {:.6e}; results in {}",
+                "{}: {} steps in {:.2} s on {} ({} contact iterations, at most {} in a step); energy {:.6e} -> {:.6e}; {}; results in {}",
                 scene.display(),
                 s.steps,
                 s.wall_seconds,
@@ -194,13 +265,36 @@ fn real_main() -> anyhow::Result<()> {
                 s.iterations_max,
                 s.energy_initial,
                 s.energy_final,
+                s.status,
                 dir.display()
             );
-            Ok(())
+            for w in &s.warnings {
+                eprintln!("warning: {}: {}", w.kind, w.message);
+            }
+            Ok(if strict && !s.warnings.is_empty() {
+                eprintln!(
+                    "error: --strict: the run completed with {} warning(s)",
+                    s.warnings.len()
+                );
+                exit::WARNINGS_STRICT
+            } else {
+                exit::SUCCESS
+            })
+        }
+        Command::Check { scene, device } => {
+            let sc = Scene::load(&scene)?;
+            let device = parse_device(device)?.unwrap_or(sc.run.device);
+            let mut clock = impact::output::summary::SetupClock::start();
+            let setup = impact::setup::prepare(&sc, device, &mut |l| eprintln!("{l}"), &mut clock)?;
+            print!(
+                "{}",
+                impact::output::model_report::model_report(&sc, &setup)
+            );
+            Ok(exit::SUCCESS)
         }
         Command::Info => {
             print!("{}", impact::gpu::context::info_report()?);
-            Ok(())
+            Ok(exit::SUCCESS)
         }
     }
 }

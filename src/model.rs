@@ -2,6 +2,7 @@
 //! probes. Reading and checking (the scene) is kept apart from the time loop (integrate).
 
 use crate::contact::{tributary_areas, Interface, Primary};
+use crate::error::{ImpactError, Result};
 use crate::kernels::{ContactQueries, ElementData};
 use crate::material::Elastic;
 use crate::mesh::Mesh;
@@ -24,13 +25,17 @@ pub struct Model {
     /// Contact queries of all surface interfaces; candidates are filled by the broad phase.
     pub queries: ContactQueries,
     pub probes: Vec<Probe>,
+    /// Nodes held by each `[[fix]]`, in the scene's order.
+    pub fix_nodes: Vec<usize>,
     /// Initial velocity, 3 per node.
     pub initial_velocity: Vec<f64>,
     pub gravity: [f64; 3],
 }
 
 impl Model {
-    pub fn from_scene(scene: &Scene) -> Model {
+    /// Builds the model; a `[[fix]]` that selects no node is an error (a support that holds
+    /// nothing would leave its body free without a word).
+    pub fn from_scene(scene: &Scene) -> Result<Model> {
         let mut mesh = Mesh::default();
         let materials: Vec<Elastic> = scene
             .materials
@@ -47,7 +52,8 @@ impl Model {
         }
 
         let mut fixed = vec![false; 3 * mesh.node_count()];
-        for f in &scene.fixes {
+        let mut fix_nodes = Vec::with_capacity(scene.fixes.len());
+        for (i, f) in scene.fixes.iter().enumerate() {
             let body = &mesh.bodies[f.body];
             let nodes: Vec<u32> = match &f.nodes {
                 NodeSelection::Surface(s) => Mesh::quad_nodes(&body.surfaces[*s].faces),
@@ -62,6 +68,25 @@ impl Model {
                     .map(|n| n as u32)
                     .collect(),
             };
+            if nodes.is_empty() {
+                return Err(ImpactError::SceneValue {
+                    path: scene.path.clone(),
+                    key: format!("fix[{i}]"),
+                    message: format!(
+                        "holds no node of body `{}`{}",
+                        scene.bodies[f.body].name,
+                        match &f.nodes {
+                            NodeSelection::Region { min, max } => format!(
+                                " (region.min {min:?}, region.max {max:?}; the body's nodes span {:?} to {:?})",
+                                body_box(&mesh, f.body).0,
+                                body_box(&mesh, f.body).1
+                            ),
+                            _ => String::new(),
+                        }
+                    ),
+                });
+            }
+            fix_nodes.push(nodes.len());
             for n in nodes {
                 for a in 0..3 {
                     if f.components[a] {
@@ -87,6 +112,7 @@ impl Model {
                 friction: c.friction,
                 nodes,
                 area,
+                secondary_faces: sec.clone(),
                 primary: Primary::Surface {
                     body: c.primary.body,
                     faces: f0..queries.faces.len(),
@@ -107,6 +133,7 @@ impl Model {
                 friction: p.friction,
                 nodes,
                 area,
+                secondary_faces: quads,
                 primary: Primary::Plane {
                     point: p.point,
                     normal: p.normal,
@@ -137,7 +164,7 @@ impl Model {
             })
             .collect();
 
-        Model {
+        Ok(Model {
             body_names: scene.bodies.iter().map(|b| b.name.clone()).collect(),
             mesh,
             materials,
@@ -145,9 +172,23 @@ impl Model {
             interfaces,
             queries,
             probes,
+            fix_nodes,
             initial_velocity,
             gravity: scene.gravity,
+        })
+    }
+
+    /// Recomputes every interface's tributary areas from the current reference coordinates
+    /// (after nodes were moved onto a surface at t = 0).
+    pub fn refresh_areas(&mut self) {
+        for itf in &mut self.interfaces {
+            itf.area = tributary_areas(&self.mesh, &itf.secondary_faces).1;
         }
+    }
+
+    /// The bounding box of body `b`'s nodes.
+    pub fn body_box(&self, b: usize) -> ([f64; 3], [f64; 3]) {
+        body_box(&self.mesh, b)
     }
 
     pub fn dofs(&self) -> usize {
@@ -164,4 +205,16 @@ impl Model {
             materials: self.materials.clone(),
         }
     }
+}
+
+fn body_box(mesh: &Mesh, b: usize) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in &mesh.nodes[mesh.bodies[b].nodes.clone()] {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    (lo, hi)
 }

@@ -1,11 +1,15 @@
 //! Runs a scene: build the model, choose the device, integrate, write the results.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
+use crate::check::penetration::InitialContact;
+use crate::check::{self, Warning};
+use crate::checkpoint::{Checkpoint, SolverState, Tally};
 use crate::error::{ImpactError, Result};
-use crate::gpu::{AdapterPolicy, GpuContext, GpuKernels};
-use crate::integrate::stable_step::stable_step_on;
+use crate::gpu::GpuKernels;
 use crate::integrate::{
     ContactReport, Energies, ExplicitSolver, ImplicitSolver, ResidentSolver, StepReport,
 };
@@ -16,6 +20,7 @@ use crate::output::summary::{InterfaceSummary, SetupClock};
 use crate::output::vtu::{NodeContact, VtuWriter};
 use crate::output::{History, Summary};
 use crate::scene::{Constraint, DeviceChoice, MassKind, Method, PenaltyLaw, Scene};
+use crate::setup::{self, gpu_error, Setup};
 
 /// A run whose total energy exceeds this multiple of its scale (the initial energy, or the
 /// work gravity can do across the model) has diverged: elastic contact can only lose energy.
@@ -29,72 +34,17 @@ pub struct RunOptions {
     pub device: Option<DeviceChoice>,
     /// No progress lines on stderr.
     pub quiet: bool,
+    /// Replace an earlier run's files in the output folder.
+    pub overwrite: bool,
+    /// Continue the run in the output folder from its latest checkpoint.
+    pub resume: bool,
+    /// Set (by a signal handler) to stop the run after the current step with a checkpoint.
+    pub interrupt: Option<Arc<AtomicBool>>,
 }
 
 /// The output folder a run will write to.
 pub fn output_dir(scene: &Scene, opts: &RunOptions) -> PathBuf {
     opts.out.clone().unwrap_or_else(|| scene.output_dir.clone())
-}
-
-/// Under `device = "auto"`, scenes with at least this many elements run their kernels on a
-/// hardware GPU when there is one. Smaller scenes stay on the CPU in f64: there the kernels
-/// cost less than a few milliseconds per iteration, and f64 keeps the contact iteration's
-/// convergence test at its tightest. Software adapters are never chosen by "auto": on the
-/// same cores they are slower than the CPU twins (README, kernel benchmark).
-pub const AUTO_GPU_MIN_ELEMENTS: usize = 20_000;
-
-/// The GPU the requested device resolves to, or `None` for the CPU twins; `notice` receives
-/// the one-line reason when "auto" falls back to the CPU.
-pub fn gpu_context(
-    scene: &Scene,
-    elements: usize,
-    device: DeviceChoice,
-    notice: &mut dyn FnMut(&str),
-) -> Result<Option<GpuContext>> {
-    match device {
-        DeviceChoice::Cpu => Ok(None),
-        DeviceChoice::Gpu => GpuContext::new().map(Some).map_err(|e| gpu_error(scene, e)),
-        DeviceChoice::Auto => {
-            if elements < AUTO_GPU_MIN_ELEMENTS {
-                notice(&format!(
-                    "device auto: {elements} elements (< {AUTO_GPU_MIN_ELEMENTS}): kernels on the CPU in f64"
-                ));
-                return Ok(None);
-            }
-            let ctx = GpuContext::open(AdapterPolicy::HardwareOnly)?;
-            if ctx.is_none() {
-                notice("device auto: no hardware GPU found: kernels on the CPU in f64");
-            }
-            Ok(ctx)
-        }
-    }
-}
-
-fn gpu_error(scene: &Scene, e: ImpactError) -> ImpactError {
-    match e {
-        ImpactError::Gpu(message) => ImpactError::Unsupported {
-            path: scene.path.clone(),
-            key: "run.device".into(),
-            message: format!("device = \"gpu\": {message}"),
-        },
-        other => other,
-    }
-}
-
-/// Picks the kernels for the requested device; `notice` receives the one-line reason when
-/// "auto" falls back to the CPU.
-pub fn kernels<'m>(
-    scene: &Scene,
-    model: &'m Model,
-    device: DeviceChoice,
-    notice: &mut dyn FnMut(&str),
-) -> Result<Box<dyn Kernels + 'm>> {
-    let data = model.element_data();
-    let elements = data.hexes.len() + data.tets.len();
-    Ok(match gpu_context(scene, elements, device, notice)? {
-        Some(ctx) => Box::new(GpuKernels::new(ctx, &data).map_err(|e| gpu_error(scene, e))?),
-        None => Box::new(CpuKernels::new(data)),
-    })
 }
 
 /// The integrator a scene asked for.
@@ -134,6 +84,14 @@ impl Solver<'_> {
             Solver::Resident(s) => s.time,
         }
     }
+    /// Puts the clock exactly on the end time after a shortened last step (the explicit
+    /// solver sums its steps; the resident one computes the time itself).
+    fn end_at(&mut self, time: f64) {
+        if let Solver::Explicit(s) = self {
+            s.time = time;
+        }
+    }
+
     fn steps(&self) -> usize {
         match self {
             Solver::Implicit(s) => s.steps,
@@ -229,68 +187,6 @@ impl Solver<'_> {
     }
 }
 
-/// The time step of an explicit run given the mesh's stable bound `(step, element)` from
-/// [`stable_step`]: the scene's, which must not exceed the bound (unless
-/// `explicit.allow_unstable`), or `safety_factor` of the bound.
-pub fn explicit_time_step(scene: &Scene, (stable, element): (f64, usize)) -> Result<f64> {
-    match scene.run.time_step {
-        // a step equal to the bound up to rounding is the bound
-        Some(dt) if dt > stable * (1.0 + 1e-9) && !scene.explicit.allow_unstable => Err(ImpactError::SceneValue {
-            path: scene.path.clone(),
-            key: "run.time_step".into(),
-            message: format!(
-                "{dt:.4e} is above the stable explicit step {stable:.4e} (set by element {element}: 2/omega_max of its lumped-mass eigenproblem); use at most that, or leave time_step out for {:.4e} (explicit.safety_factor = {} of it)",
-                scene.explicit.safety_factor * stable,
-                scene.explicit.safety_factor
-            ),
-        }),
-        Some(dt) => Ok(dt),
-        None => Ok(scene.explicit.safety_factor * stable),
-    }
-}
-
-/// The cost of one implicit step in explicit steps of the same mesh, from this project's
-/// benchmarks on one machine (README, "Performance"): 95 at 3,072 elements and 180 at 18,000
-/// (a factorised solve pair per contact iteration, about 15 iterations, against one element
-/// sweep), so $K(n) = 95\,(n / 3072)^{0.36}$.
-pub fn implicit_step_cost(elements: usize) -> f64 {
-    95.0 * (elements.max(1) as f64 / 3072.0).powf(0.36)
-}
-
-/// `method = "auto"`: explicit unless the scene asks for a step so much longer than the
-/// explicit one that the implicit path's fewer, dearer steps cost less. Without a
-/// `time_step` the scene asks for no particular accuracy in time and the explicit path's
-/// stable step is the wave-resolving one, so it is explicit. With one, implicit is chosen
-/// when time_step / (explicit step) exceeds [`implicit_step_cost`]. Returns the method and a
-/// sentence for `summary.json`.
-/// `stable` is the mesh's stable explicit step ([`stable_step`]).
-pub fn choose_method(scene: &Scene, model: &Model, stable: f64) -> (Method, String) {
-    let explicit_dt = scene.explicit.safety_factor * stable;
-    let cost = implicit_step_cost(model.mesh.element_count());
-    match scene.run.time_step {
-        None => (
-            Method::Explicit,
-            format!("explicit: no time_step asked; the explicit step is {explicit_dt:.4e}"),
-        ),
-        Some(dt) => {
-            let ratio = dt / explicit_dt;
-            let method = if ratio > cost {
-                Method::Implicit
-            } else {
-                Method::Explicit
-            };
-            (
-                method,
-                format!(
-                    "{}: time_step {dt:.4e} is {ratio:.3} explicit steps ({explicit_dt:.4e}); an implicit step costs about {cost:.0} explicit steps on {} elements",
-                    method.name(),
-                    model.mesh.element_count()
-                ),
-            )
-        }
-    }
-}
-
 /// Writes the run's charts into `dir`: `forces` (every interface's normal force) and
 /// `energies` (kinetic, strain, total, and the friction work of interfaces with friction),
 /// each with the scene's exact curves for its columns, and one chart `exact_<column>` for an
@@ -345,82 +241,43 @@ pub fn write_charts(scene: &Scene, model: &Model, dir: &std::path::Path) -> Resu
     Ok(())
 }
 
-/// Runs the scene to its end time, writing `history.csv` and `summary.json`.
-///
-/// A diverging run stops with [`ImpactError::Diverged`] after flushing the history and
-/// writing a summary with `status = "diverged"`.
-pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
-    let start = Instant::now();
-    let dir = output_dir(scene, opts);
-    std::fs::create_dir_all(&dir).map_err(|source| ImpactError::Write {
-        path: dir.clone(),
-        source,
-    })?;
-    let mut clock = SetupClock::start();
-    let device = opts.device.unwrap_or(scene.run.device);
-    let model = Model::from_scene(scene);
-    clock.lap("model");
-    let quiet = opts.quiet;
-    let mut notice = |line: &str| {
-        if !quiet {
-            eprintln!("{line}");
-        }
-    };
-    let ctx = gpu_context(scene, model.mesh.element_count(), device, &mut notice)?;
-    clock.lap("device");
-    // the stable explicit step, once, where the explicit path may run (on the GPU for a mesh
-    // of many element shapes)
-    let bound = match scene.run.method {
-        Method::Explicit | Method::Auto => {
-            Some(stable_step_on(&model, ctx.as_ref()).map_err(|e| gpu_error(scene, e))?)
-        }
-        Method::Implicit => None,
-    };
-    clock.lap("stable step");
-    let (method, method_choice) = match (scene.run.method, bound) {
-        (Method::Auto, Some((stable, _))) => {
-            let (m, why) = choose_method(scene, &model, stable);
-            (m, Some(why))
-        }
-        (m, _) => (m, None),
-    };
-    if let Some(why) = &method_choice {
-        if !opts.quiet {
-            eprintln!("method auto: {why}");
-        }
+/// The files an earlier run leaves in its folder; a new run refuses a folder holding any of
+/// them unless told to overwrite or resume.
+pub const RUN_FILES: [&str; 3] = ["summary.json", "history.csv", "checkpoint.bin"];
+
+/// Refuses a folder that holds an earlier run's files (unless `--overwrite` or `--resume`),
+/// and creates it.
+fn prepare_dir(dir: &Path, opts: &RunOptions) -> Result<()> {
+    let found: Vec<&str> = RUN_FILES
+        .iter()
+        .copied()
+        .filter(|f| dir.join(f).exists())
+        .collect();
+    if !found.is_empty() && !opts.overwrite && !opts.resume {
+        return Err(ImpactError::OutputExists {
+            dir: dir.to_path_buf(),
+            found: found.join(", "),
+        });
     }
-    let (dt, stable) = match (method, bound) {
-        (Method::Explicit, Some(bound)) => {
-            let stable = bound.0;
-            let dt = if method_choice.is_some() {
-                // auto: the scene's step if the explicit path can take it, else its own
-                match scene.run.time_step {
-                    Some(dt) if dt <= stable * (1.0 + 1e-9) => dt,
-                    _ => scene.explicit.safety_factor * stable,
-                }
-            } else {
-                explicit_time_step(scene, bound)?
-            };
-            (dt, Some(stable))
-        }
-        _ => (
-            scene
-                .run
-                .time_step
-                .expect("validated: implicit has a time step; auto picks implicit only with one"),
-            None,
-        ),
-    };
-    let steps = (scene.run.end_time / dt - 1e-9).ceil() as usize;
-    let mut solver = match (method, ctx) {
+    std::fs::create_dir_all(dir).map_err(|source| ImpactError::Write {
+        path: dir.to_path_buf(),
+        source,
+    })
+}
+
+/// Builds the integrator the setup chose.
+fn build_solver<'m>(scene: &Scene, setup: &'m Setup, speed_scale: f64) -> Result<Solver<'m>> {
+    let model = &setup.model;
+    let dt = setup.dt;
+    Ok(match (setup.method, setup.ctx.clone()) {
         (Method::Explicit, Some(ctx)) => Solver::Resident(Box::new(
             ResidentSolver::new(
                 ctx,
-                &model,
+                model,
                 &scene.explicit,
                 dt,
-                scene.speed_scale(),
-                steps,
+                speed_scale,
+                setup.steps,
                 scene.vtu_every,
             )
             .map_err(|e| gpu_error(scene, e))?,
@@ -434,25 +291,27 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
             };
             match method {
                 Method::Explicit => Solver::Explicit(Box::new(ExplicitSolver::new(
-                    &model,
+                    model,
                     scene.explicit.clone(),
                     dt,
-                    scene.speed_scale(),
+                    speed_scale,
                     kern,
                 )?)),
                 _ => Solver::Implicit(Box::new(ImplicitSolver::new(
-                    &model,
+                    model,
                     scene.implicit.clone(),
                     dt,
-                    scene.speed_scale(),
+                    speed_scale,
                     kern,
                 )?)),
             }
         }
-    };
-    clock.lap("solver");
-    let explicit = !matches!(solver, Solver::Implicit(_));
-    let columns = crate::output::history::column_names(&model);
+    })
+}
+
+/// Every `[[exact]]` curve must name a history column.
+fn check_exact_columns(scene: &Scene, model: &Model) -> Result<()> {
+    let columns = crate::output::history::column_names(model);
     for (i, e) in scene.exact.iter().enumerate() {
         if !columns.contains(&e.column) {
             return Err(ImpactError::SceneValue {
@@ -466,18 +325,27 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
             });
         }
     }
-    let mut history = History::create(&dir, &model)?;
-    let mut summary = Summary {
+    Ok(())
+}
+
+/// The summary's fields known before the first step.
+fn initial_summary(scene: &Scene, setup: &Setup, solver: &Solver) -> Summary {
+    let explicit = !matches!(solver, Solver::Implicit(_));
+    let model = &setup.model;
+    Summary {
         status: "running".into(),
         scene: scene.path.display().to_string(),
         title: scene.title.clone(),
         method: if explicit { "explicit" } else { "implicit" }.into(),
-        method_choice,
+        method_choice: setup.method_choice.clone(),
         device: solver.device_name(),
         engine: solver.engine().into(),
-        time_step: dt,
-        stable_time_step: stable,
-        end_time: steps as f64 * dt,
+        time_step: setup.dt,
+        stable_time_step: setup.bound.filter(|_| explicit).map(|b| b.0),
+        end_time: match setup.last_step {
+            Some(last) => (setup.steps - 1) as f64 * setup.dt + last,
+            None => setup.steps as f64 * setup.dt,
+        },
         constraint: if explicit {
             "gap_rate_impulse"
         } else {
@@ -508,141 +376,511 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         elements: model.mesh.element_count(),
         nodes: model.mesh.node_count(),
         free_dofs: model.fixed.iter().filter(|f| !**f).count(),
+        initial_contact: setup.initial.clone(),
+        memory_estimate_bytes: setup.estimate.host,
+        ..Default::default()
+    }
+}
+
+/// Adds a finished step to the tally.
+fn count_step(
+    tally: &mut Tally,
+    step: (usize, f64),
+    r: StepReport,
+    e: f64,
+    reports: &[ContactReport],
+) {
+    tally.steps += 1;
+    tally.iterations_total += r.iterations;
+    tally.iterations_max = tally.iterations_max.max(r.iterations);
+    tally.unconverged_steps += usize::from(!r.converged);
+    tally.energy_final = e;
+    tally.energy_max = tally.energy_max.max(e);
+    if !r.converged && tally.first_unconverged.is_none() {
+        tally.first_unconverged = Some(step);
+    }
+    for (k, c) in reports.iter().enumerate() {
+        tally.peak_force[k] = tally.peak_force[k].max(c.normal_force);
+        if c.max_penetration > tally.deepest[k].0 {
+            tally.deepest[k] = (c.max_penetration, step.0, step.1);
+        }
+    }
+}
+
+/// The warnings of a finished run.
+fn warnings(
+    scene: &Scene,
+    model: &Model,
+    tally: &Tally,
+    implicit: bool,
+    initial: &[InitialContact],
+    energy_scale: f64,
+) -> Vec<Warning> {
+    let cap = if implicit {
+        format!(
+            "implicit.max_iterations = {} per solve",
+            scene.implicit.max_iterations
+        )
+    } else {
+        format!(
+            "explicit.max_iterations = {} sweeps",
+            scene.explicit.max_iterations
+        )
+    };
+    let mut w: Vec<Warning> = check::unconverged(
+        tally.unconverged_steps,
+        tally.steps,
+        tally.first_unconverged,
+        &cap,
+    )
+    .into_iter()
+    .collect();
+    for (k, itf) in model.interfaces.iter().enumerate() {
+        let (depth, step, time) = tally.deepest[k];
+        w.extend(check::deep_penetration(
+            &itf.name,
+            depth,
+            (step, time),
+            check::face_size(&itf.area, itf.secondary_faces.len()),
+        ));
+    }
+    w.extend(check::energy_rise(
+        tally.energy_initial,
+        tally.energy_max,
+        energy_scale,
+        scene.run.energy_tolerance,
+    ));
+    for r in initial {
+        if r.penetrating > 0 && r.policy == "ignore" {
+            w.push(Warning::new(
+                "initial_penetration",
+                format!(
+                    "interface `{}`: {} nodes started behind the primary surface (deepest {:.4e}) and initial_penetration = \"ignore\" ran them as given",
+                    r.interface, r.penetrating, r.depth
+                ),
+            ));
+        }
+    }
+    w
+}
+
+/// The energy a run's divergence and energy-rise tests measure against: the initial energy,
+/// or the work gravity can do across the model, whichever is larger.
+fn energy_scale(scene: &Scene, model: &Model, solver: &Solver, initial: f64) -> f64 {
+    let total_mass: f64 = solver.nodal_mass().iter().sum();
+    initial
+        .abs()
+        .max(total_mass * crate::scene::norm3(scene.gravity) * bbox_diagonal(model))
+        .max(f64::MIN_POSITIVE)
+}
+
+/// The outputs a run writes as it goes.
+struct Outputs {
+    dir: PathBuf,
+    /// The VTU frames' file-name stem (kept across a resume).
+    stem: String,
+    history: History,
+    frames: Option<(usize, VtuWriter)>,
+}
+
+/// Starts a new run's outputs (the t = 0 row and frame) and its tally.
+fn start_fresh(
+    scene: &Scene,
+    model: &Model,
+    solver: &mut Solver,
+    dir: &Path,
+) -> Result<(Outputs, Tally)> {
+    let e0 = solver.energies()?;
+    if !e0.total().is_finite() {
+        return Err(ImpactError::SceneValue {
+            path: scene.path.clone(),
+            key: "body".into(),
+            message: format!(
+                "the initial energy is {:e} (kinetic {:e}, potential {:e}): check the bodies' velocities, the materials and gravity",
+                e0.total(),
+                e0.kinetic,
+                e0.potential
+            ),
+        });
+    }
+    let mut out = Outputs {
+        dir: dir.to_path_buf(),
+        stem: frame_stem(scene),
+        history: History::create(dir, model)?,
+        frames: scene
+            .vtu_every
+            .map(|every| (every, VtuWriter::new(dir, &frame_stem(scene)))),
+    };
+    write_row(solver, model, &mut out.history)?;
+    write_frame(solver, model, &mut out.frames, false)?;
+    let n = model.interfaces.len();
+    let tally = Tally {
+        energy_initial: e0.total(),
+        energy_final: e0.total(),
+        energy_max: e0.total(),
+        peak_force: vec![0.0; n],
+        deepest: vec![(0.0, 0, 0.0); n],
         ..Default::default()
     };
-    let e0 = solver.energies()?;
-    summary.energy_initial = e0.total();
-    summary.energy_max = e0.total();
-    let total_mass: f64 = solver.nodal_mass().iter().sum();
-    let energy_scale = e0
-        .total()
-        .abs()
-        .max(total_mass * crate::scene::norm3(scene.gravity) * bbox_diagonal(&model));
-    let write_row = |solver: &mut Solver, history: &mut History| -> Result<f64> {
-        let e = solver.energies()?;
-        let contacts = solver.reports();
-        let probes = solver.probes(&model);
-        history.row(
-            solver.time(),
-            solver.steps(),
-            &e,
-            &solver.body_velocities(),
-            &contacts,
-            &probes,
-        )?;
-        Ok(e.total())
+    Ok((out, tally))
+}
+
+/// Continues a run's outputs and tally from a checkpoint (the history and the frame
+/// collection cut back to its step).
+fn start_resumed(
+    scene: &Scene,
+    model: &Model,
+    solver: &mut Solver,
+    dir: &Path,
+    c: Checkpoint,
+) -> Result<(Outputs, Tally)> {
+    let refuse = |message: String| ImpactError::Resume {
+        dir: dir.to_path_buf(),
+        message,
     };
-    write_row(&mut solver, &mut history)?;
-    let stem = scene
-        .path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "frame".into());
-    let mut frames = scene
-        .vtu_every
-        .map(|every| (every, VtuWriter::new(&dir, &stem)));
-    let write_frame = |solver: &Solver, frames: &mut Option<(usize, VtuWriter)>| -> Result<()> {
-        if let Some((every, w)) = frames {
-            if solver.steps() % *every == 0 {
-                let (u, v) = solver.state();
-                w.frame(
-                    &model,
-                    solver.steps(),
-                    solver.time(),
-                    u,
-                    v,
-                    &solver.node_contact(&model),
-                )?;
-            }
+    match (solver, c.solver) {
+        (Solver::Explicit(s), SolverState::Explicit(st)) => s.restore(st).map_err(refuse)?,
+        (Solver::Implicit(s), SolverState::Implicit(st)) => s.restore(st).map_err(refuse)?,
+        _ => {
+            return Err(refuse(
+                "the checkpoint was written by another integrator than this run's".into(),
+            ))
         }
-        Ok(())
+    }
+    let out = Outputs {
+        dir: dir.to_path_buf(),
+        stem: c.frame_stem.clone(),
+        history: History::resume(dir, model, c.tally.steps + 1)?,
+        frames: scene
+            .vtu_every
+            .map(|every| (every, VtuWriter::resume(dir, &c.frame_stem, &c.frames))),
     };
-    write_frame(&solver, &mut frames)?;
+    Ok((out, c.tally))
+}
+
+/// Writes the checkpoint of the solver's current state.
+fn save(
+    scene: &Scene,
+    solver: &Solver,
+    out: &Outputs,
+    tally: &Tally,
+    speed_scale: f64,
+) -> Result<()> {
+    let state = match solver {
+        Solver::Explicit(s) => SolverState::Explicit(s.state()),
+        Solver::Implicit(s) => SolverState::Implicit(s.state()),
+        Solver::Resident(_) => return Ok(()),
+    };
+    Checkpoint {
+        format: crate::checkpoint::FORMAT,
+        scene_hash: crate::checkpoint::scene_hash(scene),
+        speed_scale,
+        tally: tally.clone(),
+        frames: out
+            .frames
+            .as_ref()
+            .map(|(_, w)| w.written())
+            .unwrap_or_default(),
+        frame_stem: out.stem.clone(),
+        solver: state,
+    }
+    .write(&out.dir)
+}
+
+/// Runs the scene to its end time, writing `history.csv` and `summary.json`.
+///
+/// A run that finishes with every step converged and no check fired ends `completed`; one
+/// with warnings ends `completed_with_warnings` (each in the summary). A diverging run stops
+/// with [`ImpactError::Diverged`] after flushing the history and writing a summary with
+/// `status = "diverged"`; an interrupted one with [`ImpactError::Interrupted`] after writing
+/// a checkpoint. With `resume`, the run continues from the folder's checkpoint.
+pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
+    let start = Instant::now();
+    let dir = output_dir(scene, opts);
+    prepare_dir(&dir, opts)?;
+    let resumed = opts
+        .resume
+        .then(|| Checkpoint::read(&dir, scene))
+        .transpose()?;
+    let mut clock = SetupClock::start();
+    let quiet = opts.quiet;
+    let mut notice = |line: &str| {
+        if !quiet {
+            eprintln!("{line}");
+        }
+    };
+    let setup = setup::prepare(
+        scene,
+        opts.device.unwrap_or(scene.run.device),
+        &mut notice,
+        &mut clock,
+    )?;
+    let speed_scale = resumed
+        .as_ref()
+        .map_or_else(|| scene.speed_scale(), |c| c.speed_scale);
+    let mut solver = build_solver(scene, &setup, speed_scale)?;
+    if let Solver::Resident(s) = &mut solver {
+        if let Some(dt) = setup.last_step {
+            s.shorten_last_step(dt);
+        }
+        if scene.checkpoint_every.is_some() || resumed.is_some() {
+            return Err(ImpactError::Unsupported {
+                path: scene.path.clone(),
+                key: "output.checkpoint_every".into(),
+                message: "checkpoints are written by the CPU integrators; this explicit run is resident on the GPU (run it with --device cpu to checkpoint it)".into(),
+            });
+        }
+    }
+    clock.lap("solver");
+    let model = &setup.model;
+    check_exact_columns(scene, model)?;
+    let (mut out, mut tally) = match resumed {
+        None => start_fresh(scene, model, &mut solver, &dir)?,
+        Some(c) => start_resumed(scene, model, &mut solver, &dir, c)?,
+    };
+    let energy_scale = energy_scale(scene, model, &solver, tally.energy_initial);
+    let mut summary = initial_summary(scene, &setup, &solver);
     clock.lap("first row");
     summary.setup_seconds = clock.total();
     summary.setup_stages = clock.stages();
-    let mut peak = vec![0.0f64; model.interfaces.len()];
+    let steps = setup.steps;
+    let first = tally.steps;
+    if first >= steps {
+        return Err(ImpactError::Resume {
+            dir: dir.clone(),
+            message: format!(
+                "the checkpoint is at step {first} (t = {:.6e}) and the scene ends at step {steps}: nothing is left to run (raise run.end_time)",
+                solver.time()
+            ),
+        });
+    }
     let mut progress = Progress::new(steps, opts.quiet);
-    for n in 0..steps {
+    for n in first..steps {
+        let last = n + 1 == steps;
+        if last && setup.last_step.is_some() {
+            if scene.checkpoint_every.is_some() {
+                // the checkpoint stays on whole steps: a later end time continues from here
+                save(scene, &solver, &out, &tally, speed_scale)?;
+            }
+            if let (Some(dt), Solver::Explicit(s)) = (setup.last_step, &mut solver) {
+                s.shorten_step(dt);
+            }
+        }
         let outcome = solver.step().and_then(|r| {
-            let e = write_row(&mut solver, &mut history)?;
-            write_frame(&solver, &mut frames)?;
+            if last && setup.last_step.is_some() {
+                solver.end_at(summary.end_time);
+            }
+            let e = write_row(&mut solver, model, &mut out.history)?;
+            write_frame(&solver, model, &mut out.frames, last)?;
             Ok((r, e))
         });
         let (r, e) = match outcome {
             Ok(x) => x,
             Err(err) => {
-                let err = fail(
+                let time = (n + 1) as f64 * setup.dt;
+                return Err(fail(
+                    scene,
+                    model,
                     &mut summary,
-                    &mut history,
-                    &dir,
-                    n + 1,
-                    (n + 1) as f64 * dt,
+                    &tally,
+                    &mut out,
+                    (n + 1, time),
                     err.to_string(),
                     start,
-                );
-                let _ = write_charts(scene, &model, &dir);
-                return Err(err);
+                ));
             }
         };
-        summary.steps += 1;
-        summary.iterations_total += r.iterations;
-        summary.iterations_max = summary.iterations_max.max(r.iterations);
-        summary.unconverged_steps += usize::from(!r.converged);
-        summary.energy_final = e;
-        summary.energy_max = summary.energy_max.max(e);
-        if !e.is_finite() || e.abs() > DIVERGENCE_FACTOR * energy_scale.max(f64::MIN_POSITIVE) {
+        count_step(&mut tally, (n + 1, solver.time()), r, e, &solver.reports());
+        if !e.is_finite() || e.abs() > DIVERGENCE_FACTOR * energy_scale {
             let reason = format!(
                 "total energy {e:.6e} against {:.6e} at the start",
-                summary.energy_initial
+                tally.energy_initial
             );
-            let err = fail(
+            let at = (n + 1, solver.time());
+            return Err(fail(
+                scene,
+                model,
                 &mut summary,
-                &mut history,
-                &dir,
-                n + 1,
-                solver.time(),
+                &tally,
+                &mut out,
+                at,
                 reason,
                 start,
-            );
-            let _ = write_charts(scene, &model, &dir);
-            return Err(err);
+            ));
         }
-        for (p, r) in peak.iter_mut().zip(solver.reports()) {
-            *p = p.max(r.normal_force);
+        let whole = !(last && setup.last_step.is_some());
+        let due = scene
+            .checkpoint_every
+            .is_some_and(|k| (n + 1) % k == 0 || last);
+        if whole && due {
+            save(scene, &solver, &out, &tally, speed_scale)?;
+        }
+        if !last
+            && opts
+                .interrupt
+                .as_ref()
+                .is_some_and(|f| f.load(Ordering::SeqCst))
+        {
+            return Err(interrupted(
+                scene,
+                model,
+                &solver,
+                &mut summary,
+                &tally,
+                &mut out,
+                speed_scale,
+                start,
+            ));
         }
         progress.step(n + 1, solver.time(), r.iterations);
     }
     progress.finish();
-    history.flush()?;
-    write_charts(scene, &model, &dir)?;
-    summary.status = "completed".into();
-    summary.iterations_mean = summary.iterations_total as f64 / summary.steps.max(1) as f64;
-    summary.interfaces = match &solver {
-        Solver::Implicit(solver) => {
-            summary.factorizations = solver.factorizations();
-            summary.event_steps = solver.event_steps;
-            model
-                .interfaces
-                .iter()
-                .zip(&solver.interfaces)
-                .zip(&peak)
-                .map(|((itf, st), &p)| InterfaceSummary {
-                    name: itf.name.clone(),
-                    penalty_normal_final: Some(st.penalty.eps),
-                    penalty_tangential_final: st.friction.as_ref().map(|f| f.penalty.eps),
-                    friction_work: st.friction.as_ref().map_or(0.0, |f| f.work),
-                    penalty_increases: st.penalty.increases,
-                    penalty_decreases: st.penalty.decreases,
-                    peak_normal_force: p,
-                })
-                .collect()
+    out.history.flush()?;
+    write_charts(scene, model, &dir)?;
+    fill_summary(&mut summary, &tally, model, &solver);
+    summary.warnings = warnings(
+        scene,
+        model,
+        &tally,
+        summary.method == "implicit",
+        &setup.initial,
+        energy_scale,
+    );
+    summary.status = if summary.warnings.is_empty() {
+        "completed"
+    } else {
+        "completed_with_warnings"
+    }
+    .into();
+    summary.wall_seconds = start.elapsed().as_secs_f64();
+    summary.write(&dir)?;
+    Ok(summary)
+}
+
+/// The summary's fields from the tally and the solver.
+fn fill_summary(summary: &mut Summary, tally: &Tally, model: &Model, solver: &Solver) {
+    summary.steps = tally.steps;
+    summary.iterations_total = tally.iterations_total;
+    summary.iterations_max = tally.iterations_max;
+    summary.unconverged_steps = tally.unconverged_steps;
+    summary.energy_initial = tally.energy_initial;
+    summary.energy_final = tally.energy_final;
+    summary.energy_max = tally.energy_max;
+    summary.iterations_mean = tally.iterations_total as f64 / tally.steps.max(1) as f64;
+    summary.interfaces = interface_summaries(model, solver, &tally.peak_force);
+    if let Solver::Implicit(s) = solver {
+        summary.factorizations = s.factorizations();
+        summary.event_steps = s.event_steps;
+    }
+}
+
+/// Ends an interrupted run: a checkpoint (CPU integrators), the history, a summary with
+/// `status = "interrupted"`, and the error.
+#[allow(clippy::too_many_arguments)]
+fn interrupted(
+    scene: &Scene,
+    model: &Model,
+    solver: &Solver,
+    summary: &mut Summary,
+    tally: &Tally,
+    out: &mut Outputs,
+    speed_scale: f64,
+    start: Instant,
+) -> ImpactError {
+    let saved = save(scene, solver, out, tally, speed_scale);
+    let _ = out.history.flush();
+    fill_summary(summary, tally, model, solver);
+    summary.status = "interrupted".into();
+    summary.message = Some(match (&saved, solver) {
+        (_, Solver::Resident(_)) => "interrupted by a signal; the GPU resident engine writes no checkpoint, so the run cannot be resumed".into(),
+        (Ok(()), _) => format!("interrupted by a signal; continue with --resume (checkpoint at step {})", tally.steps),
+        (Err(e), _) => format!("interrupted by a signal; the checkpoint could not be written: {e}"),
+    });
+    summary.wall_seconds = start.elapsed().as_secs_f64();
+    if let Err(e) = summary.write(&out.dir) {
+        return e;
+    }
+    if let Err(e) = saved {
+        return e;
+    }
+    ImpactError::Interrupted {
+        step: tally.steps,
+        time: solver.time(),
+        dir: out.dir.clone(),
+    }
+}
+
+/// Appends the current state's row; returns the total energy.
+fn write_row(solver: &mut Solver, model: &Model, history: &mut History) -> Result<f64> {
+    let e = solver.energies()?;
+    let contacts = solver.reports();
+    let probes = solver.probes(model);
+    history.row(
+        solver.time(),
+        solver.steps(),
+        &e,
+        &solver.body_velocities(),
+        &contacts,
+        &probes,
+    )?;
+    Ok(e.total())
+}
+
+/// Writes a VTU frame on every `every`-th step, and on the last step (`last`) whatever its
+/// number.
+fn write_frame(
+    solver: &Solver,
+    model: &Model,
+    frames: &mut Option<(usize, VtuWriter)>,
+    last: bool,
+) -> Result<()> {
+    if let Some((every, w)) = frames {
+        if solver.steps() % *every == 0 || last {
+            let (u, v) = solver.state();
+            w.frame(
+                model,
+                solver.steps(),
+                solver.time(),
+                u,
+                v,
+                &solver.node_contact(model),
+            )?;
         }
+    }
+    Ok(())
+}
+
+fn frame_stem(scene: &Scene) -> String {
+    scene
+        .path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "frame".into())
+}
+
+/// Each interface's line of the summary.
+fn interface_summaries(model: &Model, solver: &Solver, peak: &[f64]) -> Vec<InterfaceSummary> {
+    match solver {
+        Solver::Implicit(solver) => model
+            .interfaces
+            .iter()
+            .zip(&solver.interfaces)
+            .zip(peak)
+            .map(|((itf, st), &p)| InterfaceSummary {
+                name: itf.name.clone(),
+                penalty_normal_final: Some(st.penalty.eps),
+                penalty_tangential_final: st.friction.as_ref().map(|f| f.penalty.eps),
+                friction_work: st.friction.as_ref().map_or(0.0, |f| f.work),
+                penalty_increases: st.penalty.increases,
+                penalty_decreases: st.penalty.decreases,
+                peak_normal_force: p,
+            })
+            .collect(),
         Solver::Explicit(_) | Solver::Resident(_) => model
             .interfaces
             .iter()
             .zip(solver.reports())
-            .zip(&peak)
+            .zip(peak)
             .map(|((itf, r), &p)| InterfaceSummary {
                 name: itf.name.clone(),
                 penalty_normal_final: None,
@@ -653,31 +891,40 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
                 peak_normal_force: p,
             })
             .collect(),
-    };
-    summary.wall_seconds = start.elapsed().as_secs_f64();
-    summary.write(&dir)?;
-    Ok(summary)
+    }
 }
 
+/// Ends a diverged run: flushes the history, writes the summary and the charts, and returns
+/// the error.
+#[allow(clippy::too_many_arguments)]
 fn fail(
+    scene: &Scene,
+    model: &Model,
     summary: &mut Summary,
-    history: &mut History,
-    dir: &std::path::Path,
-    step: usize,
-    time: f64,
+    tally: &Tally,
+    out: &mut Outputs,
+    (step, time): (usize, f64),
     reason: String,
     start: Instant,
 ) -> ImpactError {
-    let _ = history.flush();
+    let _ = out.history.flush();
+    summary.steps = tally.steps;
+    summary.iterations_total = tally.iterations_total;
+    summary.iterations_max = tally.iterations_max;
+    summary.unconverged_steps = tally.unconverged_steps;
+    summary.energy_initial = tally.energy_initial;
+    summary.energy_final = tally.energy_final;
+    summary.energy_max = tally.energy_max;
     summary.status = "diverged".into();
     summary.message = Some(reason.clone());
     summary.wall_seconds = start.elapsed().as_secs_f64();
-    let _ = summary.write(dir);
+    let _ = summary.write(&out.dir);
+    let _ = write_charts(scene, model, &out.dir);
     ImpactError::Diverged {
         step,
         time,
         reason,
-        dir: dir.to_path_buf(),
+        dir: out.dir.clone(),
     }
 }
 

@@ -154,6 +154,7 @@ fn explicit_step_above_the_stable_step() {
         out: Some(out_dir("explicit_step_too_long")),
         device: None,
         quiet: true,
+        ..Default::default()
     };
     let msg = impact::run::run(&scene, &opts)
         .expect_err("refused")
@@ -269,6 +270,7 @@ fn exact_curve_of_an_unknown_column() {
         out: Some(out_dir("exact_unknown_column")),
         device: None,
         quiet: true,
+        ..Default::default()
     };
     let msg = impact::run::run(&scene, &opts)
         .expect_err("refused")

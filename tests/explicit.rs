@@ -300,7 +300,7 @@ fn auto_picks_implicit_for_a_long_step_on_a_stiff_mesh() {
     assert_eq!(s.method, "implicit");
     let why = s.method_choice.expect("auto explains its choice");
     assert!(why.starts_with("implicit:"), "{why}");
-    assert_eq!(impact::run::implicit_step_cost(3072).round(), 95.0);
+    assert_eq!(impact::setup::implicit_step_cost(3072).round(), 95.0);
 }
 
 /// A block sliding on a rigid floor under gravity (explicit, default step, 7,454 steps): it

@@ -73,7 +73,7 @@ fn stack_model() -> Model {
         &repo().join("scenes").join("stack.toml"),
     )
     .expect("valid scene");
-    Model::from_scene(&scene)
+    Model::from_scene(&scene).expect("model")
 }
 
 /// The fields of the constraints but the compliance (compared on its own: its scale, the

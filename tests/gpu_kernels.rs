@@ -517,7 +517,7 @@ material = "m"
 box = { min = [0.0, 0.0, 0.0], max = [1.8, 1.8, 1.8], divisions = [18, 18, 18] }
 "#;
     let scene = impact::scene::Scene::parse(text, std::path::Path::new("distorted.toml")).unwrap();
-    let mut model = impact::model::Model::from_scene(&scene);
+    let mut model = impact::model::Model::from_scene(&scene).expect("model");
     let mut rng = StdRng::seed_from_u64(7);
     for x in &mut model.mesh.nodes {
         for c in x.iter_mut() {
@@ -581,7 +581,7 @@ primary = {{ body = "block", face = "z-" }}
 "#
     );
     let scene = impact::scene::Scene::parse(&text, std::path::Path::new("search.toml")).unwrap();
-    let mut model = impact::model::Model::from_scene(&scene);
+    let mut model = impact::model::Model::from_scene(&scene).expect("model");
     let h = 6.0 / nx as f64;
     for x in &mut model.mesh.nodes {
         for c in x.iter_mut() {

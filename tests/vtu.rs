@@ -2,6 +2,8 @@
 //! and every frame with meshio (PyPI) and compares the displacement at each probe's node
 //! with the history, besides the arrays' presence and shapes and von Mises against the
 //! stress components. `.ci/run` installs meshio; without it this test fails and says so.
+//! The cell arrays `body` and `material` are read back with meshio too and checked against the
+//! scene: each cell's corners are nodes of the body its `body` names, whose material it carries.
 
 mod common;
 use common::*;
@@ -17,7 +19,7 @@ fn check(tag: &str, text: &str, frames: usize) {
     let scene = Scene::parse(text, &path).expect("valid scene");
     let (s, _) = run_scene_text(tag, text);
     s.expect("run completes");
-    let model = Model::from_scene(&scene);
+    let model = Model::from_scene(&scene).expect("model builds");
     let dir = out_path(tag);
     let mut cmd = Command::new("python3");
     cmd.arg(repo().join("scripts/check_vtu.py"))
@@ -39,20 +41,104 @@ fn check(tag: &str, text: &str, frames: usize) {
         "{tag}: the frames do not check out:\n{text}"
     );
     assert!(text.contains(&format!("{frames} frames ok")), "{text}");
+    check_cell_ids(tag, &scene, frames);
 }
 
-/// The paper's two bars (implicit), a frame every 10 of 40 steps and one at t = 0.
+/// Prints, for every frame of the `.pvd`, the dtypes of the `body` and `material` cell arrays
+/// of each cell block and then one line per cell: type, body, material, corner nodes.
+const DUMP_CELL_IDS: &str = r#"
+import sys, xml.etree.ElementTree as ET
+import meshio
+run_dir, stem = sys.argv[1], sys.argv[2]
+for d in ET.parse(f"{run_dir}/{stem}.pvd").getroot().iter("DataSet"):
+    mesh = meshio.read(f"{run_dir}/{d.get('file')}")
+    print("frame", d.get("file"))
+    for block, body, material in zip(mesh.cells, mesh.cell_data["body"], mesh.cell_data["material"]):
+        print("dtype", block.type, body.dtype, material.dtype)
+        for cell, b, m in zip(block.data, body, material):
+            print(block.type, b, m, *cell)
+"#;
+
+/// Every frame's `body` and `material` cell arrays against the scene: a body's nodes are a
+/// block of the numbering in the scene's order of bodies, so a cell belongs to the body that
+/// owns its corners; it carries that body's material, and each body has as many cells as its
+/// mesh has elements.
+fn check_cell_ids(tag: &str, scene: &Scene, frames: usize) {
+    let mut first = 0;
+    let bodies: Vec<(std::ops::Range<usize>, usize, usize)> = scene
+        .bodies
+        .iter()
+        .map(|b| {
+            let parts = b.parts();
+            let nodes = first..first + parts.nodes.len();
+            first = nodes.end;
+            (nodes, b.material, parts.element_count())
+        })
+        .collect();
+    let out = Command::new("python3")
+        .arg("-c")
+        .arg(DUMP_CELL_IDS)
+        .arg(out_path(tag))
+        .arg(tag)
+        .output()
+        .expect("python3 runs");
+    assert!(
+        out.status.success(),
+        "{tag}: reading the cell arrays failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut counts: Vec<Vec<usize>> = Vec::new();
+    for line in text.lines() {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        match f[0] {
+            "frame" => counts.push(vec![0; bodies.len()]),
+            "dtype" => assert_eq!(f[2..], ["int32", "int32"], "{tag}: {line}"),
+            kind => {
+                let ids: Vec<usize> = f[1..].iter().map(|v| v.parse().unwrap()).collect();
+                let (b, m, corners) = (ids[0], ids[1], &ids[2..]);
+                let expected = if kind == "hexahedron" { 8 } else { 4 };
+                assert_eq!(corners.len(), expected, "{tag}: {line}");
+                let (nodes, material, _) = &bodies[b];
+                assert!(
+                    corners.iter().all(|n| nodes.contains(n)),
+                    "{tag}: a cell of body {b} has corners outside its nodes {nodes:?}: {line}"
+                );
+                assert_eq!(m, *material, "{tag}: body {b}'s material: {line}");
+                counts.last_mut().expect("a frame line first")[b] += 1;
+            }
+        }
+    }
+    assert_eq!(counts.len(), frames, "{tag}: frames with cell arrays");
+    let elements: Vec<usize> = bodies.iter().map(|b| b.2).collect();
+    for c in &counts {
+        assert_eq!(*c, elements, "{tag}: cells per body");
+    }
+}
+
+/// The paper's two bars (implicit), a frame every 10 of 40 steps and one at t = 0. B's
+/// material is a copy of A's listed before it, so that the `material` of a cell differs from
+/// its `body`.
 #[test]
 fn implicit_frames_read_back_with_meshio() {
-    let text = format!(
-        "{}\n[output]\nvtu_every = 10\n",
-        scene_text("two_bars.toml")
+    let text = scene_text("two_bars.toml");
+    let text = edit(
+        &text,
+        "[[material]]\nname = \"elastic\"",
+        "[[material]]\nname = \"elastic_b\"\ndensity = 0.01\nyoungs_modulus = 100.0\n\
+         poissons_ratio = 0.0\n\n[[material]]\nname = \"elastic\"",
     );
+    let text = edit(
+        &text,
+        "name = \"B\"\nmaterial = \"elastic\"",
+        "name = \"B\"\nmaterial = \"elastic_b\"",
+    );
+    let text = format!("{text}\n[output]\nvtu_every = 10\n");
     check("vtu_two_bars", &text, 5);
 }
 
 /// The cube on the plate on the explicit path (friction, two bodies, a surface contact):
-/// frames every 20 steps.
+/// frames every 20 steps, and one at the last step (the 23rd).
 #[test]
 fn explicit_frames_read_back_with_meshio() {
     let text = format!(
@@ -61,16 +147,41 @@ fn explicit_frames_read_back_with_meshio() {
             .replace("[run]", "[run]\nmethod = \"explicit\"")
             .replace("end_time = 0.1", "end_time = 0.045")
     );
-    check("vtu_cube_on_plate", &text, 2);
+    check("vtu_cube_on_plate", &text, 3);
 }
 
 /// A tet4 body from a Gmsh file (VTK_TETRA cells, constant stress per cell), a frame every
-/// 100 steps of the block drop.
+/// 100 steps of the block drop and one at its last step (392).
 #[test]
 fn tet4_frames_read_back_with_meshio() {
     let text = format!(
         "{}\n[output]\nvtu_every = 100\n",
         scene_text("block_tet_drop.toml")
     );
-    check("vtu_block_tet", &text, 4);
+    check("vtu_block_tet", &text, 5);
+}
+
+/// Hex8 and tet4 cells in one frame, the tet body first in the scene: the writer puts every
+/// hex8 before every tet4, so the cells' order is not the bodies' order and `body` must follow
+/// each cell. A free hex8 box of its own material (listed first) floats above the tet block
+/// drop; 131 steps, a frame every 50 and one at the last step.
+#[test]
+fn mixed_cells_carry_their_body_and_material() {
+    let text = scene_text("block_tet_drop.toml");
+    let text = edit(&text, "end_time = 0.06", "end_time = 0.02");
+    let text = edit(
+        &text,
+        "[[material]]",
+        "[[material]]\nname = \"stiff\"\ndensity = 0.01\nyoungs_modulus = 200.0\n\
+         poissons_ratio = 0.25\n\n[[material]]",
+    );
+    let text = edit(
+        &text,
+        "[[rigid_plane]]",
+        "[[body]]\nname = \"box\"\nmaterial = \"stiff\"\n\
+         box = { min = [3.0, 0.0, 3.0], max = [4.0, 1.0, 4.0], divisions = [2, 2, 2] }\n\n\
+         [[rigid_plane]]",
+    );
+    let text = format!("{text}\n[output]\nvtu_every = 50\n");
+    check("vtu_mixed_cells", &text, 4);
 }

@@ -29,7 +29,7 @@
 use crate::scene::PenaltyLaw;
 
 /// Adaptive (or fixed) penalty of one interface, kept from step to step.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Penalty {
     pub eps: f64,
     pub law: PenaltyLaw,
@@ -65,7 +65,7 @@ impl Penalty {
 }
 
 /// Per-step iteration memory of one interface.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct IterationMemory {
     /// Pressures and measures of the previous iteration.
     prev_lambda: Vec<f64>,

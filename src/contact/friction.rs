@@ -105,7 +105,7 @@ pub fn from_covariant(t: &[V3; 2], c: [f64; 2]) -> V3 {
 }
 
 /// Friction state of one interface with mu > 0, kept from step to step.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Friction {
     pub mu: f64,
     pub penalty: Penalty,

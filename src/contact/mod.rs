@@ -45,6 +45,8 @@ pub struct Interface {
     pub nodes: Vec<u32>,
     /// Tributary area of each secondary node (a quarter of each adjacent quad's area).
     pub area: Vec<f64>,
+    /// The secondary faces the nodes and areas come from.
+    pub secondary_faces: Vec<[u32; 4]>,
     pub primary: Primary,
 }
 

@@ -285,7 +285,7 @@ pub fn info_report() -> Result<String> {
             Some(a) => format!(
                 "{} for scenes of at least {} elements, the CPU (f64) below",
                 a.name,
-                crate::run::AUTO_GPU_MIN_ELEMENTS
+                crate::setup::AUTO_GPU_MIN_ELEMENTS
             ),
             None => "the CPU (f64): no hardware GPU".into(),
         }

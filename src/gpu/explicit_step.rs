@@ -160,7 +160,9 @@ pub struct ResidentExplicit {
     drift: ExplicitDrift,
     correct: ExplicitCorrect,
     reduce: HistoryReduce,
-    _step: wgpu::Buffer,
+    /// The step's constants (`dt` changes for a shortened last step).
+    step: wgpu::Buffer,
+    step_consts: types::Step,
     a: Storage,
     lumped: Storage,
     planes: Storage,
@@ -403,7 +405,8 @@ impl ResidentExplicit {
             drift,
             correct,
             reduce,
-            _step: step,
+            step,
+            step_consts,
             a,
             lumped,
             planes,
@@ -769,6 +772,15 @@ impl ResidentExplicit {
     }
 
     /// Whether read-back buffer `slot` holds a submission not yet collected.
+    /// Sets the step length of the submissions from the next on (a shortened last step).
+    pub fn set_dt(&mut self, dt: f64) {
+        self.step_consts.dt = dt as f32;
+        self.k
+            .ctx
+            .queue
+            .write_buffer(&self.step, 0, bytemuck::bytes_of(&self.step_consts));
+    }
+
     pub fn is_pending(&self, slot: usize) -> bool {
         self.pending[slot].is_some()
     }

@@ -51,7 +51,7 @@ pub const EVENT_FORCE_FLOOR: f64 = 1e-3;
 pub const KERNEL_NOISE_FACTOR: f64 = 30.0;
 
 /// Contact state of one interface, carried from step to step.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct InterfaceState {
     /// Converged pressure of each secondary node over the last step.
     pub lambda: Vec<f64>,
@@ -137,6 +137,18 @@ pub struct StepReport {
     /// Augmented Lagrange iterations (= linear solves) of the step.
     pub iterations: usize,
     pub converged: bool,
+}
+
+/// Everything an implicit run carries from one step to the next: the checkpoint's part.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct ImplicitState {
+    pub time: f64,
+    pub steps: usize,
+    pub event_steps: usize,
+    pub u: Vec<f64>,
+    pub v: Vec<f64>,
+    pub a: Vec<f64>,
+    pub interfaces: Vec<InterfaceState>,
 }
 
 pub struct ImplicitSolver<'m> {
@@ -311,6 +323,40 @@ impl<'m> ImplicitSolver<'m> {
         let (u, v) = (s.u.clone(), s.v.clone());
         s.kinematics(&u, &v)?;
         Ok(s)
+    }
+
+    /// The state a checkpoint keeps.
+    pub fn state(&self) -> ImplicitState {
+        ImplicitState {
+            time: self.time,
+            steps: self.steps,
+            event_steps: self.event_steps,
+            u: self.u.clone(),
+            v: self.v.clone(),
+            a: self.a.clone(),
+            interfaces: self.interfaces.clone(),
+        }
+    }
+
+    /// Continues from a checkpoint's state (of this model: the lengths must match).
+    pub fn restore(&mut self, s: ImplicitState) -> std::result::Result<(), String> {
+        if s.u.len() != self.u.len() || s.interfaces.len() != self.interfaces.len() {
+            return Err(format!(
+                "the checkpoint holds {} dofs and {} interfaces, the model {} and {}",
+                s.u.len(),
+                s.interfaces.len(),
+                self.u.len(),
+                self.interfaces.len()
+            ));
+        }
+        self.time = s.time;
+        self.steps = s.steps;
+        self.event_steps = s.event_steps;
+        self.u = s.u;
+        self.v = s.v;
+        self.a = s.a;
+        self.interfaces = s.interfaces;
+        Ok(())
     }
 
     pub fn device_name(&self) -> String {

@@ -216,6 +216,13 @@ pub struct ResidentSolver<'m> {
     pair_ranges: Option<Vec<Range<usize>>>,
     reruns: usize,
     min_sweeps: u32,
+    /// The shortened last step, if the run has one (see [`Self::shorten_last_step`]).
+    last_dt: Option<f64>,
+    /// The step length the rows being decoded were computed with.
+    row_dt: f64,
+    /// The energy measure's shift over the shortened last step
+    /// ([`crate::integrate::ExplicitSolver::shorten_step`]).
+    measure_shift: f64,
     /// State at the last frame (or the start): displacement, velocity, contact results (per
     /// plane node and plane, or per contact pair).
     pub u: Vec<f64>,
@@ -310,6 +317,9 @@ impl<'m> ResidentSolver<'m> {
             pair_ranges,
             reruns: 0,
             min_sweeps: MIN_SWEEPS,
+            last_dt: None,
+            row_dt: dt,
+            measure_shift: 0.0,
             u: vec![0.0; 3 * model.mesh.node_count()],
             v: setup.velocity.clone(),
             results: vec![0.0; result_len],
@@ -334,6 +344,12 @@ impl<'m> ResidentSolver<'m> {
         &self.mass
     }
 
+    /// Makes the run's last step `dt` long instead of the step (an end time that is not a
+    /// whole number of steps). Call before the first step.
+    pub fn shorten_last_step(&mut self, dt: f64) {
+        self.last_dt = Some(dt);
+    }
+
     /// Steps per submission.
     pub fn chunk(&self) -> usize {
         self.chunk
@@ -343,6 +359,10 @@ impl<'m> ResidentSolver<'m> {
     /// next frame.
     fn plan(&self, from: usize) -> usize {
         let mut n = self.chunk.min(self.total - from);
+        if self.last_dt.is_some() && from + 1 < self.total {
+            // the shortened last step is a submission of its own
+            n = n.min(self.total - 1 - from);
+        }
         if let Some(e) = self.frame_every {
             n = n.min((from / e + 1) * e - from);
         }
@@ -357,14 +377,29 @@ impl<'m> ResidentSolver<'m> {
     /// device one submission ahead (never past a frame, where the state must be read).
     fn fill(&mut self) -> Result<()> {
         if !self.engine.is_pending(self.slot) {
+            if let Some(dt) = self.last_dt.filter(|_| self.submitted + 1 == self.total) {
+                // nothing is in flight: the step length changes for this submission alone
+                let ama: f64 = self
+                    .engine
+                    .read_acceleration()?
+                    .iter()
+                    .enumerate()
+                    .map(|(d, a)| self.mass[d / 3] * a * a)
+                    .sum();
+                self.measure_shift = 0.125 * (self.dt * self.dt - dt * dt) * ama;
+                self.engine.set_dt(dt);
+                self.row_dt = dt;
+            }
             let n = self.plan(self.submitted).max(1);
             self.engine.submit(self.slot, n)?;
             self.submitted += n;
         }
         let other = 1 - self.slot;
+        let last_is_short = self.last_dt.is_some() && self.submitted + 1 == self.total;
         if !self.engine.is_pending(other)
             && self.submitted < self.total
             && !self.at_frame(self.submitted)
+            && !last_is_short
         {
             let n = self.plan(self.submitted);
             self.engine.submit(other, n)?;
@@ -461,8 +496,8 @@ impl<'m> ResidentSolver<'m> {
             report.converged &= sweeps <= self.max_iterations;
             let jt = [q[1], q[2], q[3]];
             reports.push(ContactReport {
-                normal_force: q[0] / self.dt,
-                tangential_force: crate::contact::quad::norm(jt) / self.dt,
+                normal_force: q[0] / self.row_dt,
+                tangential_force: crate::contact::quad::norm(jt) / self.row_dt,
                 active: q[4].round() as usize,
                 max_penetration: q[6],
                 sliding: q[5].round() as usize,
@@ -496,6 +531,11 @@ impl<'m> ResidentSolver<'m> {
             .expect("fill decodes at least one row");
         self.steps += 1;
         self.time = self.steps as f64 * self.dt;
+        if let Some(last) = self.last_dt.filter(|_| self.steps == self.total) {
+            self.time = (self.total - 1) as f64 * self.dt + last;
+            self.dt = last;
+            self.current.energies.kinetic -= self.measure_shift;
+        }
         if self.at_frame(self.steps) || self.steps == self.total {
             let (u, v, results) = self.engine.read_state()?;
             self.u = u;

@@ -17,7 +17,7 @@ impl Energies {
 }
 
 /// One interface over one step.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ContactReport {
     /// Total compressive force, impulse over the step / time step.
     pub normal_force: f64,

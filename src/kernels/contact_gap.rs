@@ -9,7 +9,7 @@ use crate::contact::quad::{self, dot, norm, sub, V3};
 pub const NO_FACE: u32 = u32::MAX;
 
 /// The contact kinematics of one secondary node.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ContactPoint {
     /// Index into `ContactQueries::faces`, or [`NO_FACE`].
     pub face: u32,

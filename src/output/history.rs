@@ -1,5 +1,6 @@
 //! `history.csv`: one row per step (and a first row for t = 0), columns as
-//! `scene-format.md` fixes them.
+//! `scene-format.md` fixes them. Counts are integers, every other value is in its shortest
+//! round-trip form ([`shortest`]).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -43,6 +44,54 @@ impl History {
         Ok(h)
     }
 
+    /// Reopens the history of a run to continue it: keeps the header and the first `rows`
+    /// rows (the state a checkpoint holds) and appends after them. The header must be the
+    /// model's.
+    pub fn resume(dir: &Path, model: &Model, rows: usize) -> Result<History> {
+        let path = dir.join("history.csv");
+        let read_err = |source| ImpactError::Read {
+            path: path.clone(),
+            source,
+        };
+        let text = std::fs::read_to_string(&path).map_err(read_err)?;
+        let header = column_names(model).join(",");
+        let bad =
+            |what: String| read_err(std::io::Error::new(std::io::ErrorKind::InvalidData, what));
+        if text.lines().next() != Some(header.as_str()) {
+            return Err(bad("its columns are not this model's".into()));
+        }
+        // the byte offset after the header and `rows` rows
+        let keep = text
+            .match_indices('\n')
+            .nth(rows)
+            .map(|(i, _)| i + 1)
+            .ok_or_else(|| bad(format!("it holds fewer than the checkpoint's {rows} rows")))?;
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(&path)
+            .map_err(read_err)?;
+        file.set_len(keep as u64)
+            .map_err(|source| ImpactError::Write {
+                path: path.clone(),
+                source,
+            })?;
+        let mut file = file;
+        std::io::Seek::seek(&mut file, std::io::SeekFrom::End(0)).map_err(|source| {
+            ImpactError::Write {
+                path: path.clone(),
+                source,
+            }
+        })?;
+        Ok(History {
+            path,
+            frictional: (0..model.interfaces.len())
+                .filter(|&i| model.interfaces[i].friction > 0.0)
+                .collect(),
+            out: BufWriter::new(file),
+            line: String::new(),
+        })
+    }
+
     fn flush_line(&mut self) -> Result<()> {
         self.line.push('\n');
         self.out
@@ -67,22 +116,34 @@ impl History {
     ) -> Result<()> {
         use std::fmt::Write as _;
         let l = &mut self.line;
-        let _ = write!(l, "{time},{step},{},{},{}", e.kinetic, e.strain, e.total());
+        fn num(l: &mut String, x: f64) {
+            l.push(',');
+            shortest(x, l);
+        }
+        shortest(time, l);
+        let _ = write!(l, ",{step}");
+        for x in [e.kinetic, e.strain, e.total()] {
+            num(l, x);
+        }
         for v in bodies {
-            let _ = write!(l, ",{},{},{}", v[0], v[1], v[2]);
+            for &x in v {
+                num(l, x);
+            }
         }
         for c in contacts {
-            let _ = write!(
-                l,
-                ",{},{},{},{}",
-                c.normal_force, c.tangential_force, c.active, c.max_penetration
-            );
+            num(l, c.normal_force);
+            num(l, c.tangential_force);
+            let _ = write!(l, ",{}", c.active);
+            num(l, c.max_penetration);
         }
         for (u, v) in probes {
-            let _ = write!(l, ",{},{},{},{},{},{}", u[0], u[1], u[2], v[0], v[1], v[2]);
+            for &x in u.iter().chain(v) {
+                num(l, x);
+            }
         }
         for &i in &self.frictional {
-            let _ = write!(l, ",{},{}", contacts[i].sliding, contacts[i].friction_work);
+            let _ = write!(l, ",{}", contacts[i].sliding);
+            num(l, contacts[i].friction_work);
         }
         self.flush_line()
     }
@@ -93,6 +154,47 @@ impl History {
             path: self.path.clone(),
             source,
         })
+    }
+}
+
+/// Appends `x` in the shortest text that `str::parse::<f64>` reads back to the same bits:
+/// Rust's shortest round-trip digits, written plain (`0.25`, `-3`, `100`) or with an exponent
+/// (`1e-300`, `1.5e20`, `1e3`), whichever is shorter, plain on a tie. `NaN`, `inf` and `-inf`
+/// as `Display` writes them. A finite `x` takes at most 24 characters: 17 digits at most, so
+/// `-d.ddddddddddddddddde-ddd`.
+pub fn shortest(x: f64, out: &mut String) {
+    use std::fmt::Write as _;
+    let start = out.len();
+    if !x.is_finite() {
+        let _ = write!(out, "{x}");
+        return;
+    }
+    // `{:e}` and `{}` write the same shortest digits; the exponent says how long the plain
+    // form would be, so it need not be written (for 1e-300 it has 302 characters)
+    let _ = write!(out, "{x:e}");
+    let exp_form = &out[start..];
+    let (mantissa, exponent) = exp_form
+        .split_once('e')
+        .expect("LowerExp writes an exponent");
+    let k: i64 = exponent
+        .parse()
+        .expect("LowerExp writes an integer exponent");
+    let digits = mantissa.bytes().filter(u8::is_ascii_digit).count() as i64;
+    let sign = i64::from(x.is_sign_negative());
+    let plain = sign
+        + if k < 0 {
+            // 0.000ddd
+            2 + (-k - 1) + digits
+        } else if digits <= k + 1 {
+            // ddd000, no decimal point
+            k + 1
+        } else {
+            // dd.ddd
+            digits + 1
+        };
+    if plain <= exp_form.len() as i64 {
+        out.truncate(start);
+        let _ = write!(out, "{x}");
     }
 }
 
@@ -134,4 +236,125 @@ pub fn column_names(model: &Model) -> Vec<String> {
         }
     }
     cols
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn text(x: f64) -> String {
+        let mut s = String::new();
+        shortest(x, &mut s);
+        s
+    }
+
+    /// xorshift64*: a fixed sequence, so a failure replays.
+    fn bit_patterns(n: usize) -> impl Iterator<Item = u64> {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        (0..n).map(move |_| {
+            s ^= s >> 12;
+            s ^= s << 25;
+            s ^= s >> 27;
+            s.wrapping_mul(0x2545_f491_4f6c_dd1d)
+        })
+    }
+
+    #[test]
+    fn examples() {
+        for (x, t) in [
+            (0.25, "0.25"),
+            (1e-300, "1e-300"),
+            (1.5e20, "1.5e20"),
+            (0.0, "0"),
+            (-0.0, "-0"),
+            (-3.0, "-3"),
+            (100.0, "100"),
+            (1000.0, "1e3"),
+            (0.01, "0.01"),
+            (0.001, "1e-3"),
+            (0.1 + 0.2, "0.30000000000000004"),
+            (5e-324, "5e-324"),
+            (f64::MAX, "1.7976931348623157e308"),
+            (f64::NAN, "NaN"),
+            (f64::INFINITY, "inf"),
+            (f64::NEG_INFINITY, "-inf"),
+        ] {
+            assert_eq!(text(x), t, "{x:e}");
+        }
+        // the non-finite texts are Display's, as before, and parse back
+        assert_eq!(text(f64::NAN), format!("{}", f64::NAN));
+        assert!(text(f64::NAN).parse::<f64>().unwrap().is_nan());
+        assert_eq!(text(f64::INFINITY).parse::<f64>(), Ok(f64::INFINITY));
+        assert_eq!(
+            text(f64::NEG_INFINITY).parse::<f64>(),
+            Ok(f64::NEG_INFINITY)
+        );
+    }
+
+    /// Random bit patterns (every exponent, subnormals included), the subnormal and huge ends,
+    /// and powers of ten: each text parses back to the same bits, is the shorter of the plain
+    /// and exponent forms, and has at most 24 characters.
+    #[test]
+    fn round_trip_and_length() {
+        let subnormal = bit_patterns(20_000).map(|b| b & 0x800f_ffff_ffff_ffff);
+        let tiny_and_huge = bit_patterns(20_000).map(|b| b ^ 0x7fe0_0000_0000_0000);
+        let decimal = (-330..=310).flat_map(|k| {
+            let p = 10f64.powi(k);
+            [p, -p, 1.5 * p, 123_456_789.0 * p, p / 3.0]
+        });
+        let mut longest = 0;
+        for x in bit_patterns(200_000)
+            .chain(subnormal)
+            .chain(tiny_and_huge)
+            .map(f64::from_bits)
+            .chain(decimal)
+            .filter(|x| x.is_finite())
+        {
+            let t = text(x);
+            let back: f64 = t.parse().unwrap_or_else(|e| panic!("{t}: {e}"));
+            assert_eq!(back.to_bits(), x.to_bits(), "{t}");
+            let (plain, exp) = (format!("{x}"), format!("{x:e}"));
+            let expected = if plain.len() <= exp.len() { plain } else { exp };
+            assert_eq!(t, expected);
+            longest = longest.max(t.len());
+        }
+        // 24 is reached: a negative 17-digit number with a three-digit negative exponent
+        assert_eq!(longest, 24);
+    }
+
+    /// A row's fields are these texts; integers (step, active, sliding) stay integers.
+    #[test]
+    fn row_fields() {
+        let dir = std::env::temp_dir().join(format!("impact_history_row_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("history.csv");
+        let mut h = History {
+            path: path.clone(),
+            frictional: vec![0],
+            out: BufWriter::new(File::create(&path).unwrap()),
+            line: String::new(),
+        };
+        let e = Energies {
+            kinetic: 0.25,
+            strain: 1e-300,
+            ..Default::default()
+        };
+        let c = ContactReport {
+            normal_force: 1.5e20,
+            active: 12,
+            sliding: 3,
+            friction_work: f64::NAN,
+            ..Default::default()
+        };
+        h.row(1e-3, 7, &e, &[[1.0, -0.0, f64::INFINITY]], &[c], &[])
+            .unwrap();
+        h.flush().unwrap();
+        let written = std::fs::read_to_string(&path).unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        let total = text(e.total());
+        assert_eq!(
+            written,
+            format!("1e-3,7,0.25,1e-300,{total},1,-0,inf,1.5e20,0,12,0,3,NaN\n")
+        );
+    }
 }

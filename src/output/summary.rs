@@ -67,7 +67,8 @@ impl SetupClock {
 
 #[derive(Debug, Clone, Serialize, Default)]
 pub struct Summary {
-    /// "completed" or "diverged".
+    /// "completed" (every step converged, no check fired), "completed_with_warnings" (see
+    /// `warnings`), "diverged" or "interrupted".
     pub status: String,
     pub scene: String,
     pub title: String,
@@ -107,6 +108,12 @@ pub struct Summary {
     pub energy_final: f64,
     pub energy_max: f64,
     pub interfaces: Vec<InterfaceSummary>,
+    /// What made the result doubtful (empty when `status = "completed"`).
+    pub warnings: Vec<crate::check::Warning>,
+    /// Every interface at t = 0: gap range, penetrating nodes, what was done about them.
+    pub initial_contact: Vec<crate::check::penetration::InitialContact>,
+    /// The lower-bound host memory estimate checked before the model was built.
+    pub memory_estimate_bytes: u64,
     pub message: Option<String>,
 }
 

@@ -7,7 +7,8 @@
 //! the step on secondary nodes, summed over interfaces; 0 elsewhere) and `contact_gap` (the
 //! gap on secondary nodes, g > 0 penetration; NaN on nodes that are no interface's secondary
 //! node, or whose primary surface is out of reach). Cell data: `stress` (xx, yy, zz, xy, yz,
-//! xz at the element centre) and `von_mises`.
+//! xz at the element centre), `von_mises`, and the Int32 `body` and `material` of each cell
+//! (their indices in the scene's order of `[[body]]` and `[[material]]`).
 //!
 //! The `.pvd` is rewritten after every frame, so a run that stops early leaves a valid
 //! collection of what it wrote.
@@ -95,6 +96,24 @@ fn f64_bytes(x: &[f64]) -> Vec<u8> {
     x.iter().flat_map(|v| v.to_le_bytes()).collect()
 }
 
+fn i32_bytes(x: &[i32]) -> Vec<u8> {
+    x.iter().flat_map(|v| v.to_le_bytes()).collect()
+}
+
+/// The body (index in the scene's order) and material (index in the scene's order) of each
+/// cell, in the cells' order: the hex8s of [`crate::mesh::Mesh::elements`], then the tet4s.
+fn cell_body_material(mesh: &crate::mesh::Mesh) -> (Vec<i32>, Vec<i32>) {
+    let mut body = vec![-1i32; mesh.element_count()];
+    for (b, part) in mesh.bodies.iter().enumerate() {
+        let tets = part.tets.clone().map(|t| mesh.hexes.len() + t);
+        for e in part.hexes.clone().chain(tets) {
+            body[e] = b as i32;
+        }
+    }
+    let material = mesh.elements().map(|(_, m)| m as i32).collect();
+    (body, material)
+}
+
 impl VtuWriter {
     /// Frames go to `dir/<stem>_NNNNNN.vtu`, the collection to `dir/<stem>.pvd`.
     pub fn new(dir: &Path, stem: &str) -> VtuWriter {
@@ -103,6 +122,36 @@ impl VtuWriter {
             stem: stem.to_string(),
             frames: Vec::new(),
         }
+    }
+
+    /// Continues a collection whose frames up to a checkpoint are `written` (step, time);
+    /// frames written after it are left out of the collection (and overwritten as the run
+    /// reaches them again).
+    pub fn resume(dir: &Path, stem: &str, written: &[(usize, f64)]) -> VtuWriter {
+        let mut w = VtuWriter::new(dir, stem);
+        w.frames = written
+            .iter()
+            .map(|&(step, time)| (time, Self::frame_name(stem, step)))
+            .collect();
+        w
+    }
+
+    /// The frames written so far: (step, time).
+    pub fn written(&self) -> Vec<(usize, f64)> {
+        let prefix = self.stem.len() + 1;
+        self.frames
+            .iter()
+            .map(|(time, name)| {
+                let step = name[prefix..name.len() - ".vtu".len()]
+                    .parse()
+                    .expect("frame names are written by frame_name");
+                (step, *time)
+            })
+            .collect()
+    }
+
+    fn frame_name(stem: &str, step: usize) -> String {
+        format!("{stem}_{step:06}.vtu")
     }
 
     /// Writes one frame of the state (u, v) with the contact values of each node.
@@ -178,9 +227,12 @@ impl VtuWriter {
         }
         app.array("stress", "Float64", 6, &f64_bytes(&stress));
         app.array("von_mises", "Float64", 1, &f64_bytes(&vm));
+        let (body, material) = cell_body_material(mesh);
+        app.array("body", "Int32", 1, &i32_bytes(&body));
+        app.array("material", "Int32", 1, &i32_bytes(&material));
         let cell_data_xml = app.take_headers();
 
-        let name = format!("{}_{step:06}.vtu", self.stem);
+        let name = Self::frame_name(&self.stem, step);
         let path = self.dir.join(&name);
         let write_err = |source| ImpactError::Write {
             path: path.clone(),
@@ -248,5 +300,28 @@ mod tests {
         // tau_xy = mu gamma = 100 * 0.01
         assert!((s[3] - 1.0).abs() < 1e-12);
         assert!((von_mises(s) - 3f64.sqrt()).abs() < 1e-12);
+    }
+
+    /// Bodies hex, tet, hex: the cells are both hex bodies' hexes, then the tets, and each
+    /// carries its body's index and material.
+    #[test]
+    fn cells_carry_their_body_and_material() {
+        let hexes = |n| crate::mesh::BodyParts {
+            nodes: vec![[0.0; 3]; 8],
+            hexes: vec![[0, 1, 2, 3, 4, 5, 6, 7]; n],
+            ..Default::default()
+        };
+        let tets = crate::mesh::BodyParts {
+            nodes: vec![[0.0; 3]; 4],
+            tets: vec![[0, 1, 2, 3]; 3],
+            ..Default::default()
+        };
+        let mut mesh = crate::mesh::Mesh::default();
+        mesh.push_body(hexes(2), 1);
+        mesh.push_body(tets, 0);
+        mesh.push_body(hexes(1), 2);
+        let (body, material) = cell_body_material(&mesh);
+        assert_eq!(body, [0, 0, 2, 1, 1, 1]);
+        assert_eq!(material, [1, 1, 2, 0, 0, 0]);
     }
 }

@@ -63,7 +63,7 @@ pub enum Constraint {
 }
 
 /// Whether the penalty of the multiplier update adapts (paper eqs. 18-20) or stays fixed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum PenaltyLaw {
     Adaptive,
     Fixed,
@@ -90,6 +90,33 @@ pub struct RunSettings {
     pub time_step: Option<f64>,
     pub method: Method,
     pub device: DeviceChoice,
+    /// A rise of the total energy above its start by more than this fraction of the run's
+    /// energy scale is a warning (elastic contact can only lose energy).
+    pub energy_tolerance: f64,
+}
+
+/// The default of `run.energy_tolerance`.
+pub const ENERGY_TOLERANCE: f64 = 0.05;
+
+/// What a run does with secondary nodes found behind their primary surface at t = 0.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PenetrationPolicy {
+    /// Refuse the scene, with the count, deepest node and depth.
+    #[default]
+    Error,
+    /// Move the nodes onto the surface before t = 0 (a change of the reference shape, so
+    /// strain free), and report what moved.
+    Adjust,
+    /// Run as given; the run ends with a warning.
+    Ignore,
+}
+
+impl PenetrationPolicy {
+    pub const NAMES: [(&'static str, PenetrationPolicy); 3] = [
+        ("error", PenetrationPolicy::Error),
+        ("adjust", PenetrationPolicy::Adjust),
+        ("ignore", PenetrationPolicy::Ignore),
+    ];
 }
 
 /// Settings of the explicit central-difference path (`[explicit]`).
@@ -261,6 +288,7 @@ pub struct ContactSpec {
     pub secondary: SurfaceRef,
     pub primary: SurfaceRef,
     pub friction: f64,
+    pub initial_penetration: PenetrationPolicy,
 }
 
 #[derive(Debug, Clone)]
@@ -271,6 +299,7 @@ pub struct PlaneSpec {
     pub normal: [f64; 3],
     pub friction: f64,
     pub bodies: Vec<usize>,
+    pub initial_penetration: PenetrationPolicy,
 }
 
 #[derive(Debug, Clone)]
@@ -326,6 +355,8 @@ pub struct Scene {
     pub output_dir: PathBuf,
     /// Write a VTU frame every this many steps (and at t = 0); `None`: no frames.
     pub vtu_every: Option<usize>,
+    /// Write a checkpoint every this many steps; `None`: only when interrupted.
+    pub checkpoint_every: Option<usize>,
     pub exact: Vec<ExactCurve>,
 }
 
@@ -347,6 +378,26 @@ impl Scene {
             message: suggest::with_suggestion(&e.to_string()),
         })?;
         validate::validate(raw, path)
+    }
+
+    /// The initial-penetration policy of each interface, in the model's order (contacts,
+    /// then rigid planes).
+    pub fn penetration_policies(&self) -> Vec<PenetrationPolicy> {
+        self.contacts
+            .iter()
+            .map(|c| c.initial_penetration)
+            .chain(self.planes.iter().map(|p| p.initial_penetration))
+            .collect()
+    }
+
+    /// The scene key of interface `k` (model order: contacts, then rigid planes).
+    pub fn interface_key(&self, k: usize) -> String {
+        if k < self.contacts.len() {
+            format!("contact[{k}] (contact `{}`)", self.contacts[k].name)
+        } else {
+            let i = k - self.contacts.len();
+            format!("rigid_plane[{i}] (plane `{}`)", self.planes[i].name)
+        }
     }
 
     /// Speed scale of the scene: the largest initial speed, or the speed gravity gives over the

@@ -38,6 +38,7 @@ pub struct RawRun {
     pub time_step: Option<f64>,
     pub method: Option<String>,
     pub device: Option<String>,
+    pub energy_tolerance: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -121,6 +122,7 @@ pub struct RawContact {
     pub secondary: RawSurfaceRef,
     pub primary: RawSurfaceRef,
     pub friction: Option<f64>,
+    pub initial_penetration: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -131,6 +133,7 @@ pub struct RawPlane {
     pub normal: [f64; 3],
     pub friction: Option<f64>,
     pub bodies: Option<Vec<String>>,
+    pub initial_penetration: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -163,4 +166,5 @@ pub struct RawProbe {
 pub struct RawOutput {
     pub dir: Option<String>,
     pub vtu_every: Option<i64>,
+    pub checkpoint_every: Option<i64>,
 }

@@ -104,6 +104,35 @@ impl Checker<'_> {
             }
             divisions[a] = d as usize;
         }
+        // Node numbers are u32 (body-local and in the assembled mesh), so a box may have at
+        // most u32::MAX nodes; counted in u64 with checked products, before anything is
+        // allocated, so that no division count can wrap or overflow. A box has more nodes
+        // than elements, so the node bound bounds the elements too.
+        let count = |extra: u64| {
+            b.divisions
+                .iter()
+                .try_fold(1u64, |n, &d| n.checked_mul((d as u64).checked_add(extra)?))
+        };
+        let (elements, nodes) = (count(0), count(1));
+        if nodes.is_none_or(|n| n > u64::from(u32::MAX)) {
+            let show = |n: Option<u64>, extra: f64| match n {
+                Some(n) => n.to_string(),
+                None => {
+                    let approx: f64 = b.divisions.iter().map(|&d| d as f64 + extra).product();
+                    format!("about {approx:.3e}")
+                }
+            };
+            return Err(self.err(
+                key("box.divisions"),
+                format!(
+                    "{:?} makes {} elements and {} nodes; a body holds at most {} nodes (node numbers are 32-bit)",
+                    b.divisions,
+                    show(elements, 0.0),
+                    show(nodes, 1.0),
+                    u32::MAX
+                ),
+            ));
+        }
         Ok(BoxSpec {
             min,
             max,
@@ -259,6 +288,10 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         Some(dt) => Some(c.positive("run.time_step", dt)?),
         None => None,
     };
+    let energy_tolerance = c.positive(
+        "run.energy_tolerance",
+        run.energy_tolerance.unwrap_or(ENERGY_TOLERANCE),
+    )?;
     if time_step.is_none() && method == Method::Implicit {
         return Err(c.err(
             "run.time_step",
@@ -400,6 +433,16 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         }
         let density = c.positive(&key("density"), m.density)?;
         let youngs_modulus = c.positive(&key("youngs_modulus"), m.youngs_modulus)?;
+        let c2 = youngs_modulus / density;
+        if !c2.is_normal() {
+            return Err(c.err(
+                key("youngs_modulus"),
+                format!(
+                    "with density {density:e} gives a wave speed sqrt(E/rho) = {:e}, which is no usable number (check the units of both)",
+                    c2.sqrt()
+                ),
+            ));
+        }
         let nu = m.poissons_ratio;
         if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
             return Err(c.err(
@@ -458,6 +501,14 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
                     .parent()
                     .map(|d| d.join(file))
                     .unwrap_or_else(|| PathBuf::from(file));
+                if let Err(source) = std::fs::metadata(&file_path) {
+                    return Err(ImpactError::MeshFile {
+                        scene: path.to_path_buf(),
+                        key: key("mesh"),
+                        path: file_path,
+                        source,
+                    });
+                }
                 let parts = crate::mesh::import(&file_path, scale, translate)?;
                 BodyShape::Imported {
                     path: file_path,
@@ -506,6 +557,12 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
             secondary,
             primary,
             friction: c.friction(&key("friction"), ct.friction)?,
+            initial_penetration: c.choice(
+                &key("initial_penetration"),
+                ct.initial_penetration.as_deref(),
+                PenetrationPolicy::Error,
+                &PenetrationPolicy::NAMES,
+            )?,
         });
     }
 
@@ -532,6 +589,12 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
             normal: [n[0] / len, n[1] / len, n[2] / len],
             friction: c.friction(&key("friction"), p.friction)?,
             bodies: bodies_idx,
+            initial_penetration: c.choice(
+                &key("initial_penetration"),
+                p.initial_penetration.as_deref(),
+                PenetrationPolicy::Error,
+                &PenetrationPolicy::NAMES,
+            )?,
         });
     }
 
@@ -599,6 +662,12 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
     let mut probes = Vec::new();
     for (i, p) in raw.probe.iter().enumerate() {
         let key = |k: &str| format!("probe[{i}].{k} (probe `{}`)", p.name);
+        if raw.probe[..i].iter().any(|o| o.name == p.name) {
+            return Err(c.err(
+                key("name"),
+                "is used by an earlier probe (each probe names its own history columns)",
+            ));
+        }
         probes.push(ProbeSpec {
             name: p.name.clone(),
             body: c.body_index(&key("body"), &p.body, &raw.body)?,
@@ -626,9 +695,19 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
             label: e.label.clone().unwrap_or_else(|| "exact".into()),
         });
     }
-    let (output_dir, vtu_every) = match raw.output {
-        Some(o) => (o.dir, o.vtu_every),
-        None => (None, None),
+    let (output_dir, vtu_every, checkpoint_every) = match raw.output {
+        Some(o) => (o.dir, o.vtu_every, o.checkpoint_every),
+        None => (None, None, None),
+    };
+    let checkpoint_every = match checkpoint_every {
+        Some(n) if n < 1 => {
+            return Err(c.err(
+                "output.checkpoint_every",
+                format!("must be >= 1 (a checkpoint every n steps), got {n}"),
+            ))
+        }
+        Some(n) => Some(n as usize),
+        None => None,
     };
     let vtu_every = match vtu_every {
         Some(n) if n < 1 => {
@@ -661,6 +740,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
             time_step,
             method,
             device,
+            energy_tolerance,
         },
         implicit,
         explicit,
@@ -672,6 +752,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         probes,
         output_dir,
         vtu_every,
+        checkpoint_every,
         exact,
     })
 }

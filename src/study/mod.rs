@@ -164,6 +164,9 @@ pub fn run_one(
         out: Some(dir.clone()),
         device: None,
         quiet: true,
+        // a study repeats its grid into the same folders
+        overwrite: true,
+        ..Default::default()
     };
     let (wall, iterations, completed) = match run(&scene, &opts) {
         Ok(s) => (s.wall_seconds, s.iterations_total, true),

@@ -170,6 +170,7 @@ pub fn run_text_on(
         out: Some(dir.clone()),
         device,
         quiet: true,
+        ..Default::default()
     };
     let s = run(&scene, &opts);
     (s, History::read(&dir.join("history.csv")))

@@ -1,0 +1,224 @@
+//! Initial penetration: secondary nodes behind their primary surface at t = 0, measured on
+//! every interface, and moved onto it where the scene says `initial_penetration = "adjust"`.
+//!
+//! A node penetrates when its closest point on the primary surface lies in a face (the normal
+//! distance is at least [`ALONG_NORMAL`] of the distance: a node beside an open surface's edge
+//! does not count) and it lies behind that face by more than [`TOLERANCE`] of its local face
+//! size (the square root of its tributary area). Nodes deeper than a face's reach inside the
+//! primary body's bounding box are measured against the face with the nearest centroid.
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::contact::quad::{self, dot, norm, sub, V3};
+use crate::contact::search::{find_candidates, flatten};
+use crate::contact::{Interface, Primary};
+use crate::kernels::ContactQueries;
+use crate::model::Model;
+use crate::scene::PenetrationPolicy;
+
+/// Penetration below this fraction of the local face size is rounding (touching faces).
+pub const TOLERANCE: f64 = 1e-6;
+
+/// The closest point counts as "on the face" when the normal part of the distance is at least
+/// this fraction of it.
+pub const ALONG_NORMAL: f64 = 0.99;
+
+/// What t = 0 looks like on one interface.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct InitialContact {
+    pub interface: String,
+    /// Secondary nodes with a primary face within reach (all of them for a rigid plane).
+    pub nodes_in_reach: usize,
+    /// Smallest and largest separation (negative: penetration) of the nodes in reach.
+    pub gap_min: Option<f64>,
+    pub gap_max: Option<f64>,
+    /// Nodes behind the surface by more than the tolerance.
+    pub penetrating: usize,
+    /// The deepest of them: global node number, its position and its depth.
+    pub deepest_node: Option<u32>,
+    pub deepest_at: Option<[f64; 3]>,
+    pub depth: f64,
+    /// "error", "adjust" or "ignore".
+    pub policy: String,
+    /// Under "adjust": nodes moved onto the surface.
+    pub moved: usize,
+}
+
+/// One secondary node's closest point: separation (< 0 behind), unit normal, and whether it
+/// counts (a face within reach, the point on it).
+#[derive(Debug, Clone, Copy)]
+struct Sample {
+    gap: f64,
+    normal: V3,
+    on_face: bool,
+}
+
+/// Measures every interface at the reference configuration and, where the policy is
+/// "adjust", moves the penetrating nodes onto the surface (in `model.mesh.nodes`; the
+/// interfaces' tributary areas are recomputed). Returns one record per interface.
+pub fn resolve(model: &mut Model, policies: &[PenetrationPolicy]) -> Vec<InitialContact> {
+    let mut out = Vec::with_capacity(model.interfaces.len());
+    let mut moved_any = false;
+    for (k, itf) in model.interfaces.iter().enumerate() {
+        let samples = samples(model, itf);
+        let (mut record, moves) = summarise(model, itf, &samples, policies[k]);
+        if policies[k] == PenetrationPolicy::Adjust {
+            for (n, delta) in &moves {
+                let p = &mut model.mesh.nodes[*n as usize];
+                for a in 0..3 {
+                    p[a] += delta[a];
+                }
+            }
+            record.moved = moves.len();
+            moved_any |= !moves.is_empty();
+        }
+        out.push(record);
+    }
+    if moved_any {
+        model.refresh_areas();
+    }
+    out
+}
+
+fn summarise(
+    model: &Model,
+    itf: &Interface,
+    samples: &[Sample],
+    policy: PenetrationPolicy,
+) -> (InitialContact, Vec<(u32, V3)>) {
+    let mut r = InitialContact {
+        interface: itf.name.clone(),
+        policy: PenetrationPolicy::NAMES
+            .iter()
+            .find(|(_, p)| *p == policy)
+            .map_or("error", |(n, _)| n)
+            .into(),
+        ..Default::default()
+    };
+    let mut moves = Vec::new();
+    for (i, s) in samples.iter().enumerate() {
+        if !s.on_face {
+            continue;
+        }
+        r.nodes_in_reach += 1;
+        r.gap_min = Some(r.gap_min.map_or(s.gap, |g: f64| g.min(s.gap)));
+        r.gap_max = Some(r.gap_max.map_or(s.gap, |g: f64| g.max(s.gap)));
+        let depth = -s.gap;
+        if depth > TOLERANCE * itf.area[i].sqrt() {
+            r.penetrating += 1;
+            let n = itf.nodes[i];
+            if depth > r.depth {
+                r.depth = depth;
+                r.deepest_node = Some(n);
+                r.deepest_at = Some(model.mesh.nodes[n as usize]);
+            }
+            moves.push((n, s.normal.map(|c| c * depth)));
+        }
+    }
+    (r, moves)
+}
+
+/// The closest point of every secondary node of `itf`.
+fn samples(model: &Model, itf: &Interface) -> Vec<Sample> {
+    let x = &model.mesh.nodes;
+    match &itf.primary {
+        Primary::Plane { point, normal } => itf
+            .nodes
+            .iter()
+            .map(|&n| Sample {
+                gap: dot(sub(x[n as usize], *point), *normal),
+                normal: *normal,
+                on_face: true,
+            })
+            .collect(),
+        Primary::Surface { body, faces, .. } => {
+            let faces = &model.queries.faces[faces.clone()];
+            surface_samples(model, *body, faces, &itf.nodes)
+        }
+    }
+}
+
+fn surface_samples(model: &Model, body: usize, faces: &[[u32; 4]], nodes: &[u32]) -> Vec<Sample> {
+    let x = &model.mesh.nodes;
+    let reach = crate::contact::search::largest_face_side(x, &vec![0.0; 3 * x.len()], faces);
+    let mut q = ContactQueries {
+        secondary: nodes.to_vec(),
+        faces: faces.to_vec(),
+        ..Default::default()
+    };
+    let mut lists = vec![Vec::new(); nodes.len()];
+    find_candidates(&mut q, x, 0..nodes.len(), 0..faces.len(), reach, &mut lists);
+    flatten(&mut q, &lists);
+    let (lo, hi) = bounding_box(x, model.mesh.bodies[body].nodes.clone());
+    (0..nodes.len())
+        .into_par_iter()
+        .map(|i| {
+            let p = x[nodes[i] as usize];
+            let best = q
+                .candidates_of(i)
+                .iter()
+                .map(|&f| closest(x, &faces[f as usize], p))
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            match best {
+                Some((_, s)) => s,
+                None if (0..3).all(|a| p[a] >= lo[a] && p[a] <= hi[a]) => {
+                    // deep inside the primary body's box: the face with the nearest centroid
+                    let f = faces
+                        .iter()
+                        .min_by(|a, b| {
+                            centroid_distance(x, a, p).total_cmp(&centroid_distance(x, b, p))
+                        })
+                        .expect("a primary surface has faces");
+                    closest(x, f, p).1
+                }
+                None => Sample {
+                    gap: f64::INFINITY,
+                    normal: [0.0; 3],
+                    on_face: false,
+                },
+            }
+        })
+        .collect()
+}
+
+/// Distance to the face's closest point and the sample there.
+fn closest(x: &[[f64; 3]], face: &[u32; 4], p: V3) -> (f64, Sample) {
+    let c = face.map(|n| x[n as usize]);
+    let xi = quad::project(&c, p);
+    let (y, ..) = quad::geometry(&c, xi);
+    let n = quad::normal(&c, xi);
+    let d = sub(p, y);
+    let dist = norm(d);
+    let gap = dot(d, n);
+    (
+        dist,
+        Sample {
+            gap,
+            normal: n,
+            on_face: gap.abs() >= ALONG_NORMAL * dist,
+        },
+    )
+}
+
+fn centroid_distance(x: &[[f64; 3]], face: &[u32; 4], p: V3) -> f64 {
+    let mut c = [0.0; 3];
+    for &n in face {
+        for a in 0..3 {
+            c[a] += 0.25 * x[n as usize][a];
+        }
+    }
+    norm(sub(p, c))
+}
+
+fn bounding_box(x: &[[f64; 3]], nodes: std::ops::Range<usize>) -> (V3, V3) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in &x[nodes] {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    (lo, hi)
+}

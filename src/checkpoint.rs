@@ -1,0 +1,135 @@
+//! `checkpoint.bin`: everything a run needs to continue bit for bit (`impact run --resume`),
+//! with a hash of the scene it belongs to.
+//!
+//! A checkpoint holds the integrator's state after a whole step, the run's tallies (iteration
+//! counts, energies, the watch for warnings) and the VTU frames written so far. The scene's
+//! hash leaves out `run.end_time` and `[output]`: a run may be continued to a later end time,
+//! or with other output settings, and nothing else.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{ImpactError, Result};
+use crate::integrate::explicit::ExplicitState;
+use crate::integrate::implicit::ImplicitState;
+use crate::scene::Scene;
+
+/// The file name inside the run's folder.
+pub const FILE: &str = "checkpoint.bin";
+
+/// Bumped whenever the layout changes; an older checkpoint is refused, not misread.
+pub const FORMAT: u32 = 1;
+
+/// The integrator's part.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub enum SolverState {
+    Explicit(ExplicitState),
+    Implicit(ImplicitState),
+}
+
+/// What the time loop accumulates for the summary and the warnings.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct Tally {
+    pub steps: usize,
+    pub iterations_total: usize,
+    pub iterations_max: usize,
+    pub unconverged_steps: usize,
+    pub energy_initial: f64,
+    pub energy_final: f64,
+    pub energy_max: f64,
+    /// The first step whose contact iteration did not converge, and its time.
+    pub first_unconverged: Option<(usize, f64)>,
+    /// Each interface's largest normal force so far.
+    pub peak_force: Vec<f64>,
+    /// Each interface's deepest penetration so far, with its step and time.
+    pub deepest: Vec<(f64, usize, f64)>,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Checkpoint {
+    pub format: u32,
+    pub scene_hash: u64,
+    /// The scene's speed scale when the run began (the default tolerances follow it).
+    pub speed_scale: f64,
+    pub tally: Tally,
+    /// VTU frames written up to this state: (step, time), and their file names' stem.
+    pub frames: Vec<(usize, f64)>,
+    pub frame_stem: String,
+    pub solver: SolverState,
+}
+
+impl Checkpoint {
+    /// Writes `dir/checkpoint.bin` (through a temporary file and a rename, so a crash while
+    /// writing leaves the previous checkpoint whole).
+    pub fn write(&self, dir: &Path) -> Result<()> {
+        let path = dir.join(FILE);
+        let tmp = dir.join(format!("{FILE}.tmp"));
+        let bytes = bincode::serialize(self).map_err(|e| ImpactError::Write {
+            path: path.clone(),
+            source: std::io::Error::other(e.to_string()),
+        })?;
+        std::fs::write(&tmp, bytes).map_err(|source| ImpactError::Write {
+            path: tmp.clone(),
+            source,
+        })?;
+        std::fs::rename(&tmp, &path).map_err(|source| ImpactError::Write { path, source })
+    }
+
+    /// Reads `dir/checkpoint.bin` and checks that it belongs to `scene`.
+    pub fn read(dir: &Path, scene: &Scene) -> Result<Checkpoint> {
+        let path = dir.join(FILE);
+        let refuse = |message: String| ImpactError::Resume {
+            dir: dir.to_path_buf(),
+            message,
+        };
+        let bytes = std::fs::read(&path).map_err(|e| refuse(format!("{}: {e}", path.display())))?;
+        let c: Checkpoint = bincode::deserialize(&bytes).map_err(|e| {
+            refuse(format!(
+                "{} is not a checkpoint of this version of impact ({e})",
+                path.display()
+            ))
+        })?;
+        if c.format != FORMAT {
+            return Err(refuse(format!(
+                "{} has format {}, this impact reads {FORMAT}",
+                path.display(),
+                c.format
+            )));
+        }
+        if c.scene_hash != scene_hash(scene) {
+            return Err(refuse(format!(
+                "the checkpoint belongs to another scene: {} differs from the run's scene in more than run.end_time and [output]",
+                scene.path.display()
+            )));
+        }
+        Ok(c)
+    }
+}
+
+/// A hash of the scene without `run.end_time` and `[output]` (and the file's own path).
+pub fn scene_hash(scene: &Scene) -> u64 {
+    let mut s = scene.clone();
+    s.path = PathBuf::new();
+    s.run.end_time = 0.0;
+    s.output_dir = PathBuf::new();
+    s.vtu_every = None;
+    s.checkpoint_every = None;
+    let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+    let _ = write!(h, "{s:?}");
+    h.0
+}
+
+/// FNV-1a over formatted text, without building the text.
+struct Fnv(u64);
+
+impl std::fmt::Write for Fnv {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        for b in s.bytes() {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+        Ok(())
+    }
+}

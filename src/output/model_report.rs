@@ -1,0 +1,155 @@
+//! `impact check`: what an engineer checks first about a model, as text, without running it.
+
+use std::fmt::Write as _;
+
+use crate::check::memory;
+use crate::integrate::explicit::lumped_mass;
+use crate::integrate::stable_step::stable_step_on;
+use crate::scene::{Method, Scene};
+use crate::setup::{choose_method, Setup};
+
+/// The report of a prepared scene.
+pub fn model_report(scene: &Scene, setup: &Setup) -> String {
+    let mut out = String::new();
+    let model = &setup.model;
+    let mass = lumped_mass(model);
+    let _ = writeln!(out, "scene {}", scene.path.display());
+    let _ = writeln!(out, "bodies:");
+    for (b, body) in model.mesh.bodies.iter().enumerate() {
+        let (mut m, mut c) = (0.0, [0.0; 3]);
+        for n in body.nodes.clone() {
+            m += mass[n];
+            for a in 0..3 {
+                c[a] += mass[n] * model.mesh.nodes[n][a];
+            }
+        }
+        let c = c.map(|v| v / m);
+        let _ = writeln!(
+            out,
+            "  {}: {} elements ({} hex8, {} tet4), {} nodes, {} dofs ({} free); mass {m:.6e}, centre of mass [{:.6e}, {:.6e}, {:.6e}]; material `{}`",
+            scene.bodies[b].name,
+            body.hexes.len() + body.tets.len(),
+            body.hexes.len(),
+            body.tets.len(),
+            body.nodes.len(),
+            3 * body.nodes.len(),
+            (3 * body.nodes.start..3 * body.nodes.end)
+                .filter(|&d| !model.fixed[d])
+                .count(),
+            c[0],
+            c[1],
+            c[2],
+            scene.materials[body.material].name
+        );
+    }
+    if let Some((stable, e)) = setup.bound {
+        let (_, material) = model.mesh.element(e);
+        let hexes = model.mesh.hexes.len();
+        let body = model
+            .mesh
+            .bodies
+            .iter()
+            .position(|b| match e.checked_sub(hexes) {
+                None => b.hexes.contains(&e),
+                Some(t) => b.tets.contains(&t),
+            })
+            .unwrap_or(0);
+        let _ = writeln!(
+            out,
+            "stable explicit step: {stable:.6e}, set by element {e} (body `{}`, material `{}`)",
+            scene.bodies[body].name, scene.materials[material as usize].name
+        );
+    }
+    let _ = writeln!(
+        out,
+        "method: {} ({}); time step {:.6e}, {} steps to t = {:.6e}",
+        setup.method.name(),
+        setup
+            .method_choice
+            .clone()
+            .unwrap_or_else(|| match scene.run.method {
+                Method::Auto => "auto".into(),
+                m => format!("run.method = \"{}\"", m.name()),
+            }),
+        setup.dt,
+        setup.steps,
+        match setup.last_step {
+            Some(last) => (setup.steps - 1) as f64 * setup.dt + last,
+            None => setup.steps as f64 * setup.dt,
+        }
+    );
+    if setup.method_choice.is_none() {
+        // what "auto" would choose, from the stable step on the CPU
+        let stable = setup
+            .bound
+            .map(|b| b.0)
+            .or_else(|| stable_step_on(model, None).ok().map(|b| b.0));
+        if let Some(stable) = stable {
+            let _ = writeln!(
+                out,
+                "method = \"auto\" would choose {}",
+                choose_method(scene, model, stable).1
+            );
+        }
+    }
+    let _ = writeln!(out, "contact interfaces:");
+    if model.interfaces.is_empty() {
+        let _ = writeln!(out, "  none");
+    }
+    for (itf, r) in model.interfaces.iter().zip(&setup.initial) {
+        let gaps = match (r.gap_min, r.gap_max) {
+            (Some(lo), Some(hi)) => format!(
+                "initial gap {lo:.4e} to {hi:.4e} over the {} nodes within reach",
+                r.nodes_in_reach
+            ),
+            _ => "no secondary node within reach of the primary surface".into(),
+        };
+        let pen = if r.penetrating > 0 {
+            format!(
+                "; {} nodes penetrate (deepest {:.4e}, node {}): initial_penetration = \"{}\"{}",
+                r.penetrating,
+                r.depth,
+                r.deepest_node.unwrap_or_default(),
+                r.policy,
+                if r.moved > 0 {
+                    format!(", {} moved onto the surface", r.moved)
+                } else {
+                    String::new()
+                }
+            )
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            out,
+            "  {}: {} secondary nodes against {}, friction {}; {gaps}{pen}",
+            itf.name,
+            itf.nodes.len(),
+            if itf.is_plane() {
+                "a rigid plane"
+            } else {
+                "a surface"
+            },
+            itf.friction
+        );
+    }
+    let _ = writeln!(out, "fixes:");
+    if scene.fixes.is_empty() {
+        let _ = writeln!(out, "  none");
+    }
+    for (i, (f, n)) in scene.fixes.iter().zip(&model.fix_nodes).enumerate() {
+        let comps: String = ["x", "y", "z"]
+            .iter()
+            .zip(f.components)
+            .filter(|(_, on)| *on)
+            .map(|(c, _)| *c)
+            .collect();
+        let _ = writeln!(
+            out,
+            "  fix[{i}]: {n} nodes of body `{}`, components {comps}",
+            scene.bodies[f.body].name
+        );
+    }
+    let _ = writeln!(out, "memory: {}", memory::describe(&setup.estimate));
+    out
+}

@@ -1,0 +1,316 @@
+//! From a checked scene to a model ready to run: the memory guard, the model, its checks
+//! (elements, facing surfaces, initial penetration), the device, the stable step, the
+//! method and the time step. `impact run` and `impact check` share it.
+
+use crate::check::penetration::InitialContact;
+use crate::check::{elements, facing, memory, penetration};
+use crate::error::{ImpactError, Result};
+use crate::gpu::{AdapterPolicy, GpuContext, GpuKernels};
+use crate::integrate::stable_step::stable_step_on;
+use crate::kernels::{CpuKernels, Kernels};
+use crate::model::Model;
+use crate::output::summary::SetupClock;
+use crate::scene::{DeviceChoice, Method, PenetrationPolicy, Scene};
+
+/// Under `device = "auto"`, scenes with at least this many elements run their kernels on a
+/// hardware GPU when there is one. Smaller scenes stay on the CPU in f64: there the kernels
+/// cost less than a few milliseconds per iteration, and f64 keeps the contact iteration's
+/// convergence test at its tightest. Software adapters are never chosen by "auto": on the
+/// same cores they are slower than the CPU twins (README, kernel benchmark).
+pub const AUTO_GPU_MIN_ELEMENTS: usize = 20_000;
+
+/// A run longer than this many steps is refused: at a microsecond a step it would take
+/// three hours, and a stable step this small against the end time comes from a unit or
+/// material typo far more often than from a real model.
+pub const MAX_STEPS: f64 = 1e10;
+
+/// A model ready to run.
+pub struct Setup {
+    pub model: Model,
+    /// The GPU the kernels run on, or `None` for the CPU twins.
+    pub ctx: Option<GpuContext>,
+    /// The mesh's stable explicit step and the element that sets it (explicit and auto).
+    pub bound: Option<(f64, usize)>,
+    pub method: Method,
+    /// Under `method = "auto"`: the rule's choice and why.
+    pub method_choice: Option<String>,
+    pub dt: f64,
+    pub steps: usize,
+    /// An explicit run whose end time is not a whole number of steps shortens its last step
+    /// to this, so that it ends exactly at `end_time`.
+    pub last_step: Option<f64>,
+    /// t = 0 on every interface.
+    pub initial: Vec<InitialContact>,
+    pub estimate: memory::Estimate,
+}
+
+/// Builds and checks the model and picks the device, method and step. `notice` receives
+/// one-line reasons for automatic choices; `clock` times the stages.
+pub fn prepare(
+    scene: &Scene,
+    device: DeviceChoice,
+    notice: &mut dyn FnMut(&str),
+    clock: &mut SetupClock,
+) -> Result<Setup> {
+    let counts = memory::Counts::of(scene);
+    if counts.nodes > u64::from(u32::MAX) {
+        return Err(ImpactError::SceneValue {
+            path: scene.path.clone(),
+            key: "body".into(),
+            message: format!(
+                "the bodies hold {} nodes together; a model holds at most {} (node numbers are 32-bit)",
+                counts.nodes,
+                u32::MAX
+            ),
+        });
+    }
+    memory::check(scene, &memory::estimate(scene, Method::Explicit, false))?;
+    let mut model = Model::from_scene(scene)?;
+    clock.lap("model");
+    elements::check(scene, &model.mesh)?;
+    facing::check(scene, &model)?;
+    let initial = penetration::resolve(&mut model, &scene.penetration_policies());
+    refuse_penetration(scene, &initial)?;
+    if initial.iter().any(|r| r.moved > 0) {
+        // nodes moved onto a surface can fold an element
+        elements::check(scene, &model.mesh)?;
+    }
+    clock.lap("checks");
+    let ctx = gpu_context(scene, model.mesh.element_count(), device, notice)?;
+    clock.lap("device");
+    let bound = match scene.run.method {
+        Method::Explicit | Method::Auto => {
+            let b = stable_step_on(&model, ctx.as_ref()).map_err(|e| gpu_error(scene, e))?;
+            Some(check_stable(scene, &model, b)?)
+        }
+        Method::Implicit => None,
+    };
+    clock.lap("stable step");
+    let (method, method_choice) = match (scene.run.method, bound) {
+        (Method::Auto, Some((stable, _))) => {
+            let (m, why) = choose_method(scene, &model, stable);
+            notice(&format!("method auto: {why}"));
+            (m, Some(why))
+        }
+        (m, _) => (m, None),
+    };
+    let (dt, steps, last_step) = time_step(scene, method, bound, method_choice.is_some())?;
+    let estimate = memory::estimate(scene, method, ctx.is_some() && method == Method::Explicit);
+    memory::check(scene, &estimate)?;
+    Ok(Setup {
+        model,
+        ctx,
+        bound,
+        method,
+        method_choice,
+        dt,
+        steps,
+        last_step,
+        initial,
+        estimate,
+    })
+}
+
+/// The error for interfaces with `initial_penetration = "error"` that penetrate at t = 0.
+fn refuse_penetration(scene: &Scene, initial: &[InitialContact]) -> Result<()> {
+    let policies = scene.penetration_policies();
+    for (k, r) in initial.iter().enumerate() {
+        if r.penetrating > 0 && policies[k] == PenetrationPolicy::Error {
+            return Err(ImpactError::SceneValue {
+                path: scene.path.clone(),
+                key: format!("{}.initial_penetration", scene.interface_key(k)),
+                message: format!(
+                    "{} secondary nodes lie behind the primary surface at t = 0; the deepest, node {} at {:?}, by {:.4e}. Move the bodies apart, or set initial_penetration = \"adjust\" (move those nodes onto the surface before t = 0) or \"ignore\"",
+                    r.penetrating,
+                    r.deepest_node.unwrap_or_default(),
+                    r.deepest_at.unwrap_or_default(),
+                    r.depth
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// A stable step that is not finite and positive is an error naming the element's material.
+fn check_stable(scene: &Scene, model: &Model, (stable, e): (f64, usize)) -> Result<(f64, usize)> {
+    if stable.is_finite() && stable > 0.0 {
+        return Ok((stable, e));
+    }
+    let m = model.mesh.element(e).1 as usize;
+    Err(ImpactError::SceneValue {
+        path: scene.path.clone(),
+        key: format!("material[{m}] (material `{}`)", scene.materials[m].name),
+        message: format!(
+            "the stable explicit step of element {e} is {stable:e}: density and youngs_modulus give no finite wave speed (check their units)"
+        ),
+    })
+}
+
+/// The step, the step count and the shortened last step. An explicit run ends exactly at
+/// `end_time`: when the end time is not a whole number of steps, the last step is shortened
+/// to what is left (the central-difference step takes any step up to the stable one). An
+/// implicit run takes whole steps of `time_step` up to the first at or past `end_time`.
+fn time_step(
+    scene: &Scene,
+    method: Method,
+    bound: Option<(f64, usize)>,
+    auto: bool,
+) -> Result<(f64, usize, Option<f64>)> {
+    let end = scene.run.end_time;
+    let dt = match (method, bound) {
+        (Method::Explicit, Some((stable, element))) => match scene.run.time_step {
+            // auto: the scene's step if the explicit path can take it, else its own
+            Some(dt) if auto && dt <= stable * (1.0 + 1e-9) => dt,
+            _ if auto => scene.explicit.safety_factor * stable,
+            _ => explicit_time_step(scene, (stable, element))?,
+        },
+        _ => scene
+            .run
+            .time_step
+            .expect("validated: implicit has a time step; auto picks implicit only with one"),
+    };
+    let ratio = end / dt;
+    if ratio > MAX_STEPS {
+        return Err(ImpactError::SceneValue {
+            path: scene.path.clone(),
+            key: "run.end_time".into(),
+            message: format!(
+                "{end:e} needs {ratio:.3e} steps of {dt:.4e} (more than {MAX_STEPS:e}); check the end time, the materials' units and the mesh (a tiny or distorted element sets the step)"
+            ),
+        });
+    }
+    if ratio < 1.0 - 1e-9 {
+        return Err(ImpactError::SceneValue {
+            path: scene.path.clone(),
+            key: "run.end_time".into(),
+            message: format!(
+                "{end:e} is shorter than one time step ({dt:.4e}, the {} step): nothing would run",
+                method.name()
+            ),
+        });
+    }
+    let steps = (ratio - 1e-9).ceil().max(1.0) as usize;
+    let whole = (steps as f64 * dt - end).abs() <= 1e-9 * end;
+    Ok(match method {
+        Method::Explicit if !whole => (dt, steps, Some(end - (steps - 1) as f64 * dt)),
+        _ => (dt, steps, None),
+    })
+}
+
+/// The GPU the requested device resolves to, or `None` for the CPU twins; `notice` receives
+/// the one-line reason when "auto" falls back to the CPU.
+pub fn gpu_context(
+    scene: &Scene,
+    elements: usize,
+    device: DeviceChoice,
+    notice: &mut dyn FnMut(&str),
+) -> Result<Option<GpuContext>> {
+    match device {
+        DeviceChoice::Cpu => Ok(None),
+        DeviceChoice::Gpu => GpuContext::new().map(Some).map_err(|e| gpu_error(scene, e)),
+        DeviceChoice::Auto => {
+            if elements < AUTO_GPU_MIN_ELEMENTS {
+                notice(&format!(
+                    "device auto: {elements} elements (< {AUTO_GPU_MIN_ELEMENTS}): kernels on the CPU in f64"
+                ));
+                return Ok(None);
+            }
+            let ctx = GpuContext::open(AdapterPolicy::HardwareOnly)?;
+            if ctx.is_none() {
+                notice("device auto: no hardware GPU found: kernels on the CPU in f64");
+            }
+            Ok(ctx)
+        }
+    }
+}
+
+/// A GPU failure under `device = "gpu"` names the scene key that asked for it.
+pub fn gpu_error(scene: &Scene, e: ImpactError) -> ImpactError {
+    match e {
+        ImpactError::Gpu(message) => ImpactError::Unsupported {
+            path: scene.path.clone(),
+            key: "run.device".into(),
+            message: format!("device = \"gpu\": {message}"),
+        },
+        other => other,
+    }
+}
+
+/// Picks the kernels for the requested device; `notice` receives the one-line reason when
+/// "auto" falls back to the CPU.
+pub fn kernels<'m>(
+    scene: &Scene,
+    model: &'m Model,
+    device: DeviceChoice,
+    notice: &mut dyn FnMut(&str),
+) -> Result<Box<dyn Kernels + 'm>> {
+    let data = model.element_data();
+    let elements = data.hexes.len() + data.tets.len();
+    Ok(match gpu_context(scene, elements, device, notice)? {
+        Some(ctx) => Box::new(GpuKernels::new(ctx, &data).map_err(|e| gpu_error(scene, e))?),
+        None => Box::new(CpuKernels::new(data)),
+    })
+}
+
+/// The time step of an explicit run given the mesh's stable bound `(step, element)` from
+/// [`stable_step_on`]: the scene's, which must not exceed the bound (unless
+/// `explicit.allow_unstable`), or `safety_factor` of the bound.
+pub fn explicit_time_step(scene: &Scene, (stable, element): (f64, usize)) -> Result<f64> {
+    match scene.run.time_step {
+        // a step equal to the bound up to rounding is the bound
+        Some(dt) if dt > stable * (1.0 + 1e-9) && !scene.explicit.allow_unstable => Err(ImpactError::SceneValue {
+            path: scene.path.clone(),
+            key: "run.time_step".into(),
+            message: format!(
+                "{dt:.4e} is above the stable explicit step {stable:.4e} (set by element {element}: 2/omega_max of its lumped-mass eigenproblem); use at most that, or leave time_step out for {:.4e} (explicit.safety_factor = {} of it)",
+                scene.explicit.safety_factor * stable,
+                scene.explicit.safety_factor
+            ),
+        }),
+        Some(dt) => Ok(dt),
+        None => Ok(scene.explicit.safety_factor * stable),
+    }
+}
+
+/// The cost of one implicit step in explicit steps of the same mesh, from this project's
+/// benchmarks on one machine (README, "Performance"): 95 at 3,072 elements and 180 at 18,000
+/// (a factorised solve pair per contact iteration, about 15 iterations, against one element
+/// sweep), so $K(n) = 95\,(n / 3072)^{0.36}$.
+pub fn implicit_step_cost(elements: usize) -> f64 {
+    95.0 * (elements.max(1) as f64 / 3072.0).powf(0.36)
+}
+
+/// `method = "auto"`: explicit unless the scene asks for a step so much longer than the
+/// explicit one that the implicit path's fewer, dearer steps cost less. Without a
+/// `time_step` the scene asks for no particular accuracy in time and the explicit path's
+/// stable step is the wave-resolving one, so it is explicit. With one, implicit is chosen
+/// when time_step / (explicit step) exceeds [`implicit_step_cost`]. Returns the method and a
+/// sentence for `summary.json`.
+/// `stable` is the mesh's stable explicit step ([`stable_step_on`]).
+pub fn choose_method(scene: &Scene, model: &Model, stable: f64) -> (Method, String) {
+    let explicit_dt = scene.explicit.safety_factor * stable;
+    let cost = implicit_step_cost(model.mesh.element_count());
+    match scene.run.time_step {
+        None => (
+            Method::Explicit,
+            format!("explicit: no time_step asked; the explicit step is {explicit_dt:.4e}"),
+        ),
+        Some(dt) => {
+            let ratio = dt / explicit_dt;
+            let method = if ratio > cost {
+                Method::Implicit
+            } else {
+                Method::Explicit
+            };
+            (
+                method,
+                format!(
+                    "{}: time_step {dt:.4e} is {ratio:.3} explicit steps ({explicit_dt:.4e}); an implicit step costs about {cost:.0} explicit steps on {} elements",
+                    method.name(),
+                    model.mesh.element_count()
+                ),
+            )
+        }
+    }
+}
