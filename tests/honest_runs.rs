@@ -415,3 +415,20 @@ fn a_checkpoint_is_refused_by_another_scene_and_when_nothing_is_left() {
     let msg = run_in(tag, &text, true).expect_err("finished").to_string();
     assert!(msg.contains("nothing is left to run"), "{msg}");
 }
+
+#[test]
+fn the_large_shipped_scene_starts_touching_and_not_penetrating() {
+    // the block rests on the plate: its bottom nodes lie on plate faces, edges and corners
+    // (to rounding), all within reach, none behind the surface
+    let scene = Scene::load(repo().join("scenes/block_on_plate_large.toml")).unwrap();
+    let setup = impact::setup::prepare(
+        &scene,
+        impact::scene::DeviceChoice::Cpu,
+        &mut |_| {},
+        &mut impact::output::summary::SetupClock::start(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let r = &setup.initial[0];
+    assert_eq!((r.nodes_in_reach, r.penetrating), (61 * 61, 0));
+    assert_eq!((r.gap_min, r.gap_max), (Some(0.0), Some(0.0)));
+}

@@ -191,12 +191,14 @@ fn closest(x: &[[f64; 3]], face: &[u32; 4], p: V3) -> (f64, Sample) {
     let d = sub(p, y);
     let dist = norm(d);
     let gap = dot(d, n);
+    // a node on the face to rounding (touching faces, nodes on shared edges) is on it
+    let touching = dist <= TOLERANCE * norm(sub(c[2], c[0]));
     (
         dist,
         Sample {
             gap,
             normal: n,
-            on_face: gap.abs() >= ALONG_NORMAL * dist,
+            on_face: touching || gap.abs() >= ALONG_NORMAL * dist,
         },
     )
 }
