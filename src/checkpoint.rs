@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{ImpactError, Result};
 use crate::integrate::explicit::ExplicitState;
 use crate::integrate::implicit::ImplicitState;
+use crate::integrate::resident::ResidentState;
 use crate::scene::Scene;
 
 /// The file name inside the run's folder.
@@ -27,6 +28,8 @@ pub const FORMAT: u32 = 1;
 pub enum SolverState {
     Explicit(ExplicitState),
     Implicit(ImplicitState),
+    /// The explicit step resident on the GPU (the device's f32 state, exactly).
+    Resident(ResidentState),
 }
 
 /// What the time loop accumulates for the summary and the warnings.

@@ -84,6 +84,21 @@ impl Solver<'_> {
             Solver::Resident(s) => s.time,
         }
     }
+    /// Submits no more device work (the resident engine; the others have none in flight).
+    fn stop_submitting(&mut self) {
+        if let Solver::Resident(s) = self {
+            s.stop_submitting();
+        }
+    }
+
+    /// Whether the state of the last step handed out is all there is (nothing in flight).
+    fn at_rest(&self) -> bool {
+        match self {
+            Solver::Resident(s) => s.at_rest(),
+            _ => true,
+        }
+    }
+
     /// Puts the clock exactly on the end time after a shortened last step (the explicit
     /// solver sums its steps; the resident one computes the time itself).
     fn end_at(&mut self, time: f64) {
@@ -541,6 +556,7 @@ fn start_resumed(
     match (solver, c.solver) {
         (Solver::Explicit(s), SolverState::Explicit(st)) => s.restore(st).map_err(refuse)?,
         (Solver::Implicit(s), SolverState::Implicit(st)) => s.restore(st).map_err(refuse)?,
+        (Solver::Resident(s), SolverState::Resident(st)) => s.restore(st).map_err(refuse)?,
         _ => {
             return Err(refuse(
                 "the checkpoint was written by another integrator than this run's".into(),
@@ -561,7 +577,7 @@ fn start_resumed(
 /// Writes the checkpoint of the solver's current state.
 fn save(
     scene: &Scene,
-    solver: &Solver,
+    solver: &mut Solver,
     out: &Outputs,
     tally: &Tally,
     speed_scale: f64,
@@ -569,7 +585,7 @@ fn save(
     let state = match solver {
         Solver::Explicit(s) => SolverState::Explicit(s.state()),
         Solver::Implicit(s) => SolverState::Implicit(s.state()),
-        Solver::Resident(_) => return Ok(()),
+        Solver::Resident(s) => SolverState::Resident(s.state()?),
     };
     Checkpoint {
         format: crate::checkpoint::FORMAT,
@@ -623,12 +639,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         if let Some(dt) = setup.last_step {
             s.shorten_last_step(dt);
         }
-        if scene.checkpoint_every.is_some() || resumed.is_some() {
-            return Err(ImpactError::Unsupported {
-                path: scene.path.clone(),
-                key: "output.checkpoint_every".into(),
-                message: "checkpoints are written by the CPU integrators; this explicit run is resident on the GPU (run it with --device cpu to checkpoint it)".into(),
-            });
+        if let Some(every) = scene.checkpoint_every {
+            s.cut_every(every);
         }
     }
     clock.lap("solver");
@@ -660,7 +672,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         if last && setup.last_step.is_some() {
             if scene.checkpoint_every.is_some() {
                 // the checkpoint stays on whole steps: a later end time continues from here
-                save(scene, &solver, &out, &tally, speed_scale)?;
+                save(scene, &mut solver, &out, &tally, speed_scale)?;
             }
             if let (Some(dt), Solver::Explicit(s)) = (setup.last_step, &mut solver) {
                 s.shorten_step(dt);
@@ -713,18 +725,21 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
             .checkpoint_every
             .is_some_and(|k| (n + 1) % k == 0 || last);
         if whole && due {
-            save(scene, &solver, &out, &tally, speed_scale)?;
+            save(scene, &mut solver, &out, &tally, speed_scale)?;
         }
-        if !last
-            && opts
-                .interrupt
-                .as_ref()
-                .is_some_and(|f| f.load(Ordering::SeqCst))
-        {
+        let signalled = opts
+            .interrupt
+            .as_ref()
+            .is_some_and(|f| f.load(Ordering::SeqCst));
+        if signalled {
+            // the resident engine hands out the steps it has in flight first
+            solver.stop_submitting();
+        }
+        if signalled && !last && solver.at_rest() {
             return Err(interrupted(
                 scene,
                 model,
-                &solver,
+                &mut solver,
                 &mut summary,
                 &tally,
                 &mut out,
@@ -780,7 +795,7 @@ fn fill_summary(summary: &mut Summary, tally: &Tally, model: &Model, solver: &So
 fn interrupted(
     scene: &Scene,
     model: &Model,
-    solver: &Solver,
+    solver: &mut Solver,
     summary: &mut Summary,
     tally: &Tally,
     out: &mut Outputs,
@@ -791,10 +806,12 @@ fn interrupted(
     let _ = out.history.flush();
     fill_summary(summary, tally, model, solver);
     summary.status = "interrupted".into();
-    summary.message = Some(match (&saved, solver) {
-        (_, Solver::Resident(_)) => "interrupted by a signal; the GPU resident engine writes no checkpoint, so the run cannot be resumed".into(),
-        (Ok(()), _) => format!("interrupted by a signal; continue with --resume (checkpoint at step {})", tally.steps),
-        (Err(e), _) => format!("interrupted by a signal; the checkpoint could not be written: {e}"),
+    summary.message = Some(match &saved {
+        Ok(()) => format!(
+            "interrupted by a signal; continue with --resume (checkpoint at step {})",
+            tally.steps
+        ),
+        Err(e) => format!("interrupted by a signal; the checkpoint could not be written: {e}"),
     });
     summary.wall_seconds = start.elapsed().as_secs_f64();
     if let Err(e) = summary.write(&out.dir) {

@@ -206,3 +206,79 @@ fn scenes_on_several_threads_share_the_device() {
         });
     }
 }
+
+/// Runs `text` on the GPU into `tag`'s folder (fresh unless `resume`), with `interrupt` as
+/// the run's signal flag.
+fn gpu_run(
+    tag: &str,
+    text: &str,
+    resume: bool,
+    interrupt: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
+) -> impact::Result<impact::output::Summary> {
+    let scene = impact::scene::Scene::parse(text, &repo().join("scenes").join("resumed.toml"))
+        .expect("valid scene");
+    let opts = impact::run::RunOptions {
+        out: Some(if resume { out_path(tag) } else { out_dir(tag) }),
+        device: Some(DeviceChoice::Gpu),
+        quiet: true,
+        resume,
+        interrupt,
+        ..Default::default()
+    };
+    impact::run::run(&scene, &opts)
+}
+
+fn history_text(tag: &str) -> String {
+    std::fs::read_to_string(out_path(tag).join("history.csv")).unwrap()
+}
+
+/// The resident engine's checkpoint is its device state word for word: a resident run
+/// stopped part way (at half its end time; by a signal, after handing out the steps in
+/// flight) and resumed gives the unbroken run's history exactly, on the rigid-plane path
+/// (the block drop) and on the meshed-contact path (the cube on the plate, explicit).
+#[test]
+fn resident_runs_resume_to_the_unbroken_history() {
+    if skip_gpu("resident resume") {
+        return;
+    }
+    let cube = edit(
+        &scene_text("cube_on_plate.toml"),
+        "time_step = 0.002",
+        "method = \"explicit\"",
+    );
+    for (name, text, half) in [
+        (
+            "planes",
+            scene_text("block_hex_drop.toml"),
+            ("end_time = 0.06", "end_time = 0.031"),
+        ),
+        ("contact", cube, ("end_time = 0.1", "end_time = 0.05")),
+    ] {
+        let text = text + "\n[output]\ncheckpoint_every = 10\n";
+        let whole = format!("resident_whole_{name}");
+        let part = format!("resident_half_{name}");
+        let cut = format!("resident_cut_{name}");
+        let s = gpu_run(&whole, &text, false, None).expect("unbroken");
+        assert_eq!(s.engine, "gpu resident");
+        gpu_run(&part, &edit(&text, half.0, half.1), false, None).expect("half");
+        let r = gpu_run(&part, &text, true, None).expect("resumed");
+        assert_eq!(
+            history_text(&whole),
+            history_text(&part),
+            "{name}: half, resumed"
+        );
+        assert_eq!(r.energy_final.to_bits(), s.energy_final.to_bits());
+        // a signal before the first step: the run hands out its first submission and stops
+        let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(true));
+        let e = gpu_run(&cut, &text, false, Some(flag)).expect_err("interrupted");
+        assert!(matches!(e, impact::ImpactError::Interrupted { .. }), "{e}");
+        let summary = std::fs::read_to_string(out_path(&cut).join("summary.json")).unwrap();
+        assert!(summary.contains("\"status\": \"interrupted\""), "{summary}");
+        gpu_run(&cut, &text, true, None).expect("resumed after the signal");
+        assert_eq!(
+            history_text(&whole),
+            history_text(&cut),
+            "{name}: cut, resumed"
+        );
+    }
+}

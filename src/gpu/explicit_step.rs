@@ -691,6 +691,62 @@ impl ResidentExplicit {
         }
     }
 
+    /// Every buffer a step starts from: u, v, a and the contact results (of the contact
+    /// iteration, or of the rigid planes). With them and the constants, the next step is
+    /// determined.
+    fn state_buffers(&self) -> [&wgpu::Buffer; 4] {
+        let results = match &self.contact {
+            Some(c) => c.results_buffer(),
+            None => &self.results.buffer,
+        };
+        [&self.k.u.buffer, &self.k.v.buffer, &self.a.buffer, results]
+    }
+
+    /// The bytes of [`Self::state_buffers`] (nothing may be in flight).
+    pub fn read_step_state(&mut self) -> Result<Vec<Vec<u32>>> {
+        if self.pending.iter().any(Option::is_some) {
+            return Err(ImpactError::Gpu(
+                "read_step_state: a submission is still in flight".into(),
+            ));
+        }
+        let sizes: Vec<(usize, wgpu::Buffer)> = self
+            .state_buffers()
+            .iter()
+            .map(|b| ((b.size() / 4) as usize, (*b).clone()))
+            .collect();
+        let mut out = Vec::with_capacity(sizes.len());
+        for (words, buffer) in sizes {
+            let enc = self.k.encoder("read_step_state");
+            out.push(submit_and_read(
+                &self.k.ctx,
+                &mut self.k.staging,
+                enc,
+                &buffer,
+                words,
+            )?);
+        }
+        Ok(out)
+    }
+
+    /// Writes back what [`Self::read_step_state`] read (of an engine of the same model).
+    pub fn write_step_state(&mut self, state: &[Vec<u32>]) -> Result<()> {
+        let buffers = self.state_buffers();
+        if state.len() != buffers.len()
+            || state
+                .iter()
+                .zip(buffers)
+                .any(|(s, b)| (s.len() * 4) as u64 != b.size())
+        {
+            return Err(ImpactError::Gpu(
+                "write_step_state: the state is of another model".into(),
+            ));
+        }
+        for (s, b) in state.iter().zip(buffers) {
+            self.k.ctx.queue.write_buffer(b, 0, bytemuck::cast_slice(s));
+        }
+        Ok(())
+    }
+
     /// Records a copy of the live state into snapshot `slot` (`take`) or back from it.
     fn record_snapshot(&self, enc: &mut wgpu::CommandEncoder, slot: usize, take: bool) {
         for (live, snap) in self.live().into_iter().zip(&self.snapshots[slot]) {

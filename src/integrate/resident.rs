@@ -192,6 +192,16 @@ struct Row {
     report: StepReport,
 }
 
+/// Everything a resident run carries from one step to the next: the checkpoint's part
+/// (the device's step state as raw words, see [`ResidentExplicit::read_step_state`]).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct ResidentState {
+    pub dt: f64,
+    pub time: f64,
+    pub steps: usize,
+    pub buffers: Vec<Vec<u32>>,
+}
+
 pub struct ResidentSolver<'m> {
     model: &'m Model,
     engine: ResidentExplicit,
@@ -201,6 +211,10 @@ pub struct ResidentSolver<'m> {
     /// Steps the run takes.
     total: usize,
     frame_every: Option<usize>,
+    /// Submissions end at multiples of this too (where a checkpoint reads the state).
+    checkpoint_every: Option<usize>,
+    /// No new submissions: the ones in flight are collected and their rows handed out.
+    stopping: bool,
     submitted: usize,
     /// The read-back buffer to collect next.
     slot: usize,
@@ -300,6 +314,8 @@ impl<'m> ResidentSolver<'m> {
             steps: 0,
             total,
             frame_every: frame_every.filter(|&e| e > 0),
+            checkpoint_every: None,
+            stopping: false,
             submitted: 0,
             slot: 0,
             chunk,
@@ -363,7 +379,10 @@ impl<'m> ResidentSolver<'m> {
             // the shortened last step is a submission of its own
             n = n.min(self.total - 1 - from);
         }
-        if let Some(e) = self.frame_every {
+        for e in [self.frame_every, self.checkpoint_every]
+            .into_iter()
+            .flatten()
+        {
             n = n.min((from / e + 1) * e - from);
         }
         n
@@ -373,10 +392,68 @@ impl<'m> ResidentSolver<'m> {
         self.frame_every.is_some_and(|e| step % e == 0)
     }
 
+    /// Where submissions end: frames and checkpoints.
+    fn at_cut(&self, step: usize) -> bool {
+        self.at_frame(step) || self.checkpoint_every.is_some_and(|e| step % e == 0)
+    }
+
+    /// Ends submissions at every multiple of `every` steps, so that the state can be read
+    /// there ([`Self::state`]). Call before the first step.
+    pub fn cut_every(&mut self, every: usize) {
+        self.checkpoint_every = Some(every.max(1));
+    }
+
+    /// Submits nothing more: the steps already submitted are handed out, then the solver is
+    /// at rest ([`Self::at_rest`]) and its state can be read.
+    pub fn stop_submitting(&mut self) {
+        self.stopping = true;
+    }
+
+    /// Nothing in flight and every computed step handed out: the device holds the state of
+    /// step [`Self::steps`].
+    pub fn at_rest(&self) -> bool {
+        self.rows.is_empty() && !self.engine.is_pending(0) && !self.engine.is_pending(1)
+    }
+
+    /// The state a checkpoint keeps (at rest only: at a cut, or after stopping).
+    pub fn state(&mut self) -> Result<ResidentState> {
+        if !self.at_rest() || self.submitted != self.steps {
+            return Err(crate::error::ImpactError::Gpu(format!(
+                "the resident state is read at rest only (step {}, {} submitted)",
+                self.steps, self.submitted
+            )));
+        }
+        Ok(ResidentState {
+            dt: self.dt,
+            time: self.time,
+            steps: self.steps,
+            buffers: self.engine.read_step_state()?,
+        })
+    }
+
+    /// Continues from a checkpoint's state (of this model).
+    pub fn restore(&mut self, s: ResidentState) -> std::result::Result<(), String> {
+        if s.steps >= self.total {
+            return Err(format!(
+                "the checkpoint is at step {}, the run has {}",
+                s.steps, self.total
+            ));
+        }
+        self.engine
+            .write_step_state(&s.buffers)
+            .map_err(|e| e.to_string())?;
+        self.dt = s.dt;
+        self.row_dt = s.dt;
+        self.time = s.time;
+        self.steps = s.steps;
+        self.submitted = s.steps;
+        Ok(())
+    }
+
     /// Makes sure the next rows are decoded: collects the oldest submission, keeping the
     /// device one submission ahead (never past a frame, where the state must be read).
     fn fill(&mut self) -> Result<()> {
-        if !self.engine.is_pending(self.slot) {
+        if !self.engine.is_pending(self.slot) && !self.stopping {
             if let Some(dt) = self.last_dt.filter(|_| self.submitted + 1 == self.total) {
                 // nothing is in flight: the step length changes for this submission alone
                 let ama: f64 = self
@@ -398,8 +475,9 @@ impl<'m> ResidentSolver<'m> {
         let last_is_short = self.last_dt.is_some() && self.submitted + 1 == self.total;
         if !self.engine.is_pending(other)
             && self.submitted < self.total
-            && !self.at_frame(self.submitted)
+            && !self.at_cut(self.submitted)
             && !last_is_short
+            && !self.stopping
         {
             let n = self.plan(self.submitted);
             self.engine.submit(other, n)?;
