@@ -432,3 +432,54 @@ fn the_large_shipped_scene_starts_touching_and_not_penetrating() {
     assert_eq!((r.nodes_in_reach, r.penetrating), (61 * 61, 0));
     assert_eq!((r.gap_min, r.gap_max), (Some(0.0), Some(0.0)));
 }
+
+/// The error of preparing block_hex_drop.toml with its deck edited by `change`.
+fn deck_error(tag: &str, change: impl Fn(&str) -> String) -> String {
+    let path = edited_deck(tag, change);
+    let scene = Scene::load(&path).expect("the deck parses");
+    impact::setup::prepare(
+        &scene,
+        impact::scene::DeviceChoice::Cpu,
+        &mut |_| {},
+        &mut impact::output::summary::SetupClock::start(),
+    )
+    .err()
+    .expect("refused")
+    .to_string()
+}
+
+#[test]
+fn a_c3d8_with_a_concave_corner_is_refused() {
+    // "a C3D8 with a concave corner runs 0 steps explicit": node 1 pushed up into its element
+    // (height 0.125) folds the element at that corner
+    let msg = deck_error("concave", |d| {
+        edit(
+            d,
+            "\n1, -0.500000, -0.500000, 0.000000",
+            "\n1, -0.400000, -0.400000, 0.200000",
+        )
+    });
+    for p in [
+        "body[0]",
+        "hex8 element 0",
+        "Jacobian determinant at corner",
+    ] {
+        assert!(msg.contains(p), "{msg:?} should contain {p:?}");
+    }
+}
+
+#[test]
+fn a_c3d8_with_a_repeated_node_is_refused() {
+    // "hex8 elements with a repeated node": element 1's last corner is its fourth
+    let msg = deck_error("repeated_node", |d| {
+        edit(
+            d,
+            "1, 1, 2, 11, 10,\n    82, 83, 92, 91",
+            "1, 1, 2, 11, 10,\n    82, 83, 92, 10",
+        )
+    });
+    assert!(
+        msg.contains("hex8 element 0") && msg.contains("repeats node 9"),
+        "{msg}"
+    );
+}
