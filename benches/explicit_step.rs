@@ -371,8 +371,62 @@ fn table(
     }
 }
 
+/// The CPU twin's step on one thread and on all of them, side by side.
+fn thread_table(title: &str, scenes: &[String], max_steps: usize) {
+    let all = rayon::current_num_threads();
+    println!("\n{title}: the CPU twin (f64)\n");
+    println!("| elements | 1 thread ns/element-step | {all} threads ns/element-step | speed-up |");
+    println!("|---:|---:|---:|---:|");
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a one-thread pool");
+    for text in scenes {
+        let sc = Scene::parse(text, Path::new("bench.toml")).expect("bench scene");
+        let model = Model::from_scene(&sc).expect("model");
+        let dt = explicit_time_step(&sc, stable_step(&model)).expect("stable step");
+        let time = || {
+            time_steps(
+                &model,
+                &sc,
+                dt,
+                Box::new(CpuKernels::new(model.element_data())),
+                max_steps,
+            )
+            .0
+        };
+        let single = one.install(time);
+        let many = time();
+        println!(
+            "| {} | {single:.0} | {many:.0} | {:.2} |",
+            model.mesh.hexes.len(),
+            single / many
+        );
+    }
+}
+
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
+    if std::env::args().any(|a| a == "--cpu") {
+        // the CPU twin alone, on one thread and on all
+        let mut floors = vec![[25, 20, 20], [50, 50, 40]];
+        let mut plates = vec![36, 76];
+        if !quick {
+            floors.push([100, 100, 100]);
+            plates.push(164);
+        }
+        thread_table(
+            "Block dropped on a rigid floor",
+            &floors.iter().map(|&n| scene(n)).collect::<Vec<_>>(),
+            2000,
+        );
+        thread_table(
+            "Block sliding on a supported plate",
+            &plates.iter().map(|&n| contact_scene(n)).collect::<Vec<_>>(),
+            200,
+        );
+        return;
+    }
     let large = std::env::args().any(|a| a == "--large");
     // the resident engine alone (a quick look at the device step)
     let resident_only = std::env::args().any(|a| a == "--resident");

@@ -24,6 +24,7 @@ pub mod material;
 pub mod mesh;
 pub mod model;
 pub mod output;
+pub mod parallel;
 pub mod run;
 pub mod scene;
 pub mod setup;

@@ -22,6 +22,10 @@ use impact::ImpactError;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Threads of the CPU work (the CPU kernels, setup, the implicit solves); results do not
+    /// depend on it. Default: every core.
+    #[arg(long, global = true, value_parser = clap::value_parser!(u16).range(1..))]
+    threads: Option<u16>,
 }
 
 #[derive(Subcommand)]
@@ -146,6 +150,12 @@ fn parse_device(device: Option<String>) -> anyhow::Result<Option<DeviceChoice>> 
 
 fn real_main() -> anyhow::Result<u8> {
     let cli = Cli::parse();
+    if let Some(n) = cli.threads {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(usize::from(n))
+            .build_global()
+            .context("setting up the CPU threads")?;
+    }
     match cli.command {
         Command::Study {
             problem,
@@ -293,6 +303,11 @@ fn real_main() -> anyhow::Result<u8> {
             Ok(exit::SUCCESS)
         }
         Command::Info => {
+            println!(
+                "CPU threads: {} ({} cores; --threads N sets it)",
+                rayon::current_num_threads(),
+                std::thread::available_parallelism().map_or(1, |n| n.get())
+            );
             print!("{}", impact::gpu::context::info_report()?);
             Ok(exit::SUCCESS)
         }

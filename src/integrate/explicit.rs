@@ -36,6 +36,7 @@ use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::{self, ContactPoint, ContactQueries, Kernels};
 use crate::model::Model;
 use crate::scene::ExplicitSettings;
+use rayon::prelude::*;
 
 use super::implicit::StepReport;
 use super::state::{ContactReport, Energies};
@@ -275,7 +276,6 @@ impl<'m> ExplicitSolver<'m> {
     /// One step: predictor, contact impulses, position update, forces, corrector.
     pub fn step(&mut self) -> Result<StepReport> {
         let dt = self.dt;
-        let ndof = self.u.len();
         kernels::explicit_predict(dt, &self.a, &mut self.v);
         let report = self.contact()?;
         self.u_prev.copy_from_slice(&self.u);
@@ -283,10 +283,16 @@ impl<'m> ExplicitSolver<'m> {
         kernels::explicit_drift(dt, &self.v, &mut self.u);
         self.kernels
             .internal_forces_into(&self.u, &mut self.f_int)?;
-        for d in 0..ndof {
-            self.a[d] = (self.f_ext[d] - self.f_int[d]) * self.inv_mass[d];
-            self.v[d] += 0.5 * dt * self.a[d];
-        }
+        let (f_ext, f_int, inv_mass) = (&self.f_ext, &self.f_int, &self.inv_mass);
+        self.a
+            .par_iter_mut()
+            .zip(self.v.par_iter_mut())
+            .enumerate()
+            .with_min_len(crate::parallel::CHUNK)
+            .for_each(|(d, (a, v))| {
+                *a = (f_ext[d] - f_int[d]) * inv_mass[d];
+                *v += 0.5 * dt * *a;
+            });
         self.time += dt;
         self.steps += 1;
         Ok(report)
@@ -527,30 +533,21 @@ impl<'m> ExplicitSolver<'m> {
     /// can only remove energy), not the O(dt^2) wobble of the kinetic energy at whole steps.
     /// Before the first step: the initial state.
     pub fn energies(&mut self) -> Result<Energies> {
-        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        use crate::parallel::{dot, ordered_sum};
+        let mass = &self.mass;
         if self.steps == 0 {
             self.kernels
                 .internal_forces_into(&self.u, &mut self.f_int)?;
-            let kinetic = 0.5
-                * self
-                    .v
-                    .iter()
-                    .enumerate()
-                    .map(|(d, v)| self.mass[d / 3] * v * v)
-                    .sum::<f64>();
+            let v = &self.v;
+            let kinetic = 0.5 * ordered_sum(v.len(), |d| mass[d / 3] * v[d] * v[d]);
             return Ok(Energies {
                 kinetic,
                 strain: 0.5 * dot(&self.u, &self.f_int),
                 potential: -dot(&self.f_ext, &self.u),
             });
         }
-        let kinetic = 0.5
-            * self
-                .v_half
-                .iter()
-                .enumerate()
-                .map(|(d, v)| self.mass[d / 3] * v * v)
-                .sum::<f64>();
+        let v = &self.v_half;
+        let kinetic = 0.5 * ordered_sum(v.len(), |d| mass[d / 3] * v[d] * v[d]);
         let potential = -0.5 * (dot(&self.f_ext, &self.u_prev) + dot(&self.f_ext, &self.u));
         Ok(Energies {
             kinetic: kinetic - self.measure_shift,

@@ -2,7 +2,9 @@
 //! `shaders/explicit_drift.wgsl`, which keeps u as a split f32 pair added by two-sum).
 
 pub fn explicit_drift(dt: f64, v: &[f64], u: &mut [f64]) {
-    for (u, v) in u.iter_mut().zip(v) {
-        *u += dt * v;
-    }
+    use rayon::prelude::*;
+    u.par_iter_mut()
+        .with_min_len(crate::parallel::CHUNK)
+        .zip(v)
+        .for_each(|(u, v)| *u += dt * v);
 }

@@ -2,7 +2,9 @@
 //! `shaders/explicit_predict.wgsl`).
 
 pub fn explicit_predict(dt: f64, a: &[f64], v: &mut [f64]) {
-    for (v, a) in v.iter_mut().zip(a) {
-        *v += 0.5 * dt * a;
-    }
+    use rayon::prelude::*;
+    v.par_iter_mut()
+        .with_min_len(crate::parallel::CHUNK)
+        .zip(a)
+        .for_each(|(v, a)| *v += 0.5 * dt * a);
 }

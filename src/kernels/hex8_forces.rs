@@ -3,6 +3,8 @@
 //! $\sigma = \lambda\, \mathrm{tr}(\varepsilon) I + 2\mu\varepsilon$ and
 //! $\varepsilon = \mathrm{sym}(\sum_k u_k \otimes \nabla N_k)$ at each of the 2x2x2 Gauss points.
 
+use rayon::prelude::*;
+
 use super::ElementData;
 use crate::element::hex8;
 
@@ -23,15 +25,23 @@ pub fn element_forces(x: &[[f64; 3]; 8], u: &[[f64; 3]; 8], lambda: f64, mu: f64
 
 /// Corner forces of every element: `corner_forces[8 e + k]` is corner k of element e
 /// (overwrites it). [`super::node_gather`] sums them to the nodes.
+/// Elements run on all threads; each writes its own corners, so the result does not depend
+/// on the thread count.
 pub fn hex8_forces(data: &ElementData, u: &[[f64; 3]], corner_forces: &mut [[f64; 3]]) {
-    for (e, hex) in data.hexes.iter().enumerate() {
-        let m = data.materials[data.hex_material[e] as usize];
-        let x = hex.map(|n| data.reference[n as usize]);
-        let ue = hex.map(|n| u[n as usize]);
-        let fe = element_forces(&x, &ue, m.lambda, m.mu);
-        corner_forces[8 * e..8 * e + 8].copy_from_slice(&fe);
-    }
+    corner_forces[..8 * data.hexes.len()]
+        .par_chunks_mut(8)
+        .with_min_len(ELEMENTS_PER_TASK)
+        .zip(data.hexes.par_iter().zip(&data.hex_material))
+        .for_each(|(out, (hex, &mat))| {
+            let m = data.materials[mat as usize];
+            let x = hex.map(|n| data.reference[n as usize]);
+            let ue = hex.map(|n| u[n as usize]);
+            out.copy_from_slice(&element_forces(&x, &ue, m.lambda, m.mu));
+        });
 }
+
+/// The fewest elements a thread takes at a time.
+pub const ELEMENTS_PER_TASK: usize = 256;
 
 #[cfg(test)]
 mod tests {

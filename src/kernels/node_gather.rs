@@ -1,6 +1,8 @@
 //! CPU twin of `shaders/node_gather.wgsl`: the nodal sum of element corner forces, in the
 //! fixed order of each node's incidence list (so the GPU result is the same bits every run).
 
+use rayon::prelude::*;
+
 /// For every node, the element corners that touch it, in CSR form: corner k of hex e is
 /// `8 e + k`, corner k of tet t is `8 hexes + 4 t + k`.
 #[derive(Debug, Clone, Default)]
@@ -45,17 +47,22 @@ impl Incidence {
 
 /// Nodal forces from the corner forces (overwrites `forces`).
 pub fn node_gather(incidence: &Incidence, corner_forces: &[[f64; 3]], forces: &mut [[f64; 3]]) {
-    for (n, f) in forces.iter_mut().enumerate().take(incidence.nodes()) {
-        let mut sum = [0.0; 3];
-        for &c in
-            &incidence.corners[incidence.offsets[n] as usize..incidence.offsets[n + 1] as usize]
-        {
-            for a in 0..3 {
-                sum[a] += corner_forces[c as usize][a];
+    let nodes = incidence.nodes();
+    forces[..nodes]
+        .par_iter_mut()
+        .with_min_len(crate::parallel::CHUNK)
+        .enumerate()
+        .for_each(|(n, f)| {
+            let mut sum = [0.0; 3];
+            for &c in
+                &incidence.corners[incidence.offsets[n] as usize..incidence.offsets[n + 1] as usize]
+            {
+                for a in 0..3 {
+                    sum[a] += corner_forces[c as usize][a];
+                }
             }
-        }
-        *f = sum;
-    }
+            *f = sum;
+        });
 }
 
 #[cfg(test)]

@@ -9,6 +9,17 @@ use faer::{MatMut, Side};
 use super::Csc;
 use crate::error::{ImpactError, Result};
 
+/// The tasks faer splits its factorisations and solves into. faer sizes its parallel work by
+/// the task count it is given, not by the threads that run it: a fixed count makes the
+/// factor the same on 1 thread or 64 (on fewer threads the tasks queue), where faer's
+/// default, the pool's thread count, would make the rounding follow the machine.
+pub const FAER_TASKS: usize = 8;
+
+/// Sets faer's parallelism to [`FAER_TASKS`] tasks on the current rayon pool.
+fn fixed_parallelism() {
+    faer::set_global_parallelism(faer::Par::rayon(FAER_TASKS));
+}
+
 pub struct SpdSolver {
     symbolic: SymbolicLlt<usize>,
     llt: Llt<usize, f64>,
@@ -20,6 +31,7 @@ pub struct SpdSolver {
 impl SpdSolver {
     /// Analyses the pattern and factorises.
     pub fn new(a: &Csc) -> Result<SpdSolver> {
+        fixed_parallelism();
         let pattern =
             SymbolicSparseColMat::new_checked(a.n, a.n, a.col_ptr.clone(), None, a.row_idx.clone());
         let symbolic = SymbolicLlt::try_new(pattern.as_ref(), Side::Upper)
