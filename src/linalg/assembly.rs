@@ -76,8 +76,21 @@ pub struct Assembled {
     pub impulse_mass: Vec<f64>,
 }
 
+/// Elements per task of the parallel assembly, and tasks per round (a round's triplets are
+/// appended in element order before the next starts, which bounds the extra memory).
+const ASSEMBLY_BLOCK: usize = 1024;
+const ASSEMBLY_ROUND: usize = 64;
+
+/// One block's contributions, in element order: stiffness (+ c_m M) triplets, consistent
+/// mass triplets, and (node, row sum, diagonal) of each element's mass.
+type BlockParts = (Vec<(u32, u32, f64)>, Vec<(u32, u32, f64)>, Vec<(u32, f64, f64)>);
+
 /// Assembles K + `c_m` M on the free dofs, and the masses.
+///
+/// Elements are computed on all threads in blocks; the blocks' triplets and masses are
+/// appended and summed in element order, so the result is the one-thread result, bit for bit.
 pub fn assemble(model: &Model, mass: MassKind, c_m: f64) -> Assembled {
+    use rayon::prelude::*;
     let ndof = model.dofs();
     let mut equation = vec![u32::MAX; ndof];
     let mut dof_of = Vec::new();
@@ -93,15 +106,57 @@ pub fn assemble(model: &Model, mass: MassKind, c_m: f64) -> Assembled {
     let mut diagonal_mass = vec![0.0; mesh.node_count()];
     let mut kt = Vec::with_capacity(mesh.hexes.len() * 576 + mesh.tets.len() * 144);
     let mut mt = Vec::new();
-    for (el, material) in mesh.elements() {
+    let elements = mesh.element_count();
+    let blocks = elements.div_ceil(ASSEMBLY_BLOCK);
+    for round in (0..blocks).step_by(ASSEMBLY_ROUND) {
+        let parts: Vec<BlockParts> = (round..(round + ASSEMBLY_ROUND).min(blocks))
+            .into_par_iter()
+            .map(|b| {
+                let range = b * ASSEMBLY_BLOCK..((b + 1) * ASSEMBLY_BLOCK).min(elements);
+                block_parts(model, &equation, mass, c_m, range)
+            })
+            .collect();
+        for (k, m, masses) in parts {
+            kt.extend(k);
+            mt.extend(m);
+            for (node, row_sum, diagonal) in masses {
+                nodal_mass[node as usize] += row_sum;
+                diagonal_mass[node as usize] += diagonal;
+            }
+        }
+    }
+    Assembled {
+        equation,
+        dof_of,
+        effective: Csc::from_triplets(n, kt),
+        consistent_mass: (mass == MassKind::Consistent).then(|| Csc::from_triplets(n, mt)),
+        impulse_mass: match mass {
+            MassKind::Lumped => nodal_mass.clone(),
+            MassKind::Consistent => diagonal_mass,
+        },
+        nodal_mass,
+    }
+}
+
+/// The contributions of the elements in `range`, in order.
+fn block_parts(
+    model: &Model,
+    equation: &[u32],
+    mass: MassKind,
+    c_m: f64,
+    range: std::ops::Range<usize>,
+) -> BlockParts {
+    let mesh = &model.mesh;
+    let (mut kt, mut mt, mut masses) = (Vec::new(), Vec::new(), Vec::new());
+    for e in range {
+        let (el, material) = mesh.element(e);
         let m = &model.materials[material as usize];
         let x = mesh.corners(el);
         let ke = element::stiffness(&x, m);
         let me = element::consistent_mass(&x, m.density);
         let n = el.len();
         for i in 0..n {
-            nodal_mass[el[i] as usize] += me[i].iter().sum::<f64>();
-            diagonal_mass[el[i] as usize] += me[i][i];
+            masses.push((el[i], me[i].iter().sum::<f64>(), me[i][i]));
         }
         for i in 0..n {
             for a in 0..3 {
@@ -138,15 +193,5 @@ pub fn assemble(model: &Model, mass: MassKind, c_m: f64) -> Assembled {
             }
         }
     }
-    Assembled {
-        equation,
-        dof_of,
-        effective: Csc::from_triplets(n, kt),
-        consistent_mass: (mass == MassKind::Consistent).then(|| Csc::from_triplets(n, mt)),
-        impulse_mass: match mass {
-            MassKind::Lumped => nodal_mass.clone(),
-            MassKind::Consistent => diagonal_mass,
-        },
-        nodal_mass,
-    }
+    (kt, mt, masses)
 }
