@@ -52,19 +52,26 @@ pub fn find_candidates(
             }
         }
     }
-    for qi in query_range {
-        let p = x[queries.secondary[qi] as usize];
-        let list = &mut out[qi];
-        list.clear();
-        if let Some(cands) = grid.get(&key(p)) {
-            for &b in cands {
-                let (fi, lo, hi) = &boxes[b];
-                if (0..3).all(|a| p[a] >= lo[a] && p[a] <= hi[a]) {
-                    list.push(*fi);
+    // each query fills its own list (in the grid cell's order): any thread count gives the
+    // same lists
+    use rayon::prelude::*;
+    let secondary = &queries.secondary;
+    out[query_range.clone()]
+        .par_iter_mut()
+        .with_min_len(256)
+        .zip(query_range)
+        .for_each(|(list, qi)| {
+            let p = x[secondary[qi] as usize];
+            list.clear();
+            if let Some(cands) = grid.get(&key(p)) {
+                for &b in cands {
+                    let (fi, lo, hi) = &boxes[b];
+                    if (0..3).all(|a| p[a] >= lo[a] && p[a] <= hi[a]) {
+                        list.push(*fi);
+                    }
                 }
             }
-        }
-    }
+        });
 }
 
 /// Flattens per-query candidate lists into the CSR arrays of `queries`.

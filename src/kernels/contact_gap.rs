@@ -71,37 +71,43 @@ pub fn contact_gap(
     q: &ContactQueries,
     out: &mut [ContactPoint],
 ) {
+    use rayon::prelude::*;
     let pos = |n: u32| add(reference[n as usize], u[n as usize]);
-    for (i, o) in out.iter_mut().enumerate().take(q.len()) {
-        let s = q.secondary[i];
-        let x = pos(s);
-        let mut best = ContactPoint::default();
-        let mut best_d = f64::INFINITY;
-        for &fi in q.candidates_of(i) {
-            let face = q.faces[fi as usize];
-            let p = face.map(pos);
-            let xi = quad::project(&p, x);
-            let (y, ..) = quad::geometry(&p, xi);
-            let d = norm(sub(x, y));
-            if d < best_d {
-                let n = quad::normal(&p, xi);
-                let nsh = quad::shape(xi);
-                let mut v2 = [0.0; 3];
-                for k in 0..4 {
-                    for a in 0..3 {
-                        v2[a] += nsh[k] * v[face[k] as usize][a];
+    // each query writes its own point: any thread count gives the same points
+    out[..q.len()]
+        .par_iter_mut()
+        .with_min_len(256)
+        .enumerate()
+        .for_each(|(i, o)| {
+            let s = q.secondary[i];
+            let x = pos(s);
+            let mut best = ContactPoint::default();
+            let mut best_d = f64::INFINITY;
+            for &fi in q.candidates_of(i) {
+                let face = q.faces[fi as usize];
+                let p = face.map(pos);
+                let xi = quad::project(&p, x);
+                let (y, ..) = quad::geometry(&p, xi);
+                let d = norm(sub(x, y));
+                if d < best_d {
+                    let n = quad::normal(&p, xi);
+                    let nsh = quad::shape(xi);
+                    let mut v2 = [0.0; 3];
+                    for k in 0..4 {
+                        for a in 0..3 {
+                            v2[a] += nsh[k] * v[face[k] as usize][a];
+                        }
                     }
+                    best_d = d;
+                    best = ContactPoint {
+                        face: fi,
+                        xi,
+                        normal: n,
+                        gap: -dot(sub(x, y), n),
+                        gap_rate: -dot(sub(v[s as usize], v2), n),
+                    };
                 }
-                best_d = d;
-                best = ContactPoint {
-                    face: fi,
-                    xi,
-                    normal: n,
-                    gap: -dot(sub(x, y), n),
-                    gap_rate: -dot(sub(v[s as usize], v2), n),
-                };
             }
-        }
-        *o = best;
-    }
+            *o = best;
+        });
 }

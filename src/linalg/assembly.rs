@@ -83,7 +83,11 @@ const ASSEMBLY_ROUND: usize = 64;
 
 /// One block's contributions, in element order: stiffness (+ c_m M) triplets, consistent
 /// mass triplets, and (node, row sum, diagonal) of each element's mass.
-type BlockParts = (Vec<(u32, u32, f64)>, Vec<(u32, u32, f64)>, Vec<(u32, f64, f64)>);
+type BlockParts = (
+    Vec<(u32, u32, f64)>,
+    Vec<(u32, u32, f64)>,
+    Vec<(u32, f64, f64)>,
+);
 
 /// Assembles K + `c_m` M on the free dofs, and the masses.
 ///
