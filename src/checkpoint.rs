@@ -111,7 +111,8 @@ impl Checkpoint {
     }
 }
 
-/// A hash of the scene without `run.end_time` and `[output]` (and the file's own path).
+/// A hash of the scene without `run.end_time` and `[output]` (and without the paths of the
+/// scene and its mesh files: the meshes' contents are in it).
 pub fn scene_hash(scene: &Scene) -> u64 {
     let mut s = scene.clone();
     s.path = PathBuf::new();
@@ -119,6 +120,12 @@ pub fn scene_hash(scene: &Scene) -> u64 {
     s.output_dir = PathBuf::new();
     s.vtu_every = None;
     s.checkpoint_every = None;
+    // a mesh file is known by its contents (in the hash), not by where it was read from
+    for b in &mut s.bodies {
+        if let crate::scene::BodyShape::Imported { path, .. } = &mut b.shape {
+            *path = PathBuf::new();
+        }
+    }
     let mut h = Fnv(0xcbf2_9ce4_8422_2325);
     let _ = write!(h, "{s:?}");
     h.0

@@ -274,6 +274,13 @@ fn prepare_dir(dir: &Path, opts: &RunOptions) -> Result<()> {
             found: found.join(", "),
         });
     }
+    if opts.overwrite {
+        // an earlier run's summary or checkpoint must not outlive it beside the new files
+        for f in found {
+            let path = dir.join(f);
+            std::fs::remove_file(&path).map_err(|source| ImpactError::Write { path, source })?;
+        }
+    }
     std::fs::create_dir_all(dir).map_err(|source| ImpactError::Write {
         path: dir.to_path_buf(),
         source,
@@ -574,14 +581,39 @@ fn start_resumed(
     Ok((out, c.tally))
 }
 
+/// Refuses a checkpoint the run cannot continue from, before anything in the folder changes:
+/// one at or past the scene's last step, or one taken with another step length (the stable
+/// step found on another device).
+fn check_resumable(dir: &Path, c: &Checkpoint, setup: &Setup) -> Result<()> {
+    let refuse = |message: String| ImpactError::Resume {
+        dir: dir.to_path_buf(),
+        message,
+    };
+    let (steps, time, dt) = match &c.solver {
+        SolverState::Explicit(s) => (s.steps, s.time, Some(s.dt)),
+        SolverState::Implicit(s) => (s.steps, s.time, None),
+        SolverState::Resident(s) => (s.steps, s.time, Some(s.dt)),
+    };
+    if steps >= setup.steps {
+        return Err(refuse(format!(
+            "the checkpoint is at step {steps} (t = {time:.6e}) and the scene ends at step {}: nothing is left to run (raise run.end_time)",
+            setup.steps
+        )));
+    }
+    if let Some(dt) = dt.filter(|dt| (dt - setup.dt).abs() > 1e-12 * setup.dt) {
+        return Err(refuse(format!(
+            "the checkpoint's step is {dt:e} and this run's {:e} (the stable step was found on another device): resume with the first run's --device",
+            setup.dt
+        )));
+    }
+    Ok(())
+}
+
 /// Writes the checkpoint of the solver's current state.
-fn save(
-    scene: &Scene,
-    solver: &mut Solver,
-    out: &Outputs,
-    tally: &Tally,
-    speed_scale: f64,
-) -> Result<()> {
+/// The history is flushed first, so that the file holds every row the checkpoint counts
+/// whatever happens to the process afterwards.
+fn save(solver: &mut Solver, out: &mut Outputs, tally: &Tally, run: &RunIdentity) -> Result<()> {
+    out.history.flush()?;
     let state = match solver {
         Solver::Explicit(s) => SolverState::Explicit(s.state()),
         Solver::Implicit(s) => SolverState::Implicit(s.state()),
@@ -589,8 +621,8 @@ fn save(
     };
     Checkpoint {
         format: crate::checkpoint::FORMAT,
-        scene_hash: crate::checkpoint::scene_hash(scene),
-        speed_scale,
+        scene_hash: run.scene_hash,
+        speed_scale: run.speed_scale,
         tally: tally.clone(),
         frames: out
             .frames
@@ -601,6 +633,13 @@ fn save(
         solver: state,
     }
     .write(&out.dir)
+}
+
+/// What a checkpoint records of the run itself: the scene's hash (computed once) and the
+/// speed scale its tolerances follow.
+struct RunIdentity {
+    scene_hash: u64,
+    speed_scale: f64,
 }
 
 /// Runs the scene to its end time, writing `history.csv` and `summary.json`.
@@ -646,6 +685,9 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     clock.lap("solver");
     let model = &setup.model;
     check_exact_columns(scene, model)?;
+    if let Some(c) = &resumed {
+        check_resumable(&dir, c, &setup)?;
+    }
     let (mut out, mut tally) = match resumed {
         None => start_fresh(scene, model, &mut solver, &dir)?,
         Some(c) => start_resumed(scene, model, &mut solver, &dir, c)?,
@@ -657,22 +699,17 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     summary.setup_stages = clock.stages();
     let steps = setup.steps;
     let first = tally.steps;
-    if first >= steps {
-        return Err(ImpactError::Resume {
-            dir: dir.clone(),
-            message: format!(
-                "the checkpoint is at step {first} (t = {:.6e}) and the scene ends at step {steps}: nothing is left to run (raise run.end_time)",
-                solver.time()
-            ),
-        });
-    }
+    let identity = RunIdentity {
+        scene_hash: crate::checkpoint::scene_hash(scene),
+        speed_scale,
+    };
     let mut progress = Progress::new(steps, opts.quiet);
     for n in first..steps {
         let last = n + 1 == steps;
         if last && setup.last_step.is_some() {
             if scene.checkpoint_every.is_some() {
                 // the checkpoint stays on whole steps: a later end time continues from here
-                save(scene, &mut solver, &out, &tally, speed_scale)?;
+                save(&mut solver, &mut out, &tally, &identity)?;
             }
             if let (Some(dt), Solver::Explicit(s)) = (setup.last_step, &mut solver) {
                 s.shorten_step(dt);
@@ -688,7 +725,9 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         });
         let (r, e) = match outcome {
             Ok(x) => x,
-            Err(err) => {
+            // the linear solver failing is the run diverging; anything else (a write, the
+            // GPU) ends it as failed, with its own error and exit status
+            Err(err @ ImpactError::Solver(_)) => {
                 let time = (n + 1) as f64 * setup.dt;
                 return Err(fail(
                     scene,
@@ -700,6 +739,15 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
                     err.to_string(),
                     start,
                 ));
+            }
+            Err(err) => {
+                let _ = out.history.flush();
+                fill_summary(&mut summary, &tally, model, &solver);
+                summary.status = "failed".into();
+                summary.message = Some(format!("at step {}: {err}", n + 1));
+                summary.wall_seconds = start.elapsed().as_secs_f64();
+                let _ = summary.write(&dir);
+                return Err(err);
             }
         };
         count_step(&mut tally, (n + 1, solver.time()), r, e, &solver.reports());
@@ -725,7 +773,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
             .checkpoint_every
             .is_some_and(|k| (n + 1) % k == 0 || last);
         if whole && due {
-            save(scene, &mut solver, &out, &tally, speed_scale)?;
+            save(&mut solver, &mut out, &tally, &identity)?;
         }
         let signalled = opts
             .interrupt
@@ -737,13 +785,12 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
         }
         if signalled && !last && solver.at_rest() {
             return Err(interrupted(
-                scene,
                 model,
                 &mut solver,
                 &mut summary,
                 &tally,
                 &mut out,
-                speed_scale,
+                &identity,
                 start,
             ));
         }
@@ -793,16 +840,15 @@ fn fill_summary(summary: &mut Summary, tally: &Tally, model: &Model, solver: &So
 /// `status = "interrupted"`, and the error.
 #[allow(clippy::too_many_arguments)]
 fn interrupted(
-    scene: &Scene,
     model: &Model,
     solver: &mut Solver,
     summary: &mut Summary,
     tally: &Tally,
     out: &mut Outputs,
-    speed_scale: f64,
+    identity: &RunIdentity,
     start: Instant,
 ) -> ImpactError {
-    let saved = save(scene, solver, out, tally, speed_scale);
+    let saved = save(solver, out, tally, identity);
     let _ = out.history.flush();
     fill_summary(summary, tally, model, solver);
     summary.status = "interrupted".into();

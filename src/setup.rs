@@ -64,7 +64,7 @@ pub fn prepare(
             ),
         });
     }
-    memory::check(scene, &memory::estimate(scene, Method::Explicit, false))?;
+    memory::check(scene, &memory::estimate(scene, Method::Explicit, false), 0)?;
     let mut model = Model::from_scene(scene)?;
     clock.lap("model");
     elements::check(scene, &model.mesh)?;
@@ -96,7 +96,9 @@ pub fn prepare(
     };
     let (dt, steps, last_step) = time_step(scene, method, bound, method_choice.is_some())?;
     let estimate = memory::estimate(scene, method, ctx.is_some() && method == Method::Explicit);
-    memory::check(scene, &estimate)?;
+    // the built model already left the memory available now
+    let built = memory::estimate(scene, Method::Explicit, false).host;
+    memory::check(scene, &estimate, built)?;
     Ok(Setup {
         model,
         ctx,

@@ -287,3 +287,61 @@ fn a_run_stopped_by_sigterm_resumes_to_the_unbroken_history() {
         std::fs::read_to_string(cut.join("history.csv")).unwrap()
     );
 }
+
+#[test]
+fn a_run_killed_outright_resumes_from_its_last_checkpoint() {
+    // SIGKILL leaves no chance to write anything: the periodic checkpoint and the history
+    // rows it counts (flushed with it) are all there is
+    let text = edit(
+        &scene_text("cube_on_plate.toml"),
+        "end_time = 0.1",
+        "end_time = 0.3",
+    ) + "\n[output]\ncheckpoint_every = 5\n";
+    let scene = scene_file("sigkill", &text);
+    let whole = out_path("sigkill").join("whole");
+    let cut = out_path("sigkill").join("cut");
+    let o = impact(&[
+        "run",
+        s(&scene),
+        "--out",
+        s(&whole),
+        "--quiet",
+        "--device",
+        "cpu",
+    ]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_impact"))
+        .args([
+            "run",
+            s(&scene),
+            "--out",
+            s(&cut),
+            "--quiet",
+            "--device",
+            "cpu",
+        ])
+        .spawn()
+        .unwrap();
+    let t0 = std::time::Instant::now();
+    while !cut.join("checkpoint.bin").exists() {
+        assert!(t0.elapsed().as_secs() < 60, "no checkpoint was written");
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let o = impact(&[
+        "run",
+        s(&scene),
+        "--out",
+        s(&cut),
+        "--quiet",
+        "--device",
+        "cpu",
+        "--resume",
+    ]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read_to_string(whole.join("history.csv")).unwrap(),
+        std::fs::read_to_string(cut.join("history.csv")).unwrap()
+    );
+}

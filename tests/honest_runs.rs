@@ -402,8 +402,52 @@ fn a_checkpoint_is_refused_by_another_scene_and_when_nothing_is_left() {
         msg.contains("cannot resume") && msg.contains("another scene"),
         "{msg}"
     );
+    let before = history_text(tag);
     let msg = run_in(tag, &text, true).expect_err("finished").to_string();
     assert!(msg.contains("nothing is left to run"), "{msg}");
+    assert_eq!(
+        history_text(tag),
+        before,
+        "a refused resume leaves the history alone"
+    );
+}
+
+#[test]
+fn overwrite_removes_the_earlier_runs_checkpoint() {
+    let tag = "overwrite_checkpoint";
+    run_in(
+        tag,
+        &(two_bars() + "\n[output]\ncheckpoint_every = 10\n"),
+        false,
+    )
+    .expect("first");
+    assert!(out_path(tag).join("checkpoint.bin").exists());
+    let o = RunOptions {
+        out: Some(out_path(tag)),
+        quiet: true,
+        overwrite: true,
+        ..Default::default()
+    };
+    run(&parse(&two_bars(), tag), &o).expect("overwrites");
+    assert!(!out_path(tag).join("checkpoint.bin").exists());
+}
+
+#[test]
+fn the_scene_hash_knows_a_mesh_by_its_contents_not_its_path() {
+    let shipped = Scene::load(repo().join("scenes/block_hex_drop.toml")).unwrap();
+    let copy = edited_deck("hash_copy", |d| d.to_string());
+    let moved = Scene::load(&copy).unwrap();
+    let hash = impact::checkpoint::scene_hash;
+    assert_eq!(hash(&shipped), hash(&moved));
+    let changed = Scene::load(edited_deck("hash_changed", |d| {
+        edit(
+            d,
+            "\n2, -0.375000, -0.500000, 0.000000",
+            "\n2, -0.370000, -0.500000, 0.000000",
+        )
+    }))
+    .unwrap();
+    assert_ne!(hash(&shipped), hash(&changed));
 }
 
 #[test]

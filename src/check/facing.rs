@@ -33,13 +33,26 @@ pub fn area_vector(x: &[[f64; 3]], faces: &[[u32; 4]]) -> (V3, f64) {
     (sum, area)
 }
 
-/// Refuses surface interfaces whose flat secondary and primary surfaces face the same way.
+/// Refuses surface interfaces with an empty side, or whose flat secondary and primary
+/// surfaces face the same way.
 pub fn check(scene: &Scene, model: &Model) -> Result<()> {
     let x = &model.mesh.nodes;
     for (k, itf) in model.interfaces.iter().enumerate() {
         let Primary::Surface { faces, .. } = &itf.primary else {
             continue;
         };
+        for (side, empty) in [
+            ("secondary", itf.secondary_faces.is_empty()),
+            ("primary", faces.is_empty()),
+        ] {
+            if empty {
+                return Err(ImpactError::SceneValue {
+                    path: scene.path.clone(),
+                    key: scene.interface_key(k),
+                    message: format!("the {side} surface has no faces (an empty surface or set in the mesh file)"),
+                });
+            }
+        }
         let (s, sa) = area_vector(x, &itf.secondary_faces);
         let (p, pa) = area_vector(x, &model.queries.faces[faces.clone()]);
         let (ls, lp) = (norm(s), norm(p));

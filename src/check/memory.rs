@@ -117,9 +117,10 @@ pub fn estimate(scene: &Scene, method: Method, gpu: bool) -> Estimate {
 }
 
 /// The most host memory this process may use, and where that figure comes from: the least of
-/// the memory available now, the address-space limit (`ulimit -v`) and the cgroup limit.
-/// `None` where none of them can be read (not Linux).
-pub fn host_limit() -> Option<(u64, String)> {
+/// the memory available now (plus `held`, what the process already holds of the model), the
+/// address-space limit (`ulimit -v`) and the cgroup limit. `None` where none of them can be
+/// read (not Linux).
+pub fn host_limit(held: u64) -> Option<(u64, String)> {
     let mut best: Option<(u64, String)> = None;
     let mut offer = |bytes: u64, source: &str| {
         if best.as_ref().is_none_or(|b| bytes < b.0) {
@@ -130,7 +131,10 @@ pub fn host_limit() -> Option<(u64, String)> {
         .ok()
         .and_then(|t| field(&t, "MemAvailable:"))
     {
-        offer(kib.saturating_mul(1024), "memory available now");
+        offer(
+            kib.saturating_mul(1024).saturating_add(held),
+            "memory available now",
+        );
     }
     if let Some(b) = std::fs::read_to_string("/proc/self/limits")
         .ok()
@@ -153,9 +157,10 @@ fn field(text: &str, label: &str) -> Option<u64> {
     line[label.len()..].split_whitespace().next()?.parse().ok()
 }
 
-/// Refuses an estimate above the host limit.
-pub fn check(scene: &Scene, e: &Estimate) -> Result<()> {
-    let Some((limit, source)) = host_limit() else {
+/// Refuses an estimate above the host limit; `held`: the bytes of the estimate the process
+/// holds already (the built model).
+pub fn check(scene: &Scene, e: &Estimate, held: u64) -> Result<()> {
+    let Some((limit, source)) = host_limit(held) else {
         return Ok(());
     };
     if e.host > limit {
@@ -172,7 +177,7 @@ pub fn check(scene: &Scene, e: &Estimate) -> Result<()> {
 
 /// One line for `impact check` and the console.
 pub fn describe(e: &Estimate) -> String {
-    let limit = host_limit()
+    let limit = host_limit(0)
         .map(|(b, s)| format!("; this process may use {} ({s})", bytes(b)))
         .unwrap_or_default();
     let device = if e.device > 0 {

@@ -45,6 +45,13 @@ pub struct InitialContact {
     pub moved: usize,
 }
 
+/// A node with no primary face within reach.
+const OUT_OF_REACH: Sample = Sample {
+    gap: f64::INFINITY,
+    normal: [0.0; 3],
+    on_face: false,
+};
+
 /// One secondary node's closest point: separation (< 0 behind), unit normal, and whether it
 /// counts (a face within reach, the point on it).
 #[derive(Debug, Clone, Copy)]
@@ -164,19 +171,12 @@ fn surface_samples(model: &Model, body: usize, faces: &[[u32; 4]], nodes: &[u32]
                 Some((_, s)) => s,
                 None if (0..3).all(|a| p[a] >= lo[a] && p[a] <= hi[a]) => {
                     // deep inside the primary body's box: the face with the nearest centroid
-                    let f = faces
-                        .iter()
-                        .min_by(|a, b| {
-                            centroid_distance(x, a, p).total_cmp(&centroid_distance(x, b, p))
-                        })
-                        .expect("a primary surface has faces");
-                    closest(x, f, p).1
+                    let nearest = faces.iter().min_by(|a, b| {
+                        centroid_distance(x, a, p).total_cmp(&centroid_distance(x, b, p))
+                    });
+                    nearest.map_or(OUT_OF_REACH, |f| closest(x, f, p).1)
                 }
-                None => Sample {
-                    gap: f64::INFINITY,
-                    normal: [0.0; 3],
-                    on_face: false,
-                },
+                None => OUT_OF_REACH,
             }
         })
         .collect()

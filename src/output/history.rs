@@ -55,8 +55,10 @@ impl History {
         };
         let text = std::fs::read_to_string(&path).map_err(read_err)?;
         let header = column_names(model).join(",");
-        let bad =
-            |what: String| read_err(std::io::Error::new(std::io::ErrorKind::InvalidData, what));
+        let bad = |what: String| ImpactError::Resume {
+            dir: dir.to_path_buf(),
+            message: format!("{}: {what}", path.display()),
+        };
         if text.lines().next() != Some(header.as_str()) {
             return Err(bad("its columns are not this model's".into()));
         }

@@ -68,7 +68,8 @@ impl SetupClock {
 #[derive(Debug, Clone, Serialize, Default)]
 pub struct Summary {
     /// "completed" (every step converged, no check fired), "completed_with_warnings" (see
-    /// `warnings`), "diverged" or "interrupted".
+    /// `warnings`), "diverged", "failed" (a write or the GPU failed part way) or
+    /// "interrupted".
     pub status: String,
     pub scene: String,
     pub title: String,
