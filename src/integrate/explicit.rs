@@ -27,7 +27,7 @@
 //! Momentum is exact (every impulse acts with its opposite on the primary face's nodes by
 //! the shape functions). The history's contact force is the impulse / dt.
 
-use crate::contact::impulse::{self, impulse_update};
+use crate::contact::impulse::{self, impulse_update, ImpulseUpdate};
 use crate::contact::quad::{self, dot};
 use crate::contact::{search, Primary};
 use crate::element;
@@ -435,27 +435,37 @@ impl<'m> ExplicitSolver<'m> {
         };
         if count > 0 {
             report.converged = false;
+            let touched = touched_nodes(&self.constraints);
             for sweep in 0..self.settings.max_iterations {
                 report.iterations = sweep + 1;
+                // Jacobi: every constraint's update from the sweep's starting velocities, on
+                // all threads; then the impulses are scattered to the nodes in constraint
+                // order, so the sums do not depend on the thread count
+                let v = &self.v;
+                let updates: Vec<Option<ImpulseUpdate>> = self
+                    .constraints
+                    .par_iter()
+                    .with_min_len(256)
+                    .enumerate()
+                    .map(|(i, c)| {
+                        (c.compliance > 0.0).then(|| {
+                            impulse_update(
+                                c.gap,
+                                dt,
+                                relative_velocity(c, v),
+                                c.normal,
+                                c.compliance,
+                                c.mu,
+                                jn[i],
+                                jt[i],
+                            )
+                        })
+                    })
+                    .collect();
                 let mut violation = 0.0f64;
-                for d in &mut self.delta {
-                    *d = [0.0; 3];
-                }
-                for i in 0..count {
-                    let c = self.constraints[i];
-                    if c.compliance <= 0.0 {
-                        continue;
-                    }
-                    let up = impulse_update(
-                        c.gap,
-                        dt,
-                        relative_velocity(&c, &self.v),
-                        c.normal,
-                        c.compliance,
-                        c.mu,
-                        jn[i],
-                        jt[i],
-                    );
+                for (i, up) in updates.into_iter().enumerate() {
+                    let Some(up) = up else { continue };
+                    let c = &self.constraints[i];
                     violation = violation.max(up.violation);
                     (jn[i], jt[i]) = (up.jn, up.jt);
                     let dj = up.dj;
@@ -471,7 +481,10 @@ impl<'m> ExplicitSolver<'m> {
                         }
                     }
                 }
-                for (n, d) in self.delta.iter().enumerate() {
+                // only the constrained nodes and their faces' nodes moved
+                for &n in &touched {
+                    let n = n as usize;
+                    let d = std::mem::take(&mut self.delta[n]);
                     for a in 0..3 {
                         self.v[3 * n + a] += d[a] * self.inv_mass[3 * n + a];
                     }
@@ -600,6 +613,17 @@ fn scatter_blocks<const N: usize>(
 
 /// Relative velocity of a constraint's secondary node against its primary point in the
 /// velocity field `v`.
+/// The nodes a step's constraints act on (their own and their faces'), sorted, once each.
+fn touched_nodes(constraints: &[Constraint]) -> Vec<u32> {
+    let mut nodes: Vec<u32> = constraints
+        .iter()
+        .flat_map(|c| std::iter::once(c.node).chain(c.face.into_iter().flatten()))
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
+}
+
 fn relative_velocity(c: &Constraint, v: &[f64]) -> [f64; 3] {
     impulse::relative_velocity(v, c.node, c.face.as_ref().map(|f| (f, &c.weights)))
 }
