@@ -819,8 +819,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     Ok(summary)
 }
 
-/// The summary's fields from the tally and the solver.
-fn fill_summary(summary: &mut Summary, tally: &Tally, model: &Model, solver: &Solver) {
+/// The summary's counts and energies from the tally.
+fn copy_tally(summary: &mut Summary, tally: &Tally) {
     summary.steps = tally.steps;
     summary.iterations_total = tally.iterations_total;
     summary.iterations_max = tally.iterations_max;
@@ -828,6 +828,11 @@ fn fill_summary(summary: &mut Summary, tally: &Tally, model: &Model, solver: &So
     summary.energy_initial = tally.energy_initial;
     summary.energy_final = tally.energy_final;
     summary.energy_max = tally.energy_max;
+}
+
+/// The summary's fields from the tally and the solver.
+fn fill_summary(summary: &mut Summary, tally: &Tally, model: &Model, solver: &Solver) {
+    copy_tally(summary, tally);
     summary.iterations_mean = tally.iterations_total as f64 / tally.steps.max(1) as f64;
     summary.interfaces = interface_summaries(model, solver, &tally.peak_force);
     if let Solver::Implicit(s) = solver {
@@ -971,13 +976,7 @@ fn fail(
     start: Instant,
 ) -> ImpactError {
     let _ = out.history.flush();
-    summary.steps = tally.steps;
-    summary.iterations_total = tally.iterations_total;
-    summary.iterations_max = tally.iterations_max;
-    summary.unconverged_steps = tally.unconverged_steps;
-    summary.energy_initial = tally.energy_initial;
-    summary.energy_final = tally.energy_final;
-    summary.energy_max = tally.energy_max;
+    copy_tally(summary, tally);
     summary.status = "diverged".into();
     summary.message = Some(reason.clone());
     summary.wall_seconds = start.elapsed().as_secs_f64();
