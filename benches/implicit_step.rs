@@ -1,10 +1,11 @@
-//! One implicit step with contact on a 3D block (>= 50,000 dofs): assembly, factorisation,
-//! solve and step times, iterations per step. Prints a table.
+//! One implicit step with contact on a 3D block (>= 50,000 dofs). Prints two tables:
 //!
-//! Each size runs with the plain multiplier iteration and with Anderson acceleration, with
-//! plain steps, and once more with the default event sub-steps: the first steps are the
-//! block's impact, so they are refined into 4 sub-steps each (the sub-step's factorisation
-//! is counted in its step).
+//! - the factorisation and one solve pair of the effective matrix with each fill-reducing
+//!   ordering, on one thread and on all of them;
+//! - assembly, step time and iterations per step with the plain multiplier iteration and with
+//!   Anderson acceleration, with plain steps, and once more with the default event
+//!   sub-steps: the first steps are the block's impact, so they are refined into 4 sub-steps
+//!   each (the sub-step's factorisation is counted in its step).
 //!
 //! `cargo bench --bench implicit_step` (add `-- --quick` for a smaller block).
 
@@ -13,7 +14,8 @@ use std::time::Instant;
 
 use impact::integrate::ImplicitSolver;
 use impact::kernels::CpuKernels;
-use impact::linalg::{assemble, SpdSolver};
+use impact::linalg::cholesky::FAER_TASKS;
+use impact::linalg::{assemble, Assembled, Ordering, SpdSolver};
 use impact::model::Model;
 use impact::scene::{Acceleration, Scene};
 
@@ -56,6 +58,48 @@ normal = [0.0, 0.0, 1.0]
     )
 }
 
+/// Seconds of `f`, and its value.
+fn timed<T>(f: impl FnOnce() -> T) -> (f64, T) {
+    let t = Instant::now();
+    let v = f();
+    (t.elapsed().as_secs_f64(), v)
+}
+
+/// The factorisation and one solve pair of the effective matrix, with each ordering, on one
+/// thread and on all of them.
+fn factor_table(asm: &Assembled, elements: usize) {
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a one-thread pool");
+    for (name, ordering) in Ordering::CHOICES {
+        let measure = || {
+            let (t_fact, solver) =
+                timed(|| SpdSolver::new(&asm.effective, ordering).expect("factorises"));
+            let mut b = vec![1.0; asm.dof_of.len()];
+            let reps = 5;
+            let (t_solve, ()) = timed(|| {
+                for _ in 0..reps {
+                    solver.solve_in_place(&mut b);
+                }
+            });
+            (t_fact, t_solve / reps as f64, solver.stats())
+        };
+        let (f1, s1, stats) = one.install(measure);
+        let (fa, sa, _) = measure();
+        println!(
+            "| {elements} | {} | {name} | {} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} |",
+            stats.equations,
+            stats.factor_nonzeros,
+            stats.analysis_seconds,
+            f1,
+            fa,
+            1e3 * s1,
+            1e3 * sa,
+        );
+    }
+}
+
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let sizes: &[[usize; 3]] = if quick {
@@ -63,62 +107,71 @@ fn main() {
     } else {
         &[[16, 16, 12], [30, 30, 20]]
     };
-    println!(
-        "| elements | free dofs | contact nodes | assembly s | factorisation s | solve ms | acceleration | event sub-steps | step ms (mean of 5) | iterations/step | steps refined |"
-    );
-    println!("|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|");
-    for &n in sizes {
-        let sc = Scene::parse(&scene(n), Path::new("bench.toml")).expect("bench scene");
-        let model = Model::from_scene(&sc).expect("model");
+    let all = rayon::current_num_threads();
+    let models: Vec<(Scene, Model)> = sizes
+        .iter()
+        .map(|&n| {
+            let sc = Scene::parse(&scene(n), Path::new("bench.toml")).expect("bench scene");
+            let model = Model::from_scene(&sc).expect("model");
+            (sc, model)
+        })
+        .collect();
+    println!("Factorisation of the effective matrix (1 thread and {all} threads; faer with {FAER_TASKS} tasks):\n");
+    println!("| elements | equations | ordering | factor nonzeros | ordering + analysis s | factorisation s, 1 thread | factorisation s, {all} threads | solve pair ms, 1 thread | solve pair ms, {all} threads |");
+    println!("|---:|---:|---|---:|---:|---:|---:|---:|---:|");
+    for (sc, model) in &models {
         let dt = sc.run.time_step.unwrap();
-        let c_m = 1.0 / (0.25 * dt * dt);
-        let t = Instant::now();
-        let asm = assemble(&model, sc.implicit.mass, c_m);
-        let t_asm = t.elapsed().as_secs_f64();
-        let t = Instant::now();
-        let solver = SpdSolver::new(&asm.effective).expect("factorises");
-        let t_fact = t.elapsed().as_secs_f64();
-        let mut b = vec![1.0; asm.dof_of.len()];
-        let t = Instant::now();
-        let reps = 5;
-        for _ in 0..reps {
-            solver.solve_in_place(&mut b);
-        }
-        let t_solve = t.elapsed().as_secs_f64() / reps as f64;
-        for (name, acc, k) in [
-            ("none", Acceleration::None, 1),
-            ("anderson", Acceleration::Anderson, 1),
-            (
-                "anderson",
-                Acceleration::Anderson,
-                sc.implicit.event_substeps,
-            ),
-        ] {
-            let mut settings = sc.implicit.clone();
-            settings.acceleration = acc;
-            settings.event_substeps = k;
-            let kernels = Box::new(CpuKernels::new(model.element_data()));
-            let mut s = ImplicitSolver::new(&model, settings, dt, sc.speed_scale(), kernels)
-                .expect("solver");
-            let steps = 5;
-            let mut iters = 0;
-            let t = Instant::now();
+        let asm = assemble(model, sc.implicit.mass, 1.0 / (0.25 * dt * dt));
+        factor_table(&asm, model.mesh.hexes.len());
+    }
+    println!(
+        "\nSteps with contact ({all} threads, ordering {}):\n",
+        Ordering::default().name()
+    );
+    println!(
+        "| elements | free dofs | contact nodes | assembly s | acceleration | event sub-steps | step ms (mean of 5) | iterations/step | steps refined |"
+    );
+    println!("|---:|---:|---:|---:|---|---:|---:|---:|---:|");
+    for (sc, model) in &models {
+        step_rows(sc, model);
+    }
+}
+
+/// Five steps of the block's impact with each multiplier iteration.
+fn step_rows(sc: &Scene, model: &Model) {
+    let dt = sc.run.time_step.unwrap();
+    let (t_asm, asm) = timed(|| assemble(model, sc.implicit.mass, 1.0 / (0.25 * dt * dt)));
+    for (name, acc, k) in [
+        ("none", Acceleration::None, 1),
+        ("anderson", Acceleration::Anderson, 1),
+        (
+            "anderson",
+            Acceleration::Anderson,
+            sc.implicit.event_substeps,
+        ),
+    ] {
+        let mut settings = sc.implicit.clone();
+        settings.acceleration = acc;
+        settings.event_substeps = k;
+        let kernels = Box::new(CpuKernels::new(model.element_data()));
+        let mut s =
+            ImplicitSolver::new(model, settings, dt, sc.speed_scale(), kernels).expect("solver");
+        let steps = 5;
+        let mut iters = 0;
+        let (t, ()) = timed(|| {
             for _ in 0..steps {
                 iters += s.step().expect("step").iterations;
             }
-            let t_step = t.elapsed().as_secs_f64() / steps as f64;
-            println!(
-                "| {} | {} | {} | {:.2} | {:.2} | {:.1} | {name} | {k} | {:.0} | {:.1} | {} |",
-                model.mesh.hexes.len(),
-                asm.dof_of.len(),
-                model.interfaces[0].nodes.len(),
-                t_asm,
-                t_fact,
-                1e3 * t_solve,
-                1e3 * t_step,
-                iters as f64 / steps as f64,
-                s.event_steps
-            );
-        }
+        });
+        println!(
+            "| {} | {} | {} | {:.2} | {name} | {k} | {:.0} | {:.1} | {} |",
+            model.mesh.hexes.len(),
+            asm.dof_of.len(),
+            model.interfaces[0].nodes.len(),
+            t_asm,
+            1e3 * t / steps as f64,
+            iters as f64 / steps as f64,
+            s.event_steps
+        );
     }
 }

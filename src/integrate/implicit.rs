@@ -36,7 +36,7 @@ use crate::contact::{search, Primary};
 use crate::error::{ImpactError, Result};
 use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::{ContactPoint, ContactQueries, Kernels};
-use crate::linalg::{assemble, Assembled, SpdSolver};
+use crate::linalg::{assemble, Assembled, FactorStats, SpdSolver};
 use crate::model::Model;
 use crate::scene::{Acceleration, Constraint, ImplicitSettings};
 
@@ -212,9 +212,9 @@ impl<'m> ImplicitSolver<'m> {
     ) -> Result<Self> {
         let c_m = 1.0 / (settings.beta * dt * dt);
         let asm = assemble(model, settings.mass, c_m);
-        let solver = SpdSolver::new(&asm.effective)?;
+        let solver = SpdSolver::new(&asm.effective, settings.ordering)?;
         let mass_solver = match &asm.consistent_mass {
-            Some(m) => Some(SpdSolver::new(m)?),
+            Some(m) => Some(SpdSolver::new(m, settings.ordering)?),
             None => None,
         };
         let ndof = model.dofs();
@@ -364,9 +364,28 @@ impl<'m> ImplicitSolver<'m> {
     }
 
     pub fn factorizations(&self) -> usize {
-        self.solver.factorizations
-            + self.sub_solver.as_ref().map_or(0, |s| s.factorizations)
-            + self.mass_solver.as_ref().map_or(0, |m| m.factorizations)
+        self.solver.factorizations()
+            + self.sub_solver.as_ref().map_or(0, |s| s.factorizations())
+            + self.mass_solver.as_ref().map_or(0, |m| m.factorizations())
+    }
+
+    /// The effective matrix's factor: ordering, size, and the cost of every factorisation and
+    /// solve over all step sizes.
+    pub fn linear_solver(&self) -> FactorStats {
+        let mut stats = self.solver.stats();
+        if let Some(sub) = &self.sub_solver {
+            let s = sub.stats();
+            stats.factorizations += s.factorizations;
+            stats.factorization_seconds += s.factorization_seconds;
+            stats.solves += s.solves;
+            stats.solve_seconds += s.solve_seconds;
+        }
+        stats
+    }
+
+    /// The consistent mass matrix's factor (None with lumped mass).
+    pub fn mass_factor(&self) -> Option<FactorStats> {
+        self.mass_solver.as_ref().map(SpdSolver::stats)
     }
 
     pub fn nodal_mass(&self) -> &[f64] {

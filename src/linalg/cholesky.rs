@@ -1,11 +1,20 @@
-//! Sparse Cholesky of symmetric positive definite matrices on faer: symbolic analysis once,
-//! numeric factorisation when the values change, otherwise solves only.
+//! Sparse Cholesky of symmetric positive definite matrices on faer: a fill-reducing ordering
+//! and symbolic analysis once, numeric factorisation when the values change, otherwise
+//! solves only. Each factor keeps its own counts and times for the run's summary.
 
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, SymbolicSparseColMat};
-use faer::{MatMut, Side};
+use std::cell::Cell;
+use std::sync::Arc;
+use std::time::Instant;
 
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymmetricOrdering,
+};
+use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat};
+use faer::{Conj, MatMut, Par, Side};
+
+use super::ordering::{nested_dissection, Ordering};
 use super::Csc;
 use crate::error::{ImpactError, Result};
 
@@ -15,40 +24,123 @@ use crate::error::{ImpactError, Result};
 /// default, the pool's thread count, would make the rounding follow the machine.
 pub const FAER_TASKS: usize = 8;
 
-/// Sets faer's parallelism to [`FAER_TASKS`] tasks on the current rayon pool.
-fn fixed_parallelism() {
-    faer::set_global_parallelism(faer::Par::rayon(FAER_TASKS));
+fn par() -> Par {
+    Par::rayon(FAER_TASKS)
+}
+
+/// What one factor cost: analysis once, then every factorisation and solve.
+#[derive(Debug, Clone, Default)]
+pub struct FactorStats {
+    pub ordering: Ordering,
+    pub equations: usize,
+    /// Nonzeros of the matrix (full storage).
+    pub matrix_nonzeros: usize,
+    /// Values the factor stores (supernodal blocks counted whole).
+    pub factor_nonzeros: usize,
+    /// The ordering and the symbolic analysis.
+    pub analysis_seconds: f64,
+    pub factorizations: usize,
+    pub factorization_seconds: f64,
+    pub solves: usize,
+    pub solve_seconds: f64,
 }
 
 pub struct SpdSolver {
-    symbolic: SymbolicLlt<usize>,
-    llt: Llt<usize, f64>,
+    symbolic: Arc<SymbolicCholesky<usize>>,
     pattern: SymbolicSparseColMat<usize>,
-    /// How many numeric factorisations were made.
-    pub factorizations: usize,
+    factor: Vec<f64>,
+    stats: FactorStats,
+    solves: Cell<(usize, f64)>,
+}
+
+/// The fill-reducing ordering and symbolic analysis of a pattern.
+fn analyse(a: &Csc, ordering: Ordering) -> Result<Arc<SymbolicCholesky<usize>>> {
+    let failed = |e| ImpactError::Solver(format!("symbolic analysis failed: {e:?}"));
+    let pattern =
+        SymbolicSparseColMat::new_checked(a.n, a.n, a.col_ptr.clone(), None, a.row_idx.clone());
+    let symbolic = match ordering {
+        Ordering::Amd => factorize_symbolic_cholesky(
+            pattern.as_ref(),
+            Side::Upper,
+            SymmetricOrdering::Amd,
+            Default::default(),
+        ),
+        Ordering::NestedDissection => {
+            let p = nested_dissection(a)?;
+            let perm = PermRef::new_checked(&p.forward, &p.inverse, a.n);
+            factorize_symbolic_cholesky(
+                pattern.as_ref(),
+                Side::Upper,
+                SymmetricOrdering::Custom(perm),
+                Default::default(),
+            )
+        }
+    };
+    symbolic.map(Arc::new).map_err(failed)
+}
+
+/// The numeric factor of `a` on a symbolic analysis of its pattern.
+fn factorise(
+    symbolic: &SymbolicCholesky<usize>,
+    a: SparseColMatRef<'_, usize, f64>,
+) -> Result<Vec<f64>> {
+    let mut factor = vec![0.0; symbolic.len_val()];
+    let scratch = symbolic.factorize_numeric_llt_scratch::<f64>(par(), Default::default());
+    let mut mem = MemBuffer::try_new(scratch).map_err(|_| {
+        ImpactError::Solver("factorisation: out of memory for the workspace".into())
+    })?;
+    symbolic
+        .factorize_numeric_llt(
+            &mut factor,
+            a,
+            Side::Upper,
+            Default::default(),
+            par(),
+            MemStack::new(&mut mem),
+            Default::default(),
+        )
+        .map_err(|e| ImpactError::Solver(format!("the effective matrix is not positive definite ({e:?}): is every body held or free to move with positive mass?")))?;
+    Ok(factor)
 }
 
 impl SpdSolver {
-    /// Analyses the pattern and factorises.
-    pub fn new(a: &Csc) -> Result<SpdSolver> {
-        fixed_parallelism();
+    /// Orders, analyses the pattern and factorises.
+    pub fn new(a: &Csc, ordering: Ordering) -> Result<SpdSolver> {
+        let start = Instant::now();
+        let symbolic = analyse(a, ordering)?;
+        let analysis_seconds = start.elapsed().as_secs_f64();
         let pattern =
             SymbolicSparseColMat::new_checked(a.n, a.n, a.col_ptr.clone(), None, a.row_idx.clone());
-        let symbolic = SymbolicLlt::try_new(pattern.as_ref(), Side::Upper)
-            .map_err(|e| ImpactError::Solver(format!("symbolic analysis failed: {e:?}")))?;
-        let mat = SparseColMat::new(pattern.clone(), a.values.clone());
-        let llt = Llt::try_new_with_symbolic(symbolic.clone(), mat.as_ref(), Side::Upper)
-            .map_err(|e| ImpactError::Solver(format!("the effective matrix is not positive definite ({e:?}): is every body held or free to move with positive mass?")))?;
-        Ok(SpdSolver {
+        let stats = FactorStats {
+            ordering,
+            equations: a.n,
+            matrix_nonzeros: a.nnz(),
+            factor_nonzeros: symbolic.len_val(),
+            analysis_seconds,
+            ..FactorStats::default()
+        };
+        Self::with_symbolic(symbolic, pattern, stats, a)
+    }
+
+    fn with_symbolic(
+        symbolic: Arc<SymbolicCholesky<usize>>,
+        pattern: SymbolicSparseColMat<usize>,
+        stats: FactorStats,
+        a: &Csc,
+    ) -> Result<SpdSolver> {
+        let mut s = SpdSolver {
+            factor: Vec::new(),
             symbolic,
-            llt,
             pattern,
-            factorizations: 1,
-        })
+            stats,
+            solves: Cell::new((0, 0.0)),
+        };
+        s.refactor(&a.values)?;
+        Ok(s)
     }
 
     /// A factorisation of another matrix with the same pattern (the effective matrix of another
-    /// step size), reusing this one's symbolic analysis.
+    /// step size), reusing this one's ordering and symbolic analysis.
     pub fn sibling(&self, a: &Csc) -> Result<SpdSolver> {
         if a.n != self.pattern.nrows()
             || a.col_ptr != self.pattern.col_ptr()
@@ -58,31 +150,57 @@ impl SpdSolver {
                 "sibling factorisation: the matrix has another sparsity pattern".into(),
             ));
         }
-        let mat = SparseColMat::new(self.pattern.clone(), a.values.clone());
-        let llt = Llt::try_new_with_symbolic(self.symbolic.clone(), mat.as_ref(), Side::Upper)
-            .map_err(|e| ImpactError::Solver(format!("factorisation failed: {e:?}")))?;
-        Ok(SpdSolver {
-            symbolic: self.symbolic.clone(),
-            llt,
-            pattern: self.pattern.clone(),
-            factorizations: 1,
-        })
+        let stats = FactorStats {
+            analysis_seconds: 0.0,
+            factorizations: 0,
+            factorization_seconds: 0.0,
+            solves: 0,
+            solve_seconds: 0.0,
+            ..self.stats.clone()
+        };
+        Self::with_symbolic(self.symbolic.clone(), self.pattern.clone(), stats, a)
     }
 
     /// Numeric refactorisation with new values on the same pattern.
     pub fn refactor(&mut self, values: &[f64]) -> Result<()> {
+        let start = Instant::now();
         let mat = SparseColMat::new(self.pattern.clone(), values.to_vec());
-        self.llt = Llt::try_new_with_symbolic(self.symbolic.clone(), mat.as_ref(), Side::Upper)
-            .map_err(|e| ImpactError::Solver(format!("refactorisation failed: {e:?}")))?;
-        self.factorizations += 1;
+        self.factor = factorise(&self.symbolic, mat.as_ref())?;
+        self.stats.factorizations += 1;
+        self.stats.factorization_seconds += start.elapsed().as_secs_f64();
         Ok(())
     }
 
     /// Solves A x = b in place.
     pub fn solve_in_place(&self, b: &mut [f64]) {
+        let start = Instant::now();
         let n = b.len();
-        let mat = MatMut::from_column_major_slice_mut(b, n, 1);
-        self.llt.solve_in_place(mat);
+        let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
+        let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, par()));
+        LltRef::new(&self.symbolic, &self.factor).solve_in_place_with_conj(
+            Conj::No,
+            rhs,
+            par(),
+            MemStack::new(&mut mem),
+        );
+        let (count, seconds) = self.solves.get();
+        self.solves
+            .set((count + 1, seconds + start.elapsed().as_secs_f64()));
+    }
+
+    /// Numeric factorisations made so far.
+    pub fn factorizations(&self) -> usize {
+        self.stats.factorizations
+    }
+
+    /// The ordering, sizes, counts and times of this factor.
+    pub fn stats(&self) -> FactorStats {
+        let (solves, solve_seconds) = self.solves.get();
+        FactorStats {
+            solves,
+            solve_seconds,
+            ..self.stats.clone()
+        }
     }
 }
 
@@ -104,7 +222,7 @@ mod tests {
             }
         }
         let a = Csc::from_triplets(n, t);
-        let s = SpdSolver::new(&a).unwrap();
+        let s = SpdSolver::new(&a, Ordering::Amd).unwrap();
         let x: Vec<f64> = (0..n).map(|i| i as f64 - 1.5).collect();
         let mut b = vec![0.0; n];
         a.mul_into(&x, &mut b);
@@ -130,7 +248,7 @@ mod tests {
             Csc::from_triplets(n, t)
         };
         let n = 7;
-        let first = SpdSolver::new(&tridiagonal(n, 2.5)).unwrap();
+        let first = SpdSolver::new(&tridiagonal(n, 2.5), Ordering::NestedDissection).unwrap();
         let shifted = tridiagonal(n, 40.0);
         let second = first.sibling(&shifted).unwrap();
         let x: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();

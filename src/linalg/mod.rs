@@ -1,7 +1,10 @@
-//! Sparse matrices, assembly and the Cholesky solver of the implicit path.
+//! Sparse matrices, assembly, fill-reducing orderings and the Cholesky solver of the implicit
+//! path.
 
 pub mod assembly;
 pub mod cholesky;
+pub mod ordering;
 
 pub use assembly::{assemble, Assembled, Csc};
-pub use cholesky::SpdSolver;
+pub use cholesky::{FactorStats, SpdSolver};
+pub use ordering::Ordering;

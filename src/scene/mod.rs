@@ -144,6 +144,32 @@ impl Default for ExplicitSettings {
     }
 }
 
+/// Which fill-reducing ordering the implicit factorisation uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Ordering {
+    /// METIS nested dissection on the supervariable graph (the default).
+    #[default]
+    NestedDissection,
+    /// faer's approximate minimum degree.
+    Amd,
+}
+
+impl Ordering {
+    /// Every ordering with its name in scenes and summaries.
+    pub const CHOICES: [(&'static str, Ordering); 2] = [
+        ("nested_dissection", Ordering::NestedDissection),
+        ("amd", Ordering::Amd),
+    ];
+
+    pub fn name(self) -> &'static str {
+        Self::CHOICES
+            .iter()
+            .find(|(_, o)| *o == self)
+            .map(|(n, _)| *n)
+            .expect("every ordering is listed")
+    }
+}
+
 #[derive(Debug, Clone)]
 pub struct ImplicitSettings {
     pub beta: f64,
@@ -168,6 +194,8 @@ pub struct ImplicitSettings {
     /// The relative change of an interface's normal force from one step to the next above
     /// which a step counts as a contact event.
     pub event_force_change: f64,
+    /// The fill-reducing ordering of the factorisation.
+    pub ordering: Ordering,
 }
 
 impl Default for ImplicitSettings {
@@ -187,6 +215,7 @@ impl Default for ImplicitSettings {
             acceleration: Acceleration::Anderson,
             event_substeps: 4,
             event_force_change: 0.2,
+            ordering: Ordering::default(),
         }
     }
 }

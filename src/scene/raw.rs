@@ -58,6 +58,7 @@ pub struct RawImplicit {
     pub acceleration: Option<String>,
     pub event_substeps: Option<i64>,
     pub event_force_change: Option<f64>,
+    pub ordering: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]

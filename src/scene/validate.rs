@@ -354,6 +354,12 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
                 ("consistent", MassKind::Consistent),
             ],
         )?;
+        implicit.ordering = c.choice(
+            "implicit.ordering",
+            ri.ordering.as_deref(),
+            Ordering::default(),
+            &Ordering::CHOICES,
+        )?;
         implicit.acceleration = c.choice(
             "implicit.acceleration",
             ri.acceleration.as_deref(),
