@@ -12,6 +12,24 @@ use crate::scene::Scene;
 /// degenerate (a corner angle near 180 degrees, or an edge collapsed to a point).
 pub const DEGENERATE_RATIO: f64 = 1e-8;
 
+/// Where an element's Jacobian determinant was sampled.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Sample {
+    GaussPoint(usize),
+    Corner(usize),
+    Centre,
+}
+
+impl std::fmt::Display for Sample {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Sample::GaussPoint(g) => write!(f, "Gauss point {g}"),
+            Sample::Corner(k) => write!(f, "corner {k}"),
+            Sample::Centre => write!(f, "its centre"),
+        }
+    }
+}
+
 /// What is wrong with one element.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Fault {
@@ -19,12 +37,12 @@ pub enum Fault {
     /// The determinant `det` at a sample point (a Gauss point or a corner) is not positive,
     /// or not finite.
     Inverted {
-        at: String,
+        at: Sample,
         det: f64,
     },
     /// Positive everywhere but vanishing at one point against the mean.
     Degenerate {
-        at: String,
+        at: Sample,
         det: f64,
         mean: f64,
     },
@@ -53,21 +71,16 @@ pub fn hex8_fault(nodes: &[u32; 8], x: &[[f64; 3]; 8]) -> Option<Fault> {
         return Some(Fault::RepeatedNode(n));
     }
     let gauss = hex8::gauss_points();
-    let points = gauss
-        .iter()
-        .enumerate()
-        .map(|(g, p)| (format!("Gauss point {g}"), *p))
-        .chain(
-            hex8::CORNERS
-                .iter()
-                .enumerate()
-                .map(|(k, p)| (format!("corner {k}"), *p)),
-        );
-    let dets: Vec<(String, f64)> = points
-        .map(|(at, p)| (at, hex8::gradients(x, p).1))
-        .collect();
+    let det = |p| hex8::gradients(x, p).1;
+    let dets = std::array::from_fn::<_, 16, _>(|k| {
+        if k < 8 {
+            (Sample::GaussPoint(k), det(gauss[k]))
+        } else {
+            (Sample::Corner(k - 8), det(hex8::CORNERS[k - 8]))
+        }
+    });
     let mean = dets[..8].iter().map(|d| d.1).sum::<f64>() / 8.0;
-    worst(dets, mean)
+    worst(&dets, mean)
 }
 
 /// The fault of a tet4 with corners `x`, if any.
@@ -77,7 +90,7 @@ pub fn tet4_fault(nodes: &[u32; 4], x: &[[f64; 3]; 4]) -> Option<Fault> {
     }
     let det = 6.0 * tet4::volume(x);
     let scale = crate::element::extent(x).powi(3);
-    worst(vec![("its centre".into(), det)], scale)
+    worst(&[(Sample::Centre, det)], scale)
 }
 
 fn repeated(nodes: &[u32]) -> Option<u32> {
@@ -85,8 +98,8 @@ fn repeated(nodes: &[u32]) -> Option<u32> {
 }
 
 /// The most negative determinant, or one too small against `mean`.
-fn worst(dets: Vec<(String, f64)>, mean: f64) -> Option<Fault> {
-    let (at, det) = dets.into_iter().min_by(|a, b| a.1.total_cmp(&b.1))?;
+fn worst(dets: &[(Sample, f64)], mean: f64) -> Option<Fault> {
+    let &(at, det) = dets.iter().min_by(|a, b| a.1.total_cmp(&b.1))?;
     if !(det > 0.0 && det.is_finite() && mean.is_finite()) {
         Some(Fault::Inverted { at, det })
     } else if det < DEGENERATE_RATIO * mean {
@@ -168,7 +181,10 @@ mod tests {
         match hex8_fault(&[0, 1, 2, 3, 4, 5, 6, 7], &x) {
             Some(Fault::Inverted { at, det }) => {
                 assert!(det <= 0.0, "{det}");
-                assert!(at.starts_with("corner") || at.starts_with("Gauss"), "{at}");
+                assert!(
+                    matches!(at, Sample::Corner(_) | Sample::GaussPoint(_)),
+                    "{at}"
+                );
             }
             other => panic!("{other:?}"),
         }
