@@ -23,11 +23,11 @@
 use std::path::Path;
 use std::time::Instant;
 
+use impact::backend::{CpuKernels, Kernels};
 use impact::gpu::{GpuContext, GpuKernels, Stage};
 use impact::integrate::resident;
 use impact::integrate::stable_step::{stable_step, stable_step_on};
 use impact::integrate::{ExplicitSolver, ResidentSolver};
-use impact::kernels::{CpuKernels, Kernels};
 use impact::model::Model;
 use impact::scene::Scene;
 use impact::setup::explicit_time_step;

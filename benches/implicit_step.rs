@@ -12,8 +12,8 @@
 use std::path::Path;
 use std::time::Instant;
 
+use impact::backend::CpuKernels;
 use impact::integrate::ImplicitSolver;
-use impact::kernels::CpuKernels;
 use impact::linalg::cholesky::FAER_TASKS;
 use impact::linalg::{assemble, Assembled, Ordering, SpdSolver};
 use impact::model::Model;

@@ -102,7 +102,7 @@ fn main() {
         let copy = gpu.copy_bandwidth(256 << 20, 20).expect("copy");
         // upload u, v and the queries once, then time dispatches alone
         let mut f = vec![0.0; 3 * nn];
-        use impact::kernels::Kernels;
+        use impact::backend::Kernels;
         gpu.internal_forces_into(&u, &mut f).expect("forces");
         let mut pts = vec![ContactPoint::default(); nq];
         gpu.contact_gap_into(&u, &v, &q, &mut pts).expect("gap");

@@ -2,20 +2,34 @@
 //! elastic hex8 bodies, node-to-surface contact in convected coordinates, implicit Newmark,
 //! and contact forces from an adaptive-penalty augmented Lagrange iteration on the gap rate.
 //!
-//! The layout follows the flow of a run: [`scene`] (read and check) -> [`model`] (mesh,
-//! constraints, interfaces) -> [`integrate`] (time loop, using [`kernels`] for element forces
-//! and contact kinematics, [`linalg`] for the linear solves, [`contact`] for enforcement) ->
-//! [`output`].
+//! The modules form one-way layers, each using only those before it (checked by
+//! `tests/layers.rs`; `docs/architecture.md` walks through them):
+//!
+//! 1. [`error`], [`parallel`], [`material`]: errors, ordered parallel loops, elastic constants;
+//! 2. [`geometry`]: vectors, bilinear quads, closest-point projection, the contact point;
+//! 3. [`element`], [`mesh`], [`scene`]: element matrices, meshes (boxes, Gmsh, Abaqus), the
+//!    checked scene;
+//! 4. [`kernels`]: the CPU twins (f64) of the WGSL kernels, on flat inputs;
+//! 5. [`model`]: the mesh, constraints and contact interfaces as data;
+//! 6. [`contact`]: enforcement (search, augmented Lagrange, friction, Anderson);
+//! 7. [`backend`] and [`gpu`]: the kernels behind one trait, on the CPU or a GPU;
+//! 8. [`linalg`], [`integrate`]: assembly and Cholesky; the implicit, explicit and resident
+//!    integrators;
+//! 9. [`check`], [`checkpoint`], [`output`], [`setup`], [`report`], [`run`], [`study`]: model
+//!    checks, restart files, writers, the run's preparation, its report, the run itself and
+//!    the accuracy-against-speed study.
 
 // Index loops over nodes, corners and components keep the CPU twins line-by-line comparable
 // with their WGSL kernels (vello does the same in its CPU shaders).
 #![allow(clippy::needless_range_loop)]
 
+pub mod backend;
 pub mod check;
 pub mod checkpoint;
 pub mod contact;
 pub mod element;
 pub mod error;
+pub mod geometry;
 pub mod gpu;
 pub mod integrate;
 pub mod kernels;
@@ -25,6 +39,7 @@ pub mod mesh;
 pub mod model;
 pub mod output;
 pub mod parallel;
+pub mod report;
 pub mod run;
 pub mod scene;
 pub mod setup;

@@ -296,10 +296,7 @@ fn real_main() -> anyhow::Result<u8> {
             let device = parse_device(device)?.unwrap_or(sc.run.device);
             let mut clock = impact::output::summary::SetupClock::start();
             let setup = impact::setup::prepare(&sc, device, &mut |l| eprintln!("{l}"), &mut clock)?;
-            print!(
-                "{}",
-                impact::output::model_report::model_report(&sc, &setup)
-            );
+            print!("{}", impact::report::model_report(&sc, &setup));
             Ok(exit::SUCCESS)
         }
         Command::Info => {

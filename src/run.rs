@@ -5,6 +5,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
+use crate::backend::{CpuKernels, Kernels};
 use crate::check::penetration::InitialContact;
 use crate::check::{self, Warning};
 use crate::checkpoint::{Checkpoint, SolverState, Tally};
@@ -13,7 +14,6 @@ use crate::gpu::GpuKernels;
 use crate::integrate::{
     ContactReport, Energies, ExplicitSolver, ImplicitSolver, ResidentSolver, StepReport,
 };
-use crate::kernels::{CpuKernels, Kernels};
 use crate::model::Model;
 use crate::output::progress::Progress;
 use crate::output::summary::{InterfaceSummary, LinearSolverSummary, SetupClock};

@@ -2,22 +2,17 @@
 //! (elements, facing surfaces, initial penetration), the device, the stable step, the
 //! method and the time step. `impact run` and `impact check` share it.
 
+use crate::backend::{CpuKernels, Kernels};
 use crate::check::penetration::InitialContact;
 use crate::check::{elements, facing, memory, penetration};
 use crate::error::{ImpactError, Result};
 use crate::gpu::{AdapterPolicy, GpuContext, GpuKernels};
 use crate::integrate::stable_step::stable_step_on;
-use crate::kernels::{CpuKernels, Kernels};
 use crate::model::Model;
 use crate::output::summary::SetupClock;
 use crate::scene::{DeviceChoice, Method, PenetrationPolicy, Scene};
 
-/// Under `device = "auto"`, scenes with at least this many elements run their kernels on a
-/// hardware GPU when there is one. Smaller scenes stay on the CPU in f64: there the kernels
-/// cost less than a few milliseconds per iteration, and f64 keeps the contact iteration's
-/// convergence test at its tightest. Software adapters are never chosen by "auto": on the
-/// same cores they are slower than the CPU twins (README, kernel benchmark).
-pub const AUTO_GPU_MIN_ELEMENTS: usize = 20_000;
+pub use crate::gpu::context::AUTO_GPU_MIN_ELEMENTS;
 
 /// A run longer than this many steps is refused: at a microsecond a step it would take
 /// three hours, and a stable step this small against the end time comes from a unit or

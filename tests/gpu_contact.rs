@@ -9,7 +9,7 @@
 mod common;
 use common::*;
 
-use impact::contact::quad::norm;
+use impact::geometry::quad::norm;
 use impact::gpu::{GpuContext, ResidentExplicit};
 use impact::integrate::resident;
 use impact::integrate::ResidentSolver;

@@ -7,9 +7,10 @@
 mod common;
 use common::*;
 
+use impact::backend::Kernels;
 use impact::gpu::GpuKernels;
 use impact::kernels::contact_gap::NO_FACE;
-use impact::kernels::{self, ContactPoint, ContactQueries, ElementData, Incidence, Kernels};
+use impact::kernels::{self, ContactPoint, ContactQueries, ElementData, Incidence};
 use impact::material::Elastic;
 use impact::scene::BoxFace;
 use rand::rngs::StdRng;
@@ -189,7 +190,7 @@ fn internal_forces_match_the_cpu_kernels() {
     let p = distorted_box(&mut rng);
     let n = p.data.reference.len();
     let u = displacements(&mut rng, n, p.h);
-    let mut cpu = kernels::CpuKernels::new(p.data.clone());
+    let mut cpu = impact::backend::CpuKernels::new(p.data.clone());
     let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
     gpu.fill_nan = true;
     let (mut fc, mut fg) = (vec![0.0; 3 * n], vec![0.0; 3 * n]);
@@ -219,8 +220,8 @@ fn contact_problem(rng: &mut StdRng, p: &mut Problem, count: usize) -> ContactQu
         let (x, cands): ([f64; 3], Vec<u32>) = match i % 3 {
             0 => {
                 let xi = [rng.random_range(-0.9..0.9), rng.random_range(-0.9..0.9)];
-                let (y, ..) = impact::contact::quad::geometry(&corners, xi);
-                let nrm = impact::contact::quad::normal(&corners, xi);
+                let (y, ..) = impact::geometry::quad::geometry(&corners, xi);
+                let nrm = impact::geometry::quad::normal(&corners, xi);
                 let s = rng.random_range(-0.15..0.15) * p.h;
                 let near: Vec<u32> = (0..p.top.len() as u32)
                     .filter(|&g| p.top[g as usize].iter().any(|n| p.top[f].contains(n)))
@@ -243,7 +244,7 @@ fn contact_problem(rng: &mut StdRng, p: &mut Problem, count: usize) -> ContactQu
 
 /// Distance from the secondary node to the closest point of a face (CPU, f64).
 fn face_distance(x: [f64; 3], corners: &[[f64; 3]; 4]) -> f64 {
-    use impact::contact::quad;
+    use impact::geometry::quad;
     let xi = quad::project(corners, x);
     let (y, ..) = quad::geometry(corners, xi);
     quad::norm(quad::sub(x, y))

@@ -147,7 +147,7 @@ fn ascii_and_binary_msh_read_alike() {
     let area = |faces: &[[u32; 4]]| -> f64 {
         faces
             .iter()
-            .map(|q| impact::contact::quad_area(&q.map(|n| a.nodes[n as usize])))
+            .map(|q| impact::geometry::quad::quad_area(&q.map(|n| a.nodes[n as usize])))
             .sum()
     };
     assert!((area(&a.boundary) - 6.0).abs() < 1e-9);

@@ -2,10 +2,10 @@
 //! surfaces are both mostly flat and whose outward normals agree (a wrong face name, the
 //! classic `z-` against `z-`) can never touch as declared.
 
-use crate::contact::quad::{cross, dot, norm, sub, V3};
-use crate::contact::Primary;
 use crate::error::{ImpactError, Result};
+use crate::geometry::quad::{cross, dot, norm, sub, V3};
 use crate::model::Model;
+use crate::model::Primary;
 use crate::scene::Scene;
 
 /// A surface counts as mostly flat when its summed area vector is at least this fraction of

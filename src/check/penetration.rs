@@ -10,11 +10,11 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::contact::quad::{self, dot, norm, sub, V3};
 use crate::contact::search::{find_candidates, flatten};
-use crate::contact::{Interface, Primary};
+use crate::geometry::quad::{self, dot, norm, sub, V3};
 use crate::kernels::ContactQueries;
 use crate::model::Model;
+use crate::model::{Interface, Primary};
 use crate::scene::PenetrationPolicy;
 
 /// Penetration below this fraction of the local face size is rounding (touching faces).
@@ -148,7 +148,7 @@ fn samples(model: &Model, itf: &Interface) -> Vec<Sample> {
 
 fn surface_samples(model: &Model, body: usize, faces: &[[u32; 4]], nodes: &[u32]) -> Vec<Sample> {
     let x = &model.mesh.nodes;
-    let reach = crate::contact::search::largest_face_side(x, &vec![0.0; 3 * x.len()], faces);
+    let reach = crate::kernels::search_bounds::largest_face_side(x, &vec![0.0; 3 * x.len()], faces);
     let mut q = ContactQueries {
         secondary: nodes.to_vec(),
         faces: faces.to_vec(),

@@ -1,6 +1,6 @@
-//! Node-to-surface contact: interfaces, search, kinematics, enforcement.
+//! Node-to-surface contact enforcement. The interfaces are data ([`crate::model::Interface`]),
+//! the primary face in convected coordinates is geometry ([`crate::geometry::quad`]).
 //!
-//! - [`quad`]: the primary face in convected coordinates, closest-point projection.
 //! - [`search`]: broad phase (candidate primary faces of each secondary node).
 //! - [`augmented_lagrange`]: the paper's multiplier update on the gap rate with the
 //!   adaptive penalty of eqs. 18-20.
@@ -13,74 +13,4 @@
 pub mod anderson;
 pub mod augmented_lagrange;
 pub mod friction;
-pub mod impulse;
-pub mod quad;
 pub mod search;
-
-use std::ops::Range;
-
-use crate::mesh::Mesh;
-use quad::{cross, norm, sub};
-
-/// What the secondary nodes of an interface press against.
-#[derive(Debug, Clone)]
-pub enum Primary {
-    /// Quads of another body: `faces` indexes `ContactQueries::faces`, `queries` the queries
-    /// of this interface's secondary nodes (in order).
-    Surface {
-        body: usize,
-        faces: Range<usize>,
-        queries: Range<usize>,
-    },
-    /// An analytic immovable plane: `point`, unit `normal` into the free side.
-    Plane { point: [f64; 3], normal: [f64; 3] },
-}
-
-/// One `[[contact]]` or `[[rigid_plane]]` of the scene.
-#[derive(Debug, Clone)]
-pub struct Interface {
-    pub name: String,
-    pub friction: f64,
-    /// Secondary nodes (global numbers).
-    pub nodes: Vec<u32>,
-    /// Tributary area of each secondary node (a quarter of each adjacent quad's area).
-    pub area: Vec<f64>,
-    /// The secondary faces the nodes and areas come from.
-    pub secondary_faces: Vec<[u32; 4]>,
-    pub primary: Primary,
-}
-
-impl Interface {
-    pub fn is_plane(&self) -> bool {
-        matches!(self.primary, Primary::Plane { .. })
-    }
-}
-
-/// Area of a (possibly warped) quad, by its two triangles.
-pub fn quad_area(p: &[[f64; 3]; 4]) -> f64 {
-    0.5 * (norm(cross(sub(p[1], p[0]), sub(p[2], p[0])))
-        + norm(cross(sub(p[2], p[0]), sub(p[3], p[0]))))
-}
-
-/// Secondary nodes of a set of faces with their tributary areas (reference configuration):
-/// a quad gives a quarter of its area to each corner, a triangle (`[a, b, c, c]`) a third.
-pub fn tributary_areas(mesh: &Mesh, quads: &[[u32; 4]]) -> (Vec<u32>, Vec<f64>) {
-    let nodes = Mesh::quad_nodes(quads);
-    let mut area = vec![0.0; nodes.len()];
-    for q in quads {
-        let a = quad_area(&q.map(|n| mesh.nodes[n as usize]));
-        let corners: &[u32] = if crate::mesh::is_triangle(q) {
-            &q[..3]
-        } else {
-            q
-        };
-        let share = a / corners.len() as f64;
-        for n in corners {
-            let i = nodes
-                .binary_search(n)
-                .expect("quad node in its own node list");
-            area[i] += share;
-        }
-    }
-    (nodes, area)
-}

@@ -7,10 +7,11 @@
 
 use std::collections::HashMap;
 
-use crate::contact::quad;
-use crate::contact::Primary;
+use crate::geometry::quad;
+use crate::kernels::search_bounds::{fastest_speed, largest_face_side};
 use crate::kernels::ContactQueries;
 use crate::model::Model;
+use crate::model::Primary;
 
 /// Fills `queries.offsets` and `queries.candidates` for the queries in `query_range`
 /// against the faces in `face_range`. `x` holds current positions (3 per node).
@@ -104,27 +105,6 @@ pub fn largest_face_diagonal(model: &Model) -> f64 {
 /// motion over the step.
 pub fn margin(v: &[f64], dt: f64, face_size: f64) -> f64 {
     face_size + 4.0 * dt * fastest_speed(v)
-}
-
-/// The fastest node's speed (`v`: 3 per node).
-pub fn fastest_speed(v: &[f64]) -> f64 {
-    v.chunks_exact(3)
-        .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
-        .fold(0.0, f64::max)
-}
-
-/// The largest side of a face's box at displacement `u` (3 per node).
-pub fn largest_face_side(reference: &[[f64; 3]], u: &[f64], faces: &[[u32; 4]]) -> f64 {
-    let mut extent = 0.0f64;
-    for f in faces {
-        for a in 0..3 {
-            let x = f.map(|n| reference[n as usize][a] + u[3 * n as usize + a]);
-            let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
-            let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            extent = extent.max(hi - lo);
-        }
-    }
-    extent
 }
 
 /// The broad phase of every surface interface at displacement `u` with face boxes grown by

@@ -5,6 +5,7 @@
 //! that runs once per element (assembly, mass lumping, stable step, stresses for output).
 
 pub mod hex8;
+pub mod stable_step;
 pub mod tet4;
 
 use crate::material::Elastic;

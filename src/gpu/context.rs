@@ -15,6 +15,13 @@ use std::sync::{Mutex, OnceLock};
 
 use crate::error::{ImpactError, Result};
 
+/// Under `device = "auto"`, scenes with at least this many elements run their kernels on a
+/// hardware GPU when there is one. Smaller scenes stay on the CPU in f64: there the kernels
+/// cost less than a few milliseconds per iteration, and f64 keeps the contact iteration's
+/// convergence test at its tightest. Software adapters are never chosen by "auto": on the
+/// same cores they are slower than the CPU twins (README, kernel benchmark).
+pub const AUTO_GPU_MIN_ELEMENTS: usize = 20_000;
+
 /// What a user needs to know about one adapter.
 #[derive(Debug, Clone)]
 pub struct AdapterSummary {
@@ -284,8 +291,7 @@ pub fn info_report() -> Result<String> {
         match hardware {
             Some(a) => format!(
                 "{} for scenes of at least {} elements, the CPU (f64) below",
-                a.name,
-                crate::setup::AUTO_GPU_MIN_ELEMENTS
+                a.name, AUTO_GPU_MIN_ELEMENTS
             ),
             None => "the CPU (f64): no hardware GPU".into(),
         }

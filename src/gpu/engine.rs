@@ -11,9 +11,10 @@ use super::kernel::Launch;
 use super::search::GpuSearch;
 use super::types::{self, ContactQuery, Material, Quad, Split3};
 use super::{ContactGap, Hex8Forces, NodeGather, SlipRate, Tet4Forces};
+use crate::backend::Kernels;
 use crate::contact::search;
 use crate::error::{ImpactError, Result};
-use crate::kernels::{ContactPoint, ContactQueries, ElementData, Incidence, Kernels, SearchGrid};
+use crate::kernels::{ContactPoint, ContactQueries, ElementData, Incidence, SearchGrid};
 use crate::model::Model;
 
 /// The kernels of the engine, for timing them one by one.

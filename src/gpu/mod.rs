@@ -1,6 +1,6 @@
 //! The GPU engine: wgpu context and adapter choice ([`context`]), one host module per WGSL
 //! kernel (same name as `shaders/<name>.wgsl` and as its CPU twin in [`crate::kernels`]),
-//! the Pod buffer types ([`types`]) and [`GpuKernels`], the [`crate::kernels::Kernels`]
+//! the Pod buffer types ([`types`]) and [`GpuKernels`], the [`crate::backend::Kernels`]
 //! interface on a device.
 
 pub mod bucket_count;

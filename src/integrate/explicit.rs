@@ -27,14 +27,16 @@
 //! Momentum is exact (every impulse acts with its opposite on the primary face's nodes by
 //! the shape functions). The history's contact force is the impulse / dt.
 
-use crate::contact::impulse::{self, impulse_update, ImpulseUpdate};
-use crate::contact::quad::{self, dot};
-use crate::contact::{search, Primary};
+use crate::backend::Kernels;
+use crate::contact::search;
 use crate::element;
 use crate::error::Result;
+use crate::geometry::quad::{self, dot};
 use crate::kernels::contact_gap::NO_FACE;
-use crate::kernels::{self, ContactPoint, ContactQueries, Kernels};
+use crate::kernels::impulse::{self, impulse_update, ImpulseUpdate};
+use crate::kernels::{self, ContactPoint, ContactQueries};
 use crate::model::Model;
+use crate::model::Primary;
 use crate::scene::ExplicitSettings;
 use rayon::prelude::*;
 

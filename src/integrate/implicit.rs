@@ -28,16 +28,18 @@
 //! pressures with [`augmented_lagrange::update`]. The residual is formed with the kernels'
 //! internal forces, so a backend in f32 is corrected iteratively.
 
+use crate::backend::Kernels;
 use crate::contact::anderson::Anderson;
 use crate::contact::augmented_lagrange::{self, IterationMemory, Penalty};
 use crate::contact::friction::{cone_projection, cone_radius, plane_basis, Friction};
-use crate::contact::quad::{self, dot};
-use crate::contact::{search, Primary};
+use crate::contact::search;
 use crate::error::{ImpactError, Result};
+use crate::geometry::quad::{self, dot};
 use crate::kernels::contact_gap::NO_FACE;
-use crate::kernels::{ContactPoint, ContactQueries, Kernels};
+use crate::kernels::{ContactPoint, ContactQueries};
 use crate::linalg::{assemble, Assembled, FactorStats, SpdSolver};
 use crate::model::Model;
+use crate::model::Primary;
 use crate::scene::{Acceleration, Constraint, ImplicitSettings};
 
 use super::state::{ContactReport, Energies};
@@ -1026,12 +1028,7 @@ fn dot_slices(a: &[f64], b: &[f64]) -> f64 {
 /// lumped mass or the consistent mass's diagonal), the gap-rate
 /// change per unit pressure if the elastic stiffness did not resist. The true compliance is
 /// smaller, so $\epsilon s \le 1$: inside the stable range, near its centre.
-fn default_penalty(
-    model: &Model,
-    asm: &Assembled,
-    itf: &crate::contact::Interface,
-    dt: f64,
-) -> f64 {
+fn default_penalty(model: &Model, asm: &Assembled, itf: &crate::model::Interface, dt: f64) -> f64 {
     let inv_mp = match &itf.primary {
         Primary::Plane { .. } => 0.0,
         Primary::Surface { faces, .. } => {

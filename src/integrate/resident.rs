@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use super::explicit::lumped_mass;
 use super::implicit::StepReport;
 use super::state::{ContactReport, Energies};
-use crate::contact::{search, Primary};
+use crate::contact::search;
 use crate::error::Result;
 use crate::gpu::explicit_step::row_len;
 use crate::gpu::{ContactSetup, GpuContext, ResidentExplicit, ResidentSetup};
@@ -24,6 +24,7 @@ use crate::kernels::explicit_correct::FIELDS;
 use crate::kernels::plane_contact::{MAX_PLANES, SLOT};
 use crate::kernels::{ContactNode, ContactPair, LumpedNode, PlaneData, PlaneNode};
 use crate::model::Model;
+use crate::model::Primary;
 use crate::scene::ExplicitSettings;
 
 /// Whether the model's contacts take the plane kernel (every interface a rigid plane, at
@@ -575,7 +576,7 @@ impl<'m> ResidentSolver<'m> {
             let jt = [q[1], q[2], q[3]];
             reports.push(ContactReport {
                 normal_force: q[0] / self.row_dt,
-                tangential_force: crate::contact::quad::norm(jt) / self.row_dt,
+                tangential_force: crate::geometry::quad::norm(jt) / self.row_dt,
                 active: q[4].round() as usize,
                 max_penetration: q[6],
                 sliding: q[5].round() as usize,

@@ -22,32 +22,10 @@ use std::collections::HashMap;
 use rayon::prelude::*;
 
 use crate::element;
+pub use crate::element::stable_step::{element_critical_step, element_stable_step};
 use crate::error::Result;
 use crate::gpu::GpuContext;
-use crate::material::Elastic;
 use crate::model::Model;
-
-/// $2 / \sqrt{\max_i \sum_j |K_{ij}| / m_i}$ for one element (hex8 or tet4) at coordinates `x`.
-pub fn element_stable_step(x: &[[f64; 3]], m: &Elastic) -> f64 {
-    let k = element::stiffness(x, m);
-    let ml = element::lumped_mass(x, m.density);
-    let w2 = (0..k.len())
-        .map(|i| k[i].iter().map(|v| v.abs()).sum::<f64>() / ml[i / 3])
-        .fold(0.0, f64::max);
-    2.0 / w2.sqrt()
-}
-
-/// $2/\omega_{max}$ of one element from its lumped-mass eigenproblem (a 24 x 24 or 12 x 12
-/// symmetric eigenvalue problem; exact, but for the hex8 about 30 times the cost of the
-/// Gershgorin bound).
-pub fn element_critical_step(x: &[[f64; 3]], m: &Elastic) -> f64 {
-    let k = element::stiffness(x, m);
-    let ml = element::lumped_mass(x, m.density);
-    let n = k.len();
-    let s = nalgebra::DMatrix::from_fn(n, n, |i, j| k[i][j] / (ml[i / 3] * ml[j / 3]).sqrt());
-    let w2 = nalgebra::SymmetricEigen::new(s).eigenvalues.max();
-    2.0 / w2.sqrt()
-}
 
 /// Up to this many distinct element shapes, each one's limit is its exact eigenvalue;
 /// beyond, every element uses the Gershgorin bound (a distorted mesh of a million elements
@@ -208,6 +186,7 @@ impl Shapes {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::material::Elastic;
     use rand::{rngs::StdRng, Rng, SeedableRng};
 
     /// Boxes stretched 0.2 to 3 times along each axis, and the same with corners moved by up

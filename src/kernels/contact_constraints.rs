@@ -6,8 +6,8 @@
 //! $v_{n-1/2} = v^* - \Delta t\, a_n$ is kept for the friction work.
 
 use super::contact_gap::{ContactPoint, NO_FACE};
-use crate::contact::impulse::relative_velocity;
-use crate::contact::quad::{self, dot, norm};
+use crate::geometry::quad::{self, dot, norm};
+use crate::kernels::impulse::relative_velocity;
 
 /// A pair of the iteration: secondary node `node` against surface query `query`, or against
 /// a rigid plane (`query == NO_FACE`: its point and unit normal), with its friction.

@@ -5,7 +5,7 @@
 
 use super::contact_constraints::{relative, Constraint, ContactPair};
 use super::plane_contact::SLOT;
-use crate::contact::quad::{dot, norm};
+use crate::geometry::quad::{dot, norm};
 
 /// `sweeps`: the count to report ([`super::sweep_control::SweepState::reported`]); the
 /// friction work entries of `results` carry over from the last step.

@@ -3,7 +3,7 @@
 //! [`impulse_update`] from the relative velocity at the sweep's start.
 
 use super::contact_constraints::{relative, Constraint, ContactPair};
-use crate::contact::impulse::impulse_update;
+use crate::kernels::impulse::impulse_update;
 
 /// Updates the impulses, writes each pair's impulse change into `dj` (3 per pair, zero for
 /// a pair out of reach or not enforceable) and returns the sweep's largest violation.

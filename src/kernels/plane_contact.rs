@@ -10,8 +10,8 @@
 //! sweep.
 
 use super::explicit_correct::LumpedNode;
-use crate::contact::impulse::impulse_update;
-use crate::contact::quad::{dot, norm};
+use crate::geometry::quad::{dot, norm};
+use crate::kernels::impulse::impulse_update;
 
 /// Results per (plane node, plane): normal impulse, friction impulse (3), active (0/1),
 /// sliding (0/1), linearised end-of-step gap, friction work since the start, and the node's

@@ -3,7 +3,7 @@
 //! convected basis of its primary face.
 
 use super::contact_gap::{ContactPoint, ContactQueries, NO_FACE};
-use crate::contact::quad::{self, dot, sub};
+use crate::geometry::quad::{self, dot, sub};
 
 pub fn slip_rate(
     reference: &[[f64; 3]],

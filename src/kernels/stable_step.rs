@@ -1,9 +1,9 @@
 //! Each element's stable explicit step by Gershgorin's bound (CPU twin of
-//! `shaders/stable_step.wgsl`): [`crate::integrate::stable_step::element_stable_step`] of
+//! `shaders/stable_step.wgsl`): [`crate::element::stable_step::element_stable_step`] of
 //! every element, hexes then tets.
 
 use super::ElementData;
-use crate::integrate::stable_step::element_stable_step;
+use crate::element::stable_step::element_stable_step;
 
 pub fn stable_step(data: &ElementData) -> Vec<f64> {
     let corners = |nodes: &[u32]| -> Vec<[f64; 3]> {

@@ -1,7 +1,52 @@
 //! Structured hex8 grids of boxes.
 
 use super::{BodyParts, Surface};
-use crate::scene::{BoxFace, BoxSpec};
+
+/// The six faces of a structured box, named by their outward normal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BoxFace {
+    XMinus,
+    XPlus,
+    YMinus,
+    YPlus,
+    ZMinus,
+    ZPlus,
+}
+
+impl BoxFace {
+    pub const ALL: [BoxFace; 6] = [
+        BoxFace::XMinus,
+        BoxFace::XPlus,
+        BoxFace::YMinus,
+        BoxFace::YPlus,
+        BoxFace::ZMinus,
+        BoxFace::ZPlus,
+    ];
+    pub const NAMES: [&'static str; 6] = ["x-", "x+", "y-", "y+", "z-", "z+"];
+
+    pub fn parse(s: &str) -> Option<BoxFace> {
+        Self::NAMES
+            .iter()
+            .position(|&n| n == s)
+            .map(|i| Self::ALL[i])
+    }
+    /// Axis of the outward normal (0, 1, 2).
+    pub fn axis(self) -> usize {
+        self as usize / 2
+    }
+    /// True for the face on the positive side of its axis.
+    pub fn positive(self) -> bool {
+        self as usize % 2 == 1
+    }
+}
+
+/// A structured box: its corners and the elements along each axis.
+#[derive(Debug, Clone)]
+pub struct BoxSpec {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+    pub divisions: [usize; 3],
+}
 
 /// Meshes a box as `divisions[0] x divisions[1] x divisions[2]` hex8 elements.
 ///

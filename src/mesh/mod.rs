@@ -19,7 +19,7 @@ pub use import::import;
 
 use std::ops::Range;
 
-use crate::scene::BoxFace;
+use box_mesh::BoxFace;
 
 /// A named list of outward-oriented boundary faces (local or global node numbers).
 #[derive(Debug, Clone, PartialEq)]

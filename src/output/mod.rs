@@ -1,7 +1,6 @@
 //! What a run writes: `history.csv`, `summary.json` and, when asked, VTU frames.
 
 pub mod history;
-pub mod model_report;
 pub mod plot;
 pub mod progress;
 pub mod summary;

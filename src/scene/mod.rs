@@ -9,6 +9,7 @@ mod validate;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+pub use crate::mesh::box_mesh::{BoxFace, BoxSpec};
 use crate::mesh::BodyParts;
 
 use crate::error::{ImpactError, Result};
@@ -226,51 +227,6 @@ pub struct Material {
     pub density: f64,
     pub youngs_modulus: f64,
     pub poissons_ratio: f64,
-}
-
-/// The six faces of a structured box, named by their outward normal.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum BoxFace {
-    XMinus,
-    XPlus,
-    YMinus,
-    YPlus,
-    ZMinus,
-    ZPlus,
-}
-
-impl BoxFace {
-    pub const ALL: [BoxFace; 6] = [
-        BoxFace::XMinus,
-        BoxFace::XPlus,
-        BoxFace::YMinus,
-        BoxFace::YPlus,
-        BoxFace::ZMinus,
-        BoxFace::ZPlus,
-    ];
-    pub const NAMES: [&'static str; 6] = ["x-", "x+", "y-", "y+", "z-", "z+"];
-
-    pub fn parse(s: &str) -> Option<BoxFace> {
-        Self::NAMES
-            .iter()
-            .position(|&n| n == s)
-            .map(|i| Self::ALL[i])
-    }
-    /// Axis of the outward normal (0, 1, 2).
-    pub fn axis(self) -> usize {
-        self as usize / 2
-    }
-    /// True for the face on the positive side of its axis.
-    pub fn positive(self) -> bool {
-        self as usize % 2 == 1
-    }
-}
-
-#[derive(Debug, Clone)]
-pub struct BoxSpec {
-    pub min: [f64; 3],
-    pub max: [f64; 3],
-    pub divisions: [usize; 3],
 }
 
 /// Where a body's mesh comes from.

@@ -187,6 +187,12 @@ fn box_step(xi: [f64; 2], d: [f64; 2]) -> f64 {
     alpha.max(0.0)
 }
 
+/// Area of a (possibly warped) quad, by its two triangles (a triangle repeats a corner).
+pub fn quad_area(p: &[[f64; 3]; 4]) -> f64 {
+    0.5 * (norm(cross(sub(p[1], p[0]), sub(p[2], p[0])))
+        + norm(cross(sub(p[2], p[0]), sub(p[3], p[0]))))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,7 +1,10 @@
 //! The discrete model built from a scene: mesh, materials, constraints, contact interfaces,
 //! probes. Reading and checking (the scene) is kept apart from the time loop (integrate).
 
-use crate::contact::{tributary_areas, Interface, Primary};
+pub mod interface;
+
+pub use interface::{tributary_areas, Interface, Primary};
+
 use crate::error::{ImpactError, Result};
 use crate::kernels::{ContactQueries, ElementData};
 use crate::material::Elastic;
