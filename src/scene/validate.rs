@@ -253,501 +253,581 @@ fn find_name(names: &[&str], name: &str) -> Option<usize> {
         .or_else(|| names.iter().position(|n| n.eq_ignore_ascii_case(name)))
 }
 
-pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
-    let c = Checker { path };
-
-    // [run]
-    let run = raw
-        .run
-        .ok_or_else(|| c.err("run", "the [run] table is required (it holds end_time)"))?;
-    let end_time = run
-        .end_time
-        .ok_or_else(|| c.err("run.end_time", "is required"))?;
-    let end_time = c.positive("run.end_time", end_time)?;
-    let method = c.choice(
-        "run.method",
-        run.method.as_deref(),
-        Method::Implicit,
-        &[
-            ("implicit", Method::Implicit),
-            ("explicit", Method::Explicit),
-            ("auto", Method::Auto),
-        ],
-    )?;
-    let device = c.choice(
-        "run.device",
-        run.device.as_deref(),
-        DeviceChoice::Auto,
-        &[
-            ("auto", DeviceChoice::Auto),
-            ("gpu", DeviceChoice::Gpu),
-            ("cpu", DeviceChoice::Cpu),
-        ],
-    )?;
-    let time_step = match run.time_step {
-        Some(dt) => Some(c.positive("run.time_step", dt)?),
-        None => None,
-    };
-    let energy_tolerance = c.positive(
-        "run.energy_tolerance",
-        run.energy_tolerance.unwrap_or(ENERGY_TOLERANCE),
-    )?;
-    if time_step.is_none() && method == Method::Implicit {
-        return Err(c.err(
-            "run.time_step",
-            "is required for method = \"implicit\" (the implicit step is not chosen automatically)",
-        ));
-    }
-    if let Some(dt) = time_step {
-        if dt > end_time {
-            return Err(c.err(
+impl Checker<'_> {
+    /// `[run]`: the end time, the step, the method and the device.
+    fn run(&self, run: Option<RawRun>) -> Result<RunSettings> {
+        let run =
+            run.ok_or_else(|| self.err("run", "the [run] table is required (it holds end_time)"))?;
+        let end_time = run
+            .end_time
+            .ok_or_else(|| self.err("run.end_time", "is required"))?;
+        let end_time = self.positive("run.end_time", end_time)?;
+        let method = self.choice(
+            "run.method",
+            run.method.as_deref(),
+            Method::Implicit,
+            &[
+                ("implicit", Method::Implicit),
+                ("explicit", Method::Explicit),
+                ("auto", Method::Auto),
+            ],
+        )?;
+        let device = self.choice(
+            "run.device",
+            run.device.as_deref(),
+            DeviceChoice::Auto,
+            &[
+                ("auto", DeviceChoice::Auto),
+                ("gpu", DeviceChoice::Gpu),
+                ("cpu", DeviceChoice::Cpu),
+            ],
+        )?;
+        let time_step = match run.time_step {
+            Some(dt) => Some(self.positive("run.time_step", dt)?),
+            None => None,
+        };
+        let energy_tolerance = self.positive(
+            "run.energy_tolerance",
+            run.energy_tolerance.unwrap_or(ENERGY_TOLERANCE),
+        )?;
+        if time_step.is_none() && method == Method::Implicit {
+            return Err(self.err(
                 "run.time_step",
-                format!("{dt} is longer than run.end_time = {end_time}"),
+                "is required for method = \"implicit\" (the implicit step is not chosen automatically)",
             ));
         }
-    }
-    // [implicit]
-    let mut implicit = ImplicitSettings::default();
-    if let Some(ri) = raw.implicit {
-        if let Some(b) = ri.beta {
-            if !(b.is_finite() && b > 0.0 && b <= 0.5) {
-                return Err(c.err("implicit.beta", format!("must be in (0, 0.5], got {b}")));
-            }
-            implicit.beta = b;
-        }
-        if let Some(g) = ri.gamma {
-            if !(g.is_finite() && (0.5..=1.0).contains(&g)) {
-                return Err(c.err("implicit.gamma", format!("must be in [0.5, 1], got {g}")));
-            }
-            implicit.gamma = g;
-        }
-        if 2.0 * implicit.beta < implicit.gamma - 1e-12 {
-            return Err(c.err(
-                "implicit.beta",
-                format!(
-                    "beta = {} with gamma = {} is only conditionally stable; the implicit path needs 2 beta >= gamma",
-                    implicit.beta, implicit.gamma
-                ),
-            ));
-        }
-        implicit.constraint = c.choice(
-            "implicit.constraint",
-            ri.constraint.as_deref(),
-            Constraint::GapRate,
-            &[("gap_rate", Constraint::GapRate), ("gap", Constraint::Gap)],
-        )?;
-        implicit.penalty = c.choice(
-            "implicit.penalty",
-            ri.penalty.as_deref(),
-            PenaltyLaw::Adaptive,
-            &[
-                ("adaptive", PenaltyLaw::Adaptive),
-                ("fixed", PenaltyLaw::Fixed),
-            ],
-        )?;
-        implicit.mass = c.choice(
-            "implicit.mass",
-            ri.mass.as_deref(),
-            MassKind::Consistent,
-            &[
-                ("lumped", MassKind::Lumped),
-                ("consistent", MassKind::Consistent),
-            ],
-        )?;
-        implicit.ordering = c.choice(
-            "implicit.ordering",
-            ri.ordering.as_deref(),
-            Ordering::default(),
-            &Ordering::CHOICES,
-        )?;
-        implicit.acceleration = c.choice(
-            "implicit.acceleration",
-            ri.acceleration.as_deref(),
-            Acceleration::Anderson,
-            &[
-                ("anderson", Acceleration::Anderson),
-                ("none", Acceleration::None),
-            ],
-        )?;
-        if let Some(e) = ri.penalty_normal {
-            implicit.penalty_normal = Some(c.positive("implicit.penalty_normal", e)?);
-        }
-        if let Some(e) = ri.penalty_tangential {
-            implicit.penalty_tangential = Some(c.positive("implicit.penalty_tangential", e)?);
-        }
-        if let Some(n) = ri.max_iterations {
-            if n < 1 {
-                return Err(c.err("implicit.max_iterations", format!("must be >= 1, got {n}")));
-            }
-            implicit.max_iterations = n as usize;
-        }
-        if let Some(t) = ri.tolerance {
-            implicit.tolerance = c.positive("implicit.tolerance", t)?;
-        }
-        if let Some(m) = ri.max_gap_rate {
-            implicit.max_gap_rate = Some(c.positive("implicit.max_gap_rate", m)?);
-        }
-        if let Some(m) = ri.max_force_change {
-            implicit.max_force_change = c.positive("implicit.max_force_change", m)?;
-        }
-        if let Some(n) = ri.event_substeps {
-            if !(1..=1000).contains(&n) {
-                return Err(c.err(
-                    "implicit.event_substeps",
-                    format!("must be an integer from 1 (off) to 1000, got {n}"),
-                ));
-            }
-            implicit.event_substeps = n as usize;
-        }
-        if let Some(r) = ri.event_force_change {
-            implicit.event_force_change = c.positive("implicit.event_force_change", r)?;
-        }
-    }
-
-    // [explicit]
-    let mut explicit = ExplicitSettings::default();
-    if let Some(re) = raw.explicit {
-        if let Some(f) = re.safety_factor {
-            if !(f.is_finite() && f > 0.0 && f <= 1.0) {
-                return Err(c.err(
-                    "explicit.safety_factor",
-                    format!("must be in (0, 1], got {f}"),
-                ));
-            }
-            explicit.safety_factor = f;
-        }
-        if let Some(n) = re.max_iterations {
-            if n < 1 {
-                return Err(c.err("explicit.max_iterations", format!("must be >= 1, got {n}")));
-            }
-            explicit.max_iterations = n as usize;
-        }
-        if let Some(t) = re.tolerance {
-            explicit.tolerance = c.positive("explicit.tolerance", t)?;
-        }
-        if let Some(a) = re.allow_unstable {
-            explicit.allow_unstable = a;
-        }
-    }
-
-    // [[material]]
-    let mut materials = Vec::with_capacity(raw.material.len());
-    for (i, m) in raw.material.iter().enumerate() {
-        let key = |k: &str| format!("material[{i}].{k} (material `{}`)", m.name);
-        if raw.material[..i].iter().any(|o| o.name == m.name) {
-            return Err(c.err(key("name"), "is used by an earlier material"));
-        }
-        let density = c.positive(&key("density"), m.density)?;
-        let youngs_modulus = c.positive(&key("youngs_modulus"), m.youngs_modulus)?;
-        let c2 = youngs_modulus / density;
-        if !c2.is_normal() {
-            return Err(c.err(
-                key("youngs_modulus"),
-                format!(
-                    "with density {density:e} gives a wave speed sqrt(E/rho) = {:e}, which is no usable number (check the units of both)",
-                    c2.sqrt()
-                ),
-            ));
-        }
-        let nu = m.poissons_ratio;
-        if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
-            return Err(c.err(
-                key("poissons_ratio"),
-                format!("must lie in (-1, 0.5) for a stable isotropic solid, got {nu}"),
-            ));
-        }
-        materials.push(Material {
-            name: m.name.clone(),
-            density,
-            youngs_modulus,
-            poissons_ratio: nu,
-        });
-    }
-
-    // [[body]]
-    if raw.body.is_empty() {
-        return Err(c.err("body", "the scene has no [[body]]"));
-    }
-    let mut bodies = Vec::with_capacity(raw.body.len());
-    for (i, b) in raw.body.iter().enumerate() {
-        let key = |k: &str| format!("body[{i}].{k} (body `{}`)", b.name);
-        if raw.body[..i].iter().any(|o| o.name == b.name) {
-            return Err(c.err(key("name"), "is used by an earlier body"));
-        }
-        let material = materials
-            .iter()
-            .position(|m| m.name == b.material)
-            .ok_or_else(|| {
-                let known: Vec<&str> = materials.iter().map(|m| m.name.as_str()).collect();
-                let hint = closest(&b.material, known.iter().copied())
-                    .map(|s| format!(" (did you mean `{s}`?)"))
-                    .unwrap_or_default();
-                c.err(
-                    key("material"),
-                    format!(
-                        "no [[material]] named `{}`; the materials are {known:?}{hint}",
-                        b.material
-                    ),
-                )
-            })?;
-        let shape = match (&b.box_, &b.mesh) {
-            (Some(bx), None) => {
-                if b.scale.is_some() || b.translate.is_some() {
-                    return Err(c.err(
-                        key(if b.scale.is_some() { "scale" } else { "translate" }),
-                        "applies to `mesh` files only; a box is placed by box.min and box.max",
-                    ));
-                }
-                BodyShape::Box(c.box_spec(&key, bx)?)
-            }
-            (None, Some(file)) => {
-                let scale = c.positive(&key("scale"), b.scale.unwrap_or(1.0))?;
-                let translate = c.finite3(&key("translate"), b.translate.unwrap_or([0.0; 3]))?;
-                let file_path = path
-                    .parent()
-                    .map(|d| d.join(file))
-                    .unwrap_or_else(|| PathBuf::from(file));
-                if let Err(source) = std::fs::metadata(&file_path) {
-                    return Err(ImpactError::MeshFile {
-                        scene: path.to_path_buf(),
-                        key: key("mesh"),
-                        path: file_path,
-                        source,
-                    });
-                }
-                let parts = crate::mesh::import(&file_path, scale, translate)?;
-                BodyShape::Imported {
-                    path: file_path,
-                    parts: Arc::new(parts),
-                }
-            }
-            _ => {
-                return Err(c.err(
-                    key("box"),
-                    "give exactly one of `box` (a structured hex8 block) or `mesh` (a .msh or .inp file)",
-                ))
-            }
-        };
-        let velocity = c.finite3(&key("velocity"), b.velocity.unwrap_or([0.0; 3]))?;
-        bodies.push(BodySpec {
-            name: b.name.clone(),
-            material,
-            shape,
-            velocity,
-        });
-    }
-
-    // [[contact]]
-    let mut contacts = Vec::new();
-    for (i, ct) in raw.contact.iter().enumerate() {
-        let key = |k: &str| format!("contact[{i}].{k} (contact `{}`)", ct.name);
-        let secondary = c.surface_ref(&key, "secondary", &ct.secondary, &raw.body, &bodies)?;
-        let primary = c.surface_ref(&key, "primary", &ct.primary, &raw.body, &bodies)?;
-        if let BodyShape::Imported { parts, .. } = &bodies[primary.body].shape {
-            let faces = &parts.surfaces[primary.surface].faces;
-            if faces.iter().any(crate::mesh::is_triangle) {
-                return Err(c.err(
-                    key("primary.surface"),
-                    "the primary surface has triangular faces (tet4 boundary); primary surfaces must be made of quadrilaterals for now: use the tet4 body as the secondary side, or a rigid plane",
+        if let Some(dt) = time_step {
+            if dt > end_time {
+                return Err(self.err(
+                    "run.time_step",
+                    format!("{dt} is longer than run.end_time = {end_time}"),
                 ));
             }
         }
-        if secondary.body == primary.body {
-            return Err(c.err(
-                key("primary.body"),
-                "self-contact (secondary and primary on the same body) is not supported",
-            ));
-        }
-        contacts.push(ContactSpec {
-            name: ct.name.clone(),
-            secondary,
-            primary,
-            friction: c.friction(&key("friction"), ct.friction)?,
-            initial_penetration: c.choice(
-                &key("initial_penetration"),
-                ct.initial_penetration.as_deref(),
-                PenetrationPolicy::Error,
-                &PenetrationPolicy::NAMES,
-            )?,
-        });
-    }
-
-    // [[rigid_plane]]
-    let mut planes = Vec::new();
-    for (i, p) in raw.rigid_plane.iter().enumerate() {
-        let key = |k: &str| format!("rigid_plane[{i}].{k} (plane `{}`)", p.name);
-        let point = c.finite3(&key("point"), p.point)?;
-        let n = c.finite3(&key("normal"), p.normal)?;
-        let len = norm3(n);
-        if len < 1e-12 {
-            return Err(c.err(key("normal"), "must not be the zero vector"));
-        }
-        let bodies_idx = match &p.bodies {
-            None => (0..bodies.len()).collect(),
-            Some(names) => names
-                .iter()
-                .map(|nm| c.body_index(&key("bodies"), nm, &raw.body))
-                .collect::<Result<Vec<_>>>()?,
-        };
-        planes.push(PlaneSpec {
-            name: p.name.clone(),
-            point,
-            normal: [n[0] / len, n[1] / len, n[2] / len],
-            friction: c.friction(&key("friction"), p.friction)?,
-            bodies: bodies_idx,
-            initial_penetration: c.choice(
-                &key("initial_penetration"),
-                p.initial_penetration.as_deref(),
-                PenetrationPolicy::Error,
-                &PenetrationPolicy::NAMES,
-            )?,
-        });
-    }
-
-    // names of contacts and planes share the history's column namespace
-    let mut names: Vec<&str> = Vec::new();
-    for (kind, nm) in contacts
-        .iter()
-        .map(|x| ("contact", x.name.as_str()))
-        .chain(planes.iter().map(|x| ("rigid_plane", x.name.as_str())))
-    {
-        if names.contains(&nm) {
-            return Err(c.err(
-                format!("{kind}.name"),
-                format!("`{nm}` is used twice among contacts and rigid planes"),
-            ));
-        }
-        names.push(nm);
-    }
-
-    // [[fix]]
-    let mut fixes = Vec::new();
-    for (i, f) in raw.fix.iter().enumerate() {
-        let key = |k: &str| format!("fix[{i}].{k}");
-        let body = c.body_index(&key("body"), &f.body, &raw.body)?;
-        let nodes = match (&f.face, &f.set, &f.region) {
-            (Some(face), None, None) => {
-                NodeSelection::Surface(c.face_of(&key("face"), face, &bodies[body])?)
-            }
-            (None, Some(set), None) => c.node_set(&key("set"), set, &bodies[body])?,
-            (None, None, Some(r)) => NodeSelection::Region {
-                min: c.finite3(&key("region.min"), r.min)?,
-                max: c.finite3(&key("region.max"), r.max)?,
-            },
-            _ => return Err(c.err(key("face"), "give exactly one of `face`, `set` or `region`")),
-        };
-        let mut components = [false; 3];
-        if f.components.is_empty() {
-            return Err(c.err(
-                key("components"),
-                "must name at least one of \"x\" \"y\" \"z\"",
-            ));
-        }
-        for comp in &f.components {
-            let a = match comp.as_str() {
-                "x" => 0,
-                "y" => 1,
-                "z" => 2,
-                other => {
-                    return Err(c.err(
-                        key("components"),
-                        format!("unknown component `{other}`, expected \"x\", \"y\" or \"z\""),
-                    ))
-                }
-            };
-            components[a] = true;
-        }
-        fixes.push(FixSpec {
-            body,
-            nodes,
-            components,
-        });
-    }
-
-    // [[probe]]
-    let mut probes = Vec::new();
-    for (i, p) in raw.probe.iter().enumerate() {
-        let key = |k: &str| format!("probe[{i}].{k} (probe `{}`)", p.name);
-        if raw.probe[..i].iter().any(|o| o.name == p.name) {
-            return Err(c.err(
-                key("name"),
-                "is used by an earlier probe (each probe names its own history columns)",
-            ));
-        }
-        probes.push(ProbeSpec {
-            name: p.name.clone(),
-            body: c.body_index(&key("body"), &p.body, &raw.body)?,
-            point: c.finite3(&key("point"), p.point)?,
-        });
-    }
-
-    let mut exact = Vec::new();
-    for (i, e) in raw.exact.iter().enumerate() {
-        let key = format!("exact[{i}].points");
-        if e.points.len() < 2 {
-            return Err(c.err(&key, "needs at least two [time, value] points"));
-        }
-        for (k, p) in e.points.iter().enumerate() {
-            if !(p[0].is_finite() && p[1].is_finite()) {
-                return Err(c.err(&key, format!("point {k} is not finite")));
-            }
-            if k > 0 && p[0] < e.points[k - 1][0] {
-                return Err(c.err(&key, format!("times must not decrease (point {k})")));
-            }
-        }
-        exact.push(ExactCurve {
-            column: e.column.clone(),
-            points: e.points.clone(),
-            label: e.label.clone().unwrap_or_else(|| "exact".into()),
-        });
-    }
-    let (output_dir, vtu_every, checkpoint_every) = match raw.output {
-        Some(o) => (o.dir, o.vtu_every, o.checkpoint_every),
-        None => (None, None, None),
-    };
-    let checkpoint_every = match checkpoint_every {
-        Some(n) if n < 1 => {
-            return Err(c.err(
-                "output.checkpoint_every",
-                format!("must be >= 1 (a checkpoint every n steps), got {n}"),
-            ))
-        }
-        Some(n) => Some(n as usize),
-        None => None,
-    };
-    let vtu_every = match vtu_every {
-        Some(n) if n < 1 => {
-            return Err(c.err(
-                "output.vtu_every",
-                format!("must be >= 1 (a frame every n steps), got {n}"),
-            ))
-        }
-        Some(n) => Some(n as usize),
-        None => None,
-    };
-    let output_dir = match output_dir {
-        Some(d) if d.trim().is_empty() => return Err(c.err("output.dir", "must not be empty")),
-        Some(d) => PathBuf::from(d),
-        None => {
-            let stem = path
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_else(|| "scene".into());
-            PathBuf::from("results").join(stem)
-        }
-    };
-
-    Ok(Scene {
-        path: path.to_path_buf(),
-        title: raw.title.unwrap_or_default(),
-        gravity: c.finite3("gravity", raw.gravity.unwrap_or([0.0; 3]))?,
-        run: RunSettings {
+        Ok(RunSettings {
             end_time,
             time_step,
             method,
             device,
             energy_tolerance,
-        },
+        })
+    }
+
+    /// `[implicit]`: Newmark and the augmented Lagrange iteration.
+    fn implicit(&self, raw: Option<RawImplicit>) -> Result<ImplicitSettings> {
+        let mut implicit = ImplicitSettings::default();
+        if let Some(ri) = raw {
+            if let Some(b) = ri.beta {
+                if !(b.is_finite() && b > 0.0 && b <= 0.5) {
+                    return Err(self.err("implicit.beta", format!("must be in (0, 0.5], got {b}")));
+                }
+                implicit.beta = b;
+            }
+            if let Some(g) = ri.gamma {
+                if !(g.is_finite() && (0.5..=1.0).contains(&g)) {
+                    return Err(self.err("implicit.gamma", format!("must be in [0.5, 1], got {g}")));
+                }
+                implicit.gamma = g;
+            }
+            if 2.0 * implicit.beta < implicit.gamma - 1e-12 {
+                return Err(self.err(
+                    "implicit.beta",
+                    format!(
+                        "beta = {} with gamma = {} is only conditionally stable; the implicit path needs 2 beta >= gamma",
+                        implicit.beta, implicit.gamma
+                    ),
+                ));
+            }
+            implicit.constraint = self.choice(
+                "implicit.constraint",
+                ri.constraint.as_deref(),
+                Constraint::GapRate,
+                &[("gap_rate", Constraint::GapRate), ("gap", Constraint::Gap)],
+            )?;
+            implicit.penalty = self.choice(
+                "implicit.penalty",
+                ri.penalty.as_deref(),
+                PenaltyLaw::Adaptive,
+                &[
+                    ("adaptive", PenaltyLaw::Adaptive),
+                    ("fixed", PenaltyLaw::Fixed),
+                ],
+            )?;
+            implicit.mass = self.choice(
+                "implicit.mass",
+                ri.mass.as_deref(),
+                MassKind::Consistent,
+                &[
+                    ("lumped", MassKind::Lumped),
+                    ("consistent", MassKind::Consistent),
+                ],
+            )?;
+            implicit.ordering = self.choice(
+                "implicit.ordering",
+                ri.ordering.as_deref(),
+                Ordering::default(),
+                &Ordering::CHOICES,
+            )?;
+            implicit.acceleration = self.choice(
+                "implicit.acceleration",
+                ri.acceleration.as_deref(),
+                Acceleration::Anderson,
+                &[
+                    ("anderson", Acceleration::Anderson),
+                    ("none", Acceleration::None),
+                ],
+            )?;
+            if let Some(e) = ri.penalty_normal {
+                implicit.penalty_normal = Some(self.positive("implicit.penalty_normal", e)?);
+            }
+            if let Some(e) = ri.penalty_tangential {
+                implicit.penalty_tangential =
+                    Some(self.positive("implicit.penalty_tangential", e)?);
+            }
+            if let Some(n) = ri.max_iterations {
+                if n < 1 {
+                    return Err(
+                        self.err("implicit.max_iterations", format!("must be >= 1, got {n}"))
+                    );
+                }
+                implicit.max_iterations = n as usize;
+            }
+            if let Some(t) = ri.tolerance {
+                implicit.tolerance = self.positive("implicit.tolerance", t)?;
+            }
+            if let Some(m) = ri.max_gap_rate {
+                implicit.max_gap_rate = Some(self.positive("implicit.max_gap_rate", m)?);
+            }
+            if let Some(m) = ri.max_force_change {
+                implicit.max_force_change = self.positive("implicit.max_force_change", m)?;
+            }
+            if let Some(n) = ri.event_substeps {
+                if !(1..=1000).contains(&n) {
+                    return Err(self.err(
+                        "implicit.event_substeps",
+                        format!("must be an integer from 1 (off) to 1000, got {n}"),
+                    ));
+                }
+                implicit.event_substeps = n as usize;
+            }
+            if let Some(r) = ri.event_force_change {
+                implicit.event_force_change = self.positive("implicit.event_force_change", r)?;
+            }
+        }
+        Ok(implicit)
+    }
+
+    /// `[explicit]`: the step's safety factor and the contact sweeps.
+    fn explicit(&self, raw: Option<RawExplicit>) -> Result<ExplicitSettings> {
+        let mut explicit = ExplicitSettings::default();
+        if let Some(re) = raw {
+            if let Some(f) = re.safety_factor {
+                if !(f.is_finite() && f > 0.0 && f <= 1.0) {
+                    return Err(self.err(
+                        "explicit.safety_factor",
+                        format!("must be in (0, 1], got {f}"),
+                    ));
+                }
+                explicit.safety_factor = f;
+            }
+            if let Some(n) = re.max_iterations {
+                if n < 1 {
+                    return Err(
+                        self.err("explicit.max_iterations", format!("must be >= 1, got {n}"))
+                    );
+                }
+                explicit.max_iterations = n as usize;
+            }
+            if let Some(t) = re.tolerance {
+                explicit.tolerance = self.positive("explicit.tolerance", t)?;
+            }
+            if let Some(a) = re.allow_unstable {
+                explicit.allow_unstable = a;
+            }
+        }
+        Ok(explicit)
+    }
+
+    /// `[[material]]`: names and elastic constants.
+    fn materials(&self, raw: &[RawMaterial]) -> Result<Vec<Material>> {
+        let mut materials = Vec::with_capacity(raw.len());
+        for (i, m) in raw.iter().enumerate() {
+            let key = |k: &str| format!("material[{i}].{k} (material `{}`)", m.name);
+            if raw[..i].iter().any(|o| o.name == m.name) {
+                return Err(self.err(key("name"), "is used by an earlier material"));
+            }
+            let density = self.positive(&key("density"), m.density)?;
+            let youngs_modulus = self.positive(&key("youngs_modulus"), m.youngs_modulus)?;
+            let c2 = youngs_modulus / density;
+            if !c2.is_normal() {
+                return Err(self.err(
+                    key("youngs_modulus"),
+                    format!(
+                        "with density {density:e} gives a wave speed sqrt(E/rho) = {:e}, which is no usable number (check the units of both)",
+                        c2.sqrt()
+                    ),
+                ));
+            }
+            let nu = m.poissons_ratio;
+            if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
+                return Err(self.err(
+                    key("poissons_ratio"),
+                    format!("must lie in (-1, 0.5) for a stable isotropic solid, got {nu}"),
+                ));
+            }
+            materials.push(Material {
+                name: m.name.clone(),
+                density,
+                youngs_modulus,
+                poissons_ratio: nu,
+            });
+        }
+        Ok(materials)
+    }
+
+    /// `[[body]]`: boxes and mesh files, their materials and velocities.
+    fn bodies(&self, raw: &[RawBody], materials: &[Material]) -> Result<Vec<BodySpec>> {
+        if raw.is_empty() {
+            return Err(self.err("body", "the scene has no [[body]]"));
+        }
+        let mut bodies = Vec::with_capacity(raw.len());
+        for (i, b) in raw.iter().enumerate() {
+            let key = |k: &str| format!("body[{i}].{k} (body `{}`)", b.name);
+            if raw[..i].iter().any(|o| o.name == b.name) {
+                return Err(self.err(key("name"), "is used by an earlier body"));
+            }
+            let material = materials
+                .iter()
+                .position(|m| m.name == b.material)
+                .ok_or_else(|| {
+                    let known: Vec<&str> = materials.iter().map(|m| m.name.as_str()).collect();
+                    let hint = closest(&b.material, known.iter().copied())
+                        .map(|s| format!(" (did you mean `{s}`?)"))
+                        .unwrap_or_default();
+                    self.err(
+                        key("material"),
+                        format!(
+                            "no [[material]] named `{}`; the materials are {known:?}{hint}",
+                            b.material
+                        ),
+                    )
+                })?;
+            let shape = match (&b.box_, &b.mesh) {
+                (Some(bx), None) => {
+                    if b.scale.is_some() || b.translate.is_some() {
+                        return Err(self.err(
+                            key(if b.scale.is_some() { "scale" } else { "translate" }),
+                            "applies to `mesh` files only; a box is placed by box.min and box.max",
+                        ));
+                    }
+                    BodyShape::Box(self.box_spec(&key, bx)?)
+                }
+                (None, Some(file)) => {
+                    let scale = self.positive(&key("scale"), b.scale.unwrap_or(1.0))?;
+                    let translate = self.finite3(&key("translate"), b.translate.unwrap_or([0.0; 3]))?;
+                    let file_path = self.path
+                        .parent()
+                        .map(|d| d.join(file))
+                        .unwrap_or_else(|| PathBuf::from(file));
+                    if let Err(source) = std::fs::metadata(&file_path) {
+                        return Err(ImpactError::MeshFile {
+                            scene: self.path.to_path_buf(),
+                            key: key("mesh"),
+                            path: file_path,
+                            source,
+                        });
+                    }
+                    let parts = crate::mesh::import(&file_path, scale, translate)?;
+                    BodyShape::Imported {
+                        path: file_path,
+                        parts: Arc::new(parts),
+                    }
+                }
+                _ => {
+                    return Err(self.err(
+                        key("box"),
+                        "give exactly one of `box` (a structured hex8 block) or `mesh` (a .msh or .inp file)",
+                    ))
+                }
+            };
+            let velocity = self.finite3(&key("velocity"), b.velocity.unwrap_or([0.0; 3]))?;
+            bodies.push(BodySpec {
+                name: b.name.clone(),
+                material,
+                shape,
+                velocity,
+            });
+        }
+        Ok(bodies)
+    }
+
+    /// `[[contact]]`: the secondary and primary surfaces of each body pair.
+    fn contacts(
+        &self,
+        raw: &[RawContact],
+        raw_bodies: &[RawBody],
+        bodies: &[BodySpec],
+    ) -> Result<Vec<ContactSpec>> {
+        let mut contacts = Vec::new();
+        for (i, ct) in raw.iter().enumerate() {
+            let key = |k: &str| format!("contact[{i}].{k} (contact `{}`)", ct.name);
+            let secondary =
+                self.surface_ref(&key, "secondary", &ct.secondary, raw_bodies, &bodies)?;
+            let primary = self.surface_ref(&key, "primary", &ct.primary, raw_bodies, &bodies)?;
+            if let BodyShape::Imported { parts, .. } = &bodies[primary.body].shape {
+                let faces = &parts.surfaces[primary.surface].faces;
+                if faces.iter().any(crate::mesh::is_triangle) {
+                    return Err(self.err(
+                        key("primary.surface"),
+                        "the primary surface has triangular faces (tet4 boundary); primary surfaces must be made of quadrilaterals for now: use the tet4 body as the secondary side, or a rigid plane",
+                    ));
+                }
+            }
+            if secondary.body == primary.body {
+                return Err(self.err(
+                    key("primary.body"),
+                    "self-contact (secondary and primary on the same body) is not supported",
+                ));
+            }
+            contacts.push(ContactSpec {
+                name: ct.name.clone(),
+                secondary,
+                primary,
+                friction: self.friction(&key("friction"), ct.friction)?,
+                initial_penetration: self.choice(
+                    &key("initial_penetration"),
+                    ct.initial_penetration.as_deref(),
+                    PenetrationPolicy::Error,
+                    &PenetrationPolicy::NAMES,
+                )?,
+            });
+        }
+        Ok(contacts)
+    }
+
+    /// `[[rigid_plane]]`: analytic planes and the bodies they hold.
+    fn planes(
+        &self,
+        raw: &[RawPlane],
+        raw_bodies: &[RawBody],
+        n_bodies: usize,
+    ) -> Result<Vec<PlaneSpec>> {
+        let mut planes = Vec::new();
+        for (i, p) in raw.iter().enumerate() {
+            let key = |k: &str| format!("rigid_plane[{i}].{k} (plane `{}`)", p.name);
+            let point = self.finite3(&key("point"), p.point)?;
+            let n = self.finite3(&key("normal"), p.normal)?;
+            let len = norm3(n);
+            if len < 1e-12 {
+                return Err(self.err(key("normal"), "must not be the zero vector"));
+            }
+            let bodies_idx = match &p.bodies {
+                None => (0..n_bodies).collect(),
+                Some(names) => names
+                    .iter()
+                    .map(|nm| self.body_index(&key("bodies"), nm, raw_bodies))
+                    .collect::<Result<Vec<_>>>()?,
+            };
+            planes.push(PlaneSpec {
+                name: p.name.clone(),
+                point,
+                normal: [n[0] / len, n[1] / len, n[2] / len],
+                friction: self.friction(&key("friction"), p.friction)?,
+                bodies: bodies_idx,
+                initial_penetration: self.choice(
+                    &key("initial_penetration"),
+                    p.initial_penetration.as_deref(),
+                    PenetrationPolicy::Error,
+                    &PenetrationPolicy::NAMES,
+                )?,
+            });
+        }
+        Ok(planes)
+    }
+
+    /// Contacts and planes name history columns, so their names are unique together.
+    fn unique_interface_names(&self, contacts: &[ContactSpec], planes: &[PlaneSpec]) -> Result<()> {
+        let mut names: Vec<&str> = Vec::new();
+        for (kind, nm) in contacts
+            .iter()
+            .map(|x| ("contact", x.name.as_str()))
+            .chain(planes.iter().map(|x| ("rigid_plane", x.name.as_str())))
+        {
+            if names.contains(&nm) {
+                return Err(self.err(
+                    format!("{kind}.name"),
+                    format!("`{nm}` is used twice among contacts and rigid planes"),
+                ));
+            }
+            names.push(nm);
+        }
+        Ok(())
+    }
+
+    /// `[[fix]]`: held components of a face, a node set or a region.
+    fn fixes(
+        &self,
+        raw: &[RawFix],
+        raw_bodies: &[RawBody],
+        bodies: &[BodySpec],
+    ) -> Result<Vec<FixSpec>> {
+        let mut fixes = Vec::new();
+        for (i, f) in raw.iter().enumerate() {
+            let key = |k: &str| format!("fix[{i}].{k}");
+            let body = self.body_index(&key("body"), &f.body, raw_bodies)?;
+            let nodes = match (&f.face, &f.set, &f.region) {
+                (Some(face), None, None) => {
+                    NodeSelection::Surface(self.face_of(&key("face"), face, &bodies[body])?)
+                }
+                (None, Some(set), None) => self.node_set(&key("set"), set, &bodies[body])?,
+                (None, None, Some(r)) => NodeSelection::Region {
+                    min: self.finite3(&key("region.min"), r.min)?,
+                    max: self.finite3(&key("region.max"), r.max)?,
+                },
+                _ => {
+                    return Err(
+                        self.err(key("face"), "give exactly one of `face`, `set` or `region`")
+                    )
+                }
+            };
+            let mut components = [false; 3];
+            if f.components.is_empty() {
+                return Err(self.err(
+                    key("components"),
+                    "must name at least one of \"x\" \"y\" \"z\"",
+                ));
+            }
+            for comp in &f.components {
+                let a = match comp.as_str() {
+                    "x" => 0,
+                    "y" => 1,
+                    "z" => 2,
+                    other => {
+                        return Err(self.err(
+                            key("components"),
+                            format!("unknown component `{other}`, expected \"x\", \"y\" or \"z\""),
+                        ))
+                    }
+                };
+                components[a] = true;
+            }
+            fixes.push(FixSpec {
+                body,
+                nodes,
+                components,
+            });
+        }
+        Ok(fixes)
+    }
+
+    /// `[[probe]]`: named points whose motion the history records.
+    fn probes(&self, raw: &[RawProbe], raw_bodies: &[RawBody]) -> Result<Vec<ProbeSpec>> {
+        let mut probes = Vec::new();
+        for (i, p) in raw.iter().enumerate() {
+            let key = |k: &str| format!("probe[{i}].{k} (probe `{}`)", p.name);
+            if raw[..i].iter().any(|o| o.name == p.name) {
+                return Err(self.err(
+                    key("name"),
+                    "is used by an earlier probe (each probe names its own history columns)",
+                ));
+            }
+            probes.push(ProbeSpec {
+                name: p.name.clone(),
+                body: self.body_index(&key("body"), &p.body, raw_bodies)?,
+                point: self.finite3(&key("point"), p.point)?,
+            });
+        }
+        Ok(probes)
+    }
+
+    /// `[[exact]]`: exact curves drawn with a history column.
+    fn exact_curves(&self, raw: &[RawExact]) -> Result<Vec<ExactCurve>> {
+        let mut exact = Vec::new();
+        for (i, e) in raw.iter().enumerate() {
+            let key = format!("exact[{i}].points");
+            if e.points.len() < 2 {
+                return Err(self.err(&key, "needs at least two [time, value] points"));
+            }
+            for (k, p) in e.points.iter().enumerate() {
+                if !(p[0].is_finite() && p[1].is_finite()) {
+                    return Err(self.err(&key, format!("point {k} is not finite")));
+                }
+                if k > 0 && p[0] < e.points[k - 1][0] {
+                    return Err(self.err(&key, format!("times must not decrease (point {k})")));
+                }
+            }
+            exact.push(ExactCurve {
+                column: e.column.clone(),
+                points: e.points.clone(),
+                label: e.label.clone().unwrap_or_else(|| "exact".into()),
+            });
+        }
+        Ok(exact)
+    }
+
+    /// `[output]`: the folder, the VTU frame and checkpoint intervals.
+    fn output(&self, raw: Option<RawOutput>) -> Result<(PathBuf, Option<usize>, Option<usize>)> {
+        let (output_dir, vtu_every, checkpoint_every) = match raw {
+            Some(o) => (o.dir, o.vtu_every, o.checkpoint_every),
+            None => (None, None, None),
+        };
+        let checkpoint_every = match checkpoint_every {
+            Some(n) if n < 1 => {
+                return Err(self.err(
+                    "output.checkpoint_every",
+                    format!("must be >= 1 (a checkpoint every n steps), got {n}"),
+                ))
+            }
+            Some(n) => Some(n as usize),
+            None => None,
+        };
+        let vtu_every = match vtu_every {
+            Some(n) if n < 1 => {
+                return Err(self.err(
+                    "output.vtu_every",
+                    format!("must be >= 1 (a frame every n steps), got {n}"),
+                ))
+            }
+            Some(n) => Some(n as usize),
+            None => None,
+        };
+        let output_dir = match output_dir {
+            Some(d) if d.trim().is_empty() => {
+                return Err(self.err("output.dir", "must not be empty"))
+            }
+            Some(d) => PathBuf::from(d),
+            None => {
+                let stem = self
+                    .path
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "scene".into());
+                PathBuf::from("results").join(stem)
+            }
+        };
+        Ok((output_dir, vtu_every, checkpoint_every))
+    }
+}
+
+pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
+    let c = Checker { path };
+    let run = c.run(raw.run)?;
+    let implicit = c.implicit(raw.implicit)?;
+    let explicit = c.explicit(raw.explicit)?;
+    let materials = c.materials(&raw.material)?;
+    let bodies = c.bodies(&raw.body, &materials)?;
+    let contacts = c.contacts(&raw.contact, &raw.body, &bodies)?;
+    let planes = c.planes(&raw.rigid_plane, &raw.body, bodies.len())?;
+    c.unique_interface_names(&contacts, &planes)?;
+    let fixes = c.fixes(&raw.fix, &raw.body, &bodies)?;
+    let probes = c.probes(&raw.probe, &raw.body)?;
+    let exact = c.exact_curves(&raw.exact)?;
+    let (output_dir, vtu_every, checkpoint_every) = c.output(raw.output)?;
+    Ok(Scene {
+        path: path.to_path_buf(),
+        title: raw.title.unwrap_or_default(),
+        gravity: c.finite3("gravity", raw.gravity.unwrap_or([0.0; 3]))?,
+        run,
         implicit,
         explicit,
         materials,
