@@ -271,7 +271,7 @@ pub fn explicit_time_step(scene: &Scene, (stable, element): (f64, usize)) -> Res
 }
 
 /// The cost of one implicit step in explicit steps of the same mesh, from this project's
-/// benchmarks on one machine (README, "Performance"): 95 at 3,072 elements and 180 at 18,000
+/// benchmarks on one machine (`docs/performance.md`, "The implicit step"): 95 at 3,072 elements and 180 at 18,000
 /// (a factorised solve pair per contact iteration, about 15 iterations, against one element
 /// sweep), so $K(n) = 95\,(n / 3072)^{0.36}$.
 pub fn implicit_step_cost(elements: usize) -> f64 {

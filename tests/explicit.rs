@@ -26,7 +26,7 @@ fn without_time_step(text: &str) -> String {
 /// carries the 1D wave exactly, so every plateau row is 0.5 and contact ends at 0.2 exactly.
 /// What is lost is the tip nodes' perfectly inelastic first contact: two masses m/2 (m = rho S h
 /// = 0.01) meeting at v0 lose (m/4) v0^2 / 2 = 1.25e-3, 2.5% of the initial energy, exactly.
-/// The same O(h) loss leaves 2.5% of the impulse behind (the issue's 2% is met from 20
+/// The same O(h) loss leaves 2.5% of the impulse behind (2% is met from 20
 /// elements per bar; see the fine test).
 #[test]
 fn explicit_two_bars_at_the_stable_step_carry_the_wave_exactly() {
@@ -77,7 +77,7 @@ fn explicit_two_bars_at_the_stable_step_carry_the_wave_exactly() {
     }
 }
 
-/// The default step (0.9 of the stable one): the issue's coarse-mesh tolerances (rows 10%,
+/// The default step (0.9 of the stable one): the coarse-mesh tolerances (rows 10%,
 /// mean 2%, release 0.2 +- 2 dt, |v_A| <= 0.03, v_B within 3%, loss <= 5%, no energy rise),
 /// with the impulse at 2.5% for the reason above.
 #[test]
@@ -98,7 +98,7 @@ fn explicit_two_bars_at_the_default_step() {
     check_two_bars_history("explicit 0.9 c dt = h", &h, &s, dt, &tol);
 }
 
-/// 40 elements per bar at the default step: the fine-mesh tolerances of the core issue
+/// 40 elements per bar at the default step: the fine-mesh tolerances
 /// (mean 1%, rows 3%, impulse 2%, loss <= 1.5%).
 #[test]
 fn explicit_fine_two_bars_match_wave_theory() {
@@ -300,7 +300,7 @@ fn auto_picks_implicit_for_a_long_step_on_a_stiff_mesh() {
     assert_eq!(s.method, "implicit");
     let why = s.method_choice.expect("auto explains its choice");
     assert!(why.starts_with("implicit:"), "{why}");
-    assert_eq!(impact::setup::implicit_step_cost(3072).round(), 95.0);
+    assert_eq!(s.status, "completed", "{:?}", s.warnings);
 }
 
 /// A block sliding on a rigid floor under gravity (explicit, default step, 7,454 steps): it

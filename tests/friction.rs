@@ -189,7 +189,7 @@ fn events(h: &History, name: &str) -> (Option<f64>, Option<f64>) {
 
 /// The paper's example 2 as shipped: a regression pin on our own result (the contact slides
 /// until it ends at 0.032 s; the paper reports that sliding stops at 0.026 s and contact ends
-/// at 0.06 s, README and docs/method-notes.md say why they differ), plus the energy laws. A
+/// at 0.06 s, docs/validation.md and docs/method-notes.md say why they differ), plus the energy laws. A
 /// run at dt / 8 without event sub-steps also slides throughout and ends at 0.032 s.
 #[test]
 fn cube_on_plate_events_are_pinned() {

@@ -1,4 +1,4 @@
-//! Stability where methods fail (the atlas in miniature):
+//! Stability where methods fail (the study's atlas in miniature):
 //! - the classical gap constraint with the trapezoidal rule chatters on the two bars and
 //!   gains energy, worse on the finer mesh; the paper's gap-rate constraint does not;
 //! - a fixed penalty that is too large runs out of iterations and diverges, where the

@@ -19,7 +19,7 @@ use crate::error::{ImpactError, Result};
 /// hardware GPU when there is one. Smaller scenes stay on the CPU in f64: there the kernels
 /// cost less than a few milliseconds per iteration, and f64 keeps the contact iteration's
 /// convergence test at its tightest. Software adapters are never chosen by "auto": on the
-/// same cores they are slower than the CPU twins (README, kernel benchmark).
+/// same cores they are slower than the CPU twins (`docs/performance.md`, the kernel benchmark).
 pub const AUTO_GPU_MIN_ELEMENTS: usize = 20_000;
 
 /// What a user needs to know about one adapter.

@@ -572,8 +572,8 @@ impl Checker<'_> {
         for (i, ct) in raw.iter().enumerate() {
             let key = |k: &str| format!("contact[{i}].{k} (contact `{}`)", ct.name);
             let secondary =
-                self.surface_ref(&key, "secondary", &ct.secondary, raw_bodies, &bodies)?;
-            let primary = self.surface_ref(&key, "primary", &ct.primary, raw_bodies, &bodies)?;
+                self.surface_ref(&key, "secondary", &ct.secondary, raw_bodies, bodies)?;
+            let primary = self.surface_ref(&key, "primary", &ct.primary, raw_bodies, bodies)?;
             if let BodyShape::Imported { parts, .. } = &bodies[primary.body].shape {
                 let faces = &parts.surfaces[primary.surface].faces;
                 if faces.iter().any(crate::mesh::is_triangle) {
