@@ -417,6 +417,47 @@ fn kernels_are_deterministic() {
     );
 }
 
+/// The kernel table (`src/gpu/kernels.rs`) lists every shader once, with the shader's storage
+/// buffers in binding order after the `params` uniform at binding 0, and every kernel has its
+/// CPU twin `src/kernels/<name>.rs`. No adapter needed.
+#[test]
+fn the_kernel_table_matches_every_shader() {
+    let table = impact::gpu::kernels::TABLE;
+    let mut listed: Vec<&str> = table.iter().map(|(n, _)| *n).collect();
+    let mut shaders: Vec<&str> = impact::gpu::shaders::ALL.iter().map(|(n, _)| *n).collect();
+    listed.sort_unstable();
+    shaders.sort_unstable();
+    assert_eq!(
+        listed, shaders,
+        "the table and shaders/ list the same kernels"
+    );
+    for (name, buffers) in table {
+        let source = impact::gpu::shaders::source(name);
+        let module = naga::front::wgsl::parse_str(source).expect("every kernel parses");
+        let mut bindings: Vec<(u32, String)> = module
+            .global_variables
+            .iter()
+            .filter_map(|(_, g)| {
+                let b = g.binding.as_ref()?;
+                assert_eq!(b.group, 0, "{name}: every binding is in group 0");
+                Some((b.binding, g.name.clone().unwrap_or_default()))
+            })
+            .collect();
+        bindings.sort();
+        let expected: Vec<(u32, String)> = std::iter::once("params")
+            .chain(buffers.iter().copied())
+            .enumerate()
+            .map(|(i, n)| (i as u32, n.to_string()))
+            .collect();
+        assert_eq!(bindings, expected, "{name}: bindings against the table");
+        let twin = repo()
+            .join("src")
+            .join("kernels")
+            .join(format!("{name}.rs"));
+        assert!(twin.exists(), "{name}: no CPU twin at {}", twin.display());
+    }
+}
+
 /// The Rust buffer types have the sizes and field offsets naga computes for the WGSL structs.
 #[test]
 fn gpu_types_match_wgsl() {

@@ -22,23 +22,15 @@
 
 use std::ops::Range;
 
-use super::bucket_count::BucketCount;
-use super::bucket_fill::BucketFill;
-use super::bucket_order::BucketOrder;
 use super::buffer::{submit_and_read, Storage};
-use super::contact_apply::ContactApply;
-use super::contact_compliance::ContactCompliance;
-use super::contact_constraints::ContactConstraints;
-use super::contact_report::ContactReportKernel;
-use super::contact_sweep::ContactSweep;
-use super::contact_touches::ContactTouches;
 use super::context::GpuContext;
 use super::kernel::Launch;
-use super::prefix_sum::PrefixSum;
+use super::kernels::{
+    BucketCount, BucketFill, BucketOrder, ContactApply, ContactCompliance, ContactConstraints,
+    ContactReportKernel, ContactSweep, ContactTouches, PrefixSum, SearchBounds, SearchGridKernel,
+    SweepControl,
+};
 use super::search::GpuSearch;
-use super::search_bounds::SearchBounds;
-use super::search_grid::SearchGridKernel;
-use super::sweep_control::SweepControl;
 use super::types::{self, Split3};
 use crate::error::Result;
 use crate::kernels::plane_contact::SLOT;
@@ -233,147 +225,135 @@ impl ContactIteration {
         let item_count = nodes.max(nf) as u32;
         let launches = Launches {
             bounds: search.as_ref().map(|s| {
-                k.bounds.0.launch(
+                k.bounds.launch(
                     ctx,
                     item_count,
                     nodes as u32,
                     nf as u32,
-                    &[
-                        b.reference,
-                        b.displacement,
-                        b.velocity,
-                        s.faces_buffer(),
-                        &bounds.buffer,
-                    ],
+                    b.reference,
+                    b.displacement,
+                    b.velocity,
+                    s.faces_buffer(),
+                    &bounds.buffer,
                 )
             }),
             grid: search.as_ref().map(|s| {
-                k.grid.0.launch(
+                k.grid.launch(
                     ctx,
                     1,
                     s.mask(),
                     (setup.face_size as f32).to_bits(),
-                    &[b.step, &bounds.buffer, s.grid_buffer()],
+                    b.step,
+                    &bounds.buffer,
+                    s.grid_buffer(),
                 )
             }),
-            constraints: k.constraints.0.launch(
+            constraints: k.constraints.launch(
                 ctx,
                 np as u32,
                 nf as u32,
                 0,
-                &[
-                    b.step,
-                    grid_buf,
-                    b.reference,
-                    b.displacement,
-                    b.velocity,
-                    b.acceleration,
-                    &pairs.buffer,
-                    points_buf,
-                    faces_buf,
-                    &constraints.buffer,
-                    &keys.buffer,
-                ],
+                b.step,
+                grid_buf,
+                b.reference,
+                b.displacement,
+                b.velocity,
+                b.acceleration,
+                &pairs.buffer,
+                points_buf,
+                faces_buf,
+                &constraints.buffer,
+                &keys.buffer,
             ),
-            count: k.count.0.launch(
+            count: k.count.launch(
                 ctx,
                 np as u32,
                 0,
                 0,
-                &[&keys.buffer, &counts.buffer, &ranks.buffer],
+                &keys.buffer,
+                &counts.buffer,
+                &ranks.buffer,
             ),
-            prefix: k.prefix.0.launch(
-                ctx,
-                (nf + 1) as u32,
-                0,
-                0,
-                &[&counts.buffer, &starts.buffer],
-            ),
-            fill: k.fill.0.launch(
+            prefix: k
+                .prefix
+                .launch(ctx, (nf + 1) as u32, 0, 0, &counts.buffer, &starts.buffer),
+            fill: k.fill.launch(
                 ctx,
                 np as u32,
                 0,
                 0,
-                &[&keys.buffer, &ranks.buffer, &starts.buffer, &sorted.buffer],
+                &keys.buffer,
+                &ranks.buffer,
+                &starts.buffer,
+                &sorted.buffer,
             ),
             // the face buckets only: the sentinel bucket is never gathered
             order: k
                 .order
-                .0
-                .launch(ctx, nf as u32, 0, 0, &[&starts.buffer, &sorted.buffer]),
-            touches: k.touches.0.launch(
+                .launch(ctx, nf as u32, 0, 0, &starts.buffer, &sorted.buffer),
+            touches: k.touches.launch(
                 ctx,
                 nc as u32,
                 0,
                 0,
-                &[
-                    &cnodes.buffer,
-                    &links.buffer,
-                    &constraints.buffer,
-                    &starts.buffer,
-                    &sorted.buffer,
-                    &touches.buffer,
-                    &state.buffer,
-                ],
+                &cnodes.buffer,
+                &links.buffer,
+                &constraints.buffer,
+                &starts.buffer,
+                &sorted.buffer,
+                &touches.buffer,
+                &state.buffer,
             ),
-            compliance: k.compliance.0.launch(
+            compliance: k.compliance.launch(
                 ctx,
                 np as u32,
                 0,
                 0,
-                &[
-                    &constraints.buffer,
-                    &touches.buffer,
-                    b.lumped,
-                    &pairs.buffer,
-                ],
+                &constraints.buffer,
+                &touches.buffer,
+                b.lumped,
+                &pairs.buffer,
             ),
-            sweep: k.sweep.0.launch(
+            sweep: k.sweep.launch(
                 ctx,
                 np as u32,
                 ag[0],
                 ag[1],
-                &[
-                    b.step,
-                    &constraints.buffer,
-                    &pairs.buffer,
-                    b.velocity,
-                    &dj.buffer,
-                    &state.buffer,
-                    &args.buffer,
-                ],
+                b.step,
+                &constraints.buffer,
+                &pairs.buffer,
+                b.velocity,
+                &dj.buffer,
+                &state.buffer,
+                &args.buffer,
             ),
-            apply: k.apply.0.launch(
+            apply: k.apply.launch(
                 ctx,
                 nc as u32,
                 max_iterations,
                 (tolerance as f32).to_bits(),
-                &[
-                    &cnodes.buffer,
-                    &links.buffer,
-                    &constraints.buffer,
-                    &starts.buffer,
-                    &sorted.buffer,
-                    &dj.buffer,
-                    b.lumped,
-                    b.velocity,
-                    &state.buffer,
-                ],
+                &cnodes.buffer,
+                &links.buffer,
+                &constraints.buffer,
+                &starts.buffer,
+                &sorted.buffer,
+                &dj.buffer,
+                b.lumped,
+                b.velocity,
+                &state.buffer,
             ),
-            control: k.control.0.launch(ctx, 1, 0, 0, &[&state.buffer]),
-            report: k.report.0.launch(
+            control: k.control.launch(ctx, 1, 0, 0, &state.buffer),
+            report: k.report.launch(
                 ctx,
                 np as u32,
                 0,
                 0,
-                &[
-                    b.step,
-                    &constraints.buffer,
-                    &pairs.buffer,
-                    b.velocity,
-                    &state.buffer,
-                    &results.buffer,
-                ],
+                b.step,
+                &constraints.buffer,
+                &pairs.buffer,
+                b.velocity,
+                &state.buffer,
+                &results.buffer,
             ),
         };
         Ok(ContactIteration {

@@ -210,45 +210,39 @@ impl GpuKernels {
         let contact_gap = ContactGap::new(&ctx);
         let slip_rate = SlipRate::new(&ctx);
         let slots = corner_count as u32;
-        let hex8_launch = hex8_forces.0.launch(
+        let hex8_launch = hex8_forces.launch(
             &ctx,
             elements as u32,
             slots,
             0,
-            &[
-                &reference.buffer,
-                &u.buffer,
-                &hex_nodes.buffer,
-                &hex_material.buffer,
-                &materials.buffer,
-                &corners.buffer,
-            ],
+            &reference.buffer,
+            &u.buffer,
+            &hex_nodes.buffer,
+            &hex_material.buffer,
+            &materials.buffer,
+            &corners.buffer,
         );
-        let tet4_launch = tet4_forces.0.launch(
+        let tet4_launch = tet4_forces.launch(
             &ctx,
             tets_count as u32,
             slots,
             8 * elements as u32,
-            &[
-                &reference.buffer,
-                &u.buffer,
-                &tet_nodes.buffer,
-                &tet_material.buffer,
-                &materials.buffer,
-                &corners.buffer,
-            ],
+            &reference.buffer,
+            &u.buffer,
+            &tet_nodes.buffer,
+            &tet_material.buffer,
+            &materials.buffer,
+            &corners.buffer,
         );
-        let gather_launch = node_gather.0.launch(
+        let gather_launch = node_gather.launch(
             &ctx,
             nodes as u32,
             slots,
             0,
-            &[
-                &offsets.buffer,
-                &incidence.buffer,
-                &corners.buffer,
-                &forces.buffer,
-            ],
+            &offsets.buffer,
+            &incidence.buffer,
+            &corners.buffer,
+            &forces.buffer,
         );
         Ok(GpuKernels {
             ctx,

@@ -23,10 +23,7 @@ use super::buffer::{submit_and_read, Storage};
 use super::contact_iteration::{ContactIteration, ContactSetup, StepBuffers};
 use super::context::GpuContext;
 use super::engine::{at_least_one, GpuKernels};
-use super::explicit_correct::ExplicitCorrectBuffers;
-use super::history_reduce::HistoryReduceBuffers;
-use super::kernel::Launch;
-use super::plane_contact::PlaneContactBuffers;
+use super::kernel::{Launch, WORKGROUP};
 use super::types::{self, Split3};
 use super::{ExplicitCorrect, ExplicitDrift, ExplicitPredict, HistoryReduce, PlaneContact};
 use crate::error::{ImpactError, Result};
@@ -313,65 +310,69 @@ impl ResidentExplicit {
         let rows = Storage::new(ctx, "history.rows", (chunk_capacity * row_len * 4) as u64)?;
 
         let launches = Launches {
-            predict: predict.launch(ctx, 3 * nodes as u32, &step, &a.buffer, &k.v.buffer),
+            predict: predict.launch(ctx, 3 * nodes as u32, 0, 0, &step, &a.buffer, &k.v.buffer),
+            // Params.aux: the number of planes
             plane: (plane_node_count > 0).then(|| {
                 plane.launch(
                     ctx,
                     plane_node_count as u32,
                     plane_count as u32,
-                    &PlaneContactBuffers {
-                        step: &step,
-                        reference: &k.reference.buffer,
-                        displacement: &k.u.buffer,
-                        acceleration: &a.buffer,
-                        lumped: &lumped.buffer,
-                        planes: &planes.buffer,
-                        plane_nodes: &plane_nodes.buffer,
-                        velocity: &k.v.buffer,
-                        results: &results.buffer,
-                    },
+                    0,
+                    &step,
+                    &k.reference.buffer,
+                    &k.u.buffer,
+                    &a.buffer,
+                    &lumped.buffer,
+                    &planes.buffer,
+                    &plane_nodes.buffer,
+                    &k.v.buffer,
+                    &results.buffer,
                 )
             }),
-            drift: drift.launch(ctx, nodes as u32, &step, &k.v.buffer, &k.u.buffer),
+            drift: drift.launch(ctx, nodes as u32, 0, 0, &step, &k.v.buffer, &k.u.buffer),
             correct: setup
                 .bodies
                 .iter()
                 .zip(&groups)
                 .map(|(b, &(base, _))| {
+                    // a body's nodes: Params.aux its first node, aux2 its first workgroup slot
+                    // of the partial sums
                     correct.launch(
                         ctx,
-                        b.start as u32,
                         b.len() as u32,
+                        b.start as u32,
                         base,
-                        &ExplicitCorrectBuffers {
-                            step: &step,
-                            displacement: &k.u.buffer,
-                            forces: &k.forces.buffer,
-                            lumped: &lumped.buffer,
-                            velocity: &k.v.buffer,
-                            acceleration: &a.buffer,
-                            partials: &partials.buffer,
-                        },
+                        &step,
+                        &k.u.buffer,
+                        &k.forces.buffer,
+                        &lumped.buffer,
+                        &k.v.buffer,
+                        &a.buffer,
+                        &partials.buffer,
                     )
                 })
                 .collect(),
             reduce: (0..chunk_capacity)
                 .map(|j| {
-                    reduce.launch(
+                    // one workgroup per column, writing row j at rows[first..]: the grid
+                    // counts invocations, Params.count the columns
+                    let (columns_n, first) = (row_len as u32, (j * row_len) as u32);
+                    let mut l = reduce.launch(
                         ctx,
-                        row_len as u32,
-                        (j * row_len) as u32,
-                        &HistoryReduceBuffers {
-                            columns: &columns.buffer,
-                            partials: &partials.buffer,
-                            results: contact
-                                .as_ref()
-                                .map_or(&results.buffer, |c| c.results_buffer()),
-                            displacement: &k.u.buffer,
-                            velocity: &k.v.buffer,
-                            rows: &rows.buffer,
-                        },
-                    )
+                        columns_n * WORKGROUP,
+                        first,
+                        0,
+                        &columns.buffer,
+                        &partials.buffer,
+                        contact
+                            .as_ref()
+                            .map_or(&results.buffer, |c| c.results_buffer()),
+                        &k.u.buffer,
+                        &k.v.buffer,
+                        &rows.buffer,
+                    );
+                    l.set_count(ctx, columns_n, first);
+                    l
                 })
                 .collect(),
         };

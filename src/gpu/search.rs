@@ -90,38 +90,35 @@ impl GpuSearch {
         let bucket_fill = BucketFill::new(ctx);
         let contact_search = ContactSearch::new(ctx);
         let binds = [
-            face_cells.0.bind(
+            face_cells.bind(
                 ctx,
-                &[
-                    &grid.buffer,
-                    reference,
-                    displacement,
-                    &face_buf.buffer,
-                    &first_buf.buffer,
-                    &keys.buffer,
-                ],
+                &grid.buffer,
+                reference,
+                displacement,
+                &face_buf.buffer,
+                &first_buf.buffer,
+                &keys.buffer,
             ),
-            bucket_count
-                .0
-                .bind(ctx, &[&keys.buffer, &counts.buffer, &ranks.buffer]),
-            prefix_sum.0.bind(ctx, &[&counts.buffer, &starts.buffer]),
-            bucket_fill.0.bind(
+            bucket_count.bind(ctx, &keys.buffer, &counts.buffer, &ranks.buffer),
+            prefix_sum.bind(ctx, &counts.buffer, &starts.buffer),
+            bucket_fill.bind(
                 ctx,
-                &[&keys.buffer, &ranks.buffer, &starts.buffer, &sorted.buffer],
+                &keys.buffer,
+                &ranks.buffer,
+                &starts.buffer,
+                &sorted.buffer,
             ),
-            contact_search.0.bind(
+            contact_search.bind(
                 ctx,
-                &[
-                    &grid.buffer,
-                    reference,
-                    displacement,
-                    velocity,
-                    &query_buf.buffer,
-                    &face_buf.buffer,
-                    &starts.buffer,
-                    &sorted.buffer,
-                    &points.buffer,
-                ],
+                &grid.buffer,
+                reference,
+                displacement,
+                velocity,
+                &query_buf.buffer,
+                &face_buf.buffer,
+                &starts.buffer,
+                &sorted.buffer,
+                &points.buffer,
             ),
         ];
         // the counts never change: set them once

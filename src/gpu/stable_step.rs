@@ -1,21 +1,13 @@
-//! Host side of `shaders/stable_step.wgsl` (CPU twin: [`crate::kernels::stable_step`]).
+//! Every element's stable step on the device, by the `stable_step` kernel (CPU twin:
+//! [`crate::kernels::stable_step`]).
 
 use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
 use super::engine::{at_least_one, device_materials, split_reference};
-use super::kernel::Kernel;
-use super::shaders;
+use super::kernels::StableStep;
 use super::types::{Hex8, Tet4};
 use crate::error::Result;
 use crate::kernels::ElementData;
-
-pub struct StableStep(pub Kernel);
-
-impl StableStep {
-    pub fn new(ctx: &GpuContext) -> Self {
-        StableStep(Kernel::new(ctx, "stable_step", shaders::STABLE_STEP))
-    }
-}
 
 /// Every element's Gershgorin step on the device (hexes, then tets), in f64.
 pub fn element_steps(ctx: &GpuContext, data: &ElementData) -> Result<Vec<f64>> {
@@ -34,15 +26,13 @@ pub fn element_steps(ctx: &GpuContext, data: &ElementData) -> Result<Vec<f64>> {
     let materials = Storage::with_data(ctx, "materials", &materials)?;
     let steps = Storage::new(ctx, "element_steps", (4 * count) as u64)?;
     let kernel = StableStep::new(ctx);
-    let bind = kernel.0.bind(
+    let bind = kernel.bind(
         ctx,
-        &[
-            &reference.buffer,
-            &hexes.buffer,
-            &tets.buffer,
-            &materials.buffer,
-            &steps.buffer,
-        ],
+        &reference.buffer,
+        &hexes.buffer,
+        &tets.buffer,
+        &materials.buffer,
+        &steps.buffer,
     );
     let grid = kernel.0.set_count_aux(ctx, count as u32, nhex);
     let mut enc = ctx

@@ -1,0 +1,96 @@
+//! The table of kernels: one line per WGSL kernel gives its host type, its name (the file
+//! `shaders/<name>.wgsl`, its entry point and its CPU twin `crate::kernels::<name>`) and its
+//! storage buffers in binding order (binding 0 is every kernel's `Params` uniform). Each line
+//! makes a type with the kernel's pipeline, built once ([`Kernel`]), a typed `bind` and a
+//! typed `launch` whose parameters are the shader's buffer names. `tests/gpu_kernels.rs`
+//! reads every shader with naga and checks its bindings against this table.
+
+use super::context::GpuContext;
+use super::kernel::{Kernel, Launch};
+use super::shaders;
+
+macro_rules! kernel_table {
+    ($($ty:ident = $name:ident($($binding:ident),* $(,)?);)*) => {
+        $(
+            #[doc = concat!(
+                "The host side of `shaders/", stringify!($name), ".wgsl`; CPU twin: [`crate::kernels::",
+                stringify!($name), "`]."
+            )]
+            pub struct $ty(pub Kernel);
+
+            impl $ty {
+                pub const NAME: &'static str = stringify!($name);
+
+                /// Builds the kernel's pipeline.
+                pub fn new(ctx: &GpuContext) -> Self {
+                    $ty(Kernel::new(ctx, Self::NAME, shaders::source(Self::NAME)))
+                }
+
+                /// A bind group of the buffers, in the shader's binding order.
+                #[allow(clippy::too_many_arguments)]
+                pub fn bind(&self, ctx: &GpuContext, $($binding: &wgpu::Buffer),*) -> wgpu::BindGroup {
+                    self.0.bind(ctx, &[$($binding),*])
+                }
+
+                /// A launch over `count` items with the kernel's `Params.aux` and `aux2`.
+                #[allow(clippy::too_many_arguments)]
+                pub fn launch(
+                    &self,
+                    ctx: &GpuContext,
+                    count: u32,
+                    aux: u32,
+                    aux2: u32,
+                    $($binding: &wgpu::Buffer),*
+                ) -> Launch {
+                    self.0.launch(ctx, count, aux, aux2, &[$($binding),*])
+                }
+            }
+        )*
+
+        /// Every kernel of the table and its storage buffers in binding order (from 1).
+        pub const TABLE: &[(&str, &[&str])] = &[$((stringify!($name), &[$(stringify!($binding)),*])),*];
+    };
+}
+
+kernel_table! {
+    BucketCount = bucket_count(keys, counts, ranks);
+    BucketFill = bucket_fill(keys, ranks, starts, sorted);
+    BucketOrder = bucket_order(starts, sorted);
+    ContactApply = contact_apply(nodes, links, constraints, starts, sorted, dj, lumped, velocity, state);
+    ContactCompliance = contact_compliance(constraints, touches, lumped, pairs);
+    ContactConstraints = contact_constraints(
+        step, grid, reference, displacement, velocity, acceleration, pairs, points, faces,
+        constraints, keys,
+    );
+    ContactGap = contact_gap(reference, displacement, velocity, queries, candidates, faces, points);
+    ContactReportKernel = contact_report(step, constraints, pairs, velocity, state, results);
+    ContactSearch = contact_search(
+        grid, reference, displacement, velocity, queries, faces, starts, sorted, points,
+    );
+    ContactSweep = contact_sweep(step, constraints, pairs, velocity, dj, state, apply_args);
+    ContactTouches = contact_touches(nodes, links, constraints, starts, sorted, touches, state);
+    ExplicitCorrect = explicit_correct(
+        step, displacement, forces, lumped, velocity, acceleration, partials,
+    );
+    ExplicitDrift = explicit_drift(step, velocity, displacement);
+    ExplicitPredict = explicit_predict(step, acceleration, velocity);
+    FaceCells = face_cells(grid, reference, displacement, faces, face_first, keys);
+    Hex8Forces = hex8_forces(
+        reference, displacement, hex_nodes, hex_material, materials, corner_forces,
+    );
+    HistoryReduce = history_reduce(columns, partials, results, displacement, velocity, rows);
+    NodeGather = node_gather(offsets, incidence, corner_forces, forces);
+    PlaneContact = plane_contact(
+        step, reference, displacement, acceleration, lumped, planes, plane_nodes, velocity,
+        results,
+    );
+    PrefixSum = prefix_sum(values, starts);
+    SearchBounds = search_bounds(reference, displacement, velocity, faces, bounds);
+    SearchGridKernel = search_grid(step, bounds, grid);
+    SlipRate = slip_rate(reference, displacement, velocity, queries, faces, points, slip);
+    StableStep = stable_step(reference, hexes, tets, materials, steps);
+    SweepControl = sweep_control(state);
+    Tet4Forces = tet4_forces(
+        reference, displacement, tet_nodes, tet_material, materials, corner_forces,
+    );
+}
