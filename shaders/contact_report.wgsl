@@ -14,7 +14,6 @@
 @group(0) @binding(5) var<storage, read> state: array<u32, 4>;
 @group(0) @binding(6) var<storage, read_write> results: array<f32>;
 
-const SLOT: u32 = 9u;
 
 fn load_v(n: u32) -> vec3<f32> {
     return vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
@@ -36,12 +35,12 @@ fn contact_report(@builtin(global_invocation_id) gid: vec3<u32>) {
         // still sweeping: the step ran out of recorded sweeps before the limit
         reported = step.max_iterations + 2u;
     }
-    results[o + 8u] = f32(reported);
+    results[o + SLOT_SWEEPS] = f32(reported);
     if (c.in_reach == 0u) {
         for (var k = 0u; k < 6u; k++) {
             results[o + k] = 0.0;
         }
-        results[o + 6u] = bitcast<f32>(0xff800000u);
+        results[o + SLOT_GAP] = bitcast<f32>(0xff800000u);
         return;
     }
     let nrm = vec3_of(c.normal);
@@ -58,17 +57,17 @@ fn contact_report(@builtin(global_invocation_id) gid: vec3<u32>) {
     let rn = dot(rel, nrm);
     let jt = vec3_of(c.jt);
     let mu = pairs[p].mu;
-    results[o] = c.jn;
-    results[o + 1u] = jt.x;
-    results[o + 2u] = jt.y;
-    results[o + 3u] = jt.z;
-    results[o + 4u] = select(0.0, 1.0, c.jn > 0.0);
+    results[o + SLOT_NORMAL_IMPULSE] = c.jn;
+    results[o + SLOT_FRICTION_IMPULSE] = jt.x;
+    results[o + SLOT_FRICTION_IMPULSE + 1u] = jt.y;
+    results[o + SLOT_FRICTION_IMPULSE + 2u] = jt.z;
+    results[o + SLOT_ACTIVE] = select(0.0, 1.0, c.jn > 0.0);
     let sliding = mu > 0.0 && c.jn > 0.0 && length(jt) >= mu * c.jn * (1.0 - 1e-6);
-    results[o + 5u] = select(0.0, 1.0, sliding);
-    results[o + 6u] = c.gap - step.dt * rn;
+    results[o + SLOT_SLIDING] = select(0.0, 1.0, sliding);
+    results[o + SLOT_GAP] = c.gap - step.dt * rn;
     if (mu > 0.0) {
         let slip = rel - rn * nrm;
         let before = vec3_of(c.slip);
-        results[o + 7u] -= dot(jt, 0.5 * (before + slip));
+        results[o + SLOT_FRICTION_WORK] -= dot(jt, 0.5 * (before + slip));
     }
 }

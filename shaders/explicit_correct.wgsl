@@ -15,7 +15,6 @@
 @group(0) @binding(6) var<storage, read_write> acceleration: array<f32>;
 @group(0) @binding(7) var<storage, read_write> partials: array<f32>;
 
-const FIELDS: u32 = 6u;
 
 // the invocations' sums, FIELDS rows of 64: one barrier, then FIELDS invocations add a row
 // each (a tree of barriers per field is much slower on software adapters)

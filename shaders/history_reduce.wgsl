@@ -26,13 +26,13 @@ fn combine(a: f32, b: f32, is_max: bool) -> f32 {
 
 fn entry(col: ReduceColumn, at: u32) -> f32 {
     switch col.op {
-        case 0u: {
+        case OP_PARTIALS: {
             return partials[at];
         }
-        case 1u, 2u: {
+        case OP_SUM, OP_MAX: {
             return results[at];
         }
-        case 3u: {
+        case OP_DISPLACEMENT: {
             return split_value(displacement[at / 3u])[at % 3u];
         }
         default: {
@@ -50,7 +50,7 @@ fn history_reduce(
     let c = wid.x + wid.y * groups.x;
     let valid = c < params.count;
     let col = columns[min(c, params.count - 1u)];
-    let is_max = col.op == 2u;
+    let is_max = col.op == OP_MAX;
     var acc = vec4<f32>(0.0);
     if (valid) {
         // entries local, local + LANES, ...: four at a time, then the rest

@@ -23,12 +23,9 @@
 @group(0) @binding(8) var<storage, read_write> velocity: array<f32>;
 @group(0) @binding(9) var<storage, read_write> results: array<f32>;
 
-const SLOT: u32 = 9u;
-const MAX_PLANES: u32 = 8u;
 
 // While the node iterates, its slot of plane p holds that constraint's state: the impulses
 // J_N and J_T in the first four floats and the gap at u_n where the end-of-step gap goes.
-const GAP: u32 = 6u;
 
 fn load3(o: u32) -> vec3<f32> {
     return vec3<f32>(results[o], results[o + 1u], results[o + 2u]);
@@ -75,7 +72,7 @@ fn plane_contact(@builtin(global_invocation_id) gid: vec3<u32>) {
                 touches += 1.0;
             }
         }
-        results[o + GAP] = gap;
+        results[o + SLOT_GAP] = gap;
     }
     // the largest inverse mass bounds |n_p . M^-1 n_q| (Gershgorin), prescribed dofs included
     let inv_max = max(inv.x, max(inv.y, inv.z));
@@ -101,7 +98,7 @@ fn plane_contact(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
             let o = SLOT * (i * np + p);
             let up = impulse_update(
-                results[o + GAP],
+                results[o + SLOT_GAP],
                 dt,
                 vel,
                 nrm,
@@ -132,7 +129,7 @@ fn plane_contact(@builtin(global_invocation_id) gid: vec3<u32>) {
                 results[o + k] = 0.0;
             }
             // no gap: below any penetration
-            results[o + GAP] = bitcast<f32>(0xff800000u);
+            results[o + SLOT_GAP] = bitcast<f32>(0xff800000u);
             continue;
         }
         let nrm = vec3_of(planes[p].normal);
@@ -140,15 +137,15 @@ fn plane_contact(@builtin(global_invocation_id) gid: vec3<u32>) {
         let rn = dot(vel, nrm);
         let jn = results[o];
         let jt = load3(o + 1u);
-        results[o + 4u] = select(0.0, 1.0, jn > 0.0);
+        results[o + SLOT_ACTIVE] = select(0.0, 1.0, jn > 0.0);
         let sliding = mu > 0.0 && jn > 0.0 && length(jt) >= mu * jn * (1.0 - 1e-6);
-        results[o + 5u] = select(0.0, 1.0, sliding);
-        results[o + GAP] -= dt * rn;
+        results[o + SLOT_SLIDING] = select(0.0, 1.0, sliding);
+        results[o + SLOT_GAP] -= dt * rn;
         if (mu > 0.0) {
             let slip = vel - rn * nrm;
             let slip_before = before - dot(before, nrm) * nrm;
-            results[o + 7u] -= dot(jt, 0.5 * (slip_before + slip));
+            results[o + SLOT_FRICTION_WORK] -= dot(jt, 0.5 * (slip_before + slip));
         }
-        results[o + 8u] = reported;
+        results[o + SLOT_SWEEPS] = reported;
     }
 }

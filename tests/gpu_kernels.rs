@@ -458,6 +458,33 @@ fn the_kernel_table_matches_every_shader() {
     }
 }
 
+/// Every constant of `shaders/shared/types.wgsl` has the host's value, and the host lists
+/// every one of them (`gpu::types::shared_constants`).
+#[test]
+fn shared_constants_match_the_host() {
+    let module =
+        naga::front::wgsl::parse_str(impact::gpu::shaders::TYPES).expect("types.wgsl parses");
+    let mut wgsl: Vec<(String, u32)> = module
+        .constants
+        .iter()
+        .map(|(_, c)| {
+            let name = c.name.clone().expect("a named constant");
+            let value = match module.global_expressions[c.init] {
+                naga::Expression::Literal(naga::Literal::U32(v)) => v,
+                ref other => panic!("{name}: not a u32 literal ({other:?})"),
+            };
+            (name, value)
+        })
+        .collect();
+    let mut host: Vec<(String, u32)> = impact::gpu::types::shared_constants()
+        .into_iter()
+        .map(|(n, v)| (n.to_string(), v))
+        .collect();
+    wgsl.sort();
+    host.sort();
+    assert_eq!(wgsl, host);
+}
+
 /// The Rust buffer types have the sizes and field offsets naga computes for the WGSL structs.
 #[test]
 fn gpu_types_match_wgsl() {

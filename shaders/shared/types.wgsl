@@ -85,6 +85,29 @@ struct ContactPoint {
 const NO_FACE: u32 = 0xffffffffu;
 const WORKGROUP: u32 = 64u;
 
+// Constants shared with the host, checked against `src/gpu/types.rs`'s `shared_constants()`
+// by `tests/gpu_kernels.rs`.
+// The result slot of a (secondary node, plane) or (node, face) pair of `plane_contact` and
+// `contact_report`: SLOT floats, the fields at these offsets (friction impulse: 3 floats).
+const SLOT: u32 = 9u;
+const SLOT_NORMAL_IMPULSE: u32 = 0u;
+const SLOT_FRICTION_IMPULSE: u32 = 1u;
+const SLOT_ACTIVE: u32 = 4u;
+const SLOT_SLIDING: u32 = 5u;
+const SLOT_GAP: u32 = 6u;
+const SLOT_FRICTION_WORK: u32 = 7u;
+const SLOT_SWEEPS: u32 = 8u;
+// Planes a node can have (the bit set and the kernel's local state).
+const MAX_PLANES: u32 = 8u;
+// Partial sums per workgroup of `explicit_correct`.
+const FIELDS: u32 = 6u;
+// The column operations of `history_reduce`.
+const OP_PARTIALS: u32 = 0u;
+const OP_SUM: u32 = 1u;
+const OP_MAX: u32 = 2u;
+const OP_DISPLACEMENT: u32 = 3u;
+const OP_VELOCITY: u32 = 4u;
+
 // The item index of an invocation in a 2D dispatch (see Params.row).
 fn item_index(gid: vec3<u32>, p: Params) -> u32 {
     return gid.x + gid.y * p.row;

@@ -526,11 +526,12 @@ impl ContactIteration {
     /// The iteration's state.
     pub fn read_state(&mut self, ctx: &GpuContext) -> Result<SweepState> {
         let w: Vec<u32> = self.read(ctx, |s| &s.state.buffer, 4)?;
+        use crate::kernels::sweep_control::word;
         Ok(SweepState {
-            violation: f32::from_bits(w[0]) as f64,
-            active: w[1],
-            sweeps: w[2],
-            phase: w[3],
+            violation: f32::from_bits(w[word::VIOLATION]) as f64,
+            active: w[word::ACTIVE],
+            sweeps: w[word::SWEEPS],
+            phase: w[word::PHASE],
         })
     }
 

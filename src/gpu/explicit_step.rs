@@ -29,7 +29,7 @@ use super::{ExplicitCorrect, ExplicitDrift, ExplicitPredict, HistoryReduce, Plan
 use crate::error::{ImpactError, Result};
 use crate::kernels::explicit_correct::FIELDS;
 use crate::kernels::history_reduce::{OP_DISPLACEMENT, OP_MAX, OP_PARTIALS, OP_SUM, OP_VELOCITY};
-use crate::kernels::plane_contact::{MAX_PLANES, SLOT};
+use crate::kernels::plane_contact::{slot, MAX_PLANES, SLOT};
 use crate::kernels::{ElementData, LumpedNode, PlaneData, PlaneNode, ReduceColumn};
 
 /// What the resident step needs besides the elements, in f64 (the CPU twins take the same).
@@ -102,7 +102,11 @@ pub fn row_columns(
                 first: first + f,
                 count,
                 stride,
-                op: if f == 6 || f == 8 { OP_MAX } else { OP_SUM },
+                op: if slot::reduced_by_max(f as usize) {
+                    OP_MAX
+                } else {
+                    OP_SUM
+                },
             });
         }
     }

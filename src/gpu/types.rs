@@ -242,6 +242,39 @@ pub struct ContactNode {
 /// A struct's WGSL name, Rust size, and (field name, Rust offset) in declaration order.
 pub type StructLayout = (&'static str, usize, Vec<(&'static str, usize)>);
 
+/// The constants `shaders/shared/types.wgsl` shares with the host, by WGSL name, with the
+/// host's values (the layout test compares them with naga's reading of the WGSL).
+pub fn shared_constants() -> Vec<(&'static str, u32)> {
+    use crate::kernels::explicit_correct::FIELDS;
+    use crate::kernels::history_reduce::*;
+    use crate::kernels::plane_contact::{slot, MAX_PLANES, SLOT};
+    use crate::kernels::sweep_control::word;
+    let u = |v: usize| v as u32;
+    vec![
+        ("NO_FACE", crate::geometry::point::NO_FACE),
+        ("WORKGROUP", super::kernel::WORKGROUP),
+        ("SLOT", u(SLOT)),
+        ("SLOT_NORMAL_IMPULSE", u(slot::NORMAL_IMPULSE)),
+        ("SLOT_FRICTION_IMPULSE", u(slot::FRICTION_IMPULSE)),
+        ("SLOT_ACTIVE", u(slot::ACTIVE)),
+        ("SLOT_SLIDING", u(slot::SLIDING)),
+        ("SLOT_GAP", u(slot::GAP)),
+        ("SLOT_FRICTION_WORK", u(slot::FRICTION_WORK)),
+        ("SLOT_SWEEPS", u(slot::SWEEPS)),
+        ("MAX_PLANES", u(MAX_PLANES)),
+        ("FIELDS", u(FIELDS)),
+        ("OP_PARTIALS", OP_PARTIALS),
+        ("OP_SUM", OP_SUM),
+        ("OP_MAX", OP_MAX),
+        ("OP_DISPLACEMENT", OP_DISPLACEMENT),
+        ("OP_VELOCITY", OP_VELOCITY),
+        ("STATE_VIOLATION", u(word::VIOLATION)),
+        ("STATE_ACTIVE", u(word::ACTIVE)),
+        ("STATE_SWEEPS", u(word::SWEEPS)),
+        ("STATE_PHASE", u(word::PHASE)),
+    ]
+}
+
 /// Sizes and field offsets of every struct, by WGSL name, for the layout test.
 pub fn layouts() -> Vec<StructLayout> {
     use std::mem::{offset_of, size_of};

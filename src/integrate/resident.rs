@@ -21,7 +21,7 @@ use crate::gpu::explicit_step::row_len;
 use crate::gpu::{ContactSetup, GpuContext, ResidentExplicit, ResidentSetup};
 use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::explicit_correct::FIELDS;
-use crate::kernels::plane_contact::{MAX_PLANES, SLOT};
+use crate::kernels::plane_contact::{slot, MAX_PLANES, SLOT};
 use crate::kernels::{ContactNode, ContactPair, LumpedNode, PlaneData, PlaneNode};
 use crate::model::Model;
 use crate::model::Primary;
@@ -503,7 +503,9 @@ impl<'m> ResidentSolver<'m> {
         let len = self.engine.row_len();
         let base = FIELDS * self.model.mesh.bodies.len();
         rows.chunks_exact(len)
-            .flat_map(|r| (0..self.model.interfaces.len()).map(move |i| r[base + SLOT * i + 8]))
+            .flat_map(|r| {
+                (0..self.model.interfaces.len()).map(move |i| r[base + SLOT * i + slot::SWEEPS])
+            })
             .filter(|x| x.is_finite())
             .fold(0.0f32, f32::max) as u32
     }
@@ -664,6 +666,9 @@ impl<'m> ResidentSolver<'m> {
             Some(r) => SLOT * (r[interface].start + local),
             None => SLOT * (self.places[interface][local] * self.plane_count + interface),
         };
-        (self.results[o], self.results[o + 6])
+        (
+            self.results[o + slot::NORMAL_IMPULSE],
+            self.results[o + slot::GAP],
+        )
     }
 }

@@ -4,7 +4,7 @@
 //! work since the start, and the iteration's sweeps.
 
 use super::contact_constraints::{relative, Constraint, ContactPair};
-use super::plane_contact::SLOT;
+use super::plane_contact::{slot, SLOT};
 use crate::geometry::quad::{dot, norm};
 
 /// `sweeps`: the count to report ([`super::sweep_control::SweepState::reported`]); the
@@ -19,23 +19,23 @@ pub fn contact_report(
 ) {
     for (p, (c, pair)) in constraints.iter().zip(pairs).enumerate() {
         let r = &mut results[SLOT * p..SLOT * (p + 1)];
-        r[8] = sweeps as f64;
+        r[slot::SWEEPS] = sweeps as f64;
         if !c.in_reach {
             r[..6].fill(0.0);
-            r[6] = f64::NEG_INFINITY;
+            r[slot::GAP] = f64::NEG_INFINITY;
             continue;
         }
         let rel = relative(c, pair.node, v);
         let rn = dot(rel, c.normal);
-        r[0] = c.jn;
-        r[1..4].copy_from_slice(&c.jt);
-        r[4] = if c.jn > 0.0 { 1.0 } else { 0.0 };
+        r[slot::NORMAL_IMPULSE] = c.jn;
+        r[slot::FRICTION_IMPULSE..slot::FRICTION_IMPULSE + 3].copy_from_slice(&c.jt);
+        r[slot::ACTIVE] = if c.jn > 0.0 { 1.0 } else { 0.0 };
         let sliding = pair.mu > 0.0 && c.jn > 0.0 && norm(c.jt) >= pair.mu * c.jn * (1.0 - 1e-6);
-        r[5] = if sliding { 1.0 } else { 0.0 };
-        r[6] = c.gap - dt * rn;
+        r[slot::SLIDING] = if sliding { 1.0 } else { 0.0 };
+        r[slot::GAP] = c.gap - dt * rn;
         if pair.mu > 0.0 {
             let slip: [f64; 3] = std::array::from_fn(|a| rel[a] - rn * c.normal[a]);
-            r[7] -= (0..3)
+            r[slot::FRICTION_WORK] -= (0..3)
                 .map(|a| c.jt[a] * 0.5 * (c.slip[a] + slip[a]))
                 .sum::<f64>();
         }

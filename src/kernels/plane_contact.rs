@@ -13,10 +13,32 @@ use super::explicit_correct::LumpedNode;
 use crate::geometry::quad::{dot, norm};
 use crate::kernels::impulse::impulse_update;
 
-/// Results per (plane node, plane): normal impulse, friction impulse (3), active (0/1),
-/// sliding (0/1), linearised end-of-step gap, friction work since the start, and the node's
-/// sweeps (`max_iterations + 1` where it did not converge).
+/// Results per (plane node, plane), and per (node, face) pair of `contact_report`: the fields
+/// at the offsets of [`slot`].
 pub const SLOT: usize = 9;
+
+/// The fields of a result slot (`SLOT_*` in `shaders/shared/types.wgsl`).
+pub mod slot {
+    pub const NORMAL_IMPULSE: usize = 0;
+    /// Three floats.
+    pub const FRICTION_IMPULSE: usize = 1;
+    /// 0 or 1.
+    pub const ACTIVE: usize = 4;
+    /// 0 or 1.
+    pub const SLIDING: usize = 5;
+    /// The linearised end-of-step gap.
+    pub const GAP: usize = 6;
+    /// Friction work since the start.
+    pub const FRICTION_WORK: usize = 7;
+    /// The node's sweeps (`max_iterations + 1` where it did not converge).
+    pub const SWEEPS: usize = 8;
+
+    /// Whether the history reduces field `f` over the nodes by its largest value (the
+    /// deepest gap, the most sweeps) rather than by its sum.
+    pub fn reduced_by_max(f: usize) -> bool {
+        f == GAP || f == SWEEPS
+    }
+}
 /// Planes a node can have (the bit set and the kernel's local arrays).
 pub const MAX_PLANES: usize = 8;
 
@@ -132,27 +154,27 @@ pub fn plane_contact(
             let r = &mut results[o..o + SLOT];
             if pn.planes & (1 << p) == 0 {
                 r.fill(0.0);
-                r[6] = f64::NEG_INFINITY;
+                r[slot::GAP] = f64::NEG_INFINITY;
                 continue;
             }
             let nrm = planes[p].normal;
             let mu = planes[p].mu;
             let rn = dot(vel, nrm);
-            r[0] = jn[p];
-            r[1..4].copy_from_slice(&jt[p]);
-            r[4] = f64::from(u8::from(jn[p] > 0.0));
+            r[slot::NORMAL_IMPULSE] = jn[p];
+            r[slot::FRICTION_IMPULSE..slot::FRICTION_IMPULSE + 3].copy_from_slice(&jt[p]);
+            r[slot::ACTIVE] = f64::from(u8::from(jn[p] > 0.0));
             let sliding = mu > 0.0 && jn[p] > 0.0 && norm(jt[p]) >= mu * jn[p] * (1.0 - 1e-6);
-            r[5] = f64::from(u8::from(sliding));
-            r[6] = gap[p] - dt * rn;
+            r[slot::SLIDING] = f64::from(u8::from(sliding));
+            r[slot::GAP] = gap[p] - dt * rn;
             if mu > 0.0 {
                 let slip: [f64; 3] = std::array::from_fn(|ax| vel[ax] - rn * nrm[ax]);
                 let bn = dot(before, nrm);
                 let slip_before: [f64; 3] = std::array::from_fn(|ax| before[ax] - bn * nrm[ax]);
-                r[7] -= (0..3)
+                r[slot::FRICTION_WORK] -= (0..3)
                     .map(|ax| jt[p][ax] * 0.5 * (slip_before[ax] + slip[ax]))
                     .sum::<f64>();
             }
-            r[8] = reported;
+            r[slot::SWEEPS] = reported;
         }
     }
 }

@@ -10,6 +10,14 @@ pub const SWEEPING: u32 = 1;
 pub const CONVERGED: u32 = 2;
 pub const STOPPED: u32 = 3;
 
+/// The positions of the state words (`STATE_*` in `shaders/shared/types.wgsl`).
+pub mod word {
+    pub const VIOLATION: usize = 0;
+    pub const ACTIVE: usize = 1;
+    pub const SWEEPS: usize = 2;
+    pub const PHASE: usize = 3;
+}
+
 /// The iteration's state (the `state` words of the shaders).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct SweepState {
