@@ -72,7 +72,7 @@ fn factor_table(asm: &Assembled, elements: usize) {
         .num_threads(1)
         .build()
         .expect("a one-thread pool");
-    for (name, ordering) in Ordering::CHOICES {
+    for &(name, ordering) in Ordering::CHOICES {
         let measure = || {
             let (t_fact, solver) =
                 timed(|| SpdSolver::new(&asm.effective, ordering).expect("factorises"));

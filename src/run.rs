@@ -19,7 +19,7 @@ use crate::output::progress::Progress;
 use crate::output::summary::{InterfaceSummary, LinearSolverSummary, SetupClock};
 use crate::output::vtu::{NodeContact, VtuWriter};
 use crate::output::{History, Summary};
-use crate::scene::{Constraint, DeviceChoice, MassKind, Method, PenaltyLaw, Scene};
+use crate::scene::{DeviceChoice, Method, Scene};
 use crate::setup::{self, gpu_error, Setup};
 
 /// A run whose total energy exceeds this multiple of its scale (the initial energy, or the
@@ -358,7 +358,13 @@ fn initial_summary(scene: &Scene, setup: &Setup, solver: &Solver) -> Summary {
         status: "running".into(),
         scene: scene.path.display().to_string(),
         title: scene.title.clone(),
-        method: if explicit { "explicit" } else { "implicit" }.into(),
+        method: if explicit {
+            Method::Explicit
+        } else {
+            Method::Implicit
+        }
+        .name()
+        .into(),
         method_choice: setup.method_choice.clone(),
         device: solver.device_name(),
         engine: solver.engine().into(),
@@ -371,28 +377,19 @@ fn initial_summary(scene: &Scene, setup: &Setup, solver: &Solver) -> Summary {
         constraint: if explicit {
             "gap_rate_impulse"
         } else {
-            match scene.implicit.constraint {
-                Constraint::GapRate => "gap_rate",
-                Constraint::Gap => "gap",
-            }
+            scene.implicit.constraint.name()
         }
         .into(),
         penalty: if explicit {
             "none"
         } else {
-            match scene.implicit.penalty {
-                PenaltyLaw::Adaptive => "adaptive",
-                PenaltyLaw::Fixed => "fixed",
-            }
+            scene.implicit.penalty.name()
         }
         .into(),
         mass: if explicit {
             "lumped"
         } else {
-            match scene.implicit.mass {
-                MassKind::Lumped => "lumped",
-                MassKind::Consistent => "consistent",
-            }
+            scene.implicit.mass.name()
         }
         .into(),
         elements: model.mesh.element_count(),

@@ -96,11 +96,7 @@ fn summarise(
 ) -> (InitialContact, Vec<(u32, V3)>) {
     let mut r = InitialContact {
         interface: itf.name.clone(),
-        policy: PenetrationPolicy::NAMES
-            .iter()
-            .find(|(_, p)| *p == policy)
-            .map_or("error", |(n, _)| n)
-            .into(),
+        policy: policy.name().into(),
         ..Default::default()
     };
     let mut moves = Vec::new();

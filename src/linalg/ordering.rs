@@ -209,7 +209,7 @@ mod tests {
     #[test]
     fn ordering_names_round_trip() {
         for (name, o) in Ordering::CHOICES {
-            assert_eq!(o.name(), name);
+            assert_eq!(o.name(), *name);
         }
     }
 }

@@ -14,22 +14,37 @@ use crate::mesh::BodyParts;
 
 use crate::error::{ImpactError, Result};
 
+/// Names each value of a scene option once: `CHOICES` (what the scene reader and the command
+/// line accept, in the order error messages list them) and `name()` (what summaries print).
+macro_rules! option_names {
+    ($ty:ident { $($variant:ident = $name:literal),* $(,)? }) => {
+        impl $ty {
+            pub const CHOICES: &'static [(&'static str, $ty)] = &[$(($name, $ty::$variant)),*];
+
+            pub fn name(self) -> &'static str {
+                match self {
+                    $($ty::$variant => $name),*
+                }
+            }
+        }
+    };
+}
+
+option_names!(Method { Implicit = "implicit", Explicit = "explicit", Auto = "auto" });
+option_names!(DeviceChoice { Auto = "auto", Gpu = "gpu", Cpu = "cpu" });
+option_names!(Constraint { GapRate = "gap_rate", Gap = "gap" });
+option_names!(PenaltyLaw { Adaptive = "adaptive", Fixed = "fixed" });
+option_names!(Acceleration { Anderson = "anderson", None = "none" });
+option_names!(MassKind { Lumped = "lumped", Consistent = "consistent" });
+option_names!(PenetrationPolicy { Error = "error", Adjust = "adjust", Ignore = "ignore" });
+option_names!(Ordering { NestedDissection = "nested_dissection", Amd = "amd" });
+
 /// Which integrator runs the scene.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Method {
     Implicit,
     Explicit,
     Auto,
-}
-
-impl Method {
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Implicit => "implicit",
-            Method::Explicit => "explicit",
-            Method::Auto => "auto",
-        }
-    }
 }
 
 /// Where the element and contact kernels run.
@@ -43,14 +58,14 @@ pub enum DeviceChoice {
 impl std::str::FromStr for DeviceChoice {
     type Err = String;
     fn from_str(s: &str) -> std::result::Result<Self, String> {
-        match s {
-            "auto" => Ok(DeviceChoice::Auto),
-            "gpu" => Ok(DeviceChoice::Gpu),
-            "cpu" => Ok(DeviceChoice::Cpu),
-            other => Err(format!(
-                "unknown device `{other}`, expected one of `auto`, `gpu`, `cpu`"
-            )),
-        }
+        let found = DeviceChoice::CHOICES.iter().find(|(n, _)| *n == s);
+        found.map(|&(_, d)| d).ok_or_else(|| {
+            let names: Vec<String> = DeviceChoice::CHOICES
+                .iter()
+                .map(|(n, _)| format!("`{n}`"))
+                .collect();
+            format!("unknown device `{s}`, expected one of {}", names.join(", "))
+        })
     }
 }
 
@@ -112,14 +127,6 @@ pub enum PenetrationPolicy {
     Ignore,
 }
 
-impl PenetrationPolicy {
-    pub const NAMES: [(&'static str, PenetrationPolicy); 3] = [
-        ("error", PenetrationPolicy::Error),
-        ("adjust", PenetrationPolicy::Adjust),
-        ("ignore", PenetrationPolicy::Ignore),
-    ];
-}
-
 /// Settings of the explicit central-difference path (`[explicit]`).
 #[derive(Debug, Clone)]
 pub struct ExplicitSettings {
@@ -153,22 +160,6 @@ pub enum Ordering {
     NestedDissection,
     /// faer's approximate minimum degree.
     Amd,
-}
-
-impl Ordering {
-    /// Every ordering with its name in scenes and summaries.
-    pub const CHOICES: [(&'static str, Ordering); 2] = [
-        ("nested_dissection", Ordering::NestedDissection),
-        ("amd", Ordering::Amd),
-    ];
-
-    pub fn name(self) -> &'static str {
-        Self::CHOICES
-            .iter()
-            .find(|(_, o)| *o == self)
-            .map(|(n, _)| *n)
-            .expect("every ordering is listed")
-    }
 }
 
 #[derive(Debug, Clone)]

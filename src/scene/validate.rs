@@ -266,21 +266,13 @@ impl Checker<'_> {
             "run.method",
             run.method.as_deref(),
             Method::Implicit,
-            &[
-                ("implicit", Method::Implicit),
-                ("explicit", Method::Explicit),
-                ("auto", Method::Auto),
-            ],
+            Method::CHOICES,
         )?;
         let device = self.choice(
             "run.device",
             run.device.as_deref(),
             DeviceChoice::Auto,
-            &[
-                ("auto", DeviceChoice::Auto),
-                ("gpu", DeviceChoice::Gpu),
-                ("cpu", DeviceChoice::Cpu),
-            ],
+            DeviceChoice::CHOICES,
         )?;
         let time_step = match run.time_step {
             Some(dt) => Some(self.positive("run.time_step", dt)?),
@@ -342,40 +334,31 @@ impl Checker<'_> {
                 "implicit.constraint",
                 ri.constraint.as_deref(),
                 Constraint::GapRate,
-                &[("gap_rate", Constraint::GapRate), ("gap", Constraint::Gap)],
+                Constraint::CHOICES,
             )?;
             implicit.penalty = self.choice(
                 "implicit.penalty",
                 ri.penalty.as_deref(),
                 PenaltyLaw::Adaptive,
-                &[
-                    ("adaptive", PenaltyLaw::Adaptive),
-                    ("fixed", PenaltyLaw::Fixed),
-                ],
+                PenaltyLaw::CHOICES,
             )?;
             implicit.mass = self.choice(
                 "implicit.mass",
                 ri.mass.as_deref(),
                 MassKind::Consistent,
-                &[
-                    ("lumped", MassKind::Lumped),
-                    ("consistent", MassKind::Consistent),
-                ],
+                MassKind::CHOICES,
             )?;
             implicit.ordering = self.choice(
                 "implicit.ordering",
                 ri.ordering.as_deref(),
                 Ordering::default(),
-                &Ordering::CHOICES,
+                Ordering::CHOICES,
             )?;
             implicit.acceleration = self.choice(
                 "implicit.acceleration",
                 ri.acceleration.as_deref(),
                 Acceleration::Anderson,
-                &[
-                    ("anderson", Acceleration::Anderson),
-                    ("none", Acceleration::None),
-                ],
+                Acceleration::CHOICES,
             )?;
             if let Some(e) = ri.penalty_normal {
                 implicit.penalty_normal = Some(self.positive("implicit.penalty_normal", e)?);
@@ -598,7 +581,7 @@ impl Checker<'_> {
                     &key("initial_penetration"),
                     ct.initial_penetration.as_deref(),
                     PenetrationPolicy::Error,
-                    &PenetrationPolicy::NAMES,
+                    PenetrationPolicy::CHOICES,
                 )?,
             });
         }
@@ -638,7 +621,7 @@ impl Checker<'_> {
                     &key("initial_penetration"),
                     p.initial_penetration.as_deref(),
                     PenetrationPolicy::Error,
-                    &PenetrationPolicy::NAMES,
+                    PenetrationPolicy::CHOICES,
                 )?,
             });
         }
