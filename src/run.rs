@@ -661,159 +661,217 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
             eprintln!("{line}");
         }
     };
-    let setup = setup::prepare(
-        scene,
-        opts.device.unwrap_or(scene.run.device),
-        &mut notice,
-        &mut clock,
-    )?;
-    let speed_scale = resumed
-        .as_ref()
-        .map_or_else(|| scene.speed_scale(), |c| c.speed_scale);
-    let mut solver = build_solver(scene, &setup, speed_scale)?;
-    if let Solver::Resident(s) = &mut solver {
-        if let Some(dt) = setup.last_step {
-            s.shorten_last_step(dt);
+    let device = opts.device.unwrap_or(scene.run.device);
+    let setup = setup::prepare(scene, device, &mut notice, &mut clock)?;
+    let mut running = Running::begin(scene, &setup, &dir, resumed, &mut clock, start)?;
+    let mut progress = Progress::new(setup.steps, opts.quiet);
+    for n in running.tally.steps..setup.steps {
+        let iterations = running.step(n)?;
+        if let Some(err) = running.interrupt(n, opts.interrupt.as_deref()) {
+            return Err(err);
         }
-        if let Some(every) = scene.checkpoint_every {
-            s.cut_every(every);
-        }
+        progress.step(n + 1, running.solver.time(), iterations);
     }
-    clock.lap("solver");
-    let model = &setup.model;
-    check_exact_columns(scene, model)?;
-    if let Some(c) = &resumed {
-        check_resumable(&dir, c, &setup)?;
-    }
-    let (mut out, mut tally) = match resumed {
-        None => start_fresh(scene, model, &mut solver, &dir)?,
-        Some(c) => start_resumed(scene, model, &mut solver, &dir, c)?,
-    };
-    let energy_scale = energy_scale(scene, model, &solver, tally.energy_initial);
-    let mut summary = initial_summary(scene, &setup, &solver);
-    clock.lap("first row");
-    summary.setup_seconds = clock.total();
-    summary.setup_stages = clock.stages();
-    let steps = setup.steps;
-    let first = tally.steps;
-    let identity = RunIdentity {
-        scene_hash: crate::checkpoint::scene_hash(scene),
-        speed_scale,
-    };
-    let mut progress = Progress::new(steps, opts.quiet);
-    for n in first..steps {
-        let last = n + 1 == steps;
-        if last && setup.last_step.is_some() {
-            if scene.checkpoint_every.is_some() {
-                // the checkpoint stays on whole steps: a later end time continues from here
-                save(&mut solver, &mut out, &tally, &identity)?;
+    progress.finish();
+    running.finish()
+}
+
+/// A run between its setup and its summary: the solver, what it has written and counted.
+struct Running<'s> {
+    scene: &'s Scene,
+    setup: &'s Setup,
+    solver: Solver<'s>,
+    out: Outputs,
+    tally: Tally,
+    summary: Summary,
+    identity: RunIdentity,
+    energy_scale: f64,
+    start: Instant,
+}
+
+impl<'s> Running<'s> {
+    /// Builds the solver, starts or resumes the outputs, and opens the summary.
+    fn begin(
+        scene: &'s Scene,
+        setup: &'s Setup,
+        dir: &Path,
+        resumed: Option<Checkpoint>,
+        clock: &mut SetupClock,
+        start: Instant,
+    ) -> Result<Self> {
+        let speed_scale = resumed
+            .as_ref()
+            .map_or_else(|| scene.speed_scale(), |c| c.speed_scale);
+        let mut solver = build_solver(scene, setup, speed_scale)?;
+        if let Solver::Resident(s) = &mut solver {
+            if let Some(dt) = setup.last_step {
+                s.shorten_last_step(dt);
             }
-            if let (Some(dt), Solver::Explicit(s)) = (setup.last_step, &mut solver) {
+            if let Some(every) = scene.checkpoint_every {
+                s.cut_every(every);
+            }
+        }
+        clock.lap("solver");
+        let model = &setup.model;
+        check_exact_columns(scene, model)?;
+        if let Some(c) = &resumed {
+            check_resumable(dir, c, setup)?;
+        }
+        let (out, tally) = match resumed {
+            None => start_fresh(scene, model, &mut solver, dir)?,
+            Some(c) => start_resumed(scene, model, &mut solver, dir, c)?,
+        };
+        let energy_scale = energy_scale(scene, model, &solver, tally.energy_initial);
+        let mut summary = initial_summary(scene, setup, &solver);
+        clock.lap("first row");
+        summary.setup_seconds = clock.total();
+        summary.setup_stages = clock.stages();
+        let identity = RunIdentity {
+            scene_hash: crate::checkpoint::scene_hash(scene),
+            speed_scale,
+        };
+        Ok(Running {
+            scene,
+            setup,
+            solver,
+            out,
+            tally,
+            summary,
+            identity,
+            energy_scale,
+            start,
+        })
+    }
+
+    /// Whether step `n` is the run's last, shortened to end at `end_time`.
+    fn shortened(&self, n: usize) -> bool {
+        n + 1 == self.setup.steps && self.setup.last_step.is_some()
+    }
+
+    /// Step `n`: the solver's step, its history row and frame, the tally, the divergence
+    /// check and a due checkpoint. Returns the step's iterations.
+    fn step(&mut self, n: usize) -> Result<usize> {
+        let last = n + 1 == self.setup.steps;
+        if self.shortened(n) {
+            if self.scene.checkpoint_every.is_some() {
+                // the checkpoint stays on whole steps: a later end time continues from here
+                save(&mut self.solver, &mut self.out, &self.tally, &self.identity)?;
+            }
+            if let (Some(dt), Solver::Explicit(s)) = (self.setup.last_step, &mut self.solver) {
                 s.shorten_step(dt);
             }
         }
-        let outcome = solver.step().and_then(|r| {
-            if last && setup.last_step.is_some() {
-                solver.end_at(summary.end_time);
-            }
-            let e = write_row(&mut solver, model, &mut out.history)?;
-            write_frame(&solver, model, &mut out.frames, last)?;
-            Ok((r, e))
-        });
-        let (r, e) = match outcome {
-            Ok(x) => x,
-            // the linear solver failing is the run diverging; anything else (a write, the
-            // GPU) ends it as failed, with its own error and exit status
-            Err(err @ ImpactError::Solver(_)) => {
-                let time = (n + 1) as f64 * setup.dt;
-                return Err(fail(
-                    scene,
-                    model,
-                    &mut summary,
-                    &tally,
-                    &mut out,
-                    (n + 1, time),
-                    err.to_string(),
-                    start,
-                ));
-            }
-            Err(err) => {
-                let _ = out.history.flush();
-                fill_summary(&mut summary, &tally, model, &solver);
-                summary.status = "failed".into();
-                summary.message = Some(format!("at step {}: {err}", n + 1));
-                summary.wall_seconds = start.elapsed().as_secs_f64();
-                let _ = summary.write(&dir);
-                return Err(err);
-            }
-        };
-        count_step(&mut tally, (n + 1, solver.time()), r, e, &solver.reports());
-        if !e.is_finite() || e.abs() > DIVERGENCE_FACTOR * energy_scale {
+        let (r, e) = self.advance(n)?;
+        let at = (n + 1, self.solver.time());
+        count_step(&mut self.tally, at, r, e, &self.solver.reports());
+        if !e.is_finite() || e.abs() > DIVERGENCE_FACTOR * self.energy_scale {
             let reason = format!(
                 "total energy {e:.6e} against {:.6e} at the start",
-                tally.energy_initial
+                self.tally.energy_initial
             );
-            let at = (n + 1, solver.time());
-            return Err(fail(
-                scene,
-                model,
-                &mut summary,
-                &tally,
-                &mut out,
-                at,
-                reason,
-                start,
-            ));
+            return Err(self.fail(at, reason));
         }
-        let whole = !(last && setup.last_step.is_some());
-        let due = scene
-            .checkpoint_every
-            .is_some_and(|k| (n + 1) % k == 0 || last);
-        if whole && due {
-            save(&mut solver, &mut out, &tally, &identity)?;
+        let due = (self.scene.checkpoint_every).is_some_and(|k| (n + 1) % k == 0 || last);
+        if due && !self.shortened(n) {
+            save(&mut self.solver, &mut self.out, &self.tally, &self.identity)?;
         }
-        let signalled = opts
-            .interrupt
-            .as_ref()
-            .is_some_and(|f| f.load(Ordering::SeqCst));
+        Ok(r.iterations)
+    }
+
+    /// The solver's step with its row and frame. The linear solver failing is the run
+    /// diverging; anything else (a write, the GPU) ends it as failed, with its own error.
+    fn advance(&mut self, n: usize) -> Result<(StepReport, f64)> {
+        let (model, end_time) = (&self.setup.model, self.summary.end_time);
+        let last = n + 1 == self.setup.steps;
+        let shortened = self.shortened(n);
+        let solver = &mut self.solver;
+        let out = &mut self.out;
+        let outcome = solver.step().and_then(|r| {
+            if shortened {
+                solver.end_at(end_time);
+            }
+            let e = write_row(solver, model, &mut out.history)?;
+            write_frame(solver, model, &mut out.frames, last)?;
+            Ok((r, e))
+        });
+        match outcome {
+            Ok(x) => Ok(x),
+            Err(err @ ImpactError::Solver(_)) => {
+                let time = (n + 1) as f64 * self.setup.dt;
+                Err(self.fail((n + 1, time), err.to_string()))
+            }
+            Err(err) => {
+                let _ = self.out.history.flush();
+                fill_summary(&mut self.summary, &self.tally, model, &self.solver);
+                self.summary.status = "failed".into();
+                self.summary.message = Some(format!("at step {}: {err}", n + 1));
+                self.summary.wall_seconds = self.start.elapsed().as_secs_f64();
+                let _ = self.summary.write(&self.out.dir);
+                Err(err)
+            }
+        }
+    }
+
+    /// Ends a diverged run (see [`fail`]).
+    fn fail(&mut self, at: (usize, f64), reason: String) -> ImpactError {
+        fail(
+            self.scene,
+            &self.setup.model,
+            &mut self.summary,
+            &self.tally,
+            &mut self.out,
+            at,
+            reason,
+            self.start,
+        )
+    }
+
+    /// After step `n`: when `flag` is set, stops submitting, and once the solver is at
+    /// rest (and this was not the last step) ends the run as interrupted.
+    fn interrupt(&mut self, n: usize, flag: Option<&AtomicBool>) -> Option<ImpactError> {
+        let signalled = flag.is_some_and(|f| f.load(Ordering::SeqCst));
         if signalled {
             // the resident engine hands out the steps it has in flight first
-            solver.stop_submitting();
+            self.solver.stop_submitting();
         }
-        if signalled && !last && solver.at_rest() {
-            return Err(interrupted(
-                model,
-                &mut solver,
-                &mut summary,
-                &tally,
-                &mut out,
-                &identity,
-                start,
-            ));
+        let last = n + 1 == self.setup.steps;
+        (signalled && !last && self.solver.at_rest()).then(|| {
+            interrupted(
+                &self.setup.model,
+                &mut self.solver,
+                &mut self.summary,
+                &self.tally,
+                &mut self.out,
+                &self.identity,
+                self.start,
+            )
+        })
+    }
+
+    /// Writes the charts and the summary of a run that reached its end time.
+    fn finish(mut self) -> Result<Summary> {
+        let model = &self.setup.model;
+        self.out.history.flush()?;
+        write_charts(self.scene, model, &self.out.dir)?;
+        fill_summary(&mut self.summary, &self.tally, model, &self.solver);
+        self.summary.warnings = warnings(
+            self.scene,
+            model,
+            &self.tally,
+            self.summary.method == Method::Implicit.name(),
+            &self.setup.initial,
+            self.energy_scale,
+        );
+        self.summary.status = if self.summary.warnings.is_empty() {
+            "completed"
+        } else {
+            "completed_with_warnings"
         }
-        progress.step(n + 1, solver.time(), r.iterations);
+        .into();
+        self.summary.wall_seconds = self.start.elapsed().as_secs_f64();
+        self.summary.write(&self.out.dir)?;
+        Ok(self.summary)
     }
-    progress.finish();
-    out.history.flush()?;
-    write_charts(scene, model, &dir)?;
-    fill_summary(&mut summary, &tally, model, &solver);
-    summary.warnings = warnings(
-        scene,
-        model,
-        &tally,
-        summary.method == "implicit",
-        &setup.initial,
-        energy_scale,
-    );
-    summary.status = if summary.warnings.is_empty() {
-        "completed"
-    } else {
-        "completed_with_warnings"
-    }
-    .into();
-    summary.wall_seconds = start.elapsed().as_secs_f64();
-    summary.write(&dir)?;
-    Ok(summary)
 }
 
 /// The summary's counts and energies from the tally.
