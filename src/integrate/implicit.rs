@@ -203,6 +203,21 @@ pub struct ImplicitSolver<'m> {
     a_new: Vec<f64>,
 }
 
+/// What one step of length `dt` holds fixed: Newmark's parameters, the effective mass
+/// factor c_m = 1/(beta dt^2), whether the contact force acts at the step's end (the classical
+/// gap constraint) and its weight in the equilibrium, and the convergence tolerance.
+struct StepConstants {
+    dt: f64,
+    beta: f64,
+    gamma: f64,
+    c_m: f64,
+    endpoint: bool,
+    force_weight: f64,
+    /// The kernels compute in f64 (the residual test is then not needed).
+    exact: bool,
+    tol: f64,
+}
+
 impl<'m> ImplicitSolver<'m> {
     /// Assembles, factorises once, and sets the initial state (u = 0, v = v0, a = M^-1 f_ext).
     pub fn new(
@@ -714,14 +729,65 @@ impl<'m> ImplicitSolver<'m> {
     /// One Newmark step of size `h` from the current state, with the run's effective matrix
     /// (`sub` false, h = dt) or the sub-step's (`sub` true, h = dt / event_substeps).
     fn advance(&mut self, h: f64, sub: bool) -> Result<StepReport> {
+        let k = self.step_constants(h);
+        self.predict(&k);
+        self.start_contact()?;
+        let mut report = StepReport::default();
+        self.anderson.reset();
+        for _k in 0..self.settings.max_iterations {
+            let (corr, size) = self.equilibrium(&k, sub)?;
+            report.iterations += 1;
+            self.correct(&k)?;
+            let (converged, map_changed) = self.update_multipliers(&k);
+            let residual_ok = k.exact
+                || corr <= 1e3 * self.kernels.unit_roundoff() * size.max(f64::MIN_POSITIVE);
+            if converged && residual_ok {
+                report.converged = true;
+                break;
+            }
+            if !converged {
+                self.next_multipliers(map_changed);
+            }
+        }
+        self.accept(&k)?;
+        Ok(report)
+    }
+
+    /// The constants of a step of length `h`.
+    fn step_constants(&self, h: f64) -> StepConstants {
         let (dt, beta, gamma) = (h, self.settings.beta, self.settings.gamma);
-        let ndof = self.u.len();
-        for d in 0..ndof {
+        // the paper's gap rate holds the contact force constant over the step; the classical
+        // gap constraint applies it at t_{n+1} in Newmark's equilibrium (module docs)
+        let endpoint = self.settings.constraint == Constraint::Gap;
+        StepConstants {
+            dt,
+            beta,
+            gamma,
+            c_m: 1.0 / (beta * dt * dt),
+            endpoint,
+            force_weight: if endpoint { 1.0 } else { 1.0 / (2.0 * beta) },
+            exact: self.kernels.unit_roundoff() < 1e-12,
+            // the multipliers cannot settle below the noise of the kernels' arithmetic
+            tol: self
+                .settings
+                .tolerance
+                .max(KERNEL_NOISE_FACTOR * self.kernels.unit_roundoff()),
+        }
+    }
+
+    /// Newmark's predictors, and u_new = the predicted displacement.
+    fn predict(&mut self, k: &StepConstants) {
+        let (dt, beta, gamma) = (k.dt, k.beta, k.gamma);
+        for d in 0..self.u.len() {
             self.u_tilde[d] = self.u[d] + dt * self.v[d] + dt * dt * (0.5 - beta) * self.a[d];
             self.v_tilde[d] = self.v[d] + dt * (1.0 - gamma) * self.a[d];
             self.u_new[d] = self.u_tilde[d] + beta * dt * dt * self.a[d];
         }
-        // broad phase and start-of-step kinematics (g_n decides who is a candidate)
+    }
+
+    /// The broad phase and the start-of-step kinematics, which decide the candidates (g_n
+    /// decides who is a candidate).
+    fn start_contact(&mut self) -> Result<()> {
         self.broad_phase();
         let (u0, v0) = (std::mem::take(&mut self.u), std::mem::take(&mut self.v));
         self.kinematics(&u0, &v0)?;
@@ -741,148 +807,150 @@ impl<'m> ImplicitSolver<'m> {
                 fr.start_step(&st.points, &st.candidate);
             }
         }
-        let c_m = 1.0 / (beta * dt * dt);
-        // the paper's gap rate holds the contact force constant over the step; the classical
-        // gap constraint applies it at t_{n+1} in Newmark's equilibrium (module docs)
-        let endpoint = self.settings.constraint == Constraint::Gap;
-        let force_weight = if endpoint { 1.0 } else { 1.0 / (2.0 * beta) };
-        let exact = self.kernels.unit_roundoff() < 1e-12;
-        // the multipliers cannot settle below the noise of the kernels' arithmetic
-        let tol = self
-            .settings
-            .tolerance
-            .max(KERNEL_NOISE_FACTOR * self.kernels.unit_roundoff());
-        let mut report = StepReport::default();
-        self.anderson.reset();
-        for _k in 0..self.settings.max_iterations {
-            self.contact_forces();
-            let f_c = std::mem::take(&mut self.f_c);
-            let mut w = std::mem::take(&mut self.w);
-            if endpoint {
-                w.fill(0.0);
-            } else {
-                self.apply_mass_inverse(&f_c, &mut w);
-            }
-            // residual of the effective equation at u_new
-            let u_new = std::mem::take(&mut self.u_new);
-            self.kernels.internal_forces_into(&u_new, &mut self.f_int)?;
-            let mut inertia = std::mem::take(&mut self.inertia);
-            let mut increment = std::mem::take(&mut self.increment);
-            self.inertia_into(&u_new, &mut increment, &mut inertia);
-            for (e, &d) in self.asm.dof_of.iter().enumerate() {
-                let d = d as usize;
-                self.rhs[e] =
-                    self.f_ext[d] + force_weight * f_c[d] - c_m * inertia[e] - self.f_int[d];
-            }
-            self.inertia = inertia;
-            self.increment = increment;
-            self.u_new = u_new;
-            self.f_c = f_c;
-            self.w = w;
-            let mut delta = std::mem::take(&mut self.rhs);
-            match (sub, &self.sub_solver) {
-                (true, Some(s)) => s.solve_in_place(&mut delta),
-                _ => self.solver.solve_in_place(&mut delta),
-            }
-            let mut corr = 0.0f64;
-            let mut size = 0.0f64;
-            for (e, &d) in self.asm.dof_of.iter().enumerate() {
-                let d = d as usize;
-                self.u_new[d] += delta[e];
-                corr = corr.max(delta[e].abs());
-                size = size.max((self.u_new[d] - self.u[d]).abs());
-            }
-            self.rhs = delta;
-            report.iterations += 1;
-            for d in 0..ndof {
-                self.a_new[d] = c_m * (self.u_new[d] - self.u_tilde[d]) - self.w[d] / (2.0 * beta);
-                self.v_new[d] = self.v_tilde[d] + gamma * dt * self.a_new[d] + dt * self.w[d];
-                if self.model.fixed[d] {
-                    self.a_new[d] = 0.0;
-                    self.v_new[d] = 0.0;
-                }
-            }
-            let (un, vn) = (
-                std::mem::take(&mut self.u_new),
-                std::mem::take(&mut self.v_new),
-            );
-            self.kinematics(&un, &vn)?;
-            self.u_new = un;
-            self.v_new = vn;
+        Ok(())
+    }
 
-            // augmented Lagrange update of every interface
-            let mut converged = true;
-            let mut map_changed = false;
-            let measure_scale = match self.settings.constraint {
-                Constraint::GapRate => 0.0,
-                Constraint::Gap => gamma / (beta * dt),
-            };
-            for (itf, st) in self.model.interfaces.iter().zip(&mut self.interfaces) {
-                let mut grew = false;
-                for i in 0..st.lambda.len() {
-                    let p = st.points[i];
-                    if p.face != NO_FACE && p.gap >= 0.0 && !st.candidate[i] {
-                        st.candidate[i] = true;
-                        grew = true;
-                    }
-                    st.measure[i] = match self.settings.constraint {
-                        Constraint::GapRate => p.gap_rate,
-                        Constraint::Gap => measure_scale * p.gap,
-                    };
+    /// One solve of the effective equation at u_new with the current contact forces:
+    /// u_new moves by the solution. Returns the largest correction and the largest
+    /// displacement increment of the step.
+    fn equilibrium(&mut self, k: &StepConstants, sub: bool) -> Result<(f64, f64)> {
+        self.contact_forces();
+        let f_c = std::mem::take(&mut self.f_c);
+        let mut w = std::mem::take(&mut self.w);
+        if k.endpoint {
+            w.fill(0.0);
+        } else {
+            self.apply_mass_inverse(&f_c, &mut w);
+        }
+        // residual of the effective equation at u_new
+        let u_new = std::mem::take(&mut self.u_new);
+        self.kernels.internal_forces_into(&u_new, &mut self.f_int)?;
+        let mut inertia = std::mem::take(&mut self.inertia);
+        let mut increment = std::mem::take(&mut self.increment);
+        self.inertia_into(&u_new, &mut increment, &mut inertia);
+        for (e, &d) in self.asm.dof_of.iter().enumerate() {
+            let d = d as usize;
+            self.rhs[e] =
+                self.f_ext[d] + k.force_weight * f_c[d] - k.c_m * inertia[e] - self.f_int[d];
+        }
+        self.inertia = inertia;
+        self.increment = increment;
+        self.u_new = u_new;
+        self.f_c = f_c;
+        self.w = w;
+        let mut delta = std::mem::take(&mut self.rhs);
+        match (sub, &self.sub_solver) {
+            (true, Some(s)) => s.solve_in_place(&mut delta),
+            _ => self.solver.solve_in_place(&mut delta),
+        }
+        let mut corr = 0.0f64;
+        let mut size = 0.0f64;
+        for (e, &d) in self.asm.dof_of.iter().enumerate() {
+            let d = d as usize;
+            self.u_new[d] += delta[e];
+            corr = corr.max(delta[e].abs());
+            size = size.max((self.u_new[d] - self.u[d]).abs());
+        }
+        self.rhs = delta;
+        Ok((corr, size))
+    }
+
+    /// Newmark's correctors from u_new, and the contact kinematics there.
+    fn correct(&mut self, k: &StepConstants) -> Result<()> {
+        let (dt, beta, gamma, c_m) = (k.dt, k.beta, k.gamma, k.c_m);
+        for d in 0..self.u.len() {
+            self.a_new[d] = c_m * (self.u_new[d] - self.u_tilde[d]) - self.w[d] / (2.0 * beta);
+            self.v_new[d] = self.v_tilde[d] + gamma * dt * self.a_new[d] + dt * self.w[d];
+            if self.model.fixed[d] {
+                self.a_new[d] = 0.0;
+                self.v_new[d] = 0.0;
+            }
+        }
+        let (un, vn) = (
+            std::mem::take(&mut self.u_new),
+            std::mem::take(&mut self.v_new),
+        );
+        self.kinematics(&un, &vn)?;
+        self.u_new = un;
+        self.v_new = vn;
+        Ok(())
+    }
+
+    /// The augmented Lagrange update of every interface (into `next`). Returns whether every
+    /// interface converged, and whether the candidate set or a penalty changed.
+    fn update_multipliers(&mut self, k: &StepConstants) -> (bool, bool) {
+        let mut converged = true;
+        let mut map_changed = false;
+        let measure_scale = match self.settings.constraint {
+            Constraint::GapRate => 0.0,
+            Constraint::Gap => k.gamma / (k.beta * k.dt),
+        };
+        for (itf, st) in self.model.interfaces.iter().zip(&mut self.interfaces) {
+            let mut grew = false;
+            for i in 0..st.lambda.len() {
+                let p = st.points[i];
+                if p.face != NO_FACE && p.gap >= 0.0 && !st.candidate[i] {
+                    st.candidate[i] = true;
+                    grew = true;
                 }
-                let eps_before = (
-                    st.penalty.eps,
-                    st.friction.as_ref().map_or(0.0, |f| f.penalty.eps),
-                );
-                let r = augmented_lagrange::update(
-                    &mut st.penalty,
-                    &mut st.memory,
-                    &st.lambda,
-                    &st.measure,
-                    &st.candidate,
-                    &itf.area,
-                    &mut st.next,
-                );
-                if grew || r.relative_change > tol {
+                st.measure[i] = match self.settings.constraint {
+                    Constraint::GapRate => p.gap_rate,
+                    Constraint::Gap => measure_scale * p.gap,
+                };
+            }
+            let eps_before = (
+                st.penalty.eps,
+                st.friction.as_ref().map_or(0.0, |f| f.penalty.eps),
+            );
+            let r = augmented_lagrange::update(
+                &mut st.penalty,
+                &mut st.memory,
+                &st.lambda,
+                &st.measure,
+                &st.candidate,
+                &itf.area,
+                &mut st.next,
+            );
+            if grew || r.relative_change > k.tol {
+                converged = false;
+            }
+            if let Some(fr) = &mut st.friction {
+                // tangential change relative to the larger of the normal and tangential
+                // force scales: the relative change of the contact force as a whole
+                let rt = fr.update(&st.next, &st.candidate, &st.points);
+                if rt.change > k.tol * rt.scale.max(r.scale) {
                     converged = false;
                 }
+            }
+            let eps_after = (
+                st.penalty.eps,
+                st.friction.as_ref().map_or(0.0, |f| f.penalty.eps),
+            );
+            map_changed |= grew || eps_after != eps_before;
+        }
+        (converged, map_changed)
+    }
+
+    /// The next iteration's multipliers: Anderson's (restarted when the map changed) or the
+    /// plain update.
+    fn next_multipliers(&mut self, map_changed: bool) {
+        if self.settings.acceleration == Acceleration::Anderson {
+            if map_changed {
+                self.anderson.reset();
+            }
+            self.accelerate();
+        } else {
+            for st in &mut self.interfaces {
+                std::mem::swap(&mut st.lambda, &mut st.next);
                 if let Some(fr) = &mut st.friction {
-                    // tangential change relative to the larger of the normal and tangential
-                    // force scales: the relative change of the contact force as a whole
-                    let rt = fr.update(&st.next, &st.candidate, &st.points);
-                    if rt.change > tol * rt.scale.max(r.scale) {
-                        converged = false;
-                    }
-                }
-                let eps_after = (
-                    st.penalty.eps,
-                    st.friction.as_ref().map_or(0.0, |f| f.penalty.eps),
-                );
-                map_changed |= grew || eps_after != eps_before;
-            }
-            let residual_ok =
-                exact || corr <= 1e3 * self.kernels.unit_roundoff() * size.max(f64::MIN_POSITIVE);
-            if converged && residual_ok {
-                report.converged = true;
-                break;
-            }
-            if !converged {
-                if self.settings.acceleration == Acceleration::Anderson {
-                    if map_changed {
-                        self.anderson.reset();
-                    }
-                    self.accelerate();
-                } else {
-                    for st in &mut self.interfaces {
-                        std::mem::swap(&mut st.lambda, &mut st.next);
-                        if let Some(fr) = &mut st.friction {
-                            fr.accept_update();
-                        }
-                    }
+                    fr.accept_update();
                 }
             }
         }
-        // accept the step
+    }
+
+    /// Accepts the step: the new state, and each interface's report.
+    fn accept(&mut self, k: &StepConstants) -> Result<()> {
         std::mem::swap(&mut self.u, &mut self.u_new);
         std::mem::swap(&mut self.v, &mut self.v_new);
         std::mem::swap(&mut self.a, &mut self.a_new);
@@ -898,16 +966,16 @@ impl<'m> ImplicitSolver<'m> {
                 }
             }
             if let Some(fr) = &mut st.friction {
-                let (total, sliding) = fr.end_step(dt, &itf.area, &st.lambda, &st.points);
+                let (total, sliding) = fr.end_step(k.dt, &itf.area, &st.lambda, &st.points);
                 st.tangential = total;
                 r.tangential_force = quad::norm(total);
                 r.sliding = sliding;
                 r.friction_work = fr.work;
             }
-            if endpoint {
+            if k.endpoint {
                 // impulse of the step / dt with forces at both ends
                 let f_end = r.normal_force;
-                r.normal_force = (1.0 - gamma) * st.endpoint_force + gamma * f_end;
+                r.normal_force = (1.0 - k.gamma) * st.endpoint_force + k.gamma * f_end;
                 st.endpoint_force = f_end;
             }
             st.report = r;
@@ -917,7 +985,7 @@ impl<'m> ImplicitSolver<'m> {
                 "non-finite displacement or velocity".into(),
             ));
         }
-        Ok(report)
+        Ok(())
     }
 
     /// The next multipliers from the current ones and their update G by Anderson's method,
