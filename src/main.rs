@@ -1,6 +1,6 @@
 //! The `impact` command line.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -163,88 +163,8 @@ fn real_main() -> anyhow::Result<u8> {
             quick,
             devices,
             keep_runs,
-        } => {
-            use impact::study::{study, Problem};
-            let Some(p) = Problem::parse(&problem) else {
-                eprintln!(
-                    "error: unknown problem \"{problem}\" (the problems are: {})",
-                    Problem::NAMES
-                );
-                return Ok(exit::USAGE);
-            };
-            let out = out.unwrap_or_else(|| PathBuf::from(format!("results/study_{problem}")));
-            let devices: Vec<String> = if !devices.is_empty() {
-                devices
-            } else if quick || impact::gpu::GpuContext::new().is_err() {
-                vec!["cpu".into()]
-            } else {
-                vec!["cpu".into(), "gpu".into()]
-            };
-            let devices: Vec<&str> = devices.iter().map(String::as_str).collect();
-            let rows = study(p, &out, quick, &devices, keep_runs, &mut |r| {
-                eprintln!(
-                    "{} {} {} el, c dt/h {}: force error {:.3e}, {:.3} s, {}",
-                    r.method.name(),
-                    r.device,
-                    r.elements,
-                    r.courant,
-                    r.errors.force,
-                    r.wall_seconds,
-                    r.status
-                );
-            })?;
-            println!(
-                "{} runs; {} written",
-                rows.len(),
-                [
-                    "study.csv",
-                    "study.svg",
-                    "study.png",
-                    "atlas.svg",
-                    "atlas.png",
-                    "atlas.md"
-                ]
-                .map(|f| out.join(f).display().to_string())
-                .join(", ")
-            );
-            Ok(exit::SUCCESS)
-        }
-        Command::Plot { dir, columns, name } => {
-            use impact::output::plot::{chart, Table};
-            let table = Table::read(&dir.join("history.csv"))
-                .with_context(|| format!("reading the history of {}", dir.display()))?;
-            let columns = if columns.is_empty() {
-                table
-                    .columns
-                    .iter()
-                    .filter(|c| c.ends_with(".normal_force"))
-                    .cloned()
-                    .collect()
-            } else {
-                columns
-            };
-            if let Some(bad) = columns.iter().find(|c| !table.columns.contains(c)) {
-                anyhow::bail!(
-                    "{}: no column \"{bad}\" (the columns are: {})",
-                    dir.join("history.csv").display(),
-                    table.columns.join(", ")
-                );
-            }
-            if columns.is_empty() {
-                anyhow::bail!(
-                    "{}: no columns to draw; name them with --columns a,b",
-                    dir.display()
-                );
-            }
-            chart(&table, &columns.join(", "), &columns).write(&dir, &name)?;
-            println!(
-                "{}: {} and {}",
-                columns.join(", "),
-                dir.join(format!("{name}.svg")).display(),
-                dir.join(format!("{name}.png")).display()
-            );
-            Ok(exit::SUCCESS)
-        }
+        } => study_command(&problem, out, quick, devices, keep_runs),
+        Command::Plot { dir, columns, name } => plot_command(&dir, columns, &name),
         Command::Run {
             scene,
             out,
@@ -253,60 +173,170 @@ fn real_main() -> anyhow::Result<u8> {
             overwrite,
             resume,
             strict,
-        } => {
-            let sc = Scene::load(&scene)?;
-            let opts = RunOptions {
-                out,
-                device: parse_device(device)?,
-                quiet,
-                overwrite,
-                resume,
-                interrupt: interrupt_flag(),
-            };
-            let dir = impact::run::output_dir(&sc, &opts);
-            let s = run(&sc, &opts)?;
-            println!(
-                "{}: {} steps in {:.2} s on {} ({} contact iterations, at most {} in a step); energy {:.6e} -> {:.6e}; {}; results in {}",
-                scene.display(),
-                s.steps,
-                s.wall_seconds,
-                s.device,
-                s.iterations_total,
-                s.iterations_max,
-                s.energy_initial,
-                s.energy_final,
-                s.status,
-                dir.display()
-            );
-            for w in &s.warnings {
-                eprintln!("warning: {}: {}", w.kind, w.message);
-            }
-            Ok(if strict && !s.warnings.is_empty() {
-                eprintln!(
-                    "error: --strict: the run completed with {} warning(s)",
-                    s.warnings.len()
-                );
-                exit::WARNINGS_STRICT
-            } else {
-                exit::SUCCESS
-            })
-        }
-        Command::Check { scene, device } => {
-            let sc = Scene::load(&scene)?;
-            let device = parse_device(device)?.unwrap_or(sc.run.device);
-            let mut clock = impact::output::summary::SetupClock::start();
-            let setup = impact::setup::prepare(&sc, device, &mut |l| eprintln!("{l}"), &mut clock)?;
-            print!("{}", impact::report::model_report(&sc, &setup));
-            Ok(exit::SUCCESS)
-        }
-        Command::Info => {
-            println!(
-                "CPU threads: {} ({} cores; --threads N sets it)",
-                rayon::current_num_threads(),
-                std::thread::available_parallelism().map_or(1, |n| n.get())
-            );
-            print!("{}", impact::gpu::context::info_report()?);
-            Ok(exit::SUCCESS)
-        }
+        } => run_command(&scene, out, device, quiet, overwrite, resume, strict),
+        Command::Check { scene, device } => check_command(&scene, device),
+        Command::Info => info_command(),
     }
+}
+
+/// `impact study`: the accuracy-against-speed study of a problem.
+fn study_command(
+    problem: &str,
+    out: Option<PathBuf>,
+    quick: bool,
+    devices: Vec<String>,
+    keep_runs: bool,
+) -> anyhow::Result<u8> {
+    use impact::study::{study, Problem};
+    let Some(p) = Problem::parse(problem) else {
+        eprintln!(
+            "error: unknown problem \"{problem}\" (the problems are: {})",
+            Problem::NAMES
+        );
+        return Ok(exit::USAGE);
+    };
+    let out = out.unwrap_or_else(|| PathBuf::from(format!("results/study_{problem}")));
+    let devices: Vec<String> = if !devices.is_empty() {
+        devices
+    } else if quick || impact::gpu::GpuContext::new().is_err() {
+        vec!["cpu".into()]
+    } else {
+        vec!["cpu".into(), "gpu".into()]
+    };
+    let devices: Vec<&str> = devices.iter().map(String::as_str).collect();
+    let rows = study(p, &out, quick, &devices, keep_runs, &mut |r| {
+        eprintln!(
+            "{} {} {} el, c dt/h {}: force error {:.3e}, {:.3} s, {}",
+            r.method.name(),
+            r.device,
+            r.elements,
+            r.courant,
+            r.errors.force,
+            r.wall_seconds,
+            r.status
+        );
+    })?;
+    println!(
+        "{} runs; {} written",
+        rows.len(),
+        [
+            "study.csv",
+            "study.svg",
+            "study.png",
+            "atlas.svg",
+            "atlas.png",
+            "atlas.md"
+        ]
+        .map(|f| out.join(f).display().to_string())
+        .join(", ")
+    );
+    Ok(exit::SUCCESS)
+}
+
+/// `impact plot`: history columns as an SVG and a PNG chart.
+fn plot_command(dir: &Path, columns: Vec<String>, name: &str) -> anyhow::Result<u8> {
+    use impact::output::plot::{chart, Table};
+    let table = Table::read(&dir.join("history.csv"))
+        .with_context(|| format!("reading the history of {}", dir.display()))?;
+    let columns = if columns.is_empty() {
+        table
+            .columns
+            .iter()
+            .filter(|c| c.ends_with(".normal_force"))
+            .cloned()
+            .collect()
+    } else {
+        columns
+    };
+    if let Some(bad) = columns.iter().find(|c| !table.columns.contains(c)) {
+        anyhow::bail!(
+            "{}: no column \"{bad}\" (the columns are: {})",
+            dir.join("history.csv").display(),
+            table.columns.join(", ")
+        );
+    }
+    if columns.is_empty() {
+        anyhow::bail!(
+            "{}: no columns to draw; name them with --columns a,b",
+            dir.display()
+        );
+    }
+    chart(&table, &columns.join(", "), &columns).write(dir, name)?;
+    println!(
+        "{}: {} and {}",
+        columns.join(", "),
+        dir.join(format!("{name}.svg")).display(),
+        dir.join(format!("{name}.png")).display()
+    );
+    Ok(exit::SUCCESS)
+}
+
+/// `impact run`: runs a scene and prints its outcome.
+#[allow(clippy::too_many_arguments)]
+fn run_command(
+    scene: &Path,
+    out: Option<PathBuf>,
+    device: Option<String>,
+    quiet: bool,
+    overwrite: bool,
+    resume: bool,
+    strict: bool,
+) -> anyhow::Result<u8> {
+    let sc = Scene::load(scene)?;
+    let opts = RunOptions {
+        out,
+        device: parse_device(device)?,
+        quiet,
+        overwrite,
+        resume,
+        interrupt: interrupt_flag(),
+    };
+    let dir = impact::run::output_dir(&sc, &opts);
+    let s = run(&sc, &opts)?;
+    println!(
+        "{}: {} steps in {:.2} s on {} ({} contact iterations, at most {} in a step); energy {:.6e} -> {:.6e}; {}; results in {}",
+        scene.display(),
+        s.steps,
+        s.wall_seconds,
+        s.device,
+        s.iterations_total,
+        s.iterations_max,
+        s.energy_initial,
+        s.energy_final,
+        s.status,
+        dir.display()
+    );
+    for w in &s.warnings {
+        eprintln!("warning: {}: {}", w.kind, w.message);
+    }
+    Ok(if strict && !s.warnings.is_empty() {
+        eprintln!(
+            "error: --strict: the run completed with {} warning(s)",
+            s.warnings.len()
+        );
+        exit::WARNINGS_STRICT
+    } else {
+        exit::SUCCESS
+    })
+}
+
+/// `impact check`: builds and checks the model, and prints its report.
+fn check_command(scene: &Path, device: Option<String>) -> anyhow::Result<u8> {
+    let sc = Scene::load(scene)?;
+    let device = parse_device(device)?.unwrap_or(sc.run.device);
+    let mut clock = impact::output::summary::SetupClock::start();
+    let setup = impact::setup::prepare(&sc, device, &mut |l| eprintln!("{l}"), &mut clock)?;
+    print!("{}", impact::report::model_report(&sc, &setup));
+    Ok(exit::SUCCESS)
+}
+
+/// `impact info`: threads, adapters and limits.
+fn info_command() -> anyhow::Result<u8> {
+    println!(
+        "CPU threads: {} ({} cores; --threads N sets it)",
+        rayon::current_num_threads(),
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    );
+    print!("{}", impact::gpu::context::info_report()?);
+    Ok(exit::SUCCESS)
 }
