@@ -739,8 +739,8 @@ impl<'m> ImplicitSolver<'m> {
             report.iterations += 1;
             self.correct(&k)?;
             let (converged, map_changed) = self.update_multipliers(&k);
-            let residual_ok = k.exact
-                || corr <= 1e3 * self.kernels.unit_roundoff() * size.max(f64::MIN_POSITIVE);
+            let residual_ok =
+                k.exact || corr <= 1e3 * self.kernels.unit_roundoff() * size.max(f64::MIN_POSITIVE);
             if converged && residual_ok {
                 report.converged = true;
                 break;
