@@ -16,7 +16,7 @@ use crate::integrate::{
 };
 use crate::model::Model;
 use crate::output::progress::Progress;
-use crate::output::summary::{InterfaceSummary, LinearSolverSummary, SetupClock};
+use crate::output::summary::{InterfaceSummary, SetupClock};
 use crate::output::vtu::{NodeContact, VtuWriter};
 use crate::output::{History, Summary};
 use crate::scene::{DeviceChoice, Method, Scene};
@@ -892,8 +892,8 @@ fn fill_summary(summary: &mut Summary, tally: &Tally, model: &Model, solver: &So
     summary.interfaces = interface_summaries(model, solver, &tally.peak_force);
     if let Solver::Implicit(s) = solver {
         summary.factorizations = s.factorizations();
-        summary.linear_solver = Some(LinearSolverSummary::from(&s.linear_solver()));
-        summary.mass_factor = s.mass_factor().as_ref().map(LinearSolverSummary::from);
+        summary.linear_solver = Some(s.linear_solver());
+        summary.mass_factor = s.mass_factor();
         summary.event_steps = s.event_steps;
     }
 }

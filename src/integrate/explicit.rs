@@ -249,15 +249,10 @@ impl<'m> ExplicitSolver<'m> {
 
     /// Continues from a checkpoint's state (of this model: the lengths must match).
     pub fn restore(&mut self, s: ExplicitState) -> std::result::Result<(), String> {
-        if s.u.len() != self.u.len() || s.interfaces.len() != self.interfaces.len() {
-            return Err(format!(
-                "the checkpoint holds {} dofs and {} interfaces, the model {} and {}",
-                s.u.len(),
-                s.interfaces.len(),
-                self.u.len(),
-                self.interfaces.len()
-            ));
-        }
+        super::state::check_restore(
+            (s.u.len(), self.u.len()),
+            (s.interfaces.len(), self.interfaces.len()),
+        )?;
         self.dt = s.dt;
         self.time = s.time;
         self.steps = s.steps;

@@ -32,3 +32,18 @@ pub struct ContactReport {
     /// Energy dissipated by friction since the start of the run.
     pub friction_work: f64,
 }
+
+/// Whether a checkpoint's state fits this model: its dof and interface counts against the
+/// model's (`(checkpoint, model)` each).
+pub fn check_restore(
+    dofs: (usize, usize),
+    interfaces: (usize, usize),
+) -> std::result::Result<(), String> {
+    if dofs.0 != dofs.1 || interfaces.0 != interfaces.1 {
+        return Err(format!(
+            "the checkpoint holds {} dofs and {} interfaces, the model {} and {}",
+            dofs.0, interfaces.0, dofs.1, interfaces.1
+        ));
+    }
+    Ok(())
+}

@@ -28,9 +28,11 @@ fn par() -> Par {
     Par::rayon(FAER_TASKS)
 }
 
-/// What one factor cost: analysis once, then every factorisation and solve.
-#[derive(Debug, Clone, Default)]
+/// A Cholesky factor of the implicit path: its ordering, size, and what its factorisations
+/// and solves cost (the summary's `linear_solver` and `mass_factor`).
+#[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct FactorStats {
+    /// The fill-reducing ordering: "nested_dissection" or "amd".
     pub ordering: Ordering,
     pub equations: usize,
     /// Nonzeros of the matrix (full storage).
@@ -41,6 +43,7 @@ pub struct FactorStats {
     pub analysis_seconds: f64,
     pub factorizations: usize,
     pub factorization_seconds: f64,
+    /// Triangular solve pairs (one per multiplier iteration and step).
     pub solves: usize,
     pub solve_seconds: f64,
 }

@@ -141,23 +141,7 @@ fn defined_bounds(text: &str) -> (usize, usize) {
 
 /// Reads a deck's text.
 pub fn read(text: &str) -> Res<FileMesh> {
-    let (max_nodes, max_elements) = defined_bounds(text);
-    let mut r = Reader {
-        node_ids: HashMap::new(),
-        nodes: Vec::new(),
-        elements: Vec::new(),
-        element_ids: HashMap::new(),
-        nsets: Vec::new(),
-        elsets: Vec::new(),
-        surfaces: Vec::new(),
-        node_surfaces: Vec::new(),
-        max_nodes,
-        max_elements,
-    };
-    let mut mode = Mode::Skip;
-    let mut set_name = String::new();
-    let mut pending: Vec<u64> = Vec::new();
-    let mut pending_line = 0usize;
+    let mut p = Parser::new(text);
     for (i, raw) in text.lines().enumerate() {
         let line_no = i + 1;
         let line = raw.trim();
@@ -165,214 +149,341 @@ pub fn read(text: &str) -> Res<FileMesh> {
             continue;
         }
         if line.starts_with('*') {
-            if !pending.is_empty() {
-                return Err(ParseError::at(
-                    pending_line,
-                    format!("element {} lists too few nodes", pending[0]),
-                ));
-            }
-            let (keyword, p) = params(line);
-            let need = |key: &str| -> Res<String> {
-                p.get(key)
-                    .filter(|v| !v.is_empty())
-                    .cloned()
-                    .ok_or_else(|| ParseError::at(line_no, format!("*{keyword} needs {key}=")))
-            };
-            let generate = p.contains_key("GENERATE");
-            mode = match keyword.as_str() {
-                "NODE" => {
-                    set_name = p.get("NSET").cloned().unwrap_or_default();
-                    Mode::Node
-                }
-                "ELEMENT" => {
-                    let ty = need("TYPE")?.to_ascii_uppercase();
-                    set_name = p.get("ELSET").cloned().unwrap_or_default();
-                    match ty.as_str() {
-                        "C3D8" => Mode::Element { corners: 8 },
-                        "C3D4" => Mode::Element { corners: 4 },
-                        other => {
-                            return Err(ParseError::at(
-                                line_no,
-                                format!(
-                                    "element type {other} is not supported: only C3D8 (hex8) and C3D4 (tet4) are"
-                                ),
-                            ))
-                        }
-                    }
-                }
-                "NSET" => {
-                    set_name = need("NSET")?;
-                    set_mut(&mut r.nsets, &set_name);
-                    Mode::NSet { generate }
-                }
-                "ELSET" => {
-                    set_name = need("ELSET")?;
-                    set_mut(&mut r.elsets, &set_name);
-                    Mode::ElSet { generate }
-                }
-                "SURFACE" => {
-                    set_name = need("NAME")?;
-                    let ty = p
-                        .get("TYPE")
-                        .map(|t| t.to_ascii_uppercase())
-                        .unwrap_or_else(|| "ELEMENT".into());
-                    match ty.as_str() {
-                        "ELEMENT" => {
-                            r.surfaces.push((set_name.clone(), Vec::new(), line_no));
-                            Mode::SurfaceElement
-                        }
-                        "NODE" => {
-                            r.node_surfaces.push((set_name.clone(), Vec::new(), line_no));
-                            Mode::SurfaceNode
-                        }
-                        other => {
-                            return Err(ParseError::at(
-                                line_no,
-                                format!("*SURFACE TYPE={other} is not supported (ELEMENT or NODE)"),
-                            ))
-                        }
-                    }
-                }
-                "PART" | "INSTANCE" => {
-                    return Err(ParseError::at(
-                        line_no,
-                        format!("*{keyword}: decks with parts and instances are not supported; write a flat deck (nodes and elements at the top level)"),
-                    ))
-                }
-                _ => Mode::Skip,
-            };
-            continue;
+            p.no_pending()?;
+            p.keyword(line, line_no)?;
+        } else {
+            p.data(line, line_no)?;
         }
+    }
+    p.no_pending()?;
+    p.r.finish()
+}
+
+/// A keyword line: its keyword (upper case), its parameters (keys upper case) and its line.
+struct Keyword {
+    name: String,
+    params: HashMap<String, String>,
+    line: usize,
+}
+
+impl Keyword {
+    /// The value of the parameter `key`, refused when it is missing or empty.
+    fn need(&self, key: &str) -> Res<String> {
+        self.params
+            .get(key)
+            .filter(|v| !v.is_empty())
+            .cloned()
+            .ok_or_else(|| ParseError::at(self.line, format!("*{} needs {key}=", self.name)))
+    }
+
+    /// The value of the parameter `key`, empty when it is missing.
+    fn get(&self, key: &str) -> String {
+        self.params.get(key).cloned().unwrap_or_default()
+    }
+}
+
+/// The reader's place in a deck: what it has read ([`Reader`]), the keyword block that data
+/// lines belong to, and an element whose data line continues on the next line.
+struct Parser {
+    r: Reader,
+    mode: Mode,
+    /// The set or surface the block's data lines add to; empty for none.
+    set_name: String,
+    /// An element being read: its number, then its nodes so far.
+    pending: Vec<u64>,
+    /// The line where the element in `pending` starts.
+    pending_line: usize,
+}
+
+impl Parser {
+    /// A parser at the start of the deck `text`.
+    fn new(text: &str) -> Parser {
+        let (max_nodes, max_elements) = defined_bounds(text);
+        Parser {
+            r: Reader {
+                node_ids: HashMap::new(),
+                nodes: Vec::new(),
+                elements: Vec::new(),
+                element_ids: HashMap::new(),
+                nsets: Vec::new(),
+                elsets: Vec::new(),
+                surfaces: Vec::new(),
+                node_surfaces: Vec::new(),
+                max_nodes,
+                max_elements,
+            },
+            mode: Mode::Skip,
+            set_name: String::new(),
+            pending: Vec::new(),
+            pending_line: 0,
+        }
+    }
+
+    /// Refuses an element whose node list was left unfinished.
+    fn no_pending(&self) -> Res<()> {
+        if self.pending.is_empty() {
+            return Ok(());
+        }
+        Err(ParseError::at(
+            self.pending_line,
+            format!("element {} lists too few nodes", self.pending[0]),
+        ))
+    }
+
+    /// Opens the block of the keyword line `line`.
+    fn keyword(&mut self, line: &str, line_no: usize) -> Res<()> {
+        let (name, params) = params(line);
+        let k = Keyword {
+            name,
+            params,
+            line: line_no,
+        };
+        let generate = k.params.contains_key("GENERATE");
+        self.mode = match k.name.as_str() {
+            "NODE" => {
+                self.set_name = k.get("NSET");
+                Mode::Node
+            }
+            "ELEMENT" => self.element_keyword(&k)?,
+            "NSET" => {
+                self.set_name = k.need("NSET")?;
+                set_mut(&mut self.r.nsets, &self.set_name);
+                Mode::NSet { generate }
+            }
+            "ELSET" => {
+                self.set_name = k.need("ELSET")?;
+                set_mut(&mut self.r.elsets, &self.set_name);
+                Mode::ElSet { generate }
+            }
+            "SURFACE" => self.surface_keyword(&k)?,
+            "PART" | "INSTANCE" => {
+                return Err(ParseError::at(
+                    line_no,
+                    format!("*{}: decks with parts and instances are not supported; write a flat deck (nodes and elements at the top level)", k.name),
+                ))
+            }
+            _ => Mode::Skip,
+        };
+        Ok(())
+    }
+
+    /// Opens an `*ELEMENT` block: its type (C3D8 or C3D4) and its `ELSET=`.
+    fn element_keyword(&mut self, k: &Keyword) -> Res<Mode> {
+        let ty = k.need("TYPE")?.to_ascii_uppercase();
+        self.set_name = k.get("ELSET");
+        match ty.as_str() {
+            "C3D8" => Ok(Mode::Element { corners: 8 }),
+            "C3D4" => Ok(Mode::Element { corners: 4 }),
+            other => Err(ParseError::at(
+                k.line,
+                format!(
+                    "element type {other} is not supported: only C3D8 (hex8) and C3D4 (tet4) are"
+                ),
+            )),
+        }
+    }
+
+    /// Opens a `*SURFACE` block: `TYPE=ELEMENT` (the default) or `TYPE=NODE`.
+    fn surface_keyword(&mut self, k: &Keyword) -> Res<Mode> {
+        self.set_name = k.need("NAME")?;
+        let ty = k
+            .params
+            .get("TYPE")
+            .map(|t| t.to_ascii_uppercase())
+            .unwrap_or_else(|| "ELEMENT".into());
+        match ty.as_str() {
+            "ELEMENT" => {
+                let surface = (self.set_name.clone(), Vec::new(), k.line);
+                self.r.surfaces.push(surface);
+                Ok(Mode::SurfaceElement)
+            }
+            "NODE" => {
+                let surface = (self.set_name.clone(), Vec::new(), k.line);
+                self.r.node_surfaces.push(surface);
+                Ok(Mode::SurfaceNode)
+            }
+            other => Err(ParseError::at(
+                k.line,
+                format!("*SURFACE TYPE={other} is not supported (ELEMENT or NODE)"),
+            )),
+        }
+    }
+
+    /// Reads a data line of the open block.
+    fn data(&mut self, line: &str, line_no: usize) -> Res<()> {
         let fields: Vec<&str> = line
             .split(',')
             .map(|f| f.trim())
             .filter(|f| !f.is_empty())
             .collect();
-        match mode {
-            Mode::Skip => {}
-            Mode::Node => {
-                if fields.len() < 4 {
-                    return Err(ParseError::at(
-                        line_no,
-                        format!("a *NODE line needs `id, x, y, z`, found `{line}`"),
-                    ));
-                }
-                let id = integer(fields[0], line_no, "a node number")?;
-                let mut p = [0.0; 3];
-                for a in 0..3 {
-                    p[a] = fields[1 + a]
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|v| v.is_finite())
-                        .ok_or_else(|| {
-                            ParseError::at(
-                                line_no,
-                                format!("expected a coordinate, found `{}`", fields[1 + a]),
-                            )
-                        })?;
-                }
-                if r.node_ids.insert(id, r.nodes.len() as u32).is_some() {
-                    return Err(ParseError::at(
-                        line_no,
-                        format!("node {id} is defined twice"),
-                    ));
-                }
-                r.nodes.push(p);
-                if !set_name.is_empty() {
-                    set_mut(&mut r.nsets, &set_name).add(id);
-                }
-            }
-            Mode::Element { corners } => {
-                if pending.is_empty() {
-                    pending_line = line_no;
-                }
-                for f in &fields {
-                    pending.push(integer(f, line_no, "an element or node number")?);
-                }
-                if pending.len() > corners + 1 {
-                    return Err(ParseError::at(
-                        pending_line,
-                        format!(
-                            "element {} lists {} nodes; a {} element has {corners}",
-                            pending[0],
-                            pending.len() - 1,
-                            if corners == 8 { "C3D8" } else { "C3D4" }
-                        ),
-                    ));
-                }
-                if pending.len() == corners + 1 {
-                    let id = pending[0];
-                    if r.element_ids.insert(id, r.elements.len()).is_some() {
-                        return Err(ParseError::at(
-                            pending_line,
-                            format!("element {id} is defined twice"),
-                        ));
-                    }
-                    r.elements.push(Element {
-                        id,
-                        nodes: pending[1..].to_vec(),
-                        line: pending_line,
-                    });
-                    if !set_name.is_empty() {
-                        set_mut(&mut r.elsets, &set_name).add(id);
-                    }
-                    pending.clear();
-                } else if !line.ends_with(',') {
-                    return Err(ParseError::at(
-                        pending_line,
-                        format!(
-                            "element {} lists {} nodes; a {} element has {corners} (continue a long line with a trailing comma)",
-                            pending[0],
-                            pending.len() - 1,
-                            if corners == 8 { "C3D8" } else { "C3D4" }
-                        ),
-                    ));
-                }
-            }
-            Mode::NSet { generate } | Mode::ElSet { generate } => {
-                let node = matches!(mode, Mode::NSet { .. });
-                set_line(&mut r, &set_name, &fields, generate, node, line_no)?;
-            }
-            Mode::SurfaceElement => {
-                if fields.len() != 2 {
-                    return Err(ParseError::at(
-                        line_no,
-                        format!("a *SURFACE line needs `element-or-elset, Sn`, found `{line}`"),
-                    ));
-                }
-                let side = fields[1]
-                    .to_ascii_uppercase()
-                    .strip_prefix('S')
-                    .and_then(|s| s.parse::<usize>().ok())
-                    .filter(|&s| s >= 1)
-                    .ok_or_else(|| {
-                        ParseError::at(
-                            line_no,
-                            format!("expected a side S1, S2, ..., found `{}`", fields[1]),
-                        )
-                    })?;
-                r.surfaces.last_mut().expect("a surface is open").1.push((
-                    fields[0].to_string(),
-                    side,
-                    line_no,
-                ));
-            }
+        match self.mode {
+            Mode::Skip => Ok(()),
+            Mode::Node => self.node_line(&fields, line, line_no),
+            Mode::Element { corners } => self.element_line(corners, &fields, line, line_no),
+            Mode::NSet { generate } => set_line(
+                &mut self.r,
+                &self.set_name,
+                &fields,
+                generate,
+                true,
+                line_no,
+            ),
+            Mode::ElSet { generate } => set_line(
+                &mut self.r,
+                &self.set_name,
+                &fields,
+                generate,
+                false,
+                line_no,
+            ),
+            Mode::SurfaceElement => self.side_line(&fields, line, line_no),
             Mode::SurfaceNode => {
-                r.node_surfaces
+                let Some(first) = fields.first() else {
+                    return Err(ParseError::at(
+                        line_no,
+                        format!(
+                            "a *SURFACE, TYPE=NODE line needs a node set name or a node number, found `{line}`"
+                        ),
+                    ));
+                };
+                self.r
+                    .node_surfaces
                     .last_mut()
                     .expect("a surface is open")
                     .1
-                    .push(fields[0].to_string());
+                    .push(first.to_string());
+                Ok(())
             }
         }
     }
-    if !pending.is_empty() {
-        return Err(ParseError::at(
-            pending_line,
-            format!("element {} lists too few nodes", pending[0]),
-        ));
+
+    /// Reads a `*NODE` data line, `id, x, y, z`.
+    fn node_line(&mut self, fields: &[&str], line: &str, line_no: usize) -> Res<()> {
+        if fields.len() < 4 {
+            return Err(ParseError::at(
+                line_no,
+                format!("a *NODE line needs `id, x, y, z`, found `{line}`"),
+            ));
+        }
+        let id = integer(fields[0], line_no, "a node number")?;
+        let mut p = [0.0; 3];
+        for a in 0..3 {
+            p[a] = fields[1 + a]
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| {
+                    ParseError::at(
+                        line_no,
+                        format!("expected a coordinate, found `{}`", fields[1 + a]),
+                    )
+                })?;
+        }
+        let r = &mut self.r;
+        if r.node_ids.insert(id, r.nodes.len() as u32).is_some() {
+            return Err(ParseError::at(
+                line_no,
+                format!("node {id} is defined twice"),
+            ));
+        }
+        r.nodes.push(p);
+        if !self.set_name.is_empty() {
+            set_mut(&mut r.nsets, &self.set_name).add(id);
+        }
+        Ok(())
     }
-    r.finish()
+
+    /// Reads an `*ELEMENT` data line (or its continuation) of an element of `corners` nodes.
+    fn element_line(
+        &mut self,
+        corners: usize,
+        fields: &[&str],
+        line: &str,
+        line_no: usize,
+    ) -> Res<()> {
+        if self.pending.is_empty() {
+            self.pending_line = line_no;
+        }
+        for f in fields {
+            self.pending
+                .push(integer(f, line_no, "an element or node number")?);
+        }
+        let ty = if corners == 8 { "C3D8" } else { "C3D4" };
+        if self.pending.len() > corners + 1 {
+            return Err(ParseError::at(
+                self.pending_line,
+                format!(
+                    "element {} lists {} nodes; a {ty} element has {corners}",
+                    self.pending[0],
+                    self.pending.len() - 1,
+                ),
+            ));
+        }
+        if self.pending.len() == corners + 1 {
+            self.add_pending()
+        } else if !line.ends_with(',') {
+            Err(ParseError::at(
+                self.pending_line,
+                format!(
+                    "element {} lists {} nodes; a {ty} element has {corners} (continue a long line with a trailing comma)",
+                    self.pending[0],
+                    self.pending.len() - 1,
+                ),
+            ))
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Adds the complete element in `pending` (and to the block's `ELSET=`), and clears it.
+    fn add_pending(&mut self) -> Res<()> {
+        let r = &mut self.r;
+        let id = self.pending[0];
+        if r.element_ids.insert(id, r.elements.len()).is_some() {
+            return Err(ParseError::at(
+                self.pending_line,
+                format!("element {id} is defined twice"),
+            ));
+        }
+        r.elements.push(Element {
+            id,
+            nodes: self.pending[1..].to_vec(),
+            line: self.pending_line,
+        });
+        if !self.set_name.is_empty() {
+            set_mut(&mut r.elsets, &self.set_name).add(id);
+        }
+        self.pending.clear();
+        Ok(())
+    }
+
+    /// Reads a `*SURFACE, TYPE=ELEMENT` data line, `element-or-elset, Sn`.
+    fn side_line(&mut self, fields: &[&str], line: &str, line_no: usize) -> Res<()> {
+        if fields.len() != 2 {
+            return Err(ParseError::at(
+                line_no,
+                format!("a *SURFACE line needs `element-or-elset, Sn`, found `{line}`"),
+            ));
+        }
+        let side = fields[1]
+            .to_ascii_uppercase()
+            .strip_prefix('S')
+            .and_then(|s| s.parse::<usize>().ok())
+            .filter(|&s| s >= 1)
+            .ok_or_else(|| {
+                ParseError::at(
+                    line_no,
+                    format!("expected a side S1, S2, ..., found `{}`", fields[1]),
+                )
+            })?;
+        self.r
+            .surfaces
+            .last_mut()
+            .expect("a surface is open")
+            .1
+            .push((fields[0].to_string(), side, line_no));
+        Ok(())
+    }
 }
 
 /// Adds a set's data line to the set `name`: plain numbers, a `GENERATE` triple, or names
@@ -408,77 +519,102 @@ fn set_line(
     let defines = format!(
         "the file defines at most {limit} {what}s (one per {keyword} data line), so the set would name {what}s that do not exist"
     );
+    let set_keyword = if node { "*NSET" } else { "*ELSET" };
     if generate {
-        if !(2..=3).contains(&fields.len()) {
-            return Err(ParseError::at(
-                line,
-                "a GENERATE line needs `first, last[, step]`",
-            ));
-        }
-        let a = integer(fields[0], line, "a first number")?;
-        let b = integer(fields[1], line, "a last number")?;
-        let s = match fields.get(2) {
-            Some(f) => integer(f, line, "a step")?,
-            None => 1,
-        };
-        if s == 0 || b < a {
-            return Err(ParseError::at(
-                line,
-                format!("GENERATE {a}, {b}, {s}: need first <= last and step >= 1"),
-            ));
-        }
-        let count = u128::from(b - a) / u128::from(s) + 1;
-        if count > limit as u128 {
-            return Err(ParseError::at(
-                line,
-                format!("GENERATE {a}, {b}, {s} makes {count} {what} numbers, but {defines}"),
-            ));
-        }
-        let mut id = a;
-        loop {
-            sets[t].add(id);
-            match id.checked_add(s) {
-                Some(next) if next <= b => id = next,
-                _ => break,
-            }
-        }
+        generate_line(&mut sets[t], fields, line, what, limit, &defines)?;
     } else {
-        for f in fields {
-            match f.parse::<u64>() {
-                Ok(id) => sets[t].add(id),
-                Err(_) => {
-                    let from = sets
-                        .iter()
-                        .position(|s| s.name.eq_ignore_ascii_case(f))
-                        .ok_or_else(|| {
-                            ParseError::at(
-                                line,
-                                format!(
-                                    "`{f}` is neither a number nor the name of an earlier {}",
-                                    if node { "*NSET" } else { "*ELSET" }
-                                ),
-                            )
-                        })?;
-                    for k in 0..sets[from].ids.len() {
-                        let id = sets[from].ids[k];
-                        sets[t].add(id);
-                    }
-                }
-            }
-            if sets[t].ids.len() > limit {
-                break;
-            }
-        }
+        list_line(sets, t, fields, line, limit, set_keyword)?;
     }
     let n = sets[t].ids.len();
     if n > limit {
         return Err(ParseError::at(
             line,
-            format!(
-                "{} {name} names {n} distinct {what} numbers here, but {defines}",
-                if node { "*NSET" } else { "*ELSET" }
-            ),
+            format!("{set_keyword} {name} names {n} distinct {what} numbers here, but {defines}"),
         ));
+    }
+    Ok(())
+}
+
+/// Adds a `GENERATE` line `first, last[, step]` to `set`, refusing a range of more than
+/// `limit` numbers before expanding it.
+fn generate_line(
+    set: &mut Set,
+    fields: &[&str],
+    line: usize,
+    what: &str,
+    limit: usize,
+    defines: &str,
+) -> Res<()> {
+    if !(2..=3).contains(&fields.len()) {
+        return Err(ParseError::at(
+            line,
+            "a GENERATE line needs `first, last[, step]`",
+        ));
+    }
+    let a = integer(fields[0], line, "a first number")?;
+    let b = integer(fields[1], line, "a last number")?;
+    let s = match fields.get(2) {
+        Some(f) => integer(f, line, "a step")?,
+        None => 1,
+    };
+    if s == 0 || b < a {
+        return Err(ParseError::at(
+            line,
+            format!("GENERATE {a}, {b}, {s}: need first <= last and step >= 1"),
+        ));
+    }
+    let count = u128::from(b - a) / u128::from(s) + 1;
+    if count > limit as u128 {
+        return Err(ParseError::at(
+            line,
+            format!("GENERATE {a}, {b}, {s} makes {count} {what} numbers, but {defines}"),
+        ));
+    }
+    let mut id = a;
+    loop {
+        set.add(id);
+        match id.checked_add(s) {
+            Some(next) if next <= b => id = next,
+            _ => break,
+        }
+    }
+    Ok(())
+}
+
+/// Adds a line of numbers and names of earlier sets to `sets[t]`, stopping once it holds
+/// more than `limit` numbers (`set_keyword` names the kind of set, for messages).
+fn list_line(
+    sets: &mut [Set],
+    t: usize,
+    fields: &[&str],
+    line: usize,
+    limit: usize,
+    set_keyword: &str,
+) -> Res<()> {
+    for f in fields {
+        match f.parse::<u64>() {
+            Ok(id) => sets[t].add(id),
+            Err(_) => {
+                let from = sets
+                    .iter()
+                    .position(|s| s.name.eq_ignore_ascii_case(f))
+                    .ok_or_else(|| {
+                        ParseError::at(
+                            line,
+                            format!(
+                                "`{f}` is neither a number nor the name of an earlier {set_keyword}"
+                            ),
+                        )
+                    })?;
+                for k in 0..sets[from].ids.len() {
+                    let id = sets[from].ids[k];
+                    sets[t].add(id);
+                }
+            }
+        }
+        if sets[t].ids.len() > limit {
+            break;
+        }
     }
     Ok(())
 }
@@ -505,6 +641,32 @@ impl Reader {
             nodes: self.nodes.clone(),
             ..Default::default()
         };
+        let corners = self.add_elements(&mut mesh)?;
+        for surface in &self.surfaces {
+            mesh.surfaces.push(self.side_surface(surface, &corners)?);
+        }
+        let mut node_sets = Vec::new();
+        for s in &self.nsets {
+            node_sets.push(self.nset(s)?);
+        }
+        for surface in &self.node_surfaces {
+            node_sets.push(self.node_surface(surface)?);
+        }
+        for s in &self.elsets {
+            if node_sets
+                .iter()
+                .any(|n| n.name.eq_ignore_ascii_case(&s.name))
+            {
+                continue;
+            }
+            node_sets.push(self.elset_nodes(s, &corners)?);
+        }
+        mesh.node_sets = node_sets;
+        Ok(mesh)
+    }
+
+    /// Adds the elements to `mesh` as hexes and tets; returns each element's node indices.
+    fn add_elements(&self, mesh: &mut FileMesh) -> Res<Vec<Vec<u32>>> {
         let mut corners: Vec<Vec<u32>> = Vec::with_capacity(self.elements.len());
         for e in &self.elements {
             let whose = format!("element {}", e.id);
@@ -520,113 +682,118 @@ impl Reader {
             }
             corners.push(c);
         }
-        for (name, entries, surface_line) in &self.surfaces {
-            let mut faces = Vec::new();
-            // each (element, side) once, however many lines name it: the faces are at most
-            // six per element, not lines times elements
-            let mut done = HashSet::new();
-            for (target, side, line) in entries {
-                let elements: Vec<u64> = match target.parse::<u64>() {
-                    Ok(id) => vec![id],
-                    Err(_) => find_set(&self.elsets, target)
-                        .ok_or_else(|| {
-                            ParseError::at(*line, format!("no *ELSET named `{target}`"))
-                        })?
-                        .ids
-                        .clone(),
+        Ok(corners)
+    }
+
+    /// The faces of a `*SURFACE, TYPE=ELEMENT` (`corners`: each element's node indices).
+    fn side_surface(
+        &self,
+        (name, entries, surface_line): &SideSurface,
+        corners: &[Vec<u32>],
+    ) -> Res<FileSurface> {
+        let mut faces = Vec::new();
+        // each (element, side) once, however many lines name it: the faces are at most
+        // six per element, not lines times elements
+        let mut done = HashSet::new();
+        for (target, side, line) in entries {
+            for id in self.surface_elements(target, *line)? {
+                let k = self.element(id, *line)?;
+                if !done.insert((k, *side)) {
+                    continue;
+                }
+                let c = &corners[k];
+                let sides: &[&[usize]] = if c.len() == 8 {
+                    &C3D8_SIDES
+                } else {
+                    &C3D4_SIDES
                 };
-                for id in elements {
-                    let k = self.element(id, *line)?;
-                    if !done.insert((k, *side)) {
-                        continue;
-                    }
-                    let c = &corners[k];
-                    let sides: &[&[usize]] = if c.len() == 8 {
-                        &C3D8_SIDES
-                    } else {
-                        &C3D4_SIDES
-                    };
-                    let s = sides.get(side - 1).ok_or_else(|| {
-                        ParseError::at(
-                            *line,
-                            format!("element {id} has sides S1 to S{}, not S{side}", sides.len()),
-                        )
-                    })?;
-                    faces.push(s.iter().map(|&k| c[k - 1]).collect());
-                }
+                let s = sides.get(side - 1).ok_or_else(|| {
+                    ParseError::at(
+                        *line,
+                        format!("element {id} has sides S1 to S{}, not S{side}", sides.len()),
+                    )
+                })?;
+                faces.push(s.iter().map(|&k| c[k - 1]).collect());
             }
-            mesh.surfaces.push(FileSurface {
-                name: name.clone(),
-                faces,
-                line: *surface_line,
-            });
         }
-        let mut node_sets = Vec::new();
-        for s in &self.nsets {
-            let nodes = s
+        Ok(FileSurface {
+            name: name.clone(),
+            faces,
+            line: *surface_line,
+        })
+    }
+
+    /// The element numbers a surface entry names: an element number or an `*ELSET`'s name.
+    fn surface_elements(&self, target: &str, line: usize) -> Res<Vec<u64>> {
+        Ok(match target.parse::<u64>() {
+            Ok(id) => vec![id],
+            Err(_) => find_set(&self.elsets, target)
+                .ok_or_else(|| ParseError::at(line, format!("no *ELSET named `{target}`")))?
                 .ids
-                .iter()
-                .map(|&n| self.node(n, 0, &format!("*NSET {}", s.name)))
-                .collect::<Res<Vec<u32>>>()
-                .map_err(|mut e| {
-                    e.line = None;
-                    e
-                })?;
-            node_sets.push(NodeSet {
-                name: s.name.clone(),
-                nodes,
-            });
-        }
-        for (name, entries, line) in &self.node_surfaces {
-            let mut nodes = Vec::new();
-            // each node once, however many entries name it
-            let mut seen = HashSet::new();
-            let mut add = |n: u32| {
-                if seen.insert(n) {
-                    nodes.push(n);
-                }
-            };
-            for t in entries {
-                match t.parse::<u64>() {
-                    Ok(id) => add(self.node(id, *line, &format!("surface {name}"))?),
-                    Err(_) => {
-                        let set = find_set(&self.nsets, t).ok_or_else(|| {
-                            ParseError::at(*line, format!("no *NSET named `{t}`"))
-                        })?;
-                        for &id in &set.ids {
-                            add(self.node(id, *line, &format!("surface {name}"))?);
-                        }
+                .clone(),
+        })
+    }
+
+    /// The node set of an `*NSET` (an undefined node is refused without a line).
+    fn nset(&self, s: &Set) -> Res<NodeSet> {
+        let nodes = s
+            .ids
+            .iter()
+            .map(|&n| self.node(n, 0, &format!("*NSET {}", s.name)))
+            .collect::<Res<Vec<u32>>>()
+            .map_err(|mut e| {
+                e.line = None;
+                e
+            })?;
+        Ok(NodeSet {
+            name: s.name.clone(),
+            nodes,
+        })
+    }
+
+    /// The node set of a `*SURFACE, TYPE=NODE`: its node numbers and `*NSET`s, each node once.
+    fn node_surface(&self, (name, entries, line): &(String, Vec<String>, usize)) -> Res<NodeSet> {
+        let mut nodes = Vec::new();
+        // each node once, however many entries name it
+        let mut seen = HashSet::new();
+        let mut add = |n: u32| {
+            if seen.insert(n) {
+                nodes.push(n);
+            }
+        };
+        for t in entries {
+            match t.parse::<u64>() {
+                Ok(id) => add(self.node(id, *line, &format!("surface {name}"))?),
+                Err(_) => {
+                    let set = find_set(&self.nsets, t)
+                        .ok_or_else(|| ParseError::at(*line, format!("no *NSET named `{t}`")))?;
+                    for &id in &set.ids {
+                        add(self.node(id, *line, &format!("surface {name}"))?);
                     }
                 }
             }
-            node_sets.push(NodeSet {
-                name: name.clone(),
-                nodes,
-            });
         }
-        for s in &self.elsets {
-            if node_sets
-                .iter()
-                .any(|n| n.name.eq_ignore_ascii_case(&s.name))
-            {
-                continue;
-            }
-            let mut nodes = Vec::new();
-            for &id in &s.ids {
-                let k = self.element(id, 0).map_err(|mut e| {
-                    e.line = None;
-                    e.message = format!("*ELSET {}: {}", s.name, e.message);
-                    e
-                })?;
-                nodes.extend_from_slice(&corners[k]);
-            }
-            node_sets.push(NodeSet {
-                name: s.name.clone(),
-                nodes,
-            });
+        Ok(NodeSet {
+            name: name.clone(),
+            nodes,
+        })
+    }
+
+    /// The node set of an `*ELSET`: its elements' nodes (`corners`), in element order.
+    fn elset_nodes(&self, s: &Set, corners: &[Vec<u32>]) -> Res<NodeSet> {
+        let mut nodes = Vec::new();
+        for &id in &s.ids {
+            let k = self.element(id, 0).map_err(|mut e| {
+                e.line = None;
+                e.message = format!("*ELSET {}: {}", s.name, e.message);
+                e
+            })?;
+            nodes.extend_from_slice(&corners[k]);
         }
-        mesh.node_sets = node_sets;
-        Ok(mesh)
+        Ok(NodeSet {
+            name: s.name.clone(),
+            nodes,
+        })
     }
 }
 
@@ -685,6 +852,19 @@ CUBE, S1
         let e = read(&t).unwrap_err();
         assert_eq!(e.line, Some(14));
         assert!(e.message.contains("node 99"), "{}", e.message);
+    }
+
+    /// A `*SURFACE, TYPE=NODE` data line with no field is an error naming its line, not a
+    /// panic.
+    #[test]
+    fn an_empty_node_surface_line_names_the_line() {
+        let t = CUBE.replace(
+            "*MATERIAL, NAME=STEEL",
+            "*SURFACE, NAME=TopNodes, TYPE=NODE\n,\n*MATERIAL, NAME=STEEL",
+        );
+        let e = read(&t).unwrap_err();
+        assert_eq!(e.line, Some(21));
+        assert!(e.message.contains("TYPE=NODE"), "{}", e.message);
     }
 
     /// Writes `text` as `<name>.inp` in a fresh temporary folder and imports it; returns the

@@ -190,6 +190,21 @@ impl<'a> Cursor<'a> {
         Ok(n as usize)
     }
 
+    /// Skips the rest of the `$MeshFormat` line of a binary file and checks the `int` 1
+    /// after it: the file must be little-endian.
+    fn endianness(&mut self) -> Res<()> {
+        // the rest of the line, then the binary one
+        while self.pos < self.b.len() && self.b[self.pos] != b'\n' {
+            self.pos += 1;
+        }
+        self.pos += 1;
+        let one = self.bytes(4, "the endianness check")?;
+        if i32::from_le_bytes(one.try_into().expect("4 bytes")) != 1 {
+            return Err(self.err("a big-endian binary file is not supported"));
+        }
+        Ok(())
+    }
+
     /// An entity dimension, 0 to 3.
     fn dim(&mut self) -> Res<usize> {
         let d = self.int("an entity dimension")?;
@@ -217,207 +232,256 @@ pub fn read(bytes: &[u8]) -> Res<FileMesh> {
         binary: false,
         newlines: &newlines,
     };
-    let mut seen_format = false;
-    let mut binary = false;
-    let mut names: HashMap<(usize, i64), String> = HashMap::new();
-    let mut physicals: HashMap<(usize, i64), Vec<i64>> = HashMap::new();
-    let mut node_tags: HashMap<u64, u32> = HashMap::new();
-    let mut nodes: Vec<[f64; 3]> = Vec::new();
-    let mut blocks: Vec<Block> = Vec::new();
+    let mut m = Msh::default();
     while !c.at_end() {
+        m.section(&mut c)?;
+    }
+    if !m.seen_format {
+        return Err(ParseError::whole("empty file: not a Gmsh mesh"));
+    }
+    assemble(m.nodes, &m.node_tags, &m.blocks, &m.physicals, &m.names)
+}
+
+/// What the sections of a `.msh` file read so far have given.
+#[derive(Default)]
+struct Msh {
+    /// Whether `$MeshFormat` has been read.
+    seen_format: bool,
+    /// Whether `$MeshFormat` declared a binary file.
+    binary: bool,
+    /// `$PhysicalNames`: (dimension, physical tag) -> name.
+    names: HashMap<(usize, i64), String>,
+    /// `$Entities`: (dimension, entity tag) -> the entity's physical tags.
+    physicals: HashMap<(usize, i64), Vec<i64>>,
+    /// `$Nodes`: node tag -> index in `nodes`.
+    node_tags: HashMap<u64, u32>,
+    nodes: Vec<[f64; 3]>,
+    blocks: Vec<Block>,
+}
+
+impl Msh {
+    /// Reads one section, from its `$Name` line to its `$EndName` line.
+    fn section(&mut self, c: &mut Cursor) -> Res<()> {
         let header = c.line()?.trim();
         let Some(section) = header.strip_prefix('$') else {
             return Err(c.err_prev(format!(
                 "expected a section such as `$Nodes`, found `{header}`"
             )));
         };
-        if section != "MeshFormat" && !seen_format {
+        if section != "MeshFormat" && !self.seen_format {
             return Err(c.err_prev("the file does not start with `$MeshFormat`: not a Gmsh mesh"));
         }
         c.binary = false;
         match section {
-            "MeshFormat" => {
-                let version: String = c.token("the format version")?.to_string();
-                let file_type: i64 = c.number("the file type (0 ASCII, 1 binary)")?;
-                let data_size: i64 = c.number("the data size")?;
-                if version != "4.1" {
-                    return Err(c.err(format!(
-                        "MSH format version {version} is not supported: save the mesh as version 4.1 (`-format msh41`, or Mesh.MshFileVersion = 4.1)"
-                    )));
-                }
-                if data_size != 8 {
-                    return Err(c.err(format!(
-                        "data size {data_size} is not supported (expected 8)"
-                    )));
-                }
-                match file_type {
-                    0 => {}
-                    1 => {
-                        // the rest of the line, then the binary one
-                        while c.pos < c.b.len() && c.b[c.pos] != b'\n' {
-                            c.pos += 1;
-                        }
-                        c.pos += 1;
-                        binary = true;
-                        let one = c.bytes(4, "the endianness check")?;
-                        if i32::from_le_bytes(one.try_into().expect("4 bytes")) != 1 {
-                            return Err(c.err("a big-endian binary file is not supported"));
-                        }
-                    }
-                    t => return Err(c.err(format!("unknown file type {t} (expected 0 or 1)"))),
-                }
-                seen_format = true;
-                c.end("MeshFormat")?;
-            }
-            "PhysicalNames" => {
-                // `dim tag "name"`
-                let n = c.count("the number of physical names", 3, 0)?;
-                for _ in 0..n {
-                    let dim: usize = c.number("a physical dimension")?;
-                    let tag: i64 = c.number("a physical tag")?;
-                    let name = c.line()?.trim().trim_matches('"').to_string();
-                    names.insert((dim, tag), name);
-                }
-                c.end("PhysicalNames")?;
-            }
-            "Entities" => {
-                c.binary = binary;
-                // a point: tag, 3 coordinates, a count of physical tags; a curve, surface or
-                // volume: tag, 6 coordinates and two counts
-                let counts = [
-                    c.count("the number of points", 5, 4 + 3 * 8 + 8)?,
-                    c.count("the number of curves", 9, 4 + 6 * 8 + 2 * 8)?,
-                    c.count("the number of surfaces", 9, 4 + 6 * 8 + 2 * 8)?,
-                    c.count("the number of volumes", 9, 4 + 6 * 8 + 2 * 8)?,
-                ];
-                for (dim, &n) in counts.iter().enumerate() {
-                    for _ in 0..n {
-                        let tag = c.int("an entity tag")?;
-                        let coords = if dim == 0 { 3 } else { 6 };
-                        for _ in 0..coords {
-                            c.real("an entity coordinate")?;
-                        }
-                        let np = c.count("the number of physical tags", 1, 4)?;
-                        let mut tags = Vec::with_capacity(np);
-                        for _ in 0..np {
-                            tags.push(c.int("a physical tag")?);
-                        }
-                        physicals.insert((dim, tag), tags);
-                        if dim > 0 {
-                            let nb = c.count("the number of bounding entities", 1, 4)?;
-                            for _ in 0..nb {
-                                c.int("a bounding entity tag")?;
-                            }
-                        }
-                    }
-                }
-                c.binary = false;
-                c.end("Entities")?;
-            }
-            "Nodes" => {
-                c.binary = binary;
-                // a block header: dimension, tag, parametric flag, count; a node: its tag and
-                // 3 coordinates
-                let nblocks = c.count("the number of node blocks", 4, 3 * 4 + 8)?;
-                let total = c.count("the number of nodes", 4, 8 + 3 * 8)?;
-                c.size("the smallest node tag")?;
-                c.size("the largest node tag")?;
-                nodes.reserve(total);
-                for _ in 0..nblocks {
-                    let dim = c.dim()?;
-                    c.int("an entity tag")?;
-                    let parametric = c.int("the parametric flag")?;
-                    let n = c.count("the number of nodes in the block", 4, 8 + 3 * 8)?;
-                    let mut tags = Vec::with_capacity(n);
-                    for _ in 0..n {
-                        tags.push(c.size("a node tag")?);
-                    }
-                    let extra = if parametric != 0 { dim } else { 0 };
-                    for tag in tags {
-                        let p = [
-                            c.real("a node coordinate")?,
-                            c.real("a node coordinate")?,
-                            c.real("a node coordinate")?,
-                        ];
-                        for _ in 0..extra {
-                            c.real("a parametric coordinate")?;
-                        }
-                        if !p.iter().all(|v| v.is_finite()) {
-                            return Err(
-                                c.err(format!("node {tag} has a coordinate that is not finite"))
-                            );
-                        }
-                        if node_tags.insert(tag, nodes.len() as u32).is_some() {
-                            return Err(c.err(format!("node tag {tag} is defined twice")));
-                        }
-                        nodes.push(p);
-                    }
-                }
-                c.binary = false;
-                c.end("Nodes")?;
-            }
+            "MeshFormat" => self.mesh_format(c),
+            "PhysicalNames" => self.physical_names(c),
+            "Entities" => self.entities(c),
+            "Nodes" => self.read_nodes(c),
             "Elements" => {
-                if !binary {
-                    read_ascii_elements(&mut c, &mut blocks)?;
+                if !self.binary {
+                    read_ascii_elements(c, &mut self.blocks)?;
                 } else {
-                    c.binary = true;
-                    // a block header: dimension, tag, type, count; an element: its tag and at
-                    // least one node tag
-                    let nblocks = c.count("the number of element blocks", 4, 3 * 4 + 8)?;
-                    c.count("the number of elements", 2, 2 * 8)?;
-                    c.size("the smallest element tag")?;
-                    c.size("the largest element tag")?;
-                    for _ in 0..nblocks {
-                        let line = c.line_at(c.pos);
-                        let dim = c.dim()?;
-                        let tag = c.int("an entity tag")?;
-                        let kind = c.int("an element type")?;
-                        let Some((per, _)) = element_kind(kind) else {
-                            return Err(c.err(format!("unknown element type {kind}")));
-                        };
-                        let n =
-                            c.count("the number of elements in the block", 1 + per, 8 + 8 * per)?;
-                        let mut elements = Vec::with_capacity(n);
-                        for _ in 0..n {
-                            c.size("an element tag")?;
-                            let mut e = Vec::with_capacity(per);
-                            for _ in 0..per {
-                                e.push(c.size("a node tag")?);
-                            }
-                            elements.push(e);
-                        }
-                        blocks.push(Block {
-                            dim,
-                            tag,
-                            kind,
-                            elements,
-                            line,
-                        });
-                    }
-                    c.binary = false;
+                    read_binary_elements(c, &mut self.blocks)?;
                 }
-                c.end("Elements")?;
+                c.end("Elements")
             }
-            other => {
-                // a section we do not use: skip to its end marker
-                let end = format!("$End{other}");
-                let start = c.pos;
-                let rest = &c.b[start..];
-                let Some(at) = rest.windows(end.len()).position(|w| w == end.as_bytes()) else {
-                    return Err(c.err_prev(format!("section `${other}` has no `{end}`")));
-                };
-                c.pos = start + at + end.len();
-            }
+            other => skip_section(c, other),
         }
     }
-    if !seen_format {
-        return Err(ParseError::whole("empty file: not a Gmsh mesh"));
+
+    /// Reads `$MeshFormat`: version 4.1, ASCII or little-endian binary, 8-byte `size_t`.
+    fn mesh_format(&mut self, c: &mut Cursor) -> Res<()> {
+        let version: String = c.token("the format version")?.to_string();
+        let file_type: i64 = c.number("the file type (0 ASCII, 1 binary)")?;
+        let data_size: i64 = c.number("the data size")?;
+        if version != "4.1" {
+            return Err(c.err(format!(
+                "MSH format version {version} is not supported: save the mesh as version 4.1 (`-format msh41`, or Mesh.MshFileVersion = 4.1)"
+            )));
+        }
+        if data_size != 8 {
+            return Err(c.err(format!(
+                "data size {data_size} is not supported (expected 8)"
+            )));
+        }
+        match file_type {
+            0 => {}
+            1 => {
+                self.binary = true;
+                c.endianness()?;
+            }
+            t => return Err(c.err(format!("unknown file type {t} (expected 0 or 1)"))),
+        }
+        self.seen_format = true;
+        c.end("MeshFormat")
     }
-    assemble(nodes, &node_tags, &blocks, &physicals, &names)
+
+    /// Reads `$PhysicalNames`: lines `dim tag "name"`.
+    fn physical_names(&mut self, c: &mut Cursor) -> Res<()> {
+        let n = c.count("the number of physical names", 3, 0)?;
+        for _ in 0..n {
+            let dim: usize = c.number("a physical dimension")?;
+            let tag: i64 = c.number("a physical tag")?;
+            let name = c.line()?.trim().trim_matches('"').to_string();
+            self.names.insert((dim, tag), name);
+        }
+        c.end("PhysicalNames")
+    }
+
+    /// Reads `$Entities`: the physical tags of every point, curve, surface and volume.
+    fn entities(&mut self, c: &mut Cursor) -> Res<()> {
+        c.binary = self.binary;
+        // a point: tag, 3 coordinates, a count of physical tags; a curve, surface or
+        // volume: tag, 6 coordinates and two counts
+        let counts = [
+            c.count("the number of points", 5, 4 + 3 * 8 + 8)?,
+            c.count("the number of curves", 9, 4 + 6 * 8 + 2 * 8)?,
+            c.count("the number of surfaces", 9, 4 + 6 * 8 + 2 * 8)?,
+            c.count("the number of volumes", 9, 4 + 6 * 8 + 2 * 8)?,
+        ];
+        for (dim, &n) in counts.iter().enumerate() {
+            for _ in 0..n {
+                self.entity(c, dim)?;
+            }
+        }
+        c.binary = false;
+        c.end("Entities")
+    }
+
+    /// Reads one entity of dimension `dim` and keeps its physical tags.
+    fn entity(&mut self, c: &mut Cursor, dim: usize) -> Res<()> {
+        let tag = c.int("an entity tag")?;
+        let coords = if dim == 0 { 3 } else { 6 };
+        for _ in 0..coords {
+            c.real("an entity coordinate")?;
+        }
+        let np = c.count("the number of physical tags", 1, 4)?;
+        let mut tags = Vec::with_capacity(np);
+        for _ in 0..np {
+            tags.push(c.int("a physical tag")?);
+        }
+        self.physicals.insert((dim, tag), tags);
+        if dim > 0 {
+            let nb = c.count("the number of bounding entities", 1, 4)?;
+            for _ in 0..nb {
+                c.int("a bounding entity tag")?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads `$Nodes`: its header, then its blocks of nodes.
+    fn read_nodes(&mut self, c: &mut Cursor) -> Res<()> {
+        c.binary = self.binary;
+        // a block header: dimension, tag, parametric flag, count; a node: its tag and
+        // 3 coordinates
+        let nblocks = c.count("the number of node blocks", 4, 3 * 4 + 8)?;
+        let total = c.count("the number of nodes", 4, 8 + 3 * 8)?;
+        c.size("the smallest node tag")?;
+        c.size("the largest node tag")?;
+        self.nodes.reserve(total);
+        for _ in 0..nblocks {
+            self.node_block(c)?;
+        }
+        c.binary = false;
+        c.end("Nodes")
+    }
+
+    /// Reads one block of `$Nodes`: its header, its node tags, then their coordinates.
+    fn node_block(&mut self, c: &mut Cursor) -> Res<()> {
+        let dim = c.dim()?;
+        c.int("an entity tag")?;
+        let parametric = c.int("the parametric flag")?;
+        let n = c.count("the number of nodes in the block", 4, 8 + 3 * 8)?;
+        let mut tags = Vec::with_capacity(n);
+        for _ in 0..n {
+            tags.push(c.size("a node tag")?);
+        }
+        let extra = if parametric != 0 { dim } else { 0 };
+        for tag in tags {
+            let p = [
+                c.real("a node coordinate")?,
+                c.real("a node coordinate")?,
+                c.real("a node coordinate")?,
+            ];
+            for _ in 0..extra {
+                c.real("a parametric coordinate")?;
+            }
+            if !p.iter().all(|v| v.is_finite()) {
+                return Err(c.err(format!("node {tag} has a coordinate that is not finite")));
+            }
+            if self
+                .node_tags
+                .insert(tag, self.nodes.len() as u32)
+                .is_some()
+            {
+                return Err(c.err(format!("node tag {tag} is defined twice")));
+            }
+            self.nodes.push(p);
+        }
+        Ok(())
+    }
 }
 
+/// Skips a section we do not use, `$<name>`, to its end marker.
+fn skip_section(c: &mut Cursor, name: &str) -> Res<()> {
+    let end = format!("$End{name}");
+    let start = c.pos;
+    let rest = &c.b[start..];
+    let Some(at) = rest.windows(end.len()).position(|w| w == end.as_bytes()) else {
+        return Err(c.err_prev(format!("section `${name}` has no `{end}`")));
+    };
+    c.pos = start + at + end.len();
+    Ok(())
+}
+
+/// Reads the blocks of a binary `$Elements` section, up to its `$EndElements` line.
+fn read_binary_elements(c: &mut Cursor, blocks: &mut Vec<Block>) -> Res<()> {
+    c.binary = true;
+    // a block header: dimension, tag, type, count; an element: its tag and at least one
+    // node tag
+    let nblocks = c.count("the number of element blocks", 4, 3 * 4 + 8)?;
+    c.count("the number of elements", 2, 2 * 8)?;
+    c.size("the smallest element tag")?;
+    c.size("the largest element tag")?;
+    for _ in 0..nblocks {
+        blocks.push(binary_element_block(c)?);
+    }
+    c.binary = false;
+    Ok(())
+}
+
+/// Reads one block of a binary `$Elements` section.
+fn binary_element_block(c: &mut Cursor) -> Res<Block> {
+    let line = c.line_at(c.pos);
+    let dim = c.dim()?;
+    let tag = c.int("an entity tag")?;
+    let kind = c.int("an element type")?;
+    let Some((per, _)) = element_kind(kind) else {
+        return Err(c.err(format!("unknown element type {kind}")));
+    };
+    let n = c.count("the number of elements in the block", 1 + per, 8 + 8 * per)?;
+    let mut elements = Vec::with_capacity(n);
+    for _ in 0..n {
+        c.size("an element tag")?;
+        let mut e = Vec::with_capacity(per);
+        for _ in 0..per {
+            e.push(c.size("a node tag")?);
+        }
+        elements.push(e);
+    }
+    Ok(Block {
+        dim,
+        tag,
+        kind,
+        elements,
+        line,
+    })
+}
+
+/// Reads the blocks of an ASCII `$Elements` section, up to its `$EndElements` line.
 fn read_ascii_elements(c: &mut Cursor, blocks: &mut Vec<Block>) -> Res<()> {
-    // as in the binary reader in [`read`]
+    // as in the binary reader, [`read_binary_elements`]
     let nblocks = c.count("the number of element blocks", 4, 0)?;
     c.count("the number of elements", 2, 0)?;
     c.size("the smallest element tag")?;
@@ -484,64 +548,95 @@ fn assemble(
     };
     let mut groups: Vec<Group> = Vec::new();
     for b in blocks {
-        let (_, kind_name) = element_kind(b.kind).expect("checked while reading");
-        let dim = element_dim(b.kind);
-        let resolve = |e: &[u64]| -> Res<Vec<u32>> {
-            e.iter()
-                .map(|t| {
-                    node_tags.get(t).copied().ok_or_else(|| {
-                        ParseError::at(
-                            b.line,
-                            format!("an element of this block uses node {t}, which `$Nodes` does not define"),
-                        )
-                    })
+        let block_nodes = resolve_block(b, node_tags)?;
+        add_body_elements(&mut mesh, b, &block_nodes)?;
+        add_to_groups(&mut groups, b, &block_nodes, physicals);
+    }
+    add_groups(&mut mesh, groups, names);
+    Ok(mesh)
+}
+
+/// The node indices of each element of block `b`, refusing a node tag `$Nodes` lacks.
+fn resolve_block(b: &Block, node_tags: &HashMap<u64, u32>) -> Res<Vec<Vec<u32>>> {
+    let resolve = |e: &[u64]| -> Res<Vec<u32>> {
+        e.iter()
+            .map(|t| {
+                node_tags.get(t).copied().ok_or_else(|| {
+                    ParseError::at(
+                        b.line,
+                        format!("an element of this block uses node {t}, which `$Nodes` does not define"),
+                    )
                 })
-                .collect()
-        };
-        let mut block_nodes: Vec<Vec<u32>> = Vec::with_capacity(b.elements.len());
-        for e in &b.elements {
-            block_nodes.push(resolve(e)?);
+            })
+            .collect()
+    };
+    let mut block_nodes: Vec<Vec<u32>> = Vec::with_capacity(b.elements.len());
+    for e in &b.elements {
+        block_nodes.push(resolve(e)?);
+    }
+    Ok(block_nodes)
+}
+
+/// Adds block `b`'s hexahedra and tetrahedra to the body; refuses other volume and
+/// higher-order surface elements.
+fn add_body_elements(mesh: &mut FileMesh, b: &Block, block_nodes: &[Vec<u32>]) -> Res<()> {
+    let (_, kind_name) = element_kind(b.kind).expect("checked while reading");
+    let dim = element_dim(b.kind);
+    match b.kind {
+        5 => mesh
+            .hexes
+            .extend(block_nodes.iter().map(|e| std::array::from_fn(|k| e[k]))),
+        4 => mesh
+            .tets
+            .extend(block_nodes.iter().map(|e| std::array::from_fn(|k| e[k]))),
+        1 | 2 | 3 | 15 => {}
+        _ if dim == 3 || dim == 2 => {
+            return Err(ParseError::at(
+                b.line,
+                format!(
+                    "element type {} ({kind_name}) is not supported: mesh with linear tetrahedra (type 4) or hexahedra (type 5), `-order 1`",
+                    b.kind
+                ),
+            ))
         }
-        match b.kind {
-            5 => mesh
-                .hexes
-                .extend(block_nodes.iter().map(|e| std::array::from_fn(|k| e[k]))),
-            4 => mesh
-                .tets
-                .extend(block_nodes.iter().map(|e| std::array::from_fn(|k| e[k]))),
-            1 | 2 | 3 | 15 => {}
-            _ if dim == 3 || dim == 2 => {
-                return Err(ParseError::at(
-                    b.line,
-                    format!(
-                        "element type {} ({kind_name}) is not supported: mesh with linear tetrahedra (type 4) or hexahedra (type 5), `-order 1`",
-                        b.kind
-                    ),
-                ))
+        _ => {}
+    }
+    Ok(())
+}
+
+/// Adds block `b`'s elements to the physical groups of its entity: their nodes, and as
+/// faces its triangles and quadrangles.
+fn add_to_groups(
+    groups: &mut Vec<Group>,
+    b: &Block,
+    block_nodes: &[Vec<u32>],
+    physicals: &HashMap<(usize, i64), Vec<i64>>,
+) {
+    for &p in physicals
+        .get(&(b.dim, b.tag))
+        .map(|v| v.as_slice())
+        .unwrap_or(&[])
+    {
+        let key = (b.dim, p);
+        let g = match groups.iter().position(|g| g.0 == key) {
+            Some(i) => i,
+            None => {
+                groups.push((key, Vec::new(), Vec::new(), b.line));
+                groups.len() - 1
             }
-            _ => {}
-        }
-        for &p in physicals
-            .get(&(b.dim, b.tag))
-            .map(|v| v.as_slice())
-            .unwrap_or(&[])
-        {
-            let key = (b.dim, p);
-            let g = match groups.iter().position(|g| g.0 == key) {
-                Some(i) => i,
-                None => {
-                    groups.push((key, Vec::new(), Vec::new(), b.line));
-                    groups.len() - 1
-                }
-            };
-            for e in &block_nodes {
-                groups[g].2.extend_from_slice(e);
-                if matches!(b.kind, 2 | 3) {
-                    groups[g].1.push(e.clone());
-                }
+        };
+        for e in block_nodes {
+            groups[g].2.extend_from_slice(e);
+            if matches!(b.kind, 2 | 3) {
+                groups[g].1.push(e.clone());
             }
         }
     }
+}
+
+/// Adds every physical group to `mesh` as a node set, and each of dimension 2 as a surface,
+/// named by its `$PhysicalNames` entry or by its number.
+fn add_groups(mesh: &mut FileMesh, groups: Vec<Group>, names: &HashMap<(usize, i64), String>) {
     for ((dim, tag), faces, mut set, line) in groups {
         let name = names
             .get(&(dim, tag))
@@ -558,7 +653,6 @@ fn assemble(
         set.dedup();
         mesh.node_sets.push(NodeSet { name, nodes: set });
     }
-    Ok(mesh)
 }
 
 #[cfg(test)]

@@ -66,42 +66,6 @@ impl SetupClock {
     }
 }
 
-/// A Cholesky factor of the implicit path: its ordering, size, and what its factorisations
-/// and solves cost over the run (the effective matrix's counts every step size together).
-#[derive(Debug, Clone, Serialize, Default)]
-pub struct LinearSolverSummary {
-    /// The fill-reducing ordering: "nested_dissection" or "amd".
-    pub ordering: String,
-    pub equations: usize,
-    /// Nonzeros of the effective matrix (both triangles).
-    pub matrix_nonzeros: usize,
-    /// Values the Cholesky factor stores (supernodal blocks counted whole).
-    pub factor_nonzeros: usize,
-    /// The ordering and the symbolic analysis, once.
-    pub analysis_seconds: f64,
-    pub factorizations: usize,
-    pub factorization_seconds: f64,
-    /// Triangular solve pairs (one per multiplier iteration and step).
-    pub solves: usize,
-    pub solve_seconds: f64,
-}
-
-impl From<&FactorStats> for LinearSolverSummary {
-    fn from(f: &FactorStats) -> Self {
-        LinearSolverSummary {
-            ordering: f.ordering.name().into(),
-            equations: f.equations,
-            matrix_nonzeros: f.matrix_nonzeros,
-            factor_nonzeros: f.factor_nonzeros,
-            analysis_seconds: f.analysis_seconds,
-            factorizations: f.factorizations,
-            factorization_seconds: f.factorization_seconds,
-            solves: f.solves,
-            solve_seconds: f.solve_seconds,
-        }
-    }
-}
-
 #[derive(Debug, Clone, Serialize, Default)]
 pub struct Summary {
     /// "completed" (every step converged, no check fired), "completed_with_warnings" (see
@@ -141,10 +105,10 @@ pub struct Summary {
     pub unconverged_steps: usize,
     pub factorizations: usize,
     /// Implicit runs: the ordering, size and cost of the effective matrix's factor.
-    pub linear_solver: Option<LinearSolverSummary>,
+    pub linear_solver: Option<FactorStats>,
     /// Implicit runs with consistent mass: the mass matrix's factor (one solve pair per
     /// multiplier iteration under the gap-rate constraint).
-    pub mass_factor: Option<LinearSolverSummary>,
+    pub mass_factor: Option<FactorStats>,
     /// Implicit steps taken again in `event_substeps` sub-steps at a contact event.
     pub event_steps: usize,
     pub energy_initial: f64,

@@ -39,6 +39,13 @@ option_names!(MassKind { Lumped = "lumped", Consistent = "consistent" });
 option_names!(PenetrationPolicy { Error = "error", Adjust = "adjust", Ignore = "ignore" });
 option_names!(Ordering { NestedDissection = "nested_dissection", Amd = "amd" });
 
+/// Summaries name the ordering.
+impl serde::Serialize for Ordering {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
 /// Which integrator runs the scene.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Method {
