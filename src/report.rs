@@ -11,10 +11,23 @@ use crate::setup::{choose_method, Setup};
 /// The report of a prepared scene.
 pub fn model_report(scene: &Scene, setup: &Setup) -> String {
     let mut out = String::new();
-    let model = &setup.model;
-    let mass = lumped_mass(model);
     let _ = writeln!(out, "scene {}", scene.path.display());
     let _ = writeln!(out, "bodies:");
+    bodies(&mut out, scene, setup);
+    stable_step(&mut out, scene, setup);
+    method(&mut out, scene, setup);
+    let _ = writeln!(out, "contact interfaces:");
+    interfaces(&mut out, setup);
+    let _ = writeln!(out, "fixes:");
+    fixes(&mut out, scene, setup);
+    let _ = writeln!(out, "memory: {}", memory::describe(&setup.estimate));
+    out
+}
+
+/// Each body: elements, nodes, dofs, mass, centre of mass and material.
+fn bodies(out: &mut String, scene: &Scene, setup: &Setup) {
+    let model = &setup.model;
+    let mass = lumped_mass(model);
     for (b, body) in model.mesh.bodies.iter().enumerate() {
         let (mut m, mut c) = (0.0, [0.0; 3]);
         for n in body.nodes.clone() {
@@ -42,6 +55,11 @@ pub fn model_report(scene: &Scene, setup: &Setup) -> String {
             scene.materials[body.material].name
         );
     }
+}
+
+/// The stable explicit step and the element that sets it.
+fn stable_step(out: &mut String, scene: &Scene, setup: &Setup) {
+    let model = &setup.model;
     if let Some((stable, e)) = setup.bound {
         let (_, material) = model.mesh.element(e);
         let hexes = model.mesh.hexes.len();
@@ -60,6 +78,11 @@ pub fn model_report(scene: &Scene, setup: &Setup) -> String {
             scene.bodies[body].name, scene.materials[material as usize].name
         );
     }
+}
+
+/// The method, its reason, the step and the end time; and what "auto" would choose.
+fn method(out: &mut String, scene: &Scene, setup: &Setup) {
+    let model = &setup.model;
     let _ = writeln!(
         out,
         "method: {} ({}); time step {:.6e}, {} steps to t = {:.6e}",
@@ -92,7 +115,11 @@ pub fn model_report(scene: &Scene, setup: &Setup) -> String {
             );
         }
     }
-    let _ = writeln!(out, "contact interfaces:");
+}
+
+/// Each contact interface with its initial gaps and penetrations.
+fn interfaces(out: &mut String, setup: &Setup) {
+    let model = &setup.model;
     if model.interfaces.is_empty() {
         let _ = writeln!(out, "  none");
     }
@@ -133,7 +160,11 @@ pub fn model_report(scene: &Scene, setup: &Setup) -> String {
             itf.friction
         );
     }
-    let _ = writeln!(out, "fixes:");
+}
+
+/// Each fix: its nodes and held components.
+fn fixes(out: &mut String, scene: &Scene, setup: &Setup) {
+    let model = &setup.model;
     if scene.fixes.is_empty() {
         let _ = writeln!(out, "  none");
     }
@@ -150,6 +181,4 @@ pub fn model_report(scene: &Scene, setup: &Setup) -> String {
             scene.bodies[f.body].name
         );
     }
-    let _ = writeln!(out, "memory: {}", memory::describe(&setup.estimate));
-    out
 }
