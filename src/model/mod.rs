@@ -53,120 +53,9 @@ impl Model {
             }
             mesh.push_body(parts, b.material);
         }
-
-        let mut fixed = vec![false; 3 * mesh.node_count()];
-        let mut fix_nodes = Vec::with_capacity(scene.fixes.len());
-        for (i, f) in scene.fixes.iter().enumerate() {
-            let body = &mesh.bodies[f.body];
-            let nodes: Vec<u32> = match &f.nodes {
-                NodeSelection::Surface(s) => Mesh::quad_nodes(&body.surfaces[*s].faces),
-                NodeSelection::Set(s) => body.node_sets[*s].nodes.clone(),
-                NodeSelection::Region { min, max } => body
-                    .nodes
-                    .clone()
-                    .filter(|&n| {
-                        let p = mesh.nodes[n];
-                        (0..3).all(|a| p[a] >= min[a] - 1e-12 && p[a] <= max[a] + 1e-12)
-                    })
-                    .map(|n| n as u32)
-                    .collect(),
-            };
-            if nodes.is_empty() {
-                return Err(ImpactError::SceneValue {
-                    path: scene.path.clone(),
-                    key: format!("fix[{i}]"),
-                    message: format!(
-                        "holds no node of body `{}`{}",
-                        scene.bodies[f.body].name,
-                        match &f.nodes {
-                            NodeSelection::Region { min, max } => format!(
-                                " (region.min {min:?}, region.max {max:?}; the body's nodes span {:?} to {:?})",
-                                body_box(&mesh, f.body).0,
-                                body_box(&mesh, f.body).1
-                            ),
-                            _ => String::new(),
-                        }
-                    ),
-                });
-            }
-            fix_nodes.push(nodes.len());
-            for n in nodes {
-                for a in 0..3 {
-                    if f.components[a] {
-                        fixed[3 * n as usize + a] = true;
-                    }
-                }
-            }
-        }
-
-        let mut queries = ContactQueries::default();
-        let mut interfaces = Vec::new();
-        for c in &scene.contacts {
-            let sec = &mesh.bodies[c.secondary.body].surfaces[c.secondary.surface].faces;
-            let (nodes, area) = tributary_areas(&mesh, sec);
-            let f0 = queries.faces.len();
-            queries
-                .faces
-                .extend_from_slice(&mesh.bodies[c.primary.body].surfaces[c.primary.surface].faces);
-            let q0 = queries.secondary.len();
-            queries.secondary.extend_from_slice(&nodes);
-            interfaces.push(Interface {
-                name: c.name.clone(),
-                friction: c.friction,
-                nodes,
-                area,
-                secondary_faces: sec.clone(),
-                primary: Primary::Surface {
-                    body: c.primary.body,
-                    faces: f0..queries.faces.len(),
-                    queries: q0..queries.secondary.len(),
-                },
-            });
-        }
-        queries.offsets = vec![0; queries.secondary.len() + 1];
-        for p in &scene.planes {
-            let quads: Vec<[u32; 4]> = p
-                .bodies
-                .iter()
-                .flat_map(|&b| mesh.bodies[b].boundary.iter().copied())
-                .collect();
-            let (nodes, area) = tributary_areas(&mesh, &quads);
-            interfaces.push(Interface {
-                name: p.name.clone(),
-                friction: p.friction,
-                nodes,
-                area,
-                secondary_faces: quads,
-                primary: Primary::Plane {
-                    point: p.point,
-                    normal: p.normal,
-                },
-            });
-        }
-
-        let probes = scene
-            .probes
-            .iter()
-            .map(|p| {
-                let body = &mesh.bodies[p.body];
-                let node = body
-                    .nodes
-                    .clone()
-                    .min_by(|&a, &b| {
-                        let d = |n: usize| {
-                            let x = mesh.nodes[n];
-                            (0..3).map(|k| (x[k] - p.point[k]).powi(2)).sum::<f64>()
-                        };
-                        d(a).total_cmp(&d(b))
-                    })
-                    .expect("a body has nodes");
-                Probe {
-                    name: p.name.clone(),
-                    node: node as u32,
-                }
-            })
-            .collect();
-
+        let (fixed, fix_nodes) = fixes(scene, &mesh)?;
+        let (queries, interfaces) = interfaces(scene, &mesh);
+        let probes = probes(scene, &mesh);
         Ok(Model {
             body_names: scene.bodies.iter().map(|b| b.name.clone()).collect(),
             mesh,
@@ -220,4 +109,132 @@ fn body_box(mesh: &Mesh, b: usize) -> ([f64; 3], [f64; 3]) {
         }
     }
     (lo, hi)
+}
+
+/// The fixed dofs of every `[[fix]]`, and the nodes each holds (a fix that holds none is an
+/// error naming it).
+fn fixes(scene: &Scene, mesh: &Mesh) -> Result<(Vec<bool>, Vec<usize>)> {
+    let mut fixed = vec![false; 3 * mesh.node_count()];
+    let mut fix_nodes = Vec::with_capacity(scene.fixes.len());
+    for (i, f) in scene.fixes.iter().enumerate() {
+        let body = &mesh.bodies[f.body];
+        let nodes: Vec<u32> = match &f.nodes {
+            NodeSelection::Surface(s) => Mesh::quad_nodes(&body.surfaces[*s].faces),
+            NodeSelection::Set(s) => body.node_sets[*s].nodes.clone(),
+            NodeSelection::Region { min, max } => body
+                .nodes
+                .clone()
+                .filter(|&n| {
+                    let p = mesh.nodes[n];
+                    (0..3).all(|a| p[a] >= min[a] - 1e-12 && p[a] <= max[a] + 1e-12)
+                })
+                .map(|n| n as u32)
+                .collect(),
+        };
+        if nodes.is_empty() {
+            return Err(ImpactError::SceneValue {
+                path: scene.path.clone(),
+                key: format!("fix[{i}]"),
+                message: format!(
+                    "holds no node of body `{}`{}",
+                    scene.bodies[f.body].name,
+                    match &f.nodes {
+                        NodeSelection::Region { min, max } => format!(
+                            " (region.min {min:?}, region.max {max:?}; the body's nodes span {:?} to {:?})",
+                            body_box(mesh, f.body).0,
+                            body_box(mesh, f.body).1
+                        ),
+                        _ => String::new(),
+                    }
+                ),
+            });
+        }
+        fix_nodes.push(nodes.len());
+        for n in nodes {
+            for a in 0..3 {
+                if f.components[a] {
+                    fixed[3 * n as usize + a] = true;
+                }
+            }
+        }
+    }
+
+    Ok((fixed, fix_nodes))
+}
+
+/// The contact queries of the surface interfaces, then every interface: the `[[contact]]`s
+/// (secondary nodes against primary faces), then the `[[rigid_plane]]`s.
+fn interfaces(scene: &Scene, mesh: &Mesh) -> (ContactQueries, Vec<Interface>) {
+    let mut queries = ContactQueries::default();
+    let mut interfaces = Vec::new();
+    for c in &scene.contacts {
+        let sec = &mesh.bodies[c.secondary.body].surfaces[c.secondary.surface].faces;
+        let (nodes, area) = tributary_areas(mesh, sec);
+        let f0 = queries.faces.len();
+        queries
+            .faces
+            .extend_from_slice(&mesh.bodies[c.primary.body].surfaces[c.primary.surface].faces);
+        let q0 = queries.secondary.len();
+        queries.secondary.extend_from_slice(&nodes);
+        interfaces.push(Interface {
+            name: c.name.clone(),
+            friction: c.friction,
+            nodes,
+            area,
+            secondary_faces: sec.clone(),
+            primary: Primary::Surface {
+                body: c.primary.body,
+                faces: f0..queries.faces.len(),
+                queries: q0..queries.secondary.len(),
+            },
+        });
+    }
+    queries.offsets = vec![0; queries.secondary.len() + 1];
+    for p in &scene.planes {
+        let quads: Vec<[u32; 4]> = p
+            .bodies
+            .iter()
+            .flat_map(|&b| mesh.bodies[b].boundary.iter().copied())
+            .collect();
+        let (nodes, area) = tributary_areas(mesh, &quads);
+        interfaces.push(Interface {
+            name: p.name.clone(),
+            friction: p.friction,
+            nodes,
+            area,
+            secondary_faces: quads,
+            primary: Primary::Plane {
+                point: p.point,
+                normal: p.normal,
+            },
+        });
+    }
+
+    (queries, interfaces)
+}
+
+/// Each probe's node: the body's node nearest its point.
+fn probes(scene: &Scene, mesh: &Mesh) -> Vec<Probe> {
+    scene
+        .probes
+        .iter()
+        .map(|p| {
+            let body = &mesh.bodies[p.body];
+            let node = body
+                .nodes
+                .clone()
+                .min_by(|&a, &b| {
+                    let d = |n: usize| {
+                        let x = mesh.nodes[n];
+                        (0..3).map(|k| (x[k] - p.point[k]).powi(2)).sum::<f64>()
+                    };
+                    d(a).total_cmp(&d(b))
+                })
+                .expect("a body has nodes");
+            Probe {
+                name: p.name.clone(),
+                node: node as u32,
+            }
+        })
+        .collect()
 }
