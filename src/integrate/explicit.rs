@@ -412,7 +412,6 @@ impl<'m> ExplicitSolver<'m> {
             st.tangential.fill([0.0; 3]);
             st.gap.fill(f64::NAN);
         }
-        let dt = self.dt;
         let count = self.constraints.len();
         let mut jn = vec![0.0f64; count];
         let mut jt = vec![[0.0f64; 3]; count];
@@ -435,64 +434,74 @@ impl<'m> ExplicitSolver<'m> {
             let touched = touched_nodes(&self.constraints);
             for sweep in 0..self.settings.max_iterations {
                 report.iterations = sweep + 1;
-                // Jacobi: every constraint's update from the sweep's starting velocities, on
-                // all threads; then the impulses are scattered to the nodes in constraint
-                // order, so the sums do not depend on the thread count
-                let v = &self.v;
-                let updates: Vec<Option<ImpulseUpdate>> = self
-                    .constraints
-                    .par_iter()
-                    .with_min_len(256)
-                    .enumerate()
-                    .map(|(i, c)| {
-                        (c.compliance > 0.0).then(|| {
-                            impulse_update(
-                                c.gap,
-                                dt,
-                                relative_velocity(c, v),
-                                c.normal,
-                                c.compliance,
-                                c.mu,
-                                jn[i],
-                                jt[i],
-                            )
-                        })
-                    })
-                    .collect();
-                let mut violation = 0.0f64;
-                for (i, up) in updates.into_iter().enumerate() {
-                    let Some(up) = up else { continue };
-                    let c = &self.constraints[i];
-                    violation = violation.max(up.violation);
-                    (jn[i], jt[i]) = (up.jn, up.jt);
-                    let dj = up.dj;
-                    let n = c.node as usize;
-                    for a in 0..3 {
-                        self.delta[n][a] += dj[a];
-                    }
-                    if let Some(f) = c.face {
-                        for k in 0..4 {
-                            for a in 0..3 {
-                                self.delta[f[k] as usize][a] -= c.weights[k] * dj[a];
-                            }
-                        }
-                    }
-                }
-                // only the constrained nodes and their faces' nodes moved
-                for &n in &touched {
-                    let n = n as usize;
-                    let d = std::mem::take(&mut self.delta[n]);
-                    for a in 0..3 {
-                        self.v[3 * n + a] += d[a] * self.inv_mass[3 * n + a];
-                    }
-                }
-                if violation <= self.tolerance {
+                if self.sweep(&mut jn, &mut jt, &touched) <= self.tolerance {
                     report.converged = true;
                     break;
                 }
             }
         }
-        // reports
+        self.contact_reports(&jn, &jt);
+        Ok(report)
+    }
+
+    /// One Jacobi sweep: every constraint's update from the sweep's starting velocities, on
+    /// all threads; then the impulses are scattered to the nodes in constraint order, so the
+    /// sums do not depend on the thread count. Returns the sweep's largest violation.
+    fn sweep(&mut self, jn: &mut [f64], jt: &mut [[f64; 3]], touched: &[u32]) -> f64 {
+        let (v, dt) = (&self.v, self.dt);
+        let updates: Vec<Option<ImpulseUpdate>> = self
+            .constraints
+            .par_iter()
+            .with_min_len(256)
+            .enumerate()
+            .map(|(i, c)| {
+                (c.compliance > 0.0).then(|| {
+                    impulse_update(
+                        c.gap,
+                        dt,
+                        relative_velocity(c, v),
+                        c.normal,
+                        c.compliance,
+                        c.mu,
+                        jn[i],
+                        jt[i],
+                    )
+                })
+            })
+            .collect();
+        let mut violation = 0.0f64;
+        for (i, up) in updates.into_iter().enumerate() {
+            let Some(up) = up else { continue };
+            let c = &self.constraints[i];
+            violation = violation.max(up.violation);
+            (jn[i], jt[i]) = (up.jn, up.jt);
+            let dj = up.dj;
+            let n = c.node as usize;
+            for a in 0..3 {
+                self.delta[n][a] += dj[a];
+            }
+            if let Some(f) = c.face {
+                for k in 0..4 {
+                    for a in 0..3 {
+                        self.delta[f[k] as usize][a] -= c.weights[k] * dj[a];
+                    }
+                }
+            }
+        }
+        // only the constrained nodes and their faces' nodes moved
+        for &n in touched {
+            let n = n as usize;
+            let d = std::mem::take(&mut self.delta[n]);
+            for a in 0..3 {
+                self.v[3 * n + a] += d[a] * self.inv_mass[3 * n + a];
+            }
+        }
+        violation
+    }
+
+    /// Each interface's report of the step from the final impulses `jn`, `jt`.
+    fn contact_reports(&mut self, jn: &[f64], jt: &[[f64; 3]]) {
+        let dt = self.dt;
         let mut force = vec![[0.0f64; 3]; self.interfaces.len()];
         for st in &mut self.interfaces {
             let work = st.report.friction_work;
@@ -501,7 +510,7 @@ impl<'m> ExplicitSolver<'m> {
                 ..Default::default()
             };
         }
-        for i in 0..count {
+        for i in 0..self.constraints.len() {
             let c = self.constraints[i];
             let rel = relative_velocity(&c, &self.v);
             let rn = dot(rel, c.normal);
@@ -533,7 +542,6 @@ impl<'m> ExplicitSolver<'m> {
         for (st, f) in self.interfaces.iter_mut().zip(&force) {
             st.report.tangential_force = quad::norm(*f);
         }
-        Ok(report)
     }
 
     /// Energies of the last step in the time-centred form that central difference conserves
