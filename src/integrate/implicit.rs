@@ -235,55 +235,14 @@ impl<'m> ImplicitSolver<'m> {
             None => None,
         };
         let ndof = model.dofs();
-        let mut f_ext = vec![0.0; ndof];
-        for (n, &m) in asm.nodal_mass.iter().enumerate() {
-            for a in 0..3 {
-                if !model.fixed[3 * n + a] {
-                    f_ext[3 * n + a] = m * model.gravity[a];
-                }
-            }
-        }
+        let f_ext = gravity_force(model, &asm);
         let mut v = model.initial_velocity.clone();
         for d in 0..ndof {
             if model.fixed[d] {
                 v[d] = 0.0;
             }
         }
-        let mar = settings
-            .max_gap_rate
-            .unwrap_or(1e-3 * speed_scale.max(f64::MIN_POSITIVE));
-        let interfaces = model
-            .interfaces
-            .iter()
-            .map(|itf| {
-                let eps = settings
-                    .penalty_normal
-                    .unwrap_or_else(|| default_penalty(model, &asm, itf, dt));
-                let n = itf.nodes.len();
-                let friction = (itf.friction > 0.0).then(|| {
-                    let eps_t = settings.penalty_tangential.unwrap_or(eps);
-                    let p = Penalty::new(eps_t, settings.penalty, mar, settings.max_force_change);
-                    Friction::new(itf.friction, p, &itf.area)
-                });
-                InterfaceState {
-                    lambda: vec![0.0; n],
-                    points: vec![ContactPoint::default(); n],
-                    penalty: Penalty::new(eps, settings.penalty, mar, settings.max_force_change),
-                    friction,
-                    memory: IterationMemory::default(),
-                    candidate: vec![false; n],
-                    measure: vec![0.0; n],
-                    next: vec![0.0; n],
-                    endpoint_force: 0.0,
-                    tangential: [0.0; 3],
-                    peak_force: 0.0,
-                    last_change: 0.0,
-                    sub_penalties: None,
-                    step_pressure: Vec::new(),
-                    report: ContactReport::default(),
-                }
-            })
-            .collect();
+        let interfaces = interface_states(model, &settings, &asm, dt, speed_scale);
         let face_size = search::largest_face_diagonal(model);
         let nq = model.queries.len();
         let mut s = ImplicitSolver {
@@ -1113,4 +1072,63 @@ fn default_penalty(model: &Model, asm: &Assembled, itf: &crate::model::Interface
     s.sort_by(f64::total_cmp);
     let med = s.get(s.len() / 2).copied().unwrap_or(1.0);
     1.0 / med
+}
+
+/// The body force m g on the free dofs, from the lumped nodal masses.
+fn gravity_force(model: &Model, asm: &Assembled) -> Vec<f64> {
+    let mut f_ext = vec![0.0; model.dofs()];
+    for (n, &m) in asm.nodal_mass.iter().enumerate() {
+        for a in 0..3 {
+            if !model.fixed[3 * n + a] {
+                f_ext[3 * n + a] = m * model.gravity[a];
+            }
+        }
+    }
+    f_ext
+}
+
+/// Each interface's multipliers, penalties (eps_N from the scene or estimated, eps_T from
+/// the scene or eps_N) and friction state at the start of a run.
+fn interface_states(
+    model: &Model,
+    settings: &ImplicitSettings,
+    asm: &Assembled,
+    dt: f64,
+    speed_scale: f64,
+) -> Vec<InterfaceState> {
+    let mar = settings
+        .max_gap_rate
+        .unwrap_or(1e-3 * speed_scale.max(f64::MIN_POSITIVE));
+    model
+        .interfaces
+        .iter()
+        .map(|itf| {
+            let eps = settings
+                .penalty_normal
+                .unwrap_or_else(|| default_penalty(model, asm, itf, dt));
+            let n = itf.nodes.len();
+            let friction = (itf.friction > 0.0).then(|| {
+                let eps_t = settings.penalty_tangential.unwrap_or(eps);
+                let p = Penalty::new(eps_t, settings.penalty, mar, settings.max_force_change);
+                Friction::new(itf.friction, p, &itf.area)
+            });
+            InterfaceState {
+                lambda: vec![0.0; n],
+                points: vec![ContactPoint::default(); n],
+                penalty: Penalty::new(eps, settings.penalty, mar, settings.max_force_change),
+                friction,
+                memory: IterationMemory::default(),
+                candidate: vec![false; n],
+                measure: vec![0.0; n],
+                next: vec![0.0; n],
+                endpoint_force: 0.0,
+                tangential: [0.0; 3],
+                peak_force: 0.0,
+                last_change: 0.0,
+                sub_penalties: None,
+                step_pressure: Vec::new(),
+                report: ContactReport::default(),
+            }
+        })
+        .collect()
 }
