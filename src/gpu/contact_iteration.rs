@@ -81,6 +81,27 @@ struct Kernels {
     report: ContactReportKernel,
 }
 
+impl Kernels {
+    /// Builds the pipelines of every kernel of the iteration, once.
+    fn new(ctx: &GpuContext) -> Self {
+        Kernels {
+            bounds: SearchBounds::new(ctx),
+            grid: SearchGridKernel::new(ctx),
+            constraints: ContactConstraints::new(ctx),
+            count: BucketCount::new(ctx),
+            prefix: PrefixSum::new(ctx),
+            fill: BucketFill::new(ctx),
+            order: BucketOrder::new(ctx),
+            touches: ContactTouches::new(ctx),
+            compliance: ContactCompliance::new(ctx),
+            sweep: ContactSweep::new(ctx),
+            apply: ContactApply::new(ctx),
+            control: SweepControl::new(ctx),
+            report: ContactReportKernel::new(ctx),
+        }
+    }
+}
+
 struct Launches {
     bounds: Option<Launch>,
     grid: Option<Launch>,
@@ -95,6 +116,331 @@ struct Launches {
     apply: Launch,
     control: Launch,
     report: Launch,
+}
+
+/// The model's contact data on the device: its pairs, contact nodes and their links.
+struct ModelBuffers {
+    pairs: Storage,
+    nodes: Storage,
+    links: Storage,
+}
+
+impl ModelBuffers {
+    /// Uploads the setup's pairs, contact nodes and links (in f32 where they are f64).
+    fn upload(ctx: &GpuContext, setup: &ContactSetup) -> Result<Self> {
+        let pairs: Vec<types::ContactPair> = setup
+            .pairs
+            .iter()
+            .map(|p| types::ContactPair {
+                node: p.node,
+                query: p.query,
+                mu: p.mu as f32,
+                point: Split3::split(p.point),
+                normal: p.normal.map(|x| x as f32),
+            })
+            .collect();
+        let pairs = Storage::with_data(ctx, "contact.pairs", &pairs)?;
+        let cnodes: Vec<types::ContactNode> = setup
+            .nodes
+            .iter()
+            .map(|c| types::ContactNode {
+                node: c.node,
+                pair_first: c.pair_first,
+                pair_end: c.pair_end,
+                face_first: c.face_first,
+                face_end: c.face_end,
+            })
+            .collect();
+        let nodes = Storage::with_data(ctx, "contact.nodes", &cnodes)?;
+        let links = Storage::with_data(ctx, "contact.links", &setup.links)?;
+        Ok(ModelBuffers {
+            pairs,
+            nodes,
+            links,
+        })
+    }
+}
+
+/// The iteration's working buffers (what its stages write).
+struct WorkBuffers {
+    bounds: Storage,
+    constraints: Storage,
+    keys: Storage,
+    ranks: Storage,
+    counts: Storage,
+    starts: Storage,
+    sorted: Storage,
+    touches: Storage,
+    dj: Storage,
+    state: Storage,
+    args: Storage,
+    results: Storage,
+}
+
+impl WorkBuffers {
+    /// Allocates the working buffers for `np` pairs, `nf` primary faces and `nodes` nodes.
+    fn new(ctx: &GpuContext, np: usize, nf: usize, nodes: usize) -> Result<Self> {
+        let words = |n: usize| (4 * n) as u64;
+        let bounds = Storage::new(ctx, "contact.bounds", 8)?;
+        let constraints = Storage::new(
+            ctx,
+            "contact.constraints",
+            (np * std::mem::size_of::<types::Constraint>()) as u64,
+        )?;
+        let keys = Storage::new(ctx, "contact.keys", words(np))?;
+        let ranks = Storage::new(ctx, "contact.ranks", words(np))?;
+        // buckets 0..faces hold the pairs on each face, bucket `faces` the others
+        let counts = Storage::new(ctx, "contact.counts", words(nf + 1))?;
+        let starts = Storage::new(ctx, "contact.starts", words(nf + 2))?;
+        let sorted = Storage::new(ctx, "contact.sorted", words(np))?;
+        let touches = Storage::new(ctx, "contact.touches", words(nodes))?;
+        let dj = Storage::new(ctx, "contact.dj", words(3 * np))?;
+        let state = Storage::new(ctx, "contact.state", 16)?;
+        // the apply's grid, armed by each sweep (empty once the iteration has stopped)
+        let args = Storage::with_usage(
+            ctx,
+            "contact.apply_args",
+            12,
+            wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::INDIRECT
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
+        )?;
+        let results = Storage::with_data(ctx, "contact.results", &vec![0.0f32; SLOT * np])?;
+        Ok(WorkBuffers {
+            bounds,
+            constraints,
+            keys,
+            ranks,
+            counts,
+            starts,
+            sorted,
+            touches,
+            dj,
+            state,
+            args,
+            results,
+        })
+    }
+}
+
+/// What the launches bind: the kernels, the step's, the model's and the working buffers,
+/// the search's (or placeholders) and the sizes.
+struct Bindings<'a> {
+    ctx: &'a GpuContext,
+    k: &'a Kernels,
+    b: &'a StepBuffers<'a>,
+    m: &'a ModelBuffers,
+    w: &'a WorkBuffers,
+    /// The search's grid, points and faces (placeholders where there is no search).
+    grid: &'a wgpu::Buffer,
+    points: &'a wgpu::Buffer,
+    faces: &'a wgpu::Buffer,
+    np: u32,
+    nf: u32,
+    nc: u32,
+}
+
+impl Bindings<'_> {
+    /// The search's launches, `search_bounds` and `search_grid` (none without a search).
+    fn search(
+        &self,
+        search: Option<&GpuSearch>,
+        nodes: usize,
+        face_size: f64,
+    ) -> (Option<Launch>, Option<Launch>) {
+        let (ctx, k, b, w) = (self.ctx, self.k, self.b, self.w);
+        let item_count = nodes.max(self.nf as usize) as u32;
+        let bounds = search.map(|s| {
+            k.bounds.launch(
+                ctx,
+                item_count,
+                nodes as u32,
+                self.nf,
+                b.reference,
+                b.displacement,
+                b.velocity,
+                s.faces_buffer(),
+                &w.bounds.buffer,
+            )
+        });
+        let grid = search.map(|s| {
+            k.grid.launch(
+                ctx,
+                1,
+                s.mask(),
+                (face_size as f32).to_bits(),
+                b.step,
+                &w.bounds.buffer,
+                s.grid_buffer(),
+            )
+        });
+        (bounds, grid)
+    }
+
+    /// The constraints' and the bucket sort's launches: `contact_constraints`,
+    /// `bucket_count`, `prefix_sum`, `bucket_fill` and `bucket_order`.
+    fn sort(&self) -> [Launch; 5] {
+        let (ctx, k, b, m, w) = (self.ctx, self.k, self.b, self.m, self.w);
+        let (np, nf) = (self.np, self.nf);
+        let constraints = k.constraints.launch(
+            ctx,
+            np,
+            nf,
+            0,
+            b.step,
+            self.grid,
+            b.reference,
+            b.displacement,
+            b.velocity,
+            b.acceleration,
+            &m.pairs.buffer,
+            self.points,
+            self.faces,
+            &w.constraints.buffer,
+            &w.keys.buffer,
+        );
+        let count = k.count.launch(
+            ctx,
+            np,
+            0,
+            0,
+            &w.keys.buffer,
+            &w.counts.buffer,
+            &w.ranks.buffer,
+        );
+        let prefix = k
+            .prefix
+            .launch(ctx, nf + 1, 0, 0, &w.counts.buffer, &w.starts.buffer);
+        let fill = k.fill.launch(
+            ctx,
+            np,
+            0,
+            0,
+            &w.keys.buffer,
+            &w.ranks.buffer,
+            &w.starts.buffer,
+            &w.sorted.buffer,
+        );
+        // the face buckets only: the sentinel bucket is never gathered
+        let order = k
+            .order
+            .launch(ctx, nf, 0, 0, &w.starts.buffer, &w.sorted.buffer);
+        [constraints, count, prefix, fill, order]
+    }
+
+    /// The row-sum compliance's launches: `contact_touches` and `contact_compliance`.
+    fn compliance(&self) -> [Launch; 2] {
+        let (ctx, k, b, m, w) = (self.ctx, self.k, self.b, self.m, self.w);
+        let touches = k.touches.launch(
+            ctx,
+            self.nc,
+            0,
+            0,
+            &m.nodes.buffer,
+            &m.links.buffer,
+            &w.constraints.buffer,
+            &w.starts.buffer,
+            &w.sorted.buffer,
+            &w.touches.buffer,
+            &w.state.buffer,
+        );
+        let compliance = k.compliance.launch(
+            ctx,
+            self.np,
+            0,
+            0,
+            &w.constraints.buffer,
+            &w.touches.buffer,
+            b.lumped,
+            &m.pairs.buffer,
+        );
+        [touches, compliance]
+    }
+
+    /// The sweeps' launches: `contact_sweep`, `contact_apply` and `sweep_control`.
+    fn sweeps(&self, tolerance: f64, max_iterations: u32) -> [Launch; 3] {
+        let (ctx, k, b, m, w) = (self.ctx, self.k, self.b, self.m, self.w);
+        // the apply's grid, which the sweep arms
+        let ag = k.apply.0.grid(self.nc);
+        let sweep = k.sweep.launch(
+            ctx,
+            self.np,
+            ag[0],
+            ag[1],
+            b.step,
+            &w.constraints.buffer,
+            &m.pairs.buffer,
+            b.velocity,
+            &w.dj.buffer,
+            &w.state.buffer,
+            &w.args.buffer,
+        );
+        let apply = k.apply.launch(
+            ctx,
+            self.nc,
+            max_iterations,
+            (tolerance as f32).to_bits(),
+            &m.nodes.buffer,
+            &m.links.buffer,
+            &w.constraints.buffer,
+            &w.starts.buffer,
+            &w.sorted.buffer,
+            &w.dj.buffer,
+            b.lumped,
+            b.velocity,
+            &w.state.buffer,
+        );
+        let control = k.control.launch(ctx, 1, 0, 0, &w.state.buffer);
+        [sweep, apply, control]
+    }
+
+    /// The report's launch, `contact_report`.
+    fn report(&self) -> Launch {
+        let (b, w) = (self.b, self.w);
+        self.k.report.launch(
+            self.ctx,
+            self.np,
+            0,
+            0,
+            b.step,
+            &w.constraints.buffer,
+            &self.m.pairs.buffer,
+            b.velocity,
+            &w.state.buffer,
+            &w.results.buffer,
+        )
+    }
+
+    /// Every launch of the iteration, stage after stage.
+    fn launches(
+        &self,
+        search: Option<&GpuSearch>,
+        setup: &ContactSetup,
+        nodes: usize,
+        tolerance: f64,
+        max_iterations: u32,
+    ) -> Launches {
+        let (bounds, grid) = self.search(search, nodes, setup.face_size);
+        let [constraints, count, prefix, fill, order] = self.sort();
+        let [touches, compliance] = self.compliance();
+        let [sweep, apply, control] = self.sweeps(tolerance, max_iterations);
+        Launches {
+            bounds,
+            grid,
+            constraints,
+            count,
+            prefix,
+            fill,
+            order,
+            touches,
+            compliance,
+            sweep,
+            apply,
+            control,
+            report: self.report(),
+        }
+    }
 }
 
 pub struct ContactIteration {
@@ -130,253 +476,78 @@ impl ContactIteration {
         tolerance: f64,
         max_iterations: u32,
     ) -> Result<Self> {
-        let search = if setup.queries.is_empty() {
-            None
-        } else {
-            Some(GpuSearch::new(
-                ctx,
-                b.reference,
-                b.displacement,
-                b.velocity,
-                &setup.faces,
-                &setup.face_first,
-                &setup.queries,
-            )?)
-        };
-        let kernels = Kernels {
-            bounds: SearchBounds::new(ctx),
-            grid: SearchGridKernel::new(ctx),
-            constraints: ContactConstraints::new(ctx),
-            count: BucketCount::new(ctx),
-            prefix: PrefixSum::new(ctx),
-            fill: BucketFill::new(ctx),
-            order: BucketOrder::new(ctx),
-            touches: ContactTouches::new(ctx),
-            compliance: ContactCompliance::new(ctx),
-            sweep: ContactSweep::new(ctx),
-            apply: ContactApply::new(ctx),
-            control: SweepControl::new(ctx),
-            report: ContactReportKernel::new(ctx),
-        };
-        let np = setup.pairs.len();
-        let nf = setup.faces.len();
-        let nc = setup.nodes.len();
-        let words = |n: usize| (4 * n) as u64;
-        let pairs: Vec<types::ContactPair> = setup
-            .pairs
-            .iter()
-            .map(|p| types::ContactPair {
-                node: p.node,
-                query: p.query,
-                mu: p.mu as f32,
-                point: Split3::split(p.point),
-                normal: p.normal.map(|x| x as f32),
-            })
-            .collect();
-        let pairs = Storage::with_data(ctx, "contact.pairs", &pairs)?;
-        let cnodes: Vec<types::ContactNode> = setup
-            .nodes
-            .iter()
-            .map(|c| types::ContactNode {
-                node: c.node,
-                pair_first: c.pair_first,
-                pair_end: c.pair_end,
-                face_first: c.face_first,
-                face_end: c.face_end,
-            })
-            .collect();
-        let cnodes = Storage::with_data(ctx, "contact.nodes", &cnodes)?;
-        let links = Storage::with_data(ctx, "contact.links", &setup.links)?;
-        let bounds = Storage::new(ctx, "contact.bounds", 8)?;
-        let constraints = Storage::new(
-            ctx,
-            "contact.constraints",
-            (np * std::mem::size_of::<types::Constraint>()) as u64,
-        )?;
-        let keys = Storage::new(ctx, "contact.keys", words(np))?;
-        let ranks = Storage::new(ctx, "contact.ranks", words(np))?;
-        // buckets 0..faces hold the pairs on each face, bucket `faces` the others
-        let counts = Storage::new(ctx, "contact.counts", words(nf + 1))?;
-        let starts = Storage::new(ctx, "contact.starts", words(nf + 2))?;
-        let sorted = Storage::new(ctx, "contact.sorted", words(np))?;
-        let touches = Storage::new(ctx, "contact.touches", words(nodes))?;
-        let dj = Storage::new(ctx, "contact.dj", words(3 * np))?;
-        let state = Storage::new(ctx, "contact.state", 16)?;
-        // the apply's grid, armed by each sweep (empty once the iteration has stopped)
-        let args = Storage::with_usage(
-            ctx,
-            "contact.apply_args",
-            12,
-            wgpu::BufferUsages::STORAGE
-                | wgpu::BufferUsages::INDIRECT
-                | wgpu::BufferUsages::COPY_DST
-                | wgpu::BufferUsages::COPY_SRC,
-        )?;
-        let results = Storage::with_data(ctx, "contact.results", &vec![0.0f32; SLOT * np])?;
+        let search = Self::search(ctx, b, setup)?;
+        let kernels = Kernels::new(ctx);
+        let (np, nf) = (setup.pairs.len(), setup.faces.len());
+        let model = ModelBuffers::upload(ctx, setup)?;
+        let work = WorkBuffers::new(ctx, np, nf, nodes)?;
         // placeholders where no interface has a primary surface
         let none = Storage::new(ctx, "contact.none", 64)?;
-        let (grid_buf, points_buf, faces_buf) = match &search {
+        let (grid, points, faces) = match &search {
             Some(s) => (s.grid_buffer(), s.points_buffer(), s.faces_buffer()),
             None => (&none.buffer, &none.buffer, &none.buffer),
         };
-        let k = &kernels;
-        // the apply's grid, which the sweep arms
-        let ag = k.apply.0.grid(nc as u32);
-        let item_count = nodes.max(nf) as u32;
-        let launches = Launches {
-            bounds: search.as_ref().map(|s| {
-                k.bounds.launch(
-                    ctx,
-                    item_count,
-                    nodes as u32,
-                    nf as u32,
-                    b.reference,
-                    b.displacement,
-                    b.velocity,
-                    s.faces_buffer(),
-                    &bounds.buffer,
-                )
-            }),
-            grid: search.as_ref().map(|s| {
-                k.grid.launch(
-                    ctx,
-                    1,
-                    s.mask(),
-                    (setup.face_size as f32).to_bits(),
-                    b.step,
-                    &bounds.buffer,
-                    s.grid_buffer(),
-                )
-            }),
-            constraints: k.constraints.launch(
-                ctx,
-                np as u32,
-                nf as u32,
-                0,
-                b.step,
-                grid_buf,
-                b.reference,
-                b.displacement,
-                b.velocity,
-                b.acceleration,
-                &pairs.buffer,
-                points_buf,
-                faces_buf,
-                &constraints.buffer,
-                &keys.buffer,
-            ),
-            count: k.count.launch(
-                ctx,
-                np as u32,
-                0,
-                0,
-                &keys.buffer,
-                &counts.buffer,
-                &ranks.buffer,
-            ),
-            prefix: k
-                .prefix
-                .launch(ctx, (nf + 1) as u32, 0, 0, &counts.buffer, &starts.buffer),
-            fill: k.fill.launch(
-                ctx,
-                np as u32,
-                0,
-                0,
-                &keys.buffer,
-                &ranks.buffer,
-                &starts.buffer,
-                &sorted.buffer,
-            ),
-            // the face buckets only: the sentinel bucket is never gathered
-            order: k
-                .order
-                .launch(ctx, nf as u32, 0, 0, &starts.buffer, &sorted.buffer),
-            touches: k.touches.launch(
-                ctx,
-                nc as u32,
-                0,
-                0,
-                &cnodes.buffer,
-                &links.buffer,
-                &constraints.buffer,
-                &starts.buffer,
-                &sorted.buffer,
-                &touches.buffer,
-                &state.buffer,
-            ),
-            compliance: k.compliance.launch(
-                ctx,
-                np as u32,
-                0,
-                0,
-                &constraints.buffer,
-                &touches.buffer,
-                b.lumped,
-                &pairs.buffer,
-            ),
-            sweep: k.sweep.launch(
-                ctx,
-                np as u32,
-                ag[0],
-                ag[1],
-                b.step,
-                &constraints.buffer,
-                &pairs.buffer,
-                b.velocity,
-                &dj.buffer,
-                &state.buffer,
-                &args.buffer,
-            ),
-            apply: k.apply.launch(
-                ctx,
-                nc as u32,
-                max_iterations,
-                (tolerance as f32).to_bits(),
-                &cnodes.buffer,
-                &links.buffer,
-                &constraints.buffer,
-                &starts.buffer,
-                &sorted.buffer,
-                &dj.buffer,
-                b.lumped,
-                b.velocity,
-                &state.buffer,
-            ),
-            control: k.control.launch(ctx, 1, 0, 0, &state.buffer),
-            report: k.report.launch(
-                ctx,
-                np as u32,
-                0,
-                0,
-                b.step,
-                &constraints.buffer,
-                &pairs.buffer,
-                b.velocity,
-                &state.buffer,
-                &results.buffer,
-            ),
-        };
+        let launches = Bindings {
+            ctx,
+            k: &kernels,
+            b,
+            m: &model,
+            w: &work,
+            grid,
+            points,
+            faces,
+            np: np as u32,
+            nf: nf as u32,
+            nc: setup.nodes.len() as u32,
+        }
+        .launches(search.as_ref(), setup, nodes, tolerance, max_iterations);
+        let ModelBuffers {
+            pairs,
+            nodes: cnodes,
+            links,
+        } = model;
+        let w = work;
         Ok(ContactIteration {
             search,
             kernels,
             launches,
-            bounds,
-            constraints,
-            keys,
-            counts,
-            starts,
-            sorted,
-            touches,
-            dj,
-            state,
-            args,
-            results,
+            bounds: w.bounds,
+            constraints: w.constraints,
+            keys: w.keys,
+            counts: w.counts,
+            starts: w.starts,
+            sorted: w.sorted,
+            touches: w.touches,
+            dj: w.dj,
+            state: w.state,
+            args: w.args,
+            results: w.results,
             staging: super::buffer::staging(ctx)?,
-            _buffers: vec![pairs, cnodes, links, ranks, none],
+            _buffers: vec![pairs, cnodes, links, w.ranks, none],
             pairs: np,
             faces: nf,
             max_iterations,
         })
+    }
+
+    /// The device search, if any interface has a primary surface.
+    fn search(
+        ctx: &GpuContext,
+        b: &StepBuffers,
+        setup: &ContactSetup,
+    ) -> Result<Option<GpuSearch>> {
+        if setup.queries.is_empty() {
+            return Ok(None);
+        }
+        Ok(Some(GpuSearch::new(
+            ctx,
+            b.reference,
+            b.displacement,
+            b.velocity,
+            &setup.faces,
+            &setup.face_first,
+            &setup.queries,
+        )?))
     }
 
     /// The contact results, [`SLOT`] floats per pair (see `contact_report.wgsl`).

@@ -138,6 +138,147 @@ pub enum Stage {
     Reduce,
 }
 
+/// The step's kernels' pipelines, built once.
+struct StepKernels {
+    predict: ExplicitPredict,
+    plane: PlaneContact,
+    drift: ExplicitDrift,
+    correct: ExplicitCorrect,
+    reduce: HistoryReduce,
+}
+
+impl StepKernels {
+    /// Builds the pipelines of the step's kernels (the element kernels are [`GpuKernels`]').
+    fn new(ctx: &GpuContext) -> Self {
+        StepKernels {
+            predict: ExplicitPredict::new(ctx),
+            plane: PlaneContact::new(ctx),
+            drift: ExplicitDrift::new(ctx),
+            correct: ExplicitCorrect::new(ctx),
+            reduce: HistoryReduce::new(ctx),
+        }
+    }
+}
+
+/// The model's buffers of the step besides the elements': the acceleration, the lumped
+/// masses, the rigid planes, their nodes and their contact results.
+struct ModelBuffers {
+    a: Storage,
+    lumped: Storage,
+    planes: Storage,
+    plane_nodes: Storage,
+    results: Storage,
+    plane_count: usize,
+    plane_node_count: usize,
+}
+
+impl ModelBuffers {
+    /// Uploads the setup's acceleration, lumped masses and rigid planes (in f32).
+    fn upload(ctx: &GpuContext, setup: &ResidentSetup) -> Result<Self> {
+        let a = Storage::with_data(ctx, "acceleration", &to_f32(&setup.acceleration))?;
+        let lumped: Vec<types::Lumped> = setup
+            .lumped
+            .par_iter()
+            .map(|l| types::Lumped {
+                mass: l.mass as f32,
+                inv_mass: l.inv_mass.map(|x| x as f32),
+                ext_acc: l.ext_acc.map(|x| x as f32),
+            })
+            .collect();
+        let lumped = Storage::with_data(ctx, "lumped", &lumped)?;
+        let planes: Vec<types::Plane> = setup
+            .planes
+            .iter()
+            .map(|p| types::Plane {
+                point: Split3::split(p.point),
+                normal: p.normal.map(|x| x as f32),
+                mu: p.mu as f32,
+            })
+            .collect();
+        let planes = Storage::with_data(ctx, "planes", &at_least_one(planes))?;
+        let pn: Vec<types::PlaneNode> = setup
+            .plane_nodes
+            .iter()
+            .map(|p| types::PlaneNode {
+                node: p.node,
+                planes: p.planes,
+            })
+            .collect();
+        let plane_node_count = pn.len();
+        let plane_nodes = Storage::with_data(ctx, "plane_nodes", &at_least_one(pn))?;
+        let plane_count = setup.planes.len();
+        let results = Storage::with_data(
+            ctx,
+            "plane_results",
+            &vec![0.0f32; SLOT * plane_count * plane_node_count],
+        )?;
+        Ok(ModelBuffers {
+            a,
+            lumped,
+            planes,
+            plane_nodes,
+            results,
+            plane_count,
+            plane_node_count,
+        })
+    }
+}
+
+/// The history row's columns, on the host and on the device, and the rows buffer.
+struct History {
+    column_list: Vec<ReduceColumn>,
+    columns: Storage,
+    rows: Storage,
+    row_len: usize,
+}
+
+impl History {
+    /// The columns of the bodies' partials (`groups`), of each interface's contact results
+    /// and of the probes, and a rows buffer of `chunk_capacity` rows.
+    fn new(
+        ctx: &GpuContext,
+        setup: &ResidentSetup,
+        groups: &[(u32, u32)],
+        m: &ModelBuffers,
+        chunk_capacity: usize,
+    ) -> Result<Self> {
+        let slots = match &setup.contact {
+            Some(c) => pair_slots(&c.interfaces),
+            None => plane_slots(m.plane_count, m.plane_node_count),
+        };
+        let column_list = row_columns(groups, &slots, &setup.probes);
+        let row_len = column_list.len();
+        let cols: Vec<types::ReduceColumn> = column_list
+            .iter()
+            .map(|c| types::ReduceColumn {
+                first: c.first,
+                count: c.count,
+                stride: c.stride,
+                op: c.op,
+            })
+            .collect();
+        let columns = Storage::with_data(ctx, "history.columns", &cols)?;
+        let rows = Storage::new(ctx, "history.rows", (chunk_capacity * row_len * 4) as u64)?;
+        Ok(History {
+            column_list,
+            columns,
+            rows,
+            row_len,
+        })
+    }
+}
+
+/// The buffers the step's launches bind.
+struct LaunchBuffers<'a> {
+    k: &'a GpuKernels,
+    step: &'a wgpu::Buffer,
+    m: &'a ModelBuffers,
+    partials: &'a Storage,
+    history: &'a History,
+    /// The contact results the history reads: the contact iteration's or the planes'.
+    results: &'a wgpu::Buffer,
+}
+
 struct Launches {
     predict: Launch,
     plane: Option<Launch>,
@@ -145,6 +286,118 @@ struct Launches {
     correct: Vec<Launch>,
     /// One per row of a submission: launch j writes the row of the submission's step j.
     reduce: Vec<Launch>,
+}
+
+impl Launches {
+    /// Every launch of the step, stage after stage; `groups` are the bodies' (first slot,
+    /// workgroups) in the partials.
+    fn new(
+        ks: &StepKernels,
+        b: &LaunchBuffers,
+        bodies: &[Range<usize>],
+        groups: &[(u32, u32)],
+        chunk_capacity: usize,
+    ) -> Self {
+        let (k, ctx) = (b.k, &b.k.ctx);
+        let nodes = k.nodes;
+        Launches {
+            predict: ks.predict.launch(
+                ctx,
+                3 * nodes as u32,
+                0,
+                0,
+                b.step,
+                &b.m.a.buffer,
+                &k.v.buffer,
+            ),
+            plane: Self::plane(&ks.plane, b),
+            drift: ks
+                .drift
+                .launch(ctx, nodes as u32, 0, 0, b.step, &k.v.buffer, &k.u.buffer),
+            correct: Self::correct(&ks.correct, b, bodies, groups),
+            reduce: Self::reduce(&ks.reduce, b, chunk_capacity),
+        }
+    }
+
+    /// The rigid planes' launch, where there are plane nodes.
+    fn plane(plane: &PlaneContact, b: &LaunchBuffers) -> Option<Launch> {
+        let (k, m) = (b.k, b.m);
+        // Params.aux: the number of planes
+        (m.plane_node_count > 0).then(|| {
+            plane.launch(
+                &k.ctx,
+                m.plane_node_count as u32,
+                m.plane_count as u32,
+                0,
+                b.step,
+                &k.reference.buffer,
+                &k.u.buffer,
+                &m.a.buffer,
+                &m.lumped.buffer,
+                &m.planes.buffer,
+                &m.plane_nodes.buffer,
+                &k.v.buffer,
+                &m.results.buffer,
+            )
+        })
+    }
+
+    /// The correctors' launches, one per body.
+    fn correct(
+        correct: &ExplicitCorrect,
+        b: &LaunchBuffers,
+        bodies: &[Range<usize>],
+        groups: &[(u32, u32)],
+    ) -> Vec<Launch> {
+        let k = b.k;
+        bodies
+            .iter()
+            .zip(groups)
+            .map(|(body, &(base, _))| {
+                // a body's nodes: Params.aux its first node, aux2 its first workgroup slot
+                // of the partial sums
+                correct.launch(
+                    &k.ctx,
+                    body.len() as u32,
+                    body.start as u32,
+                    base,
+                    b.step,
+                    &k.u.buffer,
+                    &k.forces.buffer,
+                    &b.m.lumped.buffer,
+                    &k.v.buffer,
+                    &b.m.a.buffer,
+                    &b.partials.buffer,
+                )
+            })
+            .collect()
+    }
+
+    /// The history reductions' launches, one per row of a submission.
+    fn reduce(reduce: &HistoryReduce, b: &LaunchBuffers, chunk_capacity: usize) -> Vec<Launch> {
+        let (k, ctx, h) = (b.k, &b.k.ctx, b.history);
+        (0..chunk_capacity)
+            .map(|j| {
+                // one workgroup per column, writing row j at rows[first..]: the grid
+                // counts invocations, Params.count the columns
+                let (columns_n, first) = (h.row_len as u32, (j * h.row_len) as u32);
+                let mut l = reduce.launch(
+                    ctx,
+                    columns_n * WORKGROUP,
+                    first,
+                    0,
+                    &h.columns.buffer,
+                    &b.partials.buffer,
+                    b.results,
+                    &k.u.buffer,
+                    &k.v.buffer,
+                    &h.rows.buffer,
+                );
+                l.set_count(ctx, columns_n, first);
+                l
+            })
+            .collect()
+    }
 }
 
 /// A submission whose rows are being read back.
@@ -156,11 +409,7 @@ struct Pending {
 
 pub struct ResidentExplicit {
     k: GpuKernels,
-    predict: ExplicitPredict,
-    plane: PlaneContact,
-    drift: ExplicitDrift,
-    correct: ExplicitCorrect,
-    reduce: HistoryReduce,
+    kernels: StepKernels,
     /// The step's constants (`dt` changes for a shortened last step).
     step: wgpu::Buffer,
     step_consts: types::Step,
@@ -205,47 +454,64 @@ impl ResidentExplicit {
             )));
         }
         let mut k = GpuKernels::new(ctx, data)?;
-        let nodes = k.nodes;
         // the displacement starts at zero, as a new buffer is
         k.upload_velocity(&setup.velocity)?;
         let ctx = &k.ctx;
-        let a = Storage::with_data(ctx, "acceleration", &to_f32(&setup.acceleration))?;
-        let lumped: Vec<types::Lumped> = setup
-            .lumped
-            .par_iter()
-            .map(|l| types::Lumped {
-                mass: l.mass as f32,
-                inv_mass: l.inv_mass.map(|x| x as f32),
-                ext_acc: l.ext_acc.map(|x| x as f32),
-            })
-            .collect();
-        let lumped = Storage::with_data(ctx, "lumped", &lumped)?;
-        let planes: Vec<types::Plane> = setup
-            .planes
-            .iter()
-            .map(|p| types::Plane {
-                point: Split3::split(p.point),
-                normal: p.normal.map(|x| x as f32),
-                mu: p.mu as f32,
-            })
-            .collect();
-        let planes = Storage::with_data(ctx, "planes", &at_least_one(planes))?;
-        let pn: Vec<types::PlaneNode> = setup
-            .plane_nodes
-            .iter()
-            .map(|p| types::PlaneNode {
-                node: p.node,
-                planes: p.planes,
-            })
-            .collect();
-        let plane_node_count = pn.len();
-        let plane_nodes = Storage::with_data(ctx, "plane_nodes", &at_least_one(pn))?;
-        let plane_count = setup.planes.len();
-        let results = Storage::with_data(
-            ctx,
-            "plane_results",
-            &vec![0.0f32; SLOT * plane_count * plane_node_count],
-        )?;
+        let m = ModelBuffers::upload(ctx, setup)?;
+        let (step, step_consts) = Self::step_uniform(ctx, setup);
+        let kernels = StepKernels::new(ctx);
+        // the correctors' partials: one slot of FIELDS per workgroup, body after body
+        let (groups, total_groups) = Self::partial_groups(&kernels.correct, &setup.bodies);
+        let partials = Storage::new(ctx, "partials", (total_groups as usize * FIELDS * 4) as u64)?;
+        let contact = Self::new_contact_iteration(&k, &step, &m, setup)?;
+        let chunk_capacity = chunk_capacity.max(1);
+        let history = History::new(ctx, setup, &groups, &m, chunk_capacity)?;
+        let buffers = LaunchBuffers {
+            k: &k,
+            step: &step,
+            m: &m,
+            partials: &partials,
+            history: &history,
+            results: contact
+                .as_ref()
+                .map_or(&m.results.buffer, |c| c.results_buffer()),
+        };
+        let launches = Launches::new(&kernels, &buffers, &setup.bodies, &groups, chunk_capacity);
+        let readback = Self::readback_buffers(ctx, chunk_capacity * history.row_len)?;
+        let snapshots = [
+            Self::snapshot_buffers(&k, &m.a, contact.as_ref())?,
+            Self::snapshot_buffers(&k, &m.a, contact.as_ref())?,
+        ];
+        Ok(ResidentExplicit {
+            kernels,
+            step,
+            step_consts,
+            a: m.a,
+            lumped: m.lumped,
+            planes: m.planes,
+            plane_nodes: m.plane_nodes,
+            results: m.results,
+            partials,
+            columns: history.columns,
+            rows: history.rows,
+            launches,
+            column_list: history.column_list,
+            row_len: history.row_len,
+            plane_count: m.plane_count,
+            plane_node_count: m.plane_node_count,
+            contact,
+            sweeps: setup.max_iterations,
+            max_iterations: setup.max_iterations,
+            snapshots,
+            readback,
+            pending: [None, None],
+            chunk_capacity,
+            k,
+        })
+    }
+
+    /// The step's constants and their uniform buffer, written.
+    fn step_uniform(ctx: &GpuContext, setup: &ResidentSetup) -> (wgpu::Buffer, types::Step) {
         let step_consts = types::Step {
             dt: setup.dt as f32,
             tolerance: setup.tolerance as f32,
@@ -260,180 +526,85 @@ impl ResidentExplicit {
         });
         ctx.queue
             .write_buffer(&step, 0, bytemuck::bytes_of(&step_consts));
-        let predict = ExplicitPredict::new(ctx);
-        let plane = PlaneContact::new(ctx);
-        let drift = ExplicitDrift::new(ctx);
-        let correct = ExplicitCorrect::new(ctx);
-        let reduce = HistoryReduce::new(ctx);
+        (step, step_consts)
+    }
 
-        // the correctors' partials: one slot of FIELDS per workgroup, body after body
+    /// Each body's (first workgroup slot, workgroups) in the correctors' partials, and the
+    /// workgroups in all.
+    fn partial_groups(
+        correct: &ExplicitCorrect,
+        bodies: &[Range<usize>],
+    ) -> (Vec<(u32, u32)>, u32) {
         let mut groups = Vec::new();
         let mut total_groups = 0u32;
-        for b in &setup.bodies {
+        for b in bodies {
             let g = correct.0.grid(b.len() as u32);
             groups.push((total_groups, g[0] * g[1]));
             total_groups += g[0] * g[1];
         }
-        let partials = Storage::new(ctx, "partials", (total_groups as usize * FIELDS * 4) as u64)?;
-        let contact = match &setup.contact {
-            Some(c) => Some(ContactIteration::new(
-                ctx,
-                &StepBuffers {
-                    step: &step,
-                    reference: &k.reference.buffer,
-                    displacement: &k.u.buffer,
-                    velocity: &k.v.buffer,
-                    acceleration: &a.buffer,
-                    lumped: &lumped.buffer,
-                },
-                c,
-                nodes,
-                setup.tolerance,
-                setup.max_iterations,
-            )?),
-            None => None,
-        };
-        let slots = match &setup.contact {
-            Some(c) => pair_slots(&c.interfaces),
-            None => plane_slots(plane_count, plane_node_count),
-        };
-        let columns = row_columns(&groups, &slots, &setup.probes);
-        let row_len = columns.len();
-        let cols: Vec<types::ReduceColumn> = columns
-            .iter()
-            .map(|c| types::ReduceColumn {
-                first: c.first,
-                count: c.count,
-                stride: c.stride,
-                op: c.op,
-            })
-            .collect();
-        let column_list = columns;
-        let columns = Storage::with_data(ctx, "history.columns", &cols)?;
-        let chunk_capacity = chunk_capacity.max(1);
-        let rows = Storage::new(ctx, "history.rows", (chunk_capacity * row_len * 4) as u64)?;
+        (groups, total_groups)
+    }
 
-        let launches = Launches {
-            predict: predict.launch(ctx, 3 * nodes as u32, 0, 0, &step, &a.buffer, &k.v.buffer),
-            // Params.aux: the number of planes
-            plane: (plane_node_count > 0).then(|| {
-                plane.launch(
-                    ctx,
-                    plane_node_count as u32,
-                    plane_count as u32,
-                    0,
-                    &step,
-                    &k.reference.buffer,
-                    &k.u.buffer,
-                    &a.buffer,
-                    &lumped.buffer,
-                    &planes.buffer,
-                    &plane_nodes.buffer,
-                    &k.v.buffer,
-                    &results.buffer,
-                )
-            }),
-            drift: drift.launch(ctx, nodes as u32, 0, 0, &step, &k.v.buffer, &k.u.buffer),
-            correct: setup
-                .bodies
-                .iter()
-                .zip(&groups)
-                .map(|(b, &(base, _))| {
-                    // a body's nodes: Params.aux its first node, aux2 its first workgroup slot
-                    // of the partial sums
-                    correct.launch(
-                        ctx,
-                        b.len() as u32,
-                        b.start as u32,
-                        base,
-                        &step,
-                        &k.u.buffer,
-                        &k.forces.buffer,
-                        &lumped.buffer,
-                        &k.v.buffer,
-                        &a.buffer,
-                        &partials.buffer,
-                    )
-                })
-                .collect(),
-            reduce: (0..chunk_capacity)
-                .map(|j| {
-                    // one workgroup per column, writing row j at rows[first..]: the grid
-                    // counts invocations, Params.count the columns
-                    let (columns_n, first) = (row_len as u32, (j * row_len) as u32);
-                    let mut l = reduce.launch(
-                        ctx,
-                        columns_n * WORKGROUP,
-                        first,
-                        0,
-                        &columns.buffer,
-                        &partials.buffer,
-                        contact
-                            .as_ref()
-                            .map_or(&results.buffer, |c| c.results_buffer()),
-                        &k.u.buffer,
-                        &k.v.buffer,
-                        &rows.buffer,
-                    );
-                    l.set_count(ctx, columns_n, first);
-                    l
-                })
-                .collect(),
+    /// The device contact iteration, where the model has contact between meshed bodies.
+    fn new_contact_iteration(
+        k: &GpuKernels,
+        step: &wgpu::Buffer,
+        m: &ModelBuffers,
+        setup: &ResidentSetup,
+    ) -> Result<Option<ContactIteration>> {
+        let Some(c) = &setup.contact else {
+            return Ok(None);
         };
+        let buffers = StepBuffers {
+            step,
+            reference: &k.reference.buffer,
+            displacement: &k.u.buffer,
+            velocity: &k.v.buffer,
+            acceleration: &m.a.buffer,
+            lumped: &m.lumped.buffer,
+        };
+        Ok(Some(ContactIteration::new(
+            &k.ctx,
+            &buffers,
+            c,
+            k.nodes,
+            setup.tolerance,
+            setup.max_iterations,
+        )?))
+    }
+
+    /// The two read-back buffers of the history rows, `floats` each.
+    fn readback_buffers(ctx: &GpuContext, floats: usize) -> Result<[Storage; 2]> {
         let make_readback = || {
             Storage::with_usage(
                 ctx,
                 "history.readback",
-                (chunk_capacity * row_len * 4) as u64,
+                (floats * 4) as u64,
                 wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             )
         };
-        let readback = [make_readback()?, make_readback()?];
-        let make_snapshot = || -> Result<Vec<Storage>> {
-            match &contact {
-                Some(c) => [
-                    ("snapshot.u", k.u.capacity),
-                    ("snapshot.v", k.v.capacity),
-                    ("snapshot.a", a.capacity),
-                    ("snapshot.results", (SLOT * c.pair_count() * 4) as u64),
-                ]
-                .into_iter()
-                .map(|(label, bytes)| Storage::new(ctx, label, bytes))
-                .collect(),
-                None => Ok(Vec::new()),
-            }
-        };
-        let snapshots = [make_snapshot()?, make_snapshot()?];
-        Ok(ResidentExplicit {
-            predict,
-            plane,
-            drift,
-            correct,
-            reduce,
-            step,
-            step_consts,
-            a,
-            lumped,
-            planes,
-            plane_nodes,
-            results,
-            partials,
-            columns,
-            rows,
-            launches,
-            column_list,
-            row_len,
-            plane_count,
-            plane_node_count,
-            contact,
-            sweeps: setup.max_iterations,
-            max_iterations: setup.max_iterations,
-            snapshots,
-            readback,
-            pending: [None, None],
-            chunk_capacity,
-            k,
-        })
+        Ok([make_readback()?, make_readback()?])
+    }
+
+    /// One snapshot of the state a step starts from: u, v, a and the contact results (none
+    /// without a contact iteration).
+    fn snapshot_buffers(
+        k: &GpuKernels,
+        a: &Storage,
+        contact: Option<&ContactIteration>,
+    ) -> Result<Vec<Storage>> {
+        match contact {
+            Some(c) => [
+                ("snapshot.u", k.u.capacity),
+                ("snapshot.v", k.v.capacity),
+                ("snapshot.a", a.capacity),
+                ("snapshot.results", (SLOT * c.pair_count() * 4) as u64),
+            ]
+            .into_iter()
+            .map(|(label, bytes)| Storage::new(&k.ctx, label, bytes))
+            .collect(),
+            None => Ok(Vec::new()),
+        }
     }
 
     pub fn device_name(&self) -> String {
@@ -486,23 +657,23 @@ impl ResidentExplicit {
     fn record_stage(&self, enc: &mut wgpu::CommandEncoder, stage: Stage) {
         let l = &self.launches;
         match stage {
-            Stage::Predict => self.predict.0.record_launch(enc, &l.predict),
+            Stage::Predict => self.kernels.predict.0.record_launch(enc, &l.predict),
             Stage::PlaneContact => {
                 if let Some(p) = &l.plane {
-                    self.plane.0.record_launch(enc, p);
+                    self.kernels.plane.0.record_launch(enc, p);
                 }
                 if let Some(c) = &self.contact {
                     c.record(enc);
                 }
             }
-            Stage::Drift => self.drift.0.record_launch(enc, &l.drift),
+            Stage::Drift => self.kernels.drift.0.record_launch(enc, &l.drift),
             Stage::InternalForces => self.k.record_internal_forces(enc),
             Stage::Correct => {
                 for c in &l.correct {
-                    self.correct.0.record_launch(enc, c);
+                    self.kernels.correct.0.record_launch(enc, c);
                 }
             }
-            Stage::Reduce => self.reduce.0.record_launch(enc, &l.reduce[0]),
+            Stage::Reduce => self.kernels.reduce.0.record_launch(enc, &l.reduce[0]),
         }
     }
 
@@ -603,9 +774,9 @@ impl ResidentExplicit {
     /// rigid planes' impulses when they are the only contacts).
     fn dispatch_front(&self, pass: &mut wgpu::ComputePass) {
         let l = &self.launches;
-        self.predict.0.dispatch(pass, &l.predict);
+        self.kernels.predict.0.dispatch(pass, &l.predict);
         if let Some(p) = &l.plane {
-            self.plane.0.dispatch(pass, p);
+            self.kernels.plane.0.dispatch(pass, p);
         }
     }
 
@@ -613,12 +784,12 @@ impl ResidentExplicit {
     /// correctors and the history row of the submission's step `j`.
     fn dispatch_back(&self, pass: &mut wgpu::ComputePass, j: usize) {
         let l = &self.launches;
-        self.drift.0.dispatch(pass, &l.drift);
+        self.kernels.drift.0.dispatch(pass, &l.drift);
         self.k.dispatch_internal_forces(pass);
         for c in &l.correct {
-            self.correct.0.dispatch(pass, c);
+            self.kernels.correct.0.dispatch(pass, c);
         }
-        self.reduce.0.dispatch(pass, &l.reduce[j]);
+        self.kernels.reduce.0.dispatch(pass, &l.reduce[j]);
     }
 
     /// Records `steps` whole steps, writing their history rows into the rows buffer. Without
