@@ -65,7 +65,8 @@ pub struct StepBuffers<'a> {
     pub lumped: &'a wgpu::Buffer,
 }
 
-struct Kernels {
+/// The contact iteration's kernels, built once.
+struct IterationKernels {
     bounds: SearchBounds,
     grid: SearchGridKernel,
     constraints: ContactConstraints,
@@ -81,10 +82,10 @@ struct Kernels {
     report: ContactReportKernel,
 }
 
-impl Kernels {
+impl IterationKernels {
     /// Builds the pipelines of every kernel of the iteration, once.
     fn new(ctx: &GpuContext) -> Self {
-        Kernels {
+        IterationKernels {
             bounds: SearchBounds::new(ctx),
             grid: SearchGridKernel::new(ctx),
             constraints: ContactConstraints::new(ctx),
@@ -228,7 +229,7 @@ impl WorkBuffers {
 /// the search's (or placeholders) and the sizes.
 struct Bindings<'a> {
     ctx: &'a GpuContext,
-    k: &'a Kernels,
+    k: &'a IterationKernels,
     b: &'a StepBuffers<'a>,
     m: &'a ModelBuffers,
     w: &'a WorkBuffers,
@@ -445,7 +446,7 @@ impl Bindings<'_> {
 
 pub struct ContactIteration {
     search: Option<GpuSearch>,
-    kernels: Kernels,
+    kernels: IterationKernels,
     launches: Launches,
     bounds: Storage,
     constraints: Storage,
@@ -477,7 +478,7 @@ impl ContactIteration {
         max_iterations: u32,
     ) -> Result<Self> {
         let search = Self::search(ctx, b, setup)?;
-        let kernels = Kernels::new(ctx);
+        let kernels = IterationKernels::new(ctx);
         let (np, nf) = (setup.pairs.len(), setup.faces.len());
         let model = ModelBuffers::upload(ctx, setup)?;
         let work = WorkBuffers::new(ctx, np, nf, nodes)?;
