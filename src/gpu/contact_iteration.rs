@@ -174,6 +174,7 @@ struct WorkBuffers {
     touches: Storage,
     dj: Storage,
     state: Storage,
+    /// The apply's indirect grid.
     args: Storage,
     results: Storage,
 }
@@ -448,18 +449,7 @@ pub struct ContactIteration {
     search: Option<GpuSearch>,
     kernels: IterationKernels,
     launches: Launches,
-    bounds: Storage,
-    constraints: Storage,
-    keys: Storage,
-    counts: Storage,
-    starts: Storage,
-    sorted: Storage,
-    touches: Storage,
-    dj: Storage,
-    state: Storage,
-    /// The apply's indirect grid.
-    args: Storage,
-    results: Storage,
+    work: WorkBuffers,
     staging: Storage,
     // kept alive for the bind groups
     _buffers: Vec<Storage>,
@@ -507,24 +497,13 @@ impl ContactIteration {
             nodes: cnodes,
             links,
         } = model;
-        let w = work;
         Ok(ContactIteration {
             search,
             kernels,
             launches,
-            bounds: w.bounds,
-            constraints: w.constraints,
-            keys: w.keys,
-            counts: w.counts,
-            starts: w.starts,
-            sorted: w.sorted,
-            touches: w.touches,
-            dj: w.dj,
-            state: w.state,
-            args: w.args,
-            results: w.results,
+            work,
             staging: super::buffer::staging(ctx)?,
-            _buffers: vec![pairs, cnodes, links, w.ranks, none],
+            _buffers: vec![pairs, cnodes, links, none],
             pairs: np,
             faces: nf,
             max_iterations,
@@ -553,7 +532,7 @@ impl ContactIteration {
 
     /// The contact results, [`SLOT`] floats per pair (see `contact_report.wgsl`).
     pub fn results_buffer(&self) -> &wgpu::Buffer {
-        &self.results.buffer
+        &self.work.results.buffer
     }
 
     pub fn pair_count(&self) -> usize {
@@ -562,18 +541,20 @@ impl ContactIteration {
 
     /// Bytes held on the device.
     pub fn device_bytes(&self) -> u64 {
+        let w = &self.work;
         [
-            &self.bounds,
-            &self.constraints,
-            &self.keys,
-            &self.counts,
-            &self.starts,
-            &self.sorted,
-            &self.touches,
-            &self.dj,
-            &self.state,
-            &self.args,
-            &self.results,
+            &w.bounds,
+            &w.constraints,
+            &w.keys,
+            &w.ranks,
+            &w.counts,
+            &w.starts,
+            &w.sorted,
+            &w.touches,
+            &w.dj,
+            &w.state,
+            &w.args,
+            &w.results,
         ]
         .iter()
         .map(|s| s.capacity)
@@ -586,19 +567,19 @@ impl ContactIteration {
     pub fn record_setup(&self, enc: &mut wgpu::CommandEncoder) {
         let (k, l) = (&self.kernels, &self.launches);
         if let (Some(search), Some(bounds), Some(grid)) = (&self.search, &l.bounds, &l.grid) {
-            enc.clear_buffer(&self.bounds.buffer, 0, None);
+            enc.clear_buffer(&self.work.bounds.buffer, 0, None);
             k.bounds.0.record_launch(enc, bounds);
             k.grid.0.record_launch(enc, grid);
             search.record_stages(enc);
         }
         k.constraints.0.record_launch(enc, &l.constraints);
-        enc.clear_buffer(&self.counts.buffer, 0, None);
+        enc.clear_buffer(&self.work.counts.buffer, 0, None);
         k.count.0.record_launch(enc, &l.count);
         // one workgroup scans the whole table
         k.prefix.0.record(enc, &l.prefix.bind, [1, 1]);
         k.fill.0.record_launch(enc, &l.fill);
         k.order.0.record_launch(enc, &l.order);
-        enc.clear_buffer(&self.state.buffer, 0, None);
+        enc.clear_buffer(&self.work.state.buffer, 0, None);
         k.touches.0.record_launch(enc, &l.touches);
         k.compliance.0.record_launch(enc, &l.compliance);
         // before the first sweep: load the sweep grids, or stop with no pair in reach
@@ -617,7 +598,7 @@ impl ContactIteration {
             k.sweep.0.dispatch(&mut pass, &l.sweep);
             k.apply
                 .0
-                .dispatch_indirect(&mut pass, &l.apply, &self.args.buffer, 0);
+                .dispatch_indirect(&mut pass, &l.apply, &self.work.args.buffer, 0);
         }
     }
 
@@ -669,7 +650,8 @@ impl ContactIteration {
 
     /// The constraints, in f64.
     pub fn read_constraints(&mut self, ctx: &GpuContext) -> Result<Vec<Constraint>> {
-        let c: Vec<types::Constraint> = self.read(ctx, |s| &s.constraints.buffer, self.pairs)?;
+        let c: Vec<types::Constraint> =
+            self.read(ctx, |s| &s.work.constraints.buffer, self.pairs)?;
         Ok(c.into_iter().map(Constraint::from).collect())
     }
 
@@ -677,27 +659,27 @@ impl ContactIteration {
     pub fn read_sort(&mut self, ctx: &GpuContext) -> Result<[Vec<u32>; 3]> {
         let (np, nf) = (self.pairs, self.faces);
         Ok([
-            self.read(ctx, |s| &s.keys.buffer, np)?,
-            self.read(ctx, |s| &s.starts.buffer, nf + 2)?,
-            self.read(ctx, |s| &s.sorted.buffer, np)?,
+            self.read(ctx, |s| &s.work.keys.buffer, np)?,
+            self.read(ctx, |s| &s.work.starts.buffer, nf + 2)?,
+            self.read(ctx, |s| &s.work.sorted.buffer, np)?,
         ])
     }
 
     /// The touches of every node (entries of nodes outside the iteration are not written).
     pub fn read_touches(&mut self, ctx: &GpuContext, nodes: usize) -> Result<Vec<f64>> {
-        let t: Vec<f32> = self.read(ctx, |s| &s.touches.buffer, nodes)?;
+        let t: Vec<f32> = self.read(ctx, |s| &s.work.touches.buffer, nodes)?;
         Ok(t.into_iter().map(f64::from).collect())
     }
 
     /// The impulse changes of the last sweep (3 per pair).
     pub fn read_dj(&mut self, ctx: &GpuContext) -> Result<Vec<f64>> {
-        let d: Vec<f32> = self.read(ctx, |s| &s.dj.buffer, 3 * self.pairs)?;
+        let d: Vec<f32> = self.read(ctx, |s| &s.work.dj.buffer, 3 * self.pairs)?;
         Ok(d.into_iter().map(f64::from).collect())
     }
 
     /// The iteration's state.
     pub fn read_state(&mut self, ctx: &GpuContext) -> Result<SweepState> {
-        let w: Vec<u32> = self.read(ctx, |s| &s.state.buffer, 4)?;
+        let w: Vec<u32> = self.read(ctx, |s| &s.work.state.buffer, 4)?;
         use crate::kernels::sweep_control::word;
         Ok(SweepState {
             violation: f32::from_bits(w[word::VIOLATION]) as f64,
@@ -709,7 +691,7 @@ impl ContactIteration {
 
     /// The search grid's bounds and the grid (cell, margin) of the last search.
     pub fn read_grid(&mut self, ctx: &GpuContext) -> Result<([f64; 2], [f64; 2])> {
-        let b: Vec<f32> = self.read(ctx, |s| &s.bounds.buffer, 2)?;
+        let b: Vec<f32> = self.read(ctx, |s| &s.work.bounds.buffer, 2)?;
         let g: Vec<f32> = match &self.search {
             Some(_) => self.read(ctx, |s| s.search.as_ref().unwrap().grid_buffer(), 2)?,
             None => vec![0.0; 2],
@@ -728,7 +710,7 @@ impl ContactIteration {
 
     /// The contact results, [`SLOT`] per pair.
     pub fn read_results(&mut self, ctx: &GpuContext) -> Result<Vec<f64>> {
-        let r: Vec<f32> = self.read(ctx, |s| &s.results.buffer, SLOT * self.pairs)?;
+        let r: Vec<f32> = self.read(ctx, |s| &s.work.results.buffer, SLOT * self.pairs)?;
         Ok(r.into_iter().map(f64::from).collect())
     }
 
@@ -736,7 +718,7 @@ impl ContactIteration {
     /// twin).
     pub fn upload_constraints(&mut self, ctx: &GpuContext, c: &[Constraint]) -> Result<()> {
         let c: Vec<types::Constraint> = c.iter().map(types::Constraint::from).collect();
-        self.constraints.upload(ctx, &c)?;
+        self.work.constraints.upload(ctx, &c)?;
         Ok(())
     }
 }
