@@ -413,11 +413,8 @@ pub struct ResidentExplicit {
     /// The step's constants (`dt` changes for a shortened last step).
     step: wgpu::Buffer,
     step_consts: types::Step,
-    a: Storage,
-    lumped: Storage,
-    planes: Storage,
-    plane_nodes: Storage,
-    results: Storage,
+    /// The accelerations, lumped masses, planes and plane results.
+    m: ModelBuffers,
     partials: Storage,
     columns: Storage,
     /// The history rows of one submission, `chunk_capacity` rows of `row_len` floats.
@@ -425,8 +422,6 @@ pub struct ResidentExplicit {
     launches: Launches,
     column_list: Vec<ReduceColumn>,
     row_len: usize,
-    plane_count: usize,
-    plane_node_count: usize,
     contact: Option<ContactIteration>,
     /// Sweeps of the contact iteration recorded per step (at most `max_iterations`).
     sweeps: u32,
@@ -486,19 +481,13 @@ impl ResidentExplicit {
             kernels,
             step,
             step_consts,
-            a: m.a,
-            lumped: m.lumped,
-            planes: m.planes,
-            plane_nodes: m.plane_nodes,
-            results: m.results,
+            m,
             partials,
             columns: history.columns,
             rows: history.rows,
             launches,
             column_list: history.column_list,
             row_len: history.row_len,
-            plane_count: m.plane_count,
-            plane_node_count: m.plane_node_count,
             contact,
             sweeps: setup.max_iterations,
             max_iterations: setup.max_iterations,
@@ -636,11 +625,11 @@ impl ResidentExplicit {
     pub fn device_bytes(&self) -> u64 {
         self.k.device_bytes()
             + [
-                &self.a,
-                &self.lumped,
-                &self.planes,
-                &self.plane_nodes,
-                &self.results,
+                &self.m.a,
+                &self.m.lumped,
+                &self.m.planes,
+                &self.m.plane_nodes,
+                &self.m.results,
                 &self.partials,
                 &self.columns,
                 &self.rows,
@@ -736,9 +725,9 @@ impl ResidentExplicit {
     ) -> Result<()> {
         self.k.upload_state(u, v)?;
         let ctx = &self.k.ctx;
-        self.a.upload(ctx, &to_f32(a))?;
+        self.m.a.upload(ctx, &to_f32(a))?;
         self.k.forces.upload(ctx, &to_f32(forces))?;
-        self.results.upload(ctx, &to_f32(results))?;
+        self.m.results.upload(ctx, &to_f32(results))?;
         Ok(())
     }
 
@@ -746,7 +735,7 @@ impl ResidentExplicit {
         let ctx = &self.k.ctx;
         let enc = self.k.encoder("read_back");
         let source = match which {
-            Buffer::Acceleration => &self.a.buffer,
+            Buffer::Acceleration => &self.m.a.buffer,
             Buffer::Partials => &self.partials.buffer,
             Buffer::Row => &self.rows.buffer,
         };
@@ -860,7 +849,7 @@ impl ResidentExplicit {
             Some(c) => vec![
                 &self.k.u.buffer,
                 &self.k.v.buffer,
-                &self.a.buffer,
+                &self.m.a.buffer,
                 c.results_buffer(),
             ],
             None => Vec::new(),
@@ -873,9 +862,14 @@ impl ResidentExplicit {
     fn state_buffers(&self) -> [&wgpu::Buffer; 4] {
         let results = match &self.contact {
             Some(c) => c.results_buffer(),
-            None => &self.results.buffer,
+            None => &self.m.results.buffer,
         };
-        [&self.k.u.buffer, &self.k.v.buffer, &self.a.buffer, results]
+        [
+            &self.k.u.buffer,
+            &self.k.v.buffer,
+            &self.m.a.buffer,
+            results,
+        ]
     }
 
     /// The bytes of [`Self::state_buffers`] (nothing may be in flight).
@@ -1041,8 +1035,8 @@ impl ResidentExplicit {
         let (results, count) = match &self.contact {
             Some(c) => (c.results_buffer(), SLOT * c.pair_count()),
             None => (
-                &self.results.buffer,
-                SLOT * self.plane_count * self.plane_node_count,
+                &self.m.results.buffer,
+                SLOT * self.m.plane_count * self.m.plane_node_count,
             ),
         };
         let r: Vec<f32> = submit_and_read(ctx, &mut self.k.staging, new_encoder(), results, count)?;
