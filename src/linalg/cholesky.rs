@@ -56,11 +56,13 @@ pub struct SpdSolver {
     solves: Cell<(usize, f64)>,
 }
 
-/// The fill-reducing ordering and symbolic analysis of a pattern.
-fn analyse(a: &Csc, ordering: Ordering) -> Result<Arc<SymbolicCholesky<usize>>> {
+/// The fill-reducing ordering and symbolic analysis of `a`'s pattern.
+fn analyse(
+    a: &Csc,
+    pattern: &SymbolicSparseColMat<usize>,
+    ordering: Ordering,
+) -> Result<Arc<SymbolicCholesky<usize>>> {
     let failed = |e| ImpactError::Solver(format!("symbolic analysis failed: {e:?}"));
-    let pattern =
-        SymbolicSparseColMat::new_checked(a.n, a.n, a.col_ptr.clone(), None, a.row_idx.clone());
     let symbolic = match ordering {
         Ordering::Amd => factorize_symbolic_cholesky(
             pattern.as_ref(),
@@ -110,10 +112,10 @@ impl SpdSolver {
     /// Orders, analyses the pattern and factorises.
     pub fn new(a: &Csc, ordering: Ordering) -> Result<SpdSolver> {
         let start = Instant::now();
-        let symbolic = analyse(a, ordering)?;
-        let analysis_seconds = start.elapsed().as_secs_f64();
         let pattern =
             SymbolicSparseColMat::new_checked(a.n, a.n, a.col_ptr.clone(), None, a.row_idx.clone());
+        let symbolic = analyse(a, &pattern, ordering)?;
+        let analysis_seconds = start.elapsed().as_secs_f64();
         let stats = FactorStats {
             ordering,
             equations: a.n,
