@@ -24,7 +24,8 @@ use std::path::Path;
 use std::time::Instant;
 
 use impact::backend::{CpuKernels, Kernels};
-use impact::gpu::{GpuContext, GpuKernels, Stage};
+use impact::gpu::inspect::Stage;
+use impact::gpu::{GpuContext, GpuKernels};
 use impact::integrate::resident;
 use impact::integrate::stable_step::{stable_step, stable_step_on};
 use impact::integrate::{ExplicitSolver, ResidentSolver};

@@ -9,7 +9,8 @@
 
 use std::time::Instant;
 
-use impact::gpu::{GpuContext, GpuKernels, KernelId};
+use impact::gpu::inspect::KernelId;
+use impact::gpu::{GpuContext, GpuKernels};
 use impact::kernels::{self, ContactPoint, ContactQueries, ElementData, Incidence};
 use impact::material::Elastic;
 use impact::mesh::box_mesh::box_mesh;

@@ -9,7 +9,8 @@ mod common;
 use common::*;
 
 use impact::gpu::explicit_step::{plane_slots, row_columns};
-use impact::gpu::{ResidentExplicit, ResidentSetup, Stage};
+use impact::gpu::inspect::Stage;
+use impact::gpu::{ResidentExplicit, ResidentSetup};
 use impact::kernels::explicit_correct::{FIELDS, GROUP};
 use impact::kernels::plane_contact::SLOT;
 use impact::kernels::{self, ElementData, LumpedNode, PlaneData, PlaneNode, SweepLimits};

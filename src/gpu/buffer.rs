@@ -1,5 +1,7 @@
 //! Storage buffers that grow on demand, and the read-back path.
 
+use std::sync::mpsc;
+
 use super::context::GpuContext;
 use crate::error::{ImpactError, Result};
 
@@ -112,28 +114,77 @@ pub fn submit_and_read<T: bytemuck::Pod>(
     if bytes == 0 {
         return Ok(Vec::new());
     }
-    let slice = staging.buffer.slice(..bytes);
-    let (tx, rx) = std::sync::mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
+    let mapping = map_read(&staging.buffer, bytes);
     ctx.wait()?;
-    rx.recv()
+    take_mapped(
+        ctx,
+        &staging.buffer,
+        bytes,
+        &mapping,
+        "the read-back buffer",
+    )
+}
+
+/// The receiving end of a [`map_read`]: says when the mapping is done, or why it failed.
+pub type Mapping = mpsc::Receiver<std::result::Result<(), wgpu::BufferAsyncError>>;
+
+/// Starts mapping the first `bytes` of `buffer` for reading (done once the device has run
+/// the submissions before); [`take_mapped`] copies them out.
+pub fn map_read(buffer: &wgpu::Buffer, bytes: u64) -> Mapping {
+    let (tx, rx) = mpsc::channel();
+    buffer
+        .slice(..bytes)
+        .map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+    rx
+}
+
+/// The first `bytes` of `buffer`, mapped by [`map_read`] (after the device has been waited
+/// for), copied out; then unmaps `buffer`. `what` names the buffer in the errors.
+pub fn take_mapped<T: bytemuck::Pod>(
+    ctx: &GpuContext,
+    buffer: &wgpu::Buffer,
+    bytes: u64,
+    mapping: &Mapping,
+    what: &str,
+) -> Result<Vec<T>> {
+    mapping
+        .recv()
         .map_err(|_| ImpactError::Gpu("read-back callback dropped".into()))?
-        .map_err(|e| {
-            ImpactError::Gpu(format!(
-                "{}: cannot map the read-back buffer: {e}",
-                ctx.adapter.name
-            ))
-        })?;
+        .map_err(|e| ImpactError::Gpu(format!("{}: cannot map {what}: {e}", ctx.adapter.name)))?;
     let out = {
-        let view = slice
+        let view = buffer
+            .slice(..bytes)
             .get_mapped_range()
-            .map_err(|e| ImpactError::Gpu(format!("read-back: {e}")))?;
+            .map_err(|e| ImpactError::Gpu(format!("cannot read {what} back: {e}")))?;
         bytemuck::pod_collect_to_vec::<u8, T>(&view)
     };
-    staging.buffer.unmap();
+    buffer.unmap();
     Ok(out)
+}
+
+/// Reads `count` values of `source` back in a submission of its own (named `label`).
+pub fn read_back<T: bytemuck::Pod>(
+    ctx: &GpuContext,
+    staging: &mut Storage,
+    label: &str,
+    source: &wgpu::Buffer,
+    count: usize,
+) -> Result<Vec<T>> {
+    submit_and_read(ctx, staging, ctx.encoder(label), source, count)
+}
+
+/// [`read_back`] of `count` f32 values, as f64.
+pub fn read_floats(
+    ctx: &GpuContext,
+    staging: &mut Storage,
+    label: &str,
+    source: &wgpu::Buffer,
+    count: usize,
+) -> Result<Vec<f64>> {
+    let x: Vec<f32> = read_back(ctx, staging, label, source, count)?;
+    Ok(x.into_iter().map(f64::from).collect())
 }
 
 /// A staging buffer for read-back.

@@ -22,7 +22,7 @@
 
 use std::ops::Range;
 
-use super::buffer::{submit_and_read, Storage};
+use super::buffer::Storage;
 use super::context::GpuContext;
 use super::kernel::Launch;
 use super::kernels::{
@@ -31,10 +31,10 @@ use super::kernels::{
     SweepControl,
 };
 use super::search::GpuSearch;
-use super::types::{self, Split3};
+use super::types::{self, to_device};
 use crate::error::Result;
 use crate::kernels::plane_contact::SLOT;
-use crate::kernels::{Constraint, ContactNode, ContactPair, ContactPoint, SweepState};
+use crate::kernels::{ContactNode, ContactPair};
 
 /// What the device contact iteration needs, in f64 (the CPU twins take the same).
 #[derive(Debug, Clone, Default)]
@@ -129,54 +129,31 @@ struct ModelBuffers {
 impl ModelBuffers {
     /// Uploads the setup's pairs, contact nodes and links (in f32 where they are f64).
     fn upload(ctx: &GpuContext, setup: &ContactSetup) -> Result<Self> {
-        let pairs: Vec<types::ContactPair> = setup
-            .pairs
-            .iter()
-            .map(|p| types::ContactPair {
-                node: p.node,
-                query: p.query,
-                mu: p.mu as f32,
-                point: Split3::split(p.point),
-                normal: p.normal.map(|x| x as f32),
-            })
-            .collect();
-        let pairs = Storage::with_data(ctx, "contact.pairs", &pairs)?;
-        let cnodes: Vec<types::ContactNode> = setup
-            .nodes
-            .iter()
-            .map(|c| types::ContactNode {
-                node: c.node,
-                pair_first: c.pair_first,
-                pair_end: c.pair_end,
-                face_first: c.face_first,
-                face_end: c.face_end,
-            })
-            .collect();
-        let nodes = Storage::with_data(ctx, "contact.nodes", &cnodes)?;
-        let links = Storage::with_data(ctx, "contact.links", &setup.links)?;
+        let pairs: Vec<types::ContactPair> = to_device(&setup.pairs);
+        let nodes: Vec<types::ContactNode> = to_device(&setup.nodes);
         Ok(ModelBuffers {
-            pairs,
-            nodes,
-            links,
+            pairs: Storage::with_data(ctx, "contact.pairs", &pairs)?,
+            nodes: Storage::with_data(ctx, "contact.nodes", &nodes)?,
+            links: Storage::with_data(ctx, "contact.links", &setup.links)?,
         })
     }
 }
 
 /// The iteration's working buffers (what its stages write).
-struct WorkBuffers {
-    bounds: Storage,
-    constraints: Storage,
-    keys: Storage,
+pub(super) struct WorkBuffers {
+    pub(super) bounds: Storage,
+    pub(super) constraints: Storage,
+    pub(super) keys: Storage,
     ranks: Storage,
     counts: Storage,
-    starts: Storage,
-    sorted: Storage,
-    touches: Storage,
-    dj: Storage,
-    state: Storage,
+    pub(super) starts: Storage,
+    pub(super) sorted: Storage,
+    pub(super) touches: Storage,
+    pub(super) dj: Storage,
+    pub(super) state: Storage,
     /// The apply's indirect grid.
     args: Storage,
-    results: Storage,
+    pub(super) results: Storage,
 }
 
 impl WorkBuffers {
@@ -446,15 +423,15 @@ impl Bindings<'_> {
 }
 
 pub struct ContactIteration {
-    search: Option<GpuSearch>,
+    pub(super) search: Option<GpuSearch>,
     kernels: IterationKernels,
     launches: Launches,
-    work: WorkBuffers,
-    staging: Storage,
+    pub(super) work: WorkBuffers,
+    pub(super) staging: Storage,
     // kept alive for the bind groups
     _buffers: Vec<Storage>,
-    pairs: usize,
-    faces: usize,
+    pub(super) pairs: usize,
+    pub(super) faces: usize,
     max_iterations: u32,
 }
 
@@ -615,110 +592,5 @@ impl ContactIteration {
         self.record_setup(enc);
         self.record_sweeps(enc, self.max_iterations);
         self.record_report(enc);
-    }
-
-    /// Records `part` of the iteration alone, submits it and waits (the kernel tests).
-    pub fn run(
-        &self,
-        ctx: &GpuContext,
-        part: impl FnOnce(&Self, &mut wgpu::CommandEncoder),
-    ) -> Result<()> {
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("contact_iteration"),
-            });
-        part(self, &mut enc);
-        ctx.queue.submit([enc.finish()]);
-        ctx.wait()
-    }
-
-    fn read<T: bytemuck::Pod>(
-        &mut self,
-        ctx: &GpuContext,
-        which: fn(&Self) -> &wgpu::Buffer,
-        count: usize,
-    ) -> Result<Vec<T>> {
-        let enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("contact.read"),
-            });
-        let source = which(self).clone();
-        submit_and_read(ctx, &mut self.staging, enc, &source, count)
-    }
-
-    /// The constraints, in f64.
-    pub fn read_constraints(&mut self, ctx: &GpuContext) -> Result<Vec<Constraint>> {
-        let c: Vec<types::Constraint> =
-            self.read(ctx, |s| &s.work.constraints.buffer, self.pairs)?;
-        Ok(c.into_iter().map(Constraint::from).collect())
-    }
-
-    /// The bucket keys, the bucket starts (faces + 2) and the sorted pairs.
-    pub fn read_sort(&mut self, ctx: &GpuContext) -> Result<[Vec<u32>; 3]> {
-        let (np, nf) = (self.pairs, self.faces);
-        Ok([
-            self.read(ctx, |s| &s.work.keys.buffer, np)?,
-            self.read(ctx, |s| &s.work.starts.buffer, nf + 2)?,
-            self.read(ctx, |s| &s.work.sorted.buffer, np)?,
-        ])
-    }
-
-    /// The touches of every node (entries of nodes outside the iteration are not written).
-    pub fn read_touches(&mut self, ctx: &GpuContext, nodes: usize) -> Result<Vec<f64>> {
-        let t: Vec<f32> = self.read(ctx, |s| &s.work.touches.buffer, nodes)?;
-        Ok(t.into_iter().map(f64::from).collect())
-    }
-
-    /// The impulse changes of the last sweep (3 per pair).
-    pub fn read_dj(&mut self, ctx: &GpuContext) -> Result<Vec<f64>> {
-        let d: Vec<f32> = self.read(ctx, |s| &s.work.dj.buffer, 3 * self.pairs)?;
-        Ok(d.into_iter().map(f64::from).collect())
-    }
-
-    /// The iteration's state.
-    pub fn read_state(&mut self, ctx: &GpuContext) -> Result<SweepState> {
-        let w: Vec<u32> = self.read(ctx, |s| &s.work.state.buffer, 4)?;
-        use crate::kernels::sweep_control::word;
-        Ok(SweepState {
-            violation: f32::from_bits(w[word::VIOLATION]) as f64,
-            active: w[word::ACTIVE],
-            sweeps: w[word::SWEEPS],
-            phase: w[word::PHASE],
-        })
-    }
-
-    /// The search grid's bounds and the grid (cell, margin) of the last search.
-    pub fn read_grid(&mut self, ctx: &GpuContext) -> Result<([f64; 2], [f64; 2])> {
-        let b: Vec<f32> = self.read(ctx, |s| &s.work.bounds.buffer, 2)?;
-        let g: Vec<f32> = match &self.search {
-            Some(_) => self.read(ctx, |s| s.search.as_ref().unwrap().grid_buffer(), 2)?,
-            None => vec![0.0; 2],
-        };
-        Ok(([b[0] as f64, b[1] as f64], [g[0] as f64, g[1] as f64]))
-    }
-
-    /// The contact points of the last search.
-    pub fn read_points(&mut self, ctx: &GpuContext, queries: usize) -> Result<Vec<ContactPoint>> {
-        let p: Vec<types::ContactPoint> = match &self.search {
-            Some(_) => self.read(ctx, |s| s.search.as_ref().unwrap().points_buffer(), queries)?,
-            None => Vec::new(),
-        };
-        Ok(p.into_iter().map(ContactPoint::from).collect())
-    }
-
-    /// The contact results, [`SLOT`] per pair.
-    pub fn read_results(&mut self, ctx: &GpuContext) -> Result<Vec<f64>> {
-        let r: Vec<f32> = self.read(ctx, |s| &s.work.results.buffer, SLOT * self.pairs)?;
-        Ok(r.into_iter().map(f64::from).collect())
-    }
-
-    /// Overwrites the constraints (the kernel tests feed each stage the same inputs as its
-    /// twin).
-    pub fn upload_constraints(&mut self, ctx: &GpuContext, c: &[Constraint]) -> Result<()> {
-        let c: Vec<types::Constraint> = c.iter().map(types::Constraint::from).collect();
-        self.work.constraints.upload(ctx, &c)?;
-        Ok(())
     }
 }

@@ -217,6 +217,18 @@ impl GpuContext {
             })
     }
 
+    /// A command encoder named `label`.
+    pub fn encoder(&self, label: &str) -> wgpu::CommandEncoder {
+        self.device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) })
+    }
+
+    /// Submits `enc`'s commands and blocks until the device has run them.
+    pub fn submit_and_wait(&self, enc: wgpu::CommandEncoder) -> Result<()> {
+        self.queue.submit([enc.finish()]);
+        self.wait()
+    }
+
     /// Largest storage buffer one binding may hold, in bytes.
     pub fn max_binding(&self) -> u64 {
         self.limits

@@ -3,29 +3,17 @@
 //! each call uploads the displacements (as split f32 pairs) and the f32 velocities,
 //! dispatches, and reads back.
 
-use std::time::{Duration, Instant};
-
 use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
-use super::kernel::Launch;
+use super::kernel::{Kernel, Launch};
 use super::search::GpuSearch;
-use super::types::{self, ContactQuery, Material, Quad, Split3};
+use super::types::{self, to_device, ContactQuery, Material, Quad, Split3};
 use super::{ContactGap, Hex8Forces, NodeGather, SlipRate, Tet4Forces};
 use crate::backend::Kernels;
 use crate::contact::search;
 use crate::error::{ImpactError, Result};
 use crate::kernels::{ContactPoint, ContactQueries, ElementData, Incidence, SearchGrid};
 use crate::model::Model;
-
-/// The kernels of the engine, for timing them one by one.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum KernelId {
-    Hex8Forces,
-    Tet4Forces,
-    NodeGather,
-    ContactGap,
-    SlipRate,
-}
 
 /// Contact data as last uploaded (re-uploaded only when it changes).
 #[derive(Default)]
@@ -36,19 +24,31 @@ struct UploadedQueries {
     faces: Vec<[u32; 4]>,
 }
 
-pub struct GpuKernels {
-    pub(super) ctx: GpuContext,
-    pub(super) nodes: usize,
-    /// Hex8 elements.
-    elements: usize,
-    tets_count: usize,
-    hex8_forces: Hex8Forces,
-    tet4_forces: Tet4Forces,
-    node_gather: NodeGather,
-    contact_gap: ContactGap,
-    slip_rate: SlipRate,
+/// The engine's kernels' pipelines, built once.
+pub(super) struct EngineKernels {
+    pub(super) hex8_forces: Hex8Forces,
+    pub(super) tet4_forces: Tet4Forces,
+    pub(super) node_gather: NodeGather,
+    pub(super) contact_gap: ContactGap,
+    pub(super) slip_rate: SlipRate,
+}
+
+impl EngineKernels {
+    fn new(ctx: &GpuContext) -> Self {
+        EngineKernels {
+            hex8_forces: Hex8Forces::new(ctx),
+            tet4_forces: Tet4Forces::new(ctx),
+            node_gather: NodeGather::new(ctx),
+            contact_gap: ContactGap::new(ctx),
+            slip_rate: SlipRate::new(ctx),
+        }
+    }
+}
+
+/// The mesh on the device, uploaded once: the split reference coordinates, the connectivity
+/// column by column (see [`ElementColumns`]), the materials and the node incidence table.
+pub(super) struct MeshBuffers {
     pub(super) reference: Storage,
-    /// Connectivity column by column (see [`ElementColumns`]).
     hex_nodes: Storage,
     hex_material: Storage,
     tet_nodes: Storage,
@@ -56,24 +56,100 @@ pub struct GpuKernels {
     materials: Storage,
     offsets: Storage,
     incidence: Storage,
-    pub(super) u: Storage,
-    pub(super) v: Storage,
-    corners: Storage,
-    pub(super) forces: Storage,
+}
+
+impl MeshBuffers {
+    fn upload(ctx: &GpuContext, data: &ElementData) -> Result<Self> {
+        let columns = ElementColumns::new(data);
+        // a binding holds at least one word: a mesh without hexes (or tets) binds one
+        // unused placeholder, never dispatched
+        let column =
+            |label: &'static str, c: Vec<u32>| Storage::with_data(ctx, label, &at_least_one(c));
+        Ok(MeshBuffers {
+            reference: Storage::with_data(ctx, "reference", &split_reference(data))?,
+            hex_nodes: column("hex_nodes", columns.hex_nodes)?,
+            hex_material: column("hex_material", columns.hex_material)?,
+            tet_nodes: column("tet_nodes", columns.tet_nodes)?,
+            tet_material: column("tet_material", columns.tet_material)?,
+            materials: Storage::with_data(ctx, "materials", &device_materials(data))?,
+            offsets: Storage::with_data(ctx, "incidence.offsets", &columns.incidence.offsets)?,
+            incidence: Storage::with_data(ctx, "incidence", &columns.incidence.corners)?,
+        })
+    }
+
+    fn all(&self) -> [&Storage; 8] {
+        [
+            &self.reference,
+            &self.hex_nodes,
+            &self.hex_material,
+            &self.tet_nodes,
+            &self.tet_material,
+            &self.materials,
+            &self.offsets,
+            &self.incidence,
+        ]
+    }
+}
+
+/// The contact kernels' buffers, grown to the queries of each call.
+struct ContactBuffers {
     queries: Storage,
     candidates: Storage,
     faces: Storage,
     points: Storage,
     slips: Storage,
+}
+
+impl ContactBuffers {
+    fn new(ctx: &GpuContext) -> Result<Self> {
+        Ok(ContactBuffers {
+            queries: Storage::new(ctx, "contact.queries", 0)?,
+            candidates: Storage::new(ctx, "contact.candidates", 0)?,
+            faces: Storage::new(ctx, "contact.faces", 0)?,
+            points: Storage::new(ctx, "contact.points", 0)?,
+            slips: Storage::new(ctx, "contact.slip", 0)?,
+        })
+    }
+
+    fn all(&self) -> [&Storage; 5] {
+        [
+            &self.queries,
+            &self.candidates,
+            &self.faces,
+            &self.points,
+            &self.slips,
+        ]
+    }
+}
+
+/// The element kernels' launches, fixed for the mesh: hex8 and tet4 into the corner forces,
+/// then the gather into the nodal forces.
+pub(super) struct ElementLaunches {
+    pub(super) hex8: Launch,
+    pub(super) tet4: Launch,
+    pub(super) gather: Launch,
+}
+
+pub struct GpuKernels {
+    pub(super) ctx: GpuContext,
+    pub(super) nodes: usize,
+    /// Hex8 elements.
+    pub(super) elements: usize,
+    pub(super) tets_count: usize,
+    pub(super) kernels: EngineKernels,
+    pub(super) mesh: MeshBuffers,
+    pub(super) u: Storage,
+    pub(super) v: Storage,
+    pub(super) corners: Storage,
+    pub(super) forces: Storage,
+    contact: ContactBuffers,
     pub(super) staging: Storage,
     uploaded: UploadedQueries,
     query_count: usize,
-    hex8_launch: Launch,
-    tet4_launch: Launch,
-    gather_launch: Launch,
+    pub(super) launches: ElementLaunches,
     contact_binds: Option<(wgpu::BindGroup, wgpu::BindGroup)>,
     /// The device contact search, built at its first use.
-    search: Option<GpuSearch>,
+    pub(super) search: Option<GpuSearch>,
     scratch: Vec<f32>,
     scratch_split: Vec<Split3>,
     /// Fill every output with NaN before each dispatch (tests: an unwritten entry fails).
@@ -164,124 +240,108 @@ pub fn corner_slot(c: usize, hexes: usize, tets: usize) -> usize {
     }
 }
 
-fn bytes_of<T>(n: usize) -> u64 {
+pub(super) fn bytes_of<T>(n: usize) -> u64 {
     (n * std::mem::size_of::<T>()) as u64
+}
+
+impl ElementLaunches {
+    /// The launches over the mesh's elements and nodes, on the device's displacement.
+    fn new(
+        ctx: &GpuContext,
+        k: &EngineKernels,
+        mesh: &MeshBuffers,
+        data: &ElementData,
+        u: &Storage,
+        corners: &Storage,
+        forces: &Storage,
+    ) -> Self {
+        let (hexes, tets) = (data.hexes.len() as u32, data.tets.len() as u32);
+        let slots = data.corner_count() as u32;
+        let m = mesh;
+        ElementLaunches {
+            hex8: k.hex8_forces.launch(
+                ctx,
+                hexes,
+                slots,
+                0,
+                &m.reference.buffer,
+                &u.buffer,
+                &m.hex_nodes.buffer,
+                &m.hex_material.buffer,
+                &m.materials.buffer,
+                &corners.buffer,
+            ),
+            // the tets' corner slots follow the hexes' 8 per hex
+            tet4: k.tet4_forces.launch(
+                ctx,
+                tets,
+                slots,
+                8 * hexes,
+                &m.reference.buffer,
+                &u.buffer,
+                &m.tet_nodes.buffer,
+                &m.tet_material.buffer,
+                &m.materials.buffer,
+                &corners.buffer,
+            ),
+            gather: k.node_gather.launch(
+                ctx,
+                data.reference.len() as u32,
+                slots,
+                0,
+                &m.offsets.buffer,
+                &m.incidence.buffer,
+                &corners.buffer,
+                &forces.buffer,
+            ),
+        }
+    }
+}
+
+/// Refuses a mesh whose corner-force entries do not fit the kernels' 32-bit indices.
+fn check_indexing(data: &ElementData) -> Result<()> {
+    if data.corner_count() > u32::MAX as usize / 3 {
+        return Err(ImpactError::Gpu(format!(
+            "{} elements exceed the GPU kernels' 32-bit indexing",
+            data.hexes.len() + data.tets.len()
+        )));
+    }
+    Ok(())
 }
 
 impl GpuKernels {
     pub fn new(ctx: GpuContext, data: &ElementData) -> Result<Self> {
+        check_indexing(data)?;
         let nodes = data.reference.len();
-        let elements = data.hexes.len();
-        let tets_count = data.tets.len();
-        let corner_count = data.corner_count();
-        if corner_count > u32::MAX as usize / 3 {
-            return Err(ImpactError::Gpu(format!(
-                "{} elements exceed the GPU kernels' 32-bit indexing",
-                elements + tets_count
-            )));
-        }
-        let (reference, materials) = (split_reference(data), device_materials(data));
-        let columns = ElementColumns::new(data);
-        let reference = Storage::with_data(&ctx, "reference", &reference)?;
-        // a binding holds at least one word: a mesh without hexes (or tets) binds one
-        // unused placeholder, never dispatched
-        let hex_nodes = Storage::with_data(&ctx, "hex_nodes", &at_least_one(columns.hex_nodes))?;
-        let hex_material =
-            Storage::with_data(&ctx, "hex_material", &at_least_one(columns.hex_material))?;
-        let tet_nodes = Storage::with_data(&ctx, "tet_nodes", &at_least_one(columns.tet_nodes))?;
-        let tet_material =
-            Storage::with_data(&ctx, "tet_material", &at_least_one(columns.tet_material))?;
-        let materials = Storage::with_data(&ctx, "materials", &materials)?;
-        let offsets = Storage::with_data(&ctx, "incidence.offsets", &columns.incidence.offsets)?;
-        let incidence = Storage::with_data(&ctx, "incidence", &columns.incidence.corners)?;
+        let mesh = MeshBuffers::upload(&ctx, data)?;
         let u = Storage::new(&ctx, "displacement", bytes_of::<Split3>(nodes))?;
         let v = Storage::new(&ctx, "velocity", bytes_of::<f32>(3 * nodes))?;
-        let corners = Storage::new(&ctx, "corner_forces", bytes_of::<f32>(3 * corner_count))?;
+        let corner_floats = 3 * data.corner_count();
+        let corners = Storage::new(&ctx, "corner_forces", bytes_of::<f32>(corner_floats))?;
         let forces = Storage::new(&ctx, "forces", bytes_of::<f32>(3 * nodes))?;
-        let queries = Storage::new(&ctx, "contact.queries", 0)?;
-        let candidates = Storage::new(&ctx, "contact.candidates", 0)?;
-        let faces = Storage::new(&ctx, "contact.faces", 0)?;
-        let points = Storage::new(&ctx, "contact.points", 0)?;
-        let slips = Storage::new(&ctx, "contact.slip", 0)?;
-        let staging = staging(&ctx)?;
-        let hex8_forces = Hex8Forces::new(&ctx);
-        let tet4_forces = Tet4Forces::new(&ctx);
-        let node_gather = NodeGather::new(&ctx);
-        let contact_gap = ContactGap::new(&ctx);
-        let slip_rate = SlipRate::new(&ctx);
-        let slots = corner_count as u32;
-        let hex8_launch = hex8_forces.launch(
-            &ctx,
-            elements as u32,
-            slots,
-            0,
-            &reference.buffer,
-            &u.buffer,
-            &hex_nodes.buffer,
-            &hex_material.buffer,
-            &materials.buffer,
-            &corners.buffer,
-        );
-        let tet4_launch = tet4_forces.launch(
-            &ctx,
-            tets_count as u32,
-            slots,
-            8 * elements as u32,
-            &reference.buffer,
-            &u.buffer,
-            &tet_nodes.buffer,
-            &tet_material.buffer,
-            &materials.buffer,
-            &corners.buffer,
-        );
-        let gather_launch = node_gather.launch(
-            &ctx,
-            nodes as u32,
-            slots,
-            0,
-            &offsets.buffer,
-            &incidence.buffer,
-            &corners.buffer,
-            &forces.buffer,
-        );
+        let kernels = EngineKernels::new(&ctx);
+        let launches = ElementLaunches::new(&ctx, &kernels, &mesh, data, &u, &corners, &forces);
         Ok(GpuKernels {
-            ctx,
             nodes,
-            elements,
-            tets_count,
-            hex8_forces,
-            tet4_forces,
-            node_gather,
-            contact_gap,
-            slip_rate,
-            reference,
-            hex_nodes,
-            hex_material,
-            tet_nodes,
-            tet_material,
-            materials,
-            offsets,
-            incidence,
+            elements: data.hexes.len(),
+            tets_count: data.tets.len(),
+            kernels,
+            mesh,
             u,
             v,
             corners,
             forces,
-            queries,
-            candidates,
-            faces,
-            points,
-            slips,
-            staging,
+            contact: ContactBuffers::new(&ctx)?,
+            staging: staging(&ctx)?,
             uploaded: UploadedQueries::default(),
             query_count: 0,
-            hex8_launch,
-            tet4_launch,
-            gather_launch,
+            launches,
             contact_binds: None,
             search: None,
             scratch: Vec::new(),
             scratch_split: Vec::new(),
             fill_nan: false,
+            ctx,
         })
     }
 
@@ -289,40 +349,21 @@ impl GpuKernels {
         &self.ctx
     }
 
-    /// The device contact search (after the first `contact_search_into`) and the context,
-    /// for the kernel tests.
-    pub fn search_parts(&mut self) -> Option<(&GpuContext, &mut GpuSearch)> {
-        self.search.as_mut().map(|s| (&self.ctx, s))
-    }
-
     /// Bytes held on the device by the mesh and the per-call buffers.
     pub fn device_bytes(&self) -> u64 {
-        [
-            &self.reference,
-            &self.hex_nodes,
-            &self.hex_material,
-            &self.tet_nodes,
-            &self.tet_material,
-            &self.materials,
-            &self.offsets,
-            &self.incidence,
-            &self.u,
-            &self.v,
-            &self.corners,
-            &self.forces,
-            &self.queries,
-            &self.candidates,
-            &self.faces,
-            &self.points,
-            &self.slips,
-            &self.staging,
-        ]
-        .iter()
-        .map(|s| s.capacity)
-        .sum()
+        let state = [&self.u, &self.v, &self.corners, &self.forces, &self.staging];
+        self.mesh
+            .all()
+            .into_iter()
+            .chain(state)
+            .chain(self.contact.all())
+            .map(|s| s.capacity)
+            .sum()
     }
 
-    fn upload_nodal(&mut self, velocity: bool, x: &[f64]) -> Result<()> {
+    /// Uploads a nodal vector (3 per node): the velocities in f32, or the displacements as
+    /// split pairs.
+    pub(super) fn upload_nodal(&mut self, velocity: bool, x: &[f64]) -> Result<()> {
         if x.len() != 3 * self.nodes {
             return Err(ImpactError::Gpu(format!(
                 "nodal vector of length {} for {} nodes",
@@ -348,37 +389,22 @@ impl GpuKernels {
         Ok(())
     }
 
-    pub(super) fn encoder(&self, label: &str) -> wgpu::CommandEncoder {
-        self.ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) })
-    }
-
-    fn corner_floats(&self) -> usize {
+    /// Floats of the corner forces: 3 per hex8 corner and per tet4 corner.
+    pub(super) fn corner_floats(&self) -> usize {
         24 * self.elements + 12 * self.tets_count
-    }
-
-    /// Records the element kernels (hex8 then tet4, each only if the mesh has such elements)
-    /// that fill the corner forces, each in a pass of its own.
-    fn record_elements(&self, enc: &mut wgpu::CommandEncoder) {
-        if self.elements > 0 {
-            self.hex8_forces.0.record_launch(enc, &self.hex8_launch);
-        }
-        if self.tets_count > 0 {
-            self.tet4_forces.0.record_launch(enc, &self.tet4_launch);
-        }
     }
 
     /// Dispatches the element kernels and the gather in an open pass: the internal forces at
     /// the device's displacement into the forces buffer.
     pub(super) fn dispatch_internal_forces(&self, pass: &mut wgpu::ComputePass) {
+        let (k, l) = (&self.kernels, &self.launches);
         if self.elements > 0 {
-            self.hex8_forces.0.dispatch(pass, &self.hex8_launch);
+            k.hex8_forces.0.dispatch(pass, &l.hex8);
         }
         if self.tets_count > 0 {
-            self.tet4_forces.0.dispatch(pass, &self.tet4_launch);
+            k.tet4_forces.0.dispatch(pass, &l.tet4);
         }
-        self.node_gather.0.dispatch(pass, &self.gather_launch);
+        k.node_gather.0.dispatch(pass, &l.gather);
     }
 
     /// Records the element kernels and the gather in one pass (see
@@ -402,71 +428,29 @@ impl GpuKernels {
         self.upload_nodal(true, v)
     }
 
-    /// The device's corner slot of each of the twin's corner ids, in twin order.
-    fn slot_of(&self, c: usize) -> usize {
-        corner_slot(c, self.elements, self.tets_count)
+    /// Uploads (u, v) and the contact queries for a contact kernel: the number of queries,
+    /// or `None` (and nothing uploaded) where there are none.
+    fn upload_contact(
+        &mut self,
+        u: &[f64],
+        v: &[f64],
+        queries: &ContactQueries,
+    ) -> Result<Option<usize>> {
+        if queries.is_empty() {
+            return Ok(None);
+        }
+        self.upload_state(u, v)?;
+        self.sync_queries(queries)?;
+        Ok(Some(queries.len()))
     }
 
-    /// Runs the element kernels alone: corner forces `[8 e + k]` of the hexes, then
-    /// `[8 hexes + 4 t + k]` of the tets (the twin's order), for the displacement `u`.
-    pub fn corner_forces(&mut self, u: &[f64]) -> Result<Vec<[f64; 3]>> {
-        self.upload_nodal(false, u)?;
-        if self.fill_nan {
-            self.corners
-                .fill_nan(&self.ctx, bytes_of::<f32>(self.corner_floats()));
-        }
-        let mut enc = self.encoder("element_forces");
-        self.record_elements(&mut enc);
-        let slots = self.corner_floats() / 3;
-        let out: Vec<f32> = submit_and_read(
-            &self.ctx,
-            &mut self.staging,
-            enc,
-            &self.corners.buffer,
-            3 * slots,
-        )?;
-        Ok((0..slots)
-            .map(|c| {
-                let s = self.slot_of(c);
-                [0, 1, 2].map(|a| out[a * slots + s] as f64)
-            })
-            .collect())
-    }
-
-    /// Runs `node_gather` alone on the given corner forces (the twin's order).
-    pub fn gather(&mut self, corners: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
-        let slots = corners.len();
-        let mut c = vec![0f32; 3 * slots];
-        for (i, f) in corners.iter().enumerate() {
-            let s = self.slot_of(i);
-            for a in 0..3 {
-                c[a * slots + s] = f[a] as f32;
-            }
-        }
-        self.corners.upload(&self.ctx, &c)?;
-        if self.fill_nan {
-            self.forces
-                .fill_nan(&self.ctx, bytes_of::<f32>(3 * self.nodes));
-        }
-        let mut enc = self.encoder("node_gather");
-        self.node_gather
-            .0
-            .record_launch(&mut enc, &self.gather_launch);
-        let out: Vec<[f32; 3]> = submit_and_read(
-            &self.ctx,
-            &mut self.staging,
-            enc,
-            &self.forces.buffer,
-            self.nodes,
-        )?;
-        Ok(out.into_iter().map(|f| f.map(f64::from)).collect())
-    }
-
-    /// Uploads the contact queries if they differ from the last ones.
+    /// Uploads the contact queries if they differ from the last ones, and binds the contact
+    /// kernels to the buffers where any was replaced.
     fn sync_queries(&mut self, q: &ContactQueries) -> Result<()> {
+        let (ctx, c, up) = (&self.ctx, &mut self.contact, &mut self.uploaded);
         let mut grew = false;
         // compared in the caller's CSR form, so an unchanged set costs no conversion
-        if q.secondary != self.uploaded.secondary || q.offsets != self.uploaded.offsets {
+        if q.secondary != up.secondary || q.offsets != up.offsets {
             let queries: Vec<ContactQuery> = (0..q.len())
                 .map(|i| ContactQuery {
                     secondary: q.secondary[i],
@@ -474,132 +458,86 @@ impl GpuKernels {
                     end: q.offsets[i + 1],
                 })
                 .collect();
-            grew |= self.queries.upload(&self.ctx, &queries)?;
-            grew |= self
+            grew |= c.queries.upload(ctx, &queries)?;
+            grew |= c
                 .points
-                .ensure(&self.ctx, bytes_of::<types::ContactPoint>(q.len()))?;
-            grew |= self
-                .slips
-                .ensure(&self.ctx, bytes_of::<[f32; 2]>(q.len()))?;
-            self.uploaded.secondary.clone_from(&q.secondary);
-            self.uploaded.offsets.clone_from(&q.offsets);
+                .ensure(ctx, bytes_of::<types::ContactPoint>(q.len()))?;
+            grew |= c.slips.ensure(ctx, bytes_of::<[f32; 2]>(q.len()))?;
+            up.secondary.clone_from(&q.secondary);
+            up.offsets.clone_from(&q.offsets);
         }
-        if q.candidates != self.uploaded.candidates {
-            grew |= self.candidates.upload(&self.ctx, &q.candidates)?;
-            self.uploaded.candidates.clone_from(&q.candidates);
+        if q.candidates != up.candidates {
+            grew |= c.candidates.upload(ctx, &q.candidates)?;
+            up.candidates.clone_from(&q.candidates);
         }
-        if q.faces != self.uploaded.faces {
+        if q.faces != up.faces {
             // `Quad` is `[u32; 4]` with the WGSL struct's layout
-            let faces: Vec<Quad> = q.faces.iter().map(|&nodes| Quad { nodes }).collect();
-            grew |= self.faces.upload(&self.ctx, &faces)?;
-            self.uploaded.faces.clone_from(&q.faces);
+            grew |= c.faces.upload(ctx, &to_device::<_, Quad>(&q.faces))?;
+            up.faces.clone_from(&q.faces);
         }
         self.query_count = q.len();
         if grew || self.contact_binds.is_none() {
-            let gap = self.contact_gap.bind(
-                &self.ctx,
-                &self.reference.buffer,
-                &self.u.buffer,
-                &self.v.buffer,
-                &self.queries.buffer,
-                &self.candidates.buffer,
-                &self.faces.buffer,
-                &self.points.buffer,
-            );
-            let slip = self.slip_rate.bind(
-                &self.ctx,
-                &self.reference.buffer,
-                &self.u.buffer,
-                &self.v.buffer,
-                &self.queries.buffer,
-                &self.faces.buffer,
-                &self.points.buffer,
-                &self.slips.buffer,
-            );
-            self.contact_binds = Some((gap, slip));
+            self.contact_binds = Some(self.bind_contact());
         }
         Ok(())
     }
 
-    /// Records `reps` dispatches of one kernel on the current data in one pass, waits, and
-    /// returns the elapsed wall time (for the benchmarks; contact kernels use the last
-    /// queries).
-    pub fn time_kernel(&mut self, kernel: KernelId, reps: usize) -> Result<Duration> {
-        let mut enc = self.encoder("timing");
-        // the element kernels' launches are fixed; the contact kernels' counts follow the
-        // last queries
-        let (k, bind, grid) = match kernel {
-            KernelId::Hex8Forces => (
-                &self.hex8_forces.0,
-                &self.hex8_launch.bind,
-                self.hex8_launch.grid,
-            ),
-            KernelId::Tet4Forces => (
-                &self.tet4_forces.0,
-                &self.tet4_launch.bind,
-                self.tet4_launch.grid,
-            ),
-            KernelId::NodeGather => (
-                &self.node_gather.0,
-                &self.gather_launch.bind,
-                self.gather_launch.grid,
-            ),
-            KernelId::ContactGap | KernelId::SlipRate => {
-                let Some((gap, slip)) = &self.contact_binds else {
-                    return Err(ImpactError::Gpu("no contact queries uploaded".into()));
-                };
-                let (k, bind) = if kernel == KernelId::ContactGap {
-                    (&self.contact_gap.0, gap)
-                } else {
-                    (&self.slip_rate.0, slip)
-                };
-                (k, bind, k.set_count(&self.ctx, self.query_count as u32))
-            }
-        };
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("timing"),
-                timestamp_writes: None,
-            });
-            for _ in 0..reps {
-                k.dispatch_with(&mut pass, bind, grid);
-            }
-        }
-        // settle earlier work (the params write) before timing
-        self.ctx.wait()?;
-        let start = Instant::now();
-        self.ctx.queue.submit([enc.finish()]);
-        self.ctx.wait()?;
-        Ok(start.elapsed())
+    /// The bind groups of `contact_gap` and `slip_rate` on the current buffers.
+    fn bind_contact(&self) -> (wgpu::BindGroup, wgpu::BindGroup) {
+        let (ctx, k, c) = (&self.ctx, &self.kernels, &self.contact);
+        let reference = &self.mesh.reference.buffer;
+        let gap = k.contact_gap.bind(
+            ctx,
+            reference,
+            &self.u.buffer,
+            &self.v.buffer,
+            &c.queries.buffer,
+            &c.candidates.buffer,
+            &c.faces.buffer,
+            &c.points.buffer,
+        );
+        let slip = k.slip_rate.bind(
+            ctx,
+            reference,
+            &self.u.buffer,
+            &self.v.buffer,
+            &c.queries.buffer,
+            &c.faces.buffer,
+            &c.points.buffer,
+            &c.slips.buffer,
+        );
+        (gap, slip)
     }
 
-    /// Copy bandwidth of the device in bytes per second: a buffer-to-buffer copy of `bytes`
-    /// (the reference for the kernels' effective bandwidth).
-    pub fn copy_bandwidth(&self, bytes: u64, reps: usize) -> Result<f64> {
-        let bytes = bytes.min(self.ctx.max_binding()).next_multiple_of(4);
-        let make = |label| {
-            self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: bytes,
-                usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
+    /// The device contact search of the model's surface interfaces on `faces`.
+    fn new_search(&self, model: &Model, faces: &[[u32; 4]]) -> Result<GpuSearch> {
+        let (face_first, queries) = search::search_layout(model);
+        GpuSearch::new(
+            &self.ctx,
+            &self.mesh.reference.buffer,
+            &self.u.buffer,
+            &self.v.buffer,
+            faces,
+            &face_first,
+            &queries,
+        )
+    }
+
+    /// The bind group of `contact_gap` (`gap`) or of `slip_rate`, and the grid of the last
+    /// queries (their count set in the kernel's params).
+    pub(super) fn contact_dispatch(
+        &self,
+        gap: bool,
+    ) -> Result<(&Kernel, &wgpu::BindGroup, [u32; 2])> {
+        let Some((gap_bind, slip_bind)) = &self.contact_binds else {
+            return Err(ImpactError::Gpu("no contact queries uploaded".into()));
         };
-        let (a, b) = (make("copy.a"), make("copy.b"));
-        // warm up (first touch allocates on software adapters)
-        let mut enc = self.encoder("copy");
-        enc.copy_buffer_to_buffer(&a, 0, &b, 0, bytes);
-        self.ctx.queue.submit([enc.finish()]);
-        self.ctx.wait()?;
-        let mut enc = self.encoder("copy");
-        for _ in 0..reps {
-            enc.copy_buffer_to_buffer(&a, 0, &b, 0, bytes);
-        }
-        let start = Instant::now();
-        self.ctx.queue.submit([enc.finish()]);
-        self.ctx.wait()?;
-        // a copy reads and writes every byte
-        Ok(2.0 * bytes as f64 * reps as f64 / start.elapsed().as_secs_f64())
+        let (k, bind) = if gap {
+            (&self.kernels.contact_gap.0, gap_bind)
+        } else {
+            (&self.kernels.slip_rate.0, slip_bind)
+        };
+        Ok((k, bind, k.set_count(&self.ctx, self.query_count as u32)))
     }
 }
 
@@ -620,7 +558,7 @@ impl Kernels for GpuKernels {
             self.forces
                 .fill_nan(&self.ctx, bytes_of::<f32>(3 * self.nodes));
         }
-        let mut enc = self.encoder("internal_forces");
+        let mut enc = self.ctx.encoder("internal_forces");
         self.record_internal_forces(&mut enc);
         let out: Vec<f32> = submit_and_read(
             &self.ctx,
@@ -642,23 +580,18 @@ impl Kernels for GpuKernels {
         queries: &ContactQueries,
         out: &mut [ContactPoint],
     ) -> Result<()> {
-        if queries.is_empty() {
+        let Some(n) = self.upload_contact(u, v, queries)? else {
             return Ok(());
-        }
-        self.upload_nodal(false, u)?;
-        self.upload_nodal(true, v)?;
-        self.sync_queries(queries)?;
-        let n = queries.len();
+        };
+        let points = &self.contact.points;
         if self.fill_nan {
-            self.points
-                .fill_nan(&self.ctx, bytes_of::<types::ContactPoint>(n));
+            points.fill_nan(&self.ctx, bytes_of::<types::ContactPoint>(n));
         }
-        let mut enc = self.encoder("contact_gap");
-        let grid = self.contact_gap.0.set_count(&self.ctx, n as u32);
-        let (gap, _) = self.contact_binds.as_ref().expect("bound by sync_queries");
-        self.contact_gap.0.record(&mut enc, gap, grid);
+        let mut enc = self.ctx.encoder("contact_gap");
+        let (k, bind, grid) = self.contact_dispatch(true)?;
+        k.record(&mut enc, bind, grid);
         let pts: Vec<types::ContactPoint> =
-            submit_and_read(&self.ctx, &mut self.staging, enc, &self.points.buffer, n)?;
+            submit_and_read(&self.ctx, &mut self.staging, enc, &points.buffer, n)?;
         for (o, p) in out.iter_mut().zip(pts) {
             *o = p.into();
         }
@@ -678,21 +611,11 @@ impl Kernels for GpuKernels {
         if queries.is_empty() {
             return Ok(());
         }
-        self.upload_nodal(false, u)?;
-        self.upload_nodal(true, v)?;
+        self.upload_state(u, v)?;
         if self.search.is_none() {
-            let (face_first, q) = search::search_layout(model);
-            self.search = Some(GpuSearch::new(
-                &self.ctx,
-                &self.reference.buffer,
-                &self.u.buffer,
-                &self.v.buffer,
-                &queries.faces,
-                &face_first,
-                &q,
-            )?);
+            self.search = Some(self.new_search(model, &queries.faces)?);
         }
-        let enc = self.encoder("contact_search");
+        let enc = self.ctx.encoder("contact_search");
         let search = self.search.as_mut().expect("built above");
         let grid = SearchGrid {
             cell: search::search_cell(&model.mesh.nodes, u, &queries.faces, margin),
@@ -712,25 +635,27 @@ impl Kernels for GpuKernels {
         points: &[ContactPoint],
         out: &mut [[f64; 2]],
     ) -> Result<()> {
-        if queries.is_empty() {
+        let Some(n) = self.upload_contact(u, v, queries)? else {
             return Ok(());
-        }
-        self.upload_nodal(false, u)?;
-        self.upload_nodal(true, v)?;
-        self.sync_queries(queries)?;
-        let n = queries.len();
-        let pts: Vec<types::ContactPoint> =
-            points[..n].iter().map(types::ContactPoint::from).collect();
-        self.points.upload(&self.ctx, &pts)?;
+        };
+        let c = &mut self.contact;
+        c.points.upload(
+            &self.ctx,
+            &to_device::<_, types::ContactPoint>(&points[..n]),
+        )?;
         if self.fill_nan {
-            self.slips.fill_nan(&self.ctx, bytes_of::<[f32; 2]>(n));
+            c.slips.fill_nan(&self.ctx, bytes_of::<[f32; 2]>(n));
         }
-        let mut enc = self.encoder("slip_rate");
-        let grid = self.slip_rate.0.set_count(&self.ctx, n as u32);
-        let (_, slip) = self.contact_binds.as_ref().expect("bound by sync_queries");
-        self.slip_rate.0.record(&mut enc, slip, grid);
-        let s: Vec<[f32; 2]> =
-            submit_and_read(&self.ctx, &mut self.staging, enc, &self.slips.buffer, n)?;
+        let mut enc = self.ctx.encoder("slip_rate");
+        let (k, bind, grid) = self.contact_dispatch(false)?;
+        k.record(&mut enc, bind, grid);
+        let s: Vec<[f32; 2]> = submit_and_read(
+            &self.ctx,
+            &mut self.staging,
+            enc,
+            &self.contact.slips.buffer,
+            n,
+        )?;
         for (o, x) in out.iter_mut().zip(s) {
             *o = x.map(f64::from);
         }

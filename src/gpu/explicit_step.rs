@@ -15,16 +15,15 @@
 //! The state stays on the device; [`ResidentExplicit::read_state`] fetches it (VTU frames).
 
 use std::ops::Range;
-use std::sync::mpsc;
 
 use rayon::prelude::*;
 
-use super::buffer::{submit_and_read, Storage};
+use super::buffer::{map_read, read_back, read_floats, take_mapped, Mapping, Storage};
 use super::contact_iteration::{ContactIteration, ContactSetup, StepBuffers};
 use super::context::GpuContext;
 use super::engine::{at_least_one, GpuKernels};
 use super::kernel::{Launch, WORKGROUP};
-use super::types::{self, Split3};
+use super::types::{self, to_device, Split3};
 use super::{ExplicitCorrect, ExplicitDrift, ExplicitPredict, HistoryReduce, PlaneContact};
 use crate::error::{ImpactError, Result};
 use crate::kernels::explicit_correct::FIELDS;
@@ -126,25 +125,13 @@ pub fn row_columns(
     cols
 }
 
-/// One stage of the step, for running it alone ([`ResidentExplicit::run_stage`]; the kernel
-/// tests compare each with its CPU twin).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Stage {
-    Predict,
-    PlaneContact,
-    Drift,
-    InternalForces,
-    Correct,
-    Reduce,
-}
-
 /// The step's kernels' pipelines, built once.
-struct StepKernels {
-    predict: ExplicitPredict,
-    plane: PlaneContact,
-    drift: ExplicitDrift,
-    correct: ExplicitCorrect,
-    reduce: HistoryReduce,
+pub(super) struct StepKernels {
+    pub(super) predict: ExplicitPredict,
+    pub(super) plane: PlaneContact,
+    pub(super) drift: ExplicitDrift,
+    pub(super) correct: ExplicitCorrect,
+    pub(super) reduce: HistoryReduce,
 }
 
 impl StepKernels {
@@ -162,12 +149,12 @@ impl StepKernels {
 
 /// The model's buffers of the step besides the elements': the acceleration, the lumped
 /// masses, the rigid planes, their nodes and their contact results.
-struct ModelBuffers {
-    a: Storage,
+pub(super) struct ModelBuffers {
+    pub(super) a: Storage,
     lumped: Storage,
     planes: Storage,
     plane_nodes: Storage,
-    results: Storage,
+    pub(super) results: Storage,
     plane_count: usize,
     plane_node_count: usize,
 }
@@ -176,37 +163,13 @@ impl ModelBuffers {
     /// Uploads the setup's acceleration, lumped masses and rigid planes (in f32).
     fn upload(ctx: &GpuContext, setup: &ResidentSetup) -> Result<Self> {
         let a = Storage::with_data(ctx, "acceleration", &to_f32(&setup.acceleration))?;
-        let lumped: Vec<types::Lumped> = setup
-            .lumped
-            .par_iter()
-            .map(|l| types::Lumped {
-                mass: l.mass as f32,
-                inv_mass: l.inv_mass.map(|x| x as f32),
-                ext_acc: l.ext_acc.map(|x| x as f32),
-            })
-            .collect();
+        let lumped: Vec<types::Lumped> = to_device(&setup.lumped);
         let lumped = Storage::with_data(ctx, "lumped", &lumped)?;
-        let planes: Vec<types::Plane> = setup
-            .planes
-            .iter()
-            .map(|p| types::Plane {
-                point: Split3::split(p.point),
-                normal: p.normal.map(|x| x as f32),
-                mu: p.mu as f32,
-            })
-            .collect();
+        let planes: Vec<types::Plane> = to_device(&setup.planes);
         let planes = Storage::with_data(ctx, "planes", &at_least_one(planes))?;
-        let pn: Vec<types::PlaneNode> = setup
-            .plane_nodes
-            .iter()
-            .map(|p| types::PlaneNode {
-                node: p.node,
-                planes: p.planes,
-            })
-            .collect();
-        let plane_node_count = pn.len();
+        let pn: Vec<types::PlaneNode> = to_device(&setup.plane_nodes);
         let plane_nodes = Storage::with_data(ctx, "plane_nodes", &at_least_one(pn))?;
-        let plane_count = setup.planes.len();
+        let (plane_count, plane_node_count) = (setup.planes.len(), setup.plane_nodes.len());
         let results = Storage::with_data(
             ctx,
             "plane_results",
@@ -225,11 +188,12 @@ impl ModelBuffers {
 }
 
 /// The history row's columns, on the host and on the device, and the rows buffer.
-struct History {
-    column_list: Vec<ReduceColumn>,
+pub(super) struct History {
+    pub(super) column_list: Vec<ReduceColumn>,
     columns: Storage,
-    rows: Storage,
-    row_len: usize,
+    /// The history rows of one submission, `chunk_capacity` rows of `row_len` floats.
+    pub(super) rows: Storage,
+    pub(super) row_len: usize,
 }
 
 impl History {
@@ -248,15 +212,7 @@ impl History {
         };
         let column_list = row_columns(groups, &slots, &setup.probes);
         let row_len = column_list.len();
-        let cols: Vec<types::ReduceColumn> = column_list
-            .iter()
-            .map(|c| types::ReduceColumn {
-                first: c.first,
-                count: c.count,
-                stride: c.stride,
-                op: c.op,
-            })
-            .collect();
+        let cols: Vec<types::ReduceColumn> = to_device(&column_list);
         let columns = Storage::with_data(ctx, "history.columns", &cols)?;
         let rows = Storage::new(ctx, "history.rows", (chunk_capacity * row_len * 4) as u64)?;
         Ok(History {
@@ -279,13 +235,13 @@ struct LaunchBuffers<'a> {
     results: &'a wgpu::Buffer,
 }
 
-struct Launches {
-    predict: Launch,
-    plane: Option<Launch>,
-    drift: Launch,
-    correct: Vec<Launch>,
+pub(super) struct Launches {
+    pub(super) predict: Launch,
+    pub(super) plane: Option<Launch>,
+    pub(super) drift: Launch,
+    pub(super) correct: Vec<Launch>,
     /// One per row of a submission: launch j writes the row of the submission's step j.
-    reduce: Vec<Launch>,
+    pub(super) reduce: Vec<Launch>,
 }
 
 impl Launches {
@@ -330,7 +286,7 @@ impl Launches {
                 m.plane_count as u32,
                 0,
                 b.step,
-                &k.reference.buffer,
+                &k.mesh.reference.buffer,
                 &k.u.buffer,
                 &m.a.buffer,
                 &m.lumped.buffer,
@@ -404,25 +360,23 @@ impl Launches {
 struct Pending {
     steps: usize,
     index: wgpu::SubmissionIndex,
-    mapped: mpsc::Receiver<std::result::Result<(), wgpu::BufferAsyncError>>,
+    mapped: Mapping,
 }
 
 pub struct ResidentExplicit {
-    k: GpuKernels,
-    kernels: StepKernels,
+    pub(super) k: GpuKernels,
+    pub(super) kernels: StepKernels,
     /// The step's constants (`dt` changes for a shortened last step).
     step: wgpu::Buffer,
     step_consts: types::Step,
     /// The accelerations, lumped masses, planes and plane results.
-    m: ModelBuffers,
-    partials: Storage,
-    columns: Storage,
-    /// The history rows of one submission, `chunk_capacity` rows of `row_len` floats.
-    rows: Storage,
-    launches: Launches,
-    column_list: Vec<ReduceColumn>,
-    row_len: usize,
-    contact: Option<ContactIteration>,
+    pub(super) m: ModelBuffers,
+    /// The correctors' workgroup sums, [`FIELDS`] per workgroup, body after body.
+    pub(super) partials: Storage,
+    /// The history row's columns and the rows buffer.
+    pub(super) history: History,
+    pub(super) launches: Launches,
+    pub(super) contact: Option<ContactIteration>,
     /// Sweeps of the contact iteration recorded per step (at most `max_iterations`).
     sweeps: u32,
     max_iterations: u32,
@@ -483,11 +437,8 @@ impl ResidentExplicit {
             step_consts,
             m,
             partials,
-            columns: history.columns,
-            rows: history.rows,
+            history,
             launches,
-            column_list: history.column_list,
-            row_len: history.row_len,
             contact,
             sweeps: setup.max_iterations,
             max_iterations: setup.max_iterations,
@@ -546,7 +497,7 @@ impl ResidentExplicit {
         };
         let buffers = StepBuffers {
             step,
-            reference: &k.reference.buffer,
+            reference: &k.mesh.reference.buffer,
             displacement: &k.u.buffer,
             velocity: &k.v.buffer,
             acceleration: &m.a.buffer,
@@ -604,21 +555,9 @@ impl ResidentExplicit {
         &self.k.ctx
     }
 
-    /// The device contact iteration, if the step has one, with the context (the kernel
-    /// tests run its stages alone).
-    pub fn contact_iteration(&mut self) -> Option<(&GpuContext, &mut ContactIteration)> {
-        let ctx = &self.k.ctx;
-        self.contact.as_mut().map(|c| (ctx, c))
-    }
-
-    /// The history row's columns (the inputs of `history_reduce`).
-    pub fn columns(&self) -> &[ReduceColumn] {
-        &self.column_list
-    }
-
     /// Floats per history row (see [`row_len`]).
     pub fn row_len(&self) -> usize {
-        self.row_len
+        self.history.row_len
     }
 
     /// Bytes held on the device.
@@ -631,8 +570,8 @@ impl ResidentExplicit {
                 &self.m.plane_nodes,
                 &self.m.results,
                 &self.partials,
-                &self.columns,
-                &self.rows,
+                &self.history.columns,
+                &self.history.rows,
                 &self.readback[0],
                 &self.readback[1],
             ]
@@ -642,121 +581,16 @@ impl ResidentExplicit {
             + self.contact.as_ref().map_or(0, |c| c.device_bytes())
     }
 
-    /// Records one stage of the step (the contact iteration whole, with all its sweeps).
-    fn record_stage(&self, enc: &mut wgpu::CommandEncoder, stage: Stage) {
-        let l = &self.launches;
-        match stage {
-            Stage::Predict => self.kernels.predict.0.record_launch(enc, &l.predict),
-            Stage::PlaneContact => {
-                if let Some(p) = &l.plane {
-                    self.kernels.plane.0.record_launch(enc, p);
-                }
-                if let Some(c) = &self.contact {
-                    c.record(enc);
-                }
-            }
-            Stage::Drift => self.kernels.drift.0.record_launch(enc, &l.drift),
-            Stage::InternalForces => self.k.record_internal_forces(enc),
-            Stage::Correct => {
-                for c in &l.correct {
-                    self.kernels.correct.0.record_launch(enc, c);
-                }
-            }
-            Stage::Reduce => self.kernels.reduce.0.record_launch(enc, &l.reduce[0]),
-        }
-    }
-
-    /// Runs one stage alone on the device's current buffers and waits for it.
-    pub fn run_stage(&mut self, stage: Stage) -> Result<()> {
-        let ctx = &self.k.ctx;
-        let mut enc = self.k.encoder("explicit_stage");
-        self.record_stage(&mut enc, stage);
-        ctx.queue.submit([enc.finish()]);
-        ctx.wait()
-    }
-
-    /// Wall time of `reps` runs of one stage in one submission, after the device is idle
-    /// (the benchmarks' per-stage figures; the state moves on as the stage runs).
-    pub fn time_stage(&mut self, stage: Stage, reps: usize) -> Result<std::time::Duration> {
-        let ctx = &self.k.ctx;
-        let mut enc = self.k.encoder("stage_timing");
-        for _ in 0..reps {
-            self.record_stage(&mut enc, stage);
-        }
-        let commands = enc.finish();
-        ctx.wait()?;
-        let start = std::time::Instant::now();
-        ctx.queue.submit([commands]);
-        ctx.wait()?;
-        Ok(start.elapsed())
-    }
-
-    /// The host's time to record and submit `steps` steps (without waiting for the device,
-    /// which then runs them; the device's time is apart): the benchmarks compare it with the
-    /// step's time to tell a step bound by the host from one bound by the device.
-    pub fn recording_time(&mut self, steps: usize) -> Result<std::time::Duration> {
-        let steps = steps.clamp(1, self.chunk_capacity);
-        let ctx = &self.k.ctx;
-        ctx.wait()?;
-        let start = std::time::Instant::now();
-        let mut enc = self.k.encoder("recording_timing");
-        self.record_steps(&mut enc, steps);
-        ctx.queue.submit([enc.finish()]);
-        let host = start.elapsed();
-        ctx.wait()?;
-        Ok(host)
-    }
-
-    /// The device's buffer-copy bandwidth in bytes per second (see
-    /// [`GpuKernels::copy_bandwidth`]).
-    pub fn copy_bandwidth(&self, bytes: u64, reps: usize) -> Result<f64> {
-        self.k.copy_bandwidth(bytes, reps)
-    }
-
-    /// Overwrites the device state: displacement, velocity, acceleration (3 per node), the
-    /// internal forces (3 per node) and the plane contact results.
-    pub fn upload(
-        &mut self,
-        u: &[f64],
-        v: &[f64],
-        a: &[f64],
-        forces: &[f64],
-        results: &[f64],
-    ) -> Result<()> {
-        self.k.upload_state(u, v)?;
-        let ctx = &self.k.ctx;
-        self.m.a.upload(ctx, &to_f32(a))?;
-        self.k.forces.upload(ctx, &to_f32(forces))?;
-        self.m.results.upload(ctx, &to_f32(results))?;
-        Ok(())
-    }
-
-    fn read_f32(&mut self, which: Buffer, count: usize) -> Result<Vec<f64>> {
-        let ctx = &self.k.ctx;
-        let enc = self.k.encoder("read_back");
-        let source = match which {
-            Buffer::Acceleration => &self.m.a.buffer,
-            Buffer::Partials => &self.partials.buffer,
-            Buffer::Row => &self.rows.buffer,
-        };
-        let out: Vec<f32> = submit_and_read(ctx, &mut self.k.staging, enc, source, count)?;
-        Ok(out.into_iter().map(f64::from).collect())
-    }
-
     /// The acceleration (3 per node).
     pub fn read_acceleration(&mut self) -> Result<Vec<f64>> {
-        self.read_f32(Buffer::Acceleration, 3 * self.k.nodes)
-    }
-
-    /// The correctors' workgroup sums, `FIELDS` per workgroup, body after body.
-    pub fn read_partials(&mut self) -> Result<Vec<f64>> {
-        let n = (self.partials.capacity / 4) as usize;
-        self.read_f32(Buffer::Partials, n)
-    }
-
-    /// The first history row of the rows buffer (the row [`Stage::Reduce`] writes).
-    pub fn read_row(&mut self) -> Result<Vec<f64>> {
-        self.read_f32(Buffer::Row, self.row_len)
+        let k = &mut self.k;
+        read_floats(
+            &k.ctx,
+            &mut k.staging,
+            "read_back",
+            &self.m.a.buffer,
+            3 * k.nodes,
+        )
     }
 
     /// Dispatches the step's stages before the contact iteration (the predictor, and the
@@ -785,7 +619,7 @@ impl ResidentExplicit {
     /// a contact iteration the steps are one compute pass (wgpu orders each dispatch after
     /// the writes of the ones before); the contact iteration clears buffers between its
     /// stages, so a step with one is three passes and its iteration's commands.
-    fn record_steps(&self, enc: &mut wgpu::CommandEncoder, steps: usize) {
+    pub(super) fn record_steps(&self, enc: &mut wgpu::CommandEncoder, steps: usize) {
         fn pass(enc: &mut wgpu::CommandEncoder) -> wgpu::ComputePass<'_> {
             enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("explicit_step"),
@@ -821,24 +655,23 @@ impl ResidentExplicit {
             )));
         }
         let steps = steps.min(self.chunk_capacity);
-        let bytes = (steps * self.row_len * 4) as u64;
+        let bytes = (steps * self.history.row_len * 4) as u64;
         let ctx = &self.k.ctx;
-        let mut enc = self.k.encoder("explicit_steps");
+        let mut enc = ctx.encoder("explicit_steps");
         self.record_snapshot(&mut enc, slot, true);
         self.record_steps(&mut enc, steps);
-        enc.copy_buffer_to_buffer(&self.rows.buffer, 0, &self.readback[slot].buffer, 0, bytes);
+        enc.copy_buffer_to_buffer(
+            &self.history.rows.buffer,
+            0,
+            &self.readback[slot].buffer,
+            0,
+            bytes,
+        );
         let index = ctx.queue.submit([enc.finish()]);
-        let (tx, rx) = mpsc::channel();
-        self.readback[slot]
-            .buffer
-            .slice(..bytes)
-            .map_async(wgpu::MapMode::Read, move |r| {
-                let _ = tx.send(r);
-            });
         self.pending[slot] = Some(Pending {
             steps,
             index,
-            mapped: rx,
+            mapped: map_read(&self.readback[slot].buffer, bytes),
         });
         Ok(())
     }
@@ -872,7 +705,8 @@ impl ResidentExplicit {
         ]
     }
 
-    /// The bytes of [`Self::state_buffers`] (nothing may be in flight).
+    /// The bytes of every buffer a step starts from (`state_buffers`: u, v, a and the contact
+    /// results); nothing may be in flight.
     pub fn read_step_state(&mut self) -> Result<Vec<Vec<u32>>> {
         if self.pending.iter().any(Option::is_some) {
             return Err(ImpactError::Gpu(
@@ -884,18 +718,13 @@ impl ResidentExplicit {
             .iter()
             .map(|b| ((b.size() / 4) as usize, (*b).clone()))
             .collect();
-        let mut out = Vec::with_capacity(sizes.len());
-        for (words, buffer) in sizes {
-            let enc = self.k.encoder("read_step_state");
-            out.push(submit_and_read(
-                &self.k.ctx,
-                &mut self.k.staging,
-                enc,
-                &buffer,
-                words,
-            )?);
-        }
-        Ok(out)
+        let k = &mut self.k;
+        sizes
+            .iter()
+            .map(|(words, buffer)| {
+                read_back(&k.ctx, &mut k.staging, "read_step_state", buffer, *words)
+            })
+            .collect()
     }
 
     /// Writes back what [`Self::read_step_state`] read (of an engine of the same model).
@@ -950,7 +779,7 @@ impl ResidentExplicit {
             ));
         }
         let ctx = &self.k.ctx;
-        let mut enc = self.k.encoder("restore");
+        let mut enc = ctx.encoder("restore");
         self.record_snapshot(&mut enc, slot, false);
         ctx.queue.submit([enc.finish()]);
         Ok(())
@@ -975,29 +804,11 @@ impl ResidentExplicit {
                     ctx.adapter.name
                 ))
             })?;
-        p.mapped
-            .recv()
-            .map_err(|_| ImpactError::Gpu("read-back callback dropped".into()))?
-            .map_err(|e| {
-                ImpactError::Gpu(format!(
-                    "{}: cannot map the history rows: {e}",
-                    ctx.adapter.name
-                ))
-            })?;
-        let bytes = (p.steps * self.row_len * 4) as u64;
+        let bytes = (p.steps * self.history.row_len * 4) as u64;
         let buffer = &self.readback[slot].buffer;
-        let rows = {
-            let view = buffer
-                .slice(..bytes)
-                .get_mapped_range()
-                .map_err(|e| ImpactError::Gpu(format!("history read-back: {e}")))?;
-            bytemuck::pod_collect_to_vec::<u8, f32>(&view)
-        };
-        buffer.unmap();
-        Ok(rows)
+        take_mapped(ctx, buffer, bytes, &p.mapped, "the history rows")
     }
 
-    /// Whether read-back buffer `slot` holds a submission not yet collected.
     /// Sets the step length of the submissions from the next on (a shortened last step).
     pub fn set_dt(&mut self, dt: f64) {
         self.step_consts.dt = dt as f32;
@@ -1007,6 +818,7 @@ impl ResidentExplicit {
             .write_buffer(&self.step, 0, bytemuck::bytes_of(&self.step_consts));
     }
 
+    /// Whether read-back buffer `slot` holds a submission not yet collected.
     pub fn is_pending(&self, slot: usize) -> bool {
         self.pending[slot].is_some()
     }
@@ -1015,23 +827,10 @@ impl ResidentExplicit {
     /// node) and the contact results ([`SLOT`] per (plane node, plane), or per pair of the
     /// contact iteration).
     pub fn read_state(&mut self) -> Result<(Vec<f64>, Vec<f64>, Vec<f64>)> {
-        let ctx = &self.k.ctx;
-        let new_encoder = || {
-            ctx.device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("read_state"),
-                })
-        };
-        let n = self.k.nodes;
-        let u: Vec<Split3> =
-            submit_and_read(ctx, &mut self.k.staging, new_encoder(), &self.k.u.buffer, n)?;
-        let v: Vec<f32> = submit_and_read(
-            ctx,
-            &mut self.k.staging,
-            new_encoder(),
-            &self.k.v.buffer,
-            3 * n,
-        )?;
+        let k = &mut self.k;
+        let (ctx, staging, label) = (&k.ctx, &mut k.staging, "read_state");
+        let u: Vec<Split3> = read_back(ctx, staging, label, &k.u.buffer, k.nodes)?;
+        let v = read_floats(ctx, staging, label, &k.v.buffer, 3 * k.nodes)?;
         let (results, count) = match &self.contact {
             Some(c) => (c.results_buffer(), SLOT * c.pair_count()),
             None => (
@@ -1039,25 +838,16 @@ impl ResidentExplicit {
                 SLOT * self.m.plane_count * self.m.plane_node_count,
             ),
         };
-        let r: Vec<f32> = submit_and_read(ctx, &mut self.k.staging, new_encoder(), results, count)?;
+        let r = read_floats(ctx, staging, label, results, count)?;
         let u = u
             .iter()
             .flat_map(|s| (0..3).map(|a| s.hi[a] as f64 + s.lo[a] as f64))
             .collect();
-        let v = v.into_iter().map(f64::from).collect();
-        let r = r.into_iter().map(f64::from).collect();
         Ok((u, v, r))
     }
 }
 
-#[derive(Clone, Copy)]
-enum Buffer {
-    Acceleration,
-    Partials,
-    Row,
-}
-
 /// f64 values as the device's f32.
-fn to_f32(x: &[f64]) -> Vec<f32> {
+pub(super) fn to_f32(x: &[f64]) -> Vec<f32> {
     x.par_iter().map(|&a| a as f32).collect()
 }

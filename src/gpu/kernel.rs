@@ -64,27 +64,30 @@ impl Kernel {
                 },
                 cache: None,
             });
-        let layout = pipeline.get_bind_group_layout(0);
-        let params = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(name),
-            size: std::mem::size_of::<Params>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         Kernel {
             name,
+            layout: pipeline.get_bind_group_layout(0),
             pipeline,
-            layout,
-            params,
+            params: params_buffer(ctx, name),
             max_groups: ctx.limits.max_compute_workgroups_per_dimension.max(1),
         }
     }
 
-    /// A bind group with the params at binding 0 and `storage[i]` at binding i + 1.
+    /// A bind group with the kernel's params at binding 0 and `storage[i]` at binding i + 1.
     pub fn bind(&self, ctx: &GpuContext, storage: &[&wgpu::Buffer]) -> wgpu::BindGroup {
+        self.bind_with(ctx, &self.params, storage)
+    }
+
+    /// A bind group with `params` at binding 0 and `storage[i]` at binding i + 1.
+    fn bind_with(
+        &self,
+        ctx: &GpuContext,
+        params: &wgpu::Buffer,
+        storage: &[&wgpu::Buffer],
+    ) -> wgpu::BindGroup {
         let mut entries = vec![wgpu::BindGroupEntry {
             binding: 0,
-            resource: self.params.as_entire_binding(),
+            resource: params.as_entire_binding(),
         }];
         for (i, b) in storage.iter().enumerate() {
             entries.push(wgpu::BindGroupEntry {
@@ -143,28 +146,9 @@ impl Kernel {
         storage: &[&wgpu::Buffer],
     ) -> Launch {
         let (p, grid) = self.params_for(count, aux, aux2);
-        let params = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(self.name),
-            size: std::mem::size_of::<Params>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let params = params_buffer(ctx, self.name);
         ctx.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 0,
-            resource: params.as_entire_binding(),
-        }];
-        for (i, b) in storage.iter().enumerate() {
-            entries.push(wgpu::BindGroupEntry {
-                binding: i as u32 + 1,
-                resource: b.as_entire_binding(),
-            });
-        }
-        let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(self.name),
-            layout: &self.layout,
-            entries: &entries,
-        });
+        let bind = self.bind_with(ctx, &params, storage);
         Launch {
             params_buffer: params,
             params: p,
@@ -240,4 +224,14 @@ impl Kernel {
     ) {
         self.dispatch_with(&mut self.begin_pass(encoder), bind, grid);
     }
+}
+
+/// A [`Params`] uniform named after kernel `name`, written before each use.
+fn params_buffer(ctx: &GpuContext, name: &'static str) -> wgpu::Buffer {
+    ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(name),
+        size: std::mem::size_of::<Params>() as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }

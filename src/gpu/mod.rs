@@ -1,13 +1,15 @@
 //! The GPU engine: wgpu context and adapter choice ([`context`]), the table of kernels
 //! ([`kernels`]: one line per `shaders/<name>.wgsl`, named as its CPU twin in
 //! [`crate::kernels`]), the Pod buffer types ([`types`]) and [`GpuKernels`], the
-//! [`crate::backend::Kernels`] interface on a device.
+//! [`crate::backend::Kernels`] interface on a device. The hooks that tests and benches use to
+//! run one stage alone and read device buffers back are apart, in [`inspect`].
 
 pub mod buffer;
 pub mod contact_iteration;
 pub mod context;
 pub mod engine;
 pub mod explicit_step;
+pub mod inspect;
 pub mod kernel;
 pub mod kernels;
 pub mod search;
@@ -17,8 +19,8 @@ pub mod types;
 
 pub use contact_iteration::{ContactIteration, ContactSetup};
 pub use context::{list_adapters, AdapterPolicy, AdapterSummary, GpuContext};
-pub use engine::{GpuKernels, KernelId};
-pub use explicit_step::{ResidentExplicit, ResidentSetup, Stage};
+pub use engine::GpuKernels;
+pub use explicit_step::{ResidentExplicit, ResidentSetup};
 pub use kernels::*;
 pub use search::GpuSearch;
 pub use stable_step::element_steps;

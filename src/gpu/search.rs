@@ -8,7 +8,7 @@
 
 use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
-use super::types::{self, ContactQuery, Quad};
+use super::types::{self, to_device, ContactQuery, Quad};
 use super::{BucketCount, BucketFill, ContactSearch, FaceCells, PrefixSum};
 use crate::error::Result;
 use crate::kernels::{ContactPoint, SearchGrid};
@@ -18,27 +18,143 @@ pub fn table_size(faces: usize) -> usize {
     (2 * faces).next_power_of_two().max(64)
 }
 
-pub struct GpuSearch {
+/// The search's kernels, built once.
+struct SearchKernels {
     face_cells: FaceCells,
     bucket_count: BucketCount,
     prefix_sum: PrefixSum,
     bucket_fill: BucketFill,
     contact_search: ContactSearch,
+}
+
+impl SearchKernels {
+    fn new(ctx: &GpuContext) -> Self {
+        SearchKernels {
+            face_cells: FaceCells::new(ctx),
+            bucket_count: BucketCount::new(ctx),
+            prefix_sum: PrefixSum::new(ctx),
+            bucket_fill: BucketFill::new(ctx),
+            contact_search: ContactSearch::new(ctx),
+        }
+    }
+
+    /// Sets the item counts, which never change: `faces` faces, `table` buckets, `queries`
+    /// queries.
+    fn set_counts(&self, ctx: &GpuContext, faces: usize, table: usize, queries: usize) {
+        self.face_cells.0.set_count(ctx, faces as u32);
+        self.bucket_count.0.set_count(ctx, faces as u32);
+        self.prefix_sum.0.set_count(ctx, table as u32);
+        self.bucket_fill.0.set_count(ctx, faces as u32);
+        self.contact_search.0.set_count(ctx, queries as u32);
+    }
+}
+
+/// The search's buffers: the faces and the queries, uploaded once, the grid, and what the
+/// stages write.
+pub(super) struct SearchBuffers {
     grid: Storage,
-    faces_buffer: Storage,
-    counts: Storage,
+    faces: Storage,
+    face_first: Storage,
+    queries: Storage,
+    pub(super) keys: Storage,
+    pub(super) ranks: Storage,
+    pub(super) counts: Storage,
+    pub(super) starts: Storage,
+    pub(super) sorted: Storage,
     points: Storage,
-    staging: Storage,
-    keys: Storage,
-    ranks: Storage,
-    starts: Storage,
-    sorted: Storage,
-    // kept alive for the bind groups
-    _buffers: Vec<Storage>,
+}
+
+impl SearchBuffers {
+    /// Uploads the faces and the queries (see [`GpuSearch::new`]) and allocates the rest for
+    /// a table of `table` buckets.
+    fn new(
+        ctx: &GpuContext,
+        faces: &[[u32; 4]],
+        face_first: &[u32],
+        queries: &[(u32, u32, u32)],
+        table: usize,
+    ) -> Result<Self> {
+        let words = |n: usize| (4 * n) as u64;
+        let nf = faces.len();
+        let point_bytes = queries.len() * std::mem::size_of::<types::ContactPoint>();
+        Ok(SearchBuffers {
+            // a storage buffer: the host writes it (`record`) or a kernel does (the resident
+            // step's `search_grid`)
+            grid: Storage::new(
+                ctx,
+                "search.grid",
+                std::mem::size_of::<types::SearchGrid>() as u64,
+            )?,
+            faces: Storage::with_data(ctx, "search.faces", &to_device::<_, Quad>(faces))?,
+            face_first: Storage::with_data(ctx, "search.face_first", face_first)?,
+            queries: Storage::with_data(
+                ctx,
+                "search.queries",
+                &to_device::<_, ContactQuery>(queries),
+            )?,
+            keys: Storage::new(ctx, "search.keys", words(nf))?,
+            ranks: Storage::new(ctx, "search.ranks", words(nf))?,
+            counts: Storage::new(ctx, "search.counts", words(table))?,
+            starts: Storage::new(ctx, "search.starts", words(table + 1))?,
+            sorted: Storage::new(ctx, "search.sorted", words(nf))?,
+            points: Storage::new(ctx, "search.points", point_bytes as u64)?,
+        })
+    }
+}
+
+/// The five stages' bind groups, in order: `face_cells`, `bucket_count`, `prefix_sum`,
+/// `bucket_fill`, `contact_search`.
+fn binds(
+    ctx: &GpuContext,
+    k: &SearchKernels,
+    b: &SearchBuffers,
+    reference: &wgpu::Buffer,
+    displacement: &wgpu::Buffer,
+    velocity: &wgpu::Buffer,
+) -> [wgpu::BindGroup; 5] {
+    [
+        k.face_cells.bind(
+            ctx,
+            &b.grid.buffer,
+            reference,
+            displacement,
+            &b.faces.buffer,
+            &b.face_first.buffer,
+            &b.keys.buffer,
+        ),
+        k.bucket_count
+            .bind(ctx, &b.keys.buffer, &b.counts.buffer, &b.ranks.buffer),
+        k.prefix_sum.bind(ctx, &b.counts.buffer, &b.starts.buffer),
+        k.bucket_fill.bind(
+            ctx,
+            &b.keys.buffer,
+            &b.ranks.buffer,
+            &b.starts.buffer,
+            &b.sorted.buffer,
+        ),
+        k.contact_search.bind(
+            ctx,
+            &b.grid.buffer,
+            reference,
+            displacement,
+            velocity,
+            &b.queries.buffer,
+            &b.faces.buffer,
+            &b.starts.buffer,
+            &b.sorted.buffer,
+            &b.points.buffer,
+        ),
+    ]
+}
+
+pub struct GpuSearch {
+    kernels: SearchKernels,
+    pub(super) buffers: SearchBuffers,
+    pub(super) staging: Storage,
     binds: [wgpu::BindGroup; 5],
-    faces: usize,
+    pub(super) faces: usize,
     queries: usize,
-    table: usize,
+    pub(super) table: usize,
 }
 
 impl GpuSearch {
@@ -54,95 +170,14 @@ impl GpuSearch {
         queries: &[(u32, u32, u32)],
     ) -> Result<Self> {
         let table = table_size(faces.len());
-        let quads: Vec<Quad> = faces.iter().map(|&nodes| Quad { nodes }).collect();
-        let face_buf = Storage::with_data(ctx, "search.faces", &quads)?;
-        let first_buf = Storage::with_data(ctx, "search.face_first", face_first)?;
-        let q: Vec<ContactQuery> = queries
-            .iter()
-            .map(|&(secondary, first, end)| ContactQuery {
-                secondary,
-                first,
-                end,
-            })
-            .collect();
-        let query_buf = Storage::with_data(ctx, "search.queries", &q)?;
-        let words = |n: usize| (4 * n) as u64;
-        let keys = Storage::new(ctx, "search.keys", words(faces.len()))?;
-        let ranks = Storage::new(ctx, "search.ranks", words(faces.len()))?;
-        let counts = Storage::new(ctx, "search.counts", words(table))?;
-        let starts = Storage::new(ctx, "search.starts", words(table + 1))?;
-        let sorted = Storage::new(ctx, "search.sorted", words(faces.len()))?;
-        let points = Storage::new(
-            ctx,
-            "search.points",
-            (queries.len() * std::mem::size_of::<types::ContactPoint>()) as u64,
-        )?;
-        // a storage buffer: the host writes it (`record`) or a kernel does (the resident
-        // step's `search_grid`)
-        let grid = Storage::new(
-            ctx,
-            "search.grid",
-            std::mem::size_of::<types::SearchGrid>() as u64,
-        )?;
-        let face_cells = FaceCells::new(ctx);
-        let bucket_count = BucketCount::new(ctx);
-        let prefix_sum = PrefixSum::new(ctx);
-        let bucket_fill = BucketFill::new(ctx);
-        let contact_search = ContactSearch::new(ctx);
-        let binds = [
-            face_cells.bind(
-                ctx,
-                &grid.buffer,
-                reference,
-                displacement,
-                &face_buf.buffer,
-                &first_buf.buffer,
-                &keys.buffer,
-            ),
-            bucket_count.bind(ctx, &keys.buffer, &counts.buffer, &ranks.buffer),
-            prefix_sum.bind(ctx, &counts.buffer, &starts.buffer),
-            bucket_fill.bind(
-                ctx,
-                &keys.buffer,
-                &ranks.buffer,
-                &starts.buffer,
-                &sorted.buffer,
-            ),
-            contact_search.bind(
-                ctx,
-                &grid.buffer,
-                reference,
-                displacement,
-                velocity,
-                &query_buf.buffer,
-                &face_buf.buffer,
-                &starts.buffer,
-                &sorted.buffer,
-                &points.buffer,
-            ),
-        ];
-        // the counts never change: set them once
-        face_cells.0.set_count(ctx, faces.len() as u32);
-        bucket_count.0.set_count(ctx, faces.len() as u32);
-        prefix_sum.0.set_count(ctx, table as u32);
-        bucket_fill.0.set_count(ctx, faces.len() as u32);
-        contact_search.0.set_count(ctx, queries.len() as u32);
+        let buffers = SearchBuffers::new(ctx, faces, face_first, queries, table)?;
+        let kernels = SearchKernels::new(ctx);
+        let binds = binds(ctx, &kernels, &buffers, reference, displacement, velocity);
+        kernels.set_counts(ctx, faces.len(), table, queries.len());
         Ok(GpuSearch {
-            face_cells,
-            bucket_count,
-            prefix_sum,
-            bucket_fill,
-            contact_search,
-            grid,
-            counts,
-            points,
+            kernels,
+            buffers,
             staging: staging(ctx)?,
-            keys,
-            ranks,
-            starts,
-            sorted,
-            faces_buffer: face_buf,
-            _buffers: vec![first_buf, query_buf],
             binds,
             faces: faces.len(),
             queries: queries.len(),
@@ -159,72 +194,46 @@ impl GpuSearch {
             pad: 0,
         };
         ctx.queue
-            .write_buffer(&self.grid.buffer, 0, bytemuck::bytes_of(&g));
+            .write_buffer(&self.buffers.grid.buffer, 0, bytemuck::bytes_of(&g));
         self.record_stages(enc);
     }
 
     /// Records a whole search with the grid already in [`Self::grid_buffer`] when it runs.
     pub fn record_stages(&self, enc: &mut wgpu::CommandEncoder) {
-        enc.clear_buffer(&self.counts.buffer, 0, None);
+        let (k, b) = (&self.kernels, &self.binds);
+        enc.clear_buffer(&self.buffers.counts.buffer, 0, None);
         let f = self.faces as u32;
-        self.face_cells
+        k.face_cells.0.record(enc, &b[0], k.face_cells.0.grid(f));
+        k.bucket_count
             .0
-            .record(enc, &self.binds[0], self.face_cells.0.grid(f));
-        self.bucket_count
-            .0
-            .record(enc, &self.binds[1], self.bucket_count.0.grid(f));
+            .record(enc, &b[1], k.bucket_count.0.grid(f));
         // one workgroup scans the whole table
-        self.prefix_sum.0.record(enc, &self.binds[2], [1, 1]);
-        self.bucket_fill
+        k.prefix_sum.0.record(enc, &b[2], [1, 1]);
+        k.bucket_fill.0.record(enc, &b[3], k.bucket_fill.0.grid(f));
+        let q = self.queries as u32;
+        k.contact_search
             .0
-            .record(enc, &self.binds[3], self.bucket_fill.0.grid(f));
-        self.contact_search.0.record(
-            enc,
-            &self.binds[4],
-            self.contact_search.0.grid(self.queries as u32),
-        );
+            .record(enc, &b[4], k.contact_search.0.grid(q));
     }
 
     /// The search grid ([`types::SearchGrid`]) the stages read.
     pub fn grid_buffer(&self) -> &wgpu::Buffer {
-        &self.grid.buffer
+        &self.buffers.grid.buffer
     }
 
     /// The contact point of each query after a search.
     pub fn points_buffer(&self) -> &wgpu::Buffer {
-        &self.points.buffer
+        &self.buffers.points.buffer
     }
 
     /// The primary faces ([`types::Quad`]).
     pub fn faces_buffer(&self) -> &wgpu::Buffer {
-        &self.faces_buffer.buffer
+        &self.buffers.faces.buffer
     }
 
     /// The table's mask (buckets - 1).
     pub fn mask(&self) -> u32 {
         (self.table - 1) as u32
-    }
-
-    /// The last search's sort, for the kernel tests: each face's key and rank, the bucket
-    /// sizes, the bucket starts (one more than buckets) and the sorted faces.
-    pub fn read_sort(&mut self, ctx: &GpuContext) -> Result<[Vec<u32>; 5]> {
-        let f = self.faces;
-        let t = self.table;
-        let mut read = |b: &Storage, n: usize| -> Result<Vec<u32>> {
-            let enc = ctx
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("search.read"),
-                });
-            submit_and_read(ctx, &mut self.staging, enc, &b.buffer, n)
-        };
-        Ok([
-            read(&self.keys, f)?,
-            read(&self.ranks, f)?,
-            read(&self.counts, t)?,
-            read(&self.starts, t + 1)?,
-            read(&self.sorted, f)?,
-        ])
     }
 
     /// Runs a search after `enc`'s work and reads the contact points back.
@@ -239,7 +248,7 @@ impl GpuSearch {
             ctx,
             &mut self.staging,
             enc,
-            &self.points.buffer,
+            &self.buffers.points.buffer,
             self.queries,
         )?;
         Ok(pts.into_iter().map(ContactPoint::from).collect())

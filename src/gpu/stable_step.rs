@@ -1,5 +1,5 @@
 //! Every element's stable step on the device, by the `stable_step` kernel (CPU twin:
-//! [`crate::kernels::stable_step`]).
+//! [`crate::kernels::stable_step()`]).
 
 use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
@@ -35,11 +35,7 @@ pub fn element_steps(ctx: &GpuContext, data: &ElementData) -> Result<Vec<f64>> {
         &steps.buffer,
     );
     let grid = kernel.0.set_count_aux(ctx, count as u32, nhex);
-    let mut enc = ctx
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("stable_step"),
-        });
+    let mut enc = ctx.encoder("stable_step");
     kernel.0.record(&mut enc, &bind, grid);
     let mut staging = staging(ctx)?;
     let out: Vec<f32> = submit_and_read(ctx, &mut staging, enc, &steps.buffer, count)?;

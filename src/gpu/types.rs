@@ -3,8 +3,15 @@
 //! structs.
 
 use bytemuck::{Pod, Zeroable};
+use rayon::prelude::*;
 
+use crate::kernels;
 use crate::kernels::contact_gap::{ContactPoint as CpuContactPoint, NO_FACE};
+
+/// Host values (f64) as the device's type (f32), each by its `From`, on all threads.
+pub fn to_device<'a, H: Sync + 'a, D: From<&'a H> + Send>(host: &'a [H]) -> Vec<D> {
+    host.par_iter().map(D::from).collect()
+}
 
 /// Launch parameters: `count` items over a 2D grid whose rows are `row` items long.
 #[repr(C)]
@@ -66,11 +73,28 @@ pub struct ContactQuery {
     pub end: u32,
 }
 
+/// A query as `(secondary node, first face, end face)`.
+impl From<&(u32, u32, u32)> for ContactQuery {
+    fn from(&(secondary, first, end): &(u32, u32, u32)) -> Self {
+        ContactQuery {
+            secondary,
+            first,
+            end,
+        }
+    }
+}
+
 /// A primary quad, outward oriented.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
 pub struct Quad {
     pub nodes: [u32; 4],
+}
+
+impl From<&[u32; 4]> for Quad {
+    fn from(&nodes: &[u32; 4]) -> Self {
+        Quad { nodes }
+    }
 }
 
 /// Contact kinematics of one query (`face = 0xffffffff`: no candidate).
@@ -123,6 +147,16 @@ pub struct Lumped {
     pub ext_acc: [f32; 3],
 }
 
+impl From<&kernels::LumpedNode> for Lumped {
+    fn from(l: &kernels::LumpedNode) -> Self {
+        Lumped {
+            mass: l.mass as f32,
+            inv_mass: l.inv_mass.map(|x| x as f32),
+            ext_acc: l.ext_acc.map(|x| x as f32),
+        }
+    }
+}
+
 /// An analytic rigid plane (twin: [`crate::kernels::plane_contact::PlaneData`]).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
@@ -130,6 +164,16 @@ pub struct Plane {
     pub point: Split3,
     pub normal: [f32; 3],
     pub mu: f32,
+}
+
+impl From<&kernels::PlaneData> for Plane {
+    fn from(p: &kernels::PlaneData) -> Self {
+        Plane {
+            point: Split3::split(p.point),
+            normal: p.normal.map(|x| x as f32),
+            mu: p.mu as f32,
+        }
+    }
 }
 
 /// A secondary node of the rigid planes and its planes as a bit set.
@@ -140,6 +184,15 @@ pub struct PlaneNode {
     pub planes: u32,
 }
 
+impl From<&kernels::PlaneNode> for PlaneNode {
+    fn from(p: &kernels::PlaneNode) -> Self {
+        PlaneNode {
+            node: p.node,
+            planes: p.planes,
+        }
+    }
+}
+
 /// One history value (twin: [`crate::kernels::history_reduce::ReduceColumn`]).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
@@ -148,6 +201,17 @@ pub struct ReduceColumn {
     pub count: u32,
     pub stride: u32,
     pub op: u32,
+}
+
+impl From<&kernels::ReduceColumn> for ReduceColumn {
+    fn from(c: &kernels::ReduceColumn) -> Self {
+        ReduceColumn {
+            first: c.first,
+            count: c.count,
+            stride: c.stride,
+            op: c.op,
+        }
+    }
 }
 
 /// Constants of the explicit step.
@@ -181,6 +245,18 @@ pub struct ContactPair {
     pub normal: [f32; 3],
 }
 
+impl From<&kernels::ContactPair> for ContactPair {
+    fn from(p: &kernels::ContactPair) -> Self {
+        ContactPair {
+            node: p.node,
+            query: p.query,
+            mu: p.mu as f32,
+            point: Split3::split(p.point),
+            normal: p.normal.map(|x| x as f32),
+        }
+    }
+}
+
 /// One constraint of the device contact iteration (twin: [`crate::kernels::Constraint`]).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
@@ -196,9 +272,9 @@ pub struct Constraint {
     pub in_reach: u32,
 }
 
-impl From<Constraint> for crate::kernels::Constraint {
+impl From<Constraint> for kernels::Constraint {
     fn from(c: Constraint) -> Self {
-        crate::kernels::Constraint {
+        kernels::Constraint {
             face: c.face,
             weights: c.weights.map(f64::from),
             normal: c.normal.map(f64::from),
@@ -212,8 +288,8 @@ impl From<Constraint> for crate::kernels::Constraint {
     }
 }
 
-impl From<&crate::kernels::Constraint> for Constraint {
-    fn from(c: &crate::kernels::Constraint) -> Self {
+impl From<&kernels::Constraint> for Constraint {
+    fn from(c: &kernels::Constraint) -> Self {
         Constraint {
             face: c.face,
             weights: c.weights.map(|x| x as f32),
@@ -237,6 +313,18 @@ pub struct ContactNode {
     pub pair_end: u32,
     pub face_first: u32,
     pub face_end: u32,
+}
+
+impl From<&kernels::ContactNode> for ContactNode {
+    fn from(c: &kernels::ContactNode) -> Self {
+        ContactNode {
+            node: c.node,
+            pair_first: c.pair_first,
+            pair_end: c.pair_end,
+            face_first: c.face_first,
+            face_end: c.face_end,
+        }
+    }
 }
 
 /// A struct's WGSL name, Rust size, and (field name, Rust offset) in declaration order.

@@ -70,6 +70,10 @@ pub struct SweepLimits {
 /// `a` is $a_n$ (for the slip of $v_{n-1/2} = v^* - \Delta t\, a_n$ in the friction work);
 /// `results` holds [`SLOT`] floats per (node, plane), node-major, and its friction work
 /// entries carry over from the last step.
+///
+/// One node at a time, in the kernel's steps: its planes' gaps and the planes in reach
+/// (`planes_in_reach`), its sweeps (`sweeps`, each a `sweep`), its new velocity, and its
+/// results per plane (`report`).
 #[allow(clippy::too_many_arguments)]
 pub fn plane_contact(
     limits: SweepLimits,
@@ -82,99 +86,152 @@ pub fn plane_contact(
     v: &mut [f64],
     results: &mut [f64],
 ) {
-    let np = planes.len().min(MAX_PLANES);
+    let planes = &planes[..planes.len().min(MAX_PLANES)];
+    let np = planes.len();
     let dt = limits.dt;
     for (i, pn) in nodes.iter().enumerate() {
         let n = pn.node as usize;
-        let on = |p: usize| pn.planes & (1 << p) != 0;
-        let inv = lumped[n].inv_mass;
-        let mut vel = [v[3 * n], v[3 * n + 1], v[3 * n + 2]];
+        let vel = [v[3 * n], v[3 * n + 1], v[3 * n + 2]];
+        // v_{n-1/2} = v* - dt a_n: the slip before the step, for the friction work
         let before: [f64; 3] = std::array::from_fn(|ax| vel[ax] - dt * a[3 * n + ax]);
         let x: [f64; 3] = std::array::from_fn(|ax| reference[n][ax] + u[3 * n + ax]);
-        let gap: Vec<f64> = (0..np)
-            .map(|p| {
-                let pl = &planes[p];
-                -dot(std::array::from_fn(|ax| x[ax] - pl.point[ax]), pl.normal)
-            })
-            .collect();
-        // the planes in reach: those the node could meet within four steps of its motion
-        let reach = -4.0 * dt * norm(vel);
-        let on = |p: usize| on(p) && gap[p] >= reach;
-        let touches = (0..np).filter(|&p| on(p)).count() as f64;
-        let mut jn = [0.0f64; MAX_PLANES];
-        let mut jt = [[0.0f64; 3]; MAX_PLANES];
-        // the largest inverse mass bounds |n_p . M^-1 n_q| (Gershgorin), prescribed dofs too
-        let inv_max = inv.iter().copied().fold(0.0, f64::max);
-        let mut sweeps = 0;
-        // a node with no plane in reach takes no sweep
-        let mut converged = !(0..np).any(on);
-        while !converged && sweeps < limits.max_iterations {
-            sweeps += 1;
-            let mut violation = 0.0f64;
-            let mut dv = [0.0f64; 3];
-            for p in (0..np).filter(|&p| on(p)) {
-                let nrm = planes[p].normal;
-                // a normal that meets only prescribed dofs cannot be enforced
-                if (0..3).map(|ax| nrm[ax] * nrm[ax] * inv[ax]).sum::<f64>() <= 0.0 {
-                    continue;
-                }
-                let up = impulse_update(
-                    gap[p],
-                    dt,
-                    vel,
-                    nrm,
-                    touches * inv_max,
-                    planes[p].mu,
-                    jn[p],
-                    jt[p],
-                );
-                violation = violation.max(up.violation);
-                (jn[p], jt[p]) = (up.jn, up.jt);
-                let dj = up.dj;
-                for ax in 0..3 {
-                    dv[ax] += dj[ax] * inv[ax];
-                }
-            }
-            for ax in 0..3 {
-                vel[ax] += dv[ax];
-            }
-            if violation <= limits.tolerance {
-                converged = true;
-                break;
-            }
+        let (gap, mask) = planes_in_reach(planes, pn.planes, x, -4.0 * dt * norm(vel));
+        let node = sweeps(limits, planes, &gap, mask, lumped[n].inv_mass, vel);
+        v[3 * n..3 * n + 3].copy_from_slice(&node.vel);
+        let r = &mut results[SLOT * i * np..SLOT * (i + 1) * np];
+        report(dt, planes, pn.planes, &gap, before, &node, r);
+    }
+}
+
+/// A node's state through its sweeps: its velocity and its impulses on each plane.
+struct NodeSweeps {
+    vel: [f64; 3],
+    jn: [f64; MAX_PLANES],
+    jt: [[f64; 3]; MAX_PLANES],
+    /// The sweeps taken, or `max_iterations + 1` where the node did not converge.
+    reported: f64,
+}
+
+/// The gap to each plane at `x`, and the planes in reach as a bit set: the node's planes
+/// (`own`) that it could meet within four steps of its motion (`gap >= reach`, with
+/// `reach` = $-4 \Delta t |v^*|$).
+fn planes_in_reach(planes: &[PlaneData], own: u32, x: [f64; 3], reach: f64) -> (Vec<f64>, u32) {
+    let gap: Vec<f64> = planes
+        .iter()
+        .map(|pl| -dot(std::array::from_fn(|ax| x[ax] - pl.point[ax]), pl.normal))
+        .collect();
+    let mask = (0..planes.len())
+        .filter(|&p| own & (1 << p) != 0 && gap[p] >= reach)
+        .fold(0u32, |m, p| m | 1 << p);
+    (gap, mask)
+}
+
+/// The projected Jacobi sweeps of one node on its planes in reach (`mask`), from the
+/// velocity $v^*$, until no gap rate is violated by more than the tolerance or
+/// `max_iterations` sweeps are taken.
+fn sweeps(
+    limits: SweepLimits,
+    planes: &[PlaneData],
+    gap: &[f64],
+    mask: u32,
+    inv: [f64; 3],
+    vel: [f64; 3],
+) -> NodeSweeps {
+    // the largest inverse mass bounds |n_p . M^-1 n_q| (Gershgorin), prescribed dofs too
+    let inv_max = inv.iter().copied().fold(0.0, f64::max);
+    let compliance = mask.count_ones() as f64 * inv_max;
+    let mut node = NodeSweeps {
+        vel,
+        jn: [0.0; MAX_PLANES],
+        jt: [[0.0; 3]; MAX_PLANES],
+        reported: 0.0,
+    };
+    let mut sweeps = 0;
+    // a node with no plane in reach takes no sweep
+    let mut converged = mask == 0;
+    while !converged && sweeps < limits.max_iterations {
+        sweeps += 1;
+        let violation = sweep(limits.dt, planes, gap, mask, inv, compliance, &mut node);
+        converged = violation <= limits.tolerance;
+    }
+    node.reported = if converged {
+        sweeps
+    } else {
+        limits.max_iterations + 1
+    } as f64;
+    node
+}
+
+/// One sweep: every plane in reach's impulse update from the sweep's starting velocity, then
+/// their velocity changes applied together; returns the largest violation.
+fn sweep(
+    dt: f64,
+    planes: &[PlaneData],
+    gap: &[f64],
+    mask: u32,
+    inv: [f64; 3],
+    compliance: f64,
+    node: &mut NodeSweeps,
+) -> f64 {
+    let mut violation = 0.0f64;
+    let mut dv = [0.0f64; 3];
+    let in_reach = |&(p, _): &(usize, &PlaneData)| mask & (1 << p) != 0;
+    for (p, plane) in planes.iter().enumerate().filter(in_reach) {
+        let nrm = plane.normal;
+        // a normal that meets only prescribed dofs cannot be enforced
+        if (0..3).map(|ax| nrm[ax] * nrm[ax] * inv[ax]).sum::<f64>() <= 0.0 {
+            continue;
         }
-        v[3 * n..3 * n + 3].copy_from_slice(&vel);
-        let reported = if converged {
-            sweeps
-        } else {
-            limits.max_iterations + 1
-        } as f64;
-        for p in 0..np {
-            let o = SLOT * (i * np + p);
-            let r = &mut results[o..o + SLOT];
-            if pn.planes & (1 << p) == 0 {
-                r.fill(0.0);
-                r[slot::GAP] = f64::NEG_INFINITY;
-                continue;
-            }
-            let nrm = planes[p].normal;
-            let mu = planes[p].mu;
-            let rn = dot(vel, nrm);
-            r[slot::NORMAL_IMPULSE] = jn[p];
-            r[slot::FRICTION_IMPULSE..slot::FRICTION_IMPULSE + 3].copy_from_slice(&jt[p]);
-            r[slot::ACTIVE] = f64::from(u8::from(jn[p] > 0.0));
-            let sliding = mu > 0.0 && jn[p] > 0.0 && norm(jt[p]) >= mu * jn[p] * (1.0 - 1e-6);
-            r[slot::SLIDING] = f64::from(u8::from(sliding));
-            r[slot::GAP] = gap[p] - dt * rn;
-            if mu > 0.0 {
-                let slip: [f64; 3] = std::array::from_fn(|ax| vel[ax] - rn * nrm[ax]);
-                let bn = dot(before, nrm);
-                let slip_before: [f64; 3] = std::array::from_fn(|ax| before[ax] - bn * nrm[ax]);
-                r[slot::FRICTION_WORK] -= (0..3)
-                    .map(|ax| jt[p][ax] * 0.5 * (slip_before[ax] + slip[ax]))
-                    .sum::<f64>();
-            }
-            r[slot::SWEEPS] = reported;
+        let up = impulse_update(
+            gap[p], dt, node.vel, nrm, compliance, plane.mu, node.jn[p], node.jt[p],
+        );
+        violation = violation.max(up.violation);
+        (node.jn[p], node.jt[p]) = (up.jn, up.jt);
+        for ax in 0..3 {
+            dv[ax] += up.dj[ax] * inv[ax];
         }
+    }
+    for ax in 0..3 {
+        node.vel[ax] += dv[ax];
+    }
+    violation
+}
+
+/// Writes the node's results, [`SLOT`] floats per plane, into `r`: zeros and no gap for the
+/// planes it is not secondary to (`own`); the impulses, whether it is active and sliding,
+/// the linearised end-of-step gap, the friction work added and the sweeps for the others.
+fn report(
+    dt: f64,
+    planes: &[PlaneData],
+    own: u32,
+    gap: &[f64],
+    before: [f64; 3],
+    node: &NodeSweeps,
+    r: &mut [f64],
+) {
+    let vel = node.vel;
+    for (p, (plane, r)) in planes.iter().zip(r.chunks_exact_mut(SLOT)).enumerate() {
+        if own & (1 << p) == 0 {
+            r.fill(0.0);
+            r[slot::GAP] = f64::NEG_INFINITY;
+            continue;
+        }
+        let (nrm, mu, jn, jt) = (plane.normal, plane.mu, node.jn[p], node.jt[p]);
+        let rn = dot(vel, nrm);
+        r[slot::NORMAL_IMPULSE] = jn;
+        r[slot::FRICTION_IMPULSE..slot::FRICTION_IMPULSE + 3].copy_from_slice(&jt);
+        r[slot::ACTIVE] = f64::from(u8::from(jn > 0.0));
+        let sliding = mu > 0.0 && jn > 0.0 && norm(jt) >= mu * jn * (1.0 - 1e-6);
+        r[slot::SLIDING] = f64::from(u8::from(sliding));
+        r[slot::GAP] = gap[p] - dt * rn;
+        if mu > 0.0 {
+            let slip: [f64; 3] = std::array::from_fn(|ax| vel[ax] - rn * nrm[ax]);
+            let bn = dot(before, nrm);
+            let slip_before: [f64; 3] = std::array::from_fn(|ax| before[ax] - bn * nrm[ax]);
+            r[slot::FRICTION_WORK] -= (0..3)
+                .map(|ax| jt[ax] * 0.5 * (slip_before[ax] + slip[ax]))
+                .sum::<f64>();
+        }
+        r[slot::SWEEPS] = node.reported;
     }
 }

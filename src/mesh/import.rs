@@ -94,33 +94,10 @@ pub fn finish(
             "the file has no hex8 or tet4 elements (a body needs volume elements)",
         ));
     }
-    // keep the nodes the elements use, in file order
-    let mut new_index = vec![u32::MAX; file.nodes.len()];
-    let used = file
-        .hexes
-        .iter()
-        .flat_map(|h| h.iter())
-        .chain(file.tets.iter().flat_map(|t| t.iter()));
-    for &n in used {
-        new_index[n as usize] = 0;
-    }
-    let mut nodes = Vec::new();
-    for (i, p) in file.nodes.iter().enumerate() {
-        if new_index[i] == 0 {
-            new_index[i] = nodes.len() as u32;
-            nodes.push([0, 1, 2].map(|a| scale * p[a] + translate[a]));
-        }
-    }
-    let mut hexes: Vec<[u32; 8]> = file
-        .hexes
-        .iter()
-        .map(|h| h.map(|n| new_index[n as usize]))
-        .collect();
-    let mut tets: Vec<[u32; 4]> = file
-        .tets
-        .iter()
-        .map(|t| t.map(|n| new_index[n as usize]))
-        .collect();
+    let new_index = used_node_index(&file);
+    let nodes = used_nodes(&file.nodes, &new_index, scale, translate);
+    let mut hexes: Vec<[u32; 8]> = file.hexes.iter().map(|h| renumber(h, &new_index)).collect();
+    let mut tets: Vec<[u32; 4]> = file.tets.iter().map(|t| renumber(t, &new_index)).collect();
     orient(&nodes, &mut hexes, &mut tets).map_err(|d| {
         ParseError::whole(format!(
             "{} number {} (in file order) has zero volume ({:.3e}); it cannot be oriented",
@@ -131,52 +108,15 @@ pub fn finish(
     })?;
     let boundary = boundary_faces(&hexes, &tets);
     let index = BoundaryIndex::new(&boundary);
-    let mut surfaces = Vec::with_capacity(file.surfaces.len());
-    for s in file.surfaces {
-        let mut faces = Vec::with_capacity(s.faces.len());
-        for f in &s.faces {
-            let local: Option<Vec<u32>> = f
-                .iter()
-                .map(|&n| Some(new_index[n as usize]).filter(|&i| i != u32::MAX))
-                .collect();
-            let found = local.and_then(|l| index.find(&l));
-            match found {
-                Some(q) => faces.push(q),
-                None => {
-                    return Err(ParseError::at(
-                        s.line,
-                        format!(
-                            "surface `{}`: the face with nodes {:?} (0-based, in file order) is not on the boundary of the body's elements",
-                            s.name, f
-                        ),
-                    ))
-                }
-            }
-        }
-        faces.sort_unstable();
-        faces.dedup();
-        surfaces.push(Surface {
-            name: s.name,
-            faces,
-        });
-    }
+    let surfaces = file
+        .surfaces
+        .into_iter()
+        .map(|s| boundary_surface(s, &new_index, &index))
+        .collect::<std::result::Result<_, _>>()?;
     let node_sets = file
         .node_sets
         .into_iter()
-        .map(|s| {
-            let mut nodes: Vec<u32> = s
-                .nodes
-                .iter()
-                .map(|&n| new_index[n as usize])
-                .filter(|&i| i != u32::MAX)
-                .collect();
-            nodes.sort_unstable();
-            nodes.dedup();
-            NodeSet {
-                name: s.name,
-                nodes,
-            }
-        })
+        .map(|s| renumber_node_set(s, &new_index))
         .collect();
     Ok(BodyParts {
         nodes,
@@ -186,4 +126,100 @@ pub fn finish(
         surfaces,
         node_sets,
     })
+}
+
+/// Unused file nodes (`new_index[n] == u32::MAX`).
+const UNUSED: u32 = u32::MAX;
+
+/// The new index of each file node: the nodes the elements use, numbered in file order;
+/// [`UNUSED`] for the others.
+fn used_node_index(file: &FileMesh) -> Vec<u32> {
+    let mut used = vec![false; file.nodes.len()];
+    let corners = file
+        .hexes
+        .iter()
+        .flat_map(|h| h.iter())
+        .chain(file.tets.iter().flat_map(|t| t.iter()));
+    for &n in corners {
+        used[n as usize] = true;
+    }
+    let mut next = 0;
+    used.iter()
+        .map(|&u| {
+            if !u {
+                return UNUSED;
+            }
+            next += 1;
+            next - 1
+        })
+        .collect()
+}
+
+/// The used nodes, in file order, scaled by `scale` about the origin and then translated.
+fn used_nodes(
+    nodes: &[[f64; 3]],
+    new_index: &[u32],
+    scale: f64,
+    translate: [f64; 3],
+) -> Vec<[f64; 3]> {
+    nodes
+        .iter()
+        .zip(new_index)
+        .filter(|&(_, &i)| i != UNUSED)
+        .map(|(p, _)| [0, 1, 2].map(|a| scale * p[a] + translate[a]))
+        .collect()
+}
+
+/// An element's nodes by their new index.
+fn renumber<const N: usize>(element: &[u32; N], new_index: &[u32]) -> [u32; N] {
+    element.map(|n| new_index[n as usize])
+}
+
+/// A file surface as the outward boundary faces it names (sorted, without repeats); an
+/// error names the first face that is not on the boundary.
+fn boundary_surface(
+    s: FileSurface,
+    new_index: &[u32],
+    index: &BoundaryIndex,
+) -> std::result::Result<Surface, ParseError> {
+    let mut faces = Vec::with_capacity(s.faces.len());
+    for f in &s.faces {
+        let local: Option<Vec<u32>> = f
+            .iter()
+            .map(|&n| Some(new_index[n as usize]).filter(|&i| i != UNUSED))
+            .collect();
+        let Some(q) = local.and_then(|l| index.find(&l)) else {
+            return Err(ParseError::at(
+                s.line,
+                format!(
+                    "surface `{}`: the face with nodes {:?} (0-based, in file order) is not on the boundary of the body's elements",
+                    s.name, f
+                ),
+            ));
+        };
+        faces.push(q);
+    }
+    faces.sort_unstable();
+    faces.dedup();
+    Ok(Surface {
+        name: s.name,
+        faces,
+    })
+}
+
+/// A node set by the new indices (sorted, without repeats), its nodes that no element uses
+/// left out.
+fn renumber_node_set(s: NodeSet, new_index: &[u32]) -> NodeSet {
+    let mut nodes: Vec<u32> = s
+        .nodes
+        .iter()
+        .map(|&n| new_index[n as usize])
+        .filter(|&i| i != UNUSED)
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    NodeSet {
+        name: s.name,
+        nodes,
+    }
 }

@@ -1,0 +1,426 @@
+//! The read-back and single-stage hooks that tests and benches use to compare device buffers
+//! with the CPU twins: a stage or a kernel run alone on inputs the caller uploads
+//! ([`ResidentExplicit::run_stage`], [`GpuKernels::corner_forces`], [`ContactIteration::run`]),
+//! the buffers it wrote read back in f64 (`read_*`), and the timings of the benchmarks
+//! ([`ResidentExplicit::time_stage`], [`GpuKernels::time_kernel`], `copy_bandwidth`). The
+//! `tests/gpu_*.rs` twin tests and `benches/` call them; the solver never does.
+
+use std::time::{Duration, Instant};
+
+use super::buffer::{read_back, read_floats, submit_and_read, Storage};
+use super::context::GpuContext;
+use super::engine::{bytes_of, corner_slot, GpuKernels};
+use super::explicit_step::{to_f32, ResidentExplicit};
+use super::search::GpuSearch;
+use super::types;
+use super::ContactIteration;
+use crate::error::Result;
+use crate::kernels::plane_contact::SLOT;
+use crate::kernels::sweep_control::word;
+use crate::kernels::{Constraint, ContactPoint, ReduceColumn, SweepState};
+
+/// Wall time of `enc`'s commands alone: the device is left idle first, then they are
+/// submitted and waited for.
+fn time_submission(ctx: &GpuContext, enc: wgpu::CommandEncoder) -> Result<Duration> {
+    let commands = enc.finish();
+    ctx.wait()?;
+    let start = Instant::now();
+    ctx.queue.submit([commands]);
+    ctx.wait()?;
+    Ok(start.elapsed())
+}
+
+/// The kernels of [`GpuKernels`], for timing them one by one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KernelId {
+    Hex8Forces,
+    Tet4Forces,
+    NodeGather,
+    ContactGap,
+    SlipRate,
+}
+
+impl GpuKernels {
+    /// The device contact search (after the first `contact_search_into`) and the context.
+    pub fn search_parts(&mut self) -> Option<(&GpuContext, &mut GpuSearch)> {
+        self.search.as_mut().map(|s| (&self.ctx, s))
+    }
+
+    /// The device's corner slot of each of the twin's corner ids, in twin order.
+    fn slot_of(&self, c: usize) -> usize {
+        corner_slot(c, self.elements, self.tets_count)
+    }
+
+    /// Records the element kernels (hex8 then tet4, each only if the mesh has such elements)
+    /// that fill the corner forces, each in a pass of its own.
+    fn record_elements(&self, enc: &mut wgpu::CommandEncoder) {
+        let (k, l) = (&self.kernels, &self.launches);
+        if self.elements > 0 {
+            k.hex8_forces.0.record_launch(enc, &l.hex8);
+        }
+        if self.tets_count > 0 {
+            k.tet4_forces.0.record_launch(enc, &l.tet4);
+        }
+    }
+
+    /// Runs the element kernels alone: corner forces `[8 e + k]` of the hexes, then
+    /// `[8 hexes + 4 t + k]` of the tets (the twin's order), for the displacement `u`.
+    pub fn corner_forces(&mut self, u: &[f64]) -> Result<Vec<[f64; 3]>> {
+        self.upload_nodal(false, u)?;
+        if self.fill_nan {
+            self.corners
+                .fill_nan(&self.ctx, bytes_of::<f32>(self.corner_floats()));
+        }
+        let mut enc = self.ctx.encoder("element_forces");
+        self.record_elements(&mut enc);
+        let slots = self.corner_floats() / 3;
+        let out: Vec<f32> = submit_and_read(
+            &self.ctx,
+            &mut self.staging,
+            enc,
+            &self.corners.buffer,
+            3 * slots,
+        )?;
+        Ok((0..slots)
+            .map(|c| {
+                let s = self.slot_of(c);
+                [0, 1, 2].map(|a| out[a * slots + s] as f64)
+            })
+            .collect())
+    }
+
+    /// Runs `node_gather` alone on the given corner forces (the twin's order).
+    pub fn gather(&mut self, corners: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
+        let slots = corners.len();
+        let mut c = vec![0f32; 3 * slots];
+        for (i, f) in corners.iter().enumerate() {
+            let s = self.slot_of(i);
+            for a in 0..3 {
+                c[a * slots + s] = f[a] as f32;
+            }
+        }
+        self.corners.upload(&self.ctx, &c)?;
+        if self.fill_nan {
+            self.forces
+                .fill_nan(&self.ctx, bytes_of::<f32>(3 * self.nodes));
+        }
+        let mut enc = self.ctx.encoder("node_gather");
+        let gather = &self.launches.gather;
+        self.kernels.node_gather.0.record_launch(&mut enc, gather);
+        let out: Vec<[f32; 3]> = submit_and_read(
+            &self.ctx,
+            &mut self.staging,
+            enc,
+            &self.forces.buffer,
+            self.nodes,
+        )?;
+        Ok(out.into_iter().map(|f| f.map(f64::from)).collect())
+    }
+
+    /// Records `reps` dispatches of one kernel on the current data in one pass, waits, and
+    /// returns the elapsed wall time (contact kernels use the last queries).
+    pub fn time_kernel(&mut self, kernel: KernelId, reps: usize) -> Result<Duration> {
+        let mut enc = self.ctx.encoder("timing");
+        let (k, l) = (&self.kernels, &self.launches);
+        // the element kernels' launches are fixed; the contact kernels' counts follow the
+        // last queries
+        let (kernel, bind, grid) = match kernel {
+            KernelId::Hex8Forces => (&k.hex8_forces.0, &l.hex8.bind, l.hex8.grid),
+            KernelId::Tet4Forces => (&k.tet4_forces.0, &l.tet4.bind, l.tet4.grid),
+            KernelId::NodeGather => (&k.node_gather.0, &l.gather.bind, l.gather.grid),
+            KernelId::ContactGap => self.contact_dispatch(true)?,
+            KernelId::SlipRate => self.contact_dispatch(false)?,
+        };
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("timing"),
+                timestamp_writes: None,
+            });
+            for _ in 0..reps {
+                kernel.dispatch_with(&mut pass, bind, grid);
+            }
+        }
+        // the idle wait first also settles earlier work (the params write)
+        time_submission(&self.ctx, enc)
+    }
+
+    /// Copy bandwidth of the device in bytes per second: a buffer-to-buffer copy of `bytes`
+    /// (the reference for the kernels' effective bandwidth).
+    pub fn copy_bandwidth(&self, bytes: u64, reps: usize) -> Result<f64> {
+        let bytes = bytes.min(self.ctx.max_binding()).next_multiple_of(4);
+        let make = |label| {
+            self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let (a, b) = (make("copy.a"), make("copy.b"));
+        // warm up (first touch allocates on software adapters)
+        let mut enc = self.ctx.encoder("copy");
+        enc.copy_buffer_to_buffer(&a, 0, &b, 0, bytes);
+        self.ctx.submit_and_wait(enc)?;
+        let mut enc = self.ctx.encoder("copy");
+        for _ in 0..reps {
+            enc.copy_buffer_to_buffer(&a, 0, &b, 0, bytes);
+        }
+        let elapsed = time_submission(&self.ctx, enc)?;
+        // a copy reads and writes every byte
+        Ok(2.0 * bytes as f64 * reps as f64 / elapsed.as_secs_f64())
+    }
+}
+
+impl GpuSearch {
+    /// The last search's sort: each face's key and rank, the bucket sizes, the bucket starts
+    /// (one more than buckets) and the sorted faces.
+    pub fn read_sort(&mut self, ctx: &GpuContext) -> Result<[Vec<u32>; 5]> {
+        let (f, t, b) = (self.faces, self.table, &self.buffers);
+        let mut read =
+            |s: &Storage, n| read_back(ctx, &mut self.staging, "search.read", &s.buffer, n);
+        Ok([
+            read(&b.keys, f)?,
+            read(&b.ranks, f)?,
+            read(&b.counts, t)?,
+            read(&b.starts, t + 1)?,
+            read(&b.sorted, f)?,
+        ])
+    }
+}
+
+/// One stage of the resident step, for running it alone ([`ResidentExplicit::run_stage`]):
+/// the kernel tests compare each with its CPU twin, the benchmarks time each.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stage {
+    Predict,
+    PlaneContact,
+    Drift,
+    InternalForces,
+    Correct,
+    Reduce,
+}
+
+impl ResidentExplicit {
+    /// The device contact iteration, if the step has one, with the context (to run its
+    /// stages alone).
+    pub fn contact_iteration(&mut self) -> Option<(&GpuContext, &mut ContactIteration)> {
+        let ctx = &self.k.ctx;
+        self.contact.as_mut().map(|c| (ctx, c))
+    }
+
+    /// The history row's columns (the inputs of `history_reduce`).
+    pub fn columns(&self) -> &[ReduceColumn] {
+        &self.history.column_list
+    }
+
+    /// Records one stage of the step (the contact iteration whole, with all its sweeps).
+    fn record_stage(&self, enc: &mut wgpu::CommandEncoder, stage: Stage) {
+        let (k, l) = (&self.kernels, &self.launches);
+        match stage {
+            Stage::Predict => k.predict.0.record_launch(enc, &l.predict),
+            Stage::PlaneContact => {
+                if let Some(p) = &l.plane {
+                    k.plane.0.record_launch(enc, p);
+                }
+                if let Some(c) = &self.contact {
+                    c.record(enc);
+                }
+            }
+            Stage::Drift => k.drift.0.record_launch(enc, &l.drift),
+            Stage::InternalForces => self.k.record_internal_forces(enc),
+            Stage::Correct => {
+                for c in &l.correct {
+                    k.correct.0.record_launch(enc, c);
+                }
+            }
+            Stage::Reduce => k.reduce.0.record_launch(enc, &l.reduce[0]),
+        }
+    }
+
+    /// Runs one stage alone on the device's current buffers and waits for it.
+    pub fn run_stage(&mut self, stage: Stage) -> Result<()> {
+        let mut enc = self.k.ctx.encoder("explicit_stage");
+        self.record_stage(&mut enc, stage);
+        self.k.ctx.submit_and_wait(enc)
+    }
+
+    /// Wall time of `reps` runs of one stage in one submission, after the device is idle
+    /// (the benchmarks' per-stage figures; the state moves on as the stage runs).
+    pub fn time_stage(&mut self, stage: Stage, reps: usize) -> Result<Duration> {
+        let mut enc = self.k.ctx.encoder("stage_timing");
+        for _ in 0..reps {
+            self.record_stage(&mut enc, stage);
+        }
+        time_submission(&self.k.ctx, enc)
+    }
+
+    /// The host's time to record and submit `steps` steps (without waiting for the device,
+    /// which then runs them; the device's time is apart): the benchmarks compare it with the
+    /// step's time to tell a step bound by the host from one bound by the device.
+    pub fn recording_time(&mut self, steps: usize) -> Result<Duration> {
+        let steps = steps.clamp(1, self.chunk_capacity);
+        let ctx = &self.k.ctx;
+        ctx.wait()?;
+        let start = Instant::now();
+        let mut enc = ctx.encoder("recording_timing");
+        self.record_steps(&mut enc, steps);
+        ctx.queue.submit([enc.finish()]);
+        let host = start.elapsed();
+        ctx.wait()?;
+        Ok(host)
+    }
+
+    /// The device's buffer-copy bandwidth in bytes per second (see
+    /// [`GpuKernels::copy_bandwidth`]).
+    pub fn copy_bandwidth(&self, bytes: u64, reps: usize) -> Result<f64> {
+        self.k.copy_bandwidth(bytes, reps)
+    }
+
+    /// Overwrites the device state: displacement, velocity, acceleration (3 per node), the
+    /// internal forces (3 per node) and the plane contact results.
+    pub fn upload(
+        &mut self,
+        u: &[f64],
+        v: &[f64],
+        a: &[f64],
+        forces: &[f64],
+        results: &[f64],
+    ) -> Result<()> {
+        self.k.upload_state(u, v)?;
+        let ctx = &self.k.ctx;
+        self.m.a.upload(ctx, &to_f32(a))?;
+        self.k.forces.upload(ctx, &to_f32(forces))?;
+        self.m.results.upload(ctx, &to_f32(results))?;
+        Ok(())
+    }
+
+    /// The correctors' workgroup sums, `FIELDS` per workgroup, body after body.
+    pub fn read_partials(&mut self) -> Result<Vec<f64>> {
+        let n = (self.partials.capacity / 4) as usize;
+        let k = &mut self.k;
+        read_floats(
+            &k.ctx,
+            &mut k.staging,
+            "read_back",
+            &self.partials.buffer,
+            n,
+        )
+    }
+
+    /// The first history row of the rows buffer (the row [`Stage::Reduce`] writes).
+    pub fn read_row(&mut self) -> Result<Vec<f64>> {
+        let (k, h) = (&mut self.k, &self.history);
+        read_floats(
+            &k.ctx,
+            &mut k.staging,
+            "read_back",
+            &h.rows.buffer,
+            h.row_len,
+        )
+    }
+}
+
+/// The label of the contact iteration's read-backs.
+const CONTACT_READ: &str = "contact.read";
+
+impl ContactIteration {
+    /// Records `part` of the iteration alone, submits it and waits.
+    pub fn run(
+        &self,
+        ctx: &GpuContext,
+        part: impl FnOnce(&Self, &mut wgpu::CommandEncoder),
+    ) -> Result<()> {
+        let mut enc = ctx.encoder("contact_iteration");
+        part(self, &mut enc);
+        ctx.submit_and_wait(enc)
+    }
+
+    /// The constraints, in f64.
+    pub fn read_constraints(&mut self, ctx: &GpuContext) -> Result<Vec<Constraint>> {
+        let source = &self.work.constraints.buffer;
+        let c: Vec<types::Constraint> =
+            read_back(ctx, &mut self.staging, CONTACT_READ, source, self.pairs)?;
+        Ok(c.into_iter().map(Constraint::from).collect())
+    }
+
+    /// The bucket keys, the bucket starts (faces + 2) and the sorted pairs.
+    pub fn read_sort(&mut self, ctx: &GpuContext) -> Result<[Vec<u32>; 3]> {
+        let (np, nf, w) = (self.pairs, self.faces, &self.work);
+        let mut read =
+            |s: &Storage, n| read_back(ctx, &mut self.staging, CONTACT_READ, &s.buffer, n);
+        Ok([
+            read(&w.keys, np)?,
+            read(&w.starts, nf + 2)?,
+            read(&w.sorted, np)?,
+        ])
+    }
+
+    /// The touches of every node (entries of nodes outside the iteration are not written).
+    pub fn read_touches(&mut self, ctx: &GpuContext, nodes: usize) -> Result<Vec<f64>> {
+        let source = &self.work.touches.buffer;
+        read_floats(ctx, &mut self.staging, CONTACT_READ, source, nodes)
+    }
+
+    /// The impulse changes of the last sweep (3 per pair).
+    pub fn read_dj(&mut self, ctx: &GpuContext) -> Result<Vec<f64>> {
+        let source = &self.work.dj.buffer;
+        read_floats(ctx, &mut self.staging, CONTACT_READ, source, 3 * self.pairs)
+    }
+
+    /// The iteration's state.
+    pub fn read_state(&mut self, ctx: &GpuContext) -> Result<SweepState> {
+        let source = &self.work.state.buffer;
+        let w: Vec<u32> = read_back(ctx, &mut self.staging, CONTACT_READ, source, 4)?;
+        Ok(SweepState {
+            violation: f32::from_bits(w[word::VIOLATION]) as f64,
+            active: w[word::ACTIVE],
+            sweeps: w[word::SWEEPS],
+            phase: w[word::PHASE],
+        })
+    }
+
+    /// The search grid's bounds and the grid (cell, margin) of the last search.
+    pub fn read_grid(&mut self, ctx: &GpuContext) -> Result<([f64; 2], [f64; 2])> {
+        let staging = &mut self.staging;
+        let b = read_floats(ctx, staging, CONTACT_READ, &self.work.bounds.buffer, 2)?;
+        let g = match &self.search {
+            Some(s) => read_floats(ctx, staging, CONTACT_READ, s.grid_buffer(), 2)?,
+            None => vec![0.0; 2],
+        };
+        Ok(([b[0], b[1]], [g[0], g[1]]))
+    }
+
+    /// The contact points of the last search.
+    pub fn read_points(&mut self, ctx: &GpuContext, queries: usize) -> Result<Vec<ContactPoint>> {
+        let p: Vec<types::ContactPoint> = match &self.search {
+            Some(s) => read_back(
+                ctx,
+                &mut self.staging,
+                CONTACT_READ,
+                s.points_buffer(),
+                queries,
+            )?,
+            None => Vec::new(),
+        };
+        Ok(p.into_iter().map(ContactPoint::from).collect())
+    }
+
+    /// The contact results, [`SLOT`] per pair.
+    pub fn read_results(&mut self, ctx: &GpuContext) -> Result<Vec<f64>> {
+        let source = &self.work.results.buffer;
+        read_floats(
+            ctx,
+            &mut self.staging,
+            CONTACT_READ,
+            source,
+            SLOT * self.pairs,
+        )
+    }
+
+    /// Overwrites the constraints (to feed a stage the same inputs as its twin).
+    pub fn upload_constraints(&mut self, ctx: &GpuContext, c: &[Constraint]) -> Result<()> {
+        let c: Vec<types::Constraint> = c.iter().map(types::Constraint::from).collect();
+        self.work.constraints.upload(ctx, &c)?;
+        Ok(())
+    }
+}
