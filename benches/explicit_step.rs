@@ -28,7 +28,7 @@ use impact::gpu::inspect::Stage;
 use impact::gpu::{GpuContext, GpuKernels};
 use impact::integrate::resident;
 use impact::integrate::stable_step::{stable_step, stable_step_on};
-use impact::integrate::{ExplicitSolver, ResidentSolver};
+use impact::integrate::{ExplicitSolver, Integrator, ResidentSolver};
 use impact::model::Model;
 use impact::scene::Scene;
 use impact::setup::explicit_time_step;

@@ -13,7 +13,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use impact::backend::CpuKernels;
-use impact::integrate::ImplicitSolver;
+use impact::integrate::{ImplicitSolver, Integrator};
 use impact::linalg::cholesky::FAER_TASKS;
 use impact::linalg::{assemble, Assembled, Ordering, SpdSolver};
 use impact::model::Model;

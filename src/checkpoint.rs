@@ -12,9 +12,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{ImpactError, Result};
-use crate::integrate::explicit::ExplicitState;
-use crate::integrate::implicit::ImplicitState;
-use crate::integrate::resident::ResidentState;
+pub use crate::integrate::SolverState;
 use crate::scene::Scene;
 
 /// The file name inside the run's folder.
@@ -22,15 +20,6 @@ pub const FILE: &str = "checkpoint.bin";
 
 /// Bumped whenever the layout changes; an older checkpoint is refused, not misread.
 pub const FORMAT: u32 = 1;
-
-/// The integrator's part.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub enum SolverState {
-    Explicit(ExplicitState),
-    Implicit(ImplicitState),
-    /// The explicit step resident on the GPU (the device's f32 state, exactly).
-    Resident(ResidentState),
-}
 
 /// What the time loop accumulates for the summary and the warnings.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]

@@ -12,7 +12,7 @@ use common::*;
 use impact::geometry::quad::norm;
 use impact::gpu::{GpuContext, ResidentExplicit};
 use impact::integrate::resident;
-use impact::integrate::ResidentSolver;
+use impact::integrate::{Integrator, ResidentSolver};
 use impact::kernels::contact_gap::NO_FACE;
 use impact::kernels::plane_contact::SLOT;
 use impact::kernels::{self, Constraint, SweepState};
@@ -389,7 +389,7 @@ fn recorded_sweeps_do_not_change_the_results() {
         let mut rows = Vec::new();
         for _ in 0..steps {
             let r = s.step().expect("step");
-            let e = s.energies();
+            let e = s.energies().expect("energies");
             let reports = s.reports();
             rows.push((
                 r.iterations,

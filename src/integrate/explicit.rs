@@ -37,15 +37,16 @@ use crate::kernels::impulse::{self, impulse_update, ImpulseUpdate};
 use crate::kernels::{self, ContactPoint, ContactQueries};
 use crate::model::Model;
 use crate::model::Primary;
-use crate::scene::ExplicitSettings;
+use crate::scene::{ExplicitSettings, Method};
 use rayon::prelude::*;
 
 use super::implicit::StepReport;
-use super::state::{ContactReport, Energies};
+use super::integrator::Integrator;
+use super::state::{ContactReport, Energies, SolverState};
 
 /// One contact constraint of a step: a secondary node against a face point or a plane.
 #[derive(Debug, Clone, Copy)]
-struct Constraint {
+struct NodeConstraint {
     interface: u32,
     /// Index of the secondary node within its interface.
     local: u32,
@@ -110,7 +111,7 @@ pub struct ExplicitSolver<'m> {
     v_half: Vec<f64>,
     pub interfaces: Vec<ExplicitInterface>,
     /// What the time-centred energy measure shifts by over a shortened step (see
-    /// [`Self::shorten_step`]); removed from the kinetic energy reported after it.
+    /// [`Integrator::shorten_step`]); removed from the kinetic energy reported after it.
     measure_shift: f64,
     queries: ContactQueries,
     candidate_lists: Vec<Vec<u32>>,
@@ -119,7 +120,7 @@ pub struct ExplicitSolver<'m> {
     /// Absolute tolerance of the contact iteration (a gap rate).
     tolerance: f64,
     // scratch
-    constraints: Vec<Constraint>,
+    constraints: Vec<NodeConstraint>,
     /// Sum of the weights of the step's constraints on each node.
     touches: Vec<f64>,
     delta: Vec<[f64; 3]>,
@@ -207,30 +208,6 @@ impl<'m> ExplicitSolver<'m> {
         })
     }
 
-    pub fn device_name(&self) -> String {
-        self.kernels.device_name()
-    }
-
-    /// Makes the next step `dt` long (the shortened last step of a run that ends between
-    /// whole steps).
-    ///
-    /// Central difference conserves the time-centred energy
-    /// $E = \tfrac12 v_{n+1/2} M v_{n+1/2} + \tfrac12 u_n K u_{n+1} - f_{ext} \cdot (u_n + u_{n+1})/2$
-    /// exactly for a constant step h. A step of h' instead moves that measure by
-    /// $\tfrac18 (h^2 - h'^2)\, a_n \cdot M a_n$ without any change of the motion (with
-    /// $M a_n = f_{ext} - K u_n$; `method-notes.md`); the energies reported after the step take
-    /// that shift off, so the history's total energy stays the scheme's conserved quantity.
-    pub fn shorten_step(&mut self, dt: f64) {
-        let ama: f64 = self
-            .a
-            .iter()
-            .enumerate()
-            .map(|(d, a)| self.mass[d / 3] * a * a)
-            .sum();
-        self.measure_shift = 0.125 * (self.dt * self.dt - dt * dt) * ama;
-        self.dt = dt;
-    }
-
     /// The state a checkpoint keeps.
     pub fn state(&self) -> ExplicitState {
         ExplicitState {
@@ -248,7 +225,7 @@ impl<'m> ExplicitSolver<'m> {
     }
 
     /// Continues from a checkpoint's state (of this model: the lengths must match).
-    pub fn restore(&mut self, s: ExplicitState) -> std::result::Result<(), String> {
+    pub fn restore_state(&mut self, s: ExplicitState) -> std::result::Result<(), String> {
         super::state::check_restore(
             (s.u.len(), self.u.len()),
             (s.interfaces.len(), self.interfaces.len()),
@@ -266,47 +243,16 @@ impl<'m> ExplicitSolver<'m> {
         Ok(())
     }
 
-    pub fn nodal_mass(&self) -> &[f64] {
-        &self.mass
-    }
-
-    /// One step: predictor, contact impulses, position update, forces, corrector.
-    pub fn step(&mut self) -> Result<StepReport> {
-        let dt = self.dt;
-        kernels::explicit_predict(dt, &self.a, &mut self.v);
-        let report = self.contact()?;
-        self.u_prev.copy_from_slice(&self.u);
-        self.v_half.copy_from_slice(&self.v);
-        kernels::explicit_drift(dt, &self.v, &mut self.u);
-        self.kernels
-            .internal_forces_into(&self.u, &mut self.f_int)?;
-        let (f_ext, f_int, inv_mass) = (&self.f_ext, &self.f_int, &self.inv_mass);
-        self.a
-            .par_iter_mut()
-            .zip(self.v.par_iter_mut())
-            .enumerate()
-            .with_min_len(crate::parallel::CHUNK)
-            .for_each(|(d, (a, v))| {
-                *a = (f_ext[d] - f_int[d]) * inv_mass[d];
-                *v += 0.5 * dt * *a;
-            });
-        self.time += dt;
-        self.steps += 1;
-        Ok(report)
-    }
-
     /// The constraints of the step at (u_n, v*): surfaces through the kernels, planes
     /// analytically; only nodes within one face size plus four steps of the fastest node's
     /// motion of their primary surface, or within four steps of their own motion of a plane.
     fn gather_constraints(&mut self) -> Result<()> {
-        let model = self.model;
-        self.constraints.clear();
         // the broad phase's margin is also the reach of the step: nodes farther from their
         // surface cannot touch it within the step, even with their neighbours' impulses
         let margin = search::margin(&self.v, self.dt, self.face_size);
         if !self.queries.is_empty() {
             self.kernels.contact_search_into(
-                model,
+                self.model,
                 &self.u,
                 &self.v,
                 margin,
@@ -315,53 +261,65 @@ impl<'m> ExplicitSolver<'m> {
                 &mut self.query_points,
             )?;
         }
-        let reach = -margin.max(f64::MIN_POSITIVE);
-        let dt = self.dt;
-        for (k, itf) in model.interfaces.iter().enumerate() {
-            for (i, &node) in itf.nodes.iter().enumerate() {
-                let n = node as usize;
-                let (face, weights, normal, gap) = match &itf.primary {
-                    Primary::Surface { queries, .. } => {
-                        let p = self.query_points[queries.start + i];
-                        if p.face == NO_FACE {
-                            continue;
-                        }
-                        (
-                            Some(self.queries.faces[p.face as usize]),
-                            quad::shape(p.xi),
-                            p.normal,
-                            p.gap,
-                        )
-                    }
-                    Primary::Plane { point, normal } => {
-                        let x0 = model.mesh.nodes[n];
-                        let x = std::array::from_fn(|a| x0[a] + self.u[3 * n + a]);
-                        (None, [0.0; 4], *normal, -dot(quad::sub(x, *point), *normal))
-                    }
-                };
-                // a plane constrains a node alone: its reach is four steps of the node's own
-                // motion (the device step's rule, kernels/plane_contact.rs)
-                let reach = if face.is_none() {
-                    -4.0 * dt * quad::norm([self.v[3 * n], self.v[3 * n + 1], self.v[3 * n + 2]])
-                } else {
-                    reach
-                };
-                if gap < reach {
-                    continue;
+        self.constraints.clear();
+        for (k, itf) in self.model.interfaces.iter().enumerate() {
+            for i in 0..itf.nodes.len() {
+                if let Some(c) = self.constraint_of(k, i, margin) {
+                    self.constraints.push(c);
                 }
-                self.constraints.push(Constraint {
-                    interface: k as u32,
-                    local: i as u32,
-                    node,
-                    face,
-                    weights,
-                    normal,
-                    gap,
-                    mu: itf.friction,
-                    compliance: 0.0,
-                });
             }
         }
+        self.split_compliances();
+        Ok(())
+    }
+
+    /// The constraint of secondary node `i` of interface `k`, if it is within reach of its
+    /// primary surface (`margin`) or plane.
+    fn constraint_of(&self, k: usize, i: usize, margin: f64) -> Option<NodeConstraint> {
+        let itf = &self.model.interfaces[k];
+        let node = itf.nodes[i];
+        let n = node as usize;
+        let (face, weights, normal, gap) = match &itf.primary {
+            Primary::Surface { queries, .. } => {
+                let p = self.query_points[queries.start + i];
+                if p.face == NO_FACE {
+                    return None;
+                }
+                let face = self.queries.faces[p.face as usize];
+                (Some(face), quad::shape(p.xi), p.normal, p.gap)
+            }
+            Primary::Plane { point, normal } => {
+                let x0 = self.model.mesh.nodes[n];
+                let x = std::array::from_fn(|a| x0[a] + self.u[3 * n + a]);
+                (None, [0.0; 4], *normal, -dot(quad::sub(x, *point), *normal))
+            }
+        };
+        // a plane constrains a node alone: its reach is four steps of the node's own
+        // motion (the device step's rule, kernels/plane_contact.rs)
+        let reach = if face.is_none() {
+            let v = &self.v[3 * n..3 * n + 3];
+            -4.0 * self.dt * quad::norm([v[0], v[1], v[2]])
+        } else {
+            -margin.max(f64::MIN_POSITIVE)
+        };
+        if gap < reach {
+            return None;
+        }
+        Some(NodeConstraint {
+            interface: k as u32,
+            local: i as u32,
+            node,
+            face,
+            weights,
+            normal,
+            gap,
+            mu: itf.friction,
+            compliance: 0.0,
+        })
+    }
+
+    /// The split compliance of every constraint of the step.
+    fn split_compliances(&mut self) {
         // the row-sum bound of the coupled compliance: each node's inverse mass times the sum
         // of the weights with which the step's constraints act on it
         self.touches.fill(0.0);
@@ -400,7 +358,6 @@ impl<'m> ExplicitSolver<'m> {
             }
             c.compliance = if along > 0.0 { s } else { 0.0 };
         }
-        Ok(())
     }
 
     /// Contact impulses of the step: projected Jacobi sweeps until no constraint is violated
@@ -543,6 +500,106 @@ impl<'m> ExplicitSolver<'m> {
             st.report.tangential_force = quad::norm(*f);
         }
     }
+}
+
+impl Integrator for ExplicitSolver<'_> {
+    fn model(&self) -> &Model {
+        self.model
+    }
+
+    fn method(&self) -> Method {
+        Method::Explicit
+    }
+
+    fn device_name(&self) -> String {
+        self.kernels.device_name()
+    }
+
+    /// One step: predictor, contact impulses, position update, forces, corrector.
+    fn step(&mut self) -> Result<StepReport> {
+        let dt = self.dt;
+        kernels::explicit_predict(dt, &self.a, &mut self.v);
+        let report = self.contact()?;
+        self.u_prev.copy_from_slice(&self.u);
+        self.v_half.copy_from_slice(&self.v);
+        kernels::explicit_drift(dt, &self.v, &mut self.u);
+        self.kernels
+            .internal_forces_into(&self.u, &mut self.f_int)?;
+        let (f_ext, f_int, inv_mass) = (&self.f_ext, &self.f_int, &self.inv_mass);
+        self.a
+            .par_iter_mut()
+            .zip(self.v.par_iter_mut())
+            .enumerate()
+            .with_min_len(crate::parallel::CHUNK)
+            .for_each(|(d, (a, v))| {
+                *a = (f_ext[d] - f_int[d]) * inv_mass[d];
+                *v += 0.5 * dt * *a;
+            });
+        self.time += dt;
+        self.steps += 1;
+        Ok(report)
+    }
+
+    fn reports(&self) -> Vec<ContactReport> {
+        self.interfaces.iter().map(|i| i.report).collect()
+    }
+
+    fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {
+        let st = &self.interfaces[interface];
+        let area = self.model.interfaces[interface].area[point];
+        (st.impulse[point] / (self.dt * area), st.gap[point])
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn steps(&self) -> usize {
+        self.steps
+    }
+
+    fn displacement(&self) -> &[f64] {
+        &self.u
+    }
+
+    fn velocity(&self) -> &[f64] {
+        &self.v
+    }
+
+    fn nodal_mass(&self) -> &[f64] {
+        &self.mass
+    }
+
+    fn checkpoint_state(&mut self) -> Result<SolverState> {
+        Ok(SolverState::Explicit(self.state()))
+    }
+
+    fn restore(&mut self, state: SolverState) -> std::result::Result<(), String> {
+        match state {
+            SolverState::Explicit(s) => self.restore_state(s),
+            _ => Err(super::integrator::other_integrator()),
+        }
+    }
+
+    /// Makes the next step `dt` long (the shortened last step of a run that ends between
+    /// whole steps).
+    ///
+    /// Central difference conserves the time-centred energy
+    /// $E = \tfrac12 v_{n+1/2} M v_{n+1/2} + \tfrac12 u_n K u_{n+1} - f_{ext} \cdot (u_n + u_{n+1})/2$
+    /// exactly for a constant step h. A step of h' instead moves that measure by
+    /// $\tfrac18 (h^2 - h'^2)\, a_n \cdot M a_n$ without any change of the motion (with
+    /// $M a_n = f_{ext} - K u_n$; `method-notes.md`); the energies reported after the step take
+    /// that shift off, so the history's total energy stays the scheme's conserved quantity.
+    fn shorten_step(&mut self, dt: f64) {
+        let ama: f64 = self
+            .a
+            .iter()
+            .enumerate()
+            .map(|(d, a)| self.mass[d / 3] * a * a)
+            .sum();
+        self.measure_shift = 0.125 * (self.dt * self.dt - dt * dt) * ama;
+        self.dt = dt;
+    }
 
     /// Energies of the last step in the time-centred form that central difference conserves
     /// exactly for linear elasticity: kinetic $\tfrac12 v_{n+1/2}^T M v_{n+1/2}$, strain
@@ -550,7 +607,7 @@ impl<'m> ExplicitSolver<'m> {
     /// `docs/method-notes.md`). So a rise of the total is a real error (the contact impulses
     /// can only remove energy), not the O(dt^2) wobble of the kinetic energy at whole steps.
     /// Before the first step: the initial state.
-    pub fn energies(&mut self) -> Result<Energies> {
+    fn energies(&mut self) -> Result<Energies> {
         use crate::parallel::{dot, ordered_sum};
         let mass = &self.mass;
         if self.steps == 0 {
@@ -574,9 +631,8 @@ impl<'m> ExplicitSolver<'m> {
         })
     }
 
-    /// Centre-of-mass velocity of each body.
-    pub fn body_velocities(&self) -> Vec<[f64; 3]> {
-        super::body_velocities(self.model, &self.mass, &self.v)
+    fn end_at(&mut self, time: f64) {
+        self.time = time;
     }
 }
 
@@ -619,7 +675,7 @@ fn scatter_blocks<const N: usize>(
 /// Relative velocity of a constraint's secondary node against its primary point in the
 /// velocity field `v`.
 /// The nodes a step's constraints act on (their own and their faces'), sorted, once each.
-fn touched_nodes(constraints: &[Constraint]) -> Vec<u32> {
+fn touched_nodes(constraints: &[NodeConstraint]) -> Vec<u32> {
     let mut nodes: Vec<u32> = constraints
         .iter()
         .flat_map(|c| std::iter::once(c.node).chain(c.face.into_iter().flatten()))
@@ -629,6 +685,6 @@ fn touched_nodes(constraints: &[Constraint]) -> Vec<u32> {
     nodes
 }
 
-fn relative_velocity(c: &Constraint, v: &[f64]) -> [f64; 3] {
+fn relative_velocity(c: &NodeConstraint, v: &[f64]) -> [f64; 3] {
     impulse::relative_velocity(v, c.node, c.face.as_ref().map(|f| (f, &c.weights)))
 }

@@ -2,14 +2,16 @@
 
 pub mod explicit;
 pub mod implicit;
+pub mod integrator;
 pub mod resident;
 pub mod stable_step;
 pub mod state;
 
 pub use explicit::ExplicitSolver;
 pub use implicit::{ImplicitSolver, StepReport};
+pub use integrator::{ImplicitFigures, Integrator};
 pub use resident::ResidentSolver;
-pub use state::{ContactReport, Energies};
+pub use state::{ContactReport, Energies, InterfaceEnd, ProbeValues, SolverState};
 
 use crate::model::Model;
 

@@ -14,7 +14,8 @@ use rayon::prelude::*;
 
 use super::explicit::lumped_mass;
 use super::implicit::StepReport;
-use super::state::{ContactReport, Energies};
+use super::integrator::{Integrator, ENGINE_GPU_RESIDENT};
+use super::state::{ContactReport, Energies, SolverState};
 use crate::contact::search;
 use crate::error::Result;
 use crate::gpu::explicit_step::row_len;
@@ -25,7 +26,7 @@ use crate::kernels::plane_contact::{slot, MAX_PLANES, SLOT};
 use crate::kernels::{ContactNode, ContactPair, LumpedNode, PlaneData, PlaneNode};
 use crate::model::Model;
 use crate::model::Primary;
-use crate::scene::ExplicitSettings;
+use crate::scene::{ExplicitSettings, Method};
 
 /// Whether the model's contacts take the plane kernel (every interface a rigid plane, at
 /// most [`MAX_PLANES`]) rather than the device contact iteration.
@@ -231,12 +232,12 @@ pub struct ResidentSolver<'m> {
     pair_ranges: Option<Vec<Range<usize>>>,
     reruns: usize,
     min_sweeps: u32,
-    /// The shortened last step, if the run has one (see [`Self::shorten_last_step`]).
+    /// The shortened last step, if the run has one (see [`Integrator::schedule`]).
     last_dt: Option<f64>,
     /// The step length the rows being decoded were computed with.
     row_dt: f64,
     /// The energy measure's shift over the shortened last step
-    /// ([`crate::integrate::ExplicitSolver::shorten_step`]).
+    /// ([`Integrator::shorten_step`] of the explicit solver).
     measure_shift: f64,
     /// State at the last frame (or the start): displacement, velocity, contact results (per
     /// plane node and plane, or per contact pair).
@@ -353,20 +354,6 @@ impl<'m> ResidentSolver<'m> {
         &mut self.engine
     }
 
-    pub fn device_name(&self) -> String {
-        self.engine.device_name()
-    }
-
-    pub fn nodal_mass(&self) -> &[f64] {
-        &self.mass
-    }
-
-    /// Makes the run's last step `dt` long instead of the step (an end time that is not a
-    /// whole number of steps). Call before the first step.
-    pub fn shorten_last_step(&mut self, dt: f64) {
-        self.last_dt = Some(dt);
-    }
-
     /// Steps per submission.
     pub fn chunk(&self) -> usize {
         self.chunk
@@ -396,59 +383,6 @@ impl<'m> ResidentSolver<'m> {
     /// Where submissions end: frames and checkpoints.
     fn at_cut(&self, step: usize) -> bool {
         self.at_frame(step) || self.checkpoint_every.is_some_and(|e| step % e == 0)
-    }
-
-    /// Ends submissions at every multiple of `every` steps, so that the state can be read
-    /// there ([`Self::state`]). Call before the first step.
-    pub fn cut_every(&mut self, every: usize) {
-        self.checkpoint_every = Some(every.max(1));
-    }
-
-    /// Submits nothing more: the steps already submitted are handed out, then the solver is
-    /// at rest ([`Self::at_rest`]) and its state can be read.
-    pub fn stop_submitting(&mut self) {
-        self.stopping = true;
-    }
-
-    /// Nothing in flight and every computed step handed out: the device holds the state of
-    /// step [`Self::steps`].
-    pub fn at_rest(&self) -> bool {
-        self.rows.is_empty() && !self.engine.is_pending(0) && !self.engine.is_pending(1)
-    }
-
-    /// The state a checkpoint keeps (at rest only: at a cut, or after stopping).
-    pub fn state(&mut self) -> Result<ResidentState> {
-        if !self.at_rest() || self.submitted != self.steps {
-            return Err(crate::error::ImpactError::Gpu(format!(
-                "the resident state is read at rest only (step {}, {} submitted)",
-                self.steps, self.submitted
-            )));
-        }
-        Ok(ResidentState {
-            dt: self.dt,
-            time: self.time,
-            steps: self.steps,
-            buffers: self.engine.read_step_state()?,
-        })
-    }
-
-    /// Continues from a checkpoint's state (of this model).
-    pub fn restore(&mut self, s: ResidentState) -> std::result::Result<(), String> {
-        if s.steps >= self.total {
-            return Err(format!(
-                "the checkpoint is at step {}, the run has {}",
-                s.steps, self.total
-            ));
-        }
-        self.engine
-            .write_step_state(&s.buffers)
-            .map_err(|e| e.to_string())?;
-        self.dt = s.dt;
-        self.row_dt = s.dt;
-        self.time = s.time;
-        self.steps = s.steps;
-        self.submitted = s.steps;
-        Ok(())
     }
 
     /// Makes sure the next rows are decoded: collects the oldest submission, keeping the
@@ -601,8 +535,40 @@ impl<'m> ResidentSolver<'m> {
         }
     }
 
+    /// Normal impulse and end-of-step gap of secondary node `local` of interface
+    /// `interface` at the last state read back (the gap is -inf where the node was out of
+    /// reach of a surface).
+    fn node_impulse(&self, interface: usize, local: usize) -> (f64, f64) {
+        let o = match &self.pair_ranges {
+            Some(r) => SLOT * (r[interface].start + local),
+            None => SLOT * (self.places[interface][local] * self.plane_count + interface),
+        };
+        (
+            self.results[o + slot::NORMAL_IMPULSE],
+            self.results[o + slot::GAP],
+        )
+    }
+}
+
+impl Integrator for ResidentSolver<'_> {
+    fn model(&self) -> &Model {
+        self.model
+    }
+
+    fn method(&self) -> Method {
+        Method::Explicit
+    }
+
+    fn device_name(&self) -> String {
+        self.engine.device_name()
+    }
+
+    fn engine(&self) -> &'static str {
+        ENGINE_GPU_RESIDENT
+    }
+
     /// One step (from the rows the device computed); at a frame step the state is read back.
-    pub fn step(&mut self) -> Result<StepReport> {
+    fn step(&mut self) -> Result<StepReport> {
         if self.rows.is_empty() {
             self.fill()?;
         }
@@ -626,24 +592,88 @@ impl<'m> ResidentSolver<'m> {
         Ok(self.current.report)
     }
 
-    pub fn energies(&self) -> Energies {
-        if self.steps == 0 {
+    fn energies(&mut self) -> Result<Energies> {
+        Ok(if self.steps == 0 {
             self.initial
         } else {
             self.current.energies
-        }
+        })
     }
 
-    pub fn body_velocities(&self) -> Vec<[f64; 3]> {
-        self.current.bodies.clone()
-    }
-
-    pub fn reports(&self) -> Vec<ContactReport> {
+    fn reports(&self) -> Vec<ContactReport> {
         self.current.reports.clone()
     }
 
+    fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {
+        let (impulse, gap) = self.node_impulse(interface, point);
+        let area = self.model.interfaces[interface].area[point];
+        (impulse / (self.dt * area), gap)
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn steps(&self) -> usize {
+        self.steps
+    }
+
+    fn displacement(&self) -> &[f64] {
+        &self.u
+    }
+
+    fn velocity(&self) -> &[f64] {
+        &self.v
+    }
+
+    fn nodal_mass(&self) -> &[f64] {
+        &self.mass
+    }
+
+    /// The state a checkpoint keeps (at rest only: at a cut, or after stopping).
+    fn checkpoint_state(&mut self) -> Result<SolverState> {
+        if !self.at_rest() || self.submitted != self.steps {
+            return Err(crate::error::ImpactError::Gpu(format!(
+                "the resident state is read at rest only (step {}, {} submitted)",
+                self.steps, self.submitted
+            )));
+        }
+        Ok(SolverState::Resident(ResidentState {
+            dt: self.dt,
+            time: self.time,
+            steps: self.steps,
+            buffers: self.engine.read_step_state()?,
+        }))
+    }
+
+    /// Continues from a checkpoint's state (of this model).
+    fn restore(&mut self, state: SolverState) -> std::result::Result<(), String> {
+        let SolverState::Resident(s) = state else {
+            return Err(super::integrator::other_integrator());
+        };
+        if s.steps >= self.total {
+            return Err(format!(
+                "the checkpoint is at step {}, the run has {}",
+                s.steps, self.total
+            ));
+        }
+        self.engine
+            .write_step_state(&s.buffers)
+            .map_err(|e| e.to_string())?;
+        self.dt = s.dt;
+        self.row_dt = s.dt;
+        self.time = s.time;
+        self.steps = s.steps;
+        self.submitted = s.steps;
+        Ok(())
+    }
+
+    fn body_velocities(&self) -> Vec<[f64; 3]> {
+        self.current.bodies.clone()
+    }
+
     /// Probe displacement and velocity of the last step.
-    pub fn probes(&self) -> Vec<([f64; 3], [f64; 3])> {
+    fn probes(&self) -> Vec<([f64; 3], [f64; 3])> {
         if self.steps == 0 {
             return self
                 .model
@@ -658,17 +688,24 @@ impl<'m> ResidentSolver<'m> {
         self.current.probes.clone()
     }
 
-    /// Normal impulse and end-of-step gap of secondary node `local` of interface
-    /// `interface` at the last state read back (the gap is -inf where the node was out of
-    /// reach of a surface).
-    pub fn node_contact(&self, interface: usize, local: usize) -> (f64, f64) {
-        let o = match &self.pair_ranges {
-            Some(r) => SLOT * (r[interface].start + local),
-            None => SLOT * (self.places[interface][local] * self.plane_count + interface),
-        };
-        (
-            self.results[o + slot::NORMAL_IMPULSE],
-            self.results[o + slot::GAP],
-        )
+    /// Makes the run's last step `last_step` long instead of the step (an end time that is
+    /// not a whole number of steps), and ends submissions at every multiple of
+    /// `checkpoint_every` steps, so that the state can be read there
+    /// ([`Integrator::checkpoint_state`]).
+    fn schedule(&mut self, last_step: Option<f64>, checkpoint_every: Option<usize>) {
+        self.last_dt = last_step;
+        self.checkpoint_every = checkpoint_every.map(|e| e.max(1));
+    }
+
+    /// Submits nothing more: the steps already submitted are handed out, then the solver is
+    /// at rest ([`Self::at_rest`]) and its state can be read.
+    fn stop_submitting(&mut self) {
+        self.stopping = true;
+    }
+
+    /// Nothing in flight and every computed step handed out: the device holds the state of
+    /// step [`Self::steps`].
+    fn at_rest(&self) -> bool {
+        self.rows.is_empty() && !self.engine.is_pending(0) && !self.engine.is_pending(1)
     }
 }

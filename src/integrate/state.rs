@@ -1,4 +1,35 @@
-//! Quantities an integrator reports after each step.
+//! Quantities an integrator reports after each step, and the state a checkpoint keeps.
+
+use serde::{Deserialize, Serialize};
+
+use super::explicit::ExplicitState;
+use super::implicit::ImplicitState;
+use super::resident::ResidentState;
+
+/// The integrator's part of a checkpoint.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub enum SolverState {
+    Explicit(ExplicitState),
+    Implicit(ImplicitState),
+    /// The explicit step resident on the GPU (the device's f32 state, exactly).
+    Resident(ResidentState),
+}
+
+/// The probe values of one node: displacement and velocity.
+pub type ProbeValues = ([f64; 3], [f64; 3]);
+
+/// One interface at the end of a run, for the summary.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct InterfaceEnd {
+    /// Penalty eps_N at the end (implicit runs; the explicit paths have none).
+    pub penalty_normal: Option<f64>,
+    /// Penalty eps_T at the end (interfaces with friction only).
+    pub penalty_tangential: Option<f64>,
+    /// Energy dissipated by friction over the run.
+    pub friction_work: f64,
+    pub penalty_increases: usize,
+    pub penalty_decreases: usize,
+}
 
 /// Energies of the whole model at the end of a step.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

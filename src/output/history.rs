@@ -18,8 +18,7 @@ pub struct History {
     line: String,
 }
 
-/// The probe values of one node: displacement and velocity.
-pub type ProbeValues = ([f64; 3], [f64; 3]);
+pub use crate::integrate::state::ProbeValues;
 
 impl History {
     /// Creates the file and writes the header.

@@ -32,7 +32,7 @@ macro_rules! option_names {
 
 option_names!(Method { Implicit = "implicit", Explicit = "explicit", Auto = "auto" });
 option_names!(DeviceChoice { Auto = "auto", Gpu = "gpu", Cpu = "cpu" });
-option_names!(Constraint { GapRate = "gap_rate", Gap = "gap" });
+option_names!(ConstraintMeasure { GapRate = "gap_rate", Gap = "gap" });
 option_names!(PenaltyLaw { Adaptive = "adaptive", Fixed = "fixed" });
 option_names!(Acceleration { Anderson = "anderson", None = "none" });
 option_names!(MassKind { Lumped = "lumped", Consistent = "consistent" });
@@ -78,7 +78,7 @@ impl std::str::FromStr for DeviceChoice {
 
 /// Which kinematic quantity the augmented Lagrange multiplier update is driven by.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Constraint {
+pub enum ConstraintMeasure {
     /// The paper's choice: the normal gap rate (velocity level).
     GapRate,
     /// The classical choice, for comparison: the normal gap (position level).
@@ -173,7 +173,7 @@ pub enum Ordering {
 pub struct ImplicitSettings {
     pub beta: f64,
     pub gamma: f64,
-    pub constraint: Constraint,
+    pub constraint: ConstraintMeasure,
     pub penalty: PenaltyLaw,
     /// Initial eps_N; `None` means "estimate from the scene" (see `contact::penalty`).
     pub penalty_normal: Option<f64>,
@@ -202,7 +202,7 @@ impl Default for ImplicitSettings {
         ImplicitSettings {
             beta: 0.25,
             gamma: 0.5,
-            constraint: Constraint::GapRate,
+            constraint: ConstraintMeasure::GapRate,
             penalty: PenaltyLaw::Adaptive,
             penalty_normal: None,
             penalty_tangential: None,

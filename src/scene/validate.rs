@@ -333,8 +333,8 @@ impl Checker<'_> {
             implicit.constraint = self.choice(
                 "implicit.constraint",
                 ri.constraint.as_deref(),
-                Constraint::GapRate,
-                Constraint::CHOICES,
+                ConstraintMeasure::GapRate,
+                ConstraintMeasure::CHOICES,
             )?;
             implicit.penalty = self.choice(
                 "implicit.penalty",

@@ -1,0 +1,334 @@
+//! The implicit path's contact iteration: the broad phase, the kinematics of every secondary
+//! node through the kernels, the nodal contact forces of the multipliers, and the augmented
+//! Lagrange update (plain, or accelerated by Anderson's method).
+
+use crate::backend::Kernels;
+use crate::contact::anderson::Anderson;
+use crate::contact::augmented_lagrange;
+use crate::contact::friction::{cone_projection, cone_radius, plane_basis};
+use crate::contact::search;
+use crate::error::Result;
+use crate::geometry::quad::{self, dot};
+use crate::kernels::contact_gap::NO_FACE;
+use crate::kernels::{ContactPoint, ContactQueries};
+use crate::model::{Model, Primary};
+use crate::scene::{Acceleration, ConstraintMeasure};
+
+use super::interface::InterfaceState;
+use super::StepConstants;
+
+pub(super) struct ContactIteration {
+    pub(super) interfaces: Vec<InterfaceState>,
+    queries: ContactQueries,
+    candidate_lists: Vec<Vec<u32>>,
+    face_size: f64,
+    /// Kinematics of every surface query.
+    query_points: Vec<ContactPoint>,
+    /// Covariant slip rates of every surface query (only when some surface has friction).
+    query_slip: Vec<[f64; 2]>,
+    surface_friction: bool,
+    pub(super) anderson: Anderson,
+    /// Multipliers of all interfaces in one vector, their update and weights, and
+    /// Anderson's next multipliers.
+    aa_x: Vec<f64>,
+    aa_g: Vec<f64>,
+    aa_w: Vec<f64>,
+    aa_out: Vec<f64>,
+}
+
+impl ContactIteration {
+    pub(super) fn new(model: &Model, interfaces: Vec<InterfaceState>) -> Self {
+        let nq = model.queries.len();
+        ContactIteration {
+            interfaces,
+            queries: model.queries.clone(),
+            candidate_lists: vec![Vec::new(); nq],
+            face_size: search::largest_face_diagonal(model),
+            query_points: vec![ContactPoint::default(); nq],
+            query_slip: vec![[0.0; 2]; nq],
+            surface_friction: (model.interfaces.iter()).any(|i| i.friction > 0.0 && !i.is_plane()),
+            anderson: Anderson::default(),
+            aa_x: Vec::new(),
+            aa_g: Vec::new(),
+            aa_w: Vec::new(),
+            aa_out: Vec::new(),
+        }
+    }
+
+    /// Candidate primary faces of every secondary node, from the configuration u (the
+    /// margin from the velocity v over a step dt).
+    pub(super) fn broad_phase(&mut self, model: &Model, u: &[f64], v: &[f64], dt: f64) {
+        let margin = search::margin(v, dt, self.face_size);
+        search::surface_candidates(
+            model,
+            &mut self.queries,
+            &mut self.candidate_lists,
+            u,
+            margin,
+        );
+    }
+
+    /// Contact kinematics of every interface at (u, v): surfaces through the kernels,
+    /// rigid planes analytically.
+    pub(super) fn kinematics(
+        &mut self,
+        model: &Model,
+        kernels: &mut dyn Kernels,
+        u: &[f64],
+        v: &[f64],
+    ) -> Result<()> {
+        if !self.queries.is_empty() {
+            let pts = &mut self.query_points;
+            kernels.contact_gap_into(u, v, &self.queries, pts)?;
+            for (itf, st) in model.interfaces.iter().zip(&mut self.interfaces) {
+                if let Primary::Surface { queries, .. } = &itf.primary {
+                    st.points.copy_from_slice(&pts[queries.clone()]);
+                }
+            }
+        }
+        for (itf, st) in model.interfaces.iter().zip(&mut self.interfaces) {
+            if let Primary::Plane { point, normal } = &itf.primary {
+                for (i, &n) in itf.nodes.iter().enumerate() {
+                    let n = n as usize;
+                    let x0 = model.mesh.nodes[n];
+                    let x = [x0[0] + u[3 * n], x0[1] + u[3 * n + 1], x0[2] + u[3 * n + 2]];
+                    let vel = [v[3 * n], v[3 * n + 1], v[3 * n + 2]];
+                    st.points[i] = ContactPoint {
+                        face: 0,
+                        xi: [0.0; 2],
+                        normal: *normal,
+                        gap: -dot(quad::sub(x, *point), *normal),
+                        gap_rate: -dot(vel, *normal),
+                    };
+                }
+            }
+        }
+        self.friction_kinematics(model, kernels, u, v)
+    }
+
+    /// Slip rates and tangents of the interfaces with friction: surfaces through the
+    /// `slip_rate` kernel (tangents from the face at the projected point), planes with a
+    /// fixed orthonormal basis.
+    fn friction_kinematics(
+        &mut self,
+        model: &Model,
+        kernels: &mut dyn Kernels,
+        u: &[f64],
+        v: &[f64],
+    ) -> Result<()> {
+        if self.surface_friction {
+            kernels.slip_rate_into(
+                u,
+                v,
+                &self.queries,
+                &self.query_points,
+                &mut self.query_slip,
+            )?;
+        }
+        let pos = |n: u32| {
+            let n = n as usize;
+            let x0 = model.mesh.nodes[n];
+            [x0[0] + u[3 * n], x0[1] + u[3 * n + 1], x0[2] + u[3 * n + 2]]
+        };
+        for (itf, st) in model.interfaces.iter().zip(&mut self.interfaces) {
+            let Some(fr) = &mut st.friction else { continue };
+            match &itf.primary {
+                Primary::Surface { queries, .. } => {
+                    fr.slip.copy_from_slice(&self.query_slip[queries.clone()]);
+                    for (i, p) in st.points.iter().enumerate() {
+                        fr.tangents[i] = if p.face == NO_FACE {
+                            [[0.0; 3]; 2]
+                        } else {
+                            let x = self.queries.faces[p.face as usize].map(pos);
+                            let (_, t1, t2, _) = quad::geometry(&x, p.xi);
+                            [t1, t2]
+                        };
+                    }
+                }
+                Primary::Plane { normal, .. } => {
+                    let e = plane_basis(*normal);
+                    for (i, &n) in itf.nodes.iter().enumerate() {
+                        let n = n as usize;
+                        let vel = [v[3 * n], v[3 * n + 1], v[3 * n + 2]];
+                        fr.tangents[i] = e;
+                        fr.slip[i] = [dot(vel, e[0]), dot(vel, e[1])];
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Nodal contact forces of the current pressures and geometry into `f_c`.
+    pub(super) fn forces_into(&self, model: &Model, f_c: &mut [f64]) {
+        f_c.fill(0.0);
+        for (itf, st) in model.interfaces.iter().zip(&self.interfaces) {
+            for (i, &node) in itf.nodes.iter().enumerate() {
+                let t = st.lambda[i];
+                if t == 0.0 {
+                    continue;
+                }
+                let p = st.points[i];
+                // traction on the secondary node: T_N n + T_T
+                let mut traction = p.normal.map(|x| t * x);
+                if let Some(fr) = &st.friction {
+                    let tt = fr.traction_of(i);
+                    for a in 0..3 {
+                        traction[a] += tt[a];
+                    }
+                }
+                let f = traction.map(|x| x * itf.area[i]);
+                for a in 0..3 {
+                    f_c[3 * node as usize + a] += f[a];
+                }
+                if let Primary::Surface { .. } = itf.primary {
+                    let face = self.queries.faces[p.face as usize];
+                    let nsh = quad::shape(p.xi);
+                    for k in 0..4 {
+                        for a in 0..3 {
+                            f_c[3 * face[k] as usize + a] -= nsh[k] * f[a];
+                        }
+                    }
+                }
+            }
+        }
+        for d in 0..f_c.len() {
+            if model.fixed[d] {
+                f_c[d] = 0.0;
+            }
+        }
+    }
+
+    /// The augmented Lagrange update of every interface (into `next`). Returns whether every
+    /// interface converged, and whether the candidate set or a penalty changed.
+    pub(super) fn update_multipliers(
+        &mut self,
+        model: &Model,
+        constraint: ConstraintMeasure,
+        k: &StepConstants,
+    ) -> (bool, bool) {
+        let mut converged = true;
+        let mut map_changed = false;
+        let measure_scale = match constraint {
+            ConstraintMeasure::GapRate => 0.0,
+            ConstraintMeasure::Gap => k.gamma / (k.beta * k.dt),
+        };
+        for (itf, st) in model.interfaces.iter().zip(&mut self.interfaces) {
+            let mut grew = false;
+            for i in 0..st.lambda.len() {
+                let p = st.points[i];
+                if p.face != NO_FACE && p.gap >= 0.0 && !st.candidate[i] {
+                    st.candidate[i] = true;
+                    grew = true;
+                }
+                st.measure[i] = match constraint {
+                    ConstraintMeasure::GapRate => p.gap_rate,
+                    ConstraintMeasure::Gap => measure_scale * p.gap,
+                };
+            }
+            let eps_before = (
+                st.penalty.eps,
+                st.friction.as_ref().map_or(0.0, |f| f.penalty.eps),
+            );
+            let r = augmented_lagrange::update(
+                &mut st.penalty,
+                &mut st.memory,
+                &st.lambda,
+                &st.measure,
+                &st.candidate,
+                &itf.area,
+                &mut st.next,
+            );
+            if grew || r.relative_change > k.tol {
+                converged = false;
+            }
+            if let Some(fr) = &mut st.friction {
+                // tangential change relative to the larger of the normal and tangential
+                // force scales: the relative change of the contact force as a whole
+                let rt = fr.update(&st.next, &st.candidate, &st.points);
+                if rt.change > k.tol * rt.scale.max(r.scale) {
+                    converged = false;
+                }
+            }
+            let eps_after = (
+                st.penalty.eps,
+                st.friction.as_ref().map_or(0.0, |f| f.penalty.eps),
+            );
+            map_changed |= grew || eps_after != eps_before;
+        }
+        (converged, map_changed)
+    }
+
+    /// The next iteration's multipliers: Anderson's (restarted when the map changed) or the
+    /// plain update.
+    pub(super) fn next_multipliers(
+        &mut self,
+        model: &Model,
+        acceleration: Acceleration,
+        map_changed: bool,
+    ) {
+        if acceleration == Acceleration::Anderson {
+            if map_changed {
+                self.anderson.reset();
+            }
+            self.accelerate(model);
+        } else {
+            for st in &mut self.interfaces {
+                std::mem::swap(&mut st.lambda, &mut st.next);
+                if let Some(fr) = &mut st.friction {
+                    fr.accept_update();
+                }
+            }
+        }
+    }
+
+    /// The next multipliers from the current ones and their update G by Anderson's method,
+    /// projected back onto the admissible set: pressures >= 0 on candidates (0 elsewhere),
+    /// tractions in the tangent plane and inside the Coulomb cone of the new pressure.
+    fn accelerate(&mut self, model: &Model) {
+        let (x, g, w) = (&mut self.aa_x, &mut self.aa_g, &mut self.aa_w);
+        x.clear();
+        g.clear();
+        w.clear();
+        for (itf, st) in model.interfaces.iter().zip(&self.interfaces) {
+            x.extend_from_slice(&st.lambda);
+            g.extend_from_slice(&st.next);
+            w.extend(itf.area.iter().map(|a| a.max(f64::MIN_POSITIVE)));
+            if let Some(fr) = &st.friction {
+                x.extend_from_slice(&fr.traction);
+                g.extend_from_slice(&fr.next);
+                w.extend(itf.area.iter().flat_map(|&a| [a.max(f64::MIN_POSITIVE); 3]));
+            }
+        }
+        self.aa_out.resize(x.len(), 0.0);
+        self.anderson.step(x, g, w, &mut self.aa_out);
+        let mut k = 0;
+        for st in &mut self.interfaces {
+            let n = st.lambda.len();
+            for i in 0..n {
+                st.lambda[i] = if st.candidate[i] {
+                    self.aa_out[k + i].max(0.0)
+                } else {
+                    0.0
+                };
+            }
+            k += n;
+            if let Some(fr) = &mut st.friction {
+                for i in 0..n {
+                    let t = [0, 1, 2].map(|a| self.aa_out[k + 3 * i + a]);
+                    let r = cone_radius(fr.mu, st.lambda[i], st.candidate[i], &st.points[i]);
+                    let t = cone_projection(t, st.points[i].normal, r);
+                    fr.traction[3 * i..3 * i + 3].copy_from_slice(&t);
+                }
+                k += 3 * n;
+            }
+        }
+    }
+
+    pub(super) fn penalties(&self) -> Vec<(f64, f64)> {
+        self.interfaces
+            .iter()
+            .map(InterfaceState::penalties)
+            .collect()
+    }
+}

@@ -1,0 +1,118 @@
+//! What a run asks of an integrator, whichever it is: the implicit Newmark solver, the
+//! explicit central-difference solver with its step on the host, or the explicit step
+//! resident on the GPU. The run loop holds a `Box<dyn Integrator>` and nothing more.
+
+use super::implicit::StepReport;
+use super::state::{ContactReport, Energies, InterfaceEnd, ProbeValues, SolverState};
+use crate::error::Result;
+use crate::linalg::FactorStats;
+use crate::model::Model;
+use crate::scene::Method;
+
+/// The engine names of the summary's `engine`.
+pub const ENGINE_CPU: &str = "cpu";
+pub const ENGINE_GPU_KERNELS: &str = "gpu kernels, host loop";
+pub const ENGINE_GPU_RESIDENT: &str = "gpu resident";
+
+/// The implicit solver's linear-algebra figures for the summary.
+#[derive(Debug, Clone)]
+pub struct ImplicitFigures {
+    pub factorizations: usize,
+    /// The effective matrix's factor over all step sizes.
+    pub linear_solver: FactorStats,
+    /// The consistent mass matrix's factor (None with lumped mass).
+    pub mass_factor: Option<FactorStats>,
+    /// Steps taken again in sub-steps because they held a contact event.
+    pub event_steps: usize,
+}
+
+pub trait Integrator {
+    fn model(&self) -> &Model;
+    fn method(&self) -> Method;
+    /// The adapter the kernels run on ("cpu" without one).
+    fn device_name(&self) -> String;
+
+    /// One step.
+    fn step(&mut self) -> Result<StepReport>;
+    /// Energies of the state after the last step (before the first: the initial state).
+    fn energies(&mut self) -> Result<Energies>;
+    /// Each interface over the last step.
+    fn reports(&self) -> Vec<ContactReport>;
+    /// Contact pressure and gap of secondary point `point` of interface `interface` at the
+    /// last state (the gap is not finite where no surface is in reach).
+    fn node_contact(&self, interface: usize, point: usize) -> (f64, f64);
+
+    fn time(&self) -> f64;
+    /// Steps taken.
+    fn steps(&self) -> usize;
+    /// Displacement of every dof at the last state read (every step on the host; every
+    /// frame on the resident GPU path).
+    fn displacement(&self) -> &[f64];
+    fn velocity(&self) -> &[f64];
+    fn nodal_mass(&self) -> &[f64];
+
+    /// The state a checkpoint keeps.
+    fn checkpoint_state(&mut self) -> Result<SolverState>;
+    /// Continues from a checkpoint's state (of this model and integrator).
+    fn restore(&mut self, state: SolverState) -> std::result::Result<(), String>;
+
+    fn engine(&self) -> &'static str {
+        if self.device_name() == "cpu" {
+            ENGINE_CPU
+        } else {
+            ENGINE_GPU_KERNELS
+        }
+    }
+
+    /// Centre-of-mass velocity of each body.
+    fn body_velocities(&self) -> Vec<[f64; 3]> {
+        super::body_velocities(self.model(), self.nodal_mass(), self.velocity())
+    }
+
+    /// Displacement and velocity of every probe node after the last step.
+    fn probes(&self) -> Vec<ProbeValues> {
+        let (u, v) = (self.displacement(), self.velocity());
+        let at = |x: &[f64], d: usize| [x[d], x[d + 1], x[d + 2]];
+        (self.model().probes.iter())
+            .map(|p| (at(u, 3 * p.node as usize), at(v, 3 * p.node as usize)))
+            .collect()
+    }
+
+    /// Each interface at the end of the run (no penalties: the explicit paths).
+    fn interface_ends(&self) -> Vec<InterfaceEnd> {
+        (self.reports().iter())
+            .map(|r| InterfaceEnd {
+                friction_work: r.friction_work,
+                ..Default::default()
+            })
+            .collect()
+    }
+
+    /// The implicit solver's factorisations and solves.
+    fn implicit_figures(&self) -> Option<ImplicitFigures> {
+        None
+    }
+
+    /// The run's shortened last step and checkpoint interval, before the first step (the
+    /// resident path plans its submissions by them).
+    fn schedule(&mut self, _last_step: Option<f64>, _checkpoint_every: Option<usize>) {}
+
+    /// Makes the next step `dt` long (the shortened last step).
+    fn shorten_step(&mut self, _dt: f64) {}
+
+    /// Puts the clock exactly on `time` after the shortened last step.
+    fn end_at(&mut self, _time: f64) {}
+
+    /// Submits no more device work (the resident path; the others have none in flight).
+    fn stop_submitting(&mut self) {}
+
+    /// Whether the state of the last step handed out is all there is (nothing in flight).
+    fn at_rest(&self) -> bool {
+        true
+    }
+}
+
+/// The message of a checkpoint written by another integrator.
+pub(super) fn other_integrator() -> String {
+    "the checkpoint was written by another integrator than this run's".into()
+}

@@ -1,0 +1,59 @@
+//! The run's charts: contact forces and energies, with the scene's exact curves.
+
+use crate::error::Result;
+use crate::model::Model;
+use crate::scene::Scene;
+
+/// Writes the run's charts into `dir`: `forces` (every interface's normal force) and
+/// `energies` (kinetic, strain, total, and the friction work of interfaces with friction),
+/// each with the scene's exact curves for its columns, and one chart `exact_<column>` for an
+/// exact curve of any other column. SVG and PNG each.
+pub fn write_charts(scene: &Scene, model: &Model, dir: &std::path::Path) -> Result<()> {
+    use crate::output::plot::{chart, Series, Style, Table};
+    let table = Table::read(&dir.join("history.csv"))?;
+    let forces: Vec<String> = model
+        .interfaces
+        .iter()
+        .map(|i| format!("{}.normal_force", i.name))
+        .collect();
+    let mut energies: Vec<String> = ["kinetic_energy", "strain_energy", "total_energy"]
+        .map(String::from)
+        .to_vec();
+    energies.extend(
+        model
+            .interfaces
+            .iter()
+            .filter(|i| i.friction > 0.0)
+            .map(|i| format!("{}.friction_work", i.name)),
+    );
+    let exact_of = |cols: &[String]| -> Vec<Series> {
+        scene
+            .exact
+            .iter()
+            .filter(|e| cols.contains(&e.column))
+            .map(|e| Series {
+                name: format!("{} ({})", e.column, e.label),
+                x: e.points.iter().map(|p| p[0]).collect(),
+                y: e.points.iter().map(|p| p[1]).collect(),
+                style: Style::Exact,
+            })
+            .collect()
+    };
+    let mut charts = Vec::new();
+    if !forces.is_empty() {
+        charts.push(("forces".to_string(), "contact forces".to_string(), forces));
+    }
+    charts.push(("energies".into(), "energies".into(), energies));
+    for e in &scene.exact {
+        if !charts.iter().any(|(_, _, cols)| cols.contains(&e.column)) {
+            let name = format!("exact_{}", e.column.replace(['.', '/'], "_"));
+            charts.push((name, e.column.clone(), vec![e.column.clone()]));
+        }
+    }
+    for (name, title, cols) in charts {
+        let mut c = chart(&table, &title, &cols);
+        c.series.extend(exact_of(&cols));
+        c.write(dir, &name)?;
+    }
+    Ok(())
+}

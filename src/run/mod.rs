@@ -1,0 +1,365 @@
+//! Runs a scene: build the model, choose the device, integrate, write the results.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+mod charts;
+mod outputs;
+mod summary;
+
+pub use charts::write_charts;
+pub use outputs::RUN_FILES;
+
+use outputs::{
+    check_resumable, prepare_dir, save, start_fresh, start_resumed, write_frame, write_row,
+    Outputs, RunIdentity,
+};
+use summary::{
+    count_step, energy_scale, fail, fill_summary, initial_summary, interrupted, warnings,
+};
+
+use crate::backend::{CpuKernels, Kernels};
+use crate::checkpoint::{Checkpoint, Tally};
+use crate::error::{ImpactError, Result};
+use crate::gpu::GpuKernels;
+use crate::integrate::{ExplicitSolver, ImplicitSolver, Integrator, ResidentSolver, StepReport};
+use crate::model::Model;
+use crate::output::progress::Progress;
+use crate::output::summary::SetupClock;
+use crate::output::Summary;
+use crate::scene::{DeviceChoice, Method, Scene};
+use crate::setup::{self, gpu_error, Setup};
+
+/// A run whose total energy exceeds this multiple of its scale (the initial energy, or the
+/// work gravity can do across the model) has diverged: elastic contact can only lose energy.
+pub const DIVERGENCE_FACTOR: f64 = 100.0;
+
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Overrides `output.dir`.
+    pub out: Option<PathBuf>,
+    /// Overrides `run.device`.
+    pub device: Option<DeviceChoice>,
+    /// No progress lines on stderr.
+    pub quiet: bool,
+    /// Replace an earlier run's files in the output folder.
+    pub overwrite: bool,
+    /// Continue the run in the output folder from its latest checkpoint.
+    pub resume: bool,
+    /// Set (by a signal handler) to stop the run after the current step with a checkpoint.
+    pub interrupt: Option<Arc<AtomicBool>>,
+}
+
+/// The output folder a run will write to.
+pub fn output_dir(scene: &Scene, opts: &RunOptions) -> PathBuf {
+    opts.out.clone().unwrap_or_else(|| scene.output_dir.clone())
+}
+
+/// Builds the integrator the setup chose, with the run's shortened last step and
+/// checkpoint interval.
+fn build_solver<'m>(
+    scene: &Scene,
+    setup: &'m Setup,
+    speed_scale: f64,
+) -> Result<Box<dyn Integrator + 'm>> {
+    let (model, dt) = (&setup.model, setup.dt);
+    let mut solver: Box<dyn Integrator + 'm> = match (setup.method, setup.ctx.clone()) {
+        (Method::Explicit, Some(ctx)) => Box::new(
+            ResidentSolver::new(
+                ctx,
+                model,
+                &scene.explicit,
+                dt,
+                speed_scale,
+                setup.steps,
+                scene.vtu_every,
+            )
+            .map_err(|e| gpu_error(scene, e))?,
+        ),
+        (method, ctx) => {
+            let kern: Box<dyn Kernels> = match ctx {
+                Some(ctx) => Box::new(
+                    GpuKernels::new(ctx, &model.element_data()).map_err(|e| gpu_error(scene, e))?,
+                ),
+                None => Box::new(CpuKernels::new(model.element_data())),
+            };
+            match method {
+                Method::Explicit => Box::new(ExplicitSolver::new(
+                    model,
+                    scene.explicit.clone(),
+                    dt,
+                    speed_scale,
+                    kern,
+                )?),
+                _ => Box::new(ImplicitSolver::new(
+                    model,
+                    scene.implicit.clone(),
+                    dt,
+                    speed_scale,
+                    kern,
+                )?),
+            }
+        }
+    };
+    solver.schedule(setup.last_step, scene.checkpoint_every);
+    Ok(solver)
+}
+
+/// Every `[[exact]]` curve must name a history column.
+fn check_exact_columns(scene: &Scene, model: &Model) -> Result<()> {
+    let columns = crate::output::history::column_names(model);
+    for (i, e) in scene.exact.iter().enumerate() {
+        if !columns.contains(&e.column) {
+            return Err(ImpactError::SceneValue {
+                path: scene.path.clone(),
+                key: format!("exact[{i}].column"),
+                message: format!(
+                    "\"{}\" is not a history column (they are: {})",
+                    e.column,
+                    columns.join(", ")
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Runs the scene to its end time, writing `history.csv` and `summary.json`.
+///
+/// A run that finishes with every step converged and no check fired ends `completed`; one
+/// with warnings ends `completed_with_warnings` (each in the summary). A diverging run stops
+/// with [`ImpactError::Diverged`] after flushing the history and writing a summary with
+/// `status = "diverged"`; an interrupted one with [`ImpactError::Interrupted`] after writing
+/// a checkpoint. With `resume`, the run continues from the folder's checkpoint.
+pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
+    let start = Instant::now();
+    let dir = output_dir(scene, opts);
+    prepare_dir(&dir, opts)?;
+    let resumed = opts
+        .resume
+        .then(|| Checkpoint::read(&dir, scene))
+        .transpose()?;
+    let mut clock = SetupClock::start();
+    let quiet = opts.quiet;
+    let mut notice = |line: &str| {
+        if !quiet {
+            eprintln!("{line}");
+        }
+    };
+    let device = opts.device.unwrap_or(scene.run.device);
+    let setup = setup::prepare(scene, device, &mut notice, &mut clock)?;
+    let mut running = Running::begin(scene, &setup, &dir, resumed, &mut clock, start)?;
+    let mut progress = Progress::new(setup.steps, opts.quiet);
+    for n in running.tally.steps..setup.steps {
+        let iterations = running.step(n)?;
+        if let Some(err) = running.interrupt(n, opts.interrupt.as_deref()) {
+            return Err(err);
+        }
+        progress.step(n + 1, running.solver.time(), iterations);
+    }
+    progress.finish();
+    running.finish()
+}
+
+/// A run between its setup and its summary: the solver, what it has written and counted.
+struct Running<'s> {
+    scene: &'s Scene,
+    setup: &'s Setup,
+    solver: Box<dyn Integrator + 's>,
+    out: Outputs,
+    tally: Tally,
+    summary: Summary,
+    identity: RunIdentity,
+    energy_scale: f64,
+    start: Instant,
+}
+
+impl<'s> Running<'s> {
+    /// Builds the solver, starts or resumes the outputs, and opens the summary.
+    fn begin(
+        scene: &'s Scene,
+        setup: &'s Setup,
+        dir: &Path,
+        resumed: Option<Checkpoint>,
+        clock: &mut SetupClock,
+        start: Instant,
+    ) -> Result<Self> {
+        let speed_scale = resumed
+            .as_ref()
+            .map_or_else(|| scene.speed_scale(), |c| c.speed_scale);
+        let mut solver = build_solver(scene, setup, speed_scale)?;
+        solver.schedule(setup.last_step, scene.checkpoint_every);
+        clock.lap("solver");
+        let model = &setup.model;
+        check_exact_columns(scene, model)?;
+        if let Some(c) = &resumed {
+            check_resumable(dir, c, setup)?;
+        }
+        let (out, tally) = match resumed {
+            None => start_fresh(scene, model, solver.as_mut(), dir)?,
+            Some(c) => start_resumed(scene, model, solver.as_mut(), dir, c)?,
+        };
+        let energy_scale = energy_scale(scene, model, solver.as_ref(), tally.energy_initial);
+        let mut summary = initial_summary(scene, setup, solver.as_ref());
+        clock.lap("first row");
+        summary.setup_seconds = clock.total();
+        summary.setup_stages = clock.stages();
+        let identity = RunIdentity {
+            scene_hash: crate::checkpoint::scene_hash(scene),
+            speed_scale,
+        };
+        Ok(Running {
+            scene,
+            setup,
+            solver,
+            out,
+            tally,
+            summary,
+            identity,
+            energy_scale,
+            start,
+        })
+    }
+
+    /// Whether step `n` is the run's last, shortened to end at `end_time`.
+    fn shortened(&self, n: usize) -> bool {
+        n + 1 == self.setup.steps && self.setup.last_step.is_some()
+    }
+
+    /// Step `n`: the solver's step, its history row and frame, the tally, the divergence
+    /// check and a due checkpoint. Returns the step's iterations.
+    fn step(&mut self, n: usize) -> Result<usize> {
+        let last = n + 1 == self.setup.steps;
+        if self.shortened(n) {
+            if self.scene.checkpoint_every.is_some() {
+                // the checkpoint stays on whole steps: a later end time continues from here
+                save(
+                    self.solver.as_mut(),
+                    &mut self.out,
+                    &self.tally,
+                    &self.identity,
+                )?;
+            }
+            if let Some(dt) = self.setup.last_step {
+                self.solver.shorten_step(dt);
+            }
+        }
+        let (r, e) = self.advance(n)?;
+        let at = (n + 1, self.solver.time());
+        count_step(&mut self.tally, at, r, e, &self.solver.reports());
+        if !e.is_finite() || e.abs() > DIVERGENCE_FACTOR * self.energy_scale {
+            let reason = format!(
+                "total energy {e:.6e} against {:.6e} at the start",
+                self.tally.energy_initial
+            );
+            return Err(self.fail(at, reason));
+        }
+        let due = (self.scene.checkpoint_every).is_some_and(|k| (n + 1) % k == 0 || last);
+        if due && !self.shortened(n) {
+            save(
+                self.solver.as_mut(),
+                &mut self.out,
+                &self.tally,
+                &self.identity,
+            )?;
+        }
+        Ok(r.iterations)
+    }
+
+    /// The solver's step with its row and frame. The linear solver failing is the run
+    /// diverging; anything else (a write, the GPU) ends it as failed, with its own error.
+    fn advance(&mut self, n: usize) -> Result<(StepReport, f64)> {
+        let (model, end_time) = (&self.setup.model, self.summary.end_time);
+        let last = n + 1 == self.setup.steps;
+        let shortened = self.shortened(n);
+        let solver = self.solver.as_mut();
+        let out = &mut self.out;
+        let outcome = solver.step().and_then(|r| {
+            if shortened {
+                solver.end_at(end_time);
+            }
+            let e = write_row(solver, &mut out.history)?;
+            write_frame(solver, model, &mut out.frames, last)?;
+            Ok((r, e))
+        });
+        match outcome {
+            Ok(x) => Ok(x),
+            Err(err @ ImpactError::Solver(_)) => {
+                let time = (n + 1) as f64 * self.setup.dt;
+                Err(self.fail((n + 1, time), err.to_string()))
+            }
+            Err(err) => {
+                let _ = self.out.history.flush();
+                fill_summary(&mut self.summary, &self.tally, model, self.solver.as_ref());
+                self.summary.status = "failed".into();
+                self.summary.message = Some(format!("at step {}: {err}", n + 1));
+                self.summary.wall_seconds = self.start.elapsed().as_secs_f64();
+                let _ = self.summary.write(&self.out.dir);
+                Err(err)
+            }
+        }
+    }
+
+    /// Ends a diverged run (see [`fail`]).
+    fn fail(&mut self, at: (usize, f64), reason: String) -> ImpactError {
+        fail(
+            self.scene,
+            &self.setup.model,
+            &mut self.summary,
+            &self.tally,
+            &mut self.out,
+            at,
+            reason,
+            self.start,
+        )
+    }
+
+    /// After step `n`: when `flag` is set, stops submitting, and once the solver is at
+    /// rest (and this was not the last step) ends the run as interrupted.
+    fn interrupt(&mut self, n: usize, flag: Option<&AtomicBool>) -> Option<ImpactError> {
+        let signalled = flag.is_some_and(|f| f.load(Ordering::SeqCst));
+        if signalled {
+            // the resident engine hands out the steps it has in flight first
+            self.solver.stop_submitting();
+        }
+        let last = n + 1 == self.setup.steps;
+        (signalled && !last && self.solver.at_rest()).then(|| {
+            interrupted(
+                &self.setup.model,
+                self.solver.as_mut(),
+                &mut self.summary,
+                &self.tally,
+                &mut self.out,
+                &self.identity,
+                self.start,
+            )
+        })
+    }
+
+    /// Writes the charts and the summary of a run that reached its end time.
+    fn finish(mut self) -> Result<Summary> {
+        let model = &self.setup.model;
+        self.out.history.flush()?;
+        write_charts(self.scene, model, &self.out.dir)?;
+        fill_summary(&mut self.summary, &self.tally, model, self.solver.as_ref());
+        self.summary.warnings = warnings(
+            self.scene,
+            model,
+            &self.tally,
+            self.summary.method == Method::Implicit.name(),
+            &self.setup.initial,
+            self.energy_scale,
+        );
+        self.summary.status = if self.summary.warnings.is_empty() {
+            "completed"
+        } else {
+            "completed_with_warnings"
+        }
+        .into();
+        self.summary.wall_seconds = self.start.elapsed().as_secs_f64();
+        self.summary.write(&self.out.dir)?;
+        Ok(self.summary)
+    }
+}

@@ -1,0 +1,247 @@
+//! What a run writes as it goes: its folder, the history, the VTU frames and the checkpoints.
+
+use std::path::{Path, PathBuf};
+
+use super::RunOptions;
+use crate::checkpoint::{Checkpoint, Tally};
+use crate::error::{ImpactError, Result};
+use crate::integrate::Integrator;
+use crate::integrate::SolverState;
+use crate::model::Model;
+use crate::output::vtu::{NodeContact, VtuWriter};
+use crate::output::History;
+use crate::scene::Scene;
+use crate::setup::Setup;
+
+/// The files an earlier run leaves in its folder; a new run refuses a folder holding any of
+/// them unless told to overwrite or resume.
+pub const RUN_FILES: [&str; 3] = ["summary.json", "history.csv", "checkpoint.bin"];
+
+/// Refuses a folder that holds an earlier run's files (unless `--overwrite` or `--resume`),
+/// and creates it.
+pub(super) fn prepare_dir(dir: &Path, opts: &RunOptions) -> Result<()> {
+    let found: Vec<&str> = RUN_FILES
+        .iter()
+        .copied()
+        .filter(|f| dir.join(f).exists())
+        .collect();
+    if !found.is_empty() && !opts.overwrite && !opts.resume {
+        return Err(ImpactError::OutputExists {
+            dir: dir.to_path_buf(),
+            found: found.join(", "),
+        });
+    }
+    if opts.overwrite {
+        // an earlier run's summary or checkpoint must not outlive it beside the new files
+        for f in found {
+            let path = dir.join(f);
+            std::fs::remove_file(&path).map_err(|source| ImpactError::Write { path, source })?;
+        }
+    }
+    std::fs::create_dir_all(dir).map_err(|source| ImpactError::Write {
+        path: dir.to_path_buf(),
+        source,
+    })
+}
+
+/// The outputs a run writes as it goes.
+pub(super) struct Outputs {
+    pub(super) dir: PathBuf,
+    /// The VTU frames' file-name stem (kept across a resume).
+    pub(super) stem: String,
+    pub(super) history: History,
+    pub(super) frames: Option<(usize, VtuWriter)>,
+}
+
+/// Starts a new run's outputs (the t = 0 row and frame) and its tally.
+pub(super) fn start_fresh(
+    scene: &Scene,
+    model: &Model,
+    solver: &mut dyn Integrator,
+    dir: &Path,
+) -> Result<(Outputs, Tally)> {
+    let e0 = solver.energies()?;
+    if !e0.total().is_finite() {
+        return Err(ImpactError::SceneValue {
+            path: scene.path.clone(),
+            key: "body".into(),
+            message: format!(
+                "the initial energy is {:e} (kinetic {:e}, potential {:e}): check the bodies' velocities, the materials and gravity",
+                e0.total(),
+                e0.kinetic,
+                e0.potential
+            ),
+        });
+    }
+    let mut out = Outputs {
+        dir: dir.to_path_buf(),
+        stem: frame_stem(scene),
+        history: History::create(dir, model)?,
+        frames: scene
+            .vtu_every
+            .map(|every| (every, VtuWriter::new(dir, &frame_stem(scene)))),
+    };
+    write_row(solver, &mut out.history)?;
+    write_frame(solver, model, &mut out.frames, false)?;
+    let n = model.interfaces.len();
+    let tally = Tally {
+        energy_initial: e0.total(),
+        energy_final: e0.total(),
+        energy_max: e0.total(),
+        peak_force: vec![0.0; n],
+        deepest: vec![(0.0, 0, 0.0); n],
+        ..Default::default()
+    };
+    Ok((out, tally))
+}
+
+/// Continues a run's outputs and tally from a checkpoint (the history and the frame
+/// collection cut back to its step).
+pub(super) fn start_resumed(
+    scene: &Scene,
+    model: &Model,
+    solver: &mut dyn Integrator,
+    dir: &Path,
+    c: Checkpoint,
+) -> Result<(Outputs, Tally)> {
+    let refuse = |message: String| ImpactError::Resume {
+        dir: dir.to_path_buf(),
+        message,
+    };
+    solver.restore(c.solver).map_err(refuse)?;
+    let out = Outputs {
+        dir: dir.to_path_buf(),
+        stem: c.frame_stem.clone(),
+        history: History::resume(dir, model, c.tally.steps + 1)?,
+        frames: scene
+            .vtu_every
+            .map(|every| (every, VtuWriter::resume(dir, &c.frame_stem, &c.frames))),
+    };
+    Ok((out, c.tally))
+}
+
+/// Refuses a checkpoint the run cannot continue from, before anything in the folder changes:
+/// one at or past the scene's last step, or one taken with another step length (the stable
+/// step found on another device).
+pub(super) fn check_resumable(dir: &Path, c: &Checkpoint, setup: &Setup) -> Result<()> {
+    let refuse = |message: String| ImpactError::Resume {
+        dir: dir.to_path_buf(),
+        message,
+    };
+    let (steps, time, dt) = match &c.solver {
+        SolverState::Explicit(s) => (s.steps, s.time, Some(s.dt)),
+        SolverState::Implicit(s) => (s.steps, s.time, None),
+        SolverState::Resident(s) => (s.steps, s.time, Some(s.dt)),
+    };
+    if steps >= setup.steps {
+        return Err(refuse(format!(
+            "the checkpoint is at step {steps} (t = {time:.6e}) and the scene ends at step {}: nothing is left to run (raise run.end_time)",
+            setup.steps
+        )));
+    }
+    if let Some(dt) = dt.filter(|dt| (dt - setup.dt).abs() > 1e-12 * setup.dt) {
+        return Err(refuse(format!(
+            "the checkpoint's step is {dt:e} and this run's {:e} (the stable step was found on another device): resume with the first run's --device",
+            setup.dt
+        )));
+    }
+    Ok(())
+}
+
+/// Writes the checkpoint of the solver's current state.
+/// The history is flushed first, so that the file holds every row the checkpoint counts
+/// whatever happens to the process afterwards.
+pub(super) fn save(
+    solver: &mut dyn Integrator,
+    out: &mut Outputs,
+    tally: &Tally,
+    run: &RunIdentity,
+) -> Result<()> {
+    out.history.flush()?;
+    let state = solver.checkpoint_state()?;
+    Checkpoint {
+        format: crate::checkpoint::FORMAT,
+        scene_hash: run.scene_hash,
+        speed_scale: run.speed_scale,
+        tally: tally.clone(),
+        frames: out
+            .frames
+            .as_ref()
+            .map(|(_, w)| w.written())
+            .unwrap_or_default(),
+        frame_stem: out.stem.clone(),
+        solver: state,
+    }
+    .write(&out.dir)
+}
+
+/// What a checkpoint records of the run itself: the scene's hash (computed once) and the
+/// speed scale its tolerances follow.
+pub(super) struct RunIdentity {
+    pub(super) scene_hash: u64,
+    pub(super) speed_scale: f64,
+}
+
+/// Appends the current state's row; returns the total energy.
+pub(super) fn write_row(solver: &mut dyn Integrator, history: &mut History) -> Result<f64> {
+    let e = solver.energies()?;
+    let contacts = solver.reports();
+    let probes = solver.probes();
+    history.row(
+        solver.time(),
+        solver.steps(),
+        &e,
+        &solver.body_velocities(),
+        &contacts,
+        &probes,
+    )?;
+    Ok(e.total())
+}
+
+/// Writes a VTU frame on every `every`-th step, and on the last step (`last`) whatever its
+/// number.
+pub(super) fn write_frame(
+    solver: &dyn Integrator,
+    model: &Model,
+    frames: &mut Option<(usize, VtuWriter)>,
+    last: bool,
+) -> Result<()> {
+    if let Some((every, w)) = frames {
+        if solver.steps() % *every == 0 || last {
+            w.frame(
+                model,
+                solver.steps(),
+                solver.time(),
+                solver.displacement(),
+                solver.velocity(),
+                &node_contact(solver),
+            )?;
+        }
+    }
+    Ok(())
+}
+
+fn frame_stem(scene: &Scene) -> String {
+    scene
+        .path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "frame".into())
+}
+
+/// Contact pressure (summed) and gap (the largest) of every node, for VTU frames.
+fn node_contact(solver: &dyn Integrator) -> Vec<NodeContact> {
+    let model = solver.model();
+    let mut out = vec![NodeContact::default(); model.mesh.node_count()];
+    for (k, itf) in model.interfaces.iter().enumerate() {
+        for (i, &n) in itf.nodes.iter().enumerate() {
+            let (pressure, gap) = solver.node_contact(k, i);
+            let c = &mut out[n as usize];
+            c.pressure += pressure;
+            if gap.is_finite() && (c.gap.is_nan() || gap > c.gap) {
+                c.gap = gap;
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,286 @@
+//! The run's summary: what is known before the first step, the tally of each step, the
+//! warnings, and the endings (completed, diverged, interrupted).
+
+use std::time::Instant;
+
+use super::charts::write_charts;
+use super::outputs::{save, Outputs, RunIdentity};
+use crate::check::penetration::InitialContact;
+use crate::check::{self, Warning};
+use crate::checkpoint::Tally;
+use crate::error::ImpactError;
+use crate::integrate::{ContactReport, Integrator, StepReport};
+use crate::model::Model;
+use crate::output::summary::InterfaceSummary;
+use crate::output::Summary;
+use crate::scene::{Method, Scene};
+use crate::setup::Setup;
+
+/// The summary's fields known before the first step.
+pub(super) fn initial_summary(scene: &Scene, setup: &Setup, solver: &dyn Integrator) -> Summary {
+    let explicit = solver.method() == Method::Explicit;
+    let model = &setup.model;
+    Summary {
+        status: "running".into(),
+        scene: scene.path.display().to_string(),
+        title: scene.title.clone(),
+        method: solver.method().name().into(),
+        method_choice: setup.method_choice.clone(),
+        device: solver.device_name(),
+        engine: solver.engine().into(),
+        time_step: setup.dt,
+        stable_time_step: setup.bound.filter(|_| explicit).map(|b| b.0),
+        end_time: match setup.last_step {
+            Some(last) => (setup.steps - 1) as f64 * setup.dt + last,
+            None => setup.steps as f64 * setup.dt,
+        },
+        constraint: if explicit {
+            "gap_rate_impulse"
+        } else {
+            scene.implicit.constraint.name()
+        }
+        .into(),
+        penalty: if explicit {
+            "none"
+        } else {
+            scene.implicit.penalty.name()
+        }
+        .into(),
+        mass: if explicit {
+            "lumped"
+        } else {
+            scene.implicit.mass.name()
+        }
+        .into(),
+        elements: model.mesh.element_count(),
+        nodes: model.mesh.node_count(),
+        free_dofs: model.fixed.iter().filter(|f| !**f).count(),
+        initial_contact: setup.initial.clone(),
+        memory_estimate_bytes: setup.estimate.host,
+        ..Default::default()
+    }
+}
+
+/// Adds a finished step to the tally.
+pub(super) fn count_step(
+    tally: &mut Tally,
+    step: (usize, f64),
+    r: StepReport,
+    e: f64,
+    reports: &[ContactReport],
+) {
+    tally.steps += 1;
+    tally.iterations_total += r.iterations;
+    tally.iterations_max = tally.iterations_max.max(r.iterations);
+    tally.unconverged_steps += usize::from(!r.converged);
+    tally.energy_final = e;
+    tally.energy_max = tally.energy_max.max(e);
+    if !r.converged && tally.first_unconverged.is_none() {
+        tally.first_unconverged = Some(step);
+    }
+    for (k, c) in reports.iter().enumerate() {
+        tally.peak_force[k] = tally.peak_force[k].max(c.normal_force);
+        if c.max_penetration > tally.deepest[k].0 {
+            tally.deepest[k] = (c.max_penetration, step.0, step.1);
+        }
+    }
+}
+
+/// The warnings of a finished run.
+pub(super) fn warnings(
+    scene: &Scene,
+    model: &Model,
+    tally: &Tally,
+    implicit: bool,
+    initial: &[InitialContact],
+    energy_scale: f64,
+) -> Vec<Warning> {
+    let cap = if implicit {
+        format!(
+            "implicit.max_iterations = {} per solve",
+            scene.implicit.max_iterations
+        )
+    } else {
+        format!(
+            "explicit.max_iterations = {} sweeps",
+            scene.explicit.max_iterations
+        )
+    };
+    let mut w: Vec<Warning> = check::unconverged(
+        tally.unconverged_steps,
+        tally.steps,
+        tally.first_unconverged,
+        &cap,
+    )
+    .into_iter()
+    .collect();
+    for (k, itf) in model.interfaces.iter().enumerate() {
+        let (depth, step, time) = tally.deepest[k];
+        w.extend(check::deep_penetration(
+            &itf.name,
+            depth,
+            (step, time),
+            check::face_size(&itf.area, itf.secondary_faces.len()),
+        ));
+    }
+    w.extend(check::energy_rise(
+        tally.energy_initial,
+        tally.energy_max,
+        energy_scale,
+        scene.run.energy_tolerance,
+    ));
+    for r in initial {
+        if r.penetrating > 0 && r.policy == "ignore" {
+            w.push(Warning::new(
+                "initial_penetration",
+                format!(
+                    "interface `{}`: {} nodes started behind the primary surface (deepest {:.4e}) and initial_penetration = \"ignore\" ran them as given",
+                    r.interface, r.penetrating, r.depth
+                ),
+            ));
+        }
+    }
+    w
+}
+
+/// The energy a run's divergence and energy-rise tests measure against: the initial energy,
+/// or the work gravity can do across the model, whichever is larger.
+pub(super) fn energy_scale(
+    scene: &Scene,
+    model: &Model,
+    solver: &dyn Integrator,
+    initial: f64,
+) -> f64 {
+    let total_mass: f64 = solver.nodal_mass().iter().sum();
+    initial
+        .abs()
+        .max(total_mass * crate::scene::norm3(scene.gravity) * bbox_diagonal(model))
+        .max(f64::MIN_POSITIVE)
+}
+
+/// The summary's counts and energies from the tally.
+pub(super) fn copy_tally(summary: &mut Summary, tally: &Tally) {
+    summary.steps = tally.steps;
+    summary.iterations_total = tally.iterations_total;
+    summary.iterations_max = tally.iterations_max;
+    summary.unconverged_steps = tally.unconverged_steps;
+    summary.energy_initial = tally.energy_initial;
+    summary.energy_final = tally.energy_final;
+    summary.energy_max = tally.energy_max;
+}
+
+/// The summary's fields from the tally and the solver.
+pub(super) fn fill_summary(
+    summary: &mut Summary,
+    tally: &Tally,
+    model: &Model,
+    solver: &dyn Integrator,
+) {
+    copy_tally(summary, tally);
+    summary.iterations_mean = tally.iterations_total as f64 / tally.steps.max(1) as f64;
+    summary.interfaces = interface_summaries(model, solver, &tally.peak_force);
+    if let Some(f) = solver.implicit_figures() {
+        summary.factorizations = f.factorizations;
+        summary.linear_solver = Some(f.linear_solver);
+        summary.mass_factor = f.mass_factor;
+        summary.event_steps = f.event_steps;
+    }
+}
+
+/// Ends an interrupted run: a checkpoint (CPU integrators), the history, a summary with
+/// `status = "interrupted"`, and the error.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn interrupted(
+    model: &Model,
+    solver: &mut dyn Integrator,
+    summary: &mut Summary,
+    tally: &Tally,
+    out: &mut Outputs,
+    identity: &RunIdentity,
+    start: Instant,
+) -> ImpactError {
+    let saved = save(solver, out, tally, identity);
+    let _ = out.history.flush();
+    fill_summary(summary, tally, model, solver);
+    summary.status = "interrupted".into();
+    summary.message = Some(match &saved {
+        Ok(()) => format!(
+            "interrupted by a signal; continue with --resume (checkpoint at step {})",
+            tally.steps
+        ),
+        Err(e) => format!("interrupted by a signal; the checkpoint could not be written: {e}"),
+    });
+    summary.wall_seconds = start.elapsed().as_secs_f64();
+    if let Err(e) = summary.write(&out.dir) {
+        return e;
+    }
+    if let Err(e) = saved {
+        return e;
+    }
+    ImpactError::Interrupted {
+        step: tally.steps,
+        time: solver.time(),
+        dir: out.dir.clone(),
+    }
+}
+
+/// Each interface's line of the summary.
+fn interface_summaries(
+    model: &Model,
+    solver: &dyn Integrator,
+    peak: &[f64],
+) -> Vec<InterfaceSummary> {
+    (model.interfaces.iter())
+        .zip(solver.interface_ends())
+        .zip(peak)
+        .map(|((itf, end), &p)| InterfaceSummary {
+            name: itf.name.clone(),
+            penalty_normal_final: end.penalty_normal,
+            penalty_tangential_final: end.penalty_tangential,
+            friction_work: end.friction_work,
+            penalty_increases: end.penalty_increases,
+            penalty_decreases: end.penalty_decreases,
+            peak_normal_force: p,
+        })
+        .collect()
+}
+
+/// Ends a diverged run: flushes the history, writes the summary and the charts, and returns
+/// the error.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn fail(
+    scene: &Scene,
+    model: &Model,
+    summary: &mut Summary,
+    tally: &Tally,
+    out: &mut Outputs,
+    (step, time): (usize, f64),
+    reason: String,
+    start: Instant,
+) -> ImpactError {
+    let _ = out.history.flush();
+    copy_tally(summary, tally);
+    summary.status = "diverged".into();
+    summary.message = Some(reason.clone());
+    summary.wall_seconds = start.elapsed().as_secs_f64();
+    let _ = summary.write(&out.dir);
+    let _ = write_charts(scene, model, &out.dir);
+    ImpactError::Diverged {
+        step,
+        time,
+        reason,
+        dir: out.dir.clone(),
+    }
+}
+
+fn bbox_diagonal(model: &Model) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in &model.mesh.nodes {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    crate::scene::norm3([hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]])
+}
