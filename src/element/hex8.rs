@@ -137,6 +137,7 @@ pub fn volume(x: &[[f64; 3]; 8]) -> f64 {
 
 #[cfg(test)]
 mod tests {
+    use super::super::checks;
     use super::*;
 
     fn distorted() -> [[f64; 3]; 8] {
@@ -168,63 +169,21 @@ mod tests {
     #[test]
     fn stiffness_is_symmetric_and_has_six_rigid_modes() {
         let x = distorted();
-        let m = Elastic::from_engineering(200.0, 0.3, 1.0);
-        let k = stiffness(&x, &m);
-        for i in 0..24 {
-            for j in 0..24 {
-                assert!((k[i][j] - k[j][i]).abs() < 1e-10 * k[i][i].abs());
-            }
-        }
-        // translations and (linearised) rotations produce no force
-        let mut modes: Vec<[f64; 24]> = Vec::new();
-        for a in 0..3 {
-            let mut u = [0.0; 24];
-            for n in 0..8 {
-                u[3 * n + a] = 1.0;
-            }
-            modes.push(u);
-        }
-        for axis in 0..3 {
-            let mut u = [0.0; 24];
-            for n in 0..8 {
-                let p = x[n];
-                let w = [[0.0, -p[2], p[1]], [p[2], 0.0, -p[0]], [-p[1], p[0], 0.0]][axis];
-                u[3 * n..3 * n + 3].copy_from_slice(&w);
-            }
-            modes.push(u);
-        }
-        for u in modes {
-            for row in &k {
-                let f: f64 = row.iter().zip(&u).map(|(a, b)| a * b).sum();
-                assert!(f.abs() < 1e-10, "rigid mode gives force {f}");
-            }
-        }
+        let k = stiffness(&x, &Elastic::from_engineering(200.0, 0.3, 1.0));
+        checks::assert_symmetric_with_rigid_modes(&k, &x, 1e-10, 1e-10);
     }
 
     #[test]
     fn patch_test_uniform_strain_gives_the_exact_energy() {
-        // u = E x with a constant symmetric strain E: energy = V (lambda tr^2 / 2 + mu E:E)
         let x = distorted();
         let m = Elastic::from_engineering(70.0, 0.25, 1.0);
-        let e = [
-            [0.01, 0.002, -0.003],
-            [0.002, -0.004, 0.005],
-            [-0.003, 0.005, 0.006],
-        ];
-        let mut u = [0.0; 24];
-        for n in 0..8 {
-            for a in 0..3 {
-                u[3 * n + a] = (0..3).map(|b| e[a][b] * x[n][b]).sum();
-            }
-        }
+        let u: Vec<f64> = checks::uniform_strain(&x).concat();
         let k = stiffness(&x, &m);
         let energy: f64 = (0..24)
             .map(|i| u[i] * (0..24).map(|j| k[i][j] * u[j]).sum::<f64>())
             .sum::<f64>()
             / 2.0;
-        let tr = e[0][0] + e[1][1] + e[2][2];
-        let ee: f64 = e.iter().flatten().map(|v| v * v).sum();
-        let want = volume(&x) * (0.5 * m.lambda * tr * tr + m.mu * ee);
+        let want = checks::uniform_strain_energy(volume(&x), &m);
         assert!((energy - want).abs() < 1e-12 * want.abs().max(1e-30) * 1e3);
     }
 

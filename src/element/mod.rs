@@ -4,6 +4,8 @@
 //! corner coordinates of either kind (8 or 4 corners) and dispatch on the count, for the code
 //! that runs once per element (assembly, mass lumping, stable step, stresses for output).
 
+#[cfg(test)]
+mod checks;
 pub mod hex8;
 pub mod stable_step;
 pub mod tet4;

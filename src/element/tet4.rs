@@ -92,6 +92,7 @@ pub const FACES: [[usize; 3]; 4] = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
 
 #[cfg(test)]
 mod tests {
+    use super::super::checks;
     use super::*;
 
     fn distorted() -> [[f64; 3]; 4] {
@@ -106,42 +107,16 @@ mod tests {
     #[test]
     fn stiffness_is_symmetric_and_has_six_rigid_modes() {
         let x = distorted();
-        let m = Elastic::from_engineering(200.0, 0.3, 1.0);
-        let k = stiffness(&x, &m);
-        for i in 0..12 {
-            for j in 0..12 {
-                assert!((k[i][j] - k[j][i]).abs() < 1e-12 * k[i][i].abs());
-            }
-        }
-        for axis in 0..6 {
-            let u: [f64; 12] = std::array::from_fn(|d| {
-                let (n, a) = (d / 3, d % 3);
-                if axis < 3 {
-                    (a == axis) as u8 as f64
-                } else {
-                    let p = x[n];
-                    [[0.0, -p[2], p[1]], [p[2], 0.0, -p[0]], [-p[1], p[0], 0.0]][axis - 3][a]
-                }
-            });
-            for row in &k {
-                let f: f64 = row.iter().zip(&u).map(|(a, b)| a * b).sum();
-                assert!(f.abs() < 1e-11, "rigid mode {axis} gives force {f}");
-            }
-        }
+        let k = stiffness(&x, &Elastic::from_engineering(200.0, 0.3, 1.0));
+        checks::assert_symmetric_with_rigid_modes(&k, &x, 1e-12, 1e-11);
     }
 
     #[test]
     fn uniform_strain_gives_the_exact_energy_and_forces_equal_k_u() {
         let x = distorted();
         let m = Elastic::from_engineering(70.0, 0.25, 1.0);
-        let e = [
-            [0.01, 0.002, -0.003],
-            [0.002, -0.004, 0.005],
-            [-0.003, 0.005, 0.006],
-        ];
-        let ue: [[f64; 3]; 4] = std::array::from_fn(|n| {
-            std::array::from_fn(|a| (0..3).map(|b| e[a][b] * x[n][b]).sum())
-        });
+        let e = checks::STRAIN;
+        let ue: [[f64; 3]; 4] = checks::uniform_strain(&x).try_into().unwrap();
         let k = stiffness(&x, &m);
         let f = forces(&x, &ue, m.lambda, m.mu);
         let mut energy = 0.0;
@@ -150,10 +125,9 @@ mod tests {
             assert!((f[i / 3][i % 3] - ku).abs() < 1e-13 * (1.0 + ku.abs()));
             energy += 0.5 * ue[i / 3][i % 3] * ku;
         }
-        let tr = e[0][0] + e[1][1] + e[2][2];
-        let ee: f64 = e.iter().flatten().map(|v| v * v).sum();
-        let want = volume(&x) * (0.5 * m.lambda * tr * tr + m.mu * ee);
+        let want = checks::uniform_strain_energy(volume(&x), &m);
         assert!((energy - want).abs() < 1e-12 * want);
+        let tr = e[0][0] + e[1][1] + e[2][2];
         // the stress is the exact one of the strain
         let s = stress(&x, &ue, &m);
         assert!((s[0][1] - 2.0 * m.mu * e[0][1]).abs() < 1e-14);

@@ -195,16 +195,8 @@ mod tests {
     #[test]
     fn gershgorin_step_is_a_tight_bound_of_the_element_limit() {
         let mut rng = StdRng::seed_from_u64(11);
-        let corners = [
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [1.0, 0.0, 1.0],
-            [1.0, 1.0, 1.0],
-            [0.0, 1.0, 1.0],
-        ];
+        // the unit cube, corners in hex8 order
+        let corners = crate::element::hex8::CORNERS.map(|c| c.map(|v| 0.5 * (v + 1.0)));
         for case in 0..200 {
             let stretch = [
                 rng.random_range(0.2..3.0),

@@ -138,16 +138,10 @@ mod tests {
     use super::*;
 
     fn unit_hex() -> (Vec<[f64; 3]>, [u32; 8]) {
-        let nodes = vec![
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [1.0, 0.0, 1.0],
-            [1.0, 1.0, 1.0],
-            [0.0, 1.0, 1.0],
-        ];
+        // the unit cube, corners in hex8 order
+        let nodes = crate::element::hex8::CORNERS
+            .map(|c| c.map(|v| 0.5 * (v + 1.0)))
+            .to_vec();
         (nodes, [0, 1, 2, 3, 4, 5, 6, 7])
     }
 

@@ -121,6 +121,18 @@ impl Chart {
         (x.is_finite() && y.is_finite()).then_some((x, y))
     }
 
+    /// A series' drawable points in pixels (`map`: plotted coordinates to pixels).
+    fn series_points(
+        &self,
+        ser: &Series,
+        map: &impl Fn(f64, f64) -> (f64, f64),
+    ) -> Vec<(f64, f64)> {
+        (ser.x.iter().zip(&ser.y))
+            .filter_map(|(&x, &y)| self.tx(x, y))
+            .map(|(x, y)| map(x, y))
+            .collect()
+    }
+
     /// The plotted range, padded; zero included for a linear y.
     fn bounds(&self) -> (f64, f64, f64, f64) {
         let y_init = if self.log_y {
@@ -236,13 +248,7 @@ impl Chart {
         );
         for (i, ser) in self.series.iter().enumerate() {
             let col = colour_hex(self.colour(i));
-            let pts: Vec<(f64, f64)> = ser
-                .x
-                .iter()
-                .zip(&ser.y)
-                .filter_map(|(&x, &y)| self.tx(x, y))
-                .map(|(x, y)| map(x, y))
-                .collect();
+            let pts = self.series_points(ser, &map);
             let dash = if ser.style == Style::Exact {
                 " stroke-dasharray=\"6,4\""
             } else {
@@ -326,13 +332,7 @@ impl Chart {
         );
         for (i, ser) in self.series.iter().enumerate() {
             let col = self.colour(i);
-            let pts: Vec<(f64, f64)> = ser
-                .x
-                .iter()
-                .zip(&ser.y)
-                .filter_map(|(&x, &y)| self.tx(x, y))
-                .map(|(x, y)| map(x, y))
-                .collect();
+            let pts = self.series_points(ser, &map);
             let exact = ser.style == Style::Exact;
             if matches!(ser.style, Style::Line | Style::Exact) {
                 for w in pts.windows(2) {

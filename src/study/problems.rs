@@ -17,6 +17,14 @@ pub enum Problem {
     SlidingBlock,
 }
 
+/// The material of the 1D wave problems' bars.
+const BAR_MATERIAL: &str = r#"[[material]]
+name = "elastic"
+density = 0.01
+youngs_modulus = 100.0
+poissons_ratio = 0.0
+"#;
+
 impl Problem {
     pub fn parse(name: &str) -> Option<Problem> {
         match name {
@@ -76,20 +84,18 @@ impl Problem {
 
     /// The scene's text, without `[run]` method settings (the caller appends them).
     pub fn scene(self, n: usize) -> String {
+        // the 1D wave problems' bar: c = 100, impedance 1 per unit area, struck at 1
+        let moving_bar = format!(
+            "box = {{ min = [-10.0, 0.0, 0.0], max = [0.0, 1.0, 1.0], divisions = [{n}, 1, 1] }}\nvelocity = [1.0, 0.0, 0.0]"
+        );
         match self {
             Problem::TwoBars => format!(
                 r#"title = "two bars, {n} elements per bar"
-[[material]]
-name = "elastic"
-density = 0.01
-youngs_modulus = 100.0
-poissons_ratio = 0.0
-
+{BAR_MATERIAL}
 [[body]]
 name = "A"
 material = "elastic"
-box = {{ min = [-10.0, 0.0, 0.0], max = [0.0, 1.0, 1.0], divisions = [{n}, 1, 1] }}
-velocity = [1.0, 0.0, 0.0]
+{moving_bar}
 
 [[body]]
 name = "B"
@@ -104,17 +110,11 @@ primary = {{ body = "B", face = "x-" }}
             ),
             Problem::BarOnWall => format!(
                 r#"title = "bar on a rigid wall, {n} elements"
-[[material]]
-name = "elastic"
-density = 0.01
-youngs_modulus = 100.0
-poissons_ratio = 0.0
-
+{BAR_MATERIAL}
 [[body]]
 name = "bar"
 material = "elastic"
-box = {{ min = [-10.0, 0.0, 0.0], max = [0.0, 1.0, 1.0], divisions = [{n}, 1, 1] }}
-velocity = [1.0, 0.0, 0.0]
+{moving_bar}
 
 [[rigid_plane]]
 name = "wall"

@@ -1,0 +1,55 @@
+//! Checks every element's tests share: a symmetric stiffness with the six rigid modes of
+//! free motion, and the exact energy of a uniform strain (the patch test).
+
+use crate::material::Elastic;
+
+/// A uniform strain with every component nonzero.
+pub const STRAIN: [[f64; 3]; 3] = [
+    [0.01, 0.002, -0.003],
+    [0.002, -0.004, 0.005],
+    [-0.003, 0.005, 0.006],
+];
+
+/// The displacement u = E x of the uniform strain [`STRAIN`] at the corners x.
+pub fn uniform_strain(x: &[[f64; 3]]) -> Vec<[f64; 3]> {
+    (x.iter())
+        .map(|p| std::array::from_fn(|a| (0..3).map(|b| STRAIN[a][b] * p[b]).sum()))
+        .collect()
+}
+
+/// The strain energy of [`STRAIN`] in a volume V: V (lambda tr^2 / 2 + mu E:E).
+pub fn uniform_strain_energy(volume: f64, m: &Elastic) -> f64 {
+    let tr = STRAIN[0][0] + STRAIN[1][1] + STRAIN[2][2];
+    let ee: f64 = STRAIN.iter().flatten().map(|v| v * v).sum();
+    volume * (0.5 * m.lambda * tr * tr + m.mu * ee)
+}
+
+/// Asserts that the element stiffness `k` of corners x is symmetric (to `sym` of its
+/// diagonal) and that the three translations and three linearised rotations give no force
+/// (to `force` absolute, the corners being of unit size).
+pub fn assert_symmetric_with_rigid_modes<const N: usize>(
+    k: &[[f64; N]; N],
+    x: &[[f64; 3]],
+    sym: f64,
+    force: f64,
+) {
+    for i in 0..N {
+        for j in 0..N {
+            assert!((k[i][j] - k[j][i]).abs() < sym * k[i][i].abs());
+        }
+    }
+    for mode in 0..6 {
+        let u: [f64; N] = std::array::from_fn(|d| {
+            let (n, a) = (d / 3, d % 3);
+            let p = x[n];
+            match mode {
+                0..3 => (a == mode) as u8 as f64,
+                _ => [[0.0, -p[2], p[1]], [p[2], 0.0, -p[0]], [-p[1], p[0], 0.0]][mode - 3][a],
+            }
+        });
+        for row in k {
+            let f: f64 = row.iter().zip(&u).map(|(a, b)| a * b).sum();
+            assert!(f.abs() < force, "rigid mode {mode} gives force {f}");
+        }
+    }
+}
