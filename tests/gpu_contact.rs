@@ -10,7 +10,7 @@ mod common;
 use common::*;
 
 use impact::geometry::quad::norm;
-use impact::gpu::{GpuContext, ResidentExplicit};
+use impact::gpu::{GpuContext, ResidentStep};
 use impact::integrate::resident;
 use impact::integrate::{Integrator, ResidentSolver};
 use impact::kernels::contact_gap::NO_FACE;
@@ -121,7 +121,7 @@ fn contact_iteration_stages_match_their_cpu_twins() {
     let a: Vec<f64> = (0..3 * nodes)
         .map(|_| rng.random_range(-20.0..20.0))
         .collect();
-    let mut gpu = ResidentExplicit::new(ctx, &data, &setup, 8).expect("device step");
+    let mut gpu = ResidentStep::new(ctx, &data, &setup, 8).expect("device step");
     gpu.upload(&u, &v, &a, &vec![0.0; 3 * nodes], &[]).unwrap();
     let (ctx, it) = gpu.contact_iteration().expect("contact iteration");
     let ctx: GpuContext = ctx.clone();
@@ -332,7 +332,7 @@ fn model_settings() -> impact::scene::ExplicitSettings {
     impact::scene::ExplicitSettings::default()
 }
 
-fn gpu_state(gpu: &mut ResidentExplicit) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+fn gpu_state(gpu: &mut ResidentStep) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     gpu.read_state().unwrap()
 }
 

@@ -8,9 +8,9 @@
 mod common;
 use common::*;
 
-use impact::gpu::explicit_step::{plane_slots, row_columns};
 use impact::gpu::inspect::Stage;
-use impact::gpu::{ResidentExplicit, ResidentSetup};
+use impact::gpu::resident_step::{plane_slots, row_columns};
+use impact::gpu::{ResidentSetup, ResidentStep};
 use impact::kernels::explicit_correct::{FIELDS, GROUP};
 use impact::kernels::plane_contact::SLOT;
 use impact::kernels::{self, ElementData, LumpedNode, PlaneData, PlaneNode, SweepLimits};
@@ -148,8 +148,8 @@ fn explicit_stages_match_their_cpu_twins() {
     let inp = random_inputs(&mut rng);
     let s = &inp.setup;
     let n = inp.data.reference.len();
-    let mut gpu = ResidentExplicit::new(ctx, &inp.data, s, 4).expect("engine");
-    let upload = |gpu: &mut ResidentExplicit| {
+    let mut gpu = ResidentStep::new(ctx, &inp.data, s, 4).expect("engine");
+    let upload = |gpu: &mut ResidentStep| {
         gpu.upload(&inp.u, &inp.v, &inp.a, &inp.forces, &inp.results)
             .expect("upload")
     };

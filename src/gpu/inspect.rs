@@ -1,8 +1,8 @@
 //! The read-back and single-stage hooks that tests and benches use to compare device buffers
 //! with the CPU twins: a stage or a kernel run alone on inputs the caller uploads
-//! ([`ResidentExplicit::run_stage`], [`GpuKernels::corner_forces`], [`ContactIteration::run`]),
+//! ([`ResidentStep::run_stage`], [`GpuKernels::corner_forces`], [`ContactIteration::run`]),
 //! the buffers it wrote read back in f64 (`read_*`), and the timings of the benchmarks
-//! ([`ResidentExplicit::time_stage`], [`GpuKernels::time_kernel`], `copy_bandwidth`). The
+//! ([`ResidentStep::time_stage`], [`GpuKernels::time_kernel`], `copy_bandwidth`). The
 //! `tests/gpu_*.rs` twin tests and `benches/` call them; the solver never does.
 
 use std::time::{Duration, Instant};
@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use super::buffer::{read_back, read_floats, submit_and_read, Storage};
 use super::context::GpuContext;
 use super::engine::{bytes_of, corner_slot, GpuKernels};
-use super::explicit_step::{to_f32, ResidentExplicit};
+use super::resident_step::{to_f32, ResidentStep};
 use super::search::GpuSearch;
 use super::types;
 use super::ContactIteration;
@@ -188,7 +188,7 @@ impl GpuSearch {
     }
 }
 
-/// One stage of the resident step, for running it alone ([`ResidentExplicit::run_stage`]):
+/// One stage of the resident step, for running it alone ([`ResidentStep::run_stage`]):
 /// the kernel tests compare each with its CPU twin, the benchmarks time each.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stage {
@@ -200,7 +200,7 @@ pub enum Stage {
     Reduce,
 }
 
-impl ResidentExplicit {
+impl ResidentStep {
     /// The device contact iteration, if the step has one, with the context (to run its
     /// stages alone).
     pub fn contact_iteration(&mut self) -> Option<(&GpuContext, &mut ContactIteration)> {

@@ -1,5 +1,5 @@
 //! [`ResidentSolver`]: the explicit path with every stage of the step on the GPU
-//! ([`crate::gpu::ResidentExplicit`]). The same time discretisation and the same contact
+//! ([`crate::gpu::ResidentStep`]). The same time discretisation and the same contact
 //! iteration as [`super::ExplicitSolver`], its CPU twin (`device = "cpu"`): see
 //! `integrate/explicit.rs`, `kernels/plane_contact.rs` (rigid planes alone) and
 //! `gpu/contact_iteration.rs` (contact between meshed bodies).
@@ -18,8 +18,8 @@ use super::integrator::{Integrator, ENGINE_GPU_RESIDENT};
 use super::state::{ContactReport, Energies, SolverState};
 use crate::contact::search;
 use crate::error::Result;
-use crate::gpu::explicit_step::row_len;
-use crate::gpu::{ContactSetup, GpuContext, ResidentExplicit, ResidentSetup};
+use crate::gpu::resident_step::row_len;
+use crate::gpu::{ContactSetup, GpuContext, ResidentSetup, ResidentStep};
 use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::explicit_correct::FIELDS;
 use crate::kernels::plane_contact::{slot, MAX_PLANES, SLOT};
@@ -195,7 +195,7 @@ struct Row {
 }
 
 /// Everything a resident run carries from one step to the next: the checkpoint's part
-/// (the device's step state as raw words, see [`ResidentExplicit::read_step_state`]).
+/// (the device's step state as raw words, see [`ResidentStep::read_step_state`]).
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct ResidentState {
     pub dt: f64,
@@ -206,7 +206,7 @@ pub struct ResidentState {
 
 pub struct ResidentSolver<'m> {
     model: &'m Model,
-    engine: ResidentExplicit,
+    engine: ResidentStep,
     pub dt: f64,
     pub time: f64,
     pub steps: usize,
@@ -285,7 +285,7 @@ impl<'m> ResidentSolver<'m> {
     ) -> Result<Self> {
         let (setup, places) = setup(model, settings, dt, speed_scale);
         let chunk = chunk.max(1);
-        let mut engine = ResidentExplicit::new(ctx, &model.element_data(), &setup, chunk)?;
+        let mut engine = ResidentStep::new(ctx, &model.element_data(), &setup, chunk)?;
         engine.set_sweeps(MIN_SWEEPS);
         // the setup lumped the mass already (an element loop over the whole mesh)
         let mass: Vec<f64> = setup.lumped.iter().map(|l| l.mass).collect();
@@ -350,7 +350,7 @@ impl<'m> ResidentSolver<'m> {
     }
 
     /// The device step (the benchmarks time its stages).
-    pub fn engine_mut(&mut self) -> &mut ResidentExplicit {
+    pub fn engine_mut(&mut self) -> &mut ResidentStep {
         &mut self.engine
     }
 

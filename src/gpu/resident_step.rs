@@ -1,4 +1,4 @@
-//! [`ResidentExplicit`]: the whole explicit central-difference step on the device, many steps
+//! [`ResidentStep`]: the whole explicit central-difference step on the device, many steps
 //! per submission, with the history values reduced on the device and read back
 //! asynchronously once per submission.
 //!
@@ -12,7 +12,7 @@
 //! read-back buffer at the end of the submission; two read-back buffers alternate: the host
 //! decodes one submission's rows while the device runs the next.
 //!
-//! The state stays on the device; [`ResidentExplicit::read_state`] fetches it (VTU frames).
+//! The state stays on the device; [`ResidentStep::read_state`] fetches it (VTU frames).
 
 use std::ops::Range;
 
@@ -363,7 +363,7 @@ struct Pending {
     mapped: Mapping,
 }
 
-pub struct ResidentExplicit {
+pub struct ResidentStep {
     pub(super) k: GpuKernels,
     pub(super) kernels: StepKernels,
     /// The step's constants (`dt` changes for a shortened last step).
@@ -389,7 +389,7 @@ pub struct ResidentExplicit {
     pub chunk_capacity: usize,
 }
 
-impl ResidentExplicit {
+impl ResidentStep {
     pub fn new(
         ctx: GpuContext,
         data: &ElementData,
@@ -431,7 +431,7 @@ impl ResidentExplicit {
             Self::snapshot_buffers(&k, &m.a, contact.as_ref())?,
             Self::snapshot_buffers(&k, &m.a, contact.as_ref())?,
         ];
-        Ok(ResidentExplicit {
+        Ok(ResidentStep {
             kernels,
             step,
             step_consts,
