@@ -22,6 +22,7 @@
 
 use std::ops::Range;
 
+use super::bucket_sort::BucketSort;
 use super::buffer::Storage;
 use super::context::GpuContext;
 use super::kernel::Launch;
@@ -143,11 +144,9 @@ impl ModelBuffers {
 pub(super) struct WorkBuffers {
     pub(super) bounds: Storage,
     pub(super) constraints: Storage,
-    pub(super) keys: Storage,
-    ranks: Storage,
-    counts: Storage,
-    pub(super) starts: Storage,
-    pub(super) sorted: Storage,
+    /// The pairs sorted by primary face: buckets 0..faces hold the pairs on each face,
+    /// bucket `faces` the others.
+    pub(super) sort: BucketSort,
     pub(super) touches: Storage,
     pub(super) dj: Storage,
     pub(super) state: Storage,
@@ -166,12 +165,14 @@ impl WorkBuffers {
             "contact.constraints",
             (np * std::mem::size_of::<types::Constraint>()) as u64,
         )?;
-        let keys = Storage::new(ctx, "contact.keys", words(np))?;
-        let ranks = Storage::new(ctx, "contact.ranks", words(np))?;
-        // buckets 0..faces hold the pairs on each face, bucket `faces` the others
-        let counts = Storage::new(ctx, "contact.counts", words(nf + 1))?;
-        let starts = Storage::new(ctx, "contact.starts", words(nf + 2))?;
-        let sorted = Storage::new(ctx, "contact.sorted", words(np))?;
+        let labels = [
+            "contact.keys",
+            "contact.ranks",
+            "contact.counts",
+            "contact.starts",
+            "contact.sorted",
+        ];
+        let sort = BucketSort::new(ctx, labels, np, nf + 1)?;
         let touches = Storage::new(ctx, "contact.touches", words(nodes))?;
         let dj = Storage::new(ctx, "contact.dj", words(3 * np))?;
         let state = Storage::new(ctx, "contact.state", 16)?;
@@ -189,11 +190,7 @@ impl WorkBuffers {
         Ok(WorkBuffers {
             bounds,
             constraints,
-            keys,
-            ranks,
-            counts,
-            starts,
-            sorted,
+            sort,
             touches,
             dj,
             state,
@@ -277,34 +274,39 @@ impl Bindings<'_> {
             self.points,
             self.faces,
             &w.constraints.buffer,
-            &w.keys.buffer,
+            &w.sort.keys.buffer,
         );
         let count = k.count.launch(
             ctx,
             np,
             0,
             0,
-            &w.keys.buffer,
-            &w.counts.buffer,
-            &w.ranks.buffer,
+            &w.sort.keys.buffer,
+            &w.sort.counts.buffer,
+            &w.sort.ranks.buffer,
         );
-        let prefix = k
-            .prefix
-            .launch(ctx, nf + 1, 0, 0, &w.counts.buffer, &w.starts.buffer);
+        let prefix = k.prefix.launch(
+            ctx,
+            nf + 1,
+            0,
+            0,
+            &w.sort.counts.buffer,
+            &w.sort.starts.buffer,
+        );
         let fill = k.fill.launch(
             ctx,
             np,
             0,
             0,
-            &w.keys.buffer,
-            &w.ranks.buffer,
-            &w.starts.buffer,
-            &w.sorted.buffer,
+            &w.sort.keys.buffer,
+            &w.sort.ranks.buffer,
+            &w.sort.starts.buffer,
+            &w.sort.sorted.buffer,
         );
         // the face buckets only: the sentinel bucket is never gathered
         let order = k
             .order
-            .launch(ctx, nf, 0, 0, &w.starts.buffer, &w.sorted.buffer);
+            .launch(ctx, nf, 0, 0, &w.sort.starts.buffer, &w.sort.sorted.buffer);
         [constraints, count, prefix, fill, order]
     }
 
@@ -319,8 +321,8 @@ impl Bindings<'_> {
             &m.nodes.buffer,
             &m.links.buffer,
             &w.constraints.buffer,
-            &w.starts.buffer,
-            &w.sorted.buffer,
+            &w.sort.starts.buffer,
+            &w.sort.sorted.buffer,
             &w.touches.buffer,
             &w.state.buffer,
         );
@@ -363,8 +365,8 @@ impl Bindings<'_> {
             &m.nodes.buffer,
             &m.links.buffer,
             &w.constraints.buffer,
-            &w.starts.buffer,
-            &w.sorted.buffer,
+            &w.sort.starts.buffer,
+            &w.sort.sorted.buffer,
             &w.dj.buffer,
             b.lumped,
             b.velocity,
@@ -522,11 +524,11 @@ impl ContactIteration {
         [
             &w.bounds,
             &w.constraints,
-            &w.keys,
-            &w.ranks,
-            &w.counts,
-            &w.starts,
-            &w.sorted,
+            &w.sort.keys,
+            &w.sort.ranks,
+            &w.sort.counts,
+            &w.sort.starts,
+            &w.sort.sorted,
             &w.touches,
             &w.dj,
             &w.state,
@@ -550,7 +552,7 @@ impl ContactIteration {
             search.record_stages(enc);
         }
         k.constraints.0.record_launch(enc, &l.constraints);
-        enc.clear_buffer(&self.work.counts.buffer, 0, None);
+        enc.clear_buffer(&self.work.sort.counts.buffer, 0, None);
         k.count.0.record_launch(enc, &l.count);
         // one workgroup scans the whole table
         k.prefix.0.record(enc, &l.prefix.bind, [1, 1]);

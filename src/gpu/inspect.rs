@@ -179,11 +179,11 @@ impl GpuSearch {
         let mut read =
             |s: &Storage, n| read_back(ctx, &mut self.staging, "search.read", &s.buffer, n);
         Ok([
-            read(&b.keys, f)?,
-            read(&b.ranks, f)?,
-            read(&b.counts, t)?,
-            read(&b.starts, t + 1)?,
-            read(&b.sorted, f)?,
+            read(&b.sort.keys, f)?,
+            read(&b.sort.ranks, f)?,
+            read(&b.sort.counts, t)?,
+            read(&b.sort.starts, t + 1)?,
+            read(&b.sort.sorted, f)?,
         ])
     }
 }
@@ -349,9 +349,9 @@ impl ContactIteration {
         let mut read =
             |s: &Storage, n| read_back(ctx, &mut self.staging, CONTACT_READ, &s.buffer, n);
         Ok([
-            read(&w.keys, np)?,
-            read(&w.starts, nf + 2)?,
-            read(&w.sorted, np)?,
+            read(&w.sort.keys, np)?,
+            read(&w.sort.starts, nf + 2)?,
+            read(&w.sort.sorted, np)?,
         ])
     }
 

@@ -4,6 +4,7 @@
 //! [`crate::backend::Kernels`] interface on a device. The hooks that tests and benches use to
 //! run one stage alone and read device buffers back are apart, in [`inspect`].
 
+mod bucket_sort;
 pub mod buffer;
 pub mod contact_iteration;
 pub mod context;

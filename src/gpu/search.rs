@@ -6,6 +6,7 @@
 //! cells around it, with the host broad phase's candidate test (a face's box grown by the
 //! margin holds the node) and `contact_gap`'s projection.
 
+use super::bucket_sort::BucketSort;
 use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
 use super::types::{self, to_device, ContactQuery, Quad};
@@ -56,11 +57,8 @@ pub(super) struct SearchBuffers {
     faces: Storage,
     face_first: Storage,
     queries: Storage,
-    pub(super) keys: Storage,
-    pub(super) ranks: Storage,
-    pub(super) counts: Storage,
-    pub(super) starts: Storage,
-    pub(super) sorted: Storage,
+    /// The faces sorted by the grid cell of their centroid.
+    pub(super) sort: BucketSort,
     points: Storage,
 }
 
@@ -74,7 +72,6 @@ impl SearchBuffers {
         queries: &[(u32, u32, u32)],
         table: usize,
     ) -> Result<Self> {
-        let words = |n: usize| (4 * n) as u64;
         let nf = faces.len();
         let point_bytes = queries.len() * std::mem::size_of::<types::ContactPoint>();
         Ok(SearchBuffers {
@@ -92,11 +89,18 @@ impl SearchBuffers {
                 "search.queries",
                 &to_device::<_, ContactQuery>(queries),
             )?,
-            keys: Storage::new(ctx, "search.keys", words(nf))?,
-            ranks: Storage::new(ctx, "search.ranks", words(nf))?,
-            counts: Storage::new(ctx, "search.counts", words(table))?,
-            starts: Storage::new(ctx, "search.starts", words(table + 1))?,
-            sorted: Storage::new(ctx, "search.sorted", words(nf))?,
+            sort: BucketSort::new(
+                ctx,
+                [
+                    "search.keys",
+                    "search.ranks",
+                    "search.counts",
+                    "search.starts",
+                    "search.sorted",
+                ],
+                nf,
+                table,
+            )?,
             points: Storage::new(ctx, "search.points", point_bytes as u64)?,
         })
     }
@@ -120,17 +124,22 @@ fn binds(
             displacement,
             &b.faces.buffer,
             &b.face_first.buffer,
-            &b.keys.buffer,
+            &b.sort.keys.buffer,
         ),
-        k.bucket_count
-            .bind(ctx, &b.keys.buffer, &b.counts.buffer, &b.ranks.buffer),
-        k.prefix_sum.bind(ctx, &b.counts.buffer, &b.starts.buffer),
+        k.bucket_count.bind(
+            ctx,
+            &b.sort.keys.buffer,
+            &b.sort.counts.buffer,
+            &b.sort.ranks.buffer,
+        ),
+        k.prefix_sum
+            .bind(ctx, &b.sort.counts.buffer, &b.sort.starts.buffer),
         k.bucket_fill.bind(
             ctx,
-            &b.keys.buffer,
-            &b.ranks.buffer,
-            &b.starts.buffer,
-            &b.sorted.buffer,
+            &b.sort.keys.buffer,
+            &b.sort.ranks.buffer,
+            &b.sort.starts.buffer,
+            &b.sort.sorted.buffer,
         ),
         k.contact_search.bind(
             ctx,
@@ -140,8 +149,8 @@ fn binds(
             velocity,
             &b.queries.buffer,
             &b.faces.buffer,
-            &b.starts.buffer,
-            &b.sorted.buffer,
+            &b.sort.starts.buffer,
+            &b.sort.sorted.buffer,
             &b.points.buffer,
         ),
     ]
@@ -201,7 +210,7 @@ impl GpuSearch {
     /// Records a whole search with the grid already in [`Self::grid_buffer`] when it runs.
     pub fn record_stages(&self, enc: &mut wgpu::CommandEncoder) {
         let (k, b) = (&self.kernels, &self.binds);
-        enc.clear_buffer(&self.buffers.counts.buffer, 0, None);
+        enc.clear_buffer(&self.buffers.sort.counts.buffer, 0, None);
         let f = self.faces as u32;
         k.face_cells.0.record(enc, &b[0], k.face_cells.0.grid(f));
         k.bucket_count

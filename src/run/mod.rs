@@ -223,6 +223,16 @@ impl<'s> Running<'s> {
         })
     }
 
+    /// A checkpoint of the current state.
+    fn save(&mut self) -> Result<()> {
+        save(
+            self.solver.as_mut(),
+            &mut self.out,
+            &self.tally,
+            &self.identity,
+        )
+    }
+
     /// Whether step `n` is the run's last, shortened to end at `end_time`.
     fn shortened(&self, n: usize) -> bool {
         n + 1 == self.setup.steps && self.setup.last_step.is_some()
@@ -235,12 +245,7 @@ impl<'s> Running<'s> {
         if self.shortened(n) {
             if self.scene.checkpoint_every.is_some() {
                 // the checkpoint stays on whole steps: a later end time continues from here
-                save(
-                    self.solver.as_mut(),
-                    &mut self.out,
-                    &self.tally,
-                    &self.identity,
-                )?;
+                self.save()?;
             }
             if let Some(dt) = self.setup.last_step {
                 self.solver.shorten_step(dt);
@@ -258,12 +263,7 @@ impl<'s> Running<'s> {
         }
         let due = (self.scene.checkpoint_every).is_some_and(|k| (n + 1) % k == 0 || last);
         if due && !self.shortened(n) {
-            save(
-                self.solver.as_mut(),
-                &mut self.out,
-                &self.tally,
-                &self.identity,
-            )?;
+            self.save()?;
         }
         Ok(r.iterations)
     }
