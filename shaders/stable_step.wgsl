@@ -59,8 +59,18 @@ fn hex_gauss(x: array<vec3<f32>, 8>, g: u32) -> HexGauss {
 }
 
 // Entry (i, j) of the 3x3 stiffness block of nodes a, b for one integration point with weight
-// w: w (lambda ga_i gb_j + mu ga_j gb_i + mu delta_ij ga . gb).
+// w: w (lambda ga_i gb_j + mu ga_j gb_i + mu delta_ij ga . gb), or w ga_k C_ikjl gb_l.
 fn block(ga: vec3<f32>, gb: vec3<f32>, m: Material, w: f32) -> mat3x3<f32> {
+    if (m.anisotropic != 0u) {
+        // column j: the force on a of a unit displacement along j at b, sigma(e_j gb^T) ga
+        let ex = vec3<f32>(1.0, 0.0, 0.0);
+        let ey = vec3<f32>(0.0, 1.0, 0.0);
+        let ez = vec3<f32>(0.0, 0.0, 1.0);
+        let kx = voigt_stress(mat3x3<f32>(ex * gb.x, ex * gb.y, ex * gb.z), m) * ga;
+        let ky = voigt_stress(mat3x3<f32>(ey * gb.x, ey * gb.y, ey * gb.z), m) * ga;
+        let kz = voigt_stress(mat3x3<f32>(ez * gb.x, ez * gb.y, ez * gb.z), m) * ga;
+        return mat3x3<f32>(kx, ky, kz) * w;
+    }
     // columns j: column j holds the entries (., j)
     let d = m.mu * dot(ga, gb);
     var k = mat3x3<f32>(

@@ -75,7 +75,7 @@ fn stable_step(out: &mut String, scene: &Scene, setup: &Setup) {
         let _ = writeln!(
             out,
             "stable explicit step: {stable:.6e}, set by element {e} (body `{}`, material `{}`)",
-            scene.bodies[body].name, scene.materials[material as usize].name
+            scene.bodies[body].name, scene.materials[model.material_source[material as usize]].name
         );
     }
 }

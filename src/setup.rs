@@ -134,7 +134,7 @@ fn check_stable(scene: &Scene, model: &Model, (stable, e): (f64, usize)) -> Resu
     if stable.is_finite() && stable > 0.0 {
         return Ok((stable, e));
     }
-    let m = model.mesh.element(e).1 as usize;
+    let m = model.material_source[model.mesh.element(e).1 as usize];
     Err(ImpactError::SceneValue {
         path: scene.path.clone(),
         key: format!("material[{m}] (material `{}`)", scene.materials[m].name),

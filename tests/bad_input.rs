@@ -282,3 +282,77 @@ fn exact_curve_of_an_unknown_column() {
         assert!(msg.contains(part), "{msg:?} should contain {part:?}");
     }
 }
+
+/// The two bars' material as orthotropic constants `c` in place of E and nu.
+fn orthotropic(c: &str) -> String {
+    edit(
+        &base(),
+        "youngs_modulus = 100.0\npoissons_ratio = 0.0",
+        &format!("orthotropic = {{ {c} }}"),
+    )
+}
+
+const PLY: &str = "e1 = 100.0, e2 = 10.0, e3 = 10.0, nu12 = 0.3, nu13 = 0.3, nu23 = 0.4, g12 = 5.0, g13 = 5.0, g23 = 4.0";
+
+#[test]
+fn orthotropic_constants_that_are_not_positive_definite_are_named() {
+    // nu12^2 must stay below E1 / E2 = 10
+    let text = orthotropic(&PLY.replace("nu12 = 0.3", "nu12 = 3.5"));
+    expect(
+        &text,
+        &["material[0].orthotropic", "nu12", "positive definite"],
+    );
+    let text = orthotropic(&PLY.replace("g23 = 4.0", "g23 = 0.0"));
+    expect(&text, &["material[0].orthotropic", "g23", "positive"]);
+    let together = "e1 = 1.0, e2 = 1.0, e3 = 1.0, nu12 = 0.9, nu13 = 0.9, nu23 = 0.9, g12 = 1.0, g13 = 1.0, g23 = 1.0";
+    expect(&orthotropic(together), &["nu12, nu13, nu23", "determinant"]);
+}
+
+#[test]
+fn an_orthotropic_material_with_isotropic_constants_too_is_refused() {
+    let text = edit(
+        &base(),
+        "poissons_ratio = 0.0",
+        &format!("poissons_ratio = 0.0\northotropic = {{ {PLY} }}"),
+    );
+    expect(&text, &["material[0].orthotropic", "one law"]);
+}
+
+#[test]
+fn an_orientation_of_two_parallel_vectors_is_named() {
+    let text = edit(
+        &orthotropic(PLY),
+        "velocity = [1.0, 0.0, 0.0]",
+        "velocity = [1.0, 0.0, 0.0]\norientation = { axes = [[1.0, 1.0, 0.0], [2.0, 2.0, 0.0]] }",
+    );
+    expect(&text, &["body[0].orientation.axes", "parallel"]);
+}
+
+#[test]
+fn plies_thinner_or_thicker_than_the_body_are_named() {
+    // the bars are 1 thick along z
+    for (layers, total) in [("0.25", "0.5"), ("0.75", "1.5")] {
+        let plies = format!(
+            "plies = {{ normal = \"z\", layers = [{{ angle = 0.0, thickness = {layers} }}, {{ angle = 90.0, thickness = {layers} }}] }}"
+        );
+        let text = edit(
+            &orthotropic(PLY),
+            "velocity = [1.0, 0.0, 0.0]",
+            &format!("velocity = [1.0, 0.0, 0.0]\n{plies}"),
+        );
+        expect(
+            &text,
+            &["body[0].plies.layers", &format!("{total} thick"), "along z"],
+        );
+    }
+}
+
+#[test]
+fn a_ply_normal_that_is_no_axis_is_named() {
+    let text = edit(
+        &orthotropic(PLY),
+        "velocity = [1.0, 0.0, 0.0]",
+        "velocity = [1.0, 0.0, 0.0]\nplies = { normal = \"w\", layers = [{ angle = 0.0, thickness = 1.0 }] }",
+    );
+    expect(&text, &["body[0].plies.normal", "\"w\""]);
+}

@@ -11,7 +11,7 @@ use impact::backend::Kernels;
 use impact::gpu::GpuKernels;
 use impact::kernels::contact_gap::NO_FACE;
 use impact::kernels::{self, ContactPoint, ContactQueries, ElementData, Incidence};
-use impact::material::Elastic;
+use impact::material::{Elastic, Orthotropic, Rotation};
 use impact::scene::BoxFace;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
@@ -47,11 +47,12 @@ fn distorted_box(rng: &mut StdRng) -> Problem {
         }
     }
     impact::mesh::boundary::orient(&nodes, &mut hexes, &mut tets).expect("valid elements");
-    let hex_material = (0..hexes.len()).map(|_| rng.random_range(0..2)).collect();
-    let tet_material = (0..tets.len()).map(|_| rng.random_range(0..2)).collect();
+    let hex_material = (0..hexes.len()).map(|_| rng.random_range(0..3)).collect();
+    let tet_material = (0..tets.len()).map(|_| rng.random_range(0..3)).collect();
     let materials = vec![
         Elastic::from_engineering(100.0, 0.3, 1.0),
         Elastic::from_engineering(2.5e3, 0.45, 7.8),
+        random_laminate(rng),
     ];
     Problem {
         data: ElementData {
@@ -65,6 +66,23 @@ fn distorted_box(rng: &mut StdRng) -> Problem {
         top: parts.surfaces[BoxFace::ZPlus as usize].faces.clone(),
         h,
     }
+}
+
+/// A transversely isotropic material (fibre to matrix stiffness 5 to 40) with its axes
+/// turned at random: every entry of its stiffness is nonzero.
+fn random_laminate(rng: &mut StdRng) -> Elastic {
+    let e2 = rng.random_range(5.0..20.0);
+    let t = Orthotropic::transversely_isotropic(
+        e2 * rng.random_range(5.0..40.0),
+        e2,
+        rng.random_range(0.2..0.35),
+        rng.random_range(0.3..0.5),
+        e2 * rng.random_range(0.3..0.7),
+    );
+    assert_eq!(t.indefinite(), None);
+    let mut v = || std::array::from_fn(|_| rng.random_range(-1.0..1.0));
+    let axes = Rotation::from_axes(v(), v()).expect("random axes span a plane");
+    Elastic::anisotropic(t.stiffness(), 1.6).rotated(&axes)
 }
 
 /// Displacements: a rigid translation of several element sizes plus a random part.

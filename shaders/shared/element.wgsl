@@ -10,12 +10,33 @@ fn cofactor(j: mat3x3<f32>) -> mat3x3<f32> {
 
 // Linear elastic stress of the displacement gradient h (h[b] holds du/dx_b).
 fn elastic_stress(h: mat3x3<f32>, m: Material) -> mat3x3<f32> {
+    if (m.anisotropic != 0u) {
+        return voigt_stress(h, m);
+    }
     let tr = h[0].x + h[1].y + h[2].z;
     var s = (h + transpose(h)) * m.mu;
     s[0].x += m.lambda * tr;
     s[1].y += m.lambda * tr;
     s[2].z += m.lambda * tr;
     return s;
+}
+
+// sigma = C eps with the engineering strains of h in Voigt order (xx, yy, zz, yz, xz, xy)
+// (twin: `material::voigt_stress`).
+fn voigt_stress(h: mat3x3<f32>, m: Material) -> mat3x3<f32> {
+    let e0 = h[0].x;
+    let e1 = h[1].y;
+    let e2 = h[2].z;
+    let e3 = h[2].y + h[1].z;
+    let e4 = h[2].x + h[0].z;
+    let e5 = h[1].x + h[0].y;
+    let s0 = m.c11 * e0 + m.c12 * e1 + m.c13 * e2 + m.c14 * e3 + m.c15 * e4 + m.c16 * e5;
+    let s1 = m.c12 * e0 + m.c22 * e1 + m.c23 * e2 + m.c24 * e3 + m.c25 * e4 + m.c26 * e5;
+    let s2 = m.c13 * e0 + m.c23 * e1 + m.c33 * e2 + m.c34 * e3 + m.c35 * e4 + m.c36 * e5;
+    let s3 = m.c14 * e0 + m.c24 * e1 + m.c34 * e2 + m.c44 * e3 + m.c45 * e4 + m.c46 * e5;
+    let s4 = m.c15 * e0 + m.c25 * e1 + m.c35 * e2 + m.c45 * e3 + m.c55 * e4 + m.c56 * e5;
+    let s5 = m.c16 * e0 + m.c26 * e1 + m.c36 * e2 + m.c46 * e3 + m.c56 * e4 + m.c66 * e5;
+    return mat3x3<f32>(vec3<f32>(s0, s5, s4), vec3<f32>(s5, s1, s3), vec3<f32>(s4, s3, s2));
 }
 
 // Eight corner vectors of a hex8 (positions, displacements or forces).

@@ -54,11 +54,35 @@ struct Tet4 {
     material: u32,
 }
 
-// Lame parameters and density.
+// Lame parameters and density; for an anisotropic material (anisotropic = 1) the
+// stiffness's upper triangle in Voigt order (xx, yy, zz, yz, xz, xy), global axes, in place
+// of lambda and mu (twin: `material::Elastic`).
 struct Material {
     lambda: f32,
     mu: f32,
     density: f32,
+    anisotropic: u32,
+    c11: f32,
+    c12: f32,
+    c13: f32,
+    c14: f32,
+    c15: f32,
+    c16: f32,
+    c22: f32,
+    c23: f32,
+    c24: f32,
+    c25: f32,
+    c26: f32,
+    c33: f32,
+    c34: f32,
+    c35: f32,
+    c36: f32,
+    c44: f32,
+    c45: f32,
+    c46: f32,
+    c55: f32,
+    c56: f32,
+    c66: f32,
 }
 
 // One contact query: a secondary node and its candidate faces candidates[first..end].

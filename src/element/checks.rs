@@ -24,6 +24,15 @@ pub fn uniform_strain_energy(volume: f64, m: &Elastic) -> f64 {
     volume * (0.5 * m.lambda * tr * tr + m.mu * ee)
 }
 
+/// The strain energy of [`STRAIN`] in a volume V for any material: V sigma:eps / 2.
+pub fn strain_energy(volume: f64, m: &Elastic) -> f64 {
+    let s = m.stress(&STRAIN);
+    let se: f64 = (0..3)
+        .map(|i| (0..3).map(|j| s[i][j] * STRAIN[i][j]).sum::<f64>())
+        .sum();
+    0.5 * volume * se
+}
+
 /// Asserts that the element stiffness `k` of corners x is symmetric (to `sym` of its
 /// diagonal) and that the three translations and three linearised rotations give no force
 /// (to `force` absolute, the corners being of unit size).

@@ -85,22 +85,18 @@ pub fn gradients(x: &[[f64; 3]; 8], p: [f64; 3]) -> ([[f64; 3]; 8], f64) {
 }
 
 /// Element stiffness, 24x24 row-major in (node, component) order:
-/// $K_{ij} = \sum_g w_g \det J\, [\lambda\, \nabla N_i \otimes \nabla N_j
-///   + \mu (\nabla N_i \cdot \nabla N_j) I + \mu\, \nabla N_j \otimes \nabla N_i]$.
+/// $K_{ij} = \sum_g w_g \det J\, k(\nabla N_i, \nabla N_j)$ with the block
+/// [`super::stiffness_block`].
 pub fn stiffness(x: &[[f64; 3]; 8], m: &Elastic) -> [[f64; 24]; 24] {
     let mut k = [[0.0; 24]; 24];
     for p in gauss_points() {
         let (g, det) = gradients(x, p);
         for i in 0..8 {
             for j in 0..8 {
-                let dot = g[i][0] * g[j][0] + g[i][1] * g[j][1] + g[i][2] * g[j][2];
+                let v = super::stiffness_block(&g[i], &g[j], m);
                 for a in 0..3 {
                     for b in 0..3 {
-                        let mut v = m.lambda * g[i][a] * g[j][b] + m.mu * g[j][a] * g[i][b];
-                        if a == b {
-                            v += m.mu * dot;
-                        }
-                        k[3 * i + a][3 * j + b] += v * det;
+                        k[3 * i + a][3 * j + b] += v[a][b] * det;
                     }
                 }
             }
@@ -171,6 +167,25 @@ mod tests {
         let x = distorted();
         let k = stiffness(&x, &Elastic::from_engineering(200.0, 0.3, 1.0));
         checks::assert_symmetric_with_rigid_modes(&k, &x, 1e-10, 1e-10);
+    }
+
+    /// A turned orthotropic material: a symmetric stiffness with the rigid modes, and the
+    /// exact energy V eps:C:eps / 2 of a uniform strain.
+    #[test]
+    fn anisotropic_stiffness_has_rigid_modes_and_the_exact_energy() {
+        let x = distorted();
+        let ply = crate::material::Orthotropic::transversely_isotropic(140.0, 10.0, 0.3, 0.45, 5.0);
+        let axes = crate::material::Rotation::from_axes([1.0, 0.4, -0.3], [0.2, 1.0, 0.5]).unwrap();
+        let m = Elastic::anisotropic(ply.stiffness(), 1.6).rotated(&axes);
+        let k = stiffness(&x, &m);
+        checks::assert_symmetric_with_rigid_modes(&k, &x, 1e-10, 1e-9);
+        let u: Vec<f64> = checks::uniform_strain(&x).concat();
+        let energy: f64 = (0..24)
+            .map(|i| u[i] * (0..24).map(|j| k[i][j] * u[j]).sum::<f64>())
+            .sum::<f64>()
+            / 2.0;
+        let want = checks::strain_energy(volume(&x), &m);
+        assert!((energy - want).abs() < 1e-12 * want, "{energy} {want}");
     }
 
     #[test]

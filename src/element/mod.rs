@@ -57,7 +57,7 @@ pub fn lumped_mass(x: &[[f64; 3]], density: f64) -> Vec<f64> {
 /// Cauchy stress $\sigma = \lambda\, \mathrm{tr}(\varepsilon) I + 2\mu\varepsilon$ of the linear
 /// strain $\varepsilon = \mathrm{sym} H$, $H = \sum_k u_k \otimes \nabla N_k$, from the shape
 /// function gradients at a point and the corner displacements (either element kind).
-pub fn stress(grads: &[[f64; 3]], u: &[[f64; 3]], lambda: f64, mu: f64) -> [[f64; 3]; 3] {
+pub fn stress(grads: &[[f64; 3]], u: &[[f64; 3]], m: &Elastic) -> [[f64; 3]; 3] {
     let mut h = [[0.0; 3]; 3];
     for (g, uk) in grads.iter().zip(u) {
         for a in 0..3 {
@@ -66,15 +66,42 @@ pub fn stress(grads: &[[f64; 3]], u: &[[f64; 3]], lambda: f64, mu: f64) -> [[f64
             }
         }
     }
-    let tr = h[0][0] + h[1][1] + h[2][2];
-    let mut s = [[0.0; 3]; 3];
-    for a in 0..3 {
-        for b in 0..3 {
-            s[a][b] = mu * (h[a][b] + h[b][a]);
+    m.stress(&h)
+}
+
+/// The stiffness block of a node pair per unit volume, for shape-function gradients gi and
+/// gj: $k_{ab} = \sum_{pq} (g_i)_p C_{apbq} (g_j)_q$, for an isotropic material
+/// $\lambda\, (g_i)_a (g_j)_b + \mu (g_j)_a (g_i)_b + \mu\, g_i \cdot g_j\, \delta_{ab}$.
+pub fn stiffness_block(gi: &[f64; 3], gj: &[f64; 3], m: &Elastic) -> [[f64; 3]; 3] {
+    match &m.c {
+        None => {
+            let dot = gi[0] * gj[0] + gi[1] * gj[1] + gi[2] * gj[2];
+            std::array::from_fn(|a| {
+                std::array::from_fn(|b| {
+                    let v = m.lambda * gi[a] * gj[b] + m.mu * gj[a] * gi[b];
+                    if a == b {
+                        v + m.mu * dot
+                    } else {
+                        v
+                    }
+                })
+            })
         }
-        s[a][a] += lambda * tr;
+        Some(c) => {
+            let v = |i: usize, j: usize| crate::material::voigt_index(i, j);
+            std::array::from_fn(|a| {
+                std::array::from_fn(|b| {
+                    let mut s = 0.0;
+                    for p in 0..3 {
+                        for q in 0..3 {
+                            s += gi[p] * c[v(a, p)][v(b, q)] * gj[q];
+                        }
+                    }
+                    s
+                })
+            })
+        }
     }
-    s
 }
 
 /// The longest side of the bounding box of an element's corners (a size for tolerances).

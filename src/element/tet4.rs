@@ -37,21 +37,16 @@ pub fn volume(x: &[[f64; 3]; 4]) -> f64 {
 }
 
 /// Element stiffness, 12x12 row-major in (node, component) order:
-/// $K_{ij} = V [\lambda\, \nabla N_i \otimes \nabla N_j + \mu (\nabla N_i \cdot \nabla N_j) I
-///   + \mu\, \nabla N_j \otimes \nabla N_i]$.
+/// $K_{ij} = V\, k(\nabla N_i, \nabla N_j)$ with the block [`super::stiffness_block`].
 pub fn stiffness(x: &[[f64; 3]; 4], m: &Elastic) -> [[f64; 12]; 12] {
     let (g, vol) = gradients(x);
     let mut k = [[0.0; 12]; 12];
     for i in 0..4 {
         for j in 0..4 {
-            let dot = g[i][0] * g[j][0] + g[i][1] * g[j][1] + g[i][2] * g[j][2];
+            let v = super::stiffness_block(&g[i], &g[j], m);
             for a in 0..3 {
                 for b in 0..3 {
-                    let mut v = m.lambda * g[i][a] * g[j][b] + m.mu * g[j][a] * g[i][b];
-                    if a == b {
-                        v += m.mu * dot;
-                    }
-                    k[3 * i + a][3 * j + b] = v * vol;
+                    k[3 * i + a][3 * j + b] = v[a][b] * vol;
                 }
             }
         }
@@ -72,18 +67,18 @@ pub fn lumped_mass(x: &[[f64; 3]; 4], density: f64) -> [f64; 4] {
 }
 
 /// Corner forces $f_k = V \sigma \nabla N_k$ for the corner displacements `u`, with
-/// $\sigma = \lambda\, \mathrm{tr}(\varepsilon) I + 2\mu\varepsilon$ (CPU twin of
+/// the material's stress $\sigma(\varepsilon)$ (CPU twin of
 /// `shaders/tet4_forces.wgsl`, through [`crate::kernels::tet4_forces`]).
-pub fn forces(x: &[[f64; 3]; 4], u: &[[f64; 3]; 4], lambda: f64, mu: f64) -> [[f64; 3]; 4] {
+pub fn forces(x: &[[f64; 3]; 4], u: &[[f64; 3]; 4], m: &Elastic) -> [[f64; 3]; 4] {
     let (g, vol) = gradients(x);
-    let s = super::stress(&g, u, lambda, mu);
+    let s = super::stress(&g, u, m);
     g.map(|gk| [0, 1, 2].map(|a| (s[a][0] * gk[0] + s[a][1] * gk[1] + s[a][2] * gk[2]) * vol))
 }
 
 /// The (constant) Cauchy stress of the element.
 pub fn stress(x: &[[f64; 3]; 4], u: &[[f64; 3]; 4], m: &Elastic) -> [[f64; 3]; 3] {
     let (g, _) = gradients(x);
-    super::stress(&g, u, m.lambda, m.mu)
+    super::stress(&g, u, m)
 }
 
 /// The four faces, ordered so that $(x_1 - x_0) \times (x_2 - x_0)$ of each points out of a
@@ -118,7 +113,7 @@ mod tests {
         let e = checks::STRAIN;
         let ue: [[f64; 3]; 4] = checks::uniform_strain(&x).try_into().unwrap();
         let k = stiffness(&x, &m);
-        let f = forces(&x, &ue, m.lambda, m.mu);
+        let f = forces(&x, &ue, &m);
         let mut energy = 0.0;
         for i in 0..12 {
             let ku: f64 = (0..12).map(|j| k[i][j] * ue[j / 3][j % 3]).sum();

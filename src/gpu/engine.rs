@@ -167,14 +167,7 @@ pub(super) fn split_reference(data: &ElementData) -> Vec<Split3> {
 
 /// The materials as the kernels' type.
 pub(super) fn device_materials(data: &ElementData) -> Vec<Material> {
-    data.materials
-        .iter()
-        .map(|m| Material {
-            lambda: m.lambda as f32,
-            mu: m.mu as f32,
-            density: m.density as f32,
-        })
-        .collect()
+    data.materials.iter().map(Material::of).collect()
 }
 
 pub(super) fn at_least_one<T: Default>(mut v: Vec<T>) -> Vec<T> {

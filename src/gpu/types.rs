@@ -55,13 +55,58 @@ pub struct Tet4 {
     pub material: u32,
 }
 
-/// Lamé parameters and density.
+/// Lamé parameters and density; for an anisotropic material (`anisotropic` = 1) the
+/// stiffness's upper triangle in Voigt order (xx, yy, zz, yz, xz, xy), global axes, row by
+/// row, in place of lambda and mu.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
 pub struct Material {
     pub lambda: f32,
     pub mu: f32,
     pub density: f32,
+    pub anisotropic: u32,
+    pub c11: f32,
+    pub c12: f32,
+    pub c13: f32,
+    pub c14: f32,
+    pub c15: f32,
+    pub c16: f32,
+    pub c22: f32,
+    pub c23: f32,
+    pub c24: f32,
+    pub c25: f32,
+    pub c26: f32,
+    pub c33: f32,
+    pub c34: f32,
+    pub c35: f32,
+    pub c36: f32,
+    pub c44: f32,
+    pub c45: f32,
+    pub c46: f32,
+    pub c55: f32,
+    pub c56: f32,
+    pub c66: f32,
+}
+
+impl Material {
+    /// The device form of a material.
+    pub fn of(m: &crate::material::Elastic) -> Material {
+        let mut d = Material {
+            lambda: m.lambda as f32,
+            mu: m.mu as f32,
+            density: m.density as f32,
+            ..Default::default()
+        };
+        if let Some(c) = &m.c {
+            d.anisotropic = 1;
+            let upper: Vec<f32> = (0..6)
+                .flat_map(|i| (i..6).map(move |j| c[i][j] as f32))
+                .collect();
+            let words: &mut [f32] = bytemuck::cast_slice_mut(std::slice::from_mut(&mut d));
+            words[4..].copy_from_slice(&upper);
+        }
+        d
+    }
 }
 
 /// A secondary node and its candidate faces `candidates[first..end]`.
@@ -408,6 +453,28 @@ pub fn layouts() -> Vec<StructLayout> {
                 ("lambda", offset_of!(Material, lambda)),
                 ("mu", offset_of!(Material, mu)),
                 ("density", offset_of!(Material, density)),
+                ("anisotropic", offset_of!(Material, anisotropic)),
+                ("c11", offset_of!(Material, c11)),
+                ("c12", offset_of!(Material, c12)),
+                ("c13", offset_of!(Material, c13)),
+                ("c14", offset_of!(Material, c14)),
+                ("c15", offset_of!(Material, c15)),
+                ("c16", offset_of!(Material, c16)),
+                ("c22", offset_of!(Material, c22)),
+                ("c23", offset_of!(Material, c23)),
+                ("c24", offset_of!(Material, c24)),
+                ("c25", offset_of!(Material, c25)),
+                ("c26", offset_of!(Material, c26)),
+                ("c33", offset_of!(Material, c33)),
+                ("c34", offset_of!(Material, c34)),
+                ("c35", offset_of!(Material, c35)),
+                ("c36", offset_of!(Material, c36)),
+                ("c44", offset_of!(Material, c44)),
+                ("c45", offset_of!(Material, c45)),
+                ("c46", offset_of!(Material, c46)),
+                ("c55", offset_of!(Material, c55)),
+                ("c56", offset_of!(Material, c56)),
+                ("c66", offset_of!(Material, c66)),
             ],
         ),
         (

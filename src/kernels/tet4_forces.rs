@@ -21,6 +21,6 @@ pub fn tet4_forces(data: &ElementData, u: &[[f64; 3]], corner_forces: &mut [[f64
             let m = data.materials[mat as usize];
             let x = tet.map(|n| data.reference[n as usize]);
             let ue = tet.map(|n| u[n as usize]);
-            out.copy_from_slice(&tet4::forces(&x, &ue, m.lambda, m.mu));
+            out.copy_from_slice(&tet4::forces(&x, &ue, &m));
         });
 }

@@ -2,8 +2,10 @@
 //! probes. Reading and checking (the scene) is kept apart from the time loop (integrate).
 
 pub mod interface;
+pub mod materials;
 
 pub use interface::{tributary_areas, Interface, Primary};
+pub use materials::MaterialTable;
 
 use crate::error::{ImpactError, Result};
 use crate::kernels::{ContactQueries, ElementData};
@@ -20,7 +22,11 @@ pub struct Probe {
 #[derive(Debug, Clone)]
 pub struct Model {
     pub mesh: Mesh,
+    /// The law of each material index of the mesh, in the global axes.
     pub materials: Vec<Elastic>,
+    /// The material axes and the scene material of each material index.
+    pub material_axes: Vec<crate::material::Rotation>,
+    pub material_source: Vec<usize>,
     pub body_names: Vec<String>,
     /// True for each prescribed (zero) degree of freedom, 3 per node.
     pub fixed: Vec<bool>,
@@ -40,11 +46,6 @@ impl Model {
     /// nothing would leave its body free without a word).
     pub fn from_scene(scene: &Scene) -> Result<Model> {
         let mut mesh = Mesh::default();
-        let materials: Vec<Elastic> = scene
-            .materials
-            .iter()
-            .map(|m| Elastic::from_engineering(m.youngs_modulus, m.poissons_ratio, m.density))
-            .collect();
         let mut initial_velocity = Vec::new();
         for b in &scene.bodies {
             let parts = b.parts();
@@ -53,13 +54,16 @@ impl Model {
             }
             mesh.push_body(parts, b.material);
         }
+        let table = materials::element_materials(scene, &mut mesh);
         let (fixed, fix_nodes) = fixes(scene, &mesh)?;
         let (queries, interfaces) = interfaces(scene, &mesh);
         let probes = probes(scene, &mesh);
         Ok(Model {
             body_names: scene.bodies.iter().map(|b| b.name.clone()).collect(),
             mesh,
-            materials,
+            materials: table.elastic,
+            material_axes: table.axes,
+            material_source: table.source,
             fixed,
             interfaces,
             queries,

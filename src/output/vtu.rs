@@ -8,7 +8,9 @@
 //! gap on secondary nodes, g > 0 penetration; NaN on nodes that are no interface's secondary
 //! node, or whose primary surface is out of reach). Cell data: `stress` (xx, yy, zz, xy, yz,
 //! xz at the element centre), `von_mises`, and the Int32 `body` and `material` of each cell
-//! (their indices in the scene's order of `[[body]]` and `[[material]]`).
+//! (their indices in the scene's order of `[[body]]` and `[[material]]`); where some body
+//! has an `orientation` or `plies`, also `material_stress`, the stress in each cell's
+//! material (ply) axes (11, 22, 33, 12, 23, 13).
 //!
 //! The `.pvd` is rewritten after every frame, so a run that stops early leaves a valid
 //! collection of what it wrote.
@@ -18,6 +20,7 @@ use std::path::{Path, PathBuf};
 
 use crate::element::{hex8, tet4};
 use crate::error::{ImpactError, Result};
+use crate::material::Rotation;
 use crate::model::Model;
 
 /// VTK's cell type of the trilinear hexahedron.
@@ -50,14 +53,22 @@ pub struct VtuWriter {
 
 /// Stress at the element centre: (xx, yy, zz, xy, yz, xz), from the linear strain of u.
 pub fn centre_stress(x: &[[f64; 3]], u: &[[f64; 3]], m: &crate::material::Elastic) -> [f64; 6] {
+    pack(&centre_stress_tensor(x, u, m))
+}
+
+/// The stress tensor at the element centre.
+fn centre_stress_tensor(
+    x: &[[f64; 3]],
+    u: &[[f64; 3]],
+    m: &crate::material::Elastic,
+) -> [[f64; 3]; 3] {
     let grads: Vec<[f64; 3]> = match (<&[[f64; 3]; 8]>::try_from(x), <&[[f64; 3]; 4]>::try_from(x))
     {
         (Ok(h), _) => hex8::gradients(h, [0.0; 3]).0.to_vec(),
         (_, Ok(t)) => tet4::gradients(t).0.to_vec(),
         _ => panic!("an element has 8 (hex8) or 4 (tet4) corners"),
     };
-    let s = crate::element::stress(&grads, u, m.lambda, m.mu);
-    [s[0][0], s[1][1], s[2][2], s[0][1], s[1][2], s[0][2]]
+    crate::element::stress(&grads, u, m)
 }
 
 /// von Mises equivalent stress of (xx, yy, zz, xy, yz, xz).
@@ -112,7 +123,8 @@ fn i32_bytes(x: &[i32]) -> Vec<u8> {
 
 /// The body (index in the scene's order) and material (index in the scene's order) of each
 /// cell, in the cells' order: the hex8s of [`crate::mesh::Mesh::elements`], then the tet4s.
-fn cell_body_material(mesh: &crate::mesh::Mesh) -> (Vec<i32>, Vec<i32>) {
+/// Each cell's body and scene material (`source`: the scene material of each material index).
+fn cell_body_material(mesh: &crate::mesh::Mesh, source: &[usize]) -> (Vec<i32>, Vec<i32>) {
     let mut body = vec![-1i32; mesh.element_count()];
     for (b, part) in mesh.bodies.iter().enumerate() {
         let tets = part.tets.clone().map(|t| mesh.hexes.len() + t);
@@ -120,16 +132,20 @@ fn cell_body_material(mesh: &crate::mesh::Mesh) -> (Vec<i32>, Vec<i32>) {
             body[e] = b as i32;
         }
     }
-    let material = mesh.elements().map(|(_, m)| m as i32).collect();
+    let material = mesh
+        .elements()
+        .map(|(_, m)| source[m as usize] as i32)
+        .collect();
     (body, material)
 }
 
-/// The centre stress (xx, yy, zz, xy, yz, zx) and von Mises stress of every cell, computed
-/// on all threads in cell order.
-fn cell_stresses(model: &Model, u: &[f64]) -> (Vec<f64>, Vec<f64>) {
+/// The centre stress of every cell (xx, yy, zz, xy, yz, zx), its von Mises stress, and the
+/// stress in the cell's material axes (11, 22, 33, 12, 23, 13), computed on all threads in
+/// cell order.
+fn cell_stresses(model: &Model, u: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     use rayon::prelude::*;
     let mesh = &model.mesh;
-    let per_cell: Vec<[f64; 6]> = (0..mesh.element_count())
+    let per_cell: Vec<([f64; 6], [f64; 6])> = (0..mesh.element_count())
         .into_par_iter()
         .map(|c| {
             let (el, material) = mesh.element(c);
@@ -141,11 +157,20 @@ fn cell_stresses(model: &Model, u: &[f64]) -> (Vec<f64>, Vec<f64>) {
                     [u[d], u[d + 1], u[d + 2]]
                 })
                 .collect();
-            centre_stress(&x, &ue, &model.materials[material as usize])
+            let m = material as usize;
+            let s = centre_stress_tensor(&x, &ue, &model.materials[m]);
+            (pack(&s), pack(&model.material_axes[m].to_material(&s)))
         })
         .collect();
-    let vm = per_cell.iter().map(|&s| von_mises(s)).collect();
-    (per_cell.into_iter().flatten().collect(), vm)
+    let vm = per_cell.iter().map(|(s, _)| von_mises(*s)).collect();
+    let global = per_cell.iter().flat_map(|(s, _)| *s).collect();
+    let axes = per_cell.iter().flat_map(|(_, s)| *s).collect();
+    (global, vm, axes)
+}
+
+/// (xx, yy, zz, xy, yz, xz) of a symmetric tensor.
+fn pack(s: &[[f64; 3]; 3]) -> [f64; 6] {
+    [s[0][0], s[1][1], s[2][2], s[0][1], s[1][2], s[0][2]]
 }
 
 impl VtuWriter {
@@ -244,10 +269,18 @@ impl VtuWriter {
         app.array("contact_gap", "Float64", 1, &f64_bytes(&gap));
         let point_data_xml = app.take_headers();
 
-        let (stress, vm) = cell_stresses(model, u);
+        let (stress, vm, material_stress) = cell_stresses(model, u);
         app.array("stress", "Float64", 6, &f64_bytes(&stress));
         app.array("von_mises", "Float64", 1, &f64_bytes(&vm));
-        let (body, material) = cell_body_material(mesh);
+        if model.material_axes.iter().any(|r| *r != Rotation::IDENTITY) {
+            app.array(
+                "material_stress",
+                "Float64",
+                6,
+                &f64_bytes(&material_stress),
+            );
+        }
+        let (body, material) = cell_body_material(mesh, &model.material_source);
         app.array("body", "Int32", 1, &i32_bytes(&body));
         app.array("material", "Int32", 1, &i32_bytes(&material));
         let cell_data_xml = app.take_headers();
@@ -340,7 +373,7 @@ mod tests {
         mesh.push_body(hexes(2), 1);
         mesh.push_body(tets, 0);
         mesh.push_body(hexes(1), 2);
-        let (body, material) = cell_body_material(&mesh);
+        let (body, material) = cell_body_material(&mesh, &[0, 1, 2]);
         assert_eq!(body, [0, 0, 2, 1, 1, 1]);
         assert_eq!(material, [1, 1, 2, 0, 0, 0]);
     }

@@ -13,6 +13,7 @@ pub use crate::mesh::box_mesh::{BoxFace, BoxSpec};
 use crate::mesh::BodyParts;
 
 use crate::error::{ImpactError, Result};
+use crate::material::{Elastic, Rotation};
 
 /// Names each value of a scene option once: `CHOICES` (what the scene reader and the command
 /// line accept, in the order error messages list them) and `name()` (what summaries print).
@@ -223,8 +224,8 @@ impl Default for ImplicitSettings {
 pub struct Material {
     pub name: String,
     pub density: f64,
-    pub youngs_modulus: f64,
-    pub poissons_ratio: f64,
+    /// The elastic law in the material's own axes.
+    pub elastic: Elastic,
 }
 
 /// Where a body's mesh comes from.
@@ -245,6 +246,47 @@ pub struct BodySpec {
     pub material: usize,
     pub shape: BodyShape,
     pub velocity: [f64; 3],
+    /// The material axes of the body (of its plies' 0 degree direction with plies).
+    pub orientation: Rotation,
+    pub plies: Option<Plies>,
+}
+
+/// A laminate: plies stacked along a global axis from the body's lowest coordinate on it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plies {
+    /// The stacking axis: 0, 1, 2 for x, y, z.
+    pub axis: usize,
+    /// The body's lowest coordinate along the axis, where the first ply starts.
+    pub start: f64,
+    pub layers: Vec<Ply>,
+}
+
+/// One ply: its material axes are the body's turned by `angle` (radians) about the stacking
+/// axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ply {
+    pub angle: f64,
+    pub thickness: f64,
+}
+
+impl Plies {
+    /// The ply holding the coordinate `t` along the stacking axis (the first or the last
+    /// beyond the ends).
+    pub fn ply_at(&self, t: f64) -> usize {
+        let mut top = self.start;
+        for (k, p) in self.layers.iter().enumerate() {
+            top += p.thickness;
+            if t < top {
+                return k;
+            }
+        }
+        self.layers.len() - 1
+    }
+
+    /// The unit vector of the stacking axis.
+    pub fn normal(&self) -> [f64; 3] {
+        std::array::from_fn(|a| (a == self.axis) as u8 as f64)
+    }
 }
 
 impl BodySpec {

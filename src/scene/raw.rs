@@ -83,8 +83,56 @@ pub struct RawExplicit {
 pub struct RawMaterial {
     pub name: String,
     pub density: f64,
-    pub youngs_modulus: f64,
-    pub poissons_ratio: f64,
+    pub youngs_modulus: Option<f64>,
+    pub poissons_ratio: Option<f64>,
+    pub orthotropic: Option<RawOrthotropic>,
+    pub transversely_isotropic: Option<RawTransverselyIsotropic>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawOrthotropic {
+    pub e1: f64,
+    pub e2: f64,
+    pub e3: f64,
+    pub nu12: f64,
+    pub nu13: f64,
+    pub nu23: f64,
+    pub g12: f64,
+    pub g13: f64,
+    pub g23: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawTransverselyIsotropic {
+    pub e1: f64,
+    pub e2: f64,
+    pub nu12: f64,
+    pub nu23: f64,
+    pub g12: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawOrientation {
+    pub axes: Option<[[f64; 3]; 2]>,
+    pub axis: Option<[f64; 3]>,
+    pub angle: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPlies {
+    pub normal: String,
+    pub layers: Vec<RawPly>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPly {
+    pub angle: f64,
+    pub thickness: f64,
 }
 
 #[derive(Debug, Deserialize)]
@@ -106,6 +154,8 @@ pub struct RawBody {
     pub scale: Option<f64>,
     pub translate: Option<[f64; 3]>,
     pub velocity: Option<[f64; 3]>,
+    pub orientation: Option<RawOrientation>,
+    pub plies: Option<RawPlies>,
 }
 
 #[derive(Debug, Deserialize)]

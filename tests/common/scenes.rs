@@ -56,6 +56,10 @@ pub fn run_text_on(
         ..Default::default()
     };
     let s = run(&scene, &opts);
+    if let Err(e) = &s {
+        // a run that stops before its first row leaves no history to read
+        eprintln!("{tag}: {e}");
+    }
     (s, History::read(&dir.join("history.csv")))
 }
 

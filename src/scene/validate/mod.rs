@@ -7,6 +7,8 @@ use super::suggest::closest;
 use super::*;
 use crate::error::{ImpactError, Result};
 
+mod laminate;
+
 struct Checker<'a> {
     path: &'a Path,
 }
@@ -431,7 +433,7 @@ impl Checker<'_> {
         Ok(explicit)
     }
 
-    /// `[[material]]`: names and elastic constants.
+    /// `[[material]]`: names, densities and elastic laws.
     fn materials(&self, raw: &[RawMaterial]) -> Result<Vec<Material>> {
         let mut materials = Vec::with_capacity(raw.len());
         for (i, m) in raw.iter().enumerate() {
@@ -440,29 +442,11 @@ impl Checker<'_> {
                 return Err(self.err(key("name"), "is used by an earlier material"));
             }
             let density = self.positive(&key("density"), m.density)?;
-            let youngs_modulus = self.positive(&key("youngs_modulus"), m.youngs_modulus)?;
-            let c2 = youngs_modulus / density;
-            if !c2.is_normal() {
-                return Err(self.err(
-                    key("youngs_modulus"),
-                    format!(
-                        "with density {density:e} gives a wave speed sqrt(E/rho) = {:e}, which is no usable number (check the units of both)",
-                        c2.sqrt()
-                    ),
-                ));
-            }
-            let nu = m.poissons_ratio;
-            if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
-                return Err(self.err(
-                    key("poissons_ratio"),
-                    format!("must lie in (-1, 0.5) for a stable isotropic solid, got {nu}"),
-                ));
-            }
+            let elastic = self.elastic(&key, m, density)?;
             materials.push(Material {
                 name: m.name.clone(),
                 density,
-                youngs_modulus,
-                poissons_ratio: nu,
+                elastic,
             });
         }
         Ok(materials)
@@ -534,11 +518,15 @@ impl Checker<'_> {
                 }
             };
             let velocity = self.finite3(&key("velocity"), b.velocity.unwrap_or([0.0; 3]))?;
+            let orientation = self.orientation(&key, b.orientation.as_ref())?;
+            let plies = self.plies(&key, b.plies.as_ref(), &shape)?;
             bodies.push(BodySpec {
                 name: b.name.clone(),
                 material,
                 shape,
                 velocity,
+                orientation,
+                plies,
             });
         }
         Ok(bodies)

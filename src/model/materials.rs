@@ -1,0 +1,83 @@
+//! The materials of the elements: each scene material in its own axes, then, for every body
+//! with an `orientation` or `plies`, its material turned to the body's (or each ply's) axes.
+
+use crate::material::{Elastic, Rotation};
+use crate::mesh::Mesh;
+use crate::scene::{BodySpec, Scene};
+
+/// What the mesh's material indices point to.
+#[derive(Debug, Clone, Default)]
+pub struct MaterialTable {
+    /// The law in the global axes.
+    pub elastic: Vec<Elastic>,
+    /// The material axes (for stresses in the ply axes).
+    pub axes: Vec<Rotation>,
+    /// The scene material (`[[material]]` index) of each entry.
+    pub source: Vec<usize>,
+}
+
+impl MaterialTable {
+    fn push(&mut self, m: &Elastic, axes: Rotation, source: usize) -> u32 {
+        self.elastic.push(m.rotated(&axes));
+        self.axes.push(axes);
+        self.source.push(source);
+        (self.elastic.len() - 1) as u32
+    }
+}
+
+/// The table, and each oriented body's elements pointed at their own entries (their ply's
+/// by the centroid's coordinate along the stacking axis).
+pub fn element_materials(scene: &Scene, mesh: &mut Mesh) -> MaterialTable {
+    let mut table = MaterialTable::default();
+    for (i, m) in scene.materials.iter().enumerate() {
+        table.push(&m.elastic, Rotation::IDENTITY, i);
+    }
+    for (b, spec) in scene.bodies.iter().enumerate() {
+        if spec.plies.is_none() && spec.orientation == Rotation::IDENTITY {
+            continue;
+        }
+        let first = entries(&mut table, scene, spec);
+        orient_elements(mesh, b, spec, first);
+    }
+    table
+}
+
+/// The body's entries, one per ply (one without plies); returns the first's index.
+fn entries(table: &mut MaterialTable, scene: &Scene, spec: &BodySpec) -> u32 {
+    let m = &scene.materials[spec.material].elastic;
+    match &spec.plies {
+        None => table.push(m, spec.orientation, spec.material),
+        Some(p) => {
+            let turned = |angle| spec.orientation.turned(p.normal(), angle);
+            let first = table.push(m, turned(p.layers[0].angle), spec.material);
+            for ply in &p.layers[1..] {
+                table.push(m, turned(ply.angle), spec.material);
+            }
+            first
+        }
+    }
+}
+
+/// Points body `b`'s elements at the entries from `first` on.
+fn orient_elements(mesh: &mut Mesh, b: usize, spec: &BodySpec, first: u32) {
+    let body = &mesh.bodies[b];
+    let (hexes, tets) = (body.hexes.clone(), body.tets.clone());
+    let nodes = &mesh.nodes;
+    let ply = |corners: &[u32]| -> u32 {
+        let Some(p) = &spec.plies else { return 0 };
+        let t = corners
+            .iter()
+            .map(|&n| nodes[n as usize][p.axis])
+            .sum::<f64>()
+            / corners.len() as f64;
+        p.ply_at(t) as u32
+    };
+    let hex_ply: Vec<u32> = mesh.hexes[hexes.clone()].iter().map(|h| ply(h)).collect();
+    let tet_ply: Vec<u32> = mesh.tets[tets.clone()].iter().map(|t| ply(t)).collect();
+    for (m, k) in mesh.hex_material[hexes].iter_mut().zip(hex_ply) {
+        *m = first + k;
+    }
+    for (m, k) in mesh.tet_material[tets].iter_mut().zip(tet_ply) {
+        *m = first + k;
+    }
+}
