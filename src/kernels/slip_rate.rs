@@ -13,26 +13,40 @@ pub fn slip_rate(
     points: &[ContactPoint],
     out: &mut [[f64; 2]],
 ) {
-    for (i, o) in out.iter_mut().enumerate().take(q.len()) {
-        let cp = points[i];
-        if cp.face == NO_FACE {
-            *o = [0.0; 2];
-            continue;
-        }
-        let face = q.faces[cp.face as usize];
-        let p = face.map(|n| {
-            let (x, d) = (reference[n as usize], u[n as usize]);
-            [x[0] + d[0], x[1] + d[1], x[2] + d[2]]
-        });
-        let (_, t1, t2, _) = quad::geometry(&p, cp.xi);
-        let nsh = quad::shape(cp.xi);
-        let mut v2 = [0.0; 3];
-        for k in 0..4 {
-            for a in 0..3 {
-                v2[a] += nsh[k] * v[face[k] as usize][a];
-            }
-        }
-        let rel = sub(v[q.secondary[i] as usize], v2);
-        *o = [dot(rel, t1), dot(rel, t2)];
+    use rayon::prelude::*;
+    // each query writes its own rate: any thread count gives the same rates
+    out[..q.len()]
+        .par_iter_mut()
+        .with_min_len(256)
+        .enumerate()
+        .for_each(|(i, o)| *o = point_slip(reference, u, v, q, &points[i], q.secondary[i]));
+}
+
+/// The slip rate of one contact point of secondary node `s` (zero without a face).
+fn point_slip(
+    reference: &[[f64; 3]],
+    u: &[[f64; 3]],
+    v: &[[f64; 3]],
+    q: &ContactQueries,
+    cp: &ContactPoint,
+    s: u32,
+) -> [f64; 2] {
+    if cp.face == NO_FACE {
+        return [0.0; 2];
     }
+    let face = q.faces[cp.face as usize];
+    let p = face.map(|n| {
+        let (x, d) = (reference[n as usize], u[n as usize]);
+        [x[0] + d[0], x[1] + d[1], x[2] + d[2]]
+    });
+    let (_, t1, t2, _) = quad::geometry(&p, cp.xi);
+    let nsh = quad::shape(cp.xi);
+    let mut v2 = [0.0; 3];
+    for k in 0..4 {
+        for a in 0..3 {
+            v2[a] += nsh[k] * v[face[k] as usize][a];
+        }
+    }
+    let rel = sub(v[s as usize], v2);
+    [dot(rel, t1), dot(rel, t2)]
 }
