@@ -15,6 +15,7 @@ use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
 
 use super::ordering::{nested_dissection, Ordering};
+use super::supernodal_solve::SupernodalSolve;
 use super::Csc;
 use crate::error::{ImpactError, Result};
 
@@ -52,12 +53,14 @@ pub struct SpdSolver {
     symbolic: Arc<SymbolicCholesky<usize>>,
     pattern: SymbolicSparseColMat<usize>,
     factor: Vec<f64>,
+    /// The tree-parallel solve of a supernodal factor (`None`: faer's solve).
+    tree_solve: Option<SupernodalSolve>,
     stats: FactorStats,
     solves: Cell<(usize, f64)>,
 }
 
 /// The fill-reducing ordering and symbolic analysis of `a`'s pattern.
-fn analyse(
+pub(super) fn analyse(
     a: &Csc,
     pattern: &SymbolicSparseColMat<usize>,
     ordering: Ordering,
@@ -85,7 +88,7 @@ fn analyse(
 }
 
 /// The numeric factor of `a` on a symbolic analysis of its pattern.
-fn factorise(
+pub(super) fn factorise(
     symbolic: &SymbolicCholesky<usize>,
     a: SparseColMatRef<'_, usize, f64>,
 ) -> Result<Vec<f64>> {
@@ -135,6 +138,7 @@ impl SpdSolver {
     ) -> Result<SpdSolver> {
         let mut s = SpdSolver {
             factor: Vec::new(),
+            tree_solve: SupernodalSolve::new(&symbolic),
             symbolic,
             pattern,
             stats,
@@ -179,6 +183,17 @@ impl SpdSolver {
     /// Solves A x = b in place.
     pub fn solve_in_place(&self, b: &mut [f64]) {
         let start = Instant::now();
+        match &self.tree_solve {
+            Some(tree) => tree.solve_in_place(&self.factor, b),
+            None => self.faer_solve_in_place(b),
+        }
+        let (count, seconds) = self.solves.get();
+        self.solves
+            .set((count + 1, seconds + start.elapsed().as_secs_f64()));
+    }
+
+    /// Solves A x = b in place with faer's own solve.
+    fn faer_solve_in_place(&self, b: &mut [f64]) {
         let n = b.len();
         let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
         let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, par()));
@@ -188,9 +203,6 @@ impl SpdSolver {
             par(),
             MemStack::new(&mut mem),
         );
-        let (count, seconds) = self.solves.get();
-        self.solves
-            .set((count + 1, seconds + start.elapsed().as_secs_f64()));
     }
 
     /// Numeric factorisations made so far.

@@ -4,6 +4,7 @@
 pub mod assembly;
 pub mod cholesky;
 pub mod ordering;
+pub mod supernodal_solve;
 
 pub use assembly::{assemble, Assembled, Csc};
 pub use cholesky::{FactorStats, SpdSolver};
