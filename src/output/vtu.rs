@@ -173,6 +173,56 @@ fn pack(s: &[[f64; 3]; 3]) -> [f64; 6] {
     [s[0][0], s[1][1], s[2][2], s[0][1], s[1][2], s[0][2]]
 }
 
+/// The cells' connectivity, offsets and VTK types.
+fn cell_arrays(app: &mut Appended, mesh: &crate::mesh::Mesh) {
+    let conn: Vec<u8> = mesh
+        .elements()
+        .flat_map(|(e, _)| e.iter())
+        .flat_map(|&n| (n as i64).to_le_bytes())
+        .collect();
+    app.array("connectivity", "Int64", 1, &conn);
+    let offsets: Vec<u8> = mesh
+        .elements()
+        .scan(0i64, |end, (e, _)| {
+            *end += e.len() as i64;
+            Some(*end)
+        })
+        .flat_map(|c| c.to_le_bytes())
+        .collect();
+    app.array("offsets", "Int64", 1, &offsets);
+    let types: Vec<u8> = mesh
+        .elements()
+        .map(|(e, _)| {
+            if e.len() == 8 {
+                VTK_HEXAHEDRON
+            } else {
+                VTK_TETRA
+            }
+        })
+        .collect();
+    app.array("types", "UInt8", 1, &types);
+}
+
+/// The cells' stresses, von Mises stress, material-axes stress (where some body has axes),
+/// body and material.
+fn cell_data(app: &mut Appended, model: &Model, u: &[f64]) {
+    let mesh = &model.mesh;
+    let (stress, vm, material_stress) = cell_stresses(model, u);
+    app.array("stress", "Float64", 6, &f64_bytes(&stress));
+    app.array("von_mises", "Float64", 1, &f64_bytes(&vm));
+    if model.material_axes.iter().any(|r| *r != Rotation::IDENTITY) {
+        app.array(
+            "material_stress",
+            "Float64",
+            6,
+            &f64_bytes(&material_stress),
+        );
+    }
+    let (body, material) = cell_body_material(mesh, &model.material_source);
+    app.array("body", "Int32", 1, &i32_bytes(&body));
+    app.array("material", "Int32", 1, &i32_bytes(&material));
+}
+
 impl VtuWriter {
     /// Frames go to `dir/<stem>_NNNNNN.vtu`, the collection to `dir/<stem>.pvd`.
     pub fn new(dir: &Path, stem: &str) -> VtuWriter {
@@ -233,32 +283,7 @@ impl VtuWriter {
         app.array("Points", "Float64", 3, &f64_bytes(&points));
         let points_xml = app.take_headers();
 
-        let conn: Vec<u8> = mesh
-            .elements()
-            .flat_map(|(e, _)| e.iter())
-            .flat_map(|&n| (n as i64).to_le_bytes())
-            .collect();
-        app.array("connectivity", "Int64", 1, &conn);
-        let offsets: Vec<u8> = mesh
-            .elements()
-            .scan(0i64, |end, (e, _)| {
-                *end += e.len() as i64;
-                Some(*end)
-            })
-            .flat_map(|c| c.to_le_bytes())
-            .collect();
-        app.array("offsets", "Int64", 1, &offsets);
-        let types: Vec<u8> = mesh
-            .elements()
-            .map(|(e, _)| {
-                if e.len() == 8 {
-                    VTK_HEXAHEDRON
-                } else {
-                    VTK_TETRA
-                }
-            })
-            .collect();
-        app.array("types", "UInt8", 1, &types);
+        cell_arrays(&mut app, mesh);
         let cells_xml = app.take_headers();
 
         app.array("displacement", "Float64", 3, &f64_bytes(u));
@@ -269,20 +294,7 @@ impl VtuWriter {
         app.array("contact_gap", "Float64", 1, &f64_bytes(&gap));
         let point_data_xml = app.take_headers();
 
-        let (stress, vm, material_stress) = cell_stresses(model, u);
-        app.array("stress", "Float64", 6, &f64_bytes(&stress));
-        app.array("von_mises", "Float64", 1, &f64_bytes(&vm));
-        if model.material_axes.iter().any(|r| *r != Rotation::IDENTITY) {
-            app.array(
-                "material_stress",
-                "Float64",
-                6,
-                &f64_bytes(&material_stress),
-            );
-        }
-        let (body, material) = cell_body_material(mesh, &model.material_source);
-        app.array("body", "Int32", 1, &i32_bytes(&body));
-        app.array("material", "Int32", 1, &i32_bytes(&material));
+        cell_data(&mut app, model, u);
         let cell_data_xml = app.take_headers();
 
         let name = Self::frame_name(&self.stem, step);
