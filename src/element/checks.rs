@@ -3,6 +3,14 @@
 
 use crate::material::Elastic;
 
+/// A transversely isotropic ply turned off every axis: every entry of its stiffness is
+/// nonzero.
+pub fn turned_ply() -> Elastic {
+    let ply = crate::material::Orthotropic::transversely_isotropic(140.0, 10.0, 0.3, 0.45, 5.0);
+    let axes = crate::material::Rotation::from_axes([1.0, 0.4, -0.3], [0.2, 1.0, 0.5]).unwrap();
+    Elastic::anisotropic(ply.stiffness(), 1.6).rotated(&axes)
+}
+
 /// A uniform strain with every component nonzero.
 pub const STRAIN: [[f64; 3]; 3] = [
     [0.01, 0.002, -0.003],

@@ -174,9 +174,7 @@ mod tests {
     #[test]
     fn anisotropic_stiffness_has_rigid_modes_and_the_exact_energy() {
         let x = distorted();
-        let ply = crate::material::Orthotropic::transversely_isotropic(140.0, 10.0, 0.3, 0.45, 5.0);
-        let axes = crate::material::Rotation::from_axes([1.0, 0.4, -0.3], [0.2, 1.0, 0.5]).unwrap();
-        let m = Elastic::anisotropic(ply.stiffness(), 1.6).rotated(&axes);
+        let m = checks::turned_ply();
         let k = stiffness(&x, &m);
         checks::assert_symmetric_with_rigid_modes(&k, &x, 1e-10, 1e-9);
         let u: Vec<f64> = checks::uniform_strain(&x).concat();

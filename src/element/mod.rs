@@ -5,7 +5,7 @@
 //! that runs once per element (assembly, mass lumping, stable step, stresses for output).
 
 #[cfg(test)]
-mod checks;
+pub(crate) mod checks;
 pub mod hex8;
 pub mod stable_step;
 pub mod tet4;

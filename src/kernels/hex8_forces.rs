@@ -162,11 +162,9 @@ mod tests {
     /// orthotropic one turned off its axes (every stiffness entry nonzero).
     #[test]
     fn element_forces_equal_stiffness_times_displacement() {
-        let ply = crate::material::Orthotropic::transversely_isotropic(140.0, 10.0, 0.3, 0.45, 5.0);
-        let axes = crate::material::Rotation::from_axes([1.0, 0.4, -0.3], [0.2, 1.0, 0.5]).unwrap();
         for m in [
             Elastic::from_engineering(10.0, 0.3, 1.0),
-            Elastic::anisotropic(ply.stiffness(), 1.6).rotated(&axes),
+            crate::element::checks::turned_ply(),
         ] {
             forces_equal_stiffness_times_displacement(&m);
         }

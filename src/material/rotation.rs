@@ -62,19 +62,6 @@ impl Rotation {
         }
     }
 
-    /// A tensor given in the material axes, in the global ones: $T_g = Q^T T_m Q$ with the
-    /// axes as the rows of Q.
-    pub fn to_global(&self, t: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
-        let q = &self.axes;
-        std::array::from_fn(|i| {
-            std::array::from_fn(|j| {
-                (0..3)
-                    .map(|a| (0..3).map(|b| q[a][i] * t[a][b] * q[b][j]).sum::<f64>())
-                    .sum()
-            })
-        })
-    }
-
     /// A tensor given in the global axes, in the material ones: $T_m = Q T_g Q^T$.
     pub fn to_material(&self, t: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
         let q = &self.axes;
