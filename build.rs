@@ -10,9 +10,11 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-const SHARED: [&str; 4] = [
+const SHARED: [&str; 6] = [
     "shaders/shared/types.wgsl",
     "shaders/shared/quad.wgsl",
+    "shaders/shared/triangle.wgsl",
+    "shaders/shared/face.wgsl",
     "shaders/shared/element.wgsl",
     "shaders/shared/contact.wgsl",
 ];

@@ -14,7 +14,7 @@ use impact::gpu::{GpuContext, GpuKernels};
 use impact::kernels::{self, ContactPoint, ContactQueries, ElementData, Incidence};
 use impact::material::Elastic;
 use impact::mesh::box_mesh::box_mesh;
-use impact::scene::{BoxFace, BoxSpec};
+use impact::scene::{BoxElement, BoxFace, BoxSpec};
 
 /// Bytes each kernel moves per item, counting every distinct value once (a node's data is
 /// shared by about 8 elements, so per element about one node's worth is read).
@@ -28,6 +28,7 @@ fn problem(div: [usize; 3]) -> (ElementData, ContactQueries) {
         min: [0.0; 3],
         max: div.map(|d| d as f64),
         divisions: div,
+        element: BoxElement::Hex8,
     };
     let parts = box_mesh(&spec);
     let top = parts.surfaces[BoxFace::ZPlus as usize].faces.clone();

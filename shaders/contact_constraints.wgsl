@@ -53,9 +53,9 @@ fn contact_constraints(@builtin(global_invocation_id) gid: vec3<u32>) {
             reach = gap >= -max(grid.margin, 1e-30);
             if (reach) {
                 face = faces[pt.face].nodes;
-                w = quad_shape(vec2<f32>(pt.xi.x, pt.xi.y));
+                w = face_shape(face, vec2<f32>(pt.xi.x, pt.xi.y));
                 key = pt.face;
-                rel_before -= quad_interpolate(
+                rel_before -= face_interpolate(
                     w,
                     load_v(face.x) - step.dt * load_a(face.x),
                     load_v(face.y) - step.dt * load_a(face.y),

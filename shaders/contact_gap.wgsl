@@ -17,8 +17,8 @@ fn load_v(n: u32) -> vec3<f32> {
 }
 
 // The corners of face f at u relative to a point (split reference rs, displacement us).
-fn corners_from(f: vec4<u32>, rs: Split3, us: Split3) -> QuadCorners {
-    return QuadCorners(
+fn corners_from(f: vec4<u32>, rs: Split3, us: Split3) -> FaceCorners {
+    return FaceCorners(
         split_difference(reference[f.x], rs) + split_difference(displacement[f.x], us),
         split_difference(reference[f.y], rs) + split_difference(displacement[f.y], us),
         split_difference(reference[f.z], rs) + split_difference(displacement[f.z], us),
@@ -28,7 +28,7 @@ fn corners_from(f: vec4<u32>, rs: Split3, us: Split3) -> QuadCorners {
 
 // The velocity of face f at xi.
 fn face_velocity(f: vec4<u32>, xi: vec2<f32>) -> vec3<f32> {
-    return quad_interpolate(quad_shape(xi), load_v(f.x), load_v(f.y), load_v(f.z), load_v(f.w));
+    return face_interpolate(face_shape(f, xi), load_v(f.x), load_v(f.y), load_v(f.z), load_v(f.w));
 }
 
 @compute @workgroup_size(64)
@@ -48,7 +48,7 @@ fn contact_gap(@builtin(global_invocation_id) gid: vec3<u32>) {
         let fi = candidates[c];
         let face = faces[fi].nodes;
         // the secondary node is the origin
-        let hit = face_hit(corners_from(face, rs, us));
+        let hit = face_hit(face, corners_from(face, rs, us));
         if (hit.distance < best_d) {
             best_d = hit.distance;
             best = hit_point(fi, hit, vs - face_velocity(face, hit.xi));

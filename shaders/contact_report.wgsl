@@ -46,7 +46,7 @@ fn contact_report(@builtin(global_invocation_id) gid: vec3<u32>) {
     let nrm = vec3_of(c.normal);
     var rel = load_v(pairs[p].node);
     if (c.face[0] != NO_FACE) {
-        rel -= quad_interpolate(
+        rel -= face_interpolate(
             vec4<f32>(c.weights[0], c.weights[1], c.weights[2], c.weights[3]),
             load_v(c.face[0]),
             load_v(c.face[1]),

@@ -23,8 +23,8 @@ fn load_v(n: u32) -> vec3<f32> {
 }
 
 // The corners of face f at u relative to a point (split reference rs, displacement us).
-fn corners_from(f: vec4<u32>, rs: Split3, us: Split3) -> QuadCorners {
-    return QuadCorners(
+fn corners_from(f: vec4<u32>, rs: Split3, us: Split3) -> FaceCorners {
+    return FaceCorners(
         split_difference(reference[f.x], rs) + split_difference(displacement[f.x], us),
         split_difference(reference[f.y], rs) + split_difference(displacement[f.y], us),
         split_difference(reference[f.z], rs) + split_difference(displacement[f.z], us),
@@ -34,7 +34,7 @@ fn corners_from(f: vec4<u32>, rs: Split3, us: Split3) -> QuadCorners {
 
 // The velocity of face f at xi.
 fn face_velocity(f: vec4<u32>, xi: vec2<f32>) -> vec3<f32> {
-    return quad_interpolate(quad_shape(xi), load_v(f.x), load_v(f.y), load_v(f.z), load_v(f.w));
+    return face_interpolate(face_shape(f, xi), load_v(f.x), load_v(f.y), load_v(f.z), load_v(f.w));
 }
 
 @compute @workgroup_size(64)
@@ -67,7 +67,7 @@ fn contact_search(@builtin(global_invocation_id) gid: vec3<u32>) {
             if (any(lo - grid.margin > vec3<f32>(0.0)) || any(hi + grid.margin < vec3<f32>(0.0))) {
                 continue;
             }
-            let hit = face_hit(p);
+            let hit = face_hit(face, p);
             if (hit.distance < best_d || (hit.distance == best_d && fi < best.face)) {
                 best_d = hit.distance;
                 best = hit_point(fi, hit, vs - face_velocity(face, hit.xi));

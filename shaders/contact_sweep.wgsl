@@ -51,7 +51,7 @@ fn contact_sweep(
         if (c.in_reach != 0u && c.compliance > 0.0) {
             var rel = load_v(pairs[p].node);
             if (c.face[0] != NO_FACE) {
-                rel -= quad_interpolate(
+                rel -= face_interpolate(
                     vec4<f32>(c.weights[0], c.weights[1], c.weights[2], c.weights[3]),
                     load_v(c.face[0]),
                     load_v(c.face[1]),

@@ -15,8 +15,8 @@ fn load_v(n: u32) -> vec3<f32> {
 }
 
 // The corners of face f at u relative to a point (split reference rs, displacement us).
-fn corners_from(f: vec4<u32>, rs: Split3, us: Split3) -> QuadCorners {
-    return QuadCorners(
+fn corners_from(f: vec4<u32>, rs: Split3, us: Split3) -> FaceCorners {
+    return FaceCorners(
         split_difference(reference[f.x], rs) + split_difference(displacement[f.x], us),
         split_difference(reference[f.y], rs) + split_difference(displacement[f.y], us),
         split_difference(reference[f.z], rs) + split_difference(displacement[f.z], us),
@@ -26,7 +26,7 @@ fn corners_from(f: vec4<u32>, rs: Split3, us: Split3) -> QuadCorners {
 
 // The velocity of face f at xi.
 fn face_velocity(f: vec4<u32>, xi: vec2<f32>) -> vec3<f32> {
-    return quad_interpolate(quad_shape(xi), load_v(f.x), load_v(f.y), load_v(f.z), load_v(f.w));
+    return face_interpolate(face_shape(f, xi), load_v(f.x), load_v(f.y), load_v(f.z), load_v(f.w));
 }
 
 @compute @workgroup_size(64)
@@ -45,7 +45,7 @@ fn slip_rate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let us = displacement[s];
     let face = faces[cp.face].nodes;
     let xi = vec2<f32>(cp.xi.x, cp.xi.y);
-    let g = quad_geometry(corners_from(face, rs, us), xi);
+    let g = face_geometry(face, corners_from(face, rs, us), xi);
     let rel = load_v(s) - face_velocity(face, xi);
     slip[q] = vec2<f32>(dot(rel, g.t1), dot(rel, g.t2));
 }

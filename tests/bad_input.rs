@@ -91,6 +91,18 @@ fn contact_body_that_does_not_exist() {
 }
 
 #[test]
+fn unknown_box_element() {
+    expect(
+        &edit(
+            &base(),
+            "divisions = [10, 1, 1] }",
+            "divisions = [10, 1, 1], element = \"hex20\" }",
+        ),
+        &["body[0].box.element", "hex20", "hex8, tet4"],
+    );
+}
+
+#[test]
 fn zero_divisions() {
     expect(
         &edit(&base(), "divisions = [10, 1, 1]", "divisions = [10, 0, 1]"),

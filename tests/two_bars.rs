@@ -182,3 +182,26 @@ fn fine_two_bars_with_lumped_mass() {
         m.impulse
     );
 }
+
+/// Tet4 bars (`tet4_two_bars`: triangular primary faces), one cell across as the hex8 bars,
+/// implicit: the hex8 fine bars' tolerances (mean 1%, rows 3%, impulse 2%, A at rest and B at
+/// v0 within 0.03, loss <= 1.5%). Measured: mean 0.49998, rows 2.0%, impulse -1.3%, loss
+/// 0.3%.
+#[test]
+fn tet4_two_bars_with_a_triangular_primary_match_wave_theory() {
+    let (s, h) = run_text("two_bars_tet4", &tet4_two_bars(1));
+    let s = s.expect("run completes");
+    check_two_bars_history("tet4 implicit", &h, &s, 0.0025, &FINE);
+}
+
+/// The same on the GPU kernels (the f32 triangle projection, gap and slip rate).
+#[test]
+fn tet4_two_bars_match_wave_theory_on_gpu() {
+    if skip_gpu("tet4_two_bars_on_gpu") {
+        return;
+    }
+    let device = Some(DeviceChoice::Gpu);
+    let (s, h) = run_text_on("two_bars_tet4_gpu", &tet4_two_bars(1), device);
+    let s = s.expect("run completes");
+    check_two_bars_history("tet4 implicit gpu", &h, &s, 0.0025, &FINE);
+}

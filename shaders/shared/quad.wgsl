@@ -1,5 +1,5 @@
 // The bilinear quad of a primary face in convected coordinates (twin of
-// `src/contact/quad.rs`). Corners at (-1,-1), (1,-1), (1,1), (-1,1).
+// `src/geometry/quad.rs`). Corners at (-1,-1), (1,-1), (1,1), (-1,1).
 
 // Shape functions at xi, corner k in component k.
 fn quad_shape(xi: vec2<f32>) -> vec4<f32> {
@@ -8,39 +8,18 @@ fn quad_shape(xi: vec2<f32>) -> vec4<f32> {
     return 0.25 * vec4<f32>(a.x * a.y, b.x * a.y, b.x * b.y, a.x * b.y);
 }
 
-// The four corners of a quad (positions relative to some origin).
-struct QuadCorners {
-    p0: vec3<f32>,
-    p1: vec3<f32>,
-    p2: vec3<f32>,
-    p3: vec3<f32>,
-}
-
-// Point y, tangents t1 = dy/dxi1, t2 = dy/dxi2 and the mixed derivative t12 at xi.
-struct QuadGeometry {
-    y: vec3<f32>,
-    t1: vec3<f32>,
-    t2: vec3<f32>,
-    t12: vec3<f32>,
-}
-
-fn quad_geometry(p: QuadCorners, xi: vec2<f32>) -> QuadGeometry {
+// Point, tangents and mixed derivative at xi.
+fn quad_geometry(p: FaceCorners, xi: vec2<f32>) -> FaceGeometry {
     let n = quad_shape(xi);
     let a = 1.0 - xi;
     let b = 1.0 + xi;
-    var g: QuadGeometry;
+    var g: FaceGeometry;
     g.y = n.x * p.p0 + n.y * p.p1 + n.z * p.p2 + n.w * p.p3;
     // dN_k/dxi1 = c_k.x (1 + c_k.y xi2) / 4, dN_k/dxi2 = (1 + c_k.x xi1) c_k.y / 4
     g.t1 = 0.25 * (a.y * (p.p1 - p.p0) + b.y * (p.p2 - p.p3));
     g.t2 = 0.25 * (a.x * (p.p3 - p.p0) + b.x * (p.p2 - p.p1));
     g.t12 = 0.25 * ((p.p0 - p.p1) + (p.p2 - p.p3));
     return g;
-}
-
-// The velocity at shape function values w of a face whose corners have velocities
-// v0..v3.
-fn quad_interpolate(w: vec4<f32>, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, v3: vec3<f32>) -> vec3<f32> {
-    return w.x * v0 + w.y * v1 + w.z * v2 + w.w * v3;
 }
 
 const NEWTON_ITERATIONS: u32 = 16u;
@@ -64,7 +43,7 @@ fn quad_box_step(xi: vec2<f32>, d: vec2<f32>) -> f32 {
 // pointing out are held on it; full Hessian where safely positive definite, else the metric;
 // steps shortened to the square, the scaled gradient where that blocks them; uphill steps
 // halved; the closest iterate kept if it does not converge.
-fn quad_project(p: QuadCorners, x: vec3<f32>) -> vec2<f32> {
+fn quad_project(p: FaceCorners, x: vec3<f32>) -> vec2<f32> {
     var xi = vec2<f32>(0.0);
     var last_d2 = bitcast<f32>(0x7f800000u); // +inf
     var last_xi = xi;
@@ -133,47 +112,4 @@ fn quad_project(p: QuadCorners, x: vec3<f32>) -> vec2<f32> {
         return xi;
     }
     return best_xi;
-}
-
-// The closest point of quad p to the origin (corners given relative to the point sought):
-// its xi, distance, offset y from the point, and the unit outward normal there.
-struct FaceHit {
-    xi: vec2<f32>,
-    distance: f32,
-    y: vec3<f32>,
-    normal: vec3<f32>,
-}
-
-fn face_hit(p: QuadCorners) -> FaceHit {
-    let xi = quad_project(p, vec3<f32>(0.0));
-    let g = quad_geometry(p, xi);
-    var h: FaceHit;
-    h.xi = xi;
-    h.distance = length(g.y);
-    h.y = g.y;
-    h.normal = normalize(cross(g.t1, g.t2));
-    return h;
-}
-
-// A query with no face in reach.
-fn open_point() -> ContactPoint {
-    var p: ContactPoint;
-    p.face = NO_FACE;
-    p.xi = Float2(0.0, 0.0);
-    p.normal = Float3(0.0, 0.0, 0.0);
-    p.gap = bitcast<f32>(0xff800000u); // -inf
-    p.gap_rate = 0.0;
-    return p;
-}
-
-// The contact point of a hit on face `face`, with `rel` the secondary node's velocity less the
-// face's at xi: gap g = y . n (> 0 penetration) and gap rate -rel . n.
-fn hit_point(face: u32, hit: FaceHit, rel: vec3<f32>) -> ContactPoint {
-    var p: ContactPoint;
-    p.face = face;
-    p.xi = Float2(hit.xi.x, hit.xi.y);
-    p.normal = float3(hit.normal);
-    p.gap = dot(hit.y, hit.normal);
-    p.gap_rate = -dot(rel, hit.normal);
-    return p;
 }

@@ -10,7 +10,7 @@
 use serde::Serialize;
 
 use crate::error::{bytes, ImpactError, Result};
-use crate::scene::{BodyShape, MassKind, Method, Scene};
+use crate::scene::{BodyShape, BoxElement, MassKind, Method, Scene};
 
 /// Element and node counts of a scene, from box divisions and imported meshes.
 #[derive(Debug, Clone, Copy, Default, Serialize)]
@@ -28,9 +28,11 @@ impl Counts {
                 BodyShape::Box(s) => {
                     let [x, y, z] = s.divisions.map(|d| d as u64);
                     // validated: the products fit (box.divisions is checked against u32 nodes)
-                    c.hexes = c
-                        .hexes
-                        .saturating_add(x.saturating_mul(y).saturating_mul(z));
+                    let cells = x.saturating_mul(y).saturating_mul(z);
+                    match s.element {
+                        BoxElement::Hex8 => c.hexes = c.hexes.saturating_add(cells),
+                        BoxElement::Tet4 => c.tets = c.tets.saturating_add(cells.saturating_mul(6)),
+                    }
                     c.nodes = c
                         .nodes
                         .saturating_add((x + 1).saturating_mul(y + 1).saturating_mul(z + 1));

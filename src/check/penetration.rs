@@ -11,7 +11,10 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::contact::search::{find_candidates, flatten};
-use crate::geometry::quad::{self, dot, norm, sub, V3};
+use crate::geometry::{
+    face::FaceKind,
+    quad::{dot, norm, sub, V3},
+};
 use crate::kernels::ContactQueries;
 use crate::model::Model;
 use crate::model::{Interface, Primary};
@@ -181,9 +184,10 @@ fn surface_samples(model: &Model, body: usize, faces: &[[u32; 4]], nodes: &[u32]
 /// Distance to the face's closest point and the sample there.
 fn closest(x: &[[f64; 3]], face: &[u32; 4], p: V3) -> (f64, Sample) {
     let c = face.map(|n| x[n as usize]);
-    let xi = quad::project(&c, p);
-    let (y, ..) = quad::geometry(&c, xi);
-    let n = quad::normal(&c, xi);
+    let kind = FaceKind::of(face);
+    let xi = kind.project(&c, p);
+    let (y, ..) = kind.geometry(&c, xi);
+    let n = kind.normal(&c, xi);
     let d = sub(p, y);
     let dist = norm(d);
     let gap = dot(d, n);

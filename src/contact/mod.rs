@@ -1,5 +1,5 @@
 //! Node-to-surface contact enforcement. The interfaces are data ([`crate::model::Interface`]),
-//! the primary face in convected coordinates is geometry ([`crate::geometry::quad`]).
+//! the primary face in convected coordinates is geometry ([`crate::geometry::face`]).
 //!
 //! - [`search`]: broad phase (candidate primary faces of each secondary node).
 //! - [`augmented_lagrange`]: the paper's multiplier update on the gap rate with the

@@ -7,7 +7,7 @@
 
 use std::collections::HashMap;
 
-use crate::geometry::quad;
+use crate::geometry::face::FaceKind;
 use crate::kernels::search_bounds::{fastest_speed, largest_face_side};
 use crate::kernels::ContactQueries;
 use crate::model::Model;
@@ -86,21 +86,22 @@ pub fn flatten(queries: &mut ContactQueries, lists: &[Vec<u32>]) {
     }
 }
 
-/// The largest diagonal of the model's primary faces (reference configuration): the search
-/// grid's cell size and the reach of a candidate.
-pub fn largest_face_diagonal(model: &Model) -> f64 {
+/// The largest size (a quad's longer diagonal, a triangle's longest edge) of the model's
+/// primary faces (reference configuration): the search grid's cell size and the reach of a
+/// candidate.
+pub fn largest_face_size(model: &Model) -> f64 {
     model
         .queries
         .faces
         .iter()
         .map(|f| {
             let p = f.map(|n| model.mesh.nodes[n as usize]);
-            quad::norm(quad::sub(p[2], p[0])).max(quad::norm(quad::sub(p[3], p[1])))
+            FaceKind::of(f).size(&p)
         })
         .fold(0.0, f64::max)
 }
 
-/// The reach of a step: the largest face diagonal plus four steps of the fastest node's
+/// The reach of a step: the largest face size plus four steps of the fastest node's
 /// motion. The broad phase grows face boxes by it, so that a node's candidates cover its
 /// motion over the step.
 pub fn margin(v: &[f64], dt: f64, face_size: f64) -> f64 {

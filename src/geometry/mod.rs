@@ -1,5 +1,7 @@
-//! Geometry below every kernel: vector helpers, bilinear quads and their closest-point
-//! projection, and the contact point a projection gives.
+//! Geometry below every kernel: vector helpers, the primary faces (bilinear quads and linear
+//! triangles) and their closest-point projections, and the contact point a projection gives.
 
+pub mod face;
 pub mod point;
 pub mod quad;
+pub mod triangle;

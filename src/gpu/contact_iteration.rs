@@ -52,7 +52,7 @@ pub struct ContactSetup {
     pub faces: Vec<[u32; 4]>,
     pub face_first: Vec<u32>,
     pub queries: Vec<(u32, u32, u32)>,
-    /// The largest face diagonal (the search margin's base).
+    /// The largest face size (the search margin's base).
     pub face_size: f64,
 }
 

@@ -31,7 +31,10 @@ use crate::backend::Kernels;
 use crate::contact::search;
 use crate::element;
 use crate::error::Result;
-use crate::geometry::quad::{self, dot};
+use crate::geometry::{
+    face,
+    quad::{self, dot},
+};
 use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::impulse::{self, impulse_update, ImpulseUpdate};
 use crate::kernels::{self, ContactPoint, ContactQueries};
@@ -164,7 +167,7 @@ impl<'m> ExplicitSolver<'m> {
             }
         }
         let a: Vec<f64> = (0..ndof).map(|d| f_ext[d] * inv_mass[d]).collect();
-        let face_size = search::largest_face_diagonal(model);
+        let face_size = search::largest_face_size(model);
         let interfaces = model
             .interfaces
             .iter()
@@ -286,7 +289,7 @@ impl<'m> ExplicitSolver<'m> {
                     return None;
                 }
                 let face = self.queries.faces[p.face as usize];
-                (Some(face), quad::shape(p.xi), p.normal, p.gap)
+                (Some(face), face::shape(&face, p.xi), p.normal, p.gap)
             }
             Primary::Plane { point, normal } => {
                 let x0 = self.model.mesh.nodes[n];

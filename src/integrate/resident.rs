@@ -96,7 +96,7 @@ pub fn contact_setup(model: &Model) -> ContactSetup {
         faces,
         face_first,
         queries,
-        face_size: search::largest_face_diagonal(model),
+        face_size: search::largest_face_size(model),
     }
 }
 

@@ -6,7 +6,10 @@
 //! $v_{n-1/2} = v^* - \Delta t\, a_n$ is kept for the friction work.
 
 use super::contact_gap::{ContactPoint, NO_FACE};
-use crate::geometry::quad::{self, dot, norm};
+use crate::geometry::{
+    face,
+    quad::{dot, norm},
+};
 use crate::kernels::impulse::relative_velocity;
 
 /// A pair of the iteration: secondary node `node` against surface query `query`, or against
@@ -92,7 +95,7 @@ pub fn contact_constraints(
             if pt.face != NO_FACE && pt.gap >= -margin.max(1e-30) {
                 c.in_reach = true;
                 c.face = faces[pt.face as usize];
-                c.weights = quad::shape(pt.xi);
+                c.weights = face::shape(&c.face, pt.xi);
                 key = pt.face;
             }
         } else {

@@ -1,9 +1,12 @@
 //! CPU twin of `shaders/contact_gap.wgsl`: closest-point projection of secondary nodes onto
-//! candidate primary quads, with the normal, gap and gap rate of `method.md`:
+//! candidate primary faces (quads or triangles), with the normal, gap and gap rate of `method.md`:
 //! $g = -(x_1 - y(\bar\xi)) \cdot n$ (positive = penetration, n the primary's outward normal),
 //! $\dot g = -(v_1 - v_2(\bar\xi)) \cdot n$ (positive = approaching).
 
-use crate::geometry::quad::{self, dot, norm, sub, V3};
+use crate::geometry::{
+    face::FaceKind,
+    quad::{dot, norm, sub, V3},
+};
 
 pub use crate::geometry::point::{ContactPoint, NO_FACE};
 
@@ -15,7 +18,7 @@ pub struct ContactQueries {
     /// `candidates[offsets[q]..offsets[q + 1]]` are the candidate faces of query q.
     pub offsets: Vec<u32>,
     pub candidates: Vec<u32>,
-    /// Primary quads (global node numbers), outward-oriented.
+    /// Primary faces (global node numbers), outward-oriented; a triangle is `[a, b, c, c]`.
     pub faces: Vec<[u32; 4]>,
 }
 
@@ -45,7 +48,6 @@ pub fn contact_gap(
     out: &mut [ContactPoint],
 ) {
     use rayon::prelude::*;
-    let pos = |n: u32| add(reference[n as usize], u[n as usize]);
     // each query writes its own point: any thread count gives the same points
     out[..q.len()]
         .par_iter_mut()
@@ -53,34 +55,72 @@ pub fn contact_gap(
         .enumerate()
         .for_each(|(i, o)| {
             let s = q.secondary[i];
-            let x = pos(s);
-            let mut best = ContactPoint::default();
-            let mut best_d = f64::INFINITY;
+            let mut best = (NO_FACE, [0.0; 2], f64::INFINITY);
             for &fi in q.candidates_of(i) {
-                let face = q.faces[fi as usize];
-                let p = face.map(pos);
-                let xi = quad::project(&p, x);
-                let (y, ..) = quad::geometry(&p, xi);
-                let d = norm(sub(x, y));
-                if d < best_d {
-                    let n = quad::normal(&p, xi);
-                    let nsh = quad::shape(xi);
-                    let mut v2 = [0.0; 3];
-                    for k in 0..4 {
-                        for a in 0..3 {
-                            v2[a] += nsh[k] * v[face[k] as usize][a];
-                        }
-                    }
-                    best_d = d;
-                    best = ContactPoint {
-                        face: fi,
-                        xi,
-                        normal: n,
-                        gap: -dot(sub(x, y), n),
-                        gap_rate: -dot(sub(v[s as usize], v2), n),
-                    };
+                let (xi, d) = closest_on_face(reference, u, q, s, fi);
+                if d < best.2 {
+                    best = (fi, xi, d);
                 }
             }
-            *o = best;
+            *o = match best.0 {
+                NO_FACE => ContactPoint::default(),
+                fi => face_point(reference, u, v, q, s, fi, best.1),
+            };
         });
+}
+
+#[inline]
+fn position(reference: &[[f64; 3]], u: &[[f64; 3]], n: u32) -> V3 {
+    add(reference[n as usize], u[n as usize])
+}
+
+/// The convected coordinates of the closest point of face `fi` to secondary node `s`, and
+/// the node's distance from it.
+pub fn closest_on_face(
+    reference: &[[f64; 3]],
+    u: &[[f64; 3]],
+    q: &ContactQueries,
+    s: u32,
+    fi: u32,
+) -> ([f64; 2], f64) {
+    let x = position(reference, u, s);
+    let face = q.faces[fi as usize];
+    let p = face.map(|n| position(reference, u, n));
+    let kind = FaceKind::of(&face);
+    let xi = kind.project(&p, x);
+    let (y, ..) = kind.geometry(&p, xi);
+    (xi, norm(sub(x, y)))
+}
+
+/// The contact point of secondary node `s` on face `fi` at xi: the normal, gap and gap rate
+/// there.
+pub fn face_point(
+    reference: &[[f64; 3]],
+    u: &[[f64; 3]],
+    v: &[[f64; 3]],
+    q: &ContactQueries,
+    s: u32,
+    fi: u32,
+    xi: [f64; 2],
+) -> ContactPoint {
+    let x = position(reference, u, s);
+    let face = q.faces[fi as usize];
+    let p = face.map(|n| position(reference, u, n));
+    let kind = FaceKind::of(&face);
+    let (y, ..) = kind.geometry(&p, xi);
+    let n = kind.normal(&p, xi);
+    let nsh = kind.shape(xi);
+    let mut v2 = [0.0; 3];
+    for k in 0..4 {
+        for a in 0..3 {
+            v2[a] += nsh[k] * v[face[k] as usize][a];
+        }
+    }
+    ContactPoint {
+        face: fi,
+        xi,
+        normal: n,
+        gap: -dot(sub(x, y), n),
+        gap_rate: -dot(sub(v[s as usize], v2), n),
+    }
 }

@@ -3,7 +3,10 @@
 //! convected basis of its primary face.
 
 use super::contact_gap::{ContactPoint, ContactQueries, NO_FACE};
-use crate::geometry::quad::{self, dot, sub};
+use crate::geometry::{
+    face::FaceKind,
+    quad::{dot, sub},
+};
 
 pub fn slip_rate(
     reference: &[[f64; 3]],
@@ -39,8 +42,9 @@ fn point_slip(
         let (x, d) = (reference[n as usize], u[n as usize]);
         [x[0] + d[0], x[1] + d[1], x[2] + d[2]]
     });
-    let (_, t1, t2, _) = quad::geometry(&p, cp.xi);
-    let nsh = quad::shape(cp.xi);
+    let kind = FaceKind::of(&face);
+    let (_, t1, t2, _) = kind.geometry(&p, cp.xi);
+    let nsh = kind.shape(cp.xi);
     let mut v2 = [0.0; 3];
     for k in 0..4 {
         for a in 0..3 {

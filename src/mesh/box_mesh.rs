@@ -1,4 +1,4 @@
-//! Structured hex8 grids of boxes.
+//! Structured grids of boxes: hex8, or each hex cut into six tet4.
 
 use super::{BodyParts, Surface};
 
@@ -40,20 +40,57 @@ impl BoxFace {
     }
 }
 
-/// A structured box: its corners and the elements along each axis.
+/// The elements a box is meshed with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BoxElement {
+    #[default]
+    Hex8,
+    /// Each hex cell cut into six tetrahedra around its diagonal from the lowest to the
+    /// highest corner (the Kuhn subdivision): every cell face is cut along its diagonal from
+    /// its lowest to its highest corner, so neighbouring cells' triangles match.
+    Tet4,
+}
+
+impl BoxElement {
+    pub const NAMES: [&'static str; 2] = ["hex8", "tet4"];
+
+    pub fn parse(s: &str) -> Option<BoxElement> {
+        match s {
+            "hex8" => Some(BoxElement::Hex8),
+            "tet4" => Some(BoxElement::Tet4),
+            _ => None,
+        }
+    }
+}
+
+/// A structured box: its corners, the cells along each axis and the elements of a cell.
 #[derive(Debug, Clone)]
 pub struct BoxSpec {
     pub min: [f64; 3],
     pub max: [f64; 3],
     pub divisions: [usize; 3],
+    pub element: BoxElement,
 }
 
-/// Meshes a box as `divisions[0] x divisions[1] x divisions[2]` hex8 elements.
+/// The six tets of a hex cell (hex8 corner numbers), each around the diagonal 0-6 with
+/// positive volume.
+const KUHN_TETS: [[usize; 4]; 6] = [
+    [0, 1, 2, 6],
+    [0, 2, 3, 6],
+    [0, 3, 7, 6],
+    [0, 7, 4, 6],
+    [0, 4, 5, 6],
+    [0, 5, 1, 6],
+];
+
+/// Meshes a box as `divisions[0] x divisions[1] x divisions[2]` cells, each a hex8 or six
+/// tet4 ([`BoxElement`]).
 ///
 /// Returns local node coordinates, connectivity, and the six faces as surfaces named
 /// `x-`, `x+`, `y-`, `y+`, `z-`, `z+` (in [`BoxFace::ALL`] order, so surface `f as usize` is
 /// face `f`), each quad ordered so that its first two edges span the face with
-/// `tau_1 x tau_2` along the outward normal. The boundary is the six faces together.
+/// `tau_1 x tau_2` along the outward normal; a tet4 box has each quad's two triangles
+/// `[a, b, c, c]` instead, oriented the same way. The boundary is the six faces together.
 pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
     let [nx, ny, nz] = spec.divisions;
     let (px, py) = (nx + 1, ny + 1);
@@ -126,6 +163,24 @@ pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
         }
         quads
     });
+    let (hexes, tets, faces) = match spec.element {
+        BoxElement::Hex8 => (hexes, Vec::new(), faces),
+        BoxElement::Tet4 => {
+            let tets = hexes
+                .iter()
+                .flat_map(|h| KUHN_TETS.map(|t| t.map(|k| h[k])))
+                .collect();
+            // the cells' faces are cut along the diagonal from corner 0 to corner 2 of each
+            // quad (its lowest to its highest node)
+            let faces = faces.map(|quads| {
+                quads
+                    .iter()
+                    .flat_map(|q| [[q[0], q[1], q[2], q[2]], [q[0], q[2], q[3], q[3]]])
+                    .collect()
+            });
+            (Vec::new(), tets, faces)
+        }
+    };
     let boundary = faces.iter().flatten().copied().collect();
     let surfaces = BoxFace::ALL
         .iter()
@@ -138,7 +193,7 @@ pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
     BodyParts {
         nodes,
         hexes,
-        tets: Vec::new(),
+        tets,
         boundary,
         surfaces,
         node_sets: Vec::new(),
@@ -166,6 +221,7 @@ mod tests {
             min: [0.0, -1.0, 2.0],
             max: [3.0, 1.0, 2.5],
             divisions: [3, 2, 4],
+            element: BoxElement::Hex8,
         };
         let parts = box_mesh(&spec);
         let nodes = &parts.nodes;
@@ -193,6 +249,60 @@ mod tests {
             let ext = sub(spec.max, spec.min);
             let (b, c) = ((a + 1) % 3, (a + 2) % 3);
             assert!((area - ext[b] * ext[c]).abs() < 1e-12);
+        }
+    }
+
+    /// A tet4 box: six positive tets per cell filling the box's volume, and surfaces of
+    /// outward triangles that are exactly the element boundary's faces (so the cut is
+    /// conforming: an unmatched inner face would show up in the boundary).
+    #[test]
+    fn tet4_boxes_are_conforming_and_their_triangles_point_outwards() {
+        let spec = BoxSpec {
+            min: [0.0, -1.0, 2.0],
+            max: [3.0, 1.0, 2.5],
+            divisions: [3, 2, 4],
+            element: BoxElement::Tet4,
+        };
+        let parts = box_mesh(&spec);
+        let x = |n: u32| parts.nodes[n as usize];
+        assert_eq!((parts.hexes.len(), parts.tets.len()), (0, 6 * 24));
+        let mut volume = 0.0;
+        for t in &parts.tets {
+            let (a, b, c) = (
+                sub(x(t[1]), x(t[0])),
+                sub(x(t[2]), x(t[0])),
+                sub(x(t[3]), x(t[0])),
+            );
+            let v = cross(a, b).iter().zip(c).map(|(p, q)| p * q).sum::<f64>() / 6.0;
+            assert!(v > 0.0, "tet {t:?} has volume {v}");
+            volume += v;
+        }
+        assert!((volume - 3.0 * 2.0 * 0.5).abs() < 1e-12, "{volume}");
+        let key = |f: &[u32; 4]| {
+            let mut k = [f[0], f[1], f[2]];
+            k.sort();
+            k
+        };
+        let mut from_elements: Vec<[u32; 3]> =
+            crate::mesh::boundary::boundary_faces(&[], &parts.tets)
+                .iter()
+                .map(key)
+                .collect();
+        let mut from_surfaces: Vec<[u32; 3]> = parts.boundary.iter().map(key).collect();
+        from_elements.sort();
+        from_surfaces.sort();
+        assert_eq!(from_elements, from_surfaces);
+        for face in BoxFace::ALL {
+            let a = face.axis();
+            let sign = if face.positive() { 1.0 } else { -1.0 };
+            for f in &parts.surfaces[face as usize].faces {
+                assert!(crate::mesh::is_triangle(f));
+                let nrm = cross(sub(x(f[1]), x(f[0])), sub(x(f[2]), x(f[0])));
+                assert!(
+                    nrm[a] * sign > 0.0,
+                    "{face:?} triangle {f:?} points inwards"
+                );
+            }
         }
     }
 }

@@ -9,7 +9,7 @@ mod validate;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-pub use crate::mesh::box_mesh::{BoxFace, BoxSpec};
+pub use crate::mesh::box_mesh::{BoxElement, BoxFace, BoxSpec};
 use crate::mesh::BodyParts;
 
 use crate::error::{ImpactError, Result};

@@ -141,6 +141,7 @@ pub struct RawBox {
     pub min: [f64; 3],
     pub max: [f64; 3],
     pub divisions: [i64; 3],
+    pub element: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -67,3 +67,33 @@ pub fn run_text_on(
 pub fn run_scene_text(tag: &str, text: &str) -> (impact::Result<Summary>, History) {
     run_text(tag, text)
 }
+
+/// The fine two bars (`two_bars_fine.toml`) with both boxes meshed as tet4 (each cell cut
+/// into six tetrahedra) and `section` x `section` cells across, so that the primary surface,
+/// B's `x-`, is made of triangles.
+pub fn tet4_two_bars(section: usize) -> String {
+    let text = scene_text("two_bars_fine.toml");
+    let tets = text.replace(
+        "divisions = [40, 1, 1] }",
+        &format!("divisions = [40, {section}, {section}], element = \"tet4\" }}"),
+    );
+    assert_eq!(tets.matches("\"tet4\"").count(), 2, "both boxes are tet4");
+    tets
+}
+
+/// The cube on the plate (`cube_on_plate.toml`, friction 0.3) with both boxes meshed as
+/// tet4: the plate's contact face is triangles, and the cube's nodes lie exactly over the
+/// plate's vertices and edges.
+pub fn tet4_cube_on_plate() -> String {
+    let text = scene_text("cube_on_plate.toml")
+        .replace(
+            "divisions = [4, 4, 4] }",
+            "divisions = [4, 4, 4], element = \"tet4\" }",
+        )
+        .replace(
+            "divisions = [16, 4, 4] }",
+            "divisions = [16, 4, 4], element = \"tet4\" }",
+        );
+    assert_eq!(text.matches("\"tet4\"").count(), 2, "both boxes are tet4");
+    text
+}

@@ -8,7 +8,10 @@ use crate::contact::augmented_lagrange;
 use crate::contact::friction::{cone_projection, cone_radius, plane_basis};
 use crate::contact::search;
 use crate::error::Result;
-use crate::geometry::quad::{self, dot};
+use crate::geometry::{
+    face::{self, FaceKind},
+    quad::{self, dot},
+};
 use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::{ContactPoint, ContactQueries};
 use crate::model::{Model, Primary};
@@ -43,7 +46,7 @@ impl ContactIteration {
             interfaces,
             queries: model.queries.clone(),
             candidate_lists: vec![Vec::new(); nq],
-            face_size: search::largest_face_diagonal(model),
+            face_size: search::largest_face_size(model),
             query_points: vec![ContactPoint::default(); nq],
             query_slip: vec![[0.0; 2]; nq],
             surface_friction: (model.interfaces.iter()).any(|i| i.friction > 0.0 && !i.is_plane()),
@@ -139,8 +142,9 @@ impl ContactIteration {
                         fr.tangents[i] = if p.face == NO_FACE {
                             [[0.0; 3]; 2]
                         } else {
-                            let x = self.queries.faces[p.face as usize].map(pos);
-                            let (_, t1, t2, _) = quad::geometry(&x, p.xi);
+                            let nodes = self.queries.faces[p.face as usize];
+                            let x = nodes.map(pos);
+                            let (_, t1, t2, _) = FaceKind::of(&nodes).geometry(&x, p.xi);
                             [t1, t2]
                         };
                     }
@@ -183,7 +187,7 @@ impl ContactIteration {
                 }
                 if let Primary::Surface { .. } = itf.primary {
                     let face = self.queries.faces[p.face as usize];
-                    let nsh = quad::shape(p.xi);
+                    let nsh = face::shape(&face, p.xi);
                     for k in 0..4 {
                         for a in 0..3 {
                             f_c[3 * face[k] as usize + a] -= nsh[k] * f[a];

@@ -135,10 +135,23 @@ impl Checker<'_> {
                 ),
             ));
         }
+        let element = match &b.element {
+            None => BoxElement::Hex8,
+            Some(e) => BoxElement::parse(e).ok_or_else(|| {
+                self.err(
+                    key("box.element"),
+                    format!(
+                        "unknown element `{e}`; expected one of {}",
+                        BoxElement::NAMES.join(", ")
+                    ),
+                )
+            })?,
+        };
         Ok(BoxSpec {
             min,
             max,
             divisions,
+            element,
         })
     }
 
@@ -545,15 +558,6 @@ impl Checker<'_> {
             let secondary =
                 self.surface_ref(&key, "secondary", &ct.secondary, raw_bodies, bodies)?;
             let primary = self.surface_ref(&key, "primary", &ct.primary, raw_bodies, bodies)?;
-            if let BodyShape::Imported { parts, .. } = &bodies[primary.body].shape {
-                let faces = &parts.surfaces[primary.surface].faces;
-                if faces.iter().any(crate::mesh::is_triangle) {
-                    return Err(self.err(
-                        key("primary.surface"),
-                        "the primary surface has triangular faces (tet4 boundary); primary surfaces must be made of quadrilaterals for now: use the tet4 body as the secondary side, or a rigid plane",
-                    ));
-                }
-            }
             if secondary.body == primary.body {
                 return Err(self.err(
                     key("primary.body"),

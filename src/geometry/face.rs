@@ -1,0 +1,73 @@
+//! A primary face of either kind: a bilinear quad ([`super::quad`]) or a linear triangle
+//! ([`super::triangle`], a tet4 face stored as the degenerate quad `[a, b, c, c]`). The
+//! contact kernels ask a face for its shape functions, geometry, normal and closest point
+//! without caring which it is (twin: `shaders/shared/face.wgsl`).
+
+use super::{
+    quad::{self, norm, sub, V3},
+    triangle,
+};
+
+/// Which interpolation a primary face has.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FaceKind {
+    Quad,
+    Triangle,
+}
+
+impl FaceKind {
+    /// The kind of a face given by its nodes: `[a, b, c, c]` is a triangle.
+    pub fn of(nodes: &[u32; 4]) -> Self {
+        if nodes[2] == nodes[3] {
+            FaceKind::Triangle
+        } else {
+            FaceKind::Quad
+        }
+    }
+
+    /// Shape functions at xi (one per stored corner).
+    pub fn shape(self, xi: [f64; 2]) -> [f64; 4] {
+        match self {
+            FaceKind::Quad => quad::shape(xi),
+            FaceKind::Triangle => triangle::shape(xi),
+        }
+    }
+
+    /// Point, covariant tangents and mixed second derivative at xi.
+    pub fn geometry(self, p: &[V3; 4], xi: [f64; 2]) -> (V3, V3, V3, V3) {
+        match self {
+            FaceKind::Quad => quad::geometry(p, xi),
+            FaceKind::Triangle => triangle::geometry(p, xi),
+        }
+    }
+
+    /// Unit outward normal at xi.
+    pub fn normal(self, p: &[V3; 4], xi: [f64; 2]) -> V3 {
+        match self {
+            FaceKind::Quad => quad::normal(p, xi),
+            FaceKind::Triangle => triangle::normal(p),
+        }
+    }
+
+    /// Convected coordinates of the face's closest point to x.
+    pub fn project(self, p: &[V3; 4], x: V3) -> [f64; 2] {
+        match self {
+            FaceKind::Quad => quad::project(p, x),
+            FaceKind::Triangle => triangle::project(p, x),
+        }
+    }
+
+    /// The face's size: a quad's longer diagonal, a triangle's longest edge.
+    pub fn size(self, p: &[V3; 4]) -> f64 {
+        let d = |a: usize, b: usize| norm(sub(p[a], p[b]));
+        match self {
+            FaceKind::Quad => d(2, 0).max(d(3, 1)),
+            FaceKind::Triangle => d(1, 0).max(d(2, 1)).max(d(2, 0)),
+        }
+    }
+}
+
+/// Shape-function weights of face `nodes` at xi.
+pub fn shape(nodes: &[u32; 4], xi: [f64; 2]) -> [f64; 4] {
+    FaceKind::of(nodes).shape(xi)
+}
