@@ -149,6 +149,49 @@ fn explicit_cube_on_plate_gpu_and_cpu_agree_over_1000_steps() {
     );
 }
 
+const CUBE_ON_PLATE_COLUMNS: [&str; 10] = [
+    "impact.normal_force",
+    "impact.tangential_force",
+    "impact.friction_work",
+    "kinetic_energy",
+    "strain_energy",
+    "total_energy",
+    "cube.v",
+    "plate.v",
+    "bottom.ux",
+    "bottom.uz",
+];
+
+/// The cube on the plate meshed with tet4 (`tet4_cube_on_plate`): the device projects onto
+/// the plate's triangles and takes their convected basis for the friction, against the f64
+/// twins.
+#[test]
+fn tet4_cube_on_plate_gpu_and_cpu_agree_row_by_row() {
+    compare(
+        "tet4_cube_on_plate_devices",
+        &tet4_cube_on_plate(),
+        &CUBE_ON_PLATE_COLUMNS,
+    );
+}
+
+/// The same explicit, the whole step on the device, 400 steps at 5e-5.
+#[test]
+fn explicit_tet4_cube_on_plate_gpu_and_cpu_agree_row_by_row() {
+    let text = edit(
+        &tet4_cube_on_plate(),
+        "time_step = 0.002",
+        "time_step = 0.00005",
+    )
+    .replace("end_time = 0.1", "end_time = 0.02")
+    .replace("[run]", "[run]\nmethod = \"explicit\"");
+    assert!(text.contains("end_time = 0.02") && text.contains("\"explicit\""));
+    compare(
+        "explicit_tet4_cube_on_plate_devices",
+        &text,
+        &CUBE_ON_PLATE_COLUMNS,
+    );
+}
+
 /// A tet4 body from a Gmsh file (the tet4_forces kernel in a run): the cube dropped on a
 /// plane, explicit, 392 steps.
 #[test]

@@ -13,18 +13,25 @@ use crate::geometry::{
     quad::{self, dot},
 };
 use crate::kernels::contact_gap::NO_FACE;
-use crate::kernels::{ContactPoint, ContactQueries};
+use crate::kernels::contact_gap::{closest_on_face, face_point};
+use crate::kernels::{as_vec3, ContactPoint, ContactQueries};
 use crate::model::{Model, Primary};
 use crate::scene::{Acceleration, ConstraintMeasure};
 
 use super::interface::InterfaceState;
 use super::StepConstants;
 
+/// How much farther (in face sizes) than the closest face the face a node held in the
+/// iteration before may be and still be kept ([`ContactIteration::keep_held_faces`]).
+const FACE_HYSTERESIS: f64 = 1e-6;
+
 pub(super) struct ContactIteration {
     pub(super) interfaces: Vec<InterfaceState>,
     queries: ContactQueries,
     candidate_lists: Vec<Vec<u32>>,
     face_size: f64,
+    /// The face each query held in the iteration before ([`NO_FACE`] at a step's start).
+    held: Vec<u32>,
     /// Kinematics of every surface query.
     query_points: Vec<ContactPoint>,
     /// Covariant slip rates of every surface query (only when some surface has friction).
@@ -47,6 +54,7 @@ impl ContactIteration {
             queries: model.queries.clone(),
             candidate_lists: vec![Vec::new(); nq],
             face_size: search::largest_face_size(model),
+            held: vec![NO_FACE; nq],
             query_points: vec![ContactPoint::default(); nq],
             query_slip: vec![[0.0; 2]; nq],
             surface_friction: (model.interfaces.iter()).any(|i| i.friction > 0.0 && !i.is_plane()),
@@ -69,6 +77,7 @@ impl ContactIteration {
             u,
             margin,
         );
+        self.held.fill(NO_FACE);
     }
 
     /// Contact kinematics of every interface at (u, v): surfaces through the kernels,
@@ -83,6 +92,8 @@ impl ContactIteration {
         if !self.queries.is_empty() {
             let pts = &mut self.query_points;
             kernels.contact_gap_into(u, v, &self.queries, pts)?;
+            self.keep_held_faces(model, u, v);
+            let pts = &self.query_points;
             for (itf, st) in model.interfaces.iter().zip(&mut self.interfaces) {
                 if let Primary::Surface { queries, .. } = &itf.primary {
                     st.points.copy_from_slice(&pts[queries.clone()]);
@@ -107,6 +118,32 @@ impl ContactIteration {
             }
         }
         self.friction_kinematics(model, kernels, u, v)
+    }
+
+    /// Within a step, a query whose closest face changed keeps the face it held in the
+    /// iteration before while that face is at most [`FACE_HYSTERESIS`] face sizes farther.
+    ///
+    /// A node at a vertex or edge where the primary surface is not flat is about equally
+    /// close to faces with different normals; without the hysteresis the closest one can
+    /// change from one iteration to the next with the last bits of u, and the iteration then
+    /// flips the force's direction between them and never converges.
+    fn keep_held_faces(&mut self, model: &Model, u: &[f64], v: &[f64]) {
+        let (u3, v3) = (as_vec3(u), as_vec3(v));
+        let x0 = &model.mesh.nodes;
+        let reach = FACE_HYSTERESIS * self.face_size;
+        let q = &self.queries;
+        for (i, p) in self.query_points.iter_mut().enumerate() {
+            let held = self.held[i];
+            if held != NO_FACE && p.face != NO_FACE && held != p.face {
+                let s = q.secondary[i];
+                let (_, now) = closest_on_face(x0, u3, q, s, p.face);
+                let (xi, before) = closest_on_face(x0, u3, q, s, held);
+                if before <= now + reach {
+                    *p = face_point(x0, u3, v3, q, s, held, xi);
+                }
+            }
+            self.held[i] = p.face;
+        }
     }
 
     /// Slip rates and tangents of the interfaces with friction: surfaces through the
