@@ -96,6 +96,21 @@ fn two_bars_gpu_and_cpu_agree_row_by_row() {
     );
 }
 
+/// The cube on the plate's columns compared: contact forces, friction work, energies, the
+/// bodies' velocities and the cube's bottom probe.
+const CUBE_ON_PLATE_COLUMNS: [&str; 10] = [
+    "impact.normal_force",
+    "impact.tangential_force",
+    "impact.friction_work",
+    "kinetic_energy",
+    "strain_energy",
+    "total_energy",
+    "cube.v",
+    "plate.v",
+    "bottom.ux",
+    "bottom.uz",
+];
+
 /// The oblique cube on a plate with friction: the surface contact's slip rates come from the
 /// `slip_rate` kernel, so this compares the frictional path on both devices.
 #[test]
@@ -103,18 +118,7 @@ fn cube_on_plate_gpu_and_cpu_agree_row_by_row() {
     compare(
         "cube_on_plate_devices",
         &scene_text("cube_on_plate.toml"),
-        &[
-            "impact.normal_force",
-            "impact.tangential_force",
-            "impact.friction_work",
-            "kinetic_energy",
-            "strain_energy",
-            "total_energy",
-            "cube.v",
-            "plate.v",
-            "bottom.ux",
-            "bottom.uz",
-        ],
+        &CUBE_ON_PLATE_COLUMNS,
     );
 }
 
@@ -134,33 +138,9 @@ fn explicit_cube_on_plate_gpu_and_cpu_agree_over_1000_steps() {
     compare(
         "explicit_cube_on_plate_devices",
         &text,
-        &[
-            "impact.normal_force",
-            "impact.tangential_force",
-            "impact.friction_work",
-            "kinetic_energy",
-            "strain_energy",
-            "total_energy",
-            "cube.v",
-            "plate.v",
-            "bottom.ux",
-            "bottom.uz",
-        ],
+        &CUBE_ON_PLATE_COLUMNS,
     );
 }
-
-const CUBE_ON_PLATE_COLUMNS: [&str; 10] = [
-    "impact.normal_force",
-    "impact.tangential_force",
-    "impact.friction_work",
-    "kinetic_energy",
-    "strain_energy",
-    "total_energy",
-    "cube.v",
-    "plate.v",
-    "bottom.ux",
-    "bottom.uz",
-];
 
 /// The cube on the plate meshed with tet4 (`tet4_cube_on_plate`): the device projects onto
 /// the plate's triangles and takes their convected basis for the friction, against the f64

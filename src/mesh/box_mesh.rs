@@ -92,48 +92,100 @@ const KUHN_TETS: [[usize; 4]; 6] = [
 /// `tau_1 x tau_2` along the outward normal; a tet4 box has each quad's two triangles
 /// `[a, b, c, c]` instead, oriented the same way. The boundary is the six faces together.
 pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
-    let [nx, ny, nz] = spec.divisions;
-    let (px, py) = (nx + 1, ny + 1);
-    let id = |i: usize, j: usize, k: usize| (i + px * (j + py * k)) as u32;
-    let mut nodes = Vec::with_capacity(px * py * (nz + 1));
-    for k in 0..=nz {
-        for j in 0..=ny {
-            for i in 0..=nx {
-                let t = [
-                    i as f64 / nx as f64,
-                    j as f64 / ny as f64,
-                    k as f64 / nz as f64,
-                ];
-                nodes.push(std::array::from_fn(|a| {
-                    // exact end points, so faces of touching boxes coincide bit for bit
-                    if t[a] == 1.0 {
-                        spec.max[a]
-                    } else {
-                        spec.min[a] + t[a] * (spec.max[a] - spec.min[a])
-                    }
-                }));
+    let grid = Grid::new(spec.divisions);
+    let hexes = grid.hexes();
+    let faces = BoxFace::ALL.map(|face| grid.face_quads(face));
+    let (hexes, tets, faces) = match spec.element {
+        BoxElement::Hex8 => (hexes, Vec::new(), faces),
+        BoxElement::Tet4 => (Vec::new(), kuhn_tets(&hexes), faces.map(|q| halves(&q))),
+    };
+    let boundary = faces.iter().flatten().copied().collect();
+    let surfaces = BoxFace::ALL
+        .iter()
+        .zip(faces)
+        .map(|(f, faces)| Surface {
+            name: BoxFace::NAMES[*f as usize].to_string(),
+            faces,
+        })
+        .collect();
+    BodyParts {
+        nodes: grid.nodes(spec),
+        hexes,
+        tets,
+        boundary,
+        surfaces,
+        node_sets: Vec::new(),
+    }
+}
+
+/// The node numbering of a structured grid of `divisions` cells: node (i, j, k) is
+/// `i + (nx + 1) (j + (ny + 1) k)`.
+struct Grid {
+    n: [usize; 3],
+}
+
+impl Grid {
+    fn new(n: [usize; 3]) -> Self {
+        Grid { n }
+    }
+
+    fn id(&self, i: usize, j: usize, k: usize) -> u32 {
+        let (px, py) = (self.n[0] + 1, self.n[1] + 1);
+        (i + px * (j + py * k)) as u32
+    }
+
+    /// The nodes' coordinates, the box's far faces exactly at `max`.
+    fn nodes(&self, spec: &BoxSpec) -> Vec<[f64; 3]> {
+        let [nx, ny, nz] = self.n;
+        let mut nodes = Vec::with_capacity((nx + 1) * (ny + 1) * (nz + 1));
+        for k in 0..=nz {
+            for j in 0..=ny {
+                for i in 0..=nx {
+                    let t = [
+                        i as f64 / nx as f64,
+                        j as f64 / ny as f64,
+                        k as f64 / nz as f64,
+                    ];
+                    nodes.push(std::array::from_fn(|a| {
+                        // exact end points, so faces of touching boxes coincide bit for bit
+                        if t[a] == 1.0 {
+                            spec.max[a]
+                        } else {
+                            spec.min[a] + t[a] * (spec.max[a] - spec.min[a])
+                        }
+                    }));
+                }
             }
         }
+        nodes
     }
-    let mut hexes = Vec::with_capacity(nx * ny * nz);
-    for k in 0..nz {
-        for j in 0..ny {
-            for i in 0..nx {
-                hexes.push([
-                    id(i, j, k),
-                    id(i + 1, j, k),
-                    id(i + 1, j + 1, k),
-                    id(i, j + 1, k),
-                    id(i, j, k + 1),
-                    id(i + 1, j, k + 1),
-                    id(i + 1, j + 1, k + 1),
-                    id(i, j + 1, k + 1),
-                ]);
+
+    /// One hex8 per cell.
+    fn hexes(&self) -> Vec<[u32; 8]> {
+        let [nx, ny, nz] = self.n;
+        let mut hexes = Vec::with_capacity(nx * ny * nz);
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    hexes.push([
+                        self.id(i, j, k),
+                        self.id(i + 1, j, k),
+                        self.id(i + 1, j + 1, k),
+                        self.id(i, j + 1, k),
+                        self.id(i, j, k + 1),
+                        self.id(i + 1, j, k + 1),
+                        self.id(i + 1, j + 1, k + 1),
+                        self.id(i, j + 1, k + 1),
+                    ]);
+                }
             }
         }
+        hexes
     }
-    let n = [nx, ny, nz];
-    let faces = BoxFace::ALL.map(|face| {
+
+    /// The quads of one box face, outward.
+    fn face_quads(&self, face: BoxFace) -> Vec<[u32; 4]> {
+        let n = self.n;
         let a = face.axis();
         let (b, c) = ((a + 1) % 3, (a + 2) % 3);
         let fixed = if face.positive() { n[a] } else { 0 };
@@ -142,7 +194,7 @@ pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
             ijk[a] = fixed;
             ijk[b] = ib;
             ijk[c] = ic;
-            id(ijk[0], ijk[1], ijk[2])
+            self.id(ijk[0], ijk[1], ijk[2])
         };
         let mut quads = Vec::with_capacity(n[b] * n[c]);
         for ic in 0..n[c] {
@@ -162,42 +214,24 @@ pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
             }
         }
         quads
-    });
-    let (hexes, tets, faces) = match spec.element {
-        BoxElement::Hex8 => (hexes, Vec::new(), faces),
-        BoxElement::Tet4 => {
-            let tets = hexes
-                .iter()
-                .flat_map(|h| KUHN_TETS.map(|t| t.map(|k| h[k])))
-                .collect();
-            // the cells' faces are cut along the diagonal from corner 0 to corner 2 of each
-            // quad (its lowest to its highest node)
-            let faces = faces.map(|quads| {
-                quads
-                    .iter()
-                    .flat_map(|q| [[q[0], q[1], q[2], q[2]], [q[0], q[2], q[3], q[3]]])
-                    .collect()
-            });
-            (Vec::new(), tets, faces)
-        }
-    };
-    let boundary = faces.iter().flatten().copied().collect();
-    let surfaces = BoxFace::ALL
-        .iter()
-        .zip(faces)
-        .map(|(f, faces)| Surface {
-            name: BoxFace::NAMES[*f as usize].to_string(),
-            faces,
-        })
-        .collect();
-    BodyParts {
-        nodes,
-        hexes,
-        tets,
-        boundary,
-        surfaces,
-        node_sets: Vec::new(),
     }
+}
+
+/// Each hex cut into its six Kuhn tets.
+fn kuhn_tets(hexes: &[[u32; 8]]) -> Vec<[u32; 4]> {
+    hexes
+        .iter()
+        .flat_map(|h| KUHN_TETS.map(|t| t.map(|k| h[k])))
+        .collect()
+}
+
+/// Each face quad cut into two triangles `[a, b, c, c]` along its diagonal from corner 0 to
+/// corner 2 (the cell's lowest to its highest node, the Kuhn tets' cut).
+fn halves(quads: &[[u32; 4]]) -> Vec<[u32; 4]> {
+    quads
+        .iter()
+        .flat_map(|q| [[q[0], q[1], q[2], q[2]], [q[0], q[2], q[3], q[3]]])
+        .collect()
 }
 
 #[cfg(test)]
