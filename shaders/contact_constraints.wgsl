@@ -20,9 +20,7 @@
 @group(0) @binding(10) var<storage, read_write> constraints: array<Constraint>;
 @group(0) @binding(11) var<storage, read_write> keys: array<u32>;
 
-fn load_v(n: u32) -> vec3<f32> {
-    return vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
-}
+// include: velocity
 
 fn load_a(n: u32) -> vec3<f32> {
     return vec3<f32>(acceleration[3u * n], acceleration[3u * n + 1u], acceleration[3u * n + 2u]);

@@ -15,9 +15,7 @@
 @group(0) @binding(6) var<storage, read_write> results: array<f32>;
 
 
-fn load_v(n: u32) -> vec3<f32> {
-    return vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
-}
+// include: velocity
 
 @compute @workgroup_size(64)
 fn contact_report(@builtin(global_invocation_id) gid: vec3<u32>) {

@@ -21,9 +21,7 @@
 var<workgroup> worst: array<f32, 64>;
 var<workgroup> phase: u32;
 
-fn load_v(n: u32) -> vec3<f32> {
-    return vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
-}
+// include: velocity
 
 @compute @workgroup_size(64)
 fn contact_sweep(
