@@ -3,7 +3,9 @@
 //! Keywords read (case-insensitive): `*NODE` (`NSET=`), `*ELEMENT` with `TYPE=C3D8` or
 //! `TYPE=C3D4` (`ELSET=`; data lines may continue after a trailing comma), `*NSET` and
 //! `*ELSET` (`GENERATE`, or lists of numbers and names of earlier sets), `*SURFACE`
-//! (`TYPE=ELEMENT`, the default: lines `element-or-elset, Sn`; `TYPE=NODE`: a node set).
+//! (`TYPE=ELEMENT`, the default: lines `element-or-elset, Sn`; `TYPE=NODE`: a node set),
+//! `*ORIENTATION` (`SYSTEM=RECTANGULAR`, `DEFINITION=COORDINATES`) and the `ORIENTATION=` of
+//! `*SOLID SECTION` (its elements' material axes; [`super::orientation`]).
 //! Other keywords (materials, steps, ...) are skipped with their data lines; `**` starts a
 //! comment. Every element set is also offered as a node set (its elements' nodes) unless a
 //! node set has the same name. Names compare without regard to case, as in Abaqus.
@@ -11,6 +13,7 @@
 use std::collections::{HashMap, HashSet};
 
 use super::import::{FileMesh, FileSurface, ParseError};
+use super::orientation::{AbaqusOrientation, ElementAxes};
 use super::NodeSet;
 
 type Res<T> = std::result::Result<T, ParseError>;
@@ -35,6 +38,7 @@ enum Mode {
     ElSet { generate: bool },
     SurfaceElement,
     SurfaceNode,
+    Orientation,
 }
 
 struct Element {
@@ -74,6 +78,9 @@ struct Reader {
     elsets: Vec<Set>,
     surfaces: Vec<SideSurface>,
     node_surfaces: Vec<(String, Vec<String>, usize)>,
+    orientations: Vec<AbaqusOrientation>,
+    /// `*SOLID SECTION`s with an orientation: (elset, orientation name, line).
+    sections: Vec<(String, String, usize)>,
     /// At most this many nodes and elements are defined (see [`defined_bounds`]).
     max_nodes: usize,
     max_elements: usize,
@@ -209,6 +216,8 @@ impl Parser {
                 elsets: Vec::new(),
                 surfaces: Vec::new(),
                 node_surfaces: Vec::new(),
+                orientations: Vec::new(),
+                sections: Vec::new(),
                 max_nodes,
                 max_elements,
             },
@@ -256,6 +265,14 @@ impl Parser {
                 Mode::ElSet { generate }
             }
             "SURFACE" => self.surface_keyword(&k)?,
+            "ORIENTATION" => self.orientation_keyword(&k)?,
+            "SOLID SECTION" => {
+                if let Some(o) = k.params.get("ORIENTATION").filter(|o| !o.is_empty()) {
+                    let elset = k.need("ELSET")?;
+                    self.r.sections.push((elset, o.clone(), k.line));
+                }
+                Mode::Skip
+            }
             "PART" | "INSTANCE" => {
                 return Err(ParseError::at(
                     line_no,
@@ -281,6 +298,37 @@ impl Parser {
                 ),
             )),
         }
+    }
+
+    /// Opens an `*ORIENTATION` block: rectangular axes given by coordinates.
+    fn orientation_keyword(&mut self, k: &Keyword) -> Res<Mode> {
+        let name = k.need("NAME")?;
+        let upper = |key: &str, default: &str| {
+            k.params
+                .get(key)
+                .map(|v| v.to_ascii_uppercase())
+                .unwrap_or_else(|| default.into())
+        };
+        let system = upper("SYSTEM", "RECTANGULAR");
+        if system != "RECTANGULAR" && system != "R" {
+            return Err(ParseError::at(
+                k.line,
+                format!("*ORIENTATION {name}: SYSTEM={system} is not supported (RECTANGULAR only)"),
+            ));
+        }
+        let definition = upper("DEFINITION", "COORDINATES");
+        if definition != "COORDINATES" {
+            return Err(ParseError::at(
+                k.line,
+                format!("*ORIENTATION {name}: DEFINITION={definition} is not supported (COORDINATES only)"),
+            ));
+        }
+        self.r.orientations.push(AbaqusOrientation {
+            name,
+            lines: Vec::new(),
+            line: k.line,
+        });
+        Ok(Mode::Orientation)
     }
 
     /// Opens a `*SURFACE` block: `TYPE=ELEMENT` (the default) or `TYPE=NODE`.
@@ -337,6 +385,25 @@ impl Parser {
                 line_no,
             ),
             Mode::SurfaceElement => self.side_line(&fields, line, line_no),
+            Mode::Orientation => {
+                let numbers = fields
+                    .iter()
+                    .map(|f| f.parse::<f64>().ok().filter(|v| v.is_finite()))
+                    .collect::<Option<Vec<f64>>>()
+                    .ok_or_else(|| {
+                        ParseError::at(
+                            line_no,
+                            format!("an *ORIENTATION line needs numbers, found `{line}`"),
+                        )
+                    })?;
+                let o = self
+                    .r
+                    .orientations
+                    .last_mut()
+                    .expect("an orientation is open");
+                o.lines.push(numbers);
+                Ok(())
+            }
             Mode::SurfaceNode => {
                 let Some(first) = fields.first() else {
                     return Err(ParseError::at(
@@ -662,7 +729,52 @@ impl Reader {
             node_sets.push(self.elset_nodes(s, &corners)?);
         }
         mesh.node_sets = node_sets;
+        mesh.axes = self.element_axes()?;
         Ok(mesh)
+    }
+
+    /// The axes of each element in a `*SOLID SECTION` with an orientation, split into hexes
+    /// and tets as [`Self::add_elements`] splits the elements.
+    fn element_axes(&self) -> Res<ElementAxes> {
+        if self.sections.is_empty() {
+            return Ok(ElementAxes::default());
+        }
+        let mut per_element: Vec<Option<crate::material::Rotation>> =
+            vec![None; self.elements.len()];
+        for (elset, name, line) in &self.sections {
+            let o = (self.orientations.iter())
+                .find(|o| o.name.eq_ignore_ascii_case(name))
+                .ok_or_else(|| {
+                    ParseError::at(
+                        *line,
+                        format!("*SOLID SECTION: no *ORIENTATION named `{name}`"),
+                    )
+                })?;
+            let axes = o.axes()?;
+            for id in self.surface_elements(elset, *line)? {
+                let e = *self.element_ids.get(&id).ok_or_else(|| {
+                    ParseError::at(
+                        *line,
+                        format!("*SOLID SECTION ELSET={elset}: element {id} is not defined"),
+                    )
+                })?;
+                if per_element[e].replace(axes).is_some() {
+                    return Err(ParseError::at(
+                        *line,
+                        format!("element {id} is in two *SOLID SECTIONs with an orientation"),
+                    ));
+                }
+            }
+        }
+        let mut axes = ElementAxes::default();
+        for (e, a) in self.elements.iter().zip(per_element) {
+            if e.nodes.len() == 8 {
+                axes.hexes.push(a);
+            } else {
+                axes.tets.push(a);
+            }
+        }
+        Ok(axes)
     }
 
     /// Adds the elements to `mesh` as hexes and tets; returns each element's node indices.

@@ -115,6 +115,7 @@ pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
         boundary,
         surfaces,
         node_sets: Vec::new(),
+        axes: Default::default(),
     }
 }
 

@@ -6,6 +6,7 @@
 use std::path::Path;
 
 use super::boundary::{boundary_faces, orient, BoundaryIndex};
+use super::orientation::ElementAxes;
 use super::{BodyParts, NodeSet, Surface};
 use crate::error::{ImpactError, Result};
 
@@ -49,6 +50,8 @@ pub struct FileMesh {
     pub tets: Vec<[u32; 4]>,
     pub surfaces: Vec<FileSurface>,
     pub node_sets: Vec<NodeSet>,
+    /// Material axes per element (Abaqus `*ORIENTATION`), in `hexes` and `tets` order.
+    pub axes: ElementAxes,
 }
 
 /// Reads a `.msh` (Gmsh 4.1, ASCII or binary) or `.inp` (Abaqus/CalculiX) file, scales the
@@ -125,6 +128,7 @@ pub fn finish(
         boundary,
         surfaces,
         node_sets,
+        axes: file.axes,
     })
 }
 

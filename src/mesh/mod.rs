@@ -13,6 +13,7 @@ pub mod boundary;
 pub mod box_mesh;
 pub mod gmsh;
 pub mod import;
+pub mod orientation;
 
 pub use box_mesh::box_mesh;
 pub use import::import;
@@ -50,6 +51,8 @@ pub struct BodyParts {
     pub boundary: Vec<[u32; 4]>,
     pub surfaces: Vec<Surface>,
     pub node_sets: Vec<NodeSet>,
+    /// Material axes the mesh file gives its elements (none for a box).
+    pub axes: orientation::ElementAxes,
 }
 
 impl BodyParts {

@@ -1,9 +1,12 @@
 //! The materials of the elements: each scene material in its own axes, then, for every body
-//! with an `orientation` or `plies`, its material turned to the body's (or each ply's) axes.
+//! with an `orientation` or `plies`, its material turned to the body's (or each ply's) axes,
+//! and for every body whose mesh file gives its elements axes (Abaqus `*ORIENTATION`), its
+//! material turned to each of those.
 
 use crate::material::{Elastic, Rotation};
+use crate::mesh::orientation::ElementAxes;
 use crate::mesh::Mesh;
-use crate::scene::{BodySpec, Scene};
+use crate::scene::{BodyShape, BodySpec, Scene};
 
 /// What the mesh's material indices point to.
 #[derive(Debug, Clone, Default)]
@@ -33,6 +36,13 @@ pub fn element_materials(scene: &Scene, mesh: &mut Mesh) -> MaterialTable {
         table.push(&m.elastic, Rotation::IDENTITY, i);
     }
     for (b, spec) in scene.bodies.iter().enumerate() {
+        if let BodyShape::Imported { parts, .. } = &spec.shape {
+            if !parts.axes.is_empty() {
+                let m = &scene.materials[spec.material].elastic;
+                file_axes(&mut table, m, spec.material, &parts.axes, mesh, b);
+                continue;
+            }
+        }
         if spec.plies.is_none() && spec.orientation == Rotation::IDENTITY {
             continue;
         }
@@ -40,6 +50,39 @@ pub fn element_materials(scene: &Scene, mesh: &mut Mesh) -> MaterialTable {
         orient_elements(mesh, b, spec, first);
     }
     table
+}
+
+/// Body `b`'s elements that its mesh file gives axes pointed at entries of its material in
+/// those axes (one per distinct axes); the others keep the material's own.
+fn file_axes(
+    table: &mut MaterialTable,
+    m: &Elastic,
+    source: usize,
+    axes: &ElementAxes,
+    mesh: &mut Mesh,
+    b: usize,
+) {
+    let mut seen: Vec<(Rotation, u32)> = Vec::new();
+    let mut entry = |r: &Rotation| match seen.iter().find(|(s, _)| s == r) {
+        Some(&(_, k)) => k,
+        None => {
+            let k = table.push(m, *r, source);
+            seen.push((*r, k));
+            k
+        }
+    };
+    let body = &mesh.bodies[b];
+    let (hexes, tets) = (body.hexes.clone(), body.tets.clone());
+    for (m, a) in mesh.hex_material[hexes].iter_mut().zip(&axes.hexes) {
+        if let Some(r) = a {
+            *m = entry(r);
+        }
+    }
+    for (m, a) in mesh.tet_material[tets].iter_mut().zip(&axes.tets) {
+        if let Some(r) = a {
+            *m = entry(r);
+        }
+    }
 }
 
 /// The body's entries, one per ply (one without plies); returns the first's index.

@@ -2,6 +2,8 @@
 
 use std::path::Path;
 
+use super::gpu::family_scale;
+
 pub struct History {
     pub columns: Vec<String>,
     pub rows: Vec<Vec<f64>>,
@@ -39,4 +41,31 @@ impl History {
     pub fn last(&self, name: &str) -> f64 {
         *self.col(name).last().expect("rows")
     }
+}
+
+/// The largest difference between two histories' columns, relative to each column's largest
+/// magnitude (columns named in `pairs`: (column of a, column of b, sign)).
+pub fn history_difference(a: &History, b: &History, pairs: &[(&str, &str, f64)]) -> f64 {
+    let mut worst = 0.0f64;
+    for &(ca, cb, sign) in pairs {
+        let (x, y) = (a.col(ca), b.col(cb));
+        assert_eq!(x.len(), y.len(), "{ca}: row counts");
+        // a velocity or displacement component against its body's or probe's largest
+        let family = [[".vx", ".vy", ".vz"], [".ux", ".uy", ".uz"]]
+            .into_iter()
+            .find(|f| f.iter().any(|s| ca.ends_with(s)))
+            .map_or(0.0, |f| family_scale(a, &f));
+        // a penetration against the bodies' size (1 in these scenes): round-off of 1e-20
+        // is no difference
+        let family = if ca.ends_with(".max_penetration") {
+            1.0
+        } else {
+            family
+        };
+        let scale = (x.iter().fold(family, |m, v| m.max(v.abs()))).max(1e-300);
+        for (p, q) in x.iter().zip(&y) {
+            worst = worst.max((p - sign * q).abs() / scale);
+        }
+    }
+    worst
 }

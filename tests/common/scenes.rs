@@ -63,6 +63,21 @@ pub fn run_text_on(
     (s, History::read(&dir.join("history.csv")))
 }
 
+/// Runs the scene file `path` into `out`.
+pub fn run_scene_at(
+    path: &std::path::Path,
+    out: &std::path::Path,
+) -> (impact::Result<Summary>, History) {
+    let scene = Scene::load(path).expect("valid scene");
+    let opts = RunOptions {
+        out: Some(out.to_path_buf()),
+        quiet: true,
+        ..Default::default()
+    };
+    let s = run(&scene, &opts);
+    (s, History::read(&out.join("history.csv")))
+}
+
 /// [`run_text`]; the name says that the text's mesh paths resolve against `scenes/`.
 pub fn run_scene_text(tag: &str, text: &str) -> (impact::Result<Summary>, History) {
     run_text(tag, text)

@@ -533,6 +533,22 @@ impl Checker<'_> {
             let velocity = self.finite3(&key("velocity"), b.velocity.unwrap_or([0.0; 3]))?;
             let orientation = self.orientation(&key, b.orientation.as_ref())?;
             let plies = self.plies(&key, b.plies.as_ref(), &shape)?;
+            if let BodyShape::Imported { parts, .. } = &shape {
+                let given = [
+                    ("orientation", b.orientation.is_some()),
+                    ("plies", b.plies.is_some()),
+                ];
+                if let Some((k, _)) = given
+                    .iter()
+                    .find(|g| g.1)
+                    .filter(|_| !parts.axes.is_empty())
+                {
+                    return Err(self.err(
+                        key(k),
+                        "the mesh file gives this body's elements material axes (*ORIENTATION through *SOLID SECTION); give them there or here, not both",
+                    ));
+                }
+            }
             bodies.push(BodySpec {
                 name: b.name.clone(),
                 material,
