@@ -4,9 +4,10 @@
 //! Each `shaders/<name>.wgsl` is a kernel whose entry point is `<name>`. Its source is the
 //! shared files (`shaders/shared/`, in the order of [`SHARED`]) followed by the kernel's own
 //! file, in which a line `// include: NAME` stands for `shaders/include/NAME.wgsl` (helpers
-//! over bindings that only some kernels declare, such as `velocity`). Every assembled source is parsed and validated with naga and written to
-//! `$OUT_DIR/shaders.rs` as a constant named after the kernel in upper case, with the table
-//! `ALL` of every kernel (found by scanning the folder: adding a kernel is adding its file).
+//! over bindings that only some kernels declare, such as `velocity`). Every assembled source
+//! is parsed and validated with naga and written to `$OUT_DIR/shaders.rs` as a constant named
+//! after the kernel in upper case, with the table `ALL` of every kernel (found by scanning the
+//! folder: adding a kernel is adding its file).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -38,8 +39,8 @@ fn with_includes(kernel: &str) -> String {
 }
 
 fn validate(name: &str, source: &str) {
-    // line numbers count through the shared files first, then the kernel
-    let path = format!("shaders/shared/*.wgsl + shaders/{name}.wgsl");
+    // line numbers count through the shared files first, then the kernel with its includes
+    let path = format!("shaders/shared/*.wgsl + shaders/{name}.wgsl (with shaders/include/)");
     let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| {
         panic!(
             "{path}: WGSL parse error:\n{}",

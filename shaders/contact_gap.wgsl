@@ -1,4 +1,4 @@
-// Closest-point projection of secondary nodes onto their candidate primary quads: xi, outward
+// Closest-point projection of secondary nodes onto their candidate primary faces: xi, outward
 // normal, gap g = -(x1 - y) . n (> 0 penetration) and gap rate -(v1 - v2(xi)) . n
 // (twin: `kernels::contact_gap`). Positions are taken relative to the secondary node, so f32
 // keeps the precision of the local geometry.

@@ -1,4 +1,5 @@
-// The search grid's bucket of every primary face: the cell of its centroid, hashed with its
+// The search grid's bucket of every primary face: the cell of the mean of its four stored
+// corners (inside a triangle [a, b, c, c] too), hashed with its
 // interface (twin: `kernels::face_cells`). One invocation per face.
 
 @group(0) @binding(0) var<uniform> params: Params;

@@ -98,7 +98,7 @@ fn unknown_box_element() {
             "divisions = [10, 1, 1] }",
             "divisions = [10, 1, 1], element = \"hex20\" }",
         ),
-        &["body[0].box.element", "hex20", "hex8, tet4"],
+        &["body[0].box.element", "hex20", "did you mean `hex8`?"],
     );
 }
 

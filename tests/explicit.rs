@@ -117,9 +117,14 @@ fn explicit_fine_two_bars_match_wave_theory() {
 /// (the cut's diagonal nodes carry more lumped mass than the others, so the section's
 /// lateral modes ring under the wave front), not the triangle contact; implicit steps of
 /// 2.5e-3 do not excite it (`two_bars.rs`).
+///
+/// With A 2 x 2 cells across on B 3 x 3 (A's nodes inside B's triangles) the rows stay within
+/// 2.2% and the impulse within 1.0%, but contact ends at 0.2037, 2.7 of this mesh's steps
+/// (1.37e-3) after 0.2 where the check allows 2: 1.5 element transits h / c, as late as the
+/// hex8 bars' 2 steps of 2.25e-3 allow in time, so that case is checked implicit only.
 #[test]
 fn explicit_tet4_two_bars_match_wave_theory() {
-    let text = without_time_step(&explicit(&tet4_two_bars(2)));
+    let text = without_time_step(&explicit(&tet4_two_bars(2, 2)));
     let (s, h) = run_text("explicit_two_bars_tet4", &text);
     let s = s.expect("run completes");
     check_two_bars_history("explicit tet4", &h, &s, s.time_step, &FINE);

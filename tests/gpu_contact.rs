@@ -9,7 +9,7 @@
 mod common;
 use common::*;
 
-use impact::geometry::quad::norm;
+use impact::geometry::vector::norm;
 use impact::gpu::{GpuContext, ResidentStep};
 use impact::integrate::resident;
 use impact::integrate::{Integrator, ResidentSolver};

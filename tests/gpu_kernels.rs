@@ -226,8 +226,8 @@ fn internal_forces_match_the_cpu_kernels() {
 
 /// Secondary nodes near the top surface: extra nodes appended to the mesh, each with its
 /// candidate faces. Kinds: over a face with its neighbours as candidates (Newton inside the
-/// square, or inside the triangle); anywhere within 1.5 face sizes of a single candidate (the edge/corner fallback);
-/// no candidate at all.
+/// square, or inside the triangle); anywhere within 1.5 face sizes of a single candidate
+/// (the edge/corner fallback); no candidate at all.
 fn contact_problem(rng: &mut StdRng, p: &mut Problem, count: usize) -> ContactQueries {
     let first_extra = p.data.reference.len();
     let mut q = ContactQueries {
@@ -274,11 +274,11 @@ fn contact_problem(rng: &mut StdRng, p: &mut Problem, count: usize) -> ContactQu
 
 /// Distance from the secondary node to the closest point of a face (CPU, f64).
 fn face_distance(x: [f64; 3], face: &[u32; 4], corners: &[[f64; 3]; 4]) -> f64 {
-    use impact::geometry::quad;
+    use impact::geometry::vector::{norm, sub};
     let kind = FaceKind::of(face);
     let xi = kind.project(corners, x);
     let (y, ..) = kind.geometry(corners, xi);
-    quad::norm(quad::sub(x, y))
+    norm(sub(x, y))
 }
 
 #[test]
@@ -641,9 +641,11 @@ box = { min = [0.0, 0.0, 0.0], max = [1.8, 1.8, 1.8], divisions = [18, 18, 18] }
 }
 
 /// A jittered hex8 block pressed into a jittered tet4 plate (triangles on one side of each
-/// interface, quads on the other) far from the origin, with random
-/// displacements: the device contact search against the host's broad phase with the f64
-/// `contact_gap` (an independent reference), and each stage of it against its twin.
+/// interface, quads on the other) far from the origin, with random displacements: the
+/// device contact search against the host's broad phase with the f64 `contact_gap` (an
+/// independent reference), and each stage of it against its twin. Where the two pick
+/// different faces, both must be equally close (to 1e-5 element sizes: a node over an edge
+/// or vertex shared by up to six triangles), and at most a tenth of the queries may differ.
 #[test]
 fn contact_search_matches_the_host_search_and_its_twins() {
     let Some(ctx) = gpu_context("contact_search") else {

@@ -36,7 +36,7 @@ fn a_million_cubed_divisions_is_refused_not_a_capacity_overflow() {
     expect(
         &msg,
         &[
-            "[1000000, 1000000, 1000000] makes 1000000000000000000 elements and 1000003000003000001 nodes",
+            "[1000000, 1000000, 1000000] makes 1000000000000000000 cells and 1000003000003000001 nodes",
             "a body holds at most 4294967295 nodes",
         ],
     );
@@ -48,7 +48,7 @@ fn divisions_past_i32_are_refused_not_an_allocation_abort() {
     expect(
         &msg,
         &[
-            "makes 2147483648 elements and 8589934596 nodes",
+            "makes 2147483648 cells and 8589934596 nodes",
             "at most 4294967295 nodes",
         ],
     );
@@ -60,7 +60,7 @@ fn divisions_whose_product_overflows_are_refused_not_wrapped() {
     expect(
         &msg,
         &[
-            "makes about 9.223e24 elements and about 1.845e25 nodes",
+            "makes about 9.223e24 cells and about 1.845e25 nodes",
             "at most 4294967295 nodes",
         ],
     );

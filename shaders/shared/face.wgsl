@@ -40,7 +40,13 @@ fn face_geometry(f: vec4<u32>, p: FaceCorners, xi: vec2<f32>) -> FaceGeometry {
 
 // The value at shape-function weights w of a field whose values at the face's stored
 // corners are v0..v3.
-fn face_interpolate(w: vec4<f32>, v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, v3: vec3<f32>) -> vec3<f32> {
+fn face_interpolate(
+    w: vec4<f32>,
+    v0: vec3<f32>,
+    v1: vec3<f32>,
+    v2: vec3<f32>,
+    v3: vec3<f32>,
+) -> vec3<f32> {
     return w.x * v0 + w.y * v1 + w.z * v2 + w.w * v3;
 }
 

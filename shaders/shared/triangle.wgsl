@@ -26,8 +26,10 @@ fn triangle_edge(a: vec3<f32>, b: vec3<f32>, x: vec3<f32>) -> vec2<f32> {
     return vec2<f32>(t, dot(r, r));
 }
 
+const TRIANGLE_SLIVER: f32 = 1e-6;
+
 // Closest point of the triangle to x (twin of `triangle::project`): the free minimum of the
-// 2 x 2 normal equations where it lies in the triangle, else the closest of the three edges'
+// 2 x 2 normal equations where it lies in the triangle and the triangle is no sliver, else the closest of the three edges'
 // clamped projections (edges p0-p1, p1-p2, p0-p2, the first of equals kept).
 fn triangle_project(p: FaceCorners, x: vec3<f32>) -> vec2<f32> {
     let t1 = p.p1 - p.p0;
@@ -38,10 +40,12 @@ fn triangle_project(p: FaceCorners, x: vec3<f32>) -> vec2<f32> {
     let m11 = dot(t2, t2);
     let f = vec2<f32>(dot(r, t1), dot(r, t2));
     let det = m00 * m11 - m01 * m01;
-    let free = vec2<f32>(m11 * f.x - m01 * f.y, m00 * f.y - m01 * f.x) / det;
-    // false for NaN or infinity (no area)
-    if (free.x >= 0.0 && free.y >= 0.0 && free.x + free.y <= 1.0) {
-        return free;
+    // a sliver (or no area): the edges give the point (twin: `triangle::SLIVER`)
+    if (det > TRIANGLE_SLIVER * m00 * m11) {
+        let free = vec2<f32>(m11 * f.x - m01 * f.y, m00 * f.y - m01 * f.x) / det;
+        if (free.x >= 0.0 && free.y >= 0.0 && free.x + free.y <= 1.0) {
+            return free;
+        }
     }
     let e0 = triangle_edge(p.p0, p.p1, x);
     let e1 = triangle_edge(p.p1, p.p2, x);

@@ -92,7 +92,8 @@ struct ContactQuery {
     end: u32,
 }
 
-// A primary quad, outward oriented (global node numbers, corners 0-3 as x y z w).
+// A primary face, outward oriented (global node numbers, corners 0-3 as x y z w; a triangle
+// repeats its third corner).
 struct Quad {
     nodes: vec4<u32>,
 }

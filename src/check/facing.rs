@@ -3,7 +3,7 @@
 //! classic `z-` against `z-`) can never touch as declared.
 
 use crate::error::{ImpactError, Result};
-use crate::geometry::quad::{cross, dot, norm, sub, V3};
+use crate::geometry::vector::{cross, dot, norm, sub, V3};
 use crate::model::Model;
 use crate::model::Primary;
 use crate::scene::Scene;

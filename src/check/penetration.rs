@@ -13,7 +13,7 @@ use serde::Serialize;
 use crate::contact::search::{find_candidates, flatten};
 use crate::geometry::{
     face::FaceKind,
-    quad::{dot, norm, sub, V3},
+    vector::{dot, norm, sub, V3},
 };
 use crate::kernels::ContactQueries;
 use crate::model::Model;
@@ -192,7 +192,7 @@ fn closest(x: &[[f64; 3]], face: &[u32; 4], p: V3) -> (f64, Sample) {
     let dist = norm(d);
     let gap = dot(d, n);
     // a node on the face to rounding (touching faces, nodes on shared edges) is on it
-    let touching = dist <= TOLERANCE * norm(sub(c[2], c[0]));
+    let touching = dist <= TOLERANCE * kind.size(&c);
     (
         dist,
         Sample {
@@ -203,11 +203,17 @@ fn closest(x: &[[f64; 3]], face: &[u32; 4], p: V3) -> (f64, Sample) {
     )
 }
 
+/// Distance from p to the face's centroid (a triangle's of its three corners).
 fn centroid_distance(x: &[[f64; 3]], face: &[u32; 4], p: V3) -> f64 {
+    let corners: &[u32] = match FaceKind::of(face) {
+        FaceKind::Quad => face,
+        FaceKind::Triangle => &face[..3],
+    };
+    let w = 1.0 / corners.len() as f64;
     let mut c = [0.0; 3];
-    for &n in face {
+    for &n in corners {
         for a in 0..3 {
-            c[a] += 0.25 * x[n as usize][a];
+            c[a] += w * x[n as usize][a];
         }
     }
     norm(sub(p, c))

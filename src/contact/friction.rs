@@ -50,7 +50,7 @@
 //! v_{T,n+1})$; [`Friction::work`] accumulates its negative, the energy friction dissipated.
 
 use super::augmented_lagrange::{update_with, IterationMemory, Penalty, UpdateReport};
-use crate::geometry::quad::{cross, dot, norm, V3};
+use crate::geometry::vector::{cross, dot, norm, V3};
 use crate::kernels::contact_gap::{ContactPoint, NO_FACE};
 
 /// A node slides when its traction is within this relative distance of the cone.

@@ -4,8 +4,9 @@
 //! without caring which it is (twin: `shaders/shared/face.wgsl`).
 
 use super::{
-    quad::{self, norm, sub, V3},
+    quad::{self},
     triangle,
+    vector::{norm, sub, V3},
 };
 
 /// Which interpolation a primary face has.

@@ -7,7 +7,7 @@
 //! oriented as the mesh's boundary faces are. The fourth shape function (the repeated corner)
 //! is zero.
 
-use super::quad::{cross, dot, norm, sub, V3};
+use super::vector::{cross, dot, norm, sub, V3};
 
 /// Shape functions at xi; the fourth, of the repeated corner, is zero.
 pub fn shape(xi: [f64; 2]) -> [f64; 4] {
@@ -28,6 +28,11 @@ pub fn normal(p: &[V3; 4]) -> V3 {
     c.map(|x| x / l)
 }
 
+/// Below this ratio det(m) / (m_11 m_22) (the squared sine of the angle between the
+/// tangents: about 0.06 degrees) the free minimum is not solved for: the edges give the
+/// closest point, in f32 as in f64.
+pub const SLIVER: f64 = 1e-6;
+
 /// The edges of the triangle as (start corner, end corner, xi at the start, xi's change
 /// along the edge).
 const EDGES: [(usize, usize, [f64; 2], [f64; 2]); 3] = [
@@ -40,19 +45,21 @@ const EDGES: [(usize, usize, [f64; 2], [f64; 2]); 3] = [
 /// triangle.
 ///
 /// The distance is a convex quadratic in xi. Its free minimum solves the 2 x 2 normal
-/// equations $m_{ab} \xi^b = (x - p_0) \cdot \tau_a$; where that lies outside the triangle
-/// (or the triangle has no area), the minimum is on the boundary: the closest of the three
-/// edges' clamped projections.
+/// equations $m_{ab} \xi^b = (x - p_0) \cdot \tau_a$; where that lies outside the triangle,
+/// or the triangle is a sliver whose metric is near singular ($\det m \le$ [`SLIVER`]
+/// $m_{11} m_{22}$), the minimum is on the boundary: the closest of the three edges' clamped
+/// projections.
 pub fn project(p: &[V3; 4], x: V3) -> [f64; 2] {
     let (t1, t2) = (sub(p[1], p[0]), sub(p[2], p[0]));
     let r = sub(x, p[0]);
     let (m00, m01, m11) = (dot(t1, t1), dot(t1, t2), dot(t2, t2));
     let (f0, f1) = (dot(r, t1), dot(r, t2));
     let det = m00 * m11 - m01 * m01;
-    let xi = [(m11 * f0 - m01 * f1) / det, (m00 * f1 - m01 * f0) / det];
-    // false for NaN (no area)
-    if xi[0] >= 0.0 && xi[1] >= 0.0 && xi[0] + xi[1] <= 1.0 {
-        return xi;
+    if det > SLIVER * m00 * m11 {
+        let xi = [(m11 * f0 - m01 * f1) / det, (m00 * f1 - m01 * f0) / det];
+        if xi[0] >= 0.0 && xi[1] >= 0.0 && xi[0] + xi[1] <= 1.0 {
+            return xi;
+        }
     }
     let mut best = (f64::INFINITY, [0.0; 2]);
     for (a, b, start, along) in EDGES {
@@ -116,6 +123,32 @@ mod tests {
                         "case {case}: xi {xi:?} worse than grid {g:?}"
                     );
                 }
+            }
+        }
+    }
+
+    /// The shape functions interpolate the corners into the map y(xi): sum_k N_k p_k = y at
+    /// random xi (a swap of the two coordinates' functions fails this).
+    #[test]
+    fn shape_functions_give_the_map() {
+        let mut rng = StdRng::seed_from_u64(5);
+        for _ in 0..100 {
+            let mut p = [[0.0; 3]; 4];
+            for c in p.iter_mut().take(3) {
+                *c = std::array::from_fn(|_| rng.random_range(-1.0..1.0));
+            }
+            p[3] = p[2];
+            let a = rng.random_range(0.0..1.0);
+            let xi = [a, rng.random_range(0.0..1.0 - a)];
+            let n = shape(xi);
+            let (y, ..) = geometry(&p, xi);
+            for d in 0..3 {
+                let sum: f64 = (0..4).map(|k| n[k] * p[k][d]).sum();
+                assert!(
+                    (sum - y[d]).abs() < 1e-14,
+                    "xi {xi:?}: {sum} against {}",
+                    y[d]
+                );
             }
         }
     }

@@ -129,7 +129,7 @@ impl From<&(u32, u32, u32)> for ContactQuery {
     }
 }
 
-/// A primary quad, outward oriented.
+/// A primary face, outward oriented (a triangle as `[a, b, c, c]`).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
 pub struct Quad {

@@ -33,7 +33,7 @@ use crate::element;
 use crate::error::Result;
 use crate::geometry::{
     face,
-    quad::{self, dot},
+    vector::{self, dot},
 };
 use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::impulse::{self, impulse_update, ImpulseUpdate};
@@ -294,14 +294,19 @@ impl<'m> ExplicitSolver<'m> {
             Primary::Plane { point, normal } => {
                 let x0 = self.model.mesh.nodes[n];
                 let x = std::array::from_fn(|a| x0[a] + self.u[3 * n + a]);
-                (None, [0.0; 4], *normal, -dot(quad::sub(x, *point), *normal))
+                (
+                    None,
+                    [0.0; 4],
+                    *normal,
+                    -dot(vector::sub(x, *point), *normal),
+                )
             }
         };
         // a plane constrains a node alone: its reach is four steps of the node's own
         // motion (the device step's rule, kernels/plane_contact.rs)
         let reach = if face.is_none() {
             let v = &self.v[3 * n..3 * n + 3];
-            -4.0 * self.dt * quad::norm([v[0], v[1], v[2]])
+            -4.0 * self.dt * vector::norm([v[0], v[1], v[2]])
         } else {
             -margin.max(f64::MIN_POSITIVE)
         };
@@ -482,7 +487,7 @@ impl<'m> ExplicitSolver<'m> {
             if jn[i] > 0.0 {
                 r.active += 1;
                 r.normal_force += jn[i] / dt;
-                if c.mu > 0.0 && quad::norm(jt[i]) >= c.mu * jn[i] * (1.0 - 1e-9) {
+                if c.mu > 0.0 && vector::norm(jt[i]) >= c.mu * jn[i] * (1.0 - 1e-9) {
                     r.sliding += 1;
                 }
             }
@@ -500,7 +505,7 @@ impl<'m> ExplicitSolver<'m> {
             }
         }
         for (st, f) in self.interfaces.iter_mut().zip(&force) {
-            st.report.tangential_force = quad::norm(*f);
+            st.report.tangential_force = vector::norm(*f);
         }
     }
 }

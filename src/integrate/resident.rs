@@ -512,7 +512,7 @@ impl<'m> ResidentSolver<'m> {
             let jt = [q[1], q[2], q[3]];
             reports.push(ContactReport {
                 normal_force: q[0] / self.row_dt,
-                tangential_force: crate::geometry::quad::norm(jt) / self.row_dt,
+                tangential_force: crate::geometry::vector::norm(jt) / self.row_dt,
                 active: q[4].round() as usize,
                 max_penetration: q[6],
                 sliding: q[5].round() as usize,

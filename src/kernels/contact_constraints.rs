@@ -8,7 +8,7 @@
 use super::contact_gap::{ContactPoint, NO_FACE};
 use crate::geometry::{
     face,
-    quad::{dot, norm},
+    vector::{dot, norm},
 };
 use crate::kernels::impulse::relative_velocity;
 

@@ -5,7 +5,7 @@
 
 use crate::geometry::{
     face::FaceKind,
-    quad::{dot, norm, sub, V3},
+    vector::{dot, norm, sub, V3},
 };
 
 pub use crate::geometry::point::{ContactPoint, NO_FACE};

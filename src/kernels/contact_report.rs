@@ -5,7 +5,7 @@
 
 use super::contact_constraints::{relative, Constraint, ContactPair};
 use super::plane_contact::{slot, SLOT};
-use crate::geometry::quad::{dot, norm};
+use crate::geometry::vector::{dot, norm};
 
 /// `sweeps`: the count to report ([`super::sweep_control::SweepState::reported`]); the
 /// friction work entries of `results` carry over from the last step.

@@ -1,5 +1,7 @@
 //! The contact search grid's bucket of every primary face (CPU twin of
-//! `shaders/face_cells.wgsl`): the cell of the face's centroid, hashed with its interface.
+//! `shaders/face_cells.wgsl`): the cell of the mean of the face's four stored
+//! corners (for a triangle `[a, b, c, c]` a point inside it, not its centroid), hashed with its
+//! interface.
 
 /// The bucket of grid cell `c` of the interface whose faces start at `salt`, in a table of
 /// `mask + 1` buckets (the WGSL `cell_key`, in the same wrapping u32 arithmetic).

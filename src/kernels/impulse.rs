@@ -9,7 +9,7 @@
 //! kept $\ge 0$. With friction, the tangential impulse that stops the slip is returned onto
 //! the cone $|J_T| \le \mu J_N$.
 
-use crate::geometry::quad::{dot, norm};
+use crate::geometry::vector::{dot, norm};
 
 /// The relative velocity of secondary node `node` against its primary point in the velocity
 /// field `v` (3 per node): the face's nodes weighted by their shape functions, or nothing (a

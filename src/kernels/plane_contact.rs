@@ -10,7 +10,7 @@
 //! sweep.
 
 use super::explicit_correct::LumpedNode;
-use crate::geometry::quad::{dot, norm};
+use crate::geometry::vector::{dot, norm};
 use crate::kernels::impulse::impulse_update;
 
 /// Results per (plane node, plane), and per (node, face) pair of `contact_report`: the fields

@@ -3,7 +3,8 @@
 
 use super::contact_search::SearchGrid;
 
-/// `bounds` from [`super::search_bounds`]; `face_size` the largest face size (quad diagonal, triangle edge).
+/// `bounds` from [`super::search_bounds`]; `face_size` the largest face size (a quad's
+/// diagonal, a triangle's edge).
 pub fn search_grid(bounds: [f64; 2], dt: f64, face_size: f64, mask: u32) -> SearchGrid {
     let margin = face_size + 4.0 * dt * bounds[0];
     SearchGrid {

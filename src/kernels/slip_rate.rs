@@ -5,7 +5,7 @@
 use super::contact_gap::{ContactPoint, ContactQueries, NO_FACE};
 use crate::geometry::{
     face::FaceKind,
-    quad::{dot, sub},
+    vector::{dot, sub},
 };
 
 pub fn slip_rate(

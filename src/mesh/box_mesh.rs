@@ -51,18 +51,6 @@ pub enum BoxElement {
     Tet4,
 }
 
-impl BoxElement {
-    pub const NAMES: [&'static str; 2] = ["hex8", "tet4"];
-
-    pub fn parse(s: &str) -> Option<BoxElement> {
-        match s {
-            "hex8" => Some(BoxElement::Hex8),
-            "tet4" => Some(BoxElement::Tet4),
-            _ => None,
-        }
-    }
-}
-
 /// A structured box: its corners, the cells along each axis and the elements of a cell.
 #[derive(Debug, Clone)]
 pub struct BoxSpec {

@@ -9,7 +9,7 @@ use crate::mesh::Mesh;
 /// What the secondary nodes of an interface press against.
 #[derive(Debug, Clone)]
 pub enum Primary {
-    /// Quads of another body: `faces` indexes `ContactQueries::faces`, `queries` the queries
+    /// Faces (quads, triangles `[a, b, c, c]`) of another body: `faces` indexes `ContactQueries::faces`, `queries` the queries
     /// of this interface's secondary nodes (in order).
     Surface {
         body: usize,

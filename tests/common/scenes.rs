@@ -84,14 +84,19 @@ pub fn run_scene_text(tag: &str, text: &str) -> (impact::Result<Summary>, Histor
 }
 
 /// The fine two bars (`two_bars_fine.toml`) with both boxes meshed as tet4 (each cell cut
-/// into six tetrahedra) and `section` x `section` cells across, so that the primary surface,
-/// B's `x-`, is made of triangles.
-pub fn tet4_two_bars(section: usize) -> String {
+/// into six tetrahedra), bar A with `a` x `a` cells across and bar B with `b` x `b`, so that
+/// the primary surface, B's `x-`, is made of triangles (and, for a != b, A's nodes meet them
+/// inside, not at their corners).
+pub fn tet4_two_bars(a: usize, b: usize) -> String {
     let text = scene_text("two_bars_fine.toml");
-    let tets = text.replace(
-        "divisions = [40, 1, 1] }",
-        &format!("divisions = [40, {section}, {section}], element = \"tet4\" }}"),
-    );
+    let at = text.find("name = \"B\"").expect("bar B");
+    let cut = |part: &str, n: usize| {
+        part.replace(
+            "divisions = [40, 1, 1] }",
+            &format!("divisions = [40, {n}, {n}], element = \"tet4\" }}"),
+        )
+    };
+    let tets = cut(&text[..at], a) + &cut(&text[at..], b);
     assert_eq!(tets.matches("\"tet4\"").count(), 2, "both boxes are tet4");
     tets
 }

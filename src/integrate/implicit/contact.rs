@@ -10,10 +10,9 @@ use crate::contact::search;
 use crate::error::Result;
 use crate::geometry::{
     face::{self, FaceKind},
-    quad::{self, dot},
+    vector::{self, dot},
 };
-use crate::kernels::contact_gap::NO_FACE;
-use crate::kernels::contact_gap::{closest_on_face, face_point};
+use crate::kernels::contact_gap::{closest_on_face, face_point, NO_FACE};
 use crate::kernels::{as_vec3, ContactPoint, ContactQueries};
 use crate::model::{Model, Primary};
 use crate::scene::{Acceleration, ConstraintMeasure};
@@ -111,7 +110,7 @@ impl ContactIteration {
                         face: 0,
                         xi: [0.0; 2],
                         normal: *normal,
-                        gap: -dot(quad::sub(x, *point), *normal),
+                        gap: -dot(vector::sub(x, *point), *normal),
                         gap_rate: -dot(vel, *normal),
                     };
                 }

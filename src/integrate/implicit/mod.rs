@@ -37,7 +37,7 @@ pub use interface::InterfaceState;
 
 use crate::backend::Kernels;
 use crate::error::{ImpactError, Result};
-use crate::geometry::quad;
+use crate::geometry::vector;
 use crate::kernels::contact_gap::NO_FACE;
 use crate::linalg::{assemble, Assembled, FactorStats, SpdSolver};
 use crate::model::Model;
@@ -442,7 +442,7 @@ impl<'m> ImplicitSolver<'m> {
             if let Some(fr) = &mut st.friction {
                 let (total, sliding) = fr.end_step(k.dt, &itf.area, &st.lambda, &st.points);
                 st.tangential = total;
-                r.tangential_force = quad::norm(total);
+                r.tangential_force = vector::norm(total);
                 r.sliding = sliding;
                 r.friction_work = fr.work;
             }

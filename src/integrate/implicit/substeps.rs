@@ -2,7 +2,7 @@
 //! again in sub-steps, so that the event is resolved in time.
 
 use crate::error::Result;
-use crate::geometry::quad;
+use crate::geometry::vector;
 use crate::linalg::assemble;
 
 use super::interface::InterfaceState;
@@ -122,7 +122,7 @@ impl ImplicitSolver<'_> {
             st.set_penalty_counts([0, 1, 2, 3].map(|i| now[i] + c[i]));
             st.report.normal_force = sum.0 / kf;
             st.tangential = sum.1.map(|x| x / kf);
-            st.report.tangential_force = quad::norm(st.tangential);
+            st.report.tangential_force = vector::norm(st.tangential);
         }
         self.event_steps += 1;
         Ok(total)

@@ -109,7 +109,8 @@ impl Checker<'_> {
         // Node numbers are u32 (body-local and in the assembled mesh), so a box may have at
         // most u32::MAX nodes; counted in u64 with checked products, before anything is
         // allocated, so that no division count can wrap or overflow. A box has more nodes
-        // than elements, so the node bound bounds the elements too.
+        // than cells, so the node bound bounds the cells too (a tet4 box has six tets per
+        // cell, counted by the memory check).
         let count = |extra: u64| {
             b.divisions
                 .iter()
@@ -127,7 +128,7 @@ impl Checker<'_> {
             return Err(self.err(
                 key("box.divisions"),
                 format!(
-                    "{:?} makes {} elements and {} nodes; a body holds at most {} nodes (node numbers are 32-bit)",
+                    "{:?} makes {} cells and {} nodes; a body holds at most {} nodes (node numbers are 32-bit)",
                     b.divisions,
                     show(elements, 0.0),
                     show(nodes, 1.0),
@@ -135,18 +136,12 @@ impl Checker<'_> {
                 ),
             ));
         }
-        let element = match &b.element {
-            None => BoxElement::Hex8,
-            Some(e) => BoxElement::parse(e).ok_or_else(|| {
-                self.err(
-                    key("box.element"),
-                    format!(
-                        "unknown element `{e}`; expected one of {}",
-                        BoxElement::NAMES.join(", ")
-                    ),
-                )
-            })?,
-        };
+        let element = self.choice(
+            &key("box.element"),
+            b.element.as_deref(),
+            BoxElement::Hex8,
+            &[("hex8", BoxElement::Hex8), ("tet4", BoxElement::Tet4)],
+        )?;
         Ok(BoxSpec {
             min,
             max,
