@@ -18,8 +18,9 @@ use crate::scene::Scene;
 /// The file name inside the run's folder.
 pub const FILE: &str = "checkpoint.bin";
 
-/// Bumped whenever the layout changes; an older checkpoint is refused, not misread.
-pub const FORMAT: u32 = 1;
+/// Bumped whenever the layout changes, or what the scene hash covers (a new scene key), so
+/// that an older checkpoint is refused as such, not misread or taken for another scene's.
+pub const FORMAT: u32 = 2;
 
 /// What the time loop accumulates for the summary and the warnings.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
