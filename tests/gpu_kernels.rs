@@ -13,6 +13,7 @@ use impact::gpu::GpuKernels;
 use impact::kernels::contact_gap::NO_FACE;
 use impact::kernels::{self, ContactPoint, ContactQueries, ElementData, Incidence};
 use impact::material::{Elastic, Orthotropic, Rotation};
+use impact::mesh::box_mesh::KUHN_TETS;
 use impact::scene::BoxFace;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
@@ -37,13 +38,12 @@ fn distorted_box(rng: &mut StdRng) -> Problem {
     let h = JITTER_H;
     let parts = jittered_box(rng, divisions);
     let nodes = parts.nodes;
-    // six tets around the diagonal 0-6 of a hex, for a third of the hexes
+    // six tets around the diagonal 0-6 of a hex (the Kuhn cut of tet4 boxes), for a third
+    // of the hexes
     let (mut hexes, mut tets) = (Vec::new(), Vec::new());
     for hx in parts.hexes {
         if rng.random_range(0..3) == 0 {
-            for [a, b] in [[1, 2], [2, 3], [3, 7], [7, 4], [4, 5], [5, 1]] {
-                tets.push([hx[0], hx[a], hx[b], hx[6]]);
-            }
+            tets.extend(KUHN_TETS.map(|t| t.map(|k| hx[k])));
         } else {
             hexes.push(hx);
         }

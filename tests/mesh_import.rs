@@ -372,7 +372,7 @@ fn abaqus_orientations_give_the_scene_orientations_history() {
         "top.vy",
         "top.vz",
     ];
-    let pairs: Vec<(&str, &str, f64)> = columns.iter().map(|c| (*c, *c, 1.0)).collect();
+    let pairs = same_columns(&columns);
     let d = history_difference(&turned_deck, &turned_scene, &pairs);
     eprintln!("deck turn against scene turn: {d:.2e} of scale");
     assert!(d <= 1e-12, "{d:e}");

@@ -260,7 +260,7 @@ fn the_laminate_scene_agrees_on_cpu_and_gpu_and_loses_energy() {
         (&["ball.vz", "plate.vz", "kinetic_energy"][..], 1e-4),
         (&["impact.normal_force", "strain_energy"][..], 5e-3),
     ] {
-        let pairs: Vec<(&str, &str, f64)> = columns.iter().map(|c| (*c, *c, 1.0)).collect();
+        let pairs = same_columns(columns);
         let d = history_difference(&hc, &hg, &pairs);
         eprintln!(
             "laminate: {columns:?} on {} differ by {d:.2e} of scale",
@@ -307,7 +307,7 @@ fn the_laminate_without_substeps_agrees_on_cpu_and_gpu() {
         "ball.vz",
         "plate.vz",
     ];
-    let pairs: Vec<(&str, &str, f64)> = columns.iter().map(|c| (*c, *c, 1.0)).collect();
+    let pairs = same_columns(&columns);
     let d = history_difference(&hc, &hg, &pairs);
     eprintln!("laminate without sub-steps: devices differ by {d:.2e} of scale");
     assert!(d <= 1e-4, "gpu and cpu differ by {d:e}");

@@ -205,10 +205,7 @@ fn closest(x: &[[f64; 3]], face: &[u32; 4], p: V3) -> (f64, Sample) {
 
 /// Distance from p to the face's centroid (a triangle's of its three corners).
 fn centroid_distance(x: &[[f64; 3]], face: &[u32; 4], p: V3) -> f64 {
-    let corners: &[u32] = match FaceKind::of(face) {
-        FaceKind::Quad => face,
-        FaceKind::Triangle => &face[..3],
-    };
+    let corners = FaceKind::of(face).corners(face);
     let w = 1.0 / corners.len() as f64;
     let mut c = [0.0; 3];
     for &n in corners {

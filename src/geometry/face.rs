@@ -4,8 +4,7 @@
 //! without caring which it is (twin: `shaders/shared/face.wgsl`).
 
 use super::{
-    quad::{self},
-    triangle,
+    quad, triangle,
     vector::{norm, sub, V3},
 };
 
@@ -58,6 +57,14 @@ impl FaceKind {
         }
     }
 
+    /// The face's distinct corners: a triangle's three, a quad's four.
+    pub fn corners(self, nodes: &[u32; 4]) -> &[u32] {
+        match self {
+            FaceKind::Quad => nodes,
+            FaceKind::Triangle => &nodes[..3],
+        }
+    }
+
     /// The face's size: a quad's longer diagonal, a triangle's longest edge.
     pub fn size(self, p: &[V3; 4]) -> f64 {
         let d = |a: usize, b: usize| norm(sub(p[a], p[b]));
@@ -71,4 +78,16 @@ impl FaceKind {
 /// Shape-function weights of face `nodes` at xi.
 pub fn shape(nodes: &[u32; 4], xi: [f64; 2]) -> [f64; 4] {
     FaceKind::of(nodes).shape(xi)
+}
+
+/// The value at shape-function weights `w` of a nodal field (`values`, one per node) over
+/// face `nodes` (twin of `face_interpolate` in `shaders/shared/face.wgsl`).
+pub fn interpolate(nodes: &[u32; 4], w: [f64; 4], values: &[V3]) -> V3 {
+    let mut out = [0.0; 3];
+    for k in 0..4 {
+        for a in 0..3 {
+            out[a] += w[k] * values[nodes[k] as usize][a];
+        }
+    }
+    out
 }

@@ -84,6 +84,16 @@ mod tests {
     use super::*;
     use rand::{rngs::StdRng, Rng, SeedableRng};
 
+    /// A triangle `[a, b, c, c]` with corners in [-1, 1]^3.
+    fn random_triangle(rng: &mut StdRng) -> [V3; 4] {
+        let mut p = [[0.0; 3]; 4];
+        for c in p.iter_mut().take(3) {
+            *c = std::array::from_fn(|_| rng.random_range(-1.0..1.0));
+        }
+        p[3] = p[2];
+        p
+    }
+
     fn dist2(p: &[V3; 4], x: V3, xi: [f64; 2]) -> f64 {
         let (y, ..) = geometry(p, xi);
         dot(sub(y, x), sub(y, x))
@@ -96,10 +106,7 @@ mod tests {
         let mut rng = StdRng::seed_from_u64(11);
         let n = 200;
         for case in 0..500 {
-            let mut p = [[0.0; 3]; 4];
-            for c in p.iter_mut().take(3) {
-                *c = std::array::from_fn(|_| rng.random_range(-1.0..1.0));
-            }
+            let mut p = random_triangle(&mut rng);
             if case % 5 == 0 {
                 // a sliver: the third corner near the first edge
                 let t = rng.random_range(0.0..1.0);
@@ -133,11 +140,7 @@ mod tests {
     fn shape_functions_give_the_map() {
         let mut rng = StdRng::seed_from_u64(5);
         for _ in 0..100 {
-            let mut p = [[0.0; 3]; 4];
-            for c in p.iter_mut().take(3) {
-                *c = std::array::from_fn(|_| rng.random_range(-1.0..1.0));
-            }
-            p[3] = p[2];
+            let p = random_triangle(&mut rng);
             let a = rng.random_range(0.0..1.0);
             let xi = [a, rng.random_range(0.0..1.0 - a)];
             let n = shape(xi);

@@ -4,7 +4,7 @@
 //! $\dot g = -(v_1 - v_2(\bar\xi)) \cdot n$ (positive = approaching).
 
 use crate::geometry::{
-    face::FaceKind,
+    face::{self, FaceKind},
     vector::{dot, norm, sub, V3},
 };
 
@@ -69,8 +69,9 @@ pub fn contact_gap(
         });
 }
 
+/// The position of node n at displacement u.
 #[inline]
-fn position(reference: &[[f64; 3]], u: &[[f64; 3]], n: u32) -> V3 {
+pub(super) fn position(reference: &[[f64; 3]], u: &[[f64; 3]], n: u32) -> V3 {
     add(reference[n as usize], u[n as usize])
 }
 
@@ -109,13 +110,7 @@ pub fn face_point(
     let kind = FaceKind::of(&face);
     let (y, ..) = kind.geometry(&p, xi);
     let n = kind.normal(&p, xi);
-    let nsh = kind.shape(xi);
-    let mut v2 = [0.0; 3];
-    for k in 0..4 {
-        for a in 0..3 {
-            v2[a] += nsh[k] * v[face[k] as usize][a];
-        }
-    }
+    let v2 = face::interpolate(&face, kind.shape(xi), v);
     ContactPoint {
         face: fi,
         xi,

@@ -2,9 +2,9 @@
 //! $\dot g_{T,a} = (v_1 - v_2(\bar\xi)) \cdot \tau_a(\bar\xi)$ of each contact point in the
 //! convected basis of its primary face.
 
-use super::contact_gap::{ContactPoint, ContactQueries, NO_FACE};
+use super::contact_gap::{position, ContactPoint, ContactQueries, NO_FACE};
 use crate::geometry::{
-    face::FaceKind,
+    face::{self, FaceKind},
     vector::{dot, sub},
 };
 
@@ -38,19 +38,10 @@ fn point_slip(
         return [0.0; 2];
     }
     let face = q.faces[cp.face as usize];
-    let p = face.map(|n| {
-        let (x, d) = (reference[n as usize], u[n as usize]);
-        [x[0] + d[0], x[1] + d[1], x[2] + d[2]]
-    });
+    let p = face.map(|n| position(reference, u, n));
     let kind = FaceKind::of(&face);
     let (_, t1, t2, _) = kind.geometry(&p, cp.xi);
-    let nsh = kind.shape(cp.xi);
-    let mut v2 = [0.0; 3];
-    for k in 0..4 {
-        for a in 0..3 {
-            v2[a] += nsh[k] * v[face[k] as usize][a];
-        }
-    }
+    let v2 = face::interpolate(&face, kind.shape(cp.xi), v);
     let rel = sub(v[s as usize], v2);
     [dot(rel, t1), dot(rel, t2)]
 }

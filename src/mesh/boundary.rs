@@ -4,6 +4,7 @@
 use std::collections::HashMap;
 
 use crate::element::{hex8, tet4};
+use crate::geometry::face::FaceKind;
 
 /// The six faces of a hex8 in our corner order (bottom face counter-clockwise seen from
 /// +z, then the top face), each ordered so that its normal points out of a positive element.
@@ -119,10 +120,7 @@ impl BoundaryIndex {
     pub fn new(boundary: &[[u32; 4]]) -> BoundaryIndex {
         let by_key = boundary
             .iter()
-            .map(|q| {
-                let nodes: &[u32] = if super::is_triangle(q) { &q[..3] } else { q };
-                (face_key(nodes), *q)
-            })
+            .map(|q| (face_key(FaceKind::of(q).corners(q)), *q))
             .collect();
         BoundaryIndex { by_key }
     }

@@ -62,7 +62,7 @@ pub struct BoxSpec {
 
 /// The six tets of a hex cell (hex8 corner numbers), each around the diagonal 0-6 with
 /// positive volume.
-const KUHN_TETS: [[usize; 4]; 6] = [
+pub const KUHN_TETS: [[usize; 4]; 6] = [
     [0, 1, 2, 6],
     [0, 2, 3, 6],
     [0, 3, 7, 6],
@@ -226,17 +226,8 @@ fn halves(quads: &[[u32; 4]]) -> Vec<[u32; 4]> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-        [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-    }
-    fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    }
+    use crate::element::tet4;
+    use crate::geometry::vector::{cross, sub};
 
     #[test]
     fn face_quads_point_outwards_and_tile_the_face() {
@@ -291,12 +282,7 @@ mod tests {
         assert_eq!((parts.hexes.len(), parts.tets.len()), (0, 6 * 24));
         let mut volume = 0.0;
         for t in &parts.tets {
-            let (a, b, c) = (
-                sub(x(t[1]), x(t[0])),
-                sub(x(t[2]), x(t[0])),
-                sub(x(t[3]), x(t[0])),
-            );
-            let v = cross(a, b).iter().zip(c).map(|(p, q)| p * q).sum::<f64>() / 6.0;
+            let v = tet4::volume(&t.map(x));
             assert!(v > 0.0, "tet {t:?} has volume {v}");
             volume += v;
         }

@@ -22,6 +22,8 @@ use std::ops::Range;
 
 use box_mesh::BoxFace;
 
+use crate::geometry::face::FaceKind;
+
 /// A named list of outward-oriented boundary faces (local or global node numbers).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Surface {
@@ -38,7 +40,7 @@ pub struct NodeSet {
 
 /// True for a face stored as the degenerate quad `[a, b, c, c]` of a triangle.
 pub fn is_triangle(face: &[u32; 4]) -> bool {
-    face[2] == face[3]
+    FaceKind::of(face) == FaceKind::Triangle
 }
 
 /// One body's mesh in its own node numbering, as a mesher or a file reader produces it.

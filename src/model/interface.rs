@@ -3,7 +3,7 @@
 
 use std::ops::Range;
 
-use crate::geometry::quad::quad_area;
+use crate::geometry::{face::FaceKind, quad::quad_area};
 use crate::mesh::Mesh;
 
 /// What the secondary nodes of an interface press against.
@@ -47,11 +47,7 @@ pub fn tributary_areas(mesh: &Mesh, quads: &[[u32; 4]]) -> (Vec<u32>, Vec<f64>) 
     let mut area = vec![0.0; nodes.len()];
     for q in quads {
         let a = quad_area(&q.map(|n| mesh.nodes[n as usize]));
-        let corners: &[u32] = if crate::mesh::is_triangle(q) {
-            &q[..3]
-        } else {
-            q
-        };
+        let corners = FaceKind::of(q).corners(q);
         let share = a / corners.len() as f64;
         for n in corners {
             let i = nodes

@@ -69,3 +69,8 @@ pub fn history_difference(a: &History, b: &History, pairs: &[(&str, &str, f64)])
     }
     worst
 }
+
+/// The pairs of [`history_difference`] for columns compared with their namesakes.
+pub fn same_columns<'a>(columns: &[&'a str]) -> Vec<(&'a str, &'a str, f64)> {
+    columns.iter().map(|c| (*c, *c, 1.0)).collect()
+}
