@@ -751,7 +751,7 @@ impl Reader {
                     )
                 })?;
             let axes = o.axes()?;
-            for id in self.surface_elements(elset, *line)? {
+            for id in self.elements_named(elset, *line)? {
                 let e = *self.element_ids.get(&id).ok_or_else(|| {
                     ParseError::at(
                         *line,
@@ -808,7 +808,7 @@ impl Reader {
         // six per element, not lines times elements
         let mut done = HashSet::new();
         for (target, side, line) in entries {
-            for id in self.surface_elements(target, *line)? {
+            for id in self.elements_named(target, *line)? {
                 let k = self.element(id, *line)?;
                 if !done.insert((k, *side)) {
                     continue;
@@ -835,8 +835,9 @@ impl Reader {
         })
     }
 
-    /// The element numbers a surface entry names: an element number or an `*ELSET`'s name.
-    fn surface_elements(&self, target: &str, line: usize) -> Res<Vec<u64>> {
+    /// The element numbers an entry names (a surface line's or a section's `ELSET=`): an
+    /// element number or an `*ELSET`'s name.
+    fn elements_named(&self, target: &str, line: usize) -> Res<Vec<u64>> {
         Ok(match target.parse::<u64>() {
             Ok(id) => vec![id],
             Err(_) => find_set(&self.elsets, target)
