@@ -76,6 +76,12 @@ impl CpuKernels {
     pub fn data(&self) -> &ElementData {
         &self.data
     }
+
+    /// The corner forces of the last [`Kernels::internal_forces_into`]: 8 per hex8, then 4
+    /// per tet4, in element order.
+    pub fn corner_forces(&self) -> &[[f64; 3]] {
+        &self.corner_forces
+    }
 }
 
 impl Kernels for CpuKernels {

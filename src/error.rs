@@ -65,6 +65,9 @@ pub enum ImpactError {
     /// The GPU engine could not be used.
     #[error("gpu: {0}")]
     Gpu(String),
+    /// A run decomposed over ranks cannot do what was asked (the message says what and why).
+    #[error("ranks: {0}")]
+    Ranks(String),
     /// A mesh file named by the scene could not be opened.
     #[error("{scene}: key `{key}`: cannot read the mesh file {}: {source}", path.display())]
     MeshFile {
@@ -140,7 +143,7 @@ impl ImpactError {
             Read { .. } | Write { .. } => exit::IO,
             OutputExists { .. } | Resume { .. } => exit::USAGE,
             Interrupted { .. } => exit::INTERRUPTED,
-            Gpu(_) => exit::OTHER,
+            Gpu(_) | Ranks(_) => exit::OTHER,
         }
     }
 }

@@ -27,6 +27,7 @@ pub mod backend;
 pub mod check;
 pub mod checkpoint;
 pub mod contact;
+pub mod domain;
 pub mod element;
 pub mod error;
 pub mod geometry;

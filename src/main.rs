@@ -292,7 +292,10 @@ fn run_command(
         interrupt: interrupt_flag(),
     };
     let dir = impact::run::output_dir(&sc, &opts);
-    let s = run(&sc, &opts)?;
+    let (s, first) = run_scene(&sc, opts)?;
+    if !first {
+        return Ok(exit::SUCCESS);
+    }
     println!(
         "{}: {} steps in {:.2} s on {} ({} contact iterations, at most {} in a step); energy {:.6e} -> {:.6e}; {}; results in {}",
         scene.display(),
@@ -318,6 +321,40 @@ fn run_command(
     } else {
         exit::SUCCESS
     })
+}
+
+/// Runs the scene on this process, or, started by `mpirun -n P` with P > 1, decomposed over
+/// the P ranks. Returns the summary and whether this process is the first (which reports).
+#[cfg(feature = "mpi")]
+fn run_scene(sc: &Scene, opts: RunOptions) -> anyhow::Result<(impact::output::Summary, bool)> {
+    use impact::domain::mpi::MpiRanks;
+    use impact::domain::Ranks;
+    if impact::domain::ranks::launched_size().is_some_and(|n| n > 1) {
+        let universe = mpi::initialize().context("initialising MPI")?;
+        let ranks = MpiRanks::new(universe.world());
+        let s = impact::run::run_ranks(
+            sc,
+            &RunOptions {
+                interrupt: None,
+                ..opts
+            },
+            &ranks,
+        )?;
+        return Ok((s, ranks.rank() == 0));
+    }
+    Ok((run(sc, &opts)?, true))
+}
+
+/// Runs the scene on this process; started by an MPI launcher with more than one process,
+/// says that this build has no MPI (every process would run the whole scene).
+#[cfg(not(feature = "mpi"))]
+fn run_scene(sc: &Scene, opts: RunOptions) -> anyhow::Result<(impact::output::Summary, bool)> {
+    if let Some(n) = impact::domain::ranks::launched_size().filter(|&n| n > 1) {
+        anyhow::bail!(
+            "started as one of {n} MPI processes, but this build of impact has no MPI: build it with `cargo build --release --features mpi` (docs/mpi.md)"
+        );
+    }
+    Ok((run(sc, &opts)?, true))
 }
 
 /// `impact check`: builds and checks the model, and prints its report.

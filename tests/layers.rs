@@ -22,6 +22,7 @@ const LAYERS: &[&str] = &[
     "gpu",
     "linalg",
     "integrate",
+    "domain",
     "check",
     "checkpoint",
     "output",

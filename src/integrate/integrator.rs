@@ -13,6 +13,7 @@ use crate::scene::Method;
 pub const ENGINE_CPU: &str = "cpu";
 pub const ENGINE_GPU_KERNELS: &str = "gpu kernels, host loop";
 pub const ENGINE_GPU_RESIDENT: &str = "gpu resident";
+pub const ENGINE_RANKS: &str = "cpu, decomposed over mpi ranks";
 
 /// The implicit solver's linear-algebra figures for the summary.
 #[derive(Debug, Clone)]
@@ -90,6 +91,12 @@ pub trait Integrator {
 
     /// The implicit solver's factorisations and solves.
     fn implicit_figures(&self) -> Option<ImplicitFigures> {
+        None
+    }
+
+    /// A run decomposed over ranks: how, and each rank's communication time. Every rank
+    /// calls it at the end of a run (it may gather from the others).
+    fn decomposition(&mut self) -> Option<super::state::Decomposition> {
         None
     }
 

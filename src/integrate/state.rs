@@ -78,3 +78,20 @@ pub fn check_restore(
     }
     Ok(())
 }
+
+/// How a run decomposed over ranks split the model, and what each rank spent communicating.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct Decomposition {
+    pub ranks: usize,
+    /// How the elements were split.
+    pub partition: String,
+    /// How the contact is shared out.
+    pub contact: String,
+    /// Per rank: its elements, the nodes it holds, those it shares with other ranks, the
+    /// ranks it exchanges forces with, and its seconds in exchanges and collectives.
+    pub elements: Vec<usize>,
+    pub nodes: Vec<usize>,
+    pub shared_nodes: Vec<usize>,
+    pub neighbours: Vec<usize>,
+    pub communication_seconds: Vec<f64>,
+}

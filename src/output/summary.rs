@@ -121,6 +121,9 @@ pub struct Summary {
     pub initial_contact: Vec<crate::check::penetration::InitialContact>,
     /// The lower-bound host memory estimate checked before the model was built.
     pub memory_estimate_bytes: u64,
+    /// A run decomposed over MPI ranks: the partition and each rank's communication.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ranks: Option<crate::integrate::Decomposition>,
     pub message: Option<String>,
 }
 

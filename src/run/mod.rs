@@ -22,6 +22,7 @@ use summary::{
 
 use crate::backend::{CpuKernels, Kernels};
 use crate::checkpoint::{Checkpoint, Tally};
+use crate::domain::{DomainSolver, Partition, Ranks};
 use crate::error::{ImpactError, Result};
 use crate::gpu::GpuKernels;
 use crate::integrate::{ExplicitSolver, ImplicitSolver, Integrator, ResidentSolver, StepReport};
@@ -63,8 +64,19 @@ fn build_solver<'m>(
     scene: &Scene,
     setup: &'m Setup,
     speed_scale: f64,
+    ranks: Option<&'m dyn Ranks>,
 ) -> Result<Box<dyn Integrator + 'm>> {
     let (model, dt) = (&setup.model, setup.dt);
+    if let Some(ranks) = ranks {
+        let partition = Partition::bisect(model, ranks.size());
+        return Ok(Box::new(DomainSolver::new(
+            model,
+            ranks,
+            &partition,
+            (&scene.explicit, dt, speed_scale),
+            scene.vtu_every.map(|every| (every, setup.steps)),
+        )?));
+    }
     let mut solver: Box<dyn Integrator + 'm> = match (setup.method, setup.ctx.clone()) {
         (Method::Explicit, Some(ctx)) => Box::new(
             ResidentSolver::new(
@@ -134,9 +146,48 @@ fn check_exact_columns(scene: &Scene, model: &Model) -> Result<()> {
 /// `status = "diverged"`; an interrupted one with [`ImpactError::Interrupted`] after writing
 /// a checkpoint. With `resume`, the run continues from the folder's checkpoint.
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
+    run_on(scene, opts, None)
+}
+
+/// Runs the scene decomposed over `ranks`, every rank calling it: the explicit path on
+/// each rank's share of the elements ([`crate::domain`]); rank 0 writes the files. The
+/// implicit path, a GPU per rank, checkpoints and `--resume` are refused with the key that
+/// asks for them.
+pub fn run_ranks(scene: &Scene, opts: &RunOptions, ranks: &dyn Ranks) -> Result<Summary> {
+    let refuse = |key: &str, message: &str| ImpactError::Unsupported {
+        path: scene.path.clone(),
+        key: key.into(),
+        message: format!("{message} (this run is on {} ranks)", ranks.size()),
+    };
+    if opts.device.unwrap_or(scene.run.device) == DeviceChoice::Gpu {
+        return Err(refuse(
+            "run.device",
+            "the ranks of a decomposed run compute on the CPU: run with device = \"cpu\" or \"auto\", or on one process for the GPU",
+        ));
+    }
+    if scene.checkpoint_every.is_some() || opts.resume {
+        return Err(refuse(
+            "output.checkpoint_every",
+            "a decomposed run writes no checkpoints and does not resume: run on one process to checkpoint",
+        ));
+    }
+    let opts = RunOptions {
+        device: Some(DeviceChoice::Cpu),
+        quiet: opts.quiet || ranks.rank() != 0,
+        interrupt: None,
+        ..opts.clone()
+    };
+    run_on(scene, &opts, Some(ranks))
+}
+
+/// [`run`], or one rank's part of [`run_ranks`].
+fn run_on(scene: &Scene, opts: &RunOptions, ranks: Option<&dyn Ranks>) -> Result<Summary> {
     let start = Instant::now();
     let dir = output_dir(scene, opts);
-    prepare_dir(&dir, opts)?;
+    let writes = ranks.is_none_or(|r| r.rank() == 0);
+    if writes {
+        prepare_dir(&dir, opts)?;
+    }
     let resumed = opts
         .resume
         .then(|| Checkpoint::read(&dir, scene))
@@ -150,7 +201,14 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     };
     let device = opts.device.unwrap_or(scene.run.device);
     let setup = setup::prepare(scene, device, &mut notice, &mut clock)?;
-    let mut running = Running::begin(scene, &setup, &dir, resumed, &mut clock, start)?;
+    if ranks.is_some() && setup.method != Method::Explicit {
+        return Err(ImpactError::Unsupported {
+            path: scene.path.clone(),
+            key: "run.method".into(),
+            message: "the implicit path runs on one process (a distributed sparse solver is not built): run it without mpirun".into(),
+        });
+    }
+    let mut running = Running::begin(scene, &setup, &dir, (resumed, ranks), &mut clock, start)?;
     let mut progress = Progress::new(setup.steps, opts.quiet);
     for n in running.tally.steps..setup.steps {
         let iterations = running.step(n)?;
@@ -182,14 +240,14 @@ impl<'s> Running<'s> {
         scene: &'s Scene,
         setup: &'s Setup,
         dir: &Path,
-        resumed: Option<Checkpoint>,
+        (resumed, ranks): (Option<Checkpoint>, Option<&'s dyn Ranks>),
         clock: &mut SetupClock,
         start: Instant,
     ) -> Result<Self> {
         let speed_scale = resumed
             .as_ref()
             .map_or_else(|| scene.speed_scale(), |c| c.speed_scale);
-        let mut solver = build_solver(scene, setup, speed_scale)?;
+        let mut solver = build_solver(scene, setup, speed_scale, ranks)?;
         solver.schedule(setup.last_step, scene.checkpoint_every);
         clock.lap("solver");
         let model = &setup.model;
@@ -198,7 +256,13 @@ impl<'s> Running<'s> {
             check_resumable(dir, c, setup)?;
         }
         let (out, tally) = match resumed {
-            None => start_fresh(scene, model, solver.as_mut(), dir)?,
+            None => start_fresh(
+                scene,
+                model,
+                solver.as_mut(),
+                dir,
+                ranks.is_none_or(|r| r.rank() == 0),
+            )?,
             Some(c) => start_resumed(scene, model, solver.as_mut(), dir, c)?,
         };
         let energy_scale = energy_scale(scene, model, solver.as_ref(), tally.energy_initial);
@@ -296,7 +360,7 @@ impl<'s> Running<'s> {
                 self.summary.status = "failed".into();
                 self.summary.message = Some(format!("at step {}: {err}", n + 1));
                 self.summary.wall_seconds = self.start.elapsed().as_secs_f64();
-                let _ = self.summary.write(&self.out.dir);
+                let _ = self.out.summary(&self.summary);
                 Err(err)
             }
         }
@@ -342,8 +406,11 @@ impl<'s> Running<'s> {
     fn finish(mut self) -> Result<Summary> {
         let model = &self.setup.model;
         self.out.history.flush()?;
-        write_charts(self.scene, model, &self.out.dir)?;
+        if self.out.writes {
+            write_charts(self.scene, model, &self.out.dir)?;
+        }
         fill_summary(&mut self.summary, &self.tally, model, self.solver.as_ref());
+        self.summary.ranks = self.solver.decomposition();
         self.summary.warnings = warnings(
             self.scene,
             model,
@@ -359,7 +426,7 @@ impl<'s> Running<'s> {
         }
         .into();
         self.summary.wall_seconds = self.start.elapsed().as_secs_f64();
-        self.summary.write(&self.out.dir)?;
+        self.out.summary(&self.summary)?;
         Ok(self.summary)
     }
 }

@@ -51,6 +51,19 @@ pub(super) struct Outputs {
     pub(super) stem: String,
     pub(super) history: History,
     pub(super) frames: Option<(usize, VtuWriter)>,
+    /// Whether this process writes the files (every rank but the first of a decomposed run
+    /// computes the rows with the others and writes nothing).
+    pub(super) writes: bool,
+}
+
+impl Outputs {
+    /// Writes the summary, where this process writes the files.
+    pub(super) fn summary(&self, summary: &crate::output::Summary) -> Result<()> {
+        match self.writes {
+            true => summary.write(&self.dir),
+            false => Ok(()),
+        }
+    }
 }
 
 /// Starts a new run's outputs (the t = 0 row and frame) and its tally.
@@ -59,6 +72,7 @@ pub(super) fn start_fresh(
     model: &Model,
     solver: &mut dyn Integrator,
     dir: &Path,
+    writes: bool,
 ) -> Result<(Outputs, Tally)> {
     let e0 = solver.energies()?;
     if !e0.total().is_finite() {
@@ -76,10 +90,14 @@ pub(super) fn start_fresh(
     let mut out = Outputs {
         dir: dir.to_path_buf(),
         stem: frame_stem(scene),
-        history: History::create(dir, model)?,
-        frames: scene
-            .vtu_every
+        history: match writes {
+            true => History::create(dir, model)?,
+            false => History::discard(model),
+        },
+        frames: (scene.vtu_every)
+            .filter(|_| writes)
             .map(|every| (every, VtuWriter::new(dir, &frame_stem(scene)))),
+        writes,
     };
     write_row(solver, &mut out.history)?;
     write_frame(solver, model, &mut out.frames, false)?;
@@ -116,6 +134,7 @@ pub(super) fn start_resumed(
         frames: scene
             .vtu_every
             .map(|every| (every, VtuWriter::resume(dir, &c.frame_stem, &c.frames))),
+        writes: true,
     };
     Ok((out, c.tally))
 }

@@ -211,7 +211,7 @@ pub(super) fn interrupted(
         Err(e) => format!("interrupted by a signal; the checkpoint could not be written: {e}"),
     });
     summary.wall_seconds = start.elapsed().as_secs_f64();
-    if let Err(e) = summary.write(&out.dir) {
+    if let Err(e) = out.summary(summary) {
         return e;
     }
     if let Err(e) = saved {
@@ -263,8 +263,10 @@ pub(super) fn fail(
     summary.status = "diverged".into();
     summary.message = Some(reason.clone());
     summary.wall_seconds = start.elapsed().as_secs_f64();
-    let _ = summary.write(&out.dir);
-    let _ = write_charts(scene, model, &out.dir);
+    let _ = out.summary(summary);
+    if out.writes {
+        let _ = write_charts(scene, model, &out.dir);
+    }
     ImpactError::Diverged {
         step,
         time,

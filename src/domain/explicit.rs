@@ -1,0 +1,536 @@
+//! The explicit step on one rank of a decomposed run: the single-process step
+//! ([`crate::integrate::ExplicitSolver`]) on the rank's own elements and nodes, with the
+//! shared nodes' forces summed from the neighbours' corners and the contact worked on the
+//! gathered contact surfaces.
+//!
+//! Every node a rank holds follows the same operations as in a single process, so the
+//! state (displacements, velocities, accelerations, contact impulses) is the same bits on any
+//! number of ranks. The history's sums (energies, body velocities) add each rank's owned
+//! nodes and then the ranks in order: the same bits as one process on one rank, within
+//! rounding (1e-12 relative to the column) on several.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::partition::Partition;
+use super::ranks::Ranks;
+use super::subdomain::{owners, Subdomain};
+use super::surface::surface_model;
+use crate::backend::{CpuKernels, Kernels};
+use crate::contact::search;
+use crate::error::{ImpactError, Result};
+use crate::integrate::explicit::{lumped_mass, ContactFields, ExplicitContact, NodalStart};
+use crate::integrate::{
+    ContactReport, Decomposition, Energies, Integrator, ProbeValues, SolverState, StepReport,
+};
+use crate::kernels::{self, search_bounds::fastest_speed};
+use crate::model::Model;
+use crate::parallel::ordered_sum;
+use crate::scene::{ExplicitSettings, Method};
+
+/// What the rank's solver reports of its decomposition.
+#[derive(Debug, Clone, Default)]
+pub struct RankFigures {
+    pub elements: usize,
+    pub nodes: usize,
+    pub shared_nodes: usize,
+    pub neighbours: usize,
+    /// Seconds spent in exchanges and collectives (waiting included).
+    pub communication: f64,
+}
+
+/// The contact surfaces every rank holds and works the contact on.
+struct Surface {
+    model: Model,
+    kernels: CpuKernels,
+    contact: ExplicitContact,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    v_half: Vec<f64>,
+    inv_mass: Vec<f64>,
+    gathered: Vec<f64>,
+}
+
+/// One rank's explicit solver.
+pub struct DomainSolver<'m> {
+    model: &'m Model,
+    ranks: &'m dyn Ranks,
+    sub: Subdomain,
+    kernels: CpuKernels,
+    dt: f64,
+    time: f64,
+    steps: usize,
+    /// Every node's lumped mass (the whole model's, as the setup has it).
+    mass_all: Vec<f64>,
+    mass: Vec<f64>,
+    inv_mass: Vec<f64>,
+    f_ext: Vec<f64>,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    f_int: Vec<f64>,
+    u_prev: Vec<f64>,
+    v_half: Vec<f64>,
+    measure_shift: f64,
+    surface: Surface,
+    received: Vec<f64>,
+    /// Frames: every how many steps, the run's last step, the nodes in gathered order and
+    /// the whole model's state at the last frame.
+    frames: Option<(usize, usize)>,
+    frame_order: Vec<u32>,
+    frame_counts: Vec<usize>,
+    global_u: Vec<f64>,
+    global_v: Vec<f64>,
+    communication: std::cell::Cell<f64>,
+}
+
+impl<'m> DomainSolver<'m> {
+    /// Rank `ranks.rank()`'s part of `model` under `partition`. `frames` is (every, last
+    /// step) where the run writes VTU frames: the state is gathered on those steps.
+    pub fn new(
+        model: &'m Model,
+        ranks: &'m dyn Ranks,
+        partition: &Partition,
+        (settings, dt, speed_scale): (&ExplicitSettings, f64, f64),
+        frames: Option<(usize, usize)>,
+    ) -> Result<Self> {
+        let sub = Subdomain::new(model, partition, ranks.rank());
+        let mass_all = lumped_mass(model);
+        let mass: Vec<f64> = sub.nodes.iter().map(|&n| mass_all[n as usize]).collect();
+        let fixed: Vec<bool> = (sub.nodes.iter())
+            .flat_map(|&n| {
+                model.fixed[3 * n as usize..3 * n as usize + 3]
+                    .iter()
+                    .copied()
+            })
+            .collect();
+        let start = NodalStart::new(
+            &mass,
+            &fixed,
+            model.gravity,
+            &sub.restrict(&model.initial_velocity),
+        );
+        let surface = Surface::new(model, &sub, &mass_all, settings, speed_scale);
+        let ndof = 3 * sub.nodes.len();
+        let (frame_order, frame_counts) = match frames {
+            Some(_) => frame_layout(model, partition),
+            None => (Vec::new(), Vec::new()),
+        };
+        let global = NodalStart::new(
+            &mass_all,
+            &model.fixed,
+            model.gravity,
+            &model.initial_velocity,
+        );
+        Ok(DomainSolver {
+            model,
+            ranks,
+            kernels: CpuKernels::new(sub.data.clone()),
+            received: vec![0.0; 3 * sub.received],
+            sub,
+            dt,
+            time: 0.0,
+            steps: 0,
+            mass,
+            inv_mass: start.inv_mass,
+            f_ext: start.f_ext,
+            u: vec![0.0; ndof],
+            v_half: start.v.clone(),
+            v: start.v,
+            a: start.a,
+            f_int: vec![0.0; ndof],
+            u_prev: vec![0.0; ndof],
+            measure_shift: 0.0,
+            surface,
+            frames,
+            frame_order,
+            frame_counts,
+            global_u: vec![0.0; model.dofs()],
+            global_v: global.v,
+            mass_all,
+            communication: std::cell::Cell::new(0.0),
+        })
+    }
+
+    /// The rank's share and its time in communication so far.
+    pub fn figures(&self) -> RankFigures {
+        RankFigures {
+            elements: self.sub.data.hexes.len() + self.sub.data.tets.len(),
+            nodes: self.sub.nodes.len(),
+            shared_nodes: self.sub.shared.len(),
+            neighbours: self.sub.neighbours.len(),
+            communication: self.communication.get(),
+        }
+    }
+
+    /// `f` on the ranks, its time counted as communication.
+    fn talk<T>(&self, f: impl FnOnce(&dyn Ranks) -> T) -> T {
+        let t = Instant::now();
+        let out = f(self.ranks);
+        (self.communication).set(self.communication.get() + t.elapsed().as_secs_f64());
+        out
+    }
+
+    /// The rank's internal forces: its elements', then the shared nodes' sums with the
+    /// corners the neighbours send.
+    fn internal_forces(&mut self) -> Result<()> {
+        self.kernels
+            .internal_forces_into(&self.u, &mut self.f_int)?;
+        if self.sub.neighbours.is_empty() {
+            return Ok(());
+        }
+        let corners = self.kernels.corner_forces();
+        let sends: Vec<Vec<f64>> = (self.sub.neighbours.iter())
+            .map(|nb| nb.send.iter().flat_map(|&c| corners[c as usize]).collect())
+            .collect();
+        let mut received = std::mem::take(&mut self.received);
+        let sub = &self.sub;
+        {
+            let send_list: Vec<(usize, &[f64])> = (sub.neighbours.iter())
+                .zip(&sends)
+                .map(|(nb, s)| (nb.rank, s.as_slice()))
+                .collect();
+            let mut recv_list = Vec::with_capacity(sub.neighbours.len());
+            let mut rest = received.as_mut_slice();
+            for nb in &sub.neighbours {
+                let (mine, after) = rest.split_at_mut(3 * nb.receive.len());
+                recv_list.push((nb.rank, mine));
+                rest = after;
+            }
+            self.talk(|r| r.exchange(&send_list, &mut recv_list));
+        }
+        self.sub
+            .sum_shared(self.kernels.corner_forces(), &received, &mut self.f_int);
+        self.received = received;
+        Ok(())
+    }
+
+    /// The step's contact on the gathered surfaces; the changed velocities back to the
+    /// rank's nodes.
+    fn contact(&mut self) -> Result<StepReport> {
+        if self.model.interfaces.is_empty() {
+            return Ok(StepReport {
+                iterations: 0,
+                converged: true,
+            });
+        }
+        let local_speed = fastest_speed(&self.v);
+        let speed = self.talk(|r| r.max(local_speed));
+        let map = &self.sub.surface;
+        let mine: Vec<f64> = (map.owned.iter())
+            .flat_map(|&n| {
+                let d = 3 * n as usize;
+                self.u[d..d + 3].iter().chain(&self.v[d..d + 3]).copied()
+            })
+            .collect();
+        let counts: Vec<usize> = map.counts.iter().map(|c| 6 * c).collect();
+        let mut gathered = std::mem::take(&mut self.surface.gathered);
+        self.talk(|r| r.all_gather(&mine, &counts, &mut gathered));
+        let s = &mut self.surface;
+        for (j, &k) in map.order.iter().enumerate() {
+            let (k, g) = (3 * k as usize, &gathered[6 * j..6 * j + 6]);
+            s.u[k..k + 3].copy_from_slice(&g[..3]);
+            s.v[k..k + 3].copy_from_slice(&g[3..]);
+        }
+        s.gathered = gathered;
+        let margin = s.contact.margin(speed, self.dt);
+        let fields = ContactFields {
+            u: &s.u,
+            v: &mut s.v,
+            v_half: &s.v_half,
+            inv_mass: &s.inv_mass,
+        };
+        let report = s
+            .contact
+            .step(&s.model, &mut s.kernels, fields, self.dt, margin)?;
+        for &(k, n) in &map.held {
+            let (k, n) = (3 * k as usize, 3 * n as usize);
+            self.v[n..n + 3].copy_from_slice(&s.v[k..k + 3]);
+        }
+        s.v_half.copy_from_slice(&s.v);
+        Ok(report)
+    }
+
+    /// The whole model's displacements and velocities from every rank's owned nodes.
+    fn gather_state(&mut self) {
+        let mine: Vec<f64> = (0..self.sub.nodes.len())
+            .filter(|&i| self.sub.owned[i])
+            .flat_map(|i| {
+                self.u[3 * i..3 * i + 3]
+                    .iter()
+                    .chain(&self.v[3 * i..3 * i + 3])
+                    .copied()
+            })
+            .collect();
+        let counts: Vec<usize> = self.frame_counts.iter().map(|c| 6 * c).collect();
+        let mut all = vec![0.0; 6 * self.frame_order.len()];
+        self.talk(|r| r.all_gather(&mine, &counts, &mut all));
+        for (j, &n) in self.frame_order.iter().enumerate() {
+            let d = 3 * n as usize;
+            self.global_u[d..d + 3].copy_from_slice(&all[6 * j..6 * j + 3]);
+            self.global_v[d..d + 3].copy_from_slice(&all[6 * j + 3..6 * j + 6]);
+        }
+    }
+
+    /// Sums over the rank's owned dofs of `f(d)` for each column, then over the ranks.
+    fn owned_sums<const K: usize>(&self, f: impl Fn(usize) -> [f64; K] + Sync) -> [f64; K] {
+        let owned = &self.sub.owned;
+        let n = 3 * self.sub.nodes.len();
+        let local: [f64; K] =
+            std::array::from_fn(|k| ordered_sum(n, |d| if owned[d / 3] { f(d)[k] } else { 0.0 }));
+        let total = self.talk(|r| r.sum(&local));
+        std::array::from_fn(|k| total[k])
+    }
+}
+
+impl Surface {
+    fn new(
+        model: &Model,
+        sub: &Subdomain,
+        mass_all: &[f64],
+        settings: &ExplicitSettings,
+        speed_scale: f64,
+    ) -> Surface {
+        let nodes = &sub.surface.nodes;
+        let surface = surface_model(model, nodes);
+        let mass: Vec<f64> = nodes.iter().map(|&n| mass_all[n as usize]).collect();
+        let start = NodalStart::new(
+            &mass,
+            &surface.fixed,
+            model.gravity,
+            &surface.initial_velocity,
+        );
+        let face_size = search::largest_face_size(model);
+        let contact = ExplicitContact::new(&surface, settings, speed_scale, face_size);
+        let n = 3 * nodes.len();
+        Surface {
+            kernels: CpuKernels::new(surface.element_data()),
+            contact,
+            u: vec![0.0; n],
+            v: vec![0.0; n],
+            v_half: start.v,
+            inv_mass: start.inv_mass,
+            gathered: vec![0.0; 2 * n],
+            model: surface,
+        }
+    }
+}
+
+/// The model's nodes in the order a gather of every rank's owned nodes delivers them, and
+/// how many each rank owns.
+fn frame_layout(model: &Model, partition: &Partition) -> (Vec<u32>, Vec<usize>) {
+    let owner = owners(model, partition);
+    let mut order: Vec<u32> = (0..model.mesh.node_count() as u32).collect();
+    order.sort_by_key(|&n| (owner[n as usize], n));
+    let mut counts = vec![0; partition.parts];
+    for &o in &owner {
+        counts[o as usize] += 1;
+    }
+    (order, counts)
+}
+
+impl Integrator for DomainSolver<'_> {
+    fn model(&self) -> &Model {
+        self.model
+    }
+
+    fn method(&self) -> Method {
+        Method::Explicit
+    }
+
+    fn device_name(&self) -> String {
+        "cpu".into()
+    }
+
+    fn engine(&self) -> &'static str {
+        crate::integrate::integrator::ENGINE_RANKS
+    }
+
+    /// The single-process step (see [`crate::integrate::ExplicitSolver`]) on the rank's
+    /// nodes; the state is gathered for a frame on the steps the run writes one.
+    fn step(&mut self) -> Result<StepReport> {
+        let dt = self.dt;
+        kernels::explicit_predict(dt, &self.a, &mut self.v);
+        let report = self.contact()?;
+        self.u_prev.copy_from_slice(&self.u);
+        self.v_half.copy_from_slice(&self.v);
+        kernels::explicit_drift(dt, &self.v, &mut self.u);
+        self.internal_forces()?;
+        let (f_ext, f_int, inv_mass) = (&self.f_ext, &self.f_int, &self.inv_mass);
+        self.a
+            .par_iter_mut()
+            .zip(self.v.par_iter_mut())
+            .enumerate()
+            .with_min_len(crate::parallel::CHUNK)
+            .for_each(|(d, (a, v))| {
+                *a = (f_ext[d] - f_int[d]) * inv_mass[d];
+                *v += 0.5 * dt * *a;
+            });
+        self.time += dt;
+        self.steps += 1;
+        if let Some((every, last)) = self.frames {
+            if self.steps % every == 0 || self.steps == last {
+                self.gather_state();
+            }
+        }
+        Ok(report)
+    }
+
+    fn reports(&self) -> Vec<ContactReport> {
+        (self.surface.contact.interfaces.iter())
+            .map(|i| i.report)
+            .collect()
+    }
+
+    fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {
+        let st = &self.surface.contact.interfaces[interface];
+        let area = self.model.interfaces[interface].area[point];
+        (st.impulse[point] / (self.dt * area), st.gap[point])
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn steps(&self) -> usize {
+        self.steps
+    }
+
+    /// The whole model's displacements at the last frame step.
+    fn displacement(&self) -> &[f64] {
+        &self.global_u
+    }
+
+    /// The whole model's velocities at the last frame step.
+    fn velocity(&self) -> &[f64] {
+        &self.global_v
+    }
+
+    fn nodal_mass(&self) -> &[f64] {
+        &self.mass_all
+    }
+
+    /// The probed nodes' values from their owners (every other rank adds zeros).
+    fn probes(&self) -> Vec<ProbeValues> {
+        let mut mine = vec![0.0; 6 * self.model.probes.len()];
+        for (p, probe) in self.model.probes.iter().enumerate() {
+            let Ok(i) = self.sub.nodes.binary_search(&probe.node) else {
+                continue;
+            };
+            if self.sub.owned[i] {
+                mine[6 * p..6 * p + 3].copy_from_slice(&self.u[3 * i..3 * i + 3]);
+                mine[6 * p + 3..6 * p + 6].copy_from_slice(&self.v[3 * i..3 * i + 3]);
+            }
+        }
+        let all = self.talk(|r| r.sum(&mine));
+        (all.chunks_exact(6))
+            .map(|c| ([c[0], c[1], c[2]], [c[3], c[4], c[5]]))
+            .collect()
+    }
+
+    /// Each body's mass and momentum over the rank's owned nodes, summed over the ranks.
+    fn body_velocities(&self) -> Vec<[f64; 3]> {
+        let bodies = &self.model.mesh.bodies;
+        let mut mine = vec![0.0; 4 * bodies.len()];
+        for (i, &n) in self.sub.nodes.iter().enumerate() {
+            if !self.sub.owned[i] {
+                continue;
+            }
+            let Some(b) = bodies.iter().position(|b| b.nodes.contains(&(n as usize))) else {
+                continue;
+            };
+            let m = &mut mine[4 * b..4 * b + 4];
+            m[0] += self.mass[i];
+            for a in 0..3 {
+                m[1 + a] += self.mass[i] * self.v[3 * i + a];
+            }
+        }
+        let all = self.talk(|r| r.sum(&mine));
+        (all.chunks_exact(4))
+            .map(|c| [c[1] / c[0], c[2] / c[0], c[3] / c[0]])
+            .collect()
+    }
+
+    fn decomposition(&mut self) -> Option<Decomposition> {
+        let f = self.figures();
+        let mine = [
+            f.elements as f64,
+            f.nodes as f64,
+            f.shared_nodes as f64,
+            f.neighbours as f64,
+            f.communication,
+        ];
+        let all = self.ranks.gather_all(&mine);
+        let column = |k: usize| all.iter().map(|r| r[k] as usize).collect();
+        Some(Decomposition {
+            ranks: self.ranks.size(),
+            partition: "recursive coordinate bisection of the element centroids, equal element counts".into(),
+            contact: "the contact surfaces' nodes gathered on every rank each step; every rank works the whole contact".into(),
+            elements: column(0),
+            nodes: column(1),
+            shared_nodes: column(2),
+            neighbours: column(3),
+            communication_seconds: all.iter().map(|r| r[4]).collect(),
+        })
+    }
+
+    fn checkpoint_state(&mut self) -> Result<SolverState> {
+        Err(ImpactError::Ranks(
+            "a run on several ranks writes no checkpoints".into(),
+        ))
+    }
+
+    fn restore(&mut self, _state: SolverState) -> std::result::Result<(), String> {
+        Err("a run on several ranks does not resume from a checkpoint".into())
+    }
+
+    /// See [`crate::integrate::ExplicitSolver`]'s: $a \cdot M a$ summed over the ranks.
+    fn shorten_step(&mut self, dt: f64) {
+        let (mass, a) = (&self.mass, &self.a);
+        let [ama] = self.owned_sums(|d| [mass[d / 3] * a[d] * a[d]]);
+        self.measure_shift = 0.125 * (self.dt * self.dt - dt * dt) * ama;
+        self.dt = dt;
+    }
+
+    /// The time-centred energies of [`crate::integrate::ExplicitSolver`], each rank's owned
+    /// dofs summed, then the ranks in order.
+    fn energies(&mut self) -> Result<Energies> {
+        if self.steps == 0 {
+            self.internal_forces()?;
+            let (m, v, u, f, fe) = (&self.mass, &self.v, &self.u, &self.f_int, &self.f_ext);
+            let [k, s, p] =
+                self.owned_sums(|d| [m[d / 3] * v[d] * v[d], u[d] * f[d], fe[d] * u[d]]);
+            return Ok(Energies {
+                kinetic: 0.5 * k,
+                strain: 0.5 * s,
+                potential: -p,
+            });
+        }
+        let (m, v, u0, u1, f, fe) = (
+            &self.mass,
+            &self.v_half,
+            &self.u_prev,
+            &self.u,
+            &self.f_int,
+            &self.f_ext,
+        );
+        let [k, s, p0, p1] = self.owned_sums(|d| {
+            [
+                m[d / 3] * v[d] * v[d],
+                u0[d] * f[d],
+                fe[d] * u0[d],
+                fe[d] * u1[d],
+            ]
+        });
+        Ok(Energies {
+            kinetic: 0.5 * k - self.measure_shift,
+            strain: 0.5 * s,
+            potential: -0.5 * (p0 + p1),
+        })
+    }
+
+    fn end_at(&mut self, time: f64) {
+        self.time = time;
+    }
+}

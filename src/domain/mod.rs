@@ -1,0 +1,22 @@
+//! The explicit path decomposed over ranks: each rank steps its share of the elements and
+//! the nodes they touch, sums the forces of the nodes it shares with its neighbours, and
+//! works the contact on the gathered contact surfaces.
+//!
+//! - [`partition`]: recursive coordinate bisection of the elements;
+//! - [`subdomain`]: a rank's elements, nodes, neighbours and shared-node sums;
+//! - [`surface`]: the contact surfaces as a model of their own;
+//! - [`ranks`]: what the decomposition asks of its ranks ([`ranks::Single`], and MPI with
+//!   the `mpi` feature);
+//! - [`explicit`]: the rank's explicit solver.
+
+pub mod explicit;
+#[cfg(feature = "mpi")]
+pub mod mpi;
+pub mod partition;
+pub mod ranks;
+pub mod subdomain;
+pub mod surface;
+
+pub use explicit::{DomainSolver, RankFigures};
+pub use partition::Partition;
+pub use ranks::{Ranks, Single};

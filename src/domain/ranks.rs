@@ -1,0 +1,73 @@
+//! What a decomposed run asks of its ranks: point-to-point exchange with the neighbours and
+//! a few collectives. [`Single`] is one process on its own; the MPI ranks are in
+//! `domain::mpi` (the `mpi` feature).
+
+/// The communication of a decomposed run. Every rank calls each collective at the same
+/// point of the run.
+pub trait Ranks {
+    fn rank(&self) -> usize;
+    fn size(&self) -> usize;
+    /// Sends `sends[i].1` to rank `sends[i].0` and receives from each rank `recvs[i].0`
+    /// into `recvs[i].1` (whose length the receiver knows); the pairs match by rank.
+    fn exchange(&self, sends: &[(usize, &[f64])], recvs: &mut [(usize, &mut [f64])]);
+    /// Every rank's `mine`, one after the other in rank order, into `out` (`counts` holds
+    /// each rank's length).
+    fn all_gather(&self, mine: &[f64], counts: &[usize], out: &mut [f64]);
+    /// The largest `x` over the ranks.
+    fn max(&self, x: f64) -> f64;
+    /// Every rank's `x` (the same length on each), in rank order.
+    fn gather_all(&self, x: &[f64]) -> Vec<Vec<f64>> {
+        let n = x.len();
+        let mut out = vec![0.0; n * self.size()];
+        self.all_gather(x, &vec![n; self.size()], &mut out);
+        out.chunks(n.max(1))
+            .map(|c| c.to_vec())
+            .take(self.size())
+            .collect()
+    }
+    /// The sum over the ranks of `x` (the same length on each), added in rank order, so
+    /// every rank has the same bits.
+    fn sum(&self, x: &[f64]) -> Vec<f64> {
+        let mut s = vec![0.0; x.len()];
+        for part in self.gather_all(x) {
+            for (s, p) in s.iter_mut().zip(part) {
+                *s += p;
+            }
+        }
+        s
+    }
+}
+
+/// One process: a run of one rank.
+pub struct Single;
+
+impl Ranks for Single {
+    fn rank(&self) -> usize {
+        0
+    }
+    fn size(&self) -> usize {
+        1
+    }
+    fn exchange(&self, sends: &[(usize, &[f64])], _recvs: &mut [(usize, &mut [f64])]) {
+        debug_assert!(sends.is_empty(), "one rank has no neighbours");
+    }
+    fn all_gather(&self, mine: &[f64], _counts: &[usize], out: &mut [f64]) {
+        out[..mine.len()].copy_from_slice(mine);
+    }
+    fn max(&self, x: f64) -> f64 {
+        x
+    }
+}
+
+/// The job's size as an MPI launcher tells it, without initialising MPI: a
+/// process started by `mpirun` (Open MPI, MPICH, Slurm's PMI) sees them in its environment.
+pub fn launched_size() -> Option<usize> {
+    [
+        "OMPI_COMM_WORLD_SIZE",
+        "PMI_SIZE",
+        "PMIX_SIZE",
+        "MPI_LOCALNRANKS",
+    ]
+    .iter()
+    .find_map(|k| std::env::var(k).ok()?.parse().ok())
+}

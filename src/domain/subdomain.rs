@@ -1,0 +1,358 @@
+//! One rank's share of a decomposed model: its elements, the nodes they touch, and what it
+//! exchanges with the ranks that share nodes with it.
+//!
+//! A node touched by elements of several ranks is held by each of them, and every holder
+//! keeps the same copy of its state: each sums the node's element forces itself, from its
+//! own corners and the corners its neighbours send, in the order of the global corner
+//! numbers, which is the order the single-process gather adds them in
+//! ([`crate::kernels::node_gather`]). So a shared node's force is the same bits on every
+//! holder and in a run on one process. The lowest holder owns the node: it alone counts it in
+//! the sums of the history and sends it to the others when they gather the contact surfaces.
+
+use super::partition::Partition;
+use crate::kernels::ElementData;
+use crate::model::Model;
+
+/// Where one corner force of a shared node's sum comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Source {
+    /// A corner of this rank's elements (its index in the local corner forces).
+    Local(u32),
+    /// A corner a neighbour sent (its index in the receive buffer, in corners).
+    Remote(u32),
+}
+
+/// A rank that shares nodes with this one, and the corners each sends the other.
+#[derive(Debug, Clone)]
+pub struct Neighbour {
+    pub rank: usize,
+    /// Local corners sent to it, in global corner order.
+    pub send: Vec<u32>,
+    /// Where its corners lie in the receive buffer (in corners).
+    pub receive: std::ops::Range<usize>,
+}
+
+/// The nodes of the contact surfaces (every interface's secondary nodes and primary face
+/// nodes) and where each rank's share of them lies.
+#[derive(Debug, Clone, Default)]
+pub struct SurfaceMap {
+    /// The surface nodes' global numbers, increasing.
+    pub nodes: Vec<u32>,
+    /// (surface index, local node) of every surface node this rank holds.
+    pub held: Vec<(u32, u32)>,
+    /// The local nodes of the surface nodes this rank owns, in surface order.
+    pub owned: Vec<u32>,
+    /// How many surface nodes each rank owns.
+    pub counts: Vec<usize>,
+    /// The surface index of each entry of the gathered surface (rank 0's owned nodes, then
+    /// rank 1's, ...).
+    pub order: Vec<u32>,
+}
+
+/// One rank's elements, nodes and exchange lists.
+#[derive(Debug, Clone)]
+pub struct Subdomain {
+    pub rank: usize,
+    pub ranks: usize,
+    /// Global number of each local node, increasing.
+    pub nodes: Vec<u32>,
+    /// Whether this rank owns each local node.
+    pub owned: Vec<bool>,
+    /// The rank's elements in global order, on local node numbers.
+    pub data: ElementData,
+    pub neighbours: Vec<Neighbour>,
+    /// Corners received in all.
+    pub received: usize,
+    /// The local nodes other ranks also hold; `sources[offsets[i]..offsets[i + 1]]` are the
+    /// corners of `shared[i]` in global corner order.
+    pub shared: Vec<u32>,
+    pub offsets: Vec<u32>,
+    pub sources: Vec<Source>,
+    pub surface: SurfaceMap,
+}
+
+/// The nodes of every global corner (hex8 corners, then tet4 corners) with its element.
+fn corners(model: &Model) -> impl Iterator<Item = (usize, usize, u32)> + '_ {
+    let mesh = &model.mesh;
+    let nh = mesh.hexes.len();
+    (mesh.hexes.iter().flat_map(|h| h.iter()))
+        .chain(mesh.tets.iter().flat_map(|t| t.iter()))
+        .enumerate()
+        .map(move |(c, &n)| {
+            let e = if c < 8 * nh {
+                c / 8
+            } else {
+                nh + (c - 8 * nh) / 4
+            };
+            (c, e, n)
+        })
+}
+
+/// The lowest rank holding each node (rank 0 for a node in no element).
+pub fn owners(model: &Model, partition: &Partition) -> Vec<u32> {
+    let mut owner = vec![u32::MAX; model.mesh.node_count()];
+    for (_, e, n) in corners(model) {
+        let o = &mut owner[n as usize];
+        *o = (*o).min(partition.part_of[e]);
+    }
+    owner
+        .iter()
+        .map(|&o| if o == u32::MAX { 0 } else { o })
+        .collect()
+}
+
+impl Subdomain {
+    /// Rank `rank`'s share of `model` under `partition`.
+    pub fn new(model: &Model, partition: &Partition, rank: usize) -> Subdomain {
+        let part = |e: usize| partition.part_of[e] as usize;
+        let owner = owners(model, partition);
+        let n_all = model.mesh.node_count();
+        let mut held = vec![false; n_all];
+        for (_, e, n) in corners(model) {
+            held[n as usize] |= part(e) == rank;
+        }
+        // a node in no element belongs to rank 0
+        let mut touched = vec![false; n_all];
+        for (_, _, n) in corners(model) {
+            touched[n as usize] = true;
+        }
+        for n in 0..n_all {
+            held[n] |= !touched[n] && rank == 0;
+        }
+        let nodes: Vec<u32> = (0..n_all as u32).filter(|&n| held[n as usize]).collect();
+        let mut local = vec![u32::MAX; n_all];
+        for (i, &n) in nodes.iter().enumerate() {
+            local[n as usize] = i as u32;
+        }
+        let (data, corner_local) = local_elements(model, partition, rank, &local);
+        let holders = holders(model, partition, &held);
+        let mut sub = Subdomain {
+            rank,
+            ranks: partition.parts,
+            owned: nodes
+                .iter()
+                .map(|&n| owner[n as usize] as usize == rank)
+                .collect(),
+            nodes,
+            data,
+            neighbours: Vec::new(),
+            received: 0,
+            shared: Vec::new(),
+            offsets: vec![0],
+            sources: Vec::new(),
+            surface: SurfaceMap::default(),
+        };
+        sub.exchange_lists(model, partition, &held, &holders, &local, &corner_local);
+        sub.surface = surface_map(model, &owner, &local, rank, partition.parts);
+        sub
+    }
+
+    /// The neighbours' send and receive lists and the sources of every shared node.
+    fn exchange_lists(
+        &mut self,
+        model: &Model,
+        partition: &Partition,
+        held: &[bool],
+        holders: &std::collections::BTreeMap<u32, Vec<u32>>,
+        local: &[u32],
+        corner_local: &[u32],
+    ) {
+        let (rank, ranks) = (self.rank, self.ranks);
+        let part = |e: usize| partition.part_of[e] as usize;
+        let mut send = vec![Vec::new(); ranks];
+        let mut receive = vec![0usize; ranks];
+        for (c, e, n) in corners(model) {
+            let q = part(e);
+            if q == rank {
+                for &h in holders.get(&n).into_iter().flatten() {
+                    if h as usize != rank {
+                        send[h as usize].push(corner_local[c]);
+                    }
+                }
+            } else if held[n as usize] {
+                receive[q] += 1;
+            }
+        }
+        let mut start = vec![0usize; ranks + 1];
+        for q in 0..ranks {
+            start[q + 1] = start[q] + receive[q];
+        }
+        self.received = start[ranks];
+        let talks: Vec<usize> = (0..ranks)
+            .filter(|&q| q != rank && (receive[q] > 0 || !send[q].is_empty()))
+            .collect();
+        self.neighbours = (talks.into_iter())
+            .map(|q| Neighbour {
+                rank: q,
+                send: std::mem::take(&mut send[q]),
+                receive: start[q]..start[q + 1],
+            })
+            .collect();
+        // the sources of each shared node, in global corner order
+        let mut lists: std::collections::BTreeMap<u32, Vec<Source>> = holders
+            .keys()
+            .map(|&n| (local[n as usize], Vec::new()))
+            .collect();
+        let mut next = start;
+        for (c, e, n) in corners(model) {
+            let Some(list) = lists
+                .get_mut(&local[n as usize])
+                .filter(|_| held[n as usize])
+            else {
+                continue;
+            };
+            let q = part(e);
+            list.push(if q == rank {
+                Source::Local(corner_local[c])
+            } else {
+                next[q] += 1;
+                Source::Remote((next[q] - 1) as u32)
+            });
+        }
+        for (n, list) in lists {
+            self.shared.push(n);
+            self.sources.extend(list);
+            self.offsets.push(self.sources.len() as u32);
+        }
+    }
+
+    /// Overwrites the force of every shared node (3 per local node in `f`) with the sum of
+    /// its corners, local (`corners`) and received (`received`, 3 per corner), in global
+    /// corner order.
+    pub fn sum_shared(&self, corners: &[[f64; 3]], received: &[f64], f: &mut [f64]) {
+        for (i, &n) in self.shared.iter().enumerate() {
+            let mut sum = [0.0; 3];
+            for s in &self.sources[self.offsets[i] as usize..self.offsets[i + 1] as usize] {
+                let x = match *s {
+                    Source::Local(c) => corners[c as usize],
+                    Source::Remote(r) => {
+                        let r = 3 * r as usize;
+                        [received[r], received[r + 1], received[r + 2]]
+                    }
+                };
+                for a in 0..3 {
+                    sum[a] += x[a];
+                }
+            }
+            f[3 * n as usize..3 * n as usize + 3].copy_from_slice(&sum);
+        }
+    }
+
+    /// The values of the local nodes (3 per node) taken from a global vector.
+    pub fn restrict(&self, global: &[f64]) -> Vec<f64> {
+        (self.nodes.iter())
+            .flat_map(|&n| global[3 * n as usize..3 * n as usize + 3].iter().copied())
+            .collect()
+    }
+}
+
+/// The rank's elements on local node numbers, and the local corner of every global corner
+/// (`u32::MAX` for another rank's).
+fn local_elements(
+    model: &Model,
+    partition: &Partition,
+    rank: usize,
+    local: &[u32],
+) -> (ElementData, Vec<u32>) {
+    let mesh = &model.mesh;
+    let nh = mesh.hexes.len();
+    let mine = |e: usize| partition.part_of[e] as usize == rank;
+    let map = |el: &[u32]| -> Vec<u32> { el.iter().map(|&n| local[n as usize]).collect() };
+    let hexes: Vec<usize> = (0..nh).filter(|&e| mine(e)).collect();
+    let tets: Vec<usize> = (0..mesh.tets.len()).filter(|&t| mine(nh + t)).collect();
+    let mut corner_local = vec![u32::MAX; 8 * nh + 4 * mesh.tets.len()];
+    for (l, &e) in hexes.iter().enumerate() {
+        for k in 0..8 {
+            corner_local[8 * e + k] = (8 * l + k) as u32;
+        }
+    }
+    for (l, &t) in tets.iter().enumerate() {
+        for k in 0..4 {
+            corner_local[8 * nh + 4 * t + k] = (8 * hexes.len() + 4 * l + k) as u32;
+        }
+    }
+    let data = ElementData {
+        reference: (0..local.len())
+            .filter(|&n| local[n] != u32::MAX)
+            .map(|n| mesh.nodes[n])
+            .collect(),
+        hexes: (hexes.iter())
+            .map(|&e| map(&mesh.hexes[e]).try_into().expect("8 corners"))
+            .collect(),
+        hex_material: hexes.iter().map(|&e| mesh.hex_material[e]).collect(),
+        tets: (tets.iter())
+            .map(|&t| map(&mesh.tets[t]).try_into().expect("4 corners"))
+            .collect(),
+        tet_material: tets.iter().map(|&t| mesh.tet_material[t]).collect(),
+        materials: model.materials.clone(),
+    };
+    (data, corner_local)
+}
+
+/// The ranks holding each node this rank holds with others (global node number to ranks,
+/// increasing).
+fn holders(
+    model: &Model,
+    partition: &Partition,
+    held: &[bool],
+) -> std::collections::BTreeMap<u32, Vec<u32>> {
+    let mut all: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+    for (_, e, n) in corners(model) {
+        if held[n as usize] {
+            let list = all.entry(n).or_default();
+            let q = partition.part_of[e];
+            if !list.contains(&q) {
+                list.push(q);
+            }
+        }
+    }
+    all.retain(|_, l| l.len() > 1);
+    for l in all.values_mut() {
+        l.sort_unstable();
+    }
+    all
+}
+
+/// The contact surfaces' nodes and each rank's share of them.
+fn surface_map(
+    model: &Model,
+    owner: &[u32],
+    local: &[u32],
+    rank: usize,
+    ranks: usize,
+) -> SurfaceMap {
+    let nodes = surface_nodes(model);
+    let held = (nodes.iter().enumerate())
+        .filter(|(_, &n)| local[n as usize] != u32::MAX)
+        .map(|(s, &n)| (s as u32, local[n as usize]))
+        .collect();
+    let owned = (nodes.iter())
+        .filter(|&&n| owner[n as usize] as usize == rank)
+        .map(|&n| local[n as usize])
+        .collect();
+    let mut counts = vec![0; ranks];
+    for &n in &nodes {
+        counts[owner[n as usize] as usize] += 1;
+    }
+    let mut order: Vec<u32> = (0..nodes.len() as u32).collect();
+    order.sort_by_key(|&s| (owner[nodes[s as usize] as usize], s));
+    SurfaceMap {
+        nodes,
+        held,
+        owned,
+        counts,
+        order,
+    }
+}
+
+/// Every node a contact interface reads: its secondary nodes and its primary faces' nodes,
+/// increasing.
+pub fn surface_nodes(model: &Model) -> Vec<u32> {
+    let mut nodes: Vec<u32> = (model.interfaces.iter())
+        .flat_map(|itf| itf.nodes.iter().copied())
+        .chain(model.queries.faces.iter().flatten().copied())
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
+}

@@ -1,0 +1,434 @@
+//! The contact impulses of an explicit step (see the module above for the constraint on the
+//! step's gap rate, the split compliance and the projected Jacobi sweeps).
+//!
+//! [`ExplicitContact`] holds everything the contact of a step keeps and reuses, and works on
+//! whatever model and velocity field it is handed: the whole model in a single process, or
+//! the contact surfaces alone that every rank of a decomposed run holds
+//! ([`crate::domain`]). Given the same positions, velocities and reach it takes the same
+//! operations in the same order, so the impulses are the same bits.
+
+use crate::backend::Kernels;
+use crate::error::Result;
+use crate::geometry::{
+    face,
+    vector::{self, dot},
+};
+use crate::kernels::contact_gap::NO_FACE;
+use crate::kernels::impulse::{self, impulse_update, ImpulseUpdate};
+use crate::kernels::{ContactPoint, ContactQueries};
+use crate::model::{Model, Primary};
+use crate::scene::ExplicitSettings;
+use rayon::prelude::*;
+
+use super::super::implicit::StepReport;
+use super::super::state::ContactReport;
+
+/// One contact constraint of a step: a secondary node against a face point or a plane.
+#[derive(Debug, Clone, Copy)]
+struct NodeConstraint {
+    interface: u32,
+    /// Index of the secondary node within its interface.
+    local: u32,
+    node: u32,
+    /// Primary face nodes and their shape function values (none for a plane).
+    face: Option<[u32; 4]>,
+    weights: [f64; 4],
+    normal: [f64; 3],
+    gap: f64,
+    mu: f64,
+    /// Split compliance: gap-rate change per unit normal impulse, bounded from above.
+    compliance: f64,
+}
+
+/// Contact state of one interface over the last step.
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
+pub struct ExplicitInterface {
+    /// Normal impulse of each secondary node over the last step.
+    pub impulse: Vec<f64>,
+    /// Tangential (friction) impulse of each secondary node over the last step.
+    pub tangential: Vec<[f64; 3]>,
+    /// Linearised end-of-step gap of each secondary node (NaN where no surface is in reach).
+    pub gap: Vec<f64>,
+    pub report: ContactReport,
+}
+
+/// The contact of the explicit steps: the queries and their candidates, the step's
+/// constraints and the interfaces' impulses and reports.
+pub struct ExplicitContact {
+    pub interfaces: Vec<ExplicitInterface>,
+    queries: ContactQueries,
+    candidate_lists: Vec<Vec<u32>>,
+    query_points: Vec<ContactPoint>,
+    /// The largest primary face (the search's reach beyond the motion of the step).
+    pub face_size: f64,
+    /// Absolute tolerance of the contact iteration (a gap rate).
+    tolerance: f64,
+    max_iterations: usize,
+    // scratch
+    constraints: Vec<NodeConstraint>,
+    /// Sum of the weights of the step's constraints on each node.
+    touches: Vec<f64>,
+    delta: Vec<[f64; 3]>,
+    slip_before: Vec<[f64; 3]>,
+}
+
+/// The velocity field a step's contact works on: the nodes' velocities (changed by the
+/// impulses), those of the step before (`v_half`, for the friction work) and the inverse
+/// mass per dof (zero on prescribed dofs).
+pub struct ContactFields<'a> {
+    pub u: &'a [f64],
+    pub v: &'a mut [f64],
+    pub v_half: &'a [f64],
+    pub inv_mass: &'a [f64],
+}
+
+impl ExplicitContact {
+    /// The contact of `model`'s interfaces, with the iteration's tolerance scaled by
+    /// `speed_scale`; `face_size` is the largest primary face of the whole model.
+    pub fn new(
+        model: &Model,
+        settings: &ExplicitSettings,
+        speed_scale: f64,
+        face_size: f64,
+    ) -> Self {
+        let interfaces = model
+            .interfaces
+            .iter()
+            .map(|itf| ExplicitInterface {
+                impulse: vec![0.0; itf.nodes.len()],
+                tangential: vec![[0.0; 3]; itf.nodes.len()],
+                gap: vec![f64::NAN; itf.nodes.len()],
+                report: ContactReport::default(),
+            })
+            .collect();
+        let nq = model.queries.len();
+        ExplicitContact {
+            interfaces,
+            queries: model.queries.clone(),
+            candidate_lists: vec![Vec::new(); nq],
+            query_points: vec![ContactPoint::default(); nq],
+            face_size,
+            tolerance: settings.tolerance * speed_scale.max(f64::MIN_POSITIVE),
+            max_iterations: settings.max_iterations,
+            constraints: Vec::new(),
+            touches: vec![0.0; model.mesh.node_count()],
+            delta: vec![[0.0; 3]; model.mesh.node_count()],
+            slip_before: Vec::new(),
+        }
+    }
+
+    /// The broad phase's margin, which is also the reach of the step: the largest face plus
+    /// four steps of the fastest node's motion (`speed`, over the whole model).
+    pub fn margin(&self, speed: f64, dt: f64) -> f64 {
+        self.face_size + 4.0 * dt * speed
+    }
+
+    /// Contact impulses of the step: projected Jacobi sweeps until no constraint is violated
+    /// by more than the tolerance. `margin` is [`ExplicitContact::margin`].
+    pub fn step(
+        &mut self,
+        model: &Model,
+        kernels: &mut dyn Kernels,
+        f: ContactFields,
+        dt: f64,
+        margin: f64,
+    ) -> Result<StepReport> {
+        self.gather_constraints(model, kernels, f.u, f.v, f.inv_mass, dt, margin)?;
+        for st in &mut self.interfaces {
+            st.impulse.fill(0.0);
+            st.tangential.fill([0.0; 3]);
+            st.gap.fill(f64::NAN);
+        }
+        let count = self.constraints.len();
+        let mut jn = vec![0.0f64; count];
+        let mut jt = vec![[0.0f64; 3]; count];
+        // the slip at v_{n-1/2}: with it the friction work is the tangential share of the
+        // impulses' change of the time-centred energy (docs/method-notes.md)
+        self.slip_before.clear();
+        for c in &self.constraints {
+            let rel = relative_velocity(c, f.v_half);
+            let rn = dot(rel, c.normal);
+            self.slip_before
+                .push(std::array::from_fn(|a| rel[a] - rn * c.normal[a]));
+        }
+        let mut report = StepReport {
+            iterations: 0,
+            converged: true,
+        };
+        if count > 0 {
+            report.converged = false;
+            let touched = touched_nodes(&self.constraints);
+            for sweep in 0..self.max_iterations {
+                report.iterations = sweep + 1;
+                let violation = self.sweep(f.v, f.inv_mass, dt, &mut jn, &mut jt, &touched);
+                if violation <= self.tolerance {
+                    report.converged = true;
+                    break;
+                }
+            }
+        }
+        self.contact_reports(f.v, dt, &jn, &jt);
+        Ok(report)
+    }
+
+    /// The constraints of the step at (u_n, v*): surfaces through the kernels, planes
+    /// analytically; only nodes within one face size plus four steps of the fastest node's
+    /// motion of their primary surface, or within four steps of their own motion of a plane.
+    #[allow(clippy::too_many_arguments)]
+    fn gather_constraints(
+        &mut self,
+        model: &Model,
+        kernels: &mut dyn Kernels,
+        u: &[f64],
+        v: &[f64],
+        inv_mass: &[f64],
+        dt: f64,
+        margin: f64,
+    ) -> Result<()> {
+        // the broad phase's margin is also the reach of the step: nodes farther from their
+        // surface cannot touch it within the step, even with their neighbours' impulses
+        if !self.queries.is_empty() {
+            kernels.contact_search_into(
+                model,
+                u,
+                v,
+                margin,
+                &mut self.queries,
+                &mut self.candidate_lists,
+                &mut self.query_points,
+            )?;
+        }
+        self.constraints.clear();
+        for (k, itf) in model.interfaces.iter().enumerate() {
+            for i in 0..itf.nodes.len() {
+                if let Some(c) = self.constraint_of(model, u, v, dt, (k, i), margin) {
+                    self.constraints.push(c);
+                }
+            }
+        }
+        self.split_compliances(inv_mass);
+        Ok(())
+    }
+
+    /// The constraint of secondary node `i` of interface `k`, if it is within reach of its
+    /// primary surface (`margin`) or plane.
+    fn constraint_of(
+        &self,
+        model: &Model,
+        u: &[f64],
+        v: &[f64],
+        dt: f64,
+        (k, i): (usize, usize),
+        margin: f64,
+    ) -> Option<NodeConstraint> {
+        let itf = &model.interfaces[k];
+        let node = itf.nodes[i];
+        let n = node as usize;
+        let (face, weights, normal, gap) = match &itf.primary {
+            Primary::Surface { queries, .. } => {
+                let p = self.query_points[queries.start + i];
+                if p.face == NO_FACE {
+                    return None;
+                }
+                let face = self.queries.faces[p.face as usize];
+                (Some(face), face::shape(&face, p.xi), p.normal, p.gap)
+            }
+            Primary::Plane { point, normal } => {
+                let x0 = model.mesh.nodes[n];
+                let x = std::array::from_fn(|a| x0[a] + u[3 * n + a]);
+                (
+                    None,
+                    [0.0; 4],
+                    *normal,
+                    -dot(vector::sub(x, *point), *normal),
+                )
+            }
+        };
+        // a plane constrains a node alone: its reach is four steps of the node's own
+        // motion (the device step's rule, kernels/plane_contact.rs)
+        let reach = if face.is_none() {
+            let v = &v[3 * n..3 * n + 3];
+            -4.0 * dt * vector::norm([v[0], v[1], v[2]])
+        } else {
+            -margin.max(f64::MIN_POSITIVE)
+        };
+        if gap < reach {
+            return None;
+        }
+        Some(NodeConstraint {
+            interface: k as u32,
+            local: i as u32,
+            node,
+            face,
+            weights,
+            normal,
+            gap,
+            mu: itf.friction,
+            compliance: 0.0,
+        })
+    }
+
+    /// The split compliance of every constraint of the step.
+    fn split_compliances(&mut self, inv_mass: &[f64]) {
+        // the row-sum bound of the coupled compliance: each node's inverse mass times the sum
+        // of the weights with which the step's constraints act on it
+        self.touches.fill(0.0);
+        for c in &self.constraints {
+            self.touches[c.node as usize] += 1.0;
+            if let Some(f) = c.face {
+                for k in 0..4 {
+                    self.touches[f[k] as usize] += c.weights[k].abs();
+                }
+            }
+        }
+        let inv = |n: u32, nrm: [f64; 3], inv_mass: &[f64]| -> f64 {
+            (0..3)
+                .map(|a| nrm[a] * nrm[a] * inv_mass[3 * n as usize + a])
+                .sum::<f64>()
+        };
+        // the largest inverse mass of a node bounds |n_i . M^-1 n_j| for any two unit normals,
+        // also where some of its dofs are prescribed (the inverse mass along one normal does
+        // not: the iteration could diverge there)
+        let inv_max = |n: u32, inv_mass: &[f64]| -> f64 {
+            (0..3)
+                .map(|a| inv_mass[3 * n as usize + a])
+                .fold(0.0, f64::max)
+        };
+        for c in &mut self.constraints {
+            // a constraint whose normal meets only prescribed dofs cannot be enforced
+            let mut along = inv(c.node, c.normal, inv_mass);
+            let mut s = self.touches[c.node as usize] * inv_max(c.node, inv_mass);
+            if let Some(f) = c.face {
+                for k in 0..4 {
+                    along += c.weights[k].abs() * inv(f[k], c.normal, inv_mass);
+                    s += c.weights[k].abs() * self.touches[f[k] as usize] * inv_max(f[k], inv_mass);
+                }
+            }
+            c.compliance = if along > 0.0 { s } else { 0.0 };
+        }
+    }
+
+    /// One Jacobi sweep: every constraint's update from the sweep's starting velocities, on
+    /// all threads; then the impulses are scattered to the nodes in constraint order, so the
+    /// sums do not depend on the thread count. Returns the sweep's largest violation.
+    fn sweep(
+        &mut self,
+        v: &mut [f64],
+        inv_mass: &[f64],
+        dt: f64,
+        jn: &mut [f64],
+        jt: &mut [[f64; 3]],
+        touched: &[u32],
+    ) -> f64 {
+        let vs: &[f64] = v;
+        let updates: Vec<Option<ImpulseUpdate>> = self
+            .constraints
+            .par_iter()
+            .with_min_len(256)
+            .enumerate()
+            .map(|(i, c)| {
+                (c.compliance > 0.0).then(|| {
+                    impulse_update(
+                        c.gap,
+                        dt,
+                        relative_velocity(c, vs),
+                        c.normal,
+                        c.compliance,
+                        c.mu,
+                        jn[i],
+                        jt[i],
+                    )
+                })
+            })
+            .collect();
+        let mut violation = 0.0f64;
+        for (i, up) in updates.into_iter().enumerate() {
+            let Some(up) = up else { continue };
+            let c = &self.constraints[i];
+            violation = violation.max(up.violation);
+            (jn[i], jt[i]) = (up.jn, up.jt);
+            let dj = up.dj;
+            let n = c.node as usize;
+            for a in 0..3 {
+                self.delta[n][a] += dj[a];
+            }
+            if let Some(f) = c.face {
+                for k in 0..4 {
+                    for a in 0..3 {
+                        self.delta[f[k] as usize][a] -= c.weights[k] * dj[a];
+                    }
+                }
+            }
+        }
+        // only the constrained nodes and their faces' nodes moved
+        for &n in touched {
+            let n = n as usize;
+            let d = std::mem::take(&mut self.delta[n]);
+            for a in 0..3 {
+                v[3 * n + a] += d[a] * inv_mass[3 * n + a];
+            }
+        }
+        violation
+    }
+
+    /// Each interface's report of the step from the final impulses `jn`, `jt`.
+    fn contact_reports(&mut self, v: &[f64], dt: f64, jn: &[f64], jt: &[[f64; 3]]) {
+        let mut force = vec![[0.0f64; 3]; self.interfaces.len()];
+        for st in &mut self.interfaces {
+            let work = st.report.friction_work;
+            st.report = ContactReport {
+                friction_work: work,
+                ..Default::default()
+            };
+        }
+        for i in 0..self.constraints.len() {
+            let c = self.constraints[i];
+            let rel = relative_velocity(&c, v);
+            let rn = dot(rel, c.normal);
+            let st = &mut self.interfaces[c.interface as usize];
+            st.impulse[c.local as usize] = jn[i];
+            st.tangential[c.local as usize] = jt[i];
+            st.gap[c.local as usize] = c.gap - dt * rn;
+            let r = &mut st.report;
+            if jn[i] > 0.0 {
+                r.active += 1;
+                r.normal_force += jn[i] / dt;
+                if c.mu > 0.0 && vector::norm(jt[i]) >= c.mu * jn[i] * (1.0 - 1e-9) {
+                    r.sliding += 1;
+                }
+            }
+            for a in 0..3 {
+                force[c.interface as usize][a] += jt[i][a] / dt;
+            }
+            // the linearised end-of-step gap
+            r.max_penetration = r.max_penetration.max(c.gap - dt * rn);
+            if c.mu > 0.0 {
+                let slip: [f64; 3] = std::array::from_fn(|a| rel[a] - rn * c.normal[a]);
+                let before = self.slip_before[i];
+                r.friction_work -= (0..3)
+                    .map(|a| jt[i][a] * 0.5 * (before[a] + slip[a]))
+                    .sum::<f64>();
+            }
+        }
+        for (st, f) in self.interfaces.iter_mut().zip(&force) {
+            st.report.tangential_force = vector::norm(*f);
+        }
+    }
+}
+
+/// The nodes a step's constraints act on (their own and their faces'), sorted, once each.
+fn touched_nodes(constraints: &[NodeConstraint]) -> Vec<u32> {
+    let mut nodes: Vec<u32> = constraints
+        .iter()
+        .flat_map(|c| std::iter::once(c.node).chain(c.face.into_iter().flatten()))
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
+}
+
+/// Relative velocity of a constraint's secondary node against its primary point in the
+/// velocity field `v`.
+fn relative_velocity(c: &NodeConstraint, v: &[f64]) -> [f64; 3] {
+    impulse::relative_velocity(v, c.node, c.face.as_ref().map(|f| (f, &c.weights)))
+}

@@ -1,0 +1,374 @@
+//! Explicit central difference with lumped mass and velocity-level contact impulses.
+//!
+//! **Time discretisation** (central difference in its velocity-Verlet form, one internal
+//! force evaluation per step):
+//!
+//! $v_{n+1/2}^* = v_n + \tfrac{\Delta t}{2} a_n$, contact impulses $J$ correct it to
+//! $v_{n+1/2} = v_{n+1/2}^* + M^{-1} G J$, then $u_{n+1} = u_n + \Delta t\, v_{n+1/2}$,
+//! $a_{n+1} = M^{-1}(f_{ext} - f_{int}(u_{n+1}))$ and
+//! $v_{n+1} = v_{n+1/2} + \tfrac{\Delta t}{2} a_{n+1}$.
+//!
+//! **Contact** (in the spirit of the paper: a constraint on the gap *rate* of the step,
+//! Carpenter, Taylor and Katona's forward increment): each secondary node's mid-step gap rate
+//! must close at most its current gap over the step,
+//! $g_n + \Delta t\, \dot g_{n+1/2} \le 0$, with $J_N \ge 0$ and complementarity. The normal,
+//! the projection and $g_n$ come from the `contact_gap` kernel at $u_n$ (the same kinematics
+//! as the implicit path); $\dot g$ is linear in the velocities, so the impulses are found by a
+//! projected Jacobi iteration on the host. Its diagonal is the row-sum bound of the coupled
+//! compliance, $\tilde C_{ii} = \sum_{node} w_{node} |g_{i,node}| \sum_j |g_{j,node}|$
+//! (w the node's largest inverse mass, g the constraint's weight on the node: 1 on the
+//! secondary node, $N_k$ on the face nodes), which bounds each row of C in absolute value
+//! (Gershgorin), partly prescribed nodes included. So each sweep
+//! is a projected-gradient step in a metric that majorises the compliance: the iteration
+//! descends monotonically, and a lone constraint is solved in one sweep.
+//! Coulomb friction takes the tangential impulse that stops the relative tangential
+//! velocity and returns it onto the cone $|J_T| \le \mu J_N$ in the same sweep.
+//!
+//! Momentum is exact (every impulse acts with its opposite on the primary face's nodes by
+//! the shape functions). The history's contact force is the impulse / dt.
+
+mod contact;
+
+pub use contact::{ContactFields, ExplicitContact, ExplicitInterface};
+
+use crate::backend::Kernels;
+use crate::contact::search;
+use crate::element;
+use crate::error::Result;
+use crate::kernels;
+use crate::model::Model;
+use crate::scene::{ExplicitSettings, Method};
+use rayon::prelude::*;
+
+use super::implicit::StepReport;
+use super::integrator::Integrator;
+use super::state::{ContactReport, Energies, SolverState};
+
+/// Everything an explicit run carries from one step to the next: the checkpoint's part.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct ExplicitState {
+    pub dt: f64,
+    pub time: f64,
+    pub steps: usize,
+    pub u: Vec<f64>,
+    pub v: Vec<f64>,
+    pub a: Vec<f64>,
+    pub f_int: Vec<f64>,
+    pub u_prev: Vec<f64>,
+    pub v_half: Vec<f64>,
+    pub interfaces: Vec<ExplicitInterface>,
+}
+
+pub struct ExplicitSolver<'m> {
+    model: &'m Model,
+    pub dt: f64,
+    pub time: f64,
+    pub steps: usize,
+    kernels: Box<dyn Kernels + 'm>,
+    /// Lumped nodal mass.
+    mass: Vec<f64>,
+    /// Inverse mass per dof, zero on prescribed dofs.
+    inv_mass: Vec<f64>,
+    f_ext: Vec<f64>,
+    pub u: Vec<f64>,
+    pub v: Vec<f64>,
+    /// Acceleration of the elastic and body forces at the current u.
+    a: Vec<f64>,
+    /// Internal forces at the current u.
+    f_int: Vec<f64>,
+    /// u_n and v_{n+1/2} of the last step (the time-centred energy).
+    u_prev: Vec<f64>,
+    v_half: Vec<f64>,
+    /// What the time-centred energy measure shifts by over a shortened step (see
+    /// [`Integrator::shorten_step`]); removed from the kinetic energy reported after it.
+    measure_shift: f64,
+    contact: ExplicitContact,
+}
+
+/// The nodal start of an explicit run from the lumped masses: the inverse mass and the
+/// body force per dof (zero on prescribed dofs), the initial velocity (zero on prescribed
+/// dofs) and the initial acceleration $M^{-1} f_{ext}$.
+#[derive(Debug, Clone)]
+pub struct NodalStart {
+    pub inv_mass: Vec<f64>,
+    pub f_ext: Vec<f64>,
+    pub v: Vec<f64>,
+    pub a: Vec<f64>,
+}
+
+impl NodalStart {
+    /// From each node's mass, the prescribed dofs, gravity and the initial velocity (3 per
+    /// node each).
+    pub fn new(mass: &[f64], fixed: &[bool], gravity: [f64; 3], v0: &[f64]) -> Self {
+        let ndof = 3 * mass.len();
+        let free = |d: usize, x: f64| if fixed[d] { 0.0 } else { x };
+        let inv_mass: Vec<f64> = (0..ndof).map(|d| free(d, 1.0 / mass[d / 3])).collect();
+        let f_ext: Vec<f64> = (0..ndof)
+            .map(|d| free(d, mass[d / 3] * gravity[d % 3]))
+            .collect();
+        let v = (0..ndof).map(|d| free(d, v0[d])).collect();
+        let a = (0..ndof).map(|d| f_ext[d] * inv_mass[d]).collect();
+        NodalStart {
+            inv_mass,
+            f_ext,
+            v,
+            a,
+        }
+    }
+}
+
+impl<'m> ExplicitSolver<'m> {
+    /// Lumps the mass and sets the initial state (u = 0, v = v0, a = M^-1 f_ext).
+    pub fn new(
+        model: &'m Model,
+        settings: ExplicitSettings,
+        dt: f64,
+        speed_scale: f64,
+        kernels: Box<dyn Kernels + 'm>,
+    ) -> Result<Self> {
+        let ndof = model.dofs();
+        let mass = lumped_mass(model);
+        let start = NodalStart::new(&mass, &model.fixed, model.gravity, &model.initial_velocity);
+        let face_size = search::largest_face_size(model);
+        let contact = ExplicitContact::new(model, &settings, speed_scale, face_size);
+        Ok(ExplicitSolver {
+            model,
+            dt,
+            time: 0.0,
+            steps: 0,
+            kernels,
+            mass,
+            inv_mass: start.inv_mass,
+            f_ext: start.f_ext,
+            u: vec![0.0; ndof],
+            // v_{-1/2} := v_0, so that the first step's energy starts from the initial one
+            v_half: start.v.clone(),
+            v: start.v,
+            a: start.a,
+            f_int: vec![0.0; ndof],
+            u_prev: vec![0.0; ndof],
+            measure_shift: 0.0,
+            contact,
+        })
+    }
+
+    /// The state a checkpoint keeps.
+    pub fn state(&self) -> ExplicitState {
+        ExplicitState {
+            dt: self.dt,
+            time: self.time,
+            steps: self.steps,
+            u: self.u.clone(),
+            v: self.v.clone(),
+            a: self.a.clone(),
+            f_int: self.f_int.clone(),
+            u_prev: self.u_prev.clone(),
+            v_half: self.v_half.clone(),
+            interfaces: self.contact.interfaces.clone(),
+        }
+    }
+
+    /// Continues from a checkpoint's state (of this model: the lengths must match).
+    pub fn restore_state(&mut self, s: ExplicitState) -> std::result::Result<(), String> {
+        super::state::check_restore(
+            (s.u.len(), self.u.len()),
+            (s.interfaces.len(), self.contact.interfaces.len()),
+        )?;
+        self.dt = s.dt;
+        self.time = s.time;
+        self.steps = s.steps;
+        self.u = s.u;
+        self.v = s.v;
+        self.a = s.a;
+        self.f_int = s.f_int;
+        self.u_prev = s.u_prev;
+        self.v_half = s.v_half;
+        self.contact.interfaces = s.interfaces;
+        Ok(())
+    }
+
+    /// The step's contact impulses on the predicted velocities.
+    fn contact(&mut self) -> Result<StepReport> {
+        let margin = self
+            .contact
+            .margin(kernels::search_bounds::fastest_speed(&self.v), self.dt);
+        let fields = ContactFields {
+            u: &self.u,
+            v: &mut self.v,
+            v_half: &self.v_half,
+            inv_mass: &self.inv_mass,
+        };
+        self.contact
+            .step(self.model, self.kernels.as_mut(), fields, self.dt, margin)
+    }
+}
+
+impl Integrator for ExplicitSolver<'_> {
+    fn model(&self) -> &Model {
+        self.model
+    }
+
+    fn method(&self) -> Method {
+        Method::Explicit
+    }
+
+    fn device_name(&self) -> String {
+        self.kernels.device_name()
+    }
+
+    /// One step: predictor, contact impulses, position update, forces, corrector.
+    fn step(&mut self) -> Result<StepReport> {
+        let dt = self.dt;
+        kernels::explicit_predict(dt, &self.a, &mut self.v);
+        let report = self.contact()?;
+        self.u_prev.copy_from_slice(&self.u);
+        self.v_half.copy_from_slice(&self.v);
+        kernels::explicit_drift(dt, &self.v, &mut self.u);
+        self.kernels
+            .internal_forces_into(&self.u, &mut self.f_int)?;
+        let (f_ext, f_int, inv_mass) = (&self.f_ext, &self.f_int, &self.inv_mass);
+        self.a
+            .par_iter_mut()
+            .zip(self.v.par_iter_mut())
+            .enumerate()
+            .with_min_len(crate::parallel::CHUNK)
+            .for_each(|(d, (a, v))| {
+                *a = (f_ext[d] - f_int[d]) * inv_mass[d];
+                *v += 0.5 * dt * *a;
+            });
+        self.time += dt;
+        self.steps += 1;
+        Ok(report)
+    }
+
+    fn reports(&self) -> Vec<ContactReport> {
+        self.contact.interfaces.iter().map(|i| i.report).collect()
+    }
+
+    fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {
+        let st = &self.contact.interfaces[interface];
+        let area = self.model.interfaces[interface].area[point];
+        (st.impulse[point] / (self.dt * area), st.gap[point])
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn steps(&self) -> usize {
+        self.steps
+    }
+
+    fn displacement(&self) -> &[f64] {
+        &self.u
+    }
+
+    fn velocity(&self) -> &[f64] {
+        &self.v
+    }
+
+    fn nodal_mass(&self) -> &[f64] {
+        &self.mass
+    }
+
+    fn checkpoint_state(&mut self) -> Result<SolverState> {
+        Ok(SolverState::Explicit(self.state()))
+    }
+
+    fn restore(&mut self, state: SolverState) -> std::result::Result<(), String> {
+        match state {
+            SolverState::Explicit(s) => self.restore_state(s),
+            _ => Err(super::integrator::other_integrator()),
+        }
+    }
+
+    /// Makes the next step `dt` long (the shortened last step of a run that ends between
+    /// whole steps).
+    ///
+    /// Central difference conserves the time-centred energy
+    /// $E = \tfrac12 v_{n+1/2} M v_{n+1/2} + \tfrac12 u_n K u_{n+1} - f_{ext} \cdot (u_n + u_{n+1})/2$
+    /// exactly for a constant step h. A step of h' instead moves that measure by
+    /// $\tfrac18 (h^2 - h'^2)\, a_n \cdot M a_n$ without any change of the motion (with
+    /// $M a_n = f_{ext} - K u_n$; `method-notes.md`); the energies reported after the step take
+    /// that shift off, so the history's total energy stays the scheme's conserved quantity.
+    fn shorten_step(&mut self, dt: f64) {
+        let ama: f64 = self
+            .a
+            .iter()
+            .enumerate()
+            .map(|(d, a)| self.mass[d / 3] * a * a)
+            .sum();
+        self.measure_shift = 0.125 * (self.dt * self.dt - dt * dt) * ama;
+        self.dt = dt;
+    }
+
+    /// Energies of the last step in the time-centred form that central difference conserves
+    /// exactly for linear elasticity: kinetic $\tfrac12 v_{n+1/2}^T M v_{n+1/2}$, strain
+    /// $\tfrac12 u_n^T K u_{n+1}$, gravity $-f_{ext} \cdot (u_n + u_{n+1})/2$ (proof in
+    /// `docs/method-notes.md`). So a rise of the total is a real error (the contact impulses
+    /// can only remove energy), not the O(dt^2) wobble of the kinetic energy at whole steps.
+    /// Before the first step: the initial state.
+    fn energies(&mut self) -> Result<Energies> {
+        use crate::parallel::{dot, ordered_sum};
+        let mass = &self.mass;
+        if self.steps == 0 {
+            self.kernels
+                .internal_forces_into(&self.u, &mut self.f_int)?;
+            let v = &self.v;
+            let kinetic = 0.5 * ordered_sum(v.len(), |d| mass[d / 3] * v[d] * v[d]);
+            return Ok(Energies {
+                kinetic,
+                strain: 0.5 * dot(&self.u, &self.f_int),
+                potential: -dot(&self.f_ext, &self.u),
+            });
+        }
+        let v = &self.v_half;
+        let kinetic = 0.5 * ordered_sum(v.len(), |d| mass[d / 3] * v[d] * v[d]);
+        let potential = -0.5 * (dot(&self.f_ext, &self.u_prev) + dot(&self.f_ext, &self.u));
+        Ok(Energies {
+            kinetic: kinetic - self.measure_shift,
+            strain: 0.5 * dot(&self.u_prev, &self.f_int),
+            potential,
+        })
+    }
+
+    fn end_at(&mut self, time: f64) {
+        self.time = time;
+    }
+}
+
+/// The lumped mass of every node: each element's corner masses on all threads, a block of
+/// elements at a time, then summed to the nodes in element order (the same sums, bit for
+/// bit, on any number of threads).
+pub fn lumped_mass(model: &Model) -> Vec<f64> {
+    let mesh = &model.mesh;
+    let rho = |m: u32| model.materials[m as usize].density;
+    let mut mass = vec![0.0; mesh.node_count()];
+    scatter_blocks(&mesh.hexes, &mesh.hex_material, &mut mass, |h, m| {
+        element::hex8::lumped_mass(&h.map(|n| mesh.nodes[n as usize]), rho(m))
+    });
+    scatter_blocks(&mesh.tets, &mesh.tet_material, &mut mass, |t, m| {
+        element::tet4::lumped_mass(&t.map(|n| mesh.nodes[n as usize]), rho(m))
+    });
+    mass
+}
+
+/// Adds each element's corner values `f(element, material)` to its nodes in `out`: the values
+/// of a block of elements on all threads, then the sums in element order.
+fn scatter_blocks<const N: usize>(
+    elements: &[[u32; N]],
+    material: &[u32],
+    out: &mut [f64],
+    f: impl Fn(&[u32; N], u32) -> [f64; N] + Sync,
+) {
+    use rayon::prelude::*;
+    const BLOCK: usize = 1 << 16;
+    for (els, mats) in elements.chunks(BLOCK).zip(material.chunks(BLOCK)) {
+        let values: Vec<[f64; N]> = (els.par_iter().zip(mats)).map(|(e, &m)| f(e, m)).collect();
+        for (e, v) in els.iter().zip(&values) {
+            for k in 0..N {
+                out[e[k] as usize] += v[k];
+            }
+        }
+    }
+}

@@ -1,0 +1,178 @@
+//! The decomposed explicit path without MPI: a rank's shared-node sums against the
+//! single-process forces, bit for bit, for every rank of a 1-, 2-, 3- and 5-part split; and a
+//! run on one rank through the decomposed solver (the surface gather, the contact on the
+//! surface model, the owned sums) against the single-process run, the history file identical.
+//! `tests/mpi_ranks.rs` runs the same scenes on 2 and 4 MPI ranks.
+
+mod common;
+use common::*;
+
+use impact::backend::{CpuKernels, Kernels};
+use impact::domain::subdomain::Subdomain;
+use impact::domain::{Partition, Single};
+use impact::model::Model;
+use impact::run::{run, run_ranks, RunOptions};
+use impact::scene::Scene;
+use rand::{Rng, SeedableRng};
+
+/// A hex8 block on a tet4 plate, its nodes jittered by the random displacement the forces
+/// are taken at.
+fn mixed_model() -> Model {
+    let text = edit(
+        &tet4_cube_on_plate(),
+        "divisions = [4, 4, 4], element = \"tet4\" }",
+        "divisions = [3, 4, 5] }",
+    );
+    let scene = Scene::parse(&text, &repo().join("scenes/mixed.toml")).expect("valid scene");
+    Model::from_scene(&scene).expect("a model")
+}
+
+/// Each rank's internal forces from its own corners and the corners its neighbours send
+/// (exchanged here in memory) are the single-process forces, bit for bit, on every node it
+/// holds; each element is on one rank and each node owned by one.
+#[test]
+fn shared_node_sums_are_the_single_process_forces_bit_for_bit() {
+    let model = mixed_model();
+    assert!(!model.mesh.hexes.is_empty() && !model.mesh.tets.is_empty());
+    let mut rng = rand::rngs::StdRng::seed_from_u64(seed("ranks_forces"));
+    let u: Vec<f64> = (0..model.dofs())
+        .map(|_| rng.random_range(-0.02..0.02))
+        .collect();
+    let mut whole = CpuKernels::new(model.element_data());
+    let mut f = vec![0.0; model.dofs()];
+    whole.internal_forces_into(&u, &mut f).unwrap();
+    for parts in [1, 2, 3, 5] {
+        let partition = Partition::bisect(&model, parts);
+        let subs: Vec<Subdomain> = (0..parts)
+            .map(|r| Subdomain::new(&model, &partition, r))
+            .collect();
+        let mut kernels: Vec<CpuKernels> = subs
+            .iter()
+            .map(|s| CpuKernels::new(s.data.clone()))
+            .collect();
+        let mut local_f: Vec<Vec<f64>> = Vec::new();
+        for (s, k) in subs.iter().zip(&mut kernels) {
+            let mut fl = vec![0.0; 3 * s.nodes.len()];
+            k.internal_forces_into(&s.restrict(&u), &mut fl).unwrap();
+            local_f.push(fl);
+        }
+        assert!(
+            parts == 1 || subs.iter().all(|s| !s.shared.is_empty()),
+            "{parts} parts share no node"
+        );
+        let mut owners = vec![0usize; model.mesh.node_count()];
+        for (r, s) in subs.iter().enumerate() {
+            // what each neighbour sends this rank: its corners on the list it keeps for r
+            let mut received = vec![0.0; 3 * s.received];
+            for nb in &s.neighbours {
+                let theirs = &subs[nb.rank];
+                let back = (theirs.neighbours.iter())
+                    .find(|x| x.rank == r)
+                    .expect("neighbours both ways");
+                assert_eq!(
+                    back.send.len(),
+                    nb.receive.len(),
+                    "{parts} parts, {r} <- {}",
+                    nb.rank
+                );
+                let corners = kernels[nb.rank].corner_forces();
+                for (j, &c) in back.send.iter().enumerate() {
+                    let at = 3 * (nb.receive.start + j);
+                    received[at..at + 3].copy_from_slice(&corners[c as usize]);
+                }
+            }
+            let mut fl = local_f[r].clone();
+            s.sum_shared(kernels[r].corner_forces(), &received, &mut fl);
+            for (i, &n) in s.nodes.iter().enumerate() {
+                let n = n as usize;
+                for a in 0..3 {
+                    assert_eq!(
+                        fl[3 * i + a].to_bits(),
+                        f[3 * n + a].to_bits(),
+                        "{parts} parts, rank {r}, node {n}: {} against {}",
+                        fl[3 * i + a],
+                        f[3 * n + a]
+                    );
+                }
+                owners[n] += usize::from(s.owned[i]);
+            }
+        }
+        assert!(
+            owners.iter().all(|&o| o == 1),
+            "{parts} parts: a node not owned once"
+        );
+        let elements: usize = subs
+            .iter()
+            .map(|s| s.data.hexes.len() + s.data.tets.len())
+            .sum();
+        assert_eq!(elements, model.mesh.element_count());
+    }
+}
+
+/// Runs `text` on one process and through the decomposed solver on one rank.
+fn both_ways(tag: &str, text: &str) -> (String, String) {
+    let scene = Scene::parse(text, &repo().join("scenes").join(format!("{tag}.toml")))
+        .expect("valid scene");
+    let opts = |d: &str| RunOptions {
+        out: Some(out_dir(&format!("{tag}_{d}"))),
+        quiet: true,
+        device: Some(impact::scene::DeviceChoice::Cpu),
+        ..Default::default()
+    };
+    let (one, ranked) = (opts("process"), opts("rank"));
+    let s = run(&scene, &one).expect("single-process run completes");
+    let r = run_ranks(&scene, &ranked, &Single).expect("one-rank run completes");
+    assert_eq!(s.status, "completed", "{tag}");
+    assert_eq!(r.status, "completed", "{tag}");
+    assert_eq!(r.ranks.as_ref().map(|d| d.ranks), Some(1));
+    let read = |o: &RunOptions| {
+        std::fs::read_to_string(o.out.as_ref().unwrap().join("history.csv")).expect("history")
+    };
+    (read(&one), read(&ranked))
+}
+
+fn explicit(text: &str) -> String {
+    let text: String = (text.lines())
+        .filter(|l| !l.starts_with("time_step") && !l.starts_with("method"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    edit(&text, "[run]", "[run]\nmethod = \"explicit\"")
+}
+
+/// Friction, two bodies, a rigid wall, tet4 faces: the history of the decomposed solver on
+/// one rank is the single-process history, byte for byte.
+#[test]
+fn one_rank_runs_the_single_process_history_byte_for_byte() {
+    for (tag, text) in [
+        ("ranks_cube_on_plate", scene_text("cube_on_plate.toml")),
+        ("ranks_two_bars", scene_text("two_bars_fine.toml")),
+        ("ranks_bar_on_wall", scene_text("bar_on_wall.toml")),
+        ("ranks_tet4_cube_on_plate", tet4_cube_on_plate()),
+    ] {
+        let (one, ranked) = both_ways(tag, &explicit(&text));
+        assert!(
+            one.lines().count() > 10,
+            "{tag}: {} rows",
+            one.lines().count()
+        );
+        assert!(one == ranked, "{tag}: the histories differ");
+    }
+}
+
+/// What a decomposed run cannot do is refused with the key that asks for it.
+#[test]
+fn a_decomposed_run_refuses_the_implicit_path_and_checkpoints() {
+    let implicit = scene_text("two_bars.toml");
+    let scene = Scene::parse(&implicit, &repo().join("scenes/ranks_implicit.toml")).unwrap();
+    let opts = RunOptions {
+        out: Some(out_dir("ranks_implicit")),
+        quiet: true,
+        ..Default::default()
+    };
+    let e = run_ranks(&scene, &opts, &Single).expect_err("implicit is refused");
+    assert!(e.to_string().contains("run.method"), "{e}");
+    let text = explicit(&implicit) + "\n[output]\ncheckpoint_every = 10\n";
+    let scene = Scene::parse(&text, &repo().join("scenes/ranks_checkpoint.toml")).unwrap();
+    let e = run_ranks(&scene, &opts, &Single).expect_err("checkpoints are refused");
+    assert!(e.to_string().contains("checkpoint_every"), "{e}");
+}
