@@ -90,7 +90,7 @@ mod tests {
 
     fn plate_model(n: usize) -> Model {
         let toml = format!(
-            "[run]\nend_time = 1e-6\n[[material]]\nname = \"steel\"\ndensity = 7.8e-3\nyoungs_modulus = 200.0\npoissons_ratio = 0.3\n[[body]]\nname = \"plate\"\nmaterial = \"steel\"\nbox = {{ min = [0.0, 0.0, 0.0], max = [{n}.0, 3.0, 1.0], divisions = [{n}, 3, 1] }}\n"
+            "[run]\nmethod = \"explicit\"\nend_time = 1e-6\n[[material]]\nname = \"steel\"\ndensity = 7.8e-3\nyoungs_modulus = 200.0\npoissons_ratio = 0.3\n[[body]]\nname = \"plate\"\nmaterial = \"steel\"\nbox = {{ min = [0.0, 0.0, 0.0], max = [{n}.0, 3.0, 1.0], divisions = [{n}, 3, 1] }}\n"
         );
         let scene = crate::scene::Scene::parse(&toml, std::path::Path::new("plate.toml"))
             .expect("a valid scene");

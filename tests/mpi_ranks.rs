@@ -1,0 +1,189 @@
+//! The explicit path on 2 and 4 MPI ranks (`mpirun --oversubscribe`, built with
+//! `--features mpi`) against the single-process run: block on a plate with friction, the
+//! fine two bars (their contact face on the rank boundary) and a bar on a rigid wall.
+//!
+//! Every column of the history that follows the state itself (probes, contact force, active
+//! nodes, penetration, time) is the same bits: each rank takes the same operations on the same
+//! values in the same order as one process. The sums over the model (the energies and the
+//! bodies' velocities) add each rank's part, then the ranks in order: within 1e-12 of the
+//! largest value of their kind.
+#![cfg(feature = "mpi")]
+
+mod common;
+use common::*;
+
+use std::path::Path;
+use std::process::Command;
+
+use impact::domain::subdomain::Subdomain;
+use impact::domain::Partition;
+use impact::model::Model;
+use impact::scene::Scene;
+
+fn explicit(text: &str) -> String {
+    let text: String = (text.lines())
+        .filter(|l| !l.starts_with("time_step") && !l.starts_with("method"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    edit(&text, "[run]", "[run]\nmethod = \"explicit\"")
+}
+
+/// `impact run scene --out dir` on `ranks` MPI processes (one process where `ranks` is 0).
+fn impact_run(ranks: usize, scene: &Path, out: &Path) {
+    let bin = env!("CARGO_BIN_EXE_impact");
+    let mut cmd = if ranks == 0 {
+        Command::new(bin)
+    } else {
+        let mut c = Command::new("mpirun");
+        c.args(["--oversubscribe", "-n", &ranks.to_string(), bin]);
+        c
+    };
+    let args = [
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let status = cmd
+        .args(args)
+        .args(["--quiet", "--overwrite", "--device", "cpu"])
+        // Open MPI refuses root unless told (CI runs as root)
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("RAYON_NUM_THREADS", "1")
+        .status()
+        .expect("mpirun (Open MPI) on the PATH");
+    assert!(status.success(), "{ranks} ranks: {status}");
+}
+
+/// Whether a column is a sum over the model (the energies, a body's velocity), and its
+/// kind.
+fn sum_kind(column: &str, bodies: &[String]) -> Option<&'static str> {
+    let body_velocity = |b: &String| {
+        ["vx", "vy", "vz"]
+            .map(|v| format!("{b}.{v}"))
+            .contains(&column.to_string())
+    };
+    if column.ends_with("_energy") {
+        Some("energy")
+    } else if bodies.iter().any(body_velocity) {
+        Some("body velocity")
+    } else {
+        None
+    }
+}
+
+/// Runs `text` on one process and on 2 and 4 ranks; checks the histories as the module
+/// says. Returns the 2-rank history.
+fn same_on_ranks(tag: &str, text: &str) -> History {
+    let dir = out_dir(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    let bodies = Scene::parse(text, &dir.join("scene.toml"))
+        .map(|s| s.bodies.iter().map(|b| b.name.clone()).collect::<Vec<_>>())
+        .expect("valid scene");
+    let scene = dir.join(format!("{tag}.toml"));
+    std::fs::write(&scene, text).unwrap();
+    impact_run(0, &scene, &dir.join("process"));
+    let one = History::read(&dir.join("process/history.csv"));
+    let mut two = None;
+    for ranks in [2, 4] {
+        let out = dir.join(format!("ranks{ranks}"));
+        impact_run(ranks, &scene, &out);
+        let h = History::read(&out.join("history.csv"));
+        assert_eq!(h.columns, one.columns, "{tag}: columns");
+        assert_eq!(h.rows.len(), one.rows.len(), "{tag}: rows");
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        assert_eq!(summary["status"], "completed", "{tag} on {ranks} ranks");
+        assert_eq!(summary["ranks"]["ranks"], ranks, "{tag}");
+        for (j, c) in one.columns.iter().enumerate() {
+            let kind = sum_kind(c, &bodies);
+            let scale = (one.columns.iter().enumerate())
+                .filter(|(_, d)| sum_kind(d, &bodies) == kind)
+                .flat_map(|(k, _)| one.rows.iter().map(move |r| r[k].abs()))
+                .fold(0.0f64, f64::max);
+            for (a, b) in one.rows.iter().zip(&h.rows) {
+                match kind {
+                    None => assert_eq!(
+                        a[j].to_bits(),
+                        b[j].to_bits(),
+                        "{tag}, {ranks} ranks, {c}: {} against {}",
+                        b[j],
+                        a[j]
+                    ),
+                    Some(_) => assert!(
+                        (a[j] - b[j]).abs() <= 1e-12 * scale,
+                        "{tag}, {ranks} ranks, {c}: {} against {}",
+                        b[j],
+                        a[j]
+                    ),
+                }
+            }
+        }
+        if ranks == 2 {
+            two = Some(h);
+        }
+    }
+    two.expect("a 2-rank run")
+}
+
+#[test]
+fn block_on_plate_with_friction_is_the_same_on_2_and_4_ranks() {
+    same_on_ranks(
+        "mpi_cube_on_plate",
+        &explicit(&scene_text("cube_on_plate.toml")),
+    );
+}
+
+#[test]
+fn bar_on_rigid_wall_is_the_same_on_2_and_4_ranks() {
+    same_on_ranks(
+        "mpi_bar_on_wall",
+        &explicit(&scene_text("bar_on_wall.toml")),
+    );
+}
+
+/// The fine two bars on 2 ranks: the bisection puts bar A on rank 0 and bar B on rank 1, so
+/// the contact face is the rank boundary; the history is the single process's and matches 1D
+/// wave theory within the fine-mesh tolerances.
+#[test]
+fn two_bars_split_at_their_contact_face_match_wave_theory_on_ranks() {
+    let text = explicit(&scene_text("two_bars_fine.toml"));
+    let scene = Scene::parse(&text, &repo().join("scenes/mpi_two_bars.toml")).unwrap();
+    let model = Model::from_scene(&scene).unwrap();
+    let partition = Partition::bisect(&model, 2);
+    let itf = &model.interfaces[0];
+    let faces = &model.queries.faces;
+    let (a, b) = (
+        Subdomain::new(&model, &partition, 0),
+        Subdomain::new(&model, &partition, 1),
+    );
+    let holds = |s: &Subdomain, n: u32| s.nodes.binary_search(&n).is_ok();
+    assert!(
+        itf.nodes.iter().all(|&n| holds(&a, n) && !holds(&b, n)),
+        "A's face on rank 0 only"
+    );
+    assert!(
+        faces
+            .iter()
+            .flatten()
+            .all(|&n| holds(&b, n) && !holds(&a, n)),
+        "B's face on rank 1 only"
+    );
+    let h = same_on_ranks("mpi_two_bars", &text);
+    let s: impact::output::Summary = {
+        let v: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(out_path("mpi_two_bars").join("ranks2/summary.json")).unwrap(),
+        )
+        .unwrap();
+        impact::output::Summary {
+            time_step: v["time_step"].as_f64().unwrap(),
+            iterations_mean: v["iterations_mean"].as_f64().unwrap(),
+            iterations_max: v["iterations_max"].as_u64().unwrap() as usize,
+            unconverged_steps: v["unconverged_steps"].as_u64().unwrap() as usize,
+            ..Default::default()
+        }
+    };
+    check_two_bars_history("two bars on 2 ranks", &h, &s, s.time_step, &FINE);
+}
