@@ -154,7 +154,7 @@ fn surface_samples(model: &Model, body: usize, faces: &[[u32; 4]], nodes: &[u32]
         ..Default::default()
     };
     let mut lists = vec![Vec::new(); nodes.len()];
-    find_candidates(&mut q, x, 0..nodes.len(), 0..faces.len(), reach, &mut lists);
+    find_candidates(&q, x, 0..nodes.len(), 0..faces.len(), reach, &mut lists);
     flatten(&mut q, &lists);
     let (lo, hi) = bounding_box(x, model.mesh.bodies[body].nodes.clone());
     (0..nodes.len())

@@ -13,16 +13,40 @@ use crate::kernels::ContactQueries;
 use crate::model::Model;
 use crate::model::Primary;
 
-/// Fills `queries.offsets` and `queries.candidates` for the queries in `query_range`
-/// against the faces in `face_range`. `x` holds current positions (3 per node).
+/// Fills the candidate list (`out`) of each query in `query_range` with the faces of
+/// `face_range` whose box grown by `margin` holds its node. `x` holds current positions.
 pub fn find_candidates(
-    queries: &mut ContactQueries,
+    queries: &ContactQueries,
     x: &[[f64; 3]],
     query_range: std::ops::Range<usize>,
     face_range: std::ops::Range<usize>,
     margin: f64,
     out: &mut [Vec<u32>],
 ) {
+    let query_ids: Vec<usize> = query_range.collect();
+    find_candidates_of(queries, x, &query_ids, face_range, margin, out);
+}
+
+/// [`find_candidates`] for the queries `query_ids` alone (increasing). Each query's list is
+/// the faces of `face_range` whose grown box holds it, in face order, whichever other
+/// queries are searched with it.
+pub fn find_candidates_of(
+    queries: &ContactQueries,
+    x: &[[f64; 3]],
+    query_ids: &[usize],
+    face_range: std::ops::Range<usize>,
+    margin: f64,
+    out: &mut [Vec<u32>],
+) {
+    // only faces whose grown box reaches the queries' box can hold one of them
+    let mut reach = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for &qi in query_ids {
+        let p = x[queries.secondary[qi] as usize];
+        for a in 0..3 {
+            reach.0[a] = reach.0[a].min(p[a]);
+            reach.1[a] = reach.1[a].max(p[a]);
+        }
+    }
     let mut boxes = Vec::with_capacity(face_range.len());
     let mut cell = 0.0f64;
     for fi in face_range.clone() {
@@ -37,6 +61,11 @@ pub fn find_candidates(
         for a in 0..3 {
             lo[a] -= margin;
             hi[a] += margin;
+        }
+        if (0..3).any(|a| hi[a] < reach.0[a] || lo[a] > reach.1[a]) {
+            continue;
+        }
+        for a in 0..3 {
             cell = cell.max(hi[a] - lo[a]);
         }
         boxes.push((fi as u32, lo, hi));
@@ -57,13 +86,12 @@ pub fn find_candidates(
     // same lists
     use rayon::prelude::*;
     let secondary = &queries.secondary;
-    out[query_range.clone()]
-        .par_iter_mut()
+    let lists: Vec<Vec<u32>> = query_ids
+        .par_iter()
         .with_min_len(256)
-        .zip(query_range)
-        .for_each(|(list, qi)| {
+        .map(|&qi| {
             let p = x[secondary[qi] as usize];
-            list.clear();
+            let mut list = Vec::new();
             if let Some(cands) = grid.get(&key(p)) {
                 for &b in cands {
                     let (fi, lo, hi) = &boxes[b];
@@ -72,7 +100,12 @@ pub fn find_candidates(
                     }
                 }
             }
-        });
+            list
+        })
+        .collect();
+    for (&qi, list) in query_ids.iter().zip(lists) {
+        out[qi] = list;
+    }
 }
 
 /// Flattens per-query candidate lists into the CSR arrays of `queries`.

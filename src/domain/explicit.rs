@@ -24,8 +24,9 @@ use crate::integrate::explicit::{lumped_mass, ContactFields, ExplicitContact, No
 use crate::integrate::{
     ContactReport, Decomposition, Energies, Integrator, ProbeValues, SolverState, StepReport,
 };
-use crate::kernels::{self, search_bounds::fastest_speed};
-use crate::model::Model;
+use crate::kernels::{self, as_vec3, contact_gap, search_bounds::fastest_speed};
+use crate::kernels::{ContactPoint, ContactQueries};
+use crate::model::{Model, Primary};
 use crate::parallel::ordered_sum;
 use crate::scene::{ExplicitSettings, Method};
 
@@ -43,8 +44,16 @@ pub struct RankFigures {
 /// The contact surfaces every rank holds and works the contact on.
 struct Surface {
     model: Model,
-    kernels: CpuKernels,
     contact: ExplicitContact,
+    /// The queries (with their candidates) and their closest points as this rank finds
+    /// them: its own queries' (those of the secondary nodes it owns), increasing.
+    queries: ContactQueries,
+    lists: Vec<Vec<u32>>,
+    points: Vec<ContactPoint>,
+    owned_queries: Vec<usize>,
+    /// Each rank's query count and the query of each entry of the gathered points.
+    point_counts: Vec<usize>,
+    point_order: Vec<u32>,
     u: Vec<f64>,
     v: Vec<f64>,
     v_half: Vec<f64>,
@@ -235,6 +244,18 @@ impl<'m> DomainSolver<'m> {
         }
         s.gathered = gathered;
         let margin = s.contact.margin(speed, self.dt);
+        s.find_own_points(margin);
+        let mine: Vec<f64> = (s.owned_queries.iter())
+            .flat_map(|&q| pack(&s.points[q]))
+            .collect();
+        let counts: Vec<usize> = s.point_counts.iter().map(|c| POINT * c).collect();
+        let mut all = vec![0.0; POINT * s.points.len()];
+        self.talk(|r| r.all_gather(&mine, &counts, &mut all));
+        let s = &mut self.surface;
+        let points = s.contact.query_points_mut();
+        for (j, &q) in s.point_order.iter().enumerate() {
+            points[q as usize] = unpack(&all[POINT * j..POINT * (j + 1)]);
+        }
         let fields = ContactFields {
             u: &s.u,
             v: &mut s.v,
@@ -243,7 +264,7 @@ impl<'m> DomainSolver<'m> {
         };
         let report = s
             .contact
-            .step(&s.model, &mut s.kernels, fields, self.dt, margin)?;
+            .step_from_points(&s.model, fields, self.dt, margin)?;
         for &(k, n) in &map.held {
             let (k, n) = (3 * k as usize, 3 * n as usize);
             self.v[n..n + 3].copy_from_slice(&s.v[k..k + 3]);
@@ -304,9 +325,22 @@ impl Surface {
         let face_size = search::largest_face_size(model);
         let contact = ExplicitContact::new(&surface, settings, speed_scale, face_size);
         let n = 3 * nodes.len();
+        let owner = |q: usize| sub.surface.owner[surface.queries.secondary[q] as usize] as usize;
+        let nq = surface.queries.len();
+        let mut point_order: Vec<u32> = (0..nq as u32).collect();
+        point_order.sort_by_key(|&q| (owner(q as usize), q));
+        let mut point_counts = vec![0; sub.ranks];
+        for q in 0..nq {
+            point_counts[owner(q)] += 1;
+        }
         Surface {
-            kernels: CpuKernels::new(surface.element_data()),
             contact,
+            queries: surface.queries.clone(),
+            lists: vec![Vec::new(); nq],
+            points: vec![ContactPoint::default(); nq],
+            owned_queries: (0..nq).filter(|&q| owner(q) == sub.rank).collect(),
+            point_counts,
+            point_order,
             u: vec![0.0; n],
             v: vec![0.0; n],
             v_half: start.v,
@@ -314,6 +348,70 @@ impl Surface {
             gathered: vec![0.0; 2 * n],
             model: surface,
         }
+    }
+}
+
+impl Surface {
+    /// The closest points of this rank's own queries: the broad phase over the faces that
+    /// reach them, then the closest point on each candidate (the single process's search
+    /// and [`crate::kernels::contact_gap`], so the same points, bit for bit).
+    fn find_own_points(&mut self, margin: f64) {
+        let reference = &self.model.mesh.nodes;
+        let x: Vec<[f64; 3]> = (reference.iter().enumerate())
+            .map(|(n, p)| std::array::from_fn(|a| p[a] + self.u[3 * n + a]))
+            .collect();
+        for itf in &self.model.interfaces {
+            if let Primary::Surface { faces, queries, .. } = &itf.primary {
+                let own = &self.owned_queries;
+                let from = own.partition_point(|&q| q < queries.start);
+                let to = own.partition_point(|&q| q < queries.end);
+                let ids = &own[from..to];
+                search::find_candidates_of(
+                    &self.queries,
+                    &x,
+                    ids,
+                    faces.clone(),
+                    margin,
+                    &mut self.lists,
+                );
+            }
+        }
+        search::flatten(&mut self.queries, &self.lists);
+        contact_gap(
+            reference,
+            as_vec3(&self.u),
+            as_vec3(&self.v),
+            &self.queries,
+            &mut self.points,
+        );
+    }
+}
+
+/// Values per contact point in the gathered points.
+const POINT: usize = 8;
+
+/// A contact point as values (the face number is exact in an f64).
+fn pack(p: &ContactPoint) -> [f64; POINT] {
+    let (xi, n) = (p.xi, p.normal);
+    [
+        p.face as f64,
+        xi[0],
+        xi[1],
+        n[0],
+        n[1],
+        n[2],
+        p.gap,
+        p.gap_rate,
+    ]
+}
+
+fn unpack(x: &[f64]) -> ContactPoint {
+    ContactPoint {
+        face: x[0] as u32,
+        xi: [x[1], x[2]],
+        normal: [x[3], x[4], x[5]],
+        gap: x[6],
+        gap_rate: x[7],
     }
 }
 

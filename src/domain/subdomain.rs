@@ -47,6 +47,8 @@ pub struct SurfaceMap {
     /// The surface index of each entry of the gathered surface (rank 0's owned nodes, then
     /// rank 1's, ...).
     pub order: Vec<u32>,
+    /// The owner of each surface node.
+    pub owner: Vec<u32>,
 }
 
 /// One rank's elements, nodes and exchange lists.
@@ -337,6 +339,7 @@ fn surface_map(
     let mut order: Vec<u32> = (0..nodes.len() as u32).collect();
     order.sort_by_key(|&s| (owner[nodes[s as usize] as usize], s));
     SurfaceMap {
+        owner: nodes.iter().map(|&n| owner[n as usize]).collect(),
         nodes,
         held,
         owned,

@@ -123,8 +123,8 @@ impl ExplicitContact {
         self.face_size + 4.0 * dt * speed
     }
 
-    /// Contact impulses of the step: projected Jacobi sweeps until no constraint is violated
-    /// by more than the tolerance. `margin` is [`ExplicitContact::margin`].
+    /// Contact impulses of the step: the closest points of every query, then
+    /// [`ExplicitContact::step_from_points`]. `margin` is [`ExplicitContact::margin`].
     pub fn step(
         &mut self,
         model: &Model,
@@ -133,7 +133,38 @@ impl ExplicitContact {
         dt: f64,
         margin: f64,
     ) -> Result<StepReport> {
-        self.gather_constraints(model, kernels, f.u, f.v, f.inv_mass, dt, margin)?;
+        // the broad phase's margin is also the reach of the step: nodes farther from their
+        // surface cannot touch it within the step, even with their neighbours' impulses
+        if !self.queries.is_empty() {
+            kernels.contact_search_into(
+                model,
+                f.u,
+                f.v,
+                margin,
+                &mut self.queries,
+                &mut self.candidate_lists,
+                &mut self.query_points,
+            )?;
+        }
+        self.step_from_points(model, f, dt, margin)
+    }
+
+    /// The closest point of every query, for a caller that finds them itself (the ranks of
+    /// a decomposed run each find their own and gather the rest).
+    pub fn query_points_mut(&mut self) -> &mut [ContactPoint] {
+        &mut self.query_points
+    }
+
+    /// Contact impulses of the step from the query points found: projected Jacobi sweeps
+    /// until no constraint is violated by more than the tolerance.
+    pub fn step_from_points(
+        &mut self,
+        model: &Model,
+        f: ContactFields,
+        dt: f64,
+        margin: f64,
+    ) -> Result<StepReport> {
+        self.gather_constraints(model, f.u, f.v, f.inv_mass, dt, margin);
         for st in &mut self.interfaces {
             st.impulse.fill(0.0);
             st.tangential.fill([0.0; 3]);
@@ -171,33 +202,19 @@ impl ExplicitContact {
         Ok(report)
     }
 
-    /// The constraints of the step at (u_n, v*): surfaces through the kernels, planes
-    /// analytically; only nodes within one face size plus four steps of the fastest node's
-    /// motion of their primary surface, or within four steps of their own motion of a plane.
-    #[allow(clippy::too_many_arguments)]
+    /// The constraints of the step at (u_n, v*) with their split compliances: surfaces from
+    /// the query points, planes analytically; only nodes within one face size plus four
+    /// steps of the fastest node's motion of their primary surface, or within four steps of
+    /// their own motion of a plane.
     fn gather_constraints(
         &mut self,
         model: &Model,
-        kernels: &mut dyn Kernels,
         u: &[f64],
         v: &[f64],
         inv_mass: &[f64],
         dt: f64,
         margin: f64,
-    ) -> Result<()> {
-        // the broad phase's margin is also the reach of the step: nodes farther from their
-        // surface cannot touch it within the step, even with their neighbours' impulses
-        if !self.queries.is_empty() {
-            kernels.contact_search_into(
-                model,
-                u,
-                v,
-                margin,
-                &mut self.queries,
-                &mut self.candidate_lists,
-                &mut self.query_points,
-            )?;
-        }
+    ) {
         self.constraints.clear();
         for (k, itf) in model.interfaces.iter().enumerate() {
             for i in 0..itf.nodes.len() {
@@ -207,7 +224,6 @@ impl ExplicitContact {
             }
         }
         self.split_compliances(inv_mass);
-        Ok(())
     }
 
     /// The constraint of secondary node `i` of interface `k`, if it is within reach of its

@@ -1,0 +1,159 @@
+//! Weak scaling of the explicit path over MPI ranks: the elements per rank fixed, the model
+//! growing with the ranks. Prints a table of the time per step, the time per element-step
+//! and each run's share of time in communication (exchanges and collectives, waiting
+//! included).
+//!
+//! The scene is a plate supported along its bottom edges, with one block per rank dropped on
+//! it at 1 with friction 0.2 (each block its own contact interface), so that the plate's
+//! elements, the contact surfaces and the impacts all grow with the ranks. P = 1 is the
+//! single-process run; P > 1 runs `mpirun --oversubscribe -n P impact run` with one thread
+//! per rank.
+//!
+//! `cargo bench --features mpi --bench ranks` (14,528 elements per rank, about 150 steps,
+//! ranks 1, 2 and every power of two up to the cores); `-- --quick` for 1,816 elements per
+//! rank on 1 and 2 ranks.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The plate `4 P x 4 x 0.4` in `(20 P) x 20 x 4` n^3 cells (n the refinement), with P blocks
+/// of `0.6^3` in `(6 n)^3` cells, one centred over each `4 x 4` square of the plate.
+fn scene(ranks: usize, n: usize) -> String {
+    let mut s = format!(
+        r#"
+[run]
+method = "explicit"
+end_time = {end}
+
+[[material]]
+name = "steel"
+density = 7.8e-3
+youngs_modulus = 200.0
+poissons_ratio = 0.3
+
+[[body]]
+name = "plate"
+material = "steel"
+box = {{ min = [0.0, 0.0, -0.4], max = [{lx}, 4.0, 0.0], divisions = [{px}, {py}, {pz}] }}
+
+[[fix]]
+body = "plate"
+region = {{ min = [0.0, 0.0, -0.4], max = [{lx}, 0.0, -0.4] }}
+components = ["x", "y", "z"]
+
+[[fix]]
+body = "plate"
+region = {{ min = [0.0, 4.0, -0.4], max = [{lx}, 4.0, -0.4] }}
+components = ["z"]
+"#,
+        end = 0.06 / n as f64,
+        lx = 4.0 * ranks as f64,
+        px = 20 * ranks * n,
+        py = 20 * n,
+        pz = 4 * n,
+    );
+    for k in 0..ranks {
+        let x0 = 4.0 * k as f64 + 1.7;
+        s += &format!(
+            r#"
+[[body]]
+name = "block{k}"
+material = "steel"
+box = {{ min = [{x0}, 1.7, 0.0], max = [{x1}, 2.3, 0.6], divisions = [{b}, {b}, {b}] }}
+velocity = [0.0, 0.0, -1.0]
+
+[[contact]]
+name = "impact{k}"
+secondary = {{ body = "block{k}", face = "z-" }}
+primary = {{ body = "plate", face = "z+" }}
+friction = 0.2
+"#,
+            x1 = x0 + 0.6,
+            b = 6 * n,
+        );
+    }
+    s
+}
+
+/// The figures of one run from its summary.
+struct Figures {
+    elements: usize,
+    steps: usize,
+    step_seconds: f64,
+    communication: f64,
+}
+
+fn run(ranks: usize, n: usize, dir: &Path) -> Figures {
+    std::fs::create_dir_all(dir).expect("bench folder");
+    let path = dir.join(format!("weak_{ranks}.toml"));
+    std::fs::write(&path, scene(ranks, n)).expect("scene written");
+    let out = dir.join(format!("weak_{ranks}"));
+    let bin = env!("CARGO_BIN_EXE_impact");
+    let mut cmd = if ranks == 1 {
+        Command::new(bin)
+    } else {
+        let mut c = Command::new("mpirun");
+        c.args(["--oversubscribe", "-n", &ranks.to_string(), bin]);
+        c
+    };
+    let status = cmd
+        .args(["--threads", "1", "run"])
+        .arg(&path)
+        .arg("--out")
+        .arg(&out)
+        .args(["--quiet", "--overwrite", "--device", "cpu"])
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .stdout(std::process::Stdio::null())
+        .status()
+        .expect("impact (and mpirun) run");
+    assert!(status.success(), "{ranks} ranks: {status}");
+    let text = std::fs::read_to_string(out.join("summary.json")).expect("summary.json");
+    let s: serde_json::Value = serde_json::from_str(&text).expect("summary");
+    assert_eq!(s["status"], "completed", "{ranks} ranks");
+    let steps = s["steps"].as_u64().expect("steps") as usize;
+    let stepping = s["wall_seconds"].as_f64().unwrap() - s["setup_seconds"].as_f64().unwrap();
+    let communication = match s["ranks"]["communication_seconds"].as_array() {
+        Some(c) => c.iter().filter_map(|x| x.as_f64()).sum::<f64>() / c.len() as f64,
+        None => 0.0,
+    };
+    Figures {
+        elements: s["elements"].as_u64().expect("elements") as usize,
+        steps,
+        step_seconds: stepping / steps as f64,
+        communication: communication / stepping,
+    }
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--quick");
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+    let (n, mut ranks) = if quick {
+        (1, vec![1, 2])
+    } else {
+        (2, vec![1, 2])
+    };
+    let mut p = 4;
+    while !quick && p <= cores {
+        ranks.push(p);
+        p *= 2;
+    }
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench_ranks");
+    println!("weak scaling, explicit CPU path, one thread per rank ({cores} cores here)");
+    println!(
+        "| ranks | elements | per rank | steps | ms per step | ns per element-step | communication |"
+    );
+    println!("|---:|---:|---:|---:|---:|---:|---:|");
+    for &r in &ranks {
+        let f = run(r, n, &dir);
+        println!(
+            "| {r} | {} | {} | {} | {:.2} | {:.0} | {:.1}% |",
+            f.elements,
+            f.elements / r,
+            f.steps,
+            1e3 * f.step_seconds,
+            1e9 * f.step_seconds / f.elements as f64 * r as f64,
+            100.0 * f.communication
+        );
+    }
+}
