@@ -1,7 +1,8 @@
 //! The explicit step on one rank of a decomposed run: the single-process step
 //! ([`crate::integrate::ExplicitSolver`]) on the rank's own elements and nodes, with the
-//! shared nodes' forces summed from the neighbours' corners and the contact worked on the
-//! gathered contact surfaces.
+//! shared nodes' forces summed from the neighbours' corners. For the contact every rank
+//! gathers the contact surfaces' nodes, finds the closest points of the secondary nodes it
+//! owns, gathers everyone's points, and works the impulse sweeps on the surface model.
 //!
 //! Every node a rank holds follows the same operations as in a single process, so the
 //! state (displacements, velocities, accelerations, contact impulses) is the same bits on any
@@ -563,8 +564,11 @@ impl Integrator for DomainSolver<'_> {
         let column = |k: usize| all.iter().map(|r| r[k] as usize).collect();
         Some(Decomposition {
             ranks: self.ranks.size(),
-            partition: "recursive coordinate bisection of the element centroids, equal element counts".into(),
-            contact: "the contact surfaces' nodes gathered on every rank each step; every rank works the whole contact".into(),
+            partition: format!(
+                "recursive coordinate bisection of the element centroids into equal weights (an element weighs 1, plus {} for each secondary-node corner)",
+                super::partition::CONTACT_WEIGHT
+            ),
+            contact: "each rank searches the primary faces for the secondary nodes it owns; the contact surfaces' state and the closest points are gathered on every rank, and every rank works the impulse sweeps".into(),
             elements: column(0),
             nodes: column(1),
             shared_nodes: column(2),

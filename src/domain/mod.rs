@@ -1,6 +1,7 @@
 //! The explicit path decomposed over ranks: each rank steps its share of the elements and
-//! the nodes they touch, sums the forces of the nodes it shares with its neighbours, and
-//! works the contact on the gathered contact surfaces.
+//! the nodes they touch, sums the forces of the nodes it shares with its neighbours, finds
+//! the contacts of the secondary nodes it owns, and works the impulse sweeps on the gathered
+//! contact surfaces (`docs/mpi.md`).
 //!
 //! - [`partition`]: recursive coordinate bisection of the elements;
 //! - [`subdomain`]: a rank's elements, nodes, neighbours and shared-node sums;

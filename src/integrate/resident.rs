@@ -1,7 +1,7 @@
 //! [`ResidentSolver`]: the explicit path with every stage of the step on the GPU
 //! ([`crate::gpu::ResidentStep`]). The same time discretisation and the same contact
 //! iteration as [`super::ExplicitSolver`], its CPU twin (`device = "cpu"`): see
-//! `integrate/explicit.rs`, `kernels/plane_contact.rs` (rigid planes alone) and
+//! `integrate/explicit/`, `kernels/plane_contact.rs` (rigid planes alone) and
 //! `gpu/contact_iteration.rs` (contact between meshed bodies).
 //!
 //! The host submits many steps at a time and decodes the history rows the device reduced, one
