@@ -187,3 +187,32 @@ fn two_bars_split_at_their_contact_face_match_wave_theory_on_ranks() {
     };
     check_two_bars_history("two bars on 2 ranks", &h, &s, s.time_step, &FINE);
 }
+
+/// The cube on the plate with a frame every 10 steps on 3 ranks: every point and cell of
+/// every piece holds the values of the single process's frame, bit for bit, and the pieces
+/// cover every node and hold every cell once (`scripts/compare_pieces.py`, with meshio).
+#[test]
+fn frames_on_3_ranks_are_pieces_of_the_single_process_frames() {
+    let tag = "mpi_frames";
+    let dir = out_dir(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("cube.toml");
+    let text = explicit(&scene_text("cube_on_plate.toml")) + "\n[output]\nvtu_every = 10\n";
+    std::fs::write(&scene, text).unwrap();
+    impact_run(0, &scene, &dir.join("process"));
+    impact_run(3, &scene, &dir.join("ranks3"));
+    assert!(
+        dir.join("ranks3/cube_000010_0002.vtu").exists(),
+        "rank 2's piece"
+    );
+    let out = Command::new("python3")
+        .arg(repo().join("scripts/compare_pieces.py"))
+        .args([dir.join("process"), dir.join("ranks3")])
+        .arg("cube")
+        .output()
+        .expect("python3 with meshio");
+    let text =
+        String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{text}");
+    assert!(text.contains("6 frames"), "{text}");
+}

@@ -16,14 +16,14 @@ use rayon::prelude::*;
 
 use super::partition::Partition;
 use super::ranks::Ranks;
-use super::subdomain::{owners, Subdomain};
+use super::subdomain::Subdomain;
 use super::surface::surface_model;
 use crate::backend::{CpuKernels, Kernels};
 use crate::contact::search;
 use crate::error::{ImpactError, Result};
 use crate::integrate::explicit::{lumped_mass, ContactFields, ExplicitContact, NodalStart};
 use crate::integrate::{
-    ContactReport, Decomposition, Energies, Integrator, ProbeValues, SolverState, StepReport,
+    ContactReport, Decomposition, Energies, Integrator, Piece, ProbeValues, SolverState, StepReport,
 };
 use crate::kernels::{self, as_vec3, contact_gap, search_bounds::fastest_speed};
 use crate::kernels::{ContactPoint, ContactQueries};
@@ -85,25 +85,18 @@ pub struct DomainSolver<'m> {
     measure_shift: f64,
     surface: Surface,
     received: Vec<f64>,
-    /// Frames: every how many steps, the run's last step, the nodes in gathered order and
-    /// the whole model's state at the last frame.
-    frames: Option<(usize, usize)>,
-    frame_order: Vec<u32>,
-    frame_counts: Vec<usize>,
-    global_u: Vec<f64>,
-    global_v: Vec<f64>,
+    /// The rank's part of the model, for its pieces of the frames.
+    piece: Model,
     communication: std::cell::Cell<f64>,
 }
 
 impl<'m> DomainSolver<'m> {
-    /// Rank `ranks.rank()`'s part of `model` under `partition`. `frames` is (every, last
-    /// step) where the run writes VTU frames: the state is gathered on those steps.
+    /// Rank `ranks.rank()`'s part of `model` under `partition`.
     pub fn new(
         model: &'m Model,
         ranks: &'m dyn Ranks,
         partition: &Partition,
         (settings, dt, speed_scale): (&ExplicitSettings, f64, f64),
-        frames: Option<(usize, usize)>,
     ) -> Result<Self> {
         let sub = Subdomain::new(model, partition, ranks.rank());
         let mass_all = lumped_mass(model);
@@ -123,16 +116,7 @@ impl<'m> DomainSolver<'m> {
         );
         let surface = Surface::new(model, &sub, &mass_all, settings, speed_scale);
         let ndof = 3 * sub.nodes.len();
-        let (frame_order, frame_counts) = match frames {
-            Some(_) => frame_layout(model, partition),
-            None => (Vec::new(), Vec::new()),
-        };
-        let global = NodalStart::new(
-            &mass_all,
-            &model.fixed,
-            model.gravity,
-            &model.initial_velocity,
-        );
+        let piece = sub.piece_model(model);
         Ok(DomainSolver {
             model,
             ranks,
@@ -153,11 +137,7 @@ impl<'m> DomainSolver<'m> {
             u_prev: vec![0.0; ndof],
             measure_shift: 0.0,
             surface,
-            frames,
-            frame_order,
-            frame_counts,
-            global_u: vec![0.0; model.dofs()],
-            global_v: global.v,
+            piece,
             mass_all,
             communication: std::cell::Cell::new(0.0),
         })
@@ -272,27 +252,6 @@ impl<'m> DomainSolver<'m> {
         }
         s.v_half.copy_from_slice(&s.v);
         Ok(report)
-    }
-
-    /// The whole model's displacements and velocities from every rank's owned nodes.
-    fn gather_state(&mut self) {
-        let mine: Vec<f64> = (0..self.sub.nodes.len())
-            .filter(|&i| self.sub.owned[i])
-            .flat_map(|i| {
-                self.u[3 * i..3 * i + 3]
-                    .iter()
-                    .chain(&self.v[3 * i..3 * i + 3])
-                    .copied()
-            })
-            .collect();
-        let counts: Vec<usize> = self.frame_counts.iter().map(|c| 6 * c).collect();
-        let mut all = vec![0.0; 6 * self.frame_order.len()];
-        self.talk(|r| r.all_gather(&mine, &counts, &mut all));
-        for (j, &n) in self.frame_order.iter().enumerate() {
-            let d = 3 * n as usize;
-            self.global_u[d..d + 3].copy_from_slice(&all[6 * j..6 * j + 3]);
-            self.global_v[d..d + 3].copy_from_slice(&all[6 * j + 3..6 * j + 6]);
-        }
     }
 
     /// Sums over the rank's owned dofs of `f(d)` for each column, then over the ranks.
@@ -416,19 +375,6 @@ fn unpack(x: &[f64]) -> ContactPoint {
     }
 }
 
-/// The model's nodes in the order a gather of every rank's owned nodes delivers them, and
-/// how many each rank owns.
-fn frame_layout(model: &Model, partition: &Partition) -> (Vec<u32>, Vec<usize>) {
-    let owner = owners(model, partition);
-    let mut order: Vec<u32> = (0..model.mesh.node_count() as u32).collect();
-    order.sort_by_key(|&n| (owner[n as usize], n));
-    let mut counts = vec![0; partition.parts];
-    for &o in &owner {
-        counts[o as usize] += 1;
-    }
-    (order, counts)
-}
-
 impl Integrator for DomainSolver<'_> {
     fn model(&self) -> &Model {
         self.model
@@ -468,11 +414,6 @@ impl Integrator for DomainSolver<'_> {
             });
         self.time += dt;
         self.steps += 1;
-        if let Some((every, last)) = self.frames {
-            if self.steps % every == 0 || self.steps == last {
-                self.gather_state();
-            }
-        }
         Ok(report)
     }
 
@@ -496,14 +437,23 @@ impl Integrator for DomainSolver<'_> {
         self.steps
     }
 
-    /// The whole model's displacements at the last frame step.
+    /// The displacements of the rank's nodes.
     fn displacement(&self) -> &[f64] {
-        &self.global_u
+        &self.u
     }
 
-    /// The whole model's velocities at the last frame step.
+    /// The velocities of the rank's nodes.
     fn velocity(&self) -> &[f64] {
-        &self.global_v
+        &self.v
+    }
+
+    fn piece(&self) -> Option<Piece<'_>> {
+        Some(Piece {
+            model: &self.piece,
+            u: &self.u,
+            v: &self.v,
+            nodes: &self.sub.nodes,
+        })
     }
 
     fn nodal_mass(&self) -> &[f64] {

@@ -60,8 +60,11 @@ pub struct Subdomain {
     pub nodes: Vec<u32>,
     /// Whether this rank owns each local node.
     pub owned: Vec<bool>,
-    /// The rank's elements in global order, on local node numbers.
+    /// The rank's elements in global order, on local node numbers, and their global numbers
+    /// (hex8s and tet4s each counted from 0, as [`crate::mesh::Mesh`] holds them).
     pub data: ElementData,
+    pub hexes: Vec<u32>,
+    pub tets: Vec<u32>,
     pub neighbours: Vec<Neighbour>,
     /// Corners received in all.
     pub received: usize,
@@ -126,7 +129,7 @@ impl Subdomain {
         for (i, &n) in nodes.iter().enumerate() {
             local[n as usize] = i as u32;
         }
-        let (data, corner_local) = local_elements(model, partition, rank, &local);
+        let (data, corner_local, (hexes, tets)) = local_elements(model, partition, rank, &local);
         let holders = holders(model, partition, &held);
         let mut sub = Subdomain {
             rank,
@@ -137,6 +140,8 @@ impl Subdomain {
                 .collect(),
             nodes,
             data,
+            hexes,
+            tets,
             neighbours: Vec::new(),
             received: 0,
             shared: Vec::new(),
@@ -240,6 +245,48 @@ impl Subdomain {
         }
     }
 
+    /// The rank's part of `model` for its frames: its elements and nodes, each body's share
+    /// of them and the materials (no interfaces, fixes or probes).
+    pub fn piece_model(&self, model: &Model) -> Model {
+        let within = |list: &[u32], r: &std::ops::Range<usize>| {
+            list.partition_point(|&x| (x as usize) < r.start)
+                ..list.partition_point(|&x| (x as usize) < r.end)
+        };
+        let bodies = (model.mesh.bodies.iter())
+            .map(|b| crate::mesh::BodyMesh {
+                nodes: within(&self.nodes, &b.nodes),
+                hexes: within(&self.hexes, &b.hexes),
+                tets: within(&self.tets, &b.tets),
+                material: b.material,
+                boundary: Vec::new(),
+                surfaces: Vec::new(),
+                node_sets: Vec::new(),
+            })
+            .collect();
+        let d = &self.data;
+        Model {
+            mesh: crate::mesh::Mesh {
+                nodes: d.reference.clone(),
+                hexes: d.hexes.clone(),
+                hex_material: d.hex_material.clone(),
+                tets: d.tets.clone(),
+                tet_material: d.tet_material.clone(),
+                bodies,
+            },
+            materials: model.materials.clone(),
+            material_axes: model.material_axes.clone(),
+            material_source: model.material_source.clone(),
+            body_names: model.body_names.clone(),
+            fixed: Vec::new(),
+            interfaces: Vec::new(),
+            queries: Default::default(),
+            probes: Vec::new(),
+            fix_nodes: Vec::new(),
+            initial_velocity: Vec::new(),
+            gravity: model.gravity,
+        }
+    }
+
     /// The values of the local nodes (3 per node) taken from a global vector.
     pub fn restrict(&self, global: &[f64]) -> Vec<f64> {
         (self.nodes.iter())
@@ -248,14 +295,14 @@ impl Subdomain {
     }
 }
 
-/// The rank's elements on local node numbers, and the local corner of every global corner
-/// (`u32::MAX` for another rank's).
+/// The rank's elements on local node numbers, the local corner of every global corner
+/// (`u32::MAX` for another rank's), and the rank's hex8s and tet4s (global numbers).
 fn local_elements(
     model: &Model,
     partition: &Partition,
     rank: usize,
     local: &[u32],
-) -> (ElementData, Vec<u32>) {
+) -> (ElementData, Vec<u32>, (Vec<u32>, Vec<u32>)) {
     let mesh = &model.mesh;
     let nh = mesh.hexes.len();
     let mine = |e: usize| partition.part_of[e] as usize == rank;
@@ -288,7 +335,8 @@ fn local_elements(
         tet_material: tets.iter().map(|&t| mesh.tet_material[t]).collect(),
         materials: model.materials.clone(),
     };
-    (data, corner_local)
+    let numbers = |e: Vec<usize>| e.into_iter().map(|e| e as u32).collect();
+    (data, corner_local, (numbers(hexes), numbers(tets)))
 }
 
 /// The ranks holding each node this rank holds with others (global node number to ranks,

@@ -94,6 +94,12 @@ pub trait Integrator {
         None
     }
 
+    /// A rank of a decomposed run: its piece of the frames (its `displacement` and
+    /// `velocity` are its own nodes').
+    fn piece(&self) -> Option<super::state::Piece<'_>> {
+        None
+    }
+
     /// A run decomposed over ranks: how, and each rank's communication time. Every rank
     /// calls it at the end of a run (it may gather from the others).
     fn decomposition(&mut self) -> Option<super::state::Decomposition> {

@@ -11,7 +11,9 @@ pub use explicit::ExplicitSolver;
 pub use implicit::{ImplicitSolver, StepReport};
 pub use integrator::{ImplicitFigures, Integrator};
 pub use resident::ResidentSolver;
-pub use state::{ContactReport, Decomposition, Energies, InterfaceEnd, ProbeValues, SolverState};
+pub use state::{
+    ContactReport, Decomposition, Energies, InterfaceEnd, Piece, ProbeValues, SolverState,
+};
 
 use crate::model::Model;
 

@@ -95,3 +95,13 @@ pub struct Decomposition {
     pub neighbours: Vec<usize>,
     pub communication_seconds: Vec<f64>,
 }
+
+/// A rank's piece of a decomposed run's VTU frames: its part of the model (its elements and
+/// the nodes they touch, on its own node numbers), their displacements and velocities, and
+/// the global number of each of its nodes.
+pub struct Piece<'a> {
+    pub model: &'a crate::model::Model,
+    pub u: &'a [f64],
+    pub v: &'a [f64],
+    pub nodes: &'a [u32],
+}

@@ -13,7 +13,9 @@
 //! material (ply) axes (11, 22, 33, 12, 23, 13).
 //!
 //! The `.pvd` is rewritten after every frame, so a run that stops early leaves a valid
-//! collection of what it wrote.
+//! collection of what it wrote. Point data `node` holds each point's node number; a rank of
+//! a decomposed run writes its piece of each frame (its elements and nodes, `node` their
+//! numbers in the whole model), and rank 0 the `.pvtu` that joins the pieces.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -49,6 +51,102 @@ pub struct VtuWriter {
     stem: String,
     /// (time, file name) of every frame written.
     frames: Vec<(f64, String)>,
+    /// A rank's writer in a decomposed run: (rank, ranks). Each rank writes its piece of a
+    /// frame, and rank 0 the `.pvtu` that joins them and the `.pvd`.
+    piece: Option<(usize, usize)>,
+}
+
+/// Writes one UnstructuredGrid file of `model` with the state (u, v, contact); returns the
+/// headers of its point and cell data arrays (a `.pvtu` lists them).
+fn write_grid(
+    path: &Path,
+    (model, nodes): (&Model, &[u32]),
+    time: f64,
+    (u, v, contact): (&[f64], &[f64], &[NodeContact]),
+) -> Result<(String, String)> {
+    let mesh = &model.mesh;
+    let (n_points, n_cells) = (mesh.node_count(), mesh.element_count());
+    let mut app = Appended {
+        bytes: Vec::new(),
+        headers: String::new(),
+    };
+    let points: Vec<f64> = mesh.nodes.iter().flatten().copied().collect();
+    app.array("Points", "Float64", 3, &f64_bytes(&points));
+    let points_xml = app.take_headers();
+
+    cell_arrays(&mut app, mesh);
+    let cells_xml = app.take_headers();
+
+    app.array("displacement", "Float64", 3, &f64_bytes(u));
+    app.array("velocity", "Float64", 3, &f64_bytes(v));
+    let pressure: Vec<f64> = contact.iter().map(|c| c.pressure).collect();
+    let gap: Vec<f64> = contact.iter().map(|c| c.gap).collect();
+    app.array("contact_pressure", "Float64", 1, &f64_bytes(&pressure));
+    app.array("contact_gap", "Float64", 1, &f64_bytes(&gap));
+    let numbers: Vec<i64> = nodes.iter().map(|&n| i64::from(n)).collect();
+    app.array("node", "Int64", 1, &i64_bytes(&numbers));
+    let point_data_xml = app.take_headers();
+
+    cell_data(&mut app, model, u);
+    let cell_data_xml = app.take_headers();
+
+    let write_err = |source| ImpactError::Write {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut out = std::io::BufWriter::new(std::fs::File::create(path).map_err(write_err)?);
+    let head = format!(
+        "<?xml version=\"1.0\"?>\n\
+<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n\
+  <UnstructuredGrid>\n\
+    <FieldData>\n\
+      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">{time:e}</DataArray>\n\
+    </FieldData>\n\
+    <Piece NumberOfPoints=\"{n_points}\" NumberOfCells=\"{n_cells}\">\n\
+      <PointData Vectors=\"displacement\">\n{point_data_xml}      </PointData>\n\
+      <CellData>\n{cell_data_xml}      </CellData>\n\
+      <Points>\n{points_xml}      </Points>\n\
+      <Cells>\n{cells_xml}      </Cells>\n\
+    </Piece>\n\
+  </UnstructuredGrid>\n\
+  <AppendedData encoding=\"raw\">\n_"
+    );
+    out.write_all(head.as_bytes()).map_err(write_err)?;
+    out.write_all(&app.bytes).map_err(write_err)?;
+    out.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
+        .map_err(write_err)?;
+    out.flush().map_err(write_err)?;
+    Ok((point_data_xml, cell_data_xml))
+}
+
+/// The `.pvtu` that joins `pieces`, whose point and cell data arrays have the headers
+/// `point_data` and `cell_data`.
+fn pvtu(point_data: &str, cell_data: &str, pieces: &[String]) -> String {
+    // each piece's `<DataArray ... format="appended" offset="N"/>` as a `<PDataArray .../>`
+    let declare = |headers: &str| -> String {
+        (headers.lines())
+            .map(|l| {
+                let l = l.trim().replacen("<DataArray", "<PDataArray", 1);
+                let l = l.split(" format=").next().unwrap_or_default().to_string();
+                format!("      {l}/>\n")
+            })
+            .collect()
+    };
+    let mut text = format!(
+        "<?xml version=\"1.0\"?>\n\
+<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n\
+  <PUnstructuredGrid GhostLevel=\"0\">\n\
+    <PPointData Vectors=\"displacement\">\n{}    </PPointData>\n\
+    <PCellData>\n{}    </PCellData>\n\
+    <PPoints>\n      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n    </PPoints>\n",
+        declare(point_data),
+        declare(cell_data)
+    );
+    for p in pieces {
+        text.push_str(&format!("    <Piece Source=\"{p}\"/>\n"));
+    }
+    text.push_str("  </PUnstructuredGrid>\n</VTKFile>\n");
+    text
 }
 
 /// Stress at the element centre: (xx, yy, zz, xy, yz, xz), from the linear strain of u.
@@ -118,6 +216,10 @@ fn f64_bytes(x: &[f64]) -> Vec<u8> {
 }
 
 fn i32_bytes(x: &[i32]) -> Vec<u8> {
+    le_bytes(x, |v| v.to_le())
+}
+
+fn i64_bytes(x: &[i64]) -> Vec<u8> {
     le_bytes(x, |v| v.to_le())
 }
 
@@ -230,6 +332,17 @@ impl VtuWriter {
             dir: dir.to_path_buf(),
             stem: stem.to_string(),
             frames: Vec::new(),
+            piece: None,
+        }
+    }
+
+    /// The writer of rank `rank` of `ranks`: frames go to `dir/<stem>_NNNNNN_RRRR.vtu`, one
+    /// piece per rank (its elements and the nodes they touch), joined by
+    /// `dir/<stem>_NNNNNN.pvtu`, which the `.pvd` indexes.
+    pub fn pieces(dir: &Path, stem: &str, rank: usize, ranks: usize) -> VtuWriter {
+        VtuWriter {
+            piece: Some((rank, ranks)),
+            ..VtuWriter::new(dir, stem)
         }
     }
 
@@ -251,7 +364,8 @@ impl VtuWriter {
         self.frames
             .iter()
             .map(|(time, name)| {
-                let step = name[prefix..name.len() - ".vtu".len()]
+                let end = name.rfind('.').unwrap_or(name.len());
+                let step = name[prefix..end]
                     .parse()
                     .expect("frame names are written by frame_name");
                 (step, *time)
@@ -263,68 +377,40 @@ impl VtuWriter {
         format!("{stem}_{step:06}.vtu")
     }
 
-    /// Writes one frame of the state (u, v) with the contact values of each node.
+    /// Writes one frame of the state (u, v) with the contact values of each node: the whole
+    /// model's, or a rank's piece (`model` its part, on its own node numbers, and `nodes`
+    /// their global numbers).
     pub fn frame(
         &mut self,
-        model: &Model,
+        (model, nodes): (&Model, Option<&[u32]>),
         step: usize,
         time: f64,
         u: &[f64],
         v: &[f64],
         contact: &[NodeContact],
     ) -> Result<()> {
-        let mesh = &model.mesh;
-        let (n_points, n_cells) = (mesh.node_count(), mesh.element_count());
-        let mut app = Appended {
-            bytes: Vec::new(),
-            headers: String::new(),
+        let state = (u, v, contact);
+        let Some((rank, ranks)) = self.piece else {
+            let name = Self::frame_name(&self.stem, step);
+            let nodes: Vec<u32> = (0..model.mesh.node_count() as u32).collect();
+            write_grid(&self.dir.join(&name), (model, &nodes), time, state)?;
+            self.frames.push((time, name));
+            return self.write_collection();
         };
-        let points: Vec<f64> = mesh.nodes.iter().flatten().copied().collect();
-        app.array("Points", "Float64", 3, &f64_bytes(&points));
-        let points_xml = app.take_headers();
-
-        cell_arrays(&mut app, mesh);
-        let cells_xml = app.take_headers();
-
-        app.array("displacement", "Float64", 3, &f64_bytes(u));
-        app.array("velocity", "Float64", 3, &f64_bytes(v));
-        let pressure: Vec<f64> = contact.iter().map(|c| c.pressure).collect();
-        let gap: Vec<f64> = contact.iter().map(|c| c.gap).collect();
-        app.array("contact_pressure", "Float64", 1, &f64_bytes(&pressure));
-        app.array("contact_gap", "Float64", 1, &f64_bytes(&gap));
-        let point_data_xml = app.take_headers();
-
-        cell_data(&mut app, model, u);
-        let cell_data_xml = app.take_headers();
-
-        let name = Self::frame_name(&self.stem, step);
+        let piece = |r: usize| format!("{}_{step:06}_{r:04}.vtu", self.stem);
+        let nodes = nodes.ok_or_else(|| {
+            ImpactError::Ranks("a piece of a frame needs its nodes' global numbers".into())
+        })?;
+        let path = self.dir.join(piece(rank));
+        let (point_data, cell_data) = write_grid(&path, (model, nodes), time, state)?;
+        if rank != 0 {
+            return Ok(());
+        }
+        let name = format!("{}_{step:06}.pvtu", self.stem);
+        let pieces: Vec<String> = (0..ranks).map(piece).collect();
         let path = self.dir.join(&name);
-        let write_err = |source| ImpactError::Write {
-            path: path.clone(),
-            source,
-        };
-        let mut out = std::io::BufWriter::new(std::fs::File::create(&path).map_err(write_err)?);
-        let head = format!(
-            "<?xml version=\"1.0\"?>\n\
-<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n\
-  <UnstructuredGrid>\n\
-    <FieldData>\n\
-      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">{time:e}</DataArray>\n\
-    </FieldData>\n\
-    <Piece NumberOfPoints=\"{n_points}\" NumberOfCells=\"{n_cells}\">\n\
-      <PointData Vectors=\"displacement\">\n{point_data_xml}      </PointData>\n\
-      <CellData>\n{cell_data_xml}      </CellData>\n\
-      <Points>\n{points_xml}      </Points>\n\
-      <Cells>\n{cells_xml}      </Cells>\n\
-    </Piece>\n\
-  </UnstructuredGrid>\n\
-  <AppendedData encoding=\"raw\">\n_"
-        );
-        out.write_all(head.as_bytes()).map_err(write_err)?;
-        out.write_all(&app.bytes).map_err(write_err)?;
-        out.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
-            .map_err(write_err)?;
-        out.flush().map_err(write_err)?;
+        let text = pvtu(&point_data, &cell_data, &pieces);
+        std::fs::write(&path, text).map_err(|source| ImpactError::Write { path, source })?;
         self.frames.push((time, name));
         self.write_collection()
     }

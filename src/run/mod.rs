@@ -74,7 +74,6 @@ fn build_solver<'m>(
             ranks,
             &partition,
             (&scene.explicit, dt, speed_scale),
-            scene.vtu_every.map(|every| (every, setup.steps)),
         )?));
     }
     let mut solver: Box<dyn Integrator + 'm> = match (setup.method, setup.ctx.clone()) {
@@ -261,7 +260,7 @@ impl<'s> Running<'s> {
                 model,
                 solver.as_mut(),
                 dir,
-                ranks.is_none_or(|r| r.rank() == 0),
+                ranks.map(|r| (r.rank(), r.size())),
             )?,
             Some(c) => start_resumed(scene, model, solver.as_mut(), dir, c)?,
         };

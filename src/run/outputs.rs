@@ -72,8 +72,9 @@ pub(super) fn start_fresh(
     model: &Model,
     solver: &mut dyn Integrator,
     dir: &Path,
-    writes: bool,
+    rank: Option<(usize, usize)>,
 ) -> Result<(Outputs, Tally)> {
+    let writes = rank.is_none_or(|(r, _)| r == 0);
     let e0 = solver.energies()?;
     if !e0.total().is_finite() {
         return Err(ImpactError::SceneValue {
@@ -94,9 +95,14 @@ pub(super) fn start_fresh(
             true => History::create(dir, model)?,
             false => History::discard(model),
         },
-        frames: (scene.vtu_every)
-            .filter(|_| writes)
-            .map(|every| (every, VtuWriter::new(dir, &frame_stem(scene)))),
+        frames: scene.vtu_every.map(|every| {
+            let stem = frame_stem(scene);
+            let w = match rank {
+                Some((r, ranks)) => VtuWriter::pieces(dir, &stem, r, ranks),
+                None => VtuWriter::new(dir, &stem),
+            };
+            (every, w)
+        }),
         writes,
     };
     write_row(solver, &mut out.history)?;
@@ -227,14 +233,19 @@ pub(super) fn write_frame(
 ) -> Result<()> {
     if let Some((every, w)) = frames {
         if solver.steps() % *every == 0 || last {
-            w.frame(
-                model,
-                solver.steps(),
-                solver.time(),
-                solver.displacement(),
-                solver.velocity(),
-                &node_contact(solver),
-            )?;
+            let (step, time) = (solver.steps(), solver.time());
+            let contact = node_contact(solver);
+            match solver.piece() {
+                Some(p) => {
+                    let mine: Vec<NodeContact> =
+                        p.nodes.iter().map(|&n| contact[n as usize]).collect();
+                    w.frame((p.model, Some(p.nodes)), step, time, p.u, p.v, &mine)?;
+                }
+                None => {
+                    let (u, v) = (solver.displacement(), solver.velocity());
+                    w.frame((model, None), step, time, u, v, &contact)?;
+                }
+            }
         }
     }
     Ok(())
