@@ -141,6 +141,15 @@ fn interrupt_flag() -> Option<Arc<AtomicBool>> {
     Some(flag)
 }
 
+/// The default threads of one of several MPI processes on a machine: the machine's cores
+/// shared among them (every process taking every core would run P times as many threads
+/// as cores).
+fn rank_threads() -> Option<usize> {
+    let local = impact::domain::ranks::launched_local_size().filter(|&n| n > 1)?;
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+    Some((cores / local).max(1))
+}
+
 fn parse_device(device: Option<String>) -> anyhow::Result<Option<DeviceChoice>> {
     device
         .map(|d| d.parse::<DeviceChoice>())
@@ -150,9 +159,10 @@ fn parse_device(device: Option<String>) -> anyhow::Result<Option<DeviceChoice>> 
 
 fn real_main() -> anyhow::Result<u8> {
     let cli = Cli::parse();
-    if let Some(n) = cli.threads {
+    let threads = cli.threads.map(usize::from).or_else(rank_threads);
+    if let Some(n) = threads {
         rayon::ThreadPoolBuilder::new()
-            .num_threads(usize::from(n))
+            .num_threads(n)
             .build_global()
             .context("setting up the CPU threads")?;
     }

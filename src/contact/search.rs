@@ -27,14 +27,14 @@ pub fn find_candidates(
     find_candidates_of(queries, x, &query_ids, face_range, margin, out);
 }
 
-/// [`find_candidates`] for the queries `query_ids` alone (increasing). Each query's list is
-/// the faces of `face_range` whose grown box holds it, in face order, whichever other
-/// queries are searched with it.
+/// [`find_candidates`] for the queries `query_ids` alone (increasing) against the faces
+/// `faces` (increasing). Each query's list is the faces whose grown box holds it, in face
+/// order, whichever other queries and faces are searched with it.
 pub fn find_candidates_of(
     queries: &ContactQueries,
     x: &[[f64; 3]],
     query_ids: &[usize],
-    face_range: std::ops::Range<usize>,
+    faces: impl Iterator<Item = usize>,
     margin: f64,
     out: &mut [Vec<u32>],
 ) {
@@ -47,9 +47,9 @@ pub fn find_candidates_of(
             reach.1[a] = reach.1[a].max(p[a]);
         }
     }
-    let mut boxes = Vec::with_capacity(face_range.len());
+    let mut boxes = Vec::new();
     let mut cell = 0.0f64;
-    for fi in face_range.clone() {
+    for fi in faces {
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
         for &n in &queries.faces[fi] {

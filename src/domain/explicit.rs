@@ -1,8 +1,7 @@
 //! The explicit step on one rank of a decomposed run: the single-process step
 //! ([`crate::integrate::ExplicitSolver`]) on the rank's own elements and nodes, with the
-//! shared nodes' forces summed from the neighbours' corners. For the contact every rank
-//! gathers the contact surfaces' nodes, finds the closest points of the secondary nodes it
-//! owns, gathers everyone's points, and works the impulse sweeps on the surface model.
+//! shared nodes' forces summed from the neighbours' corners, and the contact of
+//! [`super::contact`].
 //!
 //! Every node a rank holds follows the same operations as in a single process, so the
 //! state (displacements, velocities, accelerations, contact impulses) is the same bits on any
@@ -14,20 +13,18 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use super::contact::{LocalState, SurfaceContact};
 use super::partition::Partition;
-use super::ranks::Ranks;
+use super::ranks::{Ranks, Timed};
 use super::subdomain::Subdomain;
-use super::surface::surface_model;
 use crate::backend::{CpuKernels, Kernels};
-use crate::contact::search;
 use crate::error::{ImpactError, Result};
-use crate::integrate::explicit::{lumped_mass, ContactFields, ExplicitContact, NodalStart};
+use crate::integrate::explicit::{lumped_mass, NodalStart};
 use crate::integrate::{
     ContactReport, Decomposition, Energies, Integrator, Piece, ProbeValues, SolverState, StepReport,
 };
-use crate::kernels::{self, as_vec3, contact_gap, search_bounds::fastest_speed};
-use crate::kernels::{ContactPoint, ContactQueries};
-use crate::model::{Model, Primary};
+use crate::kernels::{self, search_bounds::fastest_speed};
+use crate::model::Model;
 use crate::parallel::ordered_sum;
 use crate::scene::{ExplicitSettings, Method};
 
@@ -40,26 +37,9 @@ pub struct RankFigures {
     pub neighbours: usize,
     /// Seconds spent in exchanges and collectives (waiting included).
     pub communication: f64,
-}
-
-/// The contact surfaces every rank holds and works the contact on.
-struct Surface {
-    model: Model,
-    contact: ExplicitContact,
-    /// The queries (with their candidates) and their closest points as this rank finds
-    /// them: its own queries' (those of the secondary nodes it owns), increasing.
-    queries: ContactQueries,
-    lists: Vec<Vec<u32>>,
-    points: Vec<ContactPoint>,
-    owned_queries: Vec<usize>,
-    /// Each rank's query count and the query of each entry of the gathered points.
-    point_counts: Vec<usize>,
-    point_order: Vec<u32>,
-    u: Vec<f64>,
-    v: Vec<f64>,
-    v_half: Vec<f64>,
-    inv_mass: Vec<f64>,
-    gathered: Vec<f64>,
+    /// Primary-face node states received from other ranks for the contact search, over the
+    /// run.
+    pub face_nodes_received: usize,
 }
 
 /// One rank's explicit solver.
@@ -83,7 +63,7 @@ pub struct DomainSolver<'m> {
     u_prev: Vec<f64>,
     v_half: Vec<f64>,
     measure_shift: f64,
-    surface: Surface,
+    surface: SurfaceContact,
     received: Vec<f64>,
     /// The rank's part of the model, for its pieces of the frames.
     piece: Model,
@@ -114,7 +94,7 @@ impl<'m> DomainSolver<'m> {
             model.gravity,
             &sub.restrict(&model.initial_velocity),
         );
-        let surface = Surface::new(model, &sub, &mass_all, settings, speed_scale);
+        let surface = SurfaceContact::new(model, &sub, &mass_all, (settings, speed_scale));
         let ndof = 3 * sub.nodes.len();
         let piece = sub.piece_model(model);
         Ok(DomainSolver {
@@ -151,6 +131,7 @@ impl<'m> DomainSolver<'m> {
             shared_nodes: self.sub.shared.len(),
             neighbours: self.sub.neighbours.len(),
             communication: self.communication.get(),
+            face_nodes_received: self.surface.received,
         }
     }
 
@@ -196,8 +177,7 @@ impl<'m> DomainSolver<'m> {
         Ok(())
     }
 
-    /// The step's contact on the gathered surfaces; the changed velocities back to the
-    /// rank's nodes.
+    /// The step's contact ([`SurfaceContact`]), its impulses on the rank's velocities.
     fn contact(&mut self) -> Result<StepReport> {
         if self.model.interfaces.is_empty() {
             return Ok(StepReport {
@@ -207,51 +187,16 @@ impl<'m> DomainSolver<'m> {
         }
         let local_speed = fastest_speed(&self.v);
         let speed = self.talk(|r| r.max(local_speed));
-        let map = &self.sub.surface;
-        let mine: Vec<f64> = (map.owned.iter())
-            .flat_map(|&n| {
-                let d = 3 * n as usize;
-                self.u[d..d + 3].iter().chain(&self.v[d..d + 3]).copied()
-            })
-            .collect();
-        let counts: Vec<usize> = map.counts.iter().map(|c| 6 * c).collect();
-        let mut gathered = std::mem::take(&mut self.surface.gathered);
-        self.talk(|r| r.all_gather(&mine, &counts, &mut gathered));
-        let s = &mut self.surface;
-        for (j, &k) in map.order.iter().enumerate() {
-            let (k, g) = (3 * k as usize, &gathered[6 * j..6 * j + 6]);
-            s.u[k..k + 3].copy_from_slice(&g[..3]);
-            s.v[k..k + 3].copy_from_slice(&g[3..]);
-        }
-        s.gathered = gathered;
-        let margin = s.contact.margin(speed, self.dt);
-        s.find_own_points(margin);
-        let mine: Vec<f64> = (s.owned_queries.iter())
-            .flat_map(|&q| pack(&s.points[q]))
-            .collect();
-        let counts: Vec<usize> = s.point_counts.iter().map(|c| POINT * c).collect();
-        let mut all = vec![0.0; POINT * s.points.len()];
-        self.talk(|r| r.all_gather(&mine, &counts, &mut all));
-        let s = &mut self.surface;
-        let points = s.contact.query_points_mut();
-        for (j, &q) in s.point_order.iter().enumerate() {
-            points[q as usize] = unpack(&all[POINT * j..POINT * (j + 1)]);
-        }
-        let fields = ContactFields {
-            u: &s.u,
-            v: &mut s.v,
-            v_half: &s.v_half,
-            inv_mass: &s.inv_mass,
+        let talk = Timed {
+            ranks: self.ranks,
+            seconds: &self.communication,
         };
-        let report = s
-            .contact
-            .step_from_points(&s.model, fields, self.dt, margin)?;
-        for &(k, n) in &map.held {
-            let (k, n) = (3 * k as usize, 3 * n as usize);
-            self.v[n..n + 3].copy_from_slice(&s.v[k..k + 3]);
-        }
-        s.v_half.copy_from_slice(&s.v);
-        Ok(report)
+        let local = LocalState {
+            u: &self.u,
+            v: &mut self.v,
+            v_half: &self.v_half,
+        };
+        self.surface.step(&talk, local, self.dt, speed)
     }
 
     /// Sums over the rank's owned dofs of `f(d)` for each column, then over the ranks.
@@ -262,116 +207,6 @@ impl<'m> DomainSolver<'m> {
             std::array::from_fn(|k| ordered_sum(n, |d| if owned[d / 3] { f(d)[k] } else { 0.0 }));
         let total = self.talk(|r| r.sum(&local));
         std::array::from_fn(|k| total[k])
-    }
-}
-
-impl Surface {
-    fn new(
-        model: &Model,
-        sub: &Subdomain,
-        mass_all: &[f64],
-        settings: &ExplicitSettings,
-        speed_scale: f64,
-    ) -> Surface {
-        let nodes = &sub.surface.nodes;
-        let surface = surface_model(model, nodes);
-        let mass: Vec<f64> = nodes.iter().map(|&n| mass_all[n as usize]).collect();
-        let start = NodalStart::new(
-            &mass,
-            &surface.fixed,
-            model.gravity,
-            &surface.initial_velocity,
-        );
-        let face_size = search::largest_face_size(model);
-        let contact = ExplicitContact::new(&surface, settings, speed_scale, face_size);
-        let n = 3 * nodes.len();
-        let owner = |q: usize| sub.surface.owner[surface.queries.secondary[q] as usize] as usize;
-        let nq = surface.queries.len();
-        let mut point_order: Vec<u32> = (0..nq as u32).collect();
-        point_order.sort_by_key(|&q| (owner(q as usize), q));
-        let mut point_counts = vec![0; sub.ranks];
-        for q in 0..nq {
-            point_counts[owner(q)] += 1;
-        }
-        Surface {
-            contact,
-            queries: surface.queries.clone(),
-            lists: vec![Vec::new(); nq],
-            points: vec![ContactPoint::default(); nq],
-            owned_queries: (0..nq).filter(|&q| owner(q) == sub.rank).collect(),
-            point_counts,
-            point_order,
-            u: vec![0.0; n],
-            v: vec![0.0; n],
-            v_half: start.v,
-            inv_mass: start.inv_mass,
-            gathered: vec![0.0; 2 * n],
-            model: surface,
-        }
-    }
-}
-
-impl Surface {
-    /// The closest points of this rank's own queries: the broad phase over the faces that
-    /// reach them, then the closest point on each candidate (the single process's search
-    /// and [`crate::kernels::contact_gap`], so the same points, bit for bit).
-    fn find_own_points(&mut self, margin: f64) {
-        let reference = &self.model.mesh.nodes;
-        let x: Vec<[f64; 3]> = (reference.iter().enumerate())
-            .map(|(n, p)| std::array::from_fn(|a| p[a] + self.u[3 * n + a]))
-            .collect();
-        for itf in &self.model.interfaces {
-            if let Primary::Surface { faces, queries, .. } = &itf.primary {
-                let own = &self.owned_queries;
-                let from = own.partition_point(|&q| q < queries.start);
-                let to = own.partition_point(|&q| q < queries.end);
-                let ids = &own[from..to];
-                search::find_candidates_of(
-                    &self.queries,
-                    &x,
-                    ids,
-                    faces.clone(),
-                    margin,
-                    &mut self.lists,
-                );
-            }
-        }
-        search::flatten(&mut self.queries, &self.lists);
-        contact_gap(
-            reference,
-            as_vec3(&self.u),
-            as_vec3(&self.v),
-            &self.queries,
-            &mut self.points,
-        );
-    }
-}
-
-/// Values per contact point in the gathered points.
-const POINT: usize = 8;
-
-/// A contact point as values (the face number is exact in an f64).
-fn pack(p: &ContactPoint) -> [f64; POINT] {
-    let (xi, n) = (p.xi, p.normal);
-    [
-        p.face as f64,
-        xi[0],
-        xi[1],
-        n[0],
-        n[1],
-        n[2],
-        p.gap,
-        p.gap_rate,
-    ]
-}
-
-fn unpack(x: &[f64]) -> ContactPoint {
-    ContactPoint {
-        face: x[0] as u32,
-        xi: [x[1], x[2]],
-        normal: [x[3], x[4], x[5]],
-        gap: x[6],
-        gap_rate: x[7],
     }
 }
 
@@ -418,13 +253,13 @@ impl Integrator for DomainSolver<'_> {
     }
 
     fn reports(&self) -> Vec<ContactReport> {
-        (self.surface.contact.interfaces.iter())
+        (self.surface.contact().interfaces.iter())
             .map(|i| i.report)
             .collect()
     }
 
     fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {
-        let st = &self.surface.contact.interfaces[interface];
+        let st = &self.surface.contact().interfaces[interface];
         let area = self.model.interfaces[interface].area[point];
         (st.impulse[point] / (self.dt * area), st.gap[point])
     }
@@ -509,6 +344,7 @@ impl Integrator for DomainSolver<'_> {
             f.shared_nodes as f64,
             f.neighbours as f64,
             f.communication,
+            f.face_nodes_received as f64,
         ];
         let all = self.ranks.gather_all(&mine);
         let column = |k: usize| all.iter().map(|r| r[k] as usize).collect();
@@ -518,12 +354,13 @@ impl Integrator for DomainSolver<'_> {
                 "recursive coordinate bisection of the element centroids into equal weights (an element weighs 1, plus {} for each secondary-node corner)",
                 super::partition::CONTACT_WEIGHT
             ),
-            contact: "each rank searches the primary faces for the secondary nodes it owns; the contact surfaces' state and the closest points are gathered on every rank, and every rank works the impulse sweeps".into(),
+            contact: "each rank receives the primary-face nodes its secondary nodes may reach from their owners and searches for the secondary nodes it owns; the contacts within reach are gathered on every rank with their nodes' state, and every rank works the impulse sweeps".into(),
             elements: column(0),
             nodes: column(1),
             shared_nodes: column(2),
             neighbours: column(3),
             communication_seconds: all.iter().map(|r| r[4]).collect(),
+            face_nodes_received: column(5),
         })
     }
 

@@ -8,8 +8,11 @@
 //! - [`surface`]: the contact surfaces as a model of their own;
 //! - [`ranks`]: what the decomposition asks of its ranks ([`ranks::Single`], and MPI with
 //!   the `mpi` feature);
+//! - [`contact`]: a rank's contact: the faces its secondary nodes may reach, its own
+//!   search, the contacts gathered and the sweeps;
 //! - [`explicit`]: the rank's explicit solver.
 
+pub mod contact;
 pub mod explicit;
 #[cfg(feature = "mpi")]
 pub mod mpi;

@@ -38,6 +38,23 @@ pub trait Ranks {
     }
 }
 
+/// The ranks with a clock: the seconds spent in their calls, waiting included.
+pub struct Timed<'a> {
+    pub ranks: &'a dyn Ranks,
+    pub seconds: &'a std::cell::Cell<f64>,
+}
+
+impl Timed<'_> {
+    /// `f` on the ranks, its time counted.
+    pub fn talk<T>(&self, f: impl FnOnce(&dyn Ranks) -> T) -> T {
+        let t = std::time::Instant::now();
+        let out = f(self.ranks);
+        self.seconds
+            .set(self.seconds.get() + t.elapsed().as_secs_f64());
+        out
+    }
+}
+
 /// One process: a run of one rank.
 pub struct Single;
 
@@ -59,15 +76,18 @@ impl Ranks for Single {
     }
 }
 
-/// The job's size as an MPI launcher tells it, without initialising MPI: a
-/// process started by `mpirun` (Open MPI, MPICH, Slurm's PMI) sees them in its environment.
+/// The job's size as an MPI launcher tells it, without initialising MPI: a process started
+/// by Open MPI's `mpirun`, or by a PMI launcher (MPICH's Hydra, Slurm's `srun`), finds it in
+/// its environment.
 pub fn launched_size() -> Option<usize> {
-    [
-        "OMPI_COMM_WORLD_SIZE",
-        "PMI_SIZE",
-        "PMIX_SIZE",
-        "MPI_LOCALNRANKS",
-    ]
-    .iter()
-    .find_map(|k| std::env::var(k).ok()?.parse().ok())
+    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE"]
+        .iter()
+        .find_map(|k| std::env::var(k).ok()?.parse().ok())
+}
+
+/// How many processes of the job an MPI launcher started on this machine.
+pub fn launched_local_size() -> Option<usize> {
+    ["OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS"]
+        .iter()
+        .find_map(|k| std::env::var(k).ok()?.parse().ok())
 }

@@ -88,12 +88,14 @@ pub struct Decomposition {
     /// How the contact is shared out.
     pub contact: String,
     /// Per rank: its elements, the nodes it holds, those it shares with other ranks, the
-    /// ranks it exchanges forces with, and its seconds in exchanges and collectives.
+    /// ranks it exchanges forces with, its seconds in exchanges and collectives, and the
+    /// primary-face node states it received for its contact search over the run.
     pub elements: Vec<usize>,
     pub nodes: Vec<usize>,
     pub shared_nodes: Vec<usize>,
     pub neighbours: Vec<usize>,
     pub communication_seconds: Vec<f64>,
+    pub face_nodes_received: Vec<usize>,
 }
 
 /// A rank's piece of a decomposed run's VTU frames: its part of the model (its elements and

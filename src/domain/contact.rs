@@ -1,0 +1,474 @@
+//! The contact of one rank's explicit step.
+//!
+//! 1. The rank's own surface nodes, as it holds them, go into the surface model
+//!    ([`super::surface`]); rigid planes' secondary nodes are gathered from their owners.
+//! 2. Each rank sends the primary-face nodes it owns to the ranks whose secondary nodes they
+//!    may reach this step: those within the search's reach plus the largest face's extent
+//!    of the other rank's box of secondary nodes. The ranks learn each other's boxes first,
+//!    so both sides of a pair know whether it exchanges.
+//! 3. Each rank searches for the secondary nodes it owns, against the faces whose nodes it
+//!    has, with the single process's broad phase and closest-point projection: any face
+//!    whose grown box holds one of its nodes has all its nodes within that reach.
+//! 4. The contacts within reach are gathered on every rank with the state of their nodes,
+//!    and every rank works the impulse sweeps on them
+//!    ([`ExplicitContact::step_from_points`]), which read no other node.
+//!
+//! Every value the sweeps read is the single process's, so the impulses and the changed
+//! velocities are the same bits.
+
+use super::ranks::Timed;
+use super::subdomain::Subdomain;
+use super::surface::surface_model;
+use crate::contact::search;
+use crate::error::Result;
+use crate::integrate::explicit::{ContactFields, ExplicitContact, NodalStart};
+use crate::integrate::StepReport;
+use crate::kernels::contact_gap::NO_FACE;
+use crate::kernels::{as_vec3, contact_gap, ContactPoint, ContactQueries};
+use crate::model::{Model, Primary};
+use crate::scene::ExplicitSettings;
+
+/// Values per node state: the surface index, u, v and v_half.
+const NODE: usize = 10;
+/// Values per contact: the query, the point (face, xi, normal, gap, gap rate), then the
+/// state of the secondary node and of the four face nodes.
+const RECORD: usize = 1 + 8 + 5 * NODE;
+
+/// The rank's nodes as the step's contact reads them (3 per local node).
+pub struct LocalState<'a> {
+    pub u: &'a [f64],
+    pub v: &'a mut [f64],
+    pub v_half: &'a [f64],
+}
+
+/// The contact of a rank: the surface model and what the step keeps and reuses.
+pub struct SurfaceContact {
+    model: Model,
+    contact: ExplicitContact,
+    rank: usize,
+    /// (surface index, local node) of every surface node the rank holds.
+    held: Vec<(u32, u32)>,
+    /// The owner of every surface node.
+    owner: Vec<u32>,
+    /// The surface nodes the rank owns on the primary faces of each interface (empty for
+    /// planes).
+    face_nodes: Vec<Vec<u32>>,
+    /// The rigid planes' secondary nodes: those the rank owns, each rank's count, and the
+    /// surface index of each entry of the gathered states.
+    plane_owned: Vec<u32>,
+    plane_counts: Vec<usize>,
+    plane_order: Vec<u32>,
+    queries: ContactQueries,
+    lists: Vec<Vec<u32>>,
+    points: Vec<ContactPoint>,
+    /// The queries of the secondary nodes the rank owns, increasing.
+    owned_queries: Vec<usize>,
+    /// The queries the last step set a point for.
+    set_points: Vec<usize>,
+    /// The surface nodes' state where the step has it, and the step that last set each.
+    u: Vec<f64>,
+    v: Vec<f64>,
+    v_half: Vec<f64>,
+    stamp: Vec<u32>,
+    step: u32,
+    inv_mass: Vec<f64>,
+    /// Primary-face node states received from other ranks, over the run.
+    pub received: usize,
+}
+
+impl SurfaceContact {
+    pub fn new(
+        model: &Model,
+        sub: &Subdomain,
+        mass_all: &[f64],
+        (settings, speed_scale): (&ExplicitSettings, f64),
+    ) -> SurfaceContact {
+        let map = &sub.surface;
+        let surface = surface_model(model, &map.nodes);
+        let mass: Vec<f64> = map.nodes.iter().map(|&n| mass_all[n as usize]).collect();
+        let start = NodalStart::new(
+            &mass,
+            &surface.fixed,
+            model.gravity,
+            &surface.initial_velocity,
+        );
+        let face_size = search::largest_face_size(model);
+        let contact = ExplicitContact::new(&surface, settings, speed_scale, face_size);
+        let owner = map.owner.clone();
+        let mine = |s: &u32| owner[*s as usize] as usize == sub.rank;
+        let face_nodes = (surface.interfaces.iter())
+            .map(|itf| match &itf.primary {
+                Primary::Surface { faces, .. } => {
+                    let mut n: Vec<u32> = surface.queries.faces[faces.clone()]
+                        .iter()
+                        .flatten()
+                        .copied()
+                        .filter(mine)
+                        .collect();
+                    n.sort_unstable();
+                    n.dedup();
+                    n
+                }
+                Primary::Plane { .. } => Vec::new(),
+            })
+            .collect();
+        let mut plane: Vec<u32> = (surface.interfaces.iter())
+            .filter(|itf| itf.is_plane())
+            .flat_map(|itf| itf.nodes.iter().copied())
+            .collect();
+        plane.sort_unstable();
+        plane.dedup();
+        let mut plane_counts = vec![0; sub.ranks];
+        for &s in &plane {
+            plane_counts[owner[s as usize] as usize] += 1;
+        }
+        let mut plane_order = plane.clone();
+        plane_order.sort_by_key(|&s| (owner[s as usize], s));
+        let nq = surface.queries.len();
+        let query_owner = |q: usize| owner[surface.queries.secondary[q] as usize] as usize;
+        let n = 3 * map.nodes.len();
+        SurfaceContact {
+            contact,
+            rank: sub.rank,
+            held: map.held.clone(),
+            face_nodes,
+            plane_owned: plane.into_iter().filter(mine).collect(),
+            plane_counts,
+            plane_order,
+            queries: surface.queries.clone(),
+            lists: vec![Vec::new(); nq],
+            points: vec![ContactPoint::default(); nq],
+            owned_queries: (0..nq).filter(|&q| query_owner(q) == sub.rank).collect(),
+            set_points: Vec::new(),
+            u: vec![0.0; n],
+            v: vec![0.0; n],
+            v_half: vec![0.0; n],
+            stamp: vec![0; map.nodes.len()],
+            step: 0,
+            inv_mass: start.inv_mass,
+            received: 0,
+            owner,
+            model: surface,
+        }
+    }
+
+    /// The contact impulses of the step on the rank's nodes (`local`, velocities changed in
+    /// place); `speed` is the fastest node's over the whole model.
+    pub fn step(
+        &mut self,
+        talk: &Timed,
+        local: LocalState,
+        dt: f64,
+        speed: f64,
+    ) -> Result<StepReport> {
+        self.step += 1;
+        for i in 0..self.held.len() {
+            let (k, n) = self.held[i];
+            self.set(k, [local.u, local.v, local.v_half], n as usize);
+        }
+        self.gather_planes(talk);
+        let margin = self.contact.margin(speed, dt);
+        self.exchange_faces(talk, margin);
+        self.find_own_points(margin);
+        self.gather_contacts(talk, margin);
+        let fields = ContactFields {
+            u: &self.u,
+            v: &mut self.v,
+            v_half: &self.v_half,
+            inv_mass: &self.inv_mass,
+        };
+        let report = self
+            .contact
+            .step_from_points(&self.model, fields, dt, margin)?;
+        for &(k, n) in &self.held {
+            let (k, n) = (3 * k as usize, 3 * n as usize);
+            local.v[n..n + 3].copy_from_slice(&self.v[k..k + 3]);
+        }
+        Ok(report)
+    }
+
+    /// The interfaces' impulses and reports of the last step.
+    pub fn contact(&self) -> &ExplicitContact {
+        &self.contact
+    }
+
+    /// Sets surface node `k`'s state from node `n` of the fields `[u, v, v_half]`.
+    fn set(&mut self, k: u32, [u, v, vh]: [&[f64]; 3], n: usize) {
+        let (k3, n3) = (3 * k as usize, 3 * n);
+        self.u[k3..k3 + 3].copy_from_slice(&u[n3..n3 + 3]);
+        self.v[k3..k3 + 3].copy_from_slice(&v[n3..n3 + 3]);
+        self.v_half[k3..k3 + 3].copy_from_slice(&vh[n3..n3 + 3]);
+        self.stamp[k as usize] = self.step;
+    }
+
+    /// Surface node `k`'s state as values: k, u, v, v_half.
+    fn state(&self, k: u32) -> [f64; NODE] {
+        let k3 = 3 * k as usize;
+        let mut out = [0.0; NODE];
+        out[0] = f64::from(k);
+        out[1..4].copy_from_slice(&self.u[k3..k3 + 3]);
+        out[4..7].copy_from_slice(&self.v[k3..k3 + 3]);
+        out[7..10].copy_from_slice(&self.v_half[k3..k3 + 3]);
+        out
+    }
+
+    /// Sets a node's state from its values.
+    fn unpack_state(&mut self, x: &[f64]) {
+        let k = x[0] as u32;
+        let one = [&x[1..4], &x[4..7], &x[7..10]];
+        self.set(k, one, 0);
+    }
+
+    /// Every rigid plane's secondary nodes from their owners (the sweeps decide which are
+    /// within reach from their state).
+    fn gather_planes(&mut self, talk: &Timed) {
+        if self.plane_order.is_empty() {
+            return;
+        }
+        let mine: Vec<f64> = self
+            .plane_owned
+            .iter()
+            .flat_map(|&k| self.state(k))
+            .collect();
+        let counts: Vec<usize> = self.plane_counts.iter().map(|c| NODE * c).collect();
+        let mut all = vec![0.0; NODE * self.plane_order.len()];
+        talk.talk(|r| r.all_gather(&mine, &counts, &mut all));
+        for x in all.chunks_exact(NODE) {
+            self.unpack_state(x);
+        }
+    }
+
+    /// The current position of surface node `k` (of a node set this step).
+    fn position(&self, k: u32) -> [f64; 3] {
+        let p = self.model.mesh.nodes[k as usize];
+        std::array::from_fn(|a| p[a] + self.u[3 * k as usize + a])
+    }
+
+    /// The box of the positions of `nodes` (empty: +inf to -inf).
+    fn bounds(&self, nodes: impl Iterator<Item = u32>) -> [f64; 6] {
+        let mut b = [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for k in nodes {
+            let p = self.position(k);
+            for a in 0..3 {
+                b[a] = b[a].min(p[a]);
+                b[3 + a] = b[3 + a].max(p[a]);
+            }
+        }
+        b
+    }
+
+    /// Sends the primary-face nodes the rank owns to the ranks whose secondary nodes they
+    /// may reach, and sets those the others send.
+    fn exchange_faces(&mut self, talk: &Timed, margin: f64) {
+        let surfaces: Vec<usize> = (0..self.model.interfaces.len())
+            .filter(|&k| !self.model.interfaces[k].is_plane())
+            .collect();
+        if surfaces.is_empty() || talk.ranks.size() == 1 {
+            return;
+        }
+        // the reach: the search's margin and the largest face's extent (each face whole on
+        // the rank of its element)
+        let local_extent = self.held_face_extent();
+        // (a thousandth more: a node is sent on either side of a rounding)
+        let reach = (margin + talk.talk(|r| r.max(local_extent))) * 1.001;
+        let mut mine = Vec::with_capacity(12 * surfaces.len());
+        for &k in &surfaces {
+            let itf = &self.model.interfaces[k];
+            let own = itf
+                .nodes
+                .iter()
+                .copied()
+                .filter(|&s| self.owner[s as usize] as usize == self.rank);
+            mine.extend(self.bounds(own));
+            mine.extend(self.bounds(self.face_nodes[k].iter().copied()));
+        }
+        let boxes = talk.talk(|r| r.gather_all(&mine));
+        let near = |b: &[f64], p: [f64; 3]| {
+            (0..3).all(|a| p[a] >= b[a] - reach && p[a] <= b[3 + a] + reach)
+        };
+        let boxes_near = |f: &[f64], s: &[f64]| {
+            (0..3).all(|a| f[a] <= s[3 + a] + reach && f[3 + a] >= s[a] - reach)
+        };
+        let ranks = talk.ranks.size();
+        let mut sends = vec![Vec::new(); ranks];
+        let mut expect = vec![false; ranks];
+        for q in (0..ranks).filter(|&q| q != self.rank) {
+            let mut nodes: Vec<u32> = Vec::new();
+            for (j, &k) in surfaces.iter().enumerate() {
+                let (their, ours) = (
+                    &boxes[q][12 * j..12 * j + 12],
+                    &boxes[self.rank][12 * j..12 * j + 12],
+                );
+                expect[q] |= boxes_near(&their[6..], &ours[..6]);
+                nodes.extend(
+                    self.face_nodes[k]
+                        .iter()
+                        .copied()
+                        .filter(|&s| near(&their[..6], self.position(s))),
+                );
+            }
+            nodes.sort_unstable();
+            nodes.dedup();
+            sends[q] = nodes.into_iter().flat_map(|s| self.state(s)).collect();
+        }
+        let pairs: Vec<usize> = (0..ranks)
+            .filter(|&q| q != self.rank)
+            .filter(|&q| {
+                expect[q] || {
+                    // this rank sends to q exactly when q's test of this rank's boxes passes
+                    (0..surfaces.len()).any(|j| {
+                        boxes_near(
+                            &boxes[self.rank][12 * j + 6..12 * j + 12],
+                            &boxes[q][12 * j..12 * j + 6],
+                        )
+                    })
+                }
+            })
+            .collect();
+        let counts: Vec<Vec<f64>> = pairs.iter().map(|&q| vec![sends[q].len() as f64]).collect();
+        let mut got: Vec<Vec<f64>> = vec![vec![0.0]; pairs.len()];
+        exchange(talk, &pairs, &counts, &mut got);
+        let mut data: Vec<Vec<f64>> = got.iter().map(|c| vec![0.0; c[0] as usize]).collect();
+        let out: Vec<Vec<f64>> = pairs
+            .iter()
+            .map(|&q| std::mem::take(&mut sends[q]))
+            .collect();
+        exchange(talk, &pairs, &out, &mut data);
+        for x in data.iter().flat_map(|d| d.chunks_exact(NODE)) {
+            self.unpack_state(x);
+            self.received += 1;
+        }
+    }
+
+    /// The largest box side of the primary faces whose nodes the rank holds.
+    fn held_face_extent(&self) -> f64 {
+        let present = |f: &[u32; 4]| f.iter().all(|&k| self.stamp[k as usize] == self.step);
+        let mut extent = 0.0f64;
+        for f in self.queries.faces.iter().filter(|f| present(f)) {
+            let b = self.bounds(f.iter().copied());
+            for a in 0..3 {
+                extent = extent.max(b[3 + a] - b[a]);
+            }
+        }
+        extent
+    }
+
+    /// The closest points of the rank's own queries against the faces whose nodes it has
+    /// this step (the single process's search and [`crate::kernels::contact_gap`]).
+    fn find_own_points(&mut self, margin: f64) {
+        let x: Vec<[f64; 3]> = (0..self.stamp.len() as u32)
+            .map(|k| match self.stamp[k as usize] == self.step {
+                true => self.position(k),
+                false => [f64::NAN; 3],
+            })
+            .collect();
+        let present = |f: &[u32; 4]| f.iter().all(|&k| self.stamp[k as usize] == self.step);
+        for itf in &self.model.interfaces {
+            if let Primary::Surface { faces, queries, .. } = &itf.primary {
+                let own = &self.owned_queries;
+                let ids = &own[own.partition_point(|&q| q < queries.start)
+                    ..own.partition_point(|&q| q < queries.end)];
+                let faces = faces.clone().filter(|&f| present(&self.queries.faces[f]));
+                search::find_candidates_of(&self.queries, &x, ids, faces, margin, &mut self.lists);
+            }
+        }
+        search::flatten(&mut self.queries, &self.lists);
+        let reference = &self.model.mesh.nodes;
+        contact_gap(
+            reference,
+            as_vec3(&self.u),
+            as_vec3(&self.v),
+            &self.queries,
+            &mut self.points,
+        );
+    }
+
+    /// Every rank's contacts within reach, with their nodes' state: the query points of the
+    /// step.
+    fn gather_contacts(&mut self, talk: &Timed, margin: f64) {
+        let reach = -margin.max(f64::MIN_POSITIVE);
+        let mut mine = Vec::new();
+        for &q in &self.owned_queries {
+            let p = self.points[q];
+            if p.face == NO_FACE || p.gap < reach {
+                continue;
+            }
+            mine.push(q as f64);
+            mine.extend(pack(&p));
+            let nodes = std::iter::once(self.queries.secondary[q])
+                .chain(self.queries.faces[p.face as usize]);
+            for k in nodes {
+                mine.extend(self.state(k));
+            }
+        }
+        let counts: Vec<usize> = talk
+            .talk(|r| r.gather_all(&[mine.len() as f64]))
+            .iter()
+            .map(|c| c[0] as usize)
+            .collect();
+        let mut all = vec![0.0; counts.iter().sum()];
+        talk.talk(|r| r.all_gather(&mine, &counts, &mut all));
+        let points = self.contact.query_points_mut();
+        for q in self.set_points.drain(..) {
+            points[q] = ContactPoint::default();
+        }
+        for r in all.chunks_exact(RECORD) {
+            let q = r[0] as usize;
+            self.contact.query_points_mut()[q] = unpack(&r[1..9]);
+            self.set_points.push(q);
+            for x in r[9..].chunks_exact(NODE) {
+                self.unpack_state(x);
+            }
+        }
+    }
+}
+
+/// Sends `out[i]` to rank `pairs[i]` and receives its message into `into[i]` (sized).
+fn exchange(talk: &Timed, pairs: &[usize], out: &[Vec<f64>], into: &mut [Vec<f64>]) {
+    let sends: Vec<(usize, &[f64])> = pairs
+        .iter()
+        .zip(out)
+        .map(|(&q, d)| (q, d.as_slice()))
+        .collect();
+    let mut recvs: Vec<(usize, &mut [f64])> = pairs
+        .iter()
+        .zip(into.iter_mut())
+        .map(|(&q, d)| (q, d.as_mut_slice()))
+        .collect();
+    talk.talk(|r| r.exchange(&sends, &mut recvs));
+}
+
+/// Values per contact point.
+const POINT: usize = 8;
+
+/// A contact point as values (the face number is exact in an f64).
+fn pack(p: &ContactPoint) -> [f64; POINT] {
+    let (xi, n) = (p.xi, p.normal);
+    [
+        p.face as f64,
+        xi[0],
+        xi[1],
+        n[0],
+        n[1],
+        n[2],
+        p.gap,
+        p.gap_rate,
+    ]
+}
+
+fn unpack(x: &[f64]) -> ContactPoint {
+    ContactPoint {
+        face: x[0] as u32,
+        xi: [x[1], x[2]],
+        normal: [x[3], x[4], x[5]],
+        gap: x[6],
+        gap_rate: x[7],
+    }
+}
