@@ -38,38 +38,8 @@ pub fn find_candidates_of(
     margin: f64,
     out: &mut [Vec<u32>],
 ) {
-    // only faces whose grown box reaches the queries' box can hold one of them
-    let mut reach = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for &qi in query_ids {
-        let p = x[queries.secondary[qi] as usize];
-        for a in 0..3 {
-            reach.0[a] = reach.0[a].min(p[a]);
-            reach.1[a] = reach.1[a].max(p[a]);
-        }
-    }
-    let mut boxes = Vec::new();
-    let mut cell = 0.0f64;
-    for fi in faces {
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for &n in &queries.faces[fi] {
-            for a in 0..3 {
-                lo[a] = lo[a].min(x[n as usize][a]);
-                hi[a] = hi[a].max(x[n as usize][a]);
-            }
-        }
-        for a in 0..3 {
-            lo[a] -= margin;
-            hi[a] += margin;
-        }
-        if (0..3).any(|a| hi[a] < reach.0[a] || lo[a] > reach.1[a]) {
-            continue;
-        }
-        for a in 0..3 {
-            cell = cell.max(hi[a] - lo[a]);
-        }
-        boxes.push((fi as u32, lo, hi));
-    }
+    let reach = query_box(queries, x, query_ids);
+    let (boxes, cell) = face_boxes(queries, x, faces, margin, reach);
     let key = |p: [f64; 3]| p.map(|c| (c / cell).floor() as i64);
     let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
     for (b, (_, lo, hi)) in boxes.iter().enumerate() {
@@ -106,6 +76,58 @@ pub fn find_candidates_of(
     for (&qi, list) in query_ids.iter().zip(lists) {
         out[qi] = list;
     }
+}
+
+/// The box of the nodes of `query_ids`.
+fn query_box(queries: &ContactQueries, x: &[[f64; 3]], query_ids: &[usize]) -> [[f64; 3]; 2] {
+    let mut reach = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];
+    for &qi in query_ids {
+        let p = x[queries.secondary[qi] as usize];
+        for a in 0..3 {
+            reach[0][a] = reach[0][a].min(p[a]);
+            reach[1][a] = reach[1][a].max(p[a]);
+        }
+    }
+    reach
+}
+
+/// A face's grown box: the face, its low and its high corner.
+type FaceBox = (u32, [f64; 3], [f64; 3]);
+
+/// The boxes of `faces` grown by `margin` that reach the box `reach`, and the largest side
+/// among them (the grid's cell).
+fn face_boxes(
+    queries: &ContactQueries,
+    x: &[[f64; 3]],
+    faces: impl Iterator<Item = usize>,
+    margin: f64,
+    reach: [[f64; 3]; 2],
+) -> (Vec<FaceBox>, f64) {
+    let mut boxes = Vec::new();
+    let mut cell = 0.0f64;
+    for fi in faces {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for &n in &queries.faces[fi] {
+            for a in 0..3 {
+                lo[a] = lo[a].min(x[n as usize][a]);
+                hi[a] = hi[a].max(x[n as usize][a]);
+            }
+        }
+        for a in 0..3 {
+            lo[a] -= margin;
+            hi[a] += margin;
+        }
+        // only faces whose grown box reaches the queries' box can hold one of them
+        if (0..3).any(|a| hi[a] < reach[0][a] || lo[a] > reach[1][a]) {
+            continue;
+        }
+        for a in 0..3 {
+            cell = cell.max(hi[a] - lo[a]);
+        }
+        boxes.push((fi as u32, lo, hi));
+    }
+    (boxes, cell)
 }
 
 /// Flattens per-query candidate lists into the CSR arrays of `queries`.

@@ -53,11 +53,9 @@ pub struct SurfaceContact {
     /// The surface nodes the rank owns on the primary faces of each interface (empty for
     /// planes).
     face_nodes: Vec<Vec<u32>>,
-    /// The rigid planes' secondary nodes: those the rank owns, each rank's count, and the
-    /// surface index of each entry of the gathered states.
+    /// The rigid planes' secondary nodes: those the rank owns, and each rank's count.
     plane_owned: Vec<u32>,
     plane_counts: Vec<usize>,
-    plane_order: Vec<u32>,
     queries: ContactQueries,
     lists: Vec<Vec<u32>>,
     points: Vec<ContactPoint>,
@@ -96,34 +94,12 @@ impl SurfaceContact {
         let contact = ExplicitContact::new(&surface, settings, speed_scale, face_size);
         let owner = map.owner.clone();
         let mine = |s: &u32| owner[*s as usize] as usize == sub.rank;
-        let face_nodes = (surface.interfaces.iter())
-            .map(|itf| match &itf.primary {
-                Primary::Surface { faces, .. } => {
-                    let mut n: Vec<u32> = surface.queries.faces[faces.clone()]
-                        .iter()
-                        .flatten()
-                        .copied()
-                        .filter(mine)
-                        .collect();
-                    n.sort_unstable();
-                    n.dedup();
-                    n
-                }
-                Primary::Plane { .. } => Vec::new(),
-            })
-            .collect();
-        let mut plane: Vec<u32> = (surface.interfaces.iter())
-            .filter(|itf| itf.is_plane())
-            .flat_map(|itf| itf.nodes.iter().copied())
-            .collect();
-        plane.sort_unstable();
-        plane.dedup();
+        let face_nodes = owned_face_nodes(&surface, mine);
+        let plane = plane_nodes(&surface);
         let mut plane_counts = vec![0; sub.ranks];
         for &s in &plane {
             plane_counts[owner[s as usize] as usize] += 1;
         }
-        let mut plane_order = plane.clone();
-        plane_order.sort_by_key(|&s| (owner[s as usize], s));
         let nq = surface.queries.len();
         let query_owner = |q: usize| owner[surface.queries.secondary[q] as usize] as usize;
         let n = 3 * map.nodes.len();
@@ -134,7 +110,6 @@ impl SurfaceContact {
             face_nodes,
             plane_owned: plane.into_iter().filter(mine).collect(),
             plane_counts,
-            plane_order,
             queries: surface.queries.clone(),
             lists: vec![Vec::new(); nq],
             points: vec![ContactPoint::default(); nq],
@@ -222,7 +197,8 @@ impl SurfaceContact {
     /// Every rigid plane's secondary nodes from their owners (the sweeps decide which are
     /// within reach from their state).
     fn gather_planes(&mut self, talk: &Timed) {
-        if self.plane_order.is_empty() {
+        let total: usize = self.plane_counts.iter().sum();
+        if total == 0 {
             return;
         }
         let mine: Vec<f64> = self
@@ -231,7 +207,7 @@ impl SurfaceContact {
             .flat_map(|&k| self.state(k))
             .collect();
         let counts: Vec<usize> = self.plane_counts.iter().map(|c| NODE * c).collect();
-        let mut all = vec![0.0; NODE * self.plane_order.len()];
+        let mut all = vec![0.0; NODE * total];
         talk.talk(|r| r.all_gather(&mine, &counts, &mut all));
         for x in all.chunks_exact(NODE) {
             self.unpack_state(x);
@@ -273,78 +249,52 @@ impl SurfaceContact {
         if surfaces.is_empty() || talk.ranks.size() == 1 {
             return;
         }
-        // the reach: the search's margin and the largest face's extent (each face whole on
-        // the rank of its element)
+        // the reach: the search's margin and the largest face's extent (each face is whole
+        // on the rank of its element), and a thousandth more for rounding
         let local_extent = self.held_face_extent();
-        // (a thousandth more: a node is sent on either side of a rounding)
         let reach = (margin + talk.talk(|r| r.max(local_extent))) * 1.001;
-        let mut mine = Vec::with_capacity(12 * surfaces.len());
-        for &k in &surfaces {
-            let itf = &self.model.interfaces[k];
-            let own = itf
-                .nodes
-                .iter()
-                .copied()
-                .filter(|&s| self.owner[s as usize] as usize == self.rank);
-            mine.extend(self.bounds(own));
-            mine.extend(self.bounds(self.face_nodes[k].iter().copied()));
-        }
-        let boxes = talk.talk(|r| r.gather_all(&mine));
-        let near = |b: &[f64], p: [f64; 3]| {
-            (0..3).all(|a| p[a] >= b[a] - reach && p[a] <= b[3 + a] + reach)
+        let boxes = Boxes {
+            all: talk.talk(|r| r.gather_all(&self.own_boxes(&surfaces))),
+            reach,
         };
-        let boxes_near = |f: &[f64], s: &[f64]| {
-            (0..3).all(|a| f[a] <= s[3 + a] + reach && f[3 + a] >= s[a] - reach)
-        };
-        let ranks = talk.ranks.size();
-        let mut sends = vec![Vec::new(); ranks];
-        let mut expect = vec![false; ranks];
-        for q in (0..ranks).filter(|&q| q != self.rank) {
-            let mut nodes: Vec<u32> = Vec::new();
-            for (j, &k) in surfaces.iter().enumerate() {
-                let (their, ours) = (
-                    &boxes[q][12 * j..12 * j + 12],
-                    &boxes[self.rank][12 * j..12 * j + 12],
-                );
-                expect[q] |= boxes_near(&their[6..], &ours[..6]);
-                nodes.extend(
-                    self.face_nodes[k]
-                        .iter()
-                        .copied()
-                        .filter(|&s| near(&their[..6], self.position(s))),
-                );
-            }
-            nodes.sort_unstable();
-            nodes.dedup();
-            sends[q] = nodes.into_iter().flat_map(|s| self.state(s)).collect();
-        }
-        let pairs: Vec<usize> = (0..ranks)
-            .filter(|&q| q != self.rank)
-            .filter(|&q| {
-                expect[q] || {
-                    // this rank sends to q exactly when q's test of this rank's boxes passes
-                    (0..surfaces.len()).any(|j| {
-                        boxes_near(
-                            &boxes[self.rank][12 * j + 6..12 * j + 12],
-                            &boxes[q][12 * j..12 * j + 6],
-                        )
-                    })
-                }
-            })
+        let pairs = boxes.pairs(self.rank, surfaces.len());
+        let out: Vec<Vec<f64>> = (pairs.iter())
+            .map(|&q| self.face_states_for(&surfaces, &boxes, q))
             .collect();
-        let counts: Vec<Vec<f64>> = pairs.iter().map(|&q| vec![sends[q].len() as f64]).collect();
-        let mut got: Vec<Vec<f64>> = vec![vec![0.0]; pairs.len()];
-        exchange(talk, &pairs, &counts, &mut got);
-        let mut data: Vec<Vec<f64>> = got.iter().map(|c| vec![0.0; c[0] as usize]).collect();
-        let out: Vec<Vec<f64>> = pairs
+        for x in swap(talk, &pairs, &out)
             .iter()
-            .map(|&q| std::mem::take(&mut sends[q]))
-            .collect();
-        exchange(talk, &pairs, &out, &mut data);
-        for x in data.iter().flat_map(|d| d.chunks_exact(NODE)) {
+            .flat_map(|d| d.chunks_exact(NODE))
+        {
             self.unpack_state(x);
             self.received += 1;
         }
+    }
+
+    /// Per surface interface: the box of the secondary nodes the rank owns, then the box of
+    /// the primary-face nodes it owns.
+    fn own_boxes(&self, surfaces: &[usize]) -> Vec<f64> {
+        let mine = |s: &u32| self.owner[*s as usize] as usize == self.rank;
+        (surfaces.iter())
+            .flat_map(|&k| {
+                let secondary = self.model.interfaces[k].nodes.iter().copied().filter(mine);
+                let faces = self.face_nodes[k].iter().copied();
+                self.bounds(secondary).into_iter().chain(self.bounds(faces))
+            })
+            .collect()
+    }
+
+    /// The states of the primary-face nodes the rank owns within reach of rank `q`'s
+    /// secondary nodes, each once.
+    fn face_states_for(&self, surfaces: &[usize], boxes: &Boxes, q: usize) -> Vec<f64> {
+        let mut nodes: Vec<u32> = Vec::new();
+        for (j, &k) in surfaces.iter().enumerate() {
+            let theirs = boxes.secondary(q, j);
+            let near = |s: &u32| boxes.holds(theirs, self.position(*s));
+            nodes.extend(self.face_nodes[k].iter().copied().filter(near));
+        }
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes.into_iter().flat_map(|s| self.state(s)).collect()
     }
 
     /// The largest box side of the primary faces whose nodes the rank holds.
@@ -428,6 +378,85 @@ impl SurfaceContact {
             }
         }
     }
+}
+
+/// The surface nodes `mine` on the primary faces of each interface (none for a plane),
+/// increasing.
+fn owned_face_nodes(surface: &Model, mine: impl Fn(&u32) -> bool) -> Vec<Vec<u32>> {
+    (surface.interfaces.iter())
+        .map(|itf| match &itf.primary {
+            Primary::Surface { faces, .. } => {
+                let all = surface.queries.faces[faces.clone()].iter().flatten();
+                let mut n: Vec<u32> = all.copied().filter(&mine).collect();
+                n.sort_unstable();
+                n.dedup();
+                n
+            }
+            Primary::Plane { .. } => Vec::new(),
+        })
+        .collect()
+}
+
+/// The secondary nodes of every rigid plane, increasing, each once.
+fn plane_nodes(surface: &Model) -> Vec<u32> {
+    let mut plane: Vec<u32> = (surface.interfaces.iter())
+        .filter(|itf| itf.is_plane())
+        .flat_map(|itf| itf.nodes.iter().copied())
+        .collect();
+    plane.sort_unstable();
+    plane.dedup();
+    plane
+}
+
+/// Every rank's boxes of secondary and primary-face nodes (12 values per surface interface)
+/// and the search's reach.
+struct Boxes {
+    all: Vec<Vec<f64>>,
+    reach: f64,
+}
+
+impl Boxes {
+    /// Rank `q`'s box of secondary nodes of surface interface `j`.
+    fn secondary(&self, q: usize, j: usize) -> &[f64] {
+        &self.all[q][12 * j..12 * j + 6]
+    }
+
+    /// Rank `q`'s box of primary-face nodes of surface interface `j`.
+    fn faces(&self, q: usize, j: usize) -> &[f64] {
+        &self.all[q][12 * j + 6..12 * j + 12]
+    }
+
+    /// Whether `p` lies within reach of box `b`.
+    fn holds(&self, b: &[f64], p: [f64; 3]) -> bool {
+        (0..3).all(|a| p[a] >= b[a] - self.reach && p[a] <= b[3 + a] + self.reach)
+    }
+
+    /// Whether rank `from`'s face nodes may reach rank `to`'s secondary nodes.
+    fn sends(&self, from: usize, to: usize, surfaces: usize) -> bool {
+        (0..surfaces).any(|j| {
+            let (f, s) = (self.faces(from, j), self.secondary(to, j));
+            (0..3).all(|a| f[a] <= s[3 + a] + self.reach && f[3 + a] >= s[a] - self.reach)
+        })
+    }
+
+    /// The ranks `rank` exchanges face nodes with: those it may send to or receive from.
+    /// Both sides of a pair find it from the same boxes.
+    fn pairs(&self, rank: usize, surfaces: usize) -> Vec<usize> {
+        (0..self.all.len())
+            .filter(|&q| q != rank)
+            .filter(|&q| self.sends(rank, q, surfaces) || self.sends(q, rank, surfaces))
+            .collect()
+    }
+}
+
+/// Sends `out[i]` to rank `pairs[i]`, their lengths first, and returns what each sent back.
+fn swap(talk: &Timed, pairs: &[usize], out: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let counts: Vec<Vec<f64>> = out.iter().map(|d| vec![d.len() as f64]).collect();
+    let mut got = vec![vec![0.0]; pairs.len()];
+    exchange(talk, pairs, &counts, &mut got);
+    let mut data: Vec<Vec<f64>> = got.iter().map(|c| vec![0.0; c[0] as usize]).collect();
+    exchange(talk, pairs, out, &mut data);
+    data
 }
 
 /// Sends `out[i]` to rank `pairs[i]` and receives its message into `into[i]` (sized).

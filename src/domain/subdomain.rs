@@ -195,21 +195,30 @@ impl Subdomain {
                 receive: start[q]..start[q + 1],
             })
             .collect();
-        // the sources of each shared node, in global corner order
+        self.shared_sources(model, partition, holders, (local, corner_local), start);
+    }
+
+    /// The sources of each shared node, in global corner order; `start` is where each
+    /// rank's corners begin in the receive buffer.
+    fn shared_sources(
+        &mut self,
+        model: &Model,
+        partition: &Partition,
+        holders: &std::collections::BTreeMap<u32, Vec<u32>>,
+        (local, corner_local): (&[u32], &[u32]),
+        start: Vec<usize>,
+    ) {
         let mut lists: std::collections::BTreeMap<u32, Vec<Source>> = holders
             .keys()
             .map(|&n| (local[n as usize], Vec::new()))
             .collect();
         let mut next = start;
         for (c, e, n) in corners(model) {
-            let Some(list) = lists
-                .get_mut(&local[n as usize])
-                .filter(|_| held[n as usize])
-            else {
+            let Some(list) = lists.get_mut(&local[n as usize]) else {
                 continue;
             };
-            let q = part(e);
-            list.push(if q == rank {
+            let q = partition.part_of[e] as usize;
+            list.push(if q == self.rank {
                 Source::Local(corner_local[c])
             } else {
                 next[q] += 1;

@@ -69,11 +69,9 @@ fn build_solver<'m>(
     let (model, dt) = (&setup.model, setup.dt);
     if let Some(ranks) = ranks {
         let partition = Partition::bisect(model, ranks.size());
+        let settings = (&scene.explicit, dt, speed_scale);
         return Ok(Box::new(DomainSolver::new(
-            model,
-            ranks,
-            &partition,
-            (&scene.explicit, dt, speed_scale),
+            model, ranks, &partition, settings,
         )?));
     }
     let mut solver: Box<dyn Integrator + 'm> = match (setup.method, setup.ctx.clone()) {
