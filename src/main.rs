@@ -145,7 +145,7 @@ fn interrupt_flag() -> Option<Arc<AtomicBool>> {
 /// shared among them (every process taking every core would run P times as many threads
 /// as cores).
 fn rank_threads() -> Option<usize> {
-    let local = impact::domain::ranks::launched_local_size().filter(|&n| n > 1)?;
+    let local = impact::domain::launch::launched_local_size().filter(|&n| n > 1)?;
     let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
     Some((cores / local).max(1))
 }
@@ -339,27 +339,67 @@ fn run_command(
 fn run_scene(sc: &Scene, opts: RunOptions) -> anyhow::Result<(impact::output::Summary, bool)> {
     use impact::domain::mpi::MpiRanks;
     use impact::domain::Ranks;
-    if impact::domain::ranks::launched_size().is_some_and(|n| n > 1) {
-        let universe = mpi::initialize().context("initialising MPI")?;
-        let ranks = MpiRanks::new(universe.world());
-        let s = impact::run::run_ranks(
-            sc,
-            &RunOptions {
-                interrupt: None,
-                ..opts
-            },
-            &ranks,
-        )?;
-        return Ok((s, ranks.rank() == 0));
+    use mpi::traits::Communicator;
+    if !impact::domain::launch::launched() {
+        return Ok((run(sc, &opts)?, true));
     }
-    Ok((run(sc, &opts)?, true))
+    let universe = mpi::initialize().context("initialising MPI")?;
+    let world = universe.world();
+    if world.size() == 1 {
+        return Ok((run(sc, &opts)?, true));
+    }
+    let ranks = MpiRanks::new(world);
+    let opts = RunOptions {
+        interrupt: None,
+        ..opts
+    };
+    match impact::run::run_ranks(sc, &opts, &ranks) {
+        Ok(s) => Ok((s, ranks.rank() == 0)),
+        // an error every rank meets alike before the first step (the scene, a folder rank 0
+        // cannot use) ends every rank; rank 0 says why
+        Err(e) if same_on_every_rank(&e) => match ranks.rank() {
+            0 => Err(e.into()),
+            _ => Ok((Default::default(), false)),
+        },
+        // an error on some ranks only would leave the others waiting: say it, end the job
+        Err(e) => {
+            eprintln!("error (rank {}): {e}", ranks.rank());
+            world_abort(&universe, e.exit_code())
+        }
+    }
+}
+
+/// Whether every rank of a decomposed run meets error `e` alike and stops on its own: the
+/// scene and its meshes (read the same on every rank), what a decomposed run refuses, and
+/// rank 0's output folder (every rank learns whether it was prepared).
+#[cfg(feature = "mpi")]
+fn same_on_every_rank(e: &ImpactError) -> bool {
+    use ImpactError::*;
+    matches!(
+        e,
+        ReadScene { .. }
+            | SceneSyntax { .. }
+            | SceneValue { .. }
+            | Unsupported { .. }
+            | Mesh { .. }
+            | MeshFile { .. }
+            | OutputExists { .. }
+            | Ranks(_)
+    )
+}
+
+/// Ends every process of the MPI job with `code` (`MPI_Abort`).
+#[cfg(feature = "mpi")]
+fn world_abort(universe: &mpi::environment::Universe, code: u8) -> ! {
+    use mpi::traits::Communicator;
+    universe.world().abort(i32::from(code))
 }
 
 /// Runs the scene on this process; started by an MPI launcher with more than one process,
 /// says that this build has no MPI (every process would run the whole scene).
 #[cfg(not(feature = "mpi"))]
 fn run_scene(sc: &Scene, opts: RunOptions) -> anyhow::Result<(impact::output::Summary, bool)> {
-    if let Some(n) = impact::domain::ranks::launched_size().filter(|&n| n > 1) {
+    if let Some(n) = impact::domain::launch::launched_size().filter(|&n| n > 1) {
         anyhow::bail!(
             "started as one of {n} MPI processes, but this build of impact has no MPI: build it with `cargo build --release --features mpi` (docs/mpi.md)"
         );

@@ -20,14 +20,6 @@ use impact::domain::Partition;
 use impact::model::Model;
 use impact::scene::Scene;
 
-fn explicit(text: &str) -> String {
-    let text: String = (text.lines())
-        .filter(|l| !l.starts_with("time_step") && !l.starts_with("method"))
-        .collect::<Vec<_>>()
-        .join("\n");
-    edit(&text, "[run]", "[run]\nmethod = \"explicit\"")
-}
-
 /// `impact run scene --out dir` on `ranks` MPI processes (one process where `ranks` is 0).
 fn impact_run(ranks: usize, scene: &Path, out: &Path) {
     let bin = env!("CARGO_BIN_EXE_impact");
@@ -132,7 +124,16 @@ fn same_on_ranks(tag: &str, text: &str) -> History {
 fn block_on_plate_with_friction_is_the_same_on_2_and_4_ranks() {
     same_on_ranks(
         "mpi_cube_on_plate",
-        &explicit(&scene_text("cube_on_plate.toml")),
+        &explicit_at_default_step(&scene_text("cube_on_plate.toml")),
+    );
+}
+
+/// Tet4 on both sides: the faces that cross rank boundaries are triangles.
+#[test]
+fn tet4_cube_on_tet4_plate_is_the_same_on_2_and_4_ranks() {
+    same_on_ranks(
+        "mpi_tet4_cube_on_plate",
+        &explicit_at_default_step(&tet4_cube_on_plate()),
     );
 }
 
@@ -140,7 +141,7 @@ fn block_on_plate_with_friction_is_the_same_on_2_and_4_ranks() {
 fn bar_on_rigid_wall_is_the_same_on_2_and_4_ranks() {
     same_on_ranks(
         "mpi_bar_on_wall",
-        &explicit(&scene_text("bar_on_wall.toml")),
+        &explicit_at_default_step(&scene_text("bar_on_wall.toml")),
     );
 }
 
@@ -149,7 +150,7 @@ fn bar_on_rigid_wall_is_the_same_on_2_and_4_ranks() {
 /// wave theory within the fine-mesh tolerances.
 #[test]
 fn two_bars_split_at_their_contact_face_match_wave_theory_on_ranks() {
-    let text = explicit(&scene_text("two_bars_fine.toml"));
+    let text = explicit_at_default_step(&scene_text("two_bars_fine.toml"));
     let scene = Scene::parse(&text, &repo().join("scenes/mpi_two_bars.toml")).unwrap();
     let model = Model::from_scene(&scene).unwrap();
     let partition = Partition::bisect(&model, 2);
@@ -197,7 +198,8 @@ fn frames_on_3_ranks_are_pieces_of_the_single_process_frames() {
     let dir = out_dir(tag);
     std::fs::create_dir_all(&dir).unwrap();
     let scene = dir.join("cube.toml");
-    let text = explicit(&scene_text("cube_on_plate.toml")) + "\n[output]\nvtu_every = 10\n";
+    let text = explicit_at_default_step(&scene_text("cube_on_plate.toml"))
+        + "\n[output]\nvtu_every = 10\n";
     std::fs::write(&scene, text).unwrap();
     impact_run(0, &scene, &dir.join("process"));
     impact_run(3, &scene, &dir.join("ranks3"));

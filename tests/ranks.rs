@@ -131,14 +131,6 @@ fn both_ways(tag: &str, text: &str) -> (String, String) {
     (read(&one), read(&ranked))
 }
 
-fn explicit(text: &str) -> String {
-    let text: String = (text.lines())
-        .filter(|l| !l.starts_with("time_step") && !l.starts_with("method"))
-        .collect::<Vec<_>>()
-        .join("\n");
-    edit(&text, "[run]", "[run]\nmethod = \"explicit\"")
-}
-
 /// Friction, two bodies, a rigid wall, tet4 faces: the history of the decomposed solver on
 /// one rank is the single-process history, byte for byte.
 #[test]
@@ -149,7 +141,7 @@ fn one_rank_runs_the_single_process_history_byte_for_byte() {
         ("ranks_bar_on_wall", scene_text("bar_on_wall.toml")),
         ("ranks_tet4_cube_on_plate", tet4_cube_on_plate()),
     ] {
-        let (one, ranked) = both_ways(tag, &explicit(&text));
+        let (one, ranked) = both_ways(tag, &explicit_at_default_step(&text));
         assert!(
             one.lines().count() > 10,
             "{tag}: {} rows",
@@ -171,7 +163,7 @@ fn a_decomposed_run_refuses_the_implicit_path_and_checkpoints() {
     };
     let e = run_ranks(&scene, &opts, &Single).expect_err("implicit is refused");
     assert!(e.to_string().contains("run.method"), "{e}");
-    let text = explicit(&implicit) + "\n[output]\ncheckpoint_every = 10\n";
+    let text = explicit_at_default_step(&implicit) + "\n[output]\ncheckpoint_every = 10\n";
     let scene = Scene::parse(&text, &repo().join("scenes/ranks_checkpoint.toml")).unwrap();
     let e = run_ranks(&scene, &opts, &Single).expect_err("checkpoints are refused");
     assert!(e.to_string().contains("checkpoint_every"), "{e}");

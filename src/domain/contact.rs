@@ -28,6 +28,9 @@ use crate::kernels::{as_vec3, contact_gap, ContactPoint, ContactQueries};
 use crate::model::{Model, Primary};
 use crate::scene::ExplicitSettings;
 
+/// The contact's share-out in words (`summary.json`).
+pub const DESCRIPTION: &str = "each rank receives from their owners the primary-face nodes its secondary nodes may reach and searches for the secondary nodes it owns; the contacts within reach are gathered on every rank with their nodes' state, and every rank works the impulse sweeps";
+
 /// Values per node state: the surface index, u, v and v_half.
 const NODE: usize = 10;
 /// Values per contact: the query, the point (face, xi, normal, gap, gap rate), then the
@@ -299,9 +302,8 @@ impl SurfaceContact {
 
     /// The largest box side of the primary faces whose nodes the rank holds.
     fn held_face_extent(&self) -> f64 {
-        let present = |f: &[u32; 4]| f.iter().all(|&k| self.stamp[k as usize] == self.step);
         let mut extent = 0.0f64;
-        for f in self.queries.faces.iter().filter(|f| present(f)) {
+        for f in (self.queries.faces.iter()).filter(|f| present(&self.stamp, self.step, f)) {
             let b = self.bounds(f.iter().copied());
             for a in 0..3 {
                 extent = extent.max(b[3 + a] - b[a]);
@@ -319,13 +321,14 @@ impl SurfaceContact {
                 false => [f64::NAN; 3],
             })
             .collect();
-        let present = |f: &[u32; 4]| f.iter().all(|&k| self.stamp[k as usize] == self.step);
         for itf in &self.model.interfaces {
             if let Primary::Surface { faces, queries, .. } = &itf.primary {
                 let own = &self.owned_queries;
                 let ids = &own[own.partition_point(|&q| q < queries.start)
                     ..own.partition_point(|&q| q < queries.end)];
-                let faces = faces.clone().filter(|&f| present(&self.queries.faces[f]));
+                let faces = faces
+                    .clone()
+                    .filter(|&f| present(&self.stamp, self.step, &self.queries.faces[f]));
                 search::find_candidates_of(&self.queries, &x, ids, faces, margin, &mut self.lists);
             }
         }
@@ -406,6 +409,12 @@ fn plane_nodes(surface: &Model) -> Vec<u32> {
     plane.sort_unstable();
     plane.dedup();
     plane
+}
+
+/// Whether step `step` has set every node of face `f` (`stamp`: the step that last set
+/// each node).
+fn present(stamp: &[u32], step: u32, f: &[u32; 4]) -> bool {
+    f.iter().all(|&k| stamp[k as usize] == step)
 }
 
 /// Every rank's boxes of secondary and primary-face nodes (12 values per surface interface)

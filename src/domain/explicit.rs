@@ -9,17 +9,13 @@
 //! nodes and then the ranks in order: the same bits as one process on one rank, within
 //! rounding (1e-12 relative to the column) on several.
 
-use std::time::Instant;
-
-use rayon::prelude::*;
-
 use super::contact::{LocalState, SurfaceContact};
 use super::partition::Partition;
 use super::ranks::{Ranks, Timed};
 use super::subdomain::Subdomain;
 use crate::backend::{CpuKernels, Kernels};
 use crate::error::{ImpactError, Result};
-use crate::integrate::explicit::{lumped_mass, NodalStart};
+use crate::integrate::explicit::{correct, lumped_mass, NodalStart};
 use crate::integrate::{
     ContactReport, Decomposition, Energies, Integrator, Piece, ProbeValues, SolverState, StepReport,
 };
@@ -137,10 +133,15 @@ impl<'m> DomainSolver<'m> {
 
     /// `f` on the ranks, its time counted as communication.
     fn talk<T>(&self, f: impl FnOnce(&dyn Ranks) -> T) -> T {
-        let t = Instant::now();
-        let out = f(self.ranks);
-        (self.communication).set(self.communication.get() + t.elapsed().as_secs_f64());
-        out
+        self.timed().talk(f)
+    }
+
+    /// The ranks with the rank's communication clock.
+    fn timed(&self) -> Timed<'_> {
+        Timed {
+            ranks: self.ranks,
+            seconds: &self.communication,
+        }
     }
 
     /// The rank's internal forces: its elements', then the shared nodes' sums with the
@@ -187,6 +188,7 @@ impl<'m> DomainSolver<'m> {
         }
         let local_speed = fastest_speed(&self.v);
         let speed = self.talk(|r| r.max(local_speed));
+        // from the fields, not `self.timed()`: the surface and the velocities change below
         let talk = Timed {
             ranks: self.ranks,
             seconds: &self.communication,
@@ -237,16 +239,8 @@ impl Integrator for DomainSolver<'_> {
         self.v_half.copy_from_slice(&self.v);
         kernels::explicit_drift(dt, &self.v, &mut self.u);
         self.internal_forces()?;
-        let (f_ext, f_int, inv_mass) = (&self.f_ext, &self.f_int, &self.inv_mass);
-        self.a
-            .par_iter_mut()
-            .zip(self.v.par_iter_mut())
-            .enumerate()
-            .with_min_len(crate::parallel::CHUNK)
-            .for_each(|(d, (a, v))| {
-                *a = (f_ext[d] - f_int[d]) * inv_mass[d];
-                *v += 0.5 * dt * *a;
-            });
+        let forces = (&self.f_ext[..], &self.f_int[..], &self.inv_mass[..]);
+        correct(dt, forces, &mut self.a, &mut self.v);
         self.time += dt;
         self.steps += 1;
         Ok(report)
@@ -295,21 +289,27 @@ impl Integrator for DomainSolver<'_> {
         &self.mass_all
     }
 
-    /// The probed nodes' values from their owners (every other rank adds zeros).
+    /// The probed nodes' values as their owners have them: each rank marks the probes it
+    /// owns and gives their values; every rank takes each probe from its owner.
     fn probes(&self) -> Vec<ProbeValues> {
-        let mut mine = vec![0.0; 6 * self.model.probes.len()];
+        let mut mine = vec![0.0; 7 * self.model.probes.len()];
         for (p, probe) in self.model.probes.iter().enumerate() {
             let Ok(i) = self.sub.nodes.binary_search(&probe.node) else {
                 continue;
             };
             if self.sub.owned[i] {
-                mine[6 * p..6 * p + 3].copy_from_slice(&self.u[3 * i..3 * i + 3]);
-                mine[6 * p + 3..6 * p + 6].copy_from_slice(&self.v[3 * i..3 * i + 3]);
+                mine[7 * p] = 1.0;
+                mine[7 * p + 1..7 * p + 4].copy_from_slice(&self.u[3 * i..3 * i + 3]);
+                mine[7 * p + 4..7 * p + 7].copy_from_slice(&self.v[3 * i..3 * i + 3]);
             }
         }
-        let all = self.talk(|r| r.sum(&mine));
-        (all.chunks_exact(6))
-            .map(|c| ([c[0], c[1], c[2]], [c[3], c[4], c[5]]))
+        let all = self.talk(|r| r.gather_all(&mine));
+        (0..self.model.probes.len())
+            .map(|p| {
+                let owner = all.iter().find(|r| r[7 * p] == 1.0).unwrap_or(&all[0]);
+                let c = &owner[7 * p + 1..7 * p + 7];
+                ([c[0], c[1], c[2]], [c[3], c[4], c[5]])
+            })
             .collect()
     }
 
@@ -350,11 +350,8 @@ impl Integrator for DomainSolver<'_> {
         let column = |k: usize| all.iter().map(|r| r[k] as usize).collect();
         Some(Decomposition {
             ranks: self.ranks.size(),
-            partition: format!(
-                "recursive coordinate bisection of the element centroids into equal weights (an element weighs 1, plus {} for each secondary-node corner)",
-                super::partition::CONTACT_WEIGHT
-            ),
-            contact: "each rank receives the primary-face nodes its secondary nodes may reach from their owners and searches for the secondary nodes it owns; the contacts within reach are gathered on every rank with their nodes' state, and every rank works the impulse sweeps".into(),
+            partition: super::partition::DESCRIPTION.into(),
+            contact: super::contact::DESCRIPTION.into(),
             elements: column(0),
             nodes: column(1),
             shared_nodes: column(2),

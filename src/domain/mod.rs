@@ -10,10 +10,12 @@
 //!   the `mpi` feature);
 //! - [`contact`]: a rank's contact: the faces its secondary nodes may reach, its own
 //!   search, the contacts gathered and the sweeps;
-//! - [`explicit`]: the rank's explicit solver.
+//! - [`explicit`]: the rank's explicit solver;
+//! - [`launch`]: what an MPI launcher tells a process.
 
 pub mod contact;
 pub mod explicit;
+pub mod launch;
 #[cfg(feature = "mpi")]
 pub mod mpi;
 pub mod partition;

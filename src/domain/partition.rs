@@ -16,6 +16,9 @@ use crate::model::{Model, Primary};
 /// The weight a secondary-node corner adds to its element.
 pub const CONTACT_WEIGHT: f64 = 1.4;
 
+/// The partition in words (`summary.json`).
+pub const DESCRIPTION: &str = "recursive coordinate bisection of the element centroids into equal weights (an element weighs 1, plus 1.4 for each secondary-node corner)";
+
 /// The part of every element: hex8s first (`0..hexes`), then tet4s, as
 /// [`crate::mesh::Mesh`] numbers them.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -75,19 +75,3 @@ impl Ranks for Single {
         x
     }
 }
-
-/// The job's size as an MPI launcher tells it, without initialising MPI: a process started
-/// by Open MPI's `mpirun`, or by a PMI launcher (MPICH's Hydra, Slurm's `srun`), finds it in
-/// its environment.
-pub fn launched_size() -> Option<usize> {
-    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE"]
-        .iter()
-        .find_map(|k| std::env::var(k).ok()?.parse().ok())
-}
-
-/// How many processes of the job an MPI launcher started on this machine.
-pub fn launched_local_size() -> Option<usize> {
-    ["OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS"]
-        .iter()
-        .find_map(|k| std::env::var(k).ok()?.parse().ok())
-}

@@ -7,7 +7,8 @@
 //! numbers, which is the order the single-process gather adds them in
 //! ([`crate::kernels::node_gather`]). So a shared node's force is the same bits on every
 //! holder and in a run on one process. The lowest holder owns the node: it alone counts it in
-//! the sums of the history and sends it to the others when they gather the contact surfaces.
+//! the sums of the history, gives its probe values, searches for its contacts as a secondary
+//! node and sends it to the ranks whose contacts may reach it as a primary-face node.
 
 use super::partition::Partition;
 use crate::kernels::ElementData;
@@ -33,20 +34,13 @@ pub struct Neighbour {
 }
 
 /// The nodes of the contact surfaces (every interface's secondary nodes and primary face
-/// nodes) and where each rank's share of them lies.
+/// nodes): which the rank holds, and who owns each.
 #[derive(Debug, Clone, Default)]
 pub struct SurfaceMap {
     /// The surface nodes' global numbers, increasing.
     pub nodes: Vec<u32>,
     /// (surface index, local node) of every surface node this rank holds.
     pub held: Vec<(u32, u32)>,
-    /// The local nodes of the surface nodes this rank owns, in surface order.
-    pub owned: Vec<u32>,
-    /// How many surface nodes each rank owns.
-    pub counts: Vec<usize>,
-    /// The surface index of each entry of the gathered surface (rank 0's owned nodes, then
-    /// rank 1's, ...).
-    pub order: Vec<u32>,
     /// The owner of each surface node.
     pub owner: Vec<u32>,
 }
@@ -150,7 +144,7 @@ impl Subdomain {
             surface: SurfaceMap::default(),
         };
         sub.exchange_lists(model, partition, &held, &holders, &local, &corner_local);
-        sub.surface = surface_map(model, &owner, &local, rank, partition.parts);
+        sub.surface = surface_map(model, &owner, &local);
         sub
     }
 
@@ -373,35 +367,16 @@ fn holders(
 }
 
 /// The contact surfaces' nodes and each rank's share of them.
-fn surface_map(
-    model: &Model,
-    owner: &[u32],
-    local: &[u32],
-    rank: usize,
-    ranks: usize,
-) -> SurfaceMap {
+fn surface_map(model: &Model, owner: &[u32], local: &[u32]) -> SurfaceMap {
     let nodes = surface_nodes(model);
     let held = (nodes.iter().enumerate())
         .filter(|(_, &n)| local[n as usize] != u32::MAX)
         .map(|(s, &n)| (s as u32, local[n as usize]))
         .collect();
-    let owned = (nodes.iter())
-        .filter(|&&n| owner[n as usize] as usize == rank)
-        .map(|&n| local[n as usize])
-        .collect();
-    let mut counts = vec![0; ranks];
-    for &n in &nodes {
-        counts[owner[n as usize] as usize] += 1;
-    }
-    let mut order: Vec<u32> = (0..nodes.len() as u32).collect();
-    order.sort_by_key(|&s| (owner[nodes[s as usize] as usize], s));
     SurfaceMap {
         owner: nodes.iter().map(|&n| owner[n as usize]).collect(),
         nodes,
         held,
-        owned,
-        counts,
-        order,
     }
 }
 

@@ -47,9 +47,12 @@ pub trait Integrator {
     /// Steps taken.
     fn steps(&self) -> usize;
     /// Displacement of every dof at the last state read (every step on the host; every
-    /// frame on the resident GPU path).
+    /// frame on the resident GPU path). A rank of a decomposed run has its own nodes' only
+    /// (see [`Integrator::piece`]).
     fn displacement(&self) -> &[f64];
+    /// Velocity, as [`Integrator::displacement`].
     fn velocity(&self) -> &[f64];
+    /// The lumped mass of every node of the whole model (on every rank of a decomposed run).
     fn nodal_mass(&self) -> &[f64];
 
     /// The state a checkpoint keeps.

@@ -182,9 +182,22 @@ fn run_on(scene: &Scene, opts: &RunOptions, ranks: Option<&dyn Ranks>) -> Result
     let start = Instant::now();
     let dir = output_dir(scene, opts);
     let writes = ranks.is_none_or(|r| r.rank() == 0);
-    if writes {
-        prepare_dir(&dir, opts)?;
+    let prepared = if writes {
+        prepare_dir(&dir, opts)
+    } else {
+        Ok(())
+    };
+    if let Some(r) = ranks {
+        // every rank stops when rank 0 cannot prepare the folder
+        if r.max(f64::from(u8::from(prepared.is_err()))) > 0.0 {
+            prepared?;
+            return Err(ImpactError::Ranks(format!(
+                "rank 0 could not prepare the output folder {}",
+                dir.display()
+            )));
+        }
     }
+    prepared?;
     let resumed = opts
         .resume
         .then(|| Checkpoint::read(&dir, scene))

@@ -117,3 +117,13 @@ pub fn tet4_cube_on_plate() -> String {
     assert_eq!(text.matches("\"tet4\"").count(), 2, "both boxes are tet4");
     text
 }
+
+/// `text` run explicit at the default step (0.9 of the stable bound): its `method` and
+/// `time_step` lines replaced by `method = "explicit"`.
+pub fn explicit_at_default_step(text: &str) -> String {
+    let text: String = (text.lines())
+        .filter(|l| !l.starts_with("time_step") && !l.starts_with("method"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    edit(&text, "[run]", "[run]\nmethod = \"explicit\"")
+}

@@ -226,16 +226,8 @@ impl Integrator for ExplicitSolver<'_> {
         kernels::explicit_drift(dt, &self.v, &mut self.u);
         self.kernels
             .internal_forces_into(&self.u, &mut self.f_int)?;
-        let (f_ext, f_int, inv_mass) = (&self.f_ext, &self.f_int, &self.inv_mass);
-        self.a
-            .par_iter_mut()
-            .zip(self.v.par_iter_mut())
-            .enumerate()
-            .with_min_len(crate::parallel::CHUNK)
-            .for_each(|(d, (a, v))| {
-                *a = (f_ext[d] - f_int[d]) * inv_mass[d];
-                *v += 0.5 * dt * *a;
-            });
+        let forces = (&self.f_ext[..], &self.f_int[..], &self.inv_mass[..]);
+        correct(dt, forces, &mut self.a, &mut self.v);
         self.time += dt;
         self.steps += 1;
         Ok(report)
@@ -335,6 +327,24 @@ impl Integrator for ExplicitSolver<'_> {
     fn end_at(&mut self, time: f64) {
         self.time = time;
     }
+}
+
+/// The corrector, on all threads: $a = M^{-1}(f_{ext} - f_{int})$ and $v \mathrel{+}= \tfrac{\Delta t}{2} a$
+/// from `(f_ext, f_int, inv_mass)`, per dof.
+pub fn correct(
+    dt: f64,
+    (f_ext, f_int, inv_mass): (&[f64], &[f64], &[f64]),
+    a: &mut [f64],
+    v: &mut [f64],
+) {
+    a.par_iter_mut()
+        .zip(v.par_iter_mut())
+        .enumerate()
+        .with_min_len(crate::parallel::CHUNK)
+        .for_each(|(d, (a, v))| {
+            *a = (f_ext[d] - f_int[d]) * inv_mass[d];
+            *v += 0.5 * dt * *a;
+        });
 }
 
 /// The lumped mass of every node: each element's corner masses on all threads, a block of
