@@ -9,6 +9,10 @@
 //! single-process run; P > 1 runs `mpirun --oversubscribe -n P impact run` with one thread
 //! per rank.
 //!
+//! A second table splits one fixed scene over the ranks (strong scaling): the same plate
+//! as two ranks' worth with a single block over its middle, so that the contact zone lies
+//! across the cut and the ranks exchange primary-face nodes every step.
+//!
 //! `cargo bench --features mpi --bench ranks` (14,528 elements per rank, about 150 steps,
 //! ranks 1, 2 and every power of two up to the cores); `-- --quick` for 1,816 elements per
 //! rank on 1 and 2 ranks.
@@ -19,6 +23,11 @@ use std::process::Command;
 /// The plate `4 P x 4 x 0.4` in `(20 P) x 20 x 4` n^3 cells (n the refinement), with P blocks
 /// of `0.6^3` in `(6 n)^3` cells, one centred over each `4 x 4` square of the plate.
 fn scene(ranks: usize, n: usize) -> String {
+    scene_with_blocks(ranks, n, (0..ranks).map(|k| 4.0 * k as f64 + 1.7).collect())
+}
+
+/// The plate of [`scene`] for `ranks` ranks with one block at each x in `blocks`.
+fn scene_with_blocks(ranks: usize, n: usize, blocks: Vec<f64>) -> String {
     let mut s = format!(
         r#"
 [run]
@@ -52,8 +61,7 @@ components = ["z"]
         py = 20 * n,
         pz = 4 * n,
     );
-    for k in 0..ranks {
-        let x0 = 4.0 * k as f64 + 1.7;
+    for (k, x0) in blocks.into_iter().enumerate() {
         s += &format!(
             r#"
 [[body]]
@@ -81,13 +89,15 @@ struct Figures {
     steps: usize,
     step_seconds: f64,
     communication: f64,
+    received: u64,
 }
 
-fn run(ranks: usize, n: usize, dir: &Path) -> Figures {
+/// Runs `text` (named `name`) on `ranks` ranks.
+fn run(ranks: usize, name: &str, text: &str, dir: &Path) -> Figures {
     std::fs::create_dir_all(dir).expect("bench folder");
-    let path = dir.join(format!("weak_{ranks}.toml"));
-    std::fs::write(&path, scene(ranks, n)).expect("scene written");
-    let out = dir.join(format!("weak_{ranks}"));
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, text).expect("scene written");
+    let out = dir.join(name);
     let bin = env!("CARGO_BIN_EXE_impact");
     let mut cmd = if ranks == 1 {
         Command::new(bin)
@@ -117,11 +127,14 @@ fn run(ranks: usize, n: usize, dir: &Path) -> Figures {
         Some(c) => c.iter().filter_map(|x| x.as_f64()).sum::<f64>() / c.len() as f64,
         None => 0.0,
     };
+    let received = (s["ranks"]["face_nodes_received"].as_array())
+        .map_or(0, |r| r.iter().filter_map(|x| x.as_u64()).sum());
     Figures {
         elements: s["elements"].as_u64().expect("elements") as usize,
         steps,
         step_seconds: stepping / steps as f64,
         communication: communication / stepping,
+        received,
     }
 }
 
@@ -145,7 +158,7 @@ fn main() {
     );
     println!("|---:|---:|---:|---:|---:|---:|---:|");
     for &r in &ranks {
-        let f = run(r, n, &dir);
+        let f = run(r, &format!("weak_{r}"), &scene(r, n), &dir);
         println!(
             "| {r} | {} | {} | {} | {:.2} | {:.0} | {:.1}% |",
             f.elements,
@@ -154,6 +167,25 @@ fn main() {
             1e3 * f.step_seconds,
             1e9 * f.step_seconds / f.elements as f64 * r as f64,
             100.0 * f.communication
+        );
+    }
+    println!();
+    println!("one block over the cut: the scene of 2 ranks with a single block at its middle");
+    println!("| ranks | elements | steps | ms per step | speed-up | communication | face nodes received per step |");
+    println!("|---:|---:|---:|---:|---:|---:|---:|");
+    let text = scene_with_blocks(2, n, vec![3.7]);
+    let mut one = None;
+    for &r in &ranks {
+        let f = run(r, &format!("across_{r}"), &text, &dir);
+        let base = *one.get_or_insert(f.step_seconds);
+        println!(
+            "| {r} | {} | {} | {:.2} | {:.2} | {:.1}% | {:.0} |",
+            f.elements,
+            f.steps,
+            1e3 * f.step_seconds,
+            base / f.step_seconds,
+            100.0 * f.communication,
+            f.received as f64 / f.steps as f64
         );
     }
 }
