@@ -137,6 +137,20 @@ fn tet4_cube_on_tet4_plate_is_the_same_on_2_and_4_ranks() {
     );
 }
 
+/// An imported tet4 mesh dropped on a rigid floor: many plane nodes, some within reach of
+/// the floor and some not, owned by different ranks.
+#[test]
+fn imported_tet4_block_dropped_on_a_floor_is_the_same_on_2_and_4_ranks() {
+    let text = scene_text("block_tet_drop.toml");
+    let mesh = repo().join("scenes/meshes/block_tet.msh");
+    let text = edit(
+        &text,
+        "\"meshes/block_tet.msh\"",
+        &format!("{:?}", mesh.display().to_string()),
+    );
+    same_on_ranks("mpi_block_tet_drop", &text);
+}
+
 #[test]
 fn bar_on_rigid_wall_is_the_same_on_2_and_4_ranks() {
     same_on_ranks(

@@ -21,7 +21,9 @@ use super::subdomain::Subdomain;
 use super::surface::surface_model;
 use crate::contact::search;
 use crate::error::Result;
-use crate::integrate::explicit::{ContactFields, ExplicitContact, NodalStart};
+use crate::integrate::explicit::{
+    plane_gap_within_reach, ContactFields, ExplicitContact, NodalStart,
+};
 use crate::integrate::StepReport;
 use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::{as_vec3, contact_gap, ContactPoint, ContactQueries};
@@ -56,9 +58,8 @@ pub struct SurfaceContact {
     /// The surface nodes the rank owns on the primary faces of each interface (empty for
     /// planes).
     face_nodes: Vec<Vec<u32>>,
-    /// The rigid planes' secondary nodes: those the rank owns, and each rank's count.
-    plane_owned: Vec<u32>,
-    plane_counts: Vec<usize>,
+    /// Whether an interface is a rigid plane.
+    planes: bool,
     queries: ContactQueries,
     lists: Vec<Vec<u32>>,
     points: Vec<ContactPoint>,
@@ -98,11 +99,6 @@ impl SurfaceContact {
         let owner = map.owner.clone();
         let mine = |s: &u32| owner[*s as usize] as usize == sub.rank;
         let face_nodes = owned_face_nodes(&surface, mine);
-        let plane = plane_nodes(&surface);
-        let mut plane_counts = vec![0; sub.ranks];
-        for &s in &plane {
-            plane_counts[owner[s as usize] as usize] += 1;
-        }
         let nq = surface.queries.len();
         let query_owner = |q: usize| owner[surface.queries.secondary[q] as usize] as usize;
         let n = 3 * map.nodes.len();
@@ -111,8 +107,7 @@ impl SurfaceContact {
             rank: sub.rank,
             held: map.held.clone(),
             face_nodes,
-            plane_owned: plane.into_iter().filter(mine).collect(),
-            plane_counts,
+            planes: surface.interfaces.iter().any(|itf| itf.is_plane()),
             queries: surface.queries.clone(),
             lists: vec![Vec::new(); nq],
             points: vec![ContactPoint::default(); nq],
@@ -144,16 +139,19 @@ impl SurfaceContact {
             let (k, n) = self.held[i];
             self.set(k, [local.u, local.v, local.v_half], n as usize);
         }
-        self.gather_planes(talk);
+        self.gather_planes(talk, dt);
         let margin = self.contact.margin(speed, dt);
         self.exchange_faces(talk, margin);
         self.find_own_points(margin);
         self.gather_contacts(talk, margin);
+        let (stamp, step) = (&self.stamp, self.step);
+        let present = |k: u32| stamp[k as usize] == step;
         let fields = ContactFields {
             u: &self.u,
             v: &mut self.v,
             v_half: &self.v_half,
             inv_mass: &self.inv_mass,
+            planes: Some(&present),
         };
         let report = self
             .contact
@@ -197,22 +195,33 @@ impl SurfaceContact {
         self.set(k, one, 0);
     }
 
-    /// Every rigid plane's secondary nodes from their owners (the sweeps decide which are
-    /// within reach from their state).
-    fn gather_planes(&mut self, talk: &Timed) {
-        let total: usize = self.plane_counts.iter().sum();
-        if total == 0 {
+    /// The rigid planes' secondary nodes within reach of a plane, from their owners (the
+    /// sweeps leave out the others, as the single process finds them out of reach).
+    fn gather_planes(&mut self, talk: &Timed, dt: f64) {
+        if !self.planes {
             return;
         }
-        let mine: Vec<f64> = self
-            .plane_owned
-            .iter()
-            .flat_map(|&k| self.state(k))
-            .collect();
-        let counts: Vec<usize> = self.plane_counts.iter().map(|c| NODE * c).collect();
-        let mut all = vec![0.0; NODE * total];
-        talk.talk(|r| r.all_gather(&mine, &counts, &mut all));
-        for x in all.chunks_exact(NODE) {
+        let mut send: Vec<u32> = Vec::new();
+        for itf in &self.model.interfaces {
+            let Primary::Plane { point, normal } = itf.primary else {
+                continue;
+            };
+            for &k in &itf.nodes {
+                if self.owner[k as usize] as usize != self.rank {
+                    continue;
+                }
+                let (k3, x0) = (3 * k as usize, self.model.mesh.nodes[k as usize]);
+                let at = |x: &[f64]| [x[k3], x[k3 + 1], x[k3 + 2]];
+                let state = (at(&self.u), at(&self.v));
+                if plane_gap_within_reach(x0, state, (point, normal), dt).1 {
+                    send.push(k);
+                }
+            }
+        }
+        send.sort_unstable();
+        send.dedup();
+        let mine: Vec<f64> = send.iter().flat_map(|&k| self.state(k)).collect();
+        for x in gather(talk, &mine).chunks_exact(NODE) {
             self.unpack_state(x);
         }
     }
@@ -361,13 +370,7 @@ impl SurfaceContact {
                 mine.extend(self.state(k));
             }
         }
-        let counts: Vec<usize> = talk
-            .talk(|r| r.gather_all(&[mine.len() as f64]))
-            .iter()
-            .map(|c| c[0] as usize)
-            .collect();
-        let mut all = vec![0.0; counts.iter().sum()];
-        talk.talk(|r| r.all_gather(&mine, &counts, &mut all));
+        let all = gather(talk, &mine);
         let points = self.contact.query_points_mut();
         for q in self.set_points.drain(..) {
             points[q] = ContactPoint::default();
@@ -398,17 +401,6 @@ fn owned_face_nodes(surface: &Model, mine: impl Fn(&u32) -> bool) -> Vec<Vec<u32
             Primary::Plane { .. } => Vec::new(),
         })
         .collect()
-}
-
-/// The secondary nodes of every rigid plane, increasing, each once.
-fn plane_nodes(surface: &Model) -> Vec<u32> {
-    let mut plane: Vec<u32> = (surface.interfaces.iter())
-        .filter(|itf| itf.is_plane())
-        .flat_map(|itf| itf.nodes.iter().copied())
-        .collect();
-    plane.sort_unstable();
-    plane.dedup();
-    plane
 }
 
 /// Whether step `step` has set every node of face `f` (`stamp`: the step that last set
@@ -456,6 +448,16 @@ impl Boxes {
             .filter(|&q| self.sends(rank, q, surfaces) || self.sends(q, rank, surfaces))
             .collect()
     }
+}
+
+/// Every rank's `mine`, of any length, in rank order, on every rank (the lengths first).
+fn gather(talk: &Timed, mine: &[f64]) -> Vec<f64> {
+    let counts: Vec<usize> = (talk.talk(|r| r.gather_all(&[mine.len() as f64])).iter())
+        .map(|c| c[0] as usize)
+        .collect();
+    let mut all = vec![0.0; counts.iter().sum()];
+    talk.talk(|r| r.all_gather(mine, &counts, &mut all));
+    all
 }
 
 /// Sends `out[i]` to rank `pairs[i]`, their lengths first, and returns what each sent back.

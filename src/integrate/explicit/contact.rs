@@ -80,6 +80,28 @@ pub struct ContactFields<'a> {
     pub v: &'a mut [f64],
     pub v_half: &'a [f64],
     pub inv_mass: &'a [f64],
+    /// The rigid planes' secondary nodes whose state the fields hold, where not all: a node
+    /// left out is out of every plane's reach ([`within_plane_reach`]).
+    pub planes: Option<&'a dyn Fn(u32) -> bool>,
+}
+
+/// Whether a node at `x0 + u` moving at `v` is within the reach of the plane through
+/// `point` with unit `normal` over a step `dt`: its gap is no more negative than four steps
+/// of its own motion (the device step's rule, `kernels/plane_contact.rs`). Returns the gap.
+pub fn plane_gap_within_reach(
+    x0: [f64; 3],
+    (u, v): ([f64; 3], [f64; 3]),
+    (point, normal): ([f64; 3], [f64; 3]),
+    dt: f64,
+) -> (f64, bool) {
+    let x = std::array::from_fn(|a| x0[a] + u[a]);
+    let gap = -dot(vector::sub(x, point), normal);
+    let reach = -4.0 * dt * vector::norm(v);
+    // a NaN gap stays in (and its NaN impulse ends the run as diverged)
+    (
+        gap,
+        gap.partial_cmp(&reach) != Some(std::cmp::Ordering::Less),
+    )
 }
 
 impl ExplicitContact {
@@ -164,7 +186,7 @@ impl ExplicitContact {
         dt: f64,
         margin: f64,
     ) -> Result<StepReport> {
-        self.gather_constraints(model, f.u, f.v, f.inv_mass, dt, margin);
+        self.gather_constraints(model, &f, dt, margin);
         for st in &mut self.interfaces {
             st.impulse.fill(0.0);
             st.tangential.fill([0.0; 3]);
@@ -206,24 +228,21 @@ impl ExplicitContact {
     /// the query points, planes analytically; only nodes within one face size plus four
     /// steps of the fastest node's motion of their primary surface, or within four steps of
     /// their own motion of a plane.
-    fn gather_constraints(
-        &mut self,
-        model: &Model,
-        u: &[f64],
-        v: &[f64],
-        inv_mass: &[f64],
-        dt: f64,
-        margin: f64,
-    ) {
+    fn gather_constraints(&mut self, model: &Model, f: &ContactFields, dt: f64, margin: f64) {
+        let (u, v): (&[f64], &[f64]) = (f.u, f.v);
         self.constraints.clear();
         for (k, itf) in model.interfaces.iter().enumerate() {
             for i in 0..itf.nodes.len() {
+                let absent = |planes: &dyn Fn(u32) -> bool| itf.is_plane() && !planes(itf.nodes[i]);
+                if f.planes.is_some_and(absent) {
+                    continue;
+                }
                 if let Some(c) = self.constraint_of(model, u, v, dt, (k, i), margin) {
                     self.constraints.push(c);
                 }
             }
         }
-        self.split_compliances(inv_mass);
+        self.split_compliances(f.inv_mass);
     }
 
     /// The constraint of secondary node `i` of interface `k`, if it is within reach of its
@@ -243,34 +262,23 @@ impl ExplicitContact {
         let (face, weights, normal, gap) = match &itf.primary {
             Primary::Surface { queries, .. } => {
                 let p = self.query_points[queries.start + i];
-                if p.face == NO_FACE {
+                // out of the step's reach: the broad phase's margin
+                if p.face == NO_FACE || p.gap < -margin.max(f64::MIN_POSITIVE) {
                     return None;
                 }
                 let face = self.queries.faces[p.face as usize];
                 (Some(face), face::shape(&face, p.xi), p.normal, p.gap)
             }
             Primary::Plane { point, normal } => {
-                let x0 = model.mesh.nodes[n];
-                let x = std::array::from_fn(|a| x0[a] + u[3 * n + a]);
-                (
-                    None,
-                    [0.0; 4],
-                    *normal,
-                    -dot(vector::sub(x, *point), *normal),
-                )
+                let at = |x: &[f64]| [x[3 * n], x[3 * n + 1], x[3 * n + 2]];
+                let (state, plane) = ((at(u), at(v)), (*point, *normal));
+                let (gap, within) = plane_gap_within_reach(model.mesh.nodes[n], state, plane, dt);
+                if !within {
+                    return None;
+                }
+                (None, [0.0; 4], *normal, gap)
             }
         };
-        // a plane constrains a node alone: its reach is four steps of the node's own
-        // motion (the device step's rule, kernels/plane_contact.rs)
-        let reach = if face.is_none() {
-            let v = &v[3 * n..3 * n + 3];
-            -4.0 * dt * vector::norm([v[0], v[1], v[2]])
-        } else {
-            -margin.max(f64::MIN_POSITIVE)
-        };
-        if gap < reach {
-            return None;
-        }
         Some(NodeConstraint {
             interface: k as u32,
             local: i as u32,

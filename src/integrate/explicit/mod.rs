@@ -29,7 +29,7 @@
 
 mod contact;
 
-pub use contact::{ContactFields, ExplicitContact, ExplicitInterface};
+pub use contact::{plane_gap_within_reach, ContactFields, ExplicitContact, ExplicitInterface};
 
 use crate::backend::Kernels;
 use crate::contact::search;
@@ -197,6 +197,7 @@ impl<'m> ExplicitSolver<'m> {
             v: &mut self.v,
             v_half: &self.v_half,
             inv_mass: &self.inv_mass,
+            planes: None,
         };
         self.contact
             .step(self.model, self.kernels.as_mut(), fields, self.dt, margin)
