@@ -299,7 +299,11 @@ fn run_command(
         quiet,
         overwrite,
         resume,
-        interrupt: interrupt_flag(),
+        // under an MPI launcher the signal ends the job (no checkpoint)
+        interrupt: match impact::domain::launch::launched() {
+            true => None,
+            false => interrupt_flag(),
+        },
     };
     let dir = impact::run::output_dir(&sc, &opts);
     let (s, first) = run_scene(&sc, opts)?;
@@ -355,8 +359,7 @@ fn run_scene(sc: &Scene, opts: RunOptions) -> anyhow::Result<(impact::output::Su
     };
     match impact::run::run_ranks(sc, &opts, &ranks) {
         Ok(s) => Ok((s, ranks.rank() == 0)),
-        // an error every rank meets alike before the first step (the scene, a folder rank 0
-        // cannot use) ends every rank; rank 0 says why
+        // an error every rank meets alike ends every rank; rank 0 says why
         Err(e) if same_on_every_rank(&e) => match ranks.rank() {
             0 => Err(e.into()),
             _ => Ok((Default::default(), false)),
@@ -370,21 +373,16 @@ fn run_scene(sc: &Scene, opts: RunOptions) -> anyhow::Result<(impact::output::Su
 }
 
 /// Whether every rank of a decomposed run meets error `e` alike and stops on its own: the
-/// scene and its meshes (read the same on every rank), what a decomposed run refuses, and
-/// rank 0's output folder (every rank learns whether it was prepared).
+/// scene's values (checked the same on every rank), what a decomposed run refuses, an
+/// output folder holding an earlier run (every rank learns whether rank 0 prepared it) and
+/// a diverged run (the energy it is judged by is summed over the ranks, the same bits on
+/// each). Rank 0 then writes what a stopped run leaves before it ends.
 #[cfg(feature = "mpi")]
 fn same_on_every_rank(e: &ImpactError) -> bool {
     use ImpactError::*;
     matches!(
         e,
-        ReadScene { .. }
-            | SceneSyntax { .. }
-            | SceneValue { .. }
-            | Unsupported { .. }
-            | Mesh { .. }
-            | MeshFile { .. }
-            | OutputExists { .. }
-            | Ranks(_)
+        SceneValue { .. } | Unsupported { .. } | OutputExists { .. } | Diverged { .. } | Ranks(_)
     )
 }
 

@@ -81,7 +81,7 @@ pub struct ContactFields<'a> {
     pub v_half: &'a [f64],
     pub inv_mass: &'a [f64],
     /// The rigid planes' secondary nodes whose state the fields hold, where not all: a node
-    /// left out is out of every plane's reach ([`within_plane_reach`]).
+    /// left out is out of every plane's reach ([`plane_gap_within_reach`]).
     pub planes: Option<&'a dyn Fn(u32) -> bool>,
 }
 
