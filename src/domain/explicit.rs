@@ -202,11 +202,11 @@ impl<'m> DomainSolver<'m> {
     }
 
     /// Sums over the rank's owned dofs of `f(d)` for each column, then over the ranks.
-    fn owned_sums<const K: usize>(&self, f: impl Fn(usize) -> [f64; K] + Sync) -> [f64; K] {
+    fn owned_sums<const K: usize>(&self, f: [&(dyn Fn(usize) -> f64 + Sync); K]) -> [f64; K] {
         let owned = &self.sub.owned;
         let n = 3 * self.sub.nodes.len();
         let local: [f64; K] =
-            std::array::from_fn(|k| ordered_sum(n, |d| if owned[d / 3] { f(d)[k] } else { 0.0 }));
+            std::array::from_fn(|k| ordered_sum(n, |d| if owned[d / 3] { f[k](d) } else { 0.0 }));
         let total = self.talk(|r| r.sum(&local));
         std::array::from_fn(|k| total[k])
     }
@@ -315,19 +315,16 @@ impl Integrator for DomainSolver<'_> {
 
     /// Each body's mass and momentum over the rank's owned nodes, summed over the ranks.
     fn body_velocities(&self) -> Vec<[f64; 3]> {
-        let bodies = &self.model.mesh.bodies;
+        // each body's nodes on this rank: its range of the rank's part
+        let bodies = &self.piece.mesh.bodies;
         let mut mine = vec![0.0; 4 * bodies.len()];
-        for (i, &n) in self.sub.nodes.iter().enumerate() {
-            if !self.sub.owned[i] {
-                continue;
-            }
-            let Some(b) = bodies.iter().position(|b| b.nodes.contains(&(n as usize))) else {
-                continue;
-            };
+        for (b, body) in bodies.iter().enumerate() {
             let m = &mut mine[4 * b..4 * b + 4];
-            m[0] += self.mass[i];
-            for a in 0..3 {
-                m[1 + a] += self.mass[i] * self.v[3 * i + a];
+            for i in body.nodes.clone().filter(|&i| self.sub.owned[i]) {
+                m[0] += self.mass[i];
+                for a in 0..3 {
+                    m[1 + a] += self.mass[i] * self.v[3 * i + a];
+                }
             }
         }
         let all = self.talk(|r| r.sum(&mine));
@@ -374,7 +371,13 @@ impl Integrator for DomainSolver<'_> {
     /// See [`crate::integrate::ExplicitSolver`]'s: $a \cdot M a$ summed over the ranks.
     fn shorten_step(&mut self, dt: f64) {
         let (mass, a) = (&self.mass, &self.a);
-        let [ama] = self.owned_sums(|d| [mass[d / 3] * a[d] * a[d]]);
+        // summed in dof order, as the single process sums it
+        let owned = &self.sub.owned;
+        let mine: f64 = (a.iter().enumerate())
+            .filter(|(d, _)| owned[d / 3])
+            .map(|(d, a)| mass[d / 3] * a * a)
+            .sum();
+        let ama = self.talk(|r| r.sum(&[mine]))[0];
         self.measure_shift = 0.125 * (self.dt * self.dt - dt * dt) * ama;
         self.dt = dt;
     }
@@ -386,7 +389,9 @@ impl Integrator for DomainSolver<'_> {
             self.internal_forces()?;
             let (m, v, u, f, fe) = (&self.mass, &self.v, &self.u, &self.f_int, &self.f_ext);
             let [k, s, p] =
-                self.owned_sums(|d| [m[d / 3] * v[d] * v[d], u[d] * f[d], fe[d] * u[d]]);
+                self.owned_sums([&|d| m[d / 3] * v[d] * v[d], &|d| u[d] * f[d], &|d| {
+                    fe[d] * u[d]
+                }]);
             return Ok(Energies {
                 kinetic: 0.5 * k,
                 strain: 0.5 * s,
@@ -401,14 +406,12 @@ impl Integrator for DomainSolver<'_> {
             &self.f_int,
             &self.f_ext,
         );
-        let [k, s, p0, p1] = self.owned_sums(|d| {
-            [
-                m[d / 3] * v[d] * v[d],
-                u0[d] * f[d],
-                fe[d] * u0[d],
-                fe[d] * u1[d],
-            ]
-        });
+        let [k, s, p0, p1] = self.owned_sums([
+            &|d| m[d / 3] * v[d] * v[d],
+            &|d| u0[d] * f[d],
+            &|d| fe[d] * u0[d],
+            &|d| fe[d] * u1[d],
+        ]);
         Ok(Energies {
             kinetic: 0.5 * k - self.measure_shift,
             strain: 0.5 * s,
