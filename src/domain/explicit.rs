@@ -77,13 +77,7 @@ impl<'m> DomainSolver<'m> {
         let sub = Subdomain::new(model, partition, ranks.rank());
         let mass_all = lumped_mass(model);
         let mass: Vec<f64> = sub.nodes.iter().map(|&n| mass_all[n as usize]).collect();
-        let fixed: Vec<bool> = (sub.nodes.iter())
-            .flat_map(|&n| {
-                model.fixed[3 * n as usize..3 * n as usize + 3]
-                    .iter()
-                    .copied()
-            })
-            .collect();
+        let fixed = sub.restrict(&model.fixed);
         let start = NodalStart::new(
             &mass,
             &fixed,

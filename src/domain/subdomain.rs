@@ -291,11 +291,16 @@ impl Subdomain {
     }
 
     /// The values of the local nodes (3 per node) taken from a global vector.
-    pub fn restrict(&self, global: &[f64]) -> Vec<f64> {
-        (self.nodes.iter())
-            .flat_map(|&n| global[3 * n as usize..3 * n as usize + 3].iter().copied())
-            .collect()
+    pub fn restrict<T: Copy>(&self, global: &[T]) -> Vec<T> {
+        at_nodes(&self.nodes, global)
     }
+}
+
+/// The values of `nodes` (3 per node) taken from a vector over every node.
+pub fn at_nodes<T: Copy>(nodes: &[u32], x: &[T]) -> Vec<T> {
+    (nodes.iter())
+        .flat_map(|&n| x[3 * n as usize..3 * n as usize + 3].iter().copied())
+        .collect()
 }
 
 /// The rank's elements on local node numbers, the local corner of every global corner

@@ -1,11 +1,11 @@
 //! The contact surfaces as a model of their own: the nodes every interface reads, no
 //! elements, the interfaces and queries renumbered onto those nodes.
 //!
-//! Every rank of a decomposed run holds this small model and works the whole contact of a
-//! step on it ([`crate::integrate::explicit::ExplicitContact`]) from the gathered surface
-//! state: the same operations on the same values in the same order as a single process, so
-//! the impulses, the contact reports and the changed velocities are the same bits.
+//! Every rank of a decomposed run holds this small model and works the contact of a step on
+//! it ([`super::contact`]) from the state of the nodes it holds, the primary-face nodes it
+//! receives and the contacts gathered from the other ranks.
 
+use super::subdomain::at_nodes;
 use crate::mesh::Mesh;
 use crate::model::{Interface, Model};
 
@@ -17,11 +17,6 @@ pub fn surface_model(model: &Model, nodes: &[u32]) -> Model {
             .binary_search(&n)
             .expect("every interface node is a surface node") as u32
     };
-    let pick = |x: &[f64]| -> Vec<f64> {
-        (nodes.iter())
-            .flat_map(|&n| x[3 * n as usize..3 * n as usize + 3].iter().copied())
-            .collect()
-    };
     let mut queries = model.queries.clone();
     queries.secondary = queries.secondary.iter().map(|&n| at(n)).collect();
     queries.faces = queries.faces.iter().map(|f| f.map(at)).collect();
@@ -30,13 +25,6 @@ pub fn surface_model(model: &Model, nodes: &[u32]) -> Model {
             nodes: itf.nodes.iter().map(|&n| at(n)).collect(),
             secondary_faces: itf.secondary_faces.iter().map(|f| f.map(at)).collect(),
             ..itf.clone()
-        })
-        .collect();
-    let fixed = (nodes.iter())
-        .flat_map(|&n| {
-            model.fixed[3 * n as usize..3 * n as usize + 3]
-                .iter()
-                .copied()
         })
         .collect();
     Model {
@@ -51,12 +39,12 @@ pub fn surface_model(model: &Model, nodes: &[u32]) -> Model {
         material_axes: model.material_axes.clone(),
         material_source: model.material_source.clone(),
         body_names: model.body_names.clone(),
-        fixed,
+        fixed: at_nodes(nodes, &model.fixed),
         interfaces,
         queries,
         probes: Vec::new(),
         fix_nodes: Vec::new(),
-        initial_velocity: pick(&model.initial_velocity),
+        initial_velocity: at_nodes(nodes, &model.initial_velocity),
         gravity: model.gravity,
     }
 }
