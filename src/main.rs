@@ -353,10 +353,6 @@ fn run_scene(sc: &Scene, opts: RunOptions) -> anyhow::Result<(impact::output::Su
         return Ok((run(sc, &opts)?, true));
     }
     let ranks = MpiRanks::new(world);
-    let opts = RunOptions {
-        interrupt: None,
-        ..opts
-    };
     match impact::run::run_ranks(sc, &opts, &ranks) {
         Ok(s) => Ok((s, ranks.rank() == 0)),
         // an error every rank meets alike ends every rank; rank 0 says why
