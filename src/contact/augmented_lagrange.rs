@@ -138,6 +138,7 @@ pub fn update(
         area,
         &mut project,
         &violation,
+        true,
         lambda_next,
     )
 }
@@ -146,7 +147,11 @@ pub fn update(
 /// `project(eps, next)` writes the projected trial `P(lambda + eps m)`, `violation(next)`
 /// measures how far the constraint is from holding (gap-rate units), `weight` is each
 /// component's area. The measured compliance, the oscillation test and the adaptive law
-/// (module docs) act on all components together.
+/// (module docs) act on all components together. With `growing`, a change that reverses
+/// sign and grows counts as an oscillation however small it is: for the normal pressures,
+/// whose projection only clips at zero, that is eps s > 2. The tangential tractions pass
+/// false: on the Coulomb cone a node switching between stick and slip reverses and grows
+/// its change without any penalty being too large.
 #[allow(clippy::too_many_arguments)]
 pub fn update_with(
     penalty: &mut Penalty,
@@ -156,6 +161,7 @@ pub fn update_with(
     weight: &[f64],
     project: &mut dyn FnMut(f64, &mut [f64]),
     violation: &dyn Fn(&[f64]) -> f64,
+    growing: bool,
     lambda_next: &mut [f64],
 ) -> UpdateReport {
     let n = lambda.len();
@@ -192,14 +198,22 @@ pub fn update_with(
     if memory.have_prev && memory.prev_lambda.len() == n {
         // measured compliance along the last multiplier change: s = -dT.dm / |dT|^2
         let (mut tt, mut tm, mut dd) = (0.0, 0.0, 0.0);
+        let (mut now, mut before) = (0.0, 0.0);
         for i in 0..n {
             let dt = lambda[i] - memory.prev_lambda[i];
+            let delta = lambda_next[i] - lambda[i];
             tt += dt * dt;
             tm += dt * (measure[i] - memory.prev_measure[i]);
-            dd += (lambda_next[i] - lambda[i]) * memory.prev_delta[i];
+            dd += delta * memory.prev_delta[i];
+            now += delta * delta;
+            before += memory.prev_delta[i] * memory.prev_delta[i];
         }
         let s_hat = if tt > 0.0 { -tm / tt } else { 0.0 };
-        report.oscillating = dd < 0.0 && report.relative_change > penalty.max_force_change;
+        // growing, and the measured compliance confirms eps s > 2 (the change grows for other
+        // reasons too: an accelerated step, a node released at zero)
+        let grows = growing && now > before && penalty.eps * s_hat > 2.0;
+        report.oscillating =
+            dd < 0.0 && (report.relative_change > penalty.max_force_change || grows);
         if penalty.law == PenaltyLaw::Adaptive {
             let eps = penalty.eps;
             let mut factor = 1.0;
@@ -251,10 +265,21 @@ mod tests {
 
     /// A single constraint with linear response m = m0 - s T: the exact answer is T = m0 / s.
     fn iterate(law: PenaltyLaw, eps0: f64, s: f64, iters: usize) -> (f64, usize, f64) {
+        iterate_from(0.0, law, eps0, s, iters)
+    }
+
+    /// [`iterate`] from the pressure `t0`.
+    fn iterate_from(
+        t0: f64,
+        law: PenaltyLaw,
+        eps0: f64,
+        s: f64,
+        iters: usize,
+    ) -> (f64, usize, f64) {
         let m0 = 1.0;
         let mut p = Penalty::new(eps0, law, 1e-6, 0.05);
         let mut mem = IterationMemory::default();
-        let mut lam = [0.0];
+        let mut lam = [t0];
         for k in 0..iters {
             let m = [m0 - s * lam[0]];
             let mut next = [0.0];
@@ -283,5 +308,19 @@ mod tests {
             assert!(k < 30, "eps0 {eps0}: {k} iterations");
             assert!(eps * 2.0 < 2.0, "final eps s = {}", eps * 2.0);
         }
+    }
+
+    /// eps s = 2.05 from 1e-6 of the answer: the change reverses sign and grows by 5% an
+    /// iteration while staying far below T_MAX; a fixed penalty never converges, the adaptive
+    /// one lowers eps at the first growing reversal.
+    #[test]
+    fn a_small_growing_oscillation_lowers_the_penalty() {
+        let t0 = 0.5 * (1.0 + 1e-6);
+        let (_, k, _) = iterate_from(t0, PenaltyLaw::Fixed, 1.025, 2.0, 200);
+        assert_eq!(k, 200, "eps s = 2.05 must not converge");
+        let (t, k, eps) = iterate_from(t0, PenaltyLaw::Adaptive, 1.025, 2.0, 200);
+        assert!((t - 0.5).abs() < 1e-9, "t {t}");
+        assert!(k < 10, "{k} iterations");
+        assert!(eps * 2.0 < 2.0, "final eps s = {}", eps * 2.0);
     }
 }

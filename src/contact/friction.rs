@@ -249,6 +249,7 @@ impl Friction {
             &self.weight,
             &mut project,
             &violation,
+            false,
             &mut self.next,
         )
     }

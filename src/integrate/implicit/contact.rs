@@ -239,8 +239,29 @@ impl ContactIteration {
         }
     }
 
+    /// Makes a candidate of every node whose gap at the current iterate is >= 0; returns
+    /// whether any was. Called only at an iterate where the candidates' pressures have
+    /// converged: a transient iterate, before the other nodes' pressures have settled, shows
+    /// nodes at the surface that the converged state does not press; admitted there, they
+    /// would stay candidates for the step and be stopped short of the surface, and which of
+    /// them were admitted would follow the iteration's path down to the last bits of the
+    /// kernels' arithmetic (`docs/method-notes.md`, "H(g), the candidate set").
+    fn admit_penetrating(&mut self) -> bool {
+        let mut grew = false;
+        for st in &mut self.interfaces {
+            for (p, c) in st.points.iter().zip(&mut st.candidate) {
+                if p.face != NO_FACE && p.gap >= 0.0 && !*c {
+                    *c = true;
+                    grew = true;
+                }
+            }
+        }
+        grew
+    }
+
     /// The augmented Lagrange update of every interface (into `next`). Returns whether every
-    /// interface converged, and whether the candidate set or a penalty changed.
+    /// interface converged, and whether the candidate set or a penalty changed; the set
+    /// grows only where the pressures have converged ([`Self::admit_penetrating`]).
     pub(super) fn update_multipliers(
         &mut self,
         model: &Model,
@@ -248,19 +269,15 @@ impl ContactIteration {
         k: &StepConstants,
     ) -> (bool, bool) {
         let mut converged = true;
+        let mut pressures_settled = true;
         let mut map_changed = false;
         let measure_scale = match constraint {
             ConstraintMeasure::GapRate => 0.0,
             ConstraintMeasure::Gap => k.gamma / (k.beta * k.dt),
         };
         for (itf, st) in model.interfaces.iter().zip(&mut self.interfaces) {
-            let mut grew = false;
             for i in 0..st.lambda.len() {
                 let p = st.points[i];
-                if p.face != NO_FACE && p.gap >= 0.0 && !st.candidate[i] {
-                    st.candidate[i] = true;
-                    grew = true;
-                }
                 st.measure[i] = match constraint {
                     ConstraintMeasure::GapRate => p.gap_rate,
                     ConstraintMeasure::Gap => measure_scale * p.gap,
@@ -279,8 +296,9 @@ impl ContactIteration {
                 &itf.area,
                 &mut st.next,
             );
-            if grew || r.relative_change > k.tol {
+            if r.relative_change > k.tol {
                 converged = false;
+                pressures_settled = false;
             }
             if let Some(fr) = &mut st.friction {
                 // tangential change relative to the larger of the normal and tangential
@@ -294,7 +312,10 @@ impl ContactIteration {
                 st.penalty.eps,
                 st.friction.as_ref().map_or(0.0, |f| f.penalty.eps),
             );
-            map_changed |= grew || eps_after != eps_before;
+            map_changed |= eps_after != eps_before;
+        }
+        if pressures_settled && self.admit_penetrating() {
+            return (false, true);
         }
         (converged, map_changed)
     }
