@@ -21,6 +21,9 @@
 //!   where $\hat s = -\Delta T \cdot \Delta m / |\Delta T|^2$ is the compliance measured from
 //!   the last two iterations; this brings $\epsilon \hat s$ to 1, the centre of the stable
 //!   range. The penalty that oscillated becomes a ceiling for increases in the same step.
+//!   A reversal smaller than T_MAX counts too when it grows while above the convergence
+//!   tolerance and the measured $\epsilon \hat s$ exceeds 2 (the divergent side of the stable
+//!   range); the tangential tractions leave this test out.
 //! - 20a, too loose: when the iteration creeps monotonically and the largest gap-rate
 //!   violation exceeds MAR (`max_gap_rate`), $x = \log_{10}\min(R_N, 1/(\epsilon\hat s), 100)$
 //!   with $R_N = |\dot g|_{max} / \mathrm{MAR}$, kept below half the ceiling.
@@ -107,6 +110,9 @@ fn new_lambda(lambda: &[f64], measure: &[f64], candidate: &[bool], eps: f64, out
 
 /// One augmented Lagrange update of an interface's pressures:
 /// `lambda_next = H <lambda + eps m>`, with the penalty adapted first when the law says so.
+/// `tolerance` is the iteration's convergence tolerance on the relative change: a reversal
+/// that grows counts as an oscillation only above it ([`update_with`]).
+#[allow(clippy::too_many_arguments)]
 pub fn update(
     penalty: &mut Penalty,
     memory: &mut IterationMemory,
@@ -114,6 +120,7 @@ pub fn update(
     measure: &[f64],
     candidate: &[bool],
     area: &[f64],
+    tolerance: f64,
     lambda_next: &mut [f64],
 ) -> UpdateReport {
     let mut project =
@@ -138,7 +145,7 @@ pub fn update(
         area,
         &mut project,
         &violation,
-        true,
+        Some(tolerance),
         lambda_next,
     )
 }
@@ -147,11 +154,12 @@ pub fn update(
 /// `project(eps, next)` writes the projected trial `P(lambda + eps m)`, `violation(next)`
 /// measures how far the constraint is from holding (gap-rate units), `weight` is each
 /// component's area. The measured compliance, the oscillation test and the adaptive law
-/// (module docs) act on all components together. With `growing`, a change that reverses
-/// sign and grows counts as an oscillation however small it is: for the normal pressures,
-/// whose projection only clips at zero, that is eps s > 2. The tangential tractions pass
-/// false: on the Coulomb cone a node switching between stick and slip reverses and grows
-/// its change without any penalty being too large.
+/// (module docs) act on all components together. With `growing = Some(tol)`, a change that
+/// reverses sign and grows counts as an oscillation however small it is, as long as it
+/// is above the convergence tolerance `tol` (below it, changes are the arithmetic's noise):
+/// for the normal pressures, whose projection only clips at zero, that is eps s > 2. The
+/// tangential tractions pass `None`: on the Coulomb cone a node switching between stick and
+/// slip reverses and grows its change without any penalty being too large.
 #[allow(clippy::too_many_arguments)]
 pub fn update_with(
     penalty: &mut Penalty,
@@ -161,7 +169,7 @@ pub fn update_with(
     weight: &[f64],
     project: &mut dyn FnMut(f64, &mut [f64]),
     violation: &dyn Fn(&[f64]) -> f64,
-    growing: bool,
+    growing: Option<f64>,
     lambda_next: &mut [f64],
 ) -> UpdateReport {
     let n = lambda.len();
@@ -211,7 +219,9 @@ pub fn update_with(
         let s_hat = if tt > 0.0 { -tm / tt } else { 0.0 };
         // growing, and the measured compliance confirms eps s > 2 (the change grows for other
         // reasons too: an accelerated step, a node released at zero)
-        let grows = growing && now > before && penalty.eps * s_hat > 2.0;
+        let grows = growing.is_some_and(|tol| report.relative_change > tol)
+            && now > before
+            && penalty.eps * s_hat > 2.0;
         report.oscillating =
             dd < 0.0 && (report.relative_change > penalty.max_force_change || grows);
         if penalty.law == PenaltyLaw::Adaptive {
@@ -283,7 +293,16 @@ mod tests {
         for k in 0..iters {
             let m = [m0 - s * lam[0]];
             let mut next = [0.0];
-            let r = update(&mut p, &mut mem, &lam, &m, &[true], &[1.0], &mut next);
+            let r = update(
+                &mut p,
+                &mut mem,
+                &lam,
+                &m,
+                &[true],
+                &[1.0],
+                1e-10,
+                &mut next,
+            );
             if r.relative_change < 1e-10 {
                 return (lam[0], k, p.eps);
             }

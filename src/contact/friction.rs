@@ -249,7 +249,7 @@ impl Friction {
             &self.weight,
             &mut project,
             &violation,
-            false,
+            None,
             &mut self.next,
         )
     }

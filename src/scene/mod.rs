@@ -185,7 +185,8 @@ pub struct ImplicitSettings {
     pub mass: MassKind,
     /// MAR of eq. 20a, the largest admissible gap rate; `None`: 1e-3 of the scene's speed scale.
     pub max_gap_rate: Option<f64>,
-    /// T_MAX of eq. 20b, the largest relative force change allowed to alternate in sign.
+    /// T_MAX of eq. 20b, the largest relative force change allowed to alternate in sign (a
+    /// smaller one that grows while the measured eps s exceeds 2 counts as well).
     pub max_force_change: f64,
     pub acceleration: Acceleration,
     /// Sub-steps of a step in which an interface's contact force changes abruptly (impact,

@@ -249,12 +249,14 @@ impl ContactIteration {
     fn admit_penetrating(&mut self) -> bool {
         let mut grew = false;
         for st in &mut self.interfaces {
+            let mut admitted = false;
             for (p, c) in st.points.iter().zip(&mut st.candidate) {
                 if p.face != NO_FACE && p.gap >= 0.0 && !*c {
                     *c = true;
-                    grew = true;
+                    admitted = true;
                 }
             }
+            grew |= admitted;
         }
         grew
     }
@@ -294,6 +296,7 @@ impl ContactIteration {
                 &st.measure,
                 &st.candidate,
                 &itf.area,
+                k.tol,
                 &mut st.next,
             );
             if r.relative_change > k.tol {

@@ -13,7 +13,9 @@
 //! $u_{n+1} - u_n = \tfrac{\Delta t}{2}(v_n + v_{n+1})$: the work of the contact force over a
 //! step is $-\tfrac{\Delta t}{2}\sum_i T_i A_i (\dot g_{i,n} + \dot g_{i,n+1})$, which the gap-rate
 //! constraint ($\dot g_{n+1} = 0$ wherever $T > 0$) makes zero in persistent contact and
-//! negative at impact: the total energy cannot rise.
+//! negative at impact. It is positive only for a node that separates at the step's start
+//! ($\dot g_n < 0$) and carries pressure in it, because the other body catches it up
+//! (`docs/method-notes.md`, "Time discretisation of the contact force").
 //!
 //! **The classical comparison** (`constraint = "gap"`): the multiplier enforces the gap
 //! $g_{n+1} = 0$ and the contact force acts at $t_{n+1}$ in Newmark's equilibrium
