@@ -249,14 +249,12 @@ impl ContactIteration {
     fn admit_penetrating(&mut self) -> bool {
         let mut grew = false;
         for st in &mut self.interfaces {
-            let mut admitted = false;
             for (p, c) in st.points.iter().zip(&mut st.candidate) {
                 if p.face != NO_FACE && p.gap >= 0.0 && !*c {
                     *c = true;
-                    admitted = true;
+                    grew = true;
                 }
             }
-            grew |= admitted;
         }
         grew
     }
