@@ -215,6 +215,26 @@ fn a_turned_scene_gives_the_turned_history() {
     assert!(d <= 1e-9, "{d:e}");
 }
 
+/// The columns the laminate's device comparisons check: the contact force, the energies and
+/// both bodies' velocities.
+const LAMINATE_COLUMNS: [&str; 5] = [
+    "impact.normal_force",
+    "strain_energy",
+    "kinetic_energy",
+    "ball.vz",
+    "plate.vz",
+];
+
+/// The shipped laminate scene cut to its first 12 us, with one frame at the end.
+fn laminate_first_12us() -> String {
+    edit(
+        &scene_text("sphere_on_laminate.toml"),
+        "end_time = 1.4e-4",
+        "end_time = 1.2e-5",
+    )
+    .replace("vtu_every = 20", "vtu_every = 12")
+}
+
 /// The shipped laminate scene's first 12 us (the ball's first contact with the [0/90]s
 /// plate) on the CPU and with the kernels on the GPU: every column, the contact force
 /// included, agrees within the GPU runs' tolerance (`tests/gpu_runs.rs`: 1e-4 of each
@@ -222,12 +242,7 @@ fn a_turned_scene_gives_the_turned_history() {
 /// initial.
 #[test]
 fn the_laminate_scene_agrees_on_cpu_and_gpu_and_loses_energy() {
-    let text = edit(
-        &scene_text("sphere_on_laminate.toml"),
-        "end_time = 1.4e-4",
-        "end_time = 1.2e-5",
-    )
-    .replace("vtu_every = 20", "vtu_every = 12");
+    let text = laminate_first_12us();
     let (sc, hc) = run_text_on(
         "laminate_cpu",
         &text,
@@ -253,14 +268,8 @@ fn the_laminate_scene_agrees_on_cpu_and_gpu_and_loses_energy() {
     );
     let sg = sg.expect("gpu run");
     assert_ne!(sg.device, "cpu");
-    let columns = [
-        "impact.normal_force",
-        "strain_energy",
-        "kinetic_energy",
-        "ball.vz",
-        "plate.vz",
-    ];
-    let d = history_difference(&hc, &hg, &same_columns(&columns));
+    assert_eq!(sg.status, "completed", "{:?}", sg.warnings);
+    let d = history_difference(&hc, &hg, &same_columns(&LAMINATE_COLUMNS));
     eprintln!(
         "laminate: the devices differ by {d:.2e} of scale on {}",
         sg.device
@@ -276,13 +285,7 @@ fn the_laminate_without_substeps_agrees_on_cpu_and_gpu() {
     if skip_gpu("laminate_plain_steps") {
         return;
     }
-    let text = edit(
-        &scene_text("sphere_on_laminate.toml"),
-        "end_time = 1.4e-4",
-        "end_time = 1.2e-5",
-    )
-    .replace("vtu_every = 20", "vtu_every = 12")
-    .replace(
+    let text = laminate_first_12us().replace(
         "max_iterations = 300",
         "max_iterations = 300\nevent_substeps = 1",
     );
@@ -298,15 +301,7 @@ fn the_laminate_without_substeps_agrees_on_cpu_and_gpu() {
         hc.last("impact.normal_force") > 0.0,
         "the ball is in contact"
     );
-    let columns = [
-        "impact.normal_force",
-        "strain_energy",
-        "kinetic_energy",
-        "ball.vz",
-        "plate.vz",
-    ];
-    let pairs = same_columns(&columns);
-    let d = history_difference(&hc, &hg, &pairs);
+    let d = history_difference(&hc, &hg, &same_columns(&LAMINATE_COLUMNS));
     eprintln!("laminate without sub-steps: devices differ by {d:.2e} of scale");
     assert!(d <= 1e-4, "gpu and cpu differ by {d:e}");
 }
