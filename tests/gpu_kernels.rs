@@ -9,7 +9,7 @@ use common::*;
 
 use impact::backend::Kernels;
 use impact::geometry::face::FaceKind;
-use impact::gpu::GpuKernels;
+use impact::gpu::{CornerSelection, GpuKernels};
 use impact::kernels::contact_gap::NO_FACE;
 use impact::kernels::{self, ContactPoint, ContactQueries, ElementData, Incidence};
 use impact::material::{Elastic, Orthotropic, Rotation};
@@ -200,6 +200,71 @@ fn node_gather_matches_its_cpu_twin() {
     let e = rel_err(&values(flat(&g)), &values(flat(&cpu)));
     eprintln!("{n} nodes, relative error {e:.2e}");
     assert!(e <= TOL, "seed {seed}: node_gather error {e:.3e}");
+}
+
+#[test]
+fn corner_select_matches_its_cpu_twin() {
+    let Some(ctx) = gpu_context("corner_select") else {
+        return;
+    };
+    let seed = seed("corner_select");
+    let mut rng = StdRng::seed_from_u64(seed);
+    let p = distorted_box(&mut rng);
+    let count = p.data.corner_count();
+    let corners: Vec<[f64; 3]> = (0..count)
+        .map(|_| std::array::from_fn(|_| rng.random_range(-1.0..1.0)))
+        .collect();
+    // hex8 and tet4 corners, some twice, in no order
+    let chosen: Vec<u32> = (0..count / 3)
+        .map(|_| rng.random_range(0..count as u32))
+        .collect();
+    let mut cpu = vec![[0.0; 3]; chosen.len()];
+    kernels::corner_select(&corners, &chosen, &mut cpu);
+    let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
+    gpu.fill_nan = true;
+    let selection = CornerSelection::new(&gpu, &chosen).expect("selection");
+    let g = gpu.select(&corners, &selection).expect("dispatch");
+    let e = rel_err(&values(flat(&g)), &values(flat(&cpu)));
+    eprintln!(
+        "{} of {count} corners, relative error {e:.2e}",
+        chosen.len()
+    );
+    assert!(e <= TOL, "seed {seed}: corner_select error {e:.3e}");
+}
+
+/// The forces with chosen corners read back alongside: the nodal forces are those of
+/// `internal_forces_into`, bit for bit, and the corners those of the CPU kernels.
+#[test]
+fn internal_forces_selecting_reads_back_the_chosen_corners() {
+    let Some(ctx) = gpu_context("internal_forces_selecting") else {
+        return;
+    };
+    let seed = seed("internal_forces_selecting");
+    let mut rng = StdRng::seed_from_u64(seed);
+    let p = distorted_box(&mut rng);
+    let (n, count) = (p.data.reference.len(), p.data.corner_count());
+    let u = displacements(&mut rng, n, p.h);
+    let chosen: Vec<u32> = (0..count as u32).filter(|_| rng.random_bool(0.3)).collect();
+    let mut cpu = impact::backend::CpuKernels::new(p.data.clone());
+    let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
+    gpu.fill_nan = true;
+    let selection = CornerSelection::new(&gpu, &chosen).expect("selection");
+    let (mut fc, mut fg, mut fs) = (vec![0.0; 3 * n], vec![0.0; 3 * n], vec![0.0; 3 * n]);
+    let mut picked = Vec::new();
+    cpu.internal_forces_into(&u, &mut fc).unwrap();
+    gpu.internal_forces_into(&u, &mut fg).unwrap();
+    gpu.internal_forces_selecting(&u, &mut fs, &selection, &mut picked)
+        .unwrap();
+    assert!(fg.iter().zip(&fs).all(|(a, b)| a.to_bits() == b.to_bits()));
+    let mut want = vec![[0.0; 3]; chosen.len()];
+    kernels::corner_select(cpu.corner_forces(), &chosen, &mut want);
+    let got: Vec<[f64; 3]> = picked.iter().map(|c| c.map(f64::from)).collect();
+    let e = rel_err(&values(flat(&got)), &values(flat(&want)));
+    eprintln!(
+        "{} of {count} corners, relative error {e:.2e}",
+        chosen.len()
+    );
+    assert!(e <= TOL, "seed {seed}: chosen corners error {e:.3e}");
 }
 
 /// Internal forces through the `Kernels` interface (hex8_forces, tet4_forces, node_gather).

@@ -20,8 +20,14 @@ use impact::domain::Partition;
 use impact::model::Model;
 use impact::scene::Scene;
 
-/// `impact run scene --out dir` on `ranks` MPI processes (one process where `ranks` is 0).
+/// `impact run scene --out dir` on `ranks` MPI processes (one process where `ranks` is 0),
+/// on the CPU.
 fn impact_run(ranks: usize, scene: &Path, out: &Path) {
+    impact_run_on(ranks, scene, out, "cpu");
+}
+
+/// [`impact_run`] on `device`.
+fn impact_run_on(ranks: usize, scene: &Path, out: &Path, device: &str) {
     let bin = env!("CARGO_BIN_EXE_impact");
     let mut cmd = if ranks == 0 {
         Command::new(bin)
@@ -38,7 +44,7 @@ fn impact_run(ranks: usize, scene: &Path, out: &Path) {
     ];
     let status = cmd
         .args(args)
-        .args(["--quiet", "--overwrite", "--device", "cpu"])
+        .args(["--quiet", "--overwrite", "--device", device])
         // Open MPI refuses root unless told (CI runs as root)
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
@@ -68,19 +74,38 @@ fn sum_kind(column: &str, bodies: &[String]) -> Option<&'static str> {
 /// Runs `text` on one process and on 2 and 4 ranks; checks the histories as the module
 /// says. Returns the 2-rank history.
 fn same_on_ranks(tag: &str, text: &str) -> History {
+    same_on_ranks_on(tag, text, "cpu")
+}
+
+/// [`same_on_ranks`] with every rank on `device`. On a GPU the reference is one rank on the
+/// GPU (the decomposed solver in this process): a single process on a GPU takes the
+/// resident step, another engine.
+fn same_on_ranks_on(tag: &str, text: &str, device: &str) -> History {
     let dir = out_dir(tag);
     std::fs::create_dir_all(&dir).unwrap();
-    let bodies = Scene::parse(text, &dir.join("scene.toml"))
-        .map(|s| s.bodies.iter().map(|b| b.name.clone()).collect::<Vec<_>>())
-        .expect("valid scene");
+    let parsed = Scene::parse(text, &dir.join(format!("{tag}.toml"))).expect("valid scene");
+    let bodies: Vec<String> = parsed.bodies.iter().map(|b| b.name.clone()).collect();
     let scene = dir.join(format!("{tag}.toml"));
     std::fs::write(&scene, text).unwrap();
-    impact_run(0, &scene, &dir.join("process"));
+    if device == "cpu" {
+        impact_run(0, &scene, &dir.join("process"));
+    } else {
+        let opts = impact::run::RunOptions {
+            out: Some(dir.join("process")),
+            quiet: true,
+            overwrite: true,
+            device: Some(impact::scene::DeviceChoice::Gpu),
+            ..Default::default()
+        };
+        let s = impact::run::run_ranks(&parsed, &opts, &impact::domain::Single)
+            .expect("one rank on the GPU");
+        assert_eq!(s.engine, "gpu kernels, decomposed over mpi ranks");
+    }
     let one = History::read(&dir.join("process/history.csv"));
     let mut two = None;
     for ranks in [2, 4] {
         let out = dir.join(format!("ranks{ranks}"));
-        impact_run(ranks, &scene, &out);
+        impact_run_on(ranks, &scene, &out, device);
         let h = History::read(&out.join("history.csv"));
         assert_eq!(h.columns, one.columns, "{tag}: columns");
         assert_eq!(h.rows.len(), one.rows.len(), "{tag}: rows");
@@ -88,6 +113,12 @@ fn same_on_ranks(tag: &str, text: &str) -> History {
             serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
                 .unwrap();
         assert_eq!(summary["status"], "completed", "{tag} on {ranks} ranks");
+        let engine = summary["engine"].as_str().unwrap_or_default();
+        assert_eq!(
+            engine.starts_with("gpu"),
+            device == "gpu",
+            "{tag}: {engine}"
+        );
         assert_eq!(summary["ranks"]["ranks"], ranks, "{tag}");
         for (j, c) in one.columns.iter().enumerate() {
             let kind = sum_kind(c, &bodies);
@@ -134,6 +165,22 @@ fn tet4_cube_on_tet4_plate_is_the_same_on_2_and_4_ranks() {
     same_on_ranks(
         "mpi_tet4_cube_on_plate",
         &explicit_at_default_step(&tet4_cube_on_plate()),
+    );
+}
+
+/// Every rank on its own GPU (here each opens the machine's one adapter): the state
+/// columns on 2 and 4 ranks are the bits of one rank on the GPU, as on the CPU; the element
+/// forces are f32, the shared nodes' corners added in f32 in global corner order as the
+/// GPU's gather adds them.
+#[test]
+fn block_on_plate_on_gpus_is_the_same_on_2_and_4_ranks() {
+    if skip_gpu("mpi ranks on gpus") {
+        return;
+    }
+    same_on_ranks_on(
+        "mpi_gpu_cube_on_plate",
+        &explicit_at_default_step(&scene_text("cube_on_plate.toml")),
+        "gpu",
     );
 }
 

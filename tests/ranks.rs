@@ -8,11 +8,13 @@ mod common;
 use common::*;
 
 use impact::backend::{CpuKernels, Kernels};
+use impact::domain::forces::RankForces;
 use impact::domain::subdomain::Subdomain;
 use impact::domain::{Partition, Single};
+use impact::gpu::{GpuContext, GpuKernels};
 use impact::model::Model;
 use impact::run::{run, run_ranks, RunOptions};
-use impact::scene::Scene;
+use impact::scene::{DeviceChoice, Scene};
 use rand::{Rng, SeedableRng};
 
 /// A hex8 block on a tet4 plate, its nodes jittered by the random displacement the forces
@@ -27,39 +29,44 @@ fn mixed_model() -> Model {
     Model::from_scene(&scene).expect("a model")
 }
 
-/// Each rank's internal forces from its own corners and the corners its neighbours send
-/// (exchanged here in memory) are the single-process forces, bit for bit, on every node it
-/// holds; each element is on one rank and each node owned by one.
-#[test]
-fn shared_node_sums_are_the_single_process_forces_bit_for_bit() {
+/// Each rank's internal forces on `ctx` (or the CPU) from its own corners and the corners
+/// its neighbours send (exchanged here in memory), on every node it holds, against the
+/// forces of the whole model on one device of the same kind, bit for bit, for 1-, 2-, 3- and
+/// 5-part splits; each element is on one rank and each node owned by one.
+fn shared_node_sums_match_one_device(ctx: Option<GpuContext>) {
     let model = mixed_model();
     assert!(!model.mesh.hexes.is_empty() && !model.mesh.tets.is_empty());
     let mut rng = rand::rngs::StdRng::seed_from_u64(seed("ranks_forces"));
     let u: Vec<f64> = (0..model.dofs())
         .map(|_| rng.random_range(-0.02..0.02))
         .collect();
-    let mut whole = CpuKernels::new(model.element_data());
+    let mut whole: Box<dyn Kernels> = match &ctx {
+        Some(ctx) => Box::new(GpuKernels::new(ctx.clone(), &model.element_data()).unwrap()),
+        None => Box::new(CpuKernels::new(model.element_data())),
+    };
     let mut f = vec![0.0; model.dofs()];
     whole.internal_forces_into(&u, &mut f).unwrap();
     for parts in [1, 2, 3, 5] {
         let partition = Partition::bisect(&model, parts);
-        let subs: Vec<Subdomain> = (0..parts)
+        let mut subs: Vec<Subdomain> = (0..parts)
             .map(|r| Subdomain::new(&model, &partition, r))
             .collect();
-        let mut kernels: Vec<CpuKernels> = subs
-            .iter()
-            .map(|s| CpuKernels::new(s.data.clone()))
+        let mut kernels: Vec<RankForces> = (subs.iter_mut())
+            .map(|s| RankForces::new(s, ctx.clone()).unwrap())
             .collect();
         let mut local_f: Vec<Vec<f64>> = Vec::new();
         for (s, k) in subs.iter().zip(&mut kernels) {
             let mut fl = vec![0.0; 3 * s.nodes.len()];
-            k.internal_forces_into(&s.restrict(&u), &mut fl).unwrap();
+            k.internal_forces(&s.restrict(&u), &mut fl).unwrap();
             local_f.push(fl);
         }
         assert!(
             parts == 1 || subs.iter().all(|s| !s.shared.is_empty()),
             "{parts} parts share no node"
         );
+        let sends: Vec<Vec<Vec<f64>>> = (subs.iter().zip(&kernels))
+            .map(|(s, k)| k.sends(s))
+            .collect();
         let mut owners = vec![0usize; model.mesh.node_count()];
         for (r, s) in subs.iter().enumerate() {
             // what each neighbour sends this rank: its corners on the list it keeps for r
@@ -67,22 +74,19 @@ fn shared_node_sums_are_the_single_process_forces_bit_for_bit() {
             for nb in &s.neighbours {
                 let theirs = &subs[nb.rank];
                 let back = (theirs.neighbours.iter())
-                    .find(|x| x.rank == r)
+                    .position(|x| x.rank == r)
                     .expect("neighbours both ways");
+                let sent = &sends[nb.rank][back];
                 assert_eq!(
-                    back.send.len(),
-                    nb.receive.len(),
+                    sent.len(),
+                    3 * nb.receive.len(),
                     "{parts} parts, {r} <- {}",
                     nb.rank
                 );
-                let corners = kernels[nb.rank].corner_forces();
-                for (j, &c) in back.send.iter().enumerate() {
-                    let at = 3 * (nb.receive.start + j);
-                    received[at..at + 3].copy_from_slice(&corners[c as usize]);
-                }
+                received[3 * nb.receive.start..3 * nb.receive.end].copy_from_slice(sent);
             }
             let mut fl = local_f[r].clone();
-            s.sum_shared(kernels[r].corner_forces(), &received, &mut fl);
+            kernels[r].sum_shared(s, &received, &mut fl);
             for (i, &n) in s.nodes.iter().enumerate() {
                 let n = n as usize;
                 for a in 0..3 {
@@ -106,6 +110,21 @@ fn shared_node_sums_are_the_single_process_forces_bit_for_bit() {
             .map(|s| s.data.hexes.len() + s.data.tets.len())
             .sum();
         assert_eq!(elements, model.mesh.element_count());
+    }
+}
+
+#[test]
+fn shared_node_sums_are_the_single_process_forces_bit_for_bit() {
+    shared_node_sums_match_one_device(None);
+}
+
+/// On a GPU the shared nodes' corners are read back in f32 and summed in f32 in global corner
+/// order, as the GPU's own gather adds them: every node's force is the bits of the whole
+/// model's forces on one GPU.
+#[test]
+fn shared_node_sums_on_gpus_are_one_gpus_forces_bit_for_bit() {
+    if let Some(ctx) = gpu_context("ranks on gpus") {
+        shared_node_sums_match_one_device(Some(ctx));
     }
 }
 
@@ -167,4 +186,40 @@ fn a_decomposed_run_refuses_the_implicit_path_and_checkpoints() {
     let scene = Scene::parse(&text, &repo().join("scenes/ranks_checkpoint.toml")).unwrap();
     let e = run_ranks(&scene, &opts, &Single).expect_err("checkpoints are refused");
     assert!(e.to_string().contains("checkpoint_every"), "{e}");
+}
+
+/// One rank on its GPU (element forces in f32, the contact on the host in f64) through the
+/// decomposed solver, against the single process on the CPU: the history within the bound
+/// of the GPU tests, every step converged.
+#[test]
+fn one_rank_on_its_gpu_follows_the_cpu() {
+    if skip_gpu("one rank on its gpu") {
+        return;
+    }
+    let tag = "ranks_gpu_cube_on_plate";
+    let text = explicit_at_default_step(&scene_text("cube_on_plate.toml"));
+    let scene = Scene::parse(&text, &repo().join("scenes").join(format!("{tag}.toml")))
+        .expect("valid scene");
+    let opts = |d: &str, device| RunOptions {
+        out: Some(out_dir(&format!("{tag}_{d}"))),
+        quiet: true,
+        device: Some(device),
+        ..Default::default()
+    };
+    let (cpu, gpu) = (
+        opts("cpu", DeviceChoice::Cpu),
+        opts("gpu", DeviceChoice::Gpu),
+    );
+    let c = run(&scene, &cpu).expect("cpu run completes");
+    let g = run_ranks(&scene, &gpu, &Single).expect("one rank on its gpu completes");
+    assert_eq!(c.status, "completed");
+    assert_eq!(g.status, "completed");
+    assert_eq!(g.engine, "gpu kernels, decomposed over mpi ranks");
+    assert_ne!(g.device, "cpu", "the rank computes on its GPU");
+    eprintln!(
+        "device {}; sweeps cpu {}, gpu {}",
+        g.device, c.iterations_total, g.iterations_total
+    );
+    let read = |o: &RunOptions| History::read(&o.out.as_ref().unwrap().join("history.csv"));
+    compare_histories(&read(&cpu), &read(&gpu), 0.125, 1e-5);
 }

@@ -10,11 +10,12 @@
 //! rounding (1e-12 relative to the column) on several.
 
 use super::contact::{LocalState, SurfaceContact};
+use super::forces::RankForces;
 use super::partition::Partition;
 use super::ranks::{Ranks, Timed};
 use super::subdomain::Subdomain;
-use crate::backend::{CpuKernels, Kernels};
 use crate::error::{ImpactError, Result};
+use crate::gpu::GpuContext;
 use crate::integrate::explicit::{correct, lumped_mass, NodalStart};
 use crate::integrate::{
     ContactReport, Decomposition, Energies, Integrator, Piece, ProbeValues, SolverState, StepReport,
@@ -43,7 +44,7 @@ pub struct DomainSolver<'m> {
     model: &'m Model,
     ranks: &'m dyn Ranks,
     sub: Subdomain,
-    kernels: CpuKernels,
+    kernels: RankForces,
     dt: f64,
     time: f64,
     steps: usize,
@@ -67,14 +68,17 @@ pub struct DomainSolver<'m> {
 }
 
 impl<'m> DomainSolver<'m> {
-    /// Rank `ranks.rank()`'s part of `model` under `partition`.
+    /// Rank `ranks.rank()`'s part of `model` under `partition`, its element forces on `ctx`
+    /// (the rank's GPU) or on the CPU.
     pub fn new(
         model: &'m Model,
         ranks: &'m dyn Ranks,
         partition: &Partition,
         (settings, dt, speed_scale): (&ExplicitSettings, f64, f64),
+        ctx: Option<GpuContext>,
     ) -> Result<Self> {
-        let sub = Subdomain::new(model, partition, ranks.rank());
+        let mut sub = Subdomain::new(model, partition, ranks.rank());
+        let kernels = RankForces::new(&mut sub, ctx)?;
         let mass_all = lumped_mass(model);
         let mass: Vec<f64> = sub.nodes.iter().map(|&n| mass_all[n as usize]).collect();
         let fixed = sub.restrict(&model.fixed);
@@ -90,7 +94,7 @@ impl<'m> DomainSolver<'m> {
         Ok(DomainSolver {
             model,
             ranks,
-            kernels: CpuKernels::new(sub.data.clone()),
+            kernels,
             received: vec![0.0; 3 * sub.received],
             sub,
             dt,
@@ -141,15 +145,11 @@ impl<'m> DomainSolver<'m> {
     /// The rank's internal forces: its elements', then the shared nodes' sums with the
     /// corners the neighbours send.
     fn internal_forces(&mut self) -> Result<()> {
-        self.kernels
-            .internal_forces_into(&self.u, &mut self.f_int)?;
+        self.kernels.internal_forces(&self.u, &mut self.f_int)?;
         if self.sub.neighbours.is_empty() {
             return Ok(());
         }
-        let corners = self.kernels.corner_forces();
-        let sends: Vec<Vec<f64>> = (self.sub.neighbours.iter())
-            .map(|nb| nb.send.iter().flat_map(|&c| corners[c as usize]).collect())
-            .collect();
+        let sends = self.kernels.sends(&self.sub);
         let mut received = std::mem::take(&mut self.received);
         let sub = &self.sub;
         {
@@ -166,8 +166,7 @@ impl<'m> DomainSolver<'m> {
             }
             self.talk(|r| r.exchange(&send_list, &mut recv_list));
         }
-        self.sub
-            .sum_shared(self.kernels.corner_forces(), &received, &mut self.f_int);
+        (self.kernels).sum_shared(&self.sub, &received, &mut self.f_int);
         self.received = received;
         Ok(())
     }
@@ -216,11 +215,15 @@ impl Integrator for DomainSolver<'_> {
     }
 
     fn device_name(&self) -> String {
-        "cpu".into()
+        self.kernels.device_name()
     }
 
     fn engine(&self) -> &'static str {
-        crate::integrate::integrator::ENGINE_RANKS
+        use crate::integrate::integrator::{ENGINE_RANKS, ENGINE_RANKS_GPU};
+        match self.kernels {
+            RankForces::Cpu(_) => ENGINE_RANKS,
+            RankForces::Gpu { .. } => ENGINE_RANKS_GPU,
+        }
     }
 
     /// The single-process step (see [`crate::integrate::ExplicitSolver`]) on the rank's

@@ -5,6 +5,7 @@
 //!
 //! - [`partition`]: recursive coordinate bisection of the elements;
 //! - [`subdomain`]: a rank's elements, nodes, neighbours and shared-node sums;
+//! - [`forces`]: a rank's element forces, on the CPU or on its own GPU;
 //! - [`surface`]: the contact surfaces as a model of their own;
 //! - [`ranks`]: what the decomposition asks of its ranks ([`ranks::Single`], and MPI with
 //!   the `mpi` feature);
@@ -15,6 +16,7 @@
 
 pub mod contact;
 pub mod explicit;
+pub mod forces;
 pub mod launch;
 #[cfg(feature = "mpi")]
 pub mod mpi;

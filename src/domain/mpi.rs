@@ -10,11 +10,15 @@ use super::ranks::Ranks;
 /// The processes of `MPI_COMM_WORLD`.
 pub struct MpiRanks {
     world: SimpleCommunicator,
+    /// The rank among the processes that share this one's memory (`MPI_Comm_split_type`
+    /// with `MPI_COMM_TYPE_SHARED`, ordered by world rank).
+    local: usize,
 }
 
 impl MpiRanks {
     pub fn new(world: SimpleCommunicator) -> Self {
-        MpiRanks { world }
+        let local = world.split_shared(world.rank()).rank() as usize;
+        MpiRanks { world, local }
     }
 }
 
@@ -25,6 +29,10 @@ impl Ranks for MpiRanks {
 
     fn size(&self) -> usize {
         self.world.size() as usize
+    }
+
+    fn local_rank(&self) -> usize {
+        self.local
     }
 
     fn exchange(&self, sends: &[(usize, &[f64])], recvs: &mut [(usize, &mut [f64])]) {

@@ -7,6 +7,9 @@
 pub trait Ranks {
     fn rank(&self) -> usize;
     fn size(&self) -> usize;
+    /// This process's index among the job's processes on its machine (it picks the
+    /// machine's GPU of a rank that computes on one).
+    fn local_rank(&self) -> usize;
     /// Sends `sends[i].1` to rank `sends[i].0` and receives from each rank `recvs[i].0`
     /// into `recvs[i].1` (whose length the receiver knows); the pairs match by rank.
     fn exchange(&self, sends: &[(usize, &[f64])], recvs: &mut [(usize, &mut [f64])]);
@@ -64,6 +67,9 @@ impl Ranks for Single {
     }
     fn size(&self) -> usize {
         1
+    }
+    fn local_rank(&self) -> usize {
+        0
     }
     fn exchange(&self, sends: &[(usize, &[f64])], _recvs: &mut [(usize, &mut [f64])]) {
         debug_assert!(sends.is_empty(), "one rank has no neighbours");

@@ -14,10 +14,30 @@ use super::partition::Partition;
 use crate::kernels::ElementData;
 use crate::model::Model;
 
+/// The precision of the corner forces a shared node's sum adds: f64 on the CPU, f32 from a
+/// GPU.
+pub trait CornerValue: Copy + Default + std::ops::AddAssign + Into<f64> {
+    /// A received value, sent as f64 (exactly, for an f32 corner).
+    fn of(x: f64) -> Self;
+}
+
+impl CornerValue for f64 {
+    fn of(x: f64) -> Self {
+        x
+    }
+}
+
+impl CornerValue for f32 {
+    fn of(x: f64) -> Self {
+        x as f32
+    }
+}
+
 /// Where one corner force of a shared node's sum comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Source {
-    /// A corner of this rank's elements (its index in the local corner forces).
+    /// A corner of this rank's elements (its index in the local corner forces, or in the
+    /// list of [`Subdomain::pack_corners`]).
     Local(u32),
     /// A corner a neighbour sent (its index in the receive buffer, in corners).
     Remote(u32),
@@ -27,7 +47,7 @@ pub enum Source {
 #[derive(Debug, Clone)]
 pub struct Neighbour {
     pub rank: usize,
-    /// Local corners sent to it, in global corner order.
+    /// Local corners sent to it, in global corner order (numbered as [`Source::Local`]).
     pub send: Vec<u32>,
     /// Where its corners lie in the receive buffer (in corners).
     pub receive: std::ops::Range<usize>,
@@ -228,24 +248,55 @@ impl Subdomain {
 
     /// Overwrites the force of every shared node (3 per local node in `f`) with the sum of
     /// its corners, local (`corners`) and received (`received`, 3 per corner), in global
-    /// corner order.
-    pub fn sum_shared(&self, corners: &[[f64; 3]], received: &[f64], f: &mut [f64]) {
+    /// corner order. The sum is taken in the corners' own precision: f64 from the CPU, f32
+    /// as a GPU computed them (which is how the GPU's own gather adds them).
+    pub fn sum_shared<T: CornerValue>(&self, corners: &[[T; 3]], received: &[f64], f: &mut [f64]) {
         for (i, &n) in self.shared.iter().enumerate() {
-            let mut sum = [0.0; 3];
+            let mut sum = [T::default(); 3];
             for s in &self.sources[self.offsets[i] as usize..self.offsets[i + 1] as usize] {
                 let x = match *s {
                     Source::Local(c) => corners[c as usize],
                     Source::Remote(r) => {
                         let r = 3 * r as usize;
-                        [received[r], received[r + 1], received[r + 2]]
+                        std::array::from_fn(|a| T::of(received[r + a]))
                     }
                 };
                 for a in 0..3 {
                     sum[a] += x[a];
                 }
             }
-            f[3 * n as usize..3 * n as usize + 3].copy_from_slice(&sum);
+            let f = &mut f[3 * n as usize..3 * n as usize + 3];
+            for a in 0..3 {
+                f[a] = sum[a].into();
+            }
         }
+    }
+
+    /// Renumbers the local corners the exchange reads (those sent to the neighbours and
+    /// the shared nodes' local sources) by their places in the returned list of them, in
+    /// increasing order: a rank whose corner forces stay on its GPU reads back those alone.
+    pub fn pack_corners(&mut self) -> Vec<u32> {
+        let sent = self
+            .neighbours
+            .iter()
+            .flat_map(|nb| nb.send.iter().copied());
+        let summed = self.sources.iter().filter_map(|s| match *s {
+            Source::Local(c) => Some(c),
+            Source::Remote(_) => None,
+        });
+        let mut chosen: Vec<u32> = sent.chain(summed).collect();
+        chosen.sort_unstable();
+        chosen.dedup();
+        let at = |c: u32| chosen.binary_search(&c).expect("a chosen corner") as u32;
+        for nb in &mut self.neighbours {
+            nb.send.iter_mut().for_each(|c| *c = at(*c));
+        }
+        for s in &mut self.sources {
+            if let Source::Local(c) = s {
+                *c = at(*c);
+            }
+        }
+        chosen
     }
 
     /// The rank's part of `model` for its frames: its elements and nodes, each body's share

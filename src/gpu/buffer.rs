@@ -101,14 +101,31 @@ impl Storage {
 pub fn submit_and_read<T: bytemuck::Pod>(
     ctx: &GpuContext,
     staging: &mut Storage,
-    mut encoder: wgpu::CommandEncoder,
+    encoder: wgpu::CommandEncoder,
     source: &wgpu::Buffer,
     count: usize,
 ) -> Result<Vec<T>> {
-    let bytes = (count * std::mem::size_of::<T>()) as u64;
+    submit_and_read_parts(ctx, staging, encoder, &[(source, count)])
+}
+
+/// [`submit_and_read`] of the first `count` values of each `(source, count)`, one after the
+/// other, in one mapping (one wait for the device).
+pub fn submit_and_read_parts<T: bytemuck::Pod>(
+    ctx: &GpuContext,
+    staging: &mut Storage,
+    mut encoder: wgpu::CommandEncoder,
+    parts: &[(&wgpu::Buffer, usize)],
+) -> Result<Vec<T>> {
+    let size = std::mem::size_of::<T>() as u64;
+    let bytes: u64 = parts.iter().map(|&(_, n)| n as u64 * size).sum();
     staging.ensure(ctx, bytes)?;
-    if bytes > 0 {
-        encoder.copy_buffer_to_buffer(source, 0, &staging.buffer, 0, bytes);
+    let mut at = 0;
+    for &(source, count) in parts {
+        let b = count as u64 * size;
+        if b > 0 {
+            encoder.copy_buffer_to_buffer(source, 0, &staging.buffer, at, b);
+        }
+        at += b;
     }
     ctx.queue.submit([encoder.finish()]);
     if bytes == 0 {

@@ -30,6 +30,9 @@ pub struct AdapterSummary {
     pub device_type: wgpu::DeviceType,
     pub driver: String,
     pub driver_info: String,
+    /// The PCI bus of the device, where the driver reports it (it tells identical cards
+    /// apart).
+    pub pci_bus: String,
     /// Runs the kernels: compute shaders, indirect dispatch and at least
     /// [`super::kernel::STORAGE_BINDINGS`] storage buffers per shader stage.
     pub compute: bool,
@@ -56,6 +59,7 @@ impl AdapterSummary {
             device_type: info.device_type,
             driver: info.driver,
             driver_info: info.driver_info,
+            pci_bus: info.device_pci_bus_id,
             compute,
             software,
         }
@@ -86,8 +90,13 @@ impl AdapterSummary {
         let driver = format!("{} {}", self.driver, self.driver_info);
         let driver = driver.trim();
         let sep = if driver.is_empty() { "" } else { ", " };
+        let bus = if self.pci_bus.is_empty() {
+            String::new()
+        } else {
+            format!(", PCI {}", self.pci_bus)
+        };
         format!(
-            "{} ({:?}, {:?}{sep}{driver})",
+            "{} ({:?}, {:?}{sep}{driver}{bus})",
             self.name, self.backend, self.device_type
         )
     }
@@ -100,6 +109,10 @@ pub enum AdapterPolicy {
     Any,
     /// Hardware GPUs only.
     HardwareOnly,
+    /// The adapter of the process with this index among a decomposed run's processes on
+    /// the machine: of the adapters of the best kind (hardware GPUs where there are any),
+    /// the one at the index modulo their count, so that the ranks spread over the cards.
+    LocalRank(usize),
 }
 
 /// A device and queue on the chosen adapter (cloning shares them).
@@ -164,14 +177,22 @@ impl GpuContext {
         let mut ranked: Vec<(AdapterSummary, wgpu::Adapter)> = adapters
             .into_iter()
             .map(|a| (AdapterSummary::of(&a), a))
-            .filter(|(s, _)| s.compute && (policy == AdapterPolicy::Any || !s.software))
+            .filter(|(s, _)| s.compute && (policy != AdapterPolicy::HardwareOnly || !s.software))
             .collect();
         ranked.sort_by_key(|(s, _)| s.rank());
+        if let (AdapterPolicy::LocalRank(k), Some((best, _))) = (policy, ranked.first()) {
+            let best = best.rank();
+            ranked.retain(|(s, _)| s.rank() == best);
+            let k = k % ranked.len();
+            ranked.rotate_left(k);
+        }
         let Some((summary, adapter)) = ranked.into_iter().next() else {
             return Ok(None);
         };
-        let same =
-            |c: &GpuContext| c.adapter.name == summary.name && c.adapter.backend == summary.backend;
+        let same = |c: &GpuContext| {
+            let a = &c.adapter;
+            a.name == summary.name && a.backend == summary.backend && a.pci_bus == summary.pci_bus
+        };
         if let Some(ctx) = opened
             .iter()
             .filter_map(|(_, c)| c.as_ref())
@@ -201,6 +222,14 @@ impl GpuContext {
     /// install if there is none.
     pub fn new() -> Result<Self> {
         Self::open(AdapterPolicy::Any)?
+            .ok_or_else(|| ImpactError::Gpu(SOFTWARE_ADAPTER_HINT.into()))
+    }
+
+    /// The adapter of the process with index `local` among a decomposed run's processes on
+    /// this machine ([`AdapterPolicy::LocalRank`]); the error of [`Self::new`] if there is
+    /// none.
+    pub fn for_local_rank(local: usize) -> Result<Self> {
+        Self::open(AdapterPolicy::LocalRank(local))?
             .ok_or_else(|| ImpactError::Gpu(SOFTWARE_ADAPTER_HINT.into()))
     }
 

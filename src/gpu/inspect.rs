@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 
 use super::buffer::{read_back, read_floats, submit_and_read, Storage};
 use super::context::GpuContext;
+use super::corner_select::CornerSelection;
 use super::engine::{bytes_of, corner_slot, GpuKernels};
 use super::resident_step::{to_f32, ResidentStep};
 use super::search::GpuSearch;
@@ -89,8 +90,8 @@ impl GpuKernels {
             .collect())
     }
 
-    /// Runs `node_gather` alone on the given corner forces (the twin's order).
-    pub fn gather(&mut self, corners: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
+    /// Uploads corner forces given in the twin's order into the device's layout.
+    fn upload_corners(&mut self, corners: &[[f64; 3]]) -> Result<()> {
         let slots = corners.len();
         let mut c = vec![0f32; 3 * slots];
         for (i, f) in corners.iter().enumerate() {
@@ -100,6 +101,23 @@ impl GpuKernels {
             }
         }
         self.corners.upload(&self.ctx, &c)?;
+        Ok(())
+    }
+
+    /// Runs `corner_select` alone on the given corner forces (the twin's order).
+    pub fn select(
+        &mut self,
+        corners: &[[f64; 3]],
+        selection: &CornerSelection,
+    ) -> Result<Vec<[f64; 3]>> {
+        self.upload_corners(corners)?;
+        let chosen = selection.run_alone(self)?;
+        Ok(chosen.into_iter().map(|f| f.map(f64::from)).collect())
+    }
+
+    /// Runs `node_gather` alone on the given corner forces (the twin's order).
+    pub fn gather(&mut self, corners: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
+        self.upload_corners(corners)?;
         if self.fill_nan {
             self.forces
                 .fill_nan(&self.ctx, bytes_of::<f32>(3 * self.nodes));

@@ -69,6 +69,7 @@ kernel_table! {
     );
     ContactSweep = contact_sweep(step, constraints, pairs, velocity, dj, state, apply_args);
     ContactTouches = contact_touches(nodes, links, constraints, starts, sorted, touches, state);
+    CornerSelect = corner_select(slots, corner_forces, chosen);
     ExplicitCorrect = explicit_correct(
         step, displacement, forces, lumped, velocity, acceleration, partials,
     );

@@ -8,6 +8,7 @@ mod bucket_sort;
 pub mod buffer;
 pub mod contact_iteration;
 pub mod context;
+pub mod corner_select;
 pub mod engine;
 pub mod inspect;
 pub mod kernel;
@@ -20,6 +21,7 @@ pub mod types;
 
 pub use contact_iteration::{ContactIteration, ContactSetup};
 pub use context::{list_adapters, AdapterPolicy, AdapterSummary, GpuContext};
+pub use corner_select::CornerSelection;
 pub use engine::GpuKernels;
 pub use kernels::*;
 pub use resident_step::{ResidentSetup, ResidentStep};

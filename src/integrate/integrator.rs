@@ -14,6 +14,7 @@ pub const ENGINE_CPU: &str = "cpu";
 pub const ENGINE_GPU_KERNELS: &str = "gpu kernels, host loop";
 pub const ENGINE_GPU_RESIDENT: &str = "gpu resident";
 pub const ENGINE_RANKS: &str = "cpu, decomposed over mpi ranks";
+pub const ENGINE_RANKS_GPU: &str = "gpu kernels, decomposed over mpi ranks";
 
 /// The implicit solver's linear-algebra figures for the summary.
 #[derive(Debug, Clone)]

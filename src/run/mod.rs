@@ -7,10 +7,12 @@ use std::time::Instant;
 
 mod charts;
 mod outputs;
+mod ranks;
 mod summary;
 
 pub use charts::write_charts;
 pub use outputs::RUN_FILES;
+pub use ranks::run_ranks;
 
 use outputs::{
     check_resumable, prepare_dir, save, start_fresh, start_resumed, write_frame, write_row,
@@ -70,9 +72,10 @@ fn build_solver<'m>(
     if let Some(ranks) = ranks {
         let partition = Partition::bisect(model, ranks.size());
         let settings = (&scene.explicit, dt, speed_scale);
-        return Ok(Box::new(DomainSolver::new(
-            model, ranks, &partition, settings,
-        )?));
+        return Ok(Box::new(
+            DomainSolver::new(model, ranks, &partition, settings, setup.ctx.clone())
+                .map_err(|e| gpu_error(scene, e))?,
+        ));
     }
     let mut solver: Box<dyn Integrator + 'm> = match (setup.method, setup.ctx.clone()) {
         (Method::Explicit, Some(ctx)) => Box::new(
@@ -146,37 +149,6 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
     run_on(scene, opts, None)
 }
 
-/// Runs the scene decomposed over `ranks`, every rank calling it: the explicit path on
-/// each rank's share of the elements ([`crate::domain`]); rank 0 writes the files. The
-/// implicit path, a GPU per rank, checkpoints and `--resume` are refused with the key that
-/// asks for them.
-pub fn run_ranks(scene: &Scene, opts: &RunOptions, ranks: &dyn Ranks) -> Result<Summary> {
-    let refuse = |key: &str, message: &str| ImpactError::Unsupported {
-        path: scene.path.clone(),
-        key: key.into(),
-        message: format!("{message} (this run is on {} ranks)", ranks.size()),
-    };
-    if opts.device.unwrap_or(scene.run.device) == DeviceChoice::Gpu {
-        return Err(refuse(
-            "run.device",
-            "the ranks of a decomposed run compute on the CPU: run with device = \"cpu\" or \"auto\", or on one process for the GPU",
-        ));
-    }
-    if scene.checkpoint_every.is_some() || opts.resume {
-        return Err(refuse(
-            "output.checkpoint_every",
-            "a decomposed run writes no checkpoints and does not resume: run on one process to checkpoint",
-        ));
-    }
-    let opts = RunOptions {
-        device: Some(DeviceChoice::Cpu),
-        quiet: opts.quiet || ranks.rank() != 0,
-        interrupt: None,
-        ..opts.clone()
-    };
-    run_on(scene, &opts, Some(ranks))
-}
-
 /// [`run`], or one rank's part of [`run_ranks`].
 fn run_on(scene: &Scene, opts: &RunOptions, ranks: Option<&dyn Ranks>) -> Result<Summary> {
     let start = Instant::now();
@@ -210,7 +182,18 @@ fn run_on(scene: &Scene, opts: &RunOptions, ranks: Option<&dyn Ranks>) -> Result
         }
     };
     let device = opts.device.unwrap_or(scene.run.device);
-    let setup = setup::prepare(scene, device, &mut notice, &mut clock)?;
+    // the ranks' setup stays on the CPU: each rank then opens its own GPU
+    let set_up_on = if ranks.is_some() {
+        DeviceChoice::Cpu
+    } else {
+        device
+    };
+    let mut setup = setup::prepare(scene, set_up_on, &mut notice, &mut clock)?;
+    if let Some(r) = ranks {
+        let elements = setup.model.mesh.element_count();
+        setup.ctx = ranks::rank_context(scene, device, r, elements, &mut notice)?;
+        clock.lap("device");
+    }
     if ranks.is_some() && setup.method != Method::Explicit {
         return Err(ImpactError::Unsupported {
             path: scene.path.clone(),

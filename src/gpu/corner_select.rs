@@ -1,0 +1,117 @@
+//! The corner forces of chosen corners, read back with the nodal forces
+//! (`shaders/corner_select.wgsl`, CPU twin [`crate::kernels::corner_select`]): what a rank of
+//! a decomposed run on its own GPU needs of its corners to sum the nodes it shares with its
+//! neighbours in the order of the global corners (`domain::forces`).
+
+use super::buffer::{submit_and_read_parts, Storage};
+use super::engine::{at_least_one, bytes_of, corner_slot, GpuKernels};
+use super::kernel::Launch;
+use super::CornerSelect;
+use crate::error::{ImpactError, Result};
+
+/// A fixed list of corners of a [`GpuKernels`]' mesh and the launch that packs their forces.
+pub struct CornerSelection {
+    kernel: CornerSelect,
+    /// Kept alive for the launch's bindings.
+    _slots: Storage,
+    chosen: Storage,
+    launch: Launch,
+    count: usize,
+}
+
+impl CornerSelection {
+    /// The corners `corners` of `k`'s mesh, as the twin numbers them (`8 e + k` for hex8
+    /// corners, then `8 E + 4 t + k` for tet4 corners).
+    pub fn new(k: &GpuKernels, corners: &[u32]) -> Result<Self> {
+        let (hexes, tets) = (k.elements, k.tets_count);
+        let total = 8 * hexes + 4 * tets;
+        if let Some(&c) = corners.iter().find(|&&c| c as usize >= total) {
+            return Err(ImpactError::Gpu(format!(
+                "corner {c} chosen from a mesh of {total} corners"
+            )));
+        }
+        let slots: Vec<u32> = (corners.iter())
+            .map(|&c| corner_slot(c as usize, hexes, tets) as u32)
+            .collect();
+        let ctx = &k.ctx;
+        let slots = Storage::with_data(ctx, "chosen_slots", &at_least_one(slots))?;
+        let chosen = Storage::new(ctx, "chosen_corners", bytes_of::<f32>(3 * corners.len()))?;
+        let kernel = CornerSelect::new(ctx);
+        let launch = kernel.launch(
+            ctx,
+            corners.len() as u32,
+            total as u32,
+            0,
+            &slots.buffer,
+            &k.corners.buffer,
+            &chosen.buffer,
+        );
+        Ok(CornerSelection {
+            kernel,
+            _slots: slots,
+            chosen,
+            launch,
+            count: corners.len(),
+        })
+    }
+
+    pub fn len(&self) -> usize {
+        self.count
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// The kernel alone on `k`'s corner forces as they are (for the twin test).
+    pub(super) fn run_alone(&self, k: &mut GpuKernels) -> Result<Vec<[f32; 3]>> {
+        if k.fill_nan {
+            (self.chosen).fill_nan(&k.ctx, bytes_of::<f32>(3 * self.count));
+        }
+        let mut enc = k.ctx.encoder("corner_select");
+        self.kernel.0.record_launch(&mut enc, &self.launch);
+        let parts = [(&self.chosen.buffer, self.count)];
+        submit_and_read_parts(&k.ctx, &mut k.staging, enc, &parts)
+    }
+}
+
+impl GpuKernels {
+    /// The internal forces at `u` into `f`, as [`crate::backend::Kernels::internal_forces_into`]
+    /// gives them, and the forces of `selection`'s corners into `chosen` in f32 as the device
+    /// computed them, from one submission and one read-back.
+    pub fn internal_forces_selecting(
+        &mut self,
+        u: &[f64],
+        f: &mut [f64],
+        selection: &CornerSelection,
+        chosen: &mut Vec<[f32; 3]>,
+    ) -> Result<()> {
+        self.upload_nodal(false, u)?;
+        if self.fill_nan {
+            (selection.chosen).fill_nan(&self.ctx, bytes_of::<f32>(3 * selection.count));
+        }
+        let mut enc = self.ctx.encoder("internal_forces_selecting");
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("internal_forces_selecting"),
+                timestamp_writes: None,
+            });
+            self.dispatch_internal_forces(&mut pass);
+            if selection.count > 0 {
+                selection.kernel.0.dispatch(&mut pass, &selection.launch);
+            }
+        }
+        let parts = [
+            (&self.forces.buffer, 3 * self.nodes),
+            (&selection.chosen.buffer, 3 * selection.count),
+        ];
+        let out: Vec<f32> = submit_and_read_parts(&self.ctx, &mut self.staging, enc, &parts)?;
+        let (nodal, corners) = out.split_at(3 * self.nodes);
+        for (d, &x) in f.iter_mut().zip(nodal) {
+            *d = f64::from(x);
+        }
+        chosen.clear();
+        chosen.extend(corners.chunks_exact(3).map(|c| [c[0], c[1], c[2]]));
+        Ok(())
+    }
+}
