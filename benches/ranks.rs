@@ -15,7 +15,9 @@
 //!
 //! `cargo bench --features mpi --bench ranks` (14,528 elements per rank, about 150 steps,
 //! ranks 1, 2 and every power of two up to the cores); `-- --quick` for 1,816 elements per
-//! rank on 1 and 2 ranks.
+//! rank on 1 and 2 ranks; `-- --gpu` with every rank's element forces on its GPU (the
+//! machine's GPUs shared out by local rank), where P = 1 is the single process on the GPU,
+//! its whole step resident there (a column names each run's engine).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -90,10 +92,11 @@ struct Figures {
     step_seconds: f64,
     communication: f64,
     received: u64,
+    engine: String,
 }
 
-/// Runs `text` (named `name`) on `ranks` ranks.
-fn run(ranks: usize, name: &str, text: &str, dir: &Path) -> Figures {
+/// Runs `text` (named `name`) on `ranks` ranks, each on `device`.
+fn run(ranks: usize, name: &str, text: &str, dir: &Path, device: &str) -> Figures {
     std::fs::create_dir_all(dir).expect("bench folder");
     let path = dir.join(format!("{name}.toml"));
     std::fs::write(&path, text).expect("scene written");
@@ -106,12 +109,16 @@ fn run(ranks: usize, name: &str, text: &str, dir: &Path) -> Figures {
         c.args(["--oversubscribe", "-n", &ranks.to_string(), bin]);
         c
     };
+    // one thread per CPU rank; a rank on a GPU keeps its share of the cores for its host loop
+    if device == "cpu" {
+        cmd.args(["--threads", "1"]);
+    }
     let status = cmd
-        .args(["--threads", "1", "run"])
+        .arg("run")
         .arg(&path)
         .arg("--out")
         .arg(&out)
-        .args(["--quiet", "--overwrite", "--device", "cpu"])
+        .args(["--quiet", "--overwrite", "--device", device])
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
         .stdout(std::process::Stdio::null())
@@ -135,6 +142,7 @@ fn run(ranks: usize, name: &str, text: &str, dir: &Path) -> Figures {
         step_seconds: stepping / steps as f64,
         communication: communication / stepping,
         received,
+        engine: s["engine"].as_str().unwrap_or_default().to_string(),
     }
 }
 
@@ -152,40 +160,49 @@ fn main() {
         p *= 2;
     }
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench_ranks");
-    println!("weak scaling, explicit CPU path, one thread per rank ({cores} cores here)");
+    let gpu = std::env::args().any(|a| a == "--gpu");
+    let device = if gpu { "gpu" } else { "cpu" };
+    let path = if gpu {
+        "each rank's element forces on its GPU, the single process resident"
+    } else {
+        "explicit CPU path, one thread per rank"
+    };
+    println!("weak scaling, {path} ({cores} cores here)");
     println!(
-        "| ranks | elements | per rank | steps | ms per step | ns per element-step | communication |"
+        "| ranks | elements | per rank | steps | ms per step | ns per element-step | communication | engine |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|---:|");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---|");
     for &r in &ranks {
-        let f = run(r, &format!("weak_{r}"), &scene(r, n), &dir);
+        let f = run(r, &format!("weak_{r}"), &scene(r, n), &dir, device);
         println!(
-            "| {r} | {} | {} | {} | {:.2} | {:.0} | {:.1}% |",
+            "| {r} | {} | {} | {} | {:.2} | {:.0} | {:.1}% | {} |",
             f.elements,
             f.elements / r,
             f.steps,
             1e3 * f.step_seconds,
             1e9 * f.step_seconds / f.elements as f64 * r as f64,
-            100.0 * f.communication
+            100.0 * f.communication,
+            f.engine
         );
     }
     println!();
     println!("one block over the cut: the scene of 2 ranks with a single block at its middle");
-    println!("| ranks | elements | steps | ms per step | speed-up | communication | face nodes received per step |");
-    println!("|---:|---:|---:|---:|---:|---:|---:|");
+    println!("| ranks | elements | steps | ms per step | speed-up | communication | face nodes received per step | engine |");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---|");
     let text = scene_with_blocks(2, n, vec![3.7]);
     let mut one = None;
     for &r in &ranks {
-        let f = run(r, &format!("across_{r}"), &text, &dir);
+        let f = run(r, &format!("across_{r}"), &text, &dir, device);
         let base = *one.get_or_insert(f.step_seconds);
         println!(
-            "| {r} | {} | {} | {:.2} | {:.2} | {:.1}% | {:.0} |",
+            "| {r} | {} | {} | {:.2} | {:.2} | {:.1}% | {:.0} | {} |",
             f.elements,
             f.steps,
             1e3 * f.step_seconds,
             base / f.step_seconds,
             100.0 * f.communication,
-            f.received as f64 / f.steps as f64
+            f.received as f64 / f.steps as f64,
+            f.engine
         );
     }
 }
