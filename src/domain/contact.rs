@@ -18,7 +18,7 @@
 
 use super::ranks::Timed;
 use super::subdomain::Subdomain;
-use super::surface::surface_model;
+use super::surface::{surface_model, SurfaceIndex};
 use crate::contact::search;
 use crate::error::Result;
 use crate::integrate::explicit::{
@@ -26,7 +26,8 @@ use crate::integrate::explicit::{
 };
 use crate::integrate::StepReport;
 use crate::kernels::contact_gap::NO_FACE;
-use crate::kernels::{as_vec3, contact_gap, ContactPoint, ContactQueries};
+use crate::kernels::contact_gap::closest_point;
+use crate::kernels::{as_vec3, ContactPoint, ContactQueries};
 use crate::model::{Model, Primary};
 use crate::scene::ExplicitSettings;
 
@@ -53,11 +54,19 @@ pub struct SurfaceContact {
     rank: usize,
     /// (surface index, local node) of every surface node the rank holds.
     held: Vec<(u32, u32)>,
-    /// The owner of every surface node.
-    owner: Vec<u32>,
     /// The surface nodes the rank owns on the primary faces of each interface (empty for
     /// planes).
     face_nodes: Vec<Vec<u32>>,
+    index: SurfaceIndex,
+    /// The surface nodes set from other ranks' values this step.
+    foreign: Vec<u32>,
+    /// The positions of the surface nodes the search read last (NaN elsewhere), and those
+    /// nodes.
+    x: Vec<[f64; 3]>,
+    x_set: Vec<u32>,
+    /// The (interface, place) pairs that may hold a constraint this step: the gathered
+    /// contacts' and plane nodes', increasing.
+    candidates: Vec<(u32, u32)>,
     /// Whether an interface is a rigid plane.
     planes: bool,
     queries: ContactQueries,
@@ -99,6 +108,11 @@ impl SurfaceContact {
         let owner = map.owner.clone();
         let mine = |s: &u32| owner[*s as usize] as usize == sub.rank;
         let face_nodes = owned_face_nodes(&surface, mine);
+        let mut held = vec![false; map.nodes.len()];
+        for &(k, _) in &map.held {
+            held[k as usize] = true;
+        }
+        let index = SurfaceIndex::new(&surface, &held, |s| mine(&s));
         let nq = surface.queries.len();
         let query_owner = |q: usize| owner[surface.queries.secondary[q] as usize] as usize;
         let n = 3 * map.nodes.len();
@@ -107,6 +121,11 @@ impl SurfaceContact {
             rank: sub.rank,
             held: map.held.clone(),
             face_nodes,
+            index,
+            foreign: Vec::new(),
+            x: vec![[f64::NAN; 3]; map.nodes.len()],
+            x_set: Vec::new(),
+            candidates: Vec::new(),
             planes: surface.interfaces.iter().any(|itf| itf.is_plane()),
             queries: surface.queries.clone(),
             lists: vec![Vec::new(); nq],
@@ -120,7 +139,6 @@ impl SurfaceContact {
             step: 0,
             inv_mass: start.inv_mass,
             received: 0,
-            owner,
             model: surface,
         }
     }
@@ -135,6 +153,8 @@ impl SurfaceContact {
         speed: f64,
     ) -> Result<StepReport> {
         self.step += 1;
+        self.foreign.clear();
+        self.candidates.clear();
         for i in 0..self.held.len() {
             let (k, n) = self.held[i];
             self.set(k, [local.u, local.v, local.v_half], n as usize);
@@ -153,9 +173,8 @@ impl SurfaceContact {
             inv_mass: &self.inv_mass,
             planes: Some(&present),
         };
-        let report = self
-            .contact
-            .step_from_points(&self.model, fields, dt, margin)?;
+        let candidates = Some(&self.candidates[..]);
+        let report = (self.contact).step_from_points(&self.model, fields, dt, margin, candidates)?;
         for &(k, n) in &self.held {
             let (k, n) = (3 * k as usize, 3 * n as usize);
             local.v[n..n + 3].copy_from_slice(&self.v[k..k + 3]);
@@ -188,11 +207,12 @@ impl SurfaceContact {
         out
     }
 
-    /// Sets a node's state from its values.
+    /// Sets a node's state from another rank's values.
     fn unpack_state(&mut self, x: &[f64]) {
         let k = x[0] as u32;
         let one = [&x[1..4], &x[4..7], &x[7..10]];
         self.set(k, one, 0);
+        self.foreign.push(k);
     }
 
     /// The rigid planes' secondary nodes within reach of a plane, from their owners (the
@@ -202,14 +222,11 @@ impl SurfaceContact {
             return;
         }
         let mut send: Vec<u32> = Vec::new();
-        for itf in &self.model.interfaces {
+        for (itf, owned) in self.model.interfaces.iter().zip(&self.index.owned_secondary) {
             let Primary::Plane { point, normal } = itf.primary else {
                 continue;
             };
-            for &k in &itf.nodes {
-                if self.owner[k as usize] as usize != self.rank {
-                    continue;
-                }
+            for &k in owned {
                 let (k3, x0) = (3 * k as usize, self.model.mesh.nodes[k as usize]);
                 let at = |x: &[f64]| [x[k3], x[k3 + 1], x[k3 + 2]];
                 let state = (at(&self.u), at(&self.v));
@@ -223,6 +240,8 @@ impl SurfaceContact {
         let mine: Vec<f64> = send.iter().flat_map(|&k| self.state(k)).collect();
         for x in gather(talk, &mine).chunks_exact(NODE) {
             self.unpack_state(x);
+            let slots = self.index.plane_slots_of(x[0] as u32);
+            self.candidates.extend_from_slice(slots);
         }
     }
 
@@ -285,10 +304,9 @@ impl SurfaceContact {
     /// Per surface interface: the box of the secondary nodes the rank owns, then the box of
     /// the primary-face nodes it owns.
     fn own_boxes(&self, surfaces: &[usize]) -> Vec<f64> {
-        let mine = |s: &u32| self.owner[*s as usize] as usize == self.rank;
         (surfaces.iter())
             .flat_map(|&k| {
-                let secondary = self.model.interfaces[k].nodes.iter().copied().filter(mine);
+                let secondary = self.index.owned_secondary[k].iter().copied();
                 let faces = self.face_nodes[k].iter().copied();
                 self.bounds(secondary).into_iter().chain(self.bounds(faces))
             })
@@ -309,11 +327,13 @@ impl SurfaceContact {
         nodes.into_iter().flat_map(|s| self.state(s)).collect()
     }
 
-    /// The largest box side of the primary faces whose nodes the rank holds.
+    /// The largest box side of the primary faces whose nodes the rank holds. (A face is
+    /// whole on the rank of its element, so the largest over the ranks is the largest of
+    /// every face.)
     fn held_face_extent(&self) -> f64 {
         let mut extent = 0.0f64;
-        for f in (self.queries.faces.iter()).filter(|f| present(&self.stamp, self.step, f)) {
-            let b = self.bounds(f.iter().copied());
+        for &f in self.index.held_faces.iter().flatten() {
+            let b = self.bounds(self.queries.faces[f].iter().copied());
             for a in 0..3 {
                 extent = extent.max(b[3 + a] - b[a]);
             }
@@ -322,34 +342,68 @@ impl SurfaceContact {
     }
 
     /// The closest points of the rank's own queries against the faces whose nodes it has
-    /// this step (the single process's search and [`crate::kernels::contact_gap`]).
+    /// this step (the single process's search and [`crate::kernels::contact_gap`]): the
+    /// faces it holds and those the nodes it received complete.
     fn find_own_points(&mut self, margin: f64) {
-        let x: Vec<[f64; 3]> = (0..self.stamp.len() as u32)
-            .map(|k| match self.stamp[k as usize] == self.step {
-                true => self.position(k),
-                false => [f64::NAN; 3],
-            })
+        self.set_positions();
+        let (stamp, step) = (&self.stamp, self.step);
+        let faces = &self.queries.faces;
+        let mut completed: Vec<usize> = (self.foreign.iter())
+            .flat_map(|&k| self.index.faces_of(k))
+            .map(|&f| f as usize)
+            .filter(|&f| present(stamp, step, &faces[f]))
             .collect();
-        for itf in &self.model.interfaces {
-            if let Primary::Surface { faces, queries, .. } = &itf.primary {
-                let own = &self.owned_queries;
-                let ids = &own[own.partition_point(|&q| q < queries.start)
-                    ..own.partition_point(|&q| q < queries.end)];
-                let faces = faces
-                    .clone()
-                    .filter(|&f| present(&self.stamp, self.step, &self.queries.faces[f]));
-                search::find_candidates_of(&self.queries, &x, ids, faces, margin, &mut self.lists);
+        completed.sort_unstable();
+        completed.dedup();
+        for (k, itf) in self.model.interfaces.iter().enumerate() {
+            let Primary::Surface { faces, queries, .. } = &itf.primary else {
+                continue;
+            };
+            let own = &self.owned_queries;
+            let ids = &own[own.partition_point(|&q| q < queries.start)
+                ..own.partition_point(|&q| q < queries.end)];
+            if ids.is_empty() {
+                continue;
             }
+            let within = &completed[completed.partition_point(|&f| f < faces.start)
+                ..completed.partition_point(|&f| f < faces.end)];
+            let mut candidates = self.index.held_faces[k].clone();
+            candidates.extend_from_slice(within);
+            candidates.sort_unstable();
+            candidates.dedup();
+            let x = &self.x;
+            search::find_candidates_of(&self.queries, x, ids, candidates.into_iter(), margin, &mut self.lists);
         }
-        search::flatten(&mut self.queries, &self.lists);
-        let reference = &self.model.mesh.nodes;
-        contact_gap(
-            reference,
-            as_vec3(&self.u),
-            as_vec3(&self.v),
-            &self.queries,
-            &mut self.points,
-        );
+        self.own_points();
+    }
+
+    /// The positions of the nodes set this step, for the search (NaN at the others).
+    fn set_positions(&mut self) {
+        for k in std::mem::take(&mut self.x_set) {
+            self.x[k as usize] = [f64::NAN; 3];
+        }
+        let set: Vec<u32> = (self.held.iter().map(|&(k, _)| k))
+            .chain(self.foreign.iter().copied())
+            .collect();
+        for k in set {
+            self.x[k as usize] = self.position(k);
+            self.x_set.push(k);
+        }
+    }
+
+    /// The closest point of each query the rank owns, from its candidate list.
+    fn own_points(&mut self) {
+        use rayon::prelude::*;
+        let (reference, q) = (&self.model.mesh.nodes, &self.queries);
+        let uv = (as_vec3(&self.u), as_vec3(&self.v));
+        let lists = &self.lists;
+        let points: Vec<ContactPoint> = (self.owned_queries.par_iter())
+            .with_min_len(256)
+            .map(|&i| closest_point(reference, uv, q, q.secondary[i], &lists[i]))
+            .collect();
+        for (&i, p) in self.owned_queries.iter().zip(points) {
+            self.points[i] = p;
+        }
     }
 
     /// Every rank's contacts within reach, with their nodes' state: the query points of the
@@ -379,10 +433,13 @@ impl SurfaceContact {
             let q = r[0] as usize;
             self.contact.query_points_mut()[q] = unpack(&r[1..9]);
             self.set_points.push(q);
+            self.candidates.push(self.index.query_slot[q]);
             for x in r[9..].chunks_exact(NODE) {
                 self.unpack_state(x);
             }
         }
+        self.candidates.sort_unstable();
+        self.candidates.dedup();
     }
 }
 

@@ -48,3 +48,104 @@ pub fn surface_model(model: &Model, nodes: &[u32]) -> Model {
         gravity: model.gravity,
     }
 }
+
+/// What a rank looks up in the surface model each step, so that a step's contact work grows
+/// with the rank's share of the surfaces and with the nodes it receives, not with the whole
+/// model's surfaces.
+pub struct SurfaceIndex {
+    /// Per interface: the secondary nodes the rank owns, in the interface's order.
+    pub owned_secondary: Vec<Vec<u32>>,
+    /// Per interface: its faces whose nodes the rank holds, increasing (none for a plane).
+    pub held_faces: Vec<Vec<usize>>,
+    /// The (interface, place) of each query.
+    pub query_slot: Vec<(u32, u32)>,
+    /// The faces of each surface node (CSR).
+    faces: Csr<u32>,
+    /// The (plane interface, place) of each surface node that is a plane's secondary node.
+    plane_slots: Csr<(u32, u32)>,
+}
+
+impl SurfaceIndex {
+    /// The index of `surface` (the model of [`surface_model`]) for a rank that holds the
+    /// surface nodes `held` and owns those `owned` says.
+    pub fn new(surface: &Model, held: &[bool], owned: impl Fn(u32) -> bool) -> Self {
+        let n = surface.mesh.nodes.len();
+        let faces = &surface.queries.faces;
+        let mut held_faces = Vec::new();
+        let mut query_slot = vec![(0, 0); surface.queries.len()];
+        let mut planes = Vec::new();
+        for (k, itf) in surface.interfaces.iter().enumerate() {
+            let mut mine = Vec::new();
+            if let crate::model::Primary::Surface {
+                faces: range,
+                queries,
+                ..
+            } = &itf.primary
+            {
+                let whole = |f: &usize| faces[*f].iter().all(|&s| held[s as usize]);
+                mine = range.clone().filter(whole).collect();
+                for (i, q) in queries.clone().enumerate() {
+                    query_slot[q] = (k as u32, i as u32);
+                }
+            } else {
+                let slots = itf.nodes.iter().enumerate();
+                planes.extend(slots.map(|(i, &s)| (s, (k as u32, i as u32))));
+            }
+            held_faces.push(mine);
+        }
+        let owned_secondary = (surface.interfaces.iter())
+            .map(|itf| itf.nodes.iter().copied().filter(|&s| owned(s)).collect())
+            .collect();
+        let corners = faces.iter().enumerate().flat_map(|(f, face)| {
+            let mut c = face.to_vec();
+            c.dedup(); // a triangle repeats its last corner
+            c.into_iter().map(move |s| (s, f as u32))
+        });
+        SurfaceIndex {
+            owned_secondary,
+            held_faces,
+            query_slot,
+            faces: Csr::new(n, corners),
+            plane_slots: Csr::new(n, planes.into_iter()),
+        }
+    }
+
+    /// The faces surface node `k` is a corner of, increasing.
+    pub fn faces_of(&self, k: u32) -> &[u32] {
+        self.faces.of(k)
+    }
+
+    /// The (plane interface, place) slots of surface node `k`.
+    pub fn plane_slots_of(&self, k: u32) -> &[(u32, u32)] {
+        self.plane_slots.of(k)
+    }
+}
+
+/// Values listed per key `0..n`, each key's in the order given.
+struct Csr<T> {
+    start: Vec<u32>,
+    values: Vec<T>,
+}
+
+impl<T: Copy + Default> Csr<T> {
+    fn new(n: usize, pairs: impl Iterator<Item = (u32, T)> + Clone) -> Self {
+        let mut start = vec![0u32; n + 1];
+        for (k, _) in pairs.clone() {
+            start[k as usize + 1] += 1;
+        }
+        for k in 0..n {
+            start[k + 1] += start[k];
+        }
+        let mut next = start.clone();
+        let mut values = vec![T::default(); start[n] as usize];
+        for (k, v) in pairs {
+            values[next[k as usize] as usize] = v;
+            next[k as usize] += 1;
+        }
+        Csr { start, values }
+    }
+
+    fn of(&self, k: u32) -> &[T] {
+        &self.values[self.start[k as usize] as usize..self.start[k as usize + 1] as usize]
+    }
+}

@@ -54,19 +54,30 @@ pub fn contact_gap(
         .with_min_len(256)
         .enumerate()
         .for_each(|(i, o)| {
-            let s = q.secondary[i];
-            let mut best = (NO_FACE, [0.0; 2], f64::INFINITY);
-            for &fi in q.candidates_of(i) {
-                let (xi, d) = closest_on_face(reference, u, q, s, fi);
-                if d < best.2 {
-                    best = (fi, xi, d);
-                }
-            }
-            *o = match best.0 {
-                NO_FACE => ContactPoint::default(),
-                fi => face_point(reference, u, v, q, s, fi, best.1),
-            };
+            *o = closest_point(reference, (u, v), q, q.secondary[i], q.candidates_of(i));
         });
+}
+
+/// The contact kinematics of secondary node `s` against the closest of its `candidates`
+/// (faces of `q`), the first of equally close ones: one query of [`contact_gap`].
+pub fn closest_point(
+    reference: &[[f64; 3]],
+    (u, v): (&[[f64; 3]], &[[f64; 3]]),
+    q: &ContactQueries,
+    s: u32,
+    candidates: &[u32],
+) -> ContactPoint {
+    let mut best = (NO_FACE, [0.0; 2], f64::INFINITY);
+    for &fi in candidates {
+        let (xi, d) = closest_on_face(reference, u, q, s, fi);
+        if d < best.2 {
+            best = (fi, xi, d);
+        }
+    }
+    match best.0 {
+        NO_FACE => ContactPoint::default(),
+        fi => face_point(reference, u, v, q, s, fi, best.1),
+    }
 }
 
 /// The position of node n at displacement u.

@@ -168,7 +168,7 @@ impl ExplicitContact {
                 &mut self.query_points,
             )?;
         }
-        self.step_from_points(model, f, dt, margin)
+        self.step_from_points(model, f, dt, margin, None)
     }
 
     /// The closest point of every query, for a caller that finds them itself (the ranks of
@@ -178,20 +178,30 @@ impl ExplicitContact {
     }
 
     /// Contact impulses of the step from the query points found: projected Jacobi sweeps
-    /// until no constraint is violated by more than the tolerance.
+    /// until no constraint is violated by more than the tolerance. `candidates`, where
+    /// given, are the (interface, secondary node) pairs that may hold a constraint, in
+    /// increasing order (the others have no query point and are no plane node within
+    /// reach); without them every pair is looked at.
     pub fn step_from_points(
         &mut self,
         model: &Model,
         f: ContactFields,
         dt: f64,
         margin: f64,
+        candidates: Option<&[(u32, u32)]>,
     ) -> Result<StepReport> {
-        self.gather_constraints(model, &f, dt, margin);
-        for st in &mut self.interfaces {
-            st.impulse.fill(0.0);
-            st.tangential.fill([0.0; 3]);
-            st.gap.fill(f64::NAN);
+        match candidates {
+            // only the entries the last step's constraints set
+            Some(_) => self.clear_reported(),
+            None => {
+                for st in &mut self.interfaces {
+                    st.impulse.fill(0.0);
+                    st.tangential.fill([0.0; 3]);
+                    st.gap.fill(f64::NAN);
+                }
+            }
         }
+        self.gather_constraints(model, &f, dt, margin, candidates);
         let count = self.constraints.len();
         let mut jn = vec![0.0f64; count];
         let mut jt = vec![[0.0f64; 3]; count];
@@ -228,21 +238,46 @@ impl ExplicitContact {
     /// the query points, planes analytically; only nodes within one face size plus four
     /// steps of the fastest node's motion of their primary surface, or within four steps of
     /// their own motion of a plane.
-    fn gather_constraints(&mut self, model: &Model, f: &ContactFields, dt: f64, margin: f64) {
+    fn gather_constraints(
+        &mut self,
+        model: &Model,
+        f: &ContactFields,
+        dt: f64,
+        margin: f64,
+        candidates: Option<&[(u32, u32)]>,
+    ) {
         let (u, v): (&[f64], &[f64]) = (f.u, f.v);
-        self.constraints.clear();
-        for (k, itf) in model.interfaces.iter().enumerate() {
-            for i in 0..itf.nodes.len() {
-                let absent = |planes: &dyn Fn(u32) -> bool| itf.is_plane() && !planes(itf.nodes[i]);
-                if f.planes.is_some_and(absent) {
-                    continue;
-                }
-                if let Some(c) = self.constraint_of(model, u, v, dt, (k, i), margin) {
-                    self.constraints.push(c);
+        let mut constraints = std::mem::take(&mut self.constraints);
+        constraints.clear();
+        let mut add = |k: usize, i: usize| {
+            let itf = &model.interfaces[k];
+            let absent = |planes: &dyn Fn(u32) -> bool| itf.is_plane() && !planes(itf.nodes[i]);
+            if f.planes.is_some_and(absent) {
+                return;
+            }
+            if let Some(c) = self.constraint_of(model, u, v, dt, (k, i), margin) {
+                constraints.push(c);
+            }
+        };
+        match candidates {
+            None => {
+                for (k, itf) in model.interfaces.iter().enumerate() {
+                    (0..itf.nodes.len()).for_each(|i| add(k, i));
                 }
             }
+            Some(list) => list.iter().for_each(|&(k, i)| add(k as usize, i as usize)),
         }
+        self.constraints = constraints;
         self.split_compliances(f.inv_mass);
+    }
+
+    /// Zeroes the interfaces' impulses and gaps the last step's constraints set.
+    fn clear_reported(&mut self) {
+        for c in &self.constraints {
+            let st = &mut self.interfaces[c.interface as usize];
+            let i = c.local as usize;
+            (st.impulse[i], st.tangential[i], st.gap[i]) = (0.0, [0.0; 3], f64::NAN);
+        }
     }
 
     /// The constraint of secondary node `i` of interface `k`, if it is within reach of its
@@ -295,8 +330,7 @@ impl ExplicitContact {
     /// The split compliance of every constraint of the step.
     fn split_compliances(&mut self, inv_mass: &[f64]) {
         // the row-sum bound of the coupled compliance: each node's inverse mass times the sum
-        // of the weights with which the step's constraints act on it
-        self.touches.fill(0.0);
+        // of the weights with which the step's constraints act on it (zero outside this call)
         for c in &self.constraints {
             self.touches[c.node as usize] += 1.0;
             if let Some(f) = c.face {
@@ -329,6 +363,12 @@ impl ExplicitContact {
                 }
             }
             c.compliance = if along > 0.0 { s } else { 0.0 };
+        }
+        for c in &self.constraints {
+            self.touches[c.node as usize] = 0.0;
+            for n in c.face.into_iter().flatten() {
+                self.touches[n as usize] = 0.0;
+            }
         }
     }
 
