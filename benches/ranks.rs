@@ -91,6 +91,9 @@ struct Figures {
     steps: usize,
     step_seconds: f64,
     communication: f64,
+    /// Each rank's seconds in the contact per step, averaged over the ranks (none for one
+    /// process).
+    contact: Option<f64>,
     received: u64,
     engine: String,
 }
@@ -134,6 +137,8 @@ fn run(ranks: usize, name: &str, text: &str, dir: &Path, device: &str) -> Figure
         Some(c) => c.iter().filter_map(|x| x.as_f64()).sum::<f64>() / c.len() as f64,
         None => 0.0,
     };
+    let contact = (s["ranks"]["contact_seconds"].as_array())
+        .map(|c| c.iter().filter_map(|x| x.as_f64()).sum::<f64>() / c.len() as f64 / steps as f64);
     let received = (s["ranks"]["face_nodes_received"].as_array())
         .map_or(0, |r| r.iter().filter_map(|x| x.as_u64()).sum());
     Figures {
@@ -141,6 +146,7 @@ fn run(ranks: usize, name: &str, text: &str, dir: &Path, device: &str) -> Figure
         steps,
         step_seconds: stepping / steps as f64,
         communication: communication / stepping,
+        contact,
         received,
         engine: s["engine"].as_str().unwrap_or_default().to_string(),
     }
@@ -169,40 +175,47 @@ fn main() {
     };
     println!("weak scaling, {path} ({cores} cores here)");
     println!(
-        "| ranks | elements | per rank | steps | ms per step | ns per element-step | communication | engine |"
+        "| ranks | elements | per rank | steps | ms per step | ns per element-step | communication | contact ms per step | engine |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|---:|---|");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---|");
     for &r in &ranks {
         let f = run(r, &format!("weak_{r}"), &scene(r, n), &dir, device);
         println!(
-            "| {r} | {} | {} | {} | {:.2} | {:.0} | {:.1}% | {} |",
+            "| {r} | {} | {} | {} | {:.2} | {:.0} | {:.1}% | {} | {} |",
             f.elements,
             f.elements / r,
             f.steps,
             1e3 * f.step_seconds,
             1e9 * f.step_seconds / f.elements as f64 * r as f64,
             100.0 * f.communication,
+            milliseconds(f.contact),
             f.engine
         );
     }
     println!();
     println!("one block over the cut: the scene of 2 ranks with a single block at its middle");
-    println!("| ranks | elements | steps | ms per step | speed-up | communication | face nodes received per step | engine |");
-    println!("|---:|---:|---:|---:|---:|---:|---:|---|");
+    println!("| ranks | elements | steps | ms per step | speed-up | communication | contact ms per step | face nodes received per step | engine |");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---|");
     let text = scene_with_blocks(2, n, vec![3.7]);
     let mut one = None;
     for &r in &ranks {
         let f = run(r, &format!("across_{r}"), &text, &dir, device);
         let base = *one.get_or_insert(f.step_seconds);
         println!(
-            "| {r} | {} | {} | {:.2} | {:.2} | {:.1}% | {:.0} | {} |",
+            "| {r} | {} | {} | {:.2} | {:.2} | {:.1}% | {} | {:.0} | {} |",
             f.elements,
             f.steps,
             1e3 * f.step_seconds,
             base / f.step_seconds,
             100.0 * f.communication,
+            milliseconds(f.contact),
             f.received as f64 / f.steps as f64,
             f.engine
         );
     }
+}
+
+/// Seconds as milliseconds with two decimals, or "-".
+fn milliseconds(s: Option<f64>) -> String {
+    s.map_or_else(|| "-".into(), |s| format!("{:.2}", 1e3 * s))
 }

@@ -25,8 +25,8 @@ use crate::integrate::explicit::{
     plane_gap_within_reach, ContactFields, ExplicitContact, NodalStart,
 };
 use crate::integrate::StepReport;
-use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::contact_gap::closest_point;
+use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::{as_vec3, ContactPoint, ContactQueries};
 use crate::model::{Model, Primary};
 use crate::scene::ExplicitSettings;
@@ -174,7 +174,8 @@ impl SurfaceContact {
             planes: Some(&present),
         };
         let candidates = Some(&self.candidates[..]);
-        let report = (self.contact).step_from_points(&self.model, fields, dt, margin, candidates)?;
+        let report =
+            (self.contact).step_from_points(&self.model, fields, dt, margin, candidates)?;
         for &(k, n) in &self.held {
             let (k, n) = (3 * k as usize, 3 * n as usize);
             local.v[n..n + 3].copy_from_slice(&self.v[k..k + 3]);
@@ -222,7 +223,12 @@ impl SurfaceContact {
             return;
         }
         let mut send: Vec<u32> = Vec::new();
-        for (itf, owned) in self.model.interfaces.iter().zip(&self.index.owned_secondary) {
+        for (itf, owned) in self
+            .model
+            .interfaces
+            .iter()
+            .zip(&self.index.owned_secondary)
+        {
             let Primary::Plane { point, normal } = itf.primary else {
                 continue;
             };
@@ -372,7 +378,14 @@ impl SurfaceContact {
             candidates.sort_unstable();
             candidates.dedup();
             let x = &self.x;
-            search::find_candidates_of(&self.queries, x, ids, candidates.into_iter(), margin, &mut self.lists);
+            search::find_candidates_of(
+                &self.queries,
+                x,
+                ids,
+                candidates.into_iter(),
+                margin,
+                &mut self.lists,
+            );
         }
         self.own_points();
     }

@@ -34,6 +34,8 @@ pub struct RankFigures {
     pub neighbours: usize,
     /// Seconds spent in exchanges and collectives (waiting included).
     pub communication: f64,
+    /// Seconds spent in the steps' contact, its exchanges included.
+    pub contact: f64,
     /// Primary-face node states received from other ranks for the contact search, over the
     /// run.
     pub face_nodes_received: usize,
@@ -65,6 +67,7 @@ pub struct DomainSolver<'m> {
     /// The rank's part of the model, for its pieces of the frames.
     piece: Model,
     communication: std::cell::Cell<f64>,
+    contact_seconds: f64,
 }
 
 impl<'m> DomainSolver<'m> {
@@ -114,6 +117,7 @@ impl<'m> DomainSolver<'m> {
             piece,
             mass_all,
             communication: std::cell::Cell::new(0.0),
+            contact_seconds: 0.0,
         })
     }
 
@@ -125,6 +129,7 @@ impl<'m> DomainSolver<'m> {
             shared_nodes: self.sub.shared.len(),
             neighbours: self.sub.neighbours.len(),
             communication: self.communication.get(),
+            contact: self.contact_seconds,
             face_nodes_received: self.surface.received,
         }
     }
@@ -231,7 +236,9 @@ impl Integrator for DomainSolver<'_> {
     fn step(&mut self) -> Result<StepReport> {
         let dt = self.dt;
         kernels::explicit_predict(dt, &self.a, &mut self.v);
+        let clock = std::time::Instant::now();
         let report = self.contact()?;
+        self.contact_seconds += clock.elapsed().as_secs_f64();
         self.u_prev.copy_from_slice(&self.u);
         self.v_half.copy_from_slice(&self.v);
         kernels::explicit_drift(dt, &self.v, &mut self.u);
@@ -339,6 +346,7 @@ impl Integrator for DomainSolver<'_> {
             f.neighbours as f64,
             f.communication,
             f.face_nodes_received as f64,
+            f.contact,
         ];
         let all = self.ranks.gather_all(&mine);
         let column = |k: usize| all.iter().map(|r| r[k] as usize).collect();
@@ -351,6 +359,7 @@ impl Integrator for DomainSolver<'_> {
             shared_nodes: column(2),
             neighbours: column(3),
             communication_seconds: all.iter().map(|r| r[4]).collect(),
+            contact_seconds: all.iter().map(|r| r[6]).collect(),
             face_nodes_received: column(5),
         })
     }

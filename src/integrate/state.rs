@@ -88,13 +88,15 @@ pub struct Decomposition {
     /// How the contact is shared out.
     pub contact: String,
     /// Per rank: its elements, the nodes it holds, those it shares with other ranks, the
-    /// ranks it exchanges forces with, its seconds in exchanges and collectives, and the
-    /// primary-face node states it received for its contact search over the run.
+    /// ranks it exchanges forces with, its seconds in exchanges and collectives, its
+    /// seconds in the steps' contact (its exchanges included), and the primary-face node
+    /// states it received for its contact search over the run.
     pub elements: Vec<usize>,
     pub nodes: Vec<usize>,
     pub shared_nodes: Vec<usize>,
     pub neighbours: Vec<usize>,
     pub communication_seconds: Vec<f64>,
+    pub contact_seconds: Vec<f64>,
     pub face_nodes_received: Vec<usize>,
 }
 
