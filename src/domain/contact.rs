@@ -60,10 +60,8 @@ pub struct SurfaceContact {
     index: SurfaceIndex,
     /// The surface nodes set from other ranks' values this step.
     foreign: Vec<u32>,
-    /// The positions of the surface nodes the search read last (NaN elsewhere), and those
-    /// nodes.
+    /// The positions of the surface nodes set this step, for the search.
     x: Vec<[f64; 3]>,
-    x_set: Vec<u32>,
     /// The (interface, place) pairs that may hold a constraint this step: the gathered
     /// contacts' and plane nodes', increasing.
     candidates: Vec<(u32, u32)>,
@@ -124,7 +122,6 @@ impl SurfaceContact {
             index,
             foreign: Vec::new(),
             x: vec![[f64::NAN; 3]; map.nodes.len()],
-            x_set: Vec::new(),
             candidates: Vec::new(),
             planes: surface.interfaces.iter().any(|itf| itf.is_plane()),
             queries: surface.queries.clone(),
@@ -373,34 +370,23 @@ impl SurfaceContact {
             }
             let within = &completed[completed.partition_point(|&f| f < faces.start)
                 ..completed.partition_point(|&f| f < faces.end)];
-            let mut candidates = self.index.held_faces[k].clone();
-            candidates.extend_from_slice(within);
-            candidates.sort_unstable();
-            candidates.dedup();
+            let candidates = sorted_union(&self.index.held_faces[k], within);
             let x = &self.x;
-            search::find_candidates_of(
-                &self.queries,
-                x,
-                ids,
-                candidates.into_iter(),
-                margin,
-                &mut self.lists,
-            );
+            search::find_candidates_of(&self.queries, x, ids, candidates, margin, &mut self.lists);
         }
         self.own_points();
     }
 
-    /// The positions of the nodes set this step, for the search (NaN at the others).
+    /// The positions of the nodes set this step, for the search. The others keep an earlier
+    /// step's position, which the search never reads: it takes only faces whose nodes are
+    /// all set this step, and the queries of nodes the rank holds.
     fn set_positions(&mut self) {
-        for k in std::mem::take(&mut self.x_set) {
-            self.x[k as usize] = [f64::NAN; 3];
-        }
-        let set: Vec<u32> = (self.held.iter().map(|&(k, _)| k))
-            .chain(self.foreign.iter().copied())
-            .collect();
+        let reference = &self.model.mesh.nodes;
+        let (u, x) = (&self.u, &mut self.x);
+        let set = (self.held.iter().map(|&(k, _)| k)).chain(self.foreign.iter().copied());
         for k in set {
-            self.x[k as usize] = self.position(k);
-            self.x_set.push(k);
+            let (k, p) = (k as usize, reference[k as usize]);
+            x[k] = std::array::from_fn(|a| p[a] + u[3 * k + a]);
         }
     }
 
@@ -471,6 +457,20 @@ fn owned_face_nodes(surface: &Model, mine: impl Fn(&u32) -> bool) -> Vec<Vec<u32
             Primary::Plane { .. } => Vec::new(),
         })
         .collect()
+}
+
+/// The values of two increasing lists, increasing, each once.
+fn sorted_union<'a>(a: &'a [usize], b: &'a [usize]) -> impl Iterator<Item = usize> + 'a {
+    let (mut a, mut b) = (a.iter().copied().peekable(), b.iter().copied().peekable());
+    std::iter::from_fn(move || match (a.peek(), b.peek()) {
+        (Some(&x), Some(&y)) if x == y => {
+            b.next();
+            a.next()
+        }
+        (Some(&x), Some(&y)) if y < x => b.next(),
+        (Some(_), _) => a.next(),
+        (None, _) => b.next(),
+    })
 }
 
 /// Whether step `step` has set every node of face `f` (`stamp`: the step that last set
