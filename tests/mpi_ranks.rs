@@ -279,3 +279,52 @@ fn frames_on_3_ranks_are_pieces_of_the_single_process_frames() {
     assert!(out.status.success(), "{text}");
     assert!(text.contains("6 frames"), "{text}");
 }
+
+/// A rank that finds no GPU (here rank 1, its wgpu told to look for DirectX 12 alone, which
+/// Linux has not) stops every rank: the job ends with an error naming that rank and the key
+/// `run.device`, and no rank waits for it.
+#[test]
+fn a_rank_without_a_gpu_stops_every_rank() {
+    if skip_gpu("a rank without a gpu") {
+        return;
+    }
+    let dir = out_dir("mpi_no_gpu");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("cube.toml");
+    std::fs::write(
+        &scene,
+        explicit_at_default_step(&scene_text("cube_on_plate.toml")),
+    )
+    .unwrap();
+    let bin = env!("CARGO_BIN_EXE_impact");
+    let args = |out: &str| {
+        let out = dir.join(out);
+        let run = [
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        let tail = ["--quiet", "--overwrite", "--device", "gpu"];
+        run.iter()
+            .chain(&tail)
+            .map(|s| s.to_string())
+            .collect::<Vec<_>>()
+    };
+    let out = Command::new("timeout")
+        .args(["120", "mpirun", "--oversubscribe", "-n", "1", bin])
+        .args(args("ranks"))
+        .args([":", "-n", "1", "env", "WGPU_BACKEND=dx12", bin])
+        .args(args("ranks"))
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .output()
+        .expect("mpirun (Open MPI) on the PATH");
+    let text = String::from_utf8_lossy(&out.stderr);
+    assert_ne!(out.status.code(), Some(124), "the job hung: {text}");
+    assert!(!out.status.success(), "{text}");
+    assert!(
+        text.contains("run.device") && text.contains("rank 1 of 2 found no GPU"),
+        "{text}"
+    );
+}
