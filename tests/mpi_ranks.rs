@@ -324,7 +324,9 @@ fn a_rank_without_a_gpu_stops_every_rank() {
     assert_ne!(out.status.code(), Some(124), "the job hung: {text}");
     assert!(!out.status.success(), "{text}");
     assert!(
-        text.contains("run.device") && text.contains("rank 1 of 2 found no GPU"),
+        text.contains("run.device")
+            && text.contains("rank 1 of 2: ")
+            && !text.contains("rank 0 of 2"),
         "{text}"
     );
 }

@@ -81,7 +81,12 @@ impl<'m> DomainSolver<'m> {
         ctx: Option<GpuContext>,
     ) -> Result<Self> {
         let mut sub = Subdomain::new(model, partition, ranks.rank());
-        let kernels = RankForces::new(&mut sub, ctx)?;
+        // a rank whose kernels fail stops every rank (none waits for it)
+        let kernels = RankForces::new(&mut sub, ctx);
+        let outcome = kernels.as_ref().map(|_| ()).map_err(|e| e.to_string());
+        (ranks.agree(outcome))
+            .map_err(|why| ImpactError::Gpu(format!("building the kernels: {why}")))?;
+        let kernels = kernels?;
         let mass_all = lumped_mass(model);
         let mass: Vec<f64> = sub.nodes.iter().map(|&n| mass_all[n as usize]).collect();
         let fixed = sub.restrict(&model.fixed);

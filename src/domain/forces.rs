@@ -14,7 +14,7 @@ use crate::gpu::{CornerSelection, GpuContext, GpuKernels};
 pub enum RankForces {
     Cpu(CpuKernels),
     /// The GPU reads back, with the nodal forces, the corners the exchange needs
-    /// (`chosen`, numbered by [`Subdomain::pack_corners`]).
+    /// (`chosen`, as [`Subdomain::pack_corners`] numbers them).
     Gpu {
         kernels: Box<GpuKernels>,
         selection: CornerSelection,
@@ -29,8 +29,10 @@ impl RankForces {
         let Some(ctx) = ctx else {
             return Ok(RankForces::Cpu(CpuKernels::new(sub.data.clone())));
         };
+        let chosen = sub.exchanged_corners();
         let kernels = Box::new(GpuKernels::new(ctx, &sub.data)?);
-        let selection = CornerSelection::new(&kernels, &sub.pack_corners())?;
+        let selection = CornerSelection::new(&kernels, &chosen)?;
+        sub.pack_corners(&chosen);
         Ok(RankForces::Gpu {
             kernels,
             selection,

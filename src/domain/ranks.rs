@@ -28,6 +28,37 @@ pub trait Ranks {
             .take(self.size())
             .collect()
     }
+    /// Every rank's `text`, in rank order.
+    fn gather_text(&self, text: &str) -> Vec<String> {
+        let mine: Vec<f64> = text.bytes().map(f64::from).collect();
+        let counts: Vec<usize> = (self.gather_all(&[mine.len() as f64]).iter())
+            .map(|c| c[0] as usize)
+            .collect();
+        let mut all = vec![0.0; counts.iter().sum()];
+        self.all_gather(&mine, &counts, &mut all);
+        let mut at = 0;
+        (counts.iter())
+            .map(|&c| {
+                let bytes: Vec<u8> = all[at..at + c].iter().map(|&b| b as u8).collect();
+                at += c;
+                String::from_utf8_lossy(&bytes).into_owned()
+            })
+            .collect()
+    }
+    /// The outcome of a stage that may fail on some ranks only, agreed: `Ok` on every rank
+    /// where every rank succeeded, else on every rank the failed ranks' messages
+    /// ("rank k of P: ..."), so that no rank goes on to wait for one that stopped.
+    fn agree(&self, mine: std::result::Result<(), String>) -> std::result::Result<(), String> {
+        let all = self.gather_text(mine.as_ref().err().map_or("", |m| m.as_str()));
+        let failed: Vec<String> = (all.iter().enumerate())
+            .filter(|(_, m)| !m.is_empty())
+            .map(|(r, m)| format!("rank {r} of {}: {m}", self.size()))
+            .collect();
+        match failed.is_empty() {
+            true => Ok(()),
+            false => Err(failed.join("; ")),
+        }
+    }
     /// The sum over the ranks of `x` (the same length on each), added in rank order, so
     /// every rank has the same bits.
     fn sum(&self, x: &[f64]) -> Vec<f64> {

@@ -37,7 +37,8 @@ impl CornerValue for f32 {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Source {
     /// A corner of this rank's elements (its index in the local corner forces, or in the
-    /// list of [`Subdomain::pack_corners`]).
+    /// list of [`Subdomain::exchanged_corners`] once
+    /// [`Subdomain::pack_corners`] renumbered them).
     Local(u32),
     /// A corner a neighbour sent (its index in the receive buffer, in corners).
     Remote(u32),
@@ -87,6 +88,8 @@ pub struct Subdomain {
     pub shared: Vec<u32>,
     pub offsets: Vec<u32>,
     pub sources: Vec<Source>,
+    /// Whether [`Self::pack_corners`] renumbered the exchanged corners.
+    pub packed: bool,
     pub surface: SurfaceMap,
 }
 
@@ -161,6 +164,7 @@ impl Subdomain {
             shared: Vec::new(),
             offsets: vec![0],
             sources: Vec::new(),
+            packed: false,
             surface: SurfaceMap::default(),
         };
         sub.exchange_lists(model, partition, &held, &holders, &local, &corner_local);
@@ -272,10 +276,9 @@ impl Subdomain {
         }
     }
 
-    /// Renumbers the local corners the exchange reads (those sent to the neighbours and
-    /// the shared nodes' local sources) by their places in the returned list of them, in
-    /// increasing order: a rank whose corner forces stay on its GPU reads back those alone.
-    pub fn pack_corners(&mut self) -> Vec<u32> {
+    /// The local corners the exchange reads (those sent to the neighbours and the shared
+    /// nodes' local sources), increasing, each once.
+    pub fn exchanged_corners(&self) -> Vec<u32> {
         let sent = self
             .neighbours
             .iter()
@@ -287,7 +290,17 @@ impl Subdomain {
         let mut chosen: Vec<u32> = sent.chain(summed).collect();
         chosen.sort_unstable();
         chosen.dedup();
-        let at = |c: u32| chosen.binary_search(&c).expect("a chosen corner") as u32;
+        chosen
+    }
+
+    /// Renumbers the exchanged corners by their places in `chosen` (the list of
+    /// [`Self::exchanged_corners`]), for a rank whose corner forces stay on its GPU and
+    /// come back for those corners alone. Done once: after it the exchange lists index
+    /// `chosen`.
+    pub fn pack_corners(&mut self, chosen: &[u32]) {
+        debug_assert!(!self.packed, "the corners are packed once");
+        self.packed = true;
+        let at = |c: u32| chosen.binary_search(&c).expect("an exchanged corner") as u32;
         for nb in &mut self.neighbours {
             nb.send.iter_mut().for_each(|c| *c = at(*c));
         }
@@ -296,7 +309,6 @@ impl Subdomain {
                 *c = at(*c);
             }
         }
-        chosen
     }
 
     /// The rank's part of `model` for its frames: its elements and nodes, each body's share

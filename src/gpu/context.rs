@@ -110,8 +110,9 @@ pub enum AdapterPolicy {
     /// Hardware GPUs only.
     HardwareOnly,
     /// The adapter of the process with this index among a decomposed run's processes on
-    /// the machine: of the adapters of the best kind (hardware GPUs where there are any),
-    /// the one at the index modulo their count, so that the ranks spread over the cards.
+    /// the machine: of the adapters of the best kind (hardware GPUs where there are any) on
+    /// the best one's backend, each card once in the order of their PCI buses, the one at
+    /// the index modulo their count, so that the ranks spread over the cards.
     LocalRank(usize),
 }
 
@@ -181,8 +182,11 @@ impl GpuContext {
             .collect();
         ranked.sort_by_key(|(s, _)| s.rank());
         if let (AdapterPolicy::LocalRank(k), Some((best, _))) = (policy, ranked.first()) {
-            let best = best.rank();
-            ranked.retain(|(s, _)| s.rank() == best);
+            // the best kind on the best one's backend, each card once, in bus order
+            let (kind, backend) = (best.rank(), best.backend);
+            ranked.retain(|(s, _)| s.rank() == kind && s.backend == backend);
+            ranked.sort_by(|(a, _), (b, _)| a.pci_bus.cmp(&b.pci_bus));
+            ranked.dedup_by(|(a, _), (b, _)| !a.pci_bus.is_empty() && a.pci_bus == b.pci_bus);
             let k = k % ranked.len();
             ranked.rotate_left(k);
         }

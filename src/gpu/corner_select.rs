@@ -6,12 +6,10 @@
 use super::buffer::{submit_and_read_parts, Storage};
 use super::engine::{at_least_one, bytes_of, corner_slot, GpuKernels};
 use super::kernel::Launch;
-use super::CornerSelect;
 use crate::error::{ImpactError, Result};
 
 /// A fixed list of corners of a [`GpuKernels`]' mesh and the launch that packs their forces.
 pub struct CornerSelection {
-    kernel: CornerSelect,
     /// Kept alive for the launch's bindings.
     _slots: Storage,
     chosen: Storage,
@@ -36,8 +34,7 @@ impl CornerSelection {
         let ctx = &k.ctx;
         let slots = Storage::with_data(ctx, "chosen_slots", &at_least_one(slots))?;
         let chosen = Storage::new(ctx, "chosen_corners", bytes_of::<f32>(3 * corners.len()))?;
-        let kernel = CornerSelect::new(ctx);
-        let launch = kernel.launch(
+        let launch = k.kernels.corner_select.launch(
             ctx,
             corners.len() as u32,
             total as u32,
@@ -47,20 +44,11 @@ impl CornerSelection {
             &chosen.buffer,
         );
         Ok(CornerSelection {
-            kernel,
             _slots: slots,
             chosen,
             launch,
             count: corners.len(),
         })
-    }
-
-    pub fn len(&self) -> usize {
-        self.count
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.count == 0
     }
 
     /// The kernel alone on `k`'s corner forces as they are (for the twin test).
@@ -69,7 +57,10 @@ impl CornerSelection {
             (self.chosen).fill_nan(&k.ctx, bytes_of::<f32>(3 * self.count));
         }
         let mut enc = k.ctx.encoder("corner_select");
-        self.kernel.0.record_launch(&mut enc, &self.launch);
+        k.kernels
+            .corner_select
+            .0
+            .record_launch(&mut enc, &self.launch);
         let parts = [(&self.chosen.buffer, self.count)];
         submit_and_read_parts(&k.ctx, &mut k.staging, enc, &parts)
     }
@@ -88,7 +79,11 @@ impl GpuKernels {
     ) -> Result<()> {
         self.upload_nodal(false, u)?;
         if self.fill_nan {
-            (selection.chosen).fill_nan(&self.ctx, bytes_of::<f32>(3 * selection.count));
+            let floats = [self.corner_floats(), 3 * self.nodes, 3 * selection.count];
+            let buffers = [&self.corners, &self.forces, &selection.chosen];
+            for (b, n) in buffers.into_iter().zip(floats) {
+                b.fill_nan(&self.ctx, bytes_of::<f32>(n));
+            }
         }
         let mut enc = self.ctx.encoder("internal_forces_selecting");
         {
@@ -98,7 +93,7 @@ impl GpuKernels {
             });
             self.dispatch_internal_forces(&mut pass);
             if selection.count > 0 {
-                selection.kernel.0.dispatch(&mut pass, &selection.launch);
+                (self.kernels.corner_select.0).dispatch(&mut pass, &selection.launch);
             }
         }
         let parts = [

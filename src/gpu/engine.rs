@@ -8,7 +8,7 @@ use super::context::GpuContext;
 use super::kernel::{Kernel, Launch};
 use super::search::GpuSearch;
 use super::types::{self, to_device, ContactQuery, Material, Quad, Split3};
-use super::{ContactGap, Hex8Forces, NodeGather, SlipRate, Tet4Forces};
+use super::{ContactGap, CornerSelect, Hex8Forces, NodeGather, SlipRate, Tet4Forces};
 use crate::backend::Kernels;
 use crate::contact::search;
 use crate::error::{ImpactError, Result};
@@ -29,6 +29,7 @@ pub(super) struct EngineKernels {
     pub(super) hex8_forces: Hex8Forces,
     pub(super) tet4_forces: Tet4Forces,
     pub(super) node_gather: NodeGather,
+    pub(super) corner_select: CornerSelect,
     pub(super) contact_gap: ContactGap,
     pub(super) slip_rate: SlipRate,
 }
@@ -39,6 +40,7 @@ impl EngineKernels {
             hex8_forces: Hex8Forces::new(ctx),
             tet4_forces: Tet4Forces::new(ctx),
             node_gather: NodeGather::new(ctx),
+            corner_select: CornerSelect::new(ctx),
             contact_gap: ContactGap::new(ctx),
             slip_rate: SlipRate::new(ctx),
         }

@@ -189,17 +189,17 @@ fn run_on(scene: &Scene, opts: &RunOptions, ranks: Option<&dyn Ranks>) -> Result
         device
     };
     let mut setup = setup::prepare(scene, set_up_on, &mut notice, &mut clock)?;
-    if let Some(r) = ranks {
-        let elements = setup.model.mesh.element_count();
-        setup.ctx = ranks::rank_context(scene, device, r, elements, &mut notice)?;
-        clock.lap("device");
-    }
     if ranks.is_some() && setup.method != Method::Explicit {
         return Err(ImpactError::Unsupported {
             path: scene.path.clone(),
             key: "run.method".into(),
             message: "the implicit path runs on one process (a distributed sparse solver is not built): run it without mpirun".into(),
         });
+    }
+    if let Some(r) = ranks {
+        let elements = setup.model.mesh.element_count();
+        setup.ctx = ranks::rank_context(scene, device, r, elements, &mut notice)?;
+        clock.lap("rank device");
     }
     let mut running = Running::begin(scene, &setup, &dir, (resumed, ranks), &mut clock, start)?;
     let mut progress = Progress::new(setup.steps, opts.quiet);

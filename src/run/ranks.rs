@@ -8,7 +8,6 @@ use crate::gpu::context::AUTO_GPU_MIN_ELEMENTS;
 use crate::gpu::{list_adapters, GpuContext};
 use crate::output::Summary;
 use crate::scene::{DeviceChoice, Scene};
-use crate::setup::gpu_error;
 
 /// Runs the scene decomposed over `ranks`, every rank calling it: the explicit path on
 /// each rank's share of the elements ([`crate::domain`]), each rank on the CPU or on its own
@@ -35,11 +34,14 @@ pub fn run_ranks(scene: &Scene, opts: &RunOptions, ranks: &dyn Ranks) -> Result<
 
 /// The GPU rank `ranks.rank()` computes on, or `None` for the CPU, agreed by every rank:
 /// - `device = "gpu"`: each rank opens the adapter its place among the processes on its
-///   machine picks ([`GpuContext::for_local_rank`]); if a rank has none, every rank stops
-///   with an error naming the ranks without one;
-/// - `"auto"`: the ranks' GPUs where each rank's share of the `elements` is at least
+///   machine picks ([`GpuContext::for_local_rank`]); if a rank cannot, every rank stops
+///   with an error naming the ranks that could not and why;
+/// - `"auto"`: the ranks' GPUs where the model's elements per rank are at least
 ///   [`AUTO_GPU_MIN_ELEMENTS`] and every rank's machine has a hardware GPU, else the CPU;
 /// - `"cpu"`: the CPU.
+///
+/// Ranks on adapters of different kinds (model, driver, backend) get a notice: the run is
+/// then not one kind of GPU's bits.
 pub fn rank_context(
     scene: &Scene,
     device: DeviceChoice,
@@ -47,9 +49,9 @@ pub fn rank_context(
     elements: usize,
     notice: &mut dyn FnMut(&str),
 ) -> Result<Option<GpuContext>> {
-    match device {
-        DeviceChoice::Cpu => Ok(None),
-        DeviceChoice::Gpu => open_on_every_rank(scene, ranks),
+    let ctx = match device {
+        DeviceChoice::Cpu => return Ok(None),
+        DeviceChoice::Gpu => open_on_every_rank(scene, "gpu", ranks)?,
         DeviceChoice::Auto => {
             let share = elements / ranks.size();
             if share < AUTO_GPU_MIN_ELEMENTS {
@@ -65,34 +67,35 @@ pub fn rank_context(
                 );
                 return Ok(None);
             }
-            open_on_every_rank(scene, ranks)
-        }
-    }
-}
-
-/// Each rank's GPU, or on every rank the error naming the ranks that could not open one.
-fn open_on_every_rank(scene: &Scene, ranks: &dyn Ranks) -> Result<Option<GpuContext>> {
-    let mine = GpuContext::for_local_rank(ranks.local_rank());
-    let failed = ranks.gather_all(&[f64::from(u8::from(mine.is_err()))]);
-    let without: Vec<String> = (failed.iter().enumerate())
-        .filter(|(_, f)| f[0] > 0.0)
-        .map(|(r, _)| r.to_string())
-        .collect();
-    if without.is_empty() {
-        return mine.map(Some);
-    }
-    let why = match mine {
-        Err(e) => e.to_string(),
-        Ok(_) => {
-            "its machine has no adapter with compute shaders, or it could not be opened".into()
+            open_on_every_rank(scene, "auto", ranks)?
         }
     };
-    Err(gpu_error(
-        scene,
-        ImpactError::Gpu(format!(
-            "rank {} of {} found no GPU to open ({why})",
-            without.join(", "),
-            ranks.size()
-        )),
-    ))
+    let a = &ctx.adapter;
+    let kinds = ranks.gather_text(&format!(
+        "{} ({:?}, {} {})",
+        a.name, a.backend, a.driver, a.driver_info
+    ));
+    if kinds.iter().any(|k| *k != kinds[0]) {
+        notice(&format!(
+            "the ranks compute on different kinds of adapter ({}): the results are not one GPU's bits",
+            kinds.join("; ")
+        ));
+    }
+    Ok(Some(ctx))
+}
+
+/// Each rank's GPU, or on every rank the error naming the ranks that could not open one
+/// (under `run.device`, whose value `device` is).
+fn open_on_every_rank(scene: &Scene, device: &str, ranks: &dyn Ranks) -> Result<GpuContext> {
+    let mine = GpuContext::for_local_rank(ranks.local_rank());
+    let outcome = mine.as_ref().map(|_| ()).map_err(|e| e.to_string());
+    // every rank succeeded where the ranks agree
+    ranks
+        .agree(outcome)
+        .map_err(|why| ImpactError::Unsupported {
+            path: scene.path.clone(),
+            key: "run.device".into(),
+            message: format!("device = \"{device}\": a rank found no GPU to open: {why}"),
+        })?;
+    mine
 }

@@ -265,7 +265,10 @@ impl ExplicitContact {
                     (0..itf.nodes.len()).for_each(|i| add(k, i));
                 }
             }
-            Some(list) => list.iter().for_each(|&(k, i)| add(k as usize, i as usize)),
+            Some(list) => {
+                debug_assert!(list.is_sorted(), "the candidates in constraint order");
+                list.iter().for_each(|&(k, i)| add(k as usize, i as usize));
+            }
         }
         self.constraints = constraints;
         self.split_compliances(f.inv_mass);
