@@ -349,15 +349,7 @@ impl SurfaceContact {
     /// faces it holds and those the nodes it received complete.
     fn find_own_points(&mut self, margin: f64) {
         self.set_positions();
-        let (stamp, step) = (&self.stamp, self.step);
-        let faces = &self.queries.faces;
-        let mut completed: Vec<usize> = (self.foreign.iter())
-            .flat_map(|&k| self.index.faces_of(k))
-            .map(|&f| f as usize)
-            .filter(|&f| present(stamp, step, &faces[f]))
-            .collect();
-        completed.sort_unstable();
-        completed.dedup();
+        let completed = self.completed_faces();
         for (k, itf) in self.model.interfaces.iter().enumerate() {
             let Primary::Surface { faces, queries, .. } = &itf.primary else {
                 continue;
@@ -375,6 +367,20 @@ impl SurfaceContact {
             search::find_candidates_of(&self.queries, x, ids, candidates, margin, &mut self.lists);
         }
         self.own_points();
+    }
+
+    /// The faces the nodes received this step complete (every node set this step),
+    /// increasing.
+    fn completed_faces(&self) -> Vec<usize> {
+        let (stamp, step, faces) = (&self.stamp, self.step, &self.queries.faces);
+        let mut completed: Vec<usize> = (self.foreign.iter())
+            .flat_map(|&k| self.index.faces_of(k))
+            .map(|&f| f as usize)
+            .filter(|&f| present(stamp, step, &faces[f]))
+            .collect();
+        completed.sort_unstable();
+        completed.dedup();
+        completed
     }
 
     /// The positions of the nodes set this step, for the search. The others keep an earlier
