@@ -110,9 +110,8 @@ pub enum AdapterPolicy {
     /// Hardware GPUs only.
     HardwareOnly,
     /// The adapter of the process with this index among a decomposed run's processes on
-    /// the machine: of the adapters of the best kind (hardware GPUs where there are any) on
-    /// the best one's backend, each card once in the order of their PCI buses, the one at
-    /// the index modulo their count, so that the ranks spread over the cards.
+    /// the machine: of the adapters of [`rank_order`], the one at the index modulo their
+    /// count, so that the ranks spread over the cards.
     LocalRank(usize),
 }
 
@@ -144,6 +143,26 @@ fn opened() -> std::sync::MutexGuard<'static, Opened> {
     static OPENED: Mutex<Opened> = Mutex::new(Vec::new());
     // a thread that panicked while holding the lock left the list whole (pushes only)
     OPENED.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// The adapters the processes of a decomposed run on one machine take in turn (by their
+/// place among them, modulo the count), as indices into `ranked` (usable adapters, best
+/// first): those of the best one's kind on its backend, each card once (by its PCI bus,
+/// where the driver gives it), in the order of their buses.
+pub fn rank_order(ranked: &[AdapterSummary]) -> Vec<usize> {
+    let Some(best) = ranked.first() else {
+        return Vec::new();
+    };
+    let (kind, backend) = (best.rank(), best.backend);
+    let mut order: Vec<usize> = (0..ranked.len())
+        .filter(|&i| ranked[i].rank() == kind && ranked[i].backend == backend)
+        .collect();
+    // a stable sort: without bus ids, the listing's order
+    order.sort_by(|&a, &b| ranked[a].pci_bus.cmp(&ranked[b].pci_bus));
+    order.dedup_by(|a, b| {
+        !ranked[*a].pci_bus.is_empty() && ranked[*a].pci_bus == ranked[*b].pci_bus
+    });
+    order
 }
 
 /// Every adapter wgpu finds, best first.
@@ -181,16 +200,16 @@ impl GpuContext {
             .filter(|(s, _)| s.compute && (policy != AdapterPolicy::HardwareOnly || !s.software))
             .collect();
         ranked.sort_by_key(|(s, _)| s.rank());
-        if let (AdapterPolicy::LocalRank(k), Some((best, _))) = (policy, ranked.first()) {
-            // the best kind on the best one's backend, each card once, in bus order
-            let (kind, backend) = (best.rank(), best.backend);
-            ranked.retain(|(s, _)| s.rank() == kind && s.backend == backend);
-            ranked.sort_by(|(a, _), (b, _)| a.pci_bus.cmp(&b.pci_bus));
-            ranked.dedup_by(|(a, _), (b, _)| !a.pci_bus.is_empty() && a.pci_bus == b.pci_bus);
-            let k = k % ranked.len();
-            ranked.rotate_left(k);
-        }
-        let Some((summary, adapter)) = ranked.into_iter().next() else {
+        let chosen = match policy {
+            AdapterPolicy::LocalRank(k) => {
+                let summaries: Vec<AdapterSummary> =
+                    ranked.iter().map(|(s, _)| s.clone()).collect();
+                let order = rank_order(&summaries);
+                (!order.is_empty()).then(|| order[k % order.len()])
+            }
+            _ => (!ranked.is_empty()).then_some(0),
+        };
+        let Some((summary, adapter)) = chosen.map(|i| ranked.swap_remove(i)) else {
             return Ok(None);
         };
         let same = |c: &GpuContext| {
@@ -329,6 +348,17 @@ pub fn info_report() -> Result<String> {
             );
         }
     }
+    let usable: Vec<AdapterSummary> = all.iter().filter(|a| a.compute).cloned().collect();
+    let turns: Vec<String> = (rank_order(&usable).into_iter())
+        .map(|i| usable[i].describe())
+        .collect();
+    if !turns.is_empty() {
+        let _ = writeln!(
+            r,
+            "device = \"gpu\" on MPI ranks: the ranks on this machine take in turn {}",
+            turns.join("; ")
+        );
+    }
     let hardware = all.iter().find(|a| a.compute && !a.software);
     let _ = writeln!(
         r,
@@ -349,5 +379,86 @@ fn yes(b: bool) -> &'static str {
         "yes"
     } else {
         "no"
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn adapter(
+        name: &str,
+        backend: wgpu::Backend,
+        kind: wgpu::DeviceType,
+        bus: &str,
+    ) -> AdapterSummary {
+        AdapterSummary {
+            name: name.into(),
+            backend,
+            device_type: kind,
+            driver: String::new(),
+            driver_info: String::new(),
+            pci_bus: bus.into(),
+            compute: true,
+            software: kind == wgpu::DeviceType::Cpu,
+        }
+    }
+
+    fn ranked(mut list: Vec<AdapterSummary>) -> Vec<AdapterSummary> {
+        list.sort_by_key(AdapterSummary::rank);
+        list
+    }
+
+    /// Four cards listed on Vulkan out of bus order and again on GL, with a software
+    /// adapter: the ranks take the four Vulkan cards in bus order, each once.
+    #[test]
+    fn ranks_take_each_card_once_in_bus_order() {
+        use wgpu::{Backend::*, DeviceType::*};
+        let mut list = Vec::new();
+        for bus in [
+            "0000:c1:00.0",
+            "0000:41:00.0",
+            "0000:81:00.0",
+            "0000:01:00.0",
+        ] {
+            list.push(adapter("H100", Vulkan, DiscreteGpu, bus));
+            list.push(adapter("H100", Gl, DiscreteGpu, bus));
+        }
+        list.push(adapter("H100", Vulkan, DiscreteGpu, "0000:41:00.0")); // listed twice
+        list.push(adapter("llvmpipe", Vulkan, Cpu, ""));
+        let list = ranked(list);
+        let buses: Vec<(&str, wgpu::Backend)> = (rank_order(&list).into_iter())
+            .map(|i| (list[i].pci_bus.as_str(), list[i].backend))
+            .collect();
+        assert_eq!(
+            buses,
+            [
+                ("0000:01:00.0", Vulkan),
+                ("0000:41:00.0", Vulkan),
+                ("0000:81:00.0", Vulkan),
+                ("0000:c1:00.0", Vulkan)
+            ]
+        );
+    }
+
+    /// Without bus ids the listing's order stands and nothing is merged; without hardware
+    /// the software adapter serves every rank; with none, no rank has one.
+    #[test]
+    fn ranks_fall_back_to_the_listing_and_to_software() {
+        use wgpu::{Backend::*, DeviceType::*};
+        let two = ranked(vec![
+            adapter("A", Vulkan, DiscreteGpu, ""),
+            adapter("B", Vulkan, DiscreteGpu, ""),
+            adapter("C", Vulkan, IntegratedGpu, ""),
+        ]);
+        assert_eq!(rank_order(&two), [0, 1]);
+        let soft = ranked(vec![
+            adapter("llvmpipe", Gl, Cpu, ""),
+            adapter("lavapipe", Vulkan, Cpu, ""),
+        ]);
+        let order = rank_order(&soft);
+        assert_eq!(order.len(), 1);
+        assert_eq!(soft[order[0]].backend, Vulkan);
+        assert!(rank_order(&[]).is_empty());
     }
 }
