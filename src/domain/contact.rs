@@ -54,9 +54,6 @@ pub struct SurfaceContact {
     rank: usize,
     /// (surface index, local node) of every surface node the rank holds.
     held: Vec<(u32, u32)>,
-    /// The surface nodes the rank owns on the primary faces of each interface (empty for
-    /// planes).
-    face_nodes: Vec<Vec<u32>>,
     index: SurfaceIndex,
     /// The surface nodes set from other ranks' values this step.
     foreign: Vec<u32>,
@@ -105,7 +102,6 @@ impl SurfaceContact {
         let contact = ExplicitContact::new(&surface, settings, speed_scale, face_size);
         let owner = map.owner.clone();
         let mine = |s: &u32| owner[*s as usize] as usize == sub.rank;
-        let face_nodes = owned_face_nodes(&surface, mine);
         let mut held = vec![false; map.nodes.len()];
         for &(k, _) in &map.held {
             held[k as usize] = true;
@@ -118,7 +114,6 @@ impl SurfaceContact {
             contact,
             rank: sub.rank,
             held: map.held.clone(),
-            face_nodes,
             index,
             foreign: Vec::new(),
             x: vec![[f64::NAN; 3]; map.nodes.len()],
@@ -250,8 +245,7 @@ impl SurfaceContact {
 
     /// The current position of surface node `k` (of a node set this step).
     fn position(&self, k: u32) -> [f64; 3] {
-        let p = self.model.mesh.nodes[k as usize];
-        std::array::from_fn(|a| p[a] + self.u[3 * k as usize + a])
+        position_of(&self.model.mesh.nodes, &self.u, k)
     }
 
     /// The box of the positions of `nodes` (empty: +inf to -inf).
@@ -310,7 +304,7 @@ impl SurfaceContact {
         (surfaces.iter())
             .flat_map(|&k| {
                 let secondary = self.index.owned_secondary[k].iter().copied();
-                let faces = self.face_nodes[k].iter().copied();
+                let faces = self.index.owned_face_nodes[k].iter().copied();
                 self.bounds(secondary).into_iter().chain(self.bounds(faces))
             })
             .collect()
@@ -323,7 +317,7 @@ impl SurfaceContact {
         for (j, &k) in surfaces.iter().enumerate() {
             let theirs = boxes.secondary(q, j);
             let near = |s: &u32| boxes.holds(theirs, self.position(*s));
-            nodes.extend(self.face_nodes[k].iter().copied().filter(near));
+            nodes.extend(self.index.owned_face_nodes[k].iter().copied().filter(near));
         }
         nodes.sort_unstable();
         nodes.dedup();
@@ -387,12 +381,10 @@ impl SurfaceContact {
     /// step's position, which the search never reads: it takes only faces whose nodes are
     /// all set this step, and the queries of nodes the rank holds.
     fn set_positions(&mut self) {
-        let reference = &self.model.mesh.nodes;
-        let (u, x) = (&self.u, &mut self.x);
+        let (reference, u, x) = (&self.model.mesh.nodes, &self.u, &mut self.x);
         let set = (self.held.iter().map(|&(k, _)| k)).chain(self.foreign.iter().copied());
         for k in set {
-            let (k, p) = (k as usize, reference[k as usize]);
-            x[k] = std::array::from_fn(|a| p[a] + u[3 * k + a]);
+            x[k as usize] = position_of(reference, u, k);
         }
     }
 
@@ -448,23 +440,6 @@ impl SurfaceContact {
     }
 }
 
-/// The surface nodes `mine` on the primary faces of each interface (none for a plane),
-/// increasing.
-fn owned_face_nodes(surface: &Model, mine: impl Fn(&u32) -> bool) -> Vec<Vec<u32>> {
-    (surface.interfaces.iter())
-        .map(|itf| match &itf.primary {
-            Primary::Surface { faces, .. } => {
-                let all = surface.queries.faces[faces.clone()].iter().flatten();
-                let mut n: Vec<u32> = all.copied().filter(&mine).collect();
-                n.sort_unstable();
-                n.dedup();
-                n
-            }
-            Primary::Plane { .. } => Vec::new(),
-        })
-        .collect()
-}
-
 /// The values of two increasing lists, increasing, each once.
 fn sorted_union<'a>(a: &'a [usize], b: &'a [usize]) -> impl Iterator<Item = usize> + 'a {
     let (mut a, mut b) = (a.iter().copied().peekable(), b.iter().copied().peekable());
@@ -477,6 +452,12 @@ fn sorted_union<'a>(a: &'a [usize], b: &'a [usize]) -> impl Iterator<Item = usiz
         (Some(_), _) => a.next(),
         (None, _) => b.next(),
     })
+}
+
+/// The current position of node `k` of `reference` at the displacements `u`.
+fn position_of(reference: &[[f64; 3]], u: &[f64], k: u32) -> [f64; 3] {
+    let p = reference[k as usize];
+    std::array::from_fn(|a| p[a] + u[3 * k as usize + a])
 }
 
 /// Whether step `step` has set every node of face `f` (`stamp`: the step that last set
@@ -528,12 +509,7 @@ impl Boxes {
 
 /// Every rank's `mine`, of any length, in rank order, on every rank (the lengths first).
 fn gather(talk: &Timed, mine: &[f64]) -> Vec<f64> {
-    let counts: Vec<usize> = (talk.talk(|r| r.gather_all(&[mine.len() as f64])).iter())
-        .map(|c| c[0] as usize)
-        .collect();
-    let mut all = vec![0.0; counts.iter().sum()];
-    talk.talk(|r| r.all_gather(mine, &counts, &mut all));
-    all
+    talk.talk(|r| r.gather_varied(mine)).1
 }
 
 /// Sends `out[i]` to rank `pairs[i]`, their lengths first, and returns what each sent back.

@@ -12,7 +12,7 @@
 use super::contact::{LocalState, SurfaceContact};
 use super::forces::RankForces;
 use super::partition::Partition;
-use super::ranks::{Ranks, Timed};
+use super::ranks::{agree, Ranks, Timed};
 use super::subdomain::Subdomain;
 use crate::error::{ImpactError, Result};
 use crate::gpu::GpuContext;
@@ -82,11 +82,8 @@ impl<'m> DomainSolver<'m> {
     ) -> Result<Self> {
         let mut sub = Subdomain::new(model, partition, ranks.rank());
         // a rank whose kernels fail stops every rank (none waits for it)
-        let kernels = RankForces::new(&mut sub, ctx);
-        let outcome = kernels.as_ref().map(|_| ()).map_err(|e| e.to_string());
-        (ranks.agree(outcome))
+        let kernels = agree(ranks, RankForces::new(&mut sub, ctx))
             .map_err(|why| ImpactError::Gpu(format!("building the kernels: {why}")))?;
-        let kernels = kernels?;
         let mass_all = lumped_mass(model);
         let mass: Vec<f64> = sub.nodes.iter().map(|&n| mass_all[n as usize]).collect();
         let fixed = sub.restrict(&model.fixed);

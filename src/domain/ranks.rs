@@ -28,14 +28,20 @@ pub trait Ranks {
             .take(self.size())
             .collect()
     }
-    /// Every rank's `text`, in rank order.
-    fn gather_text(&self, text: &str) -> Vec<String> {
-        let mine: Vec<f64> = text.bytes().map(f64::from).collect();
+    /// Every rank's `mine`, of any length, one after the other in rank order, with each
+    /// rank's length (the lengths are gathered first).
+    fn gather_varied(&self, mine: &[f64]) -> (Vec<usize>, Vec<f64>) {
         let counts: Vec<usize> = (self.gather_all(&[mine.len() as f64]).iter())
             .map(|c| c[0] as usize)
             .collect();
         let mut all = vec![0.0; counts.iter().sum()];
-        self.all_gather(&mine, &counts, &mut all);
+        self.all_gather(mine, &counts, &mut all);
+        (counts, all)
+    }
+    /// Every rank's `text`, in rank order.
+    fn gather_text(&self, text: &str) -> Vec<String> {
+        let mine: Vec<f64> = text.bytes().map(f64::from).collect();
+        let (counts, all) = self.gather_varied(&mine);
         let mut at = 0;
         (counts.iter())
             .map(|&c| {
@@ -44,20 +50,6 @@ pub trait Ranks {
                 String::from_utf8_lossy(&bytes).into_owned()
             })
             .collect()
-    }
-    /// The outcome of a stage that may fail on some ranks only, agreed: `Ok` on every rank
-    /// where every rank succeeded, else on every rank the failed ranks' messages
-    /// ("rank k of P: ..."), so that no rank goes on to wait for one that stopped.
-    fn agree(&self, mine: std::result::Result<(), String>) -> std::result::Result<(), String> {
-        let all = self.gather_text(mine.as_ref().err().map_or("", |m| m.as_str()));
-        let failed: Vec<String> = (all.iter().enumerate())
-            .filter(|(_, m)| !m.is_empty())
-            .map(|(r, m)| format!("rank {r} of {}: {m}", self.size()))
-            .collect();
-        match failed.is_empty() {
-            true => Ok(()),
-            false => Err(failed.join("; ")),
-        }
     }
     /// The sum over the ranks of `x` (the same length on each), added in rank order, so
     /// every rank has the same bits.
@@ -69,6 +61,25 @@ pub trait Ranks {
             }
         }
         s
+    }
+}
+
+/// `mine`, the outcome of a stage that may fail on some ranks only, once every rank's is
+/// known: `Ok` on every rank where every rank succeeded, else on every rank the failed
+/// ranks' messages ("rank k of P: ..."), so that no rank goes on to wait for one that
+/// stopped.
+pub fn agree<T, E: std::fmt::Display>(
+    ranks: &dyn Ranks,
+    mine: std::result::Result<T, E>,
+) -> std::result::Result<T, String> {
+    let all = ranks.gather_text(&mine.as_ref().err().map_or(String::new(), E::to_string));
+    let failed: Vec<String> = (all.iter().enumerate())
+        .filter(|(_, m)| !m.is_empty())
+        .map(|(r, m)| format!("rank {r} of {}: {m}", ranks.size()))
+        .collect();
+    match mine {
+        Ok(t) if failed.is_empty() => Ok(t),
+        _ => Err(failed.join("; ")),
     }
 }
 

@@ -57,6 +57,8 @@ pub struct SurfaceIndex {
     pub owned_secondary: Vec<Vec<u32>>,
     /// Per interface: its faces whose nodes the rank holds, increasing (none for a plane).
     pub held_faces: Vec<Vec<usize>>,
+    /// Per interface: the nodes of its faces the rank owns, increasing (none for a plane).
+    pub owned_face_nodes: Vec<Vec<u32>>,
     /// The (interface, place) of each query.
     pub query_slot: Vec<(u32, u32)>,
     /// The faces of each surface node (CSR).
@@ -96,6 +98,18 @@ impl SurfaceIndex {
         let owned_secondary = (surface.interfaces.iter())
             .map(|itf| itf.nodes.iter().copied().filter(|&s| owned(s)).collect())
             .collect();
+        let owned_face_nodes = (surface.interfaces.iter())
+            .map(|itf| match &itf.primary {
+                crate::model::Primary::Surface { faces: range, .. } => {
+                    let all = faces[range.clone()].iter().flatten().copied();
+                    let mut n: Vec<u32> = all.filter(|&s| owned(s)).collect();
+                    n.sort_unstable();
+                    n.dedup();
+                    n
+                }
+                crate::model::Primary::Plane { .. } => Vec::new(),
+            })
+            .collect();
         let corners = faces.iter().enumerate().flat_map(|(f, face)| {
             let mut c = face.to_vec();
             c.dedup(); // a triangle repeats its last corner
@@ -104,6 +118,7 @@ impl SurfaceIndex {
         SurfaceIndex {
             owned_secondary,
             held_faces,
+            owned_face_nodes,
             query_slot,
             faces: Csr::new(n, corners),
             plane_slots: Csr::new(n, planes.into_iter()),

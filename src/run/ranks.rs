@@ -2,6 +2,7 @@
 //! computes on.
 
 use super::{run_on, RunOptions};
+use crate::domain::ranks::agree;
 use crate::domain::Ranks;
 use crate::error::{ImpactError, Result};
 use crate::gpu::context::AUTO_GPU_MIN_ELEMENTS;
@@ -88,14 +89,9 @@ pub fn rank_context(
 /// (under `run.device`, whose value `device` is).
 fn open_on_every_rank(scene: &Scene, device: &str, ranks: &dyn Ranks) -> Result<GpuContext> {
     let mine = GpuContext::for_local_rank(ranks.local_rank());
-    let outcome = mine.as_ref().map(|_| ()).map_err(|e| e.to_string());
-    // every rank succeeded where the ranks agree
-    ranks
-        .agree(outcome)
-        .map_err(|why| ImpactError::Unsupported {
-            path: scene.path.clone(),
-            key: "run.device".into(),
-            message: format!("device = \"{device}\": a rank found no GPU to open: {why}"),
-        })?;
-    mine
+    agree(ranks, mine).map_err(|why| ImpactError::Unsupported {
+        path: scene.path.clone(),
+        key: "run.device".into(),
+        message: format!("device = \"{device}\": a rank found no GPU to open: {why}"),
+    })
 }
