@@ -20,7 +20,7 @@ pub const FILE: &str = "checkpoint.bin";
 
 /// Bumped whenever the layout changes, or what the scene hash covers (a new scene key), so
 /// that an older checkpoint is refused as such, not misread or taken for another scene's.
-pub const FORMAT: u32 = 2;
+pub const FORMAT: u32 = 3;
 
 /// What the time loop accumulates for the summary and the warnings.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -47,8 +47,8 @@ pub struct Checkpoint {
     /// The scene's speed scale when the run began (the default tolerances follow it).
     pub speed_scale: f64,
     pub tally: Tally,
-    /// VTU frames written up to this state: (step, time), and their file names' stem.
-    pub frames: Vec<(usize, f64)>,
+    /// VTU frames written up to this state: (time, file name), and the file names' stem.
+    pub frames: Vec<(f64, String)>,
     pub frame_stem: String,
     pub solver: SolverState,
 }

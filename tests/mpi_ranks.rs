@@ -28,6 +28,12 @@ fn impact_run(ranks: usize, scene: &Path, out: &Path) {
 
 /// [`impact_run`] on `device`.
 fn impact_run_on(ranks: usize, scene: &Path, out: &Path, device: &str) {
+    impact_run_with(ranks, scene, out, ["--overwrite", "--device", device]);
+}
+
+/// `impact run scene --out dir --quiet` with `extra` on `ranks` MPI processes (one process
+/// where `ranks` is 0).
+fn impact_run_with(ranks: usize, scene: &Path, out: &Path, extra: [&str; 3]) {
     let bin = env!("CARGO_BIN_EXE_impact");
     let mut cmd = if ranks == 0 {
         Command::new(bin)
@@ -44,7 +50,8 @@ fn impact_run_on(ranks: usize, scene: &Path, out: &Path, device: &str) {
     ];
     let status = cmd
         .args(args)
-        .args(["--quiet", "--overwrite", "--device", device])
+        .arg("--quiet")
+        .args(extra)
         // Open MPI refuses root unless told (CI runs as root)
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
@@ -68,6 +75,37 @@ fn sum_kind(column: &str, bodies: &[String]) -> Option<&'static str> {
         Some("body velocity")
     } else {
         None
+    }
+}
+
+/// `h` against the single process's `one`: the columns that follow the state bit for bit,
+/// the sums over the model within 1e-12 of the largest value of their kind.
+fn same_history(tag: &str, one: &History, h: &History, bodies: &[String]) {
+    assert_eq!(h.columns, one.columns, "{tag}: columns");
+    assert_eq!(h.rows.len(), one.rows.len(), "{tag}: rows");
+    for (j, c) in one.columns.iter().enumerate() {
+        let kind = sum_kind(c, bodies);
+        let scale = (one.columns.iter().enumerate())
+            .filter(|(_, d)| sum_kind(d, bodies) == kind)
+            .flat_map(|(k, _)| one.rows.iter().map(move |r| r[k].abs()))
+            .fold(0.0f64, f64::max);
+        for (a, b) in one.rows.iter().zip(&h.rows) {
+            match kind {
+                None => assert_eq!(
+                    a[j].to_bits(),
+                    b[j].to_bits(),
+                    "{tag}, {c}: {} against {}",
+                    b[j],
+                    a[j]
+                ),
+                Some(_) => assert!(
+                    (a[j] - b[j]).abs() <= 1e-12 * scale,
+                    "{tag}, {c}: {} against {}",
+                    b[j],
+                    a[j]
+                ),
+            }
+        }
     }
 }
 
@@ -107,8 +145,6 @@ fn same_on_ranks_on(tag: &str, text: &str, device: &str) -> History {
         let out = dir.join(format!("ranks{ranks}"));
         impact_run_on(ranks, &scene, &out, device);
         let h = History::read(&out.join("history.csv"));
-        assert_eq!(h.columns, one.columns, "{tag}: columns");
-        assert_eq!(h.rows.len(), one.rows.len(), "{tag}: rows");
         let summary: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
                 .unwrap();
@@ -120,35 +156,73 @@ fn same_on_ranks_on(tag: &str, text: &str, device: &str) -> History {
             "{tag}: {engine}"
         );
         assert_eq!(summary["ranks"]["ranks"], ranks, "{tag}");
-        for (j, c) in one.columns.iter().enumerate() {
-            let kind = sum_kind(c, &bodies);
-            let scale = (one.columns.iter().enumerate())
-                .filter(|(_, d)| sum_kind(d, &bodies) == kind)
-                .flat_map(|(k, _)| one.rows.iter().map(move |r| r[k].abs()))
-                .fold(0.0f64, f64::max);
-            for (a, b) in one.rows.iter().zip(&h.rows) {
-                match kind {
-                    None => assert_eq!(
-                        a[j].to_bits(),
-                        b[j].to_bits(),
-                        "{tag}, {ranks} ranks, {c}: {} against {}",
-                        b[j],
-                        a[j]
-                    ),
-                    Some(_) => assert!(
-                        (a[j] - b[j]).abs() <= 1e-12 * scale,
-                        "{tag}, {ranks} ranks, {c}: {} against {}",
-                        b[j],
-                        a[j]
-                    ),
-                }
-            }
-        }
+        same_history(&format!("{tag}, {ranks} ranks"), &one, &h, &bodies);
         if ranks == 2 {
             two = Some(h);
         }
     }
     two.expect("a 2-rank run")
+}
+
+/// A run stopped at half its end time on 2 ranks writes the single process's checkpoint (the
+/// state bit for bit: every rank's owned nodes gathered, the interfaces whole); resumed on 4
+/// ranks and on one process, it continues to the unbroken single-process history (the state's
+/// columns bit for bit, the sums as above), and on 4 ranks its collection indexes the 2-rank
+/// frames and its own.
+#[test]
+fn a_run_checkpointed_on_2_ranks_resumes_on_4_and_on_one_process() {
+    let tag = "mpi_checkpoints";
+    let dir = out_dir(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = explicit_at_default_step(&scene_text("cube_on_plate.toml"))
+        + "\n[output]\ncheckpoint_every = 7\nvtu_every = 10\n";
+    let half = edit(&text, "end_time = 0.1", "end_time = 0.05");
+    let (whole_scene, half_scene) = (dir.join("whole.toml"), dir.join("half.toml"));
+    std::fs::write(&whole_scene, &text).unwrap();
+    std::fs::write(&half_scene, &half).unwrap();
+    let parsed = Scene::parse(&text, &whole_scene).unwrap();
+    let bodies: Vec<String> = parsed.bodies.iter().map(|b| b.name.clone()).collect();
+    impact_run(0, &whole_scene, &dir.join("unbroken"));
+    impact_run(0, &half_scene, &dir.join("process_half"));
+    let one = History::read(&dir.join("unbroken/history.csv"));
+    let read = |d: &str| impact::checkpoint::Checkpoint::read(&dir.join(d), &parsed).unwrap();
+    let state = |c: &impact::checkpoint::Checkpoint| bincode::serialize(&c.solver).unwrap();
+    let reference = read("process_half");
+    for (resumed_on, d) in [(4, "resumed_on_4"), (0, "resumed_on_one")] {
+        impact_run(2, &half_scene, &dir.join(d));
+        let c = read(d);
+        assert_eq!(c.tally.steps, reference.tally.steps, "{d}");
+        assert!(
+            state(&c) == state(&reference),
+            "{d}: the 2-rank state differs"
+        );
+        impact_run_with(
+            resumed_on,
+            &whole_scene,
+            &dir.join(d),
+            ["--resume", "--device", "cpu"],
+        );
+        same_history(
+            d,
+            &one,
+            &History::read(&dir.join(d).join("history.csv")),
+            &bodies,
+        );
+    }
+    // a resumed run keeps the first part's file names (its stem, `half`)
+    let pvd = std::fs::read_to_string(dir.join("resumed_on_4/half.pvd")).unwrap();
+    let unbroken = std::fs::read_to_string(dir.join("unbroken/whole.pvd")).unwrap();
+    assert_eq!(
+        pvd.matches("<DataSet").count(),
+        unbroken.matches("<DataSet").count()
+    );
+    // the last frame on 4 ranks, the first half's on 2
+    let step = one.rows.len() - 1;
+    assert!(dir
+        .join(format!("resumed_on_4/half_{step:06}_0003.vtu"))
+        .exists());
+    assert!(dir.join("resumed_on_4/half_000010_0001.vtu").exists());
+    assert!(!dir.join("resumed_on_4/half_000010_0002.vtu").exists());
 }
 
 #[test]

@@ -172,7 +172,7 @@ fn one_rank_runs_the_single_process_history_byte_for_byte() {
 
 /// What a decomposed run cannot do is refused with the key that asks for it.
 #[test]
-fn a_decomposed_run_refuses_the_implicit_path_and_checkpoints() {
+fn a_decomposed_run_refuses_the_implicit_path() {
     let implicit = scene_text("two_bars.toml");
     let scene = Scene::parse(&implicit, &repo().join("scenes/ranks_implicit.toml")).unwrap();
     let opts = RunOptions {
@@ -182,10 +182,116 @@ fn a_decomposed_run_refuses_the_implicit_path_and_checkpoints() {
     };
     let e = run_ranks(&scene, &opts, &Single).expect_err("implicit is refused");
     assert!(e.to_string().contains("run.method"), "{e}");
-    let text = explicit_at_default_step(&implicit) + "\n[output]\ncheckpoint_every = 10\n";
-    let scene = Scene::parse(&text, &repo().join("scenes/ranks_checkpoint.toml")).unwrap();
-    let e = run_ranks(&scene, &opts, &Single).expect_err("checkpoints are refused");
-    assert!(e.to_string().contains("checkpoint_every"), "{e}");
+}
+
+/// Runs `text` in `tag`'s folder on one process or through the decomposed solver on one
+/// rank (fresh unless `resume`); the run must complete.
+fn run_as(tag: &str, text: &str, ranked: bool, resume: bool) {
+    let scene = Scene::parse(text, &repo().join("scenes/checkpoints.toml")).expect("valid");
+    let opts = RunOptions {
+        out: Some(if resume { out_path(tag) } else { out_dir(tag) }),
+        quiet: true,
+        resume,
+        device: Some(DeviceChoice::Cpu),
+        ..Default::default()
+    };
+    let s = match ranked {
+        true => run_ranks(&scene, &opts, &Single),
+        false => run(&scene, &opts),
+    };
+    let s = s.unwrap_or_else(|e| panic!("{tag}: {e}"));
+    assert_eq!(s.status, "completed", "{tag}");
+}
+
+/// The frames a run's collection indexes, each checked to exist.
+fn indexed_frames(tag: &str) -> Vec<String> {
+    let dir = out_path(tag);
+    let pvd = std::fs::read_to_string(dir.join("checkpoints.pvd")).expect("a collection");
+    let names: Vec<String> = (pvd.split("file=\"").skip(1))
+        .map(|s| s[..s.find('"').unwrap()].to_string())
+        .collect();
+    for n in &names {
+        assert!(dir.join(n).exists(), "{tag}: {n} is indexed and missing");
+    }
+    names
+}
+
+/// A decomposed run's checkpoint is the single process's: stopped at half its end time, the
+/// single process and the decomposed solver write the same state, bit for bit; and each
+/// resumes the other's to the unbroken single-process history, byte for byte, its frame
+/// collection indexing the frames both wrote.
+#[test]
+fn checkpoints_cross_between_one_process_and_the_decomposed_solver() {
+    let text = explicit_at_default_step(&scene_text("cube_on_plate.toml"))
+        + "\n[output]\ncheckpoint_every = 7\nvtu_every = 10\n";
+    let half = edit(&text, "end_time = 0.1", "end_time = 0.05");
+    run_as("ckpt_unbroken", &text, false, false);
+    let unbroken = std::fs::read_to_string(out_path("ckpt_unbroken/history.csv")).unwrap();
+    run_as("ckpt_process_first", &half, false, false);
+    run_as("ckpt_rank_first", &half, true, false);
+    let scene = Scene::parse(&text, &repo().join("scenes/checkpoints.toml")).unwrap();
+    let read = |tag: &str| impact::checkpoint::Checkpoint::read(&out_path(tag), &scene).unwrap();
+    let (a, b) = (read("ckpt_process_first"), read("ckpt_rank_first"));
+    assert!(a.tally.steps > 10, "{} steps", a.tally.steps);
+    assert_eq!(a.tally.steps, b.tally.steps);
+    let bytes = |c: &impact::checkpoint::Checkpoint| bincode::serialize(&c.solver).unwrap();
+    assert!(bytes(&a) == bytes(&b), "the states differ");
+    let times =
+        |c: &impact::checkpoint::Checkpoint| c.frames.iter().map(|f| f.0).collect::<Vec<_>>();
+    assert_eq!(times(&a), times(&b), "the frames' times");
+    run_as("ckpt_process_first", &text, true, true);
+    run_as("ckpt_rank_first", &text, false, true);
+    for tag in ["ckpt_process_first", "ckpt_rank_first"] {
+        let h = std::fs::read_to_string(out_path(tag).join("history.csv")).unwrap();
+        assert!(h == unbroken, "{tag}: the resumed history differs");
+        assert_eq!(
+            indexed_frames(tag).len(),
+            indexed_frames("ckpt_unbroken").len()
+        );
+    }
+    // one process wrote the first half's frames whole, the rank the second half's pieces
+    let mixed = indexed_frames("ckpt_process_first");
+    assert!(mixed.first().unwrap().ends_with(".vtu") && mixed.last().unwrap().ends_with(".pvtu"));
+}
+
+/// A rank's contact clears, each step, only the entries its last constraints set. After a
+/// restore it has none: the next step clears every entry, so that a checkpoint's contacts
+/// that the step no longer holds are not reported again (here a step with no candidate).
+#[test]
+fn a_restored_contact_clears_every_entry_on_its_next_step() {
+    use impact::integrate::explicit::{ContactFields, ExplicitContact};
+    let text = scene_text("cube_on_plate.toml");
+    let scene = Scene::parse(&text, &repo().join("scenes/restored.toml")).unwrap();
+    let model = Model::from_scene(&scene).unwrap();
+    let mut contact = ExplicitContact::new(&model, &scene.explicit, 1.0, 1.0);
+    let mut stale = contact.interfaces.clone();
+    for st in &mut stale {
+        st.impulse.fill(1.0);
+        st.tangential.fill([1.0; 3]);
+        st.gap.fill(-1.0);
+    }
+    assert!(stale.iter().any(|st| !st.impulse.is_empty()));
+    contact.restore(stale);
+    let n = model.dofs();
+    let (u, v_half, inv_mass) = (vec![0.0; n], vec![0.0; n], vec![1.0; n]);
+    let mut v = vec![0.0; n];
+    let fields = ContactFields {
+        u: &u,
+        v: &mut v,
+        v_half: &v_half,
+        inv_mass: &inv_mass,
+        planes: None,
+    };
+    let r = (contact.step_from_points(&model, fields, 1e-6, 1.0, Some(&[]))).unwrap();
+    assert!(r.converged && r.iterations == 0);
+    for st in &contact.interfaces {
+        assert!(st.impulse.iter().all(|&j| j == 0.0), "a stale impulse");
+        assert!(
+            st.tangential.iter().all(|&t| t == [0.0; 3]),
+            "a stale friction impulse"
+        );
+        assert!(st.gap.iter().all(|g| g.is_nan()), "a stale gap");
+    }
 }
 
 /// One rank on its GPU (element forces in f32, the contact on the host in f64) through the

@@ -22,7 +22,7 @@ use super::surface::{surface_model, SurfaceIndex};
 use crate::contact::search;
 use crate::error::Result;
 use crate::integrate::explicit::{
-    plane_gap_within_reach, ContactFields, ExplicitContact, NodalStart,
+    plane_gap_within_reach, ContactFields, ExplicitContact, ExplicitInterface, NodalStart,
 };
 use crate::integrate::StepReport;
 use crate::kernels::contact_gap::closest_point;
@@ -178,6 +178,11 @@ impl SurfaceContact {
     /// The interfaces' impulses and reports of the last step.
     pub fn contact(&self) -> &ExplicitContact {
         &self.contact
+    }
+
+    /// Continues from a checkpoint's interfaces (each whole, as every rank holds them).
+    pub fn restore(&mut self, interfaces: Vec<ExplicitInterface>) {
+        self.contact.restore(interfaces);
     }
 
     /// Sets surface node `k`'s state from node `n` of the fields `[u, v, v_half]`.

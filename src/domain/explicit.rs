@@ -9,6 +9,7 @@
 //! nodes and then the ranks in order: the same bits as one process on one rank, within
 //! rounding (1e-12 relative to the column) on several.
 
+use super::checkpoint;
 use super::contact::{LocalState, SurfaceContact};
 use super::forces::RankForces;
 use super::partition::Partition;
@@ -16,7 +17,8 @@ use super::ranks::{agree, Ranks, Timed};
 use super::subdomain::Subdomain;
 use crate::error::{ImpactError, Result};
 use crate::gpu::GpuContext;
-use crate::integrate::explicit::{correct, lumped_mass, NodalStart};
+use crate::integrate::explicit::{correct, lumped_mass, ExplicitState, NodalStart};
+use crate::integrate::state::check_restore;
 use crate::integrate::{
     ContactReport, Decomposition, Energies, Integrator, Piece, ProbeValues, SolverState, StepReport,
 };
@@ -366,14 +368,51 @@ impl Integrator for DomainSolver<'_> {
         })
     }
 
-    fn checkpoint_state(&mut self) -> Result<SolverState> {
-        Err(ImpactError::Ranks(
-            "a run on several ranks writes no checkpoints".into(),
-        ))
+    /// The single process's state at this step ([`super::checkpoint`]), on rank 0.
+    fn checkpoint_state(&mut self) -> Result<Option<SolverState>> {
+        let fields = [
+            &self.u[..],
+            &self.v,
+            &self.a,
+            &self.f_int,
+            &self.u_prev,
+            &self.v_half,
+        ];
+        let count = self.model.mesh.node_count();
+        let gathered = checkpoint::gather_fields(&self.timed(), &self.sub, fields, count);
+        let Some([u, v, a, f_int, u_prev, v_half]) = gathered else {
+            return Ok(None);
+        };
+        Ok(Some(SolverState::Explicit(ExplicitState {
+            dt: self.dt,
+            time: self.time,
+            steps: self.steps,
+            u,
+            v,
+            a,
+            f_int,
+            u_prev,
+            v_half,
+            interfaces: self.surface.contact().interfaces.clone(),
+        })))
     }
 
-    fn restore(&mut self, _state: SolverState) -> std::result::Result<(), String> {
-        Err("a run on several ranks does not resume from a checkpoint".into())
+    /// Continues from a single process's state (written on any number of ranks).
+    fn restore(&mut self, state: SolverState) -> std::result::Result<(), String> {
+        let SolverState::Explicit(s) = state else {
+            return Err(crate::integrate::integrator::other_integrator());
+        };
+        let interfaces = self.surface.contact().interfaces.len();
+        check_restore(
+            (s.u.len(), 3 * self.model.mesh.node_count()),
+            (s.interfaces.len(), interfaces),
+        )?;
+        let global = [&s.u[..], &s.v, &s.a, &s.f_int, &s.u_prev, &s.v_half];
+        [self.u, self.v, self.a, self.f_int, self.u_prev, self.v_half] =
+            checkpoint::restrict_fields(&self.sub, global);
+        (self.dt, self.time, self.steps) = (s.dt, s.time, s.steps);
+        self.surface.restore(s.interfaces);
+        Ok(())
     }
 
     /// See [`crate::integrate::ExplicitSolver`]'s: $a \cdot M a$ summed over the ranks.

@@ -12,8 +12,10 @@
 //! - [`contact`]: a rank's contact: the faces its secondary nodes may reach, its own
 //!   search, the contacts gathered and the sweeps;
 //! - [`explicit`]: the rank's explicit solver;
+//! - [`checkpoint`]: a rank's part of the single process's checkpoint, both ways;
 //! - [`launch`]: what an MPI launcher tells a process.
 
+pub mod checkpoint;
 pub mod contact;
 pub mod explicit;
 pub mod forces;

@@ -53,16 +53,20 @@ impl Ranks for MpiRanks {
     }
 
     fn all_gather(&self, mine: &[f64], counts: &[usize], out: &mut [f64]) {
-        let counts: Vec<i32> = counts.iter().map(|&c| c as i32).collect();
-        let displs: Vec<i32> = (counts.iter())
-            .scan(0, |at, &c| {
-                let d = *at;
-                *at += c;
-                Some(d)
-            })
-            .collect();
+        let (counts, displs) = counts_and_displacements(counts);
         let mut partition = PartitionMut::new(out, &counts[..], &displs[..]);
         self.world.all_gather_varcount_into(mine, &mut partition);
+    }
+
+    fn gather_to_first(&self, mine: &[f64], counts: &[usize], out: &mut [f64]) {
+        let root = self.world.process_at_rank(0);
+        if self.world.rank() != 0 {
+            root.gather_varcount_into(mine);
+            return;
+        }
+        let (counts, displs) = counts_and_displacements(counts);
+        let mut partition = PartitionMut::new(out, &counts[..], &displs[..]);
+        root.gather_varcount_into_root(mine, &mut partition);
     }
 
     fn max(&self, x: f64) -> f64 {
@@ -71,4 +75,17 @@ impl Ranks for MpiRanks {
             .all_reduce_into(&x, &mut m, SystemOperation::max());
         m
     }
+}
+
+/// MPI's counts and the displacements of each rank's part, one after the other.
+fn counts_and_displacements(counts: &[usize]) -> (Vec<i32>, Vec<i32>) {
+    let counts: Vec<i32> = counts.iter().map(|&c| c as i32).collect();
+    let displs: Vec<i32> = (counts.iter())
+        .scan(0, |at, &c| {
+            let d = *at;
+            *at += c;
+            Some(d)
+        })
+        .collect();
+    (counts, displs)
 }

@@ -16,6 +16,9 @@ pub trait Ranks {
     /// Every rank's `mine`, one after the other in rank order, into `out` (`counts` holds
     /// each rank's length).
     fn all_gather(&self, mine: &[f64], counts: &[usize], out: &mut [f64]);
+    /// Every rank's `mine`, one after the other in rank order, into rank 0's `out` (`counts`
+    /// holds each rank's length; the other ranks' `out` is left as it is).
+    fn gather_to_first(&self, mine: &[f64], counts: &[usize], out: &mut [f64]);
     /// The largest `x` over the ranks.
     fn max(&self, x: f64) -> f64;
     /// Every rank's `x` (the same length on each), in rank order.
@@ -37,6 +40,16 @@ pub trait Ranks {
         let mut all = vec![0.0; counts.iter().sum()];
         self.all_gather(mine, &counts, &mut all);
         (counts, all)
+    }
+    /// [`Ranks::gather_varied`] on rank 0 only (`None` on the others).
+    fn gather_varied_to_first(&self, mine: &[f64]) -> Option<Vec<f64>> {
+        let counts: Vec<usize> = (self.gather_all(&[mine.len() as f64]).iter())
+            .map(|c| c[0] as usize)
+            .collect();
+        let first = self.rank() == 0;
+        let mut all = vec![0.0; if first { counts.iter().sum() } else { 0 }];
+        self.gather_to_first(mine, &counts, &mut all);
+        first.then_some(all)
     }
     /// Every rank's `text`, in rank order.
     fn gather_text(&self, text: &str) -> Vec<String> {
@@ -118,6 +131,9 @@ impl Ranks for Single {
     }
     fn all_gather(&self, mine: &[f64], _counts: &[usize], out: &mut [f64]) {
         out[..mine.len()].copy_from_slice(mine);
+    }
+    fn gather_to_first(&self, mine: &[f64], counts: &[usize], out: &mut [f64]) {
+        self.all_gather(mine, counts, out);
     }
     fn max(&self, x: f64) -> f64 {
         x

@@ -56,8 +56,9 @@ pub trait Integrator {
     /// The lumped mass of every node of the whole model (on every rank of a decomposed run).
     fn nodal_mass(&self) -> &[f64];
 
-    /// The state a checkpoint keeps.
-    fn checkpoint_state(&mut self) -> Result<SolverState>;
+    /// The state a checkpoint keeps; `None` on a process that writes no checkpoint (a rank
+    /// of a decomposed run other than the first, which gathers the state).
+    fn checkpoint_state(&mut self) -> Result<Option<SolverState>>;
     /// Continues from a checkpoint's state (of this model and integrator).
     fn restore(&mut self, state: SolverState) -> std::result::Result<(), String>;
 
@@ -130,6 +131,6 @@ pub trait Integrator {
 }
 
 /// The message of a checkpoint written by another integrator.
-pub(super) fn other_integrator() -> String {
+pub fn other_integrator() -> String {
     "the checkpoint was written by another integrator than this run's".into()
 }

@@ -631,19 +631,19 @@ impl Integrator for ResidentSolver<'_> {
     }
 
     /// The state a checkpoint keeps (at rest only: at a cut, or after stopping).
-    fn checkpoint_state(&mut self) -> Result<SolverState> {
+    fn checkpoint_state(&mut self) -> Result<Option<SolverState>> {
         if !self.at_rest() || self.submitted != self.steps {
             return Err(crate::error::ImpactError::Gpu(format!(
                 "the resident state is read at rest only (step {}, {} submitted)",
                 self.steps, self.submitted
             )));
         }
-        Ok(SolverState::Resident(ResidentState {
+        Ok(Some(SolverState::Resident(ResidentState {
             dt: self.dt,
             time: self.time,
             steps: self.steps,
             buffers: self.engine.read_step_state()?,
-        }))
+        })))
     }
 
     /// Continues from a checkpoint's state (of this model).

@@ -346,31 +346,28 @@ impl VtuWriter {
         }
     }
 
-    /// Continues a collection whose frames up to a checkpoint are `written` (step, time);
-    /// frames written after it are left out of the collection (and overwritten as the run
-    /// reaches them again).
-    pub fn resume(dir: &Path, stem: &str, written: &[(usize, f64)]) -> VtuWriter {
-        let mut w = VtuWriter::new(dir, stem);
-        w.frames = written
-            .iter()
-            .map(|&(step, time)| (time, Self::frame_name(stem, step)))
-            .collect();
-        w
+    /// Continues a collection whose frames up to a checkpoint are `written` (time, file
+    /// name), as the writer of the whole model (`piece` `None`) or of rank `r` of `P`
+    /// (`Some((r, P))`); frames written after the checkpoint are left out of the collection
+    /// (and overwritten as the run reaches them again). The frames kept are those the
+    /// checkpoint names, whatever process wrote them: a run resumed on another number of
+    /// ranks indexes its earlier frames as they were written.
+    pub fn resume(
+        dir: &Path,
+        stem: &str,
+        written: &[(f64, String)],
+        piece: Option<(usize, usize)>,
+    ) -> VtuWriter {
+        VtuWriter {
+            frames: written.to_vec(),
+            piece,
+            ..VtuWriter::new(dir, stem)
+        }
     }
 
-    /// The frames written so far: (step, time).
-    pub fn written(&self) -> Vec<(usize, f64)> {
-        let prefix = self.stem.len() + 1;
-        self.frames
-            .iter()
-            .map(|(time, name)| {
-                let end = name.rfind('.').unwrap_or(name.len());
-                let step = name[prefix..end]
-                    .parse()
-                    .expect("frame names are written by frame_name");
-                (step, *time)
-            })
-            .collect()
+    /// The frames written so far: (time, file name).
+    pub fn written(&self) -> &[(f64, String)] {
+        &self.frames
     }
 
     fn frame_name(stem: &str, step: usize) -> String {

@@ -173,7 +173,8 @@ fn run_on(scene: &Scene, opts: &RunOptions, ranks: Option<&dyn Ranks>) -> Result
     let resumed = opts
         .resume
         .then(|| Checkpoint::read(&dir, scene))
-        .transpose()?;
+        .transpose();
+    let resumed = ranks::agreed(ranks, resumed)?;
     let mut clock = SetupClock::start();
     let quiet = opts.quiet;
     let mut notice = |line: &str| {
@@ -225,6 +226,8 @@ struct Running<'s> {
     identity: RunIdentity,
     energy_scale: f64,
     start: Instant,
+    /// The ranks of a decomposed run.
+    ranks: Option<&'s dyn Ranks>,
 }
 
 impl<'s> Running<'s> {
@@ -248,15 +251,14 @@ impl<'s> Running<'s> {
         if let Some(c) = &resumed {
             check_resumable(dir, c, setup)?;
         }
+        let rank = ranks.map(|r| (r.rank(), r.size()));
         let (out, tally) = match resumed {
-            None => start_fresh(
-                scene,
-                model,
-                solver.as_mut(),
-                dir,
-                ranks.map(|r| (r.rank(), r.size())),
-            )?,
-            Some(c) => start_resumed(scene, model, solver.as_mut(), dir, c)?,
+            None => start_fresh(scene, model, solver.as_mut(), dir, rank)?,
+            // nothing in the resumed start talks to the other ranks: they agree on it after
+            Some(c) => {
+                let started = start_resumed(scene, model, solver.as_mut(), dir, (c, rank));
+                ranks::agreed(ranks, started)?
+            }
         };
         let energy_scale = energy_scale(scene, model, solver.as_ref(), tally.energy_initial);
         let mut summary = initial_summary(scene, setup, solver.as_ref());
@@ -277,17 +279,19 @@ impl<'s> Running<'s> {
             identity,
             energy_scale,
             start,
+            ranks,
         })
     }
 
-    /// A checkpoint of the current state.
+    /// A checkpoint of the current state (the ranks agree on its write).
     fn save(&mut self) -> Result<()> {
-        save(
+        let saved = save(
             self.solver.as_mut(),
             &mut self.out,
             &self.tally,
             &self.identity,
-        )
+        );
+        ranks::agreed(self.ranks, saved)
     }
 
     /// Whether step `n` is the run's last, shortened to end at `end_time`.

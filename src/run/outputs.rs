@@ -120,27 +120,34 @@ pub(super) fn start_fresh(
 }
 
 /// Continues a run's outputs and tally from a checkpoint (the history and the frame
-/// collection cut back to its step).
+/// collection cut back to its step); `rank` as for [`start_fresh`].
 pub(super) fn start_resumed(
     scene: &Scene,
     model: &Model,
     solver: &mut dyn Integrator,
     dir: &Path,
-    c: Checkpoint,
+    (c, rank): (Checkpoint, Option<(usize, usize)>),
 ) -> Result<(Outputs, Tally)> {
     let refuse = |message: String| ImpactError::Resume {
         dir: dir.to_path_buf(),
         message,
     };
     solver.restore(c.solver).map_err(refuse)?;
+    let writes = rank.is_none_or(|(r, _)| r == 0);
     let out = Outputs {
         dir: dir.to_path_buf(),
         stem: c.frame_stem.clone(),
-        history: History::resume(dir, model, c.tally.steps + 1)?,
-        frames: scene
-            .vtu_every
-            .map(|every| (every, VtuWriter::resume(dir, &c.frame_stem, &c.frames))),
-        writes: true,
+        history: match writes {
+            true => History::resume(dir, model, c.tally.steps + 1)?,
+            false => History::discard(model),
+        },
+        frames: (scene.vtu_every).map(|every| {
+            (
+                every,
+                VtuWriter::resume(dir, &c.frame_stem, &c.frames, rank),
+            )
+        }),
+        writes,
     };
     Ok((out, c.tally))
 }
@@ -173,26 +180,27 @@ pub(super) fn check_resumable(dir: &Path, c: &Checkpoint, setup: &Setup) -> Resu
     Ok(())
 }
 
-/// Writes the checkpoint of the solver's current state.
-/// The history is flushed first, so that the file holds every row the checkpoint counts
-/// whatever happens to the process afterwards.
+/// Writes the checkpoint of the solver's current state (a decomposed run's every rank
+/// gathers it; the rank that writes the files writes it). The history is flushed first, so
+/// that the file holds every row the checkpoint counts whatever happens to the process
+/// afterwards.
 pub(super) fn save(
     solver: &mut dyn Integrator,
     out: &mut Outputs,
     tally: &Tally,
     run: &RunIdentity,
 ) -> Result<()> {
+    let Some(state) = solver.checkpoint_state()? else {
+        return Ok(());
+    };
     out.history.flush()?;
-    let state = solver.checkpoint_state()?;
     Checkpoint {
         format: crate::checkpoint::FORMAT,
         scene_hash: run.scene_hash,
         speed_scale: run.speed_scale,
         tally: tally.clone(),
-        frames: out
-            .frames
-            .as_ref()
-            .map(|(_, w)| w.written())
+        frames: (out.frames.as_ref())
+            .map(|(_, w)| w.written().to_vec())
             .unwrap_or_default(),
         frame_stem: out.stem.clone(),
         solver: state,

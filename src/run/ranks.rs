@@ -12,25 +12,30 @@ use crate::scene::{DeviceChoice, Scene};
 
 /// Runs the scene decomposed over `ranks`, every rank calling it: the explicit path on
 /// each rank's share of the elements ([`crate::domain`]), each rank on the CPU or on its own
-/// GPU ([`rank_context`]); rank 0 writes the files. The implicit path, checkpoints and
-/// `--resume` are refused with the key that asks for them.
+/// GPU ([`rank_context`]); rank 0 writes the files, checkpoints included (the single
+/// process's, [`crate::domain::checkpoint`]). The implicit path is refused with the key that
+/// asks for it.
 pub fn run_ranks(scene: &Scene, opts: &RunOptions, ranks: &dyn Ranks) -> Result<Summary> {
-    if scene.checkpoint_every.is_some() || opts.resume {
-        return Err(ImpactError::Unsupported {
-            path: scene.path.clone(),
-            key: "output.checkpoint_every".into(),
-            message: format!(
-                "a decomposed run writes no checkpoints and does not resume: run on one process to checkpoint (this run is on {} ranks)",
-                ranks.size()
-            ),
-        });
-    }
     let opts = RunOptions {
         quiet: opts.quiet || ranks.rank() != 0,
         interrupt: None,
         ..opts.clone()
     };
     run_on(scene, &opts, Some(ranks))
+}
+
+/// `mine`, the outcome of a stage that may fail on some ranks only, once every rank's is
+/// known ([`agree`]): a rank that failed keeps its own error, one that did not stops with
+/// the others' reasons. Without ranks, `mine`.
+pub(super) fn agreed<T>(ranks: Option<&dyn Ranks>, mine: Result<T>) -> Result<T> {
+    let Some(r) = ranks else {
+        return mine;
+    };
+    match (agree(r, mine.as_ref().map(|_| ())), mine) {
+        (_, Err(e)) => Err(e),
+        (Err(why), Ok(_)) => Err(ImpactError::Ranks(why)),
+        (Ok(()), Ok(t)) => Ok(t),
+    }
 }
 
 /// The GPU rank `ranks.rank()` computes on, or `None` for the CPU, agreed by every rank:

@@ -70,6 +70,9 @@ pub struct ExplicitContact {
     touches: Vec<f64>,
     delta: Vec<[f64; 3]>,
     slip_before: Vec<[f64; 3]>,
+    /// Whether the interfaces' entries came from a checkpoint, not from this contact's last
+    /// constraints: the next step clears them all.
+    restored: bool,
 }
 
 /// The velocity field a step's contact works on: the nodes' velocities (changed by the
@@ -136,7 +139,14 @@ impl ExplicitContact {
             touches: vec![0.0; model.mesh.node_count()],
             delta: vec![[0.0; 3]; model.mesh.node_count()],
             slip_before: Vec::new(),
+            restored: false,
         }
+    }
+
+    /// Continues from a checkpoint's interfaces.
+    pub fn restore(&mut self, interfaces: Vec<ExplicitInterface>) {
+        self.interfaces = interfaces;
+        self.restored = true;
     }
 
     /// The broad phase's margin, which is also the reach of the step: the largest face plus
@@ -192,13 +202,14 @@ impl ExplicitContact {
     ) -> Result<StepReport> {
         match candidates {
             // only the entries the last step's constraints set
-            Some(_) => self.clear_reported(),
-            None => {
+            Some(_) if !self.restored => self.clear_reported(),
+            _ => {
                 for st in &mut self.interfaces {
                     st.impulse.fill(0.0);
                     st.tangential.fill([0.0; 3]);
                     st.gap.fill(f64::NAN);
                 }
+                self.restored = false;
             }
         }
         self.gather_constraints(model, &f, dt, margin, candidates);

@@ -183,7 +183,7 @@ impl<'m> ExplicitSolver<'m> {
         self.f_int = s.f_int;
         self.u_prev = s.u_prev;
         self.v_half = s.v_half;
-        self.contact.interfaces = s.interfaces;
+        self.contact.restore(s.interfaces);
         Ok(())
     }
 
@@ -264,8 +264,8 @@ impl Integrator for ExplicitSolver<'_> {
         &self.mass
     }
 
-    fn checkpoint_state(&mut self) -> Result<SolverState> {
-        Ok(SolverState::Explicit(self.state()))
+    fn checkpoint_state(&mut self) -> Result<Option<SolverState>> {
+        Ok(Some(SolverState::Explicit(self.state())))
     }
 
     fn restore(&mut self, state: SolverState) -> std::result::Result<(), String> {

@@ -604,8 +604,8 @@ impl Integrator for ImplicitSolver<'_> {
         &self.asm.nodal_mass
     }
 
-    fn checkpoint_state(&mut self) -> Result<SolverState> {
-        Ok(SolverState::Implicit(self.state()))
+    fn checkpoint_state(&mut self) -> Result<Option<SolverState>> {
+        Ok(Some(SolverState::Implicit(self.state())))
     }
 
     fn restore(&mut self, state: SolverState) -> std::result::Result<(), String> {
