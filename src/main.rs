@@ -299,11 +299,8 @@ fn run_command(
         quiet,
         overwrite,
         resume,
-        // under an MPI launcher the signal ends the job (no checkpoint)
-        interrupt: match impact::domain::launch::launched() {
-            true => None,
-            false => interrupt_flag(),
-        },
+        // every rank of a decomposed run has one: the ranks agree on it each step
+        interrupt: interrupt_flag(),
     };
     let dir = impact::run::output_dir(&sc, &opts);
     let (s, first) = run_scene(&sc, opts)?;
@@ -370,15 +367,21 @@ fn run_scene(sc: &Scene, opts: RunOptions) -> anyhow::Result<(impact::output::Su
 
 /// Whether every rank of a decomposed run meets error `e` alike and stops on its own: the
 /// scene's values (checked the same on every rank), what a decomposed run refuses, an
-/// output folder holding an earlier run (every rank learns whether rank 0 prepared it) and
-/// a diverged run (the energy it is judged by is summed over the ranks, the same bits on
-/// each). Rank 0 then writes what a stopped run leaves before it ends.
+/// output folder holding an earlier run (every rank learns whether rank 0 prepared it), a
+/// diverged run (the energy it is judged by is summed over the ranks, the same bits on
+/// each) and an interrupted one (the ranks agree on the signal after each step). Rank 0
+/// then writes what a stopped run leaves before it ends.
 #[cfg(feature = "mpi")]
 fn same_on_every_rank(e: &ImpactError) -> bool {
     use ImpactError::*;
     matches!(
         e,
-        SceneValue { .. } | Unsupported { .. } | OutputExists { .. } | Diverged { .. } | Ranks(_)
+        SceneValue { .. }
+            | Unsupported { .. }
+            | OutputExists { .. }
+            | Diverged { .. }
+            | Interrupted { .. }
+            | Ranks(_)
     )
 }
 

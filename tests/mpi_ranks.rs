@@ -225,6 +225,106 @@ fn a_run_checkpointed_on_2_ranks_resumes_on_4_and_on_one_process() {
     assert!(!dir.join("resumed_on_4/half_000010_0002.vtu").exists());
 }
 
+/// The process of `job`'s MPI rank `rank` (Open MPI's `mpirun` starts its ranks as its
+/// children, each told its rank in `OMPI_COMM_WORLD_RANK`).
+fn rank_process(job: u32, rank: usize) -> Option<u32> {
+    let told = format!("OMPI_COMM_WORLD_RANK={rank}");
+    std::fs::read_dir("/proc").ok()?.find_map(|e| {
+        let pid: u32 = e.ok()?.file_name().to_str()?.parse().ok()?;
+        let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+        // the parent is the second field after the command's closing parenthesis
+        let ppid: u32 = stat[stat.rfind(')')? + 2..]
+            .split(' ')
+            .nth(1)?
+            .parse()
+            .ok()?;
+        let environ = std::fs::read(format!("/proc/{pid}/environ")).ok()?;
+        let mine = (environ.split(|&b| b == 0)).any(|v| v == told.as_bytes());
+        (ppid == job && mine).then_some(pid)
+    })
+}
+
+/// SIGTERM to rank 1 alone: the ranks agree on the signal after each step, so every rank
+/// stops after the same step; rank 0 writes the checkpoint and a summary `interrupted`,
+/// and the job ends with status 130. Resumed on 2 ranks, the history is the unbroken
+/// single-process run's (as the module says).
+#[test]
+fn a_signal_to_one_rank_stops_every_rank_with_a_checkpoint() {
+    let tag = "mpi_sigterm";
+    let dir = out_dir(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = edit(
+        &explicit_at_default_step(&scene_text("cube_on_plate.toml")),
+        "end_time = 0.1",
+        "end_time = 2.0",
+    );
+    let scene = dir.join("sigterm.toml");
+    std::fs::write(&scene, &text).unwrap();
+    let parsed = Scene::parse(&text, &scene).unwrap();
+    let bodies: Vec<String> = parsed.bodies.iter().map(|b| b.name.clone()).collect();
+    impact_run(0, &scene, &dir.join("unbroken"));
+    let cut = dir.join("cut");
+    let mut job = Command::new("mpirun")
+        .args([
+            "--oversubscribe",
+            "-n",
+            "2",
+            env!("CARGO_BIN_EXE_impact"),
+            "run",
+        ])
+        .args([scene.to_str().unwrap(), "--out", cut.to_str().unwrap()])
+        .args(["--quiet", "--overwrite", "--device", "cpu"])
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("RAYON_NUM_THREADS", "1")
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("mpirun (Open MPI) on the PATH");
+    // wait for some steps, then signal rank 1 alone
+    let t0 = std::time::Instant::now();
+    let rows = || std::fs::read_to_string(cut.join("history.csv")).map_or(0, |h| h.lines().count());
+    while rows() < 4 {
+        assert!(t0.elapsed().as_secs() < 60, "the run never started");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let rank1 = rank_process(job.id(), 1).expect("rank 1's process");
+    let killed = Command::new("kill")
+        .args(["-TERM", &rank1.to_string()])
+        .status();
+    assert!(killed.unwrap().success());
+    // a rank left waiting for the others would hang the job: give it a minute
+    let status = loop {
+        if let Some(status) = job.try_wait().unwrap() {
+            break status;
+        }
+        if t0.elapsed().as_secs() > 60 {
+            for pid in (0..2).filter_map(|r| rank_process(job.id(), r)) {
+                let _ = Command::new("kill")
+                    .args(["-KILL", &pid.to_string()])
+                    .status();
+            }
+            let _ = job.kill();
+            panic!("the job did not end within a minute of the signal");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(&mut job.stderr.take().unwrap(), &mut stderr).unwrap();
+    assert_eq!(status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("--resume"), "{stderr}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(cut.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "interrupted");
+    let one = History::read(&dir.join("unbroken/history.csv"));
+    let steps = summary["steps"].as_u64().unwrap() as usize;
+    assert!(
+        steps + 1 < one.rows.len(),
+        "stopped at step {steps}, the end"
+    );
+    impact_run_with(2, &scene, &cut, ["--resume", "--device", "cpu"]);
+    same_history(tag, &one, &History::read(&cut.join("history.csv")), &bodies);
+}
+
 #[test]
 fn block_on_plate_with_friction_is_the_same_on_2_and_4_ranks() {
     same_on_ranks(

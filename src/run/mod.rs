@@ -378,9 +378,14 @@ impl<'s> Running<'s> {
     }
 
     /// After step `n`: when `flag` is set, stops submitting, and once the solver is at
-    /// rest (and this was not the last step) ends the run as interrupted.
+    /// rest (and this was not the last step) ends the run as interrupted. The ranks of a
+    /// decomposed run stop together after the step in which any of them was signalled.
     fn interrupt(&mut self, n: usize, flag: Option<&AtomicBool>) -> Option<ImpactError> {
-        let signalled = flag.is_some_and(|f| f.load(Ordering::SeqCst));
+        let mine = flag.is_some_and(|f| f.load(Ordering::SeqCst));
+        let signalled = match (self.ranks, flag) {
+            (Some(r), Some(_)) => r.max(f64::from(u8::from(mine))) > 0.0,
+            _ => mine,
+        };
         if signalled {
             // the resident engine hands out the steps it has in flight first
             self.solver.stop_submitting();
