@@ -225,6 +225,38 @@ fn a_run_checkpointed_on_2_ranks_resumes_on_4_and_on_one_process() {
     assert!(!dir.join("resumed_on_4/half_000010_0002.vtu").exists());
 }
 
+/// `--resume` where no checkpoint is: an error every rank meets alike, said once by rank 0,
+/// with the usage status (2), not an abort of the job.
+#[test]
+fn a_missing_checkpoint_stops_every_rank_with_one_message() {
+    let dir = out_dir("mpi_no_checkpoint");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        explicit_at_default_step(&scene_text("cube_on_plate.toml")),
+    )
+    .unwrap();
+    let o = Command::new("mpirun")
+        .args([
+            "--oversubscribe",
+            "-n",
+            "2",
+            env!("CARGO_BIN_EXE_impact"),
+            "run",
+        ])
+        .args([scene.to_str().unwrap(), "--out", dir.to_str().unwrap()])
+        .args(["--quiet", "--resume", "--device", "cpu"])
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .output()
+        .expect("mpirun (Open MPI) on the PATH");
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.matches("cannot resume").count(), 1, "{stderr}");
+    assert!(!stderr.contains("MPI_ABORT"), "{stderr}");
+}
+
 /// The process of `job`'s MPI rank `rank` (Open MPI's `mpirun` starts its ranks as its
 /// children, each told its rank in `OMPI_COMM_WORLD_RANK`).
 fn rank_process(job: u32, rank: usize) -> Option<u32> {

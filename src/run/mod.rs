@@ -153,55 +153,19 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<Summary> {
 fn run_on(scene: &Scene, opts: &RunOptions, ranks: Option<&dyn Ranks>) -> Result<Summary> {
     let start = Instant::now();
     let dir = output_dir(scene, opts);
-    let writes = ranks.is_none_or(|r| r.rank() == 0);
-    let prepared = if writes {
-        prepare_dir(&dir, opts)
-    } else {
-        Ok(())
+    // rank 0 prepares the folder, and every rank stops where it cannot
+    let prepared = match ranks.is_none_or(|r| r.rank() == 0) {
+        true => prepare_dir(&dir, opts),
+        false => Ok(()),
     };
-    if let Some(r) = ranks {
-        // every rank stops when rank 0 cannot prepare the folder
-        if r.max(f64::from(u8::from(prepared.is_err()))) > 0.0 {
-            prepared?;
-            return Err(ImpactError::Ranks(format!(
-                "rank 0 could not prepare the output folder {}",
-                dir.display()
-            )));
-        }
-    }
-    prepared?;
+    ranks::agreed(ranks, prepared)?;
     let resumed = opts
         .resume
         .then(|| Checkpoint::read(&dir, scene))
         .transpose();
     let resumed = ranks::agreed(ranks, resumed)?;
     let mut clock = SetupClock::start();
-    let quiet = opts.quiet;
-    let mut notice = |line: &str| {
-        if !quiet {
-            eprintln!("{line}");
-        }
-    };
-    let device = opts.device.unwrap_or(scene.run.device);
-    // the ranks' setup stays on the CPU: each rank then opens its own GPU
-    let set_up_on = if ranks.is_some() {
-        DeviceChoice::Cpu
-    } else {
-        device
-    };
-    let mut setup = setup::prepare(scene, set_up_on, &mut notice, &mut clock)?;
-    if ranks.is_some() && setup.method != Method::Explicit {
-        return Err(ImpactError::Unsupported {
-            path: scene.path.clone(),
-            key: "run.method".into(),
-            message: "the implicit path runs on one process (a distributed sparse solver is not built): run it without mpirun".into(),
-        });
-    }
-    if let Some(r) = ranks {
-        let elements = setup.model.mesh.element_count();
-        setup.ctx = ranks::rank_context(scene, device, r, elements, &mut notice)?;
-        clock.lap("rank device");
-    }
+    let setup = set_up(scene, opts, ranks, &mut clock)?;
     let mut running = Running::begin(scene, &setup, &dir, (resumed, ranks), &mut clock, start)?;
     let mut progress = Progress::new(setup.steps, opts.quiet);
     for n in running.tally.steps..setup.steps {
@@ -213,6 +177,39 @@ fn run_on(scene: &Scene, opts: &RunOptions, ranks: Option<&dyn Ranks>) -> Result
     }
     progress.finish();
     running.finish()
+}
+
+/// The model and the run's settings ([`setup::prepare`]); on ranks, checked to be
+/// explicit, set up on the CPU, and each rank's device opened ([`ranks::rank_context`]).
+fn set_up(
+    scene: &Scene,
+    opts: &RunOptions,
+    ranks: Option<&dyn Ranks>,
+    clock: &mut SetupClock,
+) -> Result<Setup> {
+    let quiet = opts.quiet;
+    let mut notice = |line: &str| {
+        if !quiet {
+            eprintln!("{line}");
+        }
+    };
+    let device = opts.device.unwrap_or(scene.run.device);
+    let Some(r) = ranks else {
+        return setup::prepare(scene, device, &mut notice, clock);
+    };
+    // the ranks' setup stays on the CPU: each rank then opens its own GPU
+    let mut setup = setup::prepare(scene, DeviceChoice::Cpu, &mut notice, clock)?;
+    if setup.method != Method::Explicit {
+        return Err(ImpactError::Unsupported {
+            path: scene.path.clone(),
+            key: "run.method".into(),
+            message: "the implicit path runs on one process (a distributed sparse solver is not built): run it without mpirun".into(),
+        });
+    }
+    let elements = setup.model.mesh.element_count();
+    setup.ctx = ranks::rank_context(scene, device, r, elements, &mut notice)?;
+    clock.lap("rank device");
+    Ok(setup)
 }
 
 /// A run between its setup and its summary: the solver, what it has written and counted.
