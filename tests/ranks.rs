@@ -185,14 +185,24 @@ fn a_decomposed_run_refuses_the_implicit_path() {
 }
 
 /// Runs `text` in `tag`'s folder on one process or through the decomposed solver on one
-/// rank (fresh unless `resume`); the run must complete.
+/// rank (fresh unless `resume`), on the CPU; the run must complete.
 fn run_as(tag: &str, text: &str, ranked: bool, resume: bool) {
+    run_as_on(tag, text, (ranked, DeviceChoice::Cpu), resume);
+}
+
+/// [`run_as`] on `device`.
+fn run_as_on(
+    tag: &str,
+    text: &str,
+    (ranked, device): (bool, DeviceChoice),
+    resume: bool,
+) -> impact::output::Summary {
     let scene = Scene::parse(text, &repo().join("scenes/checkpoints.toml")).expect("valid");
     let opts = RunOptions {
         out: Some(if resume { out_path(tag) } else { out_dir(tag) }),
         quiet: true,
         resume,
-        device: Some(DeviceChoice::Cpu),
+        device: Some(device),
         ..Default::default()
     };
     let s = match ranked {
@@ -201,6 +211,7 @@ fn run_as(tag: &str, text: &str, ranked: bool, resume: bool) {
     };
     let s = s.unwrap_or_else(|e| panic!("{tag}: {e}"));
     assert_eq!(s.status, "completed", "{tag}");
+    s
 }
 
 /// The frames a run's collection indexes, each checked to exist.
@@ -252,6 +263,29 @@ fn checkpoints_cross_between_one_process_and_the_decomposed_solver() {
     // one process wrote the first half's frames whole, the rank the second half's pieces
     let mixed = indexed_frames("ckpt_process_first");
     assert!(mixed.first().unwrap().ends_with(".vtu") && mixed.last().unwrap().ends_with(".pvtu"));
+}
+
+/// A rank on its GPU stopped at half its end time and resumed continues to its unbroken
+/// history, byte for byte: the checkpoint holds the host's f64 state, from which the GPU
+/// takes u each step.
+#[test]
+fn a_rank_on_its_gpu_resumes_to_its_unbroken_history() {
+    if skip_gpu("a gpu rank's resume") {
+        return;
+    }
+    let text = explicit_at_default_step(&scene_text("cube_on_plate.toml"))
+        + "\n[output]\ncheckpoint_every = 7\n";
+    let half = edit(&text, "end_time = 0.1", "end_time = 0.05");
+    let on_gpu = (true, DeviceChoice::Gpu);
+    run_as_on("ckpt_gpu_unbroken", &text, on_gpu, false);
+    run_as_on("ckpt_gpu_cut", &half, on_gpu, false);
+    let s = run_as_on("ckpt_gpu_cut", &text, on_gpu, true);
+    assert_eq!(s.engine, "gpu kernels, decomposed over mpi ranks");
+    let read = |tag: &str| std::fs::read_to_string(out_path(tag).join("history.csv")).unwrap();
+    assert!(
+        read("ckpt_gpu_cut") == read("ckpt_gpu_unbroken"),
+        "the histories differ"
+    );
 }
 
 /// A rank's contact clears, each step, only the entries its last constraints set. After a
