@@ -379,9 +379,9 @@ impl<'s> Running<'s> {
     /// decomposed run stop together after the step in which any of them was signalled.
     fn interrupt(&mut self, n: usize, flag: Option<&AtomicBool>) -> Option<ImpactError> {
         let mine = flag.is_some_and(|f| f.load(Ordering::SeqCst));
-        let signalled = match (self.ranks, flag) {
-            (Some(r), Some(_)) => r.max(f64::from(u8::from(mine))) > 0.0,
-            _ => mine,
+        let signalled = match self.ranks {
+            Some(r) => r.max(f64::from(u8::from(mine))) > 0.0,
+            None => mine,
         };
         if signalled {
             // the resident engine hands out the steps it has in flight first

@@ -14,8 +14,8 @@ use crate::scene::{DeviceChoice, Scene};
 /// each rank's share of the elements ([`crate::domain`]), each rank on the CPU or on its own
 /// GPU ([`rank_context`]); rank 0 writes the files, checkpoints included (the single
 /// process's, [`crate::domain::checkpoint`]). The implicit path is refused with the key that
-/// asks for it. With `opts.interrupt`, which every rank must have or none, the ranks stop
-/// together after the step in which any of them was signalled, with a checkpoint.
+/// asks for it. The ranks stop together, with a checkpoint, after the step in which any of
+/// them found its `opts.interrupt` set.
 pub fn run_ranks(scene: &Scene, opts: &RunOptions, ranks: &dyn Ranks) -> Result<Summary> {
     let opts = RunOptions {
         quiet: opts.quiet || ranks.rank() != 0,
