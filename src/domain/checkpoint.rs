@@ -24,7 +24,8 @@ pub fn gather_fields(
     fields: [&[f64]; FIELDS],
     node_count: usize,
 ) -> Option<[Vec<f64>; FIELDS]> {
-    let mut mine = Vec::new();
+    let owned = sub.owned.iter().filter(|&&o| o).count();
+    let mut mine = Vec::with_capacity(RECORD * owned);
     for (l, &n) in sub.nodes.iter().enumerate() {
         if sub.owned[l] {
             mine.push(f64::from(n));
