@@ -68,6 +68,10 @@ pub enum ImpactError {
     /// A run decomposed over ranks cannot do what was asked (the message says what and why).
     #[error("ranks: {0}")]
     Ranks(String),
+    /// A failed rank's own error in a stage the ranks of a decomposed run agree on: every
+    /// rank stops there, none waits for another.
+    #[error(transparent)]
+    Agreed(Box<ImpactError>),
     /// A mesh file named by the scene could not be opened.
     #[error("{scene}: key `{key}`: cannot read the mesh file {}: {source}", path.display())]
     MeshFile {
@@ -144,6 +148,7 @@ impl ImpactError {
             OutputExists { .. } | Resume { .. } => exit::USAGE,
             Interrupted { .. } => exit::INTERRUPTED,
             Gpu(_) | Ranks(_) => exit::OTHER,
+            Agreed(e) => e.exit_code(),
         }
     }
 }

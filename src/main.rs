@@ -366,12 +366,12 @@ fn run_scene(sc: &Scene, opts: RunOptions) -> anyhow::Result<(impact::output::Su
 }
 
 /// Whether every rank of a decomposed run meets error `e` alike and stops on its own: the
-/// scene's values (checked the same on every rank), what a decomposed run refuses, an
-/// output folder holding an earlier run (every rank learns whether rank 0 prepared it), a
-/// checkpoint that cannot be resumed (the ranks agree on reading it and on the resumed
-/// start), a diverged run (the energy it is judged by is summed over the ranks, the same
-/// bits on each) and an interrupted one (the ranks agree on the signal after each step).
-/// Rank 0 then writes what a stopped run leaves before it ends.
+/// scene's values (checked the same on every rank), what a decomposed run refuses, a
+/// checkpoint that does not fit the run (checked the same on every rank), a failure in a
+/// stage the ranks agree on (the output folder, reading a checkpoint, the resumed start, a
+/// checkpoint's write), a diverged run (the energy it is judged by is summed over the
+/// ranks, the same bits on each) and an interrupted one (the ranks agree on the signal
+/// after each step). Rank 0 then writes what a stopped run leaves before it ends.
 #[cfg(feature = "mpi")]
 fn same_on_every_rank(e: &ImpactError) -> bool {
     use ImpactError::*;
@@ -381,6 +381,7 @@ fn same_on_every_rank(e: &ImpactError) -> bool {
             | Unsupported { .. }
             | OutputExists { .. }
             | Resume { .. }
+            | Agreed(_)
             | Diverged { .. }
             | Interrupted { .. }
             | Ranks(_)

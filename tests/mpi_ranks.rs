@@ -289,7 +289,7 @@ fn a_signal_to_one_rank_stops_every_rank_with_a_checkpoint() {
         &explicit_at_default_step(&scene_text("cube_on_plate.toml")),
         "end_time = 0.1",
         "end_time = 2.0",
-    );
+    ) + "\n[output]\nvtu_every = 100\n";
     let scene = dir.join("sigterm.toml");
     std::fs::write(&scene, &text).unwrap();
     let parsed = Scene::parse(&text, &scene).unwrap();
@@ -347,6 +347,7 @@ fn a_signal_to_one_rank_stops_every_rank_with_a_checkpoint() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(cut.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["status"], "interrupted");
+    assert_eq!(summary["ranks"]["ranks"], 2, "the summary's ranks");
     let one = History::read(&dir.join("unbroken/history.csv"));
     let steps = summary["steps"].as_u64().unwrap() as usize;
     assert!(
@@ -355,6 +356,12 @@ fn a_signal_to_one_rank_stops_every_rank_with_a_checkpoint() {
     );
     impact_run_with(2, &scene, &cut, ["--resume", "--device", "cpu"]);
     same_history(tag, &one, &History::read(&cut.join("history.csv")), &bodies);
+    // the collection: the frames up to the checkpoint, then the resumed run's, once each
+    let frames = |d: &Path| {
+        let pvd = std::fs::read_to_string(d.join("sigterm.pvd")).unwrap();
+        pvd.matches("<DataSet").count()
+    };
+    assert_eq!(frames(&cut), frames(&dir.join("unbroken")));
 }
 
 #[test]

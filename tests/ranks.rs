@@ -288,6 +288,31 @@ fn a_rank_on_its_gpu_resumes_to_its_unbroken_history() {
     );
 }
 
+/// A single process's checkpoint on a GPU is the resident engine's device state: resumed
+/// on ranks it is refused, saying so (one process on that kind of adapter resumes it).
+#[test]
+fn a_resident_checkpoint_is_refused_on_ranks() {
+    if skip_gpu("a resident checkpoint on ranks") {
+        return;
+    }
+    let text = explicit_at_default_step(&scene_text("cube_on_plate.toml"))
+        + "\n[output]\ncheckpoint_every = 7\n";
+    let half = edit(&text, "end_time = 0.1", "end_time = 0.05");
+    let s = run_as_on("ckpt_resident", &half, (false, DeviceChoice::Gpu), false);
+    assert!(s.engine.contains("resident"), "{}", s.engine);
+    let scene = Scene::parse(&text, &repo().join("scenes/checkpoints.toml")).unwrap();
+    let opts = RunOptions {
+        out: Some(out_path("ckpt_resident")),
+        quiet: true,
+        resume: true,
+        device: Some(DeviceChoice::Gpu),
+        ..Default::default()
+    };
+    let e = run_ranks(&scene, &opts, &Single).expect_err("refused on ranks");
+    assert!(e.to_string().contains("resident engine"), "{e}");
+    assert_eq!(e.exit_code(), 2, "a usage error");
+}
+
 /// A rank's contact clears, each step, only the entries its last constraints set. After a
 /// restore it has none: the next step clears every entry, so that a checkpoint's contacts
 /// that the step no longer holds are not reported again (here a step with no candidate).

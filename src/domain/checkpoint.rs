@@ -13,36 +13,40 @@ use super::subdomain::Subdomain;
 /// [`crate::integrate::explicit::ExplicitState`]: u, v, a, f_int, u_prev, v_half.
 pub const FIELDS: usize = 6;
 
-/// Values per owned node in the gather: its global number and the fields' three each.
-const RECORD: usize = 1 + 3 * FIELDS;
-
 /// The whole model's node arrays (`node_count` nodes) from every rank's owned nodes of its
-/// local `fields`, on rank 0 (`None` on the others).
+/// local `fields`, on rank 0 (`None` on the others): the owned nodes' numbers, then each
+/// field, one gather each (`MPI_Gatherv`, whose counts are 32-bit: a field of more than
+/// 715 million nodes is refused, alike on every rank).
 pub fn gather_fields(
     talk: &Timed,
     sub: &Subdomain,
     fields: [&[f64]; FIELDS],
     node_count: usize,
-) -> Option<[Vec<f64>; FIELDS]> {
-    let owned = sub.owned.iter().filter(|&&o| o).count();
-    let mut mine = Vec::with_capacity(RECORD * owned);
-    for (l, &n) in sub.nodes.iter().enumerate() {
-        if sub.owned[l] {
-            mine.push(f64::from(n));
-            for f in &fields {
-                mine.extend_from_slice(&f[3 * l..3 * l + 3]);
+) -> Result<Option<[Vec<f64>; FIELDS]>, String> {
+    if 3 * node_count > i32::MAX as usize {
+        return Err(format!(
+            "a checkpoint of {node_count} nodes is more than one MPI gather holds ({} million)",
+            i32::MAX as usize / 3_000_000
+        ));
+    }
+    let owned: Vec<usize> = (0..sub.nodes.len()).filter(|&l| sub.owned[l]).collect();
+    let numbers: Vec<f64> = owned.iter().map(|&l| f64::from(sub.nodes[l])).collect();
+    let numbers = talk.talk(|r| r.gather_varied_to_first(&numbers));
+    let mut global: [Vec<f64>; FIELDS] = Default::default();
+    for (f, g) in fields.iter().zip(&mut global) {
+        let mine: Vec<f64> = (owned.iter())
+            .flat_map(|&l| f[3 * l..3 * l + 3].iter().copied())
+            .collect();
+        let all = talk.talk(|r| r.gather_varied_to_first(&mine));
+        if let (Some(numbers), Some(all)) = (&numbers, all) {
+            *g = vec![0.0; 3 * node_count];
+            for (&n, x) in numbers.iter().zip(all.chunks_exact(3)) {
+                let n = 3 * n as usize;
+                g[n..n + 3].copy_from_slice(x);
             }
         }
     }
-    let all = talk.talk(|r| r.gather_varied_to_first(&mine))?;
-    let mut global: [Vec<f64>; FIELDS] = std::array::from_fn(|_| vec![0.0; 3 * node_count]);
-    for x in all.chunks_exact(RECORD) {
-        let n = 3 * x[0] as usize;
-        for (k, g) in global.iter_mut().enumerate() {
-            g[n..n + 3].copy_from_slice(&x[1 + 3 * k..4 + 3 * k]);
-        }
-    }
-    Some(global)
+    Ok(numbers.map(|_| global))
 }
 
 /// The rank's part of the whole model's arrays: the values of every node it holds (its

@@ -379,7 +379,8 @@ impl Integrator for DomainSolver<'_> {
             &self.v_half,
         ];
         let count = self.model.mesh.node_count();
-        let gathered = checkpoint::gather_fields(&self.timed(), &self.sub, fields, count);
+        let gathered = checkpoint::gather_fields(&self.timed(), &self.sub, fields, count)
+            .map_err(ImpactError::Ranks)?;
         let Some([u, v, a, f_int, u_prev, v_half]) = gathered else {
             return Ok(None);
         };

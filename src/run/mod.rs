@@ -246,7 +246,7 @@ impl<'s> Running<'s> {
         let model = &setup.model;
         check_exact_columns(scene, model)?;
         if let Some(c) = &resumed {
-            check_resumable(dir, c, setup)?;
+            check_resumable(dir, c, setup, ranks.map(|r| r.size()))?;
         }
         let rank = ranks.map(|r| (r.rank(), r.size()));
         let (out, tally) = match resumed {
@@ -362,6 +362,8 @@ impl<'s> Running<'s> {
 
     /// Ends a diverged run (see [`fail`]).
     fn fail(&mut self, at: (usize, f64), reason: String) -> ImpactError {
+        // every rank of a decomposed run diverges at the same step
+        self.summary.ranks = self.solver.decomposition();
         fail(
             self.scene,
             &self.setup.model,

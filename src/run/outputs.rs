@@ -153,13 +153,23 @@ pub(super) fn start_resumed(
 }
 
 /// Refuses a checkpoint the run cannot continue from, before anything in the folder changes:
-/// one at or past the scene's last step, or one taken with another step length (the stable
-/// step found on another device).
-pub(super) fn check_resumable(dir: &Path, c: &Checkpoint, setup: &Setup) -> Result<()> {
+/// one at or past the scene's last step, one taken with another step length (the stable
+/// step found on another device), or on `ranks` one of the GPU resident engine.
+pub(super) fn check_resumable(
+    dir: &Path,
+    c: &Checkpoint,
+    setup: &Setup,
+    ranks: Option<usize>,
+) -> Result<()> {
     let refuse = |message: String| ImpactError::Resume {
         dir: dir.to_path_buf(),
         message,
     };
+    if let (Some(p), SolverState::Resident(_)) = (ranks, &c.solver) {
+        return Err(refuse(format!(
+            "the checkpoint holds the GPU resident engine's device state, which resumes on one process on the same kind of adapter, not on {p} ranks"
+        )));
+    }
     let (steps, time, dt) = match &c.solver {
         SolverState::Explicit(s) => (s.steps, s.time, Some(s.dt)),
         SolverState::Implicit(s) => (s.steps, s.time, None),

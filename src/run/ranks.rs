@@ -25,13 +25,15 @@ pub fn run_ranks(scene: &Scene, opts: &RunOptions, ranks: &dyn Ranks) -> Result<
 }
 
 /// `mine`, the outcome of a stage that may fail on some ranks only, once every rank's is
-/// known ([`agree`]): a rank that failed keeps its own error, one that did not stops with
-/// the others' reasons. Without ranks, `mine`.
+/// known ([`agree`]): a rank that failed keeps its own error (as [`ImpactError::Agreed`] on
+/// several ranks: every rank stops), one that did not stops with the others' reasons.
+/// Without ranks, `mine`.
 pub(super) fn agreed<T>(ranks: Option<&dyn Ranks>, mine: Result<T>) -> Result<T> {
     let Some(r) = ranks else {
         return mine;
     };
     match (agree(r, mine.as_ref().map(|_| ())), mine) {
+        (_, Err(e)) if r.size() > 1 => Err(ImpactError::Agreed(Box::new(e))),
         (_, Err(e)) => Err(e),
         (Err(why), Ok(_)) => Err(ImpactError::Ranks(why)),
         (Ok(()), Ok(t)) => Ok(t),

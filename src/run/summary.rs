@@ -202,6 +202,8 @@ pub(super) fn interrupted(
     let saved = save(solver, out, tally, identity);
     let _ = out.history.flush();
     fill_summary(summary, tally, model, solver);
+    // every rank of a decomposed run stops at the same step
+    summary.ranks = solver.decomposition();
     summary.status = "interrupted".into();
     summary.message = Some(match &saved {
         Ok(()) => format!(
