@@ -32,8 +32,16 @@ fn impact_run_on(ranks: usize, scene: &Path, out: &Path, device: &str) {
 }
 
 /// `impact run scene --out dir --quiet` with `extra` on `ranks` MPI processes (one process
-/// where `ranks` is 0).
+/// where `ranks` is 0); the run must succeed.
 fn impact_run_with(ranks: usize, scene: &Path, out: &Path, extra: [&str; 3]) {
+    let status = impact_command(ranks, scene, out, extra)
+        .status()
+        .expect("mpirun (Open MPI) on the PATH");
+    assert!(status.success(), "{ranks} ranks: {status}");
+}
+
+/// The command of [`impact_run_with`], one thread per rank.
+fn impact_command(ranks: usize, scene: &Path, out: &Path, extra: [&str; 3]) -> Command {
     let bin = env!("CARGO_BIN_EXE_impact");
     let mut cmd = if ranks == 0 {
         Command::new(bin)
@@ -48,17 +56,14 @@ fn impact_run_with(ranks: usize, scene: &Path, out: &Path, extra: [&str; 3]) {
         "--out",
         out.to_str().unwrap(),
     ];
-    let status = cmd
-        .args(args)
+    cmd.args(args)
         .arg("--quiet")
         .args(extra)
         // Open MPI refuses root unless told (CI runs as root)
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("RAYON_NUM_THREADS", "1")
-        .status()
-        .expect("mpirun (Open MPI) on the PATH");
-    assert!(status.success(), "{ranks} ranks: {status}");
+        .env("RAYON_NUM_THREADS", "1");
+    cmd
 }
 
 /// Whether a column is a sum over the model (the energies, a body's velocity), and its
@@ -237,18 +242,7 @@ fn a_missing_checkpoint_stops_every_rank_with_one_message() {
         explicit_at_default_step(&scene_text("cube_on_plate.toml")),
     )
     .unwrap();
-    let o = Command::new("mpirun")
-        .args([
-            "--oversubscribe",
-            "-n",
-            "2",
-            env!("CARGO_BIN_EXE_impact"),
-            "run",
-        ])
-        .args([scene.to_str().unwrap(), "--out", dir.to_str().unwrap()])
-        .args(["--quiet", "--resume", "--device", "cpu"])
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+    let o = impact_command(2, &scene, &dir, ["--resume", "--device", "cpu"])
         .output()
         .expect("mpirun (Open MPI) on the PATH");
     let stderr = String::from_utf8_lossy(&o.stderr);
@@ -296,19 +290,7 @@ fn a_signal_to_one_rank_stops_every_rank_with_a_checkpoint() {
     let bodies: Vec<String> = parsed.bodies.iter().map(|b| b.name.clone()).collect();
     impact_run(0, &scene, &dir.join("unbroken"));
     let cut = dir.join("cut");
-    let mut job = Command::new("mpirun")
-        .args([
-            "--oversubscribe",
-            "-n",
-            "2",
-            env!("CARGO_BIN_EXE_impact"),
-            "run",
-        ])
-        .args([scene.to_str().unwrap(), "--out", cut.to_str().unwrap()])
-        .args(["--quiet", "--overwrite", "--device", "cpu"])
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("RAYON_NUM_THREADS", "1")
+    let mut job = impact_command(2, &scene, &cut, ["--overwrite", "--device", "cpu"])
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("mpirun (Open MPI) on the PATH");

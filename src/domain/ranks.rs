@@ -34,22 +34,24 @@ pub trait Ranks {
     /// Every rank's `mine`, of any length, one after the other in rank order, with each
     /// rank's length (the lengths are gathered first).
     fn gather_varied(&self, mine: &[f64]) -> (Vec<usize>, Vec<f64>) {
-        let counts: Vec<usize> = (self.gather_all(&[mine.len() as f64]).iter())
-            .map(|c| c[0] as usize)
-            .collect();
+        let counts = self.lengths(mine);
         let mut all = vec![0.0; counts.iter().sum()];
         self.all_gather(mine, &counts, &mut all);
         (counts, all)
     }
     /// [`Ranks::gather_varied`] on rank 0 only (`None` on the others).
     fn gather_varied_to_first(&self, mine: &[f64]) -> Option<Vec<f64>> {
-        let counts: Vec<usize> = (self.gather_all(&[mine.len() as f64]).iter())
-            .map(|c| c[0] as usize)
-            .collect();
+        let counts = self.lengths(mine);
         let first = self.rank() == 0;
         let mut all = vec![0.0; if first { counts.iter().sum() } else { 0 }];
         self.gather_to_first(mine, &counts, &mut all);
         first.then_some(all)
+    }
+    /// Every rank's length of `mine`, in rank order.
+    fn lengths(&self, mine: &[f64]) -> Vec<usize> {
+        (self.gather_all(&[mine.len() as f64]).iter())
+            .map(|c| c[0] as usize)
+            .collect()
     }
     /// Every rank's `text`, in rank order.
     fn gather_text(&self, text: &str) -> Vec<String> {
