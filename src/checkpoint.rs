@@ -1,6 +1,10 @@
 //! `checkpoint.bin`: everything a run needs to continue bit for bit (`impact run --resume`),
 //! with a hash of the scene it belongs to.
 //!
+//! The file is the bincode of [`Checkpoint`] followed by the CRC-32 of those bytes
+//! (little-endian). A file whose checksum does not match is refused before anything is
+//! restored: one flipped byte anywhere, or a truncated file, never resumes to another history.
+//!
 //! A checkpoint holds the integrator's state after a whole step, the run's tallies (iteration
 //! counts, energies, the watch for warnings) and the VTU frames written so far. The scene's
 //! hash leaves out `run.end_time` and `[output]`: a run may be continued to a later end time,
@@ -20,7 +24,7 @@ pub const FILE: &str = "checkpoint.bin";
 
 /// Bumped whenever the layout changes, or what the scene hash covers (a new scene key), so
 /// that an older checkpoint is refused as such, not misread or taken for another scene's.
-pub const FORMAT: u32 = 3;
+pub const FORMAT: u32 = 4;
 
 /// What the time loop accumulates for the summary and the warnings.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -58,16 +62,13 @@ impl Checkpoint {
     /// writing leaves the previous checkpoint whole).
     pub fn write(&self, dir: &Path) -> Result<()> {
         let path = dir.join(FILE);
-        let tmp = dir.join(format!("{FILE}.tmp"));
-        let bytes = bincode::serialize(self).map_err(|e| ImpactError::Write {
+        let mut bytes = bincode::serialize(self).map_err(|e| ImpactError::Write {
             path: path.clone(),
             source: std::io::Error::other(e.to_string()),
         })?;
-        std::fs::write(&tmp, bytes).map_err(|source| ImpactError::Write {
-            path: tmp.clone(),
-            source,
-        })?;
-        std::fs::rename(&tmp, &path).map_err(|source| ImpactError::Write { path, source })
+        let sum = crc32fast::hash(&bytes);
+        bytes.extend_from_slice(&sum.to_le_bytes());
+        crate::output::file::write_whole(&path, &bytes)
     }
 
     /// Reads `dir/checkpoint.bin` and checks that it belongs to `scene`.
@@ -77,20 +78,16 @@ impl Checkpoint {
             dir: dir.to_path_buf(),
             message,
         };
-        let bytes = std::fs::read(&path).map_err(|e| refuse(format!("{}: {e}", path.display())))?;
-        let c: Checkpoint = bincode::deserialize(&bytes).map_err(|e| {
+        let bytes = crate::limits::read_input(&path)
+            .map_err(|e| refuse(format!("{}: {e}", path.display())))?;
+        let payload =
+            checked_payload(&bytes).map_err(|what| refuse(format!("{} {what}", path.display())))?;
+        let c: Checkpoint = bincode::deserialize(payload).map_err(|e| {
             refuse(format!(
                 "{} is not a checkpoint of this version of impact ({e})",
                 path.display()
             ))
         })?;
-        if c.format != FORMAT {
-            return Err(refuse(format!(
-                "{} has format {}, this impact reads {FORMAT}",
-                path.display(),
-                c.format
-            )));
-        }
         if c.scene_hash != scene_hash(scene) {
             return Err(refuse(format!(
                 "the checkpoint belongs to another scene: {} differs from the run's scene in more than run.end_time and [output]",
@@ -99,6 +96,34 @@ impl Checkpoint {
         }
         Ok(c)
     }
+}
+
+/// The bytes before the checksum, where the file's own format is this one's and the
+/// checksum matches; otherwise what is wrong. The format (the first four bytes) is read
+/// before the checksum, so that an older impact's checkpoint is named as such.
+fn checked_payload(bytes: &[u8]) -> std::result::Result<&[u8], String> {
+    let Some(format) = bytes.first_chunk::<4>().map(|b| u32::from_le_bytes(*b)) else {
+        return Err(format!(
+            "holds {} bytes: it is not a checkpoint",
+            bytes.len()
+        ));
+    };
+    if format != FORMAT {
+        return Err(format!(
+            "has format {format}, this impact reads {FORMAT} (or the file is damaged)"
+        ));
+    }
+    let (payload, sum) = bytes
+        .split_last_chunk::<4>()
+        .filter(|(p, _)| p.len() >= 4)
+        .ok_or_else(|| format!("holds {} bytes: it was cut short", bytes.len()))?;
+    let (stored, computed) = (u32::from_le_bytes(*sum), crc32fast::hash(payload));
+    if stored != computed {
+        return Err(format!(
+            "fails its checksum (stored {stored:08x}, computed {computed:08x}): it was damaged or cut short after it was written"
+        ));
+    }
+    Ok(payload)
 }
 
 /// A hash of the scene without `run.end_time` and `[output]` (and without the paths of the
@@ -110,6 +135,7 @@ pub fn scene_hash(scene: &Scene) -> u64 {
     s.output_dir = PathBuf::new();
     s.vtu_every = None;
     s.checkpoint_every = None;
+    s.notices.clear();
     // a mesh file is known by its contents (in the hash), not by where it was read from
     for b in &mut s.bodies {
         if let crate::scene::BodyShape::Imported { path, .. } = &mut b.shape {

@@ -43,6 +43,13 @@ pub enum ImpactError {
         line: Option<usize>,
         message: String,
     },
+    /// A file the run wrote and a command reads back (`history.csv`) is not as written.
+    #[error("{path}{}: {message}", line.map(|l| format!(":{l}")).unwrap_or_default())]
+    Malformed {
+        path: PathBuf,
+        line: Option<usize>,
+        message: String,
+    },
     /// The effective matrix could not be factorised (not positive definite: a body with no
     /// mass, or a NaN in the input).
     #[error("linear solver: {0}")]
@@ -93,6 +100,9 @@ pub enum ImpactError {
     /// The output folder holds an earlier run's files.
     #[error("{}: holds the files of an earlier run ({found}); pass --overwrite to replace them, or --resume to continue that run", dir.display())]
     OutputExists { dir: PathBuf, found: String },
+    /// Another run holds the output folder's lock.
+    #[error("{}: another impact run ({holder}) is writing to this folder; wait for it to end, or choose another --out", dir.display())]
+    Locked { dir: PathBuf, holder: String },
     /// A run cannot be resumed from the folder (no checkpoint, another scene, ...).
     #[error("{}: cannot resume: {message}", dir.display())]
     Resume { dir: PathBuf, message: String },
@@ -142,10 +152,12 @@ impl ImpactError {
             ReadScene { .. } | SceneSyntax { .. } | SceneValue { .. } | Unsupported { .. } => {
                 exit::INVALID_INPUT
             }
-            Mesh { .. } | MeshFile { .. } | TooLarge { .. } => exit::INVALID_INPUT,
+            Mesh { .. } | MeshFile { .. } | TooLarge { .. } | Malformed { .. } => {
+                exit::INVALID_INPUT
+            }
             Solver(_) | Diverged { .. } => exit::DIVERGED,
             Read { .. } | Write { .. } => exit::IO,
-            OutputExists { .. } | Resume { .. } => exit::USAGE,
+            OutputExists { .. } | Resume { .. } | Locked { .. } => exit::USAGE,
             Interrupted { .. } => exit::INTERRUPTED,
             Gpu(_) | Ranks(_) => exit::OTHER,
             Agreed(e) => e.exit_code(),

@@ -34,6 +34,7 @@ pub mod geometry;
 pub mod gpu;
 pub mod integrate;
 pub mod kernels;
+pub mod limits;
 pub mod linalg;
 pub mod material;
 pub mod mesh;

@@ -258,18 +258,21 @@ fn plot_command(dir: &Path, columns: Vec<String>, name: &str) -> anyhow::Result<
     } else {
         columns
     };
+    // a column the history lacks is a usage error, like a bad flag
     if let Some(bad) = columns.iter().find(|c| !table.columns.contains(c)) {
-        anyhow::bail!(
-            "{}: no column \"{bad}\" (the columns are: {})",
+        eprintln!(
+            "error: --columns: {} has no column \"{bad}\" (the columns are: {})",
             dir.join("history.csv").display(),
             table.columns.join(", ")
         );
+        return Ok(exit::USAGE);
     }
     if columns.is_empty() {
-        anyhow::bail!(
-            "{}: no columns to draw; name them with --columns a,b",
+        eprintln!(
+            "error: {}: no contact force columns to draw; name columns with --columns a,b",
             dir.display()
         );
+        return Ok(exit::USAGE);
     }
     chart(&table, &columns.join(", "), &columns).write(dir, name)?;
     println!(

@@ -9,6 +9,7 @@ use std::path::Path;
 /// The top-level modules of `src/`, lowest first.
 const LAYERS: &[&str] = &[
     "error",
+    "limits",
     "parallel",
     "material",
     "geometry",
@@ -24,8 +25,8 @@ const LAYERS: &[&str] = &[
     "integrate",
     "domain",
     "check",
-    "checkpoint",
     "output",
+    "checkpoint",
     "setup",
     "report",
     "run",

@@ -118,46 +118,7 @@ pub fn estimate(scene: &Scene, method: Method, gpu: bool) -> Estimate {
     Estimate { host, device, what }
 }
 
-/// The most host memory this process may use, and where that figure comes from: the least of
-/// the memory available now (plus `held`, what the process already holds of the model), the
-/// address-space limit (`ulimit -v`) and the cgroup limit. `None` where none of them can be
-/// read (not Linux).
-pub fn host_limit(held: u64) -> Option<(u64, String)> {
-    let mut best: Option<(u64, String)> = None;
-    let mut offer = |bytes: u64, source: &str| {
-        if best.as_ref().is_none_or(|b| bytes < b.0) {
-            best = Some((bytes, source.to_string()));
-        }
-    };
-    if let Some(kib) = std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|t| field(&t, "MemAvailable:"))
-    {
-        offer(
-            kib.saturating_mul(1024).saturating_add(held),
-            "memory available now",
-        );
-    }
-    if let Some(b) = std::fs::read_to_string("/proc/self/limits")
-        .ok()
-        .and_then(|t| field(&t, "Max address space"))
-    {
-        offer(b, "the address-space limit, ulimit -v");
-    }
-    if let Some(b) = std::fs::read_to_string("/sys/fs/cgroup/memory.max")
-        .ok()
-        .and_then(|t| t.trim().parse::<u64>().ok())
-    {
-        offer(b, "the cgroup's memory.max");
-    }
-    best
-}
-
-/// The first number after `label` on its line (`unlimited` is none).
-fn field(text: &str, label: &str) -> Option<u64> {
-    let line = text.lines().find(|l| l.starts_with(label))?;
-    line[label.len()..].split_whitespace().next()?.parse().ok()
-}
+pub use crate::limits::host_limit;
 
 /// Refuses an estimate above the host limit; `held`: the bytes of the estimate the process
 /// holds already (the built model).
@@ -192,25 +153,4 @@ pub fn describe(e: &Estimate) -> String {
         bytes(e.host),
         e.what
     )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn limits_parse_from_proc_text() {
-        let limits = "Limit                     Soft Limit           Hard Limit           Units\nMax address space         4294967296           unlimited            bytes\n";
-        assert_eq!(field(limits, "Max address space"), Some(4294967296));
-        let unlimited =
-            "Max address space         unlimited            unlimited            bytes\n";
-        assert_eq!(field(unlimited, "Max address space"), None);
-        assert_eq!(
-            field(
-                "MemTotal: 10 kB\nMemAvailable:   2048 kB\n",
-                "MemAvailable:"
-            ),
-            Some(2048)
-        );
-    }
 }

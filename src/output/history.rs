@@ -3,7 +3,7 @@
 //! round-trip form ([`shortest`]).
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::error::{ImpactError, Result};
@@ -14,13 +14,34 @@ pub struct History {
     path: PathBuf,
     /// Interfaces with friction, whose `sliding` and `friction_work` close the row.
     frictional: Vec<usize>,
-    out: BufWriter<Box<dyn Write>>,
+    /// The file (none on a rank that computes the rows and leaves the file to rank 0).
+    file: Option<File>,
+    /// Whole rows not yet written.
+    pending: String,
+    /// The file's length, which always ends on a whole row: a failed write is cut back to it.
+    whole: u64,
     line: String,
 }
 
 pub use crate::integrate::state::ProbeValues;
 
+/// Rows are written in batches of about this many bytes.
+const BATCH: usize = 8 * 1024;
+
 impl History {
+    fn open(path: PathBuf, model: &Model, file: Option<File>, whole: u64) -> History {
+        History {
+            path,
+            frictional: (0..model.interfaces.len())
+                .filter(|&i| model.interfaces[i].friction > 0.0)
+                .collect(),
+            file,
+            pending: String::new(),
+            whole,
+            line: String::new(),
+        }
+    }
+
     /// Creates the file and writes the header.
     pub fn create(dir: &Path, model: &Model) -> Result<History> {
         let path = dir.join("history.csv");
@@ -28,31 +49,23 @@ impl History {
             path: path.clone(),
             source,
         })?;
-        let cols = column_names(model);
-        let frictional: Vec<usize> = (0..model.interfaces.len())
-            .filter(|&i| model.interfaces[i].friction > 0.0)
-            .collect();
-        let mut h = History {
-            path,
-            frictional,
-            out: BufWriter::new(Box::new(file)),
-            line: String::new(),
-        };
-        h.line = cols.join(",");
+        let mut h = History::open(path, model, Some(file), 0);
+        h.line = column_names(model).join(",");
         h.flush_line()?;
         Ok(h)
     }
 
     /// Reopens the history of a run to continue it: keeps the header and the first `rows`
-    /// rows (the state a checkpoint holds) and appends after them. The header must be the
-    /// model's.
-    pub fn resume(dir: &Path, model: &Model, rows: usize) -> Result<History> {
+    /// rows (the state a checkpoint holds, the last at `time`) and appends after them. The
+    /// header must be the model's, and those rows whole rows of numbers ending at the
+    /// checkpoint's step and time; otherwise the file is left as it is.
+    pub fn resume(dir: &Path, model: &Model, rows: usize, time: f64) -> Result<History> {
         let path = dir.join("history.csv");
         let read_err = |source| ImpactError::Read {
             path: path.clone(),
             source,
         };
-        let text = std::fs::read_to_string(&path).map_err(read_err)?;
+        let text = crate::limits::read_input_text(&path).map_err(read_err)?;
         let header = column_names(model).join(",");
         let bad = |what: String| ImpactError::Resume {
             dir: dir.to_path_buf(),
@@ -67,56 +80,38 @@ impl History {
             .nth(rows)
             .map(|(i, _)| i + 1)
             .ok_or_else(|| bad(format!("it holds fewer than the checkpoint's {rows} rows")))?;
-        let file = std::fs::OpenOptions::new()
+        let fields = header.split(',').count();
+        check_rows(&text[header.len() + 1..keep], fields, (rows - 1, time)).map_err(bad)?;
+        let write_err = |source| ImpactError::Write {
+            path: path.clone(),
+            source,
+        };
+        let mut file = std::fs::OpenOptions::new()
             .write(true)
             .open(&path)
             .map_err(read_err)?;
-        file.set_len(keep as u64)
-            .map_err(|source| ImpactError::Write {
-                path: path.clone(),
-                source,
-            })?;
-        let mut file = file;
-        std::io::Seek::seek(&mut file, std::io::SeekFrom::End(0)).map_err(|source| {
-            ImpactError::Write {
-                path: path.clone(),
-                source,
-            }
-        })?;
-        Ok(History {
-            path,
-            frictional: (0..model.interfaces.len())
-                .filter(|&i| model.interfaces[i].friction > 0.0)
-                .collect(),
-            out: BufWriter::new(Box::new(file)),
-            line: String::new(),
-        })
+        file.set_len(keep as u64).map_err(write_err)?;
+        std::io::Seek::seek(&mut file, std::io::SeekFrom::End(0)).map_err(write_err)?;
+        Ok(History::open(path, model, Some(file), keep as u64))
     }
 
     /// A history that writes nothing: the one of a rank other than the first in a
     /// decomposed run, which computes every row's sums with the others but leaves the file
     /// to rank 0.
     pub fn discard(model: &Model) -> History {
-        History {
-            path: PathBuf::from("history.csv"),
-            frictional: (0..model.interfaces.len())
-                .filter(|&i| model.interfaces[i].friction > 0.0)
-                .collect(),
-            out: BufWriter::new(Box::new(std::io::sink())),
-            line: String::new(),
-        }
+        History::open(PathBuf::from("history.csv"), model, None, 0)
     }
 
     fn flush_line(&mut self) -> Result<()> {
         self.line.push('\n');
-        self.out
-            .write_all(self.line.as_bytes())
-            .map_err(|source| ImpactError::Write {
-                path: self.path.clone(),
-                source,
-            })?;
+        if self.file.is_some() {
+            self.pending.push_str(&self.line);
+        }
         self.line.clear();
-        Ok(())
+        match self.pending.len() >= BATCH {
+            true => self.flush(),
+            false => Ok(()),
+        }
     }
 
     /// Appends one row.
@@ -163,12 +158,53 @@ impl History {
         self.flush_line()
     }
 
-    /// Pushes buffered rows to disk (called on every exit path, so a diverged run keeps them).
+    /// Pushes the rows held back to disk (called on every exit path, so a diverged run keeps
+    /// them). A write that fails part way is cut back, so the file ends on a whole row.
     pub fn flush(&mut self) -> Result<()> {
-        self.out.flush().map_err(|source| ImpactError::Write {
-            path: self.path.clone(),
-            source,
-        })
+        let Some(file) = self.file.as_mut() else {
+            return Ok(());
+        };
+        if let Err(source) = file.write_all(self.pending.as_bytes()) {
+            let _ = file.set_len(self.whole);
+            let _ = std::io::Seek::seek(file, std::io::SeekFrom::End(0));
+            return Err(ImpactError::Write {
+                path: self.path.clone(),
+                source,
+            });
+        }
+        self.whole += self.pending.len() as u64;
+        self.pending.clear();
+        Ok(())
+    }
+}
+
+/// The rows a resumed history keeps: each of `fields` numbers, the last one that of step
+/// `step` at `time` (the same bits).
+fn check_rows(
+    text: &str,
+    fields: usize,
+    (step, time): (usize, f64),
+) -> std::result::Result<(), String> {
+    let mut last = None;
+    for (i, line) in text.lines().enumerate() {
+        let values: Vec<&str> = line.split(',').collect();
+        if values.len() != fields || values.iter().any(|v| v.parse::<f64>().is_err()) {
+            return Err(format!(
+                "row {} is not {fields} numbers (the file was changed or cut after the run wrote it)",
+                i + 1
+            ));
+        }
+        last = Some((values[0].to_string(), values[1].to_string()));
+    }
+    let mut expected = String::new();
+    shortest(time, &mut expected);
+    match last {
+        Some((t, s)) if t == expected && s == step.to_string() => Ok(()),
+        Some((t, s)) => Err(format!(
+            "its row {} is step {s} at t = {t}, the checkpoint's is step {step} at t = {expected}",
+            step + 1
+        )),
+        None => Err("it holds no rows".into()),
     }
 }
 
@@ -346,7 +382,9 @@ mod tests {
         let mut h = History {
             path: path.clone(),
             frictional: vec![0],
-            out: BufWriter::new(Box::new(File::create(&path).unwrap())),
+            file: Some(File::create(&path).unwrap()),
+            pending: String::new(),
+            whole: 0,
             line: String::new(),
         };
         let e = Energies {

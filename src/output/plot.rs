@@ -379,18 +379,13 @@ impl Chart {
     /// Writes `dir/name.svg` and `dir/name.png`.
     pub fn write(&self, dir: &Path, name: &str) -> Result<()> {
         let svg = dir.join(format!("{name}.svg"));
-        std::fs::write(&svg, self.svg())
-            .map_err(|source| ImpactError::Write { path: svg, source })?;
+        super::file::write_whole(&svg, self.svg().as_bytes())?;
         let png = dir.join(format!("{name}.png"));
-        std::fs::write(&png, self.png()).map_err(|source| ImpactError::Write { path: png, source })
+        super::file::write_whole(&png, &self.png())
     }
 }
 
-fn xml(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-}
+use super::file::xml_escape as xml;
 
 struct Canvas {
     rgb: Vec<u8>,
@@ -465,26 +460,59 @@ pub struct Table {
 }
 
 impl Table {
+    /// Reads a history: a header and at least one row, every row as many numbers as the
+    /// header has columns; otherwise an error naming the line (a file cut short by a full
+    /// disk, or edited).
     pub fn read(path: &Path) -> Result<Table> {
-        let text = std::fs::read_to_string(path).map_err(|source| ImpactError::Read {
+        let text = crate::limits::read_input_text(path).map_err(|source| ImpactError::Read {
             path: path.to_path_buf(),
             source,
         })?;
-        let mut lines = text.lines();
+        let bad = |line: usize, message: String| ImpactError::Malformed {
+            path: path.to_path_buf(),
+            line: Some(line),
+            message,
+        };
+        let mut lines = text.lines().enumerate();
         let columns: Vec<String> = lines
             .next()
-            .unwrap_or("")
+            .map_or("", |(_, l)| l)
             .split(',')
             .map(String::from)
             .collect();
-        let rows = lines
-            .filter(|l| !l.trim().is_empty())
-            .map(|l| {
-                l.split(',')
-                    .map(|v| v.parse::<f64>().unwrap_or(f64::NAN))
-                    .collect()
-            })
-            .collect();
+        let mut rows = Vec::new();
+        for (i, l) in lines.filter(|(_, l)| !l.trim().is_empty()) {
+            let row = l
+                .split(',')
+                .map(|v| v.parse::<f64>().ok())
+                .collect::<Option<Vec<f64>>>()
+                .ok_or_else(|| bad(i + 1, "the row is not a row of numbers".into()))?;
+            if row.len() != columns.len() {
+                return Err(bad(
+                    i + 1,
+                    format!(
+                        "the row holds {} values and the header {} columns (was the file cut short or edited?)",
+                        row.len(),
+                        columns.len()
+                    ),
+                ));
+            }
+            rows.push(row);
+        }
+        // every row is written with its line end: a last line without one was cut short
+        if !text.is_empty() && !text.ends_with('\n') {
+            return Err(bad(
+                text.lines().count(),
+                "the last row has no line end: the file was cut short".into(),
+            ));
+        }
+        if rows.is_empty() {
+            return Err(ImpactError::Malformed {
+                path: path.to_path_buf(),
+                line: None,
+                message: "the history holds no rows".into(),
+            });
+        }
         Ok(Table { columns, rows })
     }
 

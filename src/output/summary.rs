@@ -4,7 +4,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use crate::error::{ImpactError, Result};
+use crate::error::Result;
 use crate::linalg::FactorStats;
 
 #[derive(Debug, Clone, Serialize, Default)]
@@ -131,6 +131,6 @@ impl Summary {
     pub fn write(&self, dir: &Path) -> Result<()> {
         let path = dir.join("summary.json");
         let text = serde_json::to_string_pretty(self).expect("summary serialises");
-        std::fs::write(&path, text + "\n").map_err(|source| ImpactError::Write { path, source })
+        super::file::write_whole(&path, (text + "\n").as_bytes())
     }
 }

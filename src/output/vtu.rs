@@ -17,9 +17,9 @@
 //! a decomposed run writes its piece of each frame (its elements and nodes, `node` their
 //! numbers in the whole model), and rank 0 the `.pvtu` that joins the pieces.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use super::file::{write_whole, write_whole_with, xml_escape};
 use crate::element::{hex8, tet4};
 use crate::error::{ImpactError, Result};
 use crate::material::Rotation;
@@ -90,11 +90,6 @@ fn write_grid(
     cell_data(&mut app, model, u);
     let cell_data_xml = app.take_headers();
 
-    let write_err = |source| ImpactError::Write {
-        path: path.to_path_buf(),
-        source,
-    };
-    let mut out = std::io::BufWriter::new(std::fs::File::create(path).map_err(write_err)?);
     let head = format!(
         "<?xml version=\"1.0\"?>\n\
 <VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n\
@@ -111,11 +106,11 @@ fn write_grid(
   </UnstructuredGrid>\n\
   <AppendedData encoding=\"raw\">\n_"
     );
-    out.write_all(head.as_bytes()).map_err(write_err)?;
-    out.write_all(&app.bytes).map_err(write_err)?;
-    out.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
-        .map_err(write_err)?;
-    out.flush().map_err(write_err)?;
+    write_whole_with(path, |out| {
+        out.write_all(head.as_bytes())?;
+        out.write_all(&app.bytes)?;
+        out.write_all(b"\n  </AppendedData>\n</VTKFile>\n")
+    })?;
     Ok((point_data_xml, cell_data_xml))
 }
 
@@ -143,7 +138,7 @@ fn pvtu(point_data: &str, cell_data: &str, pieces: &[String]) -> String {
         declare(cell_data)
     );
     for p in pieces {
-        text.push_str(&format!("    <Piece Source=\"{p}\"/>\n"));
+        text.push_str(&format!("    <Piece Source=\"{}\"/>\n", xml_escape(p)));
     }
     text.push_str("  </PUnstructuredGrid>\n</VTKFile>\n");
     text
@@ -407,7 +402,7 @@ impl VtuWriter {
         let pieces: Vec<String> = (0..ranks).map(piece).collect();
         let path = self.dir.join(&name);
         let text = pvtu(&point_data, &cell_data, &pieces);
-        std::fs::write(&path, text).map_err(|source| ImpactError::Write { path, source })?;
+        write_whole(&path, text.as_bytes())?;
         self.frames.push((time, name));
         self.write_collection()
     }
@@ -420,11 +415,12 @@ impl VtuWriter {
         );
         for (t, name) in &self.frames {
             text.push_str(&format!(
-                "    <DataSet timestep=\"{t:e}\" part=\"0\" file=\"{name}\"/>\n"
+                "    <DataSet timestep=\"{t:e}\" part=\"0\" file=\"{}\"/>\n",
+                xml_escape(name)
             ));
         }
         text.push_str("  </Collection>\n</VTKFile>\n");
-        std::fs::write(&path, text).map_err(|source| ImpactError::Write { path, source })
+        write_whole(&path, text.as_bytes())
     }
 }
 

@@ -6,11 +6,13 @@ use std::sync::Arc;
 use std::time::Instant;
 
 mod charts;
+mod lock;
 mod outputs;
 mod ranks;
 mod summary;
 
 pub use charts::write_charts;
+pub use lock::FolderLock;
 pub use outputs::RUN_FILES;
 pub use ranks::run_ranks;
 
@@ -105,18 +107,36 @@ fn build_solver<'m>(
                     speed_scale,
                     kern,
                 )?),
-                _ => Box::new(ImplicitSolver::new(
-                    model,
-                    scene.implicit.clone(),
-                    dt,
-                    speed_scale,
-                    kern,
-                )?),
+                _ => Box::new(
+                    ImplicitSolver::new(model, scene.implicit.clone(), dt, speed_scale, kern)
+                        .map_err(|e| of_scene(scene, e))?,
+                ),
             }
         }
     };
     solver.schedule(setup.last_step, scene.checkpoint_every);
     Ok(solver)
+}
+
+/// An error raised below the scene's level (a factor too large for the memory) with the
+/// scene's path.
+fn of_scene(scene: &Scene, e: ImpactError) -> ImpactError {
+    match e {
+        ImpactError::TooLarge {
+            path,
+            what,
+            estimate,
+            limit,
+            limit_source,
+        } if path.as_os_str().is_empty() => ImpactError::TooLarge {
+            path: scene.path.clone(),
+            what,
+            estimate,
+            limit,
+            limit_source,
+        },
+        e => e,
+    }
 }
 
 /// Every `[[exact]]` curve must name a history column.
@@ -155,10 +175,11 @@ fn run_on(scene: &Scene, opts: &RunOptions, ranks: Option<&dyn Ranks>) -> Result
     let dir = output_dir(scene, opts);
     // rank 0 prepares the folder, and every rank stops where it cannot
     let prepared = match ranks.is_none_or(|r| r.rank() == 0) {
-        true => prepare_dir(&dir, opts),
-        false => Ok(()),
+        true => prepare_dir(&dir, opts).map(Some),
+        false => Ok(None),
     };
-    ranks::agreed(ranks, prepared)?;
+    // held until the run returns, however it ends
+    let _lock = ranks::agreed(ranks, prepared)?;
     let resumed = opts
         .resume
         .then(|| Checkpoint::read(&dir, scene))
@@ -195,7 +216,12 @@ fn set_up(
     };
     let device = opts.device.unwrap_or(scene.run.device);
     let Some(r) = ranks else {
-        return setup::prepare(scene, device, &mut notice, clock);
+        let setup = setup::prepare(scene, device, &mut notice, clock)?;
+        // said now, before a run they may make long; the summary lists them at the end
+        for w in &setup.warnings {
+            notice(&format!("warning: {}: {}", w.kind, w.message));
+        }
+        return Ok(setup);
     };
     // the ranks' setup stays on the CPU: each rank then opens its own GPU
     let mut setup = setup::prepare(scene, DeviceChoice::Cpu, &mut notice, clock)?;
@@ -262,6 +288,8 @@ impl<'s> Running<'s> {
         clock.lap("first row");
         summary.setup_seconds = clock.total();
         summary.setup_stages = clock.stages();
+        // `running` until the run ends: a process killed on the way leaves no stale ending
+        out.summary(&summary)?;
         let identity = RunIdentity {
             scene_hash: crate::checkpoint::scene_hash(scene),
             speed_scale,
@@ -280,7 +308,8 @@ impl<'s> Running<'s> {
         })
     }
 
-    /// A checkpoint of the current state (the ranks agree on its write).
+    /// A checkpoint of the current state (the ranks agree on its write); a failed write
+    /// ends the run as failed.
     fn save(&mut self) -> Result<()> {
         let saved = save(
             self.solver.as_mut(),
@@ -288,7 +317,20 @@ impl<'s> Running<'s> {
             &self.tally,
             &self.identity,
         );
-        ranks::agreed(self.ranks, saved)
+        ranks::agreed(self.ranks, saved).map_err(|e| self.failed(e))
+    }
+
+    /// Ends the run as failed with `err` (a write, the GPU): the history flushed and a
+    /// summary with `status = "failed"` and the reason, where it can still be written.
+    fn failed(&mut self, err: ImpactError) -> ImpactError {
+        let _ = self.out.history.flush();
+        let model = &self.setup.model;
+        fill_summary(&mut self.summary, &self.tally, model, self.solver.as_ref());
+        self.summary.status = "failed".into();
+        self.summary.message = Some(format!("after step {}: {err}", self.tally.steps));
+        self.summary.wall_seconds = self.start.elapsed().as_secs_f64();
+        let _ = self.out.summary(&self.summary);
+        err
     }
 
     /// Whether step `n` is the run's last, shortened to end at `end_time`.
@@ -348,15 +390,7 @@ impl<'s> Running<'s> {
                 let time = (n + 1) as f64 * self.setup.dt;
                 Err(self.fail((n + 1, time), err.to_string()))
             }
-            Err(err) => {
-                let _ = self.out.history.flush();
-                fill_summary(&mut self.summary, &self.tally, model, self.solver.as_ref());
-                self.summary.status = "failed".into();
-                self.summary.message = Some(format!("at step {}: {err}", n + 1));
-                self.summary.wall_seconds = self.start.elapsed().as_secs_f64();
-                let _ = self.out.summary(&self.summary);
-                Err(err)
-            }
+            Err(err) => Err(self.failed(err)),
         }
     }
 
@@ -406,20 +440,28 @@ impl<'s> Running<'s> {
     /// Writes the charts and the summary of a run that reached its end time.
     fn finish(mut self) -> Result<Summary> {
         let model = &self.setup.model;
-        self.out.history.flush()?;
-        if self.out.writes {
-            write_charts(self.scene, model, &self.out.dir)?;
+        let written = self
+            .out
+            .history
+            .flush()
+            .and_then(|()| match self.out.writes {
+                true => write_charts(self.scene, model, &self.out.dir),
+                false => Ok(()),
+            });
+        if let Err(e) = written {
+            return Err(self.failed(e));
         }
         fill_summary(&mut self.summary, &self.tally, model, self.solver.as_ref());
         self.summary.ranks = self.solver.decomposition();
-        self.summary.warnings = warnings(
+        self.summary.warnings = self.setup.warnings.clone();
+        self.summary.warnings.extend(warnings(
             self.scene,
             model,
             &self.tally,
             self.summary.method == Method::Implicit.name(),
             &self.setup.initial,
             self.energy_scale,
-        );
+        ));
         self.summary.status = if self.summary.warnings.is_empty() {
             "completed"
         } else {

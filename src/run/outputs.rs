@@ -2,6 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
+use super::lock::FolderLock;
 use super::RunOptions;
 use crate::checkpoint::{Checkpoint, Tally};
 use crate::error::{ImpactError, Result};
@@ -17,9 +18,30 @@ use crate::setup::Setup;
 /// them unless told to overwrite or resume.
 pub const RUN_FILES: [&str; 3] = ["summary.json", "history.csv", "checkpoint.bin"];
 
-/// Refuses a folder that holds an earlier run's files (unless `--overwrite` or `--resume`),
-/// and creates it.
-pub(super) fn prepare_dir(dir: &Path, opts: &RunOptions) -> Result<()> {
+/// Creates the folder (a resumed run's must exist) and takes its lock, then refuses it if it
+/// holds an earlier run's files (unless `--overwrite` or `--resume`). The lock is held until
+/// the returned guard is dropped, at the run's end.
+pub(super) fn prepare_dir(dir: &Path, opts: &RunOptions) -> Result<FolderLock> {
+    if opts.resume && !dir.is_dir() {
+        return Err(ImpactError::Resume {
+            dir: dir.to_path_buf(),
+            message: "the folder does not exist".into(),
+        });
+    }
+    if let Some(target) = std::fs::read_link(dir).ok().filter(|_| !dir.exists()) {
+        return Err(ImpactError::Write {
+            path: dir.to_path_buf(),
+            source: std::io::Error::other(format!(
+                "it is a symbolic link to {}, which does not exist",
+                target.display()
+            )),
+        });
+    }
+    std::fs::create_dir_all(dir).map_err(|source| ImpactError::Write {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let lock = FolderLock::acquire(dir)?;
     let found: Vec<&str> = RUN_FILES
         .iter()
         .copied()
@@ -38,10 +60,7 @@ pub(super) fn prepare_dir(dir: &Path, opts: &RunOptions) -> Result<()> {
             std::fs::remove_file(&path).map_err(|source| ImpactError::Write { path, source })?;
         }
     }
-    std::fs::create_dir_all(dir).map_err(|source| ImpactError::Write {
-        path: dir.to_path_buf(),
-        source,
-    })
+    Ok(lock)
 }
 
 /// The outputs a run writes as it goes.
@@ -138,7 +157,7 @@ pub(super) fn start_resumed(
         dir: dir.to_path_buf(),
         stem: c.frame_stem.clone(),
         history: match writes {
-            true => History::resume(dir, model, c.tally.steps + 1)?,
+            true => History::resume(dir, model, c.tally.steps + 1, solver.time())?,
             false => History::discard(model),
         },
         frames: (scene.vtu_every).map(|every| {
@@ -175,6 +194,7 @@ pub(super) fn check_resumable(
         SolverState::Implicit(s) => (s.steps, s.time, None),
         SolverState::Resident(s) => (s.steps, s.time, Some(s.dt)),
     };
+    check_tally(c, (steps, time), setup).map_err(refuse)?;
     if steps >= setup.steps {
         return Err(refuse(format!(
             "the checkpoint is at step {steps} (t = {time:.6e}) and the scene ends at step {}: nothing is left to run (raise run.end_time)",
@@ -186,6 +206,42 @@ pub(super) fn check_resumable(
             "the checkpoint's step is {dt:e} and this run's {:e} (the stable step was found on another device): resume with the first run's --device",
             setup.dt
         )));
+    }
+    Ok(())
+}
+
+/// The checkpoint's tally against its solver state and the model: the same step count, a
+/// time that is that many steps, one entry per interface, finite energies. (The checksum
+/// catches a damaged file; this catches a whole file whose parts disagree.)
+fn check_tally(
+    c: &Checkpoint,
+    (steps, time): (usize, f64),
+    setup: &Setup,
+) -> std::result::Result<(), String> {
+    let t = &c.tally;
+    if t.steps != steps {
+        return Err(format!(
+            "its tally counts {} steps and its solver state {steps}",
+            t.steps
+        ));
+    }
+    let expected = steps as f64 * setup.dt;
+    if !time.is_finite() || (time - expected).abs() > 1e-6 * expected.max(setup.dt) {
+        return Err(format!(
+            "its time {time:e} is not {steps} steps of {:e} ({expected:e})",
+            setup.dt
+        ));
+    }
+    let n = setup.model.interfaces.len();
+    if t.peak_force.len() != n || t.deepest.len() != n {
+        return Err(format!(
+            "its tally holds {} interfaces and the model {n}",
+            t.peak_force.len()
+        ));
+    }
+    let energies = [t.energy_initial, t.energy_final, t.energy_max];
+    if energies.iter().any(|e| !e.is_finite()) || t.iterations_max > t.iterations_total {
+        return Err("its tally's energies or iteration counts are not a run's".into());
     }
     Ok(())
 }
