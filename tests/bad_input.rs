@@ -368,3 +368,66 @@ fn a_ply_normal_that_is_no_axis_is_named() {
     );
     expect(&text, &["body[0].plies.normal", "\"w\""]);
 }
+
+/// Names head history columns (`bar.vx`) and go into CSV, XML and file names: a comma, a
+/// quote, a newline or nothing at all is refused naming the key.
+#[test]
+fn names_that_would_break_the_history_are_refused() {
+    let wall = scene_text("bar_on_wall.toml");
+    for (bad, what) in [
+        ("\"bar,A\"", "','"),
+        ("\"\\\"bar\"", "'\"'"),
+        ("\"bar\\nA\"", "'\\n'"),
+        ("\"\"", "must not be empty"),
+        ("\"bar A\"", "' '"),
+    ] {
+        let text = edit(&wall, "name = \"bar\"", &format!("name = {bad}"));
+        expect(&text, &["body[0].name", what]);
+    }
+    let text = edit(&wall, "name = \"elastic\"", "name = \"el&astic\"");
+    expect(&text, &["material[0].name", "'&'"]);
+}
+
+/// Bodies, contacts, planes and probes share one set of names: a probe named like a body
+/// would give two `bar.vx` columns.
+#[test]
+fn a_probe_named_like_a_body_is_refused() {
+    let wall = scene_text("bar_on_wall.toml");
+    let text = edit(&wall, "name = \"tip\"", "name = \"bar\"");
+    expect(&text, &["probe[0].name", "body[0]", "history columns"]);
+    let text = edit(&wall, "name = \"wall\"", "name = \"tip\"");
+    expect(&text, &["probe[0].name", "rigid_plane[0]"]);
+}
+
+/// A normal is scaled before it is normalised: `[-1e200, 0, 0]` and `[-1e-13, 0, 0]` are the
+/// unit normal `[-1, 0, 0]`, and only a zero or non-finite one is refused.
+#[test]
+fn a_huge_or_tiny_normal_is_the_unit_normal() {
+    let wall = scene_text("bar_on_wall.toml");
+    for n in ["-1e200", "-1e-13", "-1e-300", "-1.7e308"] {
+        let text = edit(
+            &wall,
+            "normal = [-1.0, 0.0, 0.0]",
+            &format!("normal = [{n}, 0.0, 0.0]"),
+        );
+        let scene = Scene::parse(&text, Path::new("wall.toml")).expect("a valid normal");
+        assert_eq!(scene.planes[0].normal, [-1.0, 0.0, 0.0], "{n}");
+    }
+    let text = edit(
+        &wall,
+        "normal = [-1.0, 0.0, 0.0]",
+        "normal = [0.0, 0.0, 0.0]",
+    );
+    expect(&text, &["rigid_plane[0].normal", "zero vector"]);
+}
+
+/// The same contact pair declared twice would halve each reported force: refused.
+#[test]
+fn a_contact_pair_declared_twice_is_refused() {
+    let text = base();
+    let start = text.find("[[contact]]").unwrap();
+    let end = start + text[start..].find("[[probe]]").unwrap();
+    let twice = text[start..end].replace("name = \"impact\"", "name = \"impact2\"");
+    let text = format!("{}{twice}{}", &text[..end], &text[end..]);
+    expect(&text, &["contact[1].secondary", "contact[0] (`impact`)"]);
+}

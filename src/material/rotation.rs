@@ -21,9 +21,24 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     ]
 }
 
-fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
+/// `a` scaled to length 1; `None` only when it is zero or not finite. A vector whose squared
+/// length would overflow or underflow (`[-1e200, 0, 0]`, `[1e-170, 0, 0]`) is scaled by its
+/// largest component first.
+pub fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
+    if !a.iter().all(|x| x.is_finite()) {
+        return None;
+    }
     let n = dot(a, a).sqrt();
-    (n.is_finite() && n > 0.0).then(|| a.map(|x| x / n))
+    if n.is_finite() && n > 1e-150 {
+        return Some(a.map(|x| x / n));
+    }
+    let largest = a.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    if largest == 0.0 {
+        return None;
+    }
+    let s = a.map(|x| x / largest);
+    let n = dot(s, s).sqrt();
+    Some(s.map(|x| x / n))
 }
 
 impl Rotation {

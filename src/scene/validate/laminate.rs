@@ -112,14 +112,13 @@ impl Checker<'_> {
             }
             (None, Some(axis), Some(angle)) => {
                 let axis = self.finite3(&key("orientation.axis"), axis)?;
-                let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
-                if n == 0.0 {
-                    return Err(self.err(key("orientation.axis"), "must be a nonzero vector"));
-                }
+                let axis = crate::material::rotation::unit(axis).ok_or_else(|| {
+                    self.err(key("orientation.axis"), "must be a nonzero vector")
+                })?;
                 if !angle.is_finite() {
                     return Err(self.err(key("orientation.angle"), "must be finite (degrees)"));
                 }
-                Ok(Rotation::IDENTITY.turned(axis.map(|x| x / n), angle.to_radians()))
+                Ok(Rotation::IDENTITY.turned(axis, angle.to_radians()))
             }
             _ => Err(self.err(
                 key("orientation"),

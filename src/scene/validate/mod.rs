@@ -8,9 +8,12 @@ use super::*;
 use crate::error::{ImpactError, Result};
 
 mod laminate;
+mod names;
 
 struct Checker<'a> {
     path: &'a Path,
+    /// What the scene's mesh files hold that is not read (shown before a run or a check).
+    notices: std::cell::RefCell<Vec<String>>,
 }
 
 impl Checker<'_> {
@@ -468,9 +471,6 @@ impl Checker<'_> {
         let mut bodies = Vec::with_capacity(raw.len());
         for (i, b) in raw.iter().enumerate() {
             let key = |k: &str| format!("body[{i}].{k} (body `{}`)", b.name);
-            if raw[..i].iter().any(|o| o.name == b.name) {
-                return Err(self.err(key("name"), "is used by an earlier body"));
-            }
             let material = materials
                 .iter()
                 .position(|m| m.name == b.material)
@@ -512,7 +512,8 @@ impl Checker<'_> {
                             source,
                         });
                     }
-                    let parts = crate::mesh::import(&file_path, scale, translate)?;
+                    let (parts, notices) = crate::mesh::import(&file_path, scale, translate)?;
+                    self.notices.borrow_mut().extend(notices);
                     BodyShape::Imported {
                         path: file_path,
                         parts: Arc::new(parts),
@@ -575,6 +576,28 @@ impl Checker<'_> {
                     "self-contact (secondary and primary on the same body) is not supported",
                 ));
             }
+            let same = |c: &ContactSpec| {
+                (
+                    c.secondary.body,
+                    c.secondary.surface,
+                    c.primary.body,
+                    c.primary.surface,
+                ) == (
+                    secondary.body,
+                    secondary.surface,
+                    primary.body,
+                    primary.surface,
+                )
+            };
+            if let Some((j, c)) = contacts.iter().enumerate().find(|(_, c)| same(c)) {
+                return Err(self.err(
+                    key("secondary"),
+                    format!(
+                        "the same pair of surfaces as contact[{j}] (`{}`): two contacts on one pair share its force, so each would report part of it",
+                        c.name
+                    ),
+                ));
+            }
             contacts.push(ContactSpec {
                 name: ct.name.clone(),
                 secondary,
@@ -603,10 +626,8 @@ impl Checker<'_> {
             let key = |k: &str| format!("rigid_plane[{i}].{k} (plane `{}`)", p.name);
             let point = self.finite3(&key("point"), p.point)?;
             let n = self.finite3(&key("normal"), p.normal)?;
-            let len = norm3(n);
-            if len < 1e-12 {
-                return Err(self.err(key("normal"), "must not be the zero vector"));
-            }
+            let normal = crate::material::rotation::unit(n)
+                .ok_or_else(|| self.err(key("normal"), "must not be the zero vector"))?;
             let bodies_idx = match &p.bodies {
                 None => (0..n_bodies).collect(),
                 Some(names) => names
@@ -617,7 +638,7 @@ impl Checker<'_> {
             planes.push(PlaneSpec {
                 name: p.name.clone(),
                 point,
-                normal: [n[0] / len, n[1] / len, n[2] / len],
+                normal,
                 friction: self.friction(&key("friction"), p.friction)?,
                 bodies: bodies_idx,
                 initial_penetration: self.choice(
@@ -629,25 +650,6 @@ impl Checker<'_> {
             });
         }
         Ok(planes)
-    }
-
-    /// Contacts and planes name history columns, so their names are unique together.
-    fn unique_interface_names(&self, contacts: &[ContactSpec], planes: &[PlaneSpec]) -> Result<()> {
-        let mut names: Vec<&str> = Vec::new();
-        for (kind, nm) in contacts
-            .iter()
-            .map(|x| ("contact", x.name.as_str()))
-            .chain(planes.iter().map(|x| ("rigid_plane", x.name.as_str())))
-        {
-            if names.contains(&nm) {
-                return Err(self.err(
-                    format!("{kind}.name"),
-                    format!("`{nm}` is used twice among contacts and rigid planes"),
-                ));
-            }
-            names.push(nm);
-        }
-        Ok(())
     }
 
     /// `[[fix]]`: held components of a face, a node set or a region.
@@ -711,12 +713,6 @@ impl Checker<'_> {
         let mut probes = Vec::new();
         for (i, p) in raw.iter().enumerate() {
             let key = |k: &str| format!("probe[{i}].{k} (probe `{}`)", p.name);
-            if raw[..i].iter().any(|o| o.name == p.name) {
-                return Err(self.err(
-                    key("name"),
-                    "is used by an earlier probe (each probe names its own history columns)",
-                ));
-            }
             probes.push(ProbeSpec {
                 name: p.name.clone(),
                 body: self.body_index(&key("body"), &p.body, raw_bodies)?,
@@ -796,7 +792,11 @@ impl Checker<'_> {
 }
 
 pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
-    let c = Checker { path };
+    let c = Checker {
+        path,
+        notices: Default::default(),
+    };
+    c.names(&raw)?;
     let run = c.run(raw.run)?;
     let implicit = c.implicit(raw.implicit)?;
     let explicit = c.explicit(raw.explicit)?;
@@ -804,7 +804,6 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
     let bodies = c.bodies(&raw.body, &materials)?;
     let contacts = c.contacts(&raw.contact, &raw.body, &bodies)?;
     let planes = c.planes(&raw.rigid_plane, &raw.body, bodies.len())?;
-    c.unique_interface_names(&contacts, &planes)?;
     let fixes = c.fixes(&raw.fix, &raw.body, &bodies)?;
     let probes = c.probes(&raw.probe, &raw.body)?;
     let exact = c.exact_curves(&raw.exact)?;
@@ -826,5 +825,6 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         vtu_every,
         checkpoint_every,
         exact,
+        notices: c.notices.take(),
     })
 }
