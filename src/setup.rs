@@ -4,10 +4,10 @@
 
 use crate::backend::{CpuKernels, Kernels};
 use crate::check::penetration::InitialContact;
-use crate::check::{elements, facing, memory, penetration};
+use crate::check::{elements, facing, memory, penetration, quality, Warning};
 use crate::error::{ImpactError, Result};
 use crate::gpu::{AdapterPolicy, GpuContext, GpuKernels};
-use crate::integrate::stable_step::stable_step_on;
+use crate::integrate::stable_step::survey;
 use crate::model::Model;
 use crate::output::summary::SetupClock;
 use crate::scene::{DeviceChoice, Method, PenetrationPolicy, Scene};
@@ -37,6 +37,9 @@ pub struct Setup {
     /// t = 0 on every interface.
     pub initial: Vec<InitialContact>,
     pub estimate: memory::Estimate,
+    /// What the model's checks found doubtful but not wrong ([`quality`]); a run ends with
+    /// them among its warnings.
+    pub warnings: Vec<Warning>,
 }
 
 /// Builds and checks the model and picks the device, method and step. `notice` receives
@@ -47,6 +50,9 @@ pub fn prepare(
     notice: &mut dyn FnMut(&str),
     clock: &mut SetupClock,
 ) -> Result<Setup> {
+    for line in &scene.notices {
+        notice(&format!("notice: {line}"));
+    }
     let counts = memory::Counts::of(scene);
     if counts.nodes > u64::from(u32::MAX) {
         return Err(ImpactError::SceneValue {
@@ -73,10 +79,12 @@ pub fn prepare(
     clock.lap("checks");
     let ctx = gpu_context(scene, model.mesh.element_count(), device, notice)?;
     clock.lap("device");
+    let mut warnings = quality::locking(scene);
     let bound = match scene.run.method {
         Method::Explicit | Method::Auto => {
-            let b = stable_step_on(&model, ctx.as_ref()).map_err(|e| gpu_error(scene, e))?;
-            Some(check_stable(scene, &model, b)?)
+            let s = survey(&model, ctx.as_ref()).map_err(|e| gpu_error(scene, e))?;
+            warnings.extend(quality::slivers(scene, &model.mesh, &s.steps));
+            Some(check_stable(scene, &model, (s.step, s.element))?)
         }
         Method::Implicit => None,
     };
@@ -105,6 +113,7 @@ pub fn prepare(
         last_step,
         initial,
         estimate,
+        warnings,
     })
 }
 
@@ -251,7 +260,7 @@ pub fn kernels<'m>(
 }
 
 /// The time step of an explicit run given the mesh's stable bound `(step, element)` from
-/// [`stable_step_on`]: the scene's, which must not exceed the bound (unless
+/// [`crate::integrate::stable_step::stable_step_on`]: the scene's, which must not exceed the bound (unless
 /// `explicit.allow_unstable`), or `safety_factor` of the bound.
 pub fn explicit_time_step(scene: &Scene, (stable, element): (f64, usize)) -> Result<f64> {
     match scene.run.time_step {
@@ -284,7 +293,7 @@ pub fn implicit_step_cost(elements: usize) -> f64 {
 /// stable step is the wave-resolving one, so it is explicit. With one, implicit is chosen
 /// when time_step / (explicit step) exceeds [`implicit_step_cost`]. Returns the method and a
 /// sentence for `summary.json`.
-/// `stable` is the mesh's stable explicit step ([`stable_step_on`]).
+/// `stable` is the mesh's stable explicit step ([`crate::integrate::stable_step::stable_step_on`]).
 pub fn choose_method(scene: &Scene, model: &Model, stable: f64) -> (Method, String) {
     let explicit_dt = scene.explicit.safety_factor * stable;
     let cost = implicit_step_cost(model.mesh.element_count());

@@ -129,8 +129,12 @@ point = [-0.5, -0.5, 0.0]
 /// sets, and coordinates equal to the 16 digits the ASCII file keeps.
 #[test]
 fn ascii_and_binary_msh_read_alike() {
-    let a = import(&meshes().join("block_tet.msh"), 1.0, [0.0; 3]).expect("ascii");
-    let b = import(&meshes().join("block_tet_binary.msh"), 1.0, [0.0; 3]).expect("binary");
+    let a = import(&meshes().join("block_tet.msh"), 1.0, [0.0; 3])
+        .expect("ascii")
+        .0;
+    let b = import(&meshes().join("block_tet_binary.msh"), 1.0, [0.0; 3])
+        .expect("binary")
+        .0;
     assert_eq!(a.nodes.len(), b.nodes.len());
     let dx = a
         .nodes
@@ -158,7 +162,9 @@ fn ascii_and_binary_msh_read_alike() {
 /// Scale, then translate: the `.inp` cube becomes [0, 2] x [0, 2] x [1, 3].
 #[test]
 fn scale_then_translate() {
-    let m = import(&meshes().join("block_hex.inp"), 2.0, [1.0, 1.0, 1.0]).expect("deck");
+    let m = import(&meshes().join("block_hex.inp"), 2.0, [1.0, 1.0, 1.0])
+        .expect("deck")
+        .0;
     let lo = [0, 1, 2].map(|a| m.nodes.iter().map(|p| p[a]).fold(f64::INFINITY, f64::min));
     let hi = [0, 1, 2].map(|a| {
         m.nodes
@@ -400,4 +406,92 @@ fn bad_abaqus_orientations_are_named() {
         let msg = scene_error("oriented.inp", deck.as_bytes(), extra);
         assert!(msg.contains(part), "{msg:?} should contain {part:?}");
     }
+}
+
+/// `*INCLUDE`: the cube's deck split into a main deck that includes its nodes from a
+/// subfolder, which in turn includes half of the elements' data lines from beside it, reads
+/// as the whole deck (all 512 elements, the same nodes, sets and surfaces); the keywords it
+/// does not read are named in one notice with their lines.
+#[test]
+fn an_included_deck_reads_as_the_whole_deck() {
+    let whole_path = meshes().join("block_hex.inp");
+    let text = std::fs::read_to_string(&whole_path).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    // lines 4..=733: *NODE and its data; 734..: *ELEMENT and its 1,024 data lines
+    let nodes = lines[3..733].join("\n") + "\n";
+    let element_data = &lines[734..1758];
+    let (first, second) = element_data.split_at(element_data.len() / 2);
+    let dir = std::env::temp_dir().join(format!("impact_include_{}", std::process::id()));
+    let sub = dir.join("parts");
+    std::fs::create_dir_all(&sub).unwrap();
+    std::fs::write(
+        sub.join("nodes.inp"),
+        nodes
+            + "*ELEMENT, TYPE=C3D8, ELSET=BLOCK\n"
+            + &first.join("\n")
+            + "\n*INCLUDE, INPUT=\"more.inp\"\n",
+    )
+    .unwrap();
+    std::fs::write(sub.join("more.inp"), second.join("\n") + "\n").unwrap();
+    let main = lines[..3].join("\n")
+        + "\n*Include, input=parts/nodes.inp\n"
+        + &lines[1758..].join("\n")
+        + "\n";
+    let main_path = dir.join("main.inp");
+    std::fs::write(&main_path, main).unwrap();
+    let (a, notices) = import(&main_path, 1.0, [0.0; 3]).expect("the included deck");
+    let (b, _) = import(&whole_path, 1.0, [0.0; 3]).expect("the whole deck");
+    assert_eq!(a.hexes.len(), 512);
+    assert!(
+        a.nodes == b.nodes && a.hexes == b.hexes,
+        "the meshes differ"
+    );
+    assert!(a.surfaces == b.surfaces && a.node_sets == b.node_sets);
+    assert_eq!(notices.len(), 1, "{notices:?}");
+    for k in [
+        "*HEADING (line 2)",
+        "*MATERIAL (line",
+        "*ELASTIC",
+        "*DENSITY",
+    ] {
+        assert!(notices[0].contains(k), "{k}: {}", notices[0]);
+    }
+
+    // a missing include names the including file and line; a file that includes itself
+    // stops at the depth limit
+    std::fs::write(sub.join("more.inp"), "*INCLUDE, INPUT=gone.inp\n").unwrap();
+    let e = import(&main_path, 1.0, [0.0; 3]).unwrap_err().to_string();
+    assert!(e.contains("more.inp:1") && e.contains("gone.inp"), "{e}");
+    std::fs::write(sub.join("more.inp"), "*INCLUDE, INPUT=more.inp\n").unwrap();
+    let e = import(&main_path, 1.0, [0.0; 3]).unwrap_err().to_string();
+    assert!(e.contains("nested more than"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A mesh path that names a device is refused at once, not read until memory runs out.
+#[test]
+fn a_mesh_path_that_is_a_device_is_refused() {
+    let dir = std::env::temp_dir().join(format!("impact_device_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let link = dir.join("zero.msh");
+    let _ = std::fs::remove_file(&link);
+    std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+    let e = import(&link, 1.0, [0.0; 3]).unwrap_err().to_string();
+    assert!(e.contains("not a regular file"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A byte-order mark before `$MeshFormat` (some editors write one) is passed over.
+#[test]
+fn a_byte_order_mark_is_passed_over() {
+    let dir = std::env::temp_dir().join(format!("impact_bom_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut bytes = b"\xEF\xBB\xBF".to_vec();
+    bytes.extend(std::fs::read(meshes().join("block_tet.msh")).unwrap());
+    let path = dir.join("bom.msh");
+    std::fs::write(&path, bytes).unwrap();
+    let (a, _) = import(&path, 1.0, [0.0; 3]).expect("read with its mark");
+    let (b, _) = import(&meshes().join("block_tet.msh"), 1.0, [0.0; 3]).unwrap();
+    assert!(a.nodes == b.nodes && a.tets == b.tets);
+    let _ = std::fs::remove_dir_all(&dir);
 }

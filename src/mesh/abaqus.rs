@@ -6,8 +6,9 @@
 //! (`TYPE=ELEMENT`, the default: lines `element-or-elset, Sn`; `TYPE=NODE`: a node set),
 //! `*ORIENTATION` (`SYSTEM=RECTANGULAR`, `DEFINITION=COORDINATES`) and the `ORIENTATION=` of
 //! `*SOLID SECTION` (its elements' material axes; [`super::orientation`]).
-//! Other keywords (materials, steps, ...) are skipped with their data lines; `**` starts a
-//! comment. Every element set is also offered as a node set (its elements' nodes) unless a
+//! Other keywords (materials, steps, ...) are skipped with their data lines, and listed
+//! with their lines in [`FileMesh::skipped`]; `**` starts a comment. `*INCLUDE` is expanded
+//! before the deck is read ([`super::deck`]). Every element set is also offered as a node set (its elements' nodes) unless a
 //! node set has the same name. Names compare without regard to case, as in Abaqus.
 
 use std::collections::{HashMap, HashSet};
@@ -81,6 +82,8 @@ struct Reader {
     orientations: Vec<AbaqusOrientation>,
     /// `*SOLID SECTION`s with an orientation: (elset, orientation name, line).
     sections: Vec<(String, String, usize)>,
+    /// Keywords passed over, with their lines.
+    skipped: Vec<(String, usize)>,
     /// At most this many nodes and elements are defined (see [`defined_bounds`]).
     max_nodes: usize,
     max_elements: usize,
@@ -218,6 +221,7 @@ impl Parser {
                 node_surfaces: Vec::new(),
                 orientations: Vec::new(),
                 sections: Vec::new(),
+                skipped: Vec::new(),
                 max_nodes,
                 max_elements,
             },
@@ -279,7 +283,16 @@ impl Parser {
                     format!("*{}: decks with parts and instances are not supported; write a flat deck (nodes and elements at the top level)", k.name),
                 ))
             }
-            _ => Mode::Skip,
+            "INCLUDE" => {
+                return Err(ParseError::at(
+                    line_no,
+                    "*INCLUDE is read only in a deck read from a file",
+                ))
+            }
+            _ => {
+                self.r.skipped.push((k.name.clone(), line_no));
+                Mode::Skip
+            }
         };
         Ok(())
     }
@@ -730,6 +743,7 @@ impl Reader {
         }
         mesh.node_sets = node_sets;
         mesh.axes = self.element_axes()?;
+        mesh.skipped = self.skipped.clone();
         Ok(mesh)
     }
 

@@ -6,6 +6,7 @@
 use std::path::Path;
 
 use super::boundary::{boundary_faces, orient, BoundaryIndex};
+use super::deck::Deck;
 use super::orientation::ElementAxes;
 use super::{BodyParts, NodeSet, Surface};
 use crate::error::{ImpactError, Result};
@@ -14,6 +15,8 @@ use crate::error::{ImpactError, Result};
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParseError {
     pub line: Option<usize>,
+    /// The file the line is in, when it is not the one being read (a deck's `*INCLUDE`).
+    pub file: Option<std::path::PathBuf>,
     pub message: String,
 }
 
@@ -21,6 +24,7 @@ impl ParseError {
     pub fn at(line: usize, message: impl Into<String>) -> ParseError {
         ParseError {
             line: Some(line),
+            file: None,
             message: message.into(),
         }
     }
@@ -28,6 +32,7 @@ impl ParseError {
     pub fn whole(message: impl Into<String>) -> ParseError {
         ParseError {
             line: None,
+            file: None,
             message: message.into(),
         }
     }
@@ -52,38 +57,92 @@ pub struct FileMesh {
     pub node_sets: Vec<NodeSet>,
     /// Material axes per element (Abaqus `*ORIENTATION`), in `hexes` and `tets` order.
     pub axes: ElementAxes,
+    /// Keywords the reader passed over, with their lines (an Abaqus deck's materials, steps).
+    pub skipped: Vec<(String, usize)>,
 }
 
-/// Reads a `.msh` (Gmsh 4.1, ASCII or binary) or `.inp` (Abaqus/CalculiX) file, scales the
-/// coordinates by `scale` about the origin, then translates them by `translate`.
-pub fn import(path: &Path, scale: f64, translate: [f64; 3]) -> Result<BodyParts> {
-    let err = |line: Option<usize>, message: String| ImpactError::Mesh {
-        path: path.to_path_buf(),
-        line,
-        message,
+/// Reads a `.msh` (Gmsh 4.1, ASCII or binary) or `.inp` (Abaqus/CalculiX, with its
+/// `*INCLUDE`s) file, scales the coordinates by `scale` about the origin, then translates them
+/// by `translate`. Returns the body and the notices to show (keywords a deck holds that
+/// were not read).
+pub fn import(path: &Path, scale: f64, translate: [f64; 3]) -> Result<(BodyParts, Vec<String>)> {
+    let located = |e: ParseError| ImpactError::Mesh {
+        path: e.file.unwrap_or_else(|| path.to_path_buf()),
+        line: e.line,
+        message: e.message,
     };
-    let bytes = std::fs::read(path).map_err(|e| err(None, format!("cannot read: {e}")))?;
+    let bytes = crate::limits::read_input(path)
+        .map_err(|e| located(ParseError::whole(format!("cannot read: {e}"))))?;
+    // a byte-order mark some editors write is no part of either format
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&bytes);
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
-    let file = match ext.as_str() {
-        "msh" => super::gmsh::read(&bytes),
-        "inp" => match std::str::from_utf8(&bytes) {
-            Ok(text) => super::abaqus::read(text),
-            Err(e) => Err(ParseError::whole(format!("not a text file: {e}"))),
-        },
+    let (file, deck) = match ext.as_str() {
+        "msh" => (super::gmsh::read(bytes).map_err(located)?, None),
+        "inp" => {
+            let text = std::str::from_utf8(bytes)
+                .map_err(|e| located(ParseError::whole(format!("not a text file: {e}"))))?;
+            let deck = Deck::expand(text, Some(path)).map_err(located)?;
+            let file = super::abaqus::read(&deck.text).map_err(|e| located(deck.locate(e)))?;
+            (file, Some(deck))
+        }
         _ => {
-            return Err(err(
-                None,
-                format!(
-                    "unknown mesh format `.{ext}`: expected `.msh` (Gmsh 4.1) or `.inp` (Abaqus/CalculiX)"
-                ),
-            ))
+            return Err(located(ParseError::whole(format!(
+            "unknown mesh format `.{ext}`: expected `.msh` (Gmsh 4.1) or `.inp` (Abaqus/CalculiX)"
+        ))))
+        }
+    };
+    let notices = deck
+        .as_ref()
+        .and_then(|d| skipped_notice(path, d, &file.skipped))
+        .into_iter()
+        .collect();
+    let in_file = |e: ParseError| match &deck {
+        Some(d) => d.locate(e),
+        None => e,
+    };
+    let parts = finish(file, scale, translate).map_err(|e| located(in_file(e)))?;
+    Ok((parts, notices))
+}
+
+/// One line naming every keyword of a deck that was not read, each with its lines.
+fn skipped_notice(path: &Path, deck: &Deck, skipped: &[(String, usize)]) -> Option<String> {
+    const SHOWN: usize = 8;
+    let mut keywords: Vec<(&str, Vec<String>)> = Vec::new();
+    for (name, line) in skipped {
+        let at = match deck.origin(*line) {
+            (None, l) => format!("{l}"),
+            (Some(f), l) => format!("{}:{l}", f.display()),
+        };
+        match keywords.iter_mut().find(|(k, _)| k == name) {
+            Some((_, lines)) => lines.push(at),
+            None => keywords.push((name, vec![at])),
         }
     }
-    .map_err(|e| err(e.line, e.message))?;
-    finish(file, scale, translate).map_err(|e| err(e.line, e.message))
+    if keywords.is_empty() {
+        return None;
+    }
+    let listed: Vec<String> = keywords
+        .iter()
+        .map(|(k, lines)| {
+            let more = lines.len().saturating_sub(SHOWN);
+            let shown = lines[..lines.len().min(SHOWN)].join(", ");
+            let more = if more > 0 {
+                format!(" and {more} more")
+            } else {
+                String::new()
+            };
+            let word = if lines.len() == 1 { "line" } else { "lines" };
+            format!("*{k} ({word} {shown}{more})")
+        })
+        .collect();
+    Some(format!(
+        "{}: keywords not read (the scene gives the materials, supports, velocities, contacts and run): {}",
+        path.display(),
+        listed.join(", ")
+    ))
 }
 
 /// Turns a reader's mesh into a body (see the module documentation).

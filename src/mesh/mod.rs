@@ -11,6 +11,7 @@
 pub mod abaqus;
 pub mod boundary;
 pub mod box_mesh;
+pub mod deck;
 pub mod gmsh;
 pub mod import;
 pub mod orientation;

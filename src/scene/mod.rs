@@ -384,16 +384,20 @@ pub struct Scene {
     /// Write a checkpoint every this many steps; `None`: only when interrupted.
     pub checkpoint_every: Option<usize>,
     pub exact: Vec<ExactCurve>,
+    /// What the mesh files hold that the scene does not read (a deck's materials and steps),
+    /// one line each, shown before a run or a check.
+    pub notices: Vec<String>,
 }
 
 impl Scene {
     /// Reads and checks a scene file.
     pub fn load(path: impl AsRef<Path>) -> Result<Scene> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| ImpactError::ReadScene {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text =
+            crate::limits::read_input_text(path).map_err(|source| ImpactError::ReadScene {
+                path: path.to_path_buf(),
+                source,
+            })?;
         Self::parse(&text, path)
     }
 
