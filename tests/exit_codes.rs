@@ -222,6 +222,39 @@ fn a_model_too_large_for_the_process_is_refused_before_it_is_built() {
     }
 }
 
+/// "a 196,608-element block under `ulimit -v 6 GiB` passes the memory check, then dies with
+/// 'memory allocation of 10346014440 bytes failed'": the factor's size, known from the
+/// symbolic analysis, is checked before any value is allocated (exit 3, the figure and the
+/// limit). Here 96,000 hex8, whose factor holds 385 million values, under 3 GiB.
+#[test]
+fn an_implicit_factor_too_large_for_the_process_is_refused_before_it_is_allocated() {
+    // both bars: 96,000 hex8
+    let text =
+        scene_text("two_bars.toml").replace("divisions = [10, 1, 1]", "divisions = [40, 40, 30]");
+    let scene = scene_file("exit_factor_too_large", &text);
+    let out = out_path("exit_factor_too_large").join("run");
+    let o = Command::new("bash")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v 3145728; exec '{}' run '{}' --out '{}' --quiet --device cpu",
+            env!("CARGO_BIN_EXE_impact"),
+            s(&scene),
+            s(&out)
+        ))
+        .output()
+        .unwrap();
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let err = stderr(&o);
+    for part in [
+        "Cholesky factor",
+        "symbolic analysis",
+        "3.0 GiB",
+        "ulimit -v",
+    ] {
+        assert!(err.contains(part), "{err:?} should contain {part:?}");
+    }
+}
+
 #[test]
 fn a_run_stopped_by_sigterm_resumes_to_the_unbroken_history() {
     let text = edit(

@@ -92,11 +92,34 @@ pub(super) fn factorise(
     symbolic: &SymbolicCholesky<usize>,
     a: SparseColMatRef<'_, usize, f64>,
 ) -> Result<Vec<f64>> {
-    let mut factor = vec![0.0; symbolic.len_val()];
     let scratch = symbolic.factorize_numeric_llt_scratch::<f64>(par(), Default::default());
-    let mut mem = MemBuffer::try_new(scratch).map_err(|_| {
-        ImpactError::Solver("factorisation: out of memory for the workspace".into())
-    })?;
+    let values = symbolic.len_val();
+    let needed = (values as u64)
+        .saturating_mul(8)
+        .saturating_add(scratch.size_bytes() as u64);
+    let too_large = |limit: u64, limit_source: String| {
+        ImpactError::TooLarge {
+        // the run names the scene
+        path: Default::default(),
+        what: format!(
+            "the sparse Cholesky factor's {values} values and its workspace, known from the symbolic analysis"
+        ),
+        estimate: needed,
+        limit,
+        limit_source,
+    }
+    };
+    if let Some((limit, source)) = crate::limits::host_limit(0).filter(|(l, _)| needed > *l) {
+        return Err(too_large(limit, source));
+    }
+    // an allocation refused (under `ulimit -v`) is the same error, not an abort
+    let mut factor = Vec::new();
+    factor
+        .try_reserve_exact(values)
+        .map_err(|_| too_large(needed, "the allocator refused it".into()))?;
+    factor.resize(values, 0.0);
+    let mut mem = MemBuffer::try_new(scratch)
+        .map_err(|_| too_large(needed, "the allocator refused the workspace".into()))?;
     symbolic
         .factorize_numeric_llt(
             &mut factor,
