@@ -21,6 +21,9 @@ pub fn model_report(scene: &Scene, setup: &Setup) -> String {
     let _ = writeln!(out, "fixes:");
     fixes(&mut out, scene, setup);
     let _ = writeln!(out, "memory: {}", memory::describe(&setup.estimate));
+    for w in &setup.warnings {
+        let _ = writeln!(out, "warning: {}: {}", w.kind, w.message);
+    }
     out
 }
 

@@ -517,3 +517,73 @@ fn a_c3d8_with_a_repeated_node_is_refused() {
         "{msg}"
     );
 }
+
+/// Four separate tet4 in one body, the last flattened to a height of 1e-4 (as two swapped
+/// node coordinates leave one): its stable step is about 1e-4 of the others', so it would
+/// set the explicit step of the whole model. The run warns, naming the element, its body and
+/// its aspect, and ends `completed_with_warnings`.
+#[test]
+fn a_sliver_that_sets_the_step_is_a_warning() {
+    let dir = out_dir("sliver");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut deck = String::from("*NODE\n");
+    for k in 0..4 {
+        let x = 3.0 * k as f64;
+        let top = if k == 3 { 1e-4 } else { 1.0 };
+        for (i, p) in [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.3, 0.3, top],
+        ]
+        .iter()
+        .enumerate()
+        {
+            deck += &format!("{}, {}, {}, {}\n", 4 * k + i + 1, x + p[0], p[1], p[2]);
+        }
+    }
+    deck += "*ELEMENT, TYPE=C3D4, ELSET=ALL\n";
+    for k in 0..4 {
+        let n = 4 * k + 1;
+        deck += &format!("{}, {}, {}, {}, {}\n", k + 1, n, n + 1, n + 2, n + 3);
+    }
+    std::fs::write(dir.join("tets.inp"), deck).unwrap();
+    let text = format!(
+        "[run]\nend_time = 1e-4\nmethod = \"explicit\"\n\n\
+         [[material]]\nname = \"elastic\"\ndensity = 0.01\nyoungs_modulus = 100.0\npoissons_ratio = 0.3\n\n\
+         [[body]]\nname = \"tets\"\nmaterial = \"elastic\"\nmesh = \"{}\"\n",
+        dir.join("tets.inp").display()
+    );
+    let scene = Scene::parse(&text, &dir.join("sliver.toml")).expect("parses");
+    let s = run(&scene, &opts("sliver_run")).expect("runs");
+    assert_eq!(s.status, "completed_with_warnings");
+    let w = s
+        .warnings
+        .iter()
+        .find(|w| w.kind == "element_quality")
+        .expect("a quality warning");
+    assert!(
+        w.message.contains("body `tets`: 1 element(s)") && w.message.contains("element 3 "),
+        "{}",
+        w.message
+    );
+    println!("{}", w.message);
+}
+
+/// `poissons_ratio = 0.4999999` runs, but warns of volumetric locking.
+#[test]
+fn a_nearly_incompressible_hex8_warns_of_locking() {
+    let text = edit(
+        &two_bars(),
+        "poissons_ratio = 0.0",
+        "poissons_ratio = 0.4999999",
+    );
+    let s = run(&parse(&text, "locking"), &opts("locking")).expect("runs");
+    assert_eq!(s.status, "completed_with_warnings");
+    let w = s.warnings.iter().find(|w| w.kind == "volumetric_locking");
+    assert!(
+        w.is_some_and(|w| w.message.contains("`elastic`") && w.message.contains("0.49")),
+        "{:?}",
+        s.warnings
+    );
+}

@@ -4,6 +4,7 @@
 //! - [`facing`]: contact surfaces that face the same way.
 //! - [`penetration`]: secondary nodes behind their primary surface at t = 0.
 //! - [`memory`]: the memory a scene needs against what the process may use.
+//! - [`quality`]: slivers that set the explicit step, and volumetric locking (warnings).
 //!
 //! A check that fails before the run is an error naming the scene key; what only the run
 //! can show (unconverged steps, deep penetration, an energy rise) is a [`Warning`], and a run
@@ -13,6 +14,7 @@ pub mod elements;
 pub mod facing;
 pub mod memory;
 pub mod penetration;
+pub mod quality;
 
 use serde::Serialize;
 
@@ -20,7 +22,7 @@ use serde::Serialize;
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct Warning {
     /// A stable name: `unconverged_steps`, `deep_penetration`, `energy_rise`,
-    /// `initial_penetration`.
+    /// `initial_penetration`, `element_quality`, `volumetric_locking`.
     pub kind: String,
     pub message: String,
 }

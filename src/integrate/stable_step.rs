@@ -44,6 +44,19 @@ pub fn stable_step(model: &Model) -> (f64, usize) {
 /// `stable_step` kernel on `gpu` (the same bound as the CPU, in f32; the smallest element's
 /// step is then recomputed in f64, so the result does not depend on the device).
 pub fn stable_step_on(model: &Model, gpu: Option<&GpuContext>) -> Result<(f64, usize)> {
+    survey(model, gpu).map(|s| (s.step, s.element))
+}
+
+/// The mesh's stable step, the element that sets it, and every element's own step (in f32:
+/// the model's checks compare them with each other).
+pub struct StepSurvey {
+    pub step: f64,
+    pub element: usize,
+    pub steps: Vec<f32>,
+}
+
+/// [`stable_step_on`] with each element's step ([`StepSurvey`]).
+pub fn survey(model: &Model, gpu: Option<&GpuContext>) -> Result<StepSurvey> {
     let shapes = Shapes::of(model);
     let exact = shapes.cost <= 5 * EXACT_SHAPES;
     if let (false, Some(ctx)) = (exact, gpu) {
@@ -58,7 +71,11 @@ pub fn stable_step_on(model: &Model, gpu: Option<&GpuContext>) -> Result<(f64, u
         let (corners, material) = model.mesh.element(e);
         let x = model.mesh.corners(corners);
         let step = element_stable_step(&x, &model.materials[material as usize]);
-        return Ok((step, e));
+        return Ok(StepSurvey {
+            step,
+            element: e,
+            steps: steps.iter().map(|&s| s as f32).collect(),
+        });
     }
     let limit: Vec<f64> = shapes
         .first
@@ -74,7 +91,12 @@ pub fn stable_step_on(model: &Model, gpu: Option<&GpuContext>) -> Result<(f64, u
             }
         })
         .collect();
-    Ok(shapes.smallest(&limit))
+    let (step, element) = shapes.smallest(&limit);
+    Ok(StepSurvey {
+        step,
+        element,
+        steps: shapes.each(&limit),
+    })
 }
 
 /// A shape key: the material, the corner count and the corners relative to corner 0 in
@@ -162,6 +184,15 @@ impl Shapes {
             local,
             cost,
         }
+    }
+
+    /// Each element's limit.
+    fn each(&self, limit: &[f64]) -> Vec<f32> {
+        self.local
+            .par_iter()
+            .enumerate()
+            .map(|(e, &l)| limit[self.global[e / SHAPE_BLOCK][l as usize]] as f32)
+            .collect()
     }
 
     /// The smallest limit over the elements, and the first element that has it.
