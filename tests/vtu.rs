@@ -1,7 +1,9 @@
 //! VTU frames read back by an independent reader: `scripts/check_vtu.py` opens the `.pvd`
 //! and every frame with meshio (PyPI) and compares the displacement at each probe's node
 //! with the history, besides the arrays' presence and shapes and von Mises against the
-//! stress components. `.ci/run` installs meshio; without it this test fails and says so.
+//! stress components. `.ci/run` installs meshio and sets `IMPACT_REQUIRE_MESHIO=1`, under
+//! which a missing meshio fails these tests; elsewhere (a fresh machine with only the README's
+//! setup) they print why and pass without reading the frames.
 //! The cell arrays `body` and `material` are read back with meshio too and checked against the
 //! scene: each cell's corners are nodes of the body its `body` names, whose material it carries.
 
@@ -13,7 +15,27 @@ use std::process::Command;
 use impact::model::Model;
 use impact::scene::Scene;
 
+/// Whether python3 can import meshio; where it cannot, says so, and fails the test when
+/// `IMPACT_REQUIRE_MESHIO` is set (as CI sets it).
+fn meshio_available(tag: &str) -> bool {
+    let found = Command::new("python3")
+        .args(["-c", "import meshio"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !found {
+        assert!(
+            std::env::var_os("IMPACT_REQUIRE_MESHIO").is_none(),
+            "meshio is missing and IMPACT_REQUIRE_MESHIO is set: python3 -m pip install meshio"
+        );
+        println!("{tag}: skipped: python3 cannot import meshio (python3 -m pip install meshio to read the frames back)");
+    }
+    found
+}
+
 fn check(tag: &str, text: &str, frames: usize) {
+    if !meshio_available(tag) {
+        return;
+    }
     // parsed as a file of scenes/, so that mesh paths resolve
     let path = repo().join("scenes").join(format!("{tag}.toml"));
     let scene = Scene::parse(text, &path).expect("valid scene");
