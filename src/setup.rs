@@ -76,6 +76,7 @@ pub fn prepare(
         // nodes moved onto a surface can fold an element
         elements::check(scene, &model.mesh)?;
     }
+    model.check_probes(scene)?;
     clock.lap("checks");
     let ctx = gpu_context(scene, model.mesh.element_count(), device, notice)?;
     clock.lap("device");

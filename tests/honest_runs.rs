@@ -587,3 +587,19 @@ fn a_nearly_incompressible_hex8_warns_of_locking() {
         s.warnings
     );
 }
+
+/// "A probe far outside every body silently takes the nearest node": refused, naming the
+/// probe, the node it would take and the body's size.
+#[test]
+fn a_probe_far_outside_its_body_is_refused() {
+    let text = edit(
+        &two_bars(),
+        "point = [0.0, 0.5, 0.5]",
+        "point = [0.0, 0.5, 50.0]",
+    );
+    refused(
+        "probe_far",
+        &text,
+        &["probe[0].point", "probe `tipA`", "body `A`"],
+    );
+}

@@ -217,6 +217,10 @@ fn interfaces(scene: &Scene, mesh: &Mesh) -> (ContactQueries, Vec<Interface>) {
     (queries, interfaces)
 }
 
+/// A probe's point may lie at most this fraction of its body's bounding-box diagonal from
+/// the node it records.
+pub const PROBE_REACH: f64 = 0.1;
+
 /// Each probe's node: the body's node nearest its point.
 fn probes(scene: &Scene, mesh: &Mesh) -> Vec<Probe> {
     scene
@@ -241,4 +245,43 @@ fn probes(scene: &Scene, mesh: &Mesh) -> Vec<Probe> {
             }
         })
         .collect()
+}
+
+impl Model {
+    /// Refuses a probe whose point lies farther than [`PROBE_REACH`] of its body's size from
+    /// the node it records (a point far outside the body is a mistake, not a probe).
+    pub fn check_probes(&self, scene: &Scene) -> Result<()> {
+        for (i, (spec, probe)) in scene.probes.iter().zip(&self.probes).enumerate() {
+            let node = probe.node as usize;
+            let x = self.mesh.nodes[node];
+            let distance = (0..3)
+                .map(|k| (x[k] - spec.point[k]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            let size = diagonal(&self.mesh, self.mesh.bodies[spec.body].nodes.clone());
+            if distance > PROBE_REACH * size {
+                return Err(ImpactError::SceneValue {
+                    path: scene.path.clone(),
+                    key: format!("probe[{i}].point (probe `{}`)", spec.name),
+                    message: format!(
+                        "{:?} is {distance:.4e} from the nearest node of body `{}` (node {node} at {x:?}), more than {PROBE_REACH} of the body's size {size:.4e}: a probe records the node nearest its point, which must lie on or in its body",
+                        spec.point, scene.bodies[spec.body].name
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The bounding-box diagonal of `nodes`.
+fn diagonal(mesh: &Mesh, nodes: std::ops::Range<usize>) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for n in nodes {
+        for k in 0..3 {
+            lo[k] = lo[k].min(mesh.nodes[n][k]);
+            hi[k] = hi[k].max(mesh.nodes[n][k]);
+        }
+    }
+    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
 }
