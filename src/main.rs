@@ -99,6 +99,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    quiet_device_select();
     match real_main() {
         Ok(code) => ExitCode::from(code),
         Err(e) => {
@@ -108,6 +109,18 @@ fn main() -> ExitCode {
                     .map_or(exit::OTHER, ImpactError::exit_code),
             )
         }
+    }
+}
+
+/// Mesa's Vulkan device-select layer looks for a desktop session to order the adapters, and
+/// without one prints "XDG_RUNTIME_DIR is invalid or not set" on every GPU run. impact orders
+/// the adapters itself, so the layer is turned off where there is no session (called first
+/// in `main`, before any thread exists, as changing the environment requires).
+fn quiet_device_select() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none()
+        && std::env::var_os("NODEVICE_SELECT").is_none()
+    {
+        std::env::set_var("NODEVICE_SELECT", "1");
     }
 }
 
@@ -206,6 +219,13 @@ fn study_command(
         return Ok(exit::USAGE);
     };
     let out = out.unwrap_or_else(|| PathBuf::from(format!("results/study_{problem}")));
+    if let Some(bad) = devices
+        .iter()
+        .find(|d| !matches!(d.as_str(), "cpu" | "gpu"))
+    {
+        eprintln!("error: --devices: unknown device \"{bad}\" (the devices are cpu and gpu)");
+        return Ok(exit::USAGE);
+    }
     let devices: Vec<String> = if !devices.is_empty() {
         devices
     } else if quick || impact::gpu::GpuContext::new().is_err() {

@@ -431,3 +431,14 @@ fn a_contact_pair_declared_twice_is_refused() {
     let text = format!("{}{twice}{}", &text[..end], &text[end..]);
     expect(&text, &["contact[1].secondary", "contact[0] (`impact`)"]);
 }
+
+/// "`nu23 = nan` is reported as a problem with `g23`": each constant is checked by its own key.
+#[test]
+fn a_nan_elastic_constant_is_named_by_its_own_key() {
+    let text = edit(
+        &scene_text("sphere_on_laminate.toml"),
+        "nu23 = 0.45",
+        "nu23 = nan",
+    );
+    expect(&text, &["transversely_isotropic.nu23", "finite"]);
+}

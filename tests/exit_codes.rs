@@ -53,6 +53,14 @@ fn usage_errors_are_2() {
     assert_eq!(code(&impact(&["run"])), 2);
     assert_eq!(code(&impact(&["run", "x.toml", "--no-such-flag"])), 2);
     assert_eq!(code(&impact(&["study", "no_such_problem"])), 2);
+    // "study --devices tpu blames an internal generated scene"
+    let o = impact(&["study", "two_bars", "--quick", "--devices", "tpu"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--devices: unknown device \"tpu\""),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]

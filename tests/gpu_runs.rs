@@ -305,3 +305,32 @@ fn resident_runs_resume_to_the_unbroken_history() {
         );
     }
 }
+
+/// "Every GPU run prints `error: XDG_RUNTIME_DIR is invalid or not set` on a machine without
+/// a desktop session" (Mesa's Vulkan device-select layer): a GPU run without a session says
+/// nothing of it.
+#[test]
+fn a_gpu_run_without_a_desktop_session_prints_no_session_error() {
+    if skip_gpu("a_gpu_run_without_a_desktop_session_prints_no_session_error") {
+        return;
+    }
+    let out = out_dir("gpu_no_session");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_impact"))
+        .args([
+            "run",
+            "scenes/two_bars.toml",
+            "--device",
+            "gpu",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .current_dir(repo())
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("NODEVICE_SELECT")
+        .output()
+        .expect("the binary runs");
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    assert!(!stderr.contains("XDG_RUNTIME_DIR"), "{stderr}");
+}

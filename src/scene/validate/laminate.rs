@@ -20,6 +20,39 @@ impl Checker<'_> {
         m: &RawMaterial,
         density: f64,
     ) -> Result<Elastic> {
+        // each constant finite, named by its own key (a NaN would otherwise surface as a
+        // problem of a constant derived from it)
+        let given: Vec<(&str, &str, f64)> = match (&m.orthotropic, &m.transversely_isotropic) {
+            (Some(o), _) => [
+                ("e1", o.e1),
+                ("e2", o.e2),
+                ("e3", o.e3),
+                ("nu12", o.nu12),
+                ("nu13", o.nu13),
+                ("nu23", o.nu23),
+                ("g12", o.g12),
+                ("g13", o.g13),
+                ("g23", o.g23),
+            ]
+            .map(|(k, v)| ("orthotropic", k, v))
+            .to_vec(),
+            (None, Some(t)) => [
+                ("e1", t.e1),
+                ("e2", t.e2),
+                ("nu12", t.nu12),
+                ("nu23", t.nu23),
+                ("g12", t.g12),
+            ]
+            .map(|(k, v)| ("transversely_isotropic", k, v))
+            .to_vec(),
+            (None, None) => Vec::new(),
+        };
+        if let Some((table, k, v)) = given.iter().find(|(_, _, v)| !v.is_finite()) {
+            return Err(self.err(
+                key(&format!("{table}.{k}")),
+                format!("must be finite, got {v}"),
+            ));
+        }
         let constants = match (&m.orthotropic, &m.transversely_isotropic) {
             (None, None) => return self.isotropic(key, m, density),
             (Some(o), None) => Orthotropic {
