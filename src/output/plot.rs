@@ -1,5 +1,6 @@
-//! Line charts of history columns against time, as SVG (vector, with text) and PNG (raster,
-//! text in an 8x8 bitmap font). Every run writes `forces` (the contact forces, with any exact
+//! Line charts of history columns against time, as SVG (vector, with text, and a tooltip on
+//! each point that has one) and PNG (raster, text in an 8x8 bitmap font). Log axes are
+//! ticked at decades, or at 1, 2 and 5 times a power of ten where they span less than three. Every run writes `forces` (the contact forces, with any exact
 //! curve the scene gives) and `energies`; `impact plot DIR --columns a,b` draws any columns.
 
 use std::path::Path;
@@ -49,7 +50,17 @@ pub struct Series {
     pub x: Vec<f64>,
     pub y: Vec<f64>,
     pub style: Style,
+    /// Each point's tooltip in the SVG (a study's run: its mesh and step); empty for none.
+    pub labels: Vec<String>,
 }
+
+/// Crosses of failed runs: one colour per series of them (one per failure kind).
+const FAILED: [[u8; 3]; 4] = [
+    [110, 110, 110],
+    [160, 20, 20],
+    [230, 120, 0],
+    [120, 40, 160],
+];
 
 #[derive(Debug, Clone)]
 pub struct Chart {
@@ -61,20 +72,72 @@ pub struct Chart {
     pub log_y: bool,
 }
 
-/// Tick positions of an axis in plotted coordinates: decades for a log axis.
-fn axis_ticks(lo: f64, hi: f64, log: bool) -> Vec<f64> {
-    if log {
-        let (a, b) = (lo.ceil() as i64, hi.floor() as i64);
-        if b - a >= 1 {
-            return (a..=b).map(|k| k as f64).collect();
-        }
+/// Ticks of an axis from `lo` to `hi` in plotted coordinates (log10 on a log axis): their
+/// positions and labels.
+fn axis_ticks(lo: f64, hi: f64, log: bool) -> Vec<(f64, String)> {
+    match log {
+        true => log_ticks(lo, hi),
+        false => ticks(lo, hi).into_iter().map(|t| (t, label(t))).collect(),
     }
-    ticks(lo, hi)
+}
+
+/// Ticks of a log axis over [lo, hi] (decades): every decade where the axis spans three or
+/// more (every second, fifth, ... where it spans many), else 1, 2 and 5 times each power of
+/// ten inside it (then 1 to 9 times where those are too few), each labelled with its value.
+fn log_ticks(lo: f64, hi: f64) -> Vec<(f64, String)> {
+    let (a, b) = (lo.ceil() as i64, hi.floor() as i64);
+    if b - a >= 3 {
+        let every = (b - a) / 9 + 1;
+        return (a..=b)
+            .filter(|k| k.rem_euclid(every) == 0)
+            .map(|k| (k as f64, power_label(1, k)))
+            .collect();
+    }
+    let decades = (lo.floor() as i64)..=(hi.ceil() as i64);
+    let within = |mantissas: &[i64]| -> Vec<(f64, String)> {
+        decades
+            .clone()
+            .flat_map(|k| mantissas.iter().map(move |&m| (m, k)))
+            .map(|(m, k)| ((m as f64).log10() + k as f64, m, k))
+            .filter(|&(t, _, _)| t >= lo - 1e-9 && t <= hi + 1e-9)
+            .map(|(t, m, k)| (t, power_label(m, k)))
+            .collect()
+    };
+    let ticks = within(&[1, 2, 5]);
+    if ticks.len() >= 3 {
+        return ticks;
+    }
+    let ticks = within(&[1, 2, 3, 4, 5, 6, 7, 8, 9]);
+    if ticks.len() >= 2 {
+        return ticks;
+    }
+    // less than a step of the mantissa: round values, as on a linear axis
+    let (a, b) = (10f64.powf(lo), 10f64.powf(hi));
+    (ticks_between(a, b).into_iter())
+        .map(|t| (t.log10(), label(t)))
+        .collect()
+}
+
+/// `m` times ten to the `k`: plain from 1e-3 to 1e4, else `me k`.
+fn power_label(m: i64, k: i64) -> String {
+    if (-3..=4).contains(&k) {
+        label(m as f64 * 10f64.powi(k as i32))
+    } else {
+        format!("{m}e{k}")
+    }
+}
+
+/// [`ticks`] of a positive range.
+fn ticks_between(lo: f64, hi: f64) -> Vec<f64> {
+    ticks(lo, hi).into_iter().filter(|t| *t > 0.0).collect()
 }
 
 /// Tick positions covering [lo, hi] with a step of 1, 2 or 5 times a power of ten.
 pub fn ticks(lo: f64, hi: f64) -> Vec<f64> {
-    let range = (hi - lo).max(f64::MIN_POSITIVE);
+    // a span wider than f64 holds (values near 1e308 of both signs) is taken as the largest
+    let span = hi - lo;
+    let span = if span.is_finite() { span } else { f64::MAX };
+    let range = span.max(f64::MIN_POSITIVE);
     let raw = range / 6.0;
     let p = 10f64.powf(raw.log10().floor());
     let step = [1.0, 2.0, 5.0, 10.0]
@@ -101,14 +164,6 @@ fn label(v: f64) -> String {
     }
 }
 
-fn tick_label(v: f64, log: bool) -> String {
-    if log {
-        format!("1e{}", v.round() as i64)
-    } else {
-        label(v)
-    }
-}
-
 fn colour_hex(c: [u8; 3]) -> String {
     format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
 }
@@ -127,9 +182,23 @@ impl Chart {
         ser: &Series,
         map: &impl Fn(f64, f64) -> (f64, f64),
     ) -> Vec<(f64, f64)> {
-        (ser.x.iter().zip(&ser.y))
-            .filter_map(|(&x, &y)| self.tx(x, y))
-            .map(|(x, y)| map(x, y))
+        self.labelled_points(ser, map)
+            .into_iter()
+            .map(|p| p.1)
+            .collect()
+    }
+
+    /// [`Self::series_points`] with each point's tooltip.
+    fn labelled_points<'a>(
+        &self,
+        ser: &'a Series,
+        map: &impl Fn(f64, f64) -> (f64, f64),
+    ) -> Vec<(Option<&'a str>, (f64, f64))> {
+        (ser.x.iter().zip(&ser.y).enumerate())
+            .filter_map(|(k, (&x, &y))| {
+                let label = ser.labels.get(k).map(String::as_str);
+                self.tx(x, y).map(|(x, y)| (label, map(x, y)))
+            })
             .collect()
     }
 
@@ -162,22 +231,26 @@ impl Chart {
         if b[1] <= b[0] {
             b[1] = b[0] + 1.0;
         }
-        let pad = 0.05 * (b[3] - b[2]).max(f64::MIN_POSITIVE);
-        if b[3] - b[2] <= f64::MIN_POSITIVE {
-            (b[0], b[1], b[2] - 1.0, b[3] + 1.0)
+        // halves, so that a span of values near 1e308 of both signs does not overflow
+        let half = 0.5 * b[3] - 0.5 * b[2];
+        let (y0, y1) = if half <= f64::MIN_POSITIVE {
+            (b[2] - 1.0, b[3] + 1.0)
         } else {
-            (b[0], b[1], b[2] - pad, b[3] + pad)
-        }
+            (b[2] - 0.1 * half, b[3] + 0.1 * half)
+        };
+        (b[0], b[1], y0.max(f64::MIN), y1.min(f64::MAX))
     }
 
     /// Maps plotted coordinates to pixels.
     fn mapping(&self) -> impl Fn(f64, f64) -> (f64, f64) {
         let (x0, x1, y0, y1) = self.bounds();
         let (w, h) = (WIDTH as f64 - LEFT - RIGHT, HEIGHT as f64 - TOP - BOTTOM);
+        // the fraction of [a, b] at v, in halves (see `bounds`)
+        let frac = |v: f64, a: f64, b: f64| (0.5 * v - 0.5 * a) / (0.5 * b - 0.5 * a);
         move |x, y| {
             (
-                LEFT + (x - x0) / (x1 - x0) * w,
-                TOP + (1.0 - (y - y0) / (y1 - y0)) * h,
+                LEFT + frac(x, x0, x1) * w,
+                TOP + (1.0 - frac(y, y0, y1)) * h,
             )
         }
     }
@@ -196,7 +269,13 @@ impl Chart {
     fn colour(&self, i: usize) -> [u8; 3] {
         match self.series[i].style {
             Style::Exact => BLACK,
-            Style::Crosses => [110, 110, 110],
+            Style::Crosses => {
+                let k = self.series[..i]
+                    .iter()
+                    .filter(|s| s.style == Style::Crosses)
+                    .count();
+                FAILED[k % FAILED.len()]
+            }
             _ => {
                 let k = self.series[..i]
                     .iter()
@@ -218,23 +297,21 @@ impl Chart {
             WIDTH / 2,
             xml(&self.title)
         );
-        for t in axis_ticks(x0, x1, self.log_x) {
+        for (t, l) in axis_ticks(x0, x1, self.log_x) {
             let (px, _) = map(t, y0);
             s += &format!(
                 "<line x1=\"{px:.1}\" y1=\"{TOP}\" x2=\"{px:.1}\" y2=\"{bottom}\" stroke=\"#e1e1e1\"/>\n\
-<text x=\"{px:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{}</text>\n",
+<text x=\"{px:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{l}</text>\n",
                 bottom + 16.0,
-                tick_label(t, self.log_x)
             );
         }
-        for t in axis_ticks(y0, y1, self.log_y) {
+        for (t, l) in axis_ticks(y0, y1, self.log_y) {
             let (_, py) = map(x0, t);
             s += &format!(
                 "<line x1=\"{LEFT}\" y1=\"{py:.1}\" x2=\"{right}\" y2=\"{py:.1}\" stroke=\"#e1e1e1\"/>\n\
-<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{}</text>\n",
+<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{l}</text>\n",
                 LEFT - 6.0,
                 py + 4.0,
-                tick_label(t, self.log_y)
             );
         }
         s += &format!(
@@ -266,14 +343,17 @@ impl Chart {
                     line.join(" ")
                 );
             }
-            for (x, y) in &pts {
+            for (label, (x, y)) in self.labelled_points(ser, &map) {
+                let tip = label
+                    .map(|l| format!("<title>{}</title>", xml(l)))
+                    .unwrap_or_default();
                 match ser.style {
                     Style::Markers => {
-                        s += &format!("<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"3.5\" fill=\"{col}\"/>\n")
+                        s += &format!("<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"3.5\" fill=\"{col}\">{tip}</circle>\n")
                     }
                     Style::Crosses => {
                         s += &format!(
-                            "<path d=\"M{:.2},{:.2}L{:.2},{:.2}M{:.2},{:.2}L{:.2},{:.2}\" stroke=\"{col}\" stroke-width=\"2\"/>\n",
+                            "<path d=\"M{:.2},{:.2}L{:.2},{:.2}M{:.2},{:.2}L{:.2},{:.2}\" stroke=\"{col}\" stroke-width=\"2\">{tip}</path>\n",
                             x - 5.0, y - 5.0, x + 5.0, y + 5.0, x - 5.0, y + 5.0, x + 5.0, y - 5.0
                         )
                     }
@@ -300,16 +380,14 @@ impl Chart {
         let (x0, x1, y0, y1) = self.bounds();
         let map = self.mapping();
         let (right, bottom) = (WIDTH as f64 - RIGHT, HEIGHT as f64 - BOTTOM);
-        for t in axis_ticks(x0, x1, self.log_x) {
+        for (t, l) in axis_ticks(x0, x1, self.log_x) {
             let (px, _) = map(t, y0);
             c.line(px, TOP, px, bottom, GRID, 1.0, false);
-            let l = tick_label(t, self.log_x);
             c.text(px - 4.0 * l.len() as f64, bottom + 8.0, &l, BLACK, 1);
         }
-        for t in axis_ticks(y0, y1, self.log_y) {
+        for (t, l) in axis_ticks(y0, y1, self.log_y) {
             let (_, py) = map(x0, t);
             c.line(LEFT, py, right, py, GRID, 1.0, false);
-            let l = tick_label(t, self.log_y);
             c.text(LEFT - 6.0 - 8.0 * l.len() as f64, py - 4.0, &l, BLACK, 1);
         }
         c.line(LEFT, TOP, right, TOP, BLACK, 1.0, false);
@@ -536,6 +614,7 @@ pub fn chart(table: &Table, title: &str, columns: &[String]) -> Chart {
                     x: t.clone(),
                     y,
                     style: Style::Line,
+                    labels: Vec::new(),
                 })
             })
             .collect(),
@@ -561,6 +640,53 @@ mod tests {
         assert_eq!(label(2.5e-6), "2.50e-6");
     }
 
+    /// A log axis within a decade is labelled 1-2-5 by value, each label once; across many
+    /// decades, by decades.
+    #[test]
+    fn log_ticks_are_distinct_values() {
+        let labels = |lo: f64, hi: f64| -> Vec<String> {
+            log_ticks(lo.log10(), hi.log10())
+                .into_iter()
+                .map(|t| t.1)
+                .collect()
+        };
+        assert_eq!(labels(1.5e-3, 3e-2), ["0.002", "0.005", "0.01", "0.02"]);
+        assert_eq!(labels(1.5e-5, 3e-4), ["2e-5", "5e-5", "1e-4", "2e-4"]);
+        assert_eq!(labels(1.0, 9.0), ["1", "2", "5"]);
+        assert_eq!(labels(2.5, 4.5), ["3", "4"]);
+        assert_eq!(
+            labels(1e-6, 1e2),
+            ["1e-6", "1e-5", "1e-4", "0.001", "0.01", "0.1", "1", "10", "100"]
+        );
+        for (lo, hi) in [(1.5e-3, 3e-2), (0.8, 40.0), (1e-9, 1e9), (0.11, 0.19)] {
+            let l = labels(lo, hi);
+            let mut d = l.clone();
+            d.dedup();
+            assert_eq!(l, d, "repeated labels {l:?}");
+            assert!(l.len() >= 2 && l.len() <= 10, "{l:?}");
+        }
+    }
+
+    /// Values near 1e308 of both signs draw at finite coordinates.
+    #[test]
+    fn extreme_values_draw_at_finite_coordinates() {
+        let chart = Chart {
+            title: "t".into(),
+            x_label: "time".into(),
+            series: vec![Series {
+                name: "a".into(),
+                x: vec![0.0, 1.0, 2.0],
+                y: vec![-1.7e308, 1e308, 1.7e308],
+                style: Style::Line,
+                labels: Vec::new(),
+            }],
+            log_x: false,
+            log_y: false,
+        };
+        let svg = chart.svg();
+        assert!(!svg.contains("NaN") && !svg.contains("inf"), "{svg}");
+    }
+
     /// A chart's PNG decodes to the right size and holds the series colour, black and white.
     #[test]
     fn png_holds_the_curves() {
@@ -572,6 +698,7 @@ mod tests {
                 x: vec![0.0, 1.0, 2.0],
                 y: vec![0.0, 1.0, 0.5],
                 style: Style::Line,
+                labels: Vec::new(),
             }],
             log_x: false,
             log_y: false,

@@ -36,6 +36,7 @@ pub fn write_charts(scene: &Scene, model: &Model, dir: &std::path::Path) -> Resu
                 x: e.points.iter().map(|p| p[0]).collect(),
                 y: e.points.iter().map(|p| p[1]).collect(),
                 style: Style::Exact,
+                labels: Vec::new(),
             })
             .collect()
     };

@@ -240,9 +240,71 @@ fn series_key(r: &StudyRow) -> String {
     format!("{} ({})", r.method.name(), r.device)
 }
 
+/// A run's tooltip: what it was and how it ended.
+fn run_label(r: &StudyRow) -> String {
+    format!(
+        "{} on {}: {} elements, dt {:.3e} (c dt/h {}), {:.3} s, force error {:.3e}, {}",
+        r.method.name(),
+        r.device,
+        r.elements,
+        r.time_step,
+        r.courant,
+        r.wall_seconds,
+        r.errors.force,
+        r.status
+    )
+}
+
+/// A series of `rows` at `(x, y)` of each, with each run's tooltip, sorted by x.
+fn run_series(
+    name: String,
+    rows: &[&StudyRow],
+    xy: &dyn Fn(&StudyRow) -> (f64, f64),
+    style: Style,
+) -> Series {
+    let mut pts: Vec<(f64, f64, String)> = rows
+        .iter()
+        .map(|r| {
+            let (x, y) = xy(r);
+            (x, y, run_label(r))
+        })
+        .collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    Series {
+        name,
+        x: pts.iter().map(|p| p.0).collect(),
+        y: pts.iter().map(|p| p.1).collect(),
+        labels: pts.into_iter().map(|p| p.2).collect(),
+        style,
+    }
+}
+
+/// The failed runs as crosses, one series per way of failing (named in the legend), at their
+/// error capped at 10.
+fn failed_series(rows: &[StudyRow], xy: &dyn Fn(&StudyRow) -> (f64, f64)) -> Vec<Series> {
+    let mut kinds: Vec<&str> = rows
+        .iter()
+        .map(|r| r.status)
+        .filter(|s| *s != "ok")
+        .collect();
+    kinds.sort_unstable();
+    kinds.dedup();
+    kinds
+        .into_iter()
+        .map(|kind| {
+            let failed: Vec<&StudyRow> = rows.iter().filter(|r| r.status == kind).collect();
+            let capped = |r: &StudyRow| {
+                let (x, y) = xy(r);
+                (x, y.min(10.0))
+            };
+            run_series(format!("failed: {kind}"), &failed, &capped, Style::Crosses)
+        })
+        .collect()
+}
+
 /// Final-state error (velocity for the impacts, distance for the block) against wall time,
 /// log-log: one series of points per method and device (its "ok" runs), and the failed runs
-/// as crosses (at their error, at most 10).
+/// as crosses, one series per way of failing. Each point's tooltip names its run.
 pub fn speed_chart(rows: &[StudyRow]) -> Chart {
     // method-and-device keys in order of first appearance
     let mut seen: Vec<String> = Vec::new();
@@ -251,32 +313,17 @@ pub fn speed_chart(rows: &[StudyRow]) -> Chart {
             seen.push(k);
         }
     }
+    let xy = |r: &StudyRow| (r.wall_seconds, r.errors.velocity);
     let mut series: Vec<Series> = seen
         .iter()
         .map(|k| {
-            let mut pts: Vec<(f64, f64)> = rows
-                .iter()
+            let ok: Vec<&StudyRow> = (rows.iter())
                 .filter(|r| &series_key(r) == k && r.status == "ok")
-                .map(|r| (r.wall_seconds, r.errors.velocity))
                 .collect();
-            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-            Series {
-                name: k.clone(),
-                x: pts.iter().map(|p| p.0).collect(),
-                y: pts.iter().map(|p| p.1).collect(),
-                style: Style::Markers,
-            }
+            run_series(k.clone(), &ok, &xy, Style::Markers)
         })
         .collect();
-    let failed: Vec<&StudyRow> = rows.iter().filter(|r| r.status != "ok").collect();
-    if !failed.is_empty() {
-        series.push(Series {
-            name: "failed (any method)".into(),
-            x: failed.iter().map(|r| r.wall_seconds).collect(),
-            y: failed.iter().map(|r| r.errors.velocity.min(10.0)).collect(),
-            style: Style::Crosses,
-        });
-    }
+    series.extend(failed_series(rows, &xy));
     Chart {
         title: format!(
             "{}: error against wall time",
@@ -290,32 +337,19 @@ pub fn speed_chart(rows: &[StudyRow]) -> Chart {
 }
 
 /// The atlas chart: error against the Courant number, one series per method (ok runs), the
-/// failures as crosses.
+/// failures as crosses, one series per way of failing. Each point's tooltip names its run.
 pub fn atlas_chart(rows: &[StudyRow]) -> Chart {
-    let mut series = Vec::new();
-    for m in Method::ALL {
-        let mut pts: Vec<(f64, f64)> = rows
-            .iter()
-            .filter(|r| r.method == m && r.status == "ok")
-            .map(|r| (r.courant, r.errors.force))
-            .collect();
-        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        series.push(Series {
-            name: m.name().into(),
-            x: pts.iter().map(|p| p.0).collect(),
-            y: pts.iter().map(|p| p.1).collect(),
-            style: Style::Markers,
-        });
-    }
-    let failed: Vec<&StudyRow> = rows.iter().filter(|r| r.status != "ok").collect();
-    if !failed.is_empty() {
-        series.push(Series {
-            name: "failed".into(),
-            x: failed.iter().map(|r| r.courant).collect(),
-            y: failed.iter().map(|r| r.errors.force.min(10.0)).collect(),
-            style: Style::Crosses,
-        });
-    }
+    let xy = |r: &StudyRow| (r.courant, r.errors.force);
+    let mut series: Vec<Series> = Method::ALL
+        .iter()
+        .map(|&m| {
+            let ok: Vec<&StudyRow> = (rows.iter())
+                .filter(|r| r.method == m && r.status == "ok")
+                .collect();
+            run_series(m.name().into(), &ok, &xy, Style::Markers)
+        })
+        .collect();
+    series.extend(failed_series(rows, &xy));
     Chart {
         title: format!(
             "{}: where each method fails",
