@@ -265,3 +265,38 @@ fn event_substeps_bring_the_cube_on_plate_closer_to_a_fine_step() {
         "event sub-steps {e_events} against plain steps {e_plain}"
     );
 }
+
+/// The short, hard slide of `docs/validation.md` (mu = 0.5, v0 = 1, g = 10: a rigid block
+/// stops at 0.200): the elastic block's floor force rattles, but its impulse is m g t to 1%;
+/// friction is mu times the normal impulse to 1e-3 while the block is fast (t < 0.1), and
+/// the stop is late by at most the 6% the docs state as this model's bound.
+#[test]
+fn a_short_hard_slide_stops_late_within_the_documented_bound() {
+    let (v0, mu, g, dt) = (1.0, 0.5, 10.0, 1e-3);
+    let text = block_scene([0.0, 0.0, -g], [v0, 0.0, 0.0], mu, 0.4, dt);
+    let (s, h) = run_text("friction_short_slide", &text);
+    s.expect("run completes");
+    let (t, vx) = (h.col("time"), h.col("block.vx"));
+    let (fz, ft) = (h.col("floor.normal_force"), h.col("floor.tangential_force"));
+    let stop = vx
+        .iter()
+        .position(|v| *v <= mu * g * dt)
+        .expect("the block stops");
+    let mg = 1000.0 * 0.2 * 0.2 * 0.1 * g;
+    let normal: f64 = fz[1..=stop].iter().sum::<f64>() * dt;
+    let fast = (0.1 / dt) as usize;
+    let friction_fast = ft[1..fast].iter().sum::<f64>() / (mu * fz[1..fast].iter().sum::<f64>());
+    let t_exact = v0 / (mu * g);
+    eprintln!(
+        "short slide: stop {:.4} (rigid {t_exact:.4}), normal impulse / (m g t) {:.4}, friction / (mu N) while fast {friction_fast:.5}",
+        t[stop],
+        normal / (mg * t[stop])
+    );
+    assert!((normal / (mg * t[stop]) - 1.0).abs() <= 0.01);
+    assert!((friction_fast - 1.0).abs() <= 1e-3);
+    assert!(
+        t[stop] >= t_exact - dt && t[stop] <= 1.06 * t_exact,
+        "stop {}",
+        t[stop]
+    );
+}
