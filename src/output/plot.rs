@@ -1,5 +1,6 @@
 //! Line charts of history columns against time, as SVG (vector, with text, and a tooltip on
-//! each point that has one) and PNG (raster, text in an 8x8 bitmap font). Log axes are
+//! each point that has one) and PNG (that SVG rendered by resvg, text in DejaVu Sans, which
+//! the binary embeds). Log axes are
 //! ticked at decades, or at 1, 2 and 5 times a power of ten where they span less than three. Every run writes `forces` (the contact forces, with any exact
 //! curve the scene gives) and `energies`; `impact plot DIR --columns a,b` draws any columns.
 
@@ -28,8 +29,6 @@ const PALETTE: [[u8; 3]; 10] = [
     [127, 127, 127],
 ];
 const BLACK: [u8; 3] = [0, 0, 0];
-const GRID: [u8; 3] = [225, 225, 225];
-const WHITE: [u8; 3] = [255, 255, 255];
 
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -361,10 +360,22 @@ impl Chart {
                 }
             }
             let (ly, lx) = (TOP + 16.0 + 16.0 * i as f64, self.legend_x());
+            s += &match ser.style {
+                Style::Markers => format!(
+                    "<circle cx=\"{:.1}\" cy=\"{ly:.1}\" r=\"3.5\" fill=\"{col}\"/>\n",
+                    lx + 12.0
+                ),
+                Style::Crosses => format!(
+                    "<path d=\"M{:.1},{:.1}L{:.1},{:.1}M{:.1},{:.1}L{:.1},{:.1}\" stroke=\"{col}\" stroke-width=\"2\"/>\n",
+                    lx + 7.0, ly - 5.0, lx + 17.0, ly + 5.0, lx + 7.0, ly + 5.0, lx + 17.0, ly - 5.0
+                ),
+                _ => format!(
+                    "<line x1=\"{lx:.1}\" y1=\"{ly:.1}\" x2=\"{:.1}\" y2=\"{ly:.1}\" stroke=\"{col}\" stroke-width=\"2\"{dash}/>\n",
+                    lx + 24.0
+                ),
+            };
             s += &format!(
-                "<line x1=\"{lx:.1}\" y1=\"{ly:.1}\" x2=\"{:.1}\" y2=\"{ly:.1}\" stroke=\"{col}\" stroke-width=\"2\"{dash}/>\n\
-<text x=\"{:.1}\" y=\"{:.1}\">{}</text>\n",
-                lx + 24.0,
+                "<text x=\"{:.1}\" y=\"{:.1}\">{}</text>\n",
                 lx + 30.0,
                 ly + 4.0,
                 xml(&ser.name)
@@ -374,71 +385,17 @@ impl Chart {
         s
     }
 
-    /// RGB pixels, row by row.
+    /// RGB pixels, row by row: the SVG rendered by resvg, its text in DejaVu Sans.
     pub fn pixels(&self) -> Vec<u8> {
-        let mut c = Canvas::new();
-        let (x0, x1, y0, y1) = self.bounds();
-        let map = self.mapping();
-        let (right, bottom) = (WIDTH as f64 - RIGHT, HEIGHT as f64 - BOTTOM);
-        for (t, l) in axis_ticks(x0, x1, self.log_x) {
-            let (px, _) = map(t, y0);
-            c.line(px, TOP, px, bottom, GRID, 1.0, false);
-            c.text(px - 4.0 * l.len() as f64, bottom + 8.0, &l, BLACK, 1);
-        }
-        for (t, l) in axis_ticks(y0, y1, self.log_y) {
-            let (_, py) = map(x0, t);
-            c.line(LEFT, py, right, py, GRID, 1.0, false);
-            c.text(LEFT - 6.0 - 8.0 * l.len() as f64, py - 4.0, &l, BLACK, 1);
-        }
-        c.line(LEFT, TOP, right, TOP, BLACK, 1.0, false);
-        c.line(LEFT, bottom, right, bottom, BLACK, 1.0, false);
-        c.line(LEFT, TOP, LEFT, bottom, BLACK, 1.0, false);
-        c.line(right, TOP, right, bottom, BLACK, 1.0, false);
-        c.text(
-            WIDTH as f64 / 2.0 - 8.0 * self.title.len() as f64,
-            10.0,
-            &self.title,
-            BLACK,
-            2,
-        );
-        c.text(
-            (LEFT + right) / 2.0 - 4.0 * self.x_label.len() as f64,
-            HEIGHT as f64 - 18.0,
-            &self.x_label,
-            BLACK,
-            1,
-        );
-        for (i, ser) in self.series.iter().enumerate() {
-            let col = self.colour(i);
-            let pts = self.series_points(ser, &map);
-            let exact = ser.style == Style::Exact;
-            if matches!(ser.style, Style::Line | Style::Exact) {
-                for w in pts.windows(2) {
-                    c.line(w[0].0, w[0].1, w[1].0, w[1].1, col, 2.0, exact);
-                }
-            }
-            for &(x, y) in &pts {
-                match ser.style {
-                    Style::Markers => c.line(x, y, x, y, col, 7.0, false),
-                    Style::Crosses => {
-                        c.line(x - 5.0, y - 5.0, x + 5.0, y + 5.0, col, 2.0, false);
-                        c.line(x - 5.0, y + 5.0, x + 5.0, y - 5.0, col, 2.0, false);
-                    }
-                    _ => {}
-                }
-            }
-            let (ly, lx) = (TOP + 16.0 + 16.0 * i as f64, self.legend_x());
-            match ser.style {
-                Style::Markers => c.line(lx + 12.0, ly, lx + 12.0, ly, col, 7.0, false),
-                Style::Crosses => {
-                    c.line(lx + 7.0, ly - 5.0, lx + 17.0, ly + 5.0, col, 2.0, false);
-                    c.line(lx + 7.0, ly + 5.0, lx + 17.0, ly - 5.0, col, 2.0, false);
-                }
-                _ => c.line(lx, ly, lx + 24.0, ly, col, 2.0, exact),
-            }
-            c.text(lx + 30.0, ly - 4.0, &ser.name, BLACK, 1);
-        }
-        c.rgb
+        use resvg::{tiny_skia, usvg};
+        let tree = usvg::Tree::from_str(&self.svg(), fonts()).expect("the chart's own SVG parses");
+        let mut pixmap =
+            tiny_skia::Pixmap::new(WIDTH as u32, HEIGHT as u32).expect("a chart has a size");
+        resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
+        // the background is opaque white, so premultiplied RGBA is plain RGBA
+        (pixmap.data().chunks_exact(4))
+            .flat_map(|p| [p[0], p[1], p[2]])
+            .collect()
     }
 
     pub fn png(&self) -> Vec<u8> {
@@ -465,70 +422,18 @@ impl Chart {
 
 use super::file::xml_escape as xml;
 
-struct Canvas {
-    rgb: Vec<u8>,
-}
-
-impl Canvas {
-    fn new() -> Canvas {
-        Canvas {
-            rgb: WHITE.repeat(WIDTH * HEIGHT),
-        }
-    }
-
-    fn put(&mut self, x: i64, y: i64, c: [u8; 3]) {
-        if x >= 0 && y >= 0 && (x as usize) < WIDTH && (y as usize) < HEIGHT {
-            let i = 3 * (y as usize * WIDTH + x as usize);
-            self.rgb[i..i + 3].copy_from_slice(&c);
-        }
-    }
-
-    /// A line of the given thickness; dashed lines alternate 6 px drawn, 4 px gap.
-    #[allow(clippy::too_many_arguments)]
-    fn line(&mut self, x0: f64, y0: f64, x1: f64, y1: f64, c: [u8; 3], width: f64, dashed: bool) {
-        let len = ((x1 - x0).powi(2) + (y1 - y0).powi(2)).sqrt();
-        let n = (2.0 * len).ceil().max(1.0) as usize;
-        let r = (width / 2.0).max(0.5);
-        for k in 0..=n {
-            let s = k as f64 / n as f64;
-            if dashed && (s * len) % 10.0 >= 6.0 {
-                continue;
-            }
-            let (x, y) = (x0 + s * (x1 - x0), y0 + s * (y1 - y0));
-            let ri = r.ceil() as i64;
-            for dy in -ri..=ri {
-                for dx in -ri..=ri {
-                    if ((dx * dx + dy * dy) as f64) <= r * r {
-                        self.put(x.round() as i64 + dx, y.round() as i64 + dy, c);
-                    }
-                }
-            }
-        }
-    }
-
-    /// Text in the 8x8 font, top-left at (x, y), each font pixel `scale` pixels wide.
-    fn text(&mut self, x: f64, y: f64, s: &str, c: [u8; 3], scale: i64) {
-        use font8x8::UnicodeFonts;
-        let (x, y) = (x.round() as i64, y.round() as i64);
-        for (k, ch) in s.chars().enumerate() {
-            let glyph = font8x8::BASIC_FONTS.get(ch).unwrap_or([0; 8]);
-            for (row, bits) in glyph.iter().enumerate() {
-                for col in 0..8 {
-                    if bits & (1 << col) != 0 {
-                        for sy in 0..scale {
-                            for sx in 0..scale {
-                                self.put(
-                                    x + (8 * k as i64 + col) * scale + sx,
-                                    y + row as i64 * scale + sy,
-                                    c,
-                                );
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
+/// The SVG renderer's options: DejaVu Sans, embedded, as every family (no system font is
+/// read, so a chart looks the same on every machine). Built once.
+fn fonts() -> &'static resvg::usvg::Options<'static> {
+    static OPTIONS: std::sync::OnceLock<resvg::usvg::Options<'static>> = std::sync::OnceLock::new();
+    OPTIONS.get_or_init(|| {
+        let mut o = resvg::usvg::Options::default();
+        let db = o.fontdb_mut();
+        db.load_font_data(dejavu::sans::regular().to_vec());
+        db.set_sans_serif_family("DejaVu Sans");
+        o.font_family = "DejaVu Sans".into();
+        o
+    })
 }
 
 /// Columns of a `history.csv` by name.
@@ -687,7 +592,8 @@ mod tests {
         assert!(!svg.contains("NaN") && !svg.contains("inf"), "{svg}");
     }
 
-    /// A chart's PNG decodes to the right size and holds the series colour, black and white.
+    /// A chart's PNG decodes to the right size and holds the series colour (where the line
+    /// is drawn, antialiased), dark text and a white background.
     #[test]
     fn png_holds_the_curves() {
         let chart = Chart {
@@ -705,8 +611,16 @@ mod tests {
         };
         let px = chart.pixels();
         assert_eq!(px.len(), 3 * WIDTH * HEIGHT);
-        let has = |c: [u8; 3]| px.chunks_exact(3).any(|p| p == c);
-        assert!(has(PALETTE[0]) && has(BLACK) && has(WHITE));
+        let near = |c: [u8; 3], tol: i32| {
+            move |p: &[u8]| (0..3).all(|k| (i32::from(p[k]) - i32::from(c[k])).abs() <= tol)
+        };
+        let count = |f: &dyn Fn(&[u8]) -> bool| px.chunks_exact(3).filter(|p| f(p)).count();
+        assert!(count(&near(PALETTE[0], 40)) > 200, "the curve");
+        assert!(count(&near(BLACK, 40)) > 200, "text and frame");
+        assert!(
+            count(&near([255, 255, 255], 0)) > WIDTH * HEIGHT / 2,
+            "background"
+        );
         let png = chart.png();
         assert_eq!(&png[1..4], b"PNG");
     }
