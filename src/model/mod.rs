@@ -251,6 +251,9 @@ impl Model {
     /// Refuses a probe whose point lies farther than [`PROBE_REACH`] of its body's size from
     /// the node it records (a point far outside the body is a mistake, not a probe).
     pub fn check_probes(&self, scene: &Scene) -> Result<()> {
+        let sizes: Vec<f64> = (self.mesh.bodies.iter())
+            .map(|b| diagonal(&self.mesh, b.nodes.clone()))
+            .collect();
         for (i, (spec, probe)) in scene.probes.iter().zip(&self.probes).enumerate() {
             let node = probe.node as usize;
             let x = self.mesh.nodes[node];
@@ -258,7 +261,7 @@ impl Model {
                 .map(|k| (x[k] - spec.point[k]).powi(2))
                 .sum::<f64>()
                 .sqrt();
-            let size = diagonal(&self.mesh, self.mesh.bodies[spec.body].nodes.clone());
+            let size = sizes[spec.body];
             if distance > PROBE_REACH * size {
                 return Err(ImpactError::SceneValue {
                     path: scene.path.clone(),
