@@ -439,3 +439,96 @@ fn mutated_scenes_and_meshes_never_panic() {
         failures.join("\n")
     );
 }
+
+/// Checkpoints and histories damaged at random: 1 to 4 bytes of `checkpoint.bin` flipped
+/// anywhere, or the file cut at a random length, is refused by `Checkpoint::read` in every
+/// case; a history cut inside the rows the checkpoint keeps, or with a byte of them changed,
+/// is refused by the resume. Bounded by `IMPACT_FUZZ_SECONDS` (default 20) like the test
+/// above, on the same seed.
+#[test]
+fn damaged_checkpoints_and_histories_never_resume() {
+    use impact::checkpoint::Checkpoint;
+    use impact::output::History;
+    let text = std::fs::read_to_string(repo().join("scenes/two_bars.toml"))
+        .unwrap()
+        .replace("end_time = 0.4", "end_time = 0.2")
+        + "\n[output]\ncheckpoint_every = 20\n";
+    let scene = Scene::parse(&text, &repo().join("scenes/fuzz_checkpoint.toml")).unwrap();
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("fuzz_checkpoint");
+    let _ = std::fs::remove_dir_all(&dir);
+    let opts = impact::run::RunOptions {
+        out: Some(dir.clone()),
+        device: Some(impact::scene::DeviceChoice::Cpu),
+        quiet: true,
+        ..Default::default()
+    };
+    impact::run::run(&scene, &opts).expect("the run completes");
+    let model = impact::model::Model::from_scene(&scene).unwrap();
+    let whole = std::fs::read(dir.join("checkpoint.bin")).unwrap();
+    let c = Checkpoint::read(&dir, &scene).expect("the written checkpoint reads");
+    let rows = c.tally.steps + 1;
+    let time = 0.2;
+    let history = std::fs::read(dir.join("history.csv")).unwrap();
+    // the byte after the header and the kept rows
+    let kept = (history.iter().enumerate())
+        .filter(|(_, b)| **b == b'\n')
+        .nth(rows)
+        .map(|(i, _)| i + 1)
+        .unwrap();
+    let header = history.iter().position(|b| *b == b'\n').unwrap() + 1;
+    let seed = env_u64("IMPACT_FUZZ_SEED").unwrap_or(DEFAULT_SEED);
+    let seconds = env_u64("IMPACT_FUZZ_SECONDS").unwrap_or(20);
+    let start = Instant::now();
+    let mut cases = 0u64;
+    while start.elapsed() < Duration::from_secs(seconds) && cases < 100_000 {
+        let mut rng = Rng::new(seed ^ cases.wrapping_mul(0x9E37_79B9));
+        cases += 1;
+        // a damaged checkpoint
+        let mut bytes = whole.clone();
+        if rng.below(4) == 0 {
+            bytes.truncate(rng.below(whole.len()));
+        } else {
+            for _ in 0..1 + rng.below(4) {
+                let at = rng.below(bytes.len());
+                bytes[at] ^= 1 + rng.below(255) as u8;
+            }
+        }
+        std::fs::write(dir.join("checkpoint.bin"), &bytes).unwrap();
+        assert!(
+            Checkpoint::read(&dir, &scene).is_err(),
+            "case {cases}: a damaged checkpoint was read"
+        );
+        // a damaged history: cut inside the kept rows, or one of their bytes changed
+        let mut h = history.clone();
+        if rng.below(2) == 0 {
+            h.truncate(header + rng.below(kept - header));
+        } else {
+            let at = header + rng.below(kept - header);
+            let old = h[at];
+            h[at] = match old {
+                b'\n' => b',',
+                b',' => b'\n',
+                b'0'..=b'9' => b"x,\n.e-"[rng.below(6)],
+                _ => b'#',
+            };
+        }
+        std::fs::write(dir.join("history.csv"), &h).unwrap();
+        let resumed = History::resume(&dir, &model, rows, time);
+        if resumed.is_ok() {
+            // only a change that leaves every kept row whole numbers of the right step and
+            // time may pass (a digit changed inside a value): the rows still parse
+            let text = String::from_utf8_lossy(&h[header..kept.min(h.len())]).into_owned();
+            assert!(
+                text.lines()
+                    .all(|l| l.split(',').all(|v| v.parse::<f64>().is_ok())),
+                "case {cases}: a history with broken rows resumed"
+            );
+        }
+    }
+    std::fs::write(dir.join("checkpoint.bin"), &whole).unwrap();
+    println!(
+        "{cases} damaged checkpoints and histories refused in {:.1} s",
+        start.elapsed().as_secs_f64()
+    );
+    assert!(cases > 0);
+}
