@@ -78,7 +78,7 @@ impl Checkpoint {
             dir: dir.to_path_buf(),
             message,
         };
-        let bytes = crate::limits::read_input(&path)
+        let bytes = crate::limits::read_own(&path)
             .map_err(|e| refuse(format!("{}: {e}", path.display())))?;
         let payload =
             checked_payload(&bytes).map_err(|what| refuse(format!("{} {what}", path.display())))?;

@@ -1,10 +1,12 @@
 //! What this process may use: the host memory it may allocate, and input files read within
 //! it.
 //!
-//! Every file the user names (a scene, a mesh, a deck and what it includes, a history, a
-//! checkpoint) is read through [`read_input`]: only a regular file, and only one smaller than
-//! [`INPUT_SHARE`] of the memory the process may use, so that `impact check /dev/zero` or a
-//! mesh path that names a device is refused at once instead of reading until memory runs out.
+//! Every file the user names (a scene, a mesh, a deck and what it includes) is read through
+//! [`read_input`]: only a regular file, and only one smaller than [`INPUT_SHARE`] of the
+//! memory the process may use, so that `impact check /dev/zero` or a mesh path that names a
+//! device is refused at once instead of reading until memory runs out. The files a run wrote
+//! itself (its history, its checkpoint) are read through [`read_own`]: only a regular file,
+//! of any size the run made.
 
 use std::io::Read;
 use std::path::Path;
@@ -103,6 +105,29 @@ pub fn read_input(path: &Path) -> std::io::Result<Vec<u8>> {
         )));
     }
     Ok(out)
+}
+
+/// Reads a file a run wrote (a history, a checkpoint), which may be as large as the run
+/// made it: refused only when it is not a regular file.
+pub fn read_own(path: &Path) -> std::io::Result<Vec<u8>> {
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "it is not a regular file",
+        ));
+    }
+    std::fs::read(path)
+}
+
+/// [`read_own`] as UTF-8 text.
+pub fn read_own_text(path: &Path) -> std::io::Result<String> {
+    String::from_utf8(read_own(path)?).map_err(|e| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("it is not UTF-8 text ({})", e.utf8_error()),
+        )
+    })
 }
 
 /// [`read_input`] as UTF-8 text.

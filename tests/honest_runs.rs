@@ -603,3 +603,17 @@ fn a_probe_far_outside_its_body_is_refused() {
         &["probe[0].point", "probe `tipA`", "body `A`"],
     );
 }
+
+/// A probe at the centre of a face of a coarse body (a unit cube of 3 x 3 x 3) is 0.24 from
+/// its nearest node, more than 0.1 of the body's size but within one element: accepted.
+#[test]
+fn a_probe_inside_a_coarse_element_is_accepted() {
+    let text = edit(
+        &scene_text("bar_on_wall.toml"),
+        "box = { min = [-10.0, 0.0, 0.0], max = [0.0, 1.0, 1.0], divisions = [10, 1, 1] }",
+        "box = { min = [-1.0, 0.0, 0.0], max = [0.0, 1.0, 1.0], divisions = [3, 3, 3] }",
+    );
+    let text = edit(&text, "end_time = 0.4", "end_time = 0.02");
+    let s = run(&parse(&text, "probe_coarse"), &opts("probe_coarse")).expect("runs");
+    assert!(s.status.starts_with("completed"), "{}", s.status);
+}

@@ -432,7 +432,12 @@ fn an_included_deck_reads_as_the_whole_deck() {
             + "\n*INCLUDE, INPUT=\"more.inp\"\n",
     )
     .unwrap();
-    std::fs::write(sub.join("more.inp"), second.join("\n") + "\n").unwrap();
+    // an editor's byte-order mark before the included data lines is passed over
+    std::fs::write(
+        sub.join("more.inp"),
+        "\u{feff}".to_string() + &second.join("\n") + "\n",
+    )
+    .unwrap();
     let main = lines[..3].join("\n")
         + "\n*Include, input=parts/nodes.inp\n"
         + &lines[1758..].join("\n")

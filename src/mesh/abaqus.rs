@@ -271,6 +271,10 @@ impl Parser {
             "SURFACE" => self.surface_keyword(&k)?,
             "ORIENTATION" => self.orientation_keyword(&k)?,
             "SOLID SECTION" => {
+                if let Some(m) = k.params.get("MATERIAL").filter(|m| !m.is_empty()) {
+                    // the body's `material` is used, not the deck's
+                    self.r.skipped.push((format!("SOLID SECTION MATERIAL={m}"), line_no));
+                }
                 if let Some(o) = k.params.get("ORIENTATION").filter(|o| !o.is_empty()) {
                     let elset = k.need("ELSET")?;
                     self.r.sections.push((elset, o.clone(), k.line));

@@ -59,6 +59,8 @@ impl Deck {
 
     /// Appends the lines of `text`, file `file` at include depth `depth`.
     fn add(&mut self, text: &str, file: usize, depth: usize) -> Result<(), ParseError> {
+        // a byte-order mark some editors write is no part of the deck
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         for (i, raw) in text.lines().enumerate() {
             let line = i + 1;
             match include_target(raw) {
@@ -91,6 +93,15 @@ impl Deck {
                     let text = crate::limits::read_input_text(&path).map_err(|e| {
                         at(format!("*INCLUDE: cannot read {}: {e}", path.display()))
                     })?;
+                    if let Some((limit, why)) = crate::limits::input_limit()
+                        .filter(|(l, _)| (self.text.len() + text.len()) as u64 > *l)
+                    {
+                        return Err(at(format!(
+                            "*INCLUDE of {}: the deck with its includes grows past the {} an input may take ({why})",
+                            path.display(),
+                            crate::error::bytes(limit)
+                        )));
+                    }
                     self.files.push(path);
                     let index = self.files.len() - 1;
                     self.add(&text, index, depth + 1)?;

@@ -218,7 +218,7 @@ fn interfaces(scene: &Scene, mesh: &Mesh) -> (ContactQueries, Vec<Interface>) {
 }
 
 /// A probe's point may lie at most this fraction of its body's bounding-box diagonal from
-/// the node it records.
+/// the node it records, or (where more) the largest corner-to-corner distance of an element at that node.
 pub const PROBE_REACH: f64 = 0.1;
 
 /// Each probe's node: the body's node nearest its point.
@@ -248,12 +248,15 @@ fn probes(scene: &Scene, mesh: &Mesh) -> Vec<Probe> {
 }
 
 impl Model {
-    /// Refuses a probe whose point lies farther than [`PROBE_REACH`] of its body's size from
-    /// the node it records (a point far outside the body is a mistake, not a probe).
+    /// Refuses a probe whose point lies farther from the node it records than
+    /// [`PROBE_REACH`] of its body's size and than the largest corner-to-corner distance of the elements at that
+    /// node (a point far outside the body is a mistake, not a probe; a point inside a
+    /// coarse element is not).
     pub fn check_probes(&self, scene: &Scene) -> Result<()> {
         let sizes: Vec<f64> = (self.mesh.bodies.iter())
             .map(|b| diagonal(&self.mesh, b.nodes.clone()))
             .collect();
+        let edges = self.probe_edges();
         for (i, (spec, probe)) in scene.probes.iter().zip(&self.probes).enumerate() {
             let node = probe.node as usize;
             let x = self.mesh.nodes[node];
@@ -262,18 +265,47 @@ impl Model {
                 .sum::<f64>()
                 .sqrt();
             let size = sizes[spec.body];
-            if distance > PROBE_REACH * size {
+            if distance > (PROBE_REACH * size).max(edges[&probe.node]) {
                 return Err(ImpactError::SceneValue {
                     path: scene.path.clone(),
                     key: format!("probe[{i}].point (probe `{}`)", spec.name),
                     message: format!(
-                        "{:?} is {distance:.4e} from the nearest node of body `{}` (node {node} at {x:?}), more than {PROBE_REACH} of the body's size {size:.4e}: a probe records the node nearest its point, which must lie on or in its body",
-                        spec.point, scene.bodies[spec.body].name
+                        "{:?} is {distance:.4e} from the nearest node of body `{}` (node {node} at {x:?}), more than {PROBE_REACH} of the body's size {size:.4e} and than the largest corner-to-corner distance {:.4e} of the elements at that node: a probe records the node nearest its point, which must lie on or in its body",
+                        spec.point, scene.bodies[spec.body].name, edges[&probe.node]
                     ),
                 });
             }
         }
         Ok(())
+    }
+}
+
+impl Model {
+    /// The largest corner-to-corner distance of the elements at each probe's node.
+    fn probe_edges(&self) -> std::collections::HashMap<u32, f64> {
+        let mut edges: std::collections::HashMap<u32, f64> =
+            self.probes.iter().map(|p| (p.node, 0.0)).collect();
+        for (corners, _) in self.mesh.elements() {
+            if !corners.iter().any(|n| edges.contains_key(n)) {
+                continue;
+            }
+            let x = self.mesh.corners(corners);
+            let longest = (0..x.len())
+                .flat_map(|i| (i + 1..x.len()).map(move |j| (i, j)))
+                .map(|(i, j)| {
+                    (0..3)
+                        .map(|k| (x[i][k] - x[j][k]).powi(2))
+                        .sum::<f64>()
+                        .sqrt()
+                })
+                .fold(0.0, f64::max);
+            for n in corners {
+                if let Some(e) = edges.get_mut(n) {
+                    *e = e.max(longest);
+                }
+            }
+        }
+        edges
     }
 }
 

@@ -25,7 +25,9 @@ pub fn write_whole_with(
         .and_then(|f| {
             let mut out = std::io::BufWriter::new(f);
             write(&mut out)?;
-            out.flush()
+            // on the disk before it replaces the old file, so that not even a power loss
+            // leaves an empty file where a whole one was
+            out.into_inner().map_err(|e| e.into_error())?.sync_all()
         })
         .and_then(|()| std::fs::rename(&tmp, path));
     written.map_err(|source| {

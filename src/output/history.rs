@@ -65,7 +65,7 @@ impl History {
             path: path.clone(),
             source,
         };
-        let text = crate::limits::read_input_text(&path).map_err(read_err)?;
+        let text = crate::limits::read_own_text(&path).map_err(read_err)?;
         let header = column_names(model).join(",");
         let bad = |what: String| ImpactError::Resume {
             dir: dir.to_path_buf(),
@@ -175,6 +175,14 @@ impl History {
         self.whole += self.pending.len() as u64;
         self.pending.clear();
         Ok(())
+    }
+}
+
+impl Drop for History {
+    /// A history dropped on any path (an early return, a panic) still writes the rows it
+    /// holds back.
+    fn drop(&mut self) {
+        let _ = self.flush();
     }
 }
 

@@ -447,7 +447,7 @@ impl Table {
     /// header has columns; otherwise an error naming the line (a file cut short by a full
     /// disk, or edited).
     pub fn read(path: &Path) -> Result<Table> {
-        let text = crate::limits::read_input_text(path).map_err(|source| ImpactError::Read {
+        let text = crate::limits::read_own_text(path).map_err(|source| ImpactError::Read {
             path: path.to_path_buf(),
             source,
         })?;

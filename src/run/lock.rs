@@ -89,6 +89,7 @@ fn try_lock(file: &File) -> std::io::Result<bool> {
     }
 }
 
+/// Elsewhere the standard library's lock (Rust 1.89 or later there).
 #[cfg(not(unix))]
 fn try_lock(file: &File) -> std::io::Result<bool> {
     match file.try_lock() {

@@ -289,7 +289,7 @@ impl<'s> Running<'s> {
         summary.setup_seconds = clock.total();
         summary.setup_stages = clock.stages();
         // `running` until the run ends: a process killed on the way leaves no stale ending
-        out.summary(&summary)?;
+        ranks::agreed(ranks, out.summary(&summary))?;
         let identity = RunIdentity {
             scene_hash: crate::checkpoint::scene_hash(scene),
             speed_scale,

@@ -194,7 +194,6 @@ pub(super) fn check_resumable(
         SolverState::Implicit(s) => (s.steps, s.time, None),
         SolverState::Resident(s) => (s.steps, s.time, Some(s.dt)),
     };
-    check_tally(c, (steps, time), setup).map_err(refuse)?;
     if steps >= setup.steps {
         return Err(refuse(format!(
             "the checkpoint is at step {steps} (t = {time:.6e}) and the scene ends at step {}: nothing is left to run (raise run.end_time)",
@@ -207,7 +206,7 @@ pub(super) fn check_resumable(
             setup.dt
         )));
     }
-    Ok(())
+    check_tally(c, (steps, time), setup).map_err(refuse)
 }
 
 /// The checkpoint's tally against its solver state and the model: the same step count, a
