@@ -5,7 +5,8 @@
 //! The modules form one-way layers, each using only those before it (checked by
 //! `tests/layers.rs`; `docs/architecture.md` walks through them):
 //!
-//! 1. [`error`], [`parallel`], [`material`]: errors, ordered parallel loops, elastic constants;
+//! 1. [`error`], [`limits`], [`parallel`], [`material`]: errors, what the process may use and
+//!    read, ordered parallel loops, elastic constants;
 //! 2. [`geometry`]: vectors, bilinear quads, closest-point projection, the contact point;
 //! 3. [`element`], [`mesh`], [`scene`]: element matrices, meshes (boxes, Gmsh, Abaqus), the
 //!    checked scene;
@@ -15,8 +16,8 @@
 //! 7. [`backend`] and [`gpu`]: the kernels behind one trait, on the CPU or a GPU;
 //! 8. [`linalg`], [`integrate`]: assembly and Cholesky; the implicit, explicit and resident
 //!    integrators;
-//! 9. [`check`], [`checkpoint`], [`output`], [`setup`], [`report`], [`run`], [`study`]: model
-//!    checks, restart files, writers, the run's preparation, its report, the run itself and
+//! 9. [`check`], [`output`], [`checkpoint`], [`setup`], [`report`], [`run`], [`study`]: model
+//!    checks, writers, restart files, the run's preparation, its report, the run itself and
 //!    the accuracy-against-speed study.
 
 // Index loops over nodes, corners and components keep the CPU twins line-by-line comparable

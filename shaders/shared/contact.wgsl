@@ -1,5 +1,5 @@
 // One projected Jacobi update of an explicit contact constraint (twin:
-// `contact::impulse::impulse_update`, which the host path uses too): the step's gap rate in
+// `kernels::impulse::impulse_update`, which the host path uses too): the step's gap rate in
 // forward-increment form, g_n + dt gdot <= 0 with gdot = -rel . n. The normal impulse moves
 // by the residual over the split compliance and is kept >= 0; with friction the tangential
 // impulse that stops the slip is returned onto the cone |J_T| <= mu J_N. The violation is

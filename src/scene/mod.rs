@@ -176,7 +176,7 @@ pub struct ImplicitSettings {
     pub gamma: f64,
     pub constraint: ConstraintMeasure,
     pub penalty: PenaltyLaw,
-    /// Initial eps_N; `None` means "estimate from the scene" (see `contact::penalty`).
+    /// Initial eps_N; `None` means "estimate from the scene" (see `integrate::implicit::interface::default_penalty`).
     pub penalty_normal: Option<f64>,
     /// Initial eps_T; `None` means "equal to eps_N".
     pub penalty_tangential: Option<f64>,
