@@ -74,16 +74,8 @@ pub fn input_limit() -> Option<(u64, String)> {
 /// Reads a file the user named: refused (as an `InvalidInput` error saying why) when it is
 /// not a regular file or is larger than [`input_limit`].
 pub fn read_input(path: &Path) -> std::io::Result<Vec<u8>> {
+    let meta = regular_file(path)?;
     let refuse = |m: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, m);
-    let meta = std::fs::metadata(path)?;
-    if !meta.is_file() {
-        let what = if meta.is_dir() {
-            "a folder"
-        } else {
-            "a device, pipe or socket"
-        };
-        return Err(refuse(format!("it is {what}, not a regular file")));
-    }
     let limit = input_limit();
     if let Some((limit, why)) = limit.as_ref().filter(|(l, _)| meta.len() > *l) {
         return Err(refuse(format!(
@@ -110,29 +102,41 @@ pub fn read_input(path: &Path) -> std::io::Result<Vec<u8>> {
 /// Reads a file a run wrote (a history, a checkpoint), which may be as large as the run
 /// made it: refused only when it is not a regular file.
 pub fn read_own(path: &Path) -> std::io::Result<Vec<u8>> {
-    let meta = std::fs::metadata(path)?;
-    if !meta.is_file() {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "it is not a regular file",
-        ));
-    }
+    regular_file(path)?;
     std::fs::read(path)
 }
 
 /// [`read_own`] as UTF-8 text.
 pub fn read_own_text(path: &Path) -> std::io::Result<String> {
-    String::from_utf8(read_own(path)?).map_err(|e| {
-        std::io::Error::new(
-            std::io::ErrorKind::InvalidData,
-            format!("it is not UTF-8 text ({})", e.utf8_error()),
-        )
-    })
+    utf8(read_own(path)?)
 }
 
 /// [`read_input`] as UTF-8 text.
 pub fn read_input_text(path: &Path) -> std::io::Result<String> {
-    String::from_utf8(read_input(path)?).map_err(|e| {
+    utf8(read_input(path)?)
+}
+
+/// The metadata of `path`, refused (`InvalidInput`, saying what it is) unless it is a regular
+/// file.
+fn regular_file(path: &Path) -> std::io::Result<std::fs::Metadata> {
+    let meta = std::fs::metadata(path)?;
+    if meta.is_file() {
+        return Ok(meta);
+    }
+    let what = if meta.is_dir() {
+        "a folder"
+    } else {
+        "a device, pipe or socket"
+    };
+    Err(std::io::Error::new(
+        std::io::ErrorKind::InvalidInput,
+        format!("it is {what}, not a regular file"),
+    ))
+}
+
+/// `bytes` as text, or an `InvalidData` error saying where they are not UTF-8.
+fn utf8(bytes: Vec<u8>) -> std::io::Result<String> {
+    String::from_utf8(bytes).map_err(|e| {
         std::io::Error::new(
             std::io::ErrorKind::InvalidData,
             format!("it is not UTF-8 text ({})", e.utf8_error()),

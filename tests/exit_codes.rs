@@ -3,23 +3,8 @@
 
 mod common;
 use common::*;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn impact(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_impact"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().expect("exited, not killed")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use std::path::PathBuf;
+use std::process::Command;
 
 /// Writes a scene text into a fresh folder `tag` (beside a copy of the shipped meshes).
 fn scene_file(tag: &str, text: &str) -> PathBuf {
@@ -28,10 +13,6 @@ fn scene_file(tag: &str, text: &str) -> PathBuf {
     let path = dir.join("scene.toml");
     std::fs::write(&path, text).unwrap();
     path
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 #[test]

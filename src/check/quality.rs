@@ -8,6 +8,7 @@
 //!   a step cut by the dilatational wave speed).
 
 use super::Warning;
+use crate::geometry::vector::{norm, sub};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
 
@@ -95,10 +96,7 @@ pub fn aspect(x: &[[f64; 3]]) -> f64 {
     let (lo, hi) = edges
         .iter()
         .fold((f64::INFINITY, 0.0_f64), |(lo, hi), [i, j]| {
-            let d = (0..3)
-                .map(|a| (x[*i][a] - x[*j][a]).powi(2))
-                .sum::<f64>()
-                .sqrt();
+            let d = norm(sub(x[*i], x[*j]));
             (lo.min(d), hi.max(d))
         });
     hi / lo

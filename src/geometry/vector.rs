@@ -22,3 +22,18 @@ pub fn cross(a: V3, b: V3) -> V3 {
 pub fn norm(a: V3) -> f64 {
     dot(a, a).sqrt()
 }
+
+/// The diagonal of the bounding box of `points` (0 for none).
+pub fn bbox_diagonal(points: &[V3]) -> f64 {
+    if points.is_empty() {
+        return 0.0;
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in points {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    norm(sub(hi, lo))
+}

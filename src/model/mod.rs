@@ -8,6 +8,7 @@ pub use interface::{tributary_areas, Interface, Primary};
 pub use materials::MaterialTable;
 
 use crate::error::{ImpactError, Result};
+use crate::geometry::vector::{bbox_diagonal, norm, sub};
 use crate::kernels::{ContactQueries, ElementData};
 use crate::material::Elastic;
 use crate::mesh::Mesh;
@@ -254,16 +255,13 @@ impl Model {
     /// coarse element is not).
     pub fn check_probes(&self, scene: &Scene) -> Result<()> {
         let sizes: Vec<f64> = (self.mesh.bodies.iter())
-            .map(|b| diagonal(&self.mesh, b.nodes.clone()))
+            .map(|b| bbox_diagonal(&self.mesh.nodes[b.nodes.clone()]))
             .collect();
         let edges = self.probe_edges();
         for (i, (spec, probe)) in scene.probes.iter().zip(&self.probes).enumerate() {
             let node = probe.node as usize;
             let x = self.mesh.nodes[node];
-            let distance = (0..3)
-                .map(|k| (x[k] - spec.point[k]).powi(2))
-                .sum::<f64>()
-                .sqrt();
+            let distance = norm(sub(x, spec.point));
             let size = sizes[spec.body];
             if distance > (PROBE_REACH * size).max(edges[&probe.node]) {
                 return Err(ImpactError::SceneValue {
@@ -292,12 +290,7 @@ impl Model {
             let x = self.mesh.corners(corners);
             let longest = (0..x.len())
                 .flat_map(|i| (i + 1..x.len()).map(move |j| (i, j)))
-                .map(|(i, j)| {
-                    (0..3)
-                        .map(|k| (x[i][k] - x[j][k]).powi(2))
-                        .sum::<f64>()
-                        .sqrt()
-                })
+                .map(|(i, j)| norm(sub(x[i], x[j])))
                 .fold(0.0, f64::max);
             for n in corners {
                 if let Some(e) = edges.get_mut(n) {
@@ -307,16 +300,4 @@ impl Model {
         }
         edges
     }
-}
-
-/// The bounding-box diagonal of `nodes`.
-fn diagonal(mesh: &Mesh, nodes: std::ops::Range<usize>) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for n in nodes {
-        for k in 0..3 {
-            lo[k] = lo[k].min(mesh.nodes[n][k]);
-            hi[k] = hi[k].max(mesh.nodes[n][k]);
-        }
-    }
-    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
 }

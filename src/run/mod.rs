@@ -215,16 +215,20 @@ fn set_up(
         }
     };
     let device = opts.device.unwrap_or(scene.run.device);
+    // the ranks' setup stays on the CPU: each rank then opens its own GPU
+    let here = if ranks.is_some() {
+        DeviceChoice::Cpu
+    } else {
+        device
+    };
+    let mut setup = setup::prepare(scene, here, &mut notice, clock)?;
+    // said now, before a run they may make long; the summary lists them at the end
+    for w in &setup.warnings {
+        notice(&format!("warning: {}: {}", w.kind, w.message));
+    }
     let Some(r) = ranks else {
-        let setup = setup::prepare(scene, device, &mut notice, clock)?;
-        // said now, before a run they may make long; the summary lists them at the end
-        for w in &setup.warnings {
-            notice(&format!("warning: {}: {}", w.kind, w.message));
-        }
         return Ok(setup);
     };
-    // the ranks' setup stays on the CPU: each rank then opens its own GPU
-    let mut setup = setup::prepare(scene, DeviceChoice::Cpu, &mut notice, clock)?;
     if setup.method != Method::Explicit {
         return Err(ImpactError::Unsupported {
             path: scene.path.clone(),

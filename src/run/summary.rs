@@ -154,7 +154,11 @@ pub(super) fn energy_scale(
     let total_mass: f64 = solver.nodal_mass().iter().sum();
     initial
         .abs()
-        .max(total_mass * crate::scene::norm3(scene.gravity) * bbox_diagonal(model))
+        .max(
+            total_mass
+                * crate::scene::norm3(scene.gravity)
+                * crate::geometry::vector::bbox_diagonal(&model.mesh.nodes),
+        )
         .max(f64::MIN_POSITIVE)
 }
 
@@ -275,16 +279,4 @@ pub(super) fn fail(
         reason,
         dir: out.dir.clone(),
     }
-}
-
-fn bbox_diagonal(model: &Model) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in &model.mesh.nodes {
-        for a in 0..3 {
-            lo[a] = lo[a].min(p[a]);
-            hi[a] = hi[a].max(p[a]);
-        }
-    }
-    crate::scene::norm3([hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]])
 }

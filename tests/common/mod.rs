@@ -1,12 +1,14 @@
 //! Helpers shared by the integration tests, by topic; everything is re-exported here.
 #![allow(dead_code, unused_imports)]
 
+pub mod cli;
 pub mod gpu;
 pub mod history;
 pub mod random;
 pub mod scenes;
 pub mod waves;
 
+pub use cli::*;
 pub use gpu::*;
 pub use history::*;
 pub use random::*;
