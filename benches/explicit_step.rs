@@ -75,7 +75,7 @@ fn time_steps(
 ) -> (f64, f64) {
     let mut s = ExplicitSolver::new(model, sc.explicit.clone(), dt, 1.0, kernels).expect("solver");
     s.step().expect("warm-up step");
-    let elements = model.mesh.hexes.len() as f64;
+    let elements = model.mesh.element_count() as f64;
     let steps = ((3e7 / elements) as usize).clamp(3, max_steps.min(200));
     let mut sweeps = 0;
     let t = Instant::now();
@@ -124,11 +124,11 @@ fn time_resident(
     let start = Instant::now();
     let (stable, _) = stable_step_on(model, Some(&ctx)).expect("stable step");
     let dt = explicit_time_step(sc, (stable, 0)).expect("time step");
-    let elements = model.mesh.hexes.len() as f64;
+    let elements = model.mesh.element_count() as f64;
     // the run's steps per submission (on a software adapter at most 16: a submission there
     // takes seconds)
     let software = ctx.adapter.software;
-    let mut chunk = resident::chunk_steps(model.mesh.hexes.len());
+    let mut chunk = resident::chunk_steps(model.mesh.element_count());
     if software {
         chunk = chunk.min(16);
     }
@@ -313,7 +313,7 @@ fn table(
         } else {
             ("(not timed)".into(), "(not timed)".into(), "-".into())
         };
-        let elements = model.mesh.hexes.len();
+        let elements = model.mesh.element_count();
         let contact_nodes = model.interfaces[0].nodes.len();
         let resident = GpuContext::new()
             .ok()
@@ -400,7 +400,7 @@ fn thread_table(title: &str, scenes: &[String], max_steps: usize) {
         let many = time();
         println!(
             "| {} | {single:.0} | {many:.0} | {:.2} |",
-            model.mesh.hexes.len(),
+            model.mesh.element_count(),
             single / many
         );
     }

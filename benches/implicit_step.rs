@@ -122,7 +122,7 @@ fn main() {
     for (sc, model) in &models {
         let dt = sc.run.time_step.unwrap();
         let asm = assemble(model, sc.implicit.mass, 1.0 / (0.25 * dt * dt));
-        factor_table(&asm, model.mesh.hexes.len());
+        factor_table(&asm, model.mesh.element_count());
     }
     println!(
         "\nSteps with contact ({all} threads, ordering {}):\n",
@@ -165,7 +165,7 @@ fn step_rows(sc: &Scene, model: &Model) {
         });
         println!(
             "| {} | {} | {} | {:.2} | {name} | {k} | {:.0} | {:.1} | {} |",
-            model.mesh.hexes.len(),
+            model.mesh.element_count(),
             asm.dof_of.len(),
             model.interfaces[0].nodes.len(),
             t_asm,

@@ -32,7 +32,7 @@ fn problem(div: [usize; 3]) -> (ElementData, ContactQueries) {
     };
     let parts = box_mesh(&spec);
     let top = parts.surfaces[BoxFace::ZPlus as usize].faces.clone();
-    let (nodes, hexes) = (parts.nodes, parts.hexes);
+    let (nodes, elements) = (parts.nodes, parts.elements);
     // every top-face node against the top faces around it
     let mut around: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
     for (f, q) in top.iter().enumerate() {
@@ -51,11 +51,8 @@ fn problem(div: [usize; 3]) -> (ElementData, ContactQueries) {
         q.offsets.push(q.candidates.len() as u32);
     }
     let data = ElementData {
-        hex_material: vec![0; hexes.len()],
         reference: nodes,
-        hexes,
-        tets: Vec::new(),
-        tet_material: Vec::new(),
+        elements,
         materials: vec![Elastic::from_engineering(100.0, 0.3, 1.0)],
     };
     (data, q)
@@ -93,7 +90,7 @@ fn main() {
     let mut ctx = Some(ctx);
     for &div in &sizes {
         let (data, q) = problem(div);
-        let (ne, nn, nq) = (data.hexes.len(), data.reference.len(), q.len());
+        let (ne, nn, nq) = (data.elements.count(), data.reference.len(), q.len());
         let u: Vec<f64> = (0..3 * nn).map(|d| 1e-3 * ((d % 7) as f64 - 3.0)).collect();
         let v: Vec<f64> = (0..3 * nn).map(|d| ((d % 5) as f64 - 2.0) * 0.1).collect();
         // the context is moved into the engine; get it back for the next size by reopening
@@ -120,7 +117,7 @@ fn main() {
         };
         // CPU twins (not above 10^6 elements: seconds a call)
         let twins = ne <= 2_000_000;
-        let inc = Incidence::new(&data.hexes, &[], nn);
+        let inc = Incidence::new(&data.elements, nn);
         let mut corners = vec![[0.0; 3]; 8 * ne];
         let mut nodal = vec![[0.0; 3]; nn];
         let uu = kernels::as_vec3(&u);

@@ -2,16 +2,16 @@
 // Gauss points (twin: `kernels::hex8_forces`), unrolled in `shared/element.wgsl`.
 // One invocation per element; node_gather sums the corners to the nodes in a fixed order.
 //
-// Layouts (neighbouring invocations touch neighbouring words): node k of element e at
-// hex_nodes[k E + e] (E = params.count); the corner forces component-major, component a of
-// corner k of element e at corner_forces[a C + k E + e] (C = params.aux, the corner slots of
-// all elements: 8 E, then the tets').
+// Layouts (neighbouring invocations touch neighbouring words, `element::CornerLayout`): node
+// k of element e at block_nodes[k E + e] (E = params.count); the corner forces
+// component-major, component a of corner k of element e at corner_forces[a C + B + k E + e]
+// (C = params.aux, the corner slots of all blocks; B = params.aux2, the block's first slot).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> reference: array<Split3>;
 @group(0) @binding(2) var<storage, read> displacement: array<Split3>;
-@group(0) @binding(3) var<storage, read> hex_nodes: array<u32>;
-@group(0) @binding(4) var<storage, read> hex_material: array<u32>;
+@group(0) @binding(3) var<storage, read> block_nodes: array<u32>;
+@group(0) @binding(4) var<storage, read> block_material: array<u32>;
 @group(0) @binding(5) var<storage, read> materials: array<Material>;
 @group(0) @binding(6) var<storage, read_write> corner_forces: array<f32>;
 
@@ -19,9 +19,10 @@ const GAUSS: f32 = 0.57735026918962576;
 
 fn store_corner(slot: u32, f: vec3<f32>) {
     let c = params.aux;
-    corner_forces[slot] = f.x;
-    corner_forces[c + slot] = f.y;
-    corner_forces[2u * c + slot] = f.z;
+    let s = params.aux2 + slot;
+    corner_forces[s] = f.x;
+    corner_forces[c + s] = f.y;
+    corner_forces[2u * c + s] = f.z;
 }
 
 @compute @workgroup_size(64)
@@ -31,14 +32,14 @@ fn hex8_forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (e >= ne) {
         return;
     }
-    let n0 = hex_nodes[e];
-    let n1 = hex_nodes[ne + e];
-    let n2 = hex_nodes[2u * ne + e];
-    let n3 = hex_nodes[3u * ne + e];
-    let n4 = hex_nodes[4u * ne + e];
-    let n5 = hex_nodes[5u * ne + e];
-    let n6 = hex_nodes[6u * ne + e];
-    let n7 = hex_nodes[7u * ne + e];
+    let n0 = block_nodes[e];
+    let n1 = block_nodes[ne + e];
+    let n2 = block_nodes[2u * ne + e];
+    let n3 = block_nodes[3u * ne + e];
+    let n4 = block_nodes[4u * ne + e];
+    let n5 = block_nodes[5u * ne + e];
+    let n6 = block_nodes[6u * ne + e];
+    let n7 = block_nodes[7u * ne + e];
     // corner positions and displacements relative to corner 0 (the gradient of a constant is
     // zero), so f32 keeps the element's own scale
     let r0 = reference[n0];
@@ -64,7 +65,7 @@ fn hex8_forces(@builtin(global_invocation_id) gid: vec3<u32>) {
         split_difference(displacement[n6], d0),
         split_difference(displacement[n7], d0),
     );
-    let m = materials[hex_material[e]];
+    let m = materials[block_material[e]];
     let q = GAUSS;
     var f = HexCorners(zero, zero, zero, zero, zero, zero, zero, zero);
     f = hex_gauss_corners(f, x, u, m, vec3<f32>(-q, -q, -q));

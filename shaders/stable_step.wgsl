@@ -1,14 +1,14 @@
 // Each element's stable explicit step, 2 / sqrt(max_i sum_j |K_ij| / m_i): Gershgorin's bound
 // on the largest eigenvalue of M_e^-1 K_e with the row-sum lumped mass (twin:
 // `kernels::stable_step`, the same bound as `integrate::stable_step::element_stable_step`).
-// One invocation per element: hexes 0..params.aux (2x2x2 Gauss, as the force kernel), then
-// tets. The smallest over the mesh bounds the step of central difference (Irons' element
+// One invocation per element: hex8s 0..params.aux (2x2x2 Gauss, as the force kernel), then
+// tet4s. The smallest over the mesh bounds the step of central difference (Irons' element
 // eigenvalue inequality).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> reference: array<Split3>;
-@group(0) @binding(2) var<storage, read> hexes: array<Hex8>;
-@group(0) @binding(3) var<storage, read> tets: array<Tet4>;
+@group(0) @binding(2) var<storage, read> hex8_elements: array<Hex8>;
+@group(0) @binding(3) var<storage, read> tet4_elements: array<Tet4>;
 @group(0) @binding(4) var<storage, read> materials: array<Material>;
 @group(0) @binding(5) var<storage, read_write> steps: array<f32>;
 
@@ -94,7 +94,7 @@ fn row_bound(k: array<mat3x3<f32>, 8>, mass: f32) -> f32 {
 }
 
 fn hex_step(e: u32) -> f32 {
-    let hex = hexes[e];
+    let hex = hex8_elements[e];
     let m = materials[hex.material];
     let r0 = reference[hex.nodes[0]];
     var x: array<vec3<f32>, 8>;
@@ -135,7 +135,7 @@ fn hex_step(e: u32) -> f32 {
 }
 
 fn tet_step(t: u32) -> f32 {
-    let tet = tets[t];
+    let tet = tet4_elements[t];
     let m = materials[tet.material];
     let r0 = reference[tet.nodes[0]];
     let a = split_difference(reference[tet.nodes[1]], r0);

@@ -1,15 +1,14 @@
 // Corner forces of linear elastic tet4 elements, f_k = V sigma grad N_k with the element's
 // constant strain (twin: `kernels::tet4_forces`). One invocation per element. Layouts as in
-// `hex8_forces.wgsl`: node k of tet t at tet_nodes[k T + t] (T = params.count); component a
+// `hex8_forces.wgsl`: node k of tet t at block_nodes[k T + t] (T = params.count); component a
 // of corner k at corner_forces[a C + B + k T + t] (C = params.aux, the corner slots of all
-// elements; B = params.aux2, the slots before the tets': 8 per hex8), so node_gather sums
-// hexes and tets alike.
+// blocks; B = params.aux2, the block's first slot), so node_gather sums every block alike.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> reference: array<Split3>;
 @group(0) @binding(2) var<storage, read> displacement: array<Split3>;
-@group(0) @binding(3) var<storage, read> tet_nodes: array<u32>;
-@group(0) @binding(4) var<storage, read> tet_material: array<u32>;
+@group(0) @binding(3) var<storage, read> block_nodes: array<u32>;
+@group(0) @binding(4) var<storage, read> block_material: array<u32>;
 @group(0) @binding(5) var<storage, read> materials: array<Material>;
 @group(0) @binding(6) var<storage, read_write> corner_forces: array<f32>;
 
@@ -28,11 +27,11 @@ fn tet4_forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (t >= nt) {
         return;
     }
-    let n0 = tet_nodes[t];
-    let n1 = tet_nodes[nt + t];
-    let n2 = tet_nodes[2u * nt + t];
-    let n3 = tet_nodes[3u * nt + t];
-    let m = materials[tet_material[t]];
+    let n0 = block_nodes[t];
+    let n1 = block_nodes[nt + t];
+    let n2 = block_nodes[2u * nt + t];
+    let n3 = block_nodes[3u * nt + t];
+    let m = materials[block_material[t]];
     // edges from corner 0 and displacements relative to corner 0, so f32 keeps the
     // element's own scale
     let r0 = reference[n0];

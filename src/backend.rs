@@ -4,8 +4,8 @@
 
 use crate::error::Result;
 use crate::kernels::{
-    as_vec3, as_vec3_mut, contact_gap, hex8_forces, node_gather, slip_rate, tet4_forces,
-    ContactPoint, ContactQueries, ElementData, Incidence,
+    as_vec3, as_vec3_mut, contact_gap, element_forces, node_gather, slip_rate, ContactPoint,
+    ContactQueries, ElementData, Incidence,
 };
 use crate::model::Model;
 
@@ -64,7 +64,7 @@ pub struct CpuKernels {
 
 impl CpuKernels {
     pub fn new(data: ElementData) -> Self {
-        let incidence = Incidence::new(&data.hexes, &data.tets, data.reference.len());
+        let incidence = Incidence::new(&data.elements, data.reference.len());
         let corner_forces = vec![[0.0; 3]; data.corner_count()];
         CpuKernels {
             data,
@@ -77,8 +77,8 @@ impl CpuKernels {
         &self.data
     }
 
-    /// The corner forces of the last [`Kernels::internal_forces_into`]: 8 per hex8, then 4
-    /// per tet4, in element order.
+    /// The corner forces of the last [`Kernels::internal_forces_into`], in the twins'
+    /// [`crate::element::CornerLayout`].
     pub fn corner_forces(&self) -> &[[f64; 3]] {
         &self.corner_forces
     }
@@ -92,9 +92,7 @@ impl Kernels for CpuKernels {
         f64::EPSILON
     }
     fn internal_forces_into(&mut self, u: &[f64], f: &mut [f64]) -> Result<()> {
-        let (hex, tet) = self.corner_forces.split_at_mut(8 * self.data.hexes.len());
-        hex8_forces(&self.data, as_vec3(u), hex);
-        tet4_forces(&self.data, as_vec3(u), tet);
+        element_forces(&self.data, as_vec3(u), &mut self.corner_forces);
         node_gather(&self.incidence, &self.corner_forces, as_vec3_mut(f));
         Ok(())
     }

@@ -20,9 +20,6 @@
 //!    checks, writers, restart files, the run's preparation, its report, the run itself and
 //!    the accuracy-against-speed study.
 
-// Index loops over nodes, corners and components keep the CPU twins line-by-line comparable
-// with their WGSL kernels (vello does the same in its CPU shaders).
-#![allow(clippy::needless_range_loop)]
 
 pub mod backend;
 pub mod check;

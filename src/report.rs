@@ -35,18 +35,17 @@ fn bodies(out: &mut String, scene: &Scene, setup: &Setup) {
         let (mut m, mut c) = (0.0, [0.0; 3]);
         for n in body.nodes.clone() {
             m += mass[n];
-            for a in 0..3 {
-                c[a] += mass[n] * model.mesh.nodes[n][a];
+            for (ca, x) in c.iter_mut().zip(model.mesh.nodes[n]) {
+                *ca += mass[n] * x;
             }
         }
         let c = c.map(|v| v / m);
         let _ = writeln!(
             out,
-            "  {}: {} elements ({} hex8, {} tet4), {} nodes, {} dofs ({} free); mass {m:.6e}, centre of mass [{:.6e}, {:.6e}, {:.6e}]; material `{}`",
+            "  {}: {} elements ({}), {} nodes, {} dofs ({} free); mass {m:.6e}, centre of mass [{:.6e}, {:.6e}, {:.6e}]; material `{}`",
             scene.bodies[b].name,
-            body.hexes.len() + body.tets.len(),
-            body.hexes.len(),
-            body.tets.len(),
+            body.element_count(),
+            body.kind_counts(),
             body.nodes.len(),
             3 * body.nodes.len(),
             (3 * body.nodes.start..3 * body.nodes.end)
@@ -64,17 +63,8 @@ fn bodies(out: &mut String, scene: &Scene, setup: &Setup) {
 fn stable_step(out: &mut String, scene: &Scene, setup: &Setup) {
     let model = &setup.model;
     if let Some((stable, e)) = setup.bound {
-        let (_, material) = model.mesh.element(e);
-        let hexes = model.mesh.hexes.len();
-        let body = model
-            .mesh
-            .bodies
-            .iter()
-            .position(|b| match e.checked_sub(hexes) {
-                None => b.hexes.contains(&e),
-                Some(t) => b.tets.contains(&t),
-            })
-            .unwrap_or(0);
+        let material = model.mesh.element(e).material;
+        let body = model.mesh.body_of(e).unwrap_or(0);
         let _ = writeln!(
             out,
             "stable explicit step: {stable:.6e}, set by element {e} (body `{}`, material `{}`)",

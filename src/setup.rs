@@ -144,7 +144,7 @@ fn check_stable(scene: &Scene, model: &Model, (stable, e): (f64, usize)) -> Resu
     if stable.is_finite() && stable > 0.0 {
         return Ok((stable, e));
     }
-    let m = model.material_source[model.mesh.element(e).1 as usize];
+    let m = model.material_source[model.mesh.element(e).material as usize];
     Err(ImpactError::SceneValue {
         path: scene.path.clone(),
         key: format!("material[{m}] (material `{}`)", scene.materials[m].name),
@@ -253,7 +253,7 @@ pub fn kernels<'m>(
     notice: &mut dyn FnMut(&str),
 ) -> Result<Box<dyn Kernels + 'm>> {
     let data = model.element_data();
-    let elements = data.hexes.len() + data.tets.len();
+    let elements = data.elements.count();
     Ok(match gpu_context(scene, elements, device, notice)? {
         Some(ctx) => Box::new(GpuKernels::new(ctx, &data).map_err(|e| gpu_error(scene, e))?),
         None => Box::new(CpuKernels::new(data)),

@@ -121,10 +121,7 @@ fn random_inputs(rng: &mut StdRng) -> Inputs {
     };
     let data = ElementData {
         reference: nodes,
-        hexes: parts.hexes.clone(),
-        hex_material: vec![0; parts.hexes.len()],
-        tets: Vec::new(),
-        tet_material: Vec::new(),
+        elements: parts.elements.clone(),
         materials: vec![Elastic::from_engineering(100.0, 0.3, 1.0)],
     };
     Inputs {

@@ -8,6 +8,8 @@ mod common;
 use common::*;
 
 use impact::backend::Kernels;
+use impact::element::ElementKind::{Hex8, Tet4};
+use impact::element::Elements;
 use impact::geometry::face::FaceKind;
 use impact::gpu::{CornerSelection, GpuKernels};
 use impact::kernels::contact_gap::NO_FACE;
@@ -40,17 +42,23 @@ fn distorted_box(rng: &mut StdRng) -> Problem {
     let nodes = parts.nodes;
     // six tets around the diagonal 0-6 of a hex (the Kuhn cut of tet4 boxes), for a third
     // of the hexes
-    let (mut hexes, mut tets) = (Vec::new(), Vec::new());
-    for hx in parts.hexes {
+    let mut elements = Elements::default();
+    for hx in parts.elements.block(Hex8).corners::<8>() {
         if rng.random_range(0..3) == 0 {
-            tets.extend(KUHN_TETS.map(|t| t.map(|k| hx[k])));
+            for t in KUHN_TETS.map(|t| t.map(|k| hx[k])) {
+                elements.push(Tet4, &t, 0);
+            }
         } else {
-            hexes.push(hx);
+            elements.push(Hex8, hx, 0);
         }
     }
-    impact::mesh::boundary::orient(&nodes, &mut hexes, &mut tets).expect("valid elements");
-    let hex_material = (0..hexes.len()).map(|_| rng.random_range(0..3)).collect();
-    let tet_material = (0..tets.len()).map(|_| rng.random_range(0..3)).collect();
+    impact::mesh::boundary::orient(&nodes, &mut elements).expect("valid elements");
+    for block in &mut elements.blocks {
+        block
+            .material
+            .iter_mut()
+            .for_each(|m| *m = rng.random_range(0..3));
+    }
     let materials = vec![
         Elastic::from_engineering(100.0, 0.3, 1.0),
         Elastic::from_engineering(2.5e3, 0.45, 7.8),
@@ -59,10 +67,7 @@ fn distorted_box(rng: &mut StdRng) -> Problem {
     Problem {
         data: ElementData {
             reference: nodes,
-            hexes,
-            hex_material,
-            tets,
-            tet_material,
+            elements,
             materials,
         },
         top: parts.surfaces[BoxFace::ZPlus as usize]
@@ -131,7 +136,7 @@ fn hex8_forces_matches_its_cpu_twin() {
     let n = p.data.reference.len();
     let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
     gpu.fill_nan = true;
-    let hex_corners = 8 * p.data.hexes.len();
+    let hex_corners = 8 * p.data.elements.count_of(Hex8);
     for round in 0..3 {
         let u = displacements(&mut rng, n, p.h);
         let mut cpu = vec![[0.0; 3]; hex_corners];
@@ -140,7 +145,7 @@ fn hex8_forces_matches_its_cpu_twin() {
         let e = rel_err(&values(flat(&g[..hex_corners])), &values(flat(&cpu)));
         eprintln!(
             "round {round}: {} elements, relative error {e:.2e}",
-            p.data.hexes.len()
+            p.data.elements.count_of(Hex8)
         );
         assert!(
             e <= TOL,
@@ -160,17 +165,17 @@ fn tet4_forces_matches_its_cpu_twin() {
     let n = p.data.reference.len();
     let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
     gpu.fill_nan = true;
-    let hex_corners = 8 * p.data.hexes.len();
+    let hex_corners = 8 * p.data.elements.count_of(Hex8);
     for round in 0..3 {
         let u = displacements(&mut rng, n, p.h);
-        let mut cpu = vec![[0.0; 3]; 4 * p.data.tets.len()];
+        let mut cpu = vec![[0.0; 3]; 4 * p.data.elements.count_of(Tet4)];
         kernels::tet4_forces(&p.data, kernels::as_vec3(&u), &mut cpu);
         let g = gpu.corner_forces(&u).expect("dispatch");
         assert_eq!(g.len(), hex_corners + cpu.len());
         let e = rel_err(&values(flat(&g[hex_corners..])), &values(flat(&cpu)));
         eprintln!(
             "round {round}: {} tets, relative error {e:.2e}",
-            p.data.tets.len()
+            p.data.elements.count_of(Tet4)
         );
         assert!(
             e <= TOL,
@@ -188,7 +193,7 @@ fn node_gather_matches_its_cpu_twin() {
     let mut rng = StdRng::seed_from_u64(seed);
     let p = distorted_box(&mut rng);
     let n = p.data.reference.len();
-    let inc = Incidence::new(&p.data.hexes, &p.data.tets, n);
+    let inc = Incidence::new(&p.data.elements, n);
     let corners: Vec<[f64; 3]> = (0..p.data.corner_count())
         .map(|_| std::array::from_fn(|_| rng.random_range(-1.0..1.0)))
         .collect();
@@ -635,12 +640,12 @@ fn kernels_bind_at_most_the_storage_buffers_adapters_are_asked_for() {
             .filter(|(_, g)| matches!(g.space, naga::AddressSpace::Storage { .. }))
             .count() as u32;
         assert!(
-            storage <= impact::gpu::kernel::STORAGE_BINDINGS,
+            storage <= impact::gpu::context::STORAGE_BINDINGS,
             "{name} binds {storage} storage buffers"
         );
         most = most.max(storage);
     }
-    assert_eq!(most, impact::gpu::kernel::STORAGE_BINDINGS);
+    assert_eq!(most, impact::gpu::context::STORAGE_BINDINGS);
 }
 
 #[test]
@@ -653,12 +658,12 @@ fn stable_step_matches_its_cpu_twin() {
     let p = distorted_box(&mut rng);
     let gpu = impact::gpu::element_steps(&ctx, &p.data).expect("stable_step kernel");
     let cpu = kernels::stable_step(&p.data);
-    assert_eq!(gpu.len(), p.data.hexes.len() + p.data.tets.len());
+    assert_eq!(gpu.len(), p.data.elements.count());
     let e = rel_err(&values(gpu.iter().copied()), &values(cpu.iter().copied()));
     eprintln!(
         "stable_step: {e:.3e} over {} hexes and {} tets",
-        p.data.hexes.len(),
-        p.data.tets.len()
+        p.data.elements.count_of(Hex8),
+        p.data.elements.count_of(Tet4)
     );
     assert!(e <= TOL, "seed {seed}: stable_step error {e:.3e}");
 }

@@ -5,6 +5,7 @@
 mod common;
 use common::*;
 
+use impact::element::ElementKind;
 use impact::mesh::import;
 use impact::scene::Scene;
 
@@ -143,10 +144,10 @@ fn ascii_and_binary_msh_read_alike() {
         .flat_map(|(p, q)| (0..3).map(move |k| (p[k] - q[k]).abs()))
         .fold(0.0, f64::max);
     assert!(dx <= 1e-15, "coordinates differ by {dx}");
-    assert!(a.tets == b.tets, "tets differ");
+    assert!(a.elements == b.elements, "elements differ");
     assert!(a.surfaces == b.surfaces, "surfaces differ");
     assert!(a.node_sets == b.node_sets, "node sets differ");
-    assert_eq!(a.tets.len(), 2740);
+    assert_eq!(a.elements.count_of(ElementKind::Tet4), 2740);
     // the boundary of a unit cube: area 6, and the named surfaces cover it
     let area = |faces: &[[u32; 4]]| -> f64 {
         faces
@@ -173,7 +174,7 @@ fn scale_then_translate() {
             .fold(f64::NEG_INFINITY, f64::max)
     });
     assert_eq!((lo, hi), ([0.0, 0.0, 1.0], [2.0, 2.0, 3.0]));
-    assert_eq!(m.hexes.len(), 512);
+    assert_eq!(m.elements.count_of(ElementKind::Hex8), 512);
     assert_eq!(m.node_set("BASE").unwrap().nodes.len(), 81);
 }
 
@@ -446,9 +447,9 @@ fn an_included_deck_reads_as_the_whole_deck() {
     std::fs::write(&main_path, main).unwrap();
     let (a, notices) = import(&main_path, 1.0, [0.0; 3]).expect("the included deck");
     let (b, _) = import(&whole_path, 1.0, [0.0; 3]).expect("the whole deck");
-    assert_eq!(a.hexes.len(), 512);
+    assert_eq!(a.elements.count_of(ElementKind::Hex8), 512);
     assert!(
-        a.nodes == b.nodes && a.hexes == b.hexes,
+        a.nodes == b.nodes && a.elements == b.elements,
         "the meshes differ"
     );
     assert!(a.surfaces == b.surfaces && a.node_sets == b.node_sets);
@@ -497,6 +498,6 @@ fn a_byte_order_mark_is_passed_over() {
     std::fs::write(&path, bytes).unwrap();
     let (a, _) = import(&path, 1.0, [0.0; 3]).expect("read with its mark");
     let (b, _) = import(&meshes().join("block_tet.msh"), 1.0, [0.0; 3]).unwrap();
-    assert!(a.nodes == b.nodes && a.tets == b.tets);
+    assert!(a.nodes == b.nodes && a.elements == b.elements);
     let _ = std::fs::remove_dir_all(&dir);
 }

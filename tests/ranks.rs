@@ -11,6 +11,7 @@ use impact::backend::{CpuKernels, Kernels};
 use impact::domain::forces::RankForces;
 use impact::domain::subdomain::Subdomain;
 use impact::domain::{Partition, Single};
+use impact::element::ElementKind;
 use impact::gpu::{GpuContext, GpuKernels};
 use impact::model::Model;
 use impact::run::{run, run_ranks, RunOptions};
@@ -35,7 +36,8 @@ fn mixed_model() -> Model {
 /// 5-part splits; each element is on one rank and each node owned by one.
 fn shared_node_sums_match_one_device(ctx: Option<GpuContext>) {
     let model = mixed_model();
-    assert!(!model.mesh.hexes.is_empty() && !model.mesh.tets.is_empty());
+    let els = &model.mesh.elements;
+    assert!(els.count_of(ElementKind::Hex8) > 0 && els.count_of(ElementKind::Tet4) > 0);
     let mut rng = rand::rngs::StdRng::seed_from_u64(seed("ranks_forces"));
     let u: Vec<f64> = (0..model.dofs())
         .map(|_| rng.random_range(-0.02..0.02))
@@ -105,10 +107,7 @@ fn shared_node_sums_match_one_device(ctx: Option<GpuContext>) {
             owners.iter().all(|&o| o == 1),
             "{parts} parts: a node not owned once"
         );
-        let elements: usize = subs
-            .iter()
-            .map(|s| s.data.hexes.len() + s.data.tets.len())
-            .sum();
+        let elements: usize = subs.iter().map(|s| s.data.elements.count()).sum();
         assert_eq!(elements, model.mesh.element_count());
     }
 }

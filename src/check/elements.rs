@@ -3,7 +3,7 @@
 
 use rayon::prelude::*;
 
-use crate::element::{hex8, tet4};
+use crate::element::ElementKind;
 use crate::error::{ImpactError, Result};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
@@ -12,23 +12,7 @@ use crate::scene::Scene;
 /// degenerate (a corner angle near 180 degrees, or an edge collapsed to a point).
 pub const DEGENERATE_RATIO: f64 = 1e-8;
 
-/// Where an element's Jacobian determinant was sampled.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Sample {
-    GaussPoint(usize),
-    Corner(usize),
-    Centre,
-}
-
-impl std::fmt::Display for Sample {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Sample::GaussPoint(g) => write!(f, "Gauss point {g}"),
-            Sample::Corner(k) => write!(f, "corner {k}"),
-            Sample::Centre => write!(f, "its centre"),
-        }
-    }
-}
+pub use crate::element::Sample;
 
 /// What is wrong with one element.
 #[derive(Debug, Clone, PartialEq)]
@@ -65,32 +49,13 @@ impl std::fmt::Display for Fault {
     }
 }
 
-/// The fault of a hex8 with corners `x` and nodes `nodes`, if any.
-pub fn hex8_fault(nodes: &[u32; 8], x: &[[f64; 3]; 8]) -> Option<Fault> {
+/// The fault of an element of a kind with nodes `nodes` and corners `x`, if any.
+pub fn fault(kind: ElementKind, nodes: &[u32], x: &[[f64; 3]]) -> Option<Fault> {
     if let Some(n) = repeated(nodes) {
         return Some(Fault::RepeatedNode(n));
     }
-    let gauss = hex8::gauss_points();
-    let det = |p| hex8::gradients(x, p).1;
-    let dets = std::array::from_fn::<_, 16, _>(|k| {
-        if k < 8 {
-            (Sample::GaussPoint(k), det(gauss[k]))
-        } else {
-            (Sample::Corner(k - 8), det(hex8::CORNERS[k - 8]))
-        }
-    });
-    let mean = dets[..8].iter().map(|d| d.1).sum::<f64>() / 8.0;
-    worst(&dets, mean)
-}
-
-/// The fault of a tet4 with corners `x`, if any.
-pub fn tet4_fault(nodes: &[u32; 4], x: &[[f64; 3]; 4]) -> Option<Fault> {
-    if let Some(n) = repeated(nodes) {
-        return Some(Fault::RepeatedNode(n));
-    }
-    let det = 6.0 * tet4::volume(x);
-    let scale = crate::element::extent(x).powi(3);
-    worst(&[(Sample::Centre, det)], scale)
+    let (dets, scale) = kind.jacobian_samples(x);
+    worst(&dets, scale)
 }
 
 fn repeated(nodes: &[u32]) -> Option<u32> {
@@ -113,16 +78,12 @@ fn worst(dets: &[(Sample, f64)], mean: f64) -> Option<Fault> {
 /// order) is the error, named by its body, kind and index within the body.
 pub fn check(scene: &Scene, mesh: &Mesh) -> Result<()> {
     for (b, body) in mesh.bodies.iter().enumerate() {
-        let hex = body.hexes.clone().into_par_iter().find_map_first(|e| {
-            let nodes = mesh.hexes[e];
-            let x = nodes.map(|n| mesh.nodes[n as usize]);
-            hex8_fault(&nodes, &x).map(|f| (e - body.hexes.start, "hex8", nodes.to_vec(), f))
-        });
-        let bad = hex.or_else(|| {
-            body.tets.clone().into_par_iter().find_map_first(|e| {
-                let nodes = mesh.tets[e];
-                let x = nodes.map(|n| mesh.nodes[n as usize]);
-                tet4_fault(&nodes, &x).map(|f| (e - body.tets.start, "tet4", nodes.to_vec(), f))
+        let bad = ElementKind::ALL.into_iter().find_map(|kind| {
+            let (block, range) = (mesh.elements.block(kind), body.of_kind(kind));
+            (range.clone().into_par_iter()).find_map_first(|e| {
+                let nodes = block.element(e);
+                let x = mesh.corners(nodes);
+                fault(kind, nodes, &x).map(|f| (e - range.start, kind, nodes.to_vec(), f))
             })
         });
         if let Some((k, kind, nodes, fault)) = bad {
@@ -150,6 +111,15 @@ fn fault_local(f: Fault, first: u32) -> Fault {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::element::hex8;
+
+    fn hex8_fault(nodes: &[u32; 8], x: &[[f64; 3]; 8]) -> Option<Fault> {
+        fault(ElementKind::Hex8, nodes, x)
+    }
+
+    fn tet4_fault(nodes: &[u32; 4], x: &[[f64; 3]; 4]) -> Option<Fault> {
+        fault(ElementKind::Tet4, nodes, x)
+    }
 
     fn unit_hex() -> [[f64; 3]; 8] {
         hex8::CORNERS.map(|c| c.map(|v| 0.5 * (v + 1.0)))

@@ -9,14 +9,15 @@
 
 use serde::Serialize;
 
+use crate::element::ElementKind;
 use crate::error::{bytes, ImpactError, Result};
-use crate::scene::{BodyShape, BoxElement, MassKind, Method, Scene};
+use crate::scene::{BodyShape, MassKind, Method, Scene};
 
 /// Element and node counts of a scene, from box divisions and imported meshes.
 #[derive(Debug, Clone, Copy, Default, Serialize)]
 pub struct Counts {
-    pub hexes: u64,
-    pub tets: u64,
+    /// Elements of each kind ([`ElementKind::ALL`] order).
+    pub elements: [u64; ElementKind::ALL.len()],
     pub nodes: u64,
 }
 
@@ -29,22 +30,34 @@ impl Counts {
                     let [x, y, z] = s.divisions.map(|d| d as u64);
                     // validated: the products fit (box.divisions is checked against u32 nodes)
                     let cells = x.saturating_mul(y).saturating_mul(z);
-                    match s.element {
-                        BoxElement::Hex8 => c.hexes = c.hexes.saturating_add(cells),
-                        BoxElement::Tet4 => c.tets = c.tets.saturating_add(cells.saturating_mul(6)),
-                    }
+                    let (kind, per_cell) = s.element.per_cell();
+                    let n = &mut c.elements[kind.index()];
+                    *n = n.saturating_add(cells.saturating_mul(per_cell));
                     c.nodes = c
                         .nodes
                         .saturating_add((x + 1).saturating_mul(y + 1).saturating_mul(z + 1));
                 }
                 BodyShape::Imported { parts, .. } => {
-                    c.hexes += parts.hexes.len() as u64;
-                    c.tets += parts.tets.len() as u64;
+                    for kind in ElementKind::ALL {
+                        c.elements[kind.index()] += parts.elements.count_of(kind) as u64;
+                    }
                     c.nodes += parts.nodes.len() as u64;
                 }
             }
         }
         c
+    }
+
+    /// Elements of every kind.
+    pub fn element_count(&self) -> u64 {
+        self.elements.iter().sum()
+    }
+
+    /// The sum over the elements of `per(kind)`, saturating.
+    fn sum(&self, per: impl Fn(ElementKind) -> u64) -> u64 {
+        (ElementKind::ALL.iter()).fold(0u64, |acc, &k| {
+            acc.saturating_add(self.elements[k.index()].saturating_mul(per(k)))
+        })
     }
 }
 
@@ -60,39 +73,37 @@ pub struct Estimate {
 /// Host bytes per node of the model and any explicit state: coordinates (twice: the model and
 /// the kernels' copy), initial velocity, fixed flags, and eight f64 state vectors.
 const HOST_PER_NODE: u64 = 24 + 24 + 24 + 3 + 8 * 24 + 8;
-/// Host bytes per element: connectivity twice, material ids twice.
-const HOST_PER_HEX: u64 = 2 * 32 + 2 * 4;
-const HOST_PER_TET: u64 = 2 * 16 + 2 * 4;
+/// Host bytes per element of n corners: connectivity twice, material ids twice.
+fn host_per_element(kind: ElementKind) -> u64 {
+    2 * 4 * kind.corners() as u64 + 2 * 4
+}
 /// Device bytes of the resident explicit step: per element its connectivity and its corner
 /// forces (f32 x 3 per corner); per node ten f32 3-vectors (reference, u, v, a, forces, ...).
-const DEVICE_PER_HEX: u64 = 32 + 8 * 12;
-const DEVICE_PER_TET: u64 = 16 + 4 * 12;
+fn device_per_element(kind: ElementKind) -> u64 {
+    (4 + 12) * kind.corners() as u64
+}
 const DEVICE_PER_NODE: u64 = 10 * 12;
-/// Implicit assembly: a (row, column, value) triplet is 16 bytes; a hex8 gives 24^2 stiffness
-/// triplets and 3 x 8^2 consistent-mass triplets, a tet4 12^2 and 3 x 4^2.
+/// Implicit assembly: a (row, column, value) triplet is 16 bytes; an element of n corners
+/// gives (3 n)^2 stiffness triplets and 3 n^2 consistent-mass triplets.
 const TRIPLET: u64 = 16;
 
 /// The lower-bound estimate for a scene run by `method` (the explicit path with `gpu`: the
 /// resident engine).
 pub fn estimate(scene: &Scene, method: Method, gpu: bool) -> Estimate {
     let c = Counts::of(scene);
-    let base = c
-        .nodes
-        .saturating_mul(HOST_PER_NODE)
-        .saturating_add(c.hexes.saturating_mul(HOST_PER_HEX))
-        .saturating_add(c.tets.saturating_mul(HOST_PER_TET));
+    let base = (c.nodes.saturating_mul(HOST_PER_NODE)).saturating_add(c.sum(host_per_element));
     let (host, what) = match method {
         Method::Implicit => {
             let mass = u64::from(scene.implicit.mass == MassKind::Consistent);
-            let triplets = c
-                .hexes
-                .saturating_mul(576 + mass * 192)
-                .saturating_add(c.tets.saturating_mul(144 + mass * 48));
+            let triplets = c.sum(|k| {
+                let n = k.corners() as u64;
+                9 * n * n + mass * 3 * n * n
+            });
             (
                 base.saturating_add(triplets.saturating_mul(TRIPLET)),
                 format!(
                     "{} elements, {} nodes: model, state and the implicit assembly's {} triplets; the sparse factor comes on top",
-                    c.hexes + c.tets,
+                    c.element_count(),
                     c.nodes,
                     triplets
                 ),
@@ -102,16 +113,13 @@ pub fn estimate(scene: &Scene, method: Method, gpu: bool) -> Estimate {
             base,
             format!(
                 "{} elements, {} nodes: model and explicit state",
-                c.hexes + c.tets,
+                c.element_count(),
                 c.nodes
             ),
         ),
     };
     let device = if gpu {
-        c.hexes
-            .saturating_mul(DEVICE_PER_HEX)
-            .saturating_add(c.tets.saturating_mul(DEVICE_PER_TET))
-            .saturating_add(c.nodes.saturating_mul(DEVICE_PER_NODE))
+        (c.sum(device_per_element)).saturating_add(c.nodes.saturating_mul(DEVICE_PER_NODE))
     } else {
         0
     };

@@ -8,6 +8,7 @@
 //!   a step cut by the dilatational wave speed).
 
 use super::Warning;
+use crate::element::ElementKind;
 use crate::geometry::vector::{norm, sub};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
@@ -25,13 +26,8 @@ const NAMED: usize = 5;
 /// [`Mesh::elements`] order) is below [`SLIVER_RATIO`] of the body's median.
 pub fn slivers(scene: &Scene, mesh: &Mesh, steps: &[f32]) -> Vec<Warning> {
     let mut out = Vec::new();
-    let hexes = mesh.hexes.len();
     for (b, body) in mesh.bodies.iter().enumerate() {
-        let elements: Vec<usize> = body
-            .hexes
-            .clone()
-            .chain(body.tets.clone().map(|t| hexes + t))
-            .collect();
+        let elements: Vec<usize> = body.element_numbers(&mesh.elements).collect();
         if elements.is_empty() {
             continue;
         }
@@ -51,10 +47,10 @@ pub fn slivers(scene: &Scene, mesh: &Mesh, steps: &[f32]) -> Vec<Warning> {
             .iter()
             .take(NAMED)
             .map(|&(r, e)| {
-                let x = mesh.corners(mesh.element(e).0);
+                let el = mesh.element(e);
                 format!(
                     "element {e} (step {r:.1e} of the median, aspect {:.0})",
-                    aspect(&x)
+                    aspect(el.kind, &mesh.corners(el.nodes))
                 )
             })
             .collect();
@@ -71,34 +67,12 @@ pub fn slivers(scene: &Scene, mesh: &Mesh, steps: &[f32]) -> Vec<Warning> {
     out
 }
 
-/// The longest edge over the shortest of an element's corners `x` (hex8: its 12 edges;
-/// tet4: its 6).
-pub fn aspect(x: &[[f64; 3]]) -> f64 {
-    const HEX8: [[usize; 2]; 12] = [
-        [0, 1],
-        [1, 2],
-        [2, 3],
-        [3, 0],
-        [4, 5],
-        [5, 6],
-        [6, 7],
-        [7, 4],
-        [0, 4],
-        [1, 5],
-        [2, 6],
-        [3, 7],
-    ];
-    let edges: &[[usize; 2]] = if x.len() == 8 {
-        &HEX8
-    } else {
-        &[[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]]
-    };
-    let (lo, hi) = edges
-        .iter()
-        .fold((f64::INFINITY, 0.0_f64), |(lo, hi), [i, j]| {
-            let d = norm(sub(x[*i], x[*j]));
-            (lo.min(d), hi.max(d))
-        });
+/// The longest edge over the shortest of an element of a kind at corners `x`.
+pub fn aspect(kind: ElementKind, x: &[[f64; 3]]) -> f64 {
+    let (lo, hi) = (kind.edges().iter()).fold((f64::INFINITY, 0.0_f64), |(lo, hi), &(i, j)| {
+        let d = norm(sub(x[i], x[j]));
+        (lo.min(d), hi.max(d))
+    });
     hi / lo
 }
 
@@ -132,15 +106,15 @@ mod tests {
     #[test]
     fn aspect_of_a_box_and_a_flat_tet() {
         let cube = element::hex8::CORNERS.map(|c| c.map(|v| 0.5 * (v + 1.0)));
-        assert!((aspect(&cube) - 1.0).abs() < 1e-12);
+        assert!((aspect(ElementKind::Hex8, &cube) - 1.0).abs() < 1e-12);
         let stretched = cube.map(|p| [4.0 * p[0], p[1], p[2]]);
-        assert!((aspect(&stretched) - 4.0).abs() < 1e-12);
+        assert!((aspect(ElementKind::Hex8, &stretched) - 4.0).abs() < 1e-12);
         let tet = [
             [0.0, 0.0, 0.0],
             [1.0, 0.0, 0.0],
             [0.0, 1.0, 0.0],
             [0.5, 0.5, 1e-3],
         ];
-        assert!((aspect(&tet) - 2f64.sqrt() / 0.5f64.sqrt()).abs() < 1e-3);
+        assert!((aspect(ElementKind::Tet4, &tet) - 2f64.sqrt() / 0.5f64.sqrt()).abs() < 1e-3);
     }
 }

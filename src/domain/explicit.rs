@@ -128,7 +128,7 @@ impl<'m> DomainSolver<'m> {
     /// The rank's share and its time in communication so far.
     pub fn figures(&self) -> RankFigures {
         RankFigures {
-            elements: self.sub.data.hexes.len() + self.sub.data.tets.len(),
+            elements: self.sub.data.elements.count(),
             nodes: self.sub.nodes.len(),
             shared_nodes: self.sub.shared.len(),
             neighbours: self.sub.neighbours.len(),

@@ -19,8 +19,7 @@ pub const CONTACT_WEIGHT: f64 = 1.4;
 /// The partition in words (`summary.json`).
 pub const DESCRIPTION: &str = "recursive coordinate bisection of the element centroids into equal weights (an element weighs 1, plus 1.4 for each secondary-node corner)";
 
-/// The part of every element: hex8s first (`0..hexes`), then tet4s, as
-/// [`crate::mesh::Mesh`] numbers them.
+/// The part of every element, in [`crate::mesh::Mesh::elements`] order.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Partition {
     pub parts: usize,
@@ -67,12 +66,10 @@ fn centroids(model: &Model) -> Vec<[f64; 3]> {
         }
         c.map(|s| s / nodes.len() as f64)
     };
-    (model.mesh.hexes.iter().map(|h| mean(h)))
-        .chain(model.mesh.tets.iter().map(|t| mean(t)))
-        .collect()
+    model.mesh.elements().map(|e| mean(e.nodes)).collect()
 }
 
-/// Every element's weight, hex8s then tet4s.
+/// Every element's weight, in global order.
 pub fn weights(model: &Model) -> Vec<f64> {
     let mut secondary = vec![false; model.mesh.node_count()];
     for itf in &model.interfaces {
@@ -86,9 +83,7 @@ pub fn weights(model: &Model) -> Vec<f64> {
         let k = nodes.iter().filter(|&&n| secondary[n as usize]).count();
         1.0 + CONTACT_WEIGHT * k as f64
     };
-    (model.mesh.hexes.iter().map(|h| weight(h)))
-        .chain(model.mesh.tets.iter().map(|t| weight(t)))
-        .collect()
+    model.mesh.elements().map(|e| weight(e.nodes)).collect()
 }
 
 /// The elements' centroids and weights the bisection cuts by.
@@ -170,9 +165,8 @@ mod tests {
         }
         // two parts of a 20 x 3 x 1 plate: the cut is at x = 10
         let p = Partition::bisect(&model, 2);
-        for (e, h) in model.mesh.hexes.iter().enumerate() {
-            let x: f64 = h
-                .iter()
+        for (e, h) in model.mesh.elements().enumerate() {
+            let x: f64 = (h.nodes.iter())
                 .map(|&n| model.mesh.nodes[n as usize][0])
                 .sum::<f64>()
                 / 8.0;

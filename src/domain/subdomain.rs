@@ -11,6 +11,7 @@
 //! node and sends it to the ranks whose contacts may reach it as a primary-face node.
 
 use super::partition::Partition;
+use crate::element::{CornerLayout, ElementKind};
 use crate::kernels::ElementData;
 use crate::model::Model;
 
@@ -76,10 +77,9 @@ pub struct Subdomain {
     /// Whether this rank owns each local node.
     pub owned: Vec<bool>,
     /// The rank's elements in global order, on local node numbers, and their global numbers
-    /// (hex8s and tet4s each counted from 0, as [`crate::mesh::Mesh`] holds them).
+    /// (increasing, as [`crate::mesh::Mesh::elements`] numbers them).
     pub data: ElementData,
-    pub hexes: Vec<u32>,
-    pub tets: Vec<u32>,
+    pub elements: Vec<u32>,
     pub neighbours: Vec<Neighbour>,
     /// Corners received in all.
     pub received: usize,
@@ -93,21 +93,13 @@ pub struct Subdomain {
     pub surface: SurfaceMap,
 }
 
-/// The nodes of every global corner (hex8 corners, then tet4 corners) with its element.
+/// Every global corner (its corner id, see [`crate::element::CornerLayout`]) with its
+/// element and node.
 fn corners(model: &Model) -> impl Iterator<Item = (usize, usize, u32)> + '_ {
-    let mesh = &model.mesh;
-    let nh = mesh.hexes.len();
-    (mesh.hexes.iter().flat_map(|h| h.iter()))
-        .chain(mesh.tets.iter().flat_map(|t| t.iter()))
+    (model.mesh.elements().enumerate())
+        .flat_map(|(e, el)| el.nodes.iter().map(move |&n| (e, n)))
         .enumerate()
-        .map(move |(c, &n)| {
-            let e = if c < 8 * nh {
-                c / 8
-            } else {
-                nh + (c - 8 * nh) / 4
-            };
-            (c, e, n)
-        })
+        .map(|(c, (e, n))| (c, e, n))
 }
 
 /// The lowest rank holding each node (rank 0 for a node in no element).
@@ -146,7 +138,7 @@ impl Subdomain {
         for (i, &n) in nodes.iter().enumerate() {
             local[n as usize] = i as u32;
         }
-        let (data, corner_local, (hexes, tets)) = local_elements(model, partition, rank, &local);
+        let (data, corner_local, elements) = local_elements(model, partition, rank, &local);
         let holders = holders(model, partition, &held);
         let mut sub = Subdomain {
             rank,
@@ -157,8 +149,7 @@ impl Subdomain {
                 .collect(),
             nodes,
             data,
-            hexes,
-            tets,
+            elements,
             neighbours: Vec::new(),
             received: 0,
             shared: Vec::new(),
@@ -318,11 +309,19 @@ impl Subdomain {
             list.partition_point(|&x| (x as usize) < r.start)
                 ..list.partition_point(|&x| (x as usize) < r.end)
         };
+        // the rank's elements of a block are those of its global numbers in the block's range
+        let local_block = |b: &crate::mesh::BodyMesh, kind: ElementKind| {
+            let r = within(
+                &self.elements,
+                &model.mesh.elements.global(kind, b.of_kind(kind)),
+            );
+            let o = self.data.elements.offset(kind);
+            r.start - o..r.end - o
+        };
         let bodies = (model.mesh.bodies.iter())
             .map(|b| crate::mesh::BodyMesh {
                 nodes: within(&self.nodes, &b.nodes),
-                hexes: within(&self.hexes, &b.hexes),
-                tets: within(&self.tets, &b.tets),
+                elements: ElementKind::ALL.map(|k| local_block(b, k)).to_vec(),
                 material: b.material,
                 boundary: Vec::new(),
                 surfaces: Vec::new(),
@@ -333,10 +332,7 @@ impl Subdomain {
         Model {
             mesh: crate::mesh::Mesh {
                 nodes: d.reference.clone(),
-                hexes: d.hexes.clone(),
-                hex_material: d.hex_material.clone(),
-                tets: d.tets.clone(),
-                tet_material: d.tet_material.clone(),
+                elements: d.elements.clone(),
                 bodies,
             },
             materials: model.materials.clone(),
@@ -367,28 +363,25 @@ pub fn at_nodes<T: Copy>(nodes: &[u32], x: &[T]) -> Vec<T> {
 }
 
 /// The rank's elements on local node numbers, the local corner of every global corner
-/// (`u32::MAX` for another rank's), and the rank's hex8s and tet4s (global numbers).
+/// (`u32::MAX` for another rank's), and the rank's elements' global numbers.
 fn local_elements(
     model: &Model,
     partition: &Partition,
     rank: usize,
     local: &[u32],
-) -> (ElementData, Vec<u32>, (Vec<u32>, Vec<u32>)) {
+) -> (ElementData, Vec<u32>, Vec<u32>) {
     let mesh = &model.mesh;
-    let nh = mesh.hexes.len();
     let mine = |e: usize| partition.part_of[e] as usize == rank;
-    let map = |el: &[u32]| -> Vec<u32> { el.iter().map(|&n| local[n as usize]).collect() };
-    let hexes: Vec<usize> = (0..nh).filter(|&e| mine(e)).collect();
-    let tets: Vec<usize> = (0..mesh.tets.len()).filter(|&t| mine(nh + t)).collect();
-    let mut corner_local = vec![u32::MAX; 8 * nh + 4 * mesh.tets.len()];
-    for (l, &e) in hexes.iter().enumerate() {
-        for k in 0..8 {
-            corner_local[8 * e + k] = (8 * l + k) as u32;
-        }
-    }
-    for (l, &t) in tets.iter().enumerate() {
-        for k in 0..4 {
-            corner_local[8 * nh + 4 * t + k] = (8 * hexes.len() + 4 * l + k) as u32;
+    let (elements, kept) = mesh.elements.select(mine, |n| local[n as usize]);
+    let (global, mine_layout) = (
+        CornerLayout::of(&mesh.elements),
+        CornerLayout::of(&elements),
+    );
+    let mut corner_local = vec![u32::MAX; global.count()];
+    for (l, &e) in kept.iter().enumerate() {
+        let (c, lc) = (global.first_corner(e), mine_layout.first_corner(l));
+        for k in 0..mesh.element(e).kind.corners() {
+            corner_local[c + k] = (lc + k) as u32;
         }
     }
     let data = ElementData {
@@ -396,18 +389,14 @@ fn local_elements(
             .filter(|&n| local[n] != u32::MAX)
             .map(|n| mesh.nodes[n])
             .collect(),
-        hexes: (hexes.iter())
-            .map(|&e| map(&mesh.hexes[e]).try_into().expect("8 corners"))
-            .collect(),
-        hex_material: hexes.iter().map(|&e| mesh.hex_material[e]).collect(),
-        tets: (tets.iter())
-            .map(|&t| map(&mesh.tets[t]).try_into().expect("4 corners"))
-            .collect(),
-        tet_material: tets.iter().map(|&t| mesh.tet_material[t]).collect(),
+        elements,
         materials: model.materials.clone(),
     };
-    let numbers = |e: Vec<usize>| e.into_iter().map(|e| e as u32).collect();
-    (data, corner_local, (numbers(hexes), numbers(tets)))
+    (
+        data,
+        corner_local,
+        kept.into_iter().map(|e| e as u32).collect(),
+    )
 }
 
 /// The ranks holding each node this rank holds with others (global node number to ranks,

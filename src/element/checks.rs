@@ -50,9 +50,9 @@ pub fn assert_symmetric_with_rigid_modes<const N: usize>(
     sym: f64,
     force: f64,
 ) {
-    for i in 0..N {
-        for j in 0..N {
-            assert!((k[i][j] - k[j][i]).abs() < sym * k[i][i].abs());
+    for (i, row) in k.iter().enumerate() {
+        for (j, kij) in row.iter().enumerate() {
+            assert!((kij - k[j][i]).abs() < sym * row[i].abs());
         }
     }
     for mode in 0..6 {

@@ -16,6 +16,17 @@ pub const CORNERS: [[f64; 3]; 8] = [
     [-1.0, 1.0, 1.0],
 ];
 
+/// The six faces in the corner order above (bottom face counter-clockwise seen from +z,
+/// then the top face), each ordered so that its normal points out of a positive element.
+pub const FACES: [[usize; 4]; 6] = [
+    [0, 3, 2, 1],
+    [4, 5, 6, 7],
+    [0, 1, 5, 4],
+    [1, 2, 6, 5],
+    [2, 3, 7, 6],
+    [3, 0, 4, 7],
+];
+
 /// The 2x2x2 Gauss points (all weights are 1).
 pub fn gauss_points() -> [[f64; 3]; 8] {
     let g = 1.0 / 3f64.sqrt();

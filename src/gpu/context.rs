@@ -15,6 +15,10 @@ use std::sync::{Mutex, OnceLock};
 
 use crate::error::{ImpactError, Result};
 
+/// Storage buffers the most demanding kernel binds (`contact_constraints`); an adapter that
+/// binds fewer per shader stage cannot run the kernels (a test keeps this the maximum).
+pub const STORAGE_BINDINGS: u32 = 10;
+
 /// Under `device = "auto"`, scenes with at least this many elements run their kernels on a
 /// hardware GPU when there is one. Smaller scenes stay on the CPU in f64: there the kernels
 /// cost less than a few milliseconds per iteration, and f64 keeps the contact iteration's
@@ -34,7 +38,7 @@ pub struct AdapterSummary {
     /// apart).
     pub pci_bus: String,
     /// Runs the kernels: compute shaders, indirect dispatch and at least
-    /// [`super::kernel::STORAGE_BINDINGS`] storage buffers per shader stage.
+    /// [`STORAGE_BINDINGS`] storage buffers per shader stage.
     pub compute: bool,
     /// A CPU implementation (lavapipe, llvmpipe, SwiftShader, WARP).
     pub software: bool,
@@ -46,8 +50,7 @@ impl AdapterSummary {
         let flags = adapter.get_downlevel_capabilities().flags;
         let compute = flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS)
             && flags.contains(wgpu::DownlevelFlags::INDIRECT_EXECUTION)
-            && adapter.limits().max_storage_buffers_per_shader_stage
-                >= super::kernel::STORAGE_BINDINGS;
+            && adapter.limits().max_storage_buffers_per_shader_stage >= STORAGE_BINDINGS;
         let lower = info.name.to_lowercase();
         let software = info.device_type == wgpu::DeviceType::Cpu
             || ["llvmpipe", "lavapipe", "swiftshader", "softpipe", "warp"]
@@ -325,8 +328,7 @@ pub fn info_report() -> Result<String> {
             let _ = writeln!(
                 r,
                 "  storage buffers per shader stage: {} (kernels use at most {})",
-                l.max_storage_buffers_per_shader_stage,
-                super::kernel::STORAGE_BINDINGS
+                l.max_storage_buffers_per_shader_stage, STORAGE_BINDINGS
             );
             let _ = writeln!(
                 r,

@@ -4,7 +4,7 @@
 //! neighbours in the order of the global corners (`domain::forces`).
 
 use super::buffer::{submit_and_read_parts, Storage};
-use super::engine::{at_least_one, bytes_of, corner_slot, GpuKernels};
+use super::engine::{at_least_one, bytes_of, GpuKernels};
 use super::kernel::Launch;
 use crate::error::{ImpactError, Result};
 
@@ -18,18 +18,17 @@ pub struct CornerSelection {
 }
 
 impl CornerSelection {
-    /// The corners `corners` of `k`'s mesh, as the twin numbers them (`8 e + k` for hex8
-    /// corners, then `8 E + 4 t + k` for tet4 corners).
+    /// The corners `corners` of `k`'s mesh, by corner id (the twin's slot of
+    /// [`crate::element::CornerLayout`]).
     pub fn new(k: &GpuKernels, corners: &[u32]) -> Result<Self> {
-        let (hexes, tets) = (k.elements, k.tets_count);
-        let total = 8 * hexes + 4 * tets;
+        let total = k.layout.count();
         if let Some(&c) = corners.iter().find(|&&c| c as usize >= total) {
             return Err(ImpactError::Gpu(format!(
                 "corner {c} chosen from a mesh of {total} corners"
             )));
         }
         let slots: Vec<u32> = (corners.iter())
-            .map(|&c| corner_slot(c as usize, hexes, tets) as u32)
+            .map(|&c| k.layout.to_device(c as usize) as u32)
             .collect();
         let ctx = &k.ctx;
         let slots = Storage::with_data(ctx, "chosen_slots", &at_least_one(slots))?;

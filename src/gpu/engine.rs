@@ -11,6 +11,7 @@ use super::types::{self, to_device, ContactQuery, Material, Quad, Split3};
 use super::{ContactGap, CornerSelect, Hex8Forces, NodeGather, SlipRate, Tet4Forces};
 use crate::backend::Kernels;
 use crate::contact::search;
+use crate::element::{CornerLayout, ElementKind};
 use crate::error::{ImpactError, Result};
 use crate::kernels::{ContactPoint, ContactQueries, ElementData, Incidence, SearchGrid};
 use crate::model::Model;
@@ -35,6 +36,44 @@ pub(super) struct EngineKernels {
 }
 
 impl EngineKernels {
+    /// The force kernel of a kind's block (the device's force dispatch, with
+    /// [`Self::block_launch`]).
+    pub(super) fn forces(&self, kind: ElementKind) -> &Kernel {
+        match kind {
+            ElementKind::Hex8 => &self.hex8_forces.0,
+            ElementKind::Tet4 => &self.tet4_forces.0,
+        }
+    }
+
+    /// The launch of a kind's force kernel over its block.
+    #[allow(clippy::too_many_arguments)]
+    fn block_launch(
+        &self,
+        ctx: &GpuContext,
+        block: &BlockBuffers,
+        (slots, first_slot): (u32, u32),
+        m: &MeshBuffers,
+        u: &Storage,
+        corners: &Storage,
+    ) -> Launch {
+        let count = block.count as u32;
+        let (nodes, material) = (&block.nodes.buffer, &block.material.buffer);
+        let (x, u, c, mats) = (
+            &m.reference.buffer,
+            &u.buffer,
+            &corners.buffer,
+            &m.materials.buffer,
+        );
+        match block.kind {
+            ElementKind::Hex8 => (self.hex8_forces).launch(
+                ctx, count, slots, first_slot, x, u, nodes, material, mats, c,
+            ),
+            ElementKind::Tet4 => (self.tet4_forces).launch(
+                ctx, count, slots, first_slot, x, u, nodes, material, mats, c,
+            ),
+        }
+    }
+
     fn new(ctx: &GpuContext) -> Self {
         EngineKernels {
             hex8_forces: Hex8Forces::new(ctx),
@@ -47,14 +86,20 @@ impl EngineKernels {
     }
 }
 
-/// The mesh on the device, uploaded once: the split reference coordinates, the connectivity
-/// column by column (see [`ElementColumns`]), the materials and the node incidence table.
+/// One element block on the device: its connectivity column by column and its materials
+/// (see [`ElementColumns`]).
+pub(super) struct BlockBuffers {
+    kind: ElementKind,
+    count: usize,
+    nodes: Storage,
+    material: Storage,
+}
+
+/// The mesh on the device, uploaded once: the split reference coordinates, each non-empty
+/// element block, the materials and the node incidence table.
 pub(super) struct MeshBuffers {
     pub(super) reference: Storage,
-    hex_nodes: Storage,
-    hex_material: Storage,
-    tet_nodes: Storage,
-    tet_material: Storage,
+    blocks: Vec<BlockBuffers>,
     materials: Storage,
     offsets: Storage,
     incidence: Storage,
@@ -63,33 +108,37 @@ pub(super) struct MeshBuffers {
 impl MeshBuffers {
     fn upload(ctx: &GpuContext, data: &ElementData) -> Result<Self> {
         let columns = ElementColumns::new(data);
-        // a binding holds at least one word: a mesh without hexes (or tets) binds one
-        // unused placeholder, never dispatched
-        let column =
-            |label: &'static str, c: Vec<u32>| Storage::with_data(ctx, label, &at_least_one(c));
+        let blocks = (columns.blocks.into_iter())
+            .filter(|b| b.count > 0)
+            .map(|b| {
+                Ok(BlockBuffers {
+                    kind: b.kind,
+                    count: b.count,
+                    nodes: Storage::with_data(ctx, b.kind.name(), &b.nodes)?,
+                    material: Storage::with_data(ctx, "block_material", &b.material)?,
+                })
+            })
+            .collect::<Result<_>>()?;
         Ok(MeshBuffers {
             reference: Storage::with_data(ctx, "reference", &split_reference(data))?,
-            hex_nodes: column("hex_nodes", columns.hex_nodes)?,
-            hex_material: column("hex_material", columns.hex_material)?,
-            tet_nodes: column("tet_nodes", columns.tet_nodes)?,
-            tet_material: column("tet_material", columns.tet_material)?,
+            blocks,
             materials: Storage::with_data(ctx, "materials", &device_materials(data))?,
             offsets: Storage::with_data(ctx, "incidence.offsets", &columns.incidence.offsets)?,
             incidence: Storage::with_data(ctx, "incidence", &columns.incidence.corners)?,
         })
     }
 
-    fn all(&self) -> [&Storage; 8] {
+    fn all(&self) -> Vec<&Storage> {
+        let blocks = self.blocks.iter().flat_map(|b| [&b.nodes, &b.material]);
         [
             &self.reference,
-            &self.hex_nodes,
-            &self.hex_material,
-            &self.tet_nodes,
-            &self.tet_material,
             &self.materials,
             &self.offsets,
             &self.incidence,
         ]
+        .into_iter()
+        .chain(blocks)
+        .collect()
     }
 }
 
@@ -124,20 +173,25 @@ impl ContactBuffers {
     }
 }
 
-/// The element kernels' launches, fixed for the mesh: hex8 and tet4 into the corner forces,
-/// then the gather into the nodal forces.
+/// The element kernels' launches, fixed for the mesh: each non-empty block's force kernel
+/// into the corner forces, then the gather into the nodal forces.
 pub(super) struct ElementLaunches {
-    pub(super) hex8: Launch,
-    pub(super) tet4: Launch,
+    pub(super) blocks: Vec<(ElementKind, Launch)>,
     pub(super) gather: Launch,
+}
+
+impl ElementLaunches {
+    /// The launch of a kind's block, if the mesh has such elements.
+    pub(super) fn block(&self, kind: ElementKind) -> Option<&Launch> {
+        self.blocks.iter().find(|b| b.0 == kind).map(|b| &b.1)
+    }
 }
 
 pub struct GpuKernels {
     pub(super) ctx: GpuContext,
     pub(super) nodes: usize,
-    /// Hex8 elements.
-    pub(super) elements: usize,
-    pub(super) tets_count: usize,
+    /// Where each element corner's force lives on the device.
+    pub(super) layout: CornerLayout,
     pub(super) kernels: EngineKernels,
     pub(super) mesh: MeshBuffers,
     pub(super) u: Storage,
@@ -181,57 +235,49 @@ pub(super) fn at_least_one<T: Default>(mut v: Vec<T>) -> Vec<T> {
 
 /// The element kernels' layouts, chosen so that neighbouring invocations (elements, nodes)
 /// read and write neighbouring words:
-/// - connectivity column by column: node k of hex e at `hex_nodes[k E + e]`, of tet t at
-///   `tet_nodes[k T + t]`;
-/// - corner forces component-major: component a of corner slot s at `a C + s`, where hex
-///   corner k of element e has slot `k E + e` and tet corner k of tet t has slot
-///   `8 E + k T + t` (C = 8 E + 4 T slots);
-/// - the gather's incidence lists hold those slots, in the order of the twin's corner ids
-///   (`8 e + k`, then `8 E + 4 t + k`), so the sums run in the twin's order.
+/// - connectivity column by column: node k of element e of a block of E at `nodes[k E + e]`;
+/// - corner forces component-major: component a of slot s at `a C + s` (C slots in all),
+///   the slots a device's of [`CornerLayout`];
+/// - the gather's incidence lists hold those slots, in the order of the twin's corner ids,
+///   so the sums run in the twin's order.
 pub struct ElementColumns {
-    pub hex_nodes: Vec<u32>,
-    pub hex_material: Vec<u32>,
-    pub tet_nodes: Vec<u32>,
-    pub tet_material: Vec<u32>,
+    pub blocks: Vec<BlockColumns>,
     /// The incidence table with slots in place of corner ids.
     pub incidence: Incidence,
+}
+
+/// One block's connectivity column by column, and its materials.
+pub struct BlockColumns {
+    pub kind: ElementKind,
+    pub count: usize,
+    pub nodes: Vec<u32>,
+    pub material: Vec<u32>,
 }
 
 impl ElementColumns {
     pub fn new(data: &ElementData) -> Self {
         use rayon::prelude::*;
-        let (e, t) = (data.hexes.len(), data.tets.len());
-        let hex_nodes = (0..8 * e)
-            .into_par_iter()
-            .map(|i| data.hexes[i % e][i / e])
+        let blocks = (data.elements.blocks.iter())
+            .map(|b| {
+                let (e, n) = (b.len(), b.kind.corners());
+                BlockColumns {
+                    kind: b.kind,
+                    count: e,
+                    nodes: (0..n * e)
+                        .into_par_iter()
+                        .map(|i| b.nodes[n * (i % e) + i / e])
+                        .collect(),
+                    material: b.material.clone(),
+                }
+            })
             .collect();
-        let tet_nodes = (0..4 * t)
-            .into_par_iter()
-            .map(|i| data.tets[i % t][i / t])
-            .collect();
-        let mut incidence = Incidence::new(&data.hexes, &data.tets, data.reference.len());
+        let layout = data.layout();
+        let mut incidence = Incidence::new(&data.elements, data.reference.len());
         incidence
             .corners
             .par_iter_mut()
-            .for_each(|c| *c = corner_slot(*c as usize, e, t) as u32);
-        ElementColumns {
-            hex_nodes,
-            hex_material: data.hex_material.clone(),
-            tet_nodes,
-            tet_material: data.tet_material.clone(),
-            incidence,
-        }
-    }
-}
-
-/// The slot of the twin's corner id `c` (`8 e + k` for hexes, then `8 E + 4 t + k`) in the
-/// device's corner-force layout, for `hexes` hexes and `tets` tets (see [`ElementColumns`]).
-pub fn corner_slot(c: usize, hexes: usize, tets: usize) -> usize {
-    if c < 8 * hexes {
-        (c % 8) * hexes + c / 8
-    } else {
-        let c = c - 8 * hexes;
-        8 * hexes + (c % 4) * tets + c / 4
+            .for_each(|c| *c = layout.to_device(*c as usize) as u32);
+        ElementColumns { blocks, incidence }
     }
 }
 
@@ -250,35 +296,20 @@ impl ElementLaunches {
         corners: &Storage,
         forces: &Storage,
     ) -> Self {
-        let (hexes, tets) = (data.hexes.len() as u32, data.tets.len() as u32);
-        let slots = data.corner_count() as u32;
+        let layout = data.layout();
+        let slots = layout.count() as u32;
+        let blocks = (mesh.blocks.iter())
+            .map(|b| {
+                let first = layout.offset(b.kind) as u32;
+                (
+                    b.kind,
+                    k.block_launch(ctx, b, (slots, first), mesh, u, corners),
+                )
+            })
+            .collect();
         let m = mesh;
         ElementLaunches {
-            hex8: k.hex8_forces.launch(
-                ctx,
-                hexes,
-                slots,
-                0,
-                &m.reference.buffer,
-                &u.buffer,
-                &m.hex_nodes.buffer,
-                &m.hex_material.buffer,
-                &m.materials.buffer,
-                &corners.buffer,
-            ),
-            // the tets' corner slots follow the hexes' 8 per hex
-            tet4: k.tet4_forces.launch(
-                ctx,
-                tets,
-                slots,
-                8 * hexes,
-                &m.reference.buffer,
-                &u.buffer,
-                &m.tet_nodes.buffer,
-                &m.tet_material.buffer,
-                &m.materials.buffer,
-                &corners.buffer,
-            ),
+            blocks,
             gather: k.node_gather.launch(
                 ctx,
                 data.reference.len() as u32,
@@ -298,7 +329,7 @@ fn check_indexing(data: &ElementData) -> Result<()> {
     if data.corner_count() > u32::MAX as usize / 3 {
         return Err(ImpactError::Gpu(format!(
             "{} elements exceed the GPU kernels' 32-bit indexing",
-            data.hexes.len() + data.tets.len()
+            data.elements.count()
         )));
     }
     Ok(())
@@ -318,8 +349,7 @@ impl GpuKernels {
         let launches = ElementLaunches::new(&ctx, &kernels, &mesh, data, &u, &corners, &forces);
         Ok(GpuKernels {
             nodes,
-            elements: data.hexes.len(),
-            tets_count: data.tets.len(),
+            layout: data.layout(),
             kernels,
             mesh,
             u,
@@ -384,20 +414,17 @@ impl GpuKernels {
         Ok(())
     }
 
-    /// Floats of the corner forces: 3 per hex8 corner and per tet4 corner.
+    /// Floats of the corner forces: 3 per element corner.
     pub(super) fn corner_floats(&self) -> usize {
-        24 * self.elements + 12 * self.tets_count
+        3 * self.layout.count()
     }
 
     /// Dispatches the element kernels and the gather in an open pass: the internal forces at
     /// the device's displacement into the forces buffer.
     pub(super) fn dispatch_internal_forces(&self, pass: &mut wgpu::ComputePass) {
         let (k, l) = (&self.kernels, &self.launches);
-        if self.elements > 0 {
-            k.hex8_forces.0.dispatch(pass, &l.hex8);
-        }
-        if self.tets_count > 0 {
-            k.tet4_forces.0.dispatch(pass, &l.tet4);
+        for (kind, launch) in &l.blocks {
+            k.forces(*kind).dispatch(pass, launch);
         }
         k.node_gather.0.dispatch(pass, &l.gather);
     }

@@ -10,12 +10,13 @@ use std::time::{Duration, Instant};
 use super::buffer::{read_back, read_floats, submit_and_read, Storage};
 use super::context::GpuContext;
 use super::corner_select::CornerSelection;
-use super::engine::{bytes_of, corner_slot, GpuKernels};
+use super::engine::{bytes_of, GpuKernels};
 use super::resident_step::{to_f32, ResidentStep};
 use super::search::GpuSearch;
 use super::types;
 use super::ContactIteration;
-use crate::error::Result;
+use crate::element::ElementKind;
+use crate::error::{ImpactError, Result};
 use crate::kernels::plane_contact::SLOT;
 use crate::kernels::sweep_control::word;
 use crate::kernels::{Constraint, ContactPoint, ReduceColumn, SweepState};
@@ -49,23 +50,19 @@ impl GpuKernels {
 
     /// The device's corner slot of each of the twin's corner ids, in twin order.
     fn slot_of(&self, c: usize) -> usize {
-        corner_slot(c, self.elements, self.tets_count)
+        self.layout.to_device(c)
     }
 
-    /// Records the element kernels (hex8 then tet4, each only if the mesh has such elements)
-    /// that fill the corner forces, each in a pass of its own.
+    /// Records the element kernels (each non-empty block's) that fill the corner forces,
+    /// each in a pass of its own.
     fn record_elements(&self, enc: &mut wgpu::CommandEncoder) {
-        let (k, l) = (&self.kernels, &self.launches);
-        if self.elements > 0 {
-            k.hex8_forces.0.record_launch(enc, &l.hex8);
-        }
-        if self.tets_count > 0 {
-            k.tet4_forces.0.record_launch(enc, &l.tet4);
+        for (kind, launch) in &self.launches.blocks {
+            self.kernels.forces(*kind).record_launch(enc, launch);
         }
     }
 
-    /// Runs the element kernels alone: corner forces `[8 e + k]` of the hexes, then
-    /// `[8 hexes + 4 t + k]` of the tets (the twin's order), for the displacement `u`.
+    /// Runs the element kernels alone: the corner forces in the twin's order (by corner id,
+    /// [`crate::element::CornerLayout`]), for the displacement `u`.
     pub fn corner_forces(&mut self, u: &[f64]) -> Result<Vec<[f64; 3]>> {
         self.upload_nodal(false, u)?;
         if self.fill_nan {
@@ -143,8 +140,16 @@ impl GpuKernels {
         // the element kernels' launches are fixed; the contact kernels' counts follow the
         // last queries
         let (kernel, bind, grid) = match kernel {
-            KernelId::Hex8Forces => (&k.hex8_forces.0, &l.hex8.bind, l.hex8.grid),
-            KernelId::Tet4Forces => (&k.tet4_forces.0, &l.tet4.bind, l.tet4.grid),
+            KernelId::Hex8Forces | KernelId::Tet4Forces => {
+                let kind = match kernel {
+                    KernelId::Hex8Forces => ElementKind::Hex8,
+                    _ => ElementKind::Tet4,
+                };
+                let launch = l.block(kind).ok_or_else(|| {
+                    ImpactError::Gpu(format!("the mesh has no {kind} elements to time"))
+                })?;
+                (k.forces(kind), &launch.bind, launch.grid)
+            }
             KernelId::NodeGather => (&k.node_gather.0, &l.gather.bind, l.gather.grid),
             KernelId::ContactGap => self.contact_dispatch(true)?,
             KernelId::SlipRate => self.contact_dispatch(false)?,

@@ -2,14 +2,7 @@
 //! Binding 0 of every kernel is its [`Params`] uniform; bindings 1.. are storage buffers.
 
 use super::context::GpuContext;
-use super::types::Params;
-
-/// Invocations per workgroup (`WORKGROUP` in `shaders/shared/types.wgsl`).
-pub const WORKGROUP: u32 = 64;
-
-/// Storage buffers the most demanding kernel binds (`contact_constraints`); an adapter that
-/// binds fewer per shader stage cannot run the kernels (a test keeps this the maximum).
-pub const STORAGE_BINDINGS: u32 = 10;
+use super::types::{Params, WORKGROUP};
 
 /// One launch of a kernel with its own parameters and bindings, built once and recorded at
 /// every step.

@@ -77,7 +77,7 @@ kernel_table! {
     ExplicitPredict = explicit_predict(step, acceleration, velocity);
     FaceCells = face_cells(grid, reference, displacement, faces, face_first, keys);
     Hex8Forces = hex8_forces(
-        reference, displacement, hex_nodes, hex_material, materials, corner_forces,
+        reference, displacement, block_nodes, block_material, materials, corner_forces,
     );
     HistoryReduce = history_reduce(columns, partials, results, displacement, velocity, rows);
     NodeGather = node_gather(offsets, incidence, corner_forces, forces);
@@ -89,9 +89,9 @@ kernel_table! {
     SearchBounds = search_bounds(reference, displacement, velocity, faces, bounds);
     SearchGridKernel = search_grid(step, bounds, grid);
     SlipRate = slip_rate(reference, displacement, velocity, queries, faces, points, slip);
-    StableStep = stable_step(reference, hexes, tets, materials, steps);
+    StableStep = stable_step(reference, hex8_elements, tet4_elements, materials, steps);
     SweepControl = sweep_control(state);
     Tet4Forces = tet4_forces(
-        reference, displacement, tet_nodes, tet_material, materials, corner_forces,
+        reference, displacement, block_nodes, block_material, materials, corner_forces,
     );
 }

@@ -22,7 +22,8 @@ use super::buffer::{map_read, read_back, read_floats, take_mapped, Mapping, Stor
 use super::contact_iteration::{ContactIteration, ContactSetup, StepBuffers};
 use super::context::GpuContext;
 use super::engine::{at_least_one, GpuKernels};
-use super::kernel::{Launch, WORKGROUP};
+use super::kernel::Launch;
+use super::types::WORKGROUP;
 use super::types::{self, to_device, Split3};
 use super::{ExplicitCorrect, ExplicitDrift, ExplicitPredict, HistoryReduce, PlaneContact};
 use crate::error::{ImpactError, Result};

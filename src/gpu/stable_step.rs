@@ -6,16 +6,20 @@ use super::context::GpuContext;
 use super::engine::{at_least_one, device_materials, split_reference};
 use super::kernels::StableStep;
 use super::types::{Hex8, Tet4};
+use crate::element::ElementKind;
 use crate::error::Result;
 use crate::kernels::ElementData;
 
 /// Every element's Gershgorin step on the device (hexes, then tets), in f64.
 pub fn element_steps(ctx: &GpuContext, data: &ElementData) -> Result<Vec<f64>> {
     let (reference, materials) = (split_reference(data), device_materials(data));
-    let hexes: Vec<Hex8> = (data.hexes.iter().zip(&data.hex_material))
+    let block = |kind| data.elements.block(kind);
+    let hexes: Vec<Hex8> = (block(ElementKind::Hex8).corners::<8>().iter())
+        .zip(&block(ElementKind::Hex8).material)
         .map(|(&nodes, &material)| Hex8 { nodes, material })
         .collect();
-    let tets: Vec<Tet4> = (data.tets.iter().zip(&data.tet_material))
+    let tets: Vec<Tet4> = (block(ElementKind::Tet4).corners::<4>().iter())
+        .zip(&block(ElementKind::Tet4).material)
         .map(|(&nodes, &material)| Tet4 { nodes, material })
         .collect();
     let count = hexes.len() + tets.len();

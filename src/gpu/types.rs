@@ -8,6 +8,9 @@ use rayon::prelude::*;
 use crate::kernels;
 use crate::kernels::contact_gap::{ContactPoint as CpuContactPoint, NO_FACE};
 
+/// Invocations per workgroup (`WORKGROUP` in `shaders/shared/types.wgsl`).
+pub const WORKGROUP: u32 = 64;
+
 /// Host values (f64) as the device's type (f32), each by its `From`, on all threads.
 pub fn to_device<'a, H: Sync + 'a, D: From<&'a H> + Send>(host: &'a [H]) -> Vec<D> {
     host.par_iter().map(D::from).collect()
@@ -385,7 +388,7 @@ pub fn shared_constants() -> Vec<(&'static str, u32)> {
     let u = |v: usize| v as u32;
     vec![
         ("NO_FACE", crate::geometry::point::NO_FACE),
-        ("WORKGROUP", super::kernel::WORKGROUP),
+        ("WORKGROUP", WORKGROUP),
         ("SLOT", u(SLOT)),
         ("SLOT_NORMAL_IMPULSE", u(slot::NORMAL_IMPULSE)),
         ("SLOT_FRICTION_IMPULSE", u(slot::FRICTION_IMPULSE)),

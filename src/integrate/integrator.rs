@@ -2,8 +2,8 @@
 //! explicit central-difference solver with its step on the host, or the explicit step
 //! resident on the GPU. The run loop holds a `Box<dyn Integrator>` and nothing more.
 
-use super::implicit::StepReport;
-use super::state::{ContactReport, Energies, InterfaceEnd, ProbeValues, SolverState};
+use super::state::{ContactReport, Energies, InterfaceEnd, ProbeValues, StepReport};
+use super::SolverState;
 use crate::error::Result;
 use crate::linalg::FactorStats;
 use crate::model::Model;

@@ -8,14 +8,26 @@ pub mod stable_step;
 pub mod state;
 
 pub use explicit::ExplicitSolver;
-pub use implicit::{ImplicitSolver, StepReport};
+pub use implicit::ImplicitSolver;
 pub use integrator::{ImplicitFigures, Integrator};
 pub use resident::ResidentSolver;
 pub use state::{
-    ContactReport, Decomposition, Energies, InterfaceEnd, Piece, ProbeValues, SolverState,
+    ContactReport, Decomposition, Energies, InterfaceEnd, Piece, ProbeValues, StepReport,
 };
 
+use serde::{Deserialize, Serialize};
+
 use crate::model::Model;
+
+/// The integrator's part of a checkpoint: the state of each integrator, which the folder's
+/// root holds as it holds the integrators.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub enum SolverState {
+    Explicit(explicit::ExplicitState),
+    Implicit(implicit::ImplicitState),
+    /// The explicit step resident on the GPU (the device's f32 state, exactly).
+    Resident(resident::ResidentState),
+}
 
 /// Centre-of-mass velocity of each body from the nodal masses and velocities.
 pub fn body_velocities(model: &Model, nodal_mass: &[f64], v: &[f64]) -> Vec<[f64; 3]> {

@@ -13,9 +13,9 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::explicit::lumped_mass;
-use super::implicit::StepReport;
 use super::integrator::{Integrator, ENGINE_GPU_RESIDENT};
-use super::state::{ContactReport, Energies, SolverState};
+use super::state::{ContactReport, Energies, StepReport};
+use super::SolverState;
 use crate::contact::search;
 use crate::error::Result;
 use crate::gpu::resident_step::row_len;

@@ -21,8 +21,8 @@ use std::collections::HashMap;
 
 use rayon::prelude::*;
 
-use crate::element;
 pub use crate::element::stable_step::{element_critical_step, element_stable_step};
+use crate::element::{self, ElementKind, ElementRef};
 use crate::error::Result;
 use crate::gpu::GpuContext;
 use crate::model::Model;
@@ -35,7 +35,7 @@ use crate::model::Model;
 pub const EXACT_SHAPES: usize = 4096;
 
 /// The smallest element step of the model in its reference configuration, and the element
-/// that sets it (index in [`crate::mesh::Mesh::elements`] order: hexes, then tets).
+/// that sets it (index in [`crate::mesh::Mesh::elements`] order).
 pub fn stable_step(model: &Model) -> (f64, usize) {
     stable_step_on(model, None).expect("the CPU path cannot fail")
 }
@@ -68,9 +68,9 @@ pub fn survey(model: &Model, gpu: Option<&GpuContext>) -> Result<StepSurvey> {
             );
         // f32 picks the element; f64 gives its step (an element within f32's rounding of the
         // smallest may have been passed over: a relative 1e-6 of the step)
-        let (corners, material) = model.mesh.element(e);
-        let x = model.mesh.corners(corners);
-        let step = element_stable_step(&x, &model.materials[material as usize]);
+        let el = model.mesh.element(e);
+        let x = model.mesh.corners(el.nodes);
+        let step = element_stable_step(el.kind, &x, &model.materials[el.material as usize]);
         return Ok(StepSurvey {
             step,
             element: e,
@@ -81,13 +81,13 @@ pub fn survey(model: &Model, gpu: Option<&GpuContext>) -> Result<StepSurvey> {
         .first
         .par_iter()
         .map(|&e| {
-            let (corners, material) = model.mesh.element(e);
-            let x = model.mesh.corners(corners);
-            let m = &model.materials[material as usize];
+            let el = model.mesh.element(e);
+            let x = model.mesh.corners(el.nodes);
+            let m = &model.materials[el.material as usize];
             if exact {
-                element_critical_step(&x, m)
+                element_critical_step(el.kind, &x, m)
             } else {
-                element_stable_step(&x, m)
+                element_stable_step(el.kind, &x, m)
             }
         })
         .collect();
@@ -100,11 +100,11 @@ pub fn survey(model: &Model, gpu: Option<&GpuContext>) -> Result<StepSurvey> {
 }
 
 /// A shape key: the material, the corner count and the corners relative to corner 0 in
-/// units of 1e-9 of the element's extent (tets leave the last four corners zero).
-type ShapeKey = (u32, usize, [i64; 24]);
+/// units of 1e-9 of the element's extent (a kind of fewer corners leaves the rest zero).
+type ShapeKey = (u32, ElementKind, [i64; 24]);
 
-fn shape_key(model: &Model, corners: &[u32], material: u32) -> ShapeKey {
-    let x = model.mesh.corners(corners);
+fn shape_key(model: &Model, el: ElementRef) -> ShapeKey {
+    let x = model.mesh.corners(el.nodes);
     let size = element::extent(&x).max(f64::MIN_POSITIVE);
     let origin = x[0];
     let mut key = [0i64; 24];
@@ -113,7 +113,7 @@ fn shape_key(model: &Model, corners: &[u32], material: u32) -> ShapeKey {
             key[3 * k + a] = ((p[a] - origin[a]) / size * 1e9).round() as i64;
         }
     }
-    (material, corners.len(), key)
+    (el.material, el.kind, key)
 }
 
 /// The distinct element shapes of a mesh (up to a translation, to 1e-9 of the element's
@@ -147,8 +147,7 @@ impl Shapes {
                 let mut order = Vec::new();
                 let local = (b * SHAPE_BLOCK..n.min((b + 1) * SHAPE_BLOCK))
                     .map(|e| {
-                        let (corners, material) = model.mesh.element(e);
-                        let key = shape_key(model, corners, material);
+                        let key = shape_key(model, model.mesh.element(e));
                         let next = seen.len() as u32;
                         *seen.entry(key).or_insert_with(|| {
                             order.push((key, e));
@@ -170,7 +169,7 @@ impl Shapes {
                 .map(|(key, e)| {
                     *ids.entry(key).or_insert_with(|| {
                         first.push(e);
-                        cost += if key.1 == 8 { 5 } else { 1 };
+                        cost += key.1.exact_step_cost();
                         first.len() - 1
                     })
                 })
@@ -242,14 +241,16 @@ mod tests {
             });
             let nu = [0.0, 0.3, 0.45, 0.49][case % 4];
             let m = Elastic::from_engineering(rng.random_range(1.0..1e4), nu, 7.8);
-            let ratio = element_stable_step(&x, &m) / element_critical_step(&x, &m);
+            let hex = ElementKind::Hex8;
+            let ratio = element_stable_step(hex, &x, &m) / element_critical_step(hex, &x, &m);
             assert!(
                 (0.65..=1.0 + 1e-12).contains(&ratio),
                 "case {case}: bound {ratio} of 2/omega (nu {nu})"
             );
             // a tet of four of the same corners (0, 1, 3, 4: a corner tet, distorted)
             let t = [x[0], x[1], x[3], x[4]];
-            let ratio = element_stable_step(&t, &m) / element_critical_step(&t, &m);
+            let tet = ElementKind::Tet4;
+            let ratio = element_stable_step(tet, &t, &m) / element_critical_step(tet, &t, &m);
             assert!(
                 (0.4..=1.0 + 1e-12).contains(&ratio),
                 "case {case}: tet bound {ratio} of 2/omega (nu {nu})"
@@ -275,8 +276,8 @@ mod tests {
             ]
         };
         let (a, b) = (
-            element_stable_step(&cube(1.0), &m),
-            element_stable_step(&cube(0.25), &m),
+            element_stable_step(ElementKind::Hex8, &cube(1.0), &m),
+            element_stable_step(ElementKind::Hex8, &cube(0.25), &m),
         );
         assert!((a / b - 4.0).abs() < 1e-12);
         // the exact element limit of a nu = 0 cube is h / c; the bound is below it

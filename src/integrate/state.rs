@@ -1,18 +1,12 @@
-//! Quantities an integrator reports after each step, and the state a checkpoint keeps.
+//! Quantities an integrator reports after each step (the integrators' common vocabulary,
+//! below them all); the state a checkpoint keeps is [`super::SolverState`].
 
-use serde::{Deserialize, Serialize};
-
-use super::explicit::ExplicitState;
-use super::implicit::ImplicitState;
-use super::resident::ResidentState;
-
-/// The integrator's part of a checkpoint.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub enum SolverState {
-    Explicit(ExplicitState),
-    Implicit(ImplicitState),
-    /// The explicit step resident on the GPU (the device's f32 state, exactly).
-    Resident(ResidentState),
+/// What one step did.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StepReport {
+    /// Augmented Lagrange iterations (= linear solves) of the step.
+    pub iterations: usize,
+    pub converged: bool,
 }
 
 /// The probe values of one node: displacement and velocity.

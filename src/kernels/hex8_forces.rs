@@ -6,7 +6,7 @@
 use rayon::prelude::*;
 
 use super::ElementData;
-use crate::element::hex8;
+use crate::element::{hex8, ElementKind};
 use crate::material::Elastic;
 
 /// Corner forces of one element from its reference corners and corner displacements.
@@ -133,15 +133,17 @@ fn gauss_point(
     }
 }
 
-/// Corner forces of every element: `corner_forces[8 e + k]` is corner k of element e
-/// (overwrites it). [`super::node_gather`] sums them to the nodes.
+/// Corner forces of every hex8: `corner_forces[8 e + k]` is corner k of hex8 e (overwrites
+/// it; the caller passes the hex8 block's part of the corner array, see
+/// [`crate::element::CornerLayout`]). [`super::node_gather`] sums them to the nodes.
 /// Elements run on all threads; each writes its own corners, so the result does not depend
 /// on the thread count.
 pub fn hex8_forces(data: &ElementData, u: &[[f64; 3]], corner_forces: &mut [[f64; 3]]) {
-    corner_forces[..8 * data.hexes.len()]
+    let block = data.elements.block(ElementKind::Hex8);
+    corner_forces[..block.nodes.len()]
         .par_chunks_mut(8)
         .with_min_len(ELEMENTS_PER_TASK)
-        .zip(data.hexes.par_iter().zip(&data.hex_material))
+        .zip(block.corners::<8>().par_iter().zip(&block.material))
         .for_each(|(out, (hex, &mat))| {
             let m = data.materials[mat as usize];
             let x = hex.map(|n| data.reference[n as usize]);

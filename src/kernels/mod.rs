@@ -6,6 +6,10 @@
 //! velocities, connectivity, and for contact a list of queries (secondary node, candidate
 //! primary faces).
 
+// Index loops over nodes, corners and components keep the CPU twins line-by-line comparable
+// with their WGSL kernels (vello does the same in its CPU shaders).
+#![allow(clippy::needless_range_loop)]
+
 pub mod bucket_count;
 pub mod bucket_fill;
 pub mod bucket_order;
@@ -63,23 +67,40 @@ pub use stable_step::stable_step;
 pub use sweep_control::{sweep_control, SweepState};
 pub use tet4_forces::tet4_forces;
 
+use crate::element::{CornerLayout, ElementKind, Elements};
 use crate::material::Elastic;
 
 /// Element data every kernel backend is built from.
 #[derive(Debug, Clone)]
 pub struct ElementData {
     pub reference: Vec<[f64; 3]>,
-    pub hexes: Vec<[u32; 8]>,
-    pub hex_material: Vec<u32>,
-    pub tets: Vec<[u32; 4]>,
-    pub tet_material: Vec<u32>,
+    pub elements: Elements,
     pub materials: Vec<Elastic>,
 }
 
 impl ElementData {
-    /// Element corners in the corner-force array: 8 per hex8, then 4 per tet4.
+    /// Element corners in the corner-force array ([`CornerLayout`]).
     pub fn corner_count(&self) -> usize {
-        8 * self.hexes.len() + 4 * self.tets.len()
+        self.elements.corner_count()
+    }
+
+    /// Where each corner's force lives.
+    pub fn layout(&self) -> CornerLayout {
+        CornerLayout::of(&self.elements)
+    }
+}
+
+/// Corner forces of every element at displacement `u`, in the [`CornerLayout`] (overwrites
+/// `corner_forces`): the per-kind force kernels, each on its block's part.
+pub fn element_forces(data: &ElementData, u: &[[f64; 3]], corner_forces: &mut [[f64; 3]]) {
+    let layout = data.layout();
+    for block in &data.elements.blocks {
+        let start = layout.offset(block.kind);
+        let out = &mut corner_forces[start..start + block.nodes.len()];
+        match block.kind {
+            ElementKind::Hex8 => hex8_forces(data, u, out),
+            ElementKind::Tet4 => tet4_forces(data, u, out),
+        }
     }
 }
 

@@ -3,8 +3,10 @@
 
 use rayon::prelude::*;
 
-/// For every node, the element corners that touch it, in CSR form: corner k of hex e is
-/// `8 e + k`, corner k of tet t is `8 hexes + 4 t + k`.
+use crate::element::Elements;
+
+/// For every node, the element corners that touch it, in CSR form, by corner id (the twins'
+/// slot of [`crate::element::CornerLayout`]).
 #[derive(Debug, Clone, Default)]
 pub struct Incidence {
     /// `corners[offsets[n]..offsets[n + 1]]` belong to node n.
@@ -13,16 +15,10 @@ pub struct Incidence {
 }
 
 impl Incidence {
-    /// The incidence table of hex8 and tet4 connectivities over `nodes` nodes, corners in
-    /// increasing order for each node.
-    pub fn new(hexes: &[[u32; 8]], tets: &[[u32; 4]], nodes: usize) -> Self {
-        let corner_nodes = || {
-            hexes
-                .iter()
-                .flat_map(|h| h.iter())
-                .chain(tets.iter().flat_map(|t| t.iter()))
-                .copied()
-        };
+    /// The incidence table of the elements over `nodes` nodes, corners in increasing order
+    /// for each node.
+    pub fn new(elements: &Elements, nodes: usize) -> Self {
+        let corner_nodes = || elements.corner_nodes();
         let mut count = vec![0u32; nodes + 1];
         for n in corner_nodes() {
             count[n as usize + 1] += 1;
@@ -32,7 +28,7 @@ impl Incidence {
         }
         let offsets = count.clone();
         let mut next = count;
-        let mut corners = vec![0u32; 8 * hexes.len() + 4 * tets.len()];
+        let mut corners = vec![0u32; elements.corner_count()];
         for (c, n) in corner_nodes().enumerate() {
             corners[next[n as usize] as usize] = c as u32;
             next[n as usize] += 1;
@@ -71,8 +67,11 @@ mod tests {
 
     #[test]
     fn every_corner_appears_once_in_increasing_order() {
-        let hexes = [[0, 1, 2, 3, 4, 5, 6, 7], [1, 8, 9, 2, 5, 10, 11, 6]];
-        let inc = Incidence::new(&hexes, &[], 12);
+        let mut hexes = Elements::default();
+        let hex8 = crate::element::ElementKind::Hex8;
+        hexes.push(hex8, &[0, 1, 2, 3, 4, 5, 6, 7], 0);
+        hexes.push(hex8, &[1, 8, 9, 2, 5, 10, 11, 6], 0);
+        let inc = Incidence::new(&hexes, 12);
         let mut seen = inc.corners.clone();
         seen.sort();
         assert_eq!(seen, (0..16).collect::<Vec<u32>>());

@@ -6,17 +6,18 @@ use rayon::prelude::*;
 
 use super::hex8_forces::ELEMENTS_PER_TASK;
 use super::ElementData;
-use crate::element::tet4;
+use crate::element::{tet4, ElementKind};
 
 /// Corner forces of every tet: `corner_forces[4 t + k]` is corner k of tet t (overwrites it;
-/// the caller passes the tets' part of the corner array, which follows the hexes' 8 per
-/// element). [`super::node_gather`] sums them to the nodes.
+/// the caller passes the tet4 block's part of the corner array, see
+/// [`crate::element::CornerLayout`]). [`super::node_gather`] sums them to the nodes.
 /// Elements run on all threads, each writing its own corners.
 pub fn tet4_forces(data: &ElementData, u: &[[f64; 3]], corner_forces: &mut [[f64; 3]]) {
-    corner_forces[..4 * data.tets.len()]
+    let block = data.elements.block(ElementKind::Tet4);
+    corner_forces[..block.nodes.len()]
         .par_chunks_mut(4)
         .with_min_len(ELEMENTS_PER_TASK)
-        .zip(data.tets.par_iter().zip(&data.tet_material))
+        .zip(block.corners::<4>().par_iter().zip(&block.material))
         .for_each(|(out, (tet, &mat))| {
             let m = data.materials[mat as usize];
             let x = tet.map(|n| data.reference[n as usize]);

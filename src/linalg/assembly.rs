@@ -1,6 +1,5 @@
 //! Global assembly of stiffness and mass on the free degrees of freedom.
 
-use crate::element;
 use crate::model::Model;
 use crate::scene::MassKind;
 
@@ -45,8 +44,7 @@ impl Csc {
     /// y = A x
     pub fn mul_into(&self, x: &[f64], y: &mut [f64]) {
         y.fill(0.0);
-        for j in 0..self.n {
-            let xj = x[j];
+        for (j, &xj) in x.iter().enumerate().take(self.n) {
             for p in self.col_ptr[j]..self.col_ptr[j + 1] {
                 y[self.row_idx[p]] += self.values[p] * xj;
             }
@@ -98,9 +96,9 @@ pub fn assemble(model: &Model, mass: MassKind, c_m: f64) -> Assembled {
     let ndof = model.dofs();
     let mut equation = vec![u32::MAX; ndof];
     let mut dof_of = Vec::new();
-    for d in 0..ndof {
+    for (d, eq) in equation.iter_mut().enumerate() {
         if !model.fixed[d] {
-            equation[d] = dof_of.len() as u32;
+            *eq = dof_of.len() as u32;
             dof_of.push(d as u32);
         }
     }
@@ -108,7 +106,8 @@ pub fn assemble(model: &Model, mass: MassKind, c_m: f64) -> Assembled {
     let mesh = &model.mesh;
     let mut nodal_mass = vec![0.0; mesh.node_count()];
     let mut diagonal_mass = vec![0.0; mesh.node_count()];
-    let mut kt = Vec::with_capacity(mesh.hexes.len() * 576 + mesh.tets.len() * 144);
+    let triplets = (mesh.elements.blocks.iter()).map(|b| 9 * b.kind.corners() * b.nodes.len());
+    let mut kt = Vec::with_capacity(triplets.sum());
     let mut mt = Vec::new();
     let elements = mesh.element_count();
     let blocks = elements.div_ceil(ASSEMBLY_BLOCK);
@@ -153,11 +152,11 @@ fn block_parts(
     let mesh = &model.mesh;
     let (mut kt, mut mt, mut masses) = (Vec::new(), Vec::new(), Vec::new());
     for e in range {
-        let (el, material) = mesh.element(e);
-        let m = &model.materials[material as usize];
+        let element = mesh.element(e);
+        let (el, m) = (element.nodes, &model.materials[element.material as usize]);
         let x = mesh.corners(el);
-        let ke = element::stiffness(&x, m);
-        let me = element::consistent_mass(&x, m.density);
+        let ke = element.kind.stiffness(&x, m);
+        let me = element.kind.consistent_mass(&x, m.density);
         let n = el.len();
         for i in 0..n {
             masses.push((el[i], me[i].iter().sum::<f64>(), me[i][i]));

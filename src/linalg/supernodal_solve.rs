@@ -224,8 +224,8 @@ impl SupernodalSolve {
         let mut position = vec![0; s.nrows()];
         let mut next = 0;
         for &k in &order {
-            for c in s.supernode_begin()[k]..s.supernode_end()[k] {
-                position[c] = next;
+            for p in &mut position[s.supernode_begin()[k]..s.supernode_end()[k]] {
+                *p = next;
                 next += 1;
             }
         }

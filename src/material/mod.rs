@@ -67,8 +67,8 @@ impl Elastic {
         let (l, m) = (self.lambda, self.mu);
         let mut c = [[0.0; 6]; 6];
         for i in 0..3 {
-            for j in 0..3 {
-                c[i][j] = l + if i == j { 2.0 * m } else { 0.0 };
+            for (j, cij) in c[i].iter_mut().take(3).enumerate() {
+                *cij = l + if i == j { 2.0 * m } else { 0.0 };
             }
             c[i + 3][i + 3] = m;
         }

@@ -103,8 +103,8 @@ impl Orthotropic {
         };
         let mut c = [[0.0; 6]; 6];
         for i in 0..3 {
-            for j in 0..3 {
-                c[i][j] = cof(j, i) / d;
+            for (j, cij) in c[i].iter_mut().take(3).enumerate() {
+                *cij = cof(j, i) / d;
             }
             c[i + 3][i + 3] = 1.0 / s[i + 3][i + 3];
         }
@@ -146,9 +146,9 @@ mod tests {
     fn the_stiffness_inverts_the_compliance() {
         let o = Orthotropic::transversely_isotropic(140.0, 10.0, 0.3, 0.45, 5.0);
         let (c, s) = (o.stiffness(), o.compliance());
-        for i in 0..6 {
+        for (i, ci) in c.iter().enumerate() {
             for j in 0..6 {
-                let p: f64 = (0..6).map(|k| c[i][k] * s[k][j]).sum();
+                let p: f64 = ci.iter().zip(&s).map(|(cik, sk)| cik * sk[j]).sum();
                 assert!((p - (i == j) as u8 as f64).abs() < 1e-12);
             }
         }

@@ -13,9 +13,11 @@
 
 use std::collections::{HashMap, HashSet};
 
-use super::import::{FileMesh, FileSurface, ParseError};
+use super::import::{FileMesh, FileSurface};
 use super::orientation::{AbaqusOrientation, ElementAxes};
+use super::parse_error::ParseError;
 use super::NodeSet;
+use crate::element::ElementKind;
 
 type Res<T> = std::result::Result<T, ParseError>;
 
@@ -30,11 +32,26 @@ const C3D8_SIDES: [&[usize]; 6] = [
 ];
 const C3D4_SIDES: [&[usize]; 4] = [&[1, 2, 3], &[1, 4, 2], &[2, 4, 3], &[3, 4, 1]];
 
+/// The element types read: each type's name, kind and side numbering.
+const TYPES: [(&str, ElementKind, &[&[usize]]); 2] = [
+    ("C3D8", ElementKind::Hex8, &C3D8_SIDES),
+    ("C3D4", ElementKind::Tet4, &C3D4_SIDES),
+];
+
+/// The type name and side numbering of a kind.
+fn type_of(kind: ElementKind) -> (&'static str, &'static [&'static [usize]]) {
+    let (name, _, sides) = TYPES
+        .iter()
+        .find(|t| t.1 == kind)
+        .expect("every kind read has a type");
+    (name, sides)
+}
+
 #[derive(Clone, Copy, PartialEq)]
 enum Mode {
     Skip,
     Node,
-    Element { corners: usize },
+    Element { kind: ElementKind },
     NSet { generate: bool },
     ElSet { generate: bool },
     SurfaceElement,
@@ -44,6 +61,7 @@ enum Mode {
 
 struct Element {
     id: u64,
+    kind: ElementKind,
     nodes: Vec<u64>,
     line: usize,
 }
@@ -305,14 +323,11 @@ impl Parser {
     fn element_keyword(&mut self, k: &Keyword) -> Res<Mode> {
         let ty = k.need("TYPE")?.to_ascii_uppercase();
         self.set_name = k.get("ELSET");
-        match ty.as_str() {
-            "C3D8" => Ok(Mode::Element { corners: 8 }),
-            "C3D4" => Ok(Mode::Element { corners: 4 }),
-            other => Err(ParseError::at(
+        match TYPES.iter().find(|t| t.0 == ty) {
+            Some(&(_, kind, _)) => Ok(Mode::Element { kind }),
+            None => Err(ParseError::at(
                 k.line,
-                format!(
-                    "element type {other} is not supported: only C3D8 (hex8) and C3D4 (tet4) are"
-                ),
+                format!("element type {ty} is not supported: only C3D8 (hex8) and C3D4 (tet4) are"),
             )),
         }
     }
@@ -384,7 +399,7 @@ impl Parser {
         match self.mode {
             Mode::Skip => Ok(()),
             Mode::Node => self.node_line(&fields, line, line_no),
-            Mode::Element { corners } => self.element_line(corners, &fields, line, line_no),
+            Mode::Element { kind } => self.element_line(kind, &fields, line, line_no),
             Mode::NSet { generate } => set_line(
                 &mut self.r,
                 &self.set_name,
@@ -477,10 +492,10 @@ impl Parser {
         Ok(())
     }
 
-    /// Reads an `*ELEMENT` data line (or its continuation) of an element of `corners` nodes.
+    /// Reads an `*ELEMENT` data line (or its continuation) of an element of a kind.
     fn element_line(
         &mut self,
-        corners: usize,
+        kind: ElementKind,
         fields: &[&str],
         line: &str,
         line_no: usize,
@@ -492,7 +507,7 @@ impl Parser {
             self.pending
                 .push(integer(f, line_no, "an element or node number")?);
         }
-        let ty = if corners == 8 { "C3D8" } else { "C3D4" };
+        let (ty, corners) = (type_of(kind).0, kind.corners());
         if self.pending.len() > corners + 1 {
             return Err(ParseError::at(
                 self.pending_line,
@@ -504,7 +519,7 @@ impl Parser {
             ));
         }
         if self.pending.len() == corners + 1 {
-            self.add_pending()
+            self.add_pending(kind)
         } else if !line.ends_with(',') {
             Err(ParseError::at(
                 self.pending_line,
@@ -520,7 +535,7 @@ impl Parser {
     }
 
     /// Adds the complete element in `pending` (and to the block's `ELSET=`), and clears it.
-    fn add_pending(&mut self) -> Res<()> {
+    fn add_pending(&mut self, kind: ElementKind) -> Res<()> {
         let r = &mut self.r;
         let id = self.pending[0];
         if r.element_ids.insert(id, r.elements.len()).is_some() {
@@ -531,6 +546,7 @@ impl Parser {
         }
         r.elements.push(Element {
             id,
+            kind,
             nodes: self.pending[1..].to_vec(),
             line: self.pending_line,
         });
@@ -751,8 +767,8 @@ impl Reader {
         Ok(mesh)
     }
 
-    /// The axes of each element in a `*SOLID SECTION` with an orientation, split into hexes
-    /// and tets as [`Self::add_elements`] splits the elements.
+    /// The axes of each element in a `*SOLID SECTION` with an orientation, by block as
+    /// [`Self::add_elements`] places the elements.
     fn element_axes(&self) -> Res<ElementAxes> {
         if self.sections.is_empty() {
             return Ok(ElementAxes::default());
@@ -786,16 +802,12 @@ impl Reader {
         }
         let mut axes = ElementAxes::default();
         for (e, a) in self.elements.iter().zip(per_element) {
-            if e.nodes.len() == 8 {
-                axes.hexes.push(a);
-            } else {
-                axes.tets.push(a);
-            }
+            axes.push(e.kind, a);
         }
         Ok(axes)
     }
 
-    /// Adds the elements to `mesh` as hexes and tets; returns each element's node indices.
+    /// Adds the elements to `mesh`'s blocks; returns each element's node indices.
     fn add_elements(&self, mesh: &mut FileMesh) -> Res<Vec<Vec<u32>>> {
         let mut corners: Vec<Vec<u32>> = Vec::with_capacity(self.elements.len());
         for e in &self.elements {
@@ -805,11 +817,7 @@ impl Reader {
                 .iter()
                 .map(|&n| self.node(n, e.line, &whose))
                 .collect::<Res<_>>()?;
-            if c.len() == 8 {
-                mesh.hexes.push(std::array::from_fn(|i| c[i]));
-            } else {
-                mesh.tets.push(std::array::from_fn(|i| c[i]));
-            }
+            mesh.elements.push(e.kind, &c, 0);
             corners.push(c);
         }
         Ok(corners)
@@ -832,11 +840,7 @@ impl Reader {
                     continue;
                 }
                 let c = &corners[k];
-                let sides: &[&[usize]] = if c.len() == 8 {
-                    &C3D8_SIDES
-                } else {
-                    &C3D4_SIDES
-                };
+                let sides = type_of(self.elements[k].kind).1;
                 let s = sides.get(side - 1).ok_or_else(|| {
                     ParseError::at(
                         *line,
@@ -961,7 +965,10 @@ CUBE, S1
     fn reads_nodes_elements_sets_and_surfaces() {
         let m = read(CUBE).unwrap();
         assert_eq!(m.nodes.len(), 8);
-        assert_eq!(m.hexes, vec![[0, 1, 2, 3, 4, 5, 6, 7]]);
+        assert_eq!(
+            m.elements.block(ElementKind::Hex8).nodes,
+            (0..8).collect::<Vec<u32>>()
+        );
         assert_eq!(m.surfaces[0].name, "Bottom");
         assert_eq!(m.surfaces[0].faces, vec![vec![0, 1, 2, 3]]);
         let top = m.node_sets.iter().find(|s| s.name == "TOP").unwrap();

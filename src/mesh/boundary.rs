@@ -3,19 +3,8 @@
 
 use std::collections::HashMap;
 
-use crate::element::{hex8, tet4};
+use crate::element::{ElementKind, Elements};
 use crate::geometry::face::FaceKind;
-
-/// The six faces of a hex8 in our corner order (bottom face counter-clockwise seen from
-/// +z, then the top face), each ordered so that its normal points out of a positive element.
-pub const HEX_FACES: [[usize; 4]; 6] = [
-    [0, 3, 2, 1],
-    [4, 5, 6, 7],
-    [0, 1, 5, 4],
-    [1, 2, 6, 5],
-    [2, 3, 7, 6],
-    [3, 0, 4, 7],
-];
 
 /// A face's identity regardless of node order and starting corner: its sorted nodes
 /// (a triangle's sorted three, then its largest again).
@@ -32,50 +21,31 @@ pub fn face_key(face: &[u32]) -> [u32; 4] {
 /// Why an element could not be oriented.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Degenerate {
-    /// Index in the hex8 array or the tet4 array.
+    pub kind: ElementKind,
+    /// Index in the kind's block.
     pub index: usize,
-    pub tet: bool,
     pub volume: f64,
 }
 
 /// Reorders the corners of every element whose volume is negative (a mirrored corner
 /// order, as some writers use), so that every element has positive volume. An element
 /// whose volume is zero (to 1e-12 of its bounding box) cannot be repaired and is reported.
-pub fn orient(
-    nodes: &[[f64; 3]],
-    hexes: &mut [[u32; 8]],
-    tets: &mut [[u32; 4]],
-) -> Result<(), Degenerate> {
-    let scale = |x: &[[f64; 3]]| {
-        let d = crate::element::extent(x);
-        d * d * d
-    };
-    for (index, h) in hexes.iter_mut().enumerate() {
-        let x = h.map(|n| nodes[n as usize]);
-        let v = hex8::volume(&x);
-        if v.abs() <= 1e-12 * scale(&x) || !v.is_finite() {
-            return Err(Degenerate {
-                index,
-                tet: false,
-                volume: v,
-            });
-        }
-        if v < 0.0 {
-            *h = [h[4], h[5], h[6], h[7], h[0], h[1], h[2], h[3]];
-        }
-    }
-    for (index, t) in tets.iter_mut().enumerate() {
-        let x = t.map(|n| nodes[n as usize]);
-        let v = tet4::volume(&x);
-        if v.abs() <= 1e-12 * scale(&x) || !v.is_finite() {
-            return Err(Degenerate {
-                index,
-                tet: true,
-                volume: v,
-            });
-        }
-        if v < 0.0 {
-            t.swap(1, 2);
+pub fn orient(nodes: &[[f64; 3]], elements: &mut Elements) -> Result<(), Degenerate> {
+    for block in &mut elements.blocks {
+        let (kind, n) = (block.kind, block.kind.corners());
+        for (index, e) in block.nodes.chunks_exact_mut(n).enumerate() {
+            let x: Vec<[f64; 3]> = e.iter().map(|&i| nodes[i as usize]).collect();
+            let v = kind.volume(&x);
+            if v.abs() <= 1e-12 * crate::element::extent(&x).powi(3) || !v.is_finite() {
+                return Err(Degenerate {
+                    kind,
+                    index,
+                    volume: v,
+                });
+            }
+            if v < 0.0 {
+                kind.mirror(e);
+            }
         }
     }
     Ok(())
@@ -83,26 +53,24 @@ pub fn orient(
 
 /// Every element face that belongs to one element only, outward, as quads (a triangle as
 /// `[a, b, c, c]`). Elements must be oriented ([`orient`]).
-pub fn boundary_faces(hexes: &[[u32; 8]], tets: &[[u32; 4]]) -> Vec<[u32; 4]> {
+pub fn boundary_faces(elements: &Elements) -> Vec<[u32; 4]> {
     let mut seen: HashMap<[u32; 4], (usize, [u32; 4])> = HashMap::new();
     let mut order = 0usize;
-    let mut add = |face: [u32; 4], nodes: &[u32]| {
-        let key = face_key(nodes);
-        if seen.remove(&key).is_none() {
-            seen.insert(key, (order, face));
-        }
-        order += 1;
-    };
-    for h in hexes {
-        for f in HEX_FACES {
-            let q = f.map(|k| h[k]);
-            add(q, &q);
-        }
-    }
-    for t in tets {
-        for f in tet4::FACES {
-            let tri = f.map(|k| t[k]);
-            add([tri[0], tri[1], tri[2], tri[2]], &tri);
+    for e in elements.iter() {
+        for f in e.kind.faces() {
+            let nodes: Vec<u32> = f.iter().map(|&k| e.nodes[k]).collect();
+            let key = face_key(&nodes);
+            if seen.remove(&key).is_none() {
+                let last = nodes[nodes.len() - 1];
+                seen.insert(
+                    key,
+                    (
+                        order,
+                        std::array::from_fn(|k| *nodes.get(k).unwrap_or(&last)),
+                    ),
+                );
+            }
+            order += 1;
         }
     }
     // keep the element order, so the result does not depend on the hash map
@@ -134,6 +102,16 @@ impl BoundaryIndex {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::element::tet4;
+
+    /// Elements of one kind from their concatenated corner nodes.
+    fn of_kind(kind: ElementKind, nodes: &[u32]) -> Elements {
+        let mut els = Elements::default();
+        for e in nodes.chunks_exact(kind.corners()) {
+            els.push(kind, e, 0);
+        }
+        els
+    }
 
     fn unit_hex() -> (Vec<[f64; 3]>, [u32; 8]) {
         // the unit cube, corners in hex8 order
@@ -177,7 +155,7 @@ mod tests {
     fn a_cube_split_into_tets_has_twelve_outward_triangles() {
         let (nodes, h) = unit_hex();
         // six tets around the diagonal 0-6, some given with negative orientation
-        let mut tets = vec![
+        let mut tets = [
             [h[0], h[1], h[2], h[6]],
             [h[0], h[2], h[3], h[6]],
             [h[0], h[3], h[7], h[6]],
@@ -186,13 +164,13 @@ mod tests {
             [h[0], h[5], h[1], h[6]],
         ];
         tets[1].swap(0, 3);
-        orient(&nodes, &mut [], &mut tets).unwrap();
-        let vol: f64 = tets
-            .iter()
-            .map(|t| tet4::volume(&t.map(|n| nodes[n as usize])))
+        let mut els = of_kind(ElementKind::Tet4, &tets.concat());
+        orient(&nodes, &mut els).unwrap();
+        let vol: f64 = (els.iter())
+            .map(|t| tet4::volume(&std::array::from_fn(|k| nodes[t.nodes[k] as usize])))
             .sum();
         assert!((vol - 1.0).abs() < 1e-12);
-        let faces = boundary_faces(&[], &tets);
+        let faces = boundary_faces(&els);
         assert_eq!(faces.len(), 12);
         assert!(faces.iter().all(super::super::is_triangle));
         assert_outward(&nodes, &faces);
@@ -208,10 +186,10 @@ mod tests {
             [0.0, 1.0, 2.0],
         ]);
         // the upper hex written top face first (negative volume)
-        let mut hexes = vec![h, [8, 9, 10, 11, 4, 5, 6, 7]];
-        orient(&nodes, &mut hexes, &mut []).unwrap();
-        assert_eq!(hexes[1], [4, 5, 6, 7, 8, 9, 10, 11]);
-        let faces = boundary_faces(&hexes, &[]);
+        let mut hexes = of_kind(ElementKind::Hex8, &[h, [8, 9, 10, 11, 4, 5, 6, 7]].concat());
+        orient(&nodes, &mut hexes).unwrap();
+        assert_eq!(hexes.element(1).nodes, [4, 5, 6, 7, 8, 9, 10, 11]);
+        let faces = boundary_faces(&hexes);
         assert_eq!(faces.len(), 10);
         assert_outward(&nodes, &faces);
         let index = BoundaryIndex::new(&faces);
@@ -234,7 +212,7 @@ mod tests {
         for p in nodes.iter_mut().skip(4) {
             p[2] = 0.0;
         }
-        let err = orient(&nodes, &mut [h], &mut []).unwrap_err();
-        assert_eq!((err.index, err.tet), (0, false));
+        let err = orient(&nodes, &mut of_kind(ElementKind::Hex8, &h)).unwrap_err();
+        assert_eq!((err.index, err.kind), (0, ElementKind::Hex8));
     }
 }

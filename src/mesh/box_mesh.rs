@@ -1,6 +1,7 @@
 //! Structured grids of boxes: hex8, or each hex cut into six tet4.
 
 use super::{BodyParts, Surface};
+use crate::element::{ElementKind, Elements};
 
 /// The six faces of a structured box, named by their outward normal.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -51,6 +52,16 @@ pub enum BoxElement {
     Tet4,
 }
 
+impl BoxElement {
+    /// The kind of element and how many of them fill a cell.
+    pub fn per_cell(self) -> (ElementKind, u64) {
+        match self {
+            BoxElement::Hex8 => (ElementKind::Hex8, 1),
+            BoxElement::Tet4 => (ElementKind::Tet4, 6),
+        }
+    }
+}
+
 /// A structured box: its corners, the cells along each axis and the elements of a cell.
 #[derive(Debug, Clone)]
 pub struct BoxSpec {
@@ -81,11 +92,20 @@ pub const KUHN_TETS: [[usize; 4]; 6] = [
 /// `[a, b, c, c]` instead, oriented the same way. The boundary is the six faces together.
 pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
     let grid = Grid::new(spec.divisions);
-    let hexes = grid.hexes();
+    let cells = grid.cells();
     let faces = BoxFace::ALL.map(|face| grid.face_quads(face));
-    let (hexes, tets, faces) = match spec.element {
-        BoxElement::Hex8 => (hexes, Vec::new(), faces),
-        BoxElement::Tet4 => (Vec::new(), kuhn_tets(&hexes), faces.map(|q| halves(&q))),
+    let mut elements = Elements::default();
+    let faces = match spec.element {
+        BoxElement::Hex8 => {
+            cells
+                .iter()
+                .for_each(|h| elements.push(ElementKind::Hex8, h, 0));
+            faces
+        }
+        BoxElement::Tet4 => {
+            (kuhn_tets(&cells).iter()).for_each(|t| elements.push(ElementKind::Tet4, t, 0));
+            faces.map(|q| halves(&q))
+        }
     };
     let boundary = faces.iter().flatten().copied().collect();
     let surfaces = BoxFace::ALL
@@ -98,8 +118,7 @@ pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
         .collect();
     BodyParts {
         nodes: grid.nodes(spec),
-        hexes,
-        tets,
+        elements,
         boundary,
         surfaces,
         node_sets: Vec::new(),
@@ -150,13 +169,13 @@ impl Grid {
     }
 
     /// One hex8 per cell.
-    fn hexes(&self) -> Vec<[u32; 8]> {
+    fn cells(&self) -> Vec<[u32; 8]> {
         let [nx, ny, nz] = self.n;
-        let mut hexes = Vec::with_capacity(nx * ny * nz);
+        let mut cells = Vec::with_capacity(nx * ny * nz);
         for k in 0..nz {
             for j in 0..ny {
                 for i in 0..nx {
-                    hexes.push([
+                    cells.push([
                         self.id(i, j, k),
                         self.id(i + 1, j, k),
                         self.id(i + 1, j + 1, k),
@@ -169,7 +188,7 @@ impl Grid {
                 }
             }
         }
-        hexes
+        cells
     }
 
     /// The quads of one box face, outward.
@@ -207,8 +226,8 @@ impl Grid {
 }
 
 /// Each hex cut into its six Kuhn tets.
-fn kuhn_tets(hexes: &[[u32; 8]]) -> Vec<[u32; 4]> {
-    hexes
+fn kuhn_tets(cells: &[[u32; 8]]) -> Vec<[u32; 4]> {
+    cells
         .iter()
         .flat_map(|h| KUHN_TETS.map(|t| t.map(|k| h[k])))
         .collect()
@@ -240,7 +259,7 @@ mod tests {
         let parts = box_mesh(&spec);
         let nodes = &parts.nodes;
         assert_eq!(nodes.len(), 4 * 3 * 5);
-        assert_eq!(parts.hexes.len(), 24);
+        assert_eq!(parts.elements.count_of(ElementKind::Hex8), 24);
         for face in BoxFace::ALL {
             let quads = &parts.surfaces[face as usize].faces;
             let a = face.axis();
@@ -279,9 +298,10 @@ mod tests {
         };
         let parts = box_mesh(&spec);
         let x = |n: u32| parts.nodes[n as usize];
-        assert_eq!((parts.hexes.len(), parts.tets.len()), (0, 6 * 24));
+        let els = &parts.elements;
+        assert_eq!((els.count_of(ElementKind::Hex8), els.count()), (0, 6 * 24));
         let mut volume = 0.0;
-        for t in &parts.tets {
+        for t in els.block(ElementKind::Tet4).corners::<4>() {
             let v = tet4::volume(&t.map(x));
             assert!(v > 0.0, "tet {t:?} has volume {v}");
             volume += v;
@@ -293,7 +313,7 @@ mod tests {
             k
         };
         let mut from_elements: Vec<[u32; 3]> =
-            crate::mesh::boundary::boundary_faces(&[], &parts.tets)
+            crate::mesh::boundary::boundary_faces(&parts.elements)
                 .iter()
                 .map(key)
                 .collect();

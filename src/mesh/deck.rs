@@ -8,7 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::import::ParseError;
+use super::parse_error::ParseError;
 
 /// Includes nest at most this deep.
 pub const MAX_DEPTH: usize = 16;

@@ -9,8 +9,10 @@
 
 use std::collections::HashMap;
 
-use super::import::{FileMesh, FileSurface, ParseError};
+use super::import::{FileMesh, FileSurface};
+use super::parse_error::ParseError;
 use super::NodeSet;
+use crate::element::ElementKind;
 
 type Res<T> = std::result::Result<T, ParseError>;
 
@@ -583,12 +585,8 @@ fn add_body_elements(mesh: &mut FileMesh, b: &Block, block_nodes: &[Vec<u32>]) -
     let (_, kind_name) = element_kind(b.kind).expect("checked while reading");
     let dim = element_dim(b.kind);
     match b.kind {
-        5 => mesh
-            .hexes
-            .extend(block_nodes.iter().map(|e| std::array::from_fn(|k| e[k]))),
-        4 => mesh
-            .tets
-            .extend(block_nodes.iter().map(|e| std::array::from_fn(|k| e[k]))),
+        5 => (block_nodes.iter()).for_each(|e| mesh.elements.push(ElementKind::Hex8, e, 0)),
+        4 => (block_nodes.iter()).for_each(|e| mesh.elements.push(ElementKind::Tet4, e, 0)),
         1 | 2 | 3 | 15 => {}
         _ if dim == 3 || dim == 2 => {
             return Err(ParseError::at(
@@ -708,7 +706,10 @@ $EndElements
     fn reads_a_hex_with_a_named_surface() {
         let m = read(CUBE.as_bytes()).unwrap();
         assert_eq!(m.nodes.len(), 8);
-        assert_eq!(m.hexes, vec![[0, 1, 2, 3, 4, 5, 6, 7]]);
+        assert_eq!(
+            m.elements.block(ElementKind::Hex8).nodes,
+            (0..8).collect::<Vec<u32>>()
+        );
         assert_eq!(m.surfaces.len(), 1);
         assert_eq!(m.surfaces[0].name, "bottom");
         assert_eq!(m.surfaces[0].faces, vec![vec![0, 3, 2, 1]]);

@@ -8,35 +8,10 @@ use std::path::Path;
 use super::boundary::{boundary_faces, orient, BoundaryIndex};
 use super::deck::Deck;
 use super::orientation::ElementAxes;
+pub use super::parse_error::ParseError;
 use super::{BodyParts, NodeSet, Surface};
+use crate::element::Elements;
 use crate::error::{ImpactError, Result};
-
-/// A reader's error: the 1-based line it concerns (where there is one) and what is wrong.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ParseError {
-    pub line: Option<usize>,
-    /// The file the line is in, when it is not the one being read (a deck's `*INCLUDE`).
-    pub file: Option<std::path::PathBuf>,
-    pub message: String,
-}
-
-impl ParseError {
-    pub fn at(line: usize, message: impl Into<String>) -> ParseError {
-        ParseError {
-            line: Some(line),
-            file: None,
-            message: message.into(),
-        }
-    }
-
-    pub fn whole(message: impl Into<String>) -> ParseError {
-        ParseError {
-            line: None,
-            file: None,
-            message: message.into(),
-        }
-    }
-}
 
 /// A named list of faces as the file gives them: 3 or 4 node indices each, in any order.
 #[derive(Debug, Clone, PartialEq)]
@@ -51,11 +26,11 @@ pub struct FileSurface {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct FileMesh {
     pub nodes: Vec<[f64; 3]>,
-    pub hexes: Vec<[u32; 8]>,
-    pub tets: Vec<[u32; 4]>,
+    /// The elements in file order within each kind's block (file node indices).
+    pub elements: Elements,
     pub surfaces: Vec<FileSurface>,
     pub node_sets: Vec<NodeSet>,
-    /// Material axes per element (Abaqus `*ORIENTATION`), in `hexes` and `tets` order.
+    /// Material axes per element (Abaqus `*ORIENTATION`), in `elements` order.
     pub axes: ElementAxes,
     /// Keywords the reader passed over, with their lines (an Abaqus deck's materials, steps).
     pub skipped: Vec<(String, usize)>,
@@ -151,24 +126,26 @@ pub fn finish(
     scale: f64,
     translate: [f64; 3],
 ) -> std::result::Result<BodyParts, ParseError> {
-    if file.hexes.is_empty() && file.tets.is_empty() {
+    if file.elements.count() == 0 {
         return Err(ParseError::whole(
             "the file has no hex8 or tet4 elements (a body needs volume elements)",
         ));
     }
     let new_index = used_node_index(&file);
     let nodes = used_nodes(&file.nodes, &new_index, scale, translate);
-    let mut hexes: Vec<[u32; 8]> = file.hexes.iter().map(|h| renumber(h, &new_index)).collect();
-    let mut tets: Vec<[u32; 4]> = file.tets.iter().map(|t| renumber(t, &new_index)).collect();
-    orient(&nodes, &mut hexes, &mut tets).map_err(|d| {
+    let mut elements = file.elements;
+    for b in &mut elements.blocks {
+        b.nodes.iter_mut().for_each(|n| *n = new_index[*n as usize]);
+    }
+    orient(&nodes, &mut elements).map_err(|d| {
         ParseError::whole(format!(
             "{} number {} (in file order) has zero volume ({:.3e}); it cannot be oriented",
-            if d.tet { "tet4" } else { "hex8" },
+            d.kind,
             d.index + 1,
             d.volume
         ))
     })?;
-    let boundary = boundary_faces(&hexes, &tets);
+    let boundary = boundary_faces(&elements);
     let index = BoundaryIndex::new(&boundary);
     let surfaces = file
         .surfaces
@@ -182,8 +159,7 @@ pub fn finish(
         .collect();
     Ok(BodyParts {
         nodes,
-        hexes,
-        tets,
+        elements,
         boundary,
         surfaces,
         node_sets,
@@ -198,12 +174,7 @@ const UNUSED: u32 = u32::MAX;
 /// [`UNUSED`] for the others.
 fn used_node_index(file: &FileMesh) -> Vec<u32> {
     let mut used = vec![false; file.nodes.len()];
-    let corners = file
-        .hexes
-        .iter()
-        .flat_map(|h| h.iter())
-        .chain(file.tets.iter().flat_map(|t| t.iter()));
-    for &n in corners {
+    for n in file.elements.corner_nodes() {
         used[n as usize] = true;
     }
     let mut next = 0;
@@ -231,11 +202,6 @@ fn used_nodes(
         .filter(|&(_, &i)| i != UNUSED)
         .map(|(p, _)| [0, 1, 2].map(|a| scale * p[a] + translate[a]))
         .collect()
-}
-
-/// An element's nodes by their new index.
-fn renumber<const N: usize>(element: &[u32; N], new_index: &[u32]) -> [u32; N] {
-    element.map(|n| new_index[n as usize])
 }
 
 /// A file surface as the outward boundary faces it names (sorted, without repeats); an

@@ -1,4 +1,4 @@
-//! Nodes, elements (hex8 and tet4), surfaces and node sets of all bodies in one numbering.
+//! Nodes, elements (a block per kind), surfaces and node sets of all bodies in one numbering.
 //!
 //! A body comes either from a structured box ([`box_mesh`]) or from a mesh file
 //! ([`import`]: Gmsh `.msh` 4.1 or Abaqus/CalculiX `.inp`). Either way it arrives as
@@ -15,6 +15,7 @@ pub mod deck;
 pub mod gmsh;
 pub mod import;
 pub mod orientation;
+pub mod parse_error;
 
 pub use box_mesh::box_mesh;
 pub use import::import;
@@ -23,6 +24,7 @@ use std::ops::Range;
 
 use box_mesh::BoxFace;
 
+use crate::element::{ElementKind, ElementRef, Elements};
 use crate::geometry::face::FaceKind;
 
 /// A named list of outward-oriented boundary faces (local or global node numbers).
@@ -48,8 +50,8 @@ pub fn is_triangle(face: &[u32; 4]) -> bool {
 #[derive(Debug, Clone, Default)]
 pub struct BodyParts {
     pub nodes: Vec<[f64; 3]>,
-    pub hexes: Vec<[u32; 8]>,
-    pub tets: Vec<[u32; 4]>,
+    /// The elements (materials unset: the body's material is given when it joins a mesh).
+    pub elements: Elements,
     /// Every face of the body's boundary, outward.
     pub boundary: Vec<[u32; 4]>,
     pub surfaces: Vec<Surface>,
@@ -68,7 +70,7 @@ impl BodyParts {
     }
 
     pub fn element_count(&self) -> usize {
-        self.hexes.len() + self.tets.len()
+        self.elements.count()
     }
 }
 
@@ -76,8 +78,9 @@ impl BodyParts {
 #[derive(Debug, Clone)]
 pub struct BodyMesh {
     pub nodes: Range<usize>,
-    pub hexes: Range<usize>,
-    pub tets: Range<usize>,
+    /// The body's elements in each block of the mesh (block-local numbers, one range per
+    /// [`ElementKind`] in [`ElementKind::ALL`] order).
+    pub elements: Vec<Range<usize>>,
     pub material: usize,
     /// Every boundary face, outward (global node numbers).
     pub boundary: Vec<[u32; 4]>,
@@ -91,6 +94,31 @@ impl BodyMesh {
     pub fn face(&self, f: BoxFace) -> &[[u32; 4]] {
         &self.surfaces[f as usize].faces
     }
+
+    /// The body's elements of one kind (block-local numbers).
+    pub fn of_kind(&self, kind: ElementKind) -> Range<usize> {
+        self.elements[kind.index()].clone()
+    }
+
+    /// Elements in the body.
+    pub fn element_count(&self) -> usize {
+        self.elements.iter().map(|r| r.len()).sum()
+    }
+
+    /// The body's element count by kind, as "8 hex8, 0 tet4".
+    pub fn kind_counts(&self) -> String {
+        (ElementKind::ALL.iter())
+            .map(|&k| format!("{} {k}", self.of_kind(k).len()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// The global numbers of the body's elements, in order.
+    pub fn element_numbers<'a>(&'a self, all: &'a Elements) -> impl Iterator<Item = usize> + 'a {
+        ElementKind::ALL
+            .into_iter()
+            .flat_map(move |k| all.global(k, self.of_kind(k)))
+    }
 }
 
 /// The mesh of every body of a scene.
@@ -98,15 +126,10 @@ impl BodyMesh {
 pub struct Mesh {
     /// Reference coordinates.
     pub nodes: Vec<[f64; 3]>,
-    /// Hex8 connectivity (global node numbers, the usual corner order: bottom face
-    /// counter-clockwise seen from +z, then the top face).
-    pub hexes: Vec<[u32; 8]>,
-    /// Material index of each hex8.
-    pub hex_material: Vec<u32>,
-    /// Tet4 connectivity, positively oriented (see [`crate::element::tet4`]).
-    pub tets: Vec<[u32; 4]>,
-    /// Material index of each tet4.
-    pub tet_material: Vec<u32>,
+    /// Every element (global node numbers), a block per kind. A hex8's corners are in the
+    /// usual order (bottom face counter-clockwise seen from +z, then the top face), a
+    /// tet4's positively oriented (see [`crate::element::tet4`]).
+    pub elements: Elements,
     pub bodies: Vec<BodyMesh>,
 }
 
@@ -115,32 +138,26 @@ impl Mesh {
         self.nodes.len()
     }
 
-    /// Hex8 and tet4 elements together.
+    /// Elements of every kind.
     pub fn element_count(&self) -> usize {
-        self.hexes.len() + self.tets.len()
+        self.elements.count()
     }
 
-    /// Every element's corner nodes and material: the hex8s (indices `0..hexes.len()`), then
-    /// the tet4s. Element indices elsewhere (stable step, VTU cells) follow this order.
-    pub fn elements(&self) -> impl Iterator<Item = (&[u32], u32)> {
-        self.hexes
-            .iter()
-            .map(|h| h.as_slice())
-            .zip(self.hex_material.iter().copied())
-            .chain(
-                self.tets
-                    .iter()
-                    .map(|t| t.as_slice())
-                    .zip(self.tet_material.iter().copied()),
-            )
+    /// Every element in global order (the blocks in kind order). Element numbers elsewhere
+    /// (stable step, VTU cells, partitions) follow this order.
+    pub fn elements(&self) -> impl Iterator<Item = ElementRef<'_>> + '_ {
+        self.elements.iter()
     }
 
-    /// Element `e` of [`Self::elements`]: its corner nodes and material.
-    pub fn element(&self, e: usize) -> (&[u32], u32) {
-        match e.checked_sub(self.hexes.len()) {
-            None => (&self.hexes[e], self.hex_material[e]),
-            Some(t) => (&self.tets[t], self.tet_material[t]),
-        }
+    /// Element `e` of [`Self::elements`].
+    pub fn element(&self, e: usize) -> ElementRef<'_> {
+        self.elements.element(e)
+    }
+
+    /// The body that holds global element `e`.
+    pub fn body_of(&self, e: usize) -> Option<usize> {
+        let (kind, local) = self.elements.locate(e);
+        (self.bodies.iter()).position(|b| b.of_kind(kind).contains(&local))
     }
 
     /// Corner coordinates of an element given by its nodes.
@@ -152,23 +169,14 @@ impl Mesh {
     pub fn push_body(&mut self, parts: BodyParts, material: usize) -> usize {
         let n0 = self.nodes.len() as u32;
         let node_range = self.nodes.len()..self.nodes.len() + parts.nodes.len();
-        let (h0, t0) = (self.hexes.len(), self.tets.len());
         self.nodes.extend(parts.nodes);
-        self.hexes
-            .extend(parts.hexes.iter().map(|h| h.map(|i| i + n0)));
-        self.hex_material
-            .extend(std::iter::repeat_n(material as u32, parts.hexes.len()));
-        self.tets
-            .extend(parts.tets.iter().map(|t| t.map(|i| i + n0)));
-        self.tet_material
-            .extend(std::iter::repeat_n(material as u32, parts.tets.len()));
+        let elements = (self.elements).append(&parts.elements, n0, Some(material as u32));
         let shift = |faces: Vec<[u32; 4]>| -> Vec<[u32; 4]> {
             faces.into_iter().map(|q| q.map(|i| i + n0)).collect()
         };
         self.bodies.push(BodyMesh {
             nodes: node_range,
-            hexes: h0..self.hexes.len(),
-            tets: t0..self.tets.len(),
+            elements,
             material,
             boundary: shift(parts.boundary),
             surfaces: parts
@@ -201,26 +209,13 @@ impl Mesh {
 
     /// Smallest edge length over all elements (for time step and tolerance scales).
     pub fn min_edge(&self) -> f64 {
-        const HEX_EDGES: [(usize, usize); 12] = [
-            (0, 1),
-            (1, 2),
-            (2, 3),
-            (3, 0),
-            (4, 5),
-            (5, 6),
-            (6, 7),
-            (7, 4),
-            (0, 4),
-            (1, 5),
-            (2, 6),
-            (3, 7),
-        ];
-        const TET_EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
         let mut h = f64::INFINITY;
-        for (e, _) in self.elements() {
-            let edges: &[(usize, usize)] = if e.len() == 8 { &HEX_EDGES } else { &TET_EDGES };
-            for &(a, b) in edges {
-                let (p, q) = (self.nodes[e[a] as usize], self.nodes[e[b] as usize]);
+        for e in self.elements() {
+            for &(a, b) in e.kind.edges() {
+                let (p, q) = (
+                    self.nodes[e.nodes[a] as usize],
+                    self.nodes[e.nodes[b] as usize],
+                );
                 let d =
                     ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
                 h = h.min(d);

@@ -1,23 +1,37 @@
 //! Material axes a mesh file gives its elements: Abaqus's `*ORIENTATION` (rectangular, by
 //! coordinates) assigned through `*SOLID SECTION, ORIENTATION=`.
 
+use crate::element::ElementKind;
 use crate::material::Rotation;
 
-use super::import::ParseError;
+use super::parse_error::ParseError;
 
-/// The material axes of each element of a body, where its file gives them; both lists are
-/// empty when the file gives none (the body then takes its scene material's axes).
+/// The material axes of each element of a body, where its file gives them, a list per
+/// element block; empty when the file gives none (the body then takes its scene material's
+/// axes).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ElementAxes {
-    /// One per hex8, in the body's element order.
-    pub hexes: Vec<Option<Rotation>>,
-    /// One per tet4.
-    pub tets: Vec<Option<Rotation>>,
+    /// One list per kind (in [`ElementKind::ALL`] order), one entry per element of the
+    /// body's block.
+    blocks: Vec<Vec<Option<Rotation>>>,
 }
 
 impl ElementAxes {
     pub fn is_empty(&self) -> bool {
-        self.hexes.iter().chain(&self.tets).all(Option::is_none)
+        self.blocks.iter().flatten().all(Option::is_none)
+    }
+
+    /// Appends the axes of the next element of a kind.
+    pub fn push(&mut self, kind: ElementKind, axes: Option<Rotation>) {
+        if self.blocks.len() <= kind.index() {
+            self.blocks.resize(kind.index() + 1, Vec::new());
+        }
+        self.blocks[kind.index()].push(axes);
+    }
+
+    /// The axes of the body's elements of a kind, in order (empty where none were given).
+    pub fn of_kind(&self, kind: ElementKind) -> &[Option<Rotation>] {
+        self.blocks.get(kind.index()).map_or(&[], Vec::as_slice)
     }
 }
 

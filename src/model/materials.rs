@@ -3,6 +3,7 @@
 //! and for every body whose mesh file gives its elements axes (Abaqus `*ORIENTATION`), its
 //! material turned to each of those.
 
+use crate::element::ElementKind;
 use crate::material::{Elastic, Rotation};
 use crate::mesh::orientation::ElementAxes;
 use crate::mesh::Mesh;
@@ -71,16 +72,14 @@ fn file_axes(
             k
         }
     };
-    let body = &mesh.bodies[b];
-    let (hexes, tets) = (body.hexes.clone(), body.tets.clone());
-    for (m, a) in mesh.hex_material[hexes].iter_mut().zip(&axes.hexes) {
-        if let Some(r) = a {
-            *m = entry(r);
-        }
-    }
-    for (m, a) in mesh.tet_material[tets].iter_mut().zip(&axes.tets) {
-        if let Some(r) = a {
-            *m = entry(r);
+    let ranges = mesh.bodies[b].elements.clone();
+    for kind in ElementKind::ALL {
+        let block = mesh.elements.block_mut(kind);
+        let range = ranges[kind.index()].clone();
+        for (m, a) in block.material[range].iter_mut().zip(axes.of_kind(kind)) {
+            if let Some(r) = a {
+                *m = entry(r);
+            }
         }
     }
 }
@@ -103,8 +102,7 @@ fn entries(table: &mut MaterialTable, scene: &Scene, spec: &BodySpec) -> u32 {
 
 /// Points body `b`'s elements at the entries from `first` on.
 fn orient_elements(mesh: &mut Mesh, b: usize, spec: &BodySpec, first: u32) {
-    let body = &mesh.bodies[b];
-    let (hexes, tets) = (body.hexes.clone(), body.tets.clone());
+    let ranges = mesh.bodies[b].elements.clone();
     let nodes = &mesh.nodes;
     let ply = |corners: &[u32]| -> u32 {
         let Some(p) = &spec.plies else { return 0 };
@@ -115,12 +113,11 @@ fn orient_elements(mesh: &mut Mesh, b: usize, spec: &BodySpec, first: u32) {
             / corners.len() as f64;
         p.ply_at(t) as u32
     };
-    let hex_ply: Vec<u32> = mesh.hexes[hexes.clone()].iter().map(|h| ply(h)).collect();
-    let tet_ply: Vec<u32> = mesh.tets[tets.clone()].iter().map(|t| ply(t)).collect();
-    for (m, k) in mesh.hex_material[hexes].iter_mut().zip(hex_ply) {
-        *m = first + k;
-    }
-    for (m, k) in mesh.tet_material[tets].iter_mut().zip(tet_ply) {
-        *m = first + k;
+    for block in &mut mesh.elements.blocks {
+        let range = ranges[block.kind.index()].clone();
+        let plies: Vec<u32> = (range.clone()).map(|e| ply(block.element(e))).collect();
+        for (m, k) in block.material[range].iter_mut().zip(plies) {
+            *m = first + k;
+        }
     }
 }

@@ -95,10 +95,7 @@ impl Model {
     pub fn element_data(&self) -> ElementData {
         ElementData {
             reference: self.mesh.nodes.clone(),
-            hexes: self.mesh.hexes.clone(),
-            hex_material: self.mesh.hex_material.clone(),
-            tets: self.mesh.tets.clone(),
-            tet_material: self.mesh.tet_material.clone(),
+            elements: self.mesh.elements.clone(),
             materials: self.materials.clone(),
         }
     }
@@ -283,7 +280,8 @@ impl Model {
     fn probe_edges(&self) -> std::collections::HashMap<u32, f64> {
         let mut edges: std::collections::HashMap<u32, f64> =
             self.probes.iter().map(|p| (p.node, 0.0)).collect();
-        for (corners, _) in self.mesh.elements() {
+        for e in self.mesh.elements() {
+            let corners = e.nodes;
             if !corners.iter().any(|n| edges.contains_key(n)) {
                 continue;
             }

@@ -2,8 +2,9 @@
 //! binary appended block, and a `.pvd` collection that indexes the frames by time.
 //!
 //! Points are the reference coordinates (ParaView's "Warp By Vector" on `displacement` shows
-//! the deformed shape); cells are the hex8 elements (VTK_HEXAHEDRON) and then the tet4
-//! elements (VTK_TETRA), both with our corner order. Point data: `displacement`, `velocity`, `contact_pressure` (the normal traction of
+//! the deformed shape); cells are the elements in global order, each of its kind's VTK type
+//! (hex8: VTK_HEXAHEDRON, tet4: VTK_TETRA, [`ElementKind::vtk_cell`]), both with our corner
+//! order. Point data: `displacement`, `velocity`, `contact_pressure` (the normal traction of
 //! the step on secondary nodes, summed over interfaces; 0 elsewhere) and `contact_gap` (the
 //! gap on secondary nodes, g > 0 penetration; NaN on nodes that are no interface's secondary
 //! node, or whose primary surface is out of reach). Cell data: `stress` (xx, yy, zz, xy, yz,
@@ -20,15 +21,10 @@
 use std::path::{Path, PathBuf};
 
 use super::file::{write_whole, write_whole_with, xml_escape};
-use crate::element::{hex8, tet4};
+use crate::element::ElementKind;
 use crate::error::{ImpactError, Result};
 use crate::material::Rotation;
 use crate::model::Model;
-
-/// VTK's cell type of the trilinear hexahedron.
-const VTK_HEXAHEDRON: u8 = 12;
-/// VTK's linear tetrahedron; its corner order is ours.
-const VTK_TETRA: u8 = 10;
 
 /// Contact values of one node for a frame.
 #[derive(Debug, Clone, Copy)]
@@ -145,23 +141,23 @@ fn pvtu(point_data: &str, cell_data: &str, pieces: &[String]) -> String {
 }
 
 /// Stress at the element centre: (xx, yy, zz, xy, yz, xz), from the linear strain of u.
-pub fn centre_stress(x: &[[f64; 3]], u: &[[f64; 3]], m: &crate::material::Elastic) -> [f64; 6] {
-    pack(&centre_stress_tensor(x, u, m))
+pub fn centre_stress(
+    kind: ElementKind,
+    x: &[[f64; 3]],
+    u: &[[f64; 3]],
+    m: &crate::material::Elastic,
+) -> [f64; 6] {
+    pack(&centre_stress_tensor(kind, x, u, m))
 }
 
 /// The stress tensor at the element centre.
 fn centre_stress_tensor(
+    kind: ElementKind,
     x: &[[f64; 3]],
     u: &[[f64; 3]],
     m: &crate::material::Elastic,
 ) -> [[f64; 3]; 3] {
-    let grads: Vec<[f64; 3]> = match (<&[[f64; 3]; 8]>::try_from(x), <&[[f64; 3]; 4]>::try_from(x))
-    {
-        (Ok(h), _) => hex8::gradients(h, [0.0; 3]).0.to_vec(),
-        (_, Ok(t)) => tet4::gradients(t).0.to_vec(),
-        _ => panic!("an element has 8 (hex8) or 4 (tet4) corners"),
-    };
-    crate::element::stress(&grads, u, m)
+    crate::element::stress(&kind.centre_gradients(x), u, m)
 }
 
 /// von Mises equivalent stress of (xx, yy, zz, xy, yz, xz).
@@ -219,19 +215,18 @@ fn i64_bytes(x: &[i64]) -> Vec<u8> {
 }
 
 /// The body (index in the scene's order) and material (index in the scene's order) of each
-/// cell, in the cells' order: the hex8s of [`crate::mesh::Mesh::elements`], then the tet4s.
+/// cell, in the cells' order ([`crate::mesh::Mesh::elements`]).
 /// Each cell's body and scene material (`source`: the scene material of each material index).
 fn cell_body_material(mesh: &crate::mesh::Mesh, source: &[usize]) -> (Vec<i32>, Vec<i32>) {
     let mut body = vec![-1i32; mesh.element_count()];
     for (b, part) in mesh.bodies.iter().enumerate() {
-        let tets = part.tets.clone().map(|t| mesh.hexes.len() + t);
-        for e in part.hexes.clone().chain(tets) {
+        for e in part.element_numbers(&mesh.elements) {
             body[e] = b as i32;
         }
     }
     let material = mesh
         .elements()
-        .map(|(_, m)| source[m as usize] as i32)
+        .map(|e| source[e.material as usize] as i32)
         .collect();
     (body, material)
 }
@@ -245,7 +240,8 @@ fn cell_stresses(model: &Model, u: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     let per_cell: Vec<([f64; 6], [f64; 6])> = (0..mesh.element_count())
         .into_par_iter()
         .map(|c| {
-            let (el, material) = mesh.element(c);
+            let element = mesh.element(c);
+            let (el, material) = (element.nodes, element.material);
             let x = mesh.corners(el);
             let ue: Vec<[f64; 3]> = el
                 .iter()
@@ -255,7 +251,7 @@ fn cell_stresses(model: &Model, u: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
                 })
                 .collect();
             let m = material as usize;
-            let s = centre_stress_tensor(&x, &ue, &model.materials[m]);
+            let s = centre_stress_tensor(element.kind, &x, &ue, &model.materials[m]);
             (pack(&s), pack(&model.material_axes[m].to_material(&s)))
         })
         .collect();
@@ -274,29 +270,20 @@ fn pack(s: &[[f64; 3]; 3]) -> [f64; 6] {
 fn cell_arrays(app: &mut Appended, mesh: &crate::mesh::Mesh) {
     let conn: Vec<u8> = mesh
         .elements()
-        .flat_map(|(e, _)| e.iter())
+        .flat_map(|e| e.nodes.iter())
         .flat_map(|&n| (n as i64).to_le_bytes())
         .collect();
     app.array("connectivity", "Int64", 1, &conn);
     let offsets: Vec<u8> = mesh
         .elements()
-        .scan(0i64, |end, (e, _)| {
-            *end += e.len() as i64;
+        .scan(0i64, |end, e| {
+            *end += e.nodes.len() as i64;
             Some(*end)
         })
         .flat_map(|c| c.to_le_bytes())
         .collect();
     app.array("offsets", "Int64", 1, &offsets);
-    let types: Vec<u8> = mesh
-        .elements()
-        .map(|(e, _)| {
-            if e.len() == 8 {
-                VTK_HEXAHEDRON
-            } else {
-                VTK_TETRA
-            }
-        })
-        .collect();
+    let types: Vec<u8> = mesh.elements().map(|e| e.kind.vtk_cell()).collect();
     app.array("types", "UInt8", 1, &types);
 }
 
@@ -434,13 +421,13 @@ mod tests {
     #[test]
     fn centre_stress_of_uniform_states() {
         let m = Elastic::from_engineering(200.0, 0.0, 1.0);
-        let x = hex8::CORNERS.map(|c| c.map(|v| 0.5 * (v + 1.0)));
+        let x = crate::element::hex8::CORNERS.map(|c| c.map(|v| 0.5 * (v + 1.0)));
         let stretch = x.map(|p| [0.01 * p[0], 0.0, 0.0]);
-        let s = centre_stress(&x, &stretch, &m);
+        let s = centre_stress(ElementKind::Hex8, &x, &stretch, &m);
         assert!((s[0] - 2.0).abs() < 1e-12 && s[1..].iter().all(|v| v.abs() < 1e-12));
         assert!((von_mises(s) - 2.0).abs() < 1e-12);
         let shear = x.map(|p| [0.01 * p[1], 0.0, 0.0]);
-        let s = centre_stress(&x, &shear, &m);
+        let s = centre_stress(ElementKind::Hex8, &x, &shear, &m);
         // tau_xy = mu gamma = 100 * 0.01
         assert!((s[3] - 1.0).abs() < 1e-12);
         assert!((von_mises(s) - 3f64.sqrt()).abs() < 1e-12);
@@ -452,12 +439,20 @@ mod tests {
     fn cells_carry_their_body_and_material() {
         let hexes = |n| crate::mesh::BodyParts {
             nodes: vec![[0.0; 3]; 8],
-            hexes: vec![[0, 1, 2, 3, 4, 5, 6, 7]; n],
+            elements: {
+                let mut els = crate::element::Elements::default();
+                (0..n).for_each(|_| els.push(ElementKind::Hex8, &[0, 1, 2, 3, 4, 5, 6, 7], 0));
+                els
+            },
             ..Default::default()
         };
         let tets = crate::mesh::BodyParts {
             nodes: vec![[0.0; 3]; 4],
-            tets: vec![[0, 1, 2, 3]; 3],
+            elements: {
+                let mut els = crate::element::Elements::default();
+                (0..3).for_each(|_| els.push(ElementKind::Tet4, &[0, 1, 2, 3], 0));
+                els
+            },
             ..Default::default()
         };
         let mut mesh = crate::mesh::Mesh::default();

@@ -20,8 +20,8 @@ use crate::model::{Model, Primary};
 use crate::scene::ExplicitSettings;
 use rayon::prelude::*;
 
-use super::super::implicit::StepReport;
 use super::super::state::ContactReport;
+use super::super::state::StepReport;
 
 /// One contact constraint of a step: a secondary node against a face point or a plane.
 #[derive(Debug, Clone, Copy)]
@@ -348,8 +348,8 @@ impl ExplicitContact {
         for c in &self.constraints {
             self.touches[c.node as usize] += 1.0;
             if let Some(f) = c.face {
-                for k in 0..4 {
-                    self.touches[f[k] as usize] += c.weights[k].abs();
+                for (&n, w) in f.iter().zip(&c.weights) {
+                    self.touches[n as usize] += w.abs();
                 }
             }
         }
@@ -371,9 +371,9 @@ impl ExplicitContact {
             let mut along = inv(c.node, c.normal, inv_mass);
             let mut s = self.touches[c.node as usize] * inv_max(c.node, inv_mass);
             if let Some(f) = c.face {
-                for k in 0..4 {
-                    along += c.weights[k].abs() * inv(f[k], c.normal, inv_mass);
-                    s += c.weights[k].abs() * self.touches[f[k] as usize] * inv_max(f[k], inv_mass);
+                for (&n, w) in f.iter().zip(&c.weights) {
+                    along += w.abs() * inv(n, c.normal, inv_mass);
+                    s += w.abs() * self.touches[n as usize] * inv_max(n, inv_mass);
                 }
             }
             c.compliance = if along > 0.0 { s } else { 0.0 };
@@ -427,13 +427,13 @@ impl ExplicitContact {
             (jn[i], jt[i]) = (up.jn, up.jt);
             let dj = up.dj;
             let n = c.node as usize;
-            for a in 0..3 {
-                self.delta[n][a] += dj[a];
+            for (d, j) in self.delta[n].iter_mut().zip(dj) {
+                *d += j;
             }
             if let Some(f) = c.face {
-                for k in 0..4 {
-                    for a in 0..3 {
-                        self.delta[f[k] as usize][a] -= c.weights[k] * dj[a];
+                for (&m, w) in f.iter().zip(&c.weights) {
+                    for (d, j) in self.delta[m as usize].iter_mut().zip(dj) {
+                        *d -= w * j;
                     }
                 }
             }

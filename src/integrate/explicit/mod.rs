@@ -33,16 +33,16 @@ pub use contact::{plane_gap_within_reach, ContactFields, ExplicitContact, Explic
 
 use crate::backend::Kernels;
 use crate::contact::search;
-use crate::element;
+use crate::element::ElementBlock;
 use crate::error::Result;
 use crate::kernels;
 use crate::model::Model;
 use crate::scene::{ExplicitSettings, Method};
 use rayon::prelude::*;
 
-use super::implicit::StepReport;
 use super::integrator::Integrator;
-use super::state::{ContactReport, Energies, SolverState};
+use super::state::{ContactReport, Energies, StepReport};
+use super::SolverState;
 
 /// Everything an explicit run carries from one step to the next: the checkpoint's part.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
@@ -353,31 +353,35 @@ pub fn correct(
 /// bit, on any number of threads).
 pub fn lumped_mass(model: &Model) -> Vec<f64> {
     let mesh = &model.mesh;
-    let rho = |m: u32| model.materials[m as usize].density;
     let mut mass = vec![0.0; mesh.node_count()];
-    scatter_blocks(&mesh.hexes, &mesh.hex_material, &mut mass, |h, m| {
-        element::hex8::lumped_mass(&h.map(|n| mesh.nodes[n as usize]), rho(m))
-    });
-    scatter_blocks(&mesh.tets, &mesh.tet_material, &mut mass, |t, m| {
-        element::tet4::lumped_mass(&t.map(|n| mesh.nodes[n as usize]), rho(m))
-    });
+    for block in &mesh.elements.blocks {
+        scatter_block(block, &mut mass, |nodes, m| {
+            let x = mesh.corners(nodes);
+            block
+                .kind
+                .lumped_mass(&x, model.materials[m as usize].density)
+        });
+    }
     mass
 }
 
-/// Adds each element's corner values `f(element, material)` to its nodes in `out`: the values
-/// of a block of elements on all threads, then the sums in element order.
-fn scatter_blocks<const N: usize>(
-    elements: &[[u32; N]],
-    material: &[u32],
+/// Adds each element's corner values `f(nodes, material)` to its nodes in `out`: the values
+/// of a chunk of elements on all threads, then the sums in element order.
+fn scatter_block(
+    block: &ElementBlock,
     out: &mut [f64],
-    f: impl Fn(&[u32; N], u32) -> [f64; N] + Sync,
+    f: impl Fn(&[u32], u32) -> Vec<f64> + Sync,
 ) {
     use rayon::prelude::*;
-    const BLOCK: usize = 1 << 16;
-    for (els, mats) in elements.chunks(BLOCK).zip(material.chunks(BLOCK)) {
-        let values: Vec<[f64; N]> = (els.par_iter().zip(mats)).map(|(e, &m)| f(e, m)).collect();
-        for (e, v) in els.iter().zip(&values) {
-            for k in 0..N {
+    const CHUNK: usize = 1 << 16;
+    let n = block.kind.corners();
+    let chunks = (block.nodes.chunks(CHUNK * n)).zip(block.material.chunks(CHUNK));
+    for (els, mats) in chunks {
+        let values: Vec<Vec<f64>> = (els.par_chunks(n).zip(mats))
+            .map(|(e, &m)| f(e, m))
+            .collect();
+        for (e, v) in els.chunks(n).zip(&values) {
+            for k in 0..n {
                 out[e[k] as usize] += v[k];
             }
         }

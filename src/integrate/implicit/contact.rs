@@ -232,9 +232,9 @@ impl ContactIteration {
                 }
             }
         }
-        for d in 0..f_c.len() {
-            if model.fixed[d] {
-                f_c[d] = 0.0;
+        for (f, &fixed) in f_c.iter_mut().zip(&model.fixed) {
+            if fixed {
+                *f = 0.0;
             }
         }
     }

@@ -46,7 +46,8 @@ use crate::model::Model;
 use crate::scene::{ConstraintMeasure, ImplicitSettings, Method};
 
 use super::integrator::{ImplicitFigures, Integrator};
-use super::state::{ContactReport, Energies, InterfaceEnd, SolverState};
+use super::state::{ContactReport, Energies, InterfaceEnd, StepReport};
+use super::SolverState;
 use contact::ContactIteration;
 use interface::interface_states;
 use workspace::Workspace;
@@ -66,14 +67,6 @@ struct Snapshot {
     v: Vec<f64>,
     a: Vec<f64>,
     interfaces: Vec<InterfaceState>,
-}
-
-/// What one step did.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct StepReport {
-    /// Augmented Lagrange iterations (= linear solves) of the step.
-    pub iterations: usize,
-    pub converged: bool,
 }
 
 /// Everything an implicit run carries from one step to the next: the checkpoint's part.
@@ -146,9 +139,9 @@ impl<'m> ImplicitSolver<'m> {
         let ndof = model.dofs();
         let f_ext = gravity_force(model, &asm);
         let mut v = model.initial_velocity.clone();
-        for d in 0..ndof {
-            if model.fixed[d] {
-                v[d] = 0.0;
+        for (vd, &fixed) in v.iter_mut().zip(&model.fixed) {
+            if fixed {
+                *vd = 0.0;
             }
         }
         let interfaces = interface_states(model, &settings, &asm, dt, speed_scale);

@@ -5,8 +5,9 @@ use crate::error::Result;
 use crate::geometry::vector;
 use crate::linalg::assemble;
 
+use super::super::state::StepReport;
 use super::interface::InterfaceState;
-use super::{ImplicitSolver, Snapshot, StepReport, EVENT_FORCE_FLOOR};
+use super::{ImplicitSolver, Snapshot, EVENT_FORCE_FLOOR};
 
 impl ImplicitSolver<'_> {
     /// Whether the step just taken holds a contact event on some interface (`before`: the

@@ -99,15 +99,14 @@ impl Checker<'_> {
             }
         }
         let mut divisions = [0usize; 3];
-        for a in 0..3 {
-            let d = b.divisions[a];
+        for (division, &d) in divisions.iter_mut().zip(&b.divisions) {
             if d < 1 {
                 return Err(self.err(
                     key("box.divisions"),
                     format!("every division count must be >= 1, got {:?}", b.divisions),
                 ));
             }
-            divisions[a] = d as usize;
+            *division = d as usize;
         }
         // Node numbers are u32 (body-local and in the assembled mesh), so a box may have at
         // most u32::MAX nodes; counted in u64 with checked products, before anything is

@@ -1,0 +1,275 @@
+//! [`ElementKind`]: what each kind of element is (its corners, faces, VTK cell type) and what
+//! it computes once per element (stiffness, masses, volume, Jacobian samples, centre
+//! gradients). This is the one place that matches on the kind, besides the per-step force
+//! kernels' dispatch (`kernels` on the CPU, `gpu::engine` on a device).
+
+use super::{hex8, tet4};
+use crate::material::Elastic;
+
+/// A kind of finite element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ElementKind {
+    /// The trilinear hexahedron, 2x2x2 Gauss points ([`hex8`]).
+    Hex8,
+    /// The linear tetrahedron ([`tet4`]).
+    Tet4,
+}
+
+/// Where an element's Jacobian determinant was sampled.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Sample {
+    GaussPoint(usize),
+    Corner(usize),
+    Centre,
+}
+
+impl std::fmt::Display for Sample {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Sample::GaussPoint(g) => write!(f, "Gauss point {g}"),
+            Sample::Corner(k) => write!(f, "corner {k}"),
+            Sample::Centre => write!(f, "its centre"),
+        }
+    }
+}
+
+const HEX8_FACES: [&[usize]; 6] = [
+    &hex8::FACES[0],
+    &hex8::FACES[1],
+    &hex8::FACES[2],
+    &hex8::FACES[3],
+    &hex8::FACES[4],
+    &hex8::FACES[5],
+];
+const TET4_FACES: [&[usize]; 4] = [
+    &tet4::FACES[0],
+    &tet4::FACES[1],
+    &tet4::FACES[2],
+    &tet4::FACES[3],
+];
+
+impl ElementKind {
+    /// Every kind, in the order of a mesh's blocks: global element numbers run through the
+    /// blocks in this order.
+    pub const ALL: [ElementKind; 2] = [ElementKind::Hex8, ElementKind::Tet4];
+
+    /// The position of the kind in [`Self::ALL`] (its block).
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+
+    /// Corner nodes per element.
+    pub const fn corners(self) -> usize {
+        match self {
+            ElementKind::Hex8 => 8,
+            ElementKind::Tet4 => 4,
+        }
+    }
+
+    /// The name users see ("hex8", "tet4").
+    pub const fn name(self) -> &'static str {
+        match self {
+            ElementKind::Hex8 => "hex8",
+            ElementKind::Tet4 => "tet4",
+        }
+    }
+
+    /// The VTK cell type of the kind.
+    pub const fn vtk_cell(self) -> u8 {
+        match self {
+            ElementKind::Hex8 => 12,
+            ElementKind::Tet4 => 10,
+        }
+    }
+
+    /// The faces as corner numbers, each ordered so that its normal points out of a
+    /// positively oriented element (quads for a hex8, triangles for a tet4).
+    pub fn faces(self) -> &'static [&'static [usize]] {
+        match self {
+            ElementKind::Hex8 => &HEX8_FACES,
+            ElementKind::Tet4 => &TET4_FACES,
+        }
+    }
+
+    /// The cost of the exact stable step of one element (its (3 n) x (3 n) eigenproblem)
+    /// against a tet4's.
+    pub const fn exact_step_cost(self) -> usize {
+        match self {
+            ElementKind::Hex8 => 5,
+            ElementKind::Tet4 => 1,
+        }
+    }
+
+    /// The edges as corner pairs.
+    pub fn edges(self) -> &'static [(usize, usize)] {
+        match self {
+            ElementKind::Hex8 => &[
+                (0, 1),
+                (1, 2),
+                (2, 3),
+                (3, 0),
+                (4, 5),
+                (5, 6),
+                (6, 7),
+                (7, 4),
+                (0, 4),
+                (1, 5),
+                (2, 6),
+                (3, 7),
+            ],
+            ElementKind::Tet4 => &[(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)],
+        }
+    }
+
+    /// Reorders the corners of an element of negative volume (a mirrored corner order) so
+    /// that it has positive volume.
+    pub fn mirror(self, nodes: &mut [u32]) {
+        match self {
+            ElementKind::Hex8 => {
+                let (bottom, top) = nodes.split_at_mut(4);
+                bottom.swap_with_slice(top);
+            }
+            ElementKind::Tet4 => nodes.swap(1, 2),
+        }
+    }
+
+    /// Element volume at corners `x`.
+    pub fn volume(self, x: &[[f64; 3]]) -> f64 {
+        match self {
+            ElementKind::Hex8 => hex8::volume(as_array(x)),
+            ElementKind::Tet4 => tet4::volume(as_array(x)),
+        }
+    }
+
+    /// Element stiffness, (3 n) x (3 n) in (node, component) order.
+    pub fn stiffness(self, x: &[[f64; 3]], m: &Elastic) -> Vec<Vec<f64>> {
+        match self {
+            ElementKind::Hex8 => (hex8::stiffness(as_array(x), m).iter())
+                .map(|r| r.to_vec())
+                .collect(),
+            ElementKind::Tet4 => (tet4::stiffness(as_array(x), m).iter())
+                .map(|r| r.to_vec())
+                .collect(),
+        }
+    }
+
+    /// Consistent mass per node pair, n x n.
+    pub fn consistent_mass(self, x: &[[f64; 3]], density: f64) -> Vec<Vec<f64>> {
+        match self {
+            ElementKind::Hex8 => (hex8::consistent_mass(as_array(x), density).iter())
+                .map(|r| r.to_vec())
+                .collect(),
+            ElementKind::Tet4 => (tet4::consistent_mass(as_array(x), density).iter())
+                .map(|r| r.to_vec())
+                .collect(),
+        }
+    }
+
+    /// Lumped mass of each corner.
+    pub fn lumped_mass(self, x: &[[f64; 3]], density: f64) -> Vec<f64> {
+        match self {
+            ElementKind::Hex8 => hex8::lumped_mass(as_array(x), density).to_vec(),
+            ElementKind::Tet4 => tet4::lumped_mass(as_array(x), density).to_vec(),
+        }
+    }
+
+    /// The shape functions' spatial gradients at the element's centre.
+    pub fn centre_gradients(self, x: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        match self {
+            ElementKind::Hex8 => hex8::gradients(as_array(x), [0.0; 3]).0.to_vec(),
+            ElementKind::Tet4 => tet4::gradients(as_array(x)).0.to_vec(),
+        }
+    }
+
+    /// The Jacobian determinant where the element's shape is checked, and the scale a
+    /// positive determinant is judged degenerate against: a hex8 at its Gauss points (whose
+    /// mean is the scale) and corners; a tet4 once (6 V), against its extent cubed.
+    pub fn jacobian_samples(self, x: &[[f64; 3]]) -> (Vec<(Sample, f64)>, f64) {
+        match self {
+            ElementKind::Hex8 => {
+                let x = as_array(x);
+                let det = |p| hex8::gradients(x, p).1;
+                let gauss = hex8::gauss_points().map(det);
+                let corners = hex8::CORNERS.map(det);
+                let mean = gauss.iter().sum::<f64>() / 8.0;
+                let samples = (gauss.iter().enumerate())
+                    .map(|(k, &d)| (Sample::GaussPoint(k), d))
+                    .chain((corners.iter().enumerate()).map(|(k, &d)| (Sample::Corner(k), d)))
+                    .collect();
+                (samples, mean)
+            }
+            ElementKind::Tet4 => {
+                let det = 6.0 * tet4::volume(as_array(x));
+                (vec![(Sample::Centre, det)], super::extent(x).powi(3))
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for ElementKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The corners of one element as the fixed array its kind's functions take.
+fn as_array<const N: usize>(x: &[[f64; 3]]) -> &[[f64; 3]; N] {
+    x.try_into()
+        .expect("an element's corner list has its kind's corner count")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each face's outward normal points away from the centre of the unit element.
+    #[test]
+    fn faces_point_out_of_the_reference_elements() {
+        let hex = hex8::CORNERS.map(|c| c.map(|v| 0.5 * (v + 1.0)));
+        let tet = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        for (kind, x) in [(ElementKind::Hex8, &hex[..]), (ElementKind::Tet4, &tet[..])] {
+            assert_eq!(x.len(), kind.corners());
+            assert!(kind.volume(x) > 0.0);
+            let n = x.len() as f64;
+            let c: [f64; 3] = std::array::from_fn(|a| x.iter().map(|p| p[a]).sum::<f64>() / n);
+            for f in kind.faces() {
+                let p = |k: usize| x[f[k]];
+                let d = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+                let (u, v) = (d(p(1), p(0)), d(p(2), p(0)));
+                let m = [
+                    u[1] * v[2] - u[2] * v[1],
+                    u[2] * v[0] - u[0] * v[2],
+                    u[0] * v[1] - u[1] * v[0],
+                ];
+                let out: f64 = (0..3).map(|a| m[a] * (p(0)[a] - c[a])).sum();
+                assert!(out > 0.0, "{kind} face {f:?} points inward");
+            }
+        }
+    }
+
+    /// Mirroring a mirrored element restores a positive volume of the same size.
+    #[test]
+    fn mirror_turns_a_negative_element_positive() {
+        let hex = hex8::CORNERS.map(|c| c.map(|v| 0.5 * (v + 1.0)));
+        let tet = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        for (kind, x) in [(ElementKind::Hex8, &hex[..]), (ElementKind::Tet4, &tet[..])] {
+            let v = kind.volume(x);
+            let mut nodes: Vec<u32> = (0..kind.corners() as u32).collect();
+            kind.mirror(&mut nodes);
+            let mirrored: Vec<[f64; 3]> = nodes.iter().map(|&n| x[n as usize]).collect();
+            assert!((kind.volume(&mirrored) + v).abs() < 1e-14);
+            kind.mirror(&mut nodes);
+            assert_eq!(nodes, (0..kind.corners() as u32).collect::<Vec<_>>());
+        }
+    }
+}
