@@ -170,10 +170,7 @@ fn time_resident(
     let ns = t.elapsed().as_secs_f64() / steps as f64 * 1e9 / elements;
     let reruns = s.reruns() - reruns_before;
     let engine = s.engine_mut();
-    let recorded = engine
-        .contact_iteration()
-        .is_some()
-        .then(|| engine.sweeps());
+    let recorded = engine.impulse_sweeps().is_some().then(|| engine.sweeps());
     let engine = s.engine_mut();
     let reps = steps.clamp(4, 50);
     let stages = [

@@ -31,7 +31,9 @@ fn problem(div: [usize; 3]) -> (ElementData, ContactQueries) {
         element: BoxElement::Hex8,
     };
     let parts = box_mesh(&spec);
-    let top = parts.surfaces[BoxFace::ZPlus as usize].faces.clone();
+    let top: Vec<[u32; 4]> = (parts.surfaces[BoxFace::ZPlus as usize].faces.iter())
+        .map(|f| f.slots())
+        .collect();
     let (nodes, elements) = (parts.nodes, parts.elements);
     // every top-face node against the top faces around it
     let mut around: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();

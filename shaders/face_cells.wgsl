@@ -1,5 +1,5 @@
 // The search grid's bucket of every primary face: the cell of the mean of its four stored
-// corners (inside a triangle [a, b, c, c] too), hashed with its
+// slots (inside a triangle, whose fourth slot repeats its third, too), hashed with its
 // interface (twin: `kernels::face_cells`). One invocation per face.
 
 @group(0) @binding(0) var<uniform> params: Params;

@@ -20,7 +20,6 @@
 //!    checks, writers, restart files, the run's preparation, its report, the run itself and
 //!    the accuracy-against-speed study.
 
-
 pub mod backend;
 pub mod check;
 pub mod checkpoint;

@@ -1,4 +1,4 @@
-//! The device contact iteration of the explicit step (`gpu/contact_iteration.rs`): each WGSL
+//! The device contact iteration of the explicit step (`gpu/impulse_sweeps.rs`): each WGSL
 //! stage against its CPU f64 twin fed with the same inputs (the device's own inputs to that
 //! stage, read back), on a block resting on a plate that rests on a rigid floor (surface
 //! pairs and plane pairs), with random displacements (a fraction of an element), random
@@ -123,7 +123,7 @@ fn contact_iteration_stages_match_their_cpu_twins() {
         .collect();
     let mut gpu = ResidentStep::new(ctx, &data, &setup, 8).expect("device step");
     gpu.upload(&u, &v, &a, &vec![0.0; 3 * nodes], &[]).unwrap();
-    let (ctx, it) = gpu.contact_iteration().expect("contact iteration");
+    let (ctx, it) = gpu.impulse_sweeps().expect("contact iteration");
     let ctx: GpuContext = ctx.clone();
     it.run(&ctx, |it, enc| it.record_setup(enc)).unwrap();
 
@@ -236,7 +236,7 @@ fn contact_iteration_stages_match_their_cpu_twins() {
     let mut c_in = gpu_c.clone();
     let mut v_in = gpu_state(&mut gpu).1;
     for sweep in 0..4 {
-        let (ctx2, it) = gpu.contact_iteration().unwrap();
+        let (ctx2, it) = gpu.impulse_sweeps().unwrap();
         it.run(ctx2, |it, enc| it.record_sweeps(enc, 1)).unwrap();
         let mut c_cpu = c_in.clone();
         let mut dj_cpu = vec![0.0; 3 * contact.pairs.len()];
@@ -297,7 +297,7 @@ fn contact_iteration_stages_match_their_cpu_twins() {
     }
 
     // the report
-    let (ctx2, it) = gpu.contact_iteration().unwrap();
+    let (ctx2, it) = gpu.impulse_sweeps().unwrap();
     it.run(ctx2, |it, enc| it.record_report(enc)).unwrap();
     let gpu_r = it.read_results(ctx2).unwrap();
     let mut cpu_r = vec![0.0; SLOT * contact.pairs.len()];

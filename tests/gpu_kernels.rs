@@ -16,6 +16,7 @@ use impact::kernels::contact_gap::NO_FACE;
 use impact::kernels::{self, ContactPoint, ContactQueries, ElementData, Incidence};
 use impact::material::{Elastic, Orthotropic, Rotation};
 use impact::mesh::box_mesh::KUHN_TETS;
+use impact::mesh::Face;
 use impact::scene::BoxFace;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
@@ -23,7 +24,7 @@ use rand::{Rng, SeedableRng};
 const TOL: f64 = 1e-5;
 
 /// A distorted box mesh, some of its hexes split into six tets each (so every kernel sees a
-/// mixed mesh), its top faces (a third of the quads cut into two triangles `[a, b, c, c]`, so
+/// mixed mesh), its top faces (a third of the quads cut into two triangles, so
 /// the contact kernels see both kinds of face), and the element size.
 struct Problem {
     data: ElementData,
@@ -73,11 +74,15 @@ fn distorted_box(rng: &mut StdRng) -> Problem {
         top: parts.surfaces[BoxFace::ZPlus as usize]
             .faces
             .iter()
-            .flat_map(|&q| {
+            .flat_map(|f| {
+                let q = f.corners();
                 if rng.random_range(0..3) == 0 {
-                    vec![[q[0], q[1], q[2], q[2]], [q[0], q[2], q[3], q[3]]]
+                    vec![
+                        Face::Triangle([q[0], q[1], q[2]]).slots(),
+                        Face::Triangle([q[0], q[2], q[3]]).slots(),
+                    ]
                 } else {
-                    vec![q]
+                    vec![f.slots()]
                 }
             })
             .collect(),

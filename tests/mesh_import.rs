@@ -149,10 +149,10 @@ fn ascii_and_binary_msh_read_alike() {
     assert!(a.node_sets == b.node_sets, "node sets differ");
     assert_eq!(a.elements.count_of(ElementKind::Tet4), 2740);
     // the boundary of a unit cube: area 6, and the named surfaces cover it
-    let area = |faces: &[[u32; 4]]| -> f64 {
+    let area = |faces: &[impact::mesh::Face]| -> f64 {
         faces
             .iter()
-            .map(|q| impact::geometry::quad::quad_area(&q.map(|n| a.nodes[n as usize])))
+            .map(|f| impact::geometry::quad::quad_area(&f.slots().map(|n| a.nodes[n as usize])))
             .sum()
     };
     assert!((area(&a.boundary) - 6.0).abs() < 1e-9);

@@ -1,5 +1,5 @@
 // A primary face of either kind (twin of `src/geometry/face.rs`): a bilinear quad, or a
-// linear triangle stored as the degenerate quad [a, b, c, c].
+// linear triangle, read as four slots whose fourth repeats the third (`Face::slots`).
 
 // The four stored corners of a face (positions relative to some origin); a triangle's
 // third and fourth are the same.

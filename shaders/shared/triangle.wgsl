@@ -1,5 +1,5 @@
-// The linear triangle of a primary face (a tet4 face stored as [a, b, c, c]) in convected
-// coordinates xi1, xi2 >= 0, xi1 + xi2 <= 1 (twin of `src/geometry/triangle.rs`):
+// The linear triangle of a primary face (a tet4 face, its fourth slot repeating its third)
+// in convected coordinates xi1, xi2 >= 0, xi1 + xi2 <= 1 (twin of `src/geometry/triangle.rs`):
 // y = p0 + xi1 (p1 - p0) + xi2 (p2 - p0), constant tangents and normal.
 
 // Shape functions at xi, corner k in component k; the repeated corner's is zero.

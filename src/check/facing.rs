@@ -3,6 +3,7 @@
 //! classic `z-` against `z-`) can never touch as declared.
 
 use crate::error::{ImpactError, Result};
+use crate::geometry::face::Face;
 use crate::geometry::vector::{cross, dot, norm, sub, V3};
 use crate::model::Model;
 use crate::model::Primary;
@@ -15,14 +16,15 @@ pub const FLAT: f64 = 0.5;
 /// Surfaces look the same way when the cosine of their mean normals exceeds this.
 pub const SAME_WAY: f64 = 0.5;
 
-/// The summed area vector (outward) of some faces, and their total area.
-pub fn area_vector(x: &[[f64; 3]], faces: &[[u32; 4]]) -> (V3, f64) {
+/// The summed area vector (outward) of some faces given by their kernel slots
+/// ([`crate::mesh::Face::slots`]), and their total area.
+pub fn area_vector(x: &[[f64; 3]], faces: impl IntoIterator<Item = [u32; 4]>) -> (V3, f64) {
     let mut sum = [0.0; 3];
     let mut area = 0.0;
     for f in faces {
         let p = f.map(|n| x[n as usize]);
         // half the cross product of the diagonals: the area vector of a (warped) quad, and
-        // of a triangle [a, b, c, c]
+        // of a triangle's slots (its last corner twice)
         let c = cross(sub(p[2], p[0]), sub(p[3], p[1]));
         let a = c.map(|v| 0.5 * v);
         for k in 0..3 {
@@ -53,8 +55,8 @@ pub fn check(scene: &Scene, model: &Model) -> Result<()> {
                 });
             }
         }
-        let (s, sa) = area_vector(x, &itf.secondary_faces);
-        let (p, pa) = area_vector(x, &model.queries.faces[faces.clone()]);
+        let (s, sa) = area_vector(x, itf.secondary_faces.iter().map(Face::slots));
+        let (p, pa) = area_vector(x, model.queries.faces[faces.clone()].iter().copied());
         let (ls, lp) = (norm(s), norm(p));
         if ls < FLAT * sa || lp < FLAT * pa {
             continue;

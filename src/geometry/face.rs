@@ -1,12 +1,72 @@
-//! A primary face of either kind: a bilinear quad ([`super::quad`]) or a linear triangle
-//! ([`super::triangle`], a tet4 face stored as the degenerate quad `[a, b, c, c]`). The
-//! contact kernels ask a face for its shape functions, geometry, normal and closest point
-//! without caring which it is (twin: `shaders/shared/face.wgsl`).
+//! A boundary face ([`Face`]) of either kind: a bilinear quad ([`super::quad`], a hex8 face)
+//! or a linear triangle ([`super::triangle`], a tet4 face). The contact kernels read a face
+//! as four node slots ([`Face::slots`]) and ask its [`FaceKind`] for its shape functions,
+//! geometry, normal and closest point without caring which it is (twin:
+//! `shaders/shared/face.wgsl`).
 
 use super::{
     quad, triangle,
     vector::{norm, sub, V3},
 };
+
+/// A face of an element's boundary, outward: its corner nodes, in order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Face {
+    Quad([u32; 4]),
+    Triangle([u32; 3]),
+}
+
+impl Face {
+    /// The face with these corners (3 or 4, in order).
+    pub fn of_corners(corners: &[u32]) -> Face {
+        match *corners {
+            [a, b, c] => Face::Triangle([a, b, c]),
+            [a, b, c, d] => Face::Quad([a, b, c, d]),
+            _ => panic!("a face has 3 or 4 corners, not {}", corners.len()),
+        }
+    }
+
+    pub fn kind(&self) -> FaceKind {
+        match self {
+            Face::Quad(_) => FaceKind::Quad,
+            Face::Triangle(_) => FaceKind::Triangle,
+        }
+    }
+
+    /// The corner nodes, in order.
+    pub fn corners(&self) -> &[u32] {
+        match self {
+            Face::Quad(q) => q,
+            Face::Triangle(t) => t,
+        }
+    }
+
+    /// The face with each node renumbered by `f`.
+    pub fn map(self, f: impl Fn(u32) -> u32) -> Face {
+        match self {
+            Face::Quad(q) => Face::Quad(q.map(f)),
+            Face::Triangle(t) => Face::Triangle(t.map(f)),
+        }
+    }
+
+    /// The four node slots the contact kernels read (CPU twins and WGSL): a quad's corners;
+    /// a triangle's three, its third again in the fourth slot, whose shape function is zero
+    /// there ([`FaceKind::of`] reads the kind back).
+    pub fn slots(&self) -> [u32; 4] {
+        match *self {
+            Face::Quad(q) => q,
+            Face::Triangle([a, b, c]) => [a, b, c, c],
+        }
+    }
+
+    /// The face of the kernels' four slots ([`Self::slots`]).
+    pub fn from_slots(s: [u32; 4]) -> Face {
+        match FaceKind::of(&s) {
+            FaceKind::Quad => Face::Quad(s),
+            FaceKind::Triangle => Face::Triangle([s[0], s[1], s[2]]),
+        }
+    }
+}
 
 /// Which interpolation a primary face has.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -16,7 +76,8 @@ pub enum FaceKind {
 }
 
 impl FaceKind {
-    /// The kind of a face given by its nodes: `[a, b, c, c]` is a triangle.
+    /// The kind of a face given by its kernel slots ([`Face::slots`]): a triangle's fourth
+    /// slot repeats its third.
     pub fn of(nodes: &[u32; 4]) -> Self {
         if nodes[2] == nodes[3] {
             FaceKind::Triangle

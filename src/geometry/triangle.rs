@@ -3,7 +3,7 @@
 //!
 //! $y(\xi) = (1 - \xi^1 - \xi^2)\, p_0 + \xi^1 p_1 + \xi^2 p_2$; the covariant tangents
 //! $\tau_1 = p_1 - p_0$, $\tau_2 = p_2 - p_0$ are constant, and so is the unit normal
-//! $n = \tau_1 \times \tau_2 / |\tau_1 \times \tau_2|$, outward for a face `[a, b, c, c]`
+//! $n = \tau_1 \times \tau_2 / |\tau_1 \times \tau_2|$, outward for a triangle
 //! oriented as the mesh's boundary faces are. The fourth shape function (the repeated corner)
 //! is zero.
 
@@ -84,7 +84,7 @@ mod tests {
     use super::*;
     use rand::{rngs::StdRng, Rng, SeedableRng};
 
-    /// A triangle `[a, b, c, c]` with corners in [-1, 1]^3.
+    /// A triangle's slots with corners in [-1, 1]^3.
     fn random_triangle(rng: &mut StdRng) -> [V3; 4] {
         let mut p = [[0.0; 3]; 4];
         for c in p.iter_mut().take(3) {

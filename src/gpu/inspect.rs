@@ -1,6 +1,6 @@
 //! The read-back and single-stage hooks that tests and benches use to compare device buffers
 //! with the CPU twins: a stage or a kernel run alone on inputs the caller uploads
-//! ([`ResidentStep::run_stage`], [`GpuKernels::corner_forces`], [`ContactIteration::run`]),
+//! ([`ResidentStep::run_stage`], [`GpuKernels::corner_forces`], [`ImpulseSweeps::run`]),
 //! the buffers it wrote read back in f64 (`read_*`), and the timings of the benchmarks
 //! ([`ResidentStep::time_stage`], [`GpuKernels::time_kernel`], `copy_bandwidth`). The
 //! `tests/gpu_*.rs` twin tests and `benches/` call them; the solver never does.
@@ -14,7 +14,7 @@ use super::engine::{bytes_of, GpuKernels};
 use super::resident_step::{to_f32, ResidentStep};
 use super::search::GpuSearch;
 use super::types;
-use super::ContactIteration;
+use super::ImpulseSweeps;
 use crate::element::ElementKind;
 use crate::error::{ImpactError, Result};
 use crate::kernels::plane_contact::SLOT;
@@ -226,7 +226,7 @@ pub enum Stage {
 impl ResidentStep {
     /// The device contact iteration, if the step has one, with the context (to run its
     /// stages alone).
-    pub fn contact_iteration(&mut self) -> Option<(&GpuContext, &mut ContactIteration)> {
+    pub fn impulse_sweeps(&mut self) -> Option<(&GpuContext, &mut ImpulseSweeps)> {
         let ctx = &self.k.ctx;
         self.contact.as_mut().map(|c| (ctx, c))
     }
@@ -346,7 +346,7 @@ impl ResidentStep {
 /// The label of the contact iteration's read-backs.
 const CONTACT_READ: &str = "contact.read";
 
-impl ContactIteration {
+impl ImpulseSweeps {
     /// Records `part` of the iteration alone, submits it and waits.
     pub fn run(
         &self,

@@ -6,10 +6,10 @@
 
 mod bucket_sort;
 pub mod buffer;
-pub mod contact_iteration;
 pub mod context;
 pub mod corner_select;
 pub mod engine;
+pub mod impulse_sweeps;
 pub mod inspect;
 pub mod kernel;
 pub mod kernels;
@@ -19,10 +19,10 @@ pub mod shaders;
 pub mod stable_step;
 pub mod types;
 
-pub use contact_iteration::{ContactIteration, ContactSetup};
 pub use context::{list_adapters, AdapterPolicy, AdapterSummary, GpuContext};
 pub use corner_select::CornerSelection;
 pub use engine::GpuKernels;
+pub use impulse_sweeps::{ContactSetup, ImpulseSweeps};
 pub use kernels::*;
 pub use resident_step::{ResidentSetup, ResidentStep};
 pub use search::GpuSearch;

@@ -4,7 +4,7 @@
 //!
 //! A step records: `explicit_predict` (v* = v + dt/2 a), the contact impulses
 //! (`plane_contact` where all contacts are rigid planes, at most 8; otherwise the contact
-//! iteration, [`super::ContactIteration`]), `explicit_drift` (u += dt v), the element kernels and
+//! iteration, [`super::ImpulseSweeps`]), `explicit_drift` (u += dt v), the element kernels and
 //! `node_gather` (internal forces), `explicit_correct` once per body (a, v and the body's
 //! energy and momentum sums per workgroup) and `history_reduce` (one row of history
 //! values, written at the step's place in the submission's rows). Without a contact
@@ -19,9 +19,9 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::buffer::{map_read, read_back, read_floats, take_mapped, Mapping, Storage};
-use super::contact_iteration::{ContactIteration, ContactSetup, StepBuffers};
 use super::context::GpuContext;
 use super::engine::{at_least_one, GpuKernels};
+use super::impulse_sweeps::{ContactSetup, ImpulseSweeps, StepBuffers};
 use super::kernel::Launch;
 use super::types::WORKGROUP;
 use super::types::{self, to_device, Split3};
@@ -377,7 +377,7 @@ pub struct ResidentStep {
     /// The history row's columns and the rows buffer.
     pub(super) history: History,
     pub(super) launches: Launches,
-    pub(super) contact: Option<ContactIteration>,
+    pub(super) contact: Option<ImpulseSweeps>,
     /// Sweeps of the contact iteration recorded per step (at most `max_iterations`).
     sweeps: u32,
     max_iterations: u32,
@@ -413,7 +413,7 @@ impl ResidentStep {
         // the correctors' partials: one slot of FIELDS per workgroup, body after body
         let (groups, total_groups) = Self::partial_groups(&kernels.correct, &setup.bodies);
         let partials = Storage::new(ctx, "partials", (total_groups as usize * FIELDS * 4) as u64)?;
-        let contact = Self::new_contact_iteration(&k, &step, &m, setup)?;
+        let contact = Self::new_impulse_sweeps(&k, &step, &m, setup)?;
         let chunk_capacity = chunk_capacity.max(1);
         let history = History::new(ctx, setup, &groups, &m, chunk_capacity)?;
         let buffers = LaunchBuffers {
@@ -487,12 +487,12 @@ impl ResidentStep {
     }
 
     /// The device contact iteration, where the model has contact between meshed bodies.
-    fn new_contact_iteration(
+    fn new_impulse_sweeps(
         k: &GpuKernels,
         step: &wgpu::Buffer,
         m: &ModelBuffers,
         setup: &ResidentSetup,
-    ) -> Result<Option<ContactIteration>> {
+    ) -> Result<Option<ImpulseSweeps>> {
         let Some(c) = &setup.contact else {
             return Ok(None);
         };
@@ -504,7 +504,7 @@ impl ResidentStep {
             acceleration: &m.a.buffer,
             lumped: &m.lumped.buffer,
         };
-        Ok(Some(ContactIteration::new(
+        Ok(Some(ImpulseSweeps::new(
             &k.ctx,
             &buffers,
             c,
@@ -532,7 +532,7 @@ impl ResidentStep {
     fn snapshot_buffers(
         k: &GpuKernels,
         a: &Storage,
-        contact: Option<&ContactIteration>,
+        contact: Option<&ImpulseSweeps>,
     ) -> Result<Vec<Storage>> {
         match contact {
             Some(c) => [

@@ -11,29 +11,60 @@ use crate::kernels::contact_gap::{ContactPoint as CpuContactPoint, NO_FACE};
 /// Invocations per workgroup (`WORKGROUP` in `shaders/shared/types.wgsl`).
 pub const WORKGROUP: u32 = 64;
 
+/// Declares a buffer element type (`#[repr(C)]`) with its layout, by WGSL name, from the
+/// declaration itself: `Name::layout()` gives its size and its fields' offsets in order, for
+/// the test that compares them with naga's layout of `shaders/shared/types.wgsl`.
+macro_rules! device_struct {
+    (
+        $(#[$meta:meta])*
+        pub struct $name:ident {
+            $($(#[$field_meta:meta])* pub $field:ident: $ty:ty),* $(,)?
+        }
+    ) => {
+        $(#[$meta])*
+        #[repr(C)]
+        pub struct $name {
+            $($(#[$field_meta])* pub $field: $ty),*
+        }
+
+        impl $name {
+            /// Size and field offsets, by WGSL name.
+            pub fn layout() -> StructLayout {
+                (
+                    stringify!($name),
+                    std::mem::size_of::<$name>(),
+                    vec![$((stringify!($field), std::mem::offset_of!($name, $field))),*],
+                )
+            }
+        }
+    };
+}
+
 /// Host values (f64) as the device's type (f32), each by its `From`, on all threads.
 pub fn to_device<'a, H: Sync + 'a, D: From<&'a H> + Send>(host: &'a [H]) -> Vec<D> {
     host.par_iter().map(D::from).collect()
 }
 
-/// Launch parameters: `count` items over a 2D grid whose rows are `row` items long.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-pub struct Params {
-    pub count: u32,
-    pub row: u32,
-    pub aux: u32,
-    pub aux2: u32,
+device_struct! {
+    /// Launch parameters: `count` items over a 2D grid whose rows are `row` items long.
+    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+    pub struct Params {
+        pub count: u32,
+        pub row: u32,
+        pub aux: u32,
+        pub aux2: u32,
+    }
 }
 
-/// A nodal 3-vector (reference coordinates, displacements) split into an f32 pair, `hi + lo`
-/// equal to the f64 value to about 1e-14 relative, so that differences of nearby nodes keep
-/// f32's relative precision: a rigid translation does not eat the digits of a strain or a gap.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-pub struct Split3 {
-    pub hi: [f32; 3],
-    pub lo: [f32; 3],
+device_struct! {
+    /// A nodal 3-vector (reference coordinates, displacements) split into an f32 pair, `hi + lo`
+    /// equal to the f64 value to about 1e-14 relative, so that differences of nearby nodes keep
+    /// f32's relative precision: a rigid translation does not eat the digits of a strain or a gap.
+    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+    pub struct Split3 {
+        pub hi: [f32; 3],
+        pub lo: [f32; 3],
+    }
 }
 
 impl Split3 {
@@ -44,51 +75,54 @@ impl Split3 {
     }
 }
 
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-pub struct Hex8 {
-    pub nodes: [u32; 8],
-    pub material: u32,
+device_struct! {
+    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+    pub struct Hex8 {
+        pub nodes: [u32; 8],
+        pub material: u32,
+    }
 }
 
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-pub struct Tet4 {
-    pub nodes: [u32; 4],
-    pub material: u32,
+device_struct! {
+    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+    pub struct Tet4 {
+        pub nodes: [u32; 4],
+        pub material: u32,
+    }
 }
 
-/// Lamé parameters and density; for an anisotropic material (`anisotropic` = 1) the
-/// stiffness's upper triangle in Voigt order (xx, yy, zz, yz, xz, xy), global axes, row by
-/// row, in place of lambda and mu.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-pub struct Material {
-    pub lambda: f32,
-    pub mu: f32,
-    pub density: f32,
-    pub anisotropic: u32,
-    pub c11: f32,
-    pub c12: f32,
-    pub c13: f32,
-    pub c14: f32,
-    pub c15: f32,
-    pub c16: f32,
-    pub c22: f32,
-    pub c23: f32,
-    pub c24: f32,
-    pub c25: f32,
-    pub c26: f32,
-    pub c33: f32,
-    pub c34: f32,
-    pub c35: f32,
-    pub c36: f32,
-    pub c44: f32,
-    pub c45: f32,
-    pub c46: f32,
-    pub c55: f32,
-    pub c56: f32,
-    pub c66: f32,
+device_struct! {
+    /// Lamé parameters and density; for an anisotropic material (`anisotropic` = 1) the
+    /// stiffness's upper triangle in Voigt order (xx, yy, zz, yz, xz, xy), global axes, row by
+    /// row, in place of lambda and mu.
+    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+    pub struct Material {
+        pub lambda: f32,
+        pub mu: f32,
+        pub density: f32,
+        pub anisotropic: u32,
+        pub c11: f32,
+        pub c12: f32,
+        pub c13: f32,
+        pub c14: f32,
+        pub c15: f32,
+        pub c16: f32,
+        pub c22: f32,
+        pub c23: f32,
+        pub c24: f32,
+        pub c25: f32,
+        pub c26: f32,
+        pub c33: f32,
+        pub c34: f32,
+        pub c35: f32,
+        pub c36: f32,
+        pub c44: f32,
+        pub c45: f32,
+        pub c46: f32,
+        pub c55: f32,
+        pub c56: f32,
+        pub c66: f32,
+    }
 }
 
 impl Material {
@@ -112,13 +146,14 @@ impl Material {
     }
 }
 
-/// A secondary node and its candidate faces `candidates[first..end]`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct ContactQuery {
-    pub secondary: u32,
-    pub first: u32,
-    pub end: u32,
+device_struct! {
+    /// A secondary node and its candidate faces `candidates[first..end]`.
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct ContactQuery {
+        pub secondary: u32,
+        pub first: u32,
+        pub end: u32,
+    }
 }
 
 /// A query as `(secondary node, first face, end face)`.
@@ -132,11 +167,12 @@ impl From<&(u32, u32, u32)> for ContactQuery {
     }
 }
 
-/// A primary face, outward oriented (a triangle as `[a, b, c, c]`).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct Quad {
-    pub nodes: [u32; 4],
+device_struct! {
+    /// A primary face's four slots, outward oriented ([`crate::geometry::face::Face::slots`]).
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct Quad {
+        pub nodes: [u32; 4],
+    }
 }
 
 impl From<&[u32; 4]> for Quad {
@@ -145,15 +181,16 @@ impl From<&[u32; 4]> for Quad {
     }
 }
 
-/// Contact kinematics of one query (`face = 0xffffffff`: no candidate).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-pub struct ContactPoint {
-    pub face: u32,
-    pub xi: [f32; 2],
-    pub normal: [f32; 3],
-    pub gap: f32,
-    pub gap_rate: f32,
+device_struct! {
+    /// Contact kinematics of one query (`face = 0xffffffff`: no candidate).
+    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+    pub struct ContactPoint {
+        pub face: u32,
+        pub xi: [f32; 2],
+        pub normal: [f32; 3],
+        pub gap: f32,
+        pub gap_rate: f32,
+    }
 }
 
 impl From<ContactPoint> for CpuContactPoint {
@@ -186,13 +223,14 @@ impl From<&CpuContactPoint> for ContactPoint {
     }
 }
 
-/// Lumped nodal data of the explicit step (twin: [`crate::kernels::explicit_correct::LumpedNode`]).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-pub struct Lumped {
-    pub mass: f32,
-    pub inv_mass: [f32; 3],
-    pub ext_acc: [f32; 3],
+device_struct! {
+    /// Lumped nodal data of the explicit step (twin: [`crate::kernels::explicit_correct::LumpedNode`]).
+    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+    pub struct Lumped {
+        pub mass: f32,
+        pub inv_mass: [f32; 3],
+        pub ext_acc: [f32; 3],
+    }
 }
 
 impl From<&kernels::LumpedNode> for Lumped {
@@ -205,13 +243,14 @@ impl From<&kernels::LumpedNode> for Lumped {
     }
 }
 
-/// An analytic rigid plane (twin: [`crate::kernels::plane_contact::PlaneData`]).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-pub struct Plane {
-    pub point: Split3,
-    pub normal: [f32; 3],
-    pub mu: f32,
+device_struct! {
+    /// An analytic rigid plane (twin: [`crate::kernels::plane_contact::PlaneData`]).
+    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+    pub struct Plane {
+        pub point: Split3,
+        pub normal: [f32; 3],
+        pub mu: f32,
+    }
 }
 
 impl From<&kernels::PlaneData> for Plane {
@@ -224,12 +263,13 @@ impl From<&kernels::PlaneData> for Plane {
     }
 }
 
-/// A secondary node of the rigid planes and its planes as a bit set.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct PlaneNode {
-    pub node: u32,
-    pub planes: u32,
+device_struct! {
+    /// A secondary node of the rigid planes and its planes as a bit set.
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct PlaneNode {
+        pub node: u32,
+        pub planes: u32,
+    }
 }
 
 impl From<&kernels::PlaneNode> for PlaneNode {
@@ -241,14 +281,15 @@ impl From<&kernels::PlaneNode> for PlaneNode {
     }
 }
 
-/// One history value (twin: [`crate::kernels::history_reduce::ReduceColumn`]).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct ReduceColumn {
-    pub first: u32,
-    pub count: u32,
-    pub stride: u32,
-    pub op: u32,
+device_struct! {
+    /// One history value (twin: [`crate::kernels::history_reduce::ReduceColumn`]).
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct ReduceColumn {
+        pub first: u32,
+        pub count: u32,
+        pub stride: u32,
+        pub op: u32,
+    }
 }
 
 impl From<&kernels::ReduceColumn> for ReduceColumn {
@@ -262,35 +303,38 @@ impl From<&kernels::ReduceColumn> for ReduceColumn {
     }
 }
 
-/// Constants of the explicit step.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-pub struct Step {
-    pub dt: f32,
-    pub tolerance: f32,
-    pub max_iterations: u32,
-    pub pad: u32,
+device_struct! {
+    /// Constants of the explicit step.
+    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+    pub struct Step {
+        pub dt: f32,
+        pub tolerance: f32,
+        pub max_iterations: u32,
+        pub pad: u32,
+    }
 }
 
-/// The contact search grid (twin: [`crate::kernels::SearchGrid`]).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-pub struct SearchGrid {
-    pub cell: f32,
-    pub margin: f32,
-    pub mask: u32,
-    pub pad: u32,
+device_struct! {
+    /// The contact search grid (twin: [`crate::kernels::SearchGrid`]).
+    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+    pub struct SearchGrid {
+        pub cell: f32,
+        pub margin: f32,
+        pub mask: u32,
+        pub pad: u32,
+    }
 }
 
-/// A pair of the device contact iteration (twin: [`crate::kernels::ContactPair`]).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-pub struct ContactPair {
-    pub node: u32,
-    pub query: u32,
-    pub mu: f32,
-    pub point: Split3,
-    pub normal: [f32; 3],
+device_struct! {
+    /// A pair of the device contact iteration (twin: [`crate::kernels::ContactPair`]).
+    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+    pub struct ContactPair {
+        pub node: u32,
+        pub query: u32,
+        pub mu: f32,
+        pub point: Split3,
+        pub normal: [f32; 3],
+    }
 }
 
 impl From<&kernels::ContactPair> for ContactPair {
@@ -305,19 +349,20 @@ impl From<&kernels::ContactPair> for ContactPair {
     }
 }
 
-/// One constraint of the device contact iteration (twin: [`crate::kernels::Constraint`]).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-pub struct Constraint {
-    pub face: [u32; 4],
-    pub weights: [f32; 4],
-    pub normal: [f32; 3],
-    pub gap: f32,
-    pub compliance: f32,
-    pub jn: f32,
-    pub jt: [f32; 3],
-    pub slip: [f32; 3],
-    pub in_reach: u32,
+device_struct! {
+    /// One constraint of the device contact iteration (twin: [`crate::kernels::Constraint`]).
+    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+    pub struct Constraint {
+        pub face: [u32; 4],
+        pub weights: [f32; 4],
+        pub normal: [f32; 3],
+        pub gap: f32,
+        pub compliance: f32,
+        pub jn: f32,
+        pub jt: [f32; 3],
+        pub slip: [f32; 3],
+        pub in_reach: u32,
+    }
 }
 
 impl From<Constraint> for kernels::Constraint {
@@ -352,15 +397,16 @@ impl From<&kernels::Constraint> for Constraint {
     }
 }
 
-/// A node of the device contact iteration (twin: [`crate::kernels::ContactNode`]).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct ContactNode {
-    pub node: u32,
-    pub pair_first: u32,
-    pub pair_end: u32,
-    pub face_first: u32,
-    pub face_end: u32,
+device_struct! {
+    /// A node of the device contact iteration (twin: [`crate::kernels::ContactNode`]).
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct ContactNode {
+        pub node: u32,
+        pub pair_first: u32,
+        pub pair_end: u32,
+        pub face_first: u32,
+        pub face_end: u32,
+    }
 }
 
 impl From<&kernels::ContactNode> for ContactNode {
@@ -411,192 +457,26 @@ pub fn shared_constants() -> Vec<(&'static str, u32)> {
     ]
 }
 
-/// Sizes and field offsets of every struct, by WGSL name, for the layout test.
+/// Sizes and field offsets of every struct, by WGSL name, for the layout test (each from
+/// its declaration, [`device_struct`]).
 pub fn layouts() -> Vec<StructLayout> {
-    use std::mem::{offset_of, size_of};
     vec![
-        (
-            "Params",
-            size_of::<Params>(),
-            vec![
-                ("count", offset_of!(Params, count)),
-                ("row", offset_of!(Params, row)),
-                ("aux", offset_of!(Params, aux)),
-                ("aux2", offset_of!(Params, aux2)),
-            ],
-        ),
-        (
-            "Split3",
-            size_of::<Split3>(),
-            vec![
-                ("hi", offset_of!(Split3, hi)),
-                ("lo", offset_of!(Split3, lo)),
-            ],
-        ),
-        (
-            "Hex8",
-            size_of::<Hex8>(),
-            vec![
-                ("nodes", offset_of!(Hex8, nodes)),
-                ("material", offset_of!(Hex8, material)),
-            ],
-        ),
-        (
-            "Tet4",
-            size_of::<Tet4>(),
-            vec![
-                ("nodes", offset_of!(Tet4, nodes)),
-                ("material", offset_of!(Tet4, material)),
-            ],
-        ),
-        (
-            "Material",
-            size_of::<Material>(),
-            vec![
-                ("lambda", offset_of!(Material, lambda)),
-                ("mu", offset_of!(Material, mu)),
-                ("density", offset_of!(Material, density)),
-                ("anisotropic", offset_of!(Material, anisotropic)),
-                ("c11", offset_of!(Material, c11)),
-                ("c12", offset_of!(Material, c12)),
-                ("c13", offset_of!(Material, c13)),
-                ("c14", offset_of!(Material, c14)),
-                ("c15", offset_of!(Material, c15)),
-                ("c16", offset_of!(Material, c16)),
-                ("c22", offset_of!(Material, c22)),
-                ("c23", offset_of!(Material, c23)),
-                ("c24", offset_of!(Material, c24)),
-                ("c25", offset_of!(Material, c25)),
-                ("c26", offset_of!(Material, c26)),
-                ("c33", offset_of!(Material, c33)),
-                ("c34", offset_of!(Material, c34)),
-                ("c35", offset_of!(Material, c35)),
-                ("c36", offset_of!(Material, c36)),
-                ("c44", offset_of!(Material, c44)),
-                ("c45", offset_of!(Material, c45)),
-                ("c46", offset_of!(Material, c46)),
-                ("c55", offset_of!(Material, c55)),
-                ("c56", offset_of!(Material, c56)),
-                ("c66", offset_of!(Material, c66)),
-            ],
-        ),
-        (
-            "ContactQuery",
-            size_of::<ContactQuery>(),
-            vec![
-                ("secondary", offset_of!(ContactQuery, secondary)),
-                ("first", offset_of!(ContactQuery, first)),
-                ("end", offset_of!(ContactQuery, end)),
-            ],
-        ),
-        (
-            "Quad",
-            size_of::<Quad>(),
-            vec![("nodes", offset_of!(Quad, nodes))],
-        ),
-        (
-            "ContactPoint",
-            size_of::<ContactPoint>(),
-            vec![
-                ("face", offset_of!(ContactPoint, face)),
-                ("xi", offset_of!(ContactPoint, xi)),
-                ("normal", offset_of!(ContactPoint, normal)),
-                ("gap", offset_of!(ContactPoint, gap)),
-                ("gap_rate", offset_of!(ContactPoint, gap_rate)),
-            ],
-        ),
-        (
-            "Lumped",
-            size_of::<Lumped>(),
-            vec![
-                ("mass", offset_of!(Lumped, mass)),
-                ("inv_mass", offset_of!(Lumped, inv_mass)),
-                ("ext_acc", offset_of!(Lumped, ext_acc)),
-            ],
-        ),
-        (
-            "Plane",
-            size_of::<Plane>(),
-            vec![
-                ("point", offset_of!(Plane, point)),
-                ("normal", offset_of!(Plane, normal)),
-                ("mu", offset_of!(Plane, mu)),
-            ],
-        ),
-        (
-            "PlaneNode",
-            size_of::<PlaneNode>(),
-            vec![
-                ("node", offset_of!(PlaneNode, node)),
-                ("planes", offset_of!(PlaneNode, planes)),
-            ],
-        ),
-        (
-            "ReduceColumn",
-            size_of::<ReduceColumn>(),
-            vec![
-                ("first", offset_of!(ReduceColumn, first)),
-                ("count", offset_of!(ReduceColumn, count)),
-                ("stride", offset_of!(ReduceColumn, stride)),
-                ("op", offset_of!(ReduceColumn, op)),
-            ],
-        ),
-        (
-            "Step",
-            size_of::<Step>(),
-            vec![
-                ("dt", offset_of!(Step, dt)),
-                ("tolerance", offset_of!(Step, tolerance)),
-                ("max_iterations", offset_of!(Step, max_iterations)),
-                ("pad", offset_of!(Step, pad)),
-            ],
-        ),
-        (
-            "SearchGrid",
-            size_of::<SearchGrid>(),
-            vec![
-                ("cell", offset_of!(SearchGrid, cell)),
-                ("margin", offset_of!(SearchGrid, margin)),
-                ("mask", offset_of!(SearchGrid, mask)),
-                ("pad", offset_of!(SearchGrid, pad)),
-            ],
-        ),
-        (
-            "ContactPair",
-            size_of::<ContactPair>(),
-            vec![
-                ("node", offset_of!(ContactPair, node)),
-                ("query", offset_of!(ContactPair, query)),
-                ("mu", offset_of!(ContactPair, mu)),
-                ("point", offset_of!(ContactPair, point)),
-                ("normal", offset_of!(ContactPair, normal)),
-            ],
-        ),
-        (
-            "Constraint",
-            size_of::<Constraint>(),
-            vec![
-                ("face", offset_of!(Constraint, face)),
-                ("weights", offset_of!(Constraint, weights)),
-                ("normal", offset_of!(Constraint, normal)),
-                ("gap", offset_of!(Constraint, gap)),
-                ("compliance", offset_of!(Constraint, compliance)),
-                ("jn", offset_of!(Constraint, jn)),
-                ("jt", offset_of!(Constraint, jt)),
-                ("slip", offset_of!(Constraint, slip)),
-                ("in_reach", offset_of!(Constraint, in_reach)),
-            ],
-        ),
-        (
-            "ContactNode",
-            size_of::<ContactNode>(),
-            vec![
-                ("node", offset_of!(ContactNode, node)),
-                ("pair_first", offset_of!(ContactNode, pair_first)),
-                ("pair_end", offset_of!(ContactNode, pair_end)),
-                ("face_first", offset_of!(ContactNode, face_first)),
-                ("face_end", offset_of!(ContactNode, face_end)),
-            ],
-        ),
+        Params::layout(),
+        Split3::layout(),
+        Hex8::layout(),
+        Tet4::layout(),
+        Material::layout(),
+        ContactQuery::layout(),
+        Quad::layout(),
+        ContactPoint::layout(),
+        Lumped::layout(),
+        Plane::layout(),
+        PlaneNode::layout(),
+        ReduceColumn::layout(),
+        Step::layout(),
+        SearchGrid::layout(),
+        ContactPair::layout(),
+        Constraint::layout(),
+        ContactNode::layout(),
     ]
 }

@@ -2,7 +2,7 @@
 //! ([`crate::gpu::ResidentStep`]). The same time discretisation and the same contact
 //! iteration as [`super::ExplicitSolver`], its CPU twin (`device = "cpu"`): see
 //! `integrate/explicit/`, `kernels/plane_contact.rs` (rigid planes alone) and
-//! `gpu/contact_iteration.rs` (contact between meshed bodies).
+//! `gpu/impulse_sweeps.rs` (contact between meshed bodies).
 //!
 //! The host submits many steps at a time and decodes the history rows the device reduced, one
 //! submission behind the device. VTU frames end a submission; the state is read back there.

@@ -18,7 +18,8 @@ pub struct ContactQueries {
     /// `candidates[offsets[q]..offsets[q + 1]]` are the candidate faces of query q.
     pub offsets: Vec<u32>,
     pub candidates: Vec<u32>,
-    /// Primary faces (global node numbers), outward-oriented; a triangle is `[a, b, c, c]`.
+    /// Primary faces (global node numbers), outward-oriented, as their four slots
+    /// ([`crate::geometry::face::Face::slots`]: a triangle's fourth repeats its third).
     pub faces: Vec<[u32; 4]>,
 }
 

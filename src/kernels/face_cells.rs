@@ -1,6 +1,7 @@
 //! The contact search grid's bucket of every primary face (CPU twin of
 //! `shaders/face_cells.wgsl`): the cell of the mean of the face's four stored
-//! corners (for a triangle `[a, b, c, c]` a point inside it, not its centroid), hashed with its
+//! slots (for a triangle, whose fourth slot repeats its third, a point inside it, not its
+//! centroid), hashed with its
 //! interface.
 
 /// The bucket of grid cell `c` of the interface whose faces start at `salt`, in a table of

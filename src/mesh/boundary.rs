@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 
 use crate::element::{ElementKind, Elements};
-use crate::geometry::face::FaceKind;
+use crate::geometry::face::Face;
 
 /// A face's identity regardless of node order and starting corner: its sorted nodes
 /// (a triangle's sorted three, then its largest again).
@@ -51,50 +51,43 @@ pub fn orient(nodes: &[[f64; 3]], elements: &mut Elements) -> Result<(), Degener
     Ok(())
 }
 
-/// Every element face that belongs to one element only, outward, as quads (a triangle as
-/// `[a, b, c, c]`). Elements must be oriented ([`orient`]).
-pub fn boundary_faces(elements: &Elements) -> Vec<[u32; 4]> {
-    let mut seen: HashMap<[u32; 4], (usize, [u32; 4])> = HashMap::new();
+/// Every element face that belongs to one element only, outward. Elements must be oriented
+/// ([`orient`]).
+pub fn boundary_faces(elements: &Elements) -> Vec<Face> {
+    let mut seen: HashMap<[u32; 4], (usize, Face)> = HashMap::new();
     let mut order = 0usize;
     for e in elements.iter() {
         for f in e.kind.faces() {
             let nodes: Vec<u32> = f.iter().map(|&k| e.nodes[k]).collect();
             let key = face_key(&nodes);
             if seen.remove(&key).is_none() {
-                let last = nodes[nodes.len() - 1];
-                seen.insert(
-                    key,
-                    (
-                        order,
-                        std::array::from_fn(|k| *nodes.get(k).unwrap_or(&last)),
-                    ),
-                );
+                seen.insert(key, (order, Face::of_corners(&nodes)));
             }
             order += 1;
         }
     }
     // keep the element order, so the result does not depend on the hash map
-    let mut faces: Vec<(usize, [u32; 4])> = seen.into_values().collect();
+    let mut faces: Vec<(usize, Face)> = seen.into_values().collect();
     faces.sort_unstable_by_key(|f| f.0);
     faces.into_iter().map(|f| f.1).collect()
 }
 
 /// Looks faces up by their nodes in any order.
 pub struct BoundaryIndex {
-    by_key: HashMap<[u32; 4], [u32; 4]>,
+    by_key: HashMap<[u32; 4], Face>,
 }
 
 impl BoundaryIndex {
-    pub fn new(boundary: &[[u32; 4]]) -> BoundaryIndex {
+    pub fn new(boundary: &[Face]) -> BoundaryIndex {
         let by_key = boundary
             .iter()
-            .map(|q| (face_key(FaceKind::of(q).corners(q)), *q))
+            .map(|f| (face_key(f.corners()), *f))
             .collect();
         BoundaryIndex { by_key }
     }
 
     /// The outward boundary face with these nodes (3 or 4, any order), if there is one.
-    pub fn find(&self, nodes: &[u32]) -> Option<[u32; 4]> {
+    pub fn find(&self, nodes: &[u32]) -> Option<Face> {
         self.by_key.get(&face_key(nodes)).copied()
     }
 }
@@ -121,9 +114,10 @@ mod tests {
         (nodes, [0, 1, 2, 3, 4, 5, 6, 7])
     }
 
-    fn normal(nodes: &[[f64; 3]], q: &[u32; 4]) -> [f64; 3] {
+    fn normal(nodes: &[[f64; 3]], f: &Face) -> [f64; 3] {
+        let q = f.slots();
         let p = |k: usize| nodes[q[k] as usize];
-        let (a, b) = if super::super::is_triangle(q) {
+        let (a, b) = if matches!(f, Face::Triangle(_)) {
             (sub(p(1), p(0)), sub(p(2), p(0)))
         } else {
             (sub(p(2), p(0)), sub(p(3), p(1)))
@@ -140,12 +134,12 @@ mod tests {
     }
 
     /// Every boundary face's normal points away from the body's centroid (a convex body).
-    fn assert_outward(nodes: &[[f64; 3]], faces: &[[u32; 4]]) {
+    fn assert_outward(nodes: &[[f64; 3]], faces: &[Face]) {
         let n = nodes.len() as f64;
         let c = [0, 1, 2].map(|a| nodes.iter().map(|p| p[a]).sum::<f64>() / n);
         for q in faces {
             let m = normal(nodes, q);
-            let p = nodes[q[0] as usize];
+            let p = nodes[q.corners()[0] as usize];
             let d: f64 = (0..3).map(|a| m[a] * (p[a] - c[a])).sum();
             assert!(d > 0.0, "face {q:?} points inward");
         }
@@ -172,7 +166,7 @@ mod tests {
         assert!((vol - 1.0).abs() < 1e-12);
         let faces = boundary_faces(&els);
         assert_eq!(faces.len(), 12);
-        assert!(faces.iter().all(super::super::is_triangle));
+        assert!(faces.iter().all(|f| matches!(f, Face::Triangle(_))));
         assert_outward(&nodes, &faces);
     }
 
@@ -193,7 +187,10 @@ mod tests {
         assert_eq!(faces.len(), 10);
         assert_outward(&nodes, &faces);
         let index = BoundaryIndex::new(&faces);
-        assert_eq!(index.find(&[11, 10, 9, 8]), Some([8, 9, 10, 11]));
+        assert_eq!(
+            index.find(&[11, 10, 9, 8]),
+            Some(Face::Quad([8, 9, 10, 11]))
+        );
         assert_eq!(index.find(&[4, 5, 6, 7]), None, "the shared face is inside");
     }
 

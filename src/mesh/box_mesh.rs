@@ -2,6 +2,7 @@
 
 use super::{BodyParts, Surface};
 use crate::element::{ElementKind, Elements};
+use crate::geometry::face::Face;
 
 /// The six faces of a structured box, named by their outward normal.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -89,7 +90,7 @@ pub const KUHN_TETS: [[usize; 4]; 6] = [
 /// `x-`, `x+`, `y-`, `y+`, `z-`, `z+` (in [`BoxFace::ALL`] order, so surface `f as usize` is
 /// face `f`), each quad ordered so that its first two edges span the face with
 /// `tau_1 x tau_2` along the outward normal; a tet4 box has each quad's two triangles
-/// `[a, b, c, c]` instead, oriented the same way. The boundary is the six faces together.
+/// instead, oriented the same way. The boundary is the six faces together.
 pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
     let grid = Grid::new(spec.divisions);
     let cells = grid.cells();
@@ -192,7 +193,7 @@ impl Grid {
     }
 
     /// The quads of one box face, outward.
-    fn face_quads(&self, face: BoxFace) -> Vec<[u32; 4]> {
+    fn face_quads(&self, face: BoxFace) -> Vec<Face> {
         let n = self.n;
         let a = face.axis();
         let (b, c) = ((a + 1) % 3, (a + 2) % 3);
@@ -214,11 +215,11 @@ impl Grid {
                     at(ib, ic + 1),
                 );
                 // b x c = +a: counter-clockwise in (b, c) faces +a, the reverse faces -a
-                quads.push(if face.positive() {
+                quads.push(Face::Quad(if face.positive() {
                     [p00, p10, p11, p01]
                 } else {
                     [p00, p01, p11, p10]
-                });
+                }));
             }
         }
         quads
@@ -233,12 +234,18 @@ fn kuhn_tets(cells: &[[u32; 8]]) -> Vec<[u32; 4]> {
         .collect()
 }
 
-/// Each face quad cut into two triangles `[a, b, c, c]` along its diagonal from corner 0 to
-/// corner 2 (the cell's lowest to its highest node, the Kuhn tets' cut).
-fn halves(quads: &[[u32; 4]]) -> Vec<[u32; 4]> {
+/// Each face quad cut into two triangles along its diagonal from corner 0 to corner 2 (the
+/// cell's lowest to its highest node, the Kuhn tets' cut).
+fn halves(quads: &[Face]) -> Vec<Face> {
     quads
         .iter()
-        .flat_map(|q| [[q[0], q[1], q[2], q[2]], [q[0], q[2], q[3], q[3]]])
+        .flat_map(|f| {
+            let q = f.corners();
+            [
+                Face::Triangle([q[0], q[1], q[2]]),
+                Face::Triangle([q[0], q[2], q[3]]),
+            ]
+        })
         .collect()
 }
 
@@ -265,7 +272,7 @@ mod tests {
             let a = face.axis();
             let mut area = 0.0;
             for q in quads {
-                let p: Vec<[f64; 3]> = q.iter().map(|&i| nodes[i as usize]).collect();
+                let p: Vec<[f64; 3]> = q.corners().iter().map(|&i| nodes[i as usize]).collect();
                 let nrm = cross(sub(p[1], p[0]), sub(p[3], p[0]));
                 let sign = if face.positive() { 1.0 } else { -1.0 };
                 assert!(nrm[a] * sign > 0.0, "{face:?} quad points inwards");
@@ -307,7 +314,8 @@ mod tests {
             volume += v;
         }
         assert!((volume - 3.0 * 2.0 * 0.5).abs() < 1e-12, "{volume}");
-        let key = |f: &[u32; 4]| {
+        let key = |f: &Face| {
+            let f = f.corners();
             let mut k = [f[0], f[1], f[2]];
             k.sort();
             k
@@ -325,7 +333,9 @@ mod tests {
             let a = face.axis();
             let sign = if face.positive() { 1.0 } else { -1.0 };
             for f in &parts.surfaces[face as usize].faces {
-                assert!(crate::mesh::is_triangle(f));
+                let Face::Triangle(f) = f else {
+                    panic!("{f:?} is not a triangle")
+                };
                 let nrm = cross(sub(x(f[1]), x(f[0])), sub(x(f[2]), x(f[0])));
                 assert!(
                     nrm[a] * sign > 0.0,

@@ -9,7 +9,7 @@ use super::boundary::{boundary_faces, orient, BoundaryIndex};
 use super::deck::Deck;
 use super::orientation::ElementAxes;
 pub use super::parse_error::ParseError;
-use super::{BodyParts, NodeSet, Surface};
+use super::{BodyParts, Face, NodeSet, Surface};
 use crate::element::Elements;
 use crate::error::{ImpactError, Result};
 
@@ -228,7 +228,8 @@ fn boundary_surface(
         };
         faces.push(q);
     }
-    faces.sort_unstable();
+    // the order of the kernels' slots (a quad's corners; a triangle's with its last again)
+    faces.sort_unstable_by_key(Face::slots);
     faces.dedup();
     Ok(Surface {
         name: s.name,

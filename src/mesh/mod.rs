@@ -5,8 +5,8 @@
 //! [`BodyParts`] in its own node numbering and is appended to the [`Mesh`] by
 //! [`Mesh::push_body`].
 //!
-//! Surfaces are lists of outward-oriented faces stored as quads; a triangle (a tet4 face)
-//! is the degenerate quad `[a, b, c, c]` ([`is_triangle`]).
+//! Surfaces are lists of outward-oriented [`Face`]s: quads (hex8 faces) and triangles
+//! (tet4 faces).
 
 pub mod abaqus;
 pub mod boundary;
@@ -25,13 +25,13 @@ use std::ops::Range;
 use box_mesh::BoxFace;
 
 use crate::element::{ElementKind, ElementRef, Elements};
-use crate::geometry::face::FaceKind;
+pub use crate::geometry::face::Face;
 
 /// A named list of outward-oriented boundary faces (local or global node numbers).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Surface {
     pub name: String,
-    pub faces: Vec<[u32; 4]>,
+    pub faces: Vec<Face>,
 }
 
 /// A named set of nodes.
@@ -41,11 +41,6 @@ pub struct NodeSet {
     pub nodes: Vec<u32>,
 }
 
-/// True for a face stored as the degenerate quad `[a, b, c, c]` of a triangle.
-pub fn is_triangle(face: &[u32; 4]) -> bool {
-    FaceKind::of(face) == FaceKind::Triangle
-}
-
 /// One body's mesh in its own node numbering, as a mesher or a file reader produces it.
 #[derive(Debug, Clone, Default)]
 pub struct BodyParts {
@@ -53,7 +48,7 @@ pub struct BodyParts {
     /// The elements (materials unset: the body's material is given when it joins a mesh).
     pub elements: Elements,
     /// Every face of the body's boundary, outward.
-    pub boundary: Vec<[u32; 4]>,
+    pub boundary: Vec<Face>,
     pub surfaces: Vec<Surface>,
     pub node_sets: Vec<NodeSet>,
     /// Material axes the mesh file gives its elements (none for a box).
@@ -83,7 +78,7 @@ pub struct BodyMesh {
     pub elements: Vec<Range<usize>>,
     pub material: usize,
     /// Every boundary face, outward (global node numbers).
-    pub boundary: Vec<[u32; 4]>,
+    pub boundary: Vec<Face>,
     /// Named surfaces; a box body has its six faces here, in [`BoxFace::ALL`] order.
     pub surfaces: Vec<Surface>,
     pub node_sets: Vec<NodeSet>,
@@ -91,7 +86,7 @@ pub struct BodyMesh {
 
 impl BodyMesh {
     /// The faces of a box face (box bodies only: their surfaces are the six faces in order).
-    pub fn face(&self, f: BoxFace) -> &[[u32; 4]] {
+    pub fn face(&self, f: BoxFace) -> &[Face] {
         &self.surfaces[f as usize].faces
     }
 
@@ -171,7 +166,7 @@ impl Mesh {
         let node_range = self.nodes.len()..self.nodes.len() + parts.nodes.len();
         self.nodes.extend(parts.nodes);
         let elements = (self.elements).append(&parts.elements, n0, Some(material as u32));
-        let shift = |faces: Vec<[u32; 4]>| -> Vec<[u32; 4]> {
+        let shift = |faces: Vec<Face>| -> Vec<Face> {
             faces.into_iter().map(|q| q.map(|i| i + n0)).collect()
         };
         self.bodies.push(BodyMesh {
@@ -200,8 +195,8 @@ impl Mesh {
     }
 
     /// Distinct nodes of a set of faces, sorted.
-    pub fn quad_nodes(quads: &[[u32; 4]]) -> Vec<u32> {
-        let mut v: Vec<u32> = quads.iter().flatten().copied().collect();
+    pub fn face_nodes(faces: &[Face]) -> Vec<u32> {
+        let mut v: Vec<u32> = faces.iter().flat_map(|f| f.corners()).copied().collect();
         v.sort_unstable();
         v.dedup();
         v

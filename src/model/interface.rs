@@ -3,13 +3,13 @@
 
 use std::ops::Range;
 
-use crate::geometry::{face::FaceKind, quad::quad_area};
+use crate::geometry::{face::Face, quad::quad_area};
 use crate::mesh::Mesh;
 
 /// What the secondary nodes of an interface press against.
 #[derive(Debug, Clone)]
 pub enum Primary {
-    /// Faces (quads, triangles `[a, b, c, c]`) of another body: `faces` indexes `ContactQueries::faces`, `queries` the queries
+    /// Faces (quads, triangles) of another body: `faces` indexes `ContactQueries::faces`, `queries` the queries
     /// of this interface's secondary nodes (in order).
     Surface {
         body: usize,
@@ -30,7 +30,7 @@ pub struct Interface {
     /// Tributary area of each secondary node (a quarter of each adjacent quad's area).
     pub area: Vec<f64>,
     /// The secondary faces the nodes and areas come from.
-    pub secondary_faces: Vec<[u32; 4]>,
+    pub secondary_faces: Vec<Face>,
     pub primary: Primary,
 }
 
@@ -41,13 +41,14 @@ impl Interface {
 }
 
 /// Secondary nodes of a set of faces with their tributary areas (reference configuration):
-/// a quad gives a quarter of its area to each corner, a triangle (`[a, b, c, c]`) a third.
-pub fn tributary_areas(mesh: &Mesh, quads: &[[u32; 4]]) -> (Vec<u32>, Vec<f64>) {
-    let nodes = Mesh::quad_nodes(quads);
+/// a quad gives a quarter of its area to each corner, a triangle a third.
+pub fn tributary_areas(mesh: &Mesh, faces: &[Face]) -> (Vec<u32>, Vec<f64>) {
+    let nodes = Mesh::face_nodes(faces);
     let mut area = vec![0.0; nodes.len()];
-    for q in quads {
-        let a = quad_area(&q.map(|n| mesh.nodes[n as usize]));
-        let corners = FaceKind::of(q).corners(q);
+    for f in faces {
+        // a triangle's area is that of the quad of its slots (its last corner twice)
+        let a = quad_area(&f.slots().map(|n| mesh.nodes[n as usize]));
+        let corners = f.corners();
         let share = a / corners.len() as f64;
         for n in corners {
             let i = nodes

@@ -11,7 +11,7 @@ use crate::error::{ImpactError, Result};
 use crate::geometry::vector::{bbox_diagonal, norm, sub};
 use crate::kernels::{ContactQueries, ElementData};
 use crate::material::Elastic;
-use crate::mesh::Mesh;
+use crate::mesh::{Face, Mesh};
 use crate::scene::{NodeSelection, Scene};
 
 #[derive(Debug, Clone)]
@@ -121,7 +121,7 @@ fn fixes(scene: &Scene, mesh: &Mesh) -> Result<(Vec<bool>, Vec<usize>)> {
     for (i, f) in scene.fixes.iter().enumerate() {
         let body = &mesh.bodies[f.body];
         let nodes: Vec<u32> = match &f.nodes {
-            NodeSelection::Surface(s) => Mesh::quad_nodes(&body.surfaces[*s].faces),
+            NodeSelection::Surface(s) => Mesh::face_nodes(&body.surfaces[*s].faces),
             NodeSelection::Set(s) => body.node_sets[*s].nodes.clone(),
             NodeSelection::Region { min, max } => body
                 .nodes
@@ -173,9 +173,8 @@ fn interfaces(scene: &Scene, mesh: &Mesh) -> (ContactQueries, Vec<Interface>) {
         let sec = &mesh.bodies[c.secondary.body].surfaces[c.secondary.surface].faces;
         let (nodes, area) = tributary_areas(mesh, sec);
         let f0 = queries.faces.len();
-        queries
-            .faces
-            .extend_from_slice(&mesh.bodies[c.primary.body].surfaces[c.primary.surface].faces);
+        let primary = &mesh.bodies[c.primary.body].surfaces[c.primary.surface].faces;
+        queries.faces.extend(primary.iter().map(Face::slots));
         let q0 = queries.secondary.len();
         queries.secondary.extend_from_slice(&nodes);
         interfaces.push(Interface {
@@ -193,7 +192,7 @@ fn interfaces(scene: &Scene, mesh: &Mesh) -> (ContactQueries, Vec<Interface>) {
     }
     queries.offsets = vec![0; queries.secondary.len() + 1];
     for p in &scene.planes {
-        let quads: Vec<[u32; 4]> = p
+        let quads: Vec<Face> = p
             .bodies
             .iter()
             .flat_map(|&b| mesh.bodies[b].boundary.iter().copied())

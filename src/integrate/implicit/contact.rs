@@ -21,10 +21,12 @@ use super::interface::InterfaceState;
 use super::StepConstants;
 
 /// How much farther (in face sizes) than the closest face the face a node held in the
-/// iteration before may be and still be kept ([`ContactIteration::keep_held_faces`]).
+/// iteration before may be and still be kept ([`MultiplierIteration::keep_held_faces`]).
 const FACE_HYSTERESIS: f64 = 1e-6;
 
-pub(super) struct ContactIteration {
+/// The step's contact multipliers, found by the adaptive-penalty augmented Lagrange
+/// iteration on the gap rate: the interfaces' states and the queries they are built from.
+pub(super) struct MultiplierIteration {
     pub(super) interfaces: Vec<InterfaceState>,
     queries: ContactQueries,
     candidate_lists: Vec<Vec<u32>>,
@@ -45,10 +47,10 @@ pub(super) struct ContactIteration {
     aa_out: Vec<f64>,
 }
 
-impl ContactIteration {
+impl MultiplierIteration {
     pub(super) fn new(model: &Model, interfaces: Vec<InterfaceState>) -> Self {
         let nq = model.queries.len();
-        ContactIteration {
+        MultiplierIteration {
             interfaces,
             queries: model.queries.clone(),
             candidate_lists: vec![Vec::new(); nq],

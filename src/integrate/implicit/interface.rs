@@ -3,6 +3,7 @@
 
 use crate::contact::augmented_lagrange::{IterationMemory, Penalty};
 use crate::contact::friction::Friction;
+use crate::geometry::face::Face;
 use crate::kernels::ContactPoint;
 use crate::linalg::Assembled;
 use crate::model::{Model, Primary};
@@ -137,7 +138,10 @@ fn default_penalty(model: &Model, asm: &Assembled, itf: &crate::model::Interface
     let inv_mp = match &itf.primary {
         Primary::Plane { .. } => 0.0,
         Primary::Surface { faces, .. } => {
-            let nodes = crate::mesh::Mesh::quad_nodes(&model.queries.faces[faces.clone()]);
+            let primary: Vec<Face> = (model.queries.faces[faces.clone()].iter())
+                .map(|&s| Face::from_slots(s))
+                .collect();
+            let nodes = crate::mesh::Mesh::face_nodes(&primary);
             let mean: f64 = nodes
                 .iter()
                 .map(|&n| asm.impulse_mass[n as usize])

@@ -48,7 +48,7 @@ use crate::scene::{ConstraintMeasure, ImplicitSettings, Method};
 use super::integrator::{ImplicitFigures, Integrator};
 use super::state::{ContactReport, Energies, InterfaceEnd, StepReport};
 use super::SolverState;
-use contact::ContactIteration;
+use contact::MultiplierIteration;
 use interface::interface_states;
 use workspace::Workspace;
 
@@ -101,7 +101,7 @@ pub struct ImplicitSolver<'m> {
     pub v: Vec<f64>,
     pub a: Vec<f64>,
     f_ext: Vec<f64>,
-    contact: ContactIteration,
+    contact: MultiplierIteration,
     work: Workspace,
 }
 
@@ -160,7 +160,7 @@ impl<'m> ImplicitSolver<'m> {
             v,
             a: vec![0.0; ndof],
             f_ext,
-            contact: ContactIteration::new(model, interfaces),
+            contact: MultiplierIteration::new(model, interfaces),
             work: Workspace::new(ndof, asm.dof_of.len()),
             asm,
         };

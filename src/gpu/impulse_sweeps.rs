@@ -1,4 +1,4 @@
-//! [`ContactIteration`]: the contact impulses of the explicit step on the device, for scenes
+//! [`ImpulseSweeps`]: the contact impulses of the explicit step on the device, for scenes
 //! with contact between meshed bodies (and any number of rigid planes). The same constraints
 //! and the same projected Jacobi sweeps as the host path (`integrate::explicit`), staged so
 //! that every value has one writer (the bounds and the state words aside, which are
@@ -424,7 +424,9 @@ impl Bindings<'_> {
     }
 }
 
-pub struct ContactIteration {
+/// The explicit step's contact impulses on the device: the search, the constraint kernels
+/// and the projected Jacobi sweeps, their buffers and launches built once.
+pub struct ImpulseSweeps {
     pub(super) search: Option<GpuSearch>,
     kernels: IterationKernels,
     launches: Launches,
@@ -437,7 +439,7 @@ pub struct ContactIteration {
     max_iterations: u32,
 }
 
-impl ContactIteration {
+impl ImpulseSweeps {
     pub fn new(
         ctx: &GpuContext,
         b: &StepBuffers,
@@ -476,7 +478,7 @@ impl ContactIteration {
             nodes: cnodes,
             links,
         } = model;
-        Ok(ContactIteration {
+        Ok(ImpulseSweeps {
             search,
             kernels,
             launches,
