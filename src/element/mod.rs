@@ -9,6 +9,7 @@ pub mod block;
 pub(crate) mod checks;
 pub mod corners;
 pub mod hex8;
+pub mod hex8i;
 pub mod kind;
 pub mod stable_step;
 pub mod tet4;

@@ -10,7 +10,17 @@ use crate::element::ElementKind;
 use crate::error::Result;
 use crate::kernels::ElementData;
 
-/// Every element's Gershgorin step on the device (hexes, then tets), in f64.
+/// The kinds the `stable_step` kernel bounds; a mesh holding another kind takes the CPU's
+/// survey.
+pub const KINDS: [ElementKind; 2] = [ElementKind::Hex8, ElementKind::Tet4];
+
+/// Whether the kernel bounds every element of `data`.
+pub fn covers(data: &ElementData) -> bool {
+    (data.elements.blocks.iter()).all(|b| b.is_empty() || KINDS.contains(&b.kind))
+}
+
+/// Every element's Gershgorin step on the device (hex8s, then tet4s: the mesh's order where
+/// it holds these kinds alone, [`covers`]), in f64.
 pub fn element_steps(ctx: &GpuContext, data: &ElementData) -> Result<Vec<f64>> {
     let (reference, materials) = (split_reference(data), device_materials(data));
     let block = |kind| data.elements.block(kind);

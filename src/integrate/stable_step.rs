@@ -25,6 +25,7 @@ pub use crate::element::stable_step::{element_critical_step, element_stable_step
 use crate::element::{self, ElementKind, ElementRef};
 use crate::error::Result;
 use crate::gpu::GpuContext;
+use crate::kernels::ElementData;
 use crate::model::Model;
 
 /// Up to this many distinct element shapes, each one's limit is its exact eigenvalue;
@@ -60,22 +61,10 @@ pub fn survey(model: &Model, gpu: Option<&GpuContext>) -> Result<StepSurvey> {
     let shapes = Shapes::of(model);
     let exact = shapes.cost <= 5 * EXACT_SHAPES;
     if let (false, Some(ctx)) = (exact, gpu) {
-        let steps = crate::gpu::element_steps(ctx, &model.element_data())?;
-        let (e, _) =
-            steps.iter().enumerate().fold(
-                (0, f64::INFINITY),
-                |b, (e, &s)| if s < b.1 { (e, s) } else { b },
-            );
-        // f32 picks the element; f64 gives its step (an element within f32's rounding of the
-        // smallest may have been passed over: a relative 1e-6 of the step)
-        let el = model.mesh.element(e);
-        let x = model.mesh.corners(el.nodes);
-        let step = element_stable_step(el.kind, &x, &model.materials[el.material as usize]);
-        return Ok(StepSurvey {
-            step,
-            element: e,
-            steps: steps.iter().map(|&s| s as f32).collect(),
-        });
+        let data = model.element_data();
+        if crate::gpu::stable_step::covers(&data) {
+            return device_survey(model, ctx, &data);
+        }
     }
     let limit: Vec<f64> = shapes
         .first
@@ -96,6 +85,26 @@ pub fn survey(model: &Model, gpu: Option<&GpuContext>) -> Result<StepSurvey> {
         step,
         element,
         steps: shapes.each(&limit),
+    })
+}
+
+/// [`survey`] by the `stable_step` kernel: f32 picks the element, f64 gives its step (an
+/// element within f32's rounding of the smallest may have been passed over: a relative 1e-6
+/// of the step).
+fn device_survey(model: &Model, ctx: &GpuContext, data: &ElementData) -> Result<StepSurvey> {
+    let steps = crate::gpu::element_steps(ctx, data)?;
+    let (e, _) =
+        (steps.iter().enumerate()).fold(
+            (0, f64::INFINITY),
+            |b, (e, &s)| if s < b.1 { (e, s) } else { b },
+        );
+    let el = model.mesh.element(e);
+    let x = model.mesh.corners(el.nodes);
+    let step = element_stable_step(el.kind, &x, &model.materials[el.material as usize]);
+    Ok(StepSurvey {
+        step,
+        element: e,
+        steps: steps.iter().map(|&s| s as f32).collect(),
     })
 }
 
