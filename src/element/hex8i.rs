@@ -164,14 +164,13 @@ mod tests {
         assert!(e.iter().all(|&v| v > -1e-9 * top), "{e}");
     }
 
+    /// An element stiffness function (hex8's or hex8i's).
+    type Stiffness = fn(&[[f64; 3]; 8], &Elastic) -> [[f64; 24]; 24];
+
     /// The tip deflection of a cantilever one element thick (`t`, width 1, length 6) and `n`
     /// elements long under a tip shear (nu = 0, clamped root), against Timoshenko's
     /// P L^3 / (3 E I) + P L / (kappa G A).
-    fn cantilever(
-        n: usize,
-        t: f64,
-        element: fn(&[[f64; 3]; 8], &Elastic) -> [[f64; 24]; 24],
-    ) -> f64 {
+    fn cantilever(n: usize, t: f64, element: Stiffness) -> f64 {
         let (len, e_mod, p) = (6.0, 1000.0, 1.0);
         let m = Elastic::from_engineering(e_mod, 0.0, 1.0);
         let h = len / n as f64;
