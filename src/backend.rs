@@ -5,7 +5,7 @@
 use crate::error::Result;
 use crate::kernels::{
     as_vec3, as_vec3_mut, contact_gap, element_forces, node_gather, slip_rate, ContactPoint,
-    ContactQueries, ElementData, Incidence,
+    ContactQueries, ElementData, Incidence, KeptData,
 };
 use crate::model::Model;
 
@@ -58,6 +58,7 @@ pub trait Kernels {
 /// The kernels on the CPU, in f64.
 pub struct CpuKernels {
     data: ElementData,
+    kept: KeptData,
     incidence: Incidence,
     corner_forces: Vec<[f64; 3]>,
 }
@@ -67,6 +68,7 @@ impl CpuKernels {
         let incidence = Incidence::new(&data.elements, data.reference.len());
         let corner_forces = vec![[0.0; 3]; data.corner_count()];
         CpuKernels {
+            kept: KeptData::of(&data),
             data,
             incidence,
             corner_forces,
@@ -92,7 +94,7 @@ impl Kernels for CpuKernels {
         f64::EPSILON
     }
     fn internal_forces_into(&mut self, u: &[f64], f: &mut [f64]) -> Result<()> {
-        element_forces(&self.data, as_vec3(u), &mut self.corner_forces);
+        element_forces(&self.data, &self.kept, as_vec3(u), &mut self.corner_forces);
         node_gather(&self.incidence, &self.corner_forces, as_vec3_mut(f));
         Ok(())
     }

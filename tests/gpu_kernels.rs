@@ -8,7 +8,7 @@ mod common;
 use common::*;
 
 use impact::backend::Kernels;
-use impact::element::ElementKind::{Hex8, Tet4};
+use impact::element::ElementKind::{Hex8, Hex8i, Tet4};
 use impact::element::Elements;
 use impact::geometry::face::FaceKind;
 use impact::gpu::{CornerSelection, GpuKernels};
@@ -155,6 +155,46 @@ fn hex8_forces_matches_its_cpu_twin() {
         assert!(
             e <= TOL,
             "seed {seed}: hex8_forces error {e:.3e} > {TOL:.0e}"
+        );
+    }
+}
+
+/// The distorted box with its hex8s as hex8i (the tets kept): every block's force kernel on
+/// the device against the CPU twins, the whole corner array in the twin's order.
+#[test]
+fn hex8i_forces_matches_its_cpu_twin() {
+    let Some(ctx) = gpu_context("hex8i_forces") else {
+        return;
+    };
+    let seed = seed("hex8i_forces");
+    let mut rng = StdRng::seed_from_u64(seed);
+    let mut p = distorted_box(&mut rng);
+    let hexes = std::mem::replace(
+        p.data.elements.block_mut(Hex8),
+        impact::element::ElementBlock::new(Hex8),
+    );
+    *p.data.elements.block_mut(Hex8i) = impact::element::ElementBlock {
+        kind: Hex8i,
+        ..hexes
+    };
+    let n = p.data.reference.len();
+    let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
+    gpu.fill_nan = true;
+    let mut cpu = impact::backend::CpuKernels::new(p.data.clone());
+    let mut f = vec![0.0; 3 * n];
+    for round in 0..3 {
+        let u = displacements(&mut rng, n, p.h);
+        cpu.internal_forces_into(&u, &mut f).expect("twin");
+        let g = gpu.corner_forces(&u).expect("dispatch");
+        let e = rel_err(&values(flat(&g)), &values(flat(cpu.corner_forces())));
+        eprintln!(
+            "round {round}: {} hex8i and {} tet4, relative error {e:.2e}",
+            p.data.elements.count_of(Hex8i),
+            p.data.elements.count_of(Tet4)
+        );
+        assert!(
+            e <= TOL,
+            "seed {seed}: hex8i_forces error {e:.3e} > {TOL:.0e}"
         );
     }
 }

@@ -18,14 +18,19 @@ use impact::run::{run, run_ranks, RunOptions};
 use impact::scene::{DeviceChoice, Scene};
 use rand::{Rng, SeedableRng};
 
-/// A hex8 block on a tet4 plate, its nodes jittered by the random displacement the forces
-/// are taken at.
+/// A hex8 block on a tet4 plate and a hex8i bar beside them (every element kind), its nodes
+/// jittered by the random displacement the forces are taken at.
 fn mixed_model() -> Model {
     let text = edit(
         &tet4_cube_on_plate(),
         "divisions = [4, 4, 4], element = \"tet4\" }",
         "divisions = [3, 4, 5] }",
-    );
+    ) + r#"
+[[body]]
+name = "bar"
+material = "soft"
+box = { min = [-2.0, 2.0, 0.0], max = [2.0, 2.5, 0.5], divisions = [6, 2, 1], element = "hex8i" }
+"#;
     let scene = Scene::parse(&text, &repo().join("scenes/mixed.toml")).expect("valid scene");
     Model::from_scene(&scene).expect("a model")
 }
@@ -37,7 +42,7 @@ fn mixed_model() -> Model {
 fn shared_node_sums_match_one_device(ctx: Option<GpuContext>) {
     let model = mixed_model();
     let els = &model.mesh.elements;
-    assert!(els.count_of(ElementKind::Hex8) > 0 && els.count_of(ElementKind::Tet4) > 0);
+    assert!(ElementKind::ALL.iter().all(|&k| els.count_of(k) > 0));
     let mut rng = rand::rngs::StdRng::seed_from_u64(seed("ranks_forces"));
     let u: Vec<f64> = (0..model.dofs())
         .map(|_| rng.random_range(-0.02..0.02))

@@ -73,14 +73,15 @@ pub struct Estimate {
 /// Host bytes per node of the model and any explicit state: coordinates (twice: the model and
 /// the kernels' copy), initial velocity, fixed flags, and eight f64 state vectors.
 const HOST_PER_NODE: u64 = 24 + 24 + 24 + 3 + 8 * 24 + 8;
-/// Host bytes per element of n corners: connectivity twice, material ids twice.
+/// Host bytes per element of n corners: connectivity twice, material ids twice, and what its
+/// force kernel keeps (f64).
 fn host_per_element(kind: ElementKind) -> u64 {
-    2 * 4 * kind.corners() as u64 + 2 * 4
+    2 * 4 * kind.corners() as u64 + 2 * 4 + 8 * kind.kept_per_element() as u64
 }
-/// Device bytes of the resident explicit step: per element its connectivity and its corner
-/// forces (f32 x 3 per corner); per node ten f32 3-vectors (reference, u, v, a, forces, ...).
+/// Device bytes of the resident explicit step: per element its connectivity, its corner
+/// forces (f32 x 3 per corner) and what its force kernel keeps (f32); per node ten f32 3-vectors (reference, u, v, a, forces, ...).
 fn device_per_element(kind: ElementKind) -> u64 {
-    (4 + 12) * kind.corners() as u64
+    (4 + 12) * kind.corners() as u64 + 4 * kind.kept_per_element() as u64
 }
 const DEVICE_PER_NODE: u64 = 10 * 12;
 /// Implicit assembly: a (row, column, value) triplet is 16 bytes; an element of n corners

@@ -233,7 +233,7 @@ mod tests {
         assert_eq!(part.element(1).nodes, &[100, 101, 102, 103]);
         let mut all = Elements::default();
         let ranges = all.append(&els, 10, Some(7));
-        assert_eq!(ranges, vec![0..2, 0..1]);
+        assert_eq!(ranges, vec![0..2, 0..1, 0..0]);
         assert_eq!(all.element(2).nodes, &[10, 11, 12, 13]);
         assert!(all.iter().all(|e| e.material == 7));
     }

@@ -15,7 +15,11 @@
 //! carry no mass: the mass is the hex8's.
 //!
 //! The element is linear, so its corner forces are $f = K_c u$; the force kernel keeps $K_c$
-//! per element ([`condensed_packed`]).
+//! per element with the corners' gradients at the centre ([`kept`]). It multiplies the
+//! corner displacements relative to corner 0 less the element's rigid rotation at its centre
+//! ([`forces`]): $K_c$ annihilates both, and without them the products of a thin element's
+//! large membrane entries with a rotating element's displacements would cancel to its small
+//! bending forces in f32.
 
 use super::hex8;
 use crate::material::Elastic;
@@ -105,11 +109,42 @@ pub fn condensed_packed(x: &[[f64; 3]; 8], m: &Elastic) -> [f64; PACKED] {
     out
 }
 
-/// Corner forces $f = K_c (u - u_0)$ from the packed condensed stiffness and the corner
-/// displacements (relative to corner 0: $K_c$ annihilates a translation, and the differences
-/// keep the digits of the strain under a large rigid motion).
-pub fn forces(k: &[f64], u: &[[f64; 3]; 8]) -> [[f64; 3]; 8] {
+/// Values the force kernel keeps per element: the packed condensed stiffness, then the
+/// corners' gradients at the centre.
+pub const KEPT: usize = PACKED + 24;
+
+/// What the force kernel keeps of an element ([`KEPT`] values).
+pub fn kept(x: &[[f64; 3]; 8], m: &Elastic) -> [f64; KEPT] {
+    let mut out = [0.0; KEPT];
+    out[..PACKED].copy_from_slice(&condensed_packed(x, m));
+    let (g, _) = hex8::gradients(x, [0.0; 3]);
+    for (k, gk) in g.iter().enumerate() {
+        out[PACKED + 3 * k..PACKED + 3 * k + 3].copy_from_slice(gk);
+    }
+    out
+}
+
+/// The corner displacements relative to corner 0, less the element's rotation at its
+/// centre: $d_k = u_k - u_0 - W (x_k - x_0)$ with $W$ the skew part of
+/// $\sum_k (u_k - u_0) \otimes \nabla N_k(0)$.
+pub fn straining(kept: &[f64], x: &[[f64; 3]; 8], u: &[[f64; 3]; 8]) -> [[f64; 3]; 8] {
     let d: [[f64; 3]; 8] = u.map(|p| std::array::from_fn(|a| p[a] - u[0][a]));
+    let g = |k: usize, b: usize| kept[PACKED + 3 * k + b];
+    let h: [[f64; 3]; 3] =
+        std::array::from_fn(|a| std::array::from_fn(|b| (0..8).map(|k| d[k][a] * g(k, b)).sum()));
+    let w: [[f64; 3]; 3] =
+        std::array::from_fn(|a| std::array::from_fn(|b| 0.5 * (h[a][b] - h[b][a])));
+    std::array::from_fn(|k| {
+        let r: [f64; 3] = std::array::from_fn(|b| x[k][b] - x[0][b]);
+        std::array::from_fn(|a| d[k][a] - (0..3).map(|b| w[a][b] * r[b]).sum::<f64>())
+    })
+}
+
+/// Corner forces $f = K_c d$ of the kept values, the reference corners and the corner
+/// displacements, with $d$ the element's [`straining`] displacements.
+pub fn forces(kept: &[f64], x: &[[f64; 3]; 8], u: &[[f64; 3]; 8]) -> [[f64; 3]; 8] {
+    let d = straining(kept, x, u);
+    let k = kept;
     std::array::from_fn(|kk| {
         std::array::from_fn(|a| {
             let r = 3 * kk + a;
@@ -255,8 +290,8 @@ mod tests {
             [0.0, 3e-4, 1.5e-3],
         ];
         let u = x.map(|p| std::array::from_fn(|a| (0..3).map(|b| h[a][b] * p[b]).sum()));
-        let k = condensed_packed(&x, &m);
-        let f = forces(&k, &u);
+        let k = kept(&x, &m);
+        let f = forces(&k, &x, &u);
         let plain = hex8::stiffness(&x, &m);
         for r in 0..24 {
             let want: f64 = (0..24).map(|c| plain[r][c] * u[c / 3][c % 3]).sum();

@@ -3,7 +3,7 @@
 //! gradients). This is the one place that matches on the kind, besides the per-step force
 //! kernels' dispatch (`kernels` on the CPU, `gpu::engine` on a device).
 
-use super::{hex8, tet4};
+use super::{hex8, hex8i, tet4};
 use crate::material::Elastic;
 
 /// A kind of finite element.
@@ -13,6 +13,9 @@ pub enum ElementKind {
     Hex8,
     /// The linear tetrahedron ([`tet4`]).
     Tet4,
+    /// The hex8 with incompatible modes, condensed in the element ([`hex8i`]): no shear
+    /// locking in bending.
+    Hex8i,
 }
 
 /// Where an element's Jacobian determinant was sampled.
@@ -51,7 +54,7 @@ const TET4_FACES: [&[usize]; 4] = [
 impl ElementKind {
     /// Every kind, in the order of a mesh's blocks: global element numbers run through the
     /// blocks in this order.
-    pub const ALL: [ElementKind; 2] = [ElementKind::Hex8, ElementKind::Tet4];
+    pub const ALL: [ElementKind; 3] = [ElementKind::Hex8, ElementKind::Tet4, ElementKind::Hex8i];
 
     /// The position of the kind in [`Self::ALL`] (its block).
     pub const fn index(self) -> usize {
@@ -61,7 +64,7 @@ impl ElementKind {
     /// Corner nodes per element.
     pub const fn corners(self) -> usize {
         match self {
-            ElementKind::Hex8 => 8,
+            ElementKind::Hex8 | ElementKind::Hex8i => 8,
             ElementKind::Tet4 => 4,
         }
     }
@@ -71,13 +74,14 @@ impl ElementKind {
         match self {
             ElementKind::Hex8 => "hex8",
             ElementKind::Tet4 => "tet4",
+            ElementKind::Hex8i => "hex8i",
         }
     }
 
     /// The VTK cell type of the kind.
     pub const fn vtk_cell(self) -> u8 {
         match self {
-            ElementKind::Hex8 => 12,
+            ElementKind::Hex8 | ElementKind::Hex8i => 12,
             ElementKind::Tet4 => 10,
         }
     }
@@ -86,7 +90,7 @@ impl ElementKind {
     /// positively oriented element (quads for a hex8, triangles for a tet4).
     pub fn faces(self) -> &'static [&'static [usize]] {
         match self {
-            ElementKind::Hex8 => &HEX8_FACES,
+            ElementKind::Hex8 | ElementKind::Hex8i => &HEX8_FACES,
             ElementKind::Tet4 => &TET4_FACES,
         }
     }
@@ -95,15 +99,33 @@ impl ElementKind {
     /// against a tet4's.
     pub const fn exact_step_cost(self) -> usize {
         match self {
-            ElementKind::Hex8 => 5,
+            ElementKind::Hex8 | ElementKind::Hex8i => 5,
             ElementKind::Tet4 => 1,
+        }
+    }
+
+    /// Values the force kernel keeps per element, computed once ([`Self::kept`]).
+    pub const fn kept_per_element(self) -> usize {
+        match self {
+            ElementKind::Hex8 | ElementKind::Tet4 => 0,
+            ElementKind::Hex8i => hex8i::KEPT,
+        }
+    }
+
+    /// What the force kernel keeps of an element (none for hex8 and tet4, which compute from
+    /// the corners and the material at every call; a hex8i's condensed stiffness and centre
+    /// gradients, [`hex8i::kept`]).
+    pub fn kept(self, x: &[[f64; 3]], m: &Elastic) -> Vec<f64> {
+        match self {
+            ElementKind::Hex8 | ElementKind::Tet4 => Vec::new(),
+            ElementKind::Hex8i => hex8i::kept(as_array(x), m).to_vec(),
         }
     }
 
     /// The edges as corner pairs.
     pub fn edges(self) -> &'static [(usize, usize)] {
         match self {
-            ElementKind::Hex8 => &[
+            ElementKind::Hex8 | ElementKind::Hex8i => &[
                 (0, 1),
                 (1, 2),
                 (2, 3),
@@ -125,7 +147,7 @@ impl ElementKind {
     /// that it has positive volume.
     pub fn mirror(self, nodes: &mut [u32]) {
         match self {
-            ElementKind::Hex8 => {
+            ElementKind::Hex8 | ElementKind::Hex8i => {
                 let (bottom, top) = nodes.split_at_mut(4);
                 bottom.swap_with_slice(top);
             }
@@ -136,7 +158,7 @@ impl ElementKind {
     /// Element volume at corners `x`.
     pub fn volume(self, x: &[[f64; 3]]) -> f64 {
         match self {
-            ElementKind::Hex8 => hex8::volume(as_array(x)),
+            ElementKind::Hex8 | ElementKind::Hex8i => hex8::volume(as_array(x)),
             ElementKind::Tet4 => tet4::volume(as_array(x)),
         }
     }
@@ -150,15 +172,20 @@ impl ElementKind {
             ElementKind::Tet4 => (tet4::stiffness(as_array(x), m).iter())
                 .map(|r| r.to_vec())
                 .collect(),
+            ElementKind::Hex8i => (hex8i::stiffness(as_array(x), m).iter())
+                .map(|r| r.to_vec())
+                .collect(),
         }
     }
 
     /// Consistent mass per node pair, n x n.
     pub fn consistent_mass(self, x: &[[f64; 3]], density: f64) -> Vec<Vec<f64>> {
         match self {
-            ElementKind::Hex8 => (hex8::consistent_mass(as_array(x), density).iter())
-                .map(|r| r.to_vec())
-                .collect(),
+            // the incompatible modes carry no mass
+            ElementKind::Hex8 | ElementKind::Hex8i => (hex8::consistent_mass(as_array(x), density)
+                .iter())
+            .map(|r| r.to_vec())
+            .collect(),
             ElementKind::Tet4 => (tet4::consistent_mass(as_array(x), density).iter())
                 .map(|r| r.to_vec())
                 .collect(),
@@ -168,7 +195,9 @@ impl ElementKind {
     /// Lumped mass of each corner.
     pub fn lumped_mass(self, x: &[[f64; 3]], density: f64) -> Vec<f64> {
         match self {
-            ElementKind::Hex8 => hex8::lumped_mass(as_array(x), density).to_vec(),
+            ElementKind::Hex8 | ElementKind::Hex8i => {
+                hex8::lumped_mass(as_array(x), density).to_vec()
+            }
             ElementKind::Tet4 => tet4::lumped_mass(as_array(x), density).to_vec(),
         }
     }
@@ -176,7 +205,10 @@ impl ElementKind {
     /// The shape functions' spatial gradients at the element's centre.
     pub fn centre_gradients(self, x: &[[f64; 3]]) -> Vec<[f64; 3]> {
         match self {
-            ElementKind::Hex8 => hex8::gradients(as_array(x), [0.0; 3]).0.to_vec(),
+            // the modes' gradients vanish at the centre
+            ElementKind::Hex8 | ElementKind::Hex8i => {
+                hex8::gradients(as_array(x), [0.0; 3]).0.to_vec()
+            }
             ElementKind::Tet4 => tet4::gradients(as_array(x)).0.to_vec(),
         }
     }
@@ -186,7 +218,7 @@ impl ElementKind {
     /// mean is the scale) and corners; a tet4 once (6 V), against its extent cubed.
     pub fn jacobian_samples(self, x: &[[f64; 3]]) -> (Vec<(Sample, f64)>, f64) {
         match self {
-            ElementKind::Hex8 => {
+            ElementKind::Hex8 | ElementKind::Hex8i => {
                 let x = as_array(x);
                 let det = |p| hex8::gradients(x, p).1;
                 let gauss = hex8::gauss_points().map(det);

@@ -8,12 +8,12 @@ use super::context::GpuContext;
 use super::kernel::{Kernel, Launch};
 use super::search::GpuSearch;
 use super::types::{self, to_device, ContactQuery, Material, Quad, Split3};
-use super::{ContactGap, CornerSelect, Hex8Forces, NodeGather, SlipRate, Tet4Forces};
+use super::{ContactGap, CornerSelect, Hex8Forces, Hex8iForces, NodeGather, SlipRate, Tet4Forces};
 use crate::backend::Kernels;
 use crate::contact::search;
 use crate::element::{CornerLayout, ElementKind};
 use crate::error::{ImpactError, Result};
-use crate::kernels::{ContactPoint, ContactQueries, ElementData, Incidence, SearchGrid};
+use crate::kernels::{ContactPoint, ContactQueries, ElementData, Incidence, KeptData, SearchGrid};
 use crate::model::Model;
 
 /// Contact data as last uploaded (re-uploaded only when it changes).
@@ -29,6 +29,7 @@ struct UploadedQueries {
 pub(super) struct EngineKernels {
     pub(super) hex8_forces: Hex8Forces,
     pub(super) tet4_forces: Tet4Forces,
+    pub(super) hex8i_forces: Hex8iForces,
     pub(super) node_gather: NodeGather,
     pub(super) corner_select: CornerSelect,
     pub(super) contact_gap: ContactGap,
@@ -42,6 +43,7 @@ impl EngineKernels {
         match kind {
             ElementKind::Hex8 => &self.hex8_forces.0,
             ElementKind::Tet4 => &self.tet4_forces.0,
+            ElementKind::Hex8i => &self.hex8i_forces.0,
         }
     }
 
@@ -71,6 +73,17 @@ impl EngineKernels {
             ElementKind::Tet4 => (self.tet4_forces).launch(
                 ctx, count, slots, first_slot, x, u, nodes, material, mats, c,
             ),
+            ElementKind::Hex8i => (self.hex8i_forces).launch(
+                ctx,
+                count,
+                slots,
+                first_slot,
+                x,
+                u,
+                nodes,
+                &block.kept.buffer,
+                c,
+            ),
         }
     }
 
@@ -78,6 +91,7 @@ impl EngineKernels {
         EngineKernels {
             hex8_forces: Hex8Forces::new(ctx),
             tet4_forces: Tet4Forces::new(ctx),
+            hex8i_forces: Hex8iForces::new(ctx),
             node_gather: NodeGather::new(ctx),
             corner_select: CornerSelect::new(ctx),
             contact_gap: ContactGap::new(ctx),
@@ -93,6 +107,8 @@ pub(super) struct BlockBuffers {
     count: usize,
     nodes: Storage,
     material: Storage,
+    /// What the kind's force kernel keeps per element (one unused word where it keeps none).
+    kept: Storage,
 }
 
 /// The mesh on the device, uploaded once: the split reference coordinates, each non-empty
@@ -116,6 +132,7 @@ impl MeshBuffers {
                     count: b.count,
                     nodes: Storage::with_data(ctx, b.kind.name(), &b.nodes)?,
                     material: Storage::with_data(ctx, "block_material", &b.material)?,
+                    kept: Storage::with_data(ctx, "block_kept", &at_least_one(b.kept))?,
                 })
             })
             .collect::<Result<_>>()?;
@@ -129,7 +146,7 @@ impl MeshBuffers {
     }
 
     fn all(&self) -> Vec<&Storage> {
-        let blocks = self.blocks.iter().flat_map(|b| [&b.nodes, &b.material]);
+        let blocks = (self.blocks.iter()).flat_map(|b| [&b.nodes, &b.material, &b.kept]);
         [
             &self.reference,
             &self.materials,
@@ -246,20 +263,24 @@ pub struct ElementColumns {
     pub incidence: Incidence,
 }
 
-/// One block's connectivity column by column, and its materials.
+/// One block's connectivity column by column, its materials, and what its force kernel
+/// keeps, in f32 entry by entry (entry i of element e at `i E + e`).
 pub struct BlockColumns {
     pub kind: ElementKind,
     pub count: usize,
     pub nodes: Vec<u32>,
     pub material: Vec<u32>,
+    pub kept: Vec<f32>,
 }
 
 impl ElementColumns {
     pub fn new(data: &ElementData) -> Self {
         use rayon::prelude::*;
+        let kept = KeptData::of(data);
         let blocks = (data.elements.blocks.iter())
             .map(|b| {
                 let (e, n) = (b.len(), b.kind.corners());
+                let (k, values) = (b.kind.kept_per_element(), kept.of_kind(b.kind));
                 BlockColumns {
                     kind: b.kind,
                     count: e,
@@ -268,6 +289,10 @@ impl ElementColumns {
                         .map(|i| b.nodes[n * (i % e) + i / e])
                         .collect(),
                     material: b.material.clone(),
+                    kept: (0..k * e)
+                        .into_par_iter()
+                        .map(|i| values[k * (i % e) + i / e] as f32)
+                        .collect(),
                 }
             })
             .collect();

@@ -79,6 +79,7 @@ kernel_table! {
     Hex8Forces = hex8_forces(
         reference, displacement, block_nodes, block_material, materials, corner_forces,
     );
+    Hex8iForces = hex8i_forces(reference, displacement, block_nodes, kept, corner_forces);
     HistoryReduce = history_reduce(columns, partials, results, displacement, velocity, rows);
     NodeGather = node_gather(offsets, incidence, corner_forces, forces);
     PlaneContact = plane_contact(

@@ -27,6 +27,7 @@ pub mod explicit_drift;
 pub mod explicit_predict;
 pub mod face_cells;
 pub mod hex8_forces;
+pub mod hex8i_forces;
 pub mod history_reduce;
 pub mod impulse;
 pub mod node_gather;
@@ -56,6 +57,7 @@ pub use explicit_drift::explicit_drift;
 pub use explicit_predict::explicit_predict;
 pub use face_cells::face_cells;
 pub use hex8_forces::hex8_forces;
+pub use hex8i_forces::hex8i_forces;
 pub use history_reduce::{history_reduce, ReduceColumn};
 pub use node_gather::{node_gather, Incidence};
 pub use plane_contact::{plane_contact, PlaneData, PlaneNode, SweepLimits};
@@ -90,9 +92,50 @@ impl ElementData {
     }
 }
 
+/// What the force kernels keep of the elements besides their data, computed once: each
+/// block's [`ElementKind::kept`] values, element after element.
+#[derive(Debug, Clone, Default)]
+pub struct KeptData {
+    pub blocks: Vec<Vec<f64>>,
+}
+
+impl KeptData {
+    /// The kept values of every block, on all threads.
+    pub fn of(data: &ElementData) -> Self {
+        use rayon::prelude::*;
+        let blocks = (data.elements.blocks.iter())
+            .map(|b| {
+                if b.kind.kept_per_element() == 0 {
+                    return Vec::new();
+                }
+                (0..b.len())
+                    .into_par_iter()
+                    .flat_map_iter(|e| {
+                        let x: Vec<[f64; 3]> = (b.element(e).iter())
+                            .map(|&n| data.reference[n as usize])
+                            .collect();
+                        b.kind.kept(&x, &data.materials[b.material[e] as usize])
+                    })
+                    .collect()
+            })
+            .collect();
+        KeptData { blocks }
+    }
+
+    /// The kept values of a kind's block.
+    pub fn of_kind(&self, kind: ElementKind) -> &[f64] {
+        self.blocks.get(kind.index()).map_or(&[], Vec::as_slice)
+    }
+}
+
 /// Corner forces of every element at displacement `u`, in the [`CornerLayout`] (overwrites
 /// `corner_forces`): the per-kind force kernels, each on its block's part.
-pub fn element_forces(data: &ElementData, u: &[[f64; 3]], corner_forces: &mut [[f64; 3]]) {
+pub fn element_forces(
+    data: &ElementData,
+    kept: &KeptData,
+    u: &[[f64; 3]],
+    corner_forces: &mut [[f64; 3]],
+) {
     let layout = data.layout();
     for block in &data.elements.blocks {
         let start = layout.offset(block.kind);
@@ -100,6 +143,7 @@ pub fn element_forces(data: &ElementData, u: &[[f64; 3]], corner_forces: &mut [[
         match block.kind {
             ElementKind::Hex8 => hex8_forces(data, u, out),
             ElementKind::Tet4 => tet4_forces(data, u, out),
+            ElementKind::Hex8i => hex8i_forces(data, kept.of_kind(block.kind), u, out),
         }
     }
 }

@@ -1,7 +1,7 @@
 //! Abaqus/CalculiX input deck reader (flat decks, no parts or instances).
 //!
-//! Keywords read (case-insensitive): `*NODE` (`NSET=`), `*ELEMENT` with `TYPE=C3D8` or
-//! `TYPE=C3D4` (`ELSET=`; data lines may continue after a trailing comma), `*NSET` and
+//! Keywords read (case-insensitive): `*NODE` (`NSET=`), `*ELEMENT` with `TYPE=C3D8`,
+//! `TYPE=C3D8I` (the hex8 with incompatible modes) or `TYPE=C3D4` (`ELSET=`; data lines may continue after a trailing comma), `*NSET` and
 //! `*ELSET` (`GENERATE`, or lists of numbers and names of earlier sets), `*SURFACE`
 //! (`TYPE=ELEMENT`, the default: lines `element-or-elset, Sn`; `TYPE=NODE`: a node set),
 //! `*ORIENTATION` (`SYSTEM=RECTANGULAR`, `DEFINITION=COORDINATES`) and the `ORIENTATION=` of
@@ -33,9 +33,10 @@ const C3D8_SIDES: [&[usize]; 6] = [
 const C3D4_SIDES: [&[usize]; 4] = [&[1, 2, 3], &[1, 4, 2], &[2, 4, 3], &[3, 4, 1]];
 
 /// The element types read: each type's name, kind and side numbering.
-const TYPES: [(&str, ElementKind, &[&[usize]]); 2] = [
+const TYPES: [(&str, ElementKind, &[&[usize]]); 3] = [
     ("C3D8", ElementKind::Hex8, &C3D8_SIDES),
     ("C3D4", ElementKind::Tet4, &C3D4_SIDES),
+    ("C3D8I", ElementKind::Hex8i, &C3D8_SIDES),
 ];
 
 /// The type name and side numbering of a kind.
@@ -319,7 +320,7 @@ impl Parser {
         Ok(())
     }
 
-    /// Opens an `*ELEMENT` block: its type (C3D8 or C3D4) and its `ELSET=`.
+    /// Opens an `*ELEMENT` block: its type (C3D8, C3D8I or C3D4) and its `ELSET=`.
     fn element_keyword(&mut self, k: &Keyword) -> Res<Mode> {
         let ty = k.need("TYPE")?.to_ascii_uppercase();
         self.set_name = k.get("ELSET");
@@ -327,7 +328,7 @@ impl Parser {
             Some(&(_, kind, _)) => Ok(Mode::Element { kind }),
             None => Err(ParseError::at(
                 k.line,
-                format!("element type {ty} is not supported: only C3D8 (hex8) and C3D4 (tet4) are"),
+                format!("element type {ty} is not supported: only C3D8 (hex8), C3D8I (hex8i) and C3D4 (tet4) are"),
             )),
         }
     }

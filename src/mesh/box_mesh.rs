@@ -51,6 +51,8 @@ pub enum BoxElement {
     /// highest corner (the Kuhn subdivision): every cell face is cut along its diagonal from
     /// its lowest to its highest corner, so neighbouring cells' triangles match.
     Tet4,
+    /// One hex8 with incompatible modes per cell ([`crate::element::hex8i`]).
+    Hex8i,
 }
 
 impl BoxElement {
@@ -59,6 +61,7 @@ impl BoxElement {
         match self {
             BoxElement::Hex8 => (ElementKind::Hex8, 1),
             BoxElement::Tet4 => (ElementKind::Tet4, 6),
+            BoxElement::Hex8i => (ElementKind::Hex8i, 1),
         }
     }
 }
@@ -97,10 +100,9 @@ pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
     let faces = BoxFace::ALL.map(|face| grid.face_quads(face));
     let mut elements = Elements::default();
     let faces = match spec.element {
-        BoxElement::Hex8 => {
-            cells
-                .iter()
-                .for_each(|h| elements.push(ElementKind::Hex8, h, 0));
+        BoxElement::Hex8 | BoxElement::Hex8i => {
+            let kind = spec.element.per_cell().0;
+            cells.iter().for_each(|h| elements.push(kind, h, 0));
             faces
         }
         BoxElement::Tet4 => {

@@ -100,9 +100,10 @@ impl BodyMesh {
         self.elements.iter().map(|r| r.len()).sum()
     }
 
-    /// The body's element count by kind, as "8 hex8, 0 tet4".
+    /// The body's element count of each kind it holds, as "8 hex8, 48 tet4".
     pub fn kind_counts(&self) -> String {
         (ElementKind::ALL.iter())
+            .filter(|&&k| !self.of_kind(k).is_empty())
             .map(|&k| format!("{} {k}", self.of_kind(k).len()))
             .collect::<Vec<_>>()
             .join(", ")

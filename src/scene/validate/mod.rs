@@ -142,7 +142,11 @@ impl Checker<'_> {
             &key("box.element"),
             b.element.as_deref(),
             BoxElement::Hex8,
-            &[("hex8", BoxElement::Hex8), ("tet4", BoxElement::Tet4)],
+            &[
+                ("hex8", BoxElement::Hex8),
+                ("tet4", BoxElement::Tet4),
+                ("hex8i", BoxElement::Hex8i),
+            ],
         )?;
         Ok(BoxSpec {
             min,
