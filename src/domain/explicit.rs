@@ -20,7 +20,8 @@ use crate::gpu::GpuContext;
 use crate::integrate::explicit::{correct, lumped_mass, ExplicitState, NodalStart};
 use crate::integrate::state::check_restore;
 use crate::integrate::{
-    ContactReport, Decomposition, Energies, Integrator, Piece, ProbeValues, SolverState, StepReport,
+    ContactReport, Decomposed, Decomposition, Energies, Integrator, Piece, ProbeValues,
+    SolverState, StepReport,
 };
 use crate::kernels::{self, search_bounds::fastest_speed};
 use crate::model::Model;
@@ -284,13 +285,12 @@ impl Integrator for DomainSolver<'_> {
         &self.v
     }
 
-    fn piece(&self) -> Option<Piece<'_>> {
-        Some(Piece {
-            model: &self.piece,
-            u: &self.u,
-            v: &self.v,
-            nodes: &self.sub.nodes,
-        })
+    fn decomposed(&self) -> Option<&dyn Decomposed> {
+        Some(self)
+    }
+
+    fn decomposed_mut(&mut self) -> Option<&mut dyn Decomposed> {
+        Some(self)
     }
 
     fn nodal_mass(&self) -> &[f64] {
@@ -339,33 +339,6 @@ impl Integrator for DomainSolver<'_> {
         (all.chunks_exact(4))
             .map(|c| [c[1] / c[0], c[2] / c[0], c[3] / c[0]])
             .collect()
-    }
-
-    fn decomposition(&mut self) -> Option<Decomposition> {
-        let f = self.figures();
-        let mine = [
-            f.elements as f64,
-            f.nodes as f64,
-            f.shared_nodes as f64,
-            f.neighbours as f64,
-            f.communication,
-            f.face_nodes_received as f64,
-            f.contact,
-        ];
-        let all = self.ranks.gather_all(&mine);
-        let column = |k: usize| all.iter().map(|r| r[k] as usize).collect();
-        Some(Decomposition {
-            ranks: self.ranks.size(),
-            partition: super::partition::DESCRIPTION.into(),
-            contact: super::contact::DESCRIPTION.into(),
-            elements: column(0),
-            nodes: column(1),
-            shared_nodes: column(2),
-            neighbours: column(3),
-            communication_seconds: all.iter().map(|r| r[4]).collect(),
-            contact_seconds: all.iter().map(|r| r[6]).collect(),
-            face_nodes_received: column(5),
-        })
     }
 
     /// The single process's state at this step ([`super::checkpoint`]), on rank 0.
@@ -469,5 +442,43 @@ impl Integrator for DomainSolver<'_> {
 
     fn end_at(&mut self, time: f64) {
         self.time = time;
+    }
+}
+
+impl Decomposed for DomainSolver<'_> {
+    fn piece(&self) -> Piece<'_> {
+        Piece {
+            model: &self.piece,
+            u: &self.u,
+            v: &self.v,
+            nodes: &self.sub.nodes,
+        }
+    }
+
+    fn decomposition(&mut self) -> Decomposition {
+        let f = self.figures();
+        let mine = [
+            f.elements as f64,
+            f.nodes as f64,
+            f.shared_nodes as f64,
+            f.neighbours as f64,
+            f.communication,
+            f.face_nodes_received as f64,
+            f.contact,
+        ];
+        let all = self.ranks.gather_all(&mine);
+        let column = |k: usize| all.iter().map(|r| r[k] as usize).collect();
+        Decomposition {
+            ranks: self.ranks.size(),
+            partition: super::partition::DESCRIPTION.into(),
+            contact: super::contact::DESCRIPTION.into(),
+            elements: column(0),
+            nodes: column(1),
+            shared_nodes: column(2),
+            neighbours: column(3),
+            communication_seconds: all.iter().map(|r| r[4]).collect(),
+            contact_seconds: all.iter().map(|r| r[6]).collect(),
+            face_nodes_received: column(5),
+        }
     }
 }

@@ -2,7 +2,9 @@
 //! explicit central-difference solver with its step on the host, or the explicit step
 //! resident on the GPU. The run loop holds a `Box<dyn Integrator>` and nothing more.
 
-use super::state::{ContactReport, Energies, InterfaceEnd, ProbeValues, StepReport};
+use super::state::{
+    ContactReport, Decomposition, Energies, InterfaceEnd, Piece, ProbeValues, StepReport,
+};
 use super::SolverState;
 use crate::error::Result;
 use crate::linalg::FactorStats;
@@ -99,35 +101,47 @@ pub trait Integrator {
         None
     }
 
-    /// A rank of a decomposed run: its piece of the frames (its `displacement` and
-    /// `velocity` are its own nodes').
-    fn piece(&self) -> Option<super::state::Piece<'_>> {
-        None
-    }
-
-    /// A run decomposed over ranks: how, and each rank's communication time. Every rank
-    /// calls it at the end of a run (it may gather from the others).
-    fn decomposition(&mut self) -> Option<super::state::Decomposition> {
-        None
-    }
-
-    /// The run's shortened last step and checkpoint interval, before the first step (the
-    /// resident path plans its submissions by them).
-    fn schedule(&mut self, _last_step: Option<f64>, _checkpoint_every: Option<usize>) {}
-
     /// Makes the next step `dt` long (the shortened last step).
     fn shorten_step(&mut self, _dt: f64) {}
 
     /// Puts the clock exactly on `time` after the shortened last step.
     fn end_at(&mut self, _time: f64) {}
 
-    /// Submits no more device work (the resident path; the others have none in flight).
-    fn stop_submitting(&mut self) {}
-
-    /// Whether the state of the last step handed out is all there is (nothing in flight).
-    fn at_rest(&self) -> bool {
-        true
+    /// The integrator as one whose steps run ahead of the host, if it is.
+    fn pipelined(&mut self) -> Option<&mut dyn Pipelined> {
+        None
     }
+
+    /// The integrator as a rank of a decomposed run, if it is.
+    fn decomposed(&self) -> Option<&dyn Decomposed> {
+        None
+    }
+
+    /// [`Self::decomposed`], mutably.
+    fn decomposed_mut(&mut self) -> Option<&mut dyn Decomposed> {
+        None
+    }
+}
+
+/// An integrator whose steps run ahead of the host (the resident GPU step): the run plans
+/// its submissions, stops them on a signal and waits until it is at rest.
+pub trait Pipelined {
+    /// The run's shortened last step and checkpoint interval, before the first step.
+    fn schedule(&mut self, last_step: Option<f64>, checkpoint_every: Option<usize>);
+    /// Submits no more device work.
+    fn stop_submitting(&mut self);
+    /// Whether the state of the last step handed out is all there is (nothing in flight).
+    fn at_rest(&self) -> bool;
+}
+
+/// A rank of a run decomposed over ranks.
+pub trait Decomposed {
+    /// The rank's piece of the frames (its `displacement` and `velocity` are its own
+    /// nodes').
+    fn piece(&self) -> Piece<'_>;
+    /// How the run is decomposed, and each rank's communication time. Every rank calls it at
+    /// the end of a run (it may gather from the others).
+    fn decomposition(&mut self) -> Decomposition;
 }
 
 /// The message of a checkpoint written by another integrator.

@@ -9,7 +9,7 @@ pub mod state;
 
 pub use explicit::ExplicitSolver;
 pub use implicit::ImplicitSolver;
-pub use integrator::{ImplicitFigures, Integrator};
+pub use integrator::{Decomposed, ImplicitFigures, Integrator, Pipelined};
 pub use resident::ResidentSolver;
 pub use state::{
     ContactReport, Decomposition, Energies, InterfaceEnd, Piece, ProbeValues, StepReport,

@@ -13,7 +13,7 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::explicit::lumped_mass;
-use super::integrator::{Integrator, ENGINE_GPU_RESIDENT};
+use super::integrator::{Integrator, Pipelined, ENGINE_GPU_RESIDENT};
 use super::state::{ContactReport, Energies, StepReport};
 use super::SolverState;
 use crate::contact::search;
@@ -232,7 +232,7 @@ pub struct ResidentSolver<'m> {
     pair_ranges: Option<Vec<Range<usize>>>,
     reruns: usize,
     min_sweeps: u32,
-    /// The shortened last step, if the run has one (see [`Integrator::schedule`]).
+    /// The shortened last step, if the run has one (see [`Pipelined::schedule`]).
     last_dt: Option<f64>,
     /// The step length the rows being decoded were computed with.
     row_dt: f64,
@@ -688,6 +688,12 @@ impl Integrator for ResidentSolver<'_> {
         self.current.probes.clone()
     }
 
+    fn pipelined(&mut self) -> Option<&mut dyn Pipelined> {
+        Some(self)
+    }
+}
+
+impl Pipelined for ResidentSolver<'_> {
     /// Makes the run's last step `last_step` long instead of the step (an end time that is
     /// not a whole number of steps), and ends submissions at every multiple of
     /// `checkpoint_every` steps, so that the state can be read there
@@ -698,13 +704,13 @@ impl Integrator for ResidentSolver<'_> {
     }
 
     /// Submits nothing more: the steps already submitted are handed out, then the solver is
-    /// at rest ([`Self::at_rest`]) and its state can be read.
+    /// at rest ([`Pipelined::at_rest`]) and its state can be read.
     fn stop_submitting(&mut self) {
         self.stopping = true;
     }
 
     /// Nothing in flight and every computed step handed out: the device holds the state of
-    /// step [`Self::steps`].
+    /// step [`Integrator::steps`].
     fn at_rest(&self) -> bool {
         self.rows.is_empty() && !self.engine.is_pending(0) && !self.engine.is_pending(1)
     }

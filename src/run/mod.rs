@@ -114,7 +114,9 @@ fn build_solver<'m>(
             }
         }
     };
-    solver.schedule(setup.last_step, scene.checkpoint_every);
+    if let Some(p) = solver.pipelined() {
+        p.schedule(setup.last_step, scene.checkpoint_every);
+    }
     Ok(solver)
 }
 
@@ -271,7 +273,9 @@ impl<'s> Running<'s> {
             .as_ref()
             .map_or_else(|| scene.speed_scale(), |c| c.speed_scale);
         let mut solver = build_solver(scene, setup, speed_scale, ranks)?;
-        solver.schedule(setup.last_step, scene.checkpoint_every);
+        if let Some(p) = solver.pipelined() {
+            p.schedule(setup.last_step, scene.checkpoint_every);
+        }
         clock.lap("solver");
         let model = &setup.model;
         check_exact_columns(scene, model)?;
@@ -401,7 +405,7 @@ impl<'s> Running<'s> {
     /// Ends a diverged run (see [`fail`]).
     fn fail(&mut self, at: (usize, f64), reason: String) -> ImpactError {
         // every rank of a decomposed run diverges at the same step
-        self.summary.ranks = self.solver.decomposition();
+        self.summary.ranks = self.solver.decomposed_mut().map(|d| d.decomposition());
         fail(
             self.scene,
             &self.setup.model,
@@ -425,10 +429,13 @@ impl<'s> Running<'s> {
         };
         if signalled {
             // the resident engine hands out the steps it has in flight first
-            self.solver.stop_submitting();
+            if let Some(p) = self.solver.pipelined() {
+                p.stop_submitting();
+            }
         }
         let last = n + 1 == self.setup.steps;
-        (signalled && !last && self.solver.at_rest()).then(|| {
+        let stopped = |s: &mut Box<dyn Integrator + '_>| s.pipelined().is_none_or(|p| p.at_rest());
+        (signalled && !last && stopped(&mut self.solver)).then(|| {
             interrupted(
                 &self.setup.model,
                 self.solver.as_mut(),
@@ -456,7 +463,7 @@ impl<'s> Running<'s> {
             return Err(self.failed(e));
         }
         fill_summary(&mut self.summary, &self.tally, model, self.solver.as_ref());
-        self.summary.ranks = self.solver.decomposition();
+        self.summary.ranks = self.solver.decomposed_mut().map(|d| d.decomposition());
         self.summary.warnings = self.setup.warnings.clone();
         self.summary.warnings.extend(warnings(
             self.scene,

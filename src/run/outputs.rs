@@ -308,7 +308,7 @@ pub(super) fn write_frame(
         if solver.steps() % *every == 0 || last {
             let (step, time) = (solver.steps(), solver.time());
             let contact = node_contact(solver);
-            match solver.piece() {
+            match solver.decomposed().map(|d| d.piece()) {
                 Some(p) => {
                     let mine: Vec<NodeContact> =
                         p.nodes.iter().map(|&n| contact[n as usize]).collect();

@@ -207,7 +207,7 @@ pub(super) fn interrupted(
     let _ = out.history.flush();
     fill_summary(summary, tally, model, solver);
     // every rank of a decomposed run stops at the same step
-    summary.ranks = solver.decomposition();
+    summary.ranks = solver.decomposed_mut().map(|d| d.decomposition());
     summary.status = "interrupted".into();
     summary.message = Some(match &saved {
         Ok(()) => format!(
