@@ -15,7 +15,7 @@ use crate::error::bytes;
 
 /// An input may take at most this share of the memory the process may use: a mesh's text
 /// becomes a model several times its size.
-pub const INPUT_SHARE: u64 = 8;
+pub(crate) const INPUT_SHARE: u64 = 8;
 
 /// The most host memory this process may use, and where that figure comes from: the least of
 /// the memory available now (plus `held`, what the process already holds of the model), the
@@ -59,7 +59,7 @@ pub(crate) fn field(text: &str, label: &str) -> Option<u64> {
 }
 
 /// The largest input this process reads, and why.
-pub fn input_limit() -> Option<(u64, String)> {
+pub(crate) fn input_limit() -> Option<(u64, String)> {
     host_limit(0).map(|(b, source)| {
         (
             b / INPUT_SHARE,
@@ -73,7 +73,7 @@ pub fn input_limit() -> Option<(u64, String)> {
 
 /// Reads a file the user named: refused (as an `InvalidInput` error saying why) when it is
 /// not a regular file or is larger than [`input_limit`].
-pub fn read_input(path: &Path) -> std::io::Result<Vec<u8>> {
+pub(crate) fn read_input(path: &Path) -> std::io::Result<Vec<u8>> {
     let meta = regular_file(path)?;
     let refuse = |m: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, m);
     let limit = input_limit();
@@ -101,18 +101,18 @@ pub fn read_input(path: &Path) -> std::io::Result<Vec<u8>> {
 
 /// Reads a file a run wrote (a history, a checkpoint), which may be as large as the run
 /// made it: refused only when it is not a regular file.
-pub fn read_own(path: &Path) -> std::io::Result<Vec<u8>> {
+pub(crate) fn read_own(path: &Path) -> std::io::Result<Vec<u8>> {
     regular_file(path)?;
     std::fs::read(path)
 }
 
 /// [`read_own`] as UTF-8 text.
-pub fn read_own_text(path: &Path) -> std::io::Result<String> {
+pub(crate) fn read_own_text(path: &Path) -> std::io::Result<String> {
     utf8(read_own(path)?)
 }
 
 /// [`read_input`] as UTF-8 text.
-pub fn read_input_text(path: &Path) -> std::io::Result<String> {
+pub(crate) fn read_input_text(path: &Path) -> std::io::Result<String> {
     utf8(read_input(path)?)
 }
 

@@ -12,7 +12,7 @@ use rayon::prelude::*;
 pub const CHUNK: usize = 4096;
 
 /// $\sum_{i<n} f(i)$, summed in pieces of [`CHUNK`] in order, then the pieces in order.
-pub fn ordered_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
+pub(crate) fn ordered_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
     let pieces: Vec<f64> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
         .map(|p| (p * CHUNK..((p + 1) * CHUNK).min(n)).map(&f).sum::<f64>())
@@ -21,7 +21,7 @@ pub fn ordered_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
 }
 
 /// $\sum_i a_i b_i$ by [`ordered_sum`].
-pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     ordered_sum(a.len().min(b.len()), |i| a[i] * b[i])
 }
 

@@ -17,7 +17,7 @@ pub use crate::gpu::context::AUTO_GPU_MIN_ELEMENTS;
 /// A run longer than this many steps is refused: at a microsecond a step it would take
 /// three hours, and a stable step this small against the end time comes from a unit or
 /// material typo far more often than from a real model.
-pub const MAX_STEPS: f64 = 1e10;
+pub(crate) const MAX_STEPS: f64 = 1e10;
 
 /// A model ready to run.
 pub struct Setup {
@@ -233,7 +233,7 @@ pub fn gpu_context(
 }
 
 /// A GPU failure under `device = "gpu"` names the scene key that asked for it.
-pub fn gpu_error(scene: &Scene, e: ImpactError) -> ImpactError {
+pub(crate) fn gpu_error(scene: &Scene, e: ImpactError) -> ImpactError {
     match e {
         ImpactError::Gpu(message) => ImpactError::Unsupported {
             path: scene.path.clone(),
@@ -284,7 +284,7 @@ pub fn explicit_time_step(scene: &Scene, (stable, element): (f64, usize)) -> Res
 /// benchmarks on one machine (`docs/performance.md`, "The implicit step"): 95 at 3,072 elements and 180 at 18,000
 /// (a factorised solve pair per contact iteration, about 15 iterations, against one element
 /// sweep), so $K(n) = 95\,(n / 3072)^{0.36}$.
-pub fn implicit_step_cost(elements: usize) -> f64 {
+pub(crate) fn implicit_step_cost(elements: usize) -> f64 {
     95.0 * (elements.max(1) as f64 / 3072.0).powf(0.36)
 }
 
@@ -295,7 +295,7 @@ pub fn implicit_step_cost(elements: usize) -> f64 {
 /// when time_step / (explicit step) exceeds [`implicit_step_cost`]. Returns the method and a
 /// sentence for `summary.json`.
 /// `stable` is the mesh's stable explicit step ([`crate::integrate::stable_step::stable_step_on`]).
-pub fn choose_method(scene: &Scene, model: &Model, stable: f64) -> (Method, String) {
+pub(crate) fn choose_method(scene: &Scene, model: &Model, stable: f64) -> (Method, String) {
     let explicit_dt = scene.explicit.safety_factor * stable;
     let cost = implicit_step_cost(model.mesh.element_count());
     match scene.run.time_step {

@@ -10,13 +10,13 @@ use crate::scene::Scene;
 
 /// Below this fraction of the element's mean determinant a positive determinant counts as
 /// degenerate (a corner angle near 180 degrees, or an edge collapsed to a point).
-pub const DEGENERATE_RATIO: f64 = 1e-8;
+pub(crate) const DEGENERATE_RATIO: f64 = 1e-8;
 
 pub use crate::element::Sample;
 
 /// What is wrong with one element.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Fault {
+pub(crate) enum Fault {
     RepeatedNode(u32),
     /// The determinant `det` at a sample point (a Gauss point or a corner) is not positive,
     /// or not finite.
@@ -50,7 +50,7 @@ impl std::fmt::Display for Fault {
 }
 
 /// The fault of an element of a kind with nodes `nodes` and corners `x`, if any.
-pub fn fault(kind: ElementKind, nodes: &[u32], x: &[[f64; 3]]) -> Option<Fault> {
+pub(crate) fn fault(kind: ElementKind, nodes: &[u32], x: &[[f64; 3]]) -> Option<Fault> {
     if let Some(n) = repeated(nodes) {
         return Some(Fault::RepeatedNode(n));
     }

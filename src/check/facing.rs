@@ -11,14 +11,14 @@ use crate::scene::Scene;
 
 /// A surface counts as mostly flat when its summed area vector is at least this fraction of
 /// its area.
-pub const FLAT: f64 = 0.5;
+pub(crate) const FLAT: f64 = 0.5;
 
 /// Surfaces look the same way when the cosine of their mean normals exceeds this.
-pub const SAME_WAY: f64 = 0.5;
+pub(crate) const SAME_WAY: f64 = 0.5;
 
 /// The summed area vector (outward) of some faces given by their kernel slots
 /// ([`crate::mesh::Face::slots`]), and their total area.
-pub fn area_vector(x: &[[f64; 3]], faces: impl IntoIterator<Item = [u32; 4]>) -> (V3, f64) {
+pub(crate) fn area_vector(x: &[[f64; 3]], faces: impl IntoIterator<Item = [u32; 4]>) -> (V3, f64) {
     let mut sum = [0.0; 3];
     let mut area = 0.0;
     for f in faces {

@@ -15,7 +15,7 @@ use crate::scene::{BodyShape, MassKind, Method, Scene};
 
 /// Element and node counts of a scene, from box divisions and imported meshes.
 #[derive(Debug, Clone, Copy, Default, Serialize)]
-pub struct Counts {
+pub(crate) struct Counts {
     /// Elements of each kind ([`ElementKind::ALL`] order).
     pub elements: [u64; ElementKind::ALL.len()],
     pub nodes: u64,
@@ -90,7 +90,7 @@ const TRIPLET: u64 = 16;
 
 /// The lower-bound estimate for a scene run by `method` (the explicit path with `gpu`: the
 /// resident engine).
-pub fn estimate(scene: &Scene, method: Method, gpu: bool) -> Estimate {
+pub(crate) fn estimate(scene: &Scene, method: Method, gpu: bool) -> Estimate {
     let c = Counts::of(scene);
     let base = (c.nodes.saturating_mul(HOST_PER_NODE)).saturating_add(c.sum(host_per_element));
     let (host, what) = match method {

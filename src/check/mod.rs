@@ -37,7 +37,7 @@ impl Warning {
 }
 
 /// Penetration deeper than this fraction of an interface's face size is a warning.
-pub const DEEP_PENETRATION: f64 = 0.1;
+pub(crate) const DEEP_PENETRATION: f64 = 0.1;
 
 /// An interface's face size: the square root of its secondary faces' mean area (the nodes'
 /// tributary areas sum to the faces' area).
@@ -86,7 +86,7 @@ pub fn deep_penetration(
 
 /// The warning for a total energy that rose above its start by more than `tolerance` of
 /// `scale`.
-pub fn energy_rise(initial: f64, max: f64, scale: f64, tolerance: f64) -> Option<Warning> {
+pub(crate) fn energy_rise(initial: f64, max: f64, scale: f64, tolerance: f64) -> Option<Warning> {
     let rise = max - initial;
     (rise > tolerance * scale).then(|| {
         Warning::new(

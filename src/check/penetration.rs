@@ -21,11 +21,11 @@ use crate::model::{Interface, Primary};
 use crate::scene::PenetrationPolicy;
 
 /// Penetration below this fraction of the local face size is rounding (touching faces).
-pub const TOLERANCE: f64 = 1e-6;
+pub(crate) const TOLERANCE: f64 = 1e-6;
 
 /// The closest point counts as "on the face" when the normal part of the distance is at least
 /// this fraction of it.
-pub const ALONG_NORMAL: f64 = 0.99;
+pub(crate) const ALONG_NORMAL: f64 = 0.99;
 
 /// What t = 0 looks like on one interface.
 #[derive(Debug, Clone, Serialize, Default)]

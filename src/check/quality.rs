@@ -14,17 +14,17 @@ use crate::mesh::Mesh;
 use crate::scene::Scene;
 
 /// An element whose stable step is below this fraction of its body's median is a sliver.
-pub const SLIVER_RATIO: f64 = 0.01;
+pub(crate) const SLIVER_RATIO: f64 = 0.01;
 
 /// A Poisson's ratio above this on hex8 or tet4 is a locking warning.
-pub const LOCKING_NU: f64 = 0.49;
+pub(crate) const LOCKING_NU: f64 = 0.49;
 
 /// The slivers named in the warning, worst first.
 const NAMED: usize = 5;
 
 /// A warning per body holding elements whose step (`steps`, one per element in
 /// [`Mesh::elements`] order) is below [`SLIVER_RATIO`] of the body's median.
-pub fn slivers(scene: &Scene, mesh: &Mesh, steps: &[f32]) -> Vec<Warning> {
+pub(crate) fn slivers(scene: &Scene, mesh: &Mesh, steps: &[f32]) -> Vec<Warning> {
     let mut out = Vec::new();
     for (b, body) in mesh.bodies.iter().enumerate() {
         let elements: Vec<usize> = body.element_numbers(&mesh.elements).collect();

@@ -23,7 +23,7 @@ use std::collections::VecDeque;
 use nalgebra::{DMatrix, DVector};
 
 /// Pairs kept in the history.
-pub const DEPTH: usize = 5;
+pub(crate) const DEPTH: usize = 5;
 
 #[derive(Debug, Clone, Default)]
 pub struct Anderson {

@@ -161,7 +161,7 @@ pub fn update(
 /// tangential tractions pass `None`: on the Coulomb cone a node switching between stick and
 /// slip reverses and grows its change without any penalty being too large.
 #[allow(clippy::too_many_arguments)]
-pub fn update_with(
+pub(crate) fn update_with(
     penalty: &mut Penalty,
     memory: &mut IterationMemory,
     lambda: &[f64],

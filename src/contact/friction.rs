@@ -57,7 +57,7 @@ use crate::kernels::contact_gap::{ContactPoint, NO_FACE};
 const ON_CONE: f64 = 1e-9;
 
 /// Two orthonormal tangents of a plane with unit normal `n`.
-pub fn plane_basis(n: V3) -> [V3; 2] {
+pub(crate) fn plane_basis(n: V3) -> [V3; 2] {
     // the coordinate axis least aligned with n
     let k = (0..3)
         .min_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
@@ -72,7 +72,7 @@ pub fn plane_basis(n: V3) -> [V3; 2] {
 
 /// The return map: `t` without its component along the unit normal `n`, scaled back onto
 /// the Coulomb cone of radius `r` when it lies outside.
-pub fn cone_projection(t: V3, n: V3, r: f64) -> V3 {
+pub(crate) fn cone_projection(t: V3, n: V3, r: f64) -> V3 {
     if r <= 0.0 {
         return [0.0; 3];
     }
@@ -84,7 +84,7 @@ pub fn cone_projection(t: V3, n: V3, r: f64) -> V3 {
 }
 
 /// Radius of a node's Coulomb cone: mu T_N for a candidate with a contact point, else 0.
-pub fn cone_radius(mu: f64, pressure: f64, candidate: bool, point: &ContactPoint) -> f64 {
+pub(crate) fn cone_radius(mu: f64, pressure: f64, candidate: bool, point: &ContactPoint) -> f64 {
     if candidate && point.face != NO_FACE {
         mu * pressure
     } else {
@@ -93,7 +93,7 @@ pub fn cone_radius(mu: f64, pressure: f64, candidate: bool, point: &ContactPoint
 }
 
 /// $m^{ab} c_b \tau_a$: the vector whose covariant components in the basis `t` are `c`.
-pub fn from_covariant(t: &[V3; 2], c: [f64; 2]) -> V3 {
+pub(crate) fn from_covariant(t: &[V3; 2], c: [f64; 2]) -> V3 {
     let (m11, m12, m22) = (dot(t[0], t[0]), dot(t[0], t[1]), dot(t[1], t[1]));
     let det = m11 * m22 - m12 * m12;
     if det <= 0.0 {

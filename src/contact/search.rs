@@ -15,7 +15,7 @@ use crate::model::Primary;
 
 /// Fills the candidate list (`out`) of each query in `query_range` with the faces of
 /// `face_range` whose box grown by `margin` holds its node. `x` holds current positions.
-pub fn find_candidates(
+pub(crate) fn find_candidates(
     queries: &ContactQueries,
     x: &[[f64; 3]],
     query_range: std::ops::Range<usize>,
@@ -30,7 +30,7 @@ pub fn find_candidates(
 /// [`find_candidates`] for the queries `query_ids` alone (increasing) against the faces
 /// `faces` (increasing). Each query's list is the faces whose grown box holds it, in face
 /// order, whichever other queries and faces are searched with it.
-pub fn find_candidates_of(
+pub(crate) fn find_candidates_of(
     queries: &ContactQueries,
     x: &[[f64; 3]],
     query_ids: &[usize],
@@ -144,7 +144,7 @@ pub fn flatten(queries: &mut ContactQueries, lists: &[Vec<u32>]) {
 /// The largest size (a quad's longer diagonal, a triangle's longest edge) of the model's
 /// primary faces (reference configuration): the search grid's cell size and the reach of a
 /// candidate.
-pub fn largest_face_size(model: &Model) -> f64 {
+pub(crate) fn largest_face_size(model: &Model) -> f64 {
     model
         .queries
         .faces

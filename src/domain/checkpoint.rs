@@ -17,7 +17,7 @@ pub const FIELDS: usize = 6;
 /// local `fields`, on rank 0 (`None` on the others): the owned nodes' numbers, then each
 /// field, one gather each (`MPI_Gatherv`, whose counts are 32-bit: a field of more than
 /// 715 million nodes is refused, alike on every rank).
-pub fn gather_fields(
+pub(crate) fn gather_fields(
     talk: &Timed,
     sub: &Subdomain,
     fields: [&[f64]; FIELDS],
@@ -51,6 +51,6 @@ pub fn gather_fields(
 
 /// The rank's part of the whole model's arrays: the values of every node it holds (its
 /// shared nodes included: every rank holding one steps it with the same bits).
-pub fn restrict_fields(sub: &Subdomain, global: [&[f64]; FIELDS]) -> [Vec<f64>; FIELDS] {
+pub(crate) fn restrict_fields(sub: &Subdomain, global: [&[f64]; FIELDS]) -> [Vec<f64>; FIELDS] {
     global.map(|g| sub.restrict(g))
 }

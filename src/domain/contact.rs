@@ -32,7 +32,7 @@ use crate::model::{Model, Primary};
 use crate::scene::ExplicitSettings;
 
 /// The contact's share-out in words (`summary.json`).
-pub const DESCRIPTION: &str = "each rank receives from their owners the primary-face nodes its secondary nodes may reach and searches for the secondary nodes it owns; the contacts within reach are gathered on every rank with their nodes' state, and every rank works the impulse sweeps";
+pub(crate) const DESCRIPTION: &str = "each rank receives from their owners the primary-face nodes its secondary nodes may reach and searches for the secondary nodes it owns; the contacts within reach are gathered on every rank with their nodes' state, and every rank works the impulse sweeps";
 
 /// Values per node state: the surface index, u, v and v_half.
 const NODE: usize = 10;
@@ -41,14 +41,14 @@ const NODE: usize = 10;
 const RECORD: usize = 1 + 8 + 5 * NODE;
 
 /// The rank's nodes as the step's contact reads them (3 per local node).
-pub struct LocalState<'a> {
+pub(crate) struct LocalState<'a> {
     pub u: &'a [f64],
     pub v: &'a mut [f64],
     pub v_half: &'a [f64],
 }
 
 /// The contact of a rank: the surface model and what the step keeps and reuses.
-pub struct SurfaceContact {
+pub(crate) struct SurfaceContact {
     model: Model,
     contact: ExplicitContact,
     rank: usize,

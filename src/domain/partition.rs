@@ -14,10 +14,10 @@
 use crate::model::{Model, Primary};
 
 /// The weight a secondary-node corner adds to its element.
-pub const CONTACT_WEIGHT: f64 = 1.4;
+pub(crate) const CONTACT_WEIGHT: f64 = 1.4;
 
 /// The partition in words (`summary.json`).
-pub const DESCRIPTION: &str = "recursive coordinate bisection of the element centroids into equal weights (an element weighs 1, plus 1.4 for each secondary-node corner)";
+pub(crate) const DESCRIPTION: &str = "recursive coordinate bisection of the element centroids into equal weights (an element weighs 1, plus 1.4 for each secondary-node corner)";
 
 /// The part of every element, in [`crate::mesh::Mesh::elements`] order.
 #[derive(Debug, Clone, PartialEq, Eq)]

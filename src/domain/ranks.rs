@@ -99,7 +99,7 @@ pub fn agree<T, E: std::fmt::Display>(
 }
 
 /// The ranks with a clock: the seconds spent in their calls, waiting included.
-pub struct Timed<'a> {
+pub(crate) struct Timed<'a> {
     pub ranks: &'a dyn Ranks,
     pub seconds: &'a std::cell::Cell<f64>,
 }

@@ -11,7 +11,7 @@ use crate::model::{Interface, Model};
 
 /// `model` restricted to `nodes` (increasing global numbers, holding every node an
 /// interface reads): node i of the result is `nodes[i]`.
-pub fn surface_model(model: &Model, nodes: &[u32]) -> Model {
+pub(crate) fn surface_model(model: &Model, nodes: &[u32]) -> Model {
     let at = |n: u32| -> u32 {
         nodes
             .binary_search(&n)
@@ -52,7 +52,7 @@ pub fn surface_model(model: &Model, nodes: &[u32]) -> Model {
 /// What a rank looks up in the surface model each step, so that a step's contact work grows
 /// with the rank's share of the surfaces and with the nodes it receives, not with the whole
 /// model's surfaces.
-pub struct SurfaceIndex {
+pub(crate) struct SurfaceIndex {
     /// Per interface: the secondary nodes the rank owns, in the interface's order.
     pub owned_secondary: Vec<Vec<u32>>,
     /// Per interface: its faces whose nodes the rank holds, increasing (none for a plane).

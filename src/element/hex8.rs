@@ -5,7 +5,7 @@
 
 use crate::material::Elastic;
 
-pub const CORNERS: [[f64; 3]; 8] = [
+pub(crate) const CORNERS: [[f64; 3]; 8] = [
     [-1.0, -1.0, -1.0],
     [1.0, -1.0, -1.0],
     [1.0, 1.0, -1.0],
@@ -18,7 +18,7 @@ pub const CORNERS: [[f64; 3]; 8] = [
 
 /// The six faces in the corner order above (bottom face counter-clockwise seen from +z,
 /// then the top face), each ordered so that its normal points out of a positive element.
-pub const FACES: [[usize; 4]; 6] = [
+pub(crate) const FACES: [[usize; 4]; 6] = [
     [0, 3, 2, 1],
     [4, 5, 6, 7],
     [0, 1, 5, 4],
@@ -28,7 +28,7 @@ pub const FACES: [[usize; 4]; 6] = [
 ];
 
 /// The 2x2x2 Gauss points (all weights are 1).
-pub fn gauss_points() -> [[f64; 3]; 8] {
+pub(crate) fn gauss_points() -> [[f64; 3]; 8] {
     let g = 1.0 / 3f64.sqrt();
     CORNERS.map(|c| c.map(|x| x * g))
 }
@@ -39,7 +39,7 @@ pub fn shape(p: [f64; 3]) -> [f64; 8] {
 }
 
 /// Parent derivatives dN_k/dxi_a at a parent point.
-pub fn shape_derivatives(p: [f64; 3]) -> [[f64; 3]; 8] {
+pub(crate) fn shape_derivatives(p: [f64; 3]) -> [[f64; 3]; 8] {
     CORNERS.map(|c| {
         let f = [1.0 + c[0] * p[0], 1.0 + c[1] * p[1], 1.0 + c[2] * p[2]];
         [
@@ -53,7 +53,7 @@ pub fn shape_derivatives(p: [f64; 3]) -> [[f64; 3]; 8] {
 /// Physical gradients dN_k/dx and the Jacobian determinant at a parent point.
 ///
 /// $J_{ab} = \sum_k x_{k,a}\, \partial N_k/\partial\xi_b$, $\nabla N_k = J^{-T} \nabla_\xi N_k$.
-pub fn gradients(x: &[[f64; 3]; 8], p: [f64; 3]) -> ([[f64; 3]; 8], f64) {
+pub(crate) fn gradients(x: &[[f64; 3]; 8], p: [f64; 3]) -> ([[f64; 3]; 8], f64) {
     let dn = shape_derivatives(p);
     let mut j = [[0.0; 3]; 3];
     for k in 0..8 {
@@ -117,7 +117,7 @@ pub fn stiffness(x: &[[f64; 3]; 8], m: &Elastic) -> [[f64; 24]; 24] {
 }
 
 /// Consistent mass (scalar, per node pair): $M_{ij} = \sum_g w_g \det J\, \rho N_i N_j$.
-pub fn consistent_mass(x: &[[f64; 3]; 8], density: f64) -> [[f64; 8]; 8] {
+pub(crate) fn consistent_mass(x: &[[f64; 3]; 8], density: f64) -> [[f64; 8]; 8] {
     let mut mm = [[0.0; 8]; 8];
     for p in gauss_points() {
         let n = shape(p);
@@ -133,12 +133,12 @@ pub fn consistent_mass(x: &[[f64; 3]; 8], density: f64) -> [[f64; 8]; 8] {
 
 /// Lumped mass: the row sums of the consistent mass (exact total mass, positive for
 /// any element whose Jacobian stays positive).
-pub fn lumped_mass(x: &[[f64; 3]; 8], density: f64) -> [f64; 8] {
+pub(crate) fn lumped_mass(x: &[[f64; 3]; 8], density: f64) -> [f64; 8] {
     consistent_mass(x, density).map(|row| row.iter().sum())
 }
 
 /// Element volume.
-pub fn volume(x: &[[f64; 3]; 8]) -> f64 {
+pub(crate) fn volume(x: &[[f64; 3]; 8]) -> f64 {
     gauss_points().iter().map(|&p| gradients(x, p).1).sum()
 }
 

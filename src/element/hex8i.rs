@@ -25,10 +25,10 @@ use super::hex8;
 use crate::material::Elastic;
 
 /// Entries of a symmetric 24 x 24 matrix packed by its upper triangle, row by row.
-pub const PACKED: usize = 24 * 25 / 2;
+pub(crate) const PACKED: usize = 24 * 25 / 2;
 
 /// The packed index of entry (r, c) of a symmetric 24 x 24 matrix.
-pub fn packed_index(r: usize, c: usize) -> usize {
+pub(crate) fn packed_index(r: usize, c: usize) -> usize {
     let (r, c) = if r <= c { (r, c) } else { (c, r) };
     // rows of 24, 23, ... entries: row r starts at 24 r - r (r - 1) / 2, entry c at c - r
     r * (47 - r) / 2 + c
@@ -98,7 +98,7 @@ pub fn stiffness(x: &[[f64; 3]; 8], m: &Elastic) -> [[f64; 24]; 24] {
 }
 
 /// [`stiffness`] packed by its upper triangle ([`PACKED`] entries, [`packed_index`]).
-pub fn condensed_packed(x: &[[f64; 3]; 8], m: &Elastic) -> [f64; PACKED] {
+pub(crate) fn condensed_packed(x: &[[f64; 3]; 8], m: &Elastic) -> [f64; PACKED] {
     let k = stiffness(x, m);
     let mut out = [0.0; PACKED];
     for r in 0..24 {
@@ -111,7 +111,7 @@ pub fn condensed_packed(x: &[[f64; 3]; 8], m: &Elastic) -> [f64; PACKED] {
 
 /// Values the force kernel keeps per element: the packed condensed stiffness, then the
 /// corners' gradients at the centre.
-pub const KEPT: usize = PACKED + 24;
+pub(crate) const KEPT: usize = PACKED + 24;
 
 /// What the force kernel keeps of an element ([`KEPT`] values).
 pub fn kept(x: &[[f64; 3]; 8], m: &Elastic) -> [f64; KEPT] {
@@ -127,7 +127,7 @@ pub fn kept(x: &[[f64; 3]; 8], m: &Elastic) -> [f64; KEPT] {
 /// The corner displacements relative to corner 0, less the element's rotation at its
 /// centre: $d_k = u_k - u_0 - W (x_k - x_0)$ with $W$ the skew part of
 /// $\sum_k (u_k - u_0) \otimes \nabla N_k(0)$.
-pub fn straining(kept: &[f64], x: &[[f64; 3]; 8], u: &[[f64; 3]; 8]) -> [[f64; 3]; 8] {
+pub(crate) fn straining(kept: &[f64], x: &[[f64; 3]; 8], u: &[[f64; 3]; 8]) -> [[f64; 3]; 8] {
     let d: [[f64; 3]; 8] = u.map(|p| std::array::from_fn(|a| p[a] - u[0][a]));
     let g = |k: usize, b: usize| kept[PACKED + 3 * k + b];
     let h: [[f64; 3]; 3] =

@@ -12,7 +12,7 @@ use crate::material::Elastic;
 ///
 /// With $J = [x_1 - x_0, x_2 - x_0, x_3 - x_0]$ (columns), $\nabla N_k = J^{-T} \nabla_\xi N_k$,
 /// and the rows of $J^{-1}$ are the cross products of the columns over $\det J$.
-pub fn gradients(x: &[[f64; 3]; 4]) -> ([[f64; 3]; 4], f64) {
+pub(crate) fn gradients(x: &[[f64; 3]; 4]) -> ([[f64; 3]; 4], f64) {
     let d = |k: usize| [x[k][0] - x[0][0], x[k][1] - x[0][1], x[k][2] - x[0][2]];
     let (a, b, c) = (d(1), d(2), d(3));
     let cross = |p: [f64; 3], q: [f64; 3]| {
@@ -32,7 +32,7 @@ pub fn gradients(x: &[[f64; 3]; 4]) -> ([[f64; 3]; 4], f64) {
 }
 
 /// Element volume (signed: negative for an inverted corner order).
-pub fn volume(x: &[[f64; 3]; 4]) -> f64 {
+pub(crate) fn volume(x: &[[f64; 3]; 4]) -> f64 {
     gradients(x).1
 }
 
@@ -55,14 +55,14 @@ pub fn stiffness(x: &[[f64; 3]; 4], m: &Elastic) -> [[f64; 12]; 12] {
 }
 
 /// Consistent mass (scalar, per node pair): $M_{ij} = \rho V (1 + \delta_{ij}) / 20$.
-pub fn consistent_mass(x: &[[f64; 3]; 4], density: f64) -> [[f64; 4]; 4] {
+pub(crate) fn consistent_mass(x: &[[f64; 3]; 4], density: f64) -> [[f64; 4]; 4] {
     let m = density * volume(x) / 20.0;
     std::array::from_fn(|i| std::array::from_fn(|j| if i == j { 2.0 * m } else { m }))
 }
 
 /// Lumped mass: a quarter of the element's mass on each corner (the row sums of the
 /// consistent mass).
-pub fn lumped_mass(x: &[[f64; 3]; 4], density: f64) -> [f64; 4] {
+pub(crate) fn lumped_mass(x: &[[f64; 3]; 4], density: f64) -> [f64; 4] {
     [density * volume(x) / 4.0; 4]
 }
 
@@ -83,7 +83,7 @@ pub fn stress(x: &[[f64; 3]; 4], u: &[[f64; 3]; 4], m: &Elastic) -> [[f64; 3]; 3
 
 /// The four faces, ordered so that $(x_1 - x_0) \times (x_2 - x_0)$ of each points out of a
 /// positively oriented element.
-pub const FACES: [[usize; 3]; 4] = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+pub(crate) const FACES: [[usize; 3]; 4] = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
 
 #[cfg(test)]
 mod tests {

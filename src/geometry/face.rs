@@ -143,7 +143,7 @@ pub fn shape(nodes: &[u32; 4], xi: [f64; 2]) -> [f64; 4] {
 
 /// The value at shape-function weights `w` of a nodal field (`values`, one per node) over
 /// face `nodes` (twin of `face_interpolate` in `shaders/shared/face.wgsl`).
-pub fn interpolate(nodes: &[u32; 4], w: [f64; 4], values: &[V3]) -> V3 {
+pub(crate) fn interpolate(nodes: &[u32; 4], w: [f64; 4], values: &[V3]) -> V3 {
     let mut out = [0.0; 3];
     for k in 0..4 {
         for a in 0..3 {

@@ -4,7 +4,7 @@
 //! covariant tangents $\tau_a = \partial y / \partial \xi^a$; unit normal
 //! $n = \tau_1 \times \tau_2 / |\tau_1 \times \tau_2|$, outward for the mesh's face quads.
 
-pub const CORNERS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
+pub(crate) const CORNERS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
 
 use super::vector::{cross, dot, norm, sub, V3};
 
@@ -44,24 +44,24 @@ pub fn normal(p: &[V3; 4], xi: [f64; 2]) -> V3 {
 }
 
 /// Iterations of the projection's Newton solve.
-pub const NEWTON_ITERATIONS: usize = 16;
+pub(crate) const NEWTON_ITERATIONS: usize = 16;
 
 /// Below this ratio det(H) / (m_11 m_22) the full Hessian counts as not positive definite and
 /// the step falls back to Gauss-Newton on the metric (condition numbers above about 4,000).
-pub const HESSIAN_DEFINITE: f64 = 1e-3;
+pub(crate) const HESSIAN_DEFINITE: f64 = 1e-3;
 
 /// Widest band along the square's edges in which a coordinate whose gradient points out is put
 /// onto the edge and held there (the projected Newton method's epsilon-active set: with the box
 /// clamp alone, a coupled step can fail to descend from just inside an edge). The band narrows
 /// to the coordinate's own gradient step $|f_a| / m_{aa}$, so a minimum just inside stays free.
-pub const HELD_BAND: f64 = 1e-2;
+pub(crate) const HELD_BAND: f64 = 1e-2;
 
 /// A step that the square cuts below this fraction is blocked: the gradient steps instead.
-pub const BLOCKED: f64 = 1e-2;
+pub(crate) const BLOCKED: f64 = 1e-2;
 
 /// A rise of the squared distance below ROUNDING (|y - x|^2 + m_11 + m_22) is rounding, not an
 /// uphill step (the f32 twin uses 1e-5).
-pub const ROUNDING: f64 = 1e-12;
+pub(crate) const ROUNDING: f64 = 1e-12;
 
 /// Closest point of the quad to x: the xi that minimises |x - y(xi)| over the closed square.
 ///

@@ -31,7 +31,7 @@ pub fn normal(p: &[V3; 4]) -> V3 {
 /// Below this ratio det(m) / (m_11 m_22) (the squared sine of the angle between the
 /// tangents: about 0.06 degrees) the free minimum is not solved for: the edges give the
 /// closest point, in f32 as in f64.
-pub const SLIVER: f64 = 1e-6;
+pub(crate) const SLIVER: f64 = 1e-6;
 
 /// The edges of the triangle as (start corner, end corner, xi at the start, xi's change
 /// along the edge).

@@ -1,13 +1,13 @@
 //! Vectors in 3D as `[f64; 3]`: difference, dot and cross products, length.
 
-pub type V3 = [f64; 3];
+pub(crate) type V3 = [f64; 3];
 
 #[inline]
 pub fn sub(a: V3, b: V3) -> V3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 #[inline]
-pub fn dot(a: V3, b: V3) -> f64 {
+pub(crate) fn dot(a: V3, b: V3) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 #[inline]
@@ -24,7 +24,7 @@ pub fn norm(a: V3) -> f64 {
 }
 
 /// The diagonal of the bounding box of `points` (0 for none).
-pub fn bbox_diagonal(points: &[V3]) -> f64 {
+pub(crate) fn bbox_diagonal(points: &[V3]) -> f64 {
     if points.is_empty() {
         return 0.0;
     }

@@ -98,7 +98,7 @@ impl Storage {
 }
 
 /// Copies `bytes` of `source` to the host after `encoder`'s work, submitting it.
-pub fn submit_and_read<T: bytemuck::Pod>(
+pub(crate) fn submit_and_read<T: bytemuck::Pod>(
     ctx: &GpuContext,
     staging: &mut Storage,
     encoder: wgpu::CommandEncoder,
@@ -110,7 +110,7 @@ pub fn submit_and_read<T: bytemuck::Pod>(
 
 /// [`submit_and_read`] of the first `count` values of each `(source, count)`, one after the
 /// other, in one mapping (one wait for the device).
-pub fn submit_and_read_parts<T: bytemuck::Pod>(
+pub(crate) fn submit_and_read_parts<T: bytemuck::Pod>(
     ctx: &GpuContext,
     staging: &mut Storage,
     mut encoder: wgpu::CommandEncoder,
@@ -143,11 +143,11 @@ pub fn submit_and_read_parts<T: bytemuck::Pod>(
 }
 
 /// The receiving end of a [`map_read`]: says when the mapping is done, or why it failed.
-pub type Mapping = mpsc::Receiver<std::result::Result<(), wgpu::BufferAsyncError>>;
+pub(crate) type Mapping = mpsc::Receiver<std::result::Result<(), wgpu::BufferAsyncError>>;
 
 /// Starts mapping the first `bytes` of `buffer` for reading (done once the device has run
 /// the submissions before); [`take_mapped`] copies them out.
-pub fn map_read(buffer: &wgpu::Buffer, bytes: u64) -> Mapping {
+pub(crate) fn map_read(buffer: &wgpu::Buffer, bytes: u64) -> Mapping {
     let (tx, rx) = mpsc::channel();
     buffer
         .slice(..bytes)
@@ -159,7 +159,7 @@ pub fn map_read(buffer: &wgpu::Buffer, bytes: u64) -> Mapping {
 
 /// The first `bytes` of `buffer`, mapped by [`map_read`] (after the device has been waited
 /// for), copied out; then unmaps `buffer`. `what` names the buffer in the errors.
-pub fn take_mapped<T: bytemuck::Pod>(
+pub(crate) fn take_mapped<T: bytemuck::Pod>(
     ctx: &GpuContext,
     buffer: &wgpu::Buffer,
     bytes: u64,
@@ -182,7 +182,7 @@ pub fn take_mapped<T: bytemuck::Pod>(
 }
 
 /// Reads `count` values of `source` back in a submission of its own (named `label`).
-pub fn read_back<T: bytemuck::Pod>(
+pub(crate) fn read_back<T: bytemuck::Pod>(
     ctx: &GpuContext,
     staging: &mut Storage,
     label: &str,
@@ -193,7 +193,7 @@ pub fn read_back<T: bytemuck::Pod>(
 }
 
 /// [`read_back`] of `count` f32 values, as f64.
-pub fn read_floats(
+pub(crate) fn read_floats(
     ctx: &GpuContext,
     staging: &mut Storage,
     label: &str,
@@ -205,7 +205,7 @@ pub fn read_floats(
 }
 
 /// A staging buffer for read-back.
-pub fn staging(ctx: &GpuContext) -> Result<Storage> {
+pub(crate) fn staging(ctx: &GpuContext) -> Result<Storage> {
     Storage::with_usage(
         ctx,
         "readback",

@@ -152,7 +152,7 @@ fn opened() -> std::sync::MutexGuard<'static, Opened> {
 /// place among them, modulo the count), as indices into `ranked` (usable adapters, best
 /// first): those of the best one's kind on its backend, each card once (by its PCI bus,
 /// where the driver gives it), in the order of their buses.
-pub fn rank_order(ranked: &[AdapterSummary]) -> Vec<usize> {
+pub(crate) fn rank_order(ranked: &[AdapterSummary]) -> Vec<usize> {
     let Some(best) = ranked.first() else {
         return Vec::new();
     };
@@ -177,7 +177,7 @@ pub fn list_adapters() -> Vec<AdapterSummary> {
 }
 
 /// The packages that provide a software adapter, for error messages.
-pub const SOFTWARE_ADAPTER_HINT: &str = "no GPU adapter with compute shaders was found; on Debian/Ubuntu install a software adapter with `apt-get install -y mesa-vulkan-drivers libvulkan1` (lavapipe) or `libgl1-mesa-dri libegl1` (llvmpipe), or use device = \"cpu\"";
+pub(crate) const SOFTWARE_ADAPTER_HINT: &str = "no GPU adapter with compute shaders was found; on Debian/Ubuntu install a software adapter with `apt-get install -y mesa-vulkan-drivers libvulkan1` (lavapipe) or `libgl1-mesa-dri libegl1` (llvmpipe), or use device = \"cpu\"";
 
 impl GpuContext {
     /// The device of the best adapter the policy accepts, or `Ok(None)` if there is none.

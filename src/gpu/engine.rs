@@ -257,7 +257,7 @@ pub(super) fn at_least_one<T: Default>(mut v: Vec<T>) -> Vec<T> {
 ///   the slots a device's of [`CornerLayout`];
 /// - the gather's incidence lists hold those slots, in the order of the twin's corner ids,
 ///   so the sums run in the twin's order.
-pub struct ElementColumns {
+pub(crate) struct ElementColumns {
     pub blocks: Vec<BlockColumns>,
     /// The incidence table with slots in place of corner ids.
     pub incidence: Incidence,
@@ -265,7 +265,7 @@ pub struct ElementColumns {
 
 /// One block's connectivity column by column, its materials, and what its force kernel
 /// keeps, in f32 entry by entry (entry i of element e at `i E + e`).
-pub struct BlockColumns {
+pub(crate) struct BlockColumns {
     pub kind: ElementKind,
     pub count: usize,
     pub nodes: Vec<u32>,

@@ -57,7 +57,7 @@ pub struct ResidentSetup {
 /// Values of a history row, in order: per body [`FIELDS`] (kinetic, strain, gravity,
 /// momentum x y z), per contact interface [`SLOT`] (its contact results, summed; the gap and
 /// the sweeps as maxima), per probe 6 (displacement, velocity).
-pub fn row_len(bodies: usize, interfaces: usize, probes: usize) -> usize {
+pub(crate) fn row_len(bodies: usize, interfaces: usize, probes: usize) -> usize {
     FIELDS * bodies + SLOT * interfaces + 6 * probes
 }
 
@@ -71,7 +71,7 @@ pub fn plane_slots(planes: usize, plane_nodes: usize) -> Vec<(u32, u32, u32)> {
 
 /// The contact results' place of each interface in the contact iteration's layout:
 /// [`SLOT`] floats per pair, interface after interface.
-pub fn pair_slots(interfaces: &[Range<usize>]) -> Vec<(u32, u32, u32)> {
+pub(crate) fn pair_slots(interfaces: &[Range<usize>]) -> Vec<(u32, u32, u32)> {
     interfaces
         .iter()
         .map(|r| ((SLOT * r.start) as u32, r.len() as u32, SLOT as u32))

@@ -15,7 +15,7 @@ use crate::error::Result;
 use crate::kernels::{ContactPoint, SearchGrid};
 
 /// Buckets for `faces` faces: a power of two, at least twice as many.
-pub fn table_size(faces: usize) -> usize {
+pub(crate) fn table_size(faces: usize) -> usize {
     (2 * faces).next_power_of_two().max(64)
 }
 

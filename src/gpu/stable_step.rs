@@ -12,7 +12,7 @@ use crate::kernels::ElementData;
 
 /// The kinds the `stable_step` kernel bounds; a mesh holding another kind takes the CPU's
 /// survey.
-pub const KINDS: [ElementKind; 2] = [ElementKind::Hex8, ElementKind::Tet4];
+pub(crate) const KINDS: [ElementKind; 2] = [ElementKind::Hex8, ElementKind::Tet4];
 
 /// Whether the kernel bounds every element of `data`.
 pub fn covers(data: &ElementData) -> bool {

@@ -9,7 +9,7 @@ use crate::kernels;
 use crate::kernels::contact_gap::{ContactPoint as CpuContactPoint, NO_FACE};
 
 /// Invocations per workgroup (`WORKGROUP` in `shaders/shared/types.wgsl`).
-pub const WORKGROUP: u32 = 64;
+pub(crate) const WORKGROUP: u32 = 64;
 
 /// Declares a buffer element type (`#[repr(C)]`) with its layout, by WGSL name, from the
 /// declaration itself: `Name::layout()` gives its size and its fields' offsets in order, for
@@ -41,7 +41,7 @@ macro_rules! device_struct {
 }
 
 /// Host values (f64) as the device's type (f32), each by its `From`, on all threads.
-pub fn to_device<'a, H: Sync + 'a, D: From<&'a H> + Send>(host: &'a [H]) -> Vec<D> {
+pub(crate) fn to_device<'a, H: Sync + 'a, D: From<&'a H> + Send>(host: &'a [H]) -> Vec<D> {
     host.par_iter().map(D::from).collect()
 }
 
@@ -422,7 +422,7 @@ impl From<&kernels::ContactNode> for ContactNode {
 }
 
 /// A struct's WGSL name, Rust size, and (field name, Rust offset) in declaration order.
-pub type StructLayout = (&'static str, usize, Vec<(&'static str, usize)>);
+pub(crate) type StructLayout = (&'static str, usize, Vec<(&'static str, usize)>);
 
 /// The constants `shaders/shared/types.wgsl` shares with the host, by WGSL name, with the
 /// host's values (the layout test compares them with naga's reading of the WGSL).

@@ -12,11 +12,11 @@ use crate::model::Model;
 use crate::scene::Method;
 
 /// The engine names of the summary's `engine`.
-pub const ENGINE_CPU: &str = "cpu";
-pub const ENGINE_GPU_KERNELS: &str = "gpu kernels, host loop";
-pub const ENGINE_GPU_RESIDENT: &str = "gpu resident";
-pub const ENGINE_RANKS: &str = "cpu, decomposed over mpi ranks";
-pub const ENGINE_RANKS_GPU: &str = "gpu kernels, decomposed over mpi ranks";
+pub(crate) const ENGINE_CPU: &str = "cpu";
+pub(crate) const ENGINE_GPU_KERNELS: &str = "gpu kernels, host loop";
+pub(crate) const ENGINE_GPU_RESIDENT: &str = "gpu resident";
+pub(crate) const ENGINE_RANKS: &str = "cpu, decomposed over mpi ranks";
+pub(crate) const ENGINE_RANKS_GPU: &str = "gpu kernels, decomposed over mpi ranks";
 
 /// The implicit solver's linear-algebra figures for the summary.
 #[derive(Debug, Clone)]
@@ -145,6 +145,6 @@ pub trait Decomposed {
 }
 
 /// The message of a checkpoint written by another integrator.
-pub fn other_integrator() -> String {
+pub(crate) fn other_integrator() -> String {
     "the checkpoint was written by another integrator than this run's".into()
 }

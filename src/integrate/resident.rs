@@ -30,14 +30,14 @@ use crate::scene::{ExplicitSettings, Method};
 
 /// Whether the model's contacts take the plane kernel (every interface a rigid plane, at
 /// most [`MAX_PLANES`]) rather than the device contact iteration.
-pub fn planes_only(model: &Model) -> bool {
+pub(crate) fn planes_only(model: &Model) -> bool {
     model.interfaces.iter().all(|i| i.is_plane()) && model.interfaces.len() <= MAX_PLANES
 }
 
 /// The device contact iteration's inputs: a pair per (interface, secondary node), the nodes
 /// the iteration moves (secondary nodes and primary face corners, in node order) with their
 /// pairs and face corners, and the search layout.
-pub fn contact_setup(model: &Model) -> ContactSetup {
+pub(crate) fn contact_setup(model: &Model) -> ContactSetup {
     let mut pairs = Vec::new();
     let mut interfaces = Vec::with_capacity(model.interfaces.len());
     for itf in &model.interfaces {
@@ -102,7 +102,7 @@ pub fn contact_setup(model: &Model) -> ContactSetup {
 
 /// Sweeps of the device contact iteration recorded per step at the start (see
 /// [`ResidentSolver::rerun_if_short`]).
-pub const MIN_SWEEPS: u32 = 16;
+pub(crate) const MIN_SWEEPS: u32 = 16;
 
 /// Steps per submission: about 4 million element-steps, from 8 to 1024.
 pub fn chunk_steps(elements: usize) -> usize {

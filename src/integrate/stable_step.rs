@@ -33,7 +33,7 @@ use crate::model::Model;
 /// would otherwise spend a minute in eigensolvers). Tet4 shapes count a fifth each (their
 /// eigenproblem is 12 x 12), so an unstructured tet mesh of up to 20,480 elements gets the
 /// exact limit.
-pub const EXACT_SHAPES: usize = 4096;
+pub(crate) const EXACT_SHAPES: usize = 4096;
 
 /// The smallest element step of the model in its reference configuration, and the element
 /// that sets it (index in [`crate::mesh::Mesh::elements`] order).
@@ -50,14 +50,14 @@ pub fn stable_step_on(model: &Model, gpu: Option<&GpuContext>) -> Result<(f64, u
 
 /// The mesh's stable step, the element that sets it, and every element's own step (in f32:
 /// the model's checks compare them with each other).
-pub struct StepSurvey {
+pub(crate) struct StepSurvey {
     pub step: f64,
     pub element: usize,
     pub steps: Vec<f32>,
 }
 
 /// [`stable_step_on`] with each element's step ([`StepSurvey`]).
-pub fn survey(model: &Model, gpu: Option<&GpuContext>) -> Result<StepSurvey> {
+pub(crate) fn survey(model: &Model, gpu: Option<&GpuContext>) -> Result<StepSurvey> {
     let shapes = Shapes::of(model);
     let exact = shapes.cost <= 5 * EXACT_SHAPES;
     if let (false, Some(ctx)) = (exact, gpu) {

@@ -60,7 +60,7 @@ pub struct ContactReport {
 
 /// Whether a checkpoint's state fits this model: its dof and interface counts against the
 /// model's (`(checkpoint, model)` each).
-pub fn check_restore(
+pub(crate) fn check_restore(
     dofs: (usize, usize),
     interfaces: (usize, usize),
 ) -> std::result::Result<(), String> {

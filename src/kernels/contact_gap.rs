@@ -61,7 +61,7 @@ pub fn contact_gap(
 
 /// The contact kinematics of secondary node `s` against the closest of its `candidates`
 /// (faces of `q`), the first of equally close ones: one query of [`contact_gap`].
-pub fn closest_point(
+pub(crate) fn closest_point(
     reference: &[[f64; 3]],
     (u, v): (&[[f64; 3]], &[[f64; 3]]),
     q: &ContactQueries,
@@ -89,7 +89,7 @@ pub(super) fn position(reference: &[[f64; 3]], u: &[[f64; 3]], n: u32) -> V3 {
 
 /// The convected coordinates of the closest point of face `fi` to secondary node `s`, and
 /// the node's distance from it.
-pub fn closest_on_face(
+pub(crate) fn closest_on_face(
     reference: &[[f64; 3]],
     u: &[[f64; 3]],
     q: &ContactQueries,
@@ -107,7 +107,7 @@ pub fn closest_on_face(
 
 /// The contact point of secondary node `s` on face `fi` at xi: the normal, gap and gap rate
 /// there.
-pub fn face_point(
+pub(crate) fn face_point(
     reference: &[[f64; 3]],
     u: &[[f64; 3]],
     v: &[[f64; 3]],

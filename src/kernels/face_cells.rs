@@ -6,7 +6,7 @@
 
 /// The bucket of grid cell `c` of the interface whose faces start at `salt`, in a table of
 /// `mask + 1` buckets (the WGSL `cell_key`, in the same wrapping u32 arithmetic).
-pub fn cell_key(c: [i32; 3], salt: u32, mask: u32) -> u32 {
+pub(crate) fn cell_key(c: [i32; 3], salt: u32, mask: u32) -> u32 {
     let h = (c[0] as u32).wrapping_mul(73856093)
         ^ (c[1] as u32).wrapping_mul(19349663)
         ^ (c[2] as u32).wrapping_mul(83492791)
@@ -15,7 +15,7 @@ pub fn cell_key(c: [i32; 3], salt: u32, mask: u32) -> u32 {
 }
 
 /// The grid cell of a point.
-pub fn cell_of(x: [f64; 3], cell: f64) -> [i32; 3] {
+pub(crate) fn cell_of(x: [f64; 3], cell: f64) -> [i32; 3] {
     x.map(|c| (c / cell).floor() as i32)
 }
 

@@ -19,7 +19,7 @@ use crate::material::Elastic;
 /// Jacobian at a Gauss point takes 4 terms per column instead of 8, and likewise the
 /// displacement gradient. The corner forces $f_k = \sum_g \det J_g\, \sigma_g J_g^{-T}
 /// \nabla_\xi N_k(g)$ collect, per mode, $F_m$, and $f_k = \tfrac18 \sum_m h_m(k) F_m$.
-pub fn element_forces(x: &[[f64; 3]; 8], u: &[[f64; 3]; 8], m: &Elastic) -> [[f64; 3]; 8] {
+pub(crate) fn element_forces(x: &[[f64; 3]; 8], u: &[[f64; 3]; 8], m: &Elastic) -> [[f64; 3]; 8] {
     // the map's modes from corners relative to the first: the Jacobian depends on
     // differences only, and these keep their digits where absolute coordinates are large
     let a = modes(&x.map(|p| [p[0] - x[0][0], p[1] - x[0][1], p[2] - x[0][2]]));
@@ -153,7 +153,7 @@ pub fn hex8_forces(data: &ElementData, u: &[[f64; 3]], corner_forces: &mut [[f64
 }
 
 /// The fewest elements a thread takes at a time.
-pub const ELEMENTS_PER_TASK: usize = 256;
+pub(crate) const ELEMENTS_PER_TASK: usize = 256;
 
 #[cfg(test)]
 mod tests {

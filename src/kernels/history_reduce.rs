@@ -2,15 +2,15 @@
 //! results and the probe nodes (CPU twin of `shaders/history_reduce.wgsl`).
 
 /// Sum of the corrector's workgroup partials.
-pub const OP_PARTIALS: u32 = 0;
+pub(crate) const OP_PARTIALS: u32 = 0;
 /// Sum of plane contact results.
-pub const OP_SUM: u32 = 1;
+pub(crate) const OP_SUM: u32 = 1;
 /// Largest plane contact result, and zero.
-pub const OP_MAX: u32 = 2;
+pub(crate) const OP_MAX: u32 = 2;
 /// Displacement component `first` (3 node + axis).
-pub const OP_DISPLACEMENT: u32 = 3;
+pub(crate) const OP_DISPLACEMENT: u32 = 3;
 /// Velocity component `first`.
-pub const OP_VELOCITY: u32 = 4;
+pub(crate) const OP_VELOCITY: u32 = 4;
 
 /// One value: `op` over `count` entries `first + k stride` of its source.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

@@ -14,7 +14,11 @@ use crate::geometry::vector::{dot, norm};
 /// The relative velocity of secondary node `node` against its primary point in the velocity
 /// field `v` (3 per node): the face's nodes weighted by their shape functions, or nothing (a
 /// rigid plane).
-pub fn relative_velocity(v: &[f64], node: u32, face: Option<(&[u32; 4], &[f64; 4])>) -> [f64; 3] {
+pub(crate) fn relative_velocity(
+    v: &[f64],
+    node: u32,
+    face: Option<(&[u32; 4], &[f64; 4])>,
+) -> [f64; 3] {
     let n = node as usize;
     let mut rel = [v[3 * n], v[3 * n + 1], v[3 * n + 2]];
     if let Some((nodes, weights)) = face {
@@ -31,7 +35,7 @@ pub fn relative_velocity(v: &[f64], node: u32, face: Option<(&[u32; 4], &[f64; 4
 /// The constraint's new impulses, their change and its violation (a gap rate: the residual
 /// where pressed or opening too fast, and the slip where sticking).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ImpulseUpdate {
+pub(crate) struct ImpulseUpdate {
     pub jn: f64,
     pub jt: [f64; 3],
     pub dj: [f64; 3],
@@ -41,7 +45,7 @@ pub struct ImpulseUpdate {
 /// `rel` is the relative velocity of the secondary node against its primary point at the
 /// sweep's start; `jn`, `jt` the impulses so far.
 #[allow(clippy::too_many_arguments)]
-pub fn impulse_update(
+pub(crate) fn impulse_update(
     gap: f64,
     dt: f64,
     rel: [f64; 3],

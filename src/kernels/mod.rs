@@ -95,7 +95,7 @@ impl ElementData {
 /// What the force kernels keep of the elements besides their data, computed once: each
 /// block's [`ElementKind::kept`] values, element after element.
 #[derive(Debug, Clone, Default)]
-pub struct KeptData {
+pub(crate) struct KeptData {
     pub blocks: Vec<Vec<f64>>,
 }
 
@@ -130,7 +130,7 @@ impl KeptData {
 
 /// Corner forces of every element at displacement `u`, in the [`CornerLayout`] (overwrites
 /// `corner_forces`): the per-kind force kernels, each on its block's part.
-pub fn element_forces(
+pub(crate) fn element_forces(
     data: &ElementData,
     kept: &KeptData,
     u: &[[f64; 3]],
@@ -154,6 +154,6 @@ pub fn as_vec3(x: &[f64]) -> &[[f64; 3]] {
 }
 
 /// Views a flat dof vector as nodal 3-vectors, mutably.
-pub fn as_vec3_mut(x: &mut [f64]) -> &mut [[f64; 3]] {
+pub(crate) fn as_vec3_mut(x: &mut [f64]) -> &mut [[f64; 3]] {
     bytemuck::cast_slice_mut(x)
 }

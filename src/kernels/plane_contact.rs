@@ -40,7 +40,7 @@ pub mod slot {
     }
 }
 /// Planes a node can have (the bit set and the kernel's local arrays).
-pub const MAX_PLANES: usize = 8;
+pub(crate) const MAX_PLANES: usize = 8;
 
 /// An analytic rigid plane: a point, the unit normal into the bodies' side, friction.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

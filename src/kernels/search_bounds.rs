@@ -8,14 +8,14 @@ pub fn search_bounds(reference: &[[f64; 3]], u: &[f64], v: &[f64], faces: &[[u32
 }
 
 /// The fastest node's speed (`v`: 3 per node).
-pub fn fastest_speed(v: &[f64]) -> f64 {
+pub(crate) fn fastest_speed(v: &[f64]) -> f64 {
     v.chunks_exact(3)
         .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
         .fold(0.0, f64::max)
 }
 
 /// The largest side of a face's box at displacement `u` (3 per node).
-pub fn largest_face_side(reference: &[[f64; 3]], u: &[f64], faces: &[[u32; 4]]) -> f64 {
+pub(crate) fn largest_face_side(reference: &[[f64; 3]], u: &[f64], faces: &[[u32; 4]]) -> f64 {
     let mut extent = 0.0f64;
     for f in faces {
         for a in 0..3 {

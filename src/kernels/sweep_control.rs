@@ -5,10 +5,10 @@
 //! limit. The host path's loop (`integrate::explicit`), one decision at a time.
 
 /// Phases of the iteration (`STATE_PHASE` in `shaders/shared/types.wgsl`).
-pub const NOT_STARTED: u32 = 0;
-pub const SWEEPING: u32 = 1;
-pub const CONVERGED: u32 = 2;
-pub const STOPPED: u32 = 3;
+pub(crate) const NOT_STARTED: u32 = 0;
+pub(crate) const SWEEPING: u32 = 1;
+pub(crate) const CONVERGED: u32 = 2;
+pub(crate) const STOPPED: u32 = 3;
 
 /// The positions of the state words (`STATE_*` in `shaders/shared/types.wgsl`).
 pub mod word {

@@ -22,7 +22,7 @@ pub struct Permutation {
 
 /// The columns where each supervariable starts (runs of neighbouring columns with the same
 /// row pattern), closed by `n`.
-pub fn supervariables(a: &Csc) -> Vec<usize> {
+pub(crate) fn supervariables(a: &Csc) -> Vec<usize> {
     let column = |j: usize| &a.row_idx[a.col_ptr[j]..a.col_ptr[j + 1]];
     let mut starts = Vec::new();
     for j in 0..a.n {

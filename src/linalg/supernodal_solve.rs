@@ -74,7 +74,7 @@ struct Scratch {
 /// A schedule of the supernodal triangular solves for one symbolic factor, with its working
 /// vectors.
 #[derive(Debug)]
-pub struct SupernodalSolve {
+pub(crate) struct SupernodalSolve {
     /// The right-hand side's row for each solve position (faer's fill-reducing permutation
     /// composed with the renumbering by tasks).
     gather: Vec<usize>,

@@ -10,13 +10,14 @@ pub use rotation::Rotation;
 /// A stiffness in Voigt order (xx, yy, zz, yz, xz, xy) acting on engineering strains
 /// ($\gamma_{yz} = 2\varepsilon_{yz}$ ...): $\sigma_I = C_{IJ} \varepsilon_J$. Its entries are the
 /// tensor's, $C_{IJ} = C_{ijkl}$ with $I = (ij)$, $J = (kl)$.
-pub type Voigt = [[f64; 6]; 6];
+pub(crate) type Voigt = [[f64; 6]; 6];
 
 /// The (i, j) index pair of each Voigt row.
-pub const VOIGT_PAIRS: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)];
+pub(crate) const VOIGT_PAIRS: [(usize, usize); 6] =
+    [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)];
 
 /// The Voigt row of the index pair (i, j).
-pub fn voigt_index(i: usize, j: usize) -> usize {
+pub(crate) fn voigt_index(i: usize, j: usize) -> usize {
     match (i.min(j), i.max(j)) {
         (a, b) if a == b => a,
         (1, 2) => 3,
@@ -110,7 +111,7 @@ impl Elastic {
 }
 
 /// $\sigma = C \varepsilon$ of the displacement gradient h, as a symmetric tensor.
-pub fn voigt_stress(c: &Voigt, h: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+pub(crate) fn voigt_stress(c: &Voigt, h: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
     let e = VOIGT_PAIRS.map(|(i, j)| if i == j { h[i][i] } else { h[i][j] + h[j][i] });
     let s: [f64; 6] = std::array::from_fn(|i| (0..6).map(|j| c[i][j] * e[j]).sum());
     [[s[0], s[5], s[4]], [s[5], s[1], s[3]], [s[4], s[3], s[2]]]

@@ -15,9 +15,9 @@ pub struct Orthotropic {
 }
 
 /// The constants' names, as the scene spells them.
-pub const E_NAMES: [&str; 3] = ["e1", "e2", "e3"];
-pub const NU_NAMES: [&str; 3] = ["nu12", "nu13", "nu23"];
-pub const G_NAMES: [&str; 3] = ["g12", "g13", "g23"];
+pub(crate) const E_NAMES: [&str; 3] = ["e1", "e2", "e3"];
+pub(crate) const NU_NAMES: [&str; 3] = ["nu12", "nu13", "nu23"];
+pub(crate) const G_NAMES: [&str; 3] = ["g12", "g13", "g23"];
 
 impl Orthotropic {
     /// Isotropic in the 2-3 plane about the fibre axis 1: E3 = E2, nu13 = nu12, G13 = G12

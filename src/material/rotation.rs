@@ -139,7 +139,7 @@ fn to_tensor(c: &Voigt) -> [[[[f64; 3]; 3]; 3]; 3] {
 /// $\max_n \lambda_{max}(\Gamma(n))$ over unit directions n, $\Gamma_{ik} = C_{ijkl} n_j n_l$: the
 /// largest squared plane-wave speed times the density. A Fibonacci sphere of 4,000
 /// directions, then a pattern search from the best of them.
-pub fn largest_acoustic_eigenvalue(c: &Voigt) -> f64 {
+pub(crate) fn largest_acoustic_eigenvalue(c: &Voigt) -> f64 {
     let t = to_tensor(c);
     let gamma_max = |n: [f64; 3]| {
         let n = unit(n).unwrap_or([1.0, 0.0, 0.0]);

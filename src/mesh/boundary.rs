@@ -8,7 +8,7 @@ use crate::geometry::face::Face;
 
 /// A face's identity regardless of node order and starting corner: its sorted nodes
 /// (a triangle's sorted three, then its largest again).
-pub fn face_key(face: &[u32]) -> [u32; 4] {
+pub(crate) fn face_key(face: &[u32]) -> [u32; 4] {
     let mut k = [0u32; 4];
     k[..face.len()].copy_from_slice(face);
     k[..face.len()].sort_unstable();
@@ -53,7 +53,7 @@ pub fn orient(nodes: &[[f64; 3]], elements: &mut Elements) -> Result<(), Degener
 
 /// Every element face that belongs to one element only, outward. Elements must be oriented
 /// ([`orient`]).
-pub fn boundary_faces(elements: &Elements) -> Vec<Face> {
+pub(crate) fn boundary_faces(elements: &Elements) -> Vec<Face> {
     let mut seen: HashMap<[u32; 4], (usize, Face)> = HashMap::new();
     let mut order = 0usize;
     for e in elements.iter() {
@@ -73,7 +73,7 @@ pub fn boundary_faces(elements: &Elements) -> Vec<Face> {
 }
 
 /// Looks faces up by their nodes in any order.
-pub struct BoundaryIndex {
+pub(crate) struct BoundaryIndex {
     by_key: HashMap<[u32; 4], Face>,
 }
 

@@ -11,10 +11,10 @@ use std::path::{Path, PathBuf};
 use super::parse_error::ParseError;
 
 /// Includes nest at most this deep.
-pub const MAX_DEPTH: usize = 16;
+pub(crate) const MAX_DEPTH: usize = 16;
 
 /// A deck's text with its includes expanded.
-pub struct Deck {
+pub(crate) struct Deck {
     /// The expanded text, one line per line of the files.
     pub text: String,
     /// Each expanded line's file (an index into `files`) and 1-based line there.

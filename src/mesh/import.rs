@@ -121,7 +121,7 @@ fn skipped_notice(path: &Path, deck: &Deck, skipped: &[(String, usize)]) -> Opti
 }
 
 /// Turns a reader's mesh into a body (see the module documentation).
-pub fn finish(
+pub(crate) fn finish(
     file: FileMesh,
     scale: f64,
     translate: [f64; 3],

@@ -37,7 +37,7 @@ impl ElementAxes {
 
 /// An `*ORIENTATION` as written: its name, the numbers of its data lines, and its line.
 #[derive(Debug, Clone, Default)]
-pub struct AbaqusOrientation {
+pub(crate) struct AbaqusOrientation {
     pub name: String,
     pub lines: Vec<Vec<f64>>,
     pub line: usize,

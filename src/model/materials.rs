@@ -31,7 +31,7 @@ impl MaterialTable {
 
 /// The table, and each oriented body's elements pointed at their own entries (their ply's
 /// by the centroid's coordinate along the stacking axis).
-pub fn element_materials(scene: &Scene, mesh: &mut Mesh) -> MaterialTable {
+pub(crate) fn element_materials(scene: &Scene, mesh: &mut Mesh) -> MaterialTable {
     let mut table = MaterialTable::default();
     for (i, m) in scene.materials.iter().enumerate() {
         table.push(&m.elastic, Rotation::IDENTITY, i);

@@ -216,7 +216,7 @@ fn interfaces(scene: &Scene, mesh: &Mesh) -> (ContactQueries, Vec<Interface>) {
 
 /// A probe's point may lie at most this fraction of its body's bounding-box diagonal from
 /// the node it records, or (where more) the largest corner-to-corner distance of an element at that node.
-pub const PROBE_REACH: f64 = 0.1;
+pub(crate) const PROBE_REACH: f64 = 0.1;
 
 /// Each probe's node: the body's node nearest its point.
 fn probes(scene: &Scene, mesh: &Mesh) -> Vec<Probe> {

@@ -11,12 +11,12 @@ use crate::error::{ImpactError, Result};
 
 /// Writes `bytes` to `path` through `.<name>.tmp` in the same folder and a rename. On a
 /// failure the temporary file is removed and `path` is as it was.
-pub fn write_whole(path: &Path, bytes: &[u8]) -> Result<()> {
+pub(crate) fn write_whole(path: &Path, bytes: &[u8]) -> Result<()> {
     write_whole_with(path, |w| w.write_all(bytes))
 }
 
 /// [`write_whole`] for a file `write` streams out.
-pub fn write_whole_with(
+pub(crate) fn write_whole_with(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<()> {
@@ -49,7 +49,7 @@ fn temporary(path: &Path) -> PathBuf {
 }
 
 /// `s` with the five characters XML reserves escaped, for text and attribute values.
-pub fn xml_escape(s: &str) -> String {
+pub(crate) fn xml_escape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         match c {

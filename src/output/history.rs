@@ -258,7 +258,7 @@ pub fn shortest(x: f64, out: &mut String) {
 }
 
 /// The history's columns for a model, in order.
-pub fn column_names(model: &Model) -> Vec<String> {
+pub(crate) fn column_names(model: &Model) -> Vec<String> {
     let mut cols: Vec<String> = [
         "time",
         "step",

@@ -8,8 +8,8 @@ use std::path::Path;
 
 use crate::error::{ImpactError, Result};
 
-pub const WIDTH: usize = 800;
-pub const HEIGHT: usize = 480;
+pub(crate) const WIDTH: usize = 800;
+pub(crate) const HEIGHT: usize = 480;
 const LEFT: f64 = 84.0;
 const RIGHT: f64 = 20.0;
 const TOP: f64 = 36.0;
@@ -132,7 +132,7 @@ fn ticks_between(lo: f64, hi: f64) -> Vec<f64> {
 }
 
 /// Tick positions covering [lo, hi] with a step of 1, 2 or 5 times a power of ten.
-pub fn ticks(lo: f64, hi: f64) -> Vec<f64> {
+pub(crate) fn ticks(lo: f64, hi: f64) -> Vec<f64> {
     // a span wider than f64 holds (values near 1e308 of both signs) is taken as the largest
     let span = hi - lo;
     let span = if span.is_finite() { span } else { f64::MAX };

@@ -11,7 +11,7 @@ const DELAY: Duration = Duration::from_secs(1);
 const REDRAW: Duration = Duration::from_millis(200);
 const WIDTH: usize = 24;
 
-pub struct Progress {
+pub(crate) struct Progress {
     enabled: bool,
     start: Instant,
     last: Option<Instant>,

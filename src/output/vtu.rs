@@ -28,7 +28,7 @@ use crate::model::Model;
 
 /// Contact values of one node for a frame.
 #[derive(Debug, Clone, Copy)]
-pub struct NodeContact {
+pub(crate) struct NodeContact {
     pub pressure: f64,
     pub gap: f64,
 }
@@ -42,7 +42,7 @@ impl Default for NodeContact {
     }
 }
 
-pub struct VtuWriter {
+pub(crate) struct VtuWriter {
     dir: PathBuf,
     stem: String,
     /// (time, file name) of every frame written.
@@ -161,7 +161,7 @@ fn centre_stress_tensor(
 }
 
 /// von Mises equivalent stress of (xx, yy, zz, xy, yz, xz).
-pub fn von_mises(s: [f64; 6]) -> f64 {
+pub(crate) fn von_mises(s: [f64; 6]) -> f64 {
     let d = (s[0] - s[1]).powi(2) + (s[1] - s[2]).powi(2) + (s[2] - s[0]).powi(2);
     (0.5 * d + 3.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5])).sqrt()
 }

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use crate::error::{ImpactError, Result};
 
 /// The lock file's name inside the folder.
-pub const FILE: &str = ".impact.lock";
+pub(crate) const FILE: &str = ".impact.lock";
 
 /// A held lock on an output folder, released when dropped.
 #[derive(Debug)]

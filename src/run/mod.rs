@@ -39,7 +39,7 @@ use crate::setup::{self, gpu_error, Setup};
 
 /// A run whose total energy exceeds this multiple of its scale (the initial energy, or the
 /// work gravity can do across the model) has diverged: elastic contact can only lose energy.
-pub const DIVERGENCE_FACTOR: f64 = 100.0;
+pub(crate) const DIVERGENCE_FACTOR: f64 = 100.0;
 
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {

@@ -50,7 +50,7 @@ pub(super) fn agreed<T>(ranks: Option<&dyn Ranks>, mine: Result<T>) -> Result<T>
 ///
 /// Ranks on adapters of different kinds (model, driver, backend) get a notice: the run is
 /// then not one kind of GPU's bits.
-pub fn rank_context(
+pub(crate) fn rank_context(
     scene: &Scene,
     device: DeviceChoice,
     ranks: &dyn Ranks,

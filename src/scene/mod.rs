@@ -120,7 +120,7 @@ pub struct RunSettings {
 }
 
 /// The default of `run.energy_tolerance`.
-pub const ENERGY_TOLERANCE: f64 = 0.05;
+pub(crate) const ENERGY_TOLERANCE: f64 = 0.05;
 
 /// What a run does with secondary nodes found behind their primary surface at t = 0.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -8,7 +8,7 @@ use serde::Deserialize;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawScene {
+pub(crate) struct RawScene {
     pub title: Option<String>,
     pub gravity: Option<[f64; 3]>,
     pub run: Option<RawRun>,
@@ -33,7 +33,7 @@ pub struct RawScene {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawRun {
+pub(crate) struct RawRun {
     pub end_time: Option<f64>,
     pub time_step: Option<f64>,
     pub method: Option<String>,
@@ -43,7 +43,7 @@ pub struct RawRun {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawImplicit {
+pub(crate) struct RawImplicit {
     pub beta: Option<f64>,
     pub gamma: Option<f64>,
     pub constraint: Option<String>,
@@ -63,7 +63,7 @@ pub struct RawImplicit {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawExact {
+pub(crate) struct RawExact {
     pub column: String,
     pub points: Vec<[f64; 2]>,
     pub label: Option<String>,
@@ -71,7 +71,7 @@ pub struct RawExact {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawExplicit {
+pub(crate) struct RawExplicit {
     pub safety_factor: Option<f64>,
     pub allow_unstable: Option<bool>,
     pub max_iterations: Option<i64>,
@@ -80,7 +80,7 @@ pub struct RawExplicit {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawMaterial {
+pub(crate) struct RawMaterial {
     pub name: String,
     pub density: f64,
     pub youngs_modulus: Option<f64>,
@@ -91,7 +91,7 @@ pub struct RawMaterial {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawOrthotropic {
+pub(crate) struct RawOrthotropic {
     pub e1: f64,
     pub e2: f64,
     pub e3: f64,
@@ -105,7 +105,7 @@ pub struct RawOrthotropic {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawTransverselyIsotropic {
+pub(crate) struct RawTransverselyIsotropic {
     pub e1: f64,
     pub e2: f64,
     pub nu12: f64,
@@ -115,7 +115,7 @@ pub struct RawTransverselyIsotropic {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawOrientation {
+pub(crate) struct RawOrientation {
     pub axes: Option<[[f64; 3]; 2]>,
     pub axis: Option<[f64; 3]>,
     pub angle: Option<f64>,
@@ -123,21 +123,21 @@ pub struct RawOrientation {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawPlies {
+pub(crate) struct RawPlies {
     pub normal: String,
     pub layers: Vec<RawPly>,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawPly {
+pub(crate) struct RawPly {
     pub angle: f64,
     pub thickness: f64,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawBox {
+pub(crate) struct RawBox {
     pub min: [f64; 3],
     pub max: [f64; 3],
     pub divisions: [i64; 3],
@@ -146,7 +146,7 @@ pub struct RawBox {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawBody {
+pub(crate) struct RawBody {
     pub name: String,
     pub material: String,
     #[serde(rename = "box")]
@@ -161,7 +161,7 @@ pub struct RawBody {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawSurfaceRef {
+pub(crate) struct RawSurfaceRef {
     pub body: String,
     pub face: Option<String>,
     pub surface: Option<String>,
@@ -169,7 +169,7 @@ pub struct RawSurfaceRef {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawContact {
+pub(crate) struct RawContact {
     pub name: String,
     pub secondary: RawSurfaceRef,
     pub primary: RawSurfaceRef,
@@ -179,7 +179,7 @@ pub struct RawContact {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawPlane {
+pub(crate) struct RawPlane {
     pub name: String,
     pub point: [f64; 3],
     pub normal: [f64; 3],
@@ -190,14 +190,14 @@ pub struct RawPlane {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawRegion {
+pub(crate) struct RawRegion {
     pub min: [f64; 3],
     pub max: [f64; 3],
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawFix {
+pub(crate) struct RawFix {
     pub body: String,
     pub face: Option<String>,
     pub set: Option<String>,
@@ -207,7 +207,7 @@ pub struct RawFix {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawProbe {
+pub(crate) struct RawProbe {
     pub name: String,
     pub body: String,
     pub point: [f64; 3],
@@ -215,7 +215,7 @@ pub struct RawProbe {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawOutput {
+pub(crate) struct RawOutput {
     pub dir: Option<String>,
     pub vtu_every: Option<i64>,
     pub checkpoint_every: Option<i64>,

@@ -1,7 +1,7 @@
 //! "Did you mean ...?" for unknown keys and names.
 
 /// Levenshtein distance between two short strings.
-pub fn edit_distance(a: &str, b: &str) -> usize {
+pub(crate) fn edit_distance(a: &str, b: &str) -> usize {
     let b: Vec<char> = b.chars().collect();
     let mut prev: Vec<usize> = (0..=b.len()).collect();
     for (i, ca) in a.chars().enumerate() {
@@ -27,7 +27,7 @@ pub fn closest<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) ->
 
 /// Adds a suggestion to serde's "unknown field `x`, expected one of `a`, `b`" (and the same for
 /// unknown variants), leaving any other message as it is.
-pub fn with_suggestion(message: &str) -> String {
+pub(crate) fn with_suggestion(message: &str) -> String {
     for kind in ["unknown field `", "unknown variant `"] {
         let Some(start) = message.find(kind) else {
             continue;

@@ -92,9 +92,9 @@ pub struct StudyRow {
 }
 
 /// Energy may rise by this fraction of E0 in one step before a run counts as unstable.
-pub const ENERGY_GROWTH: f64 = 1e-3;
+pub(crate) const ENERGY_GROWTH: f64 = 1e-3;
 /// Penetration beyond this fraction of the element size is a failure.
-pub const PENETRATION: f64 = 0.01;
+pub(crate) const PENETRATION: f64 = 0.01;
 
 /// The status of a run: "diverged" (stopped, or not finite), "energy_growth", "chatter"
 /// (contact lost inside the exact contact window), "penetration", or "ok".
@@ -114,7 +114,7 @@ pub fn status(e: &Errors, completed: bool) -> &'static str {
 
 /// Runs the grid; `devices` lists "cpu" and, where an adapter exists, "gpu". Each run writes
 /// into `out/runs/<tag>`.
-pub fn run_grid(
+pub(crate) fn run_grid(
     problem: Problem,
     out: &Path,
     quick: bool,
@@ -305,7 +305,7 @@ fn failed_series(rows: &[StudyRow], xy: &dyn Fn(&StudyRow) -> (f64, f64)) -> Vec
 /// Final-state error (velocity for the impacts, distance for the block) against wall time,
 /// log-log: one series of points per method and device (its "ok" runs), and the failed runs
 /// as crosses, one series per way of failing. Each point's tooltip names its run.
-pub fn speed_chart(rows: &[StudyRow]) -> Chart {
+pub(crate) fn speed_chart(rows: &[StudyRow]) -> Chart {
     // method-and-device keys in order of first appearance
     let mut seen: Vec<String> = Vec::new();
     for k in rows.iter().map(series_key) {
@@ -338,7 +338,7 @@ pub fn speed_chart(rows: &[StudyRow]) -> Chart {
 
 /// The atlas chart: error against the Courant number, one series per method (ok runs), the
 /// failures as crosses, one series per way of failing. Each point's tooltip names its run.
-pub fn atlas_chart(rows: &[StudyRow]) -> Chart {
+pub(crate) fn atlas_chart(rows: &[StudyRow]) -> Chart {
     let xy = |r: &StudyRow| (r.courant, r.errors.force);
     let mut series: Vec<Series> = Method::ALL
         .iter()
@@ -363,7 +363,7 @@ pub fn atlas_chart(rows: &[StudyRow]) -> Chart {
 }
 
 /// `atlas.md`: for each method and Courant number, the statuses over meshes and devices.
-pub fn atlas_table(rows: &[StudyRow]) -> String {
+pub(crate) fn atlas_table(rows: &[StudyRow]) -> String {
     let mut courants: Vec<f64> = rows.iter().map(|r| r.courant).collect();
     courants.sort_by(|a, b| b.total_cmp(a));
     courants.dedup();

@@ -89,7 +89,7 @@ pub struct ExplicitSolver<'m> {
 /// body force per dof (zero on prescribed dofs), the initial velocity (zero on prescribed
 /// dofs) and the initial acceleration $M^{-1} f_{ext}$.
 #[derive(Debug, Clone)]
-pub struct NodalStart {
+pub(crate) struct NodalStart {
     pub inv_mass: Vec<f64>,
     pub f_ext: Vec<f64>,
     pub v: Vec<f64>,
@@ -351,7 +351,7 @@ pub fn correct(
 /// The lumped mass of every node: each element's corner masses on all threads, a block of
 /// elements at a time, then summed to the nodes in element order (the same sums, bit for
 /// bit, on any number of threads).
-pub fn lumped_mass(model: &Model) -> Vec<f64> {
+pub(crate) fn lumped_mass(model: &Model) -> Vec<f64> {
     let mesh = &model.mesh;
     let mut mass = vec![0.0; mesh.node_count()];
     for block in &mesh.elements.blocks {

@@ -54,11 +54,11 @@ use workspace::Workspace;
 
 /// Forces below this fraction of an interface's peak normal force so far do not make a
 /// contact event (round-off forces of a grazing contact would otherwise refine every step).
-pub const EVENT_FORCE_FLOOR: f64 = 1e-3;
+pub(crate) const EVENT_FORCE_FLOOR: f64 = 1e-3;
 
 /// The contact iteration's tolerance is at least this many times the kernels' unit roundoff
 /// (3.6e-6 for f32 kernels; no effect in f64).
-pub const KERNEL_NOISE_FACTOR: f64 = 30.0;
+pub(crate) const KERNEL_NOISE_FACTOR: f64 = 30.0;
 
 /// The state a step starts from, kept so that a step found to hold a contact event can be
 /// taken again in sub-steps.

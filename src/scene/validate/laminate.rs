@@ -9,7 +9,7 @@ use crate::scene::raw::{RawMaterial, RawOrientation, RawPlies};
 use crate::scene::{BodyShape, Plies, Ply};
 
 /// Relative mismatch allowed between the plies' total thickness and the body's.
-pub const PLY_THICKNESS_TOLERANCE: f64 = 1e-6;
+pub(crate) const PLY_THICKNESS_TOLERANCE: f64 = 1e-6;
 
 impl Checker<'_> {
     /// The material's law in its own axes from exactly one of `youngs_modulus` and
