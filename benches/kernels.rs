@@ -9,9 +9,11 @@
 
 use std::time::Instant;
 
+use impact::element::ElementKind::{self, Hex8, Hex8i};
+use impact::element::Elements;
 use impact::gpu::inspect::KernelId;
 use impact::gpu::{GpuContext, GpuKernels};
-use impact::kernels::{self, ContactPoint, ContactQueries, ElementData, Incidence};
+use impact::kernels::{self, ContactPoint, ContactQueries, ElementData, Incidence, KeptData};
 use impact::material::Elastic;
 use impact::mesh::box_mesh::box_mesh;
 use impact::scene::{BoxElement, BoxFace, BoxSpec};
@@ -19,6 +21,8 @@ use impact::scene::{BoxElement, BoxFace, BoxSpec};
 /// Bytes each kernel moves per item, counting every distinct value once (a node's data is
 /// shared by about 8 elements, so per element about one node's worth is read).
 const HEX8_BYTES: f64 = 36.0 + 24.0 + 24.0 + 96.0; // connectivity and material, reference, u, corner forces
+                                                   // connectivity, the kept stiffness and centre gradients, reference, u, corner forces
+const HEX8I_BYTES: f64 = 32.0 + 4.0 * 324.0 + 24.0 + 24.0 + 96.0;
 const GATHER_BYTES: f64 = 4.0 + 32.0 + 96.0 + 12.0; // offsets, incidence, corners, forces (per element)
 const GAP_BYTES: f64 = 12.0 + 16.0 + 4.0 * 4.0 + 48.0 + 12.0 + 32.0; // query, candidates, faces, nodes, v, point
 const SLIP_BYTES: f64 = 12.0 + 16.0 + 32.0 + 48.0 + 12.0 + 8.0;
@@ -138,7 +142,7 @@ fn main() {
             kernels::slip_rate(&data.reference, uu, vv, &q, &cpts, &mut cslip)
         });
         let rows = [
-            ("hex8_forces", KernelId::Hex8Forces, ne, c_hex, HEX8_BYTES),
+            ("hex8_forces", KernelId::Forces(Hex8), ne, c_hex, HEX8_BYTES),
             (
                 "node_gather",
                 KernelId::NodeGather,
@@ -149,6 +153,18 @@ fn main() {
             ("contact_gap", KernelId::ContactGap, nq, c_gap, GAP_BYTES),
             ("slip_rate", KernelId::SlipRate, nq, c_slip, SLIP_BYTES),
         ];
+        // the same box of hex8i, on an engine of its own
+        let data_i = ElementData {
+            elements: as_kind(&data.elements, Hex8i),
+            ..data.clone()
+        };
+        let kept = KeptData::of(&data_i);
+        let mut gpu_i = GpuKernels::new(gpu.context().clone(), &data_i).expect("engine");
+        gpu_i.internal_forces_into(&u, &mut f).expect("forces");
+        let c_hex8i = twin(0.3, &mut || {
+            kernels::hex8i_forces(&data_i, kept.of_kind(Hex8i), uu, &mut corners)
+        });
+        let g_hex8i = gpu_time(&mut gpu_i, KernelId::Forces(Hex8i));
         for (name, id, items, cpu, bytes) in rows {
             let g = gpu_time(&mut gpu, id);
             let bw = bytes * items as f64 / g;
@@ -160,9 +176,26 @@ fn main() {
                 100.0 * bw / copy
             );
         }
+        let cpu = c_hex8i.map_or("-".into(), |c| format!("{:.2}", c * 1e9 / ne as f64));
+        let bw = HEX8I_BYTES * ne as f64 / g_hex8i;
+        println!(
+            "| {ne} | {nq} | hex8i_forces | {:.2} | {cpu} | {:.2} | {:.0}% |",
+            g_hex8i * 1e9 / ne as f64,
+            bw * 1e-9,
+            100.0 * bw / copy
+        );
         println!(
             "| {ne} | {nq} | (buffer copy) | | | {:.2} | 100% |",
             copy * 1e-9
         );
     }
+}
+
+/// The same elements as one block of `kind` (of the same corner count).
+fn as_kind(elements: &Elements, kind: ElementKind) -> Elements {
+    let mut out = Elements::default();
+    for e in elements.iter() {
+        out.push(kind, e.nodes, e.material);
+    }
+    out
 }

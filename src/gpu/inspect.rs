@@ -35,8 +35,8 @@ fn time_submission(ctx: &GpuContext, enc: wgpu::CommandEncoder) -> Result<Durati
 /// The kernels of [`GpuKernels`], for timing them one by one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum KernelId {
-    Hex8Forces,
-    Tet4Forces,
+    /// The force kernel of a kind's block.
+    Forces(ElementKind),
     NodeGather,
     ContactGap,
     SlipRate,
@@ -140,11 +140,7 @@ impl GpuKernels {
         // the element kernels' launches are fixed; the contact kernels' counts follow the
         // last queries
         let (kernel, bind, grid) = match kernel {
-            KernelId::Hex8Forces | KernelId::Tet4Forces => {
-                let kind = match kernel {
-                    KernelId::Hex8Forces => ElementKind::Hex8,
-                    _ => ElementKind::Tet4,
-                };
+            KernelId::Forces(kind) => {
                 let launch = l.block(kind).ok_or_else(|| {
                     ImpactError::Gpu(format!("the mesh has no {kind} elements to time"))
                 })?;

@@ -95,7 +95,7 @@ impl ElementData {
 /// What the force kernels keep of the elements besides their data, computed once: each
 /// block's [`ElementKind::kept`] values, element after element.
 #[derive(Debug, Clone, Default)]
-pub(crate) struct KeptData {
+pub struct KeptData {
     pub blocks: Vec<Vec<f64>>,
 }
 
