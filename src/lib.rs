@@ -1,5 +1,5 @@
 //! `impact`: a contact-impact finite-element solver implementing Duan & Ye (2002):
-//! elastic hex8 and tet4 bodies, node-to-surface contact in convected coordinates, implicit Newmark,
+//! elastic hex8, hex8i and tet4 bodies, node-to-surface contact in convected coordinates, implicit Newmark,
 //! and contact forces from an adaptive-penalty augmented Lagrange iteration on the gap rate.
 //!
 //! The modules form one-way layers, each using only those before it (checked by

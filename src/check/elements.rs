@@ -1,4 +1,4 @@
-//! Element shapes: every hex8 and tet4 must have distinct corners and a positive Jacobian
+//! Element shapes: every element must have distinct corners and a positive Jacobian
 //! determinant at its Gauss points and corners, and every body a finite, positive volume.
 
 use rayon::prelude::*;

@@ -4,7 +4,7 @@
 use super::ElementKind;
 use crate::material::Elastic;
 
-/// $2 / \sqrt{\max_i \sum_j |K_{ij}| / m_i}$ for one element (hex8 or tet4) at coordinates `x`.
+/// $2 / \sqrt{\max_i \sum_j |K_{ij}| / m_i}$ for one element of a kind at coordinates `x`.
 pub fn element_stable_step(kind: ElementKind, x: &[[f64; 3]], m: &Elastic) -> f64 {
     let k = kind.stiffness(x, m);
     let ml = kind.lumped_mass(x, m.density);

@@ -128,7 +128,7 @@ pub(crate) fn finish(
 ) -> std::result::Result<BodyParts, ParseError> {
     if file.elements.count() == 0 {
         return Err(ParseError::whole(
-            "the file has no hex8 or tet4 elements (a body needs volume elements)",
+            "the file has no hex8, hex8i or tet4 elements (a body needs volume elements)",
         ));
     }
     let new_index = used_node_index(&file);
