@@ -36,7 +36,8 @@ pub fn orient(nodes: &[[f64; 3]], elements: &mut Elements) -> Result<(), Degener
         for (index, e) in block.nodes.chunks_exact_mut(n).enumerate() {
             let x: Vec<[f64; 3]> = e.iter().map(|&i| nodes[i as usize]).collect();
             let v = kind.volume(&x);
-            if v.abs() <= 1e-12 * crate::element::extent(&x).powi(3) || !v.is_finite() {
+            let d = crate::element::extent(&x);
+            if v.abs() <= 1e-12 * (d * d * d) || !v.is_finite() {
                 return Err(Degenerate {
                     kind,
                     index,
