@@ -50,10 +50,9 @@ pub(crate) fn shape_derivatives(p: [f64; 3]) -> [[f64; 3]; 8] {
     })
 }
 
-/// Physical gradients dN_k/dx and the Jacobian determinant at a parent point.
-///
-/// $J_{ab} = \sum_k x_{k,a}\, \partial N_k/\partial\xi_b$, $\nabla N_k = J^{-T} \nabla_\xi N_k$.
-pub(crate) fn gradients(x: &[[f64; 3]; 8], p: [f64; 3]) -> ([[f64; 3]; 8], f64) {
+/// The Jacobian $J_{ab} = \sum_k x_{k,a}\, \partial N_k/\partial\xi_b$ at a parent point, with
+/// the parent derivatives there.
+pub(crate) fn jacobian(x: &[[f64; 3]; 8], p: [f64; 3]) -> ([[f64; 3]; 3], [[f64; 3]; 8]) {
     let dn = shape_derivatives(p);
     let mut j = [[0.0; 3]; 3];
     for k in 0..8 {
@@ -63,6 +62,13 @@ pub(crate) fn gradients(x: &[[f64; 3]; 8], p: [f64; 3]) -> ([[f64; 3]; 8], f64) 
             }
         }
     }
+    (j, dn)
+}
+
+/// Physical gradients dN_k/dx and the Jacobian determinant at a parent point:
+/// $\nabla N_k = J^{-T} \nabla_\xi N_k$ with $J$ of [`jacobian`].
+pub(crate) fn gradients(x: &[[f64; 3]; 8], p: [f64; 3]) -> ([[f64; 3]; 8], f64) {
+    let (j, dn) = jacobian(x, p);
     let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
         - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
         + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);

@@ -34,18 +34,9 @@ pub(crate) fn packed_index(r: usize, c: usize) -> usize {
     r * (47 - r) / 2 + c
 }
 
-/// The Jacobian $J_{ab} = \sum_k x_{k,a} \partial N_k / \partial \xi_b$ at the centre, its
-/// inverse and its determinant.
+/// The inverse and the determinant of the Jacobian at the centre ([`hex8::jacobian`]).
 fn centre_jacobian(x: &[[f64; 3]; 8]) -> ([[f64; 3]; 3], f64) {
-    let dn = hex8::shape_derivatives([0.0; 3]);
-    let mut j = [[0.0; 3]; 3];
-    for k in 0..8 {
-        for a in 0..3 {
-            for b in 0..3 {
-                j[a][b] += x[k][a] * dn[k][b];
-            }
-        }
-    }
+    let (j, _) = hex8::jacobian(x, [0.0; 3]);
     let m = nalgebra::Matrix3::from_fn(|a, b| j[a][b]);
     let det = m.determinant();
     let inv = m.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros);
