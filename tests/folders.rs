@@ -5,29 +5,12 @@
 //! that names `F::b::...` gives the edge a -> b. Items the folder's `mod.rs` re-exports are
 //! the folder's own and give no edge.
 
+mod common;
+
+use common::source::{code, sources};
+
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::{Path, PathBuf};
-
-/// Every `.rs` file under `dir`.
-fn sources(dir: &Path, out: &mut Vec<PathBuf>) {
-    for entry in std::fs::read_dir(dir).expect("src is readable") {
-        let path = entry.expect("a directory entry").path();
-        if path.is_dir() {
-            sources(&path, out);
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            out.push(path);
-        }
-    }
-}
-
-/// The code of a source file without its comments and its test module.
-fn code(text: &str) -> String {
-    let text = text.split("#[cfg(test)]").next().unwrap_or_default();
-    text.lines()
-        .map(|l| l.split("//").next().unwrap_or_default())
-        .collect::<Vec<_>>()
-        .join("\n")
-}
+use std::path::Path;
 
 /// The module path of a file under `src` (`integrate/implicit/mod.rs` is
 /// `["integrate", "implicit"]`; `lib.rs` and `main.rs` are the crate root).

@@ -3,6 +3,10 @@
 //! code of `src/` (comments and `#[cfg(test)]` modules left out), so a new upward import
 //! fails here on any machine.
 
+mod common;
+
+use common::source::{code, sources};
+
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -32,27 +36,6 @@ const LAYERS: &[&str] = &[
     "run",
     "study",
 ];
-
-/// Every `.rs` file under `dir`.
-fn sources(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
-    for entry in std::fs::read_dir(dir).expect("src is readable") {
-        let path = entry.expect("a directory entry").path();
-        if path.is_dir() {
-            sources(&path, out);
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            out.push(path);
-        }
-    }
-}
-
-/// The code of a source file without its comments and its test module.
-fn code(text: &str) -> String {
-    let text = text.split("#[cfg(test)]").next().unwrap_or_default();
-    text.lines()
-        .map(|l| l.split("//").next().unwrap_or_default())
-        .collect::<Vec<_>>()
-        .join("\n")
-}
 
 /// The modules named by `crate::<name>` paths in `code`.
 fn uses(code: &str) -> BTreeSet<String> {

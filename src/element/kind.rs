@@ -254,32 +254,46 @@ fn as_array<const N: usize>(x: &[[f64; 3]]) -> &[[f64; 3]; N] {
 mod tests {
     use super::*;
 
-    /// Each face's outward normal points away from the centre of the unit element.
-    #[test]
-    fn faces_point_out_of_the_reference_elements() {
-        let hex = hex8::CORNERS.map(|c| c.map(|v| 0.5 * (v + 1.0)));
-        let tet = [
+    /// A positive reference element of each kind: the unit cube (hex8 and hex8i), the unit
+    /// corner tetrahedron.
+    fn reference_elements() -> Vec<(ElementKind, Vec<[f64; 3]>)> {
+        let cube = hex8::CORNERS.map(|c| c.map(|v| 0.5 * (v + 1.0))).to_vec();
+        let tet = vec![
             [0.0, 0.0, 0.0],
             [1.0, 0.0, 0.0],
             [0.0, 1.0, 0.0],
             [0.0, 0.0, 1.0],
         ];
-        for (kind, x) in [(ElementKind::Hex8, &hex[..]), (ElementKind::Tet4, &tet[..])] {
+        ElementKind::ALL
+            .map(|k| {
+                (
+                    k,
+                    if k.corners() == 8 {
+                        cube.clone()
+                    } else {
+                        tet.clone()
+                    },
+                )
+            })
+            .to_vec()
+    }
+
+    /// Each face's outward normal points away from the centre of the unit element.
+    #[test]
+    fn faces_point_out_of_the_reference_elements() {
+        use crate::geometry::vector::{cross, dot, sub};
+        for (kind, x) in reference_elements() {
             assert_eq!(x.len(), kind.corners());
-            assert!(kind.volume(x) > 0.0);
+            assert!(kind.volume(&x) > 0.0);
             let n = x.len() as f64;
             let c: [f64; 3] = std::array::from_fn(|a| x.iter().map(|p| p[a]).sum::<f64>() / n);
             for f in kind.faces() {
                 let p = |k: usize| x[f[k]];
-                let d = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-                let (u, v) = (d(p(1), p(0)), d(p(2), p(0)));
-                let m = [
-                    u[1] * v[2] - u[2] * v[1],
-                    u[2] * v[0] - u[0] * v[2],
-                    u[0] * v[1] - u[1] * v[0],
-                ];
-                let out: f64 = (0..3).map(|a| m[a] * (p(0)[a] - c[a])).sum();
-                assert!(out > 0.0, "{kind} face {f:?} points inward");
+                let m = cross(sub(p(1), p(0)), sub(p(2), p(0)));
+                assert!(
+                    dot(m, sub(p(0), c)) > 0.0,
+                    "{kind} face {f:?} points inward"
+                );
             }
         }
     }
@@ -287,15 +301,8 @@ mod tests {
     /// Mirroring a mirrored element restores a positive volume of the same size.
     #[test]
     fn mirror_turns_a_negative_element_positive() {
-        let hex = hex8::CORNERS.map(|c| c.map(|v| 0.5 * (v + 1.0)));
-        let tet = [
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-        ];
-        for (kind, x) in [(ElementKind::Hex8, &hex[..]), (ElementKind::Tet4, &tet[..])] {
-            let v = kind.volume(x);
+        for (kind, x) in reference_elements() {
+            let v = kind.volume(&x);
             let mut nodes: Vec<u32> = (0..kind.corners() as u32).collect();
             kind.mirror(&mut nodes);
             let mirrored: Vec<[f64; 3]> = nodes.iter().map(|&n| x[n as usize]).collect();

@@ -6,6 +6,7 @@ pub mod gpu;
 pub mod history;
 pub mod random;
 pub mod scenes;
+pub mod source;
 pub mod waves;
 
 pub use cli::*;
