@@ -2,6 +2,7 @@
 //! ([`Kernels`]): the CPU twins ([`CpuKernels`], f64) or the GPU
 //! ([`crate::gpu::GpuKernels`], f32).
 
+use crate::element::CornerLayout;
 use crate::error::Result;
 use crate::kernels::{
     as_vec3, as_vec3_mut, contact_gap, element_forces, node_gather, slip_rate, ContactPoint,
@@ -58,6 +59,8 @@ pub trait Kernels {
 /// The kernels on the CPU, in f64.
 pub struct CpuKernels {
     data: ElementData,
+    /// Where each corner's force lives, and what the force kernels keep (both fixed).
+    layout: CornerLayout,
     kept: KeptData,
     incidence: Incidence,
     corner_forces: Vec<[f64; 3]>,
@@ -68,6 +71,7 @@ impl CpuKernels {
         let incidence = Incidence::new(&data.elements, data.reference.len());
         let corner_forces = vec![[0.0; 3]; data.corner_count()];
         CpuKernels {
+            layout: data.layout(),
             kept: KeptData::of(&data),
             data,
             incidence,
@@ -94,7 +98,8 @@ impl Kernels for CpuKernels {
         f64::EPSILON
     }
     fn internal_forces_into(&mut self, u: &[f64], f: &mut [f64]) -> Result<()> {
-        element_forces(&self.data, &self.kept, as_vec3(u), &mut self.corner_forces);
+        let fixed = (&self.layout, &self.kept);
+        element_forces(&self.data, fixed, as_vec3(u), &mut self.corner_forces);
         node_gather(&self.incidence, &self.corner_forces, as_vec3_mut(f));
         Ok(())
     }

@@ -128,15 +128,15 @@ impl KeptData {
     }
 }
 
-/// Corner forces of every element at displacement `u`, in the [`CornerLayout`] (overwrites
-/// `corner_forces`): the per-kind force kernels, each on its block's part.
+/// Corner forces of every element at displacement `u`, in `layout` (the data's
+/// [`CornerLayout`]; overwrites `corner_forces`): the per-kind force kernels, each on its
+/// block's part.
 pub(crate) fn element_forces(
     data: &ElementData,
-    kept: &KeptData,
+    (layout, kept): (&CornerLayout, &KeptData),
     u: &[[f64; 3]],
     corner_forces: &mut [[f64; 3]],
 ) {
-    let layout = data.layout();
     for block in &data.elements.blocks {
         let start = layout.offset(block.kind);
         let out = &mut corner_forces[start..start + block.nodes.len()];
