@@ -434,8 +434,7 @@ impl<'s> Running<'s> {
             }
         }
         let last = n + 1 == self.setup.steps;
-        let stopped = |s: &mut Box<dyn Integrator + '_>| s.pipelined().is_none_or(|p| p.at_rest());
-        (signalled && !last && stopped(&mut self.solver)).then(|| {
+        (signalled && !last && self.solver.pipelined().is_none_or(|p| p.at_rest())).then(|| {
             interrupted(
                 &self.setup.model,
                 self.solver.as_mut(),
