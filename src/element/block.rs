@@ -46,12 +46,6 @@ impl ElementBlock {
         bytemuck::cast_slice(&self.nodes)
     }
 
-    /// The corner nodes of every element, mutably (see [`Self::corners`]).
-    pub fn corners_mut<const N: usize>(&mut self) -> &mut [[u32; N]] {
-        assert_eq!(N, self.kind.corners(), "{} corners", self.kind);
-        bytemuck::cast_slice_mut(&mut self.nodes)
-    }
-
     /// Each element's corner nodes and material.
     pub fn iter(&self) -> impl ExactSizeIterator<Item = (&[u32], u32)> + '_ {
         (self.nodes.chunks_exact(self.kind.corners())).zip(self.material.iter().copied())

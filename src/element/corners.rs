@@ -99,12 +99,6 @@ impl CornerLayout {
         self.device(b.kind, e, k)
     }
 
-    /// The global element number of corner id `c`.
-    pub fn element_of(&self, c: usize) -> usize {
-        let (b, e, _) = self.locate(c);
-        b.first_element + e
-    }
-
     /// The corner id of corner 0 of global element `e`.
     pub fn first_corner(&self, e: usize) -> usize {
         let b = (self.blocks.iter())
@@ -140,7 +134,6 @@ mod tests {
         assert_eq!(layout.twin(ElementKind::Tet4, 2, 3), 24 + 11);
         assert_eq!(layout.device(ElementKind::Tet4, 2, 3), 24 + 3 * 5 + 2);
         assert_eq!(layout.to_device(24 + 11), 24 + 17);
-        assert_eq!(layout.element_of(24 + 11), 5);
         assert_eq!(layout.first_corner(5), 32);
         assert_eq!(layout.first_corner(2), 16);
     }
