@@ -18,7 +18,8 @@
 //! `cargo bench --bench explicit_step` (10^4 to 10^6 elements on the three engines, and a
 //! 10^7-element row on the resident engine alone where the adapter is a hardware GPU;
 //! `-- --quick` for 10^4 and 10^5 only; `-- --large` adds the 10^7 row on any adapter;
-//! `-- --resident` times the resident engine alone).
+//! `-- --resident` times the resident engine alone; `-- --sweeps N` fixes the contact
+//! sweeps the resident engine records per step).
 
 use std::path::Path;
 use std::time::Instant;
@@ -32,6 +33,10 @@ use impact::integrate::{ExplicitSolver, Integrator, ResidentSolver};
 use impact::model::Model;
 use impact::scene::Scene;
 use impact::setup::explicit_time_step;
+
+#[path = "../tests/common/bench_scenes.rs"]
+mod bench_scenes;
+use bench_scenes::contact_scene;
 
 fn scene(n: [usize; 3]) -> String {
     let h = 1.0 / n[0] as f64;
@@ -94,11 +99,10 @@ struct Resident {
     /// Stage name and microseconds per step.
     stages: Vec<(&'static str, f64)>,
     copy: f64,
-    /// Steps timed, submissions run again in them (a step ran out of recorded contact
-    /// sweeps), and the sweeps recorded per step at the end.
+    /// Steps timed, and the contact sweeps recorded (as dispatches of their own) and needed
+    /// per step over them.
     steps: usize,
-    reruns: usize,
-    recorded: Option<u32>,
+    sweeps: Option<(f64, f64)>,
 }
 
 /// The bytes one explicit step moves at least: per node the predictor (a, v), drift (v, u),
@@ -158,7 +162,10 @@ fn time_resident(
     }
     // then whole submissions (the device runs one ahead of the host) for about a second, at
     // least one and at most `max_steps` steps' worth (the scene stays in contact)
-    let reruns_before = s.reruns();
+    if let Some(n) = fixed_sweeps() {
+        s.fix_recorded_sweeps(n);
+    }
+    let before = s.sweep_counts();
     let t = Instant::now();
     let mut steps = 0;
     while steps == 0 || (steps + chunk <= max_steps && t.elapsed().as_secs_f64() < 1.0) {
@@ -168,9 +175,13 @@ fn time_resident(
         steps += chunk;
     }
     let ns = t.elapsed().as_secs_f64() / steps as f64 * 1e9 / elements;
-    let reruns = s.reruns() - reruns_before;
-    let engine = s.engine_mut();
-    let recorded = engine.impulse_sweeps().is_some().then(|| engine.sweeps());
+    let after = s.sweep_counts();
+    let per_step = |a: u64, b: u64| (a - b) as f64 / steps as f64;
+    let sweeps = s
+        .engine_mut()
+        .impulse_sweeps()
+        .is_some()
+        .then(|| (per_step(after.0, before.0), per_step(after.1, before.1)));
     let engine = s.engine_mut();
     let reps = steps.clamp(4, 50);
     let stages = [
@@ -202,61 +213,8 @@ fn time_resident(
         stages,
         copy,
         steps,
-        reruns,
-        recorded,
+        sweeps,
     }
-}
-
-/// A block resting on a plate supported along its four bottom edges, pressed by gravity and
-/// moving across it at (0.3, 0.2, -1): contact between meshed bodies with friction. About
-/// 0.225 n^3 elements.
-fn contact_scene(n: usize) -> String {
-    let h = 1.0 / n as f64;
-    let nz = (n / 10).max(2);
-    let nb = (n / 2).max(2);
-    format!(
-        r#"
-gravity = [0.0, 0.0, -9.8]
-
-[run]
-method = "explicit"
-end_time = 1.0
-
-[[material]]
-name = "steel"
-density = 7.8e-3
-youngs_modulus = 200.0
-poissons_ratio = 0.3
-
-[[body]]
-name = "plate"
-material = "steel"
-box = {{ min = [0.0, 0.0, {pz}], max = [1.0, 1.0, 0.0], divisions = [{n}, {n}, {nz}] }}
-
-[[body]]
-name = "block"
-material = "steel"
-box = {{ min = [0.25, 0.25, 0.0], max = [0.75, 0.75, 0.5], divisions = [{nb}, {nb}, {nb}] }}
-velocity = [0.3, 0.2, -1.0]
-
-[[contact]]
-name = "impact"
-secondary = {{ body = "block", face = "z-" }}
-primary = {{ body = "plate", face = "z+" }}
-friction = 0.2
-
-[[fix]]
-body = "plate"
-region = {{ min = [0.0, 0.0, {pz}], max = [0.0, 1.0, {pz}] }}
-components = ["z"]
-
-[[fix]]
-body = "plate"
-region = {{ min = [1.0, 0.0, {pz}], max = [1.0, 1.0, {pz}] }}
-components = ["x", "y", "z"]
-"#,
-        pz = -(nz as f64) * h,
-    )
 }
 
 /// Which engines a table row times.
@@ -342,7 +300,7 @@ fn table(
     println!("\nThe resident step's stages alone (microseconds per step; each stage repeated in one submission), and the host's time to record and submit a step (it overlaps the device's work on the submission before):\n");
     let names: Vec<&str> = stage_rows[0].1.stages.iter().map(|s| s.0).collect();
     println!(
-        "| elements | {} | sum | whole step | steps timed | reruns | contact sweeps recorded per step |",
+        "| elements | {} | sum | whole step | steps timed | contact sweeps recorded per step | needed per step |",
         names.join(" | ")
     );
     println!(
@@ -363,8 +321,8 @@ fn table(
             cells.join(" | "),
             r.ns * *elements as f64 * 1e-3,
             r.steps,
-            r.reruns,
-            r.recorded.map_or("-".into(), |x| x.to_string())
+            r.sweeps.map_or("-".into(), |x| format!("{:.2}", x.0)),
+            r.sweeps.map_or("-".into(), |x| format!("{:.2}", x.1)),
         );
     }
 }
@@ -401,6 +359,14 @@ fn thread_table(title: &str, scenes: &[String], max_steps: usize) {
             single / many
         );
     }
+}
+
+/// `-- --sweeps N`: the resident engine records N contact sweeps per step as dispatches of
+/// their own instead of following the steps' needs.
+fn fixed_sweeps() -> Option<u32> {
+    let args: Vec<String> = std::env::args().collect();
+    let at = args.iter().position(|a| a == "--sweeps")?;
+    args.get(at + 1).and_then(|n| n.parse().ok())
 }
 
 fn main() {

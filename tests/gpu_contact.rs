@@ -237,7 +237,8 @@ fn contact_iteration_stages_match_their_cpu_twins() {
     let mut v_in = gpu_state(&mut gpu).1;
     for sweep in 0..4 {
         let (ctx2, it) = gpu.impulse_sweeps().unwrap();
-        it.run(ctx2, |it, enc| it.record_sweeps(enc, 1)).unwrap();
+        it.run(ctx2, |it, enc| it.record_sweeps(enc, sweep, 1))
+            .unwrap();
         let mut c_cpu = c_in.clone();
         let mut dj_cpu = vec![0.0; 3 * contact.pairs.len()];
         let violation = kernels::contact_sweep(dt, &mut c_cpu, &contact.pairs, &v_in, &mut dj_cpu);
@@ -295,6 +296,48 @@ fn contact_iteration_stages_match_their_cpu_twins() {
         c_in = c_gpu;
         v_in = v_gpu;
     }
+
+    // the rest of the iteration in one workgroup, against its twin from the same inputs
+    let (ctx2, it) = gpu.impulse_sweeps().unwrap();
+    it.run(ctx2, |it, enc| it.record_finish(enc)).unwrap();
+    let s = it.read_state(ctx2).unwrap();
+    let c_gpu = it.read_constraints(ctx2).unwrap();
+    let v_gpu = gpu_state(&mut gpu).1;
+    let mut c_cpu = c_in.clone();
+    let mut v_cpu = v_in.clone();
+    let mut dj_cpu = vec![0.0; 3 * contact.pairs.len()];
+    let inputs = kernels::SweepInputs {
+        dt,
+        tolerance: setup.tolerance,
+        max_iterations: setup.max_iterations,
+        pairs: &contact.pairs,
+        nodes: &contact.nodes,
+        links: &contact.links,
+        starts: &starts,
+        sorted: &sorted,
+        lumped: &setup.lumped,
+    };
+    kernels::contact_finish(&inputs, &mut cpu_state, &mut c_cpu, &mut dj_cpu, &mut v_cpu);
+    let e = rel_err(&v_gpu, &v_cpu);
+    let ei = rel_err(&constraint_fields(&c_gpu), &constraint_fields(&c_cpu));
+    eprintln!(
+        "contact_finish: {} sweeps (twin {}), phase {} (twin {}), velocity {e:.2e}, impulses {ei:.2e}",
+        s.sweeps, cpu_state.sweeps, s.phase, cpu_state.phase
+    );
+    assert!(
+        !s.sweeping(),
+        "seed {seed}: contact_finish left the iteration sweeping"
+    );
+    // the stopping rule compares an f32 violation with the tolerance: one sweep either way
+    assert!(
+        s.sweeps.abs_diff(cpu_state.sweeps) <= 1 && s.phase == cpu_state.phase,
+        "seed {seed}: contact_finish stopped at another sweep than its twin"
+    );
+    assert!(e <= TOL, "seed {seed}: contact_finish velocity {e:.2e}");
+    assert!(ei <= TOL, "seed {seed}: contact_finish impulses {ei:.2e}");
+    assert!(s.sweeps > 4, "seed {seed}: contact_finish must sweep");
+    c_in = c_gpu;
+    v_in = v_gpu;
 
     // the report
     let (ctx2, it) = gpu.impulse_sweeps().unwrap();
@@ -366,10 +409,10 @@ point = [1.0, 0.5, 0.0]
     resident_against_cpu("stack", &text, 0.125, 2e-4);
 }
 
-/// The device records a number of contact sweeps per step that follows the last submission's
-/// needs; a step that runs out of them makes the host run its submission again from a
-/// snapshot with every sweep recorded. The results must not depend on it: starting from one
-/// recorded sweep (many reruns) gives the same rows, bit for bit, as recording every sweep.
+/// The device records a number of contact sweeps per step as dispatches of their own, and
+/// `contact_finish` runs the rest of each step's iteration in one workgroup. The results must
+/// not depend on how many were recorded: none (every sweep in `contact_finish`), one, and
+/// every sweep the limit allows give the same rows, bit for bit.
 #[test]
 fn recorded_sweeps_do_not_change_the_results() {
     let Some(ctx) = gpu_context("recorded sweeps") else {
@@ -379,13 +422,14 @@ fn recorded_sweeps_do_not_change_the_results() {
     let settings = model_settings();
     let dt = 5e-4;
     let steps = 120;
-    let run = |min_sweeps: u32| {
-        // 25 steps per submission: the device runs one submission ahead of the host, so a
-        // rerun also discards the submission after it
+    let run = |recorded: Option<u32>| {
+        // 25 steps per submission: the device runs one submission ahead of the host
         let mut s =
             ResidentSolver::with_chunk(ctx.clone(), &model, &settings, dt, 1.0, steps, None, 25)
                 .expect("resident solver");
-        s.set_min_sweeps(min_sweeps);
+        if let Some(n) = recorded {
+            s.fix_recorded_sweeps(n);
+        }
         let mut rows = Vec::new();
         for _ in 0..steps {
             let r = s.step().expect("step");
@@ -402,21 +446,66 @@ fn recorded_sweeps_do_not_change_the_results() {
                 s.body_velocities(),
             ));
         }
-        (rows, s.reruns(), s.u.clone(), s.v.clone())
+        (rows, s.sweep_counts(), s.u.clone(), s.v.clone())
     };
-    let (all, reruns_all, u_all, v_all) = run(settings.max_iterations as u32);
-    let (few, reruns_few, u_few, v_few) = run(1);
+    let (all, counts_all, u_all, v_all) = run(Some(settings.max_iterations as u32));
     let sweeps: usize = all.iter().map(|r| r.0).sum();
-    eprintln!("{sweeps} sweeps; reruns: {reruns_all} recording all, {reruns_few} from one");
+    assert!(all.iter().all(|r| r.1), "every step converges");
     assert!(
         sweeps > 2 * steps,
         "the scene must need several sweeps per step"
     );
-    assert_eq!(reruns_all, 0);
-    assert!(
-        reruns_few > 0,
-        "starting from one sweep must run submissions again"
-    );
-    assert_eq!(all, few, "the rows differ");
-    assert_eq!((u_all, v_all), (u_few, v_few), "the final state differs");
+    eprintln!("{sweeps} sweeps over {steps} steps; recorded and needed with every sweep recorded: {counts_all:?}");
+    for recorded in [Some(0), Some(1), None] {
+        let (rows, counts, u, v) = run(recorded);
+        eprintln!("recording {recorded:?}: recorded and needed {counts:?}");
+        // the last submission's steps are not collected yet: needed counts the rest
+        assert!(counts.1 <= sweeps as u64 && counts.1 > 0);
+        assert_eq!(all, rows, "the rows differ recording {recorded:?}");
+        assert_eq!(
+            (&u_all, &v_all),
+            (&u, &v),
+            "the final state differs recording {recorded:?}"
+        );
+    }
+}
+
+/// The sweeps the resident engine records as dispatches of their own follow what the steps
+/// need: over a run, at most 1.25 times the sweeps needed plus 2 per step (`summary.json`'s
+/// `sweeps_recorded` and `sweeps_needed`), on the shipped cube on the plate (explicit, at the
+/// default step) and on the explicit bench's plate scene (about 10^4 elements).
+#[test]
+fn recorded_sweeps_follow_the_needs_of_the_steps() {
+    if gpu_context("recorded sweeps follow the needs").is_none() {
+        return;
+    }
+    let cube = explicit_at_default_step(&scene_text("cube_on_plate.toml"));
+    let plate = contact_scene(36).replace("end_time = 1.0", "end_time = 0.02");
+    for (tag, text) in [
+        ("cube_on_plate_sweeps", cube),
+        ("plate_bench_sweeps", plate),
+    ] {
+        let (s, _) = run_text_on(tag, &text, Some(impact::scene::DeviceChoice::Gpu));
+        let s = s.expect("run completes");
+        assert_eq!(s.status, "completed", "{tag}");
+        assert_eq!(s.engine, "gpu resident", "{tag}");
+        let recorded = s.sweeps_recorded.expect("sweeps_recorded") as f64;
+        let needed = s.sweeps_needed.expect("sweeps_needed") as f64;
+        let steps = s.steps as f64;
+        eprintln!(
+            "{tag}: {} steps, {:.2} sweeps recorded and {:.2} needed per step",
+            s.steps,
+            recorded / steps,
+            needed / steps
+        );
+        assert_eq!(
+            needed as usize, s.iterations_total,
+            "{tag}: needed = iterations"
+        );
+        assert!(needed > steps, "{tag}: the steps must need sweeps");
+        assert!(
+            recorded <= 1.25 * needed + 2.0 * steps,
+            "{tag}: {recorded} sweeps recorded for {needed} needed over {steps} steps"
+        );
+    }
 }

@@ -12,12 +12,15 @@
 //!    (`bucket_order`: the atomics rank them in a different order every run);
 //! 3. the row-sum compliance: `contact_touches` per contact node (it gathers the pairs of
 //!    its faces from the buckets) and `contact_compliance` per pair, then a first
-//!    `sweep_control`;
+//!    `sweep_control`, which arms the first sweep's grid;
 //! 4. the sweeps: `contact_sweep` per pair (impulse changes), then `contact_apply` per
 //!    contact node (it gathers them into its velocity; its first invocation applies the
-//!    stopping rule). The caller says how many sweeps to record; once the iteration has
-//!    stopped, a sweep does nothing and arms an empty grid for the apply after it, which is
-//!    dispatched indirectly (each sweep recorded after that still costs two dispatches);
+//!    stopping rule and, while the iteration sweeps on, arms the next sweep's grid). Both
+//!    are dispatched indirectly from their sweep's grid, one entry per sweep, cleared before
+//!    the iteration: once it has stopped, the sweeps recorded after it are empty dispatches.
+//!    The caller says how many sweeps to record; `contact_finish`, one workgroup, runs any
+//!    sweeps the iteration needs after them, the same arithmetic in the same order, so that
+//!    the results do not depend on how many were recorded;
 //! 5. `contact_report`, one per pair: the results `history_reduce` sums per interface.
 
 use std::ops::Range;
@@ -28,8 +31,8 @@ use super::context::GpuContext;
 use super::kernel::Launch;
 use super::kernels::{
     BucketCount, BucketFill, BucketOrder, ContactApply, ContactCompliance, ContactConstraints,
-    ContactReportKernel, ContactSweep, ContactTouches, PrefixSum, SearchBounds, SearchGridKernel,
-    SweepControl,
+    ContactFinish, ContactReportKernel, ContactSweep, ContactTouches, PrefixSum, SearchBounds,
+    SearchGridKernel, SweepControl,
 };
 use super::search::GpuSearch;
 use super::types::{self, to_device};
@@ -80,6 +83,7 @@ struct IterationKernels {
     sweep: ContactSweep,
     apply: ContactApply,
     control: SweepControl,
+    finish: ContactFinish,
     report: ContactReportKernel,
 }
 
@@ -99,6 +103,7 @@ impl IterationKernels {
             sweep: ContactSweep::new(ctx),
             apply: ContactApply::new(ctx),
             control: SweepControl::new(ctx),
+            finish: ContactFinish::new(ctx),
             report: ContactReportKernel::new(ctx),
         }
     }
@@ -115,8 +120,11 @@ struct Launches {
     touches: Launch,
     compliance: Launch,
     sweep: Launch,
-    apply: Launch,
+    /// The applies of the even and the odd sweeps (each arms the next sweep's grid in the
+    /// other parity's buffer).
+    apply: [Launch; 2],
     control: Launch,
+    finish: Launch,
     report: Launch,
 }
 
@@ -150,14 +158,21 @@ pub(super) struct WorkBuffers {
     pub(super) touches: Storage,
     pub(super) dj: Storage,
     pub(super) state: Storage,
-    /// The apply's indirect grid.
-    args: Storage,
+    /// The sweeps' indirect grids: entry k / 2 of buffer k % 2 is sweep k's.
+    args: [Storage; 2],
     pub(super) results: Storage,
 }
 
 impl WorkBuffers {
-    /// Allocates the working buffers for `np` pairs, `nf` primary faces and `nodes` nodes.
-    fn new(ctx: &GpuContext, np: usize, nf: usize, nodes: usize) -> Result<Self> {
+    /// Allocates the working buffers for `np` pairs, `nf` primary faces, `nodes` nodes and
+    /// at most `max_iterations` sweeps.
+    fn new(
+        ctx: &GpuContext,
+        np: usize,
+        nf: usize,
+        nodes: usize,
+        max_iterations: u32,
+    ) -> Result<Self> {
         let words = |n: usize| (4 * n) as u64;
         let bounds = Storage::new(ctx, "contact.bounds", 8)?;
         let constraints = Storage::new(
@@ -176,16 +191,21 @@ impl WorkBuffers {
         let touches = Storage::new(ctx, "contact.touches", words(nodes))?;
         let dj = Storage::new(ctx, "contact.dj", words(3 * np))?;
         let state = Storage::new(ctx, "contact.state", 16)?;
-        // the apply's grid, armed by each sweep (empty once the iteration has stopped)
-        let args = Storage::with_usage(
-            ctx,
-            "contact.apply_args",
-            12,
-            wgpu::BufferUsages::STORAGE
-                | wgpu::BufferUsages::INDIRECT
-                | wgpu::BufferUsages::COPY_DST
-                | wgpu::BufferUsages::COPY_SRC,
-        )?;
+        // the sweeps' grids, armed by the stopping rule before each (empty once the
+        // iteration has stopped)
+        let entries = max_iterations as u64 / 2 + 1;
+        let grids = |label| {
+            Storage::with_usage(
+                ctx,
+                label,
+                12 * entries,
+                wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::INDIRECT
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
+            )
+        };
+        let args = [grids("contact.even_sweeps")?, grids("contact.odd_sweeps")?];
         let results = Storage::with_data(ctx, "contact.results", &vec![0.0f32; SLOT * np])?;
         Ok(WorkBuffers {
             bounds,
@@ -339,41 +359,70 @@ impl Bindings<'_> {
         [touches, compliance]
     }
 
-    /// The sweeps' launches: `contact_sweep`, `contact_apply` and `sweep_control`.
-    fn sweeps(&self, tolerance: f64, max_iterations: u32) -> [Launch; 3] {
+    /// The sweeps' launches: `contact_sweep`, the even and odd sweeps' `contact_apply`,
+    /// `sweep_control` and `contact_finish`. The sweep and the apply share one grid, over
+    /// the pairs or the contact nodes, whichever are more.
+    fn sweeps(&self) -> (Launch, [Launch; 2], Launch, Launch) {
         let (ctx, k, b, m, w) = (self.ctx, self.k, self.b, self.m, self.w);
-        // the apply's grid, which the sweep arms
-        let ag = k.apply.0.grid(self.nc);
-        let sweep = k.sweep.launch(
+        let items = self.np.max(self.nc);
+        let [x, y] = k.sweep.0.grid(items);
+        let sweep = k.sweep.0.launch_over(
+            ctx,
+            (self.np, items),
+            0,
+            0,
+            &[
+                b.step,
+                &w.constraints.buffer,
+                &m.pairs.buffer,
+                b.velocity,
+                &w.dj.buffer,
+                &w.state.buffer,
+            ],
+        );
+        let apply = |next: &Storage| {
+            k.apply.0.launch_over(
+                ctx,
+                (self.nc, items),
+                x,
+                y,
+                &[
+                    b.step,
+                    &m.nodes.buffer,
+                    &m.links.buffer,
+                    &w.constraints.buffer,
+                    &w.sort.starts.buffer,
+                    &w.sort.sorted.buffer,
+                    &w.dj.buffer,
+                    b.lumped,
+                    b.velocity,
+                    &w.state.buffer,
+                    &next.buffer,
+                ],
+            )
+        };
+        let apply = [apply(&w.args[1]), apply(&w.args[0])];
+        let control = k
+            .control
+            .launch(ctx, 1, x, y, &w.state.buffer, &w.args[0].buffer);
+        let finish = k.finish.launch(
             ctx,
             self.np,
-            ag[0],
-            ag[1],
+            self.nc,
+            0,
             b.step,
             &w.constraints.buffer,
             &m.pairs.buffer,
             b.velocity,
             &w.dj.buffer,
             &w.state.buffer,
-            &w.args.buffer,
-        );
-        let apply = k.apply.launch(
-            ctx,
-            self.nc,
-            max_iterations,
-            (tolerance as f32).to_bits(),
             &m.nodes.buffer,
             &m.links.buffer,
-            &w.constraints.buffer,
             &w.sort.starts.buffer,
             &w.sort.sorted.buffer,
-            &w.dj.buffer,
             b.lumped,
-            b.velocity,
-            &w.state.buffer,
         );
-        let control = k.control.launch(ctx, 1, 0, 0, &w.state.buffer);
-        [sweep, apply, control]
+        (sweep, apply, control, finish)
     }
 
     /// The report's launch, `contact_report`.
@@ -394,18 +443,11 @@ impl Bindings<'_> {
     }
 
     /// Every launch of the iteration, stage after stage.
-    fn launches(
-        &self,
-        search: Option<&GpuSearch>,
-        setup: &ContactSetup,
-        nodes: usize,
-        tolerance: f64,
-        max_iterations: u32,
-    ) -> Launches {
+    fn launches(&self, search: Option<&GpuSearch>, setup: &ContactSetup, nodes: usize) -> Launches {
         let (bounds, grid) = self.search(search, nodes, setup.face_size);
         let [constraints, count, prefix, fill, order] = self.sort();
         let [touches, compliance] = self.compliance();
-        let [sweep, apply, control] = self.sweeps(tolerance, max_iterations);
+        let (sweep, apply, control, finish) = self.sweeps();
         Launches {
             bounds,
             grid,
@@ -419,6 +461,7 @@ impl Bindings<'_> {
             sweep,
             apply,
             control,
+            finish,
             report: self.report(),
         }
     }
@@ -445,14 +488,13 @@ impl ImpulseSweeps {
         b: &StepBuffers,
         setup: &ContactSetup,
         nodes: usize,
-        tolerance: f64,
         max_iterations: u32,
     ) -> Result<Self> {
         let search = Self::search(ctx, b, setup)?;
         let kernels = IterationKernels::new(ctx);
         let (np, nf) = (setup.pairs.len(), setup.faces.len());
         let model = ModelBuffers::upload(ctx, setup)?;
-        let work = WorkBuffers::new(ctx, np, nf, nodes)?;
+        let work = WorkBuffers::new(ctx, np, nf, nodes, max_iterations)?;
         // placeholders where no interface has a primary surface
         let none = Storage::new(ctx, "contact.none", 64)?;
         let (grid, points, faces) = match &search {
@@ -472,7 +514,7 @@ impl ImpulseSweeps {
             nf: nf as u32,
             nc: setup.nodes.len() as u32,
         }
-        .launches(search.as_ref(), setup, nodes, tolerance, max_iterations);
+        .launches(search.as_ref(), setup, nodes);
         let ModelBuffers {
             pairs,
             nodes: cnodes,
@@ -534,7 +576,8 @@ impl ImpulseSweeps {
             &w.touches,
             &w.dj,
             &w.state,
-            &w.args,
+            &w.args[0],
+            &w.args[1],
             &w.results,
         ]
         .iter()
@@ -561,26 +604,41 @@ impl ImpulseSweeps {
         k.fill.0.record_launch(enc, &l.fill);
         k.order.0.record_launch(enc, &l.order);
         enc.clear_buffer(&self.work.state.buffer, 0, None);
+        for args in &self.work.args {
+            enc.clear_buffer(&args.buffer, 0, None);
+        }
         k.touches.0.record_launch(enc, &l.touches);
         k.compliance.0.record_launch(enc, &l.compliance);
         // before the first sweep: load the sweep grids, or stop with no pair in reach
         k.control.0.record_launch(enc, &l.control);
     }
 
-    /// Records `sweeps` sweeps (at most `max_iterations`), each a `contact_sweep` and a
-    /// `contact_apply` (which applies the stopping rule after the sweep), in one compute pass.
-    pub fn record_sweeps(&self, enc: &mut wgpu::CommandEncoder, sweeps: u32) {
+    /// Records sweeps `first..first + count` (those below `max_iterations`), each a
+    /// `contact_sweep` and a `contact_apply` (which applies the stopping rule after the
+    /// sweep) dispatched from the sweep's grid, in one compute pass.
+    pub fn record_sweeps(&self, enc: &mut wgpu::CommandEncoder, first: u32, count: u32) {
         let (k, l) = (&self.kernels, &self.launches);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("contact_sweeps"),
             timestamp_writes: None,
         });
-        for _ in 0..sweeps.min(self.max_iterations) {
-            k.sweep.0.dispatch(&mut pass, &l.sweep);
+        let end = first.saturating_add(count).min(self.max_iterations);
+        for sweep in first..end {
+            let (args, offset) = (&self.work.args[sweep as usize % 2].buffer, 12 * (sweep / 2));
+            k.sweep
+                .0
+                .dispatch_indirect(&mut pass, &l.sweep, args, offset as u64);
+            let apply = &l.apply[sweep as usize % 2];
             k.apply
                 .0
-                .dispatch_indirect(&mut pass, &l.apply, &self.work.args.buffer, 0);
+                .dispatch_indirect(&mut pass, apply, args, offset as u64);
         }
+    }
+
+    /// Records `contact_finish`: the sweeps the iteration still needs, in one workgroup.
+    pub fn record_finish(&self, enc: &mut wgpu::CommandEncoder) {
+        let l = &self.launches.finish;
+        self.kernels.finish.0.record(enc, &l.bind, [1, 1]);
     }
 
     /// Records the report of the step's results.
@@ -591,10 +649,12 @@ impl ImpulseSweeps {
             .record_launch(enc, &self.launches.report);
     }
 
-    /// Records the whole iteration of a step.
-    pub fn record(&self, enc: &mut wgpu::CommandEncoder) {
+    /// Records the whole iteration of a step, `sweeps` of its sweeps as dispatches of their
+    /// own and the rest in `contact_finish`.
+    pub fn record(&self, enc: &mut wgpu::CommandEncoder, sweeps: u32) {
         self.record_setup(enc);
-        self.record_sweeps(enc, self.max_iterations);
+        self.record_sweeps(enc, 0, sweeps);
+        self.record_finish(enc);
         self.record_report(enc);
     }
 }

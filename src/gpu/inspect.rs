@@ -232,7 +232,8 @@ impl ResidentStep {
         &self.history.column_list
     }
 
-    /// Records one stage of the step (the contact iteration whole, with all its sweeps).
+    /// Records one stage of the step (the contact iteration whole, its sweeps recorded as
+    /// the step records them).
     fn record_stage(&self, enc: &mut wgpu::CommandEncoder, stage: Stage) {
         let (k, l) = (&self.kernels, &self.launches);
         match stage {
@@ -242,7 +243,7 @@ impl ResidentStep {
                     k.plane.0.record_launch(enc, p);
                 }
                 if let Some(c) = &self.contact {
-                    c.record(enc);
+                    c.record(enc, self.sweeps());
                 }
             }
             Stage::Drift => k.drift.0.record_launch(enc, &l.drift),

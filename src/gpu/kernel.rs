@@ -151,22 +151,24 @@ impl Kernel {
         }
     }
 
+    /// [`Self::launch`] over the grid of `items` invocations, `count` of which have an item:
+    /// kernels dispatched indirectly from one grid shared with a kernel of more items.
+    pub fn launch_over(
+        &self,
+        ctx: &GpuContext,
+        (count, items): (u32, u32),
+        aux: u32,
+        aux2: u32,
+        storage: &[&wgpu::Buffer],
+    ) -> Launch {
+        let mut launch = self.launch(ctx, items.max(count), aux, aux2, storage);
+        launch.set_count(ctx, count, aux);
+        launch
+    }
+
     /// Records a [`Launch`] of this kernel.
     pub fn record_launch(&self, encoder: &mut wgpu::CommandEncoder, launch: &Launch) {
         self.record(encoder, &launch.bind, launch.grid);
-    }
-
-    /// Records a [`Launch`] whose grid is read from `args` at byte `offset` (three u32, the
-    /// launch's grid or an empty one) when the dispatch runs.
-    pub fn record_indirect(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        launch: &Launch,
-        args: &wgpu::Buffer,
-        offset: u64,
-    ) {
-        let mut pass = self.begin_pass(encoder);
-        self.dispatch_indirect(&mut pass, launch, args, offset);
     }
 
     /// Dispatches a [`Launch`] of this kernel inside an open compute pass (the dispatches
@@ -187,7 +189,9 @@ impl Kernel {
         pass.dispatch_workgroups(grid[0], grid[1], 1);
     }
 
-    /// [`Self::record_indirect`] inside an open compute pass.
+    /// Dispatches a [`Launch`] whose grid is read from `args` at byte `offset` (three u32,
+    /// the launch's grid or an empty one) when the dispatch runs, inside an open compute
+    /// pass.
     pub fn dispatch_indirect(
         &self,
         pass: &mut wgpu::ComputePass,

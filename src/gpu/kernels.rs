@@ -56,18 +56,23 @@ kernel_table! {
     BucketCount = bucket_count(keys, counts, ranks);
     BucketFill = bucket_fill(keys, ranks, starts, sorted);
     BucketOrder = bucket_order(starts, sorted);
-    ContactApply = contact_apply(nodes, links, constraints, starts, sorted, dj, lumped, velocity, state);
+    ContactApply = contact_apply(
+        step, nodes, links, constraints, starts, sorted, dj, lumped, velocity, state, next_args,
+    );
     ContactCompliance = contact_compliance(constraints, touches, lumped, pairs);
     ContactConstraints = contact_constraints(
         step, grid, reference, displacement, velocity, acceleration, pairs, points, faces,
         constraints, keys,
+    );
+    ContactFinish = contact_finish(
+        step, constraints, pairs, velocity, dj, state, nodes, links, starts, sorted, lumped,
     );
     ContactGap = contact_gap(reference, displacement, velocity, queries, candidates, faces, points);
     ContactReportKernel = contact_report(step, constraints, pairs, velocity, state, results);
     ContactSearch = contact_search(
         grid, reference, displacement, velocity, queries, faces, starts, sorted, points,
     );
-    ContactSweep = contact_sweep(step, constraints, pairs, velocity, dj, state, apply_args);
+    ContactSweep = contact_sweep(step, constraints, pairs, velocity, dj, state);
     ContactTouches = contact_touches(nodes, links, constraints, starts, sorted, touches, state);
     CornerSelect = corner_select(slots, corner_forces, chosen);
     ExplicitCorrect = explicit_correct(
@@ -91,7 +96,7 @@ kernel_table! {
     SearchGridKernel = search_grid(step, bounds, grid);
     SlipRate = slip_rate(reference, displacement, velocity, queries, faces, points, slip);
     StableStep = stable_step(reference, hex8_elements, tet4_elements, materials, steps);
-    SweepControl = sweep_control(state);
+    SweepControl = sweep_control(state, args);
     Tet4Forces = tet4_forces(
         reference, displacement, block_nodes, block_material, materials, corner_forces,
     );

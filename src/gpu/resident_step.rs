@@ -378,12 +378,10 @@ pub struct ResidentStep {
     pub(super) history: History,
     pub(super) launches: Launches,
     pub(super) contact: Option<ImpulseSweeps>,
-    /// Sweeps of the contact iteration recorded per step (at most `max_iterations`).
+    /// Sweeps of the contact iteration recorded per step as dispatches of their own (at most
+    /// `max_iterations`); `contact_finish` runs the rest.
     sweeps: u32,
     max_iterations: u32,
-    /// The state at the start of each read-back slot's submission (u, v, a, contact
-    /// results), so that a submission can be run again (contact iteration only).
-    snapshots: [Vec<Storage>; 2],
     readback: [Storage; 2],
     pending: [Option<Pending>; 2],
     /// Steps one submission can hold (the read-back buffers' size).
@@ -428,10 +426,6 @@ impl ResidentStep {
         };
         let launches = Launches::new(&kernels, &buffers, &setup.bodies, &groups, chunk_capacity);
         let readback = Self::readback_buffers(ctx, chunk_capacity * history.row_len)?;
-        let snapshots = [
-            Self::snapshot_buffers(&k, &m.a, contact.as_ref())?,
-            Self::snapshot_buffers(&k, &m.a, contact.as_ref())?,
-        ];
         Ok(ResidentStep {
             kernels,
             step,
@@ -443,7 +437,6 @@ impl ResidentStep {
             contact,
             sweeps: setup.max_iterations,
             max_iterations: setup.max_iterations,
-            snapshots,
             readback,
             pending: [None, None],
             chunk_capacity,
@@ -509,7 +502,6 @@ impl ResidentStep {
             &buffers,
             c,
             k.nodes,
-            setup.tolerance,
             setup.max_iterations,
         )?))
     }
@@ -525,27 +517,6 @@ impl ResidentStep {
             )
         };
         Ok([make_readback()?, make_readback()?])
-    }
-
-    /// One snapshot of the state a step starts from: u, v, a and the contact results (none
-    /// without a contact iteration).
-    fn snapshot_buffers(
-        k: &GpuKernels,
-        a: &Storage,
-        contact: Option<&ImpulseSweeps>,
-    ) -> Result<Vec<Storage>> {
-        match contact {
-            Some(c) => [
-                ("snapshot.u", k.u.capacity),
-                ("snapshot.v", k.v.capacity),
-                ("snapshot.a", a.capacity),
-                ("snapshot.results", (SLOT * c.pair_count() * 4) as u64),
-            ]
-            .into_iter()
-            .map(|(label, bytes)| Storage::new(&k.ctx, label, bytes))
-            .collect(),
-            None => Ok(Vec::new()),
-        }
     }
 
     pub fn device_name(&self) -> String {
@@ -619,7 +590,8 @@ impl ResidentStep {
     /// Records `steps` whole steps, writing their history rows into the rows buffer. Without
     /// a contact iteration the steps are one compute pass (wgpu orders each dispatch after
     /// the writes of the ones before); the contact iteration clears buffers between its
-    /// stages, so a step with one is three passes and its iteration's commands.
+    /// stages, so a step with one is three passes and its iteration's commands, `sweeps`
+    /// of its sweeps as dispatches of their own.
     pub(super) fn record_steps(&self, enc: &mut wgpu::CommandEncoder, steps: usize) {
         fn pass(enc: &mut wgpu::CommandEncoder) -> wgpu::ComputePass<'_> {
             enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -638,9 +610,7 @@ impl ResidentStep {
             Some(c) => {
                 for j in 0..steps {
                     self.dispatch_front(&mut pass(enc));
-                    c.record_setup(enc);
-                    c.record_sweeps(enc, self.sweeps);
-                    c.record_report(enc);
+                    c.record(enc, self.sweeps);
                     self.dispatch_back(&mut pass(enc), j);
                 }
             }
@@ -659,7 +629,6 @@ impl ResidentStep {
         let bytes = (steps * self.history.row_len * 4) as u64;
         let ctx = &self.k.ctx;
         let mut enc = ctx.encoder("explicit_steps");
-        self.record_snapshot(&mut enc, slot, true);
         self.record_steps(&mut enc, steps);
         enc.copy_buffer_to_buffer(
             &self.history.rows.buffer,
@@ -675,19 +644,6 @@ impl ResidentStep {
             mapped: map_read(&self.readback[slot].buffer, bytes),
         });
         Ok(())
-    }
-
-    /// The live state's buffers a snapshot holds: u, v, a and the contact results.
-    fn live(&self) -> Vec<&wgpu::Buffer> {
-        match &self.contact {
-            Some(c) => vec![
-                &self.k.u.buffer,
-                &self.k.v.buffer,
-                &self.m.a.buffer,
-                c.results_buffer(),
-            ],
-            None => Vec::new(),
-        }
     }
 
     /// Every buffer a step starts from: u, v, a and the contact results (of the contact
@@ -747,43 +703,15 @@ impl ResidentStep {
         Ok(())
     }
 
-    /// Records a copy of the live state into snapshot `slot` (`take`) or back from it.
-    fn record_snapshot(&self, enc: &mut wgpu::CommandEncoder, slot: usize, take: bool) {
-        for (live, snap) in self.live().into_iter().zip(&self.snapshots[slot]) {
-            let bytes = live.size().min(snap.capacity);
-            if take {
-                enc.copy_buffer_to_buffer(live, 0, &snap.buffer, 0, bytes);
-            } else {
-                enc.copy_buffer_to_buffer(&snap.buffer, 0, live, 0, bytes);
-            }
-        }
-    }
-
-    /// Sweeps of the contact iteration recorded per step from the next submission on
-    /// (clamped to 1..=max_iterations). A step whose iteration has not stopped after them
-    /// reports `max_iterations + 2` sweeps: its submission must be run again with more
-    /// ([`Self::restore`]).
+    /// Sweeps of the contact iteration recorded per step as dispatches of their own, from
+    /// the next submission on (at most `max_iterations`). The results do not depend on it:
+    /// `contact_finish` runs the sweeps a step needs after them.
     pub fn set_sweeps(&mut self, sweeps: u32) {
-        self.sweeps = sweeps.clamp(1, self.max_iterations.max(1));
+        self.sweeps = sweeps.min(self.max_iterations);
     }
 
     pub fn sweeps(&self) -> u32 {
         self.sweeps
-    }
-
-    /// Puts the state back as it was at the start of submission `slot` (collected or
-    /// discarded before), so that it can be submitted again.
-    pub fn restore(&mut self, slot: usize) -> Result<()> {
-        if self.pending[slot].is_some() || self.pending[1 - slot].is_some() {
-            return Err(ImpactError::Gpu(
-                "restore: a submission is still in flight".into(),
-            ));
-        }
-        let ctx = &self.k.ctx;
-        let mut enc = ctx.encoder("restore");
-        self.record_snapshot(&mut enc, slot, false);
-        ctx.queue.submit([enc.finish()]);
-        Ok(())
     }
 
     /// Waits for submission `slot` and returns its rows (steps x [`Self::row_len`]).

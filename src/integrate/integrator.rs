@@ -101,6 +101,12 @@ pub trait Integrator {
         None
     }
 
+    /// The resident step's device contact iteration: the sweeps recorded as dispatches of
+    /// their own and the sweeps needed, over the steps taken.
+    fn recorded_sweeps(&self) -> Option<(u64, u64)> {
+        None
+    }
+
     /// Makes the next step `dt` long (the shortened last step).
     fn shorten_step(&mut self, _dt: f64) {}
 

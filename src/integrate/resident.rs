@@ -14,6 +14,7 @@ use rayon::prelude::*;
 
 use super::explicit::lumped_mass;
 use super::integrator::{Integrator, Pipelined, ENGINE_GPU_RESIDENT};
+use super::recorded_sweeps::{RecordedSweeps, FIRST_GUESS};
 use super::state::{ContactReport, Energies, StepReport};
 use super::SolverState;
 use crate::contact::search;
@@ -99,10 +100,6 @@ pub(crate) fn contact_setup(model: &Model) -> ContactSetup {
         face_size: search::largest_face_size(model),
     }
 }
-
-/// Sweeps of the device contact iteration recorded per step at the start (see
-/// [`ResidentSolver::rerun_if_short`]).
-pub(crate) const MIN_SWEEPS: u32 = 16;
 
 /// Steps per submission: about 4 million element-steps, from 8 to 1024.
 pub fn chunk_steps(elements: usize) -> usize {
@@ -230,8 +227,8 @@ pub struct ResidentSolver<'m> {
     plane_count: usize,
     /// The pairs of each interface (the device contact iteration).
     pair_ranges: Option<Vec<Range<usize>>>,
-    reruns: usize,
-    min_sweeps: u32,
+    /// The contact sweeps recorded per step and the run's tally.
+    sweeps: RecordedSweeps,
     /// The shortened last step, if the run has one (see [`Pipelined::schedule`]).
     last_dt: Option<f64>,
     /// The step length the rows being decoded were computed with.
@@ -286,7 +283,7 @@ impl<'m> ResidentSolver<'m> {
         let (setup, places) = setup(model, settings, dt, speed_scale);
         let chunk = chunk.max(1);
         let mut engine = ResidentStep::new(ctx, &model.element_data(), &setup, chunk)?;
-        engine.set_sweeps(MIN_SWEEPS);
+        engine.set_sweeps(FIRST_GUESS);
         // the setup lumped the mass already (an element loop over the whole mesh)
         let mass: Vec<f64> = setup.lumped.iter().map(|l| l.mass).collect();
         let body_mass = model
@@ -333,8 +330,7 @@ impl<'m> ResidentSolver<'m> {
             places,
             plane_count,
             pair_ranges,
-            reruns: 0,
-            min_sweeps: MIN_SWEEPS,
+            sweeps: RecordedSweeps::default(),
             last_dt: None,
             row_dt: dt,
             measure_shift: 0.0,
@@ -403,8 +399,7 @@ impl<'m> ResidentSolver<'m> {
                 self.row_dt = dt;
             }
             let n = self.plan(self.submitted).max(1);
-            self.engine.submit(self.slot, n)?;
-            self.submitted += n;
+            self.submit(self.slot, n)?;
         }
         let other = 1 - self.slot;
         let last_is_short = self.last_dt.is_some() && self.submitted + 1 == self.total;
@@ -415,12 +410,13 @@ impl<'m> ResidentSolver<'m> {
             && !self.stopping
         {
             let n = self.plan(self.submitted);
-            self.engine.submit(other, n)?;
-            self.submitted += n;
+            self.submit(other, n)?;
         }
-        let mut rows = self.engine.collect(self.slot)?;
+        let rows = self.engine.collect(self.slot)?;
         if self.pair_ranges.is_some() {
-            rows = self.rerun_if_short(rows)?;
+            let needs = self.needs(&rows);
+            let next = self.sweeps.collected(self.slot, &needs);
+            self.engine.set_sweeps(next);
         }
         self.slot = other;
         let len = self.engine.row_len();
@@ -432,58 +428,43 @@ impl<'m> ResidentSolver<'m> {
         Ok(())
     }
 
-    /// The most sweeps any step of `rows` reports (the contact slots' sweep fields).
-    fn most_sweeps(&self, rows: &[f32]) -> u32 {
+    /// Submits `n` steps to read-back buffer `slot`.
+    fn submit(&mut self, slot: usize, n: usize) -> Result<()> {
+        self.engine.submit(slot, n)?;
+        self.sweeps.submitted(slot, self.engine.sweeps());
+        self.submitted += n;
+        Ok(())
+    }
+
+    /// The sweeps each step of `rows` needed (the contact slots' sweep fields, at most
+    /// `max_iterations`; the interfaces share one iteration).
+    fn needs(&self, rows: &[f32]) -> Vec<u32> {
         let len = self.engine.row_len();
         let base = FIELDS * self.model.mesh.bodies.len();
+        let limit = self.max_iterations as f32;
         rows.chunks_exact(len)
-            .flat_map(|r| {
-                (0..self.model.interfaces.len()).map(move |i| r[base + SLOT * i + slot::SWEEPS])
+            .map(|r| {
+                (0..self.model.interfaces.len())
+                    .map(|i| r[base + SLOT * i + slot::SWEEPS])
+                    .filter(|x| x.is_finite())
+                    .fold(0.0f32, f32::max)
+                    .min(limit) as u32
             })
-            .filter(|x| x.is_finite())
-            .fold(0.0f32, f32::max) as u32
+            .collect()
     }
 
-    /// The device contact iteration records a number of sweeps per step that follows the
-    /// sweeps the last submission needed: twice its most, at least [`MIN_SWEEPS`] (see
-    /// [`Self::set_min_sweeps`]), at most
-    /// `max_iterations` (empty sweeps cost a dispatch each). A step that runs out of them
-    /// before its iteration stops reports `max_iterations + 2`; then its submission (and the
-    /// one after it, which started from its end) is run again from its snapshot with every
-    /// sweep recorded, so the results are those of the full iteration.
-    fn rerun_if_short(&mut self, rows: Vec<f32>) -> Result<Vec<f32>> {
-        let len = self.engine.row_len();
-        let most = self.most_sweeps(&rows);
-        let limit = self.max_iterations as u32;
-        let rows = if most == limit + 2 {
-            let other = 1 - self.slot;
-            if self.engine.is_pending(other) {
-                let discarded = self.engine.collect(other)?.len() / len;
-                self.submitted -= discarded;
-            }
-            self.engine.restore(self.slot)?;
-            self.engine.set_sweeps(limit);
-            self.reruns += 1;
-            self.engine.submit(self.slot, rows.len() / len)?;
-            self.engine.collect(self.slot)?
-        } else {
-            rows
-        };
-        let most = self.most_sweeps(&rows).min(limit);
-        self.engine.set_sweeps((2 * most).max(self.min_sweeps));
-        Ok(rows)
+    /// Fixes the contact sweeps recorded per step as dispatches of their own (from the next
+    /// submission on; by default they follow the last submission's needs, see
+    /// [`RecordedSweeps`]). The results do not depend on it.
+    pub fn fix_recorded_sweeps(&mut self, sweeps: u32) {
+        self.sweeps.fix(sweeps);
+        self.engine.set_sweeps(sweeps);
     }
 
-    /// Sets the fewest sweeps recorded per step (from the next submission on; the default is
-    /// [`MIN_SWEEPS`]). The results do not depend on it: a step that needs more is run again.
-    pub fn set_min_sweeps(&mut self, sweeps: u32) {
-        self.min_sweeps = sweeps.max(1);
-        self.engine.set_sweeps(self.min_sweeps);
-    }
-
-    /// Submissions run again because a step ran out of recorded sweeps.
-    pub fn reruns(&self) -> usize {
-        self.reruns
+    /// The contact sweeps recorded and needed over the steps collected (the device contact
+    /// iteration; zero without one).
+    pub fn sweep_counts(&self) -> (u64, u64) {
+        (self.sweeps.recorded, self.sweeps.needed)
     }
 
     fn decode(&self, r: &[f64]) -> Row {
@@ -561,6 +542,10 @@ impl Integrator for ResidentSolver<'_> {
 
     fn device_name(&self) -> String {
         self.engine.device_name()
+    }
+
+    fn recorded_sweeps(&self) -> Option<(u64, u64)> {
+        self.pair_ranges.is_some().then(|| self.sweep_counts())
     }
 
     fn engine(&self) -> &'static str {

@@ -111,6 +111,14 @@ pub struct Summary {
     pub mass_factor: Option<FactorStats>,
     /// Implicit steps taken again in `event_substeps` sub-steps at a contact event.
     pub event_steps: usize,
+    /// The resident engine with contact between meshed bodies: the contact sweeps recorded
+    /// as dispatches of their own over the run, and the sweeps the steps needed (the rest
+    /// of each step's sweeps ran in `contact_finish`). Counted by this process (a resumed
+    /// run counts from its resumption).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sweeps_recorded: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sweeps_needed: Option<u64>,
     pub energy_initial: f64,
     pub energy_final: f64,
     pub energy_max: f64,

@@ -189,6 +189,10 @@ pub(super) fn fill_summary(
         summary.mass_factor = f.mass_factor;
         summary.event_steps = f.event_steps;
     }
+    if let Some((recorded, needed)) = solver.recorded_sweeps() {
+        summary.sweeps_recorded = Some(recorded);
+        summary.sweeps_needed = Some(needed);
+    }
 }
 
 /// Ends an interrupted run: a checkpoint (CPU integrators), the history, a summary with

@@ -1,6 +1,7 @@
 //! Helpers shared by the integration tests, by topic; everything is re-exported here.
 #![allow(dead_code, unused_imports)]
 
+pub mod bench_scenes;
 pub mod cli;
 pub mod gpu;
 pub mod history;
@@ -9,6 +10,7 @@ pub mod scenes;
 pub mod source;
 pub mod waves;
 
+pub use bench_scenes::*;
 pub use cli::*;
 pub use gpu::*;
 pub use history::*;

@@ -1,0 +1,49 @@
+// included by kernels that bind `step: Step`, `nodes: array<ContactNode>`, `links`,
+// `constraints`, `starts`, `sorted`, `dj`, `lumped: array<Lumped>`, `velocity: array<f32>`
+// (read_write) and `state: array<u32, 4>` (read_write)
+
+fn load_dj(p: u32) -> vec3<f32> {
+    return vec3<f32>(dj[3u * p], dj[3u * p + 1u], dj[3u * p + 2u]);
+}
+
+// The stopping rule after a sweep (twin: `kernels::sweep_control`; its input, the sweep's
+// largest violation, is final): it counts the sweep and sets the phase, 2 converged within
+// step.tolerance, 3 stopped unconverged at step.max_iterations sweeps, or 1 sweeping on.
+// Returns whether the iteration sweeps on.
+fn stopping_rule() -> bool {
+    let sweeps = state[STATE_SWEEPS] + 1u;
+    state[STATE_SWEEPS] = sweeps;
+    var phase = 1u;
+    if (bitcast<f32>(state[STATE_VIOLATION]) <= step.tolerance) {
+        phase = 2u;
+    } else if (sweeps >= step.max_iterations) {
+        phase = 3u;
+    }
+    state[STATE_PHASE] = phase;
+    state[STATE_VIOLATION] = 0u;
+    return phase == 1u;
+}
+
+// The velocity change of a sweep at contact node i (twin: `kernels::contact_apply`): the
+// impulse changes of the pairs it is the secondary node of, minus N_k times those of the
+// pairs on each primary face whose corner k it is, times its inverse mass.
+fn apply_node(i: u32) {
+    let cn = nodes[i];
+    var delta = vec3<f32>(0.0);
+    for (var j = cn.pair_first; j < cn.pair_end; j++) {
+        delta += load_dj(links[j]);
+    }
+    for (var j = cn.face_first; j < cn.face_end; j++) {
+        let f = links[j] / 4u;
+        let k = links[j] % 4u;
+        for (var b = starts[f]; b < starts[f + 1u]; b++) {
+            let q = sorted[b];
+            delta -= constraints[q].weights[k] * load_dj(q);
+        }
+    }
+    let n = cn.node;
+    let dv = delta * vec3_of(lumped[n].inv_mass);
+    velocity[3u * n] += dv.x;
+    velocity[3u * n + 1u] += dv.y;
+    velocity[3u * n + 2u] += dv.z;
+}
