@@ -19,7 +19,8 @@
 //! 10^7-element row on the resident engine alone where the adapter is a hardware GPU;
 //! `-- --quick` for 10^4 and 10^5 only; `-- --large` adds the 10^7 row on any adapter;
 //! `-- --resident` times the resident engine alone; `-- --sweeps N` fixes the contact
-//! sweeps the resident engine records per step).
+//! sweeps the resident engine records per step; `-- --plate` runs the plate scene alone and
+//! `-- --no-large` leaves the 10^7-element rows out).
 
 use std::path::Path;
 use std::time::Instant;
@@ -404,7 +405,8 @@ fn main() {
         sizes.push(([100, 100, 100], Engines::All));
         plates.push((164, Engines::All));
     }
-    if (!quick && hardware) || large {
+    let no_large = std::env::args().any(|a| a == "--no-large");
+    if ((!quick && hardware) || large) && !no_large {
         // the CPU engines would take minutes a step: the resident engine alone
         sizes.push(([216, 216, 216], Engines::ResidentOnly));
         plates.push((354, Engines::ResidentOnly));
@@ -418,15 +420,10 @@ fn main() {
         sizes.iter_mut().for_each(|s| s.1 = Engines::ResidentOnly);
         plates.iter_mut().for_each(|s| s.1 = Engines::ResidentOnly);
     }
-    table(
-        "Block dropped on a rigid floor (plane contact)",
-        &sizes
-            .iter()
-            .map(|&(n, e)| (scene(n), e))
-            .collect::<Vec<_>>(),
-        adapter.as_deref(),
-        (2000, 20000),
-    );
+    let plate_only = std::env::args().any(|a| a == "--plate");
+    if !plate_only {
+        floor_table(&sizes, adapter.as_deref());
+    }
     // fewer steps: the host loop's contact iteration is slow on a software adapter, and the
     // block stays on the plate for about 0.8 of simulated time (4,000 steps at 10^4
     // elements)
@@ -438,5 +435,18 @@ fn main() {
             .collect::<Vec<_>>(),
         adapter.as_deref(),
         (200, 4000),
+    );
+}
+
+/// The floor scene's table.
+fn floor_table(sizes: &[([usize; 3], Engines)], adapter: Option<&str>) {
+    table(
+        "Block dropped on a rigid floor (plane contact)",
+        &sizes
+            .iter()
+            .map(|&(n, e)| (scene(n), e))
+            .collect::<Vec<_>>(),
+        adapter,
+        (2000, 20000),
     );
 }
