@@ -104,6 +104,9 @@ struct Resident {
     /// per step over them.
     steps: usize,
     sweeps: Option<(f64, f64)>,
+    /// The contact iteration's parts alone, microseconds: setup; setup and every sweep in
+    /// `contact_finish`; setup, the recorded sweeps and `contact_finish`; report.
+    contact_parts: Option<[f64; 4]>,
 }
 
 /// The bytes one explicit step moves at least: per node the predictor (a, v), drift (v, u),
@@ -185,6 +188,11 @@ fn time_resident(
         .then(|| (per_step(after.0, before.0), per_step(after.1, before.1)));
     let engine = s.engine_mut();
     let reps = steps.clamp(4, 50);
+    let recorded = engine.sweeps();
+    let contact_parts = engine
+        .time_contact_parts(reps, recorded)
+        .expect("contact part timing")
+        .map(|t| t.map(|d| d.as_secs_f64() / reps as f64 * 1e6));
     let stages = [
         ("predict", Stage::Predict),
         ("contact", Stage::PlaneContact),
@@ -215,6 +223,7 @@ fn time_resident(
         copy,
         steps,
         sweeps,
+        contact_parts,
     }
 }
 
@@ -325,6 +334,20 @@ fn table(
             r.sweeps.map_or("-".into(), |x| format!("{:.2}", x.0)),
             r.sweeps.map_or("-".into(), |x| format!("{:.2}", x.1)),
         );
+    }
+    if stage_rows.iter().all(|(_, r)| r.contact_parts.is_none()) {
+        return;
+    }
+    println!("\nThe contact iteration's parts alone (microseconds per step): its setup (search, constraints, sort, compliance), the setup with every sweep in `contact_finish` (one workgroup), the setup with the sweeps the run records per step and `contact_finish`, and the report:\n");
+    println!("| elements | setup | setup + finish | setup + recorded + finish | report |");
+    println!("|---:|---:|---:|---:|---:|");
+    for (elements, r) in &stage_rows {
+        if let Some(p) = r.contact_parts {
+            println!(
+                "| {elements} | {:.1} | {:.1} | {:.1} | {:.1} |",
+                p[0], p[1], p[2], p[3]
+            );
+        }
     }
 }
 

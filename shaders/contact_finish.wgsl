@@ -12,7 +12,7 @@
 @group(0) @binding(3) var<storage, read> pairs: array<ContactPair>;
 @group(0) @binding(4) var<storage, read_write> velocity: array<f32>;
 @group(0) @binding(5) var<storage, read_write> dj: array<f32>;
-@group(0) @binding(6) var<storage, read_write> state: array<u32, 4>;
+@group(0) @binding(6) var<storage, read_write> state: array<u32, 8>;
 @group(0) @binding(7) var<storage, read> nodes: array<ContactNode>;
 @group(0) @binding(8) var<storage, read> links: array<u32>;
 @group(0) @binding(9) var<storage, read> starts: array<u32>;
@@ -53,7 +53,7 @@ fn contact_finish(@builtin(local_invocation_index) local: u32) {
         storageBarrier();
         if (local == 0u) {
             state[STATE_VIOLATION] = max(state[STATE_VIOLATION], bitcast<u32>(worst[0]));
-            _ = stopping_rule();
+            stopping_rule();
         }
         for (var i = local; i < params.aux; i += FINISH_SIZE) {
             apply_node(i);

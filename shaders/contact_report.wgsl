@@ -11,7 +11,7 @@
 @group(0) @binding(2) var<storage, read> constraints: array<Constraint>;
 @group(0) @binding(3) var<storage, read> pairs: array<ContactPair>;
 @group(0) @binding(4) var<storage, read> velocity: array<f32>;
-@group(0) @binding(5) var<storage, read> state: array<u32, 4>;
+@group(0) @binding(5) var<storage, read> state: array<u32, 8>;
 @group(0) @binding(6) var<storage, read_write> results: array<f32>;
 
 

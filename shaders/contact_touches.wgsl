@@ -11,7 +11,7 @@
 @group(0) @binding(4) var<storage, read> starts: array<u32>;
 @group(0) @binding(5) var<storage, read> sorted: array<u32>;
 @group(0) @binding(6) var<storage, read_write> touches: array<f32>;
-@group(0) @binding(7) var<storage, read_write> state: array<atomic<u32>, 4>;
+@group(0) @binding(7) var<storage, read_write> state: array<atomic<u32>, 8>;
 
 @compute @workgroup_size(64)
 fn contact_touches(@builtin(global_invocation_id) gid: vec3<u32>) {

@@ -101,7 +101,12 @@ fn contact_iteration_stages_match_their_cpu_twins() {
     let mut rng = StdRng::seed_from_u64(seed);
     let model = stack_model();
     let dt = 2e-3;
-    let (setup, _) = resident::setup(&model, &model_settings(), dt, 1.0);
+    let (mut setup, _) = resident::setup(&model, &model_settings(), dt, 1.0);
+    // the iteration runs to its end here (contact_finish): a tolerance well above the f32
+    // floor of these random states' violation (penetrations of 0.0125 over dt = 2e-3 make
+    // gap rates of 6, rounded at about 1e-6, the default tolerance's size; the H100 stalled
+    // there while lavapipe converged)
+    setup.tolerance = 1e-4;
     let contact = setup
         .contact
         .clone()
@@ -237,8 +242,7 @@ fn contact_iteration_stages_match_their_cpu_twins() {
     let mut v_in = gpu_state(&mut gpu).1;
     for sweep in 0..4 {
         let (ctx2, it) = gpu.impulse_sweeps().unwrap();
-        it.run(ctx2, |it, enc| it.record_sweeps(enc, sweep, 1))
-            .unwrap();
+        it.run(ctx2, |it, enc| it.record_sweeps(enc, 1)).unwrap();
         let mut c_cpu = c_in.clone();
         let mut dj_cpu = vec![0.0; 3 * contact.pairs.len()];
         let violation = kernels::contact_sweep(dt, &mut c_cpu, &contact.pairs, &v_in, &mut dj_cpu);

@@ -1,6 +1,6 @@
 // included by kernels that bind `step: Step`, `nodes: array<ContactNode>`, `links`,
 // `constraints`, `starts`, `sorted`, `dj`, `lumped: array<Lumped>`, `velocity: array<f32>`
-// (read_write) and `state: array<u32, 4>` (read_write)
+// (read_write) and `state: array<u32, 8>` (read_write)
 
 fn load_dj(p: u32) -> vec3<f32> {
     return vec3<f32>(dj[3u * p], dj[3u * p + 1u], dj[3u * p + 2u]);
@@ -9,8 +9,7 @@ fn load_dj(p: u32) -> vec3<f32> {
 // The stopping rule after a sweep (twin: `kernels::sweep_control`; its input, the sweep's
 // largest violation, is final): it counts the sweep and sets the phase, 2 converged within
 // step.tolerance, 3 stopped unconverged at step.max_iterations sweeps, or 1 sweeping on.
-// Returns whether the iteration sweeps on.
-fn stopping_rule() -> bool {
+fn stopping_rule() {
     let sweeps = state[STATE_SWEEPS] + 1u;
     state[STATE_SWEEPS] = sweeps;
     var phase = 1u;
@@ -21,7 +20,6 @@ fn stopping_rule() -> bool {
     }
     state[STATE_PHASE] = phase;
     state[STATE_VIOLATION] = 0u;
-    return phase == 1u;
 }
 
 // The velocity change of a sweep at contact node i (twin: `kernels::contact_apply`): the

@@ -12,15 +12,14 @@
 //!    (`bucket_order`: the atomics rank them in a different order every run);
 //! 3. the row-sum compliance: `contact_touches` per contact node (it gathers the pairs of
 //!    its faces from the buckets) and `contact_compliance` per pair, then a first
-//!    `sweep_control`, which arms the first sweep's grid;
+//!    `sweep_control`;
 //! 4. the sweeps: `contact_sweep` per pair (impulse changes), then `contact_apply` per
 //!    contact node (it gathers them into its velocity; its first invocation applies the
-//!    stopping rule and, while the iteration sweeps on, arms the next sweep's grid). Both
-//!    are dispatched indirectly from their sweep's grid, one entry per sweep, cleared before
-//!    the iteration: once it has stopped, the sweeps recorded after it are empty dispatches.
-//!    The caller says how many sweeps to record; `contact_finish`, one workgroup, runs any
-//!    sweeps the iteration needs after them, the same arithmetic in the same order, so that
-//!    the results do not depend on how many were recorded;
+//!    stopping rule). The caller says how many sweeps to record; once the iteration has
+//!    stopped, those recorded after it exit at once (direct dispatches: on an H100 an
+//!    indirect dispatch cost several times a direct one). `contact_finish`, one workgroup,
+//!    runs any sweeps the iteration needs after them, the same arithmetic in the same
+//!    order, so that the results do not depend on how many were recorded;
 //! 5. `contact_report`, one per pair: the results `history_reduce` sums per interface.
 
 use std::ops::Range;
@@ -38,6 +37,7 @@ use super::search::GpuSearch;
 use super::types::{self, to_device};
 use crate::error::Result;
 use crate::kernels::plane_contact::SLOT;
+use crate::kernels::sweep_control::word;
 use crate::kernels::{ContactNode, ContactPair};
 
 /// What the device contact iteration needs, in f64 (the CPU twins take the same).
@@ -120,9 +120,7 @@ struct Launches {
     touches: Launch,
     compliance: Launch,
     sweep: Launch,
-    /// The applies of the even and the odd sweeps (each arms the next sweep's grid in the
-    /// other parity's buffer).
-    apply: [Launch; 2],
+    apply: Launch,
     control: Launch,
     finish: Launch,
     report: Launch,
@@ -158,21 +156,12 @@ pub(super) struct WorkBuffers {
     pub(super) touches: Storage,
     pub(super) dj: Storage,
     pub(super) state: Storage,
-    /// The sweeps' indirect grids: entry k / 2 of buffer k % 2 is sweep k's.
-    args: [Storage; 2],
     pub(super) results: Storage,
 }
 
 impl WorkBuffers {
-    /// Allocates the working buffers for `np` pairs, `nf` primary faces, `nodes` nodes and
-    /// at most `max_iterations` sweeps.
-    fn new(
-        ctx: &GpuContext,
-        np: usize,
-        nf: usize,
-        nodes: usize,
-        max_iterations: u32,
-    ) -> Result<Self> {
+    /// Allocates the working buffers for `np` pairs, `nf` primary faces and `nodes` nodes.
+    fn new(ctx: &GpuContext, np: usize, nf: usize, nodes: usize) -> Result<Self> {
         let words = |n: usize| (4 * n) as u64;
         let bounds = Storage::new(ctx, "contact.bounds", 8)?;
         let constraints = Storage::new(
@@ -190,22 +179,7 @@ impl WorkBuffers {
         let sort = BucketSort::new(ctx, labels, np, nf + 1)?;
         let touches = Storage::new(ctx, "contact.touches", words(nodes))?;
         let dj = Storage::new(ctx, "contact.dj", words(3 * np))?;
-        let state = Storage::new(ctx, "contact.state", 16)?;
-        // the sweeps' grids, armed by the stopping rule before each (empty once the
-        // iteration has stopped)
-        let entries = max_iterations as u64 / 2 + 1;
-        let grids = |label| {
-            Storage::with_usage(
-                ctx,
-                label,
-                12 * entries,
-                wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::INDIRECT
-                    | wgpu::BufferUsages::COPY_DST
-                    | wgpu::BufferUsages::COPY_SRC,
-            )
-        };
-        let args = [grids("contact.even_sweeps")?, grids("contact.odd_sweeps")?];
+        let state = Storage::new(ctx, "contact.state", 4 * word::WORDS as u64)?;
         let results = Storage::with_data(ctx, "contact.results", &vec![0.0f32; SLOT * np])?;
         Ok(WorkBuffers {
             bounds,
@@ -214,7 +188,6 @@ impl WorkBuffers {
             touches,
             dj,
             state,
-            args,
             results,
         })
     }
@@ -359,52 +332,39 @@ impl Bindings<'_> {
         [touches, compliance]
     }
 
-    /// The sweeps' launches: `contact_sweep`, the even and odd sweeps' `contact_apply`,
-    /// `sweep_control` and `contact_finish`. The sweep and the apply share one grid, over
-    /// the pairs or the contact nodes, whichever are more.
-    fn sweeps(&self) -> (Launch, [Launch; 2], Launch, Launch) {
+    /// The sweeps' launches: `contact_sweep`, `contact_apply`, `sweep_control` and
+    /// `contact_finish`.
+    fn sweeps(&self) -> (Launch, Launch, Launch, Launch) {
         let (ctx, k, b, m, w) = (self.ctx, self.k, self.b, self.m, self.w);
-        let items = self.np.max(self.nc);
-        let [x, y] = k.sweep.0.grid(items);
-        let sweep = k.sweep.0.launch_over(
+        let sweep = k.sweep.launch(
             ctx,
-            (self.np, items),
+            self.np,
             0,
             0,
-            &[
-                b.step,
-                &w.constraints.buffer,
-                &m.pairs.buffer,
-                b.velocity,
-                &w.dj.buffer,
-                &w.state.buffer,
-            ],
+            b.step,
+            &w.constraints.buffer,
+            &m.pairs.buffer,
+            b.velocity,
+            &w.dj.buffer,
+            &w.state.buffer,
         );
-        let apply = |next: &Storage| {
-            k.apply.0.launch_over(
-                ctx,
-                (self.nc, items),
-                x,
-                y,
-                &[
-                    b.step,
-                    &m.nodes.buffer,
-                    &m.links.buffer,
-                    &w.constraints.buffer,
-                    &w.sort.starts.buffer,
-                    &w.sort.sorted.buffer,
-                    &w.dj.buffer,
-                    b.lumped,
-                    b.velocity,
-                    &w.state.buffer,
-                    &next.buffer,
-                ],
-            )
-        };
-        let apply = [apply(&w.args[1]), apply(&w.args[0])];
-        let control = k
-            .control
-            .launch(ctx, 1, x, y, &w.state.buffer, &w.args[0].buffer);
+        let apply = k.apply.launch(
+            ctx,
+            self.nc,
+            0,
+            0,
+            b.step,
+            &m.nodes.buffer,
+            &m.links.buffer,
+            &w.constraints.buffer,
+            &w.sort.starts.buffer,
+            &w.sort.sorted.buffer,
+            &w.dj.buffer,
+            b.lumped,
+            b.velocity,
+            &w.state.buffer,
+        );
+        let control = k.control.launch(ctx, 1, 0, 0, &w.state.buffer);
         let finish = k.finish.launch(
             ctx,
             self.np,
@@ -494,7 +454,7 @@ impl ImpulseSweeps {
         let kernels = IterationKernels::new(ctx);
         let (np, nf) = (setup.pairs.len(), setup.faces.len());
         let model = ModelBuffers::upload(ctx, setup)?;
-        let work = WorkBuffers::new(ctx, np, nf, nodes, max_iterations)?;
+        let work = WorkBuffers::new(ctx, np, nf, nodes)?;
         // placeholders where no interface has a primary surface
         let none = Storage::new(ctx, "contact.none", 64)?;
         let (grid, points, faces) = match &search {
@@ -576,8 +536,6 @@ impl ImpulseSweeps {
             &w.touches,
             &w.dj,
             &w.state,
-            &w.args[0],
-            &w.args[1],
             &w.results,
         ]
         .iter()
@@ -604,34 +562,23 @@ impl ImpulseSweeps {
         k.fill.0.record_launch(enc, &l.fill);
         k.order.0.record_launch(enc, &l.order);
         enc.clear_buffer(&self.work.state.buffer, 0, None);
-        for args in &self.work.args {
-            enc.clear_buffer(&args.buffer, 0, None);
-        }
         k.touches.0.record_launch(enc, &l.touches);
         k.compliance.0.record_launch(enc, &l.compliance);
         // before the first sweep: load the sweep grids, or stop with no pair in reach
         k.control.0.record_launch(enc, &l.control);
     }
 
-    /// Records sweeps `first..first + count` (those below `max_iterations`), each a
-    /// `contact_sweep` and a `contact_apply` (which applies the stopping rule after the
-    /// sweep) dispatched from the sweep's grid, in one compute pass.
-    pub fn record_sweeps(&self, enc: &mut wgpu::CommandEncoder, first: u32, count: u32) {
+    /// Records `sweeps` sweeps (at most `max_iterations`), each a `contact_sweep` and a
+    /// `contact_apply` (which applies the stopping rule after the sweep), in one compute pass.
+    pub fn record_sweeps(&self, enc: &mut wgpu::CommandEncoder, sweeps: u32) {
         let (k, l) = (&self.kernels, &self.launches);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("contact_sweeps"),
             timestamp_writes: None,
         });
-        let end = first.saturating_add(count).min(self.max_iterations);
-        for sweep in first..end {
-            let (args, offset) = (&self.work.args[sweep as usize % 2].buffer, 12 * (sweep / 2));
-            k.sweep
-                .0
-                .dispatch_indirect(&mut pass, &l.sweep, args, offset as u64);
-            let apply = &l.apply[sweep as usize % 2];
-            k.apply
-                .0
-                .dispatch_indirect(&mut pass, apply, args, offset as u64);
+        for _ in 0..sweeps.min(self.max_iterations) {
+            k.sweep.0.dispatch(&mut pass, &l.sweep);
+            k.apply.0.dispatch(&mut pass, &l.apply);
         }
     }
 
@@ -653,7 +600,7 @@ impl ImpulseSweeps {
     /// own and the rest in `contact_finish`.
     pub fn record(&self, enc: &mut wgpu::CommandEncoder, sweeps: u32) {
         self.record_setup(enc);
-        self.record_sweeps(enc, 0, sweeps);
+        self.record_sweeps(enc, sweeps);
         self.record_finish(enc);
         self.record_report(enc);
     }

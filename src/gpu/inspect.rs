@@ -274,6 +274,42 @@ impl ResidentStep {
         time_submission(&self.k.ctx, enc)
     }
 
+    /// The contact iteration's parts alone, each repeated `reps` times in one submission on
+    /// the device's current state (which they change, as the stages do): its setup (search,
+    /// constraints, sort, compliance); the setup and every sweep in `contact_finish`; the
+    /// setup, `sweeps` recorded sweeps and `contact_finish`; and the report. None without a
+    /// contact iteration.
+    pub fn time_contact_parts(
+        &mut self,
+        reps: usize,
+        sweeps: u32,
+    ) -> Result<Option<[Duration; 4]>> {
+        let Some(c) = &self.contact else {
+            return Ok(None);
+        };
+        let ctx = &self.k.ctx;
+        let time = |part: &dyn Fn(&mut wgpu::CommandEncoder)| {
+            let mut enc = ctx.encoder("contact_part_timing");
+            for _ in 0..reps {
+                part(&mut enc);
+            }
+            time_submission(ctx, enc)
+        };
+        Ok(Some([
+            time(&|enc| c.record_setup(enc))?,
+            time(&|enc| {
+                c.record_setup(enc);
+                c.record_finish(enc);
+            })?,
+            time(&|enc| {
+                c.record_setup(enc);
+                c.record_sweeps(enc, sweeps);
+                c.record_finish(enc);
+            })?,
+            time(&|enc| c.record_report(enc))?,
+        ]))
+    }
+
     /// The host's time to record and submit `steps` steps (without waiting for the device,
     /// which then runs them; the device's time is apart): the benchmarks compare it with the
     /// step's time to tell a step bound by the host from one bound by the device.

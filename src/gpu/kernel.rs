@@ -151,21 +151,6 @@ impl Kernel {
         }
     }
 
-    /// [`Self::launch`] over the grid of `items` invocations, `count` of which have an item:
-    /// kernels dispatched indirectly from one grid shared with a kernel of more items.
-    pub fn launch_over(
-        &self,
-        ctx: &GpuContext,
-        (count, items): (u32, u32),
-        aux: u32,
-        aux2: u32,
-        storage: &[&wgpu::Buffer],
-    ) -> Launch {
-        let mut launch = self.launch(ctx, items.max(count), aux, aux2, storage);
-        launch.set_count(ctx, count, aux);
-        launch
-    }
-
     /// Records a [`Launch`] of this kernel.
     pub fn record_launch(&self, encoder: &mut wgpu::CommandEncoder, launch: &Launch) {
         self.record(encoder, &launch.bind, launch.grid);
@@ -187,21 +172,6 @@ impl Kernel {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind, &[]);
         pass.dispatch_workgroups(grid[0], grid[1], 1);
-    }
-
-    /// Dispatches a [`Launch`] whose grid is read from `args` at byte `offset` (three u32,
-    /// the launch's grid or an empty one) when the dispatch runs, inside an open compute
-    /// pass.
-    pub fn dispatch_indirect(
-        &self,
-        pass: &mut wgpu::ComputePass,
-        launch: &Launch,
-        args: &wgpu::Buffer,
-        offset: u64,
-    ) {
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &launch.bind, &[]);
-        pass.dispatch_workgroups_indirect(args, offset);
     }
 
     /// A compute pass of its own, named after this kernel.

@@ -57,7 +57,7 @@ kernel_table! {
     BucketFill = bucket_fill(keys, ranks, starts, sorted);
     BucketOrder = bucket_order(starts, sorted);
     ContactApply = contact_apply(
-        step, nodes, links, constraints, starts, sorted, dj, lumped, velocity, state, next_args,
+        step, nodes, links, constraints, starts, sorted, dj, lumped, velocity, state,
     );
     ContactCompliance = contact_compliance(constraints, touches, lumped, pairs);
     ContactConstraints = contact_constraints(
@@ -96,7 +96,7 @@ kernel_table! {
     SearchGridKernel = search_grid(step, bounds, grid);
     SlipRate = slip_rate(reference, displacement, velocity, queries, faces, points, slip);
     StableStep = stable_step(reference, hex8_elements, tet4_elements, materials, steps);
-    SweepControl = sweep_control(state, args);
+    SweepControl = sweep_control(state);
     Tet4Forces = tet4_forces(
         reference, displacement, block_nodes, block_material, materials, corner_forces,
     );

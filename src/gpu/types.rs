@@ -454,6 +454,7 @@ pub fn shared_constants() -> Vec<(&'static str, u32)> {
         ("STATE_ACTIVE", u(word::ACTIVE)),
         ("STATE_SWEEPS", u(word::SWEEPS)),
         ("STATE_PHASE", u(word::PHASE)),
+        ("STATE_SWEPT", u(word::SWEPT)),
     ]
 }
 

@@ -16,6 +16,10 @@ pub mod word {
     pub const ACTIVE: usize = 1;
     pub const SWEEPS: usize = 2;
     pub const PHASE: usize = 3;
+    /// Whether the last sweep dispatched ran (the device's alone: the apply after it reads it).
+    pub const SWEPT: usize = 4;
+    /// Words of the state buffer.
+    pub const WORDS: usize = 8;
 }
 
 /// The iteration's state (the `state` words of the shaders).
