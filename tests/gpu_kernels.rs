@@ -229,6 +229,30 @@ fn tet4_forces_matches_its_cpu_twin() {
     }
 }
 
+/// `fill_words` sets the first `count` words of random buffers and leaves the rest: exact.
+#[test]
+fn fill_words_matches_its_cpu_twin() {
+    let Some(ctx) = gpu_context("fill_words") else {
+        return;
+    };
+    let seed = seed("fill_words");
+    let mut rng = StdRng::seed_from_u64(seed);
+    for _ in 0..4 {
+        let len = rng.random_range(1..5000usize);
+        let words: Vec<u32> = (0..len).map(|_| rng.random()).collect();
+        let count = rng.random_range(0..=len);
+        let value = rng.random_range(0..3u32);
+        let gpu = impact::gpu::inspect::run_fill_words(&ctx, &words, count as u32, value)
+            .expect("fill_words runs");
+        let mut cpu = words.clone();
+        kernels::fill_words(&mut cpu, count, value);
+        assert_eq!(
+            gpu, cpu,
+            "seed {seed}: {count} of {len} words set to {value}"
+        );
+    }
+}
+
 #[test]
 fn node_gather_matches_its_cpu_twin() {
     let Some(ctx) = gpu_context("node_gather") else {

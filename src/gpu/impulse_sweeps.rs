@@ -30,8 +30,8 @@ use super::context::GpuContext;
 use super::kernel::Launch;
 use super::kernels::{
     BucketCount, BucketFill, BucketOrder, ContactApply, ContactCompliance, ContactConstraints,
-    ContactFinish, ContactReportKernel, ContactSweep, ContactTouches, PrefixSum, SearchBounds,
-    SearchGridKernel, SweepControl,
+    ContactFinish, ContactReportKernel, ContactSweep, ContactTouches, FillWords, PrefixSum,
+    SearchBounds, SearchGridKernel, SweepControl,
 };
 use super::search::GpuSearch;
 use super::types::{self, to_device};
@@ -71,6 +71,7 @@ pub struct StepBuffers<'a> {
 
 /// The contact iteration's kernels, built once.
 struct IterationKernels {
+    zero: FillWords,
     bounds: SearchBounds,
     grid: SearchGridKernel,
     constraints: ContactConstraints,
@@ -91,6 +92,7 @@ impl IterationKernels {
     /// Builds the pipelines of every kernel of the iteration, once.
     fn new(ctx: &GpuContext) -> Self {
         IterationKernels {
+            zero: FillWords::new(ctx),
             bounds: SearchBounds::new(ctx),
             grid: SearchGridKernel::new(ctx),
             constraints: ContactConstraints::new(ctx),
@@ -110,6 +112,10 @@ impl IterationKernels {
 }
 
 struct Launches {
+    /// The zeroing of the search bounds, the pair buckets' sizes and the state words.
+    zero_bounds: Launch,
+    zero_counts: Launch,
+    zero_state: Launch,
     bounds: Option<Launch>,
     grid: Option<Launch>,
     constraints: Launch,
@@ -385,6 +391,18 @@ impl Bindings<'_> {
         (sweep, apply, control, finish)
     }
 
+    /// The zeroing launches (`fill_words`): the search bounds (two words), the pair
+    /// buckets' sizes and the state words.
+    fn zeroing(&self) -> [Launch; 3] {
+        let (ctx, k, w) = (self.ctx, self.k, self.w);
+        let zero = |words: usize, s: &Storage| k.zero.launch(ctx, words as u32, 0, 0, &s.buffer);
+        [
+            zero(2, &w.bounds),
+            zero(self.nf as usize + 1, &w.sort.counts),
+            zero(word::WORDS, &w.state),
+        ]
+    }
+
     /// The report's launch, `contact_report`.
     fn report(&self) -> Launch {
         let (b, w) = (self.b, self.w);
@@ -408,7 +426,11 @@ impl Bindings<'_> {
         let [constraints, count, prefix, fill, order] = self.sort();
         let [touches, compliance] = self.compliance();
         let (sweep, apply, control, finish) = self.sweeps();
+        let [zero_bounds, zero_counts, zero_state] = self.zeroing();
         Launches {
+            zero_bounds,
+            zero_counts,
+            zero_state,
             bounds,
             grid,
             constraints,
@@ -544,64 +566,73 @@ impl ImpulseSweeps {
         .sum()
     }
 
-    /// Records the search (if any), the constraints up to their compliance and the first
-    /// `sweep_control`.
-    pub fn record_setup(&self, enc: &mut wgpu::CommandEncoder) {
+    /// Dispatches the search (if any), the constraints up to their compliance and the first
+    /// `sweep_control`, inside an open compute pass.
+    pub fn dispatch_setup(&self, pass: &mut wgpu::ComputePass) {
         let (k, l) = (&self.kernels, &self.launches);
         if let (Some(search), Some(bounds), Some(grid)) = (&self.search, &l.bounds, &l.grid) {
-            enc.clear_buffer(&self.work.bounds.buffer, 0, None);
-            k.bounds.0.record_launch(enc, bounds);
-            k.grid.0.record_launch(enc, grid);
-            search.record_stages(enc);
+            k.zero.0.dispatch(pass, &l.zero_bounds);
+            k.bounds.0.dispatch(pass, bounds);
+            k.grid.0.dispatch(pass, grid);
+            search.dispatch_stages(pass);
         }
-        k.constraints.0.record_launch(enc, &l.constraints);
-        enc.clear_buffer(&self.work.sort.counts.buffer, 0, None);
-        k.count.0.record_launch(enc, &l.count);
+        k.constraints.0.dispatch(pass, &l.constraints);
+        k.zero.0.dispatch(pass, &l.zero_counts);
+        k.count.0.dispatch(pass, &l.count);
         // one workgroup scans the whole table
-        k.prefix.0.record(enc, &l.prefix.bind, [1, 1]);
-        k.fill.0.record_launch(enc, &l.fill);
-        k.order.0.record_launch(enc, &l.order);
-        enc.clear_buffer(&self.work.state.buffer, 0, None);
-        k.touches.0.record_launch(enc, &l.touches);
-        k.compliance.0.record_launch(enc, &l.compliance);
-        // before the first sweep: load the sweep grids, or stop with no pair in reach
-        k.control.0.record_launch(enc, &l.control);
+        k.prefix.0.dispatch_with(pass, &l.prefix.bind, [1, 1]);
+        k.fill.0.dispatch(pass, &l.fill);
+        k.order.0.dispatch(pass, &l.order);
+        k.zero.0.dispatch(pass, &l.zero_state);
+        k.touches.0.dispatch(pass, &l.touches);
+        k.compliance.0.dispatch(pass, &l.compliance);
+        // before the first sweep: start the sweeps, or stop with no pair in reach
+        k.control.0.dispatch(pass, &l.control);
     }
 
-    /// Records `sweeps` sweeps (at most `max_iterations`), each a `contact_sweep` and a
-    /// `contact_apply` (which applies the stopping rule after the sweep), in one compute pass.
-    pub fn record_sweeps(&self, enc: &mut wgpu::CommandEncoder, sweeps: u32) {
+    /// Dispatches `sweeps` sweeps (at most `max_iterations`), each a `contact_sweep` and a
+    /// `contact_apply` (which applies the stopping rule after the sweep).
+    pub fn dispatch_sweeps(&self, pass: &mut wgpu::ComputePass, sweeps: u32) {
         let (k, l) = (&self.kernels, &self.launches);
+        for _ in 0..sweeps.min(self.max_iterations) {
+            k.sweep.0.dispatch(pass, &l.sweep);
+            k.apply.0.dispatch(pass, &l.apply);
+        }
+    }
+
+    /// Dispatches `contact_finish`: the sweeps the iteration still needs, in one workgroup.
+    pub fn dispatch_finish(&self, pass: &mut wgpu::ComputePass) {
+        let l = &self.launches.finish;
+        self.kernels.finish.0.dispatch_with(pass, &l.bind, [1, 1]);
+    }
+
+    /// Dispatches the report of the step's results.
+    pub fn dispatch_report(&self, pass: &mut wgpu::ComputePass) {
+        let (k, l) = (&self.kernels, &self.launches);
+        k.report.0.dispatch(pass, &l.report);
+    }
+
+    /// Dispatches the whole iteration of a step, `sweeps` of its sweeps as dispatches of
+    /// their own and the rest in `contact_finish`, inside an open compute pass (wgpu orders
+    /// each dispatch after the writes of the ones before).
+    pub fn dispatch(&self, pass: &mut wgpu::ComputePass, sweeps: u32) {
+        self.dispatch_setup(pass);
+        self.dispatch_sweeps(pass, sweeps);
+        self.dispatch_finish(pass);
+        self.dispatch_report(pass);
+    }
+
+    /// Records `part` of the iteration (one of the `dispatch_*` above) in a compute pass of
+    /// its own.
+    pub fn record(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        part: impl FnOnce(&Self, &mut wgpu::ComputePass),
+    ) {
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("contact_sweeps"),
+            label: Some("contact_iteration"),
             timestamp_writes: None,
         });
-        for _ in 0..sweeps.min(self.max_iterations) {
-            k.sweep.0.dispatch(&mut pass, &l.sweep);
-            k.apply.0.dispatch(&mut pass, &l.apply);
-        }
-    }
-
-    /// Records `contact_finish`: the sweeps the iteration still needs, in one workgroup.
-    pub fn record_finish(&self, enc: &mut wgpu::CommandEncoder) {
-        let l = &self.launches.finish;
-        self.kernels.finish.0.record(enc, &l.bind, [1, 1]);
-    }
-
-    /// Records the report of the step's results.
-    pub fn record_report(&self, enc: &mut wgpu::CommandEncoder) {
-        self.kernels
-            .report
-            .0
-            .record_launch(enc, &self.launches.report);
-    }
-
-    /// Records the whole iteration of a step, `sweeps` of its sweeps as dispatches of their
-    /// own and the rest in `contact_finish`.
-    pub fn record(&self, enc: &mut wgpu::CommandEncoder, sweeps: u32) {
-        self.record_setup(enc);
-        self.record_sweeps(enc, sweeps);
-        self.record_finish(enc);
-        self.record_report(enc);
+        part(self, &mut pass);
     }
 }

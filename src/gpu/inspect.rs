@@ -7,14 +7,14 @@
 
 use std::time::{Duration, Instant};
 
-use super::buffer::{read_back, read_floats, submit_and_read, Storage};
+use super::buffer::{read_back, read_floats, staging, submit_and_read, Storage};
 use super::context::GpuContext;
 use super::corner_select::CornerSelection;
 use super::engine::{bytes_of, GpuKernels};
 use super::resident_step::{to_f32, ResidentStep};
 use super::search::GpuSearch;
 use super::types;
-use super::ImpulseSweeps;
+use super::{FillWords, ImpulseSweeps};
 use crate::element::ElementKind;
 use crate::error::{ImpactError, Result};
 use crate::kernels::plane_contact::SLOT;
@@ -30,6 +30,17 @@ fn time_submission(ctx: &GpuContext, enc: wgpu::CommandEncoder) -> Result<Durati
     ctx.queue.submit([commands]);
     ctx.wait()?;
     Ok(start.elapsed())
+}
+
+/// Runs `fill_words` alone on a buffer holding `words` (its first `count` set to `value`)
+/// and reads the buffer back.
+pub fn run_fill_words(ctx: &GpuContext, words: &[u32], count: u32, value: u32) -> Result<Vec<u32>> {
+    let kernel = FillWords::new(ctx);
+    let buffer = Storage::with_data(ctx, "fill_words", words)?;
+    let launch = kernel.launch(ctx, count, value, 0, &buffer.buffer);
+    let mut enc = ctx.encoder("fill_words");
+    kernel.0.record_launch(&mut enc, &launch);
+    submit_and_read(ctx, &mut staging(ctx)?, enc, &buffer.buffer, words.len())
 }
 
 /// The kernels of [`GpuKernels`], for timing them one by one.
@@ -243,7 +254,7 @@ impl ResidentStep {
                     k.plane.0.record_launch(enc, p);
                 }
                 if let Some(c) = &self.contact {
-                    c.record(enc, self.sweeps());
+                    c.record(enc, |c, p| c.dispatch(p, self.sweeps()));
                 }
             }
             Stage::Drift => k.drift.0.record_launch(enc, &l.drift),
@@ -296,17 +307,21 @@ impl ResidentStep {
             time_submission(ctx, enc)
         };
         Ok(Some([
-            time(&|enc| c.record_setup(enc))?,
+            time(&|enc| c.record(enc, |c, p| c.dispatch_setup(p)))?,
             time(&|enc| {
-                c.record_setup(enc);
-                c.record_finish(enc);
+                c.record(enc, |c, p| {
+                    c.dispatch_setup(p);
+                    c.dispatch_finish(p);
+                })
             })?,
             time(&|enc| {
-                c.record_setup(enc);
-                c.record_sweeps(enc, sweeps);
-                c.record_finish(enc);
+                c.record(enc, |c, p| {
+                    c.dispatch_setup(p);
+                    c.dispatch_sweeps(p, sweeps);
+                    c.dispatch_finish(p);
+                })
             })?,
-            time(&|enc| c.record_report(enc))?,
+            time(&|enc| c.record(enc, |c, p| c.dispatch_report(p)))?,
         ]))
     }
 

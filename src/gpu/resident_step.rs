@@ -7,8 +7,8 @@
 //! iteration, [`super::ImpulseSweeps`]), `explicit_drift` (u += dt v), the element kernels and
 //! `node_gather` (internal forces), `explicit_correct` once per body (a, v and the body's
 //! energy and momentum sums per workgroup) and `history_reduce` (one row of history
-//! values, written at the step's place in the submission's rows). Without a contact
-//! iteration a whole submission is one compute pass. The rows are copied into a mapped
+//! values, written at the step's place in the submission's rows). A whole submission is
+//! one compute pass. The rows are copied into a mapped
 //! read-back buffer at the end of the submission; two read-back buffers alternate: the host
 //! decodes one submission's rows while the device runs the next.
 //!
@@ -587,33 +587,21 @@ impl ResidentStep {
         self.kernels.reduce.0.dispatch(pass, &l.reduce[j]);
     }
 
-    /// Records `steps` whole steps, writing their history rows into the rows buffer. Without
-    /// a contact iteration the steps are one compute pass (wgpu orders each dispatch after
-    /// the writes of the ones before); the contact iteration clears buffers between its
-    /// stages, so a step with one is three passes and its iteration's commands, `sweeps`
-    /// of its sweeps as dispatches of their own.
+    /// Records `steps` whole steps, writing their history rows into the rows buffer, in one
+    /// compute pass (wgpu orders each dispatch after the writes of the ones before; the
+    /// contact iteration zeroes its counters with `fill_words`, not buffer clears, which
+    /// would end the pass).
     pub(super) fn record_steps(&self, enc: &mut wgpu::CommandEncoder, steps: usize) {
-        fn pass(enc: &mut wgpu::CommandEncoder) -> wgpu::ComputePass<'_> {
-            enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("explicit_step"),
-                timestamp_writes: None,
-            })
-        }
-        match &self.contact {
-            None => {
-                let mut p = pass(enc);
-                for j in 0..steps {
-                    self.dispatch_front(&mut p);
-                    self.dispatch_back(&mut p, j);
-                }
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("explicit_step"),
+            timestamp_writes: None,
+        });
+        for j in 0..steps {
+            self.dispatch_front(&mut pass);
+            if let Some(c) = &self.contact {
+                c.dispatch(&mut pass, self.sweeps);
             }
-            Some(c) => {
-                for j in 0..steps {
-                    self.dispatch_front(&mut pass(enc));
-                    c.record(enc, self.sweeps);
-                    self.dispatch_back(&mut pass(enc), j);
-                }
-            }
+            self.dispatch_back(&mut pass, j);
         }
     }
 

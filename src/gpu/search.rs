@@ -10,7 +10,7 @@ use super::bucket_sort::BucketSort;
 use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
 use super::types::{self, to_device, ContactQuery, Quad};
-use super::{BucketCount, BucketFill, ContactSearch, FaceCells, PrefixSum};
+use super::{BucketCount, BucketFill, ContactSearch, FaceCells, FillWords, PrefixSum};
 use crate::error::Result;
 use crate::kernels::{ContactPoint, SearchGrid};
 
@@ -21,6 +21,7 @@ pub(crate) fn table_size(faces: usize) -> usize {
 
 /// The search's kernels, built once.
 struct SearchKernels {
+    fill_words: FillWords,
     face_cells: FaceCells,
     bucket_count: BucketCount,
     prefix_sum: PrefixSum,
@@ -31,6 +32,7 @@ struct SearchKernels {
 impl SearchKernels {
     fn new(ctx: &GpuContext) -> Self {
         SearchKernels {
+            fill_words: FillWords::new(ctx),
             face_cells: FaceCells::new(ctx),
             bucket_count: BucketCount::new(ctx),
             prefix_sum: PrefixSum::new(ctx),
@@ -42,6 +44,7 @@ impl SearchKernels {
     /// Sets the item counts, which never change: `faces` faces, `table` buckets, `queries`
     /// queries.
     fn set_counts(&self, ctx: &GpuContext, faces: usize, table: usize, queries: usize) {
+        self.fill_words.0.set_count(ctx, table as u32);
         self.face_cells.0.set_count(ctx, faces as u32);
         self.bucket_count.0.set_count(ctx, faces as u32);
         self.prefix_sum.0.set_count(ctx, table as u32);
@@ -115,8 +118,9 @@ fn binds(
     reference: &wgpu::Buffer,
     displacement: &wgpu::Buffer,
     velocity: &wgpu::Buffer,
-) -> [wgpu::BindGroup; 5] {
+) -> [wgpu::BindGroup; 6] {
     [
+        k.fill_words.bind(ctx, &b.sort.counts.buffer),
         k.face_cells.bind(
             ctx,
             &b.grid.buffer,
@@ -160,7 +164,7 @@ pub struct GpuSearch {
     kernels: SearchKernels,
     pub(super) buffers: SearchBuffers,
     pub(super) staging: Storage,
-    binds: [wgpu::BindGroup; 5],
+    binds: [wgpu::BindGroup; 6],
     pub(super) faces: usize,
     queries: usize,
     pub(super) table: usize,
@@ -207,22 +211,39 @@ impl GpuSearch {
         self.record_stages(enc);
     }
 
-    /// Records a whole search with the grid already in [`Self::grid_buffer`] when it runs.
+    /// Records a whole search with the grid already in [`Self::grid_buffer`] when it runs,
+    /// in a compute pass of its own.
     pub fn record_stages(&self, enc: &mut wgpu::CommandEncoder) {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("contact_search"),
+            timestamp_writes: None,
+        });
+        self.dispatch_stages(&mut pass);
+    }
+
+    /// Dispatches a whole search's stages inside an open compute pass.
+    pub fn dispatch_stages(&self, pass: &mut wgpu::ComputePass) {
         let (k, b) = (&self.kernels, &self.binds);
-        enc.clear_buffer(&self.buffers.sort.counts.buffer, 0, None);
         let f = self.faces as u32;
-        k.face_cells.0.record(enc, &b[0], k.face_cells.0.grid(f));
+        let t = self.table as u32;
+        k.fill_words
+            .0
+            .dispatch_with(pass, &b[0], k.fill_words.0.grid(t));
+        k.face_cells
+            .0
+            .dispatch_with(pass, &b[1], k.face_cells.0.grid(f));
         k.bucket_count
             .0
-            .record(enc, &b[1], k.bucket_count.0.grid(f));
+            .dispatch_with(pass, &b[2], k.bucket_count.0.grid(f));
         // one workgroup scans the whole table
-        k.prefix_sum.0.record(enc, &b[2], [1, 1]);
-        k.bucket_fill.0.record(enc, &b[3], k.bucket_fill.0.grid(f));
+        k.prefix_sum.0.dispatch_with(pass, &b[3], [1, 1]);
+        k.bucket_fill
+            .0
+            .dispatch_with(pass, &b[4], k.bucket_fill.0.grid(f));
         let q = self.queries as u32;
         k.contact_search
             .0
-            .record(enc, &b[4], k.contact_search.0.grid(q));
+            .dispatch_with(pass, &b[5], k.contact_search.0.grid(q));
     }
 
     /// The search grid ([`types::SearchGrid`]) the stages read.
