@@ -253,6 +253,26 @@ fn fill_words_matches_its_cpu_twin() {
     }
 }
 
+/// `prefix_sum` (one workgroup, in tiles of 1024 values) on random bucket sizes, from an
+/// empty table to several tiles with a partial last one: exact.
+#[test]
+fn prefix_sum_matches_its_cpu_twin() {
+    let Some(ctx) = gpu_context("prefix_sum") else {
+        return;
+    };
+    let seed = seed("prefix_sum");
+    let mut rng = StdRng::seed_from_u64(seed);
+    for len in [0, 1, 5, 1024, 1025, rng.random_range(2000..70000usize)] {
+        let values: Vec<u32> = (0..len).map(|_| rng.random_range(0..4u32)).collect();
+        let gpu = impact::gpu::inspect::run_prefix_sum(&ctx, &values).expect("prefix_sum runs");
+        assert_eq!(
+            gpu,
+            kernels::prefix_sum(&values),
+            "seed {seed}: {len} values"
+        );
+    }
+}
+
 #[test]
 fn node_gather_matches_its_cpu_twin() {
     let Some(ctx) = gpu_context("node_gather") else {

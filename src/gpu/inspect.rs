@@ -14,7 +14,7 @@ use super::engine::{bytes_of, GpuKernels};
 use super::resident_step::{to_f32, ResidentStep};
 use super::search::GpuSearch;
 use super::types;
-use super::{FillWords, ImpulseSweeps};
+use super::{FillWords, ImpulseSweeps, PrefixSum};
 use crate::element::ElementKind;
 use crate::error::{ImpactError, Result};
 use crate::kernels::plane_contact::SLOT;
@@ -41,6 +41,31 @@ pub fn run_fill_words(ctx: &GpuContext, words: &[u32], count: u32, value: u32) -
     let mut enc = ctx.encoder("fill_words");
     kernel.0.record_launch(&mut enc, &launch);
     submit_and_read(ctx, &mut staging(ctx)?, enc, &buffer.buffer, words.len())
+}
+
+/// Runs `prefix_sum` alone on `values` and reads the starts back (one more than the values).
+pub fn run_prefix_sum(ctx: &GpuContext, values: &[u32]) -> Result<Vec<u32>> {
+    let kernel = PrefixSum::new(ctx);
+    let input = Storage::with_data(ctx, "prefix_sum.values", values)?;
+    let starts = Storage::new(ctx, "prefix_sum.starts", 4 * (values.len() as u64 + 1))?;
+    let launch = kernel.launch(
+        ctx,
+        values.len() as u32,
+        0,
+        0,
+        &input.buffer,
+        &starts.buffer,
+    );
+    let mut enc = ctx.encoder("prefix_sum");
+    // one workgroup scans the whole table
+    kernel.0.record(&mut enc, &launch.bind, [1, 1]);
+    let mut staging = Storage::with_usage(
+        ctx,
+        "prefix_sum.readback",
+        starts.capacity,
+        wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+    )?;
+    submit_and_read(ctx, &mut staging, enc, &starts.buffer, values.len() + 1)
 }
 
 /// The kernels of [`GpuKernels`], for timing them one by one.
