@@ -37,7 +37,7 @@ pub struct AdapterSummary {
     /// The PCI bus of the device, where the driver reports it (it tells identical cards
     /// apart).
     pub pci_bus: String,
-    /// Runs the kernels: compute shaders, indirect dispatch and at least
+    /// Runs the kernels: compute shaders and at least
     /// [`STORAGE_BINDINGS`] storage buffers per shader stage.
     pub compute: bool,
     /// A CPU implementation (lavapipe, llvmpipe, SwiftShader, WARP).
@@ -49,7 +49,6 @@ impl AdapterSummary {
         let info = adapter.get_info();
         let flags = adapter.get_downlevel_capabilities().flags;
         let compute = flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS)
-            && flags.contains(wgpu::DownlevelFlags::INDIRECT_EXECUTION)
             && adapter.limits().max_storage_buffers_per_shader_stage >= STORAGE_BINDINGS;
         let lower = info.name.to_lowercase();
         let software = info.device_type == wgpu::DeviceType::Cpu

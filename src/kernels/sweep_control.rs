@@ -40,8 +40,8 @@ impl SweepState {
     }
 
     /// Sweeps to report: `max_iterations + 1` where the iteration stopped unconverged at
-    /// the limit, `max_iterations + 2` where it was still sweeping when the recorded sweeps
-    /// ran out (the step must be run again with more).
+    /// the limit, `max_iterations + 2` where it was still sweeping (a report recorded
+    /// before the iteration's end; a step's `contact_finish` runs it to its end).
     pub fn reported(&self, max_iterations: u32) -> u32 {
         match self.phase {
             SWEEPING => max_iterations + 2,
