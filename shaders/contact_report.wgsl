@@ -30,7 +30,7 @@ fn contact_report(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (phase == 3u) {
         reported = step.max_iterations + 1u;
     } else if (phase == 1u) {
-        // still sweeping: the step ran out of recorded sweeps before the limit
+        // still sweeping: a report recorded before the iteration's end
         reported = step.max_iterations + 2u;
     }
     results[o + SLOT_SWEEPS] = f32(reported);
@@ -42,16 +42,9 @@ fn contact_report(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let nrm = vec3_of(c.normal);
-    var rel = load_v(pairs[p].node);
-    if (c.face[0] != NO_FACE) {
-        rel -= face_interpolate(
-            vec4<f32>(c.weights[0], c.weights[1], c.weights[2], c.weights[3]),
-            load_v(c.face[0]),
-            load_v(c.face[1]),
-            load_v(c.face[2]),
-            load_v(c.face[3]),
-        );
-    }
+    let face = vec4<u32>(c.face[0], c.face[1], c.face[2], c.face[3]);
+    let weights = vec4<f32>(c.weights[0], c.weights[1], c.weights[2], c.weights[3]);
+    let rel = relative_velocity(pairs[p].node, face, weights);
     let rn = dot(rel, nrm);
     let jt = vec3_of(c.jt);
     let mu = pairs[p].mu;

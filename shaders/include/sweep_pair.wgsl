@@ -13,20 +13,12 @@ fn sweep_pair(p: u32) -> f32 {
     var violation = 0.0;
     let c = constraints[p];
     if (c.in_reach != 0u && c.compliance > 0.0) {
-        var rel = load_v(pairs[p].node);
-        if (c.face[0] != NO_FACE) {
-            rel -= face_interpolate(
-                vec4<f32>(c.weights[0], c.weights[1], c.weights[2], c.weights[3]),
-                load_v(c.face[0]),
-                load_v(c.face[1]),
-                load_v(c.face[2]),
-                load_v(c.face[3]),
-            );
-        }
+        let face = vec4<u32>(c.face[0], c.face[1], c.face[2], c.face[3]);
+        let weights = vec4<f32>(c.weights[0], c.weights[1], c.weights[2], c.weights[3]);
         let up = impulse_update(
             c.gap,
             step.dt,
-            rel,
+            relative_velocity(pairs[p].node, face, weights),
             vec3_of(c.normal),
             c.compliance,
             pairs[p].mu,
