@@ -7,7 +7,7 @@ use common::*;
 
 use std::process::Command;
 
-use impact::study::{run_one, Method, Problem};
+use impact::study::{run_one, Problem, StudyMethod};
 
 #[test]
 fn quick_study_writes_a_csv_with_every_method_and_its_charts() {
@@ -33,7 +33,7 @@ fn quick_study_writes_a_csv_with_every_method_and_its_charts() {
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(
         rows.len(),
-        2 * 3 * Method::ALL.len(),
+        2 * 3 * StudyMethod::ALL.len(),
         "meshes x steps x methods"
     );
     let mut methods: Vec<&str> = rows.iter().map(|r| r[1]).collect();
@@ -67,7 +67,7 @@ fn quick_study_writes_a_csv_with_every_method_and_its_charts() {
 #[test]
 fn errors_fall_with_step_and_mesh_at_their_orders() {
     let dir = out_dir("study_order");
-    for method in [Method::ImplicitAdaptive, Method::Explicit] {
+    for method in [StudyMethod::ImplicitAdaptive, StudyMethod::Explicit] {
         let rows: Vec<_> = [10, 20, 40, 80]
             .iter()
             .map(|&n| run_one(Problem::TwoBars, method, n, 0.95, "cpu", &dir).expect("run"))
@@ -100,8 +100,24 @@ fn errors_fall_with_step_and_mesh_at_their_orders() {
 #[test]
 fn explicit_boundary_is_the_stable_step() {
     let dir = out_dir("study_explicit_boundary");
-    let inside = run_one(Problem::TwoBars, Method::Explicit, 10, 0.95, "cpu", &dir).unwrap();
-    let outside = run_one(Problem::TwoBars, Method::Explicit, 10, 1.05, "cpu", &dir).unwrap();
+    let inside = run_one(
+        Problem::TwoBars,
+        StudyMethod::Explicit,
+        10,
+        0.95,
+        "cpu",
+        &dir,
+    )
+    .unwrap();
+    let outside = run_one(
+        Problem::TwoBars,
+        StudyMethod::Explicit,
+        10,
+        1.05,
+        "cpu",
+        &dir,
+    )
+    .unwrap();
     assert_eq!(inside.status, "ok");
     assert_eq!(outside.status, "diverged");
 }
@@ -113,10 +129,13 @@ fn explicit_boundary_is_the_stable_step() {
 fn classical_gap_boundary() {
     let dir = out_dir("study_gap_boundary");
     let run = |m, c| run_one(Problem::TwoBars, m, 10, c, "cpu", &dir).unwrap();
-    assert_eq!(run(Method::ImplicitGap, 0.95).status, "energy_growth");
-    assert_eq!(run(Method::ImplicitGapDamped, 0.95).status, "ok");
-    assert_eq!(run(Method::ImplicitGapDamped, 0.5).status, "energy_growth");
+    assert_eq!(run(StudyMethod::ImplicitGap, 0.95).status, "energy_growth");
+    assert_eq!(run(StudyMethod::ImplicitGapDamped, 0.95).status, "ok");
+    assert_eq!(
+        run(StudyMethod::ImplicitGapDamped, 0.5).status,
+        "energy_growth"
+    );
     // the paper's method holds at both
-    assert_eq!(run(Method::ImplicitAdaptive, 0.95).status, "ok");
-    assert_eq!(run(Method::ImplicitAdaptive, 0.5).status, "ok");
+    assert_eq!(run(StudyMethod::ImplicitAdaptive, 0.95).status, "ok");
+    assert_eq!(run(StudyMethod::ImplicitAdaptive, 0.5).status, "ok");
 }

@@ -200,8 +200,11 @@ mod tests {
         w: f64,
         t: f64,
         m: Elastic,
-        shift: fn(usize, usize) -> f64,
+        shift: Shift,
     }
+
+    /// A node column's shift along x: `shift(i, k)` for column i at height level k.
+    type Shift = fn(usize, usize) -> f64;
 
     impl Cantilever {
         fn tip(&self, element: Stiffness, axis: usize) -> f64 {
@@ -285,7 +288,7 @@ mod tests {
     /// (docs/validation.md) and are no worse than the plain hex8's.
     #[test]
     fn macneal_harder_straight_cantilever() {
-        let meshes: [(&str, fn(usize, usize) -> f64); 3] = [
+        let meshes: [(&str, Shift); 3] = [
             ("regular", |_, _| 0.0),
             ("trapezoidal", |i, k| {
                 let inner = if i == 0 || i == 6 { 0.0 } else { 1.0 };

@@ -7,7 +7,7 @@ use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
 use super::kernel::{Kernel, Launch};
 use super::search::GpuSearch;
-use super::types::{self, to_device, ContactQuery, Material, Quad, Split3};
+use super::types::{self, to_device, ContactQuery, GpuMaterial, Quad, Split3};
 use super::{ContactGap, CornerSelect, Hex8Forces, Hex8iForces, NodeGather, SlipRate, Tet4Forces};
 use crate::backend::Kernels;
 use crate::contact::search;
@@ -239,8 +239,8 @@ pub(super) fn split_reference(data: &ElementData) -> Vec<Split3> {
 }
 
 /// The materials as the kernels' type.
-pub(super) fn device_materials(data: &ElementData) -> Vec<Material> {
-    data.materials.iter().map(Material::of).collect()
+pub(super) fn device_materials(data: &ElementData) -> Vec<GpuMaterial> {
+    data.materials.iter().map(GpuMaterial::of).collect()
 }
 
 pub(super) fn at_least_one<T: Default>(mut v: Vec<T>) -> Vec<T> {
@@ -508,7 +508,7 @@ impl GpuKernels {
             grew |= c.queries.upload(ctx, &queries)?;
             grew |= c
                 .points
-                .ensure(ctx, bytes_of::<types::ContactPoint>(q.len()))?;
+                .ensure(ctx, bytes_of::<types::GpuContactPoint>(q.len()))?;
             grew |= c.slips.ensure(ctx, bytes_of::<[f32; 2]>(q.len()))?;
             up.secondary.clone_from(&q.secondary);
             up.offsets.clone_from(&q.offsets);
@@ -632,12 +632,12 @@ impl Kernels for GpuKernels {
         };
         let points = &self.contact.points;
         if self.fill_nan {
-            points.fill_nan(&self.ctx, bytes_of::<types::ContactPoint>(n));
+            points.fill_nan(&self.ctx, bytes_of::<types::GpuContactPoint>(n));
         }
         let mut enc = self.ctx.encoder("contact_gap");
         let (k, bind, grid) = self.contact_dispatch(true)?;
         k.record(&mut enc, bind, grid);
-        let pts: Vec<types::ContactPoint> =
+        let pts: Vec<types::GpuContactPoint> =
             submit_and_read(&self.ctx, &mut self.staging, enc, &points.buffer, n)?;
         for (o, p) in out.iter_mut().zip(pts) {
             *o = p.into();
@@ -688,7 +688,7 @@ impl Kernels for GpuKernels {
         let c = &mut self.contact;
         c.points.upload(
             &self.ctx,
-            &to_device::<_, types::ContactPoint>(&points[..n]),
+            &to_device::<_, types::GpuContactPoint>(&points[..n]),
         )?;
         if self.fill_nan {
             c.slips.fill_nan(&self.ctx, bytes_of::<[f32; 2]>(n));

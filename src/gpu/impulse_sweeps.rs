@@ -142,8 +142,8 @@ struct ModelBuffers {
 impl ModelBuffers {
     /// Uploads the setup's pairs, contact nodes and links (in f32 where they are f64).
     fn upload(ctx: &GpuContext, setup: &ContactSetup) -> Result<Self> {
-        let pairs: Vec<types::ContactPair> = to_device(&setup.pairs);
-        let nodes: Vec<types::ContactNode> = to_device(&setup.nodes);
+        let pairs: Vec<types::GpuContactPair> = to_device(&setup.pairs);
+        let nodes: Vec<types::GpuContactNode> = to_device(&setup.nodes);
         Ok(ModelBuffers {
             pairs: Storage::with_data(ctx, "contact.pairs", &pairs)?,
             nodes: Storage::with_data(ctx, "contact.nodes", &nodes)?,
@@ -173,7 +173,7 @@ impl WorkBuffers {
         let constraints = Storage::new(
             ctx,
             "contact.constraints",
-            (np * std::mem::size_of::<types::Constraint>()) as u64,
+            (np * std::mem::size_of::<types::GpuConstraint>()) as u64,
         )?;
         let labels = [
             "contact.keys",

@@ -434,7 +434,7 @@ impl ImpulseSweeps {
     /// The constraints, in f64.
     pub fn read_constraints(&mut self, ctx: &GpuContext) -> Result<Vec<Constraint>> {
         let source = &self.work.constraints.buffer;
-        let c: Vec<types::Constraint> =
+        let c: Vec<types::GpuConstraint> =
             read_back(ctx, &mut self.staging, CONTACT_READ, source, self.pairs)?;
         Ok(c.into_iter().map(Constraint::from).collect())
     }
@@ -488,7 +488,7 @@ impl ImpulseSweeps {
 
     /// The contact points of the last search.
     pub fn read_points(&mut self, ctx: &GpuContext, queries: usize) -> Result<Vec<ContactPoint>> {
-        let p: Vec<types::ContactPoint> = match &self.search {
+        let p: Vec<types::GpuContactPoint> = match &self.search {
             Some(s) => read_back(
                 ctx,
                 &mut self.staging,
@@ -515,7 +515,7 @@ impl ImpulseSweeps {
 
     /// Overwrites the constraints (to feed a stage the same inputs as its twin).
     pub fn upload_constraints(&mut self, ctx: &GpuContext, c: &[Constraint]) -> Result<()> {
-        let c: Vec<types::Constraint> = c.iter().map(types::Constraint::from).collect();
+        let c: Vec<types::GpuConstraint> = c.iter().map(types::GpuConstraint::from).collect();
         self.work.constraints.upload(ctx, &c)?;
         Ok(())
     }

@@ -168,7 +168,7 @@ impl ModelBuffers {
         let lumped = Storage::with_data(ctx, "lumped", &lumped)?;
         let planes: Vec<types::Plane> = to_device(&setup.planes);
         let planes = Storage::with_data(ctx, "planes", &at_least_one(planes))?;
-        let pn: Vec<types::PlaneNode> = to_device(&setup.plane_nodes);
+        let pn: Vec<types::GpuPlaneNode> = to_device(&setup.plane_nodes);
         let plane_nodes = Storage::with_data(ctx, "plane_nodes", &at_least_one(pn))?;
         let (plane_count, plane_node_count) = (setup.planes.len(), setup.plane_nodes.len());
         let results = Storage::with_data(
@@ -189,7 +189,7 @@ impl ModelBuffers {
 }
 
 /// The history row's columns, on the host and on the device, and the rows buffer.
-pub(super) struct History {
+pub(super) struct HistoryRows {
     pub(super) column_list: Vec<ReduceColumn>,
     columns: Storage,
     /// The history rows of one submission, `chunk_capacity` rows of `row_len` floats.
@@ -197,7 +197,7 @@ pub(super) struct History {
     pub(super) row_len: usize,
 }
 
-impl History {
+impl HistoryRows {
     /// The columns of the bodies' partials (`groups`), of each interface's contact results
     /// and of the probes, and a rows buffer of `chunk_capacity` rows.
     fn new(
@@ -213,10 +213,10 @@ impl History {
         };
         let column_list = row_columns(groups, &slots, &setup.probes);
         let row_len = column_list.len();
-        let cols: Vec<types::ReduceColumn> = to_device(&column_list);
+        let cols: Vec<types::GpuReduceColumn> = to_device(&column_list);
         let columns = Storage::with_data(ctx, "history.columns", &cols)?;
         let rows = Storage::new(ctx, "history.rows", (chunk_capacity * row_len * 4) as u64)?;
-        Ok(History {
+        Ok(HistoryRows {
             column_list,
             columns,
             rows,
@@ -231,7 +231,7 @@ struct LaunchBuffers<'a> {
     step: &'a wgpu::Buffer,
     m: &'a ModelBuffers,
     partials: &'a Storage,
-    history: &'a History,
+    history: &'a HistoryRows,
     /// The contact results the history reads: the contact iteration's or the planes'.
     results: &'a wgpu::Buffer,
 }
@@ -375,7 +375,7 @@ pub struct ResidentStep {
     /// The correctors' workgroup sums, [`FIELDS`] per workgroup, body after body.
     pub(super) partials: Storage,
     /// The history row's columns and the rows buffer.
-    pub(super) history: History,
+    pub(super) history: HistoryRows,
     pub(super) launches: Launches,
     pub(super) contact: Option<ImpulseSweeps>,
     /// Sweeps of the contact iteration recorded per step as dispatches of their own (at most
@@ -413,7 +413,7 @@ impl ResidentStep {
         let partials = Storage::new(ctx, "partials", (total_groups as usize * FIELDS * 4) as u64)?;
         let contact = Self::new_impulse_sweeps(&k, &step, &m, setup)?;
         let chunk_capacity = chunk_capacity.max(1);
-        let history = History::new(ctx, setup, &groups, &m, chunk_capacity)?;
+        let history = HistoryRows::new(ctx, setup, &groups, &m, chunk_capacity)?;
         let buffers = LaunchBuffers {
             k: &k,
             step: &step,

@@ -76,14 +76,14 @@ impl SearchBuffers {
         table: usize,
     ) -> Result<Self> {
         let nf = faces.len();
-        let point_bytes = queries.len() * std::mem::size_of::<types::ContactPoint>();
+        let point_bytes = queries.len() * std::mem::size_of::<types::GpuContactPoint>();
         Ok(SearchBuffers {
             // a storage buffer: the host writes it (`record`) or a kernel does (the resident
             // step's `search_grid`)
             grid: Storage::new(
                 ctx,
                 "search.grid",
-                std::mem::size_of::<types::SearchGrid>() as u64,
+                std::mem::size_of::<types::GpuSearchGrid>() as u64,
             )?,
             faces: Storage::with_data(ctx, "search.faces", &to_device::<_, Quad>(faces))?,
             face_first: Storage::with_data(ctx, "search.face_first", face_first)?,
@@ -200,7 +200,7 @@ impl GpuSearch {
 
     /// Records a whole search with `grid` (set now, applied at the next submission).
     pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, grid: SearchGrid) {
-        let g = types::SearchGrid {
+        let g = types::GpuSearchGrid {
             cell: grid.cell as f32,
             margin: grid.margin as f32,
             mask: (self.table - 1) as u32,
@@ -246,7 +246,7 @@ impl GpuSearch {
             .dispatch_with(pass, &b[5], k.contact_search.0.grid(q));
     }
 
-    /// The search grid ([`types::SearchGrid`]) the stages read.
+    /// The search grid ([`types::GpuSearchGrid`]) the stages read.
     pub fn grid_buffer(&self) -> &wgpu::Buffer {
         &self.buffers.grid.buffer
     }
@@ -274,7 +274,7 @@ impl GpuSearch {
         grid: SearchGrid,
     ) -> Result<Vec<ContactPoint>> {
         self.record(ctx, &mut enc, grid);
-        let pts: Vec<types::ContactPoint> = submit_and_read(
+        let pts: Vec<types::GpuContactPoint> = submit_and_read(
             ctx,
             &mut self.staging,
             enc,

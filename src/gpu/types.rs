@@ -21,6 +21,19 @@ macro_rules! device_struct {
             $($(#[$field_meta:meta])* pub $field:ident: $ty:ty),* $(,)?
         }
     ) => {
+        device_struct! {
+            $(#[$meta])*
+            pub struct $name as $name {
+                $($(#[$field_meta])* pub $field: $ty),*
+            }
+        }
+    };
+    (
+        $(#[$meta:meta])*
+        pub struct $name:ident as $wgsl:ident {
+            $($(#[$field_meta:meta])* pub $field:ident: $ty:ty),* $(,)?
+        }
+    ) => {
         $(#[$meta])*
         #[repr(C)]
         pub struct $name {
@@ -31,7 +44,7 @@ macro_rules! device_struct {
             /// Size and field offsets, by WGSL name.
             pub fn layout() -> StructLayout {
                 (
-                    stringify!($name),
+                    stringify!($wgsl),
                     std::mem::size_of::<$name>(),
                     vec![$((stringify!($field), std::mem::offset_of!($name, $field))),*],
                 )
@@ -96,7 +109,7 @@ device_struct! {
     /// stiffness's upper triangle in Voigt order (xx, yy, zz, yz, xz, xy), global axes, row by
     /// row, in place of lambda and mu.
     #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-    pub struct Material {
+    pub struct GpuMaterial as Material {
         pub lambda: f32,
         pub mu: f32,
         pub density: f32,
@@ -125,10 +138,10 @@ device_struct! {
     }
 }
 
-impl Material {
+impl GpuMaterial {
     /// The device form of a material.
-    pub fn of(m: &crate::material::Elastic) -> Material {
-        let mut d = Material {
+    pub fn of(m: &crate::material::Elastic) -> GpuMaterial {
+        let mut d = GpuMaterial {
             lambda: m.lambda as f32,
             mu: m.mu as f32,
             density: m.density as f32,
@@ -184,7 +197,7 @@ impl From<&[u32; 4]> for Quad {
 device_struct! {
     /// Contact kinematics of one query (`face = 0xffffffff`: no candidate).
     #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-    pub struct ContactPoint {
+    pub struct GpuContactPoint as ContactPoint {
         pub face: u32,
         pub xi: [f32; 2],
         pub normal: [f32; 3],
@@ -193,8 +206,8 @@ device_struct! {
     }
 }
 
-impl From<ContactPoint> for CpuContactPoint {
-    fn from(p: ContactPoint) -> Self {
+impl From<GpuContactPoint> for CpuContactPoint {
+    fn from(p: GpuContactPoint) -> Self {
         CpuContactPoint {
             face: p.face,
             xi: p.xi.map(f64::from),
@@ -205,15 +218,15 @@ impl From<ContactPoint> for CpuContactPoint {
     }
 }
 
-impl From<&CpuContactPoint> for ContactPoint {
+impl From<&CpuContactPoint> for GpuContactPoint {
     fn from(p: &CpuContactPoint) -> Self {
         if p.face == NO_FACE {
-            return ContactPoint {
+            return GpuContactPoint {
                 face: NO_FACE,
                 ..Default::default()
             };
         }
-        ContactPoint {
+        GpuContactPoint {
             face: p.face,
             xi: p.xi.map(|x| x as f32),
             normal: p.normal.map(|x| x as f32),
@@ -266,15 +279,15 @@ impl From<&kernels::PlaneData> for Plane {
 device_struct! {
     /// A secondary node of the rigid planes and its planes as a bit set.
     #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
-    pub struct PlaneNode {
+    pub struct GpuPlaneNode as PlaneNode {
         pub node: u32,
         pub planes: u32,
     }
 }
 
-impl From<&kernels::PlaneNode> for PlaneNode {
+impl From<&kernels::PlaneNode> for GpuPlaneNode {
     fn from(p: &kernels::PlaneNode) -> Self {
-        PlaneNode {
+        GpuPlaneNode {
             node: p.node,
             planes: p.planes,
         }
@@ -284,7 +297,7 @@ impl From<&kernels::PlaneNode> for PlaneNode {
 device_struct! {
     /// One history value (twin: [`crate::kernels::history_reduce::ReduceColumn`]).
     #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
-    pub struct ReduceColumn {
+    pub struct GpuReduceColumn as ReduceColumn {
         pub first: u32,
         pub count: u32,
         pub stride: u32,
@@ -292,9 +305,9 @@ device_struct! {
     }
 }
 
-impl From<&kernels::ReduceColumn> for ReduceColumn {
+impl From<&kernels::ReduceColumn> for GpuReduceColumn {
     fn from(c: &kernels::ReduceColumn) -> Self {
-        ReduceColumn {
+        GpuReduceColumn {
             first: c.first,
             count: c.count,
             stride: c.stride,
@@ -317,7 +330,7 @@ device_struct! {
 device_struct! {
     /// The contact search grid (twin: [`crate::kernels::SearchGrid`]).
     #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-    pub struct SearchGrid {
+    pub struct GpuSearchGrid as SearchGrid {
         pub cell: f32,
         pub margin: f32,
         pub mask: u32,
@@ -328,7 +341,7 @@ device_struct! {
 device_struct! {
     /// A pair of the device contact iteration (twin: [`crate::kernels::ContactPair`]).
     #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-    pub struct ContactPair {
+    pub struct GpuContactPair as ContactPair {
         pub node: u32,
         pub query: u32,
         pub mu: f32,
@@ -337,9 +350,9 @@ device_struct! {
     }
 }
 
-impl From<&kernels::ContactPair> for ContactPair {
+impl From<&kernels::ContactPair> for GpuContactPair {
     fn from(p: &kernels::ContactPair) -> Self {
-        ContactPair {
+        GpuContactPair {
             node: p.node,
             query: p.query,
             mu: p.mu as f32,
@@ -352,7 +365,7 @@ impl From<&kernels::ContactPair> for ContactPair {
 device_struct! {
     /// One constraint of the device contact iteration (twin: [`crate::kernels::Constraint`]).
     #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-    pub struct Constraint {
+    pub struct GpuConstraint as Constraint {
         pub face: [u32; 4],
         pub weights: [f32; 4],
         pub normal: [f32; 3],
@@ -365,8 +378,8 @@ device_struct! {
     }
 }
 
-impl From<Constraint> for kernels::Constraint {
-    fn from(c: Constraint) -> Self {
+impl From<GpuConstraint> for kernels::Constraint {
+    fn from(c: GpuConstraint) -> Self {
         kernels::Constraint {
             face: c.face,
             weights: c.weights.map(f64::from),
@@ -381,9 +394,9 @@ impl From<Constraint> for kernels::Constraint {
     }
 }
 
-impl From<&kernels::Constraint> for Constraint {
+impl From<&kernels::Constraint> for GpuConstraint {
     fn from(c: &kernels::Constraint) -> Self {
-        Constraint {
+        GpuConstraint {
             face: c.face,
             weights: c.weights.map(|x| x as f32),
             normal: c.normal.map(|x| x as f32),
@@ -400,7 +413,7 @@ impl From<&kernels::Constraint> for Constraint {
 device_struct! {
     /// A node of the device contact iteration (twin: [`crate::kernels::ContactNode`]).
     #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
-    pub struct ContactNode {
+    pub struct GpuContactNode as ContactNode {
         pub node: u32,
         pub pair_first: u32,
         pub pair_end: u32,
@@ -409,9 +422,9 @@ device_struct! {
     }
 }
 
-impl From<&kernels::ContactNode> for ContactNode {
+impl From<&kernels::ContactNode> for GpuContactNode {
     fn from(c: &kernels::ContactNode) -> Self {
-        ContactNode {
+        GpuContactNode {
             node: c.node,
             pair_first: c.pair_first,
             pair_end: c.pair_end,
@@ -466,18 +479,18 @@ pub fn layouts() -> Vec<StructLayout> {
         Split3::layout(),
         Hex8::layout(),
         Tet4::layout(),
-        Material::layout(),
+        GpuMaterial::layout(),
         ContactQuery::layout(),
         Quad::layout(),
-        ContactPoint::layout(),
+        GpuContactPoint::layout(),
         Lumped::layout(),
         Plane::layout(),
-        PlaneNode::layout(),
-        ReduceColumn::layout(),
+        GpuPlaneNode::layout(),
+        GpuReduceColumn::layout(),
         Step::layout(),
-        SearchGrid::layout(),
-        ContactPair::layout(),
-        Constraint::layout(),
-        ContactNode::layout(),
+        GpuSearchGrid::layout(),
+        GpuContactPair::layout(),
+        GpuConstraint::layout(),
+        GpuContactNode::layout(),
     ]
 }

@@ -20,7 +20,7 @@ pub use problems::{Errors, Problem};
 
 /// The methods a study compares.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Method {
+pub enum StudyMethod {
     /// The paper's method: gap-rate constraint, adaptive penalty (Anderson-accelerated).
     ImplicitAdaptive,
     /// The gap-rate constraint with the penalty fixed at its initial estimate.
@@ -35,22 +35,22 @@ pub enum Method {
     Explicit,
 }
 
-impl Method {
-    pub const ALL: [Method; 5] = [
-        Method::ImplicitAdaptive,
-        Method::ImplicitFixed,
-        Method::ImplicitGap,
-        Method::ImplicitGapDamped,
-        Method::Explicit,
+impl StudyMethod {
+    pub const ALL: [StudyMethod; 5] = [
+        StudyMethod::ImplicitAdaptive,
+        StudyMethod::ImplicitFixed,
+        StudyMethod::ImplicitGap,
+        StudyMethod::ImplicitGapDamped,
+        StudyMethod::Explicit,
     ];
 
     pub fn name(self) -> &'static str {
         match self {
-            Method::ImplicitAdaptive => "implicit-adaptive",
-            Method::ImplicitFixed => "implicit-fixed",
-            Method::ImplicitGap => "implicit-gap",
-            Method::ImplicitGapDamped => "implicit-gap-damped",
-            Method::Explicit => "explicit",
+            StudyMethod::ImplicitAdaptive => "implicit-adaptive",
+            StudyMethod::ImplicitFixed => "implicit-fixed",
+            StudyMethod::ImplicitGap => "implicit-gap",
+            StudyMethod::ImplicitGapDamped => "implicit-gap-damped",
+            StudyMethod::Explicit => "explicit",
         }
     }
 
@@ -62,16 +62,20 @@ impl Method {
             )
         };
         match self {
-            Method::ImplicitAdaptive => run("implicit"),
-            Method::ImplicitFixed => {
+            StudyMethod::ImplicitAdaptive => run("implicit"),
+            StudyMethod::ImplicitFixed => {
                 format!("{}[implicit]\npenalty = \"fixed\"\n", run("implicit"))
             }
-            Method::ImplicitGap => format!("{}[implicit]\nconstraint = \"gap\"\n", run("implicit")),
-            Method::ImplicitGapDamped => format!(
+            StudyMethod::ImplicitGap => {
+                format!("{}[implicit]\nconstraint = \"gap\"\n", run("implicit"))
+            }
+            StudyMethod::ImplicitGapDamped => format!(
                 "{}[implicit]\nconstraint = \"gap\"\ngamma = 0.7\nbeta = 0.36\n",
                 run("implicit")
             ),
-            Method::Explicit => format!("{}[explicit]\nallow_unstable = true\n", run("explicit")),
+            StudyMethod::Explicit => {
+                format!("{}[explicit]\nallow_unstable = true\n", run("explicit"))
+            }
         }
     }
 }
@@ -80,7 +84,7 @@ impl Method {
 #[derive(Debug, Clone)]
 pub struct StudyRow {
     pub problem: Problem,
-    pub method: Method,
+    pub method: StudyMethod,
     pub device: String,
     pub elements: usize,
     pub courant: f64,
@@ -124,7 +128,7 @@ pub(crate) fn run_grid(
     let mut rows = Vec::new();
     for &n in &problem.meshes(quick) {
         for &courant in &problem.courant_numbers(quick) {
-            for method in Method::ALL {
+            for method in StudyMethod::ALL {
                 for &device in devices {
                     let row = run_one(problem, method, n, courant, device, out)?;
                     progress(&row);
@@ -139,7 +143,7 @@ pub(crate) fn run_grid(
 /// One run of a study: `problem` with mesh parameter `n` at Courant number `courant`.
 pub fn run_one(
     problem: Problem,
-    method: Method,
+    method: StudyMethod,
     n: usize,
     courant: f64,
     device: &str,
@@ -340,7 +344,7 @@ pub(crate) fn speed_chart(rows: &[StudyRow]) -> Chart {
 /// failures as crosses, one series per way of failing. Each point's tooltip names its run.
 pub(crate) fn atlas_chart(rows: &[StudyRow]) -> Chart {
     let xy = |r: &StudyRow| (r.courant, r.errors.force);
-    let mut series: Vec<Series> = Method::ALL
+    let mut series: Vec<Series> = StudyMethod::ALL
         .iter()
         .map(|&m| {
             let ok: Vec<&StudyRow> = (rows.iter())
@@ -376,7 +380,7 @@ pub(crate) fn atlas_table(rows: &[StudyRow]) -> String {
         s.push_str("---|");
     }
     s.push('\n');
-    for m in Method::ALL {
+    for m in StudyMethod::ALL {
         let _ = write!(s, "| {} |", m.name());
         for c in &courants {
             let mut statuses: Vec<String> = rows
