@@ -442,3 +442,24 @@ fn a_nan_elastic_constant_is_named_by_its_own_key() {
     );
     expect(&text, &["transversely_isotropic.nu23", "finite"]);
 }
+
+/// A ply strength that is not positive is named by its key in the `strength` table; a key
+/// that is not a strength is named as unknown.
+#[test]
+fn a_strength_that_is_not_positive_is_named() {
+    let with = |s: &str| {
+        edit(
+            &base(),
+            "density = 0.01",
+            &format!("density = 0.01\nstrength = {{ {s} }}"),
+        )
+    };
+    expect(
+        &with("xt = 1500.0, xc = 1500.0, yt = 40.0, yc = -246.0, s12 = 68.0, s23 = 68.0"),
+        &["material[0].strength.yc", "> 0", "-246"],
+    );
+    expect(
+        &with("xt = 1500.0, xc = 1500.0, yt = 40.0, yc = 246.0, s12 = 68.0, s13 = 68.0"),
+        &["s13"],
+    );
+}

@@ -207,3 +207,83 @@ fn mixed_cells_carry_their_body_and_material() {
     let text = format!("{text}\n[output]\nvtu_every = 50\n");
     check("vtu_mixed_cells", &text, 4);
 }
+
+/// Recomputes Hashin's four indices and the maximum stress index of every cell of the last
+/// frame of material `ply` from its `material_stress` (an independent implementation of the
+/// formulas of `material::failure`; the other cells' indices must be zero) and prints the
+/// largest difference from the frame's `failure_index`, and the largest index.
+const CHECK_FAILURE: &str = r#"
+import sys, xml.etree.ElementTree as ET
+import meshio
+run_dir, stem = sys.argv[1], sys.argv[2]
+xt, xc, yt, yc, s12, s23 = map(float, sys.argv[3:9])
+last = list(ET.parse(f"{run_dir}/{stem}.pvd").getroot().iter("DataSet"))[-1]
+mesh = meshio.read(f"{run_dir}/{last.get('file')}")
+worst, largest, cells = 0.0, 0.0, 0
+ply = int(sys.argv[9])
+data = zip(mesh.cell_data["material_stress"], mesh.cell_data["failure_index"], mesh.cell_data["material"])
+for s, f, m in data:
+    for (a, b, c, d, e, g), got, material in zip(s, f, m):
+        if material != ply:
+            # a material without strengths: zeros
+            worst = max(worst, max(abs(x) for x in got))
+            continue
+        lt = (d * d + g * g) / s12**2
+        tt = (e * e - b * c) / s23**2
+        i1 = b + c
+        want = [
+            (a / xt) ** 2 + lt if a >= 0 else 0.0,
+            (a / xc) ** 2 if a < 0 else 0.0,
+            (i1 / yt) ** 2 + tt + lt if i1 >= 0 else 0.0,
+            ((yc / (2 * s23)) ** 2 - 1) * i1 / yc + (i1 / (2 * s23)) ** 2 + tt + lt if i1 < 0 else 0.0,
+            max(a / xt if a >= 0 else -a / xc, b / yt if b >= 0 else -b / yc,
+                c / yt if c >= 0 else -c / yc, abs(d) / s12, abs(g) / s12, abs(e) / s23),
+        ]
+        worst = max(worst, max(abs(x - y) / max(1.0, abs(y)) for x, y in zip(got, want)))
+        largest = max(largest, max(want))
+        cells += 1
+print("cells", cells, "difference", worst, "largest", largest)
+"#;
+
+/// The laminate's frames carry each cell's failure indices (`strength` on its ply material):
+/// the last frame's `failure_index` equals the indices recomputed from its
+/// `material_stress` by an independent implementation, within 1e-12 relative, and is zero
+/// in the steel ball (no strengths).
+#[test]
+fn laminate_frames_carry_the_failure_indices_of_their_ply_stresses() {
+    let tag = "laminate_failure_indices";
+    if !meshio_available(tag) {
+        return;
+    }
+    let text = edit(
+        &scene_text("sphere_on_laminate.toml"),
+        "end_time = 1.4e-4",
+        "end_time = 1.2e-5",
+    )
+    .replace("vtu_every = 20", "vtu_every = 12");
+    let (s, _) = run_scene_text(tag, &text);
+    s.expect("run completes");
+    let out = Command::new("python3")
+        .args(["-c", CHECK_FAILURE])
+        .arg(out_path(tag))
+        .arg(tag)
+        // the strengths of carbon_epoxy, the scene's second material
+        .args(["1500", "1500", "40", "246", "68", "68", "1"])
+        .output()
+        .expect("python3 runs");
+    let text =
+        String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
+    eprintln!("{text}");
+    assert!(out.status.success(), "{text}");
+    let field = |name: &str| -> f64 {
+        let words: Vec<&str> = text.split_whitespace().collect();
+        let at = words.iter().position(|w| *w == name).expect(name);
+        words[at + 1].parse().expect("a number")
+    };
+    assert!(field("cells") > 0.0);
+    assert!(field("difference") < 1e-12, "{text}");
+    assert!(
+        field("largest") > 0.0,
+        "the impact must load the plies: {text}"
+    );
+}

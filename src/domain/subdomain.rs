@@ -338,6 +338,7 @@ impl Subdomain {
             materials: model.materials.clone(),
             material_axes: model.material_axes.clone(),
             material_source: model.material_source.clone(),
+            strengths: model.strengths.clone(),
             body_names: model.body_names.clone(),
             fixed: Vec::new(),
             interfaces: Vec::new(),

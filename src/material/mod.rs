@@ -1,9 +1,11 @@
 //! Elastic laws: isotropic in Lamé form, or a general (orthotropic, rotated) stiffness in
 //! Voigt form.
 
+pub mod failure;
 pub mod orthotropic;
 pub mod rotation;
 
+pub use failure::{failure_indices, Strength};
 pub use orthotropic::Orthotropic;
 pub use rotation::Rotation;
 

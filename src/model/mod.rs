@@ -28,6 +28,8 @@ pub struct Model {
     /// The material axes and the scene material of each material index.
     pub material_axes: Vec<crate::material::Rotation>,
     pub material_source: Vec<usize>,
+    /// The ply strengths of each scene material, where it gives them.
+    pub strengths: Vec<Option<crate::material::Strength>>,
     pub body_names: Vec<String>,
     /// True for each prescribed (zero) degree of freedom, 3 per node.
     pub fixed: Vec<bool>,
@@ -65,6 +67,7 @@ impl Model {
             materials: table.elastic,
             material_axes: table.axes,
             material_source: table.source,
+            strengths: scene.materials.iter().map(|m| m.strength).collect(),
             fixed,
             interfaces,
             queries,

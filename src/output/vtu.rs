@@ -261,6 +261,24 @@ fn cell_stresses(model: &Model, u: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     (global, vm, axes)
 }
 
+/// The failure indices of every cell ([`crate::material::failure::INDICES`], five per cell)
+/// from its stress in its material axes; zero for cells of a material without strengths.
+fn cell_failure_indices(model: &Model, material_stress: &[f64]) -> Vec<f64> {
+    model
+        .mesh
+        .elements()
+        .zip(material_stress.chunks_exact(6))
+        .flat_map(|(e, s)| {
+            let source = model.material_source[e.material as usize];
+            let s: [f64; 6] = s.try_into().expect("six components");
+            match &model.strengths[source] {
+                Some(k) => crate::material::failure_indices(s, k),
+                None => [0.0; 5],
+            }
+        })
+        .collect()
+}
+
 /// (xx, yy, zz, xy, yz, xz) of a symmetric tensor.
 fn pack(s: &[[f64; 3]; 3]) -> [f64; 6] {
     [s[0][0], s[1][1], s[2][2], s[0][1], s[1][2], s[0][2]]
@@ -301,6 +319,10 @@ fn cell_data(app: &mut Appended, model: &Model, u: &[f64]) {
             6,
             &f64_bytes(&material_stress),
         );
+    }
+    if model.strengths.iter().any(Option::is_some) {
+        let indices = cell_failure_indices(model, &material_stress);
+        app.array("failure_index", "Float64", 5, &f64_bytes(&indices));
     }
     let (body, material) = cell_body_material(mesh, &model.material_source);
     app.array("body", "Int32", 1, &i32_bytes(&body));

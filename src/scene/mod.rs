@@ -227,6 +227,8 @@ pub struct Material {
     pub density: f64,
     /// The elastic law in the material's own axes.
     pub elastic: Elastic,
+    /// Ply strengths, for the failure indices (`strength`).
+    pub strength: Option<crate::material::Strength>,
 }
 
 /// Where a body's mesh comes from.

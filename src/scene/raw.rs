@@ -87,6 +87,19 @@ pub(crate) struct RawMaterial {
     pub poissons_ratio: Option<f64>,
     pub orthotropic: Option<RawOrthotropic>,
     pub transversely_isotropic: Option<RawTransverselyIsotropic>,
+    pub strength: Option<RawStrength>,
+}
+
+/// A ply's strengths (`strength = { xt, xc, yt, yc, s12, s23 }`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawStrength {
+    pub xt: f64,
+    pub xc: f64,
+    pub yt: f64,
+    pub yc: f64,
+    pub s12: f64,
+    pub s23: f64,
 }
 
 #[derive(Debug, Deserialize)]

@@ -457,13 +457,36 @@ impl Checker<'_> {
             }
             let density = self.positive(&key("density"), m.density)?;
             let elastic = self.elastic(&key, m, density)?;
+            let strength = m
+                .strength
+                .as_ref()
+                .map(|s| self.strength(&key, s))
+                .transpose()?;
             materials.push(Material {
                 name: m.name.clone(),
                 density,
                 elastic,
+                strength,
             });
         }
         Ok(materials)
+    }
+
+    /// `strength`: six positive strengths.
+    fn strength(
+        &self,
+        key: &dyn Fn(&str) -> String,
+        s: &crate::scene::raw::RawStrength,
+    ) -> Result<crate::material::Strength> {
+        let p = |k: &str, v: f64| self.positive(&key(&format!("strength.{k}")), v);
+        Ok(crate::material::Strength {
+            xt: p("xt", s.xt)?,
+            xc: p("xc", s.xc)?,
+            yt: p("yt", s.yt)?,
+            yc: p("yc", s.yc)?,
+            s12: p("s12", s.s12)?,
+            s23: p("s23", s.s23)?,
+        })
     }
 
     /// `[[body]]`: boxes and mesh files, their materials and velocities.
