@@ -253,23 +253,33 @@ fn fill_words_matches_its_cpu_twin() {
     }
 }
 
-/// `prefix_sum` (one workgroup, in tiles of 1024 values) on random bucket sizes, from an
-/// empty table to several tiles with a partial last one: exact.
+/// The device's prefix sum (`scan_totals`, then `prefix_sum`, a workgroup per block of 1024
+/// values) on random bucket sizes, from an empty table to hundreds of blocks with a partial
+/// last one: the starts and the block totals exact.
 #[test]
-fn prefix_sum_matches_its_cpu_twin() {
+fn prefix_sum_and_scan_totals_match_their_cpu_twins() {
     let Some(ctx) = gpu_context("prefix_sum") else {
         return;
     };
     let seed = seed("prefix_sum");
     let mut rng = StdRng::seed_from_u64(seed);
-    for len in [0, 1, 5, 1024, 1025, rng.random_range(2000..70000usize)] {
+    let many = rng.random_range(2000..300_000usize);
+    for len in [0, 1, 5, 1024, 1025, 4096, many] {
         let values: Vec<u32> = (0..len).map(|_| rng.random_range(0..4u32)).collect();
-        let gpu = impact::gpu::inspect::run_prefix_sum(&ctx, &values).expect("prefix_sum runs");
+        let (starts, totals) =
+            impact::gpu::inspect::run_prefix_sum(&ctx, &values).expect("prefix_sum runs");
         assert_eq!(
-            gpu,
+            starts,
             kernels::prefix_sum(&values),
             "seed {seed}: {len} values"
         );
+        if len > kernels::SCAN_BLOCK {
+            assert_eq!(
+                totals,
+                kernels::scan_totals(&values),
+                "seed {seed}: {len} totals"
+            );
+        }
     }
 }
 

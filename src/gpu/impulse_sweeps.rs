@@ -30,9 +30,10 @@ use super::context::GpuContext;
 use super::kernel::Launch;
 use super::kernels::{
     BucketCount, BucketFill, BucketOrder, ContactApply, ContactCompliance, ContactConstraints,
-    ContactFinish, ContactReportKernel, ContactSweep, ContactTouches, FillWords, PrefixSum,
-    SearchBounds, SearchGridKernel, SweepControl,
+    ContactFinish, ContactReportKernel, ContactSweep, ContactTouches, FillWords, SearchBounds,
+    SearchGridKernel, SweepControl,
 };
+use super::scan::Scan;
 use super::search::GpuSearch;
 use super::types::{self, to_device};
 use crate::error::Result;
@@ -76,7 +77,6 @@ struct IterationKernels {
     grid: SearchGridKernel,
     constraints: ContactConstraints,
     count: BucketCount,
-    prefix: PrefixSum,
     fill: BucketFill,
     order: BucketOrder,
     touches: ContactTouches,
@@ -97,7 +97,6 @@ impl IterationKernels {
             grid: SearchGridKernel::new(ctx),
             constraints: ContactConstraints::new(ctx),
             count: BucketCount::new(ctx),
-            prefix: PrefixSum::new(ctx),
             fill: BucketFill::new(ctx),
             order: BucketOrder::new(ctx),
             touches: ContactTouches::new(ctx),
@@ -120,7 +119,6 @@ struct Launches {
     grid: Option<Launch>,
     constraints: Launch,
     count: Launch,
-    prefix: Launch,
     fill: Launch,
     order: Launch,
     touches: Launch,
@@ -254,8 +252,9 @@ impl Bindings<'_> {
     }
 
     /// The constraints' and the bucket sort's launches: `contact_constraints`,
-    /// `bucket_count`, `prefix_sum`, `bucket_fill` and `bucket_order`.
-    fn sort(&self) -> [Launch; 5] {
+    /// `bucket_count`, `bucket_fill` and `bucket_order` (the bucket starts come from the
+    /// iteration's [`Scan`] between the first two).
+    fn sort(&self) -> [Launch; 4] {
         let (ctx, k, b, m, w) = (self.ctx, self.k, self.b, self.m, self.w);
         let (np, nf) = (self.np, self.nf);
         let constraints = k.constraints.launch(
@@ -284,14 +283,6 @@ impl Bindings<'_> {
             &w.sort.counts.buffer,
             &w.sort.ranks.buffer,
         );
-        let prefix = k.prefix.launch(
-            ctx,
-            nf + 1,
-            0,
-            0,
-            &w.sort.counts.buffer,
-            &w.sort.starts.buffer,
-        );
         let fill = k.fill.launch(
             ctx,
             np,
@@ -306,7 +297,7 @@ impl Bindings<'_> {
         let order = k
             .order
             .launch(ctx, nf, 0, 0, &w.sort.starts.buffer, &w.sort.sorted.buffer);
-        [constraints, count, prefix, fill, order]
+        [constraints, count, fill, order]
     }
 
     /// The row-sum compliance's launches: `contact_touches` and `contact_compliance`.
@@ -423,7 +414,7 @@ impl Bindings<'_> {
     /// Every launch of the iteration, stage after stage.
     fn launches(&self, search: Option<&GpuSearch>, setup: &ContactSetup, nodes: usize) -> Launches {
         let (bounds, grid) = self.search(search, nodes, setup.face_size);
-        let [constraints, count, prefix, fill, order] = self.sort();
+        let [constraints, count, fill, order] = self.sort();
         let [touches, compliance] = self.compliance();
         let (sweep, apply, control, finish) = self.sweeps();
         let [zero_bounds, zero_counts, zero_state] = self.zeroing();
@@ -435,7 +426,6 @@ impl Bindings<'_> {
             grid,
             constraints,
             count,
-            prefix,
             fill,
             order,
             touches,
@@ -456,6 +446,8 @@ pub struct ImpulseSweeps {
     kernels: IterationKernels,
     launches: Launches,
     pub(super) work: WorkBuffers,
+    /// The pairs' bucket starts from the bucket sizes (faces + 1 buckets).
+    scan: Scan,
     pub(super) staging: Storage,
     // kept alive for the bind groups
     _buffers: Vec<Storage>,
@@ -502,11 +494,18 @@ impl ImpulseSweeps {
             nodes: cnodes,
             links,
         } = model;
+        let scan = Scan::new(
+            ctx,
+            &work.sort.counts.buffer,
+            &work.sort.starts.buffer,
+            nf + 1,
+        )?;
         Ok(ImpulseSweeps {
             search,
             kernels,
             launches,
             work,
+            scan,
             staging: super::buffer::staging(ctx)?,
             _buffers: vec![pairs, cnodes, links, none],
             pairs: np,
@@ -579,8 +578,7 @@ impl ImpulseSweeps {
         k.constraints.0.dispatch(pass, &l.constraints);
         k.zero.0.dispatch(pass, &l.zero_counts);
         k.count.0.dispatch(pass, &l.count);
-        // one workgroup scans the whole table
-        k.prefix.0.dispatch_with(pass, &l.prefix.bind, [1, 1]);
+        self.scan.dispatch(pass);
         k.fill.0.dispatch(pass, &l.fill);
         k.order.0.dispatch(pass, &l.order);
         k.zero.0.dispatch(pass, &l.zero_state);

@@ -12,9 +12,10 @@ use super::context::GpuContext;
 use super::corner_select::CornerSelection;
 use super::engine::{bytes_of, GpuKernels};
 use super::resident_step::{to_f32, ResidentStep};
+use super::scan::Scan;
 use super::search::GpuSearch;
 use super::types;
-use super::{FillWords, ImpulseSweeps, PrefixSum};
+use super::{FillWords, ImpulseSweeps};
 use crate::element::ElementKind;
 use crate::error::{ImpactError, Result};
 use crate::kernels::plane_contact::SLOT;
@@ -43,29 +44,42 @@ pub fn run_fill_words(ctx: &GpuContext, words: &[u32], count: u32, value: u32) -
     submit_and_read(ctx, &mut staging(ctx)?, enc, &buffer.buffer, words.len())
 }
 
-/// Runs `prefix_sum` alone on `values` and reads the starts back (one more than the values).
-pub fn run_prefix_sum(ctx: &GpuContext, values: &[u32]) -> Result<Vec<u32>> {
-    let kernel = PrefixSum::new(ctx);
-    let input = Storage::with_data(ctx, "prefix_sum.values", values)?;
+/// Runs the device's prefix sum ([`Scan`]: `scan_totals`, then `prefix_sum`) alone on
+/// `values` and reads the starts back (one more than the values), with the block totals.
+pub fn run_prefix_sum(ctx: &GpuContext, values: &[u32]) -> Result<(Vec<u32>, Vec<u32>)> {
+    let input = Storage::with_data(ctx, "prefix_sum.values", &[values, &[0]].concat())?;
     let starts = Storage::new(ctx, "prefix_sum.starts", 4 * (values.len() as u64 + 1))?;
-    let launch = kernel.launch(
-        ctx,
-        values.len() as u32,
-        0,
-        0,
-        &input.buffer,
-        &starts.buffer,
-    );
+    let scan = Scan::new(ctx, &input.buffer, &starts.buffer, values.len())?;
     let mut enc = ctx.encoder("prefix_sum");
-    // one workgroup scans the whole table
-    kernel.0.record(&mut enc, &launch.bind, [1, 1]);
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("prefix_sum"),
+            timestamp_writes: None,
+        });
+        scan.dispatch(&mut pass);
+    }
     let mut staging = Storage::with_usage(
         ctx,
         "prefix_sum.readback",
         starts.capacity,
         wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
     )?;
-    submit_and_read(ctx, &mut staging, enc, &starts.buffer, values.len() + 1)
+    let got = submit_and_read(ctx, &mut staging, enc, &starts.buffer, values.len() + 1)?;
+    Ok((got, scan.read_totals(ctx)?))
+}
+
+impl Scan {
+    /// The block totals of the last scan (written where there is more than one block).
+    pub fn read_totals(&self, ctx: &GpuContext) -> Result<Vec<u32>> {
+        let source = &self.block_totals.buffer;
+        read_back(
+            ctx,
+            &mut staging(ctx)?,
+            "scan.totals",
+            source,
+            self.blocks as usize,
+        )
+    }
 }
 
 /// The kernels of [`GpuKernels`], for timing them one by one.

@@ -92,7 +92,8 @@ kernel_table! {
         step, reference, displacement, acceleration, lumped, planes, plane_nodes, velocity,
         results,
     );
-    PrefixSum = prefix_sum(values, starts);
+    PrefixSum = prefix_sum(values, totals, starts);
+    ScanTotals = scan_totals(values, totals);
     SearchBounds = search_bounds(reference, displacement, velocity, faces, bounds);
     SearchGridKernel = search_grid(step, bounds, grid);
     SlipRate = slip_rate(reference, displacement, velocity, queries, faces, points, slip);

@@ -14,6 +14,7 @@ pub mod inspect;
 pub mod kernel;
 pub mod kernels;
 pub mod resident_step;
+pub mod scan;
 pub mod search;
 pub mod shaders;
 pub mod stable_step;

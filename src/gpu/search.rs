@@ -9,8 +9,9 @@
 use super::bucket_sort::BucketSort;
 use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
+use super::scan::Scan;
 use super::types::{self, to_device, ContactQuery, Quad};
-use super::{BucketCount, BucketFill, ContactSearch, FaceCells, FillWords, PrefixSum};
+use super::{BucketCount, BucketFill, ContactSearch, FaceCells, FillWords};
 use crate::error::Result;
 use crate::kernels::{ContactPoint, SearchGrid};
 
@@ -24,7 +25,6 @@ struct SearchKernels {
     fill_words: FillWords,
     face_cells: FaceCells,
     bucket_count: BucketCount,
-    prefix_sum: PrefixSum,
     bucket_fill: BucketFill,
     contact_search: ContactSearch,
 }
@@ -35,7 +35,6 @@ impl SearchKernels {
             fill_words: FillWords::new(ctx),
             face_cells: FaceCells::new(ctx),
             bucket_count: BucketCount::new(ctx),
-            prefix_sum: PrefixSum::new(ctx),
             bucket_fill: BucketFill::new(ctx),
             contact_search: ContactSearch::new(ctx),
         }
@@ -47,7 +46,6 @@ impl SearchKernels {
         self.fill_words.0.set_count(ctx, table as u32);
         self.face_cells.0.set_count(ctx, faces as u32);
         self.bucket_count.0.set_count(ctx, faces as u32);
-        self.prefix_sum.0.set_count(ctx, table as u32);
         self.bucket_fill.0.set_count(ctx, faces as u32);
         self.contact_search.0.set_count(ctx, queries as u32);
     }
@@ -109,8 +107,9 @@ impl SearchBuffers {
     }
 }
 
-/// The five stages' bind groups, in order: `face_cells`, `bucket_count`, `prefix_sum`,
-/// `bucket_fill`, `contact_search`.
+/// The stages' bind groups, in order: `fill_words` (the bucket sizes zeroed),
+/// `face_cells`, `bucket_count`, `bucket_fill`, `contact_search` (the bucket starts come from
+/// the [`Scan`] between the last two).
 fn binds(
     ctx: &GpuContext,
     k: &SearchKernels,
@@ -118,7 +117,7 @@ fn binds(
     reference: &wgpu::Buffer,
     displacement: &wgpu::Buffer,
     velocity: &wgpu::Buffer,
-) -> [wgpu::BindGroup; 6] {
+) -> [wgpu::BindGroup; 5] {
     [
         k.fill_words.bind(ctx, &b.sort.counts.buffer),
         k.face_cells.bind(
@@ -136,8 +135,6 @@ fn binds(
             &b.sort.counts.buffer,
             &b.sort.ranks.buffer,
         ),
-        k.prefix_sum
-            .bind(ctx, &b.sort.counts.buffer, &b.sort.starts.buffer),
         k.bucket_fill.bind(
             ctx,
             &b.sort.keys.buffer,
@@ -164,7 +161,9 @@ pub struct GpuSearch {
     kernels: SearchKernels,
     pub(super) buffers: SearchBuffers,
     pub(super) staging: Storage,
-    binds: [wgpu::BindGroup; 6],
+    binds: [wgpu::BindGroup; 5],
+    /// The faces' bucket starts from their sizes.
+    scan: Scan,
     pub(super) faces: usize,
     queries: usize,
     pub(super) table: usize,
@@ -187,11 +186,14 @@ impl GpuSearch {
         let kernels = SearchKernels::new(ctx);
         let binds = binds(ctx, &kernels, &buffers, reference, displacement, velocity);
         kernels.set_counts(ctx, faces.len(), table, queries.len());
+        let sort = &buffers.sort;
+        let scan = Scan::new(ctx, &sort.counts.buffer, &sort.starts.buffer, table)?;
         Ok(GpuSearch {
             kernels,
             buffers,
             staging: staging(ctx)?,
             binds,
+            scan,
             faces: faces.len(),
             queries: queries.len(),
             table,
@@ -235,15 +237,14 @@ impl GpuSearch {
         k.bucket_count
             .0
             .dispatch_with(pass, &b[2], k.bucket_count.0.grid(f));
-        // one workgroup scans the whole table
-        k.prefix_sum.0.dispatch_with(pass, &b[3], [1, 1]);
+        self.scan.dispatch(pass);
         k.bucket_fill
             .0
-            .dispatch_with(pass, &b[4], k.bucket_fill.0.grid(f));
+            .dispatch_with(pass, &b[3], k.bucket_fill.0.grid(f));
         let q = self.queries as u32;
         k.contact_search
             .0
-            .dispatch_with(pass, &b[5], k.contact_search.0.grid(q));
+            .dispatch_with(pass, &b[4], k.contact_search.0.grid(q));
     }
 
     /// The search grid ([`types::GpuSearchGrid`]) the stages read.
