@@ -47,7 +47,7 @@ pub fn run_fill_words(ctx: &GpuContext, words: &[u32], count: u32, value: u32) -
 /// Runs the device's prefix sum ([`Scan`]: `scan_totals`, then `prefix_sum`) alone on
 /// `values` and reads the starts back (one more than the values), with the block totals.
 pub fn run_prefix_sum(ctx: &GpuContext, values: &[u32]) -> Result<(Vec<u32>, Vec<u32>)> {
-    let input = Storage::with_data(ctx, "prefix_sum.values", &[values, &[0]].concat())?;
+    let input = Storage::with_data(ctx, "prefix_sum.values", values)?;
     let starts = Storage::new(ctx, "prefix_sum.starts", 4 * (values.len() as u64 + 1))?;
     let scan = Scan::new(ctx, &input.buffer, &starts.buffer, values.len())?;
     let mut enc = ctx.encoder("prefix_sum");
@@ -58,13 +58,13 @@ pub fn run_prefix_sum(ctx: &GpuContext, values: &[u32]) -> Result<(Vec<u32>, Vec
         });
         scan.dispatch(&mut pass);
     }
-    let mut staging = Storage::with_usage(
+    let got = submit_and_read(
         ctx,
-        "prefix_sum.readback",
-        starts.capacity,
-        wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        &mut staging(ctx)?,
+        enc,
+        &starts.buffer,
+        values.len() + 1,
     )?;
-    let got = submit_and_read(ctx, &mut staging, enc, &starts.buffer, values.len() + 1)?;
     Ok((got, scan.read_totals(ctx)?))
 }
 
