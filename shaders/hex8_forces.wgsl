@@ -17,13 +17,7 @@
 
 const GAUSS: f32 = 0.57735026918962576;
 
-fn store_corner(slot: u32, f: vec3<f32>) {
-    let c = params.aux;
-    let s = params.aux2 + slot;
-    corner_forces[s] = f.x;
-    corner_forces[c + s] = f.y;
-    corner_forces[2u * c + s] = f.z;
-}
+// include: store_corner
 
 @compute @workgroup_size(64)
 fn hex8_forces(@builtin(global_invocation_id) gid: vec3<u32>) {

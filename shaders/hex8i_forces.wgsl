@@ -17,6 +17,8 @@
 
 const PACKED: u32 = 300u;
 
+// include: store_corner
+
 // Corner k's gradient at the centre.
 fn centre_gradient(e: u32, k: u32) -> vec3<f32> {
     let i = PACKED + 3u * k;
@@ -99,11 +101,12 @@ fn hex8i_forces(@builtin(global_invocation_id) gid: vec3<u32>) {
         straining(d6, w, split_difference(reference[n6], x0)),
         straining(d7, w, split_difference(reference[n7], x0)),
     );
-    let c = params.aux;
     for (var k = 0u; k < 8u; k++) {
-        let s = params.aux2 + k * ne + e;
-        corner_forces[s] = row_force(e, 3u * k, u);
-        corner_forces[c + s] = row_force(e, 3u * k + 1u, u);
-        corner_forces[2u * c + s] = row_force(e, 3u * k + 2u, u);
+        let f = vec3<f32>(
+            row_force(e, 3u * k, u),
+            row_force(e, 3u * k + 1u, u),
+            row_force(e, 3u * k + 2u, u),
+        );
+        store_corner(k * ne + e, f);
     }
 }

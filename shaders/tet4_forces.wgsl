@@ -12,13 +12,7 @@
 @group(0) @binding(5) var<storage, read> materials: array<Material>;
 @group(0) @binding(6) var<storage, read_write> corner_forces: array<f32>;
 
-fn store_corner(slot: u32, f: vec3<f32>) {
-    let c = params.aux;
-    let s = params.aux2 + slot;
-    corner_forces[s] = f.x;
-    corner_forces[c + s] = f.y;
-    corner_forces[2u * c + s] = f.z;
-}
+// include: store_corner
 
 @compute @workgroup_size(64)
 fn tet4_forces(@builtin(global_invocation_id) gid: vec3<u32>) {
