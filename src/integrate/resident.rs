@@ -412,19 +412,19 @@ impl<'m> ResidentSolver<'m> {
             let n = self.plan(self.submitted);
             self.submit(other, n)?;
         }
-        let rows = self.engine.collect(self.slot)?;
+        let len = self.engine.row_len();
+        let rows: Vec<Row> = (self.engine.collect(self.slot)?)
+            .chunks_exact(len)
+            .map(|r| self.decode(&r.iter().map(|&x| x as f64).collect::<Vec<_>>()))
+            .collect();
         if self.pair_ranges.is_some() {
-            let needs = self.needs(&rows);
+            // the sweeps each step needed (its iterations: the interfaces share one)
+            let needs: Vec<u32> = rows.iter().map(|r| r.report.iterations as u32).collect();
             let next = self.sweeps.collected(self.slot, &needs);
             self.engine.set_sweeps(next);
         }
         self.slot = other;
-        let len = self.engine.row_len();
-        for r in rows.chunks_exact(len) {
-            let r: Vec<f64> = r.iter().map(|&x| x as f64).collect();
-            let row = self.decode(&r);
-            self.rows.push_back(row);
-        }
+        self.rows.extend(rows);
         Ok(())
     }
 
@@ -434,23 +434,6 @@ impl<'m> ResidentSolver<'m> {
         self.sweeps.submitted(slot, self.engine.sweeps());
         self.submitted += n;
         Ok(())
-    }
-
-    /// The sweeps each step of `rows` needed (the contact slots' sweep fields, at most
-    /// `max_iterations`; the interfaces share one iteration).
-    fn needs(&self, rows: &[f32]) -> Vec<u32> {
-        let len = self.engine.row_len();
-        let base = FIELDS * self.model.mesh.bodies.len();
-        let limit = self.max_iterations as f32;
-        rows.chunks_exact(len)
-            .map(|r| {
-                (0..self.model.interfaces.len())
-                    .map(|i| r[base + SLOT * i + slot::SWEEPS])
-                    .filter(|x| x.is_finite())
-                    .fold(0.0f32, f32::max)
-                    .min(limit) as u32
-            })
-            .collect()
     }
 
     /// Fixes the contact sweeps recorded per step as dispatches of their own (from the next
