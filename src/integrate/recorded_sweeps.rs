@@ -3,7 +3,7 @@
 //! needed (`sweeps_recorded`, `sweeps_needed` in `summary.json`).
 //!
 //! A recorded sweep that the iteration needs is a full dispatch pair; one it does not need
-//! is a pair of empty indirect dispatches; a sweep needed past the recorded ones runs in
+//! is a pair of dispatches that exit at once; a sweep needed past the recorded ones runs in
 //! `contact_finish`, one workgroup, which is cheap on small contact zones and slow on large
 //! ones. The count follows the last submission's needs: the number that covers three steps
 //! in four, at most 1.25 times their mean plus one. The results do not depend on it.
