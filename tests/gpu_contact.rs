@@ -130,8 +130,7 @@ fn contact_iteration_stages_match_their_cpu_twins() {
     gpu.upload(&u, &v, &a, &vec![0.0; 3 * nodes], &[]).unwrap();
     let (ctx, it) = gpu.impulse_sweeps().expect("contact iteration");
     let ctx: GpuContext = ctx.clone();
-    it.run(&ctx, |it, enc| it.record(enc, |it, p| it.dispatch_setup(p)))
-        .unwrap();
+    it.run(&ctx, |it, p| it.dispatch_setup(p)).unwrap();
 
     // search bounds and grid
     let ([speed, side], [cell, margin]) = it.read_grid(&ctx).unwrap();
@@ -243,10 +242,7 @@ fn contact_iteration_stages_match_their_cpu_twins() {
     let mut v_in = gpu_state(&mut gpu).1;
     for sweep in 0..4 {
         let (ctx2, it) = gpu.impulse_sweeps().unwrap();
-        it.run(ctx2, |it, enc| {
-            it.record(enc, |it, p| it.dispatch_sweeps(p, 1))
-        })
-        .unwrap();
+        it.run(ctx2, |it, p| it.dispatch_sweeps(p, 1)).unwrap();
         let mut c_cpu = c_in.clone();
         let mut dj_cpu = vec![0.0; 3 * contact.pairs.len()];
         let violation = kernels::contact_sweep(dt, &mut c_cpu, &contact.pairs, &v_in, &mut dj_cpu);
@@ -307,10 +303,7 @@ fn contact_iteration_stages_match_their_cpu_twins() {
 
     // the rest of the iteration in one workgroup, against its twin from the same inputs
     let (ctx2, it) = gpu.impulse_sweeps().unwrap();
-    it.run(ctx2, |it, enc| {
-        it.record(enc, |it, p| it.dispatch_finish(p))
-    })
-    .unwrap();
+    it.run(ctx2, |it, p| it.dispatch_finish(p)).unwrap();
     let s = it.read_state(ctx2).unwrap();
     let c_gpu = it.read_constraints(ctx2).unwrap();
     let v_gpu = gpu_state(&mut gpu).1;
@@ -352,10 +345,7 @@ fn contact_iteration_stages_match_their_cpu_twins() {
 
     // the report
     let (ctx2, it) = gpu.impulse_sweeps().unwrap();
-    it.run(ctx2, |it, enc| {
-        it.record(enc, |it, p| it.dispatch_report(p))
-    })
-    .unwrap();
+    it.run(ctx2, |it, p| it.dispatch_report(p)).unwrap();
     let gpu_r = it.read_results(ctx2).unwrap();
     let mut cpu_r = vec![0.0; SLOT * contact.pairs.len()];
     let s = it.read_state(ctx2).unwrap();

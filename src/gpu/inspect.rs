@@ -434,14 +434,15 @@ impl ResidentStep {
 const CONTACT_READ: &str = "contact.read";
 
 impl ImpulseSweeps {
-    /// Records `part` of the iteration alone, submits it and waits.
+    /// Runs `part` of the iteration (one of its `dispatch_*`) alone, in a compute pass of
+    /// its own, and waits.
     pub fn run(
         &self,
         ctx: &GpuContext,
-        part: impl FnOnce(&Self, &mut wgpu::CommandEncoder),
+        part: impl FnOnce(&Self, &mut wgpu::ComputePass),
     ) -> Result<()> {
         let mut enc = ctx.encoder("contact_iteration");
-        part(self, &mut enc);
+        self.record(&mut enc, part);
         ctx.submit_and_wait(enc)
     }
 
