@@ -145,10 +145,15 @@ fn interfaces(out: &mut String, setup: &Setup) {
             "  {}: {} secondary nodes against {}, friction {}; {gaps}{pen}",
             itf.name,
             itf.nodes.len(),
-            if itf.is_plane() {
-                "a rigid plane"
-            } else {
-                "a surface"
+            match itf.primary {
+                crate::model::Primary::Plane { .. } => "a rigid plane".to_string(),
+                crate::model::Primary::Rigid { body, .. } => format!(
+                    "rigid body `{}` ({} kg, {})",
+                    model.rigid[body].name,
+                    model.rigid[body].mass,
+                    model.rigid[body].motion.name()
+                ),
+                crate::model::Primary::Surface { .. } => "a surface".to_string(),
             },
             itf.friction
         );
@@ -168,10 +173,17 @@ fn fixes(out: &mut String, scene: &Scene, setup: &Setup) {
             .filter(|(_, on)| *on)
             .map(|(c, _)| *c)
             .collect();
-        let _ = writeln!(
-            out,
-            "  fix[{i}]: {n} nodes of body `{}`, components {comps}",
-            scene.bodies[f.body].name
-        );
+        let _ = match f.nodes {
+            crate::scene::NodeSelection::RigidBody => writeln!(
+                out,
+                "  fix[{i}]: rigid body `{}`, components {comps}",
+                scene.rigid_bodies[f.body].name
+            ),
+            _ => writeln!(
+                out,
+                "  fix[{i}]: {n} nodes of body `{}`, components {comps}",
+                scene.bodies[f.body].name
+            ),
+        };
     }
 }

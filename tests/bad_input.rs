@@ -463,3 +463,148 @@ fn a_strength_that_is_not_positive_is_named() {
         &["s13"],
     );
 }
+
+/// The St Venant bar struck by the rigid body `tup`, whose keys are `tup`.
+fn rigid(tup: &str) -> String {
+    format!(
+        r#"[run]
+end_time = 0.1
+time_step = 0.0025
+method = "explicit"
+
+[[material]]
+name = "elastic"
+density = 0.01
+youngs_modulus = 100.0
+poissons_ratio = 0.0
+
+[[body]]
+name = "bar"
+material = "elastic"
+box = {{ min = [0.0, 0.0, 0.0], max = [10.0, 1.0, 1.0], divisions = [4, 1, 1] }}
+
+[[rigid_body]]
+name = "tup"
+position = [0.0, 0.5, 0.5]
+{tup}
+
+[[contact]]
+name = "strike"
+secondary = {{ body = "bar", face = "x-" }}
+primary = {{ rigid_body = "tup" }}
+"#
+    )
+}
+
+const SPHERE: &str = "shape = { sphere = { radius = 1.0 } }";
+
+#[test]
+fn a_free_rigid_body_needs_its_mass() {
+    expect(&rigid(SPHERE), &["rigid_body[0].mass", "required", "free"]);
+    let fixed = rigid(&format!("{SPHERE}\nmotion = \"fixed\""));
+    Scene::parse(&fixed, Path::new("ok.toml")).expect("a held body needs no mass");
+}
+
+#[test]
+fn rotation_of_a_rigid_body_is_refused_by_name() {
+    let text = rigid(&format!(
+        "mass = 1.0\n{SPHERE}\ninertia = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]"
+    ));
+    expect(&text, &["rigid_body[0].inertia", "translate only"]);
+    let text = rigid(&format!(
+        "mass = 1.0\n{SPHERE}\nangular_velocity = [0.0, 0.0, 1.0]"
+    ));
+    expect(&text, &["rigid_body[0].angular_velocity"]);
+}
+
+#[test]
+fn a_rigid_shape_is_exactly_one_shape() {
+    let two =
+        "mass = 1.0\nshape = { sphere = { radius = 1.0 }, plane = { normal = [1.0, 0.0, 0.0] } }";
+    expect(
+        &rigid(two),
+        &["rigid_body[0].shape", "exactly one", "sphere, plane"],
+    );
+    let meshed = "mass = 1.0\nshape = { mesh = \"tup.msh\", surface = \"face\" }";
+    expect(
+        &rigid(meshed),
+        &["rigid_body[0].shape.mesh", "not supported"],
+    );
+    let bad_ends =
+        "mass = 1.0\nshape = { cylinder = { radius = 1.0, axis = [1.0, 0.0, 0.0], length = 2.0, ends = \"domed\" } }";
+    expect(&rigid(bad_ends), &["shape.cylinder.ends", "domed", "round"]);
+    let zero_axis =
+        "mass = 1.0\nshape = { cylinder = { radius = 1.0, axis = [0.0, 0.0, 0.0], length = 2.0 } }";
+    expect(&rigid(zero_axis), &["shape.cylinder.axis", "zero"]);
+}
+
+#[test]
+fn a_plate_window_must_fit_inside_the_plate() {
+    let text = "motion = \"fixed\"\nshape = { plate = { normal = [1.0, 0.0, 0.0], size = [4.0, 2.0], opening = [1.0, 2.0] } }";
+    expect(
+        &rigid(text),
+        &["rigid_body[0].shape.plate.opening", "smaller than"],
+    );
+}
+
+#[test]
+fn a_held_rigid_body_does_not_move() {
+    let text = format!("motion = \"fixed\"\nvelocity = [1.0, 0.0, 0.0]\n{SPHERE}");
+    expect(&rigid(&text), &["rigid_body[0].velocity", "prescribed"]);
+}
+
+#[test]
+fn a_contact_names_an_existing_rigid_body_on_its_primary_side_only() {
+    let base = rigid(&format!("mass = 1.0\n{SPHERE}"));
+    expect(
+        &edit(
+            &base,
+            "primary = { rigid_body = \"tup\" }",
+            "primary = { rigid_body = \"tupp\" }",
+        ),
+        &["contact[0].primary.rigid_body", "did you mean `tup`?"],
+    );
+    expect(
+        &edit(
+            &base,
+            "primary = { rigid_body = \"tup\" }",
+            "primary = { body = \"bar\", face = \"x+\", rigid_body = \"tup\" }",
+        ),
+        &["contact[0].primary.rigid_body", "not both"],
+    );
+    expect(
+        &edit(
+            &base,
+            "secondary = { body = \"bar\", face = \"x-\" }",
+            "secondary = { rigid_body = \"tup\" }",
+        ),
+        &["contact[0].secondary.body", "required"],
+    );
+    expect(
+        &edit(
+            &base,
+            "primary = { rigid_body = \"tup\" }",
+            "primary = { rigid_body = \"tup\", face = \"x+\" }",
+        ),
+        &["contact[0].primary.rigid_body", "leave out `face`"],
+    );
+}
+
+#[test]
+fn a_fix_of_a_rigid_body_holds_it_whole() {
+    let text = format!(
+        "{}\n[[fix]]\nbody = \"tup\"\nface = \"x-\"\ncomponents = [\"y\"]\n",
+        rigid(&format!("mass = 1.0\n{SPHERE}"))
+    );
+    expect(&text, &["fix[0].face", "rigid body", "leave out"]);
+}
+
+#[test]
+fn a_rigid_body_named_like_a_body_is_refused() {
+    let text = edit(
+        &rigid(&format!("mass = 1.0\n{SPHERE}")),
+        "name = \"tup\"",
+        "name = \"bar\"",
+    );
+    expect(&text, &["rigid_body[0].name", "body[0]"]);
+}

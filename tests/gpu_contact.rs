@@ -101,7 +101,7 @@ fn contact_iteration_stages_match_their_cpu_twins() {
     let mut rng = StdRng::seed_from_u64(seed);
     let model = stack_model();
     let dt = 2e-3;
-    let (mut setup, _) = resident::setup(&model, &model_settings(), dt, 1.0);
+    let (mut setup, _) = resident::setup(&model, &model_settings(), dt, 1.0).unwrap();
     // the iteration runs to its end here (contact_finish): a tolerance well above the f32
     // floor of these random states' violation (penetrations of 0.0125 over dt = 2e-3 make
     // gap rates of 6, rounded at about 1e-6, the default tolerance's size; the H100 stalled

@@ -142,6 +142,19 @@ fn samples(model: &Model, itf: &Interface) -> Vec<Sample> {
             let faces = &model.queries.faces[faces.clone()];
             surface_samples(model, *body, faces, &itf.nodes)
         }
+        Primary::Rigid { body, node, .. } => {
+            let (b, at) = (&model.rigid[*body], x[*node as usize]);
+            (itf.nodes.iter())
+                .map(|&n| {
+                    let (gap, normal) = b.distance(at, [0.0; 3], x[n as usize]);
+                    Sample {
+                        gap,
+                        normal,
+                        on_face: true,
+                    }
+                })
+                .collect()
+        }
     }
 }
 

@@ -347,6 +347,7 @@ impl Subdomain {
             fix_nodes: Vec::new(),
             initial_velocity: Vec::new(),
             gravity: model.gravity,
+            rigid: Vec::new(),
         }
     }
 

@@ -47,6 +47,7 @@ pub(crate) fn surface_model(model: &Model, nodes: &[u32]) -> Model {
         fix_nodes: Vec::new(),
         initial_velocity: at_nodes(nodes, &model.initial_velocity),
         gravity: model.gravity,
+        rigid: Vec::new(),
     }
 }
 
@@ -108,7 +109,10 @@ impl SurfaceIndex {
                     n.dedup();
                     n
                 }
-                crate::model::Primary::Plane { .. } => Vec::new(),
+                // ranks refuse rigid bodies (`run::build_solver`)
+                crate::model::Primary::Plane { .. } | crate::model::Primary::Rigid { .. } => {
+                    Vec::new()
+                }
             })
             .collect();
         let corners = faces.iter().enumerate().flat_map(|(f, face)| {

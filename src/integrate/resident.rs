@@ -18,7 +18,7 @@ use super::recorded_sweeps::{RecordedSweeps, FIRST_GUESS};
 use super::state::{ContactReport, Energies, StepReport};
 use super::SolverState;
 use crate::contact::search;
-use crate::error::Result;
+use crate::error::{ImpactError, Result};
 use crate::gpu::resident_step::row_len;
 use crate::gpu::{ContactSetup, GpuContext, ResidentSetup, ResidentStep};
 use crate::kernels::contact_gap::NO_FACE;
@@ -29,6 +29,14 @@ use crate::model::Model;
 use crate::model::Primary;
 use crate::scene::{ExplicitSettings, Method};
 
+/// The resident step's refusal of rigid bodies, whose surfaces have no device kernel yet
+/// (`run` gives such a model the explicit solver with the device's element forces).
+pub(crate) fn rigid_bodies_unsupported() -> ImpactError {
+    ImpactError::Gpu(
+        "the resident device step has no kernel for rigid bodies' surfaces: run the model with the host's contact (ExplicitSolver)".into(),
+    )
+}
+
 /// Whether the model's contacts take the plane kernel (every interface a rigid plane, at
 /// most [`MAX_PLANES`]) rather than the device contact iteration.
 pub(crate) fn planes_only(model: &Model) -> bool {
@@ -38,7 +46,7 @@ pub(crate) fn planes_only(model: &Model) -> bool {
 /// The device contact iteration's inputs: a pair per (interface, secondary node), the nodes
 /// the iteration moves (secondary nodes and primary face corners, in node order) with their
 /// pairs and face corners, and the search layout.
-pub(crate) fn contact_setup(model: &Model) -> ContactSetup {
+pub(crate) fn contact_setup(model: &Model) -> Result<ContactSetup> {
     let mut pairs = Vec::new();
     let mut interfaces = Vec::with_capacity(model.interfaces.len());
     for itf in &model.interfaces {
@@ -58,6 +66,7 @@ pub(crate) fn contact_setup(model: &Model) -> ContactSetup {
                     point,
                     normal,
                 },
+                Primary::Rigid { .. } => return Err(rigid_bodies_unsupported()),
             });
         }
         interfaces.push(start..pairs.len());
@@ -89,7 +98,7 @@ pub(crate) fn contact_setup(model: &Model) -> ContactSetup {
         });
     }
     let (face_first, queries) = search::search_layout(model);
-    ContactSetup {
+    Ok(ContactSetup {
         pairs,
         interfaces,
         nodes,
@@ -98,7 +107,7 @@ pub(crate) fn contact_setup(model: &Model) -> ContactSetup {
         face_first,
         queries,
         face_size: search::largest_face_size(model),
-    }
+    })
 }
 
 /// Steps per submission: about 4 million element-steps, from 8 to 1024.
@@ -113,7 +122,7 @@ pub fn setup(
     settings: &ExplicitSettings,
     dt: f64,
     speed_scale: f64,
-) -> (ResidentSetup, Vec<Vec<usize>>) {
+) -> Result<(ResidentSetup, Vec<Vec<usize>>)> {
     let mass = lumped_mass(model);
     let nodes = model.mesh.node_count();
     let lumped: Vec<LumpedNode> = (0..nodes)
@@ -132,7 +141,10 @@ pub fn setup(
     let mut plane_nodes: Vec<PlaneNode> = Vec::new();
     // for each plane interface, each secondary node's place in `plane_nodes`
     let mut places = Vec::new();
-    let contact = (!planes_only(model)).then(|| contact_setup(model));
+    let contact = match planes_only(model) {
+        true => None,
+        false => Some(contact_setup(model)?),
+    };
     for itf in model.interfaces.iter().filter(|_| contact.is_none()) {
         let Primary::Plane { point, normal } = itf.primary else {
             continue;
@@ -178,7 +190,7 @@ pub fn setup(
         acceleration,
         contact,
     };
-    (setup, places)
+    Ok((setup, places))
 }
 
 /// One decoded history row.
@@ -280,7 +292,7 @@ impl<'m> ResidentSolver<'m> {
         frame_every: Option<usize>,
         chunk: usize,
     ) -> Result<Self> {
-        let (setup, places) = setup(model, settings, dt, speed_scale);
+        let (setup, places) = setup(model, settings, dt, speed_scale)?;
         let chunk = chunk.max(1);
         let mut engine = ResidentStep::new(ctx, &model.element_data(), &setup, chunk)?;
         engine.set_sweeps(FIRST_GUESS);
@@ -481,6 +493,10 @@ impl<'m> ResidentSolver<'m> {
                 max_penetration: q[6],
                 sliding: q[5].round() as usize,
                 friction_work: q[7],
+                // the resident step refuses rigid bodies (the only drivers, and the only
+                // primary sides whose force vector the history shows)
+                driver_work: 0.0,
+                force: [0.0; 3],
             });
         }
         let base = FIELDS * nb + SLOT * np;

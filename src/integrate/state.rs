@@ -56,6 +56,13 @@ pub struct ContactReport {
     pub sliding: usize,
     /// Energy dissipated by friction since the start of the run.
     pub friction_work: f64,
+    /// Work done on the model since the start of the run by the driver of a prescribed rigid
+    /// body (the interface's contact impulses times the body's velocity); the energy
+    /// balance counts it as external work.
+    pub driver_work: f64,
+    /// The contact force on the primary side over the last step (impulse / time step), a
+    /// vector: the force on a rigid body.
+    pub force: [f64; 3],
 }
 
 /// Whether a checkpoint's state fits this model: its dof and interface counts against the

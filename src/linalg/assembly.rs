@@ -91,6 +91,7 @@ type BlockParts = (
 ///
 /// Elements are computed on all threads in blocks; the blocks' triplets and masses are
 /// appended and summed in element order, so the result is the one-thread result, bit for bit.
+/// The rigid bodies' masses go on their nodes' diagonals last.
 pub fn assemble(model: &Model, mass: MassKind, c_m: f64) -> Assembled {
     use rayon::prelude::*;
     let ndof = model.dofs();
@@ -125,6 +126,17 @@ pub fn assemble(model: &Model, mass: MassKind, c_m: f64) -> Assembled {
             for (node, row_sum, diagonal) in masses {
                 nodal_mass[node as usize] += row_sum;
                 diagonal_mass[node as usize] += diagonal;
+            }
+        }
+    }
+    for (node, m) in model.point_masses() {
+        nodal_mass[node as usize] += m;
+        diagonal_mass[node as usize] += m;
+        let n = 3 * node as usize;
+        for &r in &equation[n..n + 3] {
+            if r != u32::MAX {
+                kt.push((r, r, c_m * m));
+                mt.push((r, r, m));
             }
         }
     }

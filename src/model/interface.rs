@@ -1,5 +1,5 @@
 //! Contact interfaces as data: the secondary nodes with their tributary areas, and the
-//! primary side (another body's faces or a rigid plane).
+//! primary side (another body's faces, a rigid plane or a rigid body's surface).
 
 use std::ops::Range;
 
@@ -18,6 +18,13 @@ pub enum Primary {
     },
     /// An analytic immovable plane: `point`, unit `normal` into the free side.
     Plane { point: [f64; 3], normal: [f64; 3] },
+    /// The surface of a rigid body (`body` indexes [`super::Model::rigid`]), placed by its
+    /// `node`: a constraint acts on that node with the shape's normal, as a face of one node.
+    Rigid {
+        body: usize,
+        node: u32,
+        shape: crate::geometry::rigid_shape::RigidShape,
+    },
 }
 
 /// One `[[contact]]` or `[[rigid_plane]]` of the scene.
@@ -37,6 +44,10 @@ pub struct Interface {
 impl Interface {
     pub fn is_plane(&self) -> bool {
         matches!(self.primary, Primary::Plane { .. })
+    }
+
+    pub fn is_rigid(&self) -> bool {
+        matches!(self.primary, Primary::Rigid { .. })
     }
 }
 

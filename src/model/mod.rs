@@ -3,16 +3,18 @@
 
 pub mod interface;
 pub mod materials;
+pub mod rigid;
 
 pub use interface::{tributary_areas, Interface, Primary};
 pub use materials::MaterialTable;
+pub use rigid::RigidBody;
 
 use crate::error::{ImpactError, Result};
 use crate::geometry::vector::{bbox_diagonal, norm, sub};
 use crate::kernels::{ContactQueries, ElementData};
 use crate::material::Elastic;
 use crate::mesh::{Face, Mesh};
-use crate::scene::{NodeSelection, Scene};
+use crate::scene::{NodeSelection, PrimarySide, Scene};
 
 #[derive(Debug, Clone)]
 pub struct Probe {
@@ -42,6 +44,8 @@ pub struct Model {
     /// Initial velocity, 3 per node.
     pub initial_velocity: Vec<f64>,
     pub gravity: [f64; 3],
+    /// The rigid bodies, each carried by a node after the meshed bodies' nodes.
+    pub rigid: Vec<RigidBody>,
 }
 
 impl Model {
@@ -57,10 +61,23 @@ impl Model {
             }
             mesh.push_body(parts, b.material);
         }
+        let rigid = RigidBody::from_scene(scene, mesh.node_count());
+        for b in &scene.rigid_bodies {
+            mesh.nodes.push(b.position);
+            initial_velocity.extend_from_slice(&b.velocity);
+        }
         let table = materials::element_materials(scene, &mut mesh);
-        let (fixed, fix_nodes) = fixes(scene, &mesh)?;
-        let (queries, interfaces) = interfaces(scene, &mesh);
-        let probes = probes(scene, &mesh);
+        let (mut fixed, fix_nodes) = fixes(scene, &mesh)?;
+        for b in rigid.iter().filter(|b| b.is_prescribed()) {
+            fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
+        }
+        let (queries, interfaces) = interfaces(scene, &mesh, &rigid);
+        let mut probes = probes(scene, &mesh);
+        // a rigid body's history columns are those of a probe on its node
+        probes.extend(rigid.iter().map(|b| Probe {
+            name: b.name.clone(),
+            node: b.node,
+        }));
         Ok(Model {
             body_names: scene.bodies.iter().map(|b| b.name.clone()).collect(),
             mesh,
@@ -75,7 +92,20 @@ impl Model {
             fix_nodes,
             initial_velocity,
             gravity: scene.gravity,
+            rigid,
         })
+    }
+
+    /// Each rigid body's node and mass.
+    pub fn point_masses(&self) -> impl Iterator<Item = (u32, f64)> + '_ {
+        self.rigid.iter().map(|b| (b.node, b.mass))
+    }
+
+    /// The prescribed dofs that move, with their velocities (the prescribed rigid bodies').
+    pub fn moving_dofs(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        (self.rigid.iter())
+            .filter(|b| b.motion == crate::scene::RigidMotion::Prescribed)
+            .flat_map(|b| (0..3).map(move |a| (3 * b.node as usize + a, b.velocity[a])))
     }
 
     /// Recomputes every interface's tributary areas from the current reference coordinates
@@ -121,9 +151,18 @@ fn body_box(mesh: &Mesh, b: usize) -> ([f64; 3], [f64; 3]) {
 fn fixes(scene: &Scene, mesh: &Mesh) -> Result<(Vec<bool>, Vec<usize>)> {
     let mut fixed = vec![false; 3 * mesh.node_count()];
     let mut fix_nodes = Vec::with_capacity(scene.fixes.len());
+    let first_rigid = mesh.node_count() - scene.rigid_bodies.len();
     for (i, f) in scene.fixes.iter().enumerate() {
+        if let NodeSelection::RigidBody = f.nodes {
+            fix_nodes.push(1);
+            for a in (0..3).filter(|&a| f.components[a]) {
+                fixed[3 * (first_rigid + f.body) + a] = true;
+            }
+            continue;
+        }
         let body = &mesh.bodies[f.body];
         let nodes: Vec<u32> = match &f.nodes {
+            NodeSelection::RigidBody => Vec::new(),
             NodeSelection::Surface(s) => Mesh::face_nodes(&body.surfaces[*s].faces),
             NodeSelection::Set(s) => body.node_sets[*s].nodes.clone(),
             NodeSelection::Region { min, max } => body
@@ -169,14 +208,32 @@ fn fixes(scene: &Scene, mesh: &Mesh) -> Result<(Vec<bool>, Vec<usize>)> {
 
 /// The contact queries of the surface interfaces, then every interface: the `[[contact]]`s
 /// (secondary nodes against primary faces), then the `[[rigid_plane]]`s.
-fn interfaces(scene: &Scene, mesh: &Mesh) -> (ContactQueries, Vec<Interface>) {
+fn interfaces(scene: &Scene, mesh: &Mesh, rigid: &[RigidBody]) -> (ContactQueries, Vec<Interface>) {
     let mut queries = ContactQueries::default();
     let mut interfaces = Vec::new();
     for c in &scene.contacts {
         let sec = &mesh.bodies[c.secondary.body].surfaces[c.secondary.surface].faces;
         let (nodes, area) = tributary_areas(mesh, sec);
+        let c_primary = match c.primary {
+            PrimarySide::Surface(s) => s,
+            PrimarySide::RigidBody(b) => {
+                interfaces.push(Interface {
+                    name: c.name.clone(),
+                    friction: c.friction,
+                    nodes,
+                    area,
+                    secondary_faces: sec.clone(),
+                    primary: Primary::Rigid {
+                        body: b,
+                        node: rigid[b].node,
+                        shape: rigid[b].shape,
+                    },
+                });
+                continue;
+            }
+        };
         let f0 = queries.faces.len();
-        let primary = &mesh.bodies[c.primary.body].surfaces[c.primary.surface].faces;
+        let primary = &mesh.bodies[c_primary.body].surfaces[c_primary.surface].faces;
         queries.faces.extend(primary.iter().map(Face::slots));
         let q0 = queries.secondary.len();
         queries.secondary.extend_from_slice(&nodes);
@@ -187,7 +244,7 @@ fn interfaces(scene: &Scene, mesh: &Mesh) -> (ContactQueries, Vec<Interface>) {
             area,
             secondary_faces: sec.clone(),
             primary: Primary::Surface {
-                body: c.primary.body,
+                body: c_primary.body,
                 faces: f0..queries.faces.len(),
                 queries: q0..queries.secondary.len(),
             },

@@ -12,8 +12,10 @@ use crate::model::Model;
 
 pub struct History {
     path: PathBuf,
-    /// Interfaces with friction, whose `sliding` and `friction_work` close the row.
+    /// Interfaces with friction, whose `sliding` and `friction_work` come after the probes.
     frictional: Vec<usize>,
+    /// Interfaces whose primary side is a rigid body, whose force vectors close the row.
+    rigid: Vec<usize>,
     /// The file (none on a rank that computes the rows and leaves the file to rank 0).
     file: Option<File>,
     /// Whole rows not yet written.
@@ -34,6 +36,9 @@ impl History {
             path,
             frictional: (0..model.interfaces.len())
                 .filter(|&i| model.interfaces[i].friction > 0.0)
+                .collect(),
+            rigid: (0..model.interfaces.len())
+                .filter(|&i| model.interfaces[i].is_rigid())
                 .collect(),
             file,
             pending: String::new(),
@@ -154,6 +159,11 @@ impl History {
         for &i in &self.frictional {
             let _ = write!(l, ",{}", contacts[i].sliding);
             num(l, contacts[i].friction_work);
+        }
+        for &i in &self.rigid {
+            for x in contacts[i].force {
+                num(l, x);
+            }
         }
         self.flush_line()
     }
@@ -294,6 +304,12 @@ pub(crate) fn column_names(model: &Model) -> Vec<String> {
             cols.push(format!("{}.{c}", itf.name));
         }
     }
+    // the force on each rigid body by each of its contacts
+    for itf in model.interfaces.iter().filter(|i| i.is_rigid()) {
+        for c in ["fx", "fy", "fz"] {
+            cols.push(format!("{}.{c}", itf.name));
+        }
+    }
     cols
 }
 
@@ -390,6 +406,7 @@ mod tests {
         let mut h = History {
             path: path.clone(),
             frictional: vec![0],
+            rigid: Vec::new(),
             file: Some(File::create(&path).unwrap()),
             pending: String::new(),
             whole: 0,

@@ -71,6 +71,13 @@ fn build_solver<'m>(
     ranks: Option<&'m dyn Ranks>,
 ) -> Result<Box<dyn Integrator + 'm>> {
     let (model, dt) = (&setup.model, setup.dt);
+    if let (Some(_), Some(b)) = (ranks, model.rigid.first()) {
+        return Err(ImpactError::Unsupported {
+            path: scene.path.clone(),
+            key: format!("rigid_body (rigid body `{}`)", b.name),
+            message: "rigid bodies run in one process: run the scene without mpirun".into(),
+        });
+    }
     if let Some(ranks) = ranks {
         let partition = Partition::bisect(model, ranks.size());
         let settings = (&scene.explicit, dt, speed_scale);
@@ -80,7 +87,9 @@ fn build_solver<'m>(
         ));
     }
     let mut solver: Box<dyn Integrator + 'm> = match (setup.method, setup.ctx.clone()) {
-        (Method::Explicit, Some(ctx)) => Box::new(
+        // the resident step has no kernel for rigid bodies' surfaces: their contact runs on
+        // the host, the element forces on the device
+        (Method::Explicit, Some(ctx)) if model.rigid.is_empty() => Box::new(
             ResidentSolver::new(
                 ctx,
                 model,
@@ -316,6 +325,13 @@ impl<'s> Running<'s> {
         })
     }
 
+    /// The energy scale now: the run's, or the work the prescribed rigid bodies' drivers
+    /// have done so far where that is larger (it is part of the energy balance).
+    fn scale_now(&self) -> f64 {
+        let driven: f64 = (self.solver.reports().iter()).map(|r| r.driver_work).sum();
+        self.energy_scale.max(driven.abs())
+    }
+
     /// A checkpoint of the current state (the ranks agree on its write); a failed write
     /// ends the run as failed.
     fn save(&mut self) -> Result<()> {
@@ -362,7 +378,7 @@ impl<'s> Running<'s> {
         let (r, e) = self.advance(n)?;
         let at = (n + 1, self.solver.time());
         count_step(&mut self.tally, at, r, e, &self.solver.reports());
-        if !e.is_finite() || e.abs() > DIVERGENCE_FACTOR * self.energy_scale {
+        if !e.is_finite() || e.abs() > DIVERGENCE_FACTOR * self.scale_now() {
             let reason = format!(
                 "total energy {e:.6e} against {:.6e} at the start",
                 self.tally.energy_initial
@@ -470,7 +486,7 @@ impl<'s> Running<'s> {
             &self.tally,
             self.summary.method == Method::Implicit.name(),
             &self.setup.initial,
-            self.energy_scale,
+            self.scale_now(),
         ));
         self.summary.status = if self.summary.warnings.is_empty() {
             "completed"

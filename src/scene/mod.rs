@@ -11,6 +11,7 @@ use std::sync::Arc;
 
 pub use crate::mesh::box_mesh::{BoxElement, BoxFace, BoxSpec};
 use crate::mesh::BodyParts;
+pub use rigid_body::{PrimarySide, RigidBodySpec, RigidMotion};
 
 use crate::error::{ImpactError, Result};
 use crate::material::{Elastic, Rotation};
@@ -30,6 +31,8 @@ macro_rules! option_names {
         }
     };
 }
+
+pub mod rigid_body;
 
 option_names!(Method { Implicit = "implicit", Explicit = "explicit", Auto = "auto" });
 option_names!(DeviceChoice { Auto = "auto", Gpu = "gpu", Cpu = "cpu" });
@@ -314,7 +317,7 @@ pub struct SurfaceRef {
 pub struct ContactSpec {
     pub name: String,
     pub secondary: SurfaceRef,
-    pub primary: SurfaceRef,
+    pub primary: PrimarySide,
     pub friction: f64,
     pub initial_penetration: PenetrationPolicy,
 }
@@ -340,10 +343,13 @@ pub enum NodeSelection {
         min: [f64; 3],
         max: [f64; 3],
     },
+    /// A rigid body's node: `body` then indexes [`Scene::rigid_bodies`].
+    RigidBody,
 }
 
 #[derive(Debug, Clone)]
 pub struct FixSpec {
+    /// A meshed body, or a rigid body where `nodes` is [`NodeSelection::RigidBody`].
     pub body: usize,
     pub nodes: NodeSelection,
     pub components: [bool; 3],
@@ -378,6 +384,7 @@ pub struct Scene {
     pub bodies: Vec<BodySpec>,
     pub contacts: Vec<ContactSpec>,
     pub planes: Vec<PlaneSpec>,
+    pub rigid_bodies: Vec<RigidBodySpec>,
     pub fixes: Vec<FixSpec>,
     pub probes: Vec<ProbeSpec>,
     pub output_dir: PathBuf,
@@ -435,10 +442,8 @@ impl Scene {
     /// Speed scale of the scene: the largest initial speed, or the speed gravity gives over the
     /// run, whichever is larger (used for default tolerances).
     pub fn speed_scale(&self) -> f64 {
-        let v0 = self
-            .bodies
-            .iter()
-            .map(|b| norm3(b.velocity))
+        let v0 = (self.bodies.iter().map(|b| norm3(b.velocity)))
+            .chain(self.rigid_bodies.iter().map(|b| norm3(b.velocity)))
             .fold(0.0, f64::max);
         let vg = norm3(self.gravity) * self.run.end_time;
         v0.max(vg)

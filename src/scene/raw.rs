@@ -23,6 +23,8 @@ pub(crate) struct RawScene {
     #[serde(default)]
     pub rigid_plane: Vec<RawPlane>,
     #[serde(default)]
+    pub rigid_body: Vec<RawRigidBody>,
+    #[serde(default)]
     pub fix: Vec<RawFix>,
     #[serde(default)]
     pub probe: Vec<RawProbe>,
@@ -175,7 +177,8 @@ pub(crate) struct RawBody {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawSurfaceRef {
-    pub body: String,
+    pub body: Option<String>,
+    pub rigid_body: Option<String>,
     pub face: Option<String>,
     pub surface: Option<String>,
 }
@@ -199,6 +202,61 @@ pub(crate) struct RawPlane {
     pub friction: Option<f64>,
     pub bodies: Option<Vec<String>>,
     pub initial_penetration: Option<String>,
+}
+
+/// A `[[rigid_body]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawRigidBody {
+    pub name: String,
+    pub mass: Option<f64>,
+    pub inertia: Option<[[f64; 3]; 3]>,
+    pub position: [f64; 3],
+    pub velocity: Option<[f64; 3]>,
+    pub angular_velocity: Option<[f64; 3]>,
+    pub shape: RawRigidShape,
+    pub motion: Option<String>,
+}
+
+/// A rigid body's `shape`: exactly one of the analytic shapes, or `mesh` with `surface`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawRigidShape {
+    pub sphere: Option<RawSphere>,
+    pub cylinder: Option<RawCylinder>,
+    pub plane: Option<RawRigidPlane>,
+    pub plate: Option<RawRigidPlate>,
+    pub mesh: Option<String>,
+    pub surface: Option<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSphere {
+    pub radius: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCylinder {
+    pub radius: f64,
+    pub axis: [f64; 3],
+    pub length: f64,
+    pub ends: Option<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawRigidPlane {
+    pub normal: [f64; 3],
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawRigidPlate {
+    pub normal: [f64; 3],
+    pub size: [f64; 2],
+    pub opening: Option<[f64; 2]>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -17,13 +17,14 @@ use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::impulse::{self, impulse_update, ImpulseUpdate};
 use crate::kernels::{ContactPoint, ContactQueries};
 use crate::model::{Model, Primary};
-use crate::scene::ExplicitSettings;
+use crate::scene::{ExplicitSettings, RigidMotion};
 use rayon::prelude::*;
 
 use super::super::state::ContactReport;
 use super::super::state::StepReport;
 
-/// One contact constraint of a step: a secondary node against a face point or a plane.
+/// One contact constraint of a step: a secondary node against a face point, a plane or a
+/// rigid body's surface (a face of one node, the body's).
 #[derive(Debug, Clone, Copy)]
 struct NodeConstraint {
     interface: u32,
@@ -107,6 +108,29 @@ pub fn plane_gap_within_reach(
     )
 }
 
+/// The gap and normal of secondary node `n` against the surface of the rigid body on node
+/// `b` (interface `k`), where the node is within four steps of their relative motion of it
+/// (the rigid planes' rule).
+fn rigid_gap_within_reach(
+    model: &Model,
+    (u, v): (&[f64], &[f64]),
+    (n, b): (usize, usize),
+    k: usize,
+    dt: f64,
+) -> Option<(f64, [f64; 3])> {
+    let at = |x: &[f64], n: usize| [x[3 * n], x[3 * n + 1], x[3 * n + 2]];
+    let Primary::Rigid { body, .. } = model.interfaces[k].primary else {
+        return None;
+    };
+    let x0 = model.mesh.nodes[n];
+    let x = std::array::from_fn(|a| x0[a] + u[3 * n + a]);
+    let (distance, normal) = model.rigid[body].distance(model.mesh.nodes[b], at(u, b), x);
+    let reach = -4.0 * dt * vector::norm(vector::sub(at(v, n), at(v, b)));
+    // a NaN gap stays in (and its NaN impulse ends the run as diverged)
+    let within = (-distance).partial_cmp(&reach) != Some(std::cmp::Ordering::Less);
+    within.then_some((-distance, normal))
+}
+
 impl ExplicitContact {
     /// The contact of `model`'s interfaces, with the iteration's tolerance scaled by
     /// `speed_scale`; `face_size` is the largest primary face of the whole model.
@@ -141,6 +165,11 @@ impl ExplicitContact {
             slip_before: Vec::new(),
             restored: false,
         }
+    }
+
+    /// The work of the prescribed rigid bodies' drivers since the start of the run.
+    pub fn driver_work(&self) -> f64 {
+        self.interfaces.iter().map(|i| i.report.driver_work).sum()
     }
 
     /// Continues from a checkpoint's interfaces.
@@ -242,7 +271,24 @@ impl ExplicitContact {
             }
         }
         self.contact_reports(f.v, dt, &jn, &jt);
+        self.add_driver_work(model, f.v, &jn, &jt);
         Ok(report)
+    }
+
+    /// Adds the step's work of the prescribed rigid bodies' drivers: each constraint's
+    /// impulse on its secondary node dotted with the body's (constant) velocity.
+    fn add_driver_work(&mut self, model: &Model, v: &[f64], jn: &[f64], jt: &[[f64; 3]]) {
+        for (i, c) in self.constraints.iter().enumerate() {
+            let k = c.interface as usize;
+            let Primary::Rigid { body, node, .. } = model.interfaces[k].primary else {
+                continue;
+            };
+            if model.rigid[body].motion == RigidMotion::Prescribed {
+                let b = 3 * node as usize;
+                let j: [f64; 3] = std::array::from_fn(|a| jn[i] * c.normal[a] + jt[i][a]);
+                self.interfaces[k].report.driver_work += dot(j, [v[b], v[b + 1], v[b + 2]]);
+            }
+        }
     }
 
     /// The constraints of the step at (u_n, v*) with their split compliances: surfaces from
@@ -326,6 +372,11 @@ impl ExplicitContact {
                     return None;
                 }
                 (None, [0.0; 4], *normal, gap)
+            }
+            Primary::Rigid { node: b, .. } => {
+                let (gap, normal) = rigid_gap_within_reach(model, (u, v), (n, *b as usize), k, dt)?;
+                // a face of one node: the body's, with weight 1
+                (Some([*b; 4]), [1.0, 0.0, 0.0, 0.0], normal, gap)
             }
         };
         Some(NodeConstraint {
@@ -453,9 +504,9 @@ impl ExplicitContact {
     fn contact_reports(&mut self, v: &[f64], dt: f64, jn: &[f64], jt: &[[f64; 3]]) {
         let mut force = vec![[0.0f64; 3]; self.interfaces.len()];
         for st in &mut self.interfaces {
-            let work = st.report.friction_work;
             st.report = ContactReport {
-                friction_work: work,
+                friction_work: st.report.friction_work,
+                driver_work: st.report.driver_work,
                 ..Default::default()
             };
         }
@@ -477,6 +528,7 @@ impl ExplicitContact {
             }
             for a in 0..3 {
                 force[c.interface as usize][a] += jt[i][a] / dt;
+                r.force[a] -= (jn[i] * c.normal[a] + jt[i][a]) / dt;
             }
             // the linearised end-of-step gap
             r.max_penetration = r.max_penetration.max(c.gap - dt * rn);

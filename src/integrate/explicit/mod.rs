@@ -117,6 +117,17 @@ impl NodalStart {
     }
 }
 
+impl NodalStart {
+    /// With the prescribed rigid bodies' dofs at their velocities (they keep them: their
+    /// inverse mass is zero).
+    pub fn moving(mut self, model: &Model) -> Self {
+        for (d, w) in model.moving_dofs() {
+            self.v[d] = w;
+        }
+        self
+    }
+}
+
 impl<'m> ExplicitSolver<'m> {
     /// Lumps the mass and sets the initial state (u = 0, v = v0, a = M^-1 f_ext).
     pub fn new(
@@ -128,7 +139,8 @@ impl<'m> ExplicitSolver<'m> {
     ) -> Result<Self> {
         let ndof = model.dofs();
         let mass = lumped_mass(model);
-        let start = NodalStart::new(&mass, &model.fixed, model.gravity, &model.initial_velocity);
+        let start = NodalStart::new(&mass, &model.fixed, model.gravity, &model.initial_velocity)
+            .moving(model);
         let face_size = search::largest_face_size(model);
         let contact = ExplicitContact::new(model, &settings, speed_scale, face_size);
         Ok(ExplicitSolver {
@@ -317,7 +329,8 @@ impl Integrator for ExplicitSolver<'_> {
         }
         let v = &self.v_half;
         let kinetic = 0.5 * ordered_sum(v.len(), |d| mass[d / 3] * v[d] * v[d]);
-        let potential = -0.5 * (dot(&self.f_ext, &self.u_prev) + dot(&self.f_ext, &self.u));
+        let potential = -0.5 * (dot(&self.f_ext, &self.u_prev) + dot(&self.f_ext, &self.u))
+            - self.contact.driver_work();
         Ok(Energies {
             kinetic: kinetic - self.measure_shift,
             strain: 0.5 * dot(&self.u_prev, &self.f_int),
@@ -350,7 +363,7 @@ pub fn correct(
 
 /// The lumped mass of every node: each element's corner masses on all threads, a block of
 /// elements at a time, then summed to the nodes in element order (the same sums, bit for
-/// bit, on any number of threads).
+/// bit, on any number of threads); then the rigid bodies' masses on their nodes.
 pub(crate) fn lumped_mass(model: &Model) -> Vec<f64> {
     let mesh = &model.mesh;
     let mut mass = vec![0.0; mesh.node_count()];
@@ -361,6 +374,9 @@ pub(crate) fn lumped_mass(model: &Model) -> Vec<f64> {
                 .kind
                 .lumped_mass(&x, model.materials[m as usize].density)
         });
+    }
+    for (node, m) in model.point_masses() {
+        mass[node as usize] += m;
     }
     mass
 }

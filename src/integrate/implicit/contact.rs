@@ -20,6 +20,11 @@ use crate::scene::{Acceleration, ConstraintMeasure};
 use super::interface::InterfaceState;
 use super::StepConstants;
 
+/// Node `n`'s three values of the per-dof field `x`.
+fn at(x: &[f64], n: usize) -> [f64; 3] {
+    [x[3 * n], x[3 * n + 1], x[3 * n + 2]]
+}
+
 /// How much farther (in face sizes) than the closest face the face a node held in the
 /// iteration before may be and still be kept ([`MultiplierIteration::keep_held_faces`]).
 const FACE_HYSTERESIS: f64 = 1e-6;
@@ -82,7 +87,7 @@ impl MultiplierIteration {
     }
 
     /// Contact kinematics of every interface at (u, v): surfaces through the kernels,
-    /// rigid planes analytically.
+    /// rigid planes and rigid bodies' surfaces analytically.
     pub(super) fn kinematics(
         &mut self,
         model: &Model,
@@ -102,6 +107,23 @@ impl MultiplierIteration {
             }
         }
         for (itf, st) in model.interfaces.iter().zip(&mut self.interfaces) {
+            if let Primary::Rigid { body, node: b, .. } = itf.primary {
+                let b = b as usize;
+                let (ub, vb) = (at(u, b), at(v, b));
+                for (i, &n) in itf.nodes.iter().enumerate() {
+                    let n = n as usize;
+                    let x0 = model.mesh.nodes[n];
+                    let x = std::array::from_fn(|a| x0[a] + u[3 * n + a]);
+                    let (distance, normal) = model.rigid[body].distance(model.mesh.nodes[b], ub, x);
+                    st.points[i] = ContactPoint {
+                        face: 0,
+                        xi: [0.0; 2],
+                        normal,
+                        gap: -distance,
+                        gap_rate: -dot(vector::sub(at(v, n), vb), normal),
+                    };
+                }
+            }
             if let Primary::Plane { point, normal } = &itf.primary {
                 for (i, &n) in itf.nodes.iter().enumerate() {
                     let n = n as usize;
@@ -190,10 +212,18 @@ impl MultiplierIteration {
                 Primary::Plane { normal, .. } => {
                     let e = plane_basis(*normal);
                     for (i, &n) in itf.nodes.iter().enumerate() {
-                        let n = n as usize;
-                        let vel = [v[3 * n], v[3 * n + 1], v[3 * n + 2]];
+                        let vel = at(v, n as usize);
                         fr.tangents[i] = e;
                         fr.slip[i] = [dot(vel, e[0]), dot(vel, e[1])];
+                    }
+                }
+                Primary::Rigid { node: b, .. } => {
+                    let vb = at(v, *b as usize);
+                    for (i, &n) in itf.nodes.iter().enumerate() {
+                        let e = plane_basis(st.points[i].normal);
+                        let rel = vector::sub(at(v, n as usize), vb);
+                        fr.tangents[i] = e;
+                        fr.slip[i] = [dot(rel, e[0]), dot(rel, e[1])];
                     }
                 }
             }
@@ -222,6 +252,11 @@ impl MultiplierIteration {
                 let f = traction.map(|x| x * itf.area[i]);
                 for a in 0..3 {
                     f_c[3 * node as usize + a] += f[a];
+                }
+                if let Primary::Rigid { node: b, .. } = itf.primary {
+                    for a in 0..3 {
+                        f_c[3 * b as usize + a] -= f[a];
+                    }
                 }
                 if let Primary::Surface { .. } = itf.primary {
                     let face = self.queries.faces[p.face as usize];

@@ -137,6 +137,8 @@ pub(super) fn interface_states(
 fn default_penalty(model: &Model, asm: &Assembled, itf: &crate::model::Interface, dt: f64) -> f64 {
     let inv_mp = match &itf.primary {
         Primary::Plane { .. } => 0.0,
+        Primary::Rigid { node, .. } if model.fixed[3 * *node as usize] => 0.0,
+        Primary::Rigid { node, .. } => 1.0 / asm.impulse_mass[*node as usize],
         Primary::Surface { faces, .. } => {
             let primary: Vec<Face> = (model.queries.faces[faces.clone()].iter())
                 .map(|&s| Face::from_slots(s))

@@ -42,7 +42,7 @@ use crate::error::{ImpactError, Result};
 use crate::geometry::vector;
 use crate::kernels::contact_gap::NO_FACE;
 use crate::linalg::{assemble, Assembled, FactorStats, SpdSolver};
-use crate::model::Model;
+use crate::model::{Model, Primary};
 use crate::scene::{ConstraintMeasure, ImplicitSettings, Method};
 
 use super::integrator::{ImplicitFigures, Integrator};
@@ -143,6 +143,9 @@ impl<'m> ImplicitSolver<'m> {
             if fixed {
                 *vd = 0.0;
             }
+        }
+        for (d, w) in model.moving_dofs() {
+            v[d] = w;
         }
         let interfaces = interface_states(model, &settings, &asm, dt, speed_scale);
         let mut s = ImplicitSolver {
@@ -398,8 +401,9 @@ impl<'m> ImplicitSolver<'m> {
             self.work.v_new[d] =
                 self.work.v_tilde[d] + gamma * dt * self.work.a_new[d] + dt * self.work.w[d];
             if self.model.fixed[d] {
+                // held (v = 0) or moved at a prescribed rigid body's velocity
                 self.work.a_new[d] = 0.0;
-                self.work.v_new[d] = 0.0;
+                self.work.v_new[d] = self.v[d];
             }
         }
         let (un, vn) = (
@@ -424,11 +428,19 @@ impl<'m> ImplicitSolver<'m> {
             .iter()
             .zip(&mut self.contact.interfaces)
         {
-            let mut r = ContactReport::default();
+            let mut r = ContactReport {
+                driver_work: st.report.driver_work,
+                ..Default::default()
+            };
+            // the force on the model, for a prescribed rigid body's driver work
+            let mut force = [0.0; 3];
             for i in 0..st.lambda.len() {
                 if st.lambda[i] > 0.0 {
                     r.normal_force += st.lambda[i] * itf.area[i];
                     r.active += 1;
+                    for (f, n) in force.iter_mut().zip(st.points[i].normal) {
+                        *f += st.lambda[i] * itf.area[i] * n;
+                    }
                 }
                 if st.points[i].face != NO_FACE {
                     r.max_penetration = r.max_penetration.max(st.points[i].gap);
@@ -437,9 +449,14 @@ impl<'m> ImplicitSolver<'m> {
             if let Some(fr) = &mut st.friction {
                 let (total, sliding) = fr.end_step(k.dt, &itf.area, &st.lambda, &st.points);
                 st.tangential = total;
+                force = std::array::from_fn(|a| force[a] + total[a]);
                 r.tangential_force = vector::norm(total);
                 r.sliding = sliding;
                 r.friction_work = fr.work;
+            }
+            r.force = force.map(|f| -f);
+            if let Some(vb) = driven_velocity(self.model, itf, &self.v) {
+                r.driver_work += k.dt * dot_slices(&force, &vb);
             }
             if k.endpoint {
                 // impulse of the step / dt with forces at both ends
@@ -559,10 +576,13 @@ impl Integrator for ImplicitSolver<'_> {
                 0.5 * dot_slices(&ve, &mv)
             }
         };
+        let driver_work: f64 = (self.contact.interfaces.iter())
+            .map(|i| i.report.driver_work)
+            .sum();
         Ok(Energies {
             kinetic,
             strain,
-            potential: -dot_slices(&self.f_ext, &self.u),
+            potential: -dot_slices(&self.f_ext, &self.u) - driver_work,
         })
     }
 
@@ -628,6 +648,16 @@ impl Integrator for ImplicitSolver<'_> {
             event_steps: self.event_steps,
         })
     }
+}
+
+/// The velocity of the interface's rigid body where it is prescribed (its driver works).
+fn driven_velocity(model: &Model, itf: &crate::model::Interface, v: &[f64]) -> Option<[f64; 3]> {
+    let Primary::Rigid { body, node, .. } = itf.primary else {
+        return None;
+    };
+    let b = 3 * node as usize;
+    (model.rigid[body].motion == crate::scene::RigidMotion::Prescribed)
+        .then(|| [v[b], v[b + 1], v[b + 2]])
 }
 
 fn dot_slices(a: &[f64], b: &[f64]) -> f64 {

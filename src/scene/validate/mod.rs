@@ -9,6 +9,7 @@ use crate::error::{ImpactError, Result};
 
 mod laminate;
 mod names;
+mod rigid_body;
 
 struct Checker<'a> {
     path: &'a Path,
@@ -244,7 +245,25 @@ impl Checker<'_> {
         raw_bodies: &[RawBody],
         bodies: &[BodySpec],
     ) -> Result<SurfaceRef> {
-        let body = self.body_index(&key(&format!("{side}.body")), &r.body, raw_bodies)?;
+        let Some(name) = &r.body else {
+            return Err(self.err(
+                key(&format!("{side}.body")),
+                match side {
+                    "primary" => "is required: give `body` with `face` or `surface`, or `rigid_body`",
+                    _ => "is required: give `body` with `face` or `surface` (the secondary side is a meshed body's surface)",
+                },
+            ));
+        };
+        if r.rigid_body.is_some() {
+            return Err(self.err(
+                key(&format!("{side}.rigid_body")),
+                match side {
+                    "primary" => "give either `body` (with `face` or `surface`) or `rigid_body`, not both",
+                    _ => "a rigid body is a primary side only: its surface is analytic, without nodes to constrain",
+                },
+            ));
+        }
+        let body = self.body_index(&key(&format!("{side}.body")), name, raw_bodies)?;
         let surface = match (&r.face, &r.surface) {
             (Some(f), None) => self.face_of(&key(&format!("{side}.face")), f, &bodies[body])?,
             (None, Some(s)) => {
@@ -258,6 +277,42 @@ impl Checker<'_> {
             }
         };
         Ok(SurfaceRef { body, surface })
+    }
+
+    /// The `primary` of a `[[contact]]`: a meshed body's surface or a rigid body.
+    fn primary_side(
+        &self,
+        key: &dyn Fn(&str) -> String,
+        r: &RawSurfaceRef,
+        (raw_bodies, bodies): (&[RawBody], &[BodySpec]),
+        rigid: &[RigidBodySpec],
+    ) -> Result<PrimarySide> {
+        let Some(name) = (r.body.is_none())
+            .then_some(r.rigid_body.as_ref())
+            .flatten()
+        else {
+            return Ok(PrimarySide::Surface(
+                self.surface_ref(key, "primary", r, raw_bodies, bodies)?,
+            ));
+        };
+        if r.face.is_some() || r.surface.is_some() {
+            return Err(self.err(
+                key("primary.rigid_body"),
+                "a rigid body's surface is its `shape`: leave out `face` and `surface`",
+            ));
+        }
+        match rigid.iter().position(|b| &b.name == name) {
+            Some(i) => Ok(PrimarySide::RigidBody(i)),
+            None => {
+                let hint = closest(name, rigid.iter().map(|b| b.name.as_str()))
+                    .map(|c| format!(" (did you mean `{c}`?)"))
+                    .unwrap_or_default();
+                Err(self.err(
+                    key("primary.rigid_body"),
+                    format!("there is no [[rigid_body]] named `{name}`{hint}"),
+                ))
+            }
+        }
     }
 }
 
@@ -589,31 +644,27 @@ impl Checker<'_> {
         raw: &[RawContact],
         raw_bodies: &[RawBody],
         bodies: &[BodySpec],
+        rigid: &[RigidBodySpec],
     ) -> Result<Vec<ContactSpec>> {
-        let mut contacts = Vec::new();
+        let mut contacts: Vec<ContactSpec> = Vec::new();
         for (i, ct) in raw.iter().enumerate() {
             let key = |k: &str| format!("contact[{i}].{k} (contact `{}`)", ct.name);
             let secondary =
                 self.surface_ref(&key, "secondary", &ct.secondary, raw_bodies, bodies)?;
-            let primary = self.surface_ref(&key, "primary", &ct.primary, raw_bodies, bodies)?;
-            if secondary.body == primary.body {
+            let primary = self.primary_side(&key, &ct.primary, (raw_bodies, bodies), rigid)?;
+            if matches!(primary, PrimarySide::Surface(p) if p.body == secondary.body) {
                 return Err(self.err(
                     key("primary.body"),
                     "self-contact (secondary and primary on the same body) is not supported",
                 ));
             }
+            let side = |p: &PrimarySide| match *p {
+                PrimarySide::Surface(s) => (s.body, s.surface, false),
+                PrimarySide::RigidBody(b) => (b, 0, true),
+            };
             let same = |c: &ContactSpec| {
-                (
-                    c.secondary.body,
-                    c.secondary.surface,
-                    c.primary.body,
-                    c.primary.surface,
-                ) == (
-                    secondary.body,
-                    secondary.surface,
-                    primary.body,
-                    primary.surface,
-                )
+                (c.secondary.body, c.secondary.surface, side(&c.primary))
+                    == (secondary.body, secondary.surface, side(&primary))
             };
             if let Some((j, c)) = contacts.iter().enumerate().find(|(_, c)| same(c)) {
                 return Err(self.err(
@@ -684,12 +735,24 @@ impl Checker<'_> {
         raw: &[RawFix],
         raw_bodies: &[RawBody],
         bodies: &[BodySpec],
+        rigid: &[RigidBodySpec],
     ) -> Result<Vec<FixSpec>> {
         let mut fixes = Vec::new();
         for (i, f) in raw.iter().enumerate() {
             let key = |k: &str| format!("fix[{i}].{k}");
-            let body = self.body_index(&key("body"), &f.body, raw_bodies)?;
+            let rigid_body = rigid.iter().position(|b| b.name == f.body);
+            let body = match rigid_body {
+                Some(b) => b,
+                None => self.body_index(&key("body"), &f.body, raw_bodies)?,
+            };
             let nodes = match (&f.face, &f.set, &f.region) {
+                (None, None, None) if rigid_body.is_some() => NodeSelection::RigidBody,
+                _ if rigid_body.is_some() => {
+                    return Err(self.err(
+                        key("face"),
+                        format!("`{}` is a rigid body, held as a whole: leave out `face`, `set` and `region`", f.body),
+                    ))
+                }
                 (Some(face), None, None) => {
                     NodeSelection::Surface(self.face_of(&key("face"), face, &bodies[body])?)
                 }
@@ -828,9 +891,10 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
     let explicit = c.explicit(raw.explicit)?;
     let materials = c.materials(&raw.material)?;
     let bodies = c.bodies(&raw.body, &materials)?;
-    let contacts = c.contacts(&raw.contact, &raw.body, &bodies)?;
+    let rigid_bodies = c.rigid_bodies(&raw.rigid_body)?;
+    let contacts = c.contacts(&raw.contact, &raw.body, &bodies, &rigid_bodies)?;
     let planes = c.planes(&raw.rigid_plane, &raw.body, bodies.len())?;
-    let fixes = c.fixes(&raw.fix, &raw.body, &bodies)?;
+    let fixes = c.fixes(&raw.fix, &raw.body, &bodies, &rigid_bodies)?;
     let probes = c.probes(&raw.probe, &raw.body)?;
     let exact = c.exact_curves(&raw.exact)?;
     let (output_dir, vtu_every, checkpoint_every) = c.output(raw.output)?;
@@ -845,6 +909,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         bodies,
         contacts,
         planes,
+        rigid_bodies,
         fixes,
         probes,
         output_dir,

@@ -2,7 +2,8 @@
 //!
 //! A name becomes part of a history column (`bar.vx`), a CSV header, a summary entry and,
 //! for VTU frames, XML. So a name is non-empty and made of ASCII letters, digits, `_`, `-`
-//! and `.`; and the kinds that make history columns (bodies, contacts, rigid planes, probes)
+//! and `.`; and the kinds that make history columns (bodies, contacts, rigid planes, rigid
+//! bodies, probes)
 //! share one set of names, so that no two columns are alike.
 
 use super::Checker;
@@ -29,6 +30,10 @@ impl Checker<'_> {
                 (raw.rigid_plane.iter().enumerate())
                     .map(|(i, p)| ("rigid_plane", i, p.name.as_str())),
             )
+            .chain(
+                (raw.rigid_body.iter().enumerate())
+                    .map(|(i, b)| ("rigid_body", i, b.name.as_str())),
+            )
             .chain((raw.probe.iter().enumerate()).map(|(i, p)| ("probe", i, p.name.as_str())))
             .collect();
         let mut seen = std::collections::HashMap::new();
@@ -39,7 +44,7 @@ impl Checker<'_> {
                 return Err(self.err(
                     key,
                     format!(
-                        "`{name}` is also the name of {k}[{j}]: bodies, contacts, rigid planes and probes name history columns, so their names must differ"
+                        "`{name}` is also the name of {k}[{j}]: bodies, contacts, rigid planes, rigid bodies and probes name history columns, so their names must differ"
                     ),
                 ));
             }

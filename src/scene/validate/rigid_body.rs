@@ -1,0 +1,157 @@
+//! `[[rigid_body]]`: the mass, the motion and the analytic shape of each rigid body.
+
+use super::Checker;
+use crate::error::Result;
+use crate::geometry::rigid_shape::RigidShape;
+use crate::material::rotation::unit;
+use crate::scene::raw::{RawRigidBody, RawRigidShape};
+use crate::scene::{RigidBodySpec, RigidMotion};
+
+impl Checker<'_> {
+    /// Every `[[rigid_body]]`, checked.
+    pub(super) fn rigid_bodies(&self, raw: &[RawRigidBody]) -> Result<Vec<RigidBodySpec>> {
+        (raw.iter().enumerate())
+            .map(|(i, b)| {
+                let key = |k: &str| format!("rigid_body[{i}].{k} (rigid body `{}`)", b.name);
+                self.rigid_body(&key, b)
+            })
+            .collect()
+    }
+
+    fn rigid_body(&self, key: &dyn Fn(&str) -> String, b: &RawRigidBody) -> Result<RigidBodySpec> {
+        let motion = self.choice(
+            &key("motion"),
+            b.motion.as_deref(),
+            RigidMotion::Free,
+            RigidMotion::CHOICES,
+        )?;
+        let mass = match (b.mass, motion) {
+            (Some(m), _) => self.positive(&key("mass"), m)?,
+            (None, RigidMotion::Free) => {
+                return Err(self.err(
+                    key("mass"),
+                    "is required for a free body (motion = \"free\", the default): it moves under its contact forces and gravity",
+                ))
+            }
+            (None, _) => 0.0,
+        };
+        for (k, given) in [
+            ("inertia", b.inertia.is_some()),
+            ("angular_velocity", b.angular_velocity.is_some()),
+        ] {
+            if given {
+                return Err(self.err(
+                    key(k),
+                    "rigid bodies translate only (as a guided drop-weight tup does): rotation is not supported yet, so leave out `inertia` and `angular_velocity`",
+                ));
+            }
+        }
+        let velocity = self.finite3(&key("velocity"), b.velocity.unwrap_or([0.0; 3]))?;
+        if motion == RigidMotion::Fixed && velocity != [0.0; 3] {
+            return Err(self.err(
+                key("velocity"),
+                "a fixed body does not move: give motion = \"prescribed\" to move it at this velocity",
+            ));
+        }
+        Ok(RigidBodySpec {
+            name: b.name.clone(),
+            mass,
+            position: self.finite3(&key("position"), b.position)?,
+            velocity,
+            shape: self.rigid_shape(key, &b.shape)?,
+            motion,
+        })
+    }
+
+    /// Exactly one of the shapes, with positive sizes and unit directions.
+    fn rigid_shape(&self, key: &dyn Fn(&str) -> String, s: &RawRigidShape) -> Result<RigidShape> {
+        let given = [
+            ("sphere", s.sphere.is_some()),
+            ("cylinder", s.cylinder.is_some()),
+            ("plane", s.plane.is_some()),
+            ("plate", s.plate.is_some()),
+            ("mesh", s.mesh.is_some() || s.surface.is_some()),
+        ];
+        let named: Vec<&str> = given.iter().filter(|g| g.1).map(|g| g.0).collect();
+        if named.len() != 1 {
+            return Err(self.err(
+                key("shape"),
+                format!(
+                    "give exactly one of `sphere`, `cylinder`, `plane` or `plate` (found {})",
+                    if named.is_empty() {
+                        "none".into()
+                    } else {
+                        named.join(", ")
+                    }
+                ),
+            ));
+        }
+        let direction = |k: &str, v: [f64; 3]| -> Result<[f64; 3]> {
+            let v = self.finite3(&key(k), v)?;
+            unit(v).ok_or_else(|| self.err(key(k), "must not be the zero vector"))
+        };
+        if let Some(sp) = &s.sphere {
+            return Ok(RigidShape::Sphere {
+                radius: self.positive(&key("shape.sphere.radius"), sp.radius)?,
+            });
+        }
+        if let Some(c) = &s.cylinder {
+            let round = match c.ends.as_deref() {
+                None | Some("flat") => false,
+                Some("round") => true,
+                Some(other) => {
+                    return Err(self.err(
+                        key("shape.cylinder.ends"),
+                        format!("`{other}` is not one of `flat` (the default) or `round`"),
+                    ))
+                }
+            };
+            return Ok(RigidShape::Cylinder {
+                radius: self.positive(&key("shape.cylinder.radius"), c.radius)?,
+                axis: direction("shape.cylinder.axis", c.axis)?,
+                length: self.non_negative_length(&key("shape.cylinder.length"), c.length)?,
+                round,
+            });
+        }
+        if let Some(p) = &s.plane {
+            return Ok(RigidShape::Plane {
+                normal: direction("shape.plane.normal", p.normal)?,
+            });
+        }
+        if let Some(p) = &s.plate {
+            let normal = direction("shape.plate.normal", p.normal)?;
+            let side = |a: usize| self.positive(&key("shape.plate.size"), p.size[a]);
+            let size = [side(0)?, side(1)?];
+            let opening = p.opening.unwrap_or([0.0; 2]);
+            for (a, &o) in opening.iter().enumerate() {
+                if !(o.is_finite() && o >= 0.0 && o < size[a]) {
+                    return Err(self.err(
+                        key("shape.plate.opening"),
+                        format!(
+                            "{opening:?}: each side of the window must be at least 0 and smaller than the plate's side {} (size = {size:?})",
+                            size[a]
+                        ),
+                    ));
+                }
+            }
+            return Ok(RigidShape::Plate {
+                normal,
+                axes: RigidShape::plate_axes(normal),
+                size,
+                opening,
+            });
+        }
+        Err(self.err(
+            key("shape.mesh"),
+            "a meshed rigid surface is not supported yet: give the shape as a `sphere`, `cylinder`, `plane` or `plate`",
+        ))
+    }
+
+    fn non_negative_length(&self, key: &str, v: f64) -> Result<f64> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("{v} must be a finite length of 0 or more")))
+        }
+    }
+}
