@@ -60,6 +60,7 @@ fn problem(div: [usize; 3]) -> (ElementData, ContactQueries) {
         reference: nodes,
         elements,
         materials: vec![Elastic::from_engineering(100.0, 0.3, 1.0)],
+        layups: Vec::new(),
     };
     (data, q)
 }

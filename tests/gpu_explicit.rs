@@ -123,6 +123,7 @@ fn random_inputs(rng: &mut StdRng) -> Inputs {
         reference: nodes,
         elements: parts.elements.clone(),
         materials: vec![Elastic::from_engineering(100.0, 0.3, 1.0)],
+        layups: Vec::new(),
     };
     Inputs {
         data,

@@ -70,6 +70,7 @@ fn distorted_box(rng: &mut StdRng) -> Problem {
             reference: nodes,
             elements,
             materials,
+            layups: Vec::new(),
         },
         top: parts.surfaces[BoxFace::ZPlus as usize]
             .faces

@@ -336,6 +336,7 @@ impl Subdomain {
                 bodies,
             },
             materials: model.materials.clone(),
+            layups: model.layups.clone(),
             material_axes: model.material_axes.clone(),
             material_source: model.material_source.clone(),
             strengths: model.strengths.clone(),
@@ -393,6 +394,7 @@ fn local_elements(
             .collect(),
         elements,
         materials: model.materials.clone(),
+        layups: model.layups.clone(),
     };
     (
         data,

@@ -36,6 +36,7 @@ pub(crate) fn surface_model(model: &Model, nodes: &[u32]) -> Model {
             ..Mesh::default()
         },
         materials: model.materials.clone(),
+        layups: model.layups.clone(),
         material_axes: model.material_axes.clone(),
         material_source: model.material_source.clone(),
         strengths: model.strengths.clone(),

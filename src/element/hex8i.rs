@@ -22,7 +22,7 @@
 //! bending forces in f32.
 
 use super::hex8;
-use crate::material::Elastic;
+use super::section::Section;
 
 /// Entries of a symmetric 24 x 24 matrix packed by its upper triangle, row by row.
 pub(crate) const PACKED: usize = 24 * 25 / 2;
@@ -48,11 +48,12 @@ fn centre_jacobian(x: &[[f64; 3]; 8]) -> ([[f64; 3]; 3], f64) {
 
 /// The 33 x 33 stiffness of the corners and the modes, in (node, component) order with the
 /// modes as nodes 8, 9, 10.
-fn enriched_stiffness(x: &[[f64; 3]; 8], m: &Elastic) -> nalgebra::DMatrix<f64> {
+fn enriched_stiffness(x: &[[f64; 3]; 8], section: Section) -> nalgebra::DMatrix<f64> {
     let (inv0, det0) = centre_jacobian(x);
     let mut k = nalgebra::DMatrix::zeros(33, 33);
-    for p in hex8::gauss_points() {
+    for (p, w, m) in section.hex_points() {
         let (g, det) = hex8::gradients(x, p);
+        let (m, det_w) = (&m, det * w);
         // grad P_m = det J0 / det J * J0^-T (-2 xi_m e_m): row m of J0^-1, scaled
         let modes: [[f64; 3]; 3] =
             std::array::from_fn(|mm| inv0[mm].map(|v| -2.0 * p[mm] * v * det0 / det));
@@ -62,7 +63,7 @@ fn enriched_stiffness(x: &[[f64; 3]; 8], m: &Elastic) -> nalgebra::DMatrix<f64> 
                 let v = super::stiffness_block(&grad(i), &grad(j), m);
                 for a in 0..3 {
                     for b in 0..3 {
-                        k[(3 * i + a, 3 * j + b)] += v[a][b] * det;
+                        k[(3 * i + a, 3 * j + b)] += v[a][b] * det_w;
                     }
                 }
             }
@@ -72,8 +73,8 @@ fn enriched_stiffness(x: &[[f64; 3]; 8], m: &Elastic) -> nalgebra::DMatrix<f64> 
 }
 
 /// The condensed element stiffness, 24 x 24 in (node, component) order.
-pub fn stiffness(x: &[[f64; 3]; 8], m: &Elastic) -> [[f64; 24]; 24] {
-    let k = enriched_stiffness(x, m);
+pub fn stiffness<'a>(x: &[[f64; 3]; 8], section: impl Into<Section<'a>>) -> [[f64; 24]; 24] {
+    let k = enriched_stiffness(x, section.into());
     let kuu = k.view((0, 0), (24, 24));
     let kua = k.view((0, 24), (24, 9));
     let kaa = k.view((24, 24), (9, 9)).into_owned();
@@ -89,8 +90,8 @@ pub fn stiffness(x: &[[f64; 3]; 8], m: &Elastic) -> [[f64; 24]; 24] {
 }
 
 /// [`stiffness`] packed by its upper triangle ([`PACKED`] entries, [`packed_index`]).
-pub(crate) fn condensed_packed(x: &[[f64; 3]; 8], m: &Elastic) -> [f64; PACKED] {
-    let k = stiffness(x, m);
+pub(crate) fn condensed_packed(x: &[[f64; 3]; 8], section: Section) -> [f64; PACKED] {
+    let k = stiffness(x, section);
     let mut out = [0.0; PACKED];
     for r in 0..24 {
         for c in r..24 {
@@ -105,9 +106,9 @@ pub(crate) fn condensed_packed(x: &[[f64; 3]; 8], m: &Elastic) -> [f64; PACKED] 
 pub(crate) const KEPT: usize = PACKED + 24;
 
 /// What the force kernel keeps of an element ([`KEPT`] values).
-pub fn kept(x: &[[f64; 3]; 8], m: &Elastic) -> [f64; KEPT] {
+pub fn kept<'a>(x: &[[f64; 3]; 8], section: impl Into<Section<'a>>) -> [f64; KEPT] {
     let mut out = [0.0; KEPT];
-    out[..PACKED].copy_from_slice(&condensed_packed(x, m));
+    out[..PACKED].copy_from_slice(&condensed_packed(x, section.into()));
     let (g, _) = hex8::gradients(x, [0.0; 3]);
     for (k, gk) in g.iter().enumerate() {
         out[PACKED + 3 * k..PACKED + 3 * k + 3].copy_from_slice(gk);
@@ -128,6 +129,35 @@ pub(crate) fn straining(kept: &[f64], x: &[[f64; 3]; 8], u: &[[f64; 3]; 8]) -> [
     std::array::from_fn(|k| {
         let r: [f64; 3] = std::array::from_fn(|b| x[k][b] - x[0][b]);
         std::array::from_fn(|a| d[k][a] - (0..3).map(|b| w[a][b] * r[b]).sum::<f64>())
+    })
+}
+
+/// The displacement gradient at the natural point `p` of corner displacements `u`, with the
+/// modes' amplitudes that the condensation gives them:
+/// $\alpha = -K_{\alpha\alpha}^{-1} K_{\alpha u} u$ (the stress of a ply off the centre,
+/// where the modes' gradients do not vanish).
+pub fn gradient_at(
+    x: &[[f64; 3]; 8],
+    section: Section,
+    u: &[[f64; 3]; 8],
+    p: [f64; 3],
+) -> [[f64; 3]; 3] {
+    let k = enriched_stiffness(x, section);
+    let uv = nalgebra::DVector::from_iterator(24, u.iter().flatten().copied());
+    let rhs = -(k.view((24, 0), (9, 24)) * uv);
+    let alpha = match k.view((24, 24), (9, 9)).into_owned().cholesky() {
+        Some(c) => c.solve(&rhs),
+        None => nalgebra::DVector::zeros(9),
+    };
+    let (inv0, det0) = centre_jacobian(x);
+    let (g, det) = hex8::gradients(x, p);
+    let modes: [[f64; 3]; 3] =
+        std::array::from_fn(|m| inv0[m].map(|v| -2.0 * p[m] * v * det0 / det));
+    std::array::from_fn(|a| {
+        std::array::from_fn(|b| {
+            let corners: f64 = (0..8).map(|n| u[n][a] * g[n][b]).sum();
+            corners + (0..3).map(|m| alpha[3 * m + a] * modes[m][b]).sum::<f64>()
+        })
     })
 }
 
@@ -154,6 +184,7 @@ pub fn forces(kept: &[f64], x: &[[f64; 3]; 8], u: &[[f64; 3]; 8]) -> [[f64; 3]; 
 mod tests {
     use super::super::checks;
     use super::*;
+    use crate::material::Elastic;
 
     fn distorted() -> [[f64; 3]; 8] {
         let mut x = hex8::CORNERS.map(|c| c.map(|v| 0.5 * (v + 1.0)));
@@ -260,6 +291,11 @@ mod tests {
     /// An element stiffness function (hex8's or hex8i's).
     type Stiffness = fn(&[[f64; 3]; 8], &Elastic) -> [[f64; 24]; 24];
 
+    /// The hex8i's stiffness of one law, as a [`Stiffness`].
+    fn solid(x: &[[f64; 3]; 8], m: &Elastic) -> [[f64; 24]; 24] {
+        stiffness(x, m)
+    }
+
     /// The tip deflection of a cantilever one element thick (`t`, width 1, length 6) and `n`
     /// elements long under a tip shear (nu = 0, clamped root), against Timoshenko's
     /// P L^3 / (3 E I) + P L / (kappa G A).
@@ -313,7 +349,7 @@ mod tests {
                 [(2, 0.1081), (1, 0.4321)]
                     .map(|(axis, reference)| beam.tip(element, axis) / reference)
             };
-            let (hex8i, hex8) = (ratio(stiffness), ratio(hex8::stiffness));
+            let (hex8i, hex8) = (ratio(solid), ratio(hex8::stiffness));
             eprintln!(
                 "{name}: tip / reference, in-plane and out-of-plane shear: hex8i {:.3} {:.3}, hex8 {:.3} {:.3}",
                 hex8i[0], hex8i[1], hex8[0], hex8[1]
@@ -338,7 +374,7 @@ mod tests {
     #[test]
     fn a_thin_cantilever_bends_without_locking() {
         for t in [1.0, 0.1] {
-            let hex8i = cantilever(6, t, stiffness);
+            let hex8i = cantilever(6, t, solid);
             let hex8 = cantilever(6, t, hex8::stiffness);
             eprintln!(
                 "thickness {t}: tip deflection / Timoshenko: hex8i {hex8i:.4}, hex8 {hex8:.4}"
@@ -370,6 +406,80 @@ mod tests {
                 (got - want).abs() < 1e-10 * want.abs().max(1e-3),
                 "{r}: {got} {want}"
             );
+        }
+    }
+
+    /// A bilayer beam element (two isotropic plies with nu = 0, E 1 and 5, thicknesses 0.3
+    /// and 0.7 of the height) bent to a constant curvature about any axis height: the
+    /// field is the element's (a bubble carries the deflection), so its condensed energy
+    /// is the exact 1/2 kappa^2 L b sum E_k int (z - z_n)^2 dz, ply by ply; and a layup of
+    /// one law is the solid element.
+    #[test]
+    fn a_layered_element_bends_a_bilayer_exactly() {
+        use crate::material::{Layup, LayupPly};
+        let (len, b, t) = (3.0, 0.5, 0.4);
+        let x = hex8::CORNERS.map(|c| {
+            [
+                0.5 * len * (1.0 + c[0]),
+                0.5 * b * (1.0 + c[1]),
+                0.5 * t * (1.0 + c[2]),
+            ]
+        });
+        let ply = |lo: f64, hi: f64, e: f64| LayupPly {
+            lo,
+            hi,
+            elastic: Elastic::from_engineering(e, 0.0, 1.0),
+            material: 0,
+        };
+        // the ply boundary at 0.3 t: natural coordinate -1 + 2 * 0.3
+        let split = -1.0 + 2.0 * 0.3;
+        let layup = Layup {
+            axis: 2,
+            plies: vec![ply(-1.0, split, 1.0), ply(split, 1.0, 5.0)],
+        };
+        let k = stiffness(&x, Section::Layered(&layup));
+        let (kappa, z_n) = (0.01, 0.13);
+        let u: Vec<f64> = x
+            .iter()
+            .flat_map(|p| [-kappa * p[0] * (p[2] - z_n), 0.0, 0.5 * kappa * p[0] * p[0]])
+            .collect();
+        let energy: f64 = 0.5
+            * (0..24)
+                .map(|r| (0..24).map(|c| u[r] * k[r][c] * u[c]).sum::<f64>())
+                .sum::<f64>();
+        let moment = |e: f64, z0: f64, z1: f64| e * ((z1 - z_n).powi(3) - (z0 - z_n).powi(3)) / 3.0;
+        let exact =
+            0.5 * kappa * kappa * len * b * (moment(1.0, 0.0, 0.3 * t) + moment(5.0, 0.3 * t, t));
+        assert!(
+            (energy - exact).abs() <= 1e-10 * exact,
+            "energy {energy}, exact {exact}"
+        );
+        // one law in every ply is the solid element (on a parallelepiped, where both rules
+        // integrate the polynomial integrand exactly)
+        let m = Elastic::from_engineering(2.0, 0.3, 1.0);
+        let sheared = x.map(|p| [p[0] + 0.4 * p[2], p[1] + 0.2 * p[0], p[2] + 0.1 * p[1]]);
+        let same = Layup {
+            axis: 2,
+            plies: [(-1.0, -0.2), (-0.2, 0.5), (0.5, 1.0)]
+                .map(|(lo, hi)| LayupPly {
+                    lo,
+                    hi,
+                    elastic: m,
+                    material: 0,
+                })
+                .to_vec(),
+        };
+        let (a, b) = (
+            stiffness(&sheared, Section::Layered(&same)),
+            stiffness(&sheared, &m),
+        );
+        for r in 0..24 {
+            for c in 0..24 {
+                assert!(
+                    (a[r][c] - b[r][c]).abs() <= 1e-12 * b[r][r].abs(),
+                    "{r} {c}"
+                );
+            }
         }
     }
 }

@@ -3,8 +3,7 @@
 //! gradients). This is the one place that matches on the kind, besides the per-step force
 //! kernels' dispatch (`kernels` on the CPU, `gpu::engine` on a device).
 
-use super::{hex8, hex8i, tet4};
-use crate::material::Elastic;
+use super::{hex8, hex8i, tet4, Section};
 
 /// A kind of finite element.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -115,10 +114,10 @@ impl ElementKind {
     /// What the force kernel keeps of an element (none for hex8 and tet4, which compute from
     /// the corners and the material at every call; a hex8i's condensed stiffness and centre
     /// gradients, [`hex8i::kept`]).
-    pub fn kept(self, x: &[[f64; 3]], m: &Elastic) -> Vec<f64> {
+    pub fn kept(self, x: &[[f64; 3]], section: Section) -> Vec<f64> {
         match self {
             ElementKind::Hex8 | ElementKind::Tet4 => Vec::new(),
-            ElementKind::Hex8i => hex8i::kept(as_array(x), m).to_vec(),
+            ElementKind::Hex8i => hex8i::kept(as_array(x), section).to_vec(),
         }
     }
 
@@ -163,16 +162,18 @@ impl ElementKind {
         }
     }
 
-    /// Element stiffness, (3 n) x (3 n) in (node, component) order.
-    pub fn stiffness(self, x: &[[f64; 3]], m: &Elastic) -> Vec<Vec<f64>> {
+    /// Element stiffness of the section, (3 n) x (3 n) in (node, component) order; hex8i
+    /// integrates a layered section ply by ply, hex8 and tet4 take its mean law.
+    pub fn stiffness<'a>(self, x: &[[f64; 3]], section: impl Into<Section<'a>>) -> Vec<Vec<f64>> {
+        let section = section.into();
         match self {
-            ElementKind::Hex8 => (hex8::stiffness(as_array(x), m).iter())
+            ElementKind::Hex8 => (hex8::stiffness(as_array(x), &section.elastic()).iter())
                 .map(|r| r.to_vec())
                 .collect(),
-            ElementKind::Tet4 => (tet4::stiffness(as_array(x), m).iter())
+            ElementKind::Tet4 => (tet4::stiffness(as_array(x), &section.elastic()).iter())
                 .map(|r| r.to_vec())
                 .collect(),
-            ElementKind::Hex8i => (hex8i::stiffness(as_array(x), m).iter())
+            ElementKind::Hex8i => (hex8i::stiffness(as_array(x), section).iter())
                 .map(|r| r.to_vec())
                 .collect(),
         }

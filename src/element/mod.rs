@@ -11,6 +11,7 @@ pub mod corners;
 pub mod hex8;
 pub mod hex8i;
 pub mod kind;
+pub mod section;
 pub mod stable_step;
 pub mod tet4;
 
@@ -19,6 +20,7 @@ use crate::material::Elastic;
 pub use block::{ElementBlock, ElementRef, Elements};
 pub use corners::CornerLayout;
 pub use kind::{ElementKind, Sample};
+pub use section::Section;
 
 /// Cauchy stress $\sigma = \lambda\, \mathrm{tr}(\varepsilon) I + 2\mu\varepsilon$ of the linear
 /// strain $\varepsilon = \mathrm{sym} H$, $H = \sum_k u_k \otimes \nabla N_k$, from the shape

@@ -72,7 +72,7 @@ pub(crate) fn survey(model: &Model, gpu: Option<&GpuContext>) -> Result<StepSurv
         .map(|&e| {
             let el = model.mesh.element(e);
             let x = model.mesh.corners(el.nodes);
-            let m = &model.materials[el.material as usize];
+            let m = model.section(el.material);
             if exact {
                 element_critical_step(el.kind, &x, m)
             } else {
@@ -100,7 +100,7 @@ fn device_survey(model: &Model, ctx: &GpuContext, data: &ElementData) -> Result<
         );
     let el = model.mesh.element(e);
     let x = model.mesh.corners(el.nodes);
-    let step = element_stable_step(el.kind, &x, &model.materials[el.material as usize]);
+    let step = element_stable_step(el.kind, &x, model.section(el.material));
     Ok(StepSurvey {
         step,
         element: e,

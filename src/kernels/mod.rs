@@ -75,8 +75,8 @@ pub use stable_step::stable_step;
 pub use sweep_control::{sweep_control, SweepState};
 pub use tet4_forces::tet4_forces;
 
-use crate::element::{CornerLayout, ElementKind, Elements};
-use crate::material::Elastic;
+use crate::element::{CornerLayout, ElementKind, Elements, Section};
+use crate::material::{Elastic, Layup};
 
 /// Element data every kernel backend is built from.
 #[derive(Debug, Clone)]
@@ -84,9 +84,28 @@ pub struct ElementData {
     pub reference: Vec<[f64; 3]>,
     pub elements: Elements,
     pub materials: Vec<Elastic>,
+    /// The plies of each material index that is a layered section (none or empty: all solid).
+    pub layups: Vec<Option<Layup>>,
+}
+
+/// The section of material index `m`: its layup where it has one, else its law.
+pub fn section_of<'a>(
+    materials: &'a [Elastic],
+    layups: &'a [Option<Layup>],
+    m: u32,
+) -> Section<'a> {
+    match layups.get(m as usize) {
+        Some(Some(l)) => Section::Layered(l),
+        _ => Section::Solid(&materials[m as usize]),
+    }
 }
 
 impl ElementData {
+    /// The section of material index `m`.
+    pub fn section(&self, m: u32) -> Section<'_> {
+        section_of(&self.materials, &self.layups, m)
+    }
+
     /// Element corners in the corner-force array ([`CornerLayout`]).
     pub fn corner_count(&self) -> usize {
         self.elements.corner_count()
@@ -120,7 +139,7 @@ impl KeptData {
                         let x: Vec<[f64; 3]> = (b.element(e).iter())
                             .map(|&n| data.reference[n as usize])
                             .collect();
-                        b.kind.kept(&x, &data.materials[b.material[e] as usize])
+                        b.kind.kept(&x, data.section(b.material[e]))
                     })
                     .collect()
             })

@@ -11,7 +11,7 @@ pub fn stable_step(data: &ElementData) -> Vec<f64> {
             let x: Vec<[f64; 3]> = (e.nodes.iter())
                 .map(|&n| data.reference[n as usize])
                 .collect();
-            element_stable_step(e.kind, &x, &data.materials[e.material as usize])
+            element_stable_step(e.kind, &x, data.section(e.material))
         })
         .collect()
 }

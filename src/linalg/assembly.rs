@@ -167,7 +167,7 @@ fn block_parts(
         let element = mesh.element(e);
         let (el, m) = (element.nodes, &model.materials[element.material as usize]);
         let x = mesh.corners(el);
-        let ke = element.kind.stiffness(&x, m);
+        let ke = element.kind.stiffness(&x, model.section(element.material));
         let me = element.kind.consistent_mass(&x, m.density);
         let n = el.len();
         for i in 0..n {

@@ -2,10 +2,12 @@
 //! Voigt form.
 
 pub mod failure;
+pub mod layup;
 pub mod orthotropic;
 pub mod rotation;
 
 pub use failure::{failure_indices, Strength};
+pub use layup::{Layup, LayupPly};
 pub use orthotropic::Orthotropic;
 pub use rotation::Rotation;
 

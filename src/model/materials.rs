@@ -4,10 +4,10 @@
 //! material turned to each of those.
 
 use crate::element::ElementKind;
-use crate::material::{Elastic, Rotation};
+use crate::material::{Elastic, Layup, LayupPly, Rotation};
 use crate::mesh::orientation::ElementAxes;
 use crate::mesh::Mesh;
-use crate::scene::{BodyShape, BodySpec, Scene};
+use crate::scene::{BodyShape, BodySpec, Plies, Scene};
 
 /// What the mesh's material indices point to.
 #[derive(Debug, Clone, Default)]
@@ -18,6 +18,8 @@ pub struct MaterialTable {
     pub axes: Vec<Rotation>,
     /// The scene material (`[[material]]` index) of each entry.
     pub source: Vec<usize>,
+    /// The plies of each entry that is a layered section (its `elastic` is their mean).
+    pub layups: Vec<Option<Layup>>,
 }
 
 impl MaterialTable {
@@ -25,6 +27,21 @@ impl MaterialTable {
         self.elastic.push(m.rotated(&axes));
         self.axes.push(axes);
         self.source.push(source);
+        self.layups.push(None);
+        (self.elastic.len() - 1) as u32
+    }
+
+    /// The entry of a layered section (one per distinct layup), with the axes of the ply at
+    /// its centre.
+    fn push_layup(&mut self, layup: Layup, source: usize) -> u32 {
+        if let Some(k) = self.layups.iter().position(|l| l.as_ref() == Some(&layup)) {
+            return k as u32;
+        }
+        self.elastic.push(layup.average());
+        self.axes
+            .push(self.axes[layup.ply_at(0.0).material as usize]);
+        self.source.push(source);
+        self.layups.push(Some(layup));
         (self.elastic.len() - 1) as u32
     }
 }
@@ -49,8 +66,95 @@ pub(crate) fn element_materials(scene: &Scene, mesh: &mut Mesh) -> MaterialTable
         }
         let first = entries(&mut table, scene, spec);
         orient_elements(mesh, b, spec, first);
+        if let Some(plies) = &spec.plies {
+            layer_hex8i(&mut table, mesh, b, (plies, spec.material), first);
+        }
     }
     table
+}
+
+/// Body `b`'s hex8i elements that span several plies pointed at layered sections: each ply
+/// integrated over its own part of the element's thickness. An element whose faces across
+/// the stacking axis do not lie on planes of constant stacking coordinate keeps the ply at its
+/// centroid.
+fn layer_hex8i(
+    table: &mut MaterialTable,
+    mesh: &mut Mesh,
+    b: usize,
+    (plies, source): (&Plies, usize),
+    first: u32,
+) {
+    let range = mesh.bodies[b].elements[ElementKind::Hex8i.index()].clone();
+    let nodes = &mesh.nodes;
+    let block = mesh.elements.block_mut(ElementKind::Hex8i);
+    for e in range {
+        let t: Vec<f64> = (block.element(e).iter())
+            .map(|&n| nodes[n as usize][plies.axis])
+            .collect();
+        if let Some(layup) = layup_of(&t, plies, table, first) {
+            block.material[e] = table.push_layup(layup, source);
+        }
+    }
+}
+
+/// The layup of a hex whose corners lie at stacking coordinates `t`, where it spans more than
+/// one ply and its faces across the stacking axis are flat in it (the ply entries from
+/// `first` on).
+fn layup_of(t: &[f64], plies: &Plies, table: &MaterialTable, first: u32) -> Option<Layup> {
+    use crate::element::hex8::CORNERS;
+    let face_mean = |a: usize, side: f64| -> f64 {
+        (0..8)
+            .filter(|&k| CORNERS[k][a] == side)
+            .map(|k| t[k])
+            .sum::<f64>()
+            / 4.0
+    };
+    let rise = |a: usize| face_mean(a, 1.0) - face_mean(a, -1.0);
+    let axis = (0..3).max_by(|&a, &c| rise(a).abs().total_cmp(&rise(c).abs()))?;
+    let (delta, mid) = (
+        rise(axis),
+        0.5 * (face_mean(axis, 1.0) + face_mean(axis, -1.0)),
+    );
+    let flat = (0..8).all(|k| {
+        let on_plane = mid + 0.5 * CORNERS[k][axis] * delta;
+        (t[k] - on_plane).abs() <= 1e-9 * delta.abs()
+    });
+    if !flat || delta == 0.0 {
+        return None;
+    }
+    let (lo, hi) = (mid - 0.5 * delta.abs(), mid + 0.5 * delta.abs());
+    // each ply's part of lo..hi in the natural coordinate along `axis`
+    let natural = |x: f64| 2.0 * (x - mid) / delta;
+    let mut out = Vec::new();
+    let mut bottom = plies.start;
+    for (k, ply) in plies.layers.iter().enumerate() {
+        let top = bottom + ply.thickness;
+        let (a, c) = (bottom.max(lo), top.min(hi));
+        bottom = top;
+        // a sliver of a ply within rounding of the element's face is no ply of it
+        if c - a <= 1e-9 * delta.abs() {
+            continue;
+        }
+        let (s0, s1) = (natural(a), natural(c));
+        let material = first + k as u32;
+        out.push(LayupPly {
+            lo: s0.min(s1),
+            hi: s0.max(s1),
+            elastic: table.elastic[material as usize],
+            material,
+        });
+    }
+    if out.len() < 2 {
+        return None;
+    }
+    out.sort_by(|p, q| p.lo.total_cmp(&q.lo));
+    let n = out.len();
+    (out[0].lo, out[n - 1].hi) = (-1.0, 1.0);
+    for i in 1..n {
+        // neighbours meet exactly
+        out[i].lo = out[i - 1].hi;
+    }
+    Some(Layup { axis, plies: out })
 }
 
 /// Body `b`'s elements that its mesh file gives axes pointed at entries of its material in

@@ -27,6 +27,9 @@ pub struct Model {
     pub mesh: Mesh,
     /// The law of each material index of the mesh, in the global axes.
     pub materials: Vec<Elastic>,
+    /// The plies of each material index that is a layered section (hex8i elements that span
+    /// several plies), else None; `materials` holds its plies' mean law.
+    pub layups: Vec<Option<crate::material::Layup>>,
     /// The material axes and the scene material of each material index.
     pub material_axes: Vec<crate::material::Rotation>,
     pub material_source: Vec<usize>,
@@ -82,6 +85,7 @@ impl Model {
             body_names: scene.bodies.iter().map(|b| b.name.clone()).collect(),
             mesh,
             materials: table.elastic,
+            layups: table.layups,
             material_axes: table.axes,
             material_source: table.source,
             strengths: scene.materials.iter().map(|m| m.strength).collect(),
@@ -130,7 +134,13 @@ impl Model {
             reference: self.mesh.nodes.clone(),
             elements: self.mesh.elements.clone(),
             materials: self.materials.clone(),
+            layups: self.layups.clone(),
         }
+    }
+
+    /// The section of material index `m`.
+    pub fn section(&self, m: u32) -> crate::element::Section<'_> {
+        crate::kernels::section_of(&self.materials, &self.layups, m)
     }
 }
 

@@ -251,7 +251,12 @@ fn cell_stresses(model: &Model, u: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
                 })
                 .collect();
             let m = material as usize;
-            let s = centre_stress_tensor(element.kind, &x, &ue, &model.materials[m]);
+            // a layered cell's centre stress is that of the ply at its centre
+            let law = match &model.layups[m] {
+                Some(l) => l.ply_at(0.0).elastic,
+                None => model.materials[m],
+            };
+            let s = centre_stress_tensor(element.kind, &x, &ue, &law);
             (pack(&s), pack(&model.material_axes[m].to_material(&s)))
         })
         .collect();
@@ -263,20 +268,58 @@ fn cell_stresses(model: &Model, u: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
 
 /// The failure indices of every cell ([`crate::material::failure::INDICES`], five per cell)
 /// from its stress in its material axes; zero for cells of a material without strengths.
-fn cell_failure_indices(model: &Model, material_stress: &[f64]) -> Vec<f64> {
-    model
-        .mesh
-        .elements()
-        .zip(material_stress.chunks_exact(6))
-        .flat_map(|(e, s)| {
+fn cell_failure_indices(model: &Model, u: &[f64], material_stress: &[f64]) -> Vec<f64> {
+    use rayon::prelude::*;
+    let mesh = &model.mesh;
+    (0..mesh.element_count())
+        .into_par_iter()
+        .zip(material_stress.par_chunks_exact(6))
+        .flat_map_iter(|(c, s)| {
+            let e = mesh.element(c);
             let source = model.material_source[e.material as usize];
             let s: [f64; 6] = s.try_into().expect("six components");
-            match &model.strengths[source] {
-                Some(k) => crate::material::failure_indices(s, k),
-                None => [0.0; 5],
+            match (&model.strengths[source], &model.layups[e.material as usize]) {
+                (Some(k), Some(layup)) => layered_failure_indices(model, c, u, layup, k),
+                (Some(k), None) => crate::material::failure_indices(s, k),
+                (None, _) => [0.0; 5],
             }
         })
         .collect()
+}
+
+/// The failure indices of a layered hex8i cell: each ply's at its mid-thickness on the
+/// cell's axis (the condensed modes included), the largest of each index over the plies.
+fn layered_failure_indices(
+    model: &Model,
+    c: usize,
+    u: &[f64],
+    layup: &crate::material::Layup,
+    strength: &crate::material::Strength,
+) -> [f64; 5] {
+    let mesh = &model.mesh;
+    let e = mesh.element(c);
+    let x: [[f64; 3]; 8] = mesh
+        .corners(e.nodes)
+        .try_into()
+        .expect("a hex8i has 8 corners");
+    let ue: [[f64; 3]; 8] = std::array::from_fn(|k| {
+        let d = 3 * e.nodes[k] as usize;
+        [u[d], u[d + 1], u[d + 2]]
+    });
+    let section = crate::element::Section::Layered(layup);
+    let mut worst = [0.0f64; 5];
+    for ply in &layup.plies {
+        let mut p = [0.0; 3];
+        p[layup.axis] = 0.5 * (ply.lo + ply.hi);
+        let h = crate::element::hex8i::gradient_at(&x, section, &ue, p);
+        let s = ply.elastic.stress(&h);
+        let local = pack(&model.material_axes[ply.material as usize].to_material(&s));
+        let f = crate::material::failure_indices(local, strength);
+        for (w, v) in worst.iter_mut().zip(f) {
+            *w = w.max(v);
+        }
+    }
+    worst
 }
 
 /// (xx, yy, zz, xy, yz, xz) of a symmetric tensor.
@@ -321,7 +364,7 @@ fn cell_data(app: &mut Appended, model: &Model, u: &[f64]) {
         );
     }
     if model.strengths.iter().any(Option::is_some) {
-        let indices = cell_failure_indices(model, &material_stress);
+        let indices = cell_failure_indices(model, u, &material_stress);
         app.array("failure_index", "Float64", 5, &f64_bytes(&indices));
     }
     let (body, material) = cell_body_material(mesh, &model.material_source);
