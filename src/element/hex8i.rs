@@ -132,16 +132,16 @@ pub(crate) fn straining(kept: &[f64], x: &[[f64; 3]; 8], u: &[[f64; 3]; 8]) -> [
     })
 }
 
-/// The displacement gradient at the natural point `p` of corner displacements `u`, with the
-/// modes' amplitudes that the condensation gives them:
-/// $\alpha = -K_{\alpha\alpha}^{-1} K_{\alpha u} u$ (the stress of a ply off the centre,
+/// The displacement gradients at the natural points `points` of corner displacements `u`,
+/// with the modes' amplitudes that the condensation gives them:
+/// $\alpha = -K_{\alpha\alpha}^{-1} K_{\alpha u} u$ (the stresses of plies off the centre,
 /// where the modes' gradients do not vanish).
-pub fn gradient_at(
+pub fn gradients_at(
     x: &[[f64; 3]; 8],
     section: Section,
     u: &[[f64; 3]; 8],
-    p: [f64; 3],
-) -> [[f64; 3]; 3] {
+    points: &[[f64; 3]],
+) -> Vec<[[f64; 3]; 3]> {
     let k = enriched_stiffness(x, section);
     let uv = nalgebra::DVector::from_iterator(24, u.iter().flatten().copied());
     let rhs = -(k.view((24, 0), (9, 24)) * uv);
@@ -150,34 +150,41 @@ pub fn gradient_at(
         None => nalgebra::DVector::zeros(9),
     };
     let (inv0, det0) = centre_jacobian(x);
-    let (g, det) = hex8::gradients(x, p);
-    let modes: [[f64; 3]; 3] =
-        std::array::from_fn(|m| inv0[m].map(|v| -2.0 * p[m] * v * det0 / det));
-    std::array::from_fn(|a| {
-        std::array::from_fn(|b| {
-            let corners: f64 = (0..8).map(|n| u[n][a] * g[n][b]).sum();
-            corners + (0..3).map(|m| alpha[3 * m + a] * modes[m][b]).sum::<f64>()
+    (points.iter())
+        .map(|&p| {
+            let (g, det) = hex8::gradients(x, p);
+            let modes: [[f64; 3]; 3] =
+                std::array::from_fn(|m| inv0[m].map(|v| -2.0 * p[m] * v * det0 / det));
+            std::array::from_fn(|a| {
+                std::array::from_fn(|b| {
+                    let corners: f64 = (0..8).map(|n| u[n][a] * g[n][b]).sum();
+                    corners + (0..3).map(|m| alpha[3 * m + a] * modes[m][b]).sum::<f64>()
+                })
+            })
         })
-    })
+        .collect()
 }
 
 /// Corner forces $f = K_c d$ of the kept values, the reference corners and the corner
 /// displacements, with $d$ the element's [`straining`] displacements.
 pub fn forces(kept: &[f64], x: &[[f64; 3]; 8], u: &[[f64; 3]; 8]) -> [[f64; 3]; 8] {
     let d = straining(kept, x, u);
-    let k = kept;
-    std::array::from_fn(|kk| {
-        std::array::from_fn(|a| {
-            let r = 3 * kk + a;
-            let mut sum = 0.0;
-            for (j, dj) in d.iter().enumerate() {
-                for (b, db) in dj.iter().enumerate() {
-                    sum += k[packed_index(r, 3 * j + b)] * db;
-                }
+    let d: [f64; 24] = std::array::from_fn(|r| d[r / 3][r % 3]);
+    // the packed upper triangle row by row: each entry serves its row and, off the
+    // diagonal, its column
+    let mut f = [0.0; 24];
+    let mut k = kept[..PACKED].iter();
+    for r in 0..24 {
+        let mut row = 0.0;
+        for (c, kc) in (r..24).zip(&mut k) {
+            row += kc * d[c];
+            if c != r {
+                f[c] += kc * d[r];
             }
-            sum
-        })
-    })
+        }
+        f[r] += row;
+    }
+    std::array::from_fn(|n| [f[3 * n], f[3 * n + 1], f[3 * n + 2]])
 }
 
 #[cfg(test)]

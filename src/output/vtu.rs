@@ -307,12 +307,17 @@ fn layered_failure_indices(
         [u[d], u[d + 1], u[d + 2]]
     });
     let section = crate::element::Section::Layered(layup);
+    let mids: Vec<[f64; 3]> = (layup.plies.iter())
+        .map(|ply| {
+            let mut p = [0.0; 3];
+            p[layup.axis] = 0.5 * (ply.lo + ply.hi);
+            p
+        })
+        .collect();
+    let gradients = crate::element::hex8i::gradients_at(&x, section, &ue, &mids);
     let mut worst = [0.0f64; 5];
-    for ply in &layup.plies {
-        let mut p = [0.0; 3];
-        p[layup.axis] = 0.5 * (ply.lo + ply.hi);
-        let h = crate::element::hex8i::gradient_at(&x, section, &ue, p);
-        let s = ply.elastic.stress(&h);
+    for (ply, h) in layup.plies.iter().zip(&gradients) {
+        let s = ply.elastic.stress(h);
         let local = pack(&model.material_axes[ply.material as usize].to_material(&s));
         let f = crate::material::failure_indices(local, strength);
         for (w, v) in worst.iter_mut().zip(f) {

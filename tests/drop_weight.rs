@@ -1,0 +1,122 @@
+//! The shipped drop-weight and indentation scenes on a coarser mesh (30 x 20 in the plane,
+//! two element layers of twelve plies each): the tup's impact and rebound with momentum
+//! and energy accounted for, the support's and clamps' reactions, and the indentation's
+//! force-displacement curve against the drop's loading branch.
+
+mod common;
+use common::*;
+use impact::scene::DeviceChoice;
+
+const COARSE: (&str, &str) = ("divisions = [50, 34, 4]", "divisions = [30, 20, 2]");
+/// The tup's mass and impact speed (30 J).
+const MASS: f64 = 5.5e-3;
+const V0: f64 = 3303.0;
+
+fn coarse(scene: &str) -> String {
+    let text = edit(&scene_text(scene), COARSE.0, COARSE.1);
+    // no frames: the test reads the history
+    let lines = text.lines().filter(|l| !l.starts_with("vtu_every"));
+    lines.collect::<Vec<_>>().join("\n")
+}
+
+/// (displacement along the tup's motion, contact force) of each row.
+fn curve(h: &History) -> Vec<(f64, f64)> {
+    let (uz, f) = (h.col("tup.uz"), h.col("impact.normal_force"));
+    uz.iter().zip(&f).map(|(u, f)| (-u, *f)).collect()
+}
+
+#[test]
+fn a_tup_strikes_the_coupon_and_rebounds_and_indentation_follows_its_loading_branch() {
+    let (s, drop) = run_text_on(
+        "drop_weight",
+        &coarse("drop_weight_d7136.toml"),
+        Some(DeviceChoice::Cpu),
+    );
+    let s = s.expect("the drop runs");
+    assert_eq!(s.status, "completed");
+    let (t, fz, vz) = (drop.col("time"), drop.col("impact.fz"), drop.col("tup.vz"));
+    // the tup left the coupon: no force in the last rows, moving up
+    let last_contact = (fz.iter()).rposition(|&f| f != 0.0).expect("contact");
+    assert!(
+        last_contact + 10 < t.len(),
+        "the tup still presses at the end"
+    );
+    let rebound = vz[vz.len() - 1];
+    assert!(rebound > 0.9 * V0, "rebound {rebound}");
+    // momentum: the impulse of the coupon on the guided tup is its change of momentum
+    let impulse: f64 = (1..t.len()).map(|i| fz[i] * (t[i] - t[i - 1])).sum();
+    let change = MASS * (rebound + V0);
+    assert!(
+        (impulse - change).abs() <= 1e-9 * change,
+        "impulse {impulse}, change of momentum {change}"
+    );
+    // energy: the tup's 30 J is the balance's start, which never rises
+    let e = drop.col("total_energy");
+    assert!((e[0] - 0.5 * MASS * V0 * V0).abs() <= 1e-9 * e[0]);
+    let rise = e.iter().fold(f64::MIN, |m, &x| m.max(x)) - e[0];
+    assert!(rise <= 1e-6 * e[0], "energy rises by {rise}");
+    // the support and the clamps hold the coupon
+    let peak = |c: &str| drop.col(c).iter().copied().fold(0.0, f64::max);
+    assert!(peak("support_contact.normal_force") > 0.5 * peak("impact.normal_force"));
+    let clamps: Vec<f64> = (1..=4)
+        .map(|k| peak(&format!("clamp_{k}_contact.normal_force")))
+        .collect();
+    eprintln!("clamps' peak forces {clamps:?} N");
+    assert!(
+        clamps.iter().any(|&f| f > 0.0),
+        "the clamps hold the corners down"
+    );
+
+    let (s, ind) = run_text_on(
+        "indentation",
+        &coarse("indentation_d6264.toml"),
+        Some(DeviceChoice::Cpu),
+    );
+    let s = s.expect("the indentation runs");
+    assert_eq!(s.status, "completed");
+    // the tup moves at its prescribed speed
+    for (t, u) in ind.col("time").iter().zip(ind.col("tup.uz")) {
+        assert!((u + 500.0 * t).abs() <= 1e-9, "uz {u} at {t}");
+    }
+    // the driver's work is in the balance, which never rises
+    let e = ind.col("total_energy");
+    let rise = e.iter().fold(f64::MIN, |m, &x| m.max(x)) - e[0];
+    let work = ind.last("impact.normal_force").max(1.0) * 4.5;
+    assert!(rise <= 1e-6 * work, "energy rises by {rise}");
+    // the drop's loading branch against the indentation at the same displacement, from
+    // 1 mm (past the impact's first transient) to 0.9 of the drop's deepest point
+    let loading: Vec<(f64, f64)> = {
+        let c = curve(&drop);
+        let deepest = (0..c.len())
+            .max_by(|&a, &b| c[a].0.total_cmp(&c[b].0))
+            .expect("rows");
+        c[..deepest].to_vec()
+    };
+    let reach = loading.last().expect("rows").0;
+    let pressed = curve(&ind);
+    let at = |d: f64| -> f64 {
+        let i = pressed
+            .iter()
+            .position(|p| p.0 >= d)
+            .expect("the indentation goes deeper");
+        let (a, b) = (pressed[i - 1], pressed[i]);
+        a.1 + (b.1 - a.1) * (d - a.0) / (b.0 - a.0)
+    };
+    let window: Vec<&(f64, f64)> = (loading.iter())
+        .filter(|p| p.0 >= 1.0 && p.0 <= 0.9 * reach)
+        .collect();
+    let (mut diff, mut scale) = (0.0, 0.0);
+    for &&(d, f) in &window {
+        diff += (f - at(d)).abs();
+        scale += at(d);
+    }
+    let mean = diff / scale;
+    eprintln!(
+        "drop: peak {:.0} N, deepest {reach:.3} mm, rebound {rebound:.1} mm/s; indentation against the drop's loading branch over {} rows, 1 to {:.2} mm: mean difference {:.3} of the force",
+        peak("impact.normal_force"),
+        window.len(),
+        0.9 * reach,
+        mean
+    );
+    assert!(mean <= 0.08, "mean difference {mean}");
+}
