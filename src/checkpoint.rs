@@ -42,6 +42,11 @@ pub struct Tally {
     pub peak_force: Vec<f64>,
     /// Each interface's deepest penetration so far, with its step and time.
     pub deepest: Vec<(f64, usize, f64)>,
+    /// The largest of each ply failure index so far (materials with strengths, engines that
+    /// survey every step).
+    pub failure_max: Option<[f64; 5]>,
+    /// Where and when a ply failure index first reached 1.
+    pub first_failure: Option<crate::output::failure_survey::FirstFailure>,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]

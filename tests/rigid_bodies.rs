@@ -230,3 +230,42 @@ fn a_rigid_sphere_on_an_elastic_block_matches_hertz() {
     let rise = e.iter().fold(f64::MIN, |a, &x| a.max(x)) - e[0];
     assert!(rise <= 1e-9 * e[0], "energy rises by {rise}");
 }
+
+/// Runs `text` into `tag`'s folder (fresh unless `resume`) on the CPU.
+fn run_in(tag: &str, text: &str, resume: bool) -> impact::output::Summary {
+    let opts = impact::run::RunOptions {
+        out: Some(if resume { out_path(tag) } else { out_dir(tag) }),
+        device: Some(DeviceChoice::Cpu),
+        quiet: true,
+        resume,
+        ..Default::default()
+    };
+    let path = repo().join("scenes").join("resumed.toml");
+    let scene = impact::scene::Scene::parse(text, &path).expect("valid scene");
+    impact::run::run(&scene, &opts).expect("runs")
+}
+
+#[test]
+fn runs_with_rigid_bodies_resume_to_the_unbroken_history() {
+    for (method, tup) in [
+        ("explicit", format!("mass = {M}")),
+        ("implicit", format!("mass = {M}")),
+        ("explicit", "motion = \"prescribed\"".to_string()),
+        ("implicit", "motion = \"prescribed\"".to_string()),
+    ] {
+        let text = st_venant(method, &tup, true) + "\n[output]\ncheckpoint_every = 7\n";
+        let (full, part) = (
+            format!("rigid_full_{method}"),
+            format!("rigid_part_{method}"),
+        );
+        run_in(&full, &text, false);
+        run_in(
+            &part,
+            &edit(&text, "end_time = 0.25", "end_time = 0.1"),
+            false,
+        );
+        run_in(&part, &text, true);
+        let read = |tag: &str| std::fs::read_to_string(out_path(tag).join("history.csv")).unwrap();
+        assert_eq!(read(&full), read(&part), "{method}, {tup}: histories");
+    }
+}

@@ -287,3 +287,93 @@ fn laminate_frames_carry_the_failure_indices_of_their_ply_stresses() {
         "the impact must load the plies: {text}"
     );
 }
+
+/// Prints `step m1 .. m5` for each frame of the run: the largest of each failure index over
+/// its cells.
+const FRAME_FAILURE_MAXIMA: &str = r#"
+import sys, re, xml.etree.ElementTree as ET
+import meshio
+run_dir, stem = sys.argv[1], sys.argv[2]
+for d in ET.parse(f"{run_dir}/{stem}.pvd").getroot().iter("DataSet"):
+    name = d.get("file")
+    step = int(re.search(r"_(\d+)\.vtu$", name).group(1))
+    fi = meshio.read(f"{run_dir}/{name}").cell_data["failure_index"][0]
+    print(step, *(repr(float(v)) for v in fi.max(axis=0)))
+"#;
+
+/// The history's failure index columns are, at each frame's step, the largest of the
+/// frame's cells' indices (a layered laminate: the drop-weight coupon on a coarse mesh), and
+/// the summary's first failure is the first row where one reaches 1.
+#[test]
+fn the_history_carries_the_largest_failure_indices_of_the_frames() {
+    let tag = "failure_history";
+    if !meshio_available(tag) {
+        return;
+    }
+    let text = edit(
+        &scene_text("drop_weight_d7136.toml"),
+        "divisions = [50, 34, 4]",
+        "divisions = [30, 20, 2]",
+    );
+    let text = edit(&text, "end_time = 4.5e-3", "end_time = 2.0e-3");
+    let text = edit(&text, "vtu_every = 500", "vtu_every = 1000");
+    let (s, h) = run_scene_text(tag, &text);
+    let s = s.expect("run completes");
+    let out = Command::new("python3")
+        .args(["-c", FRAME_FAILURE_MAXIMA])
+        .arg(out_path(tag))
+        .arg(tag)
+        .output()
+        .expect("python3 runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let names = impact::material::failure::INDICES.map(|n| format!("failure_index.{n}"));
+    let columns: Vec<Vec<f64>> = names.iter().map(|n| h.col(n)).collect();
+    let mut frames = 0;
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        let v: Vec<f64> = line
+            .split_whitespace()
+            .map(|w| w.parse().unwrap())
+            .collect();
+        let step = v[0] as usize;
+        for k in 0..5 {
+            let (frame, row) = (v[1 + k], columns[k][step]);
+            assert!(
+                (frame - row).abs() <= 1e-9 * frame.abs().max(1e-6),
+                "step {step}, {}: frame {frame}, history {row}",
+                names[k]
+            );
+        }
+        frames += 1;
+    }
+    assert!(frames >= 3, "{frames} frames");
+    // the first row where an index reaches 1, and the index largest there
+    let first = (0..h.rows.len()).find(|&i| columns.iter().any(|c| c[i] >= 1.0));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_path(tag).join("summary.json")).unwrap())
+            .unwrap();
+    let reported = &summary["first_failure"];
+    match first {
+        Some(i) => {
+            let largest = (0..5)
+                .max_by(|&a, &b| columns[a][i].total_cmp(&columns[b][i]))
+                .unwrap();
+            assert_eq!(reported["step"].as_u64(), Some(i as u64), "{reported}");
+            assert_eq!(
+                reported["index"].as_str(),
+                Some(impact::material::failure::INDICES[largest])
+            );
+            assert_eq!(reported["body"].as_str(), Some("coupon"));
+            assert!(
+                reported["ply"].as_u64().is_some_and(|p| p < 24),
+                "{reported}"
+            );
+        }
+        None => assert!(reported.is_null(), "{reported}"),
+    }
+    assert_eq!(s.status, "completed");
+    eprintln!("{frames} frames; first failure {reported}");
+}

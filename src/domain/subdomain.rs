@@ -337,6 +337,7 @@ impl Subdomain {
             },
             materials: model.materials.clone(),
             layups: model.layups.clone(),
+            material_ply: model.material_ply.clone(),
             material_axes: model.material_axes.clone(),
             material_source: model.material_source.clone(),
             strengths: model.strengths.clone(),

@@ -37,6 +37,7 @@ pub(crate) fn surface_model(model: &Model, nodes: &[u32]) -> Model {
         },
         materials: model.materials.clone(),
         layups: model.layups.clone(),
+        material_ply: model.material_ply.clone(),
         material_axes: model.material_axes.clone(),
         material_source: model.material_source.clone(),
         strengths: model.strengths.clone(),

@@ -132,22 +132,21 @@ pub(crate) fn straining(kept: &[f64], x: &[[f64; 3]; 8], u: &[[f64; 3]; 8]) -> [
     })
 }
 
-/// The displacement gradients at the natural points `points` of corner displacements `u`,
-/// with the modes' amplitudes that the condensation gives them:
-/// $\alpha = -K_{\alpha\alpha}^{-1} K_{\alpha u} u$ (the stresses of plies off the centre,
-/// where the modes' gradients do not vanish).
-pub fn gradients_at(
+/// The displacement gradient at each natural point of `points` as a linear operator on the
+/// 24 corner displacements (row 3 a + b: du_a/dx_b), with the modes' amplitudes that the
+/// condensation gives them, $\alpha = -K_{\alpha\alpha}^{-1} K_{\alpha u} u$ (the stresses of
+/// plies off the centre, where the modes' gradients do not vanish).
+pub fn gradient_operators(
     x: &[[f64; 3]; 8],
     section: Section,
-    u: &[[f64; 3]; 8],
     points: &[[f64; 3]],
-) -> Vec<[[f64; 3]; 3]> {
+) -> Vec<[[f64; 24]; 9]> {
     let k = enriched_stiffness(x, section);
-    let uv = nalgebra::DVector::from_iterator(24, u.iter().flatten().copied());
-    let rhs = -(k.view((24, 0), (9, 24)) * uv);
-    let alpha = match k.view((24, 24), (9, 9)).into_owned().cholesky() {
-        Some(c) => c.solve(&rhs),
-        None => nalgebra::DVector::zeros(9),
+    let kau = k.view((24, 0), (9, 24)).into_owned();
+    // alpha = A u
+    let a = match k.view((24, 24), (9, 9)).into_owned().cholesky() {
+        Some(c) => -c.solve(&kau),
+        None => nalgebra::DMatrix::zeros(9, 24),
     };
     let (inv0, det0) = centre_jacobian(x);
     (points.iter())
@@ -155,11 +154,34 @@ pub fn gradients_at(
             let (g, det) = hex8::gradients(x, p);
             let modes: [[f64; 3]; 3] =
                 std::array::from_fn(|m| inv0[m].map(|v| -2.0 * p[m] * v * det0 / det));
-            std::array::from_fn(|a| {
-                std::array::from_fn(|b| {
-                    let corners: f64 = (0..8).map(|n| u[n][a] * g[n][b]).sum();
-                    corners + (0..3).map(|m| alpha[3 * m + a] * modes[m][b]).sum::<f64>()
+            std::array::from_fn(|r| {
+                let (ca, cb) = (r / 3, r % 3);
+                std::array::from_fn(|j| {
+                    let (n, comp) = (j / 3, j % 3);
+                    let corner = if comp == ca { g[n][cb] } else { 0.0 };
+                    corner
+                        + (0..3)
+                            .map(|m| a[(3 * m + ca, j)] * modes[m][cb])
+                            .sum::<f64>()
                 })
+            })
+        })
+        .collect()
+}
+
+/// The displacement gradients at the natural points `points` of corner displacements `u`
+/// ([`gradient_operators`] applied to them).
+pub fn gradients_at(
+    x: &[[f64; 3]; 8],
+    section: Section,
+    u: &[[f64; 3]; 8],
+    points: &[[f64; 3]],
+) -> Vec<[[f64; 3]; 3]> {
+    let uv: Vec<f64> = u.iter().flatten().copied().collect();
+    (gradient_operators(x, section, points).iter())
+        .map(|op| {
+            std::array::from_fn(|a| {
+                std::array::from_fn(|b| (0..24).map(|j| op[3 * a + b][j] * uv[j]).sum())
             })
         })
         .collect()

@@ -20,6 +20,8 @@ pub struct MaterialTable {
     pub source: Vec<usize>,
     /// The plies of each entry that is a layered section (its `elastic` is their mean).
     pub layups: Vec<Option<Layup>>,
+    /// The ply (of its body's plies, from the lowest) of each entry that is one ply's.
+    pub ply: Vec<Option<usize>>,
 }
 
 impl MaterialTable {
@@ -28,6 +30,7 @@ impl MaterialTable {
         self.axes.push(axes);
         self.source.push(source);
         self.layups.push(None);
+        self.ply.push(None);
         (self.elastic.len() - 1) as u32
     }
 
@@ -42,6 +45,7 @@ impl MaterialTable {
             .push(self.axes[layup.ply_at(0.0).material as usize]);
         self.source.push(source);
         self.layups.push(Some(layup));
+        self.ply.push(None);
         (self.elastic.len() - 1) as u32
     }
 }
@@ -198,6 +202,9 @@ fn entries(table: &mut MaterialTable, scene: &Scene, spec: &BodySpec) -> u32 {
             let first = table.push(m, turned(p.layers[0].angle), spec.material);
             for ply in &p.layers[1..] {
                 table.push(m, turned(ply.angle), spec.material);
+            }
+            for k in 0..p.layers.len() {
+                table.ply[first as usize + k] = Some(k);
             }
             first
         }

@@ -30,6 +30,9 @@ pub struct Model {
     /// The plies of each material index that is a layered section (hex8i elements that span
     /// several plies), else None; `materials` holds its plies' mean law.
     pub layups: Vec<Option<crate::material::Layup>>,
+    /// The ply (of its body's plies, from the lowest) of each material index that is one
+    /// ply's.
+    pub material_ply: Vec<Option<usize>>,
     /// The material axes and the scene material of each material index.
     pub material_axes: Vec<crate::material::Rotation>,
     pub material_source: Vec<usize>,
@@ -86,6 +89,7 @@ impl Model {
             mesh,
             materials: table.elastic,
             layups: table.layups,
+            material_ply: table.ply,
             material_axes: table.axes,
             material_source: table.source,
             strengths: scene.materials.iter().map(|m| m.strength).collect(),
@@ -136,6 +140,11 @@ impl Model {
             materials: self.materials.clone(),
             layups: self.layups.clone(),
         }
+    }
+
+    /// The ply of material index `m`, where it is one ply's.
+    pub fn ply_of(&self, m: u32) -> Option<usize> {
+        self.material_ply.get(m as usize).copied().flatten()
     }
 
     /// The section of material index `m`.

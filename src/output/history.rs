@@ -14,8 +14,10 @@ pub struct History {
     path: PathBuf,
     /// Interfaces with friction, whose `sliding` and `friction_work` come after the probes.
     frictional: Vec<usize>,
-    /// Interfaces whose primary side is a rigid body, whose force vectors close the row.
+    /// Interfaces whose primary side is a rigid body, whose force vectors come next.
     rigid: Vec<usize>,
+    /// Whether a material has ply strengths: the largest failure indices close the row.
+    failure: bool,
     /// The file (none on a rank that computes the rows and leaves the file to rank 0).
     file: Option<File>,
     /// Whole rows not yet written.
@@ -40,6 +42,7 @@ impl History {
             rigid: (0..model.interfaces.len())
                 .filter(|&i| model.interfaces[i].is_rigid())
                 .collect(),
+            failure: model.strengths.iter().any(Option::is_some),
             file,
             pending: String::new(),
             whole,
@@ -125,9 +128,8 @@ impl History {
         time: f64,
         step: usize,
         e: &Energies,
-        bodies: &[[f64; 3]],
-        contacts: &[ContactReport],
-        probes: &[ProbeValues],
+        (bodies, contacts, probes): (&[[f64; 3]], &[ContactReport], &[ProbeValues]),
+        failure: Option<&[f64; 5]>,
     ) -> Result<()> {
         use std::fmt::Write as _;
         let l = &mut self.line;
@@ -162,6 +164,12 @@ impl History {
         }
         for &i in &self.rigid {
             for x in contacts[i].force {
+                num(l, x);
+            }
+        }
+        if self.failure {
+            // NaN where the engine does not survey every step (scene-format.md)
+            for x in failure.copied().unwrap_or([f64::NAN; 5]) {
                 num(l, x);
             }
         }
@@ -310,6 +318,12 @@ pub(crate) fn column_names(model: &Model) -> Vec<String> {
             cols.push(format!("{}.{c}", itf.name));
         }
     }
+    // the largest of each ply failure index over the model
+    if model.strengths.iter().any(Option::is_some) {
+        for c in crate::material::failure::INDICES {
+            cols.push(format!("failure_index.{c}"));
+        }
+    }
     cols
 }
 
@@ -407,6 +421,7 @@ mod tests {
             path: path.clone(),
             frictional: vec![0],
             rigid: Vec::new(),
+            failure: false,
             file: Some(File::create(&path).unwrap()),
             pending: String::new(),
             whole: 0,
@@ -424,8 +439,8 @@ mod tests {
             friction_work: f64::NAN,
             ..Default::default()
         };
-        h.row(1e-3, 7, &e, &[[1.0, -0.0, f64::INFINITY]], &[c], &[])
-            .unwrap();
+        let rows = (&[[1.0, -0.0, f64::INFINITY]][..], &[c][..], &[][..]);
+        h.row(1e-3, 7, &e, rows, None).unwrap();
         h.flush().unwrap();
         let written = std::fs::read_to_string(&path).unwrap();
         let _ = std::fs::remove_dir_all(&dir);

@@ -122,6 +122,15 @@ pub struct Summary {
     pub energy_initial: f64,
     pub energy_final: f64,
     pub energy_max: f64,
+    /// With ply strengths: the largest of each failure index over the run, by name
+    /// (`material::failure::INDICES`); absent where the engine does not survey every step
+    /// (the resident GPU step, MPI ranks).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failure_index_max: Option<std::collections::BTreeMap<String, f64>>,
+    /// With ply strengths: where and when a failure index first reached 1 (null if none
+    /// did).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub first_failure: Option<Option<crate::output::failure_survey::FirstFailure>>,
     pub interfaces: Vec<InterfaceSummary>,
     /// What made the result doubtful (empty when `status = "completed"`).
     pub warnings: Vec<crate::check::Warning>,

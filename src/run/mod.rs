@@ -17,8 +17,8 @@ pub use outputs::RUN_FILES;
 pub use ranks::run_ranks;
 
 use outputs::{
-    check_resumable, prepare_dir, save, start_fresh, start_resumed, write_frame, write_row,
-    Outputs, RunIdentity,
+    check_resumable, count_failure, prepare_dir, save, start_fresh, start_resumed, write_frame,
+    write_row, Outputs, RunIdentity,
 };
 use summary::{
     count_step, energy_scale, fail, fill_summary, initial_summary, interrupted, warnings,
@@ -31,6 +31,7 @@ use crate::error::{ImpactError, Result};
 use crate::gpu::GpuKernels;
 use crate::integrate::{ExplicitSolver, ImplicitSolver, Integrator, ResidentSolver, StepReport};
 use crate::model::Model;
+use crate::output::failure_survey::FailureMaxima;
 use crate::output::progress::Progress;
 use crate::output::summary::SetupClock;
 use crate::output::Summary;
@@ -375,9 +376,10 @@ impl<'s> Running<'s> {
                 self.solver.shorten_step(dt);
             }
         }
-        let (r, e) = self.advance(n)?;
+        let (r, e, failure) = self.advance(n)?;
         let at = (n + 1, self.solver.time());
         count_step(&mut self.tally, at, r, e, &self.solver.reports());
+        count_failure(&mut self.tally, &self.out, &self.setup.model, failure, at);
         if !e.is_finite() || e.abs() > DIVERGENCE_FACTOR * self.scale_now() {
             let reason = format!(
                 "total energy {e:.6e} against {:.6e} at the start",
@@ -394,7 +396,7 @@ impl<'s> Running<'s> {
 
     /// The solver's step with its row and frame. The linear solver failing is the run
     /// diverging; anything else (a write, the GPU) ends it as failed, with its own error.
-    fn advance(&mut self, n: usize) -> Result<(StepReport, f64)> {
+    fn advance(&mut self, n: usize) -> Result<(StepReport, f64, Option<FailureMaxima>)> {
         let (model, end_time) = (&self.setup.model, self.summary.end_time);
         let last = n + 1 == self.setup.steps;
         let shortened = self.shortened(n);
@@ -404,9 +406,9 @@ impl<'s> Running<'s> {
             if shortened {
                 solver.end_at(end_time);
             }
-            let e = write_row(solver, &mut out.history)?;
+            let (e, failure) = write_row(solver, out)?;
             write_frame(solver, model, &mut out.frames, last)?;
-            Ok((r, e))
+            Ok((r, e, failure))
         });
         match outcome {
             Ok(x) => Ok(x),

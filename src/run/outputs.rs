@@ -9,6 +9,7 @@ use crate::error::{ImpactError, Result};
 use crate::integrate::Integrator;
 use crate::integrate::SolverState;
 use crate::model::Model;
+use crate::output::failure_survey::{FailureMaxima, FailureSurvey};
 use crate::output::vtu::{NodeContact, VtuWriter};
 use crate::output::History;
 use crate::scene::Scene;
@@ -70,6 +71,9 @@ pub(super) struct Outputs {
     pub(super) stem: String,
     pub(super) history: History,
     pub(super) frames: Option<(usize, VtuWriter)>,
+    /// The ply failure indices of every row (materials with strengths, on the engines that
+    /// hold the displacement of every step on the host: one process, CPU or device kernels).
+    pub(super) failure: Option<FailureSurvey>,
     /// Whether this process writes the files (every rank but the first of a decomposed run
     /// computes the rows with the others and writes nothing).
     pub(super) writes: bool,
@@ -122,9 +126,10 @@ pub(super) fn start_fresh(
             };
             (every, w)
         }),
+        failure: failure_survey(model, solver, rank),
         writes,
     };
-    write_row(solver, &mut out.history)?;
+    let (_, failure) = write_row(solver, &mut out)?;
     write_frame(solver, model, &mut out.frames, false)?;
     let n = model.interfaces.len();
     let tally = Tally {
@@ -135,6 +140,8 @@ pub(super) fn start_fresh(
         deepest: vec![(0.0, 0, 0.0); n],
         ..Default::default()
     };
+    let mut tally = tally;
+    count_failure(&mut tally, &out, model, failure, (0, 0.0));
     Ok((out, tally))
 }
 
@@ -166,6 +173,7 @@ pub(super) fn start_resumed(
                 VtuWriter::resume(dir, &c.frame_stem, &c.frames, rank),
             )
         }),
+        failure: failure_survey(model, solver, rank),
         writes,
     };
     Ok((out, c.tally))
@@ -280,20 +288,59 @@ pub(super) struct RunIdentity {
     pub(super) speed_scale: f64,
 }
 
-/// Appends the current state's row; returns the total energy.
-pub(super) fn write_row(solver: &mut dyn Integrator, history: &mut History) -> Result<f64> {
+/// Appends the current state's row; returns the total energy and the state's failure
+/// indices (where surveyed).
+pub(super) fn write_row(
+    solver: &mut dyn Integrator,
+    out: &mut Outputs,
+) -> Result<(f64, Option<FailureMaxima>)> {
     let e = solver.energies()?;
     let contacts = solver.reports();
     let probes = solver.probes();
-    history.row(
+    let failure = (out.failure.as_ref()).map(|f| f.maxima(solver.model(), solver.displacement()));
+    out.history.row(
         solver.time(),
         solver.steps(),
         &e,
-        &solver.body_velocities(),
-        &contacts,
-        &probes,
+        (&solver.body_velocities(), &contacts, &probes),
+        failure.as_ref().map(|f| &f.max),
     )?;
-    Ok(e.total())
+    Ok((e.total(), failure))
+}
+
+/// The failure survey of a model with ply strengths, where the engine holds every step's
+/// displacement on the host (one process; the CPU, or the device's element forces with
+/// the host's loop).
+fn failure_survey(
+    model: &Model,
+    solver: &dyn Integrator,
+    rank: Option<(usize, usize)>,
+) -> Option<FailureSurvey> {
+    use crate::integrate::integrator::{ENGINE_CPU, ENGINE_GPU_KERNELS};
+    let engine = solver.engine();
+    let surveyed = rank.is_none() && (engine == ENGINE_CPU || engine == ENGINE_GPU_KERNELS);
+    surveyed.then(|| FailureSurvey::new(model)).flatten()
+}
+
+/// Counts a row's failure indices in the tally: their largest values, and where and when
+/// one first reached 1.
+pub(super) fn count_failure(
+    tally: &mut Tally,
+    out: &Outputs,
+    model: &Model,
+    failure: Option<FailureMaxima>,
+    at: (usize, f64),
+) {
+    let (Some(survey), Some(m)) = (&out.failure, failure) else {
+        return;
+    };
+    let max = tally.failure_max.get_or_insert([0.0; 5]);
+    for (a, b) in max.iter_mut().zip(m.max) {
+        *a = a.max(b);
+    }
+    if tally.first_failure.is_none() {
+        tally.first_failure = survey.first_failure(model, &m, at);
+    }
 }
 
 /// Writes a VTU frame on every `every`-th step, and on the last step (`last`) whatever its

@@ -171,6 +171,13 @@ pub(super) fn copy_tally(summary: &mut Summary, tally: &Tally) {
     summary.energy_initial = tally.energy_initial;
     summary.energy_final = tally.energy_final;
     summary.energy_max = tally.energy_max;
+    if let Some(max) = tally.failure_max {
+        let names = crate::material::failure::INDICES
+            .iter()
+            .map(|s| s.to_string());
+        summary.failure_index_max = Some(names.zip(max).collect());
+        summary.first_failure = Some(tally.first_failure.clone());
+    }
 }
 
 /// The summary's fields from the tally and the solver.
