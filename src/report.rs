@@ -148,7 +148,7 @@ fn interfaces(out: &mut String, setup: &Setup) {
             match itf.primary {
                 crate::model::Primary::Plane { .. } => "a rigid plane".to_string(),
                 crate::model::Primary::Rigid { body, .. } => format!(
-                    "rigid body `{}` ({} kg, {})",
+                    "rigid body `{}` (mass {}, {})",
                     model.rigid[body].name,
                     model.rigid[body].mass,
                     model.rigid[body].motion.name()

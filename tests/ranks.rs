@@ -188,6 +188,29 @@ fn a_decomposed_run_refuses_the_implicit_path() {
     assert!(e.to_string().contains("run.method"), "{e}");
 }
 
+/// A decomposed run refuses rigid bodies, naming the first, before it starts.
+#[test]
+fn a_decomposed_run_refuses_rigid_bodies() {
+    let text = edit(
+        &scene_text("rigid_sphere_on_block.toml"),
+        "end_time = 0.62",
+        "end_time = 0.01",
+    );
+    let scene = Scene::parse(&text, &repo().join("scenes/ranks_rigid.toml")).unwrap();
+    let opts = RunOptions {
+        out: Some(out_dir("ranks_rigid")),
+        quiet: true,
+        device: Some(DeviceChoice::Cpu),
+        ..Default::default()
+    };
+    let e = run_ranks(&scene, &opts, &Single).expect_err("rigid bodies are refused");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("rigid_body (rigid body `ball`)") && msg.contains("mpirun"),
+        "{msg}"
+    );
+}
+
 /// Runs `text` in `tag`'s folder on one process or through the decomposed solver on one
 /// rank (fresh unless `resume`), on the CPU; the run must complete.
 fn run_as(tag: &str, text: &str, ranked: bool, resume: bool) {
