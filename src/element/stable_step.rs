@@ -9,9 +9,7 @@ pub fn element_stable_step<'a>(
     x: &[[f64; 3]],
     section: impl Into<Section<'a>>,
 ) -> f64 {
-    let section = section.into();
-    let k = kind.stiffness(x, section);
-    let ml = kind.lumped_mass(x, section.density());
+    let (k, ml) = stiffness_and_mass(kind, x, section.into());
     let w2 = (0..k.len())
         .map(|i| k[i].iter().map(|v| v.abs()).sum::<f64>() / ml[i / 3])
         .fold(0.0, f64::max);
@@ -26,11 +24,14 @@ pub fn element_critical_step<'a>(
     x: &[[f64; 3]],
     section: impl Into<Section<'a>>,
 ) -> f64 {
-    let section = section.into();
-    let k = kind.stiffness(x, section);
-    let ml = kind.lumped_mass(x, section.density());
+    let (k, ml) = stiffness_and_mass(kind, x, section.into());
     let n = k.len();
     let s = nalgebra::DMatrix::from_fn(n, n, |i, j| k[i][j] / (ml[i / 3] * ml[j / 3]).sqrt());
     let w2 = nalgebra::SymmetricEigen::new(s).eigenvalues.max();
     2.0 / w2.sqrt()
+}
+
+/// The element's stiffness and lumped corner masses.
+fn stiffness_and_mass(kind: ElementKind, x: &[[f64; 3]], s: Section) -> (Vec<Vec<f64>>, Vec<f64>) {
+    (kind.stiffness(x, s), kind.lumped_mass(x, s.density()))
 }

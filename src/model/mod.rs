@@ -226,47 +226,40 @@ fn fixes(scene: &Scene, mesh: &Mesh) -> Result<(Vec<bool>, Vec<usize>)> {
 }
 
 /// The contact queries of the surface interfaces, then every interface: the `[[contact]]`s
-/// (secondary nodes against primary faces), then the `[[rigid_plane]]`s.
+/// (secondary nodes against primary faces or a rigid body's surface), then the
+/// `[[rigid_plane]]`s.
 fn interfaces(scene: &Scene, mesh: &Mesh, rigid: &[RigidBody]) -> (ContactQueries, Vec<Interface>) {
     let mut queries = ContactQueries::default();
     let mut interfaces = Vec::new();
     for c in &scene.contacts {
         let sec = &mesh.bodies[c.secondary.body].surfaces[c.secondary.surface].faces;
         let (nodes, area) = tributary_areas(mesh, sec);
-        let c_primary = match c.primary {
-            PrimarySide::Surface(s) => s,
-            PrimarySide::RigidBody(b) => {
-                interfaces.push(Interface {
-                    name: c.name.clone(),
-                    friction: c.friction,
-                    nodes,
-                    area,
-                    secondary_faces: sec.clone(),
-                    primary: Primary::Rigid {
-                        body: b,
-                        node: rigid[b].node,
-                        shape: rigid[b].shape,
-                    },
-                });
-                continue;
+        let primary = match c.primary {
+            PrimarySide::RigidBody(b) => Primary::Rigid {
+                body: b,
+                node: rigid[b].node,
+                shape: rigid[b].shape,
+            },
+            PrimarySide::Surface(p) => {
+                let f0 = queries.faces.len();
+                let faces = &mesh.bodies[p.body].surfaces[p.surface].faces;
+                queries.faces.extend(faces.iter().map(Face::slots));
+                let q0 = queries.secondary.len();
+                queries.secondary.extend_from_slice(&nodes);
+                Primary::Surface {
+                    body: p.body,
+                    faces: f0..queries.faces.len(),
+                    queries: q0..queries.secondary.len(),
+                }
             }
         };
-        let f0 = queries.faces.len();
-        let primary = &mesh.bodies[c_primary.body].surfaces[c_primary.surface].faces;
-        queries.faces.extend(primary.iter().map(Face::slots));
-        let q0 = queries.secondary.len();
-        queries.secondary.extend_from_slice(&nodes);
         interfaces.push(Interface {
             name: c.name.clone(),
             friction: c.friction,
             nodes,
             area,
             secondary_faces: sec.clone(),
-            primary: Primary::Surface {
-                body: c_primary.body,
-                faces: f0..queries.faces.len(),
-                queries: q0..queries.secondary.len(),
-            },
+            primary,
         });
     }
     queries.offsets = vec![0; queries.secondary.len() + 1];
