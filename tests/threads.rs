@@ -71,3 +71,17 @@ fn explicit_tet_block_on_a_plane_is_the_same_on_any_thread_count() {
 fn implicit_contact_with_friction_is_the_same_on_any_thread_count() {
     same_on_any_thread_count("implicit_cube", &fine_cube("0.006"));
 }
+
+/// The drop-weight coupon on a coarse mesh (1,200 layered hex8i, 1,302 surface nodes against
+/// five rigid bodies, the per-step failure survey), its first 400 steps.
+#[test]
+fn rigid_bodies_and_layered_plies_are_the_same_on_any_thread_count() {
+    let text = edit(
+        &scene_text("drop_weight_d7136.toml"),
+        "divisions = [50, 34, 4]",
+        "divisions = [30, 20, 2]",
+    );
+    let text = edit(&text, "end_time = 4.5e-3", "end_time = 2.2e-4");
+    let text = edit(&text, "vtu_every = 500", "vtu_every = 1000000");
+    same_on_any_thread_count("drop_weight", &text);
+}
