@@ -526,10 +526,9 @@ fn a_rigid_shape_is_exactly_one_shape() {
         &["rigid_body[0].shape", "exactly one", "sphere, plane"],
     );
     let meshed = "mass = 1.0\nshape = { mesh = \"tup.msh\", surface = \"face\" }";
-    expect(
-        &rigid(meshed),
-        &["rigid_body[0].shape.mesh", "not supported"],
-    );
+    expect(&rigid(meshed), &["rigid_body[0].shape.mesh", "tup.msh"]);
+    let half = "mass = 1.0\nshape = { mesh = \"tup.msh\" }";
+    expect(&rigid(half), &["rigid_body[0].shape.surface", "both"]);
     let bad_ends =
         "mass = 1.0\nshape = { cylinder = { radius = 1.0, axis = [1.0, 0.0, 0.0], length = 2.0, ends = \"domed\" } }";
     expect(&rigid(bad_ends), &["shape.cylinder.ends", "domed", "round"]);
@@ -607,4 +606,16 @@ fn a_rigid_body_named_like_a_body_is_refused() {
         "name = \"bar\"",
     );
     expect(&text, &["rigid_body[0].name", "body[0]"]);
+}
+
+#[test]
+fn a_meshed_rigid_shape_names_a_surface_of_its_file() {
+    // parsed as if in scenes/, where meshes/sphere.msh is
+    let text = rigid("mass = 1.0\nshape = { mesh = \"meshes/sphere.msh\", surface = \"skn\" }");
+    let e =
+        Scene::parse(&text, &repo().join("scenes").join("bad.toml")).expect_err("no such surface");
+    let msg = e.to_string();
+    for part in ["rigid_body[0].shape.surface", "skn", "did you mean `skin`?"] {
+        assert!(msg.contains(part), "{msg:?} should contain {part:?}");
+    }
 }

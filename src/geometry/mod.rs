@@ -5,6 +5,7 @@
 pub mod face;
 pub mod point;
 pub mod quad;
+pub mod rigid_mesh;
 pub mod rigid_shape;
 pub mod triangle;
 pub mod vector;

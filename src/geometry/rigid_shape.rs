@@ -1,5 +1,5 @@
-//! The analytic surfaces of rigid bodies: a sphere, a cylinder (flat or round ends), a plane
-//! and a flat plate with a centred rectangular window.
+//! The surfaces of rigid bodies: a sphere, a cylinder (flat or round ends), a plane, a flat
+//! plate with a centred rectangular window, and a meshed surface ([`super::rigid_mesh`]).
 //!
 //! Every shape is placed by its body's reference point: [`RigidShape::distance`] takes the
 //! point relative to it and returns the signed distance to the surface (positive outside the
@@ -12,7 +12,7 @@ use super::vector::{cross, dot, norm, sub};
 type V3 = [f64; 3];
 
 /// A rigid body's surface, in its body's frame (the body translates, it does not rotate).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum RigidShape {
     /// A ball of `radius` centred on the reference point.
     Sphere { radius: f64 },
@@ -38,6 +38,9 @@ pub enum RigidShape {
         size: [f64; 2],
         opening: [f64; 2],
     },
+    /// A meshed surface (a mesh file's named surface), its coordinates relative to the
+    /// reference point; the solid is on the side opposite its faces' outward normals.
+    Mesh(std::sync::Arc<super::rigid_mesh::RigidMesh>),
 }
 
 impl RigidShape {
@@ -62,6 +65,7 @@ impl RigidShape {
     /// positive outside the solid, and the unit outward normal at the closest point.
     pub fn distance(&self, r: V3) -> (f64, V3) {
         match *self {
+            RigidShape::Mesh(ref m) => m.distance(r),
             RigidShape::Sphere { radius } => from_point(r, [0.0; 3], radius),
             RigidShape::Cylinder {
                 radius,

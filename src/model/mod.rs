@@ -238,7 +238,7 @@ fn interfaces(scene: &Scene, mesh: &Mesh, rigid: &[RigidBody]) -> (ContactQuerie
             PrimarySide::RigidBody(b) => Primary::Rigid {
                 body: b,
                 node: rigid[b].node,
-                shape: rigid[b].shape,
+                shape: rigid[b].shape.clone(),
             },
             PrimarySide::Surface(p) => {
                 let f0 = queries.faces.len();

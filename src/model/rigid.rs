@@ -26,7 +26,7 @@ impl RigidBody {
                 name: b.name.clone(),
                 node: (first_node + i) as u32,
                 mass: b.mass,
-                shape: b.shape,
+                shape: b.shape.clone(),
                 motion: b.motion,
                 velocity: b.velocity,
             })

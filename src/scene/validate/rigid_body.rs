@@ -141,10 +141,63 @@ impl Checker<'_> {
                 opening,
             });
         }
-        Err(self.err(
-            key("shape.mesh"),
-            "a meshed rigid surface is not supported yet: give the shape as a `sphere`, `cylinder`, `plane` or `plate`",
-        ))
+        self.meshed_shape(key, s)
+    }
+
+    /// `{ mesh = "file", surface = "name" }`: the file's named surface, its coordinates
+    /// relative to the body's `position`, quads split into two triangles.
+    fn meshed_shape(&self, key: &dyn Fn(&str) -> String, s: &RawRigidShape) -> Result<RigidShape> {
+        let (Some(file), Some(surface)) = (&s.mesh, &s.surface) else {
+            return Err(self.err(
+                key("shape.surface"),
+                "a meshed shape gives both `mesh` (the file) and `surface` (the name of its surface)",
+            ));
+        };
+        let path = (self.path.parent())
+            .map(|d| d.join(file))
+            .unwrap_or_else(|| std::path::PathBuf::from(file));
+        if let Err(source) = std::fs::metadata(&path) {
+            return Err(crate::error::ImpactError::MeshFile {
+                scene: self.path.to_path_buf(),
+                key: key("shape.mesh"),
+                path,
+                source,
+            });
+        }
+        let (parts, notices) = crate::mesh::import(&path, 1.0, [0.0; 3])?;
+        self.notices.borrow_mut().extend(notices);
+        let names: Vec<&str> = parts.surfaces.iter().map(|s| s.name.as_str()).collect();
+        let Some(found) = super::find_name(&names, surface) else {
+            let hint = super::closest(surface, names.iter().copied())
+                .map(|c| format!(" (did you mean `{c}`?)"))
+                .unwrap_or_default();
+            return Err(self.err(
+                key("shape.surface"),
+                format!(
+                    "{} has no surface named `{surface}`; its surfaces are {names:?}{hint}",
+                    path.display()
+                ),
+            ));
+        };
+        let at = |n: u32| parts.nodes[n as usize];
+        let triangles = (parts.surfaces[found].faces.iter())
+            .flat_map(|f| match *f {
+                crate::geometry::face::Face::Quad([a, b, c, d]) => {
+                    vec![[at(a), at(b), at(c)], [at(a), at(c), at(d)]]
+                }
+                crate::geometry::face::Face::Triangle([a, b, c]) => vec![[at(a), at(b), at(c)]],
+            })
+            .collect();
+        match crate::geometry::rigid_mesh::RigidMesh::new(triangles) {
+            Some(m) => Ok(RigidShape::Mesh(std::sync::Arc::new(m))),
+            None => Err(self.err(
+                key("shape.surface"),
+                format!(
+                    "surface `{surface}` of {} has no face of positive area",
+                    path.display()
+                ),
+            )),
+        }
     }
 
     fn non_negative_length(&self, key: &str, v: f64) -> Result<f64> {
