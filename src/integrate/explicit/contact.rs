@@ -304,29 +304,29 @@ impl ExplicitContact {
         candidates: Option<&[(u32, u32)]>,
     ) {
         let (u, v): (&[f64], &[f64]) = (f.u, f.v);
-        let mut constraints = std::mem::take(&mut self.constraints);
-        constraints.clear();
-        let mut add = |k: usize, i: usize| {
-            let itf = &model.interfaces[k];
-            let absent = |planes: &dyn Fn(u32) -> bool| itf.is_plane() && !planes(itf.nodes[i]);
-            if f.planes.is_some_and(absent) {
-                return;
-            }
-            if let Some(c) = self.constraint_of(model, u, v, dt, (k, i), margin) {
-                constraints.push(c);
-            }
-        };
-        match candidates {
-            None => {
-                for (k, itf) in model.interfaces.iter().enumerate() {
-                    (0..itf.nodes.len()).for_each(|i| add(k, i));
-                }
-            }
+        let pairs: Vec<(usize, usize)> = match candidates {
+            None => (model.interfaces.iter().enumerate())
+                .flat_map(|(k, itf)| (0..itf.nodes.len()).map(move |i| (k, i)))
+                .collect(),
             Some(list) => {
                 debug_assert!(list.is_sorted(), "the candidates in constraint order");
-                list.iter().for_each(|&(k, i)| add(k as usize, i as usize));
+                list.iter()
+                    .map(|&(k, i)| (k as usize, i as usize))
+                    .collect()
             }
-        }
+        };
+        // a plane's node whose state the fields do not hold is out of every plane's reach
+        let held = |&(k, i): &(usize, usize)| {
+            let itf = &model.interfaces[k];
+            !f.planes.is_some_and(|p| itf.is_plane() && !p(itf.nodes[i]))
+        };
+        let pairs: Vec<(usize, usize)> = pairs.into_iter().filter(held).collect();
+        // each pair's kinematics on all threads, collected in pair order
+        let this = &*self;
+        let constraints: Vec<NodeConstraint> = (pairs.par_iter())
+            .with_min_len(256)
+            .filter_map(|&(k, i)| this.constraint_of(model, u, v, dt, (k, i), margin))
+            .collect();
         self.constraints = constraints;
         self.split_compliances(f.inv_mass);
     }
