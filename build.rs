@@ -2,9 +2,9 @@
 //! rather than a user's run.
 //!
 //! Each `shaders/<name>.wgsl` is a kernel whose entry point is `<name>`. Its source is the
-//! shared files (`shaders/shared/`, in the order of [`SHARED`]) followed by the kernel's own
-//! file, in which a line `// include: NAME` stands for `shaders/include/NAME.wgsl` (helpers
-//! over bindings that only some kernels declare, such as `velocity`). Every assembled source
+//! shared files (`shaders/shared/`, in the order of [`SHARED`], then the contact laws'
+//! `law_*.wgsl`) followed by the kernel's own file, in which a line `// include: NAME` stands
+//! for `shaders/include/NAME.wgsl` (helpers over bindings that only some kernels declare, such as `velocity`). Every assembled source
 //! is parsed and validated with naga and written to `$OUT_DIR/shaders.rs` as a constant named
 //! after the kernel in upper case, with the table `ALL` of every kernel (found by scanning the
 //! folder: adding a kernel is adding its file).
@@ -12,12 +12,13 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-const SHARED: [&str; 6] = [
+const SHARED: [&str; 7] = [
     "shaders/shared/types.wgsl",
     "shaders/shared/quad.wgsl",
     "shaders/shared/triangle.wgsl",
     "shaders/shared/face.wgsl",
     "shaders/shared/element.wgsl",
+    "shaders/shared/contact_law.wgsl",
     "shaders/shared/contact.wgsl",
 ];
 
@@ -64,9 +65,27 @@ fn validate(name: &str, source: &str) {
     }
 }
 
+/// The contact laws' files, `shaders/shared/law_*.wgsl` (one per law; adding a law is adding
+/// its file), by name.
+fn law_files() -> Vec<String> {
+    let mut laws: Vec<String> = std::fs::read_dir("shaders/shared")
+        .expect("the shaders/shared folder")
+        .map(|e| e.expect("a shaders/shared entry").path())
+        .filter(|p| {
+            let name = p.file_name().unwrap().to_string_lossy();
+            name.starts_with("law_") && name.ends_with(".wgsl")
+        })
+        .map(|p| p.to_string_lossy().into_owned())
+        .collect();
+    laws.sort();
+    laws
+}
+
 fn main() {
     println!("cargo:rerun-if-changed=shaders");
-    let shared: String = SHARED.iter().map(|f| read(f)).collect();
+    let shared: String = (SHARED.iter().map(|f| read(f)))
+        .chain(law_files().iter().map(|f| read(f)))
+        .collect();
     let mut names: Vec<String> = std::fs::read_dir("shaders")
         .expect("the shaders folder")
         .filter_map(|e| {

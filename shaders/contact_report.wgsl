@@ -47,16 +47,16 @@ fn contact_report(@builtin(global_invocation_id) gid: vec3<u32>) {
     let rel = relative_velocity(pairs[p].node, face, weights);
     let rn = dot(rel, nrm);
     let jt = vec3_of(c.jt);
-    let mu = pairs[p].mu;
+    let law = pairs[p].law;
     results[o + SLOT_NORMAL_IMPULSE] = c.jn;
     results[o + SLOT_FRICTION_IMPULSE] = jt.x;
     results[o + SLOT_FRICTION_IMPULSE + 1u] = jt.y;
     results[o + SLOT_FRICTION_IMPULSE + 2u] = jt.z;
     results[o + SLOT_ACTIVE] = select(0.0, 1.0, c.jn > 0.0);
-    let sliding = mu > 0.0 && c.jn > 0.0 && length(jt) >= mu * c.jn * (1.0 - 1e-6);
+    let sliding = law_sliding(law, pairs[p].mu, jt, c.jn);
     results[o + SLOT_SLIDING] = select(0.0, 1.0, sliding);
     results[o + SLOT_GAP] = c.gap - step.dt * rn;
-    if (mu > 0.0) {
+    if (law_is_frictional(law)) {
         let slip = rel - rn * nrm;
         let before = vec3_of(c.slip);
         results[o + SLOT_FRICTION_WORK] -= dot(jt, 0.5 * (before + slip));

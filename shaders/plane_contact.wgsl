@@ -3,10 +3,10 @@
 // in Carpenter, Taylor and Katona's forward-increment form: g_n + dt gdot_{n+1/2} <= 0,
 // J_N >= 0, complementary. A node's planes couple only through the node itself, so the
 // node solves its own constraints by the projected Jacobi sweeps of the host path (the
-// row-sum compliance: the node's plane count times its largest inverse mass), with
-// Coulomb friction returned onto the cone |J_T| <= mu J_N in the same sweep. A plane enters
-// the step if the node is within four steps of its motion of it (g >= -4 dt |v*|); the
-// others keep zero impulses.
+// row-sum compliance: the node's plane count times its largest inverse mass), with the
+// tangential impulse returned onto the law's set (`law_returned`) in the same sweep. A plane
+// enters the step if the node is within four steps of its motion of it (g >= -4 dt |v*|);
+// the others keep zero impulses.
 //
 // Results, SLOT floats per (plane node, plane): normal impulse, friction impulse (3), active
 // (0/1), sliding (0/1), linearised end-of-step gap, friction work since the start, and the
@@ -103,6 +103,7 @@ fn plane_contact(@builtin(global_invocation_id) gid: vec3<u32>) {
                 vel,
                 nrm,
                 touches * inv_max,
+                planes[p].law,
                 planes[p].mu,
                 results[o],
                 load3(o + 1u),
@@ -133,15 +134,15 @@ fn plane_contact(@builtin(global_invocation_id) gid: vec3<u32>) {
             continue;
         }
         let nrm = vec3_of(planes[p].normal);
-        let mu = planes[p].mu;
+        let law = planes[p].law;
         let rn = dot(vel, nrm);
         let jn = results[o];
         let jt = load3(o + 1u);
         results[o + SLOT_ACTIVE] = select(0.0, 1.0, jn > 0.0);
-        let sliding = mu > 0.0 && jn > 0.0 && length(jt) >= mu * jn * (1.0 - 1e-6);
+        let sliding = law_sliding(law, planes[p].mu, jt, jn);
         results[o + SLOT_SLIDING] = select(0.0, 1.0, sliding);
         results[o + SLOT_GAP] -= dt * rn;
-        if (mu > 0.0) {
+        if (law_is_frictional(law)) {
             let slip = vel - rn * nrm;
             let slip_before = before - dot(before, nrm) * nrm;
             results[o + SLOT_FRICTION_WORK] -= dot(jt, 0.5 * (slip_before + slip));

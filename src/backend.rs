@@ -29,7 +29,7 @@ pub trait Kernels {
     /// Broad and narrow phase of every surface interface at (u, v): each query's candidates
     /// are the faces of its interface whose box, grown by `margin`, holds the node, and its
     /// point the closest of them (as [`Self::contact_gap_into`]). The default runs the host's
-    /// grid (`contact::search`, filling `queries`' candidate lists) and then
+    /// grid (`search`, filling `queries`' candidate lists) and then
     /// `contact_gap_into`; the GPU runs the whole search on the device.
     #[allow(clippy::too_many_arguments)]
     fn contact_search_into(
@@ -42,7 +42,7 @@ pub trait Kernels {
         lists: &mut [Vec<u32>],
         out: &mut [ContactPoint],
     ) -> Result<()> {
-        crate::contact::search::surface_candidates(model, queries, lists, u, margin);
+        crate::search::surface_candidates(model, queries, lists, u, margin);
         self.contact_gap_into(u, v, queries, out)
     }
     /// Covariant slip rates of every contact point (zero where `face` is none).

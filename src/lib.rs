@@ -10,9 +10,11 @@
 //! 2. [`geometry`]: vectors, bilinear quads, closest-point projection, the contact point;
 //! 3. [`element`], [`mesh`], [`scene`]: element matrices, meshes (boxes, Gmsh, Abaqus), the
 //!    checked scene;
-//! 4. [`kernels`]: the CPU twins (f64) of the WGSL kernels, on flat inputs;
+//! 4. [`contact`]: the contact laws as kinds, the augmented Lagrange update, the tangential
+//!    multipliers, Anderson acceleration; [`kernels`]: the CPU twins (f64) of the WGSL
+//!    kernels, on flat inputs;
 //! 5. [`model`]: the mesh, constraints and contact interfaces as data;
-//! 6. [`contact`]: enforcement (search, augmented Lagrange, friction, Anderson);
+//! 6. [`search`]: the host's broad phase of contact;
 //! 7. [`backend`] and [`gpu`]: the kernels behind one trait, on the CPU or a GPU;
 //! 8. [`linalg`], [`integrate`]: assembly and Cholesky; the implicit, explicit and resident
 //!    integrators;
@@ -41,6 +43,7 @@ pub mod parallel;
 pub mod report;
 pub mod run;
 pub mod scene;
+pub mod search;
 pub mod setup;
 pub mod study;
 

@@ -142,7 +142,7 @@ fn interfaces(out: &mut String, setup: &Setup) {
         };
         let _ = writeln!(
             out,
-            "  {}: {} secondary nodes against {}, friction {}; {gaps}{pen}",
+            "  {}: {} secondary nodes against {}, {}; {gaps}{pen}",
             itf.name,
             itf.nodes.len(),
             match itf.primary {
@@ -155,7 +155,7 @@ fn interfaces(out: &mut String, setup: &Setup) {
                 ),
                 crate::model::Primary::Surface { .. } => "a surface".to_string(),
             },
-            itf.friction
+            itf.law
         );
     }
 }

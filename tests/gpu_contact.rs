@@ -9,7 +9,6 @@
 mod common;
 use common::*;
 
-use impact::geometry::vector::norm;
 use impact::gpu::{GpuContext, ResidentStep};
 use impact::integrate::resident;
 use impact::integrate::{Integrator, ResidentSolver};
@@ -263,7 +262,7 @@ fn contact_iteration_stages_match_their_cpu_twins() {
         let sliding = c_cpu
             .iter()
             .zip(&contact.pairs)
-            .filter(|(c, p)| c.jn > 0.0 && p.mu > 0.0 && norm(c.jt) >= p.mu * c.jn * 0.999)
+            .filter(|(c, p)| p.law.is_sliding(c.jt, c.jn, 1e-3))
             .count();
         let pressed = c_cpu.iter().filter(|c| c.jn > 0.0).count();
         eprintln!("  {pressed} pressed, {sliding} sliding, violation {violation:.3e}");

@@ -8,6 +8,7 @@
 mod common;
 use common::*;
 
+use impact::contact::law::ContactLaw;
 use impact::gpu::inspect::Stage;
 use impact::gpu::resident_step::{plane_slots, row_columns};
 use impact::gpu::{ResidentSetup, ResidentStep};
@@ -59,7 +60,7 @@ fn random_inputs(rng: &mut StdRng) -> Inputs {
             PlaneData {
                 point: std::array::from_fn(|a| centre[a] + rng.random_range(-0.3..0.3)),
                 normal: d.map(|x| x / len),
-                mu: [0.3, 0.0, 0.5][p],
+                law: ContactLaw::of_friction([0.3, 0.0, 0.5][p]),
             }
         })
         .collect();

@@ -884,7 +884,7 @@ primary = {{ body = "block", face = "z-" }}
 
     // the independent reference: the host grid and contact_gap in f64
     let mut host_q = model.queries.clone();
-    impact::contact::search::surface_candidates(&model, &mut host_q, &mut lists, &u, margin);
+    impact::search::surface_candidates(&model, &mut host_q, &mut lists, &u, margin);
     let u3: Vec<[f64; 3]> = u.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
     let v3: Vec<[f64; 3]> = v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
     let mut want = vec![ContactPoint::default(); nq];
@@ -969,9 +969,8 @@ primary = {{ body = "block", face = "z-" }}
     let (ctx, search) = gpu.search_parts().expect("search built");
     let [keys, ranks, counts, starts, sorted] = search.read_sort(ctx).unwrap();
     let mask = search.mask();
-    let (face_first, layout) = impact::contact::search::search_layout(&model);
-    let cell =
-        impact::contact::search::search_cell(&model.mesh.nodes, &u, &model.queries.faces, margin);
+    let (face_first, layout) = impact::search::search_layout(&model);
+    let cell = impact::search::search_cell(&model.mesh.nodes, &u, &model.queries.faces, margin);
     let cpu_keys = kernels::face_cells(&positions, &model.queries.faces, &face_first, cell, mask);
     let key_misses = keys.iter().zip(&cpu_keys).filter(|(a, b)| a != b).count();
     eprintln!(

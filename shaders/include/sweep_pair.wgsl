@@ -4,8 +4,8 @@
 
 // One pair's part of a projected Jacobi sweep (twin: `kernels::contact_sweep`): from the
 // relative velocity at the sweep's start, the normal impulse moves by the residual of
-// g_n + dt gdot <= 0 over the compliance and is kept >= 0; with friction the tangential
-// impulse that stops the slip is returned onto the cone |J_T| <= mu J_N. Writes the pair's
+// g_n + dt gdot <= 0 over the compliance and is kept >= 0; under a frictional law the
+// tangential impulse that stops the slip is returned onto the law's set. Writes the pair's
 // impulses and its impulse change dj[p] (zero for a pair out of reach or not enforceable)
 // and returns its violation.
 fn sweep_pair(p: u32) -> f32 {
@@ -21,6 +21,7 @@ fn sweep_pair(p: u32) -> f32 {
             relative_velocity(pairs[p].node, face, weights),
             vec3_of(c.normal),
             c.compliance,
+            pairs[p].law,
             pairs[p].mu,
             c.jn,
             vec3_of(c.jt),

@@ -1,8 +1,9 @@
 // One projected Jacobi update of an explicit contact constraint (twin:
 // `kernels::impulse::impulse_update`, which the host path uses too): the step's gap rate in
 // forward-increment form, g_n + dt gdot <= 0 with gdot = -rel . n. The normal impulse moves
-// by the residual over the split compliance and is kept >= 0; with friction the tangential
-// impulse that stops the slip is returned onto the cone |J_T| <= mu J_N. The violation is
+// by the residual over the split compliance and is kept >= 0; under a frictional law the
+// tangential impulse that stops the slip is returned onto the law's set (`law_returned`:
+// Coulomb's cone |J_T| <= mu J_N). The violation is
 // the residual where pressed or opening too fast, and the slip where sticking.
 
 struct ImpulseUpdate {
@@ -18,6 +19,7 @@ fn impulse_update(
     rel: vec3<f32>,
     nrm: vec3<f32>,
     compliance: f32,
+    law: u32,
     mu: f32,
     jn: f32,
     jt: vec3<f32>,
@@ -29,15 +31,12 @@ fn impulse_update(
     out.violation = select(max(r, 0.0), abs(r), out.jn > 0.0);
     out.dj = (out.jn - jn) * nrm;
     out.jt = jt;
-    if (mu > 0.0) {
+    if (law_is_frictional(law)) {
         let slip = rel - rn * nrm;
         let trial = jt - slip / compliance;
-        let radius = mu * out.jn;
-        let size = length(trial);
-        out.jt = trial;
-        if (size > radius) {
-            out.jt = trial * (radius / size);
-        } else if (out.jn > 0.0) {
+        let r = law_returned(law, mu, trial, out.jn);
+        out.jt = r.t;
+        if (r.inside && out.jn > 0.0) {
             out.violation = max(out.violation, length(slip));
         }
         out.dj += out.jt - jt;

@@ -158,10 +158,11 @@ struct Lumped {
 }
 
 // An analytic rigid plane: a point on it (split like the nodes), the unit normal pointing
-// into the half-space the bodies stay in, and its Coulomb friction coefficient.
+// into the half-space the bodies stay in, and its contact law (`contact_law.wgsl`).
 struct Plane {
     point: Split3,
     normal: Float3,
+    law: u32,
     mu: f32,
 }
 
@@ -219,10 +220,11 @@ fn split_sum(a: Split3, b: Split3) -> vec3<f32> {
 // A pair of the explicit step's contact iteration: secondary node `node` of an interface
 // against its surface query `query` (its contact point), or against a rigid plane (`query` =
 // NO_FACE; the plane's point, split like the nodes, and its unit normal into the bodies'
-// side), with the interface's friction coefficient.
+// side), with the interface's contact law (`contact_law.wgsl`).
 struct ContactPair {
     node: u32,
     query: u32,
+    law: u32,
     mu: f32,
     point: Split3,
     normal: Float3,

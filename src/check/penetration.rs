@@ -10,7 +10,6 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::contact::search::{find_candidates, flatten};
 use crate::geometry::{
     face::FaceKind,
     vector::{dot, norm, sub, V3},
@@ -19,6 +18,7 @@ use crate::kernels::ContactQueries;
 use crate::model::Model;
 use crate::model::{Interface, Primary};
 use crate::scene::PenetrationPolicy;
+use crate::search::{find_candidates, flatten};
 
 /// Penetration below this fraction of the local face size is rounding (touching faces).
 pub(crate) const TOLERANCE: f64 = 1e-6;

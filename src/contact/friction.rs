@@ -50,8 +50,9 @@
 //! v_{T,n+1})$; [`Friction::work`] accumulates its negative, the energy friction dissipated.
 
 use super::augmented_lagrange::{update_with, IterationMemory, Penalty, UpdateReport};
+use super::law::ContactLaw;
+use crate::geometry::point::{ContactPoint, NO_FACE};
 use crate::geometry::vector::{cross, dot, norm, V3};
-use crate::kernels::contact_gap::{ContactPoint, NO_FACE};
 
 /// A node slides when its traction is within this relative distance of the cone.
 const ON_CONE: f64 = 1e-9;
@@ -70,26 +71,35 @@ pub(crate) fn plane_basis(n: V3) -> [V3; 2] {
     [t1, cross(n, t1)]
 }
 
-/// The return map: `t` without its component along the unit normal `n`, scaled back onto
-/// the Coulomb cone of radius `r` when it lies outside.
-pub(crate) fn cone_projection(t: V3, n: V3, r: f64) -> V3 {
-    if r <= 0.0 {
-        return [0.0; 3];
-    }
+/// `t` without its component along the unit normal `n`.
+fn tangential_part(t: V3, n: V3) -> V3 {
     let tn = dot(t, n);
-    let t = [t[0] - tn * n[0], t[1] - tn * n[1], t[2] - tn * n[2]];
-    let l = norm(t);
-    let scale = if l > r { r / l } else { 1.0 };
-    t.map(|x| x * scale)
+    [t[0] - tn * n[0], t[1] - tn * n[1], t[2] - tn * n[2]]
 }
 
-/// Radius of a node's Coulomb cone: mu T_N for a candidate with a contact point, else 0.
-pub(crate) fn cone_radius(mu: f64, pressure: f64, candidate: bool, point: &ContactPoint) -> f64 {
+/// The force bound of a node's law under `pressure` where it is a candidate with a contact
+/// point, else 0.
+fn bound_of(law: &ContactLaw, pressure: f64, candidate: bool, point: &ContactPoint) -> f64 {
     if candidate && point.face != NO_FACE {
-        mu * pressure
+        law.bound(pressure)
     } else {
         0.0
     }
+}
+
+/// The traction of a node's law from the trial `t`: returned onto the law's set for
+/// `pressure` where the node is a candidate with a contact point, else zero.
+pub(crate) fn returned_traction(
+    law: &ContactLaw,
+    t: V3,
+    pressure: f64,
+    candidate: bool,
+    point: &ContactPoint,
+) -> V3 {
+    if bound_of(law, pressure, candidate, point) <= 0.0 {
+        return [0.0; 3];
+    }
+    law.projected(t, point.normal, pressure)
 }
 
 /// $m^{ab} c_b \tau_a$: the vector whose covariant components in the basis `t` are `c`.
@@ -104,10 +114,10 @@ pub(crate) fn from_covariant(t: &[V3; 2], c: [f64; 2]) -> V3 {
     [0, 1, 2].map(|k| a1 * t[0][k] + a2 * t[1][k])
 }
 
-/// Friction state of one interface with mu > 0, kept from step to step.
+/// Friction state of one interface whose law is frictional, kept from step to step.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Friction {
-    pub mu: f64,
+    pub law: ContactLaw,
     pub penalty: Penalty,
     memory: IterationMemory,
     /// Tangential traction of each secondary node, 3 global components per node: the iterate
@@ -134,10 +144,10 @@ pub struct Friction {
 }
 
 impl Friction {
-    pub fn new(mu: f64, penalty: Penalty, area: &[f64]) -> Self {
+    pub fn new(law: ContactLaw, penalty: Penalty, area: &[f64]) -> Self {
         let n = area.len();
         Friction {
-            mu,
+            law,
             penalty,
             memory: IterationMemory::default(),
             traction: vec![0.0; 3 * n],
@@ -215,18 +225,13 @@ impl Friction {
             }
         }
         let (traction, measure) = (&self.traction, &self.measure);
-        let mu = self.mu;
-        let radius = |i: usize| cone_radius(mu, pressure[i], candidate[i], &points[i]);
+        let law = self.law;
+        let radius = |i: usize| bound_of(&law, pressure[i], candidate[i], &points[i]);
         let mut project = |eps: f64, next: &mut [f64]| {
             for i in 0..n {
-                let r = radius(i);
-                let out = &mut next[3 * i..3 * i + 3];
-                if r <= 0.0 {
-                    out.fill(0.0);
-                    continue;
-                }
                 let t = [0, 1, 2].map(|a| traction[3 * i + a] + eps * measure[3 * i + a]);
-                out.copy_from_slice(&cone_projection(t, points[i].normal, r));
+                let t = returned_traction(&law, t, pressure[i], candidate[i], &points[i]);
+                next[3 * i..3 * i + 3].copy_from_slice(&t);
             }
         };
         // a sticking node should not slide: its sliding speed is the violation
@@ -282,9 +287,9 @@ impl Friction {
             }
             // sliding: the trial of the last update lies outside the cone (a sliding node's
             // trial exceeds it by eps |v_T,n + v_T,n+1|; a sticking node's is its traction)
-            let r = self.mu * pressure[i];
+            let r = self.law.bound(pressure[i]);
             let trial = [0, 1, 2].map(|a| t[a] + self.penalty.eps * self.measure[3 * i + a]);
-            let tangential = cone_projection(trial, points[i].normal, f64::INFINITY);
+            let tangential = tangential_part(trial, points[i].normal);
             if r > 0.0 && norm(tangential) > r * (1.0 + ON_CONE) {
                 sliding += 1;
             }

@@ -19,7 +19,6 @@
 use super::ranks::Timed;
 use super::subdomain::Subdomain;
 use super::surface::{surface_model, SurfaceIndex};
-use crate::contact::search;
 use crate::error::Result;
 use crate::integrate::explicit::{
     plane_gap_within_reach, ContactFields, ExplicitContact, ExplicitInterface, NodalStart,
@@ -30,6 +29,7 @@ use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::{as_vec3, ContactPoint, ContactQueries};
 use crate::model::{Model, Primary};
 use crate::scene::ExplicitSettings;
+use crate::search;
 
 /// The contact's share-out in words (`summary.json`).
 pub(crate) const DESCRIPTION: &str = "each rank receives from their owners the primary-face nodes its secondary nodes may reach and searches for the secondary nodes it owns; the contacts within reach are gathered on every rank with their nodes' state, and every rank works the impulse sweeps";

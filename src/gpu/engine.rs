@@ -10,11 +10,11 @@ use super::search::GpuSearch;
 use super::types::{self, to_device, ContactQuery, GpuMaterial, Quad, Split3};
 use super::{ContactGap, CornerSelect, Hex8Forces, Hex8iForces, NodeGather, SlipRate, Tet4Forces};
 use crate::backend::Kernels;
-use crate::contact::search;
 use crate::element::{CornerLayout, ElementKind};
 use crate::error::{ImpactError, Result};
 use crate::kernels::{ContactPoint, ContactQueries, ElementData, Incidence, KeptData, SearchGrid};
 use crate::model::Model;
+use crate::search;
 
 /// Contact data as last uploaded (re-uploaded only when it changes).
 #[derive(Default)]

@@ -262,6 +262,7 @@ device_struct! {
     pub struct Plane {
         pub point: Split3,
         pub normal: [f32; 3],
+        pub law: u32,
         pub mu: f32,
     }
 }
@@ -271,7 +272,8 @@ impl From<&kernels::PlaneData> for Plane {
         Plane {
             point: Split3::split(p.point),
             normal: p.normal.map(|x| x as f32),
-            mu: p.mu as f32,
+            law: p.law.code(),
+            mu: p.law.coefficient() as f32,
         }
     }
 }
@@ -344,6 +346,7 @@ device_struct! {
     pub struct GpuContactPair as ContactPair {
         pub node: u32,
         pub query: u32,
+        pub law: u32,
         pub mu: f32,
         pub point: Split3,
         pub normal: [f32; 3],
@@ -355,7 +358,8 @@ impl From<&kernels::ContactPair> for GpuContactPair {
         GpuContactPair {
             node: p.node,
             query: p.query,
-            mu: p.mu as f32,
+            law: p.law.code(),
+            mu: p.law.coefficient() as f32,
             point: Split3::split(p.point),
             normal: p.normal.map(|x| x as f32),
         }

@@ -17,7 +17,6 @@ use super::integrator::{Integrator, Pipelined, ENGINE_GPU_RESIDENT};
 use super::recorded_sweeps::{RecordedSweeps, FIRST_GUESS};
 use super::state::{ContactReport, Energies, StepReport};
 use super::SolverState;
-use crate::contact::search;
 use crate::error::{ImpactError, Result};
 use crate::gpu::resident_step::row_len;
 use crate::gpu::{ContactSetup, GpuContext, ResidentSetup, ResidentStep};
@@ -28,6 +27,7 @@ use crate::kernels::{ContactNode, ContactPair, LumpedNode, PlaneData, PlaneNode}
 use crate::model::Model;
 use crate::model::Primary;
 use crate::scene::{ExplicitSettings, Method};
+use crate::search;
 
 /// The resident step's refusal of rigid bodies, whose surfaces have no device kernel yet
 /// (`run` gives such a model the explicit solver with the device's element forces).
@@ -56,13 +56,13 @@ pub(crate) fn contact_setup(model: &Model) -> Result<ContactSetup> {
                 Primary::Surface { ref queries, .. } => ContactPair {
                     node,
                     query: (queries.start + i) as u32,
-                    mu: itf.friction,
+                    law: itf.law,
                     ..Default::default()
                 },
                 Primary::Plane { point, normal } => ContactPair {
                     node,
                     query: NO_FACE,
-                    mu: itf.friction,
+                    law: itf.law,
                     point,
                     normal,
                 },
@@ -153,7 +153,7 @@ pub fn setup(
         planes.push(PlaneData {
             point,
             normal,
-            mu: itf.friction,
+            law: itf.law,
         });
         let mut place = Vec::with_capacity(itf.nodes.len());
         for &n in &itf.nodes {

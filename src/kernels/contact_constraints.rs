@@ -6,6 +6,7 @@
 //! $v_{n-1/2} = v^* - \Delta t\, a_n$ is kept for the friction work.
 
 use super::contact_gap::{ContactPoint, NO_FACE};
+use crate::contact::law::ContactLaw;
 use crate::geometry::{
     face,
     vector::{dot, norm},
@@ -13,12 +14,12 @@ use crate::geometry::{
 use crate::kernels::impulse::relative_velocity;
 
 /// A pair of the iteration: secondary node `node` against surface query `query`, or against
-/// a rigid plane (`query == NO_FACE`: its point and unit normal), with its friction.
+/// a rigid plane (`query == NO_FACE`: its point and unit normal), with its interface's law.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ContactPair {
     pub node: u32,
     pub query: u32,
-    pub mu: f64,
+    pub law: ContactLaw,
     pub point: [f64; 3],
     pub normal: [f64; 3],
 }

@@ -5,7 +5,7 @@
 
 use super::contact_constraints::{relative, Constraint, ContactPair};
 use super::plane_contact::{slot, SLOT};
-use crate::geometry::vector::{dot, norm};
+use crate::geometry::vector::dot;
 
 /// `sweeps`: the count to report ([`super::sweep_control::SweepState::reported`]); the
 /// friction work entries of `results` carry over from the last step.
@@ -30,10 +30,10 @@ pub fn contact_report(
         r[slot::NORMAL_IMPULSE] = c.jn;
         r[slot::FRICTION_IMPULSE..slot::FRICTION_IMPULSE + 3].copy_from_slice(&c.jt);
         r[slot::ACTIVE] = if c.jn > 0.0 { 1.0 } else { 0.0 };
-        let sliding = pair.mu > 0.0 && c.jn > 0.0 && norm(c.jt) >= pair.mu * c.jn * (1.0 - 1e-6);
+        let sliding = pair.law.is_sliding(c.jt, c.jn, 1e-6);
         r[slot::SLIDING] = if sliding { 1.0 } else { 0.0 };
         r[slot::GAP] = c.gap - dt * rn;
-        if pair.mu > 0.0 {
+        if pair.law.is_frictional() {
             let slip: [f64; 3] = std::array::from_fn(|a| rel[a] - rn * c.normal[a]);
             r[slot::FRICTION_WORK] -= (0..3)
                 .map(|a| c.jt[a] * 0.5 * (c.slip[a] + slip[a]))

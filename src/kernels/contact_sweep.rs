@@ -24,7 +24,7 @@ pub fn contact_sweep(
                 relative(c, pair.node, v),
                 c.normal,
                 c.compliance,
-                pair.mu,
+                &pair.law,
                 c.jn,
                 c.jt,
             );

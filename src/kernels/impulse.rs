@@ -6,9 +6,10 @@
 //! The constraint is the step's gap rate in forward-increment form,
 //! $g_n + \Delta t\, \dot g \le 0$ with $\dot g = -v_{rel} \cdot n$: the normal impulse moves
 //! by the residual $r = g_n / \Delta t - v_{rel} \cdot n$ over the split compliance and is
-//! kept $\ge 0$. With friction, the tangential impulse that stops the slip is returned onto
-//! the cone $|J_T| \le \mu J_N$.
+//! kept $\ge 0$. Under a frictional law the tangential impulse that stops the slip is
+//! returned onto the law's set ([`ContactLaw::returned`]: Coulomb's cone $|J_T| \le \mu J_N$).
 
+use crate::contact::law::ContactLaw;
 use crate::geometry::vector::{dot, norm};
 
 /// The relative velocity of secondary node `node` against its primary point in the velocity
@@ -51,7 +52,7 @@ pub(crate) fn impulse_update(
     rel: [f64; 3],
     normal: [f64; 3],
     compliance: f64,
-    mu: f64,
+    law: &ContactLaw,
     jn: f64,
     jt: [f64; 3],
 ) -> ImpulseUpdate {
@@ -61,19 +62,14 @@ pub(crate) fn impulse_update(
     let mut violation = if new_n > 0.0 { r.abs() } else { r.max(0.0) };
     let mut dj = normal.map(|x| (new_n - jn) * x);
     let mut next = jt;
-    if mu > 0.0 {
+    if law.is_frictional() {
         let slip: [f64; 3] = std::array::from_fn(|a| rel[a] - rn * normal[a]);
         let trial: [f64; 3] = std::array::from_fn(|a| jt[a] - slip[a] / compliance);
-        let radius = mu * new_n;
-        let size = norm(trial);
-        next = if size > radius {
-            trial.map(|x| x * radius / size)
-        } else {
-            if new_n > 0.0 {
-                violation = violation.max(norm(slip));
-            }
-            trial
-        };
+        let sticks;
+        (next, sticks) = law.returned(trial, new_n);
+        if sticks && new_n > 0.0 {
+            violation = violation.max(norm(slip));
+        }
         for a in 0..3 {
             dj[a] += next[a] - jt[a];
         }

@@ -10,6 +10,7 @@
 //! sweep.
 
 use super::explicit_correct::LumpedNode;
+use crate::contact::law::ContactLaw;
 use crate::geometry::vector::{dot, norm};
 use crate::kernels::impulse::impulse_update;
 
@@ -42,12 +43,12 @@ pub mod slot {
 /// Planes a node can have (the bit set and the kernel's local arrays).
 pub(crate) const MAX_PLANES: usize = 8;
 
-/// An analytic rigid plane: a point, the unit normal into the bodies' side, friction.
+/// An analytic rigid plane: a point, the unit normal into the bodies' side, its contact law.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PlaneData {
     pub point: [f64; 3],
     pub normal: [f64; 3],
-    pub mu: f64,
+    pub law: ContactLaw,
 }
 
 /// A secondary node and the planes it is secondary to (bit p: plane p).
@@ -183,7 +184,7 @@ fn sweep(
             continue;
         }
         let up = impulse_update(
-            gap[p], dt, node.vel, nrm, compliance, plane.mu, node.jn[p], node.jt[p],
+            gap[p], dt, node.vel, nrm, compliance, &plane.law, node.jn[p], node.jt[p],
         );
         violation = violation.max(up.violation);
         (node.jn[p], node.jt[p]) = (up.jn, up.jt);
@@ -216,15 +217,15 @@ fn report(
             r[slot::GAP] = f64::NEG_INFINITY;
             continue;
         }
-        let (nrm, mu, jn, jt) = (plane.normal, plane.mu, node.jn[p], node.jt[p]);
+        let (nrm, law, jn, jt) = (plane.normal, plane.law, node.jn[p], node.jt[p]);
         let rn = dot(vel, nrm);
         r[slot::NORMAL_IMPULSE] = jn;
         r[slot::FRICTION_IMPULSE..slot::FRICTION_IMPULSE + 3].copy_from_slice(&jt);
         r[slot::ACTIVE] = f64::from(u8::from(jn > 0.0));
-        let sliding = mu > 0.0 && jn > 0.0 && norm(jt) >= mu * jn * (1.0 - 1e-6);
+        let sliding = law.is_sliding(jt, jn, 1e-6);
         r[slot::SLIDING] = f64::from(u8::from(sliding));
         r[slot::GAP] = gap[p] - dt * rn;
-        if mu > 0.0 {
+        if law.is_frictional() {
             let slip: [f64; 3] = std::array::from_fn(|ax| vel[ax] - rn * nrm[ax]);
             let bn = dot(before, nrm);
             let slip_before: [f64; 3] = std::array::from_fn(|ax| before[ax] - bn * nrm[ax]);

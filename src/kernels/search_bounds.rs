@@ -1,6 +1,6 @@
 //! The two bounds of the step's search grid (CPU twin of `shaders/search_bounds.wgsl`): the
 //! fastest node's speed and the largest box side of a primary face at displacement `u`, as
-//! the host path measures them (`contact::search`).
+//! the host path measures them (`search`).
 
 /// `[fastest speed, largest face box side]`; `u` and `v` hold 3 values per node.
 pub fn search_bounds(reference: &[[f64; 3]], u: &[f64], v: &[f64], faces: &[[u32; 4]]) -> [f64; 2] {

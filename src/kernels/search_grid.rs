@@ -1,5 +1,5 @@
 //! The step's search grid from its bounds (CPU twin of `shaders/search_grid.wgsl`), the host
-//! path's rule (`contact::search::{margin, search_cell}`).
+//! path's rule (`search::{margin, search_cell}`).
 
 use super::contact_search::SearchGrid;
 

@@ -3,6 +3,7 @@
 
 use std::ops::Range;
 
+use crate::contact::law::ContactLaw;
 use crate::geometry::{face::Face, quad::quad_area};
 use crate::mesh::Mesh;
 
@@ -31,7 +32,8 @@ pub enum Primary {
 #[derive(Debug, Clone)]
 pub struct Interface {
     pub name: String,
-    pub friction: f64,
+    /// What tangential force a pressed secondary node may carry.
+    pub law: ContactLaw,
     /// Secondary nodes (global numbers).
     pub nodes: Vec<u32>,
     /// Tributary area of each secondary node (a quarter of each adjacent quad's area).

@@ -9,6 +9,7 @@ pub use interface::{tributary_areas, Interface, Primary};
 pub use materials::MaterialTable;
 pub use rigid::RigidBody;
 
+use crate::contact::law::ContactLaw;
 use crate::error::{ImpactError, Result};
 use crate::geometry::vector::{bbox_diagonal, norm, sub};
 use crate::kernels::{ContactQueries, ElementData};
@@ -255,7 +256,7 @@ fn interfaces(scene: &Scene, mesh: &Mesh, rigid: &[RigidBody]) -> (ContactQuerie
         };
         interfaces.push(Interface {
             name: c.name.clone(),
-            friction: c.friction,
+            law: ContactLaw::of_friction(c.friction),
             nodes,
             area,
             secondary_faces: sec.clone(),
@@ -272,7 +273,7 @@ fn interfaces(scene: &Scene, mesh: &Mesh, rigid: &[RigidBody]) -> (ContactQuerie
         let (nodes, area) = tributary_areas(mesh, &quads);
         interfaces.push(Interface {
             name: p.name.clone(),
-            friction: p.friction,
+            law: ContactLaw::of_friction(p.friction),
             nodes,
             area,
             secondary_faces: quads,

@@ -37,7 +37,7 @@ impl History {
         History {
             path,
             frictional: (0..model.interfaces.len())
-                .filter(|&i| model.interfaces[i].friction > 0.0)
+                .filter(|&i| model.interfaces[i].law.is_frictional())
                 .collect(),
             rigid: (0..model.interfaces.len())
                 .filter(|&i| model.interfaces[i].is_rigid())
@@ -307,7 +307,7 @@ pub(crate) fn column_names(model: &Model) -> Vec<String> {
         }
     }
     // columns beyond scene-format.md go last, so the fixed ones keep their places
-    for itf in model.interfaces.iter().filter(|i| i.friction > 0.0) {
+    for itf in model.interfaces.iter().filter(|i| i.law.is_frictional()) {
         for c in ["sliding", "friction_work"] {
             cols.push(format!("{}.{c}", itf.name));
         }

@@ -24,7 +24,7 @@ pub fn write_charts(scene: &Scene, model: &Model, dir: &std::path::Path) -> Resu
         model
             .interfaces
             .iter()
-            .filter(|i| i.friction > 0.0)
+            .filter(|i| i.law.is_frictional())
             .map(|i| format!("{}.friction_work", i.name)),
     );
     let exact_of = |cols: &[String]| -> Vec<Series> {

@@ -8,6 +8,7 @@
 //! operations in the same order, so the impulses are the same bits.
 
 use crate::backend::Kernels;
+use crate::contact::law::ContactLaw;
 use crate::error::Result;
 use crate::geometry::{
     face,
@@ -36,7 +37,7 @@ struct NodeConstraint {
     weights: [f64; 4],
     normal: [f64; 3],
     gap: f64,
-    mu: f64,
+    law: ContactLaw,
     /// Split compliance: gap-rate change per unit normal impulse, bounded from above.
     compliance: f64,
 }
@@ -387,7 +388,7 @@ impl ExplicitContact {
             weights,
             normal,
             gap,
-            mu: itf.friction,
+            law: itf.law,
             compliance: 0.0,
         })
     }
@@ -463,7 +464,7 @@ impl ExplicitContact {
                         relative_velocity(c, vs),
                         c.normal,
                         c.compliance,
-                        c.mu,
+                        &c.law,
                         jn[i],
                         jt[i],
                     )
@@ -522,7 +523,7 @@ impl ExplicitContact {
             if jn[i] > 0.0 {
                 r.active += 1;
                 r.normal_force += jn[i] / dt;
-                if c.mu > 0.0 && vector::norm(jt[i]) >= c.mu * jn[i] * (1.0 - 1e-9) {
+                if c.law.is_sliding(jt[i], jn[i], 1e-9) {
                     r.sliding += 1;
                 }
             }
@@ -532,7 +533,7 @@ impl ExplicitContact {
             }
             // the linearised end-of-step gap
             r.max_penetration = r.max_penetration.max(c.gap - dt * rn);
-            if c.mu > 0.0 {
+            if c.law.is_frictional() {
                 let slip: [f64; 3] = std::array::from_fn(|a| rel[a] - rn * c.normal[a]);
                 let before = self.slip_before[i];
                 r.friction_work -= (0..3)

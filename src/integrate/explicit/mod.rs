@@ -32,12 +32,12 @@ mod contact;
 pub use contact::{plane_gap_within_reach, ContactFields, ExplicitContact, ExplicitInterface};
 
 use crate::backend::Kernels;
-use crate::contact::search;
 use crate::element::ElementBlock;
 use crate::error::Result;
 use crate::kernels;
 use crate::model::Model;
 use crate::scene::{ExplicitSettings, Method};
+use crate::search;
 use rayon::prelude::*;
 
 use super::integrator::Integrator;

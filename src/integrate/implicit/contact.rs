@@ -5,8 +5,7 @@
 use crate::backend::Kernels;
 use crate::contact::anderson::Anderson;
 use crate::contact::augmented_lagrange;
-use crate::contact::friction::{cone_projection, cone_radius, plane_basis};
-use crate::contact::search;
+use crate::contact::friction::{plane_basis, returned_traction};
 use crate::error::Result;
 use crate::geometry::{
     face::{self, FaceKind},
@@ -16,6 +15,7 @@ use crate::kernels::contact_gap::{closest_on_face, face_point, NO_FACE};
 use crate::kernels::{as_vec3, ContactPoint, ContactQueries};
 use crate::model::{Model, Primary};
 use crate::scene::{Acceleration, ConstraintMeasure};
+use crate::search;
 
 use super::interface::InterfaceState;
 use super::StepConstants;
@@ -63,7 +63,8 @@ impl MultiplierIteration {
             held: vec![NO_FACE; nq],
             query_points: vec![ContactPoint::default(); nq],
             query_slip: vec![[0.0; 2]; nq],
-            surface_friction: (model.interfaces.iter()).any(|i| i.friction > 0.0 && !i.is_plane()),
+            surface_friction: (model.interfaces.iter())
+                .any(|i| i.law.is_frictional() && !i.is_plane()),
             anderson: Anderson::default(),
             aa_x: Vec::new(),
             aa_g: Vec::new(),
@@ -415,8 +416,8 @@ impl MultiplierIteration {
             if let Some(fr) = &mut st.friction {
                 for i in 0..n {
                     let t = [0, 1, 2].map(|a| self.aa_out[k + 3 * i + a]);
-                    let r = cone_radius(fr.mu, st.lambda[i], st.candidate[i], &st.points[i]);
-                    let t = cone_projection(t, st.points[i].normal, r);
+                    let (p, c) = (st.lambda[i], st.candidate[i]);
+                    let t = returned_traction(&fr.law, t, p, c, &st.points[i]);
                     fr.traction[3 * i..3 * i + 3].copy_from_slice(&t);
                 }
                 k += 3 * n;

@@ -19,7 +19,7 @@ pub struct InterfaceState {
     /// Kinematics at the end of the last step.
     pub points: Vec<ContactPoint>,
     pub penalty: Penalty,
-    /// Coulomb friction, where the interface has mu > 0.
+    /// The tangential state, where the interface's law is frictional.
     pub friction: Option<Friction>,
     pub(super) memory: IterationMemory,
     pub(super) candidate: Vec<bool>,
@@ -103,10 +103,10 @@ pub(super) fn interface_states(
                 .penalty_normal
                 .unwrap_or_else(|| default_penalty(model, asm, itf, dt));
             let n = itf.nodes.len();
-            let friction = (itf.friction > 0.0).then(|| {
+            let friction = itf.law.is_frictional().then(|| {
                 let eps_t = settings.penalty_tangential.unwrap_or(eps);
                 let p = Penalty::new(eps_t, settings.penalty, mar, settings.max_force_change);
-                Friction::new(itf.friction, p, &itf.area)
+                Friction::new(itf.law, p, &itf.area)
             });
             InterfaceState {
                 lambda: vec![0.0; n],
