@@ -393,6 +393,38 @@ fn imported_tet4_block_dropped_on_a_floor_is_the_same_on_2_and_4_ranks() {
     same_on_ranks("mpi_block_tet_drop", &text);
 }
 
+/// Rigid bodies: the coarse drop-weight coupon (a free tup, a windowed support and four
+/// clamps, each a rigid body whose contacts every rank gathers) through the impact's onset,
+/// and the rigid sphere pressed into the graded block by a prescribed motion. (The ply
+/// strengths are left out: a decomposed run does not survey failure indices.)
+#[test]
+fn rigid_bodies_are_the_same_on_2_and_4_ranks() {
+    let drop = scene_text("drop_weight_d7136.toml");
+    let drop = edit(&drop, "divisions = [50, 34, 4]", "divisions = [20, 14, 2]");
+    let drop = edit(&drop, "end_time = 4.5e-3", "end_time = 4.0e-4");
+    let drop: String = (drop.lines())
+        .filter(|l| !l.starts_with("strength") && !l.starts_with("vtu_every"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let h = same_on_ranks("mpi_drop_weight", &drop);
+    let f = h.col("impact.fz");
+    assert!(f.iter().any(|&x| x > 0.0), "the tup strikes the coupon");
+    let sphere = scene_text("rigid_sphere_on_block.toml");
+    let mesh = repo().join("scenes/meshes/graded_block.inp");
+    let sphere = edit(
+        &sphere,
+        "\"meshes/graded_block.inp\"",
+        &format!("{:?}", mesh.display().to_string()),
+    );
+    let sphere = edit(&sphere, "end_time = 0.62", "end_time = 0.05");
+    let sphere = edit(
+        &sphere,
+        "name = \"ball\"",
+        "name = \"ball\"\nmotion = \"prescribed\"",
+    );
+    same_on_ranks("mpi_rigid_sphere", &sphere);
+}
+
 #[test]
 fn bar_on_rigid_wall_is_the_same_on_2_and_4_ranks() {
     same_on_ranks(

@@ -188,27 +188,36 @@ fn a_decomposed_run_refuses_the_implicit_path() {
     assert!(e.to_string().contains("run.method"), "{e}");
 }
 
-/// A decomposed run refuses rigid bodies, naming the first, before it starts.
+/// Rigid bodies on the decomposed solver: a free sphere and a prescribed one pressed into a
+/// block (each on its own node, its contacts gathered on every rank); the history of one
+/// rank is the single process's, byte for byte (the bodies' columns, the contact forces on
+/// them and the energy balance with the driver's work included).
 #[test]
-fn a_decomposed_run_refuses_rigid_bodies() {
-    let text = edit(
+fn one_rank_runs_rigid_bodies_as_the_single_process() {
+    let free = edit(
         &scene_text("rigid_sphere_on_block.toml"),
         "end_time = 0.62",
-        "end_time = 0.01",
+        "end_time = 0.08",
     );
-    let scene = Scene::parse(&text, &repo().join("scenes/ranks_rigid.toml")).unwrap();
-    let opts = RunOptions {
-        out: Some(out_dir("ranks_rigid")),
-        quiet: true,
-        device: Some(DeviceChoice::Cpu),
-        ..Default::default()
-    };
-    let e = run_ranks(&scene, &opts, &Single).expect_err("rigid bodies are refused");
-    let msg = e.to_string();
-    assert!(
-        msg.contains("rigid_body (rigid body `ball`)") && msg.contains("mpirun"),
-        "{msg}"
+    let prescribed = edit(
+        &free,
+        "name = \"ball\"",
+        "name = \"ball\"\nmotion = \"prescribed\"",
     );
+    for (tag, text) in [
+        ("ranks_rigid_free", free),
+        ("ranks_rigid_prescribed", prescribed),
+    ] {
+        let (one, ranked) = both_ways(tag, &text);
+        let rows = one.lines().count();
+        assert!(rows > 10, "{tag}: {rows} rows");
+        let header = one.lines().next().unwrap_or_default();
+        assert!(
+            header.contains("ball.vz") && header.contains("hertz.fz"),
+            "{header}"
+        );
+        assert!(one == ranked, "{tag}: the histories differ");
+    }
 }
 
 /// Runs `text` in `tag`'s folder on one process or through the decomposed solver on one

@@ -1,7 +1,8 @@
 //! The contact of one rank's explicit step.
 //!
 //! 1. The rank's own surface nodes, as it holds them, go into the surface model
-//!    ([`super::surface`]); rigid planes' secondary nodes are gathered from their owners.
+//!    ([`super::surface`]); the rigid bodies' nodes, then the secondary nodes within reach
+//!    of a rigid plane or a rigid body, are gathered from their owners.
 //! 2. Each rank sends the primary-face nodes it owns to the ranks whose secondary nodes they
 //!    may reach this step: those within the search's reach plus the largest face's extent
 //!    of the other rank's box of secondary nodes. The ranks learn each other's boxes first,
@@ -21,7 +22,8 @@ use super::subdomain::Subdomain;
 use super::surface::{surface_model, SurfaceIndex};
 use crate::error::Result;
 use crate::integrate::explicit::{
-    plane_gap_within_reach, ContactFields, ExplicitContact, ExplicitInterface, NodalStart,
+    plane_gap_within_reach, rigid_gap_within_reach, ContactFields, ExplicitContact,
+    ExplicitInterface, NodalStart,
 };
 use crate::integrate::StepReport;
 use crate::kernels::contact_gap::closest_point;
@@ -62,8 +64,10 @@ pub(crate) struct SurfaceContact {
     /// The (interface, place) pairs that may hold a constraint this step: the gathered
     /// contacts' and plane nodes', increasing.
     candidates: Vec<(u32, u32)>,
-    /// Whether an interface is a rigid plane.
-    planes: bool,
+    /// Whether an interface is a rigid plane or a rigid body's surface.
+    analytic: bool,
+    /// The rigid bodies' nodes (surface numbers) the rank owns, each once.
+    own_bodies: Vec<u32>,
     queries: ContactQueries,
     lists: Vec<Vec<u32>>,
     points: Vec<ContactPoint>,
@@ -107,6 +111,15 @@ impl SurfaceContact {
             held[k as usize] = true;
         }
         let index = SurfaceIndex::new(&surface, &held, |s| mine(&s));
+        let mut own_bodies: Vec<u32> = (surface.interfaces.iter())
+            .filter_map(|itf| match itf.primary {
+                Primary::Rigid { node, .. } => Some(node),
+                _ => None,
+            })
+            .filter(mine)
+            .collect();
+        own_bodies.sort_unstable();
+        own_bodies.dedup();
         let nq = surface.queries.len();
         let query_owner = |q: usize| owner[surface.queries.secondary[q] as usize] as usize;
         let n = 3 * map.nodes.len();
@@ -118,7 +131,8 @@ impl SurfaceContact {
             foreign: Vec::new(),
             x: vec![[f64::NAN; 3]; map.nodes.len()],
             candidates: Vec::new(),
-            planes: surface.interfaces.iter().any(|itf| itf.is_plane()),
+            analytic: (surface.interfaces.iter()).any(|itf| itf.is_plane() || itf.is_rigid()),
+            own_bodies,
             queries: surface.queries.clone(),
             lists: vec![Vec::new(); nq],
             points: vec![ContactPoint::default(); nq],
@@ -151,7 +165,8 @@ impl SurfaceContact {
             let (k, n) = self.held[i];
             self.set(k, [local.u, local.v, local.v_half], n as usize);
         }
-        self.gather_planes(talk, dt);
+        self.gather_bodies(talk);
+        self.gather_analytic(talk, dt);
         let margin = self.contact.margin(speed, dt);
         self.exchange_faces(talk, margin);
         self.find_own_points(margin);
@@ -213,30 +228,49 @@ impl SurfaceContact {
         self.foreign.push(k);
     }
 
-    /// The rigid planes' secondary nodes within reach of a plane, from their owners (the
-    /// sweeps leave out the others, as the single process finds them out of reach).
-    fn gather_planes(&mut self, talk: &Timed, dt: f64) {
-        if !self.planes {
+    /// The rigid bodies' nodes, from their owners: every rank's contacts against a body read
+    /// its state.
+    fn gather_bodies(&mut self, talk: &Timed) {
+        if !self.model.interfaces.iter().any(|itf| itf.is_rigid()) {
+            return;
+        }
+        let mine: Vec<f64> = self
+            .own_bodies
+            .iter()
+            .flat_map(|&b| self.state(b))
+            .collect();
+        for x in gather(talk, &mine).chunks_exact(NODE) {
+            self.unpack_state(x);
+        }
+    }
+
+    /// The secondary nodes of the rigid planes and rigid bodies within reach of them, from
+    /// their owners (the sweeps leave out the others, as the single process finds them out
+    /// of reach).
+    fn gather_analytic(&mut self, talk: &Timed, dt: f64) {
+        if !self.analytic {
             return;
         }
         let mut send: Vec<u32> = Vec::new();
-        for (itf, owned) in self
-            .model
-            .interfaces
-            .iter()
+        let fields = (&self.u[..], &self.v[..]);
+        for (k, (itf, owned)) in (self.model.interfaces.iter())
             .zip(&self.index.owned_secondary)
+            .enumerate()
         {
-            let Primary::Plane { point, normal } = itf.primary else {
-                continue;
-            };
-            for &k in owned {
-                let (k3, x0) = (3 * k as usize, self.model.mesh.nodes[k as usize]);
-                let at = |x: &[f64]| [x[k3], x[k3 + 1], x[k3 + 2]];
-                let state = (at(&self.u), at(&self.v));
-                if plane_gap_within_reach(x0, state, (point, normal), dt).1 {
-                    send.push(k);
+            let within = |s: u32| match itf.primary {
+                Primary::Plane { point, normal } => {
+                    let (s3, x0) = (3 * s as usize, self.model.mesh.nodes[s as usize]);
+                    let at = |x: &[f64]| [x[s3], x[s3 + 1], x[s3 + 2]];
+                    let state = (at(&self.u), at(&self.v));
+                    plane_gap_within_reach(x0, state, (point, normal), dt).1
                 }
-            }
+                Primary::Rigid { node: b, .. } => {
+                    let pair = (s as usize, b as usize);
+                    rigid_gap_within_reach(&self.model, fields, pair, k, dt).is_some()
+                }
+                Primary::Surface { .. } => false,
+            };
+            send.extend(owned.iter().copied().filter(|&s| within(s)));
         }
         send.sort_unstable();
         send.dedup();

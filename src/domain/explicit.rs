@@ -95,7 +95,8 @@ impl<'m> DomainSolver<'m> {
             &fixed,
             model.gravity,
             &sub.restrict(&model.initial_velocity),
-        );
+        )
+        .moving_on(model, &sub.nodes);
         let surface = SurfaceContact::new(model, &sub, &mass_all, (settings, speed_scale));
         let ndof = 3 * sub.nodes.len();
         let piece = sub.piece_model(model);
@@ -436,7 +437,8 @@ impl Integrator for DomainSolver<'_> {
         Ok(Energies {
             kinetic: 0.5 * k - self.measure_shift,
             strain: 0.5 * s,
-            potential: -0.5 * (p0 + p1),
+            // the prescribed rigid bodies' drivers work on the model (every rank has it whole)
+            potential: -0.5 * (p0 + p1) - self.surface.contact().driver_work(),
         })
     }
 

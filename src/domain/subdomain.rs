@@ -442,12 +442,17 @@ fn surface_map(model: &Model, owner: &[u32], local: &[u32]) -> SurfaceMap {
     }
 }
 
-/// Every node a contact interface reads: its secondary nodes and its primary faces' nodes,
-/// increasing.
+/// Every node a contact interface reads: its secondary nodes, its primary faces' nodes and
+/// its rigid body's node, increasing.
 pub fn surface_nodes(model: &Model) -> Vec<u32> {
+    let bodies = (model.interfaces.iter()).filter_map(|itf| match itf.primary {
+        crate::model::Primary::Rigid { node, .. } => Some(node),
+        _ => None,
+    });
     let mut nodes: Vec<u32> = (model.interfaces.iter())
         .flat_map(|itf| itf.nodes.iter().copied())
         .chain(model.queries.faces.iter().flatten().copied())
+        .chain(bodies)
         .collect();
     nodes.sort_unstable();
     nodes.dedup();

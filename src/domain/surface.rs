@@ -1,5 +1,6 @@
-//! The contact surfaces as a model of their own: the nodes every interface reads, no
-//! elements, the interfaces and queries renumbered onto those nodes.
+//! The contact surfaces as a model of their own: the nodes every interface reads (a rigid
+//! body's node among them), no elements, the interfaces, queries and rigid bodies renumbered
+//! onto those nodes.
 //!
 //! Every rank of a decomposed run holds this small model and works the contact of a step on
 //! it ([`super::contact`]) from the state of the nodes it holds, the primary-face nodes it
@@ -7,7 +8,7 @@
 
 use super::subdomain::at_nodes;
 use crate::mesh::Mesh;
-use crate::model::{Interface, Model};
+use crate::model::{Interface, Model, Primary, RigidBody};
 
 /// `model` restricted to `nodes` (increasing global numbers, holding every node an
 /// interface reads): node i of the result is `nodes[i]`.
@@ -24,7 +25,22 @@ pub(crate) fn surface_model(model: &Model, nodes: &[u32]) -> Model {
         .map(|itf| Interface {
             nodes: itf.nodes.iter().map(|&n| at(n)).collect(),
             secondary_faces: itf.secondary_faces.iter().map(|f| f.map(at)).collect(),
+            primary: match &itf.primary {
+                Primary::Rigid { body, node, shape } => Primary::Rigid {
+                    body: *body,
+                    node: at(*node),
+                    shape: shape.clone(),
+                },
+                other => other.clone(),
+            },
             ..itf.clone()
+        })
+        .collect();
+    // a body no contact names is no surface node (and no surface contact reads its node)
+    let rigid = (model.rigid.iter())
+        .map(|b| RigidBody {
+            node: nodes.binary_search(&b.node).map_or(u32::MAX, |i| i as u32),
+            ..b.clone()
         })
         .collect();
     Model {
@@ -49,7 +65,7 @@ pub(crate) fn surface_model(model: &Model, nodes: &[u32]) -> Model {
         fix_nodes: Vec::new(),
         initial_velocity: at_nodes(nodes, &model.initial_velocity),
         gravity: model.gravity,
-        rigid: Vec::new(),
+        rigid,
     }
 }
 
@@ -67,7 +83,8 @@ pub(crate) struct SurfaceIndex {
     pub query_slot: Vec<(u32, u32)>,
     /// The faces of each surface node (CSR).
     faces: Csr<u32>,
-    /// The (plane interface, place) of each surface node that is a plane's secondary node.
+    /// The (interface, place) of each surface node that is a secondary node of a rigid plane
+    /// or a rigid body.
     plane_slots: Csr<(u32, u32)>,
 }
 
@@ -111,7 +128,8 @@ impl SurfaceIndex {
                     n.dedup();
                     n
                 }
-                // ranks refuse rigid bodies (`run::build_solver`)
+                // a rigid body's node goes to every rank with the analytic contacts
+                // (`super::contact`)
                 crate::model::Primary::Plane { .. } | crate::model::Primary::Rigid { .. } => {
                     Vec::new()
                 }
@@ -137,7 +155,7 @@ impl SurfaceIndex {
         self.faces.of(k)
     }
 
-    /// The (plane interface, place) slots of surface node `k`.
+    /// The (rigid plane or rigid body interface, place) slots of surface node `k`.
     pub fn plane_slots_of(&self, k: u32) -> &[(u32, u32)] {
         self.plane_slots.of(k)
     }

@@ -72,13 +72,6 @@ fn build_solver<'m>(
     ranks: Option<&'m dyn Ranks>,
 ) -> Result<Box<dyn Integrator + 'm>> {
     let (model, dt) = (&setup.model, setup.dt);
-    if let (Some(_), Some(b)) = (ranks, model.rigid.first()) {
-        return Err(ImpactError::Unsupported {
-            path: scene.path.clone(),
-            key: format!("rigid_body (rigid body `{}`)", b.name),
-            message: "rigid bodies run in one process: run the scene without mpirun".into(),
-        });
-    }
     if let Some(ranks) = ranks {
         let partition = Partition::bisect(model, ranks.size());
         let settings = (&scene.explicit, dt, speed_scale);

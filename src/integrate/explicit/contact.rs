@@ -112,7 +112,7 @@ pub fn plane_gap_within_reach(
 /// The gap and normal of secondary node `n` against the surface of the rigid body on node
 /// `b` (interface `k`), where the node is within four steps of their relative motion of it
 /// (the rigid planes' rule).
-fn rigid_gap_within_reach(
+pub fn rigid_gap_within_reach(
     model: &Model,
     (u, v): (&[f64], &[f64]),
     (n, b): (usize, usize),

@@ -29,7 +29,10 @@
 
 mod contact;
 
-pub use contact::{plane_gap_within_reach, ContactFields, ExplicitContact, ExplicitInterface};
+pub use contact::{
+    plane_gap_within_reach, rigid_gap_within_reach, ContactFields, ExplicitContact,
+    ExplicitInterface,
+};
 
 use crate::backend::Kernels;
 use crate::element::ElementBlock;
@@ -123,6 +126,16 @@ impl NodalStart {
     pub fn moving(mut self, model: &Model) -> Self {
         for (d, w) in model.moving_dofs() {
             self.v[d] = w;
+        }
+        self
+    }
+
+    /// [`Self::moving`] for a start over the nodes `nodes` (increasing global numbers) only.
+    pub fn moving_on(mut self, model: &Model, nodes: &[u32]) -> Self {
+        for (d, w) in model.moving_dofs() {
+            if let Ok(i) = nodes.binary_search(&((d / 3) as u32)) {
+                self.v[3 * i + d % 3] = w;
+            }
         }
         self
     }
