@@ -454,7 +454,12 @@ impl Decomposed for DomainSolver<'_> {
             u: &self.u,
             v: &self.v,
             nodes: &self.sub.nodes,
+            elements: &self.sub.elements,
         }
+    }
+
+    fn gather_all(&self, mine: &[f64]) -> Vec<Vec<f64>> {
+        self.talk(|r| r.gather_all(mine))
     }
 
     fn decomposition(&mut self) -> Decomposition {

@@ -148,6 +148,8 @@ pub trait Decomposed {
     /// How the run is decomposed, and each rank's communication time. Every rank calls it at
     /// the end of a run (it may gather from the others).
     fn decomposition(&mut self) -> Decomposition;
+    /// Every rank's `mine`, in rank order, on every rank (a collective).
+    fn gather_all(&self, mine: &[f64]) -> Vec<Vec<f64>>;
 }
 
 /// The message of a checkpoint written by another integrator.

@@ -109,4 +109,6 @@ pub struct Piece<'a> {
     pub u: &'a [f64],
     pub v: &'a [f64],
     pub nodes: &'a [u32],
+    /// The whole model's number of each of the piece's elements.
+    pub elements: &'a [u32],
 }

@@ -47,10 +47,102 @@ pub struct FirstFailure {
 #[derive(Debug, Clone, Copy)]
 pub struct FailureMaxima {
     pub max: [f64; 5],
-    worst: Option<(usize, f64, usize)>,
+    worst: Option<Worst>,
+}
+
+/// The point of the largest index: its value and index ([`INDICES`]), its cell (the whole
+/// model's number), the point's place among its cell's plies, the body's ply, the body and
+/// the cell's reference centroid.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Worst {
+    value: f64,
+    index: usize,
+    cell: usize,
+    place: Option<usize>,
+    ply: Option<usize>,
+    body: Option<usize>,
+    point: [f64; 3],
+}
+
+/// Values per rank in [`FailureMaxima::values`]: the five maxima, then the worst point.
+pub const RANK_VALUES: usize = 5 + 9;
+
+impl Worst {
+    /// Whether it comes before `other` in the single process's order: the larger value,
+    /// then the lower cell, then the lower ply place (the order of the points).
+    fn before(&self, other: &Worst) -> bool {
+        let key = |w: &Worst| (w.cell, w.place.map_or(0, |p| p + 1));
+        self.value > other.value || (self.value == other.value && key(self) < key(other))
+    }
+}
+
+impl FailureMaxima {
+    /// Where the maxima's worst point is, if its index reached 1.
+    pub fn first_failure(&self, model: &Model, (step, time): (usize, f64)) -> Option<FirstFailure> {
+        let w = self.worst?;
+        (w.value >= 1.0).then(|| FirstFailure {
+            index: INDICES[w.index].to_string(),
+            value: w.value,
+            step,
+            time,
+            cell: w.cell,
+            body: w
+                .body
+                .map_or_else(String::new, |b| model.body_names[b].clone()),
+            ply: w.ply,
+            point: w.point,
+        })
+    }
+
+    /// The maxima as values for the ranks' gather ([`RANK_VALUES`]; `-1` for none).
+    pub fn values(&self) -> [f64; RANK_VALUES] {
+        let mut out = [-1.0; RANK_VALUES];
+        out[..5].copy_from_slice(&self.max);
+        if let Some(w) = self.worst {
+            let opt = |x: Option<usize>| x.map_or(-1.0, |x| x as f64);
+            let (c, p) = (w.cell as f64, opt(w.place));
+            out[5..].copy_from_slice(
+                &[w.value, w.index as f64, c, p, opt(w.ply), opt(w.body)]
+                    .into_iter()
+                    .chain(w.point)
+                    .collect::<Vec<_>>(),
+            );
+        }
+        out
+    }
+
+    /// The whole model's maxima from every rank's [`Self::values`], as one process finds
+    /// them (the maxima are exact, and the worst point is the first of the largest).
+    pub fn of_ranks(all: &[Vec<f64>]) -> FailureMaxima {
+        let mut max = [0.0f64; 5];
+        let mut worst: Option<Worst> = None;
+        for r in all {
+            for (m, x) in max.iter_mut().zip(&r[..5]) {
+                *m = m.max(*x);
+            }
+            let opt = |x: f64| (x >= 0.0).then_some(x as usize);
+            let Some(index) = opt(r[6]) else { continue };
+            let w = Worst {
+                value: r[5],
+                index,
+                cell: r[7] as usize,
+                place: opt(r[8]),
+                ply: opt(r[9]),
+                body: opt(r[10]),
+                point: [r[11], r[12], r[13]],
+            };
+            if worst.is_none_or(|b| w.before(&b)) {
+                worst = Some(w);
+            }
+        }
+        FailureMaxima { max, worst }
+    }
 }
 
 pub struct FailureSurvey {
+    /// The whole model's number of each cell of the surveyed model (a rank's piece numbers
+    /// its own cells).
+    numbers: Option<Vec<u32>>,
     points: Vec<Point>,
     /// The first point of each cell (a cell's points are consecutive).
     cells: Vec<u32>,
@@ -96,8 +188,13 @@ impl FailureSurvey {
             let first = match seen.get(&key) {
                 Some(&k) => k,
                 None => {
+                    // from the corners relative to the first, so that every cell of the key
+                    // (and every rank's first of them) gets the same bits
                     let k = operators.len() as u32;
-                    operators.extend(cell_operators(model, e.kind, &x, e.material));
+                    let r: Vec<[f64; 3]> = (x.iter())
+                        .map(|p| std::array::from_fn(|a| p[a] - x[0][a]))
+                        .collect();
+                    operators.extend(cell_operators(model, e.kind, &r, e.material));
                     seen.insert(key, k);
                     k
                 }
@@ -114,11 +211,20 @@ impl FailureSurvey {
             }
         }
         Some(FailureSurvey {
+            numbers: None,
             points,
             cells,
             operators,
             strengths,
         })
+    }
+
+    /// The survey of a rank's piece of the model, whose cells are the whole model's cells
+    /// `numbers`.
+    pub fn of_piece(piece: &Model, numbers: &[u32]) -> Option<FailureSurvey> {
+        let mut s = FailureSurvey::new(piece)?;
+        s.numbers = Some(numbers.to_vec());
+        Some(s)
     }
 
     /// The largest of each index at the displacement `u`, on all threads (the maxima do not
@@ -164,28 +270,19 @@ impl FailureSurvey {
             .with_min_len(256)
             .map(|&first| per_cell(first as usize))
             .reduce(|| ([0.0; 5], None), merge);
+        let worst = worst.map(|(i, value, k)| self.locate(model, i, value, k));
         FailureMaxima { max, worst }
     }
 
-    /// Where the maxima's worst point is, if its index reached 1.
-    pub fn first_failure(
-        &self,
-        model: &Model,
-        m: &FailureMaxima,
-        (step, time): (usize, f64),
-    ) -> Option<FirstFailure> {
-        let (i, value, k) = m.worst?;
-        if value < 1.0 {
-            return None;
-        }
+    /// Point `i` with its largest index `k` of value `value`, located.
+    fn locate(&self, model: &Model, i: usize, value: f64, k: usize) -> Worst {
         let p = self.points[i];
         let e = model.mesh.element(p.cell as usize);
         let x = model.mesh.corners(e.nodes);
         let centroid =
             std::array::from_fn(|a| x.iter().map(|c| c[a]).sum::<f64>() / x.len() as f64);
-        let body = (model.mesh.bodies.iter())
-            .position(|b| b.nodes.contains(&(e.nodes[0] as usize)))
-            .map_or_else(String::new, |b| model.body_names[b].clone());
+        let body =
+            (model.mesh.bodies.iter()).position(|b| b.nodes.contains(&(e.nodes[0] as usize)));
         let ply = match p.ply {
             Some(k) => model.layups[e.material as usize]
                 .as_ref()
@@ -193,16 +290,16 @@ impl FailureSurvey {
             None => Some(e.material),
         }
         .and_then(|m| model.ply_of(m));
-        Some(FirstFailure {
-            index: INDICES[k].to_string(),
+        let cell = self.numbers.as_ref().map_or(p.cell, |n| n[p.cell as usize]);
+        Worst {
             value,
-            step,
-            time,
-            cell: p.cell as usize,
-            body,
+            index: k,
+            cell: cell as usize,
+            place: p.ply.map(|k| k as usize),
             ply,
+            body,
             point: centroid,
-        })
+        }
     }
 }
 

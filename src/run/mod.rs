@@ -372,7 +372,7 @@ impl<'s> Running<'s> {
         let (r, e, failure) = self.advance(n)?;
         let at = (n + 1, self.solver.time());
         count_step(&mut self.tally, at, r, e, &self.solver.reports());
-        count_failure(&mut self.tally, &self.out, &self.setup.model, failure, at);
+        count_failure(&mut self.tally, &self.setup.model, failure, at);
         if !e.is_finite() || e.abs() > DIVERGENCE_FACTOR * self.scale_now() {
             let reason = format!(
                 "total energy {e:.6e} against {:.6e} at the start",

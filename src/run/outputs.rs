@@ -141,7 +141,7 @@ pub(super) fn start_fresh(
         ..Default::default()
     };
     let mut tally = tally;
-    count_failure(&mut tally, &out, model, failure, (0, 0.0));
+    count_failure(&mut tally, model, failure, (0, 0.0));
     Ok((out, tally))
 }
 
@@ -297,7 +297,7 @@ pub(super) fn write_row(
     let e = solver.energies()?;
     let contacts = solver.reports();
     let probes = solver.probes();
-    let failure = (out.failure.as_ref()).map(|f| f.maxima(solver.model(), solver.displacement()));
+    let failure = failure_maxima(out, solver);
     out.history.row(
         solver.time(),
         solver.steps(),
@@ -308,15 +308,33 @@ pub(super) fn write_row(
     Ok((e.total(), failure))
 }
 
+/// The state's failure indices: the survey's on one process; on ranks each rank's piece,
+/// gathered on every rank (a collective: every rank calls it).
+fn failure_maxima(out: &Outputs, solver: &dyn Integrator) -> Option<FailureMaxima> {
+    let survey = out.failure.as_ref()?;
+    Some(match solver.decomposed() {
+        Some(d) => {
+            let p = d.piece();
+            let mine = survey.maxima(p.model, p.u).values();
+            FailureMaxima::of_ranks(&d.gather_all(&mine))
+        }
+        None => survey.maxima(solver.model(), solver.displacement()),
+    })
+}
+
 /// The failure survey of a model with ply strengths, where the engine holds every step's
-/// displacement on the host (one process; the CPU, or the device's element forces with
-/// the host's loop).
+/// displacement on the host: one process (the CPU, or the device's element forces with the
+/// host's loop), or each rank's piece.
 fn failure_survey(
     model: &Model,
     solver: &dyn Integrator,
     rank: Option<(usize, usize)>,
 ) -> Option<FailureSurvey> {
     use crate::integrate::integrator::{ENGINE_CPU, ENGINE_GPU_KERNELS};
+    if let Some(d) = solver.decomposed() {
+        let p = d.piece();
+        return FailureSurvey::of_piece(p.model, p.elements);
+    }
     let engine = solver.engine();
     let surveyed = rank.is_none() && (engine == ENGINE_CPU || engine == ENGINE_GPU_KERNELS);
     surveyed.then(|| FailureSurvey::new(model)).flatten()
@@ -326,12 +344,11 @@ fn failure_survey(
 /// one first reached 1.
 pub(super) fn count_failure(
     tally: &mut Tally,
-    out: &Outputs,
     model: &Model,
     failure: Option<FailureMaxima>,
     at: (usize, f64),
 ) {
-    let (Some(survey), Some(m)) = (&out.failure, failure) else {
+    let Some(m) = failure else {
         return;
     };
     let max = tally.failure_max.get_or_insert([0.0; 5]);
@@ -339,7 +356,7 @@ pub(super) fn count_failure(
         *a = a.max(b);
     }
     if tally.first_failure.is_none() {
-        tally.first_failure = survey.first_failure(model, &m, at);
+        tally.first_failure = m.first_failure(model, at);
     }
 }
 
