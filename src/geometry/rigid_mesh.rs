@@ -202,6 +202,8 @@ fn closest_on_triangle(t: &[V3; 3], p: V3) -> V3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::rngs::StdRng;
+    use rand::{Rng, SeedableRng};
 
     /// The unit cube's surface, two triangles a face, outward.
     fn cube() -> RigidMesh {
@@ -276,13 +278,8 @@ mod tests {
     #[test]
     fn the_tree_search_finds_the_nearest_triangle() {
         let m = cube();
-        let mut seed = 11u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 3.0 - 1.0
-        };
+        let mut rng = StdRng::seed_from_u64(11);
+        let mut next = || rng.random_range(-1.0..2.0);
         for _ in 0..500 {
             let r = [next(), next(), next()];
             let brute = (m.triangles.iter())

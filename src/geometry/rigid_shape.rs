@@ -166,6 +166,8 @@ fn rectangle(p: [f64; 2], h: [f64; 2]) -> (f64, [f64; 2]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::rngs::StdRng;
+    use rand::{Rng, SeedableRng};
 
     fn close(a: f64, b: f64) -> bool {
         (a - b).abs() < 1e-12
@@ -277,13 +279,8 @@ mod tests {
                 opening: [1.0, 0.8],
             },
         ];
-        let mut seed = 7u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 4.0 - 2.0
-        };
+        let mut rng = StdRng::seed_from_u64(7);
+        let mut next = || rng.random_range(-2.0..2.0);
         for s in &shapes {
             for _ in 0..200 {
                 let r = [next(), next(), next()];
