@@ -101,12 +101,9 @@ impl FailureMaxima {
         if let Some(w) = self.worst {
             let opt = |x: Option<usize>| x.map_or(-1.0, |x| x as f64);
             let (c, p) = (w.cell as f64, opt(w.place));
-            out[5..].copy_from_slice(
-                &[w.value, w.index as f64, c, p, opt(w.ply), opt(w.body)]
-                    .into_iter()
-                    .chain(w.point)
-                    .collect::<Vec<_>>(),
-            );
+            let [x, y, z] = w.point;
+            let (ply, body) = (opt(w.ply), opt(w.body));
+            out[5..].copy_from_slice(&[w.value, w.index as f64, c, p, ply, body, x, y, z]);
         }
         out
     }
