@@ -12,11 +12,12 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-const SHARED: [&str; 7] = [
+const SHARED: [&str; 8] = [
     "shaders/shared/types.wgsl",
     "shaders/shared/quad.wgsl",
     "shaders/shared/triangle.wgsl",
     "shaders/shared/face.wgsl",
+    "shaders/shared/rigid_shape.wgsl",
     "shaders/shared/element.wgsl",
     "shaders/shared/contact_law.wgsl",
     "shaders/shared/contact.wgsl",

@@ -2,7 +2,9 @@
 // `kernels::contact_constraints`), as the host path gathers them (`integrate::explicit`):
 // a surface pair takes its query's contact point (face, shape functions, normal, gap at u_n)
 // and is in reach if a face was found with g >= -margin; a plane pair takes the plane's
-// normal and gap and is in reach if g >= -4 dt |v*| (four steps of its node's motion).
+// normal and gap and is in reach if g >= -4 dt |v*| (four steps of its node's motion); a
+// rigid body's pair takes the gap and normal of the body's surface (`rigid_distance`) and a
+// face of one node, the body's, and is in reach if g >= -4 dt |v* - v*_b|.
 // The slip at v_{n-1/2} = v* - dt a_n is kept for the friction work. The impulses and the
 // compliance start at zero. keys[p]: the pair's face for the bucket sort by face (an
 // in-reach surface pair), otherwise params.aux (one bucket past the faces).
@@ -19,6 +21,7 @@
 @group(0) @binding(9) var<storage, read> faces: array<Quad>;
 @group(0) @binding(10) var<storage, read_write> constraints: array<Constraint>;
 @group(0) @binding(11) var<storage, read_write> keys: array<u32>;
+@group(0) @binding(12) var<storage, read> rigid: array<RigidSurface>;
 
 // include: velocity
 
@@ -61,6 +64,19 @@ fn contact_constraints(@builtin(global_invocation_id) gid: vec3<u32>) {
                     load_v(face.w) - step.dt * load_a(face.w),
                 );
             }
+        }
+    } else if (pair.body != NO_FACE) {
+        let b = rigid[pair.body].node;
+        let r = split_difference(reference[n], reference[b])
+            + (split_value(displacement[n]) - split_value(displacement[b]));
+        let sd = rigid_distance(rigid[pair.body], r);
+        nrm = sd.n;
+        gap = -sd.d;
+        reach = gap >= -4.0 * step.dt * length(vn - load_v(b));
+        if (reach) {
+            face = vec4<u32>(b);
+            w = vec4<f32>(1.0, 0.0, 0.0, 0.0);
+            rel_before -= load_v(b) - step.dt * load_a(b);
         }
     } else {
         nrm = vec3_of(pair.normal);

@@ -2,9 +2,11 @@
 // in the plane kernel's layout (`plane_contact.wgsl`), SLOT floats per pair: normal impulse,
 // friction impulse (3), active (0/1), sliding (0/1), linearised end-of-step gap (-inf out of
 // reach), friction work since the start (the tangential impulse against the mean of the slip
-// at v_{n-1/2} and at v_{n+1/2}), and the iteration's sweeps (max_iterations + 1 where it
+// at v_{n-1/2} and at v_{n+1/2}), the iteration's sweeps (max_iterations + 1 where it
 // stopped unconverged at the limit, max_iterations + 2 where it was still sweeping when the
-// recorded sweeps ran out: the host then runs the submission again with more).
+// recorded sweeps ran out: the host then runs the submission again with more), the impulse
+// on the secondary node (3: J_N n + J_T) and the work of a driven rigid body's driver since
+// the start (the impulse against the body's velocity).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<uniform> step: Step;
@@ -13,6 +15,7 @@
 @group(0) @binding(4) var<storage, read> velocity: array<f32>;
 @group(0) @binding(5) var<storage, read> state: array<u32, 8>;
 @group(0) @binding(6) var<storage, read_write> results: array<f32>;
+@group(0) @binding(7) var<storage, read> rigid: array<RigidSurface>;
 
 
 // include: velocity
@@ -38,6 +41,9 @@ fn contact_report(@builtin(global_invocation_id) gid: vec3<u32>) {
         for (var k = 0u; k < 6u; k++) {
             results[o + k] = 0.0;
         }
+        for (var k = 0u; k < 3u; k++) {
+            results[o + SLOT_IMPULSE + k] = 0.0;
+        }
         results[o + SLOT_GAP] = bitcast<f32>(0xff800000u);
         return;
     }
@@ -60,5 +66,13 @@ fn contact_report(@builtin(global_invocation_id) gid: vec3<u32>) {
         let slip = rel - rn * nrm;
         let before = vec3_of(c.slip);
         results[o + SLOT_FRICTION_WORK] -= dot(jt, 0.5 * (before + slip));
+    }
+    let j = c.jn * nrm + jt;
+    results[o + SLOT_IMPULSE] = j.x;
+    results[o + SLOT_IMPULSE + 1u] = j.y;
+    results[o + SLOT_IMPULSE + 2u] = j.z;
+    let body = pairs[p].body;
+    if (body != NO_FACE && rigid[body].driven != 0u) {
+        results[o + SLOT_DRIVER_WORK] += dot(j, load_v(rigid[body].node));
     }
 }

@@ -1,7 +1,8 @@
 // The row-sum bound's weight on each node of the contact iteration, one contact node per
 // invocation (twin: `kernels::contact_touches`): the number of in-reach pairs it is the
 // secondary node of, plus, for each primary face corner k it is, the shape function values
-// |N_k| of the in-reach pairs on that face (bucket f holds sorted[starts[f]..starts[f + 1]]).
+// |N_k| of the in-reach pairs on that face (bucket f holds sorted[starts[f]..starts[f + 1]]),
+// plus the in-reach pairs of the interfaces whose rigid body it carries (weight 1).
 // Also counts the pairs in reach into the iteration's state.
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -30,6 +31,11 @@ fn contact_touches(@builtin(global_invocation_id) gid: vec3<u32>) {
         let k = links[j] % 4u;
         for (var b = starts[f]; b < starts[f + 1u]; b++) {
             t += abs(constraints[sorted[b]].weights[k]);
+        }
+    }
+    for (var j = cn.body_first; j < cn.body_end; j += 2u) {
+        for (var q = links[j]; q < links[j + 1u]; q++) {
+            t += abs(constraints[q].weights[0]);
         }
     }
     touches[cn.node] = t;

@@ -10,7 +10,8 @@
 //
 // Results, SLOT floats per (plane node, plane): normal impulse, friction impulse (3), active
 // (0/1), sliding (0/1), linearised end-of-step gap, friction work since the start, and the
-// node's sweeps (max_iterations + 1 where it did not converge).
+// node's sweeps (max_iterations + 1 where it did not converge), the impulse J_N n + J_T (3)
+// and a driver's work (zero: a plane does not move).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<uniform> step: Step;
@@ -148,5 +149,9 @@ fn plane_contact(@builtin(global_invocation_id) gid: vec3<u32>) {
             results[o + SLOT_FRICTION_WORK] -= dot(jt, 0.5 * (slip_before + slip));
         }
         results[o + SLOT_SWEEPS] = reported;
+        let j = jn * nrm + jt;
+        results[o + SLOT_IMPULSE] = j.x;
+        results[o + SLOT_IMPULSE + 1u] = j.y;
+        results[o + SLOT_IMPULSE + 2u] = j.z;
     }
 }

@@ -67,8 +67,9 @@ fn force_exact(t: f64) -> f64 {
 }
 
 /// Checks a St Venant history: force and velocity within 2% of Z v0 and v0, the impulse the
-/// mass's change of momentum, and no rise of the energy.
-fn check_st_venant(tag: &str, h: &History) {
+/// mass's change of momentum and no rise of the energy, to `tol` relative (1e-9 in f64; the
+/// device's f32 state and impulses round at 6e-8 a step).
+fn check_st_venant(tag: &str, h: &History, tol: f64) {
     let (t, f, v) = (h.col("time"), h.col("strike.normal_force"), h.col("tup.vx"));
     let mut worst = (0.0f64, 0.0f64);
     for i in 1..t.len() {
@@ -94,12 +95,17 @@ fn check_st_venant(tag: &str, h: &History) {
     let impulse: f64 = f.iter().map(|x| x * DT).sum();
     let lost = M * (1.0 - v[v.len() - 1]);
     assert!(
-        (impulse - lost).abs() <= 1e-9 * M,
+        (impulse - lost).abs() <= tol * M,
         "{tag}: impulse {impulse} against the mass's loss of momentum {lost}"
     );
     let e = h.col("total_energy");
     let rise = e.iter().fold(f64::MIN, |m, &x| m.max(x)) - e[0];
-    assert!(rise <= 1e-9 * e[0], "{tag}: energy rises by {rise}");
+    assert!(rise <= tol * e[0], "{tag}: energy rises by {rise}");
+    eprintln!(
+        "{tag}: impulse - lost momentum {:.2e} M, energy rise {:.2e} of the energy",
+        (impulse - lost).abs() / M,
+        rise.max(0.0) / e[0]
+    );
 }
 
 #[test]
@@ -109,7 +115,7 @@ fn a_rigid_mass_on_a_bar_follows_st_venant_explicit_and_implicit() {
         let text = st_venant(method, &format!("mass = {M}"), true);
         let (s, h) = run_text_on(&tag, &text, Some(DeviceChoice::Cpu));
         assert_eq!(s.expect("run completes").status, "completed");
-        check_st_venant(&tag, &h);
+        check_st_venant(&tag, &h, 1e-9);
     }
 }
 
@@ -122,11 +128,8 @@ fn a_rigid_mass_on_a_bar_follows_st_venant_on_the_gpu_adapter() {
     let (s, h) = run_text_on("st_venant_gpu", &text, Some(DeviceChoice::Gpu));
     let s = s.expect("run completes");
     assert_eq!(s.status, "completed");
-    assert_eq!(
-        s.engine, "gpu kernels, host loop",
-        "the host's contact, the device's forces"
-    );
-    check_st_venant("st_venant_gpu", &h);
+    assert_eq!(s.engine, "gpu resident", "the whole step on the device");
+    check_st_venant("st_venant_gpu", &h, 1e-6);
 }
 
 #[test]

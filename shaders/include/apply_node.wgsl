@@ -24,7 +24,8 @@ fn stopping_rule() {
 
 // The velocity change of a sweep at contact node i (twin: `kernels::contact_apply`): the
 // impulse changes of the pairs it is the secondary node of, minus N_k times those of the
-// pairs on each primary face whose corner k it is, times its inverse mass.
+// pairs on each primary face whose corner k it is, and those of the pairs of the interfaces
+// whose rigid body it carries (each a range of pairs), times its inverse mass.
 fn apply_node(i: u32) {
     let cn = nodes[i];
     var delta = vec3<f32>(0.0);
@@ -37,6 +38,11 @@ fn apply_node(i: u32) {
         for (var b = starts[f]; b < starts[f + 1u]; b++) {
             let q = sorted[b];
             delta -= constraints[q].weights[k] * load_dj(q);
+        }
+    }
+    for (var j = cn.body_first; j < cn.body_end; j += 2u) {
+        for (var q = links[j]; q < links[j + 1u]; q++) {
+            delta -= constraints[q].weights[0] * load_dj(q);
         }
     }
     let n = cn.node;

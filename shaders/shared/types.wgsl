@@ -113,8 +113,9 @@ const WORKGROUP: u32 = 64u;
 // Constants shared with the host, checked against `src/gpu/types.rs`'s `shared_constants()`
 // by `tests/gpu_kernels.rs`.
 // The result slot of a (secondary node, plane) or (node, face) pair of `plane_contact` and
-// `contact_report`: SLOT floats, the fields at these offsets (friction impulse: 3 floats).
-const SLOT: u32 = 9u;
+// `contact_report`: SLOT floats, the fields at these offsets (friction impulse and impulse:
+// 3 floats).
+const SLOT: u32 = 13u;
 const SLOT_NORMAL_IMPULSE: u32 = 0u;
 const SLOT_FRICTION_IMPULSE: u32 = 1u;
 const SLOT_ACTIVE: u32 = 4u;
@@ -122,6 +123,14 @@ const SLOT_SLIDING: u32 = 5u;
 const SLOT_GAP: u32 = 6u;
 const SLOT_FRICTION_WORK: u32 = 7u;
 const SLOT_SWEEPS: u32 = 8u;
+const SLOT_IMPULSE: u32 = 9u;
+const SLOT_DRIVER_WORK: u32 = 12u;
+// The kinds of a rigid body's analytic surface (`RigidSurface.kind`).
+const RIGID_SPHERE: u32 = 0u;
+const RIGID_CAPSULE: u32 = 1u;
+const RIGID_CYLINDER: u32 = 2u;
+const RIGID_PLANE: u32 = 3u;
+const RIGID_PLATE: u32 = 4u;
 // Planes a node can have (the bit set and the kernel's local state).
 const MAX_PLANES: u32 = 8u;
 // Partial sums per workgroup of `explicit_correct`.
@@ -218,8 +227,9 @@ fn split_sum(a: Split3, b: Split3) -> vec3<f32> {
 }
 
 // A pair of the explicit step's contact iteration: secondary node `node` of an interface
-// against its surface query `query` (its contact point), or against a rigid plane (`query` =
-// NO_FACE; the plane's point, split like the nodes, and its unit normal into the bodies'
+// against its surface query `query` (its contact point), against a rigid body's surface
+// (`query` = NO_FACE, `body` its `RigidSurface`), or against a rigid plane (`query` = `body`
+// = NO_FACE; the plane's point, split like the nodes, and its unit normal into the bodies'
 // side), with the interface's contact law (`contact_law.wgsl`).
 struct ContactPair {
     node: u32,
@@ -228,6 +238,28 @@ struct ContactPair {
     mu: f32,
     point: Split3,
     normal: Float3,
+    body: u32,
+}
+
+// The analytic surface of a rigid body on node `node` (`rigid_shape.wgsl`, twin:
+// `geometry::rigid_shape`): its kind (RIGID_*), whether a driver moves it (prescribed: the
+// report adds the driver's work), `radius` and `length` (sphere, cylinder, capsule), `axis`
+// (the cylinder's axis, or the plane's and plate's normal), the in-plane axes `e1`, `e2`
+// (the plate's; e1 is also the cylinder's radial direction on its axis), the plate's size
+// and window.
+struct RigidSurface {
+    node: u32,
+    kind: u32,
+    driven: u32,
+    radius: f32,
+    length: f32,
+    axis: Float3,
+    e1: Float3,
+    e2: Float3,
+    size_a: f32,
+    size_b: f32,
+    opening_a: f32,
+    opening_b: f32,
 }
 
 // One constraint of the step (see `contact_constraints.wgsl`): the primary face's nodes and
@@ -249,14 +281,17 @@ struct Constraint {
 }
 
 // A node the contact iteration moves: the pairs it is the secondary node of,
-// links[pair_first..pair_end], and the primary face corners it is, links[face_first..face_end]
-// (each 4 face + corner).
+// links[pair_first..pair_end], the primary face corners it is, links[face_first..face_end]
+// (each 4 face + corner), and, where it carries a rigid body, the pair ranges of the body's
+// interfaces, links[body_first..body_end] (each a first pair and an end pair).
 struct ContactNode {
     node: u32,
     pair_first: u32,
     pair_end: u32,
     face_first: u32,
     face_end: u32,
+    body_first: u32,
+    body_end: u32,
 }
 
 // The contact iteration's state words (`state` buffers): the sweep's largest violation (f32

@@ -17,7 +17,7 @@ use crate::error::{ImpactError, Result};
 
 /// Storage buffers the most demanding kernel binds (`contact_constraints`); an adapter that
 /// binds fewer per shader stage cannot run the kernels (a test keeps this the maximum).
-pub const STORAGE_BINDINGS: u32 = 10;
+pub const STORAGE_BINDINGS: u32 = 11;
 
 /// Under `device = "auto"`, scenes with at least this many elements run their kernels on a
 /// hardware GPU when there is one. Smaller scenes stay on the CPU in f64: there the kernels

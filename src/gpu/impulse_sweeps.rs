@@ -1,5 +1,6 @@
 //! [`ImpulseSweeps`]: the contact impulses of the explicit step on the device, for scenes
-//! with contact between meshed bodies (and any number of rigid planes). The same constraints
+//! with contact between meshed bodies or against rigid bodies' analytic surfaces (and any
+//! number of rigid planes). The same constraints
 //! and the same projected Jacobi sweeps as the host path (`integrate::explicit`), staged so
 //! that every value has one writer (the bounds and the state words aside, which are
 //! atomics) and every sum is gathered in a fixed order:
@@ -27,6 +28,7 @@ use std::ops::Range;
 use super::bucket_sort::BucketSort;
 use super::buffer::Storage;
 use super::context::GpuContext;
+use super::engine::at_least_one;
 use super::kernel::Launch;
 use super::kernels::{
     BucketCount, BucketFill, BucketOrder, ContactApply, ContactCompliance, ContactConstraints,
@@ -39,7 +41,7 @@ use super::types::{self, to_device};
 use crate::error::Result;
 use crate::kernels::plane_contact::SLOT;
 use crate::kernels::sweep_control::word;
-use crate::kernels::{ContactNode, ContactPair};
+use crate::kernels::{ContactNode, ContactPair, RigidSurface};
 
 /// What the device contact iteration needs, in f64 (the CPU twins take the same).
 #[derive(Debug, Clone, Default)]
@@ -58,6 +60,8 @@ pub struct ContactSetup {
     pub queries: Vec<(u32, u32, u32)>,
     /// The largest face size (the search margin's base).
     pub face_size: f64,
+    /// The rigid bodies' analytic surfaces the pairs name (`ContactPair::body`).
+    pub rigid: Vec<RigidSurface>,
 }
 
 /// The device buffers of the explicit step the iteration reads and writes.
@@ -130,22 +134,36 @@ struct Launches {
     report: Launch,
 }
 
-/// The model's contact data on the device: its pairs, contact nodes and their links.
+/// The model's contact data on the device: its pairs, contact nodes and their links, and the
+/// rigid bodies' surfaces.
 struct ModelBuffers {
     pairs: Storage,
     nodes: Storage,
     links: Storage,
+    rigid: Storage,
 }
 
 impl ModelBuffers {
-    /// Uploads the setup's pairs, contact nodes and links (in f32 where they are f64).
+    /// Uploads the setup's pairs, contact nodes, links and rigid surfaces (in f32 where they
+    /// are f64).
     fn upload(ctx: &GpuContext, setup: &ContactSetup) -> Result<Self> {
         let pairs: Vec<types::GpuContactPair> = to_device(&setup.pairs);
         let nodes: Vec<types::GpuContactNode> = to_device(&setup.nodes);
+        let rigid = (setup.rigid.iter())
+            .map(|s| {
+                types::GpuRigidSurface::of(s).ok_or_else(|| {
+                    crate::error::ImpactError::Gpu(
+                        "a meshed rigid surface has no device form: the host's contact takes it"
+                            .into(),
+                    )
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
         Ok(ModelBuffers {
             pairs: Storage::with_data(ctx, "contact.pairs", &pairs)?,
             nodes: Storage::with_data(ctx, "contact.nodes", &nodes)?,
-            links: Storage::with_data(ctx, "contact.links", &setup.links)?,
+            links: Storage::with_data(ctx, "contact.links", &at_least_one(setup.links.clone()))?,
+            rigid: Storage::with_data(ctx, "contact.rigid", &at_least_one(rigid))?,
         })
     }
 }
@@ -273,6 +291,7 @@ impl Bindings<'_> {
             self.faces,
             &w.constraints.buffer,
             &w.sort.keys.buffer,
+            &m.rigid.buffer,
         );
         let count = k.count.launch(
             ctx,
@@ -408,6 +427,7 @@ impl Bindings<'_> {
             b.velocity,
             &w.state.buffer,
             &w.results.buffer,
+            &self.m.rigid.buffer,
         )
     }
 
@@ -493,6 +513,7 @@ impl ImpulseSweeps {
             pairs,
             nodes: cnodes,
             links,
+            rigid,
         } = model;
         let scan = Scan::new(
             ctx,
@@ -507,7 +528,7 @@ impl ImpulseSweeps {
             work,
             scan,
             staging: super::buffer::staging(ctx)?,
-            _buffers: vec![pairs, cnodes, links, none],
+            _buffers: vec![pairs, cnodes, links, rigid, none],
             pairs: np,
             faces: nf,
             max_iterations,

@@ -62,13 +62,15 @@ kernel_table! {
     ContactCompliance = contact_compliance(constraints, touches, lumped, pairs);
     ContactConstraints = contact_constraints(
         step, grid, reference, displacement, velocity, acceleration, pairs, points, faces,
-        constraints, keys,
+        constraints, keys, rigid,
     );
     ContactFinish = contact_finish(
         step, constraints, pairs, velocity, dj, state, nodes, links, starts, sorted, lumped,
     );
     ContactGap = contact_gap(reference, displacement, velocity, queries, candidates, faces, points);
-    ContactReportKernel = contact_report(step, constraints, pairs, velocity, state, results);
+    ContactReportKernel = contact_report(
+        step, constraints, pairs, velocity, state, results, rigid,
+    );
     ContactSearch = contact_search(
         grid, reference, displacement, velocity, queries, faces, starts, sorted, points,
     );

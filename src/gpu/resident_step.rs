@@ -4,8 +4,9 @@
 //!
 //! A step records: `explicit_predict` (v* = v + dt/2 a), the contact impulses
 //! (`plane_contact` where all contacts are rigid planes, at most 8; otherwise the contact
-//! iteration, [`super::ImpulseSweeps`]), `explicit_drift` (u += dt v), the element kernels and
-//! `node_gather` (internal forces), `explicit_correct` once per body (a, v and the body's
+//! iteration, [`super::ImpulseSweeps`], which takes rigid bodies' surfaces too),
+//! `explicit_drift` (u += dt v), the element kernels and `node_gather` (internal forces),
+//! `explicit_correct` once per body and once over the rigid bodies' nodes (a, v and the
 //! energy and momentum sums per workgroup) and `history_reduce` (one row of history
 //! values, written at the step's place in the submission's rows). A whole submission is
 //! one compute pass. The rows are copied into a mapped
@@ -42,7 +43,8 @@ pub struct ResidentSetup {
     pub lumped: Vec<LumpedNode>,
     pub planes: Vec<PlaneData>,
     pub plane_nodes: Vec<PlaneNode>,
-    /// Node range of each body.
+    /// Node range of each body, then that of the rigid bodies' nodes where there are any
+    /// (the correctors' ranges).
     pub bodies: Vec<Range<usize>>,
     /// Probe nodes.
     pub probes: Vec<u32>,

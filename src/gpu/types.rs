@@ -350,6 +350,7 @@ device_struct! {
         pub mu: f32,
         pub point: Split3,
         pub normal: [f32; 3],
+        pub body: u32,
     }
 }
 
@@ -362,7 +363,84 @@ impl From<&kernels::ContactPair> for GpuContactPair {
             mu: p.law.coefficient() as f32,
             point: Split3::split(p.point),
             normal: p.normal.map(|x| x as f32),
+            body: p.body,
         }
+    }
+}
+
+/// The kinds of a rigid body's analytic surface on the device (`RIGID_*` in
+/// `shaders/shared/types.wgsl`).
+pub mod rigid_kind {
+    pub const SPHERE: u32 = 0;
+    pub const CAPSULE: u32 = 1;
+    pub const CYLINDER: u32 = 2;
+    pub const PLANE: u32 = 3;
+    pub const PLATE: u32 = 4;
+}
+
+device_struct! {
+    /// A rigid body's analytic surface (twin: [`crate::kernels::RigidSurface`], whose
+    /// shape's distance is `shaders/shared/rigid_shape.wgsl`'s `rigid_distance`).
+    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+    pub struct GpuRigidSurface as RigidSurface {
+        pub node: u32,
+        pub kind: u32,
+        pub driven: u32,
+        pub radius: f32,
+        pub length: f32,
+        pub axis: [f32; 3],
+        pub e1: [f32; 3],
+        pub e2: [f32; 3],
+        pub size_a: f32,
+        pub size_b: f32,
+        pub opening_a: f32,
+        pub opening_b: f32,
+    }
+}
+
+impl GpuRigidSurface {
+    /// The device form of an analytic surface; `None` for a meshed one.
+    pub fn of(s: &kernels::RigidSurface) -> Option<Self> {
+        use crate::geometry::rigid_shape::RigidShape;
+        let f = |v: [f64; 3]| v.map(|x| x as f32);
+        let mut d = GpuRigidSurface {
+            node: s.node,
+            driven: u32::from(s.driven),
+            ..Default::default()
+        };
+        match s.shape {
+            RigidShape::Sphere { radius } => {
+                (d.kind, d.radius) = (rigid_kind::SPHERE, radius as f32);
+            }
+            RigidShape::Cylinder {
+                radius,
+                axis,
+                length,
+                round,
+            } => {
+                d.kind = if round {
+                    rigid_kind::CAPSULE
+                } else {
+                    rigid_kind::CYLINDER
+                };
+                (d.radius, d.length, d.axis) = (radius as f32, length as f32, f(axis));
+                d.e1 = f(RigidShape::plate_axes(axis)[0]);
+            }
+            RigidShape::Plane { normal } => (d.kind, d.axis) = (rigid_kind::PLANE, f(normal)),
+            RigidShape::Plate {
+                normal,
+                axes,
+                size,
+                opening,
+            } => {
+                (d.kind, d.axis, d.e1, d.e2) =
+                    (rigid_kind::PLATE, f(normal), f(axes[0]), f(axes[1]));
+                (d.size_a, d.size_b) = (size[0] as f32, size[1] as f32);
+                (d.opening_a, d.opening_b) = (opening[0] as f32, opening[1] as f32);
+            }
+            RigidShape::Mesh(_) => return None,
+        }
+        Some(d)
     }
 }
 
@@ -423,6 +501,8 @@ device_struct! {
         pub pair_end: u32,
         pub face_first: u32,
         pub face_end: u32,
+        pub body_first: u32,
+        pub body_end: u32,
     }
 }
 
@@ -434,6 +514,8 @@ impl From<&kernels::ContactNode> for GpuContactNode {
             pair_end: c.pair_end,
             face_first: c.face_first,
             face_end: c.face_end,
+            body_first: c.body_first,
+            body_end: c.body_end,
         }
     }
 }
@@ -460,6 +542,13 @@ pub fn shared_constants() -> Vec<(&'static str, u32)> {
         ("SLOT_GAP", u(slot::GAP)),
         ("SLOT_FRICTION_WORK", u(slot::FRICTION_WORK)),
         ("SLOT_SWEEPS", u(slot::SWEEPS)),
+        ("SLOT_IMPULSE", u(slot::IMPULSE)),
+        ("SLOT_DRIVER_WORK", u(slot::DRIVER_WORK)),
+        ("RIGID_SPHERE", rigid_kind::SPHERE),
+        ("RIGID_CAPSULE", rigid_kind::CAPSULE),
+        ("RIGID_CYLINDER", rigid_kind::CYLINDER),
+        ("RIGID_PLANE", rigid_kind::PLANE),
+        ("RIGID_PLATE", rigid_kind::PLATE),
         ("MAX_PLANES", u(MAX_PLANES)),
         ("FIELDS", u(FIELDS)),
         ("OP_PARTIALS", OP_PARTIALS),
@@ -496,5 +585,6 @@ pub fn layouts() -> Vec<StructLayout> {
         GpuContactPair::layout(),
         GpuConstraint::layout(),
         GpuContactNode::layout(),
+        GpuRigidSurface::layout(),
     ]
 }

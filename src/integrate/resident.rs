@@ -2,7 +2,8 @@
 //! ([`crate::gpu::ResidentStep`]). The same time discretisation and the same contact
 //! iteration as [`super::ExplicitSolver`], its CPU twin (`device = "cpu"`): see
 //! `integrate/explicit/`, `kernels/plane_contact.rs` (rigid planes alone) and
-//! `gpu/impulse_sweeps.rs` (contact between meshed bodies).
+//! `gpu/impulse_sweeps.rs` (contact between meshed bodies, and against rigid bodies'
+//! analytic surfaces).
 //!
 //! The host submits many steps at a time and decodes the history rows the device reduced, one
 //! submission behind the device. VTU frames end a submission; the state is read back there.
@@ -18,24 +19,17 @@ use super::recorded_sweeps::{RecordedSweeps, FIRST_GUESS};
 use super::state::{ContactReport, Energies, StepReport};
 use super::SolverState;
 use crate::error::{ImpactError, Result};
+use crate::geometry::rigid_shape::RigidShape;
 use crate::gpu::resident_step::row_len;
 use crate::gpu::{ContactSetup, GpuContext, ResidentSetup, ResidentStep};
 use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::explicit_correct::FIELDS;
 use crate::kernels::plane_contact::{slot, MAX_PLANES, SLOT};
-use crate::kernels::{ContactNode, ContactPair, LumpedNode, PlaneData, PlaneNode};
+use crate::kernels::{ContactNode, ContactPair, LumpedNode, PlaneData, PlaneNode, RigidSurface};
 use crate::model::Model;
 use crate::model::Primary;
-use crate::scene::{ExplicitSettings, Method};
+use crate::scene::{ExplicitSettings, Method, RigidMotion};
 use crate::search;
-
-/// The resident step's refusal of rigid bodies, whose surfaces have no device kernel yet
-/// (`run` gives such a model the explicit solver with the device's element forces).
-pub(crate) fn rigid_bodies_unsupported() -> ImpactError {
-    ImpactError::Gpu(
-        "the resident device step has no kernel for rigid bodies' surfaces: run the model with the host's contact (ExplicitSolver)".into(),
-    )
-}
 
 /// Whether the model's contacts take the plane kernel (every interface a rigid plane, at
 /// most [`MAX_PLANES`]) rather than the device contact iteration.
@@ -43,60 +37,69 @@ pub(crate) fn planes_only(model: &Model) -> bool {
     model.interfaces.iter().all(|i| i.is_plane()) && model.interfaces.len() <= MAX_PLANES
 }
 
+/// Whether every rigid body's surface has a device form (the analytic shapes; a meshed
+/// surface's contact runs on the host, `run` then gives the model the explicit solver with
+/// the device's element forces).
+pub fn rigid_surfaces_on_device(model: &Model) -> bool {
+    (model.rigid.iter()).all(|b| !matches!(b.shape, RigidShape::Mesh(_)))
+}
+
 /// The device contact iteration's inputs: a pair per (interface, secondary node), the nodes
-/// the iteration moves (secondary nodes and primary face corners, in node order) with their
-/// pairs and face corners, and the search layout.
+/// the iteration moves (secondary nodes, primary face corners and rigid bodies' nodes, in
+/// node order) with their pairs, face corners and bodies' pair ranges, the search layout and
+/// the rigid bodies' surfaces (one per rigid interface).
 pub(crate) fn contact_setup(model: &Model) -> Result<ContactSetup> {
     let mut pairs = Vec::new();
     let mut interfaces = Vec::with_capacity(model.interfaces.len());
+    let mut rigid = Vec::new();
+    // each rigid body node's interfaces' pair ranges
+    let mut bodies: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
     for itf in &model.interfaces {
         let start = pairs.len();
-        for (i, &node) in itf.nodes.iter().enumerate() {
-            pairs.push(match itf.primary {
-                Primary::Surface { ref queries, .. } => ContactPair {
+        let template = match itf.primary {
+            Primary::Surface { .. } => ContactPair::default(),
+            Primary::Plane { point, normal } => ContactPair {
+                point,
+                normal,
+                ..Default::default()
+            },
+            Primary::Rigid { body, node, .. } => {
+                let b = &model.rigid[body];
+                if matches!(b.shape, RigidShape::Mesh(_)) {
+                    return Err(ImpactError::Gpu(format!(
+                        "rigid body '{}': a meshed surface has no device form",
+                        b.name
+                    )));
+                }
+                rigid.push(RigidSurface {
                     node,
-                    query: (queries.start + i) as u32,
-                    law: itf.law,
+                    driven: b.motion == RigidMotion::Prescribed,
+                    shape: b.shape.clone(),
+                });
+                let end = (start + itf.nodes.len()) as u32;
+                bodies.entry(node).or_default().extend([start as u32, end]);
+                ContactPair {
+                    body: (rigid.len() - 1) as u32,
                     ..Default::default()
-                },
-                Primary::Plane { point, normal } => ContactPair {
-                    node,
-                    query: NO_FACE,
-                    law: itf.law,
-                    point,
-                    normal,
-                },
-                Primary::Rigid { .. } => return Err(rigid_bodies_unsupported()),
+                }
+            }
+        };
+        for (i, &node) in itf.nodes.iter().enumerate() {
+            let query = match itf.primary {
+                Primary::Surface { ref queries, .. } => (queries.start + i) as u32,
+                _ => NO_FACE,
+            };
+            pairs.push(ContactPair {
+                node,
+                query,
+                law: itf.law,
+                ..template
             });
         }
         interfaces.push(start..pairs.len());
     }
     let faces = model.queries.faces.clone();
-    // each node's pairs and face corners, in node order
-    let mut own: BTreeMap<u32, (Vec<u32>, Vec<u32>)> = BTreeMap::new();
-    for (p, pair) in pairs.iter().enumerate() {
-        own.entry(pair.node).or_default().0.push(p as u32);
-    }
-    for (f, face) in faces.iter().enumerate() {
-        for (k, &n) in face.iter().enumerate() {
-            own.entry(n).or_default().1.push(4 * f as u32 + k as u32);
-        }
-    }
-    let mut nodes = Vec::with_capacity(own.len());
-    let mut links = Vec::new();
-    for (node, (p, f)) in own {
-        let pair_first = links.len() as u32;
-        links.extend_from_slice(&p);
-        let face_first = links.len() as u32;
-        links.extend_from_slice(&f);
-        nodes.push(ContactNode {
-            node,
-            pair_first,
-            pair_end: face_first,
-            face_first,
-            face_end: links.len() as u32,
-        });
-    }
+    let (nodes, links) = contact_nodes(&pairs, &faces, bodies);
     let (face_first, queries) = search::search_layout(model);
     Ok(ContactSetup {
         pairs,
@@ -107,7 +110,50 @@ pub(crate) fn contact_setup(model: &Model) -> Result<ContactSetup> {
         face_first,
         queries,
         face_size: search::largest_face_size(model),
+        rigid,
     })
+}
+
+/// The nodes the iteration moves, in node order, each with its pairs, its face corners and
+/// its rigid body's pair ranges (`bodies`), and their links.
+fn contact_nodes(
+    pairs: &[ContactPair],
+    faces: &[[u32; 4]],
+    bodies: BTreeMap<u32, Vec<u32>>,
+) -> (Vec<ContactNode>, Vec<u32>) {
+    type Links = (Vec<u32>, Vec<u32>, Vec<u32>);
+    let mut own: BTreeMap<u32, Links> = BTreeMap::new();
+    for (p, pair) in pairs.iter().enumerate() {
+        own.entry(pair.node).or_default().0.push(p as u32);
+    }
+    for (f, face) in faces.iter().enumerate() {
+        for (k, &n) in face.iter().enumerate() {
+            own.entry(n).or_default().1.push(4 * f as u32 + k as u32);
+        }
+    }
+    for (n, ranges) in bodies {
+        own.entry(n).or_default().2 = ranges;
+    }
+    let mut nodes = Vec::with_capacity(own.len());
+    let mut links = Vec::new();
+    for (node, (p, f, b)) in own {
+        let pair_first = links.len() as u32;
+        links.extend_from_slice(&p);
+        let face_first = links.len() as u32;
+        links.extend_from_slice(&f);
+        let body_first = links.len() as u32;
+        links.extend_from_slice(&b);
+        nodes.push(ContactNode {
+            node,
+            pair_first,
+            pair_end: face_first,
+            face_first,
+            face_end: body_first,
+            body_first,
+            body_end: links.len() as u32,
+        });
+    }
+    (nodes, links)
 }
 
 /// Steps per submission: about 4 million element-steps, from 8 to 1024.
@@ -173,6 +219,10 @@ pub fn setup(
             *v = 0.0;
         }
     }
+    // the prescribed rigid bodies keep their velocities (their inverse mass is zero)
+    for (d, w) in model.moving_dofs() {
+        velocity[d] = w;
+    }
     let acceleration = (0..3 * nodes)
         .into_par_iter()
         .map(|d| lumped[d / 3].ext_acc[d % 3])
@@ -184,13 +234,26 @@ pub fn setup(
         lumped,
         planes,
         plane_nodes,
-        bodies: model.mesh.bodies.iter().map(|b| b.nodes.clone()).collect(),
+        bodies: corrected_ranges(model),
         probes: model.probes.iter().map(|p| p.node).collect(),
         velocity,
         acceleration,
         contact,
     };
     Ok((setup, places))
+}
+
+/// The node ranges the correctors run over: each meshed body's, then the rigid bodies'
+/// nodes (after every meshed body's) as one more.
+fn corrected_ranges(model: &Model) -> Vec<Range<usize>> {
+    let mut ranges: Vec<Range<usize>> = (model.mesh.bodies.iter())
+        .map(|b| b.nodes.clone())
+        .collect();
+    let nodes = model.mesh.node_count();
+    if !model.rigid.is_empty() {
+        ranges.push(nodes - model.rigid.len()..nodes);
+    }
+    ranges
 }
 
 /// One decoded history row.
@@ -463,7 +526,8 @@ impl<'m> ResidentSolver<'m> {
     }
 
     fn decode(&self, r: &[f64]) -> Row {
-        let nb = self.model.mesh.bodies.len();
+        // the meshed bodies' ranges, then the rigid bodies' (energies only)
+        let nb = self.model.mesh.bodies.len() + usize::from(!self.model.rigid.is_empty());
         let np = self.model.interfaces.len();
         debug_assert_eq!(r.len(), row_len(nb, np, self.model.probes.len()));
         let mut e = Energies::default();
@@ -473,7 +537,9 @@ impl<'m> ResidentSolver<'m> {
             e.kinetic += q[0];
             e.strain += q[1];
             e.potential += q[2];
-            bodies.push([q[3], q[4], q[5]].map(|p| p / self.body_mass[b]));
+            if let Some(m) = self.body_mass.get(b) {
+                bodies.push([q[3], q[4], q[5]].map(|p| p / m));
+            }
         }
         let mut report = StepReport {
             iterations: 0,
@@ -486,6 +552,7 @@ impl<'m> ResidentSolver<'m> {
             report.iterations = report.iterations.max(sweeps.min(self.max_iterations));
             report.converged &= sweeps <= self.max_iterations;
             let jt = [q[1], q[2], q[3]];
+            let j = &q[slot::IMPULSE..slot::IMPULSE + 3];
             reports.push(ContactReport {
                 normal_force: q[0] / self.row_dt,
                 tangential_force: crate::geometry::vector::norm(jt) / self.row_dt,
@@ -493,11 +560,12 @@ impl<'m> ResidentSolver<'m> {
                 max_penetration: q[6],
                 sliding: q[5].round() as usize,
                 friction_work: q[7],
-                // the resident step refuses rigid bodies (the only drivers, and the only
-                // primary sides whose force vector the history shows)
-                driver_work: 0.0,
-                force: [0.0; 3],
+                driver_work: q[slot::DRIVER_WORK],
+                // on the primary side: minus the impulses on the secondary nodes
+                force: std::array::from_fn(|a| -j[a] / self.row_dt),
             });
+            // the drivers' work is the model's energy input (the host path's balance)
+            e.potential -= q[slot::DRIVER_WORK];
         }
         let base = FIELDS * nb + SLOT * np;
         let probes = (0..self.model.probes.len())

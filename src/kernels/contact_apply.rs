@@ -1,7 +1,8 @@
 //! The velocity change of one sweep of the device contact iteration (CPU twin of
 //! `shaders/contact_apply.wgsl`): each contact node gathers the impulse changes of the pairs
 //! it is the secondary node of, minus $N_k$ times those of the pairs on each primary face
-//! whose corner k it is, times its inverse mass. (The kernel's first invocation also applies
+//! whose corner k it is, and those of the pairs of the interfaces whose rigid body it
+//! carries, times its inverse mass. (The kernel's first invocation also applies
 //! the iteration's stopping rule after the sweep, whose twin is
 //! [`super::sweep_control`].)
 
@@ -34,6 +35,12 @@ pub fn contact_apply(
                 for a in 0..3 {
                     delta[a] -= w * dj[3 * q as usize + a];
                 }
+            }
+        }
+        for q in cn.body_pairs(links) {
+            let w = constraints[q].weights[0];
+            for a in 0..3 {
+                delta[a] -= w * dj[3 * q + a];
             }
         }
         let n = cn.node as usize;

@@ -2,26 +2,53 @@
 //! `shaders/contact_constraints.wgsl`), gathered as the host path gathers them
 //! (`integrate::explicit`): a surface pair takes its query's contact point and is in reach
 //! if a face was found with $g \ge -$margin; a plane pair takes the plane's normal and gap
-//! and is in reach if $g \ge -4 \Delta t |v^*|$. The slip at
-//! $v_{n-1/2} = v^* - \Delta t\, a_n$ is kept for the friction work.
+//! and is in reach if $g \ge -4 \Delta t |v^*|$; a rigid body's pair takes the gap and normal
+//! of the body's surface ([`RigidShape::distance`], `shaders/shared/rigid_shape.wgsl`) and a
+//! face of one node, the body's, and is in reach if $g \ge -4 \Delta t |v^* - v^*_b|$. The
+//! slip at $v_{n-1/2} = v^* - \Delta t\, a_n$ is kept for the friction work.
 
 use super::contact_gap::{ContactPoint, NO_FACE};
 use crate::contact::law::ContactLaw;
+use crate::geometry::rigid_shape::RigidShape;
 use crate::geometry::{
     face,
-    vector::{dot, norm},
+    vector::{dot, norm, sub},
 };
 use crate::kernels::impulse::relative_velocity;
 
-/// A pair of the iteration: secondary node `node` against surface query `query`, or against
-/// a rigid plane (`query == NO_FACE`: its point and unit normal), with its interface's law.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+/// A pair of the iteration: secondary node `node` against surface query `query`, against the
+/// rigid body's surface `body` (`query == NO_FACE`), or against a rigid plane (`query ==
+/// body == NO_FACE`: its point and unit normal), with its interface's law.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactPair {
     pub node: u32,
     pub query: u32,
     pub law: ContactLaw,
     pub point: [f64; 3],
     pub normal: [f64; 3],
+    pub body: u32,
+}
+
+impl Default for ContactPair {
+    fn default() -> Self {
+        ContactPair {
+            node: 0,
+            query: NO_FACE,
+            law: ContactLaw::default(),
+            point: [0.0; 3],
+            normal: [0.0; 3],
+            body: NO_FACE,
+        }
+    }
+}
+
+/// The analytic surface of the rigid body on node `node` (a meshed surface has no device
+/// form); `driven` where a driver moves it (its work is reported).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RigidSurface {
+    pub node: u32,
+    pub driven: bool,
+    pub shape: RigidShape,
 }
 
 /// One constraint of the step (`face[0] == NO_FACE` for a plane).
@@ -65,6 +92,21 @@ pub fn relative(c: &Constraint, node: u32, v: &[f64]) -> [f64; 3] {
     )
 }
 
+/// The gap and normal of node `n` against the rigid surface `s` and whether it is within
+/// four steps of their relative motion `rel` of it.
+fn rigid_constraint(
+    dt: f64,
+    (reference, u): (&[[f64; 3]], &[f64]),
+    s: &RigidSurface,
+    n: usize,
+    rel: [f64; 3],
+) -> (f64, [f64; 3], bool) {
+    let b = s.node as usize;
+    let x = |m: usize| std::array::from_fn(|ax| reference[m][ax] + u[3 * m + ax]);
+    let (distance, normal) = s.shape.distance(sub(x(n), x(b)));
+    (-distance, normal, -distance >= -4.0 * dt * norm(rel))
+}
+
 /// Returns the constraints and the bucket keys (the face of an in-reach surface pair,
 /// otherwise `faces.len()`). `v` is $v^*$, `a` is $a_n$ (3 per node).
 #[allow(clippy::too_many_arguments)]
@@ -78,6 +120,7 @@ pub fn contact_constraints(
     pairs: &[ContactPair],
     points: &[ContactPoint],
     faces: &[[u32; 4]],
+    rigid: &[RigidSurface],
 ) -> (Vec<Constraint>, Vec<u32>) {
     let sentinel = faces.len() as u32;
     let mut out = Vec::with_capacity(pairs.len());
@@ -98,6 +141,14 @@ pub fn contact_constraints(
                 c.face = faces[pt.face as usize];
                 c.weights = face::shape(&c.face, pt.xi);
                 key = pt.face;
+            }
+        } else if pair.body != NO_FACE {
+            let s = &rigid[pair.body as usize];
+            let b = s.node as usize;
+            let rel = std::array::from_fn(|ax| v[3 * n + ax] - v[3 * b + ax]);
+            (c.gap, c.normal, c.in_reach) = rigid_constraint(dt, (reference, u), s, n, rel);
+            if c.in_reach {
+                (c.face, c.weights) = ([s.node; 4], [1.0, 0.0, 0.0, 0.0]);
             }
         } else {
             c.normal = pair.normal;

@@ -1,19 +1,21 @@
 //! The contact results of the step (CPU twin of `shaders/contact_report.wgsl`), in the plane
 //! kernel's layout ([`super::plane_contact::SLOT`] per pair): normal impulse, friction
 //! impulse (3), active, sliding, linearised end-of-step gap ($-\infty$ out of reach), friction
-//! work since the start, and the iteration's sweeps.
+//! work since the start, the iteration's sweeps, the impulse on the secondary node (3) and
+//! the work of a driven rigid body's driver since the start.
 
-use super::contact_constraints::{relative, Constraint, ContactPair};
+use super::contact_constraints::{relative, Constraint, ContactPair, RigidSurface};
+use super::contact_gap::NO_FACE;
 use super::plane_contact::{slot, SLOT};
 use crate::geometry::vector::dot;
 
 /// `sweeps`: the count to report ([`super::sweep_control::SweepState::reported`]); the
-/// friction work entries of `results` carry over from the last step.
+/// friction work and driver work entries of `results` carry over from the last step.
 pub fn contact_report(
     dt: f64,
     sweeps: u32,
-    constraints: &[Constraint],
-    pairs: &[ContactPair],
+    (constraints, pairs): (&[Constraint], &[ContactPair]),
+    rigid: &[RigidSurface],
     v: &[f64],
     results: &mut [f64],
 ) {
@@ -22,6 +24,7 @@ pub fn contact_report(
         r[slot::SWEEPS] = sweeps as f64;
         if !c.in_reach {
             r[..6].fill(0.0);
+            r[slot::IMPULSE..slot::IMPULSE + 3].fill(0.0);
             r[slot::GAP] = f64::NEG_INFINITY;
             continue;
         }
@@ -38,6 +41,14 @@ pub fn contact_report(
             r[slot::FRICTION_WORK] -= (0..3)
                 .map(|a| c.jt[a] * 0.5 * (c.slip[a] + slip[a]))
                 .sum::<f64>();
+        }
+        let j: [f64; 3] = std::array::from_fn(|a| c.jn * c.normal[a] + c.jt[a]);
+        r[slot::IMPULSE..slot::IMPULSE + 3].copy_from_slice(&j);
+        if let Some(s) = (pair.body != NO_FACE).then(|| &rigid[pair.body as usize]) {
+            if s.driven {
+                let b = 3 * s.node as usize;
+                r[slot::DRIVER_WORK] += dot(j, [v[b], v[b + 1], v[b + 2]]);
+            }
         }
     }
 }

@@ -1,13 +1,18 @@
 //! The row-sum bound's weight on each node of the device contact iteration (CPU twin of
 //! `shaders/contact_touches.wgsl`): the in-reach pairs a node is the secondary node of, plus
 //! the shape function values $|N_k|$ of the in-reach pairs on each primary face whose corner
-//! k it is. Also the number of pairs in reach.
+//! k it is, and the in-reach pairs of the interfaces whose rigid body it carries (the body's
+//! one-node face, weight 1). Also the number of pairs in reach.
 
 use super::contact_constraints::Constraint;
 
 /// A node the contact iteration moves: the pairs it is the secondary node of,
-/// `links[pair_first..pair_end]`, and the face corners it is, `links[face_first..face_end]`
-/// (each `4 face + corner`).
+/// `links[pair_first..pair_end]`, the face corners it is, `links[face_first..face_end]`
+/// (each `4 face + corner`), and, where it carries a rigid body, the pair ranges of the
+/// body's interfaces, `links[body_first..body_end]` (each a first and an end pair).
+///
+/// A body gathers its interfaces' pairs by range, in pair order: they are many (every node
+/// of a coupon's face against a tup or a support) and need no sort by face.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct ContactNode {
     pub node: u32,
@@ -15,6 +20,17 @@ pub struct ContactNode {
     pub pair_end: u32,
     pub face_first: u32,
     pub face_end: u32,
+    pub body_first: u32,
+    pub body_end: u32,
+}
+
+impl ContactNode {
+    /// The pairs of the interfaces whose rigid body this node carries, in order.
+    pub fn body_pairs<'a>(&self, links: &'a [u32]) -> impl Iterator<Item = usize> + 'a {
+        links[self.body_first as usize..self.body_end as usize]
+            .chunks_exact(2)
+            .flat_map(|r| r[0] as usize..r[1] as usize)
+    }
 }
 
 /// Writes `touches[node]` of every contact node; returns the pairs in reach. Bucket f of the
@@ -39,6 +55,9 @@ pub fn contact_touches(
             for &q in &sorted[starts[f] as usize..starts[f + 1] as usize] {
                 t += constraints[q as usize].weights[k].abs();
             }
+        }
+        for q in cn.body_pairs(links) {
+            t += constraints[q].weights[0].abs();
         }
         touches[cn.node as usize] = t;
         active += own;

@@ -48,7 +48,7 @@ pub use bucket_fill::bucket_fill;
 pub use bucket_order::bucket_order;
 pub use contact_apply::contact_apply;
 pub use contact_compliance::contact_compliance;
-pub use contact_constraints::{contact_constraints, Constraint, ContactPair};
+pub use contact_constraints::{contact_constraints, Constraint, ContactPair, RigidSurface};
 pub use contact_finish::{contact_finish, SweepInputs};
 pub use contact_gap::{contact_gap, ContactPoint, ContactQueries};
 pub use contact_report::contact_report;

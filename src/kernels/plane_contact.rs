@@ -16,7 +16,7 @@ use crate::kernels::impulse::impulse_update;
 
 /// Results per (plane node, plane), and per (node, face) pair of `contact_report`: the fields
 /// at the offsets of [`slot`].
-pub const SLOT: usize = 9;
+pub const SLOT: usize = 13;
 
 /// The fields of a result slot (`SLOT_*` in `shaders/shared/types.wgsl`).
 pub mod slot {
@@ -33,6 +33,10 @@ pub mod slot {
     pub const FRICTION_WORK: usize = 7;
     /// The node's sweeps (`max_iterations + 1` where it did not converge).
     pub const SWEEPS: usize = 8;
+    /// The impulse on the secondary node, $J_N n + J_T$: three floats.
+    pub const IMPULSE: usize = 9;
+    /// The work of a driven rigid body's driver since the start (zero against a plane).
+    pub const DRIVER_WORK: usize = 12;
 
     /// Whether the history reduces field `f` over the nodes by its largest value (the
     /// deepest gap, the most sweeps) rather than by its sum.
@@ -234,5 +238,7 @@ fn report(
                 .sum::<f64>();
         }
         r[slot::SWEEPS] = node.reported;
+        let j: [f64; 3] = std::array::from_fn(|ax| jn * nrm[ax] + jt[ax]);
+        r[slot::IMPULSE..slot::IMPULSE + 3].copy_from_slice(&j);
     }
 }

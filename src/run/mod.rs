@@ -29,7 +29,9 @@ use crate::checkpoint::{Checkpoint, Tally};
 use crate::domain::{DomainSolver, Partition, Ranks};
 use crate::error::{ImpactError, Result};
 use crate::gpu::GpuKernels;
-use crate::integrate::{ExplicitSolver, ImplicitSolver, Integrator, ResidentSolver, StepReport};
+use crate::integrate::{
+    resident, ExplicitSolver, ImplicitSolver, Integrator, ResidentSolver, StepReport,
+};
 use crate::model::Model;
 use crate::output::failure_survey::FailureMaxima;
 use crate::output::progress::Progress;
@@ -81,9 +83,9 @@ fn build_solver<'m>(
         ));
     }
     let mut solver: Box<dyn Integrator + 'm> = match (setup.method, setup.ctx.clone()) {
-        // the resident step has no kernel for rigid bodies' surfaces: their contact runs on
-        // the host, the element forces on the device
-        (Method::Explicit, Some(ctx)) if model.rigid.is_empty() => Box::new(
+        // a meshed rigid surface has no device form: its contact runs on the host, the
+        // element forces on the device
+        (Method::Explicit, Some(ctx)) if resident::rigid_surfaces_on_device(model) => Box::new(
             ResidentSolver::new(
                 ctx,
                 model,

@@ -38,7 +38,10 @@ pub fn compare_histories(hc: &History, hg: &History, h: f64, bound: f64) {
     let energy = family_scale(hc, &["_energy", "friction_work"]);
     let speed = family_scale(hc, &[".vx", ".vy", ".vz"]);
     let disp = family_scale(hc, &[".ux", ".uy", ".uz"]);
-    let force = family_scale(hc, &["normal_force", "tangential_force"]);
+    let force = family_scale(
+        hc,
+        &["normal_force", "tangential_force", ".fx", ".fy", ".fz"],
+    );
     for (j, c) in hc.columns.iter().enumerate() {
         let scale = if c.ends_with("_energy") || c.ends_with("friction_work") {
             energy
@@ -46,7 +49,7 @@ pub fn compare_histories(hc: &History, hg: &History, h: f64, bound: f64) {
             speed
         } else if c.ends_with(".ux") || c.ends_with(".uy") || c.ends_with(".uz") {
             disp
-        } else if c.ends_with("_force") {
+        } else if c.ends_with("_force") || [".fx", ".fy", ".fz"].iter().any(|f| c.ends_with(f)) {
             force
         } else if c.ends_with("max_penetration") {
             h
