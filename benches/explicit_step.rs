@@ -147,9 +147,8 @@ fn time_resident(
         &sc.explicit,
         dt,
         1.0,
-        usize::MAX / 2,
+        (usize::MAX / 2, None, chunk),
         None,
-        chunk,
     )
     .expect("resident solver");
     let setup = model_time + start.elapsed().as_secs_f64();

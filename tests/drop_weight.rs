@@ -120,3 +120,68 @@ fn a_tup_strikes_the_coupon_and_rebounds_and_indentation_follows_its_loading_bra
     );
     assert!(mean <= 0.08, "mean difference {mean}");
 }
+
+/// The coarse drop on the GPU adapter's resident step (the tup, support and clamps on the
+/// device, the ply failure survey of every step on the device) against the CPU's history:
+/// each column family within 1e-3 of its scale over the first 1,106 steps (the impact's
+/// loading), both at the device's contact tolerance; the failure indices' maxima within 1e-3
+/// of their largest value, and the first failure at the same point (or its mirror image)
+/// and index within two steps.
+#[test]
+fn the_drop_on_the_gpu_adapter_follows_the_cpu() {
+    if skip_gpu("drop_weight_gpu") {
+        return;
+    }
+    let text = edit(
+        &coarse("drop_weight_d7136.toml"),
+        "end_time = ",
+        "end_time = 0.0006 #",
+    );
+    let text = at_device_tolerance(&text);
+    let (cpu, hc) = run_text_on("drop_weight_cpu", &text, Some(DeviceChoice::Cpu));
+    let (gpu, hg) = run_text_on("drop_weight_gpu", &text, Some(DeviceChoice::Gpu));
+    let (cpu, gpu) = (cpu.expect("cpu run"), gpu.expect("gpu run"));
+    assert_eq!(
+        (cpu.status.as_str(), gpu.status.as_str()),
+        ("completed", "completed")
+    );
+    assert_eq!(gpu.engine, "gpu resident");
+    compare_histories(&hc, &hg, 1.0, 1e-3);
+    let scale = hc
+        .columns
+        .iter()
+        .filter(|c| c.starts_with("failure_index."))
+        .flat_map(|c| hc.col(c))
+        .fold(0.0, f64::max);
+    for c in hc
+        .columns
+        .iter()
+        .filter(|c| c.starts_with("failure_index."))
+    {
+        let worst = (hc.col(c).iter().zip(hg.col(c)))
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        eprintln!("{c}: {:.2e} of {scale:.3}", worst / scale);
+        assert!(worst <= 1e-3 * scale, "{c}: {worst} of {scale}");
+    }
+    let (fc, fg) = (
+        cpu.first_failure.flatten().expect("the cpu first failure"),
+        gpu.first_failure.flatten().expect("the gpu first failure"),
+    );
+    eprintln!("first failure: cpu {fc:?}, gpu {fg:?}");
+    assert_eq!((&fc.index, fc.ply), (&fg.index, fg.ply));
+    assert!(fc.step.abs_diff(fg.step) <= 2);
+    assert!((fc.value - fg.value).abs() <= 1e-4 * fc.value);
+    // the same cell, or its image under a half turn about the tup's axis (x, y) -> (-x, -y):
+    // the [45/0/-45/90]3s coupon, its support and the tup are symmetric under it, so the
+    // two cells' indices tie to the f32 rounding
+    let mirror = (fc.point[0] + fg.point[0]).abs() < 1e-9
+        && (fc.point[1] + fg.point[1]).abs() < 1e-9
+        && fc.point[2] == fg.point[2];
+    assert!(
+        fc.cell == fg.cell || mirror,
+        "cells {} and {}",
+        fc.cell,
+        fg.cell
+    );
+}

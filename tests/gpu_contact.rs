@@ -661,9 +661,16 @@ fn recorded_sweeps_do_not_change_the_results() {
     let steps = 120;
     let run = |recorded: Option<u32>| {
         // 25 steps per submission: the device runs one submission ahead of the host
-        let mut s =
-            ResidentSolver::with_chunk(ctx.clone(), &model, &settings, dt, 1.0, steps, None, 25)
-                .expect("resident solver");
+        let mut s = ResidentSolver::with_chunk(
+            ctx.clone(),
+            &model,
+            &settings,
+            dt,
+            1.0,
+            (steps, None, 25),
+            None,
+        )
+        .expect("resident solver");
         if let Some(n) = recorded {
             s.fix_recorded_sweeps(n);
         }

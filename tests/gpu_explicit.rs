@@ -119,6 +119,7 @@ fn random_inputs(rng: &mut StdRng) -> Inputs {
         velocity: vec![0.0; 3 * n],
         acceleration: vec![0.0; 3 * n],
         contact: None,
+        survey: None,
     };
     let data = ElementData {
         reference: nodes,
@@ -421,9 +422,11 @@ fn resident_explicit_matches_the_cpu_twin_over_1000_steps() {
     // thrown so that it lands on an edge and rattles on its corners is a poorer check: each
     // corner impact amplifies the f32/f64 difference, to 3e-4 of the force scale at 1,000
     // steps on llvmpipe's GL driver.)
-    // (two steps of 1,026 reach the sweep limit on both: nodes on the floor-wall edge, with
-    // friction on both planes)
-    resident_against_cpu("resident", &slide_scene(0.73, false), 0.125, 1e-4);
+    // 2e-4: at the device's contact tolerance (1e-5 of the speed scale, on both) the probe
+    // at the block's corner differs by up to 1.7e-4 of the speed scale (lavapipe): the
+    // iterations stop at the tolerance a sweep apart, and the corner, pressed on the floor
+    // and the wall, keeps the difference. Every other column stays within 1e-4.
+    resident_against_cpu("resident", &slide_scene(0.73, false), 0.125, 2e-4);
 }
 
 /// Frames cut the submissions (the state is read back at each): the history must not change.

@@ -1019,3 +1019,116 @@ primary = {{ body = "block", face = "z-" }}
     compare("contact_search against its twin", &got, &twin);
     compare("contact_search twin against the host search", &twin, &want);
 }
+
+/// Three bodies with ply strengths: a laminate of hex8i cells spanning two plies each
+/// (layered: a point per ply), a hex8 block and a tet4 block of one law (a point per cell).
+fn survey_model() -> impact::model::Model {
+    let text = r#"
+[run]
+method = "explicit"
+end_time = 1.0
+
+[[material]]
+name = "carbon_epoxy"
+density = 1.6e-9
+transversely_isotropic = { e1 = 1.35e5, e2 = 1.0e4, nu12 = 0.3, nu23 = 0.45, g12 = 5.0e3 }
+strength = { xt = 2323.5, xc = 1200.1, yt = 62.3, yc = 199.8, s12 = 92.3, s23 = 75.3 }
+
+[[body]]
+name = "laminate"
+material = "carbon_epoxy"
+box = { min = [0.0, 0.0, 0.0], max = [8.0, 6.0, 2.0], divisions = [16, 12, 2], element = "hex8i" }
+plies = { normal = "z", layers = [
+  { angle = 45.0, thickness = 0.5 },
+  { angle = 0.0, thickness = 0.5 },
+  { angle = -45.0, thickness = 0.5 },
+  { angle = 90.0, thickness = 0.5 },
+] }
+
+[[body]]
+name = "block"
+material = "carbon_epoxy"
+box = { min = [10.0, 0.0, 0.0], max = [14.0, 4.0, 4.0], divisions = [3, 3, 3] }
+
+[[body]]
+name = "wedge"
+material = "carbon_epoxy"
+box = { min = [20.0, 0.0, 0.0], max = [23.0, 3.0, 3.0], divisions = [2, 2, 2], element = "tet4" }
+"#;
+    let scene = impact::scene::Scene::parse(text, &repo().join("scenes").join("survey.toml"))
+        .expect("valid scene");
+    impact::model::Model::from_scene(&scene).expect("model")
+}
+
+/// `failure_survey` and `failure_reduce` against their twins at random displacements (a
+/// rigid translation of many cells plus strains up to a few percent): every workgroup's
+/// maxima and the merged record within 1e-5 relative (the worst point and its index
+/// exactly, where the runner-up is not within that of it), and the merged record's maxima
+/// against the host's survey in f64 ([`FailureSurvey::maxima`]).
+#[test]
+fn failure_survey_and_reduce_match_their_cpu_twins() {
+    use impact::output::failure_survey::FailureSurvey;
+    let Some(ctx) = gpu_context("failure_survey") else {
+        return;
+    };
+    let seed = seed("failure_survey");
+    let mut rng = StdRng::seed_from_u64(seed);
+    let model = survey_model();
+    let survey = FailureSurvey::new(&model).expect("strengths");
+    let setup = survey.device(&model);
+    let nodes = model.mesh.node_count();
+    for trial in 0..3 {
+        let strain = [1e-4, 1e-3, 1e-2][trial];
+        let shift: [f64; 3] = std::array::from_fn(|_| rng.random_range(-50.0..50.0));
+        let u: Vec<f64> = (0..3 * nodes)
+            .map(|d| {
+                let x = model.mesh.nodes[d / 3][d % 3];
+                shift[d % 3] + strain * x * rng.random_range(-1.0..1.0)
+            })
+            .collect();
+        let (gpu_partials, gpu_record) =
+            impact::gpu::inspect::run_failure_survey(&ctx, &setup, &u).expect("survey runs");
+        let cpu_partials =
+            kernels::failure_survey(&setup.points, &setup.operators, &setup.strengths, &u);
+        let cpu_record = kernels::failure_reduce(&cpu_partials);
+        let maxima = |r: &[f64]| -> Vec<f64> {
+            r.chunks_exact(kernels::FAILURE_FIELDS)
+                .flat_map(|c| c[..6].to_vec())
+                .collect()
+        };
+        let groups = cpu_partials.len() / kernels::FAILURE_FIELDS;
+        let gpu_groups = &gpu_partials[..groups * kernels::FAILURE_FIELDS];
+        let e = rel_err(&maxima(gpu_groups), &maxima(&cpu_partials));
+        let er = rel_err(&gpu_record[..6], &cpu_record[..6]);
+        eprintln!(
+            "strain {strain}: {} points, largest index {:.3} ({}), workgroups {e:.2e}, record {er:.2e}",
+            setup.points.len(),
+            cpu_record[5],
+            cpu_record[7]
+        );
+        assert!(e <= TOL, "seed {seed}: failure_survey {e:.2e}");
+        assert!(er <= TOL, "seed {seed}: failure_reduce {er:.2e}");
+        // the worst point, unless another is within the f32 rounding of it
+        let mut values: Vec<f64> = (0..setup.points.len())
+            .map(|i| {
+                let one = &setup.points[i..i + 1];
+                kernels::failure_survey(one, &setup.operators, &setup.strengths, &u)[5]
+            })
+            .collect();
+        values.sort_by(|a, b| b.total_cmp(a));
+        if values[0] - values[1] > 1e-5 * values[0] {
+            assert_eq!(
+                (gpu_record[6], gpu_record[7]),
+                (cpu_record[6], cpu_record[7]),
+                "seed {seed}: the worst point and its index"
+            );
+        }
+        let host = survey.maxima(&model, &u);
+        let e = rel_err(&gpu_record[..5], &host.max);
+        assert!(e <= TOL, "seed {seed}: against the host's survey {e:.2e}");
+        assert!(
+            cpu_record[5] > 0.01,
+            "the displacements must load the plies"
+        );
+    }
+}

@@ -294,6 +294,31 @@ struct ContactNode {
     body_end: u32,
 }
 
+// A ply failure evaluation point (`failure_survey.wgsl`): its cell's corner nodes (the first
+// `corners`), its strength and its stress operator (6 rows of SURVEY_COLUMNS in `operators`).
+struct SurveyPoint {
+    nodes: array<u32, 8>,
+    corners: u32,
+    strength: u32,
+    stress_operator: u32,
+}
+
+// A ply's strengths: tension and compression along the fibre and across it, in-plane and
+// transverse shear.
+struct PlyStrength {
+    xt: f32,
+    xc: f32,
+    yt: f32,
+    yc: f32,
+    s12: f32,
+    s23: f32,
+}
+
+// Columns of a failure operator (three per corner of a hex8), and the values of a failure
+// record: the five indices' maxima, the worst point's value, number and index.
+const SURVEY_COLUMNS: u32 = 24u;
+const FAILURE_FIELDS: u32 = 8u;
+
 // The contact iteration's state words (`state` buffers): the sweep's largest violation (f32
 // bits: non-negative floats order as their bits), the pairs in reach, the sweeps done, and
 // the phase (0 not started, 1 sweeping, 2 converged, 3 stopped at the sweep limit), and

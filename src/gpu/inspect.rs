@@ -7,7 +7,9 @@
 
 use std::time::{Duration, Instant};
 
-use super::buffer::{read_back, read_floats, staging, submit_and_read, Storage};
+use super::buffer::{
+    read_back, read_floats, staging, submit_and_read, submit_and_read_parts, Storage,
+};
 use super::context::GpuContext;
 use super::corner_select::CornerSelection;
 use super::engine::{bytes_of, GpuKernels};
@@ -42,6 +44,48 @@ pub fn run_fill_words(ctx: &GpuContext, words: &[u32], count: u32, value: u32) -
     let mut enc = ctx.encoder("fill_words");
     kernel.0.record_launch(&mut enc, &launch);
     submit_and_read(ctx, &mut staging(ctx)?, enc, &buffer.buffer, words.len())
+}
+
+/// Runs the failure survey alone (`failure_survey`, then `failure_reduce` into a row of its
+/// own) at the displacement `u` (3 per node) and reads back the workgroups' records and the
+/// merged record.
+pub fn run_failure_survey(
+    ctx: &GpuContext,
+    setup: &crate::kernels::SurveySetup,
+    u: &[f64],
+) -> Result<(Vec<f64>, Vec<f64>)> {
+    use super::failure_stage::{FailureStage, StageTarget};
+    use crate::kernels::FAILURE_FIELDS;
+    let split: Vec<types::Split3> = (u.chunks_exact(3))
+        .map(|d| types::Split3::split([d[0], d[1], d[2]]))
+        .collect();
+    let displacement = Storage::with_data(ctx, "survey.u", &split)?;
+    let rows = Storage::new(ctx, "survey.row", (FAILURE_FIELDS * 4) as u64)?;
+    let target = StageTarget {
+        displacement: &displacement.buffer,
+        rows: &rows.buffer,
+        row_len: FAILURE_FIELDS,
+        column: 0,
+        chunk_capacity: 1,
+    };
+    let stage = FailureStage::new(ctx, setup, &target)?;
+    let mut enc = ctx.encoder("failure_survey");
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("failure_survey"),
+            timestamp_writes: None,
+        });
+        stage.dispatch(&mut pass, 0);
+    }
+    let groups = stage.groups();
+    let parts = [
+        (stage.partials(), groups * FAILURE_FIELDS),
+        (&rows.buffer, FAILURE_FIELDS),
+    ];
+    let got: Vec<f32> = submit_and_read_parts(ctx, &mut staging(ctx)?, enc, &parts)?;
+    let got: Vec<f64> = got.into_iter().map(f64::from).collect();
+    let (partials, record) = got.split_at(groups * FAILURE_FIELDS);
+    Ok((partials.to_vec(), record.to_vec()))
 }
 
 /// Runs the device's prefix sum ([`Scan`]: `scan_totals`, then `prefix_sum`) alone on

@@ -83,6 +83,8 @@ kernel_table! {
     ExplicitDrift = explicit_drift(step, velocity, displacement);
     ExplicitPredict = explicit_predict(step, acceleration, velocity);
     FaceCells = face_cells(grid, reference, displacement, faces, face_first, keys);
+    FailureReduce = failure_reduce(partials, rows);
+    FailureSurveyKernel = failure_survey(displacement, points, operators, strengths, partials);
     FillWords = fill_words(words);
     Hex8Forces = hex8_forces(
         reference, displacement, block_nodes, block_material, materials, corner_forces,

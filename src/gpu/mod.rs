@@ -9,6 +9,7 @@ pub mod buffer;
 pub mod context;
 pub mod corner_select;
 pub mod engine;
+mod failure_stage;
 pub mod impulse_sweeps;
 pub mod inspect;
 pub mod kernel;

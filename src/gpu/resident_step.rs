@@ -22,6 +22,7 @@ use rayon::prelude::*;
 use super::buffer::{map_read, read_back, read_floats, take_mapped, Mapping, Storage};
 use super::context::GpuContext;
 use super::engine::{at_least_one, GpuKernels};
+use super::failure_stage::{FailureStage, StageTarget};
 use super::impulse_sweeps::{ContactSetup, ImpulseSweeps, StepBuffers};
 use super::kernel::Launch;
 use super::types::WORKGROUP;
@@ -31,7 +32,9 @@ use crate::error::{ImpactError, Result};
 use crate::kernels::explicit_correct::FIELDS;
 use crate::kernels::history_reduce::{OP_DISPLACEMENT, OP_MAX, OP_PARTIALS, OP_SUM, OP_VELOCITY};
 use crate::kernels::plane_contact::{slot, MAX_PLANES, SLOT};
-use crate::kernels::{ElementData, LumpedNode, PlaneData, PlaneNode, ReduceColumn};
+use crate::kernels::{
+    ElementData, LumpedNode, PlaneData, PlaneNode, ReduceColumn, SurveySetup, FAILURE_FIELDS,
+};
 
 /// What the resident step needs besides the elements, in f64 (the CPU twins take the same).
 #[derive(Debug, Clone)]
@@ -54,13 +57,18 @@ pub struct ResidentSetup {
     /// Contact between meshed bodies: the device contact iteration, which then takes the
     /// rigid planes too (as pairs); `planes` and `plane_nodes` are left empty.
     pub contact: Option<ContactSetup>,
+    /// The ply failure survey of every step (materials with strengths): its record ends each
+    /// history row.
+    pub survey: Option<SurveySetup>,
 }
 
 /// Values of a history row, in order: per body [`FIELDS`] (kinetic, strain, gravity,
 /// momentum x y z), per contact interface [`SLOT`] (its contact results, summed; the gap and
-/// the sweeps as maxima), per probe 6 (displacement, velocity).
-pub(crate) fn row_len(bodies: usize, interfaces: usize, probes: usize) -> usize {
-    FIELDS * bodies + SLOT * interfaces + 6 * probes
+/// the sweeps as maxima), per probe 6 (displacement, velocity), then the failure survey's
+/// record where there is one ([`FAILURE_FIELDS`]).
+pub(crate) fn row_len(bodies: usize, interfaces: usize, probes: usize, survey: bool) -> usize {
+    let record = if survey { FAILURE_FIELDS } else { 0 };
+    FIELDS * bodies + SLOT * interfaces + 6 * probes + record
 }
 
 /// The contact results' place of each interface in the plane kernel's layout: `plane_nodes`
@@ -192,6 +200,7 @@ impl ModelBuffers {
 
 /// The history row's columns, on the host and on the device, and the rows buffer.
 pub(super) struct HistoryRows {
+    /// The columns `history_reduce` writes (the failure record follows them).
     pub(super) column_list: Vec<ReduceColumn>,
     columns: Storage,
     /// The history rows of one submission, `chunk_capacity` rows of `row_len` floats.
@@ -214,7 +223,12 @@ impl HistoryRows {
             None => plane_slots(m.plane_count, m.plane_node_count),
         };
         let column_list = row_columns(groups, &slots, &setup.probes);
-        let row_len = column_list.len();
+        let survey = if setup.survey.is_some() {
+            FAILURE_FIELDS
+        } else {
+            0
+        };
+        let row_len = column_list.len() + survey;
         let cols: Vec<types::GpuReduceColumn> = to_device(&column_list);
         let columns = Storage::with_data(ctx, "history.columns", &cols)?;
         let rows = Storage::new(ctx, "history.rows", (chunk_capacity * row_len * 4) as u64)?;
@@ -339,7 +353,7 @@ impl Launches {
             .map(|j| {
                 // one workgroup per column, writing row j at rows[first..]: the grid
                 // counts invocations, Params.count the columns
-                let (columns_n, first) = (h.row_len as u32, (j * h.row_len) as u32);
+                let (columns_n, first) = (h.column_list.len() as u32, (j * h.row_len) as u32);
                 let mut l = reduce.launch(
                     ctx,
                     columns_n * WORKGROUP,
@@ -380,6 +394,8 @@ pub struct ResidentStep {
     pub(super) history: HistoryRows,
     pub(super) launches: Launches,
     pub(super) contact: Option<ImpulseSweeps>,
+    /// The ply failure survey of every step, where materials have strengths.
+    failure: Option<FailureStage>,
     /// Sweeps of the contact iteration recorded per step as dispatches of their own (at most
     /// `max_iterations`); `contact_finish` runs the rest.
     sweeps: u32,
@@ -427,6 +443,18 @@ impl ResidentStep {
                 .map_or(&m.results.buffer, |c| c.results_buffer()),
         };
         let launches = Launches::new(&kernels, &buffers, &setup.bodies, &groups, chunk_capacity);
+        let failure = (setup.survey.as_ref())
+            .map(|s| {
+                let target = StageTarget {
+                    displacement: &k.u.buffer,
+                    rows: &history.rows.buffer,
+                    row_len: history.row_len,
+                    column: history.column_list.len(),
+                    chunk_capacity,
+                };
+                FailureStage::new(ctx, s, &target)
+            })
+            .transpose()?;
         let readback = Self::readback_buffers(ctx, chunk_capacity * history.row_len)?;
         Ok(ResidentStep {
             kernels,
@@ -437,6 +465,7 @@ impl ResidentStep {
             history,
             launches,
             contact,
+            failure,
             sweeps: setup.max_iterations,
             max_iterations: setup.max_iterations,
             readback,
@@ -553,6 +582,7 @@ impl ResidentStep {
             .map(|s| s.capacity)
             .sum::<u64>()
             + self.contact.as_ref().map_or(0, |c| c.device_bytes())
+            + self.failure.as_ref().map_or(0, |f| f.device_bytes())
     }
 
     /// The acceleration (3 per node).
@@ -578,13 +608,16 @@ impl ResidentStep {
     }
 
     /// Dispatches the step's stages after the contact iteration: drift, internal forces,
-    /// correctors and the history row of the submission's step `j`.
+    /// correctors, the failure survey and the history row of the submission's step `j`.
     fn dispatch_back(&self, pass: &mut wgpu::ComputePass, j: usize) {
         let l = &self.launches;
         self.kernels.drift.0.dispatch(pass, &l.drift);
         self.k.dispatch_internal_forces(pass);
         for c in &l.correct {
             self.kernels.correct.0.dispatch(pass, c);
+        }
+        if let Some(f) = &self.failure {
+            f.dispatch(pass, j);
         }
         self.kernels.reduce.0.dispatch(pass, &l.reduce[j]);
     }

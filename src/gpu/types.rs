@@ -520,6 +520,54 @@ impl From<&kernels::ContactNode> for GpuContactNode {
     }
 }
 
+device_struct! {
+    /// A ply failure evaluation point (twin: [`crate::kernels::SurveyPoint`]).
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct GpuSurveyPoint as SurveyPoint {
+        pub nodes: [u32; 8],
+        pub corners: u32,
+        pub strength: u32,
+        pub stress_operator: u32,
+    }
+}
+
+impl From<&kernels::SurveyPoint> for GpuSurveyPoint {
+    fn from(p: &kernels::SurveyPoint) -> Self {
+        GpuSurveyPoint {
+            nodes: p.nodes,
+            corners: p.corners,
+            strength: p.strength,
+            stress_operator: p.stress_operator,
+        }
+    }
+}
+
+device_struct! {
+    /// A ply's strengths (twin: [`crate::material::Strength`]).
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+    pub struct PlyStrength {
+        pub xt: f32,
+        pub xc: f32,
+        pub yt: f32,
+        pub yc: f32,
+        pub s12: f32,
+        pub s23: f32,
+    }
+}
+
+impl From<&crate::material::Strength> for PlyStrength {
+    fn from(k: &crate::material::Strength) -> Self {
+        PlyStrength {
+            xt: k.xt as f32,
+            xc: k.xc as f32,
+            yt: k.yt as f32,
+            yc: k.yc as f32,
+            s12: k.s12 as f32,
+            s23: k.s23 as f32,
+        }
+    }
+}
+
 /// A struct's WGSL name, Rust size, and (field name, Rust offset) in declaration order.
 pub(crate) type StructLayout = (&'static str, usize, Vec<(&'static str, usize)>);
 
@@ -544,6 +592,11 @@ pub fn shared_constants() -> Vec<(&'static str, u32)> {
         ("SLOT_SWEEPS", u(slot::SWEEPS)),
         ("SLOT_IMPULSE", u(slot::IMPULSE)),
         ("SLOT_DRIVER_WORK", u(slot::DRIVER_WORK)),
+        (
+            "SURVEY_COLUMNS",
+            u(crate::kernels::failure_survey::SURVEY_COLUMNS),
+        ),
+        ("FAILURE_FIELDS", u(crate::kernels::FAILURE_FIELDS)),
         ("RIGID_SPHERE", rigid_kind::SPHERE),
         ("RIGID_CAPSULE", rigid_kind::CAPSULE),
         ("RIGID_CYLINDER", rigid_kind::CYLINDER),
@@ -586,5 +639,7 @@ pub fn layouts() -> Vec<StructLayout> {
         GpuConstraint::layout(),
         GpuContactNode::layout(),
         GpuRigidSurface::layout(),
+        GpuSurveyPoint::layout(),
+        PlyStrength::layout(),
     ]
 }

@@ -107,6 +107,13 @@ pub trait Integrator {
         None
     }
 
+    /// The device's ply failure record of the last step (the resident step surveys every
+    /// step itself: [`crate::kernels::failure_reduce`]'s record); `None` where the host
+    /// surveys the state.
+    fn failure_record(&self) -> Option<[f64; crate::kernels::FAILURE_FIELDS]> {
+        None
+    }
+
     /// Makes the next step `dt` long (the shortened last step).
     fn shorten_step(&mut self, _dt: f64) {}
 

@@ -25,7 +25,10 @@ use crate::gpu::{ContactSetup, GpuContext, ResidentSetup, ResidentStep};
 use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::explicit_correct::FIELDS;
 use crate::kernels::plane_contact::{slot, MAX_PLANES, SLOT};
-use crate::kernels::{ContactNode, ContactPair, LumpedNode, PlaneData, PlaneNode, RigidSurface};
+use crate::kernels::{
+    ContactNode, ContactPair, LumpedNode, PlaneData, PlaneNode, RigidSurface, SurveySetup,
+    FAILURE_FIELDS,
+};
 use crate::model::Model;
 use crate::model::Primary;
 use crate::scene::{ExplicitSettings, Method, RigidMotion};
@@ -229,7 +232,7 @@ pub fn setup(
         .collect();
     let setup = ResidentSetup {
         dt,
-        tolerance: settings.tolerance * speed_scale.max(f64::MIN_POSITIVE),
+        tolerance: device_tolerance(settings.tolerance) * speed_scale.max(f64::MIN_POSITIVE),
         max_iterations: settings.max_iterations as u32,
         lumped,
         planes,
@@ -239,8 +242,22 @@ pub fn setup(
         velocity,
         acceleration,
         contact,
+        survey: None,
     };
     Ok((setup, places))
+}
+
+/// The smallest contact tolerance the device iteration takes, relative to the speed scale:
+/// its velocities are f32, resolved to 1.2e-7 of their size, and the sweeps' last
+/// corrections of a body's velocity (the sum over the many nodes it presses) round away
+/// below a few dozen of those. At 1e-6 the coarse drop-weight scene's iteration stalled on
+/// lavapipe at its 200 sweeps in 50 of 1,106 steps (its velocities are the tup's 3,303 mm/s,
+/// resolved to 2.4e-4); at 1e-5 every step converged in the CPU's sweeps (2,207 in all).
+pub const DEVICE_TOLERANCE: f64 = 1e-5;
+
+/// The device iteration's relative tolerance for the scene's `explicit.tolerance`.
+pub fn device_tolerance(tolerance: f64) -> f64 {
+    tolerance.max(DEVICE_TOLERANCE)
 }
 
 /// The node ranges the correctors run over: each meshed body's, then the rigid bodies'
@@ -264,6 +281,8 @@ struct Row {
     reports: Vec<ContactReport>,
     probes: Vec<([f64; 3], [f64; 3])>,
     report: StepReport,
+    /// The ply failure survey's record, where the step surveys.
+    failure: Option<[f64; FAILURE_FIELDS]>,
 }
 
 /// Everything a resident run carries from one step to the next: the checkpoint's part
@@ -320,7 +339,9 @@ pub struct ResidentSolver<'m> {
 }
 
 impl<'m> ResidentSolver<'m> {
-    /// `total` steps, reading the state back every `frame_every` steps.
+    /// `total` steps, reading the state back every `frame_every` steps; with `survey`, the
+    /// ply failure indices of every step.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         ctx: GpuContext,
         model: &'m Model,
@@ -329,33 +350,35 @@ impl<'m> ResidentSolver<'m> {
         speed_scale: f64,
         total: usize,
         frame_every: Option<usize>,
+        survey: Option<SurveySetup>,
     ) -> Result<Self> {
         let chunk = chunk_steps(model.mesh.element_count());
-        Self::with_chunk(
+        let mut s = Self::with_chunk(
             ctx,
             model,
             settings,
             dt,
             speed_scale,
-            total,
-            frame_every,
-            chunk,
-        )
+            (total, frame_every, chunk),
+            survey,
+        )?;
+        s.chunk = chunk;
+        Ok(s)
     }
 
-    /// [`Self::new`] with `chunk` steps per submission instead of [`chunk_steps`].
-    #[allow(clippy::too_many_arguments)]
+    /// [`Self::new`] with `chunk` steps per submission instead of [`chunk_steps`]:
+    /// `(total, frame_every, chunk)`.
     pub fn with_chunk(
         ctx: GpuContext,
         model: &'m Model,
         settings: &ExplicitSettings,
         dt: f64,
         speed_scale: f64,
-        total: usize,
-        frame_every: Option<usize>,
-        chunk: usize,
+        (total, frame_every, chunk): (usize, Option<usize>, usize),
+        survey: Option<SurveySetup>,
     ) -> Result<Self> {
-        let (setup, places) = setup(model, settings, dt, speed_scale)?;
+        let (mut setup, places) = setup(model, settings, dt, speed_scale)?;
+        setup.survey = survey;
         let chunk = chunk.max(1);
         let mut engine = ResidentStep::new(ctx, &model.element_data(), &setup, chunk)?;
         engine.set_sweeps(FIRST_GUESS);
@@ -529,7 +552,8 @@ impl<'m> ResidentSolver<'m> {
         // the meshed bodies' ranges, then the rigid bodies' (energies only)
         let nb = self.model.mesh.bodies.len() + usize::from(!self.model.rigid.is_empty());
         let np = self.model.interfaces.len();
-        debug_assert_eq!(r.len(), row_len(nb, np, self.model.probes.len()));
+        let surveyed = r.len() == row_len(nb, np, self.model.probes.len(), true);
+        debug_assert_eq!(r.len(), row_len(nb, np, self.model.probes.len(), surveyed));
         let mut e = Energies::default();
         let mut bodies = Vec::with_capacity(nb);
         for b in 0..nb {
@@ -574,12 +598,17 @@ impl<'m> ResidentSolver<'m> {
                 ([q[0], q[1], q[2]], [q[3], q[4], q[5]])
             })
             .collect();
+        let failure = surveyed.then(|| {
+            let tail = &r[r.len() - FAILURE_FIELDS..];
+            std::array::from_fn(|k| tail[k])
+        });
         Row {
             energies: e,
             bodies,
             reports,
             probes,
             report,
+            failure,
         }
     }
 
@@ -722,6 +751,10 @@ impl Integrator for ResidentSolver<'_> {
 
     fn body_velocities(&self) -> Vec<[f64; 3]> {
         self.current.bodies.clone()
+    }
+
+    fn failure_record(&self) -> Option<[f64; FAILURE_FIELDS]> {
+        self.current.failure
     }
 
     /// Probe displacement and velocity of the last step.

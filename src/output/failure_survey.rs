@@ -13,6 +13,8 @@ use std::collections::HashMap;
 use rayon::prelude::*;
 
 use crate::element::{ElementKind, Section};
+use crate::kernels::failure_survey::SURVEY_COLUMNS;
+use crate::kernels::{SurveyPoint, SurveySetup, FAILURE_FIELDS};
 use crate::material::failure::{failure_indices, INDICES};
 use crate::material::Strength;
 use crate::model::Model;
@@ -268,6 +270,48 @@ impl FailureSurvey {
             .map(|&first| per_cell(first as usize))
             .reduce(|| ([0.0; 5], None), merge);
         let worst = worst.map(|(i, value, k)| self.locate(model, i, value, k));
+        FailureMaxima { max, worst }
+    }
+
+    /// The survey as the device's survey takes it: each point with its cell's corners, the
+    /// operators padded to [`SURVEY_COLUMNS`] columns, the strengths.
+    pub fn device(&self, model: &Model) -> SurveySetup {
+        let points = (self.points.iter())
+            .map(|p| {
+                let corners = model.mesh.element(p.cell as usize).nodes;
+                let mut nodes = [0; 8];
+                nodes[..corners.len()].copy_from_slice(corners);
+                SurveyPoint {
+                    nodes,
+                    corners: corners.len() as u32,
+                    strength: p.strength,
+                    stress_operator: p.operator,
+                }
+            })
+            .collect();
+        let mut operators = Vec::with_capacity(6 * SURVEY_COLUMNS * self.operators.len());
+        for op in &self.operators {
+            let n = op.len() / 6;
+            for row in op.chunks_exact(n) {
+                operators.extend_from_slice(row);
+                operators.extend(std::iter::repeat_n(0.0, SURVEY_COLUMNS - n));
+            }
+        }
+        SurveySetup {
+            points,
+            operators,
+            strengths: self.strengths.clone(),
+        }
+    }
+
+    /// The maxima of a device record ([`crate::kernels::failure_reduce`]), its worst point
+    /// located.
+    pub fn of_record(&self, model: &Model, r: &[f64; FAILURE_FIELDS]) -> FailureMaxima {
+        let max = std::array::from_fn(|k| r[k]);
+        let worst = (r[6] >= 0.0).then(|| {
+            let (i, k) = (r[6].round() as usize, r[7].round() as usize);
+            self.locate(model, i, r[5], k)
+        });
         FailureMaxima { max, worst }
     }
 

@@ -33,7 +33,7 @@ use crate::integrate::{
     resident, ExplicitSolver, ImplicitSolver, Integrator, ResidentSolver, StepReport,
 };
 use crate::model::Model;
-use crate::output::failure_survey::FailureMaxima;
+use crate::output::failure_survey::{FailureMaxima, FailureSurvey};
 use crate::output::progress::Progress;
 use crate::output::summary::SetupClock;
 use crate::output::Summary;
@@ -94,6 +94,7 @@ fn build_solver<'m>(
                 speed_scale,
                 setup.steps,
                 scene.vtu_every,
+                FailureSurvey::new(model).map(|s| s.device(model)),
             )
             .map_err(|e| gpu_error(scene, e))?,
         ),

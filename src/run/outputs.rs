@@ -312,6 +312,9 @@ pub(super) fn write_row(
 /// gathered on every rank (a collective: every rank calls it).
 fn failure_maxima(out: &Outputs, solver: &dyn Integrator) -> Option<FailureMaxima> {
     let survey = out.failure.as_ref()?;
+    if let Some(r) = solver.failure_record() {
+        return Some(survey.of_record(solver.model(), &r));
+    }
     Some(match solver.decomposed() {
         Some(d) => {
             let p = d.piece();
@@ -322,21 +325,22 @@ fn failure_maxima(out: &Outputs, solver: &dyn Integrator) -> Option<FailureMaxim
     })
 }
 
-/// The failure survey of a model with ply strengths, where the engine holds every step's
-/// displacement on the host: one process (the CPU, or the device's element forces with the
-/// host's loop), or each rank's piece.
+/// The failure survey of a model with ply strengths, on one process (the CPU, the device's
+/// element forces with the host's loop, or the resident step, which surveys on the device
+/// and whose records the survey locates), or each rank's piece.
 fn failure_survey(
     model: &Model,
     solver: &dyn Integrator,
     rank: Option<(usize, usize)>,
 ) -> Option<FailureSurvey> {
-    use crate::integrate::integrator::{ENGINE_CPU, ENGINE_GPU_KERNELS};
+    use crate::integrate::integrator::{ENGINE_CPU, ENGINE_GPU_KERNELS, ENGINE_GPU_RESIDENT};
     if let Some(d) = solver.decomposed() {
         let p = d.piece();
         return FailureSurvey::of_piece(p.model, p.elements);
     }
     let engine = solver.engine();
-    let surveyed = rank.is_none() && (engine == ENGINE_CPU || engine == ENGINE_GPU_KERNELS);
+    let engines = [ENGINE_CPU, ENGINE_GPU_KERNELS, ENGINE_GPU_RESIDENT];
+    let surveyed = rank.is_none() && engines.contains(&engine);
     surveyed.then(|| FailureSurvey::new(model)).flatten()
 }
 

@@ -104,10 +104,24 @@ pub fn family_scale(h: &History, suffixes: &[&str]) -> f64 {
         .fold(0.0f64, |m, x| m.max(x.abs()))
 }
 
+/// `text` with the contact tolerance the device iteration takes
+/// ([`impact::integrate::resident::DEVICE_TOLERANCE`]), so that the CPU twin iterates to the
+/// same (the scene must have no `[explicit]` table of its own).
+pub fn at_device_tolerance(text: &str) -> String {
+    assert!(
+        !text.contains("[explicit]"),
+        "a scene with its own [explicit]"
+    );
+    let tol = impact::integrate::resident::DEVICE_TOLERANCE;
+    format!("{text}\n[explicit]\ntolerance = {tol:e}\n")
+}
+
 /// Runs `text` on the CPU twin and with the whole step on the device ("gpu resident"), at
-/// least 1,000 steps: the same contact iteration (sweeps within 2%, unconverged steps within
-/// one) and the same history ([`compare_histories`] with `h` and `bound`).
+/// least 1,000 steps, both at the device's contact tolerance ([`at_device_tolerance`]): the
+/// same contact iteration (sweeps within 2%, unconverged steps within one) and the same
+/// history ([`compare_histories`] with `h` and `bound`).
 pub fn resident_against_cpu(tag: &str, text: &str, h: f64, bound: f64) {
+    let text = &at_device_tolerance(text);
     let (cpu, hc) = run_text_on(
         &format!("{tag}_cpu"),
         text,
