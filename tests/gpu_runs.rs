@@ -258,7 +258,9 @@ fn history_text(tag: &str) -> String {
 /// The resident engine's checkpoint is its device state word for word: a resident run
 /// stopped part way (at half its end time; by a signal, after handing out the steps in
 /// flight) and resumed gives the unbroken run's history exactly, on the rigid-plane path
-/// (the block drop) and on the meshed-contact path (the cube on the plate, explicit).
+/// (the block drop), on the meshed-contact path (the cube on the plate, explicit) and with
+/// rigid bodies and the ply failure survey (the drop-weight coupon, 12 x 8 x 2, through the
+/// tup's first contact: the forces on the bodies and the failure maxima).
 #[test]
 fn resident_runs_resume_to_the_unbroken_history() {
     if skip_gpu("resident resume") {
@@ -269,6 +271,17 @@ fn resident_runs_resume_to_the_unbroken_history() {
         "time_step = 0.002",
         "method = \"explicit\"",
     );
+    let drop = edit(
+        &edit(
+            &scene_text("drop_weight_d7136.toml"),
+            "divisions = [50, 34, 4]",
+            "divisions = [12, 8, 2]",
+        ),
+        "end_time = 4.5e-3",
+        "end_time = 3.0e-4",
+    );
+    // its own [output] table takes the checkpoints below, not frames
+    let drop = edit(&drop, "[output]\nvtu_every = 500\n", "");
     for (name, text, half) in [
         (
             "planes",
@@ -276,6 +289,7 @@ fn resident_runs_resume_to_the_unbroken_history() {
             ("end_time = 0.06", "end_time = 0.031"),
         ),
         ("contact", cube, ("end_time = 0.1", "end_time = 0.05")),
+        ("rigid", drop, ("end_time = 3.0e-4", "end_time = 1.5e-4")),
     ] {
         let text = text + "\n[output]\ncheckpoint_every = 10\n";
         let whole = format!("resident_whole_{name}");
@@ -291,6 +305,11 @@ fn resident_runs_resume_to_the_unbroken_history() {
             "{name}: half, resumed"
         );
         assert_eq!(r.energy_final.to_bits(), s.energy_final.to_bits());
+        assert_eq!(
+            format!("{:?}", r.first_failure),
+            format!("{:?}", s.first_failure),
+            "{name}: first failure"
+        );
         // a signal before the first step: the run hands out its first submission and stops
         let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(true));
         let e = gpu_run(&cut, &text, false, Some(flag)).expect_err("interrupted");
