@@ -3,7 +3,7 @@
 // invocations write one velocity. Invocation 0 also applies the iteration's stopping rule
 // after the sweep (twin: `kernels::sweep_control`; its inputs, the sweep's violation and
 // count, are final when this dispatch starts). After a sweep that did not run (the
-// iteration had stopped) the apply exits at once.
+// iteration had stopped) the apply exits at once. params.aux: the pairs.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<uniform> step: Step;
@@ -31,6 +31,6 @@ fn contact_apply(@builtin(global_invocation_id) gid: vec3<u32>) {
         stopping_rule();
     }
     if (i < params.count) {
-        apply_node(i);
+        apply_node(i, params.aux);
     }
 }

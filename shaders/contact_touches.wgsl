@@ -2,7 +2,8 @@
 // invocation (twin: `kernels::contact_touches`): the number of in-reach pairs it is the
 // secondary node of, plus, for each primary face corner k it is, the shape function values
 // |N_k| of the in-reach pairs on that face (bucket f holds sorted[starts[f]..starts[f + 1]]),
-// plus the in-reach pairs of the interfaces whose rigid body it carries (weight 1).
+// plus the in-reach pairs of each rigid body range it carries (weight 1; `links` starts with
+// the number of ranges and each range's first and end pair).
 // Also counts the pairs in reach into the iteration's state.
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -33,8 +34,9 @@ fn contact_touches(@builtin(global_invocation_id) gid: vec3<u32>) {
             t += abs(constraints[sorted[b]].weights[k]);
         }
     }
-    for (var j = cn.body_first; j < cn.body_end; j += 2u) {
-        for (var q = links[j]; q < links[j + 1u]; q++) {
+    for (var j = cn.body_first; j < cn.body_end; j++) {
+        let r = links[j];
+        for (var q = links[1u + 2u * r]; q < links[2u + 2u * r]; q++) {
             t += abs(constraints[q].weights[0]);
         }
     }

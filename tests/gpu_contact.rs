@@ -355,8 +355,9 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
         let (ctx2, it) = gpu.impulse_sweeps().unwrap();
         it.run(ctx2, |it, p| it.dispatch_sweeps(p, 1)).unwrap();
         let mut c_cpu = c_in.clone();
-        let mut dj_cpu = vec![0.0; 3 * contact.pairs.len()];
+        let mut dj_cpu = vec![0.0; 3 * (contact.pairs.len() + contact.rigid.len())];
         let violation = kernels::contact_sweep(dt, &mut c_cpu, &contact.pairs, &v_in, &mut dj_cpu);
+        kernels::body_gather(&contact.links, &c_cpu, &mut dj_cpu);
         let dj_gpu = it.read_dj(ctx2).unwrap();
         let c_gpu = it.read_constraints(ctx2).unwrap();
         let s = it.read_state(ctx2).unwrap();
@@ -367,7 +368,7 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
             .flat_map(|c| [0, 1, 2].map(|a| c.jn * c.normal[a] + c.jt[a]))
             .collect();
         let e = rel_err(&dj_gpu, &dj_cpu) * norm2(&dj_cpu) / norm2(&impulses);
-        eprintln!("contact_sweep {sweep}: impulse changes {e:.2e} of the impulses");
+        eprintln!("contact_sweep and body_gather {sweep}: impulse changes {e:.2e} of the impulses");
         assert!(e <= TOL, "seed {seed}: contact_sweep dj {e:.2e}");
         let e = rel_err(&constraint_fields(&c_gpu), &constraint_fields(&c_cpu));
         assert!(e <= TOL, "seed {seed}: contact_sweep impulses {e:.2e}");
@@ -420,7 +421,7 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     let v_gpu = gpu_state(&mut gpu).1;
     let mut c_cpu = c_in.clone();
     let mut v_cpu = v_in.clone();
-    let mut dj_cpu = vec![0.0; 3 * contact.pairs.len()];
+    let mut dj_cpu = vec![0.0; 3 * (contact.pairs.len() + contact.rigid.len())];
     let inputs = kernels::SweepInputs {
         dt,
         tolerance: setup.tolerance,
@@ -655,15 +656,24 @@ fn recorded_sweeps_do_not_change_the_results() {
     let Some(ctx) = gpu_context("recorded sweeps") else {
         return;
     };
-    let model = stack_model();
+    // the stack over 120 steps, and the sphere falling on the block on the windowed support
+    // over 300 (the sphere strikes at step 200: `body_gather` and `contact_finish` each
+    // gather the bodies' ranges)
+    let rigid = model_of(&rigid_run_scene(), "rigid.toml");
+    for (model, steps) in [(stack_model(), 120), (rigid, 300)] {
+        recorded_sweeps_agree(&ctx, &model, steps);
+    }
+}
+
+/// [`recorded_sweeps_do_not_change_the_results`] on one model over `steps` steps.
+fn recorded_sweeps_agree(ctx: &GpuContext, model: &Model, steps: usize) {
     let settings = model_settings();
     let dt = 5e-4;
-    let steps = 120;
     let run = |recorded: Option<u32>| {
         // 25 steps per submission: the device runs one submission ahead of the host
         let mut s = ResidentSolver::with_chunk(
             ctx.clone(),
-            &model,
+            model,
             &settings,
             dt,
             1.0,

@@ -24,9 +24,9 @@ fn stopping_rule() {
 
 // The velocity change of a sweep at contact node i (twin: `kernels::contact_apply`): the
 // impulse changes of the pairs it is the secondary node of, minus N_k times those of the
-// pairs on each primary face whose corner k it is, and those of the pairs of the interfaces
-// whose rigid body it carries (each a range of pairs), times its inverse mass.
-fn apply_node(i: u32) {
+// pairs on each primary face whose corner k it is, and minus those gathered on each rigid
+// body range it carries (`body_gather`, after the `np` pairs' own), times its inverse mass.
+fn apply_node(i: u32, np: u32) {
     let cn = nodes[i];
     var delta = vec3<f32>(0.0);
     for (var j = cn.pair_first; j < cn.pair_end; j++) {
@@ -40,10 +40,8 @@ fn apply_node(i: u32) {
             delta -= constraints[q].weights[k] * load_dj(q);
         }
     }
-    for (var j = cn.body_first; j < cn.body_end; j += 2u) {
-        for (var q = links[j]; q < links[j + 1u]; q++) {
-            delta -= constraints[q].weights[0] * load_dj(q);
-        }
+    for (var j = cn.body_first; j < cn.body_end; j++) {
+        delta -= load_dj(np + links[j]);
     }
     let n = cn.node;
     let dv = delta * vec3_of(lumped[n].inv_mass);

@@ -14,7 +14,8 @@
 //! 3. the row-sum compliance: `contact_touches` per contact node (it gathers the pairs of
 //!    its faces from the buckets) and `contact_compliance` per pair, then a first
 //!    `sweep_control`;
-//! 4. the sweeps: `contact_sweep` per pair (impulse changes), then `contact_apply` per
+//! 4. the sweeps: `contact_sweep` per pair (impulse changes), `body_gather` per rigid body
+//!    range (one workgroup each sums its pairs' impulse changes), then `contact_apply` per
 //!    contact node (it gathers them into its velocity; its first invocation applies the
 //!    stopping rule). The caller says how many sweeps to record; once the iteration has
 //!    stopped, those recorded after it exit at once (direct dispatches: on an H100 an
@@ -31,13 +32,13 @@ use super::context::GpuContext;
 use super::engine::at_least_one;
 use super::kernel::Launch;
 use super::kernels::{
-    BucketCount, BucketFill, BucketOrder, ContactApply, ContactCompliance, ContactConstraints,
-    ContactFinish, ContactReportKernel, ContactSweep, ContactTouches, FillWords, SearchBounds,
-    SearchGridKernel, SweepControl,
+    BodyGather, BucketCount, BucketFill, BucketOrder, ContactApply, ContactCompliance,
+    ContactConstraints, ContactFinish, ContactReportKernel, ContactSweep, ContactTouches,
+    FillWords, SearchBounds, SearchGridKernel, SweepControl,
 };
 use super::scan::Scan;
 use super::search::GpuSearch;
-use super::types::{self, to_device};
+use super::types::{self, to_device, WORKGROUP};
 use crate::error::Result;
 use crate::kernels::plane_contact::SLOT;
 use crate::kernels::sweep_control::word;
@@ -76,6 +77,7 @@ pub struct StepBuffers<'a> {
 
 /// The contact iteration's kernels, built once.
 struct IterationKernels {
+    gather: BodyGather,
     zero: FillWords,
     bounds: SearchBounds,
     grid: SearchGridKernel,
@@ -96,6 +98,7 @@ impl IterationKernels {
     /// Builds the pipelines of every kernel of the iteration, once.
     fn new(ctx: &GpuContext) -> Self {
         IterationKernels {
+            gather: BodyGather::new(ctx),
             zero: FillWords::new(ctx),
             bounds: SearchBounds::new(ctx),
             grid: SearchGridKernel::new(ctx),
@@ -128,6 +131,7 @@ struct Launches {
     touches: Launch,
     compliance: Launch,
     sweep: Launch,
+    gather: Launch,
     apply: Launch,
     control: Launch,
     finish: Launch,
@@ -182,8 +186,13 @@ pub(super) struct WorkBuffers {
 }
 
 impl WorkBuffers {
-    /// Allocates the working buffers for `np` pairs, `nf` primary faces and `nodes` nodes.
-    fn new(ctx: &GpuContext, np: usize, nf: usize, nodes: usize) -> Result<Self> {
+    /// Allocates the working buffers for `np` pairs, `nf` primary faces, `nodes` nodes and
+    /// `ranges` rigid body ranges (whose impulse changes follow the pairs' in `dj`).
+    fn new(
+        ctx: &GpuContext,
+        (np, nf, nodes): (usize, usize, usize),
+        ranges: usize,
+    ) -> Result<Self> {
         let words = |n: usize| (4 * n) as u64;
         let bounds = Storage::new(ctx, "contact.bounds", 8)?;
         let constraints = Storage::new(
@@ -200,7 +209,7 @@ impl WorkBuffers {
         ];
         let sort = BucketSort::new(ctx, labels, np, nf + 1)?;
         let touches = Storage::new(ctx, "contact.touches", words(nodes))?;
-        let dj = Storage::new(ctx, "contact.dj", words(3 * np))?;
+        let dj = Storage::new(ctx, "contact.dj", words(3 * (np + ranges)))?;
         let state = Storage::new(ctx, "contact.state", 4 * word::WORDS as u64)?;
         let results = Storage::with_data(ctx, "contact.results", &vec![0.0f32; SLOT * np])?;
         Ok(WorkBuffers {
@@ -230,6 +239,8 @@ struct Bindings<'a> {
     np: u32,
     nf: u32,
     nc: u32,
+    /// The rigid body ranges.
+    nr: u32,
 }
 
 impl Bindings<'_> {
@@ -367,7 +378,7 @@ impl Bindings<'_> {
         let apply = k.apply.launch(
             ctx,
             self.nc,
-            0,
+            self.np,
             0,
             b.step,
             &m.nodes.buffer,
@@ -438,6 +449,17 @@ impl Bindings<'_> {
         let [touches, compliance] = self.compliance();
         let (sweep, apply, control, finish) = self.sweeps();
         let [zero_bounds, zero_counts, zero_state] = self.zeroing();
+        // one workgroup per rigid body range: Params.aux the pairs
+        let gather = self.k.gather.launch(
+            self.ctx,
+            self.nr * WORKGROUP,
+            self.np,
+            0,
+            &self.m.links.buffer,
+            &self.w.constraints.buffer,
+            &self.w.dj.buffer,
+            &self.w.state.buffer,
+        );
         Launches {
             zero_bounds,
             zero_counts,
@@ -451,6 +473,7 @@ impl Bindings<'_> {
             touches,
             compliance,
             sweep,
+            gather,
             apply,
             control,
             finish,
@@ -473,6 +496,8 @@ pub struct ImpulseSweeps {
     _buffers: Vec<Storage>,
     pub(super) pairs: usize,
     pub(super) faces: usize,
+    /// The rigid body ranges, whose impulse changes follow the pairs' in `dj`.
+    pub(super) ranges: usize,
     max_iterations: u32,
 }
 
@@ -488,7 +513,7 @@ impl ImpulseSweeps {
         let kernels = IterationKernels::new(ctx);
         let (np, nf) = (setup.pairs.len(), setup.faces.len());
         let model = ModelBuffers::upload(ctx, setup)?;
-        let work = WorkBuffers::new(ctx, np, nf, nodes)?;
+        let work = WorkBuffers::new(ctx, (np, nf, nodes), setup.rigid.len())?;
         // placeholders where no interface has a primary surface
         let none = Storage::new(ctx, "contact.none", 64)?;
         let (grid, points, faces) = match &search {
@@ -507,6 +532,7 @@ impl ImpulseSweeps {
             np: np as u32,
             nf: nf as u32,
             nc: setup.nodes.len() as u32,
+            nr: setup.rigid.len() as u32,
         }
         .launches(search.as_ref(), setup, nodes);
         let ModelBuffers {
@@ -531,6 +557,7 @@ impl ImpulseSweeps {
             _buffers: vec![pairs, cnodes, links, rigid, none],
             pairs: np,
             faces: nf,
+            ranges: setup.rigid.len(),
             max_iterations,
         })
     }
@@ -615,6 +642,9 @@ impl ImpulseSweeps {
         let (k, l) = (&self.kernels, &self.launches);
         for _ in 0..sweeps.min(self.max_iterations) {
             k.sweep.0.dispatch(pass, &l.sweep);
+            if self.ranges > 0 {
+                k.gather.0.dispatch(pass, &l.gather);
+            }
             k.apply.0.dispatch(pass, &l.apply);
         }
     }

@@ -519,7 +519,8 @@ impl ImpulseSweeps {
     /// The impulse changes of the last sweep (3 per pair).
     pub fn read_dj(&mut self, ctx: &GpuContext) -> Result<Vec<f64>> {
         let source = &self.work.dj.buffer;
-        read_floats(ctx, &mut self.staging, CONTACT_READ, source, 3 * self.pairs)
+        let values = 3 * (self.pairs + self.ranges);
+        read_floats(ctx, &mut self.staging, CONTACT_READ, source, values)
     }
 
     /// The iteration's state.

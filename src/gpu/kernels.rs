@@ -53,6 +53,7 @@ macro_rules! kernel_table {
 }
 
 kernel_table! {
+    BodyGather = body_gather(links, constraints, dj, state);
     BucketCount = bucket_count(keys, counts, ranks);
     BucketFill = bucket_fill(keys, ranks, starts, sorted);
     BucketOrder = bucket_order(starts, sorted);

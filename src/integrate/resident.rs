@@ -55,7 +55,8 @@ pub(crate) fn contact_setup(model: &Model) -> Result<ContactSetup> {
     let mut pairs = Vec::new();
     let mut interfaces = Vec::with_capacity(model.interfaces.len());
     let mut rigid = Vec::new();
-    // each rigid body node's interfaces' pair ranges
+    // the rigid body ranges (one per rigid interface, as `rigid`) and each body node's
+    let mut ranges: Vec<[u32; 2]> = Vec::new();
     let mut bodies: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
     for itf in &model.interfaces {
         let start = pairs.len();
@@ -80,7 +81,8 @@ pub(crate) fn contact_setup(model: &Model) -> Result<ContactSetup> {
                     shape: b.shape.clone(),
                 });
                 let end = (start + itf.nodes.len()) as u32;
-                bodies.entry(node).or_default().extend([start as u32, end]);
+                bodies.entry(node).or_default().push(ranges.len() as u32);
+                ranges.push([start as u32, end]);
                 ContactPair {
                     body: (rigid.len() - 1) as u32,
                     ..Default::default()
@@ -102,7 +104,7 @@ pub(crate) fn contact_setup(model: &Model) -> Result<ContactSetup> {
         interfaces.push(start..pairs.len());
     }
     let faces = model.queries.faces.clone();
-    let (nodes, links) = contact_nodes(&pairs, &faces, bodies);
+    let (nodes, links) = contact_nodes(&pairs, &faces, (&ranges, bodies));
     let (face_first, queries) = search::search_layout(model);
     Ok(ContactSetup {
         pairs,
@@ -118,11 +120,12 @@ pub(crate) fn contact_setup(model: &Model) -> Result<ContactSetup> {
 }
 
 /// The nodes the iteration moves, in node order, each with its pairs, its face corners and
-/// its rigid body's pair ranges (`bodies`), and their links.
+/// its rigid body's ranges (`bodies`: their numbers in `ranges`), and their links, which
+/// start with the number of ranges and each range's first and end pair.
 fn contact_nodes(
     pairs: &[ContactPair],
     faces: &[[u32; 4]],
-    bodies: BTreeMap<u32, Vec<u32>>,
+    (ranges, bodies): (&[[u32; 2]], BTreeMap<u32, Vec<u32>>),
 ) -> (Vec<ContactNode>, Vec<u32>) {
     type Links = (Vec<u32>, Vec<u32>, Vec<u32>);
     let mut own: BTreeMap<u32, Links> = BTreeMap::new();
@@ -138,7 +141,8 @@ fn contact_nodes(
         own.entry(n).or_default().2 = ranges;
     }
     let mut nodes = Vec::with_capacity(own.len());
-    let mut links = Vec::new();
+    let mut links = vec![ranges.len() as u32];
+    links.extend(ranges.iter().flatten());
     for (node, (p, f, b)) in own {
         let pair_first = links.len() as u32;
         links.extend_from_slice(&p);

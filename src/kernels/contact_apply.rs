@@ -1,8 +1,8 @@
 //! The velocity change of one sweep of the device contact iteration (CPU twin of
 //! `shaders/contact_apply.wgsl`): each contact node gathers the impulse changes of the pairs
 //! it is the secondary node of, minus $N_k$ times those of the pairs on each primary face
-//! whose corner k it is, and those of the pairs of the interfaces whose rigid body it
-//! carries, times its inverse mass. (The kernel's first invocation also applies
+//! whose corner k it is, and minus the gathered impulse change of each rigid body range it
+//! carries ([`super::body_gather`], after the pairs' own in `dj`), times its inverse mass. (The kernel's first invocation also applies
 //! the iteration's stopping rule after the sweep, whose twin is
 //! [`super::sweep_control`].)
 
@@ -37,10 +37,10 @@ pub fn contact_apply(
                 }
             }
         }
-        for q in cn.body_pairs(links) {
-            let w = constraints[q].weights[0];
+        for &r in &links[cn.body_first as usize..cn.body_end as usize] {
+            let o = 3 * (constraints.len() + r as usize);
             for a in 0..3 {
-                delta[a] -= w * dj[3 * q + a];
+                delta[a] -= dj[o + a];
             }
         }
         let n = cn.node as usize;

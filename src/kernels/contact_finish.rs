@@ -1,8 +1,9 @@
 //! The end of the device contact iteration (CPU twin of `shaders/contact_finish.wgsl`):
 //! while the iteration sweeps on after the sweeps recorded, the remaining sweeps, each a
-//! [`contact_sweep`], the stopping rule ([`sweep_control`]) and a [`contact_apply`], as the
-//! recorded sweeps run them.
+//! [`contact_sweep`], the stopping rule ([`sweep_control`]), the rigid bodies' gathers
+//! ([`body_gather`]) and a [`contact_apply`], as the recorded sweeps run them.
 
+use super::body_gather::body_gather;
 use super::contact_apply::contact_apply;
 use super::contact_constraints::{Constraint, ContactPair};
 use super::contact_sweep::contact_sweep;
@@ -23,7 +24,8 @@ pub struct SweepInputs<'a> {
     pub lumped: &'a [LumpedNode],
 }
 
-/// Sweeps until the iteration has stopped (converged or at the sweep limit).
+/// Sweeps until the iteration has stopped (converged or at the sweep limit). `dj` holds the
+/// pairs' impulse changes, then the rigid body ranges'.
 pub fn contact_finish(
     s: &SweepInputs,
     state: &mut SweepState,
@@ -35,6 +37,7 @@ pub fn contact_finish(
         let violation = contact_sweep(s.dt, constraints, s.pairs, v, dj);
         state.violation = state.violation.max(violation);
         sweep_control(state, s.tolerance, s.max_iterations);
+        body_gather(s.links, constraints, dj);
         contact_apply(
             s.nodes,
             s.links,

@@ -6,7 +6,8 @@ use super::contact_constraints::{relative, Constraint, ContactPair};
 use crate::kernels::impulse::impulse_update;
 
 /// Updates the impulses, writes each pair's impulse change into `dj` (3 per pair, zero for
-/// a pair out of reach or not enforceable) and returns the sweep's largest violation.
+/// a pair out of reach or not enforceable; the rigid body ranges' after them are
+/// [`super::body_gather`]'s) and returns the sweep's largest violation.
 pub fn contact_sweep(
     dt: f64,
     constraints: &mut [Constraint],

@@ -8,11 +8,13 @@ use super::contact_constraints::Constraint;
 
 /// A node the contact iteration moves: the pairs it is the secondary node of,
 /// `links[pair_first..pair_end]`, the face corners it is, `links[face_first..face_end]`
-/// (each `4 face + corner`), and, where it carries a rigid body, the pair ranges of the
-/// body's interfaces, `links[body_first..body_end]` (each a first and an end pair).
+/// (each `4 face + corner`), and, where it carries a rigid body, the body's ranges,
+/// `links[body_first..body_end]` (each a range's number: `links` starts with the number of
+/// ranges and each range's first and end pair, one range per interface of the body).
 ///
-/// A body gathers its interfaces' pairs by range, in pair order: they are many (every node
-/// of a coupon's face against a tup or a support) and need no sort by face.
+/// A body takes its interfaces' pairs by range, not through the buckets by face: they are
+/// many (every node of a coupon's face against a tup or a support), and
+/// [`super::body_gather`] sums each range on a workgroup.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct ContactNode {
     pub node: u32,
@@ -27,9 +29,10 @@ pub struct ContactNode {
 impl ContactNode {
     /// The pairs of the interfaces whose rigid body this node carries, in order.
     pub fn body_pairs<'a>(&self, links: &'a [u32]) -> impl Iterator<Item = usize> + 'a {
+        let ranges: Vec<std::ops::Range<usize>> = super::body_gather::body_ranges(links).collect();
         links[self.body_first as usize..self.body_end as usize]
-            .chunks_exact(2)
-            .flat_map(|r| r[0] as usize..r[1] as usize)
+            .iter()
+            .flat_map(move |&r| ranges[r as usize].clone())
     }
 }
 

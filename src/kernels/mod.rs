@@ -10,6 +10,7 @@
 // with their WGSL kernels (vello does the same in its CPU shaders).
 #![allow(clippy::needless_range_loop)]
 
+pub mod body_gather;
 pub mod bucket_count;
 pub mod bucket_fill;
 pub mod bucket_order;
@@ -45,6 +46,7 @@ pub mod stable_step;
 pub mod sweep_control;
 pub mod tet4_forces;
 
+pub use body_gather::body_gather;
 pub use bucket_count::bucket_count;
 pub use bucket_fill::bucket_fill;
 pub use bucket_order::bucket_order;
