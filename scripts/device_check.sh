@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# The GPU checks and timings of a session lent a real GPU, in one call of the `device` tool
+# (the recipe is ../shared/gpu.md): the GPU twin and run tests, then the shipped drop-weight
+# and indentation scenes on the GPU and on the device machine's CPU, their summaries and a
+# table of wall times written to $OUT.
+#
+#   bash scripts/device_check.sh prepare   # here: the loader packages (.gl/), the stripped
+#                                          # binaries and the project (.gpu/)
+#   bash scripts/device_check.sh device    # there, with carry [".gl", ".gpu"]
+#
+# The test binaries look for scenes at the path they were built in, so the device unpacks the
+# project there.
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+tests=(gpu_contact gpu_kernels gpu_runs gpu_explicit rigid_bodies drop_weight)
+
+prepare() {
+    cd "$here"
+    if [ ! -d .gl ]; then
+        grep -qx '/.gl/' .git/info/exclude || printf '/.gl/\n/.gpu/\n' >> .git/info/exclude
+        mkdir -p .gl /tmp/amd64/partial
+        o='-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/amd64'
+        # shellcheck disable=SC2086
+        apt-get $o update >/dev/null
+        # shellcheck disable=SC2086
+        (cd .gl && apt-get $o download libvulkan1 libegl1 libglvnd0 libopengl0 libgl1 libglx0 libgles2)
+    fi
+    cargo build --release --all-targets
+    rm -rf .gpu && mkdir -p .gpu/bin
+    for t in "${tests[@]}"; do
+        f=$(ls -t target/release/deps/"$t"-* | grep -v '\.d$' | head -1)
+        strip -o .gpu/bin/"$t" "$f"
+    done
+    strip -o .gpu/bin/impact target/release/impact
+    tar czf .gpu/bin.tgz -C .gpu bin && rm -rf .gpu/bin
+    git archive --format=tar.gz HEAD > .gpu/project.tgz
+    du -sh .gl .gpu
+}
+
+device() {
+    for f in "$here"/.gl/*.deb; do dpkg -x "$f" /; done
+    ldconfig
+    export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+    export WGPU_BACKEND=vulkan
+    bin=$(mktemp -d)
+    tar xzf "$here"/.gpu/bin.tgz -C "$bin"
+    B=$bin/bin
+    mkdir -p "$here"
+    tar xzf "$here"/.gpu/project.tgz -C "$here"
+    cd "$here"
+    # where the tests write their runs (CARGO_TARGET_TMPDIR, the build's path)
+    mkdir -p target/tmp
+    out=${OUT:-/tmp/out}
+    mkdir -p "$out"
+    "$B"/impact info | tee "$out"/info.txt
+    for t in "${tests[@]}"; do
+        "$B"/"$t" 2>&1 | tail -40 > "$out"/test_"$t".txt || echo "$t: FAILED" >> "$out"/failures.txt
+    done
+    printf '| scene | device | engine | steps | wall s |\n|---|---|---|---:|---:|\n' > "$out"/times.md
+    for s in drop_weight_d7136 indentation_d6264; do
+        for d in gpu cpu; do
+            dir=$(mktemp -d)
+            "$B"/impact run scenes/$s.toml --device $d --out "$dir" > "$out"/run_${s}_$d.txt 2>&1 || true
+            cp "$dir"/summary.json "$out"/summary_${s}_$d.json 2>/dev/null || true
+            field() { grep -o "\"$1\": [^,]*" "$dir"/summary.json | head -1 | sed 's/.*: //; s/"//g'; }
+            echo "| $s | $d | $(field engine) | $(field steps) | $(field wall_seconds) |" >> "$out"/times.md
+        done
+    done
+    cat "$out"/times.md
+}
+
+case "${1:-}" in
+prepare) prepare ;;
+device) device ;;
+*) echo "usage: $0 prepare|device" >&2; exit 2 ;;
+esac
