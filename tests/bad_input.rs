@@ -506,15 +506,40 @@ fn a_free_rigid_body_needs_its_mass() {
 }
 
 #[test]
-fn rotation_of_a_rigid_body_is_refused_by_name() {
-    let text = rigid(&format!(
-        "mass = 1.0\n{SPHERE}\ninertia = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]"
+fn a_rigid_body_rotates_only_as_its_motion_allows() {
+    let inertia = |i: &str| format!("mass = 1.0\n{SPHERE}\ninertia = {i}");
+    let ok = rigid(&inertia(
+        "[[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]]",
     ));
-    expect(&text, &["rigid_body[0].inertia", "translate only"]);
-    let text = rigid(&format!(
-        "mass = 1.0\n{SPHERE}\nangular_velocity = [0.0, 0.0, 1.0]"
+    Scene::parse(&ok, Path::new("ok.toml")).expect("a free body with an inertia rotates");
+    // not symmetric, not positive definite
+    let text = rigid(&inertia(
+        "[[1.0, 0.5, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]",
     ));
-    expect(&text, &["rigid_body[0].angular_velocity"]);
+    expect(&text, &["rigid_body[0].inertia", "symmetric"]);
+    let text = rigid(&inertia(
+        "[[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]]",
+    ));
+    expect(&text, &["rigid_body[0].inertia", "positive definite"]);
+    // a free body without inertia only translates; a fixed one does not spin
+    let spin = "angular_velocity = [0.0, 0.0, 1.0]";
+    let text = rigid(&format!("mass = 1.0\n{SPHERE}\n{spin}"));
+    expect(&text, &["rigid_body[0].angular_velocity", "inertia"]);
+    let text = rigid(&format!("{SPHERE}\nmotion = \"fixed\"\n{spin}"));
+    expect(&text, &["rigid_body[0].angular_velocity", "prescribed"]);
+    let text = rigid(&format!("{SPHERE}\nmotion = \"prescribed\"\n{spin}"));
+    Scene::parse(&text, Path::new("ok.toml")).expect("a prescribed body spins");
+    // inertia is a free body's
+    let text = rigid(&format!(
+        "{SPHERE}\nmotion = \"prescribed\"\ninertia = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]"
+    ));
+    expect(&text, &["rigid_body[0].inertia", "free body"]);
+    // the implicit path does not rotate bodies
+    let text = rigid(&inertia(
+        "[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]",
+    ))
+    .replace("method = \"explicit\"", "method = \"implicit\"");
+    expect(&text, &["rigid_body[0].inertia", "explicit"]);
 }
 
 #[test]

@@ -371,6 +371,7 @@ fn a_restored_contact_clears_every_entry_on_its_next_step() {
     let (u, v_half, inv_mass) = (vec![0.0; n], vec![0.0; n], vec![1.0; n]);
     let mut v = vec![0.0; n];
     let fields = ContactFields {
+        spins: None,
         u: &u,
         v: &mut v,
         v_half: &v_half,

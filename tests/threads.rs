@@ -85,3 +85,19 @@ fn rigid_bodies_and_layered_plies_are_the_same_on_any_thread_count() {
     let text = edit(&text, "vtu_every = 500", "vtu_every = 1000000");
     same_on_any_thread_count("drop_weight", &text);
 }
+
+/// A rotating rigid body (the spinning roller driving a block by friction) on a block fine
+/// enough that its 625 contact nodes split across threads.
+#[test]
+fn a_spinning_rigid_body_is_the_same_on_any_thread_count() {
+    let text = edit(
+        &edit(
+            &scene_text("spinning_roller.toml"),
+            "divisions = [8, 8, 4]",
+            "divisions = [24, 24, 4]",
+        ),
+        "end_time = 0.05",
+        "end_time = 0.01",
+    );
+    same_on_any_thread_count("spinning_roller", &text);
+}

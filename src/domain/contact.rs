@@ -179,6 +179,7 @@ impl SurfaceContact {
             v_half: &self.v_half,
             inv_mass: &self.inv_mass,
             planes: Some(&present),
+            spins: None,
         };
         let candidates = Some(&self.candidates[..]);
         let report =

@@ -369,6 +369,7 @@ impl Integrator for DomainSolver<'_> {
             u_prev,
             v_half,
             interfaces: self.surface.contact().interfaces.clone(),
+            spins: Vec::new(),
         })))
     }
 

@@ -1,7 +1,11 @@
-//! Vectors in 3D as `[f64; 3]`: difference, dot and cross products, length.
+//! Vectors in 3D as `[f64; 3]`: sum, difference, dot and cross products, length.
 
 pub(crate) type V3 = [f64; 3];
 
+#[inline]
+pub fn add(a: V3, b: V3) -> V3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
 #[inline]
 pub fn sub(a: V3, b: V3) -> V3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]

@@ -86,6 +86,12 @@ pub trait Integrator {
             .collect()
     }
 
+    /// Each rotating rigid body's rotation vector (axis times angle) and angular velocity
+    /// (none on the engines that refuse rotating bodies).
+    fn body_spins(&self) -> Vec<ProbeValues> {
+        Vec::new()
+    }
+
     /// Each interface at the end of the run (no penalties: the explicit paths).
     fn interface_ends(&self) -> Vec<InterfaceEnd> {
         (self.reports().iter())

@@ -40,11 +40,11 @@ pub(crate) fn planes_only(model: &Model) -> bool {
     model.interfaces.iter().all(|i| i.is_plane()) && model.interfaces.len() <= MAX_PLANES
 }
 
-/// Whether every rigid body's surface has a device form (the analytic shapes; a meshed
-/// surface's contact runs on the host, `run` then gives the model the explicit solver with
-/// the device's element forces).
+/// Whether every rigid body's surface has a device form (the analytic shapes, on bodies
+/// that do not rotate; a meshed surface's or a rotating body's contact runs on the host,
+/// `run` then gives the model the explicit solver with the device's element forces).
 pub fn rigid_surfaces_on_device(model: &Model) -> bool {
-    (model.rigid.iter()).all(|b| !matches!(b.shape, RigidShape::Mesh(_)))
+    (model.rigid.iter()).all(|b| !matches!(b.shape, RigidShape::Mesh(_)) && !b.rotates())
 }
 
 /// The device contact iteration's inputs: a pair per (interface, secondary node), the nodes

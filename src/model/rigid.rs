@@ -16,6 +16,10 @@ pub struct RigidBody {
     pub motion: RigidMotion,
     /// Its initial velocity (the velocity it keeps when prescribed).
     pub velocity: [f64; 3],
+    /// Its inertia tensor about its reference point, where it is free to rotate.
+    pub inertia: Option<[[f64; 3]; 3]>,
+    /// Its initial angular velocity (the one it keeps when prescribed).
+    pub angular_velocity: [f64; 3],
 }
 
 impl RigidBody {
@@ -29,6 +33,8 @@ impl RigidBody {
                 shape: b.shape.clone(),
                 motion: b.motion,
                 velocity: b.velocity,
+                inertia: b.inertia,
+                angular_velocity: b.angular_velocity,
             })
             .collect()
     }
@@ -38,10 +44,33 @@ impl RigidBody {
         self.motion != RigidMotion::Free
     }
 
+    /// Whether it rotates: free with an inertia, or prescribed with an angular velocity.
+    pub fn rotates(&self) -> bool {
+        self.inertia.is_some()
+            || (self.motion == RigidMotion::Prescribed && self.angular_velocity != [0.0; 3])
+    }
+
     /// The distance of the point `x` from its surface when its node is displaced by `u`
     /// from `reference`, positive outside, and the outward normal.
     pub fn distance(&self, reference: [f64; 3], u: [f64; 3], x: [f64; 3]) -> (f64, [f64; 3]) {
         let r = std::array::from_fn(|a| x[a] - reference[a] - u[a]);
         self.shape.distance(r)
+    }
+
+    /// [`Self::distance`] with the body turned by `rotation` (body to world) about its
+    /// reference point: the shape's distance at the point in the body's axes, the normal
+    /// turned back.
+    pub fn distance_turned(
+        &self,
+        (reference, u): ([f64; 3], [f64; 3]),
+        rotation: &[[f64; 3]; 3],
+        x: [f64; 3],
+    ) -> (f64, [f64; 3]) {
+        let r: [f64; 3] = std::array::from_fn(|a| x[a] - reference[a] - u[a]);
+        // R^T r
+        let body = std::array::from_fn(|k| (0..3).map(|a| rotation[a][k] * r[a]).sum());
+        let (d, n) = self.shape.distance(body);
+        let n = std::array::from_fn(|a| (0..3).map(|k| rotation[a][k] * n[k]).sum());
+        (d, n)
     }
 }

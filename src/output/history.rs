@@ -16,6 +16,8 @@ pub struct History {
     frictional: Vec<usize>,
     /// Interfaces whose primary side is a rigid body, whose force vectors come next.
     rigid: Vec<usize>,
+    /// Rigid bodies that rotate, whose rotation vector and angular velocity come next.
+    spinning: usize,
     /// Whether a material has ply strengths: the largest failure indices close the row.
     failure: bool,
     /// The file (none on a rank that computes the rows and leaves the file to rank 0).
@@ -42,6 +44,7 @@ impl History {
             rigid: (0..model.interfaces.len())
                 .filter(|&i| model.interfaces[i].is_rigid())
                 .collect(),
+            spinning: model.rigid.iter().filter(|b| b.rotates()).count(),
             failure: model.strengths.iter().any(Option::is_some),
             file,
             pending: String::new(),
@@ -122,14 +125,15 @@ impl History {
         }
     }
 
-    /// Appends one row.
+    /// Appends one row; `spins` holds each rotating rigid body's rotation vector and angular
+    /// velocity.
     pub fn row(
         &mut self,
         time: f64,
         step: usize,
         e: &Energies,
         (bodies, contacts, probes): (&[[f64; 3]], &[ContactReport], &[ProbeValues]),
-        failure: Option<&[f64; 5]>,
+        (spins, failure): (&[ProbeValues], Option<&[f64; 5]>),
     ) -> Result<()> {
         use std::fmt::Write as _;
         let l = &mut self.line;
@@ -164,6 +168,16 @@ impl History {
         }
         for &i in &self.rigid {
             for x in contacts[i].force {
+                num(l, x);
+            }
+        }
+        for k in 0..self.spinning {
+            // NaN where the engine does not rotate bodies (none runs such a model)
+            let (r, w) = spins
+                .get(k)
+                .copied()
+                .unwrap_or(([f64::NAN; 3], [f64::NAN; 3]));
+            for &x in r.iter().chain(&w) {
                 num(l, x);
             }
         }
@@ -318,6 +332,12 @@ pub(crate) fn column_names(model: &Model) -> Vec<String> {
             cols.push(format!("{}.{c}", itf.name));
         }
     }
+    // the rotation vector and angular velocity of each rigid body that rotates
+    for b in model.rigid.iter().filter(|b| b.rotates()) {
+        for c in ["rx", "ry", "rz", "wx", "wy", "wz"] {
+            cols.push(format!("{}.{c}", b.name));
+        }
+    }
     // the largest of each ply failure index over the model
     if model.strengths.iter().any(Option::is_some) {
         for c in crate::material::failure::INDICES {
@@ -421,6 +441,7 @@ mod tests {
             path: path.clone(),
             frictional: vec![0],
             rigid: Vec::new(),
+            spinning: 0,
             failure: false,
             file: Some(File::create(&path).unwrap()),
             pending: String::new(),
@@ -440,7 +461,7 @@ mod tests {
             ..Default::default()
         };
         let rows = (&[[1.0, -0.0, f64::INFINITY]][..], &[c][..], &[][..]);
-        h.row(1e-3, 7, &e, rows, None).unwrap();
+        h.row(1e-3, 7, &e, rows, (&[], None)).unwrap();
         h.flush().unwrap();
         let written = std::fs::read_to_string(&path).unwrap();
         let _ = std::fs::remove_dir_all(&dir);

@@ -303,7 +303,7 @@ pub(super) fn write_row(
         solver.steps(),
         &e,
         (&solver.body_velocities(), &contacts, &probes),
-        failure.as_ref().map(|f| &f.max),
+        (&solver.body_spins(), failure.as_ref().map(|f| &f.max)),
     )?;
     Ok((e.total(), failure))
 }

@@ -25,8 +25,21 @@ pub struct RigidBodySpec {
     /// Its reference point, which places the shape.
     pub position: [f64; 3],
     pub velocity: [f64; 3],
+    /// Its inertia tensor about `position` (a free body that rotates), symmetric and
+    /// positive definite.
+    pub inertia: Option<[[f64; 3]; 3]>,
+    /// Its initial angular velocity (the one it keeps when prescribed).
+    pub angular_velocity: [f64; 3],
     pub shape: RigidShape,
     pub motion: RigidMotion,
+}
+
+impl RigidBodySpec {
+    /// Whether it rotates: a free body with an inertia, or a prescribed one spinning.
+    pub fn rotates(&self) -> bool {
+        self.inertia.is_some()
+            || (self.motion == RigidMotion::Prescribed && self.angular_velocity != [0.0; 3])
+    }
 }
 
 /// The primary side of a `[[contact]]`: a surface of a meshed body or a rigid body.

@@ -23,6 +23,7 @@ use rayon::prelude::*;
 
 use super::super::state::ContactReport;
 use super::super::state::StepReport;
+use super::spin::Spins;
 
 /// One contact constraint of a step: a secondary node against a face point, a plane or a
 /// rigid body's surface (a face of one node, the body's).
@@ -40,6 +41,9 @@ struct NodeConstraint {
     law: ContactLaw,
     /// Split compliance: gap-rate change per unit normal impulse, bounded from above.
     compliance: f64,
+    /// Against a rotating rigid body: the body and the node's arm from its reference point
+    /// (the surface point's velocity is the body's plus omega x arm).
+    spin: Option<(u32, [f64; 3])>,
 }
 
 /// Contact state of one interface over the last step.
@@ -88,6 +92,9 @@ pub struct ContactFields<'a> {
     /// The rigid planes' secondary nodes whose state the fields hold, where not all: a node
     /// left out is out of every plane's reach ([`plane_gap_within_reach`]).
     pub planes: Option<&'a dyn Fn(u32) -> bool>,
+    /// The rigid bodies' rotation, where a body rotates (a single process's explicit
+    /// solver; a body that rotates is refused elsewhere).
+    pub spins: Option<&'a mut Spins>,
 }
 
 /// Whether a node at `x0 + u` moving at `v` is within the reach of the plane through
@@ -242,15 +249,18 @@ impl ExplicitContact {
                 self.restored = false;
             }
         }
-        self.gather_constraints(model, &f, dt, margin, candidates);
+        let mut f = f;
+        let mut spins = f.spins.take();
+        self.gather_constraints(model, &f, dt, margin, candidates, spins.as_deref());
         let count = self.constraints.len();
         let mut jn = vec![0.0f64; count];
         let mut jt = vec![[0.0f64; 3]; count];
         // the slip at v_{n-1/2}: with it the friction work is the tangential share of the
         // impulses' change of the time-centred energy (docs/method-notes.md)
         self.slip_before.clear();
+        let omega = omegas(spins.as_deref());
         for c in &self.constraints {
-            let rel = relative_velocity(c, f.v_half);
+            let rel = relative_velocity(c, f.v_half, &omega);
             let rn = dot(rel, c.normal);
             self.slip_before
                 .push(std::array::from_fn(|a| rel[a] - rn * c.normal[a]));
@@ -264,21 +274,33 @@ impl ExplicitContact {
             let touched = touched_nodes(&self.constraints);
             for sweep in 0..self.max_iterations {
                 report.iterations = sweep + 1;
-                let violation = self.sweep(f.v, f.inv_mass, dt, &mut jn, &mut jt, &touched);
+                let violation = self.sweep(
+                    (f.v, f.inv_mass, spins.as_deref_mut()),
+                    dt,
+                    (&mut jn, &mut jt),
+                    &touched,
+                );
                 if violation <= self.tolerance {
                     report.converged = true;
                     break;
                 }
             }
         }
-        self.contact_reports(f.v, dt, &jn, &jt);
-        self.add_driver_work(model, f.v, &jn, &jt);
+        let omega = omegas(spins.as_deref());
+        self.contact_reports(f.v, &omega, dt, &jn, &jt);
+        self.add_driver_work(model, (f.v, &omega), &jn, &jt);
         Ok(report)
     }
 
     /// Adds the step's work of the prescribed rigid bodies' drivers: each constraint's
     /// impulse on its secondary node dotted with the body's (constant) velocity.
-    fn add_driver_work(&mut self, model: &Model, v: &[f64], jn: &[f64], jt: &[[f64; 3]]) {
+    fn add_driver_work(
+        &mut self,
+        model: &Model,
+        (v, omega): (&[f64], &[[f64; 3]]),
+        jn: &[f64],
+        jt: &[[f64; 3]],
+    ) {
         for (i, c) in self.constraints.iter().enumerate() {
             let k = c.interface as usize;
             let Primary::Rigid { body, node, .. } = model.interfaces[k].primary else {
@@ -287,7 +309,12 @@ impl ExplicitContact {
             if model.rigid[body].motion == RigidMotion::Prescribed {
                 let b = 3 * node as usize;
                 let j: [f64; 3] = std::array::from_fn(|a| jn[i] * c.normal[a] + jt[i][a]);
-                self.interfaces[k].report.driver_work += dot(j, [v[b], v[b + 1], v[b + 2]]);
+                let mut work = dot(j, [v[b], v[b + 1], v[b + 2]]);
+                // a spinning driver's work through the contact point's turning
+                if let Some((body, arm)) = c.spin {
+                    work += dot(omega[body as usize], vector::cross(arm, j));
+                }
+                self.interfaces[k].report.driver_work += work;
             }
         }
     }
@@ -303,8 +330,9 @@ impl ExplicitContact {
         dt: f64,
         margin: f64,
         candidates: Option<&[(u32, u32)]>,
+        spins: Option<&Spins>,
     ) {
-        let (u, v): (&[f64], &[f64]) = (f.u, f.v);
+        let (u, v): (&[f64], &[f64]) = (f.u, &*f.v);
         let pairs: Vec<(usize, usize)> = match candidates {
             None => (model.interfaces.iter().enumerate())
                 .flat_map(|(k, itf)| (0..itf.nodes.len()).map(move |i| (k, i)))
@@ -326,10 +354,10 @@ impl ExplicitContact {
         let this = &*self;
         let constraints: Vec<NodeConstraint> = (pairs.par_iter())
             .with_min_len(256)
-            .filter_map(|&(k, i)| this.constraint_of(model, u, v, dt, (k, i), margin))
+            .filter_map(|&(k, i)| this.constraint_of(model, (u, v, spins), dt, (k, i), margin))
             .collect();
         self.constraints = constraints;
-        self.split_compliances(f.inv_mass);
+        self.split_compliances(f.inv_mass, spins);
     }
 
     /// Zeroes the interfaces' impulses and gaps the last step's constraints set.
@@ -346,8 +374,7 @@ impl ExplicitContact {
     fn constraint_of(
         &self,
         model: &Model,
-        u: &[f64],
-        v: &[f64],
+        (u, v, spins): (&[f64], &[f64], Option<&Spins>),
         dt: f64,
         (k, i): (usize, usize),
         margin: f64,
@@ -355,6 +382,7 @@ impl ExplicitContact {
         let itf = &model.interfaces[k];
         let node = itf.nodes[i];
         let n = node as usize;
+        let mut spin = None;
         let (face, weights, normal, gap) = match &itf.primary {
             Primary::Surface { queries, .. } => {
                 let p = self.query_points[queries.start + i];
@@ -374,8 +402,16 @@ impl ExplicitContact {
                 }
                 (None, [0.0; 4], *normal, gap)
             }
-            Primary::Rigid { node: b, .. } => {
-                let (gap, normal) = rigid_gap_within_reach(model, (u, v), (n, *b as usize), k, dt)?;
+            Primary::Rigid { node: b, body, .. } => {
+                let (gap, normal) = match spins.filter(|s| s.rotates(*body)) {
+                    Some(s) => {
+                        let (gap, normal, arm) =
+                            turned_gap_within_reach(model, (u, v), (n, *b as usize), *body, s, dt)?;
+                        spin = Some((*body as u32, arm));
+                        (gap, normal)
+                    }
+                    None => rigid_gap_within_reach(model, (u, v), (n, *b as usize), k, dt)?,
+                };
                 // a face of one node: the body's, with weight 1
                 (Some([*b; 4]), [1.0, 0.0, 0.0, 0.0], normal, gap)
             }
@@ -390,11 +426,12 @@ impl ExplicitContact {
             gap,
             law: itf.law,
             compliance: 0.0,
+            spin,
         })
     }
 
     /// The split compliance of every constraint of the step.
-    fn split_compliances(&mut self, inv_mass: &[f64]) {
+    fn split_compliances(&mut self, inv_mass: &[f64], spins: Option<&Spins>) {
         // the row-sum bound of the coupled compliance: each node's inverse mass times the sum
         // of the weights with which the step's constraints act on it (zero outside this call)
         for c in &self.constraints {
@@ -430,6 +467,9 @@ impl ExplicitContact {
             }
             c.compliance = if along > 0.0 { s } else { 0.0 };
         }
+        if let Some(spins) = spins {
+            self.add_rotational_compliance(spins);
+        }
         for c in &self.constraints {
             self.touches[c.node as usize] = 0.0;
             for n in c.face.into_iter().flatten() {
@@ -438,18 +478,40 @@ impl ExplicitContact {
         }
     }
 
+    /// Adds the rotation of free bodies to the row-sum bound: each constraint on such a body
+    /// couples with the others on it through $r_i \times n_i \cdot I_w^{-1} (r_j \times n_j)$,
+    /// bounded by the body's constraint count times its largest arm squared times the
+    /// largest eigenvalue of its inverse inertia.
+    fn add_rotational_compliance(&mut self, spins: &Spins) {
+        let nb = spins.bodies.len();
+        let (mut count, mut arm) = (vec![0.0f64; nb], vec![0.0f64; nb]);
+        for c in &self.constraints {
+            if let Some((b, r)) = c.spin.filter(|(b, _)| spins.is_free(*b as usize)) {
+                count[b as usize] += 1.0;
+                arm[b as usize] = arm[b as usize].max(dot(r, r));
+            }
+        }
+        for c in &mut self.constraints {
+            if let Some((b, _)) = c.spin.filter(|(b, _)| spins.is_free(*b as usize)) {
+                let b = b as usize;
+                // (a normal that meets only held translations is enforced by the turning)
+                c.compliance += count[b] * arm[b] * spins.inv_max[b];
+            }
+        }
+    }
+
     /// One Jacobi sweep: every constraint's update from the sweep's starting velocities, on
-    /// all threads; then the impulses are scattered to the nodes in constraint order, so the
-    /// sums do not depend on the thread count. Returns the sweep's largest violation.
+    /// all threads; then the impulses are scattered to the nodes (and the free rotating
+    /// bodies' angular impulses summed) in constraint order, so the sums do not depend on the
+    /// thread count. Returns the sweep's largest violation.
     fn sweep(
         &mut self,
-        v: &mut [f64],
-        inv_mass: &[f64],
+        (v, inv_mass, spins): (&mut [f64], &[f64], Option<&mut Spins>),
         dt: f64,
-        jn: &mut [f64],
-        jt: &mut [[f64; 3]],
+        (jn, jt): (&mut [f64], &mut [[f64; 3]]),
         touched: &[u32],
     ) -> f64 {
+        let omega = omegas(spins.as_deref());
         let vs: &[f64] = v;
         let updates: Vec<Option<ImpulseUpdate>> = self
             .constraints
@@ -461,7 +523,7 @@ impl ExplicitContact {
                     impulse_update(
                         c.gap,
                         dt,
-                        relative_velocity(c, vs),
+                        relative_velocity(c, vs, &omega),
                         c.normal,
                         c.compliance,
                         &c.law,
@@ -472,6 +534,7 @@ impl ExplicitContact {
             })
             .collect();
         let mut violation = 0.0f64;
+        let mut angular = vec![[0.0f64; 3]; omega.len()];
         for (i, up) in updates.into_iter().enumerate() {
             let Some(up) = up else { continue };
             let c = &self.constraints[i];
@@ -489,6 +552,20 @@ impl ExplicitContact {
                     }
                 }
             }
+            // the body takes -dj at the node: the angular impulse arm x (-dj)
+            if let Some((b, arm)) = c.spin {
+                let t = vector::cross(arm, dj);
+                for (l, t) in angular[b as usize].iter_mut().zip(t) {
+                    *l -= t;
+                }
+            }
+        }
+        if let Some(spins) = spins {
+            for (b, l) in angular.iter().enumerate() {
+                if spins.is_free(b) && *l != [0.0; 3] {
+                    spins.add_angular_impulse(b, *l);
+                }
+            }
         }
         // only the constrained nodes and their faces' nodes moved
         for &n in touched {
@@ -502,7 +579,14 @@ impl ExplicitContact {
     }
 
     /// Each interface's report of the step from the final impulses `jn`, `jt`.
-    fn contact_reports(&mut self, v: &[f64], dt: f64, jn: &[f64], jt: &[[f64; 3]]) {
+    fn contact_reports(
+        &mut self,
+        v: &[f64],
+        omega: &[[f64; 3]],
+        dt: f64,
+        jn: &[f64],
+        jt: &[[f64; 3]],
+    ) {
         let mut force = vec![[0.0f64; 3]; self.interfaces.len()];
         for st in &mut self.interfaces {
             st.report = ContactReport {
@@ -513,7 +597,7 @@ impl ExplicitContact {
         }
         for i in 0..self.constraints.len() {
             let c = self.constraints[i];
-            let rel = relative_velocity(&c, v);
+            let rel = relative_velocity(&c, v, omega);
             let rn = dot(rel, c.normal);
             let st = &mut self.interfaces[c.interface as usize];
             st.impulse[c.local as usize] = jn[i];
@@ -559,7 +643,42 @@ fn touched_nodes(constraints: &[NodeConstraint]) -> Vec<u32> {
 }
 
 /// Relative velocity of a constraint's secondary node against its primary point in the
-/// velocity field `v`.
-fn relative_velocity(c: &NodeConstraint, v: &[f64]) -> [f64; 3] {
-    impulse::relative_velocity(v, c.node, c.face.as_ref().map(|f| (f, &c.weights)))
+/// velocity field `v`, with the rigid bodies' angular velocities `omega`.
+fn relative_velocity(c: &NodeConstraint, v: &[f64], omega: &[[f64; 3]]) -> [f64; 3] {
+    let rel = impulse::relative_velocity(v, c.node, c.face.as_ref().map(|f| (f, &c.weights)));
+    match c.spin {
+        Some((b, arm)) => vector::sub(rel, vector::cross(omega[b as usize], arm)),
+        None => rel,
+    }
+}
+
+/// Each rigid body's angular velocity now (none without rotating bodies).
+fn omegas(spins: Option<&Spins>) -> Vec<[f64; 3]> {
+    spins.map_or_else(Vec::new, |s| {
+        (0..s.bodies.len()).map(|b| s.omega(b)).collect()
+    })
+}
+
+/// The gap, normal and arm of secondary node `n` against the surface of the rotating rigid
+/// body `body` on node `b`, where the node is within four steps of their relative motion of
+/// it (the surface point moving with the body's angular velocity too).
+fn turned_gap_within_reach(
+    model: &Model,
+    (u, v): (&[f64], &[f64]),
+    (n, b): (usize, usize),
+    body: usize,
+    spins: &Spins,
+    dt: f64,
+) -> Option<(f64, [f64; 3], [f64; 3])> {
+    let at = |x: &[f64], n: usize| [x[3 * n], x[3 * n + 1], x[3 * n + 2]];
+    let xb = vector::add(model.mesh.nodes[b], at(u, b));
+    let x = vector::add(model.mesh.nodes[n], at(u, n));
+    let rb = &model.rigid[body];
+    let rotation = spins.rotation(body);
+    let (distance, normal) = rb.distance_turned((model.mesh.nodes[b], at(u, b)), rotation, x);
+    let arm = vector::sub(x, xb);
+    let surface = vector::add(at(v, b), vector::cross(spins.omega(body), arm));
+    let reach = -4.0 * dt * vector::norm(vector::sub(at(v, n), surface));
+    let within = (-distance).partial_cmp(&reach) != Some(std::cmp::Ordering::Less);
+    within.then_some((-distance, normal, arm))
 }

@@ -28,6 +28,7 @@
 //! the shape functions). The history's contact force is the impulse / dt.
 
 mod contact;
+pub mod spin;
 
 pub use contact::{
     plane_gap_within_reach, rigid_gap_within_reach, ContactFields, ExplicitContact,
@@ -60,6 +61,9 @@ pub struct ExplicitState {
     pub u_prev: Vec<f64>,
     pub v_half: Vec<f64>,
     pub interfaces: Vec<ExplicitInterface>,
+    /// The rigid bodies' rotation (none where no body rotates).
+    #[serde(default)]
+    pub spins: Vec<spin::BodySpin>,
 }
 
 pub struct ExplicitSolver<'m> {
@@ -85,6 +89,8 @@ pub struct ExplicitSolver<'m> {
     /// What the time-centred energy measure shifts by over a shortened step (see
     /// [`Integrator::shorten_step`]); removed from the kinetic energy reported after it.
     measure_shift: f64,
+    /// The rigid bodies' rotation.
+    spins: spin::Spins,
     contact: ExplicitContact,
 }
 
@@ -173,6 +179,7 @@ impl<'m> ExplicitSolver<'m> {
             f_int: vec![0.0; ndof],
             u_prev: vec![0.0; ndof],
             measure_shift: 0.0,
+            spins: spin::Spins::new(model),
             contact,
         })
     }
@@ -190,6 +197,10 @@ impl<'m> ExplicitSolver<'m> {
             u_prev: self.u_prev.clone(),
             v_half: self.v_half.clone(),
             interfaces: self.contact.interfaces.clone(),
+            spins: match self.spins.any() {
+                true => self.spins.bodies.clone(),
+                false => Vec::new(),
+            },
         }
     }
 
@@ -209,6 +220,7 @@ impl<'m> ExplicitSolver<'m> {
         self.u_prev = s.u_prev;
         self.v_half = s.v_half;
         self.contact.restore(s.interfaces);
+        self.spins.restore(s.spins);
         Ok(())
     }
 
@@ -223,6 +235,7 @@ impl<'m> ExplicitSolver<'m> {
             v_half: &self.v_half,
             inv_mass: &self.inv_mass,
             planes: None,
+            spins: self.spins.any().then_some(&mut self.spins),
         };
         self.contact
             .step(self.model, self.kernels.as_mut(), fields, self.dt, margin)
@@ -250,6 +263,7 @@ impl Integrator for ExplicitSolver<'_> {
         self.u_prev.copy_from_slice(&self.u);
         self.v_half.copy_from_slice(&self.v);
         kernels::explicit_drift(dt, &self.v, &mut self.u);
+        self.spins.drift(dt);
         self.kernels
             .internal_forces_into(&self.u, &mut self.f_int)?;
         let forces = (&self.f_ext[..], &self.f_int[..], &self.inv_mass[..]);
@@ -261,6 +275,13 @@ impl Integrator for ExplicitSolver<'_> {
 
     fn reports(&self) -> Vec<ContactReport> {
         self.contact.interfaces.iter().map(|i| i.report).collect()
+    }
+
+    fn body_spins(&self) -> Vec<super::state::ProbeValues> {
+        (0..self.model.rigid.len())
+            .filter(|&b| self.spins.rotates(b))
+            .map(|b| (self.spins.rotation_vector(b), self.spins.omega(b)))
+            .collect()
     }
 
     fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {
@@ -333,7 +354,8 @@ impl Integrator for ExplicitSolver<'_> {
             self.kernels
                 .internal_forces_into(&self.u, &mut self.f_int)?;
             let v = &self.v;
-            let kinetic = 0.5 * ordered_sum(v.len(), |d| mass[d / 3] * v[d] * v[d]);
+            let kinetic =
+                0.5 * ordered_sum(v.len(), |d| mass[d / 3] * v[d] * v[d]) + self.spins.kinetic();
             return Ok(Energies {
                 kinetic,
                 strain: 0.5 * dot(&self.u, &self.f_int),
@@ -341,7 +363,8 @@ impl Integrator for ExplicitSolver<'_> {
             });
         }
         let v = &self.v_half;
-        let kinetic = 0.5 * ordered_sum(v.len(), |d| mass[d / 3] * v[d] * v[d]);
+        let kinetic =
+            0.5 * ordered_sum(v.len(), |d| mass[d / 3] * v[d] * v[d]) + self.spins.kinetic();
         let potential = -0.5 * (dot(&self.f_ext, &self.u_prev) + dot(&self.f_ext, &self.u))
             - self.contact.driver_work();
         Ok(Energies {

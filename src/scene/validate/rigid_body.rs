@@ -5,17 +5,53 @@ use crate::error::Result;
 use crate::geometry::rigid_shape::RigidShape;
 use crate::material::rotation::unit;
 use crate::scene::raw::{RawRigidBody, RawRigidShape};
-use crate::scene::{RigidBodySpec, RigidMotion};
+use crate::scene::{Method, RigidBodySpec, RigidMotion};
 
 impl Checker<'_> {
-    /// Every `[[rigid_body]]`, checked.
-    pub(super) fn rigid_bodies(&self, raw: &[RawRigidBody]) -> Result<Vec<RigidBodySpec>> {
+    /// Every `[[rigid_body]]`, checked; a rotating body needs the explicit method.
+    pub(super) fn rigid_bodies(
+        &self,
+        raw: &[RawRigidBody],
+        method: Method,
+    ) -> Result<Vec<RigidBodySpec>> {
         (raw.iter().enumerate())
             .map(|(i, b)| {
                 let key = |k: &str| format!("rigid_body[{i}].{k} (rigid body `{}`)", b.name);
-                self.rigid_body(&key, b)
+                let spec = self.rigid_body(&key, b)?;
+                if spec.rotates() && method == Method::Implicit {
+                    let k = if spec.inertia.is_some() { "inertia" } else { "angular_velocity" };
+                    return Err(self.err(
+                        key(k),
+                        "a rotating rigid body runs on the explicit path only: give run.method = \"explicit\" (or \"auto\"), or leave out its rotation",
+                    ));
+                }
+                Ok(spec)
             })
             .collect()
+    }
+
+    /// The inertia tensor: finite, symmetric (to 1e-9 of its largest entry) and positive
+    /// definite.
+    fn inertia(&self, key: &str, i: [[f64; 3]; 3]) -> Result<[[f64; 3]; 3]> {
+        for row in i {
+            self.finite3(key, row)?;
+        }
+        let scale = i.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        let symmetric = (0..3).all(|a| (0..3).all(|b| (i[a][b] - i[b][a]).abs() <= 1e-9 * scale));
+        if !symmetric {
+            return Err(self.err(
+                key,
+                "must be symmetric (an inertia tensor about `position`)",
+            ));
+        }
+        let m = nalgebra::Matrix3::from_fn(|a, b| i[a][b]);
+        if scale <= 0.0 || m.cholesky().is_none() {
+            return Err(self.err(
+                key,
+                "must be positive definite (each principal moment > 0): its eigenvalues are the body's principal moments of inertia",
+            ));
+        }
+        Ok(i)
     }
 
     fn rigid_body(&self, key: &dyn Fn(&str) -> String, b: &RawRigidBody) -> Result<RigidBodySpec> {
@@ -35,15 +71,28 @@ impl Checker<'_> {
             }
             (None, _) => 0.0,
         };
-        for (k, given) in [
-            ("inertia", b.inertia.is_some()),
-            ("angular_velocity", b.angular_velocity.is_some()),
-        ] {
-            if given {
+        let inertia = match (b.inertia, motion) {
+            (None, _) => None,
+            (Some(i), RigidMotion::Free) => Some(self.inertia(&key("inertia"), i)?),
+            (Some(_), _) => {
                 return Err(self.err(
-                    key(k),
-                    "rigid bodies translate only (as a guided drop-weight tup does): rotation is not supported yet, so leave out `inertia` and `angular_velocity`",
-                ));
+                    key("inertia"),
+                    "is for a free body (motion = \"free\"): a fixed or prescribed body moves as it is told whatever the forces",
+                ))
+            }
+        };
+        let angular_velocity = self.finite3(
+            &key("angular_velocity"),
+            b.angular_velocity.unwrap_or([0.0; 3]),
+        )?;
+        if angular_velocity != [0.0; 3] {
+            let why = match motion {
+                RigidMotion::Fixed => Some("a fixed body does not move: give motion = \"prescribed\" to spin it at this rate"),
+                RigidMotion::Free if inertia.is_none() => Some("a free body without `inertia` only translates (as a guided tup does): give its `inertia` to let it rotate"),
+                _ => None,
+            };
+            if let Some(why) = why {
+                return Err(self.err(key("angular_velocity"), why));
             }
         }
         let velocity = self.finite3(&key("velocity"), b.velocity.unwrap_or([0.0; 3]))?;
@@ -58,6 +107,8 @@ impl Checker<'_> {
             mass,
             position: self.finite3(&key("position"), b.position)?,
             velocity,
+            inertia,
+            angular_velocity,
             shape: self.rigid_shape(key, &b.shape)?,
             motion,
         })
