@@ -71,36 +71,8 @@ friction = 0.2
 /// cylinder, and resting on a held plate with a window over a held plane: every analytic
 /// shape, each placed so that the block's nodes lie inside, outside and about its edges.
 fn rigid_scene(end_time: f64, extra: &str) -> String {
-    let body = |name: &str, z: f64, shape: &str, motion: &str| {
-        let velocity = match motion {
-            "fixed" => "",
-            _ => "velocity = [0.2, 0.0, -0.5]",
-        };
-        format!(
-            r#"
-[[rigid_body]]
-name = "{name}"
-mass = 0.05
-position = [0.5, 0.5, {z}]
-{velocity}
-motion = "{motion}"
-shape = {shape}
-"#
-        )
-    };
-    let contact = |name: &str, face: &str, friction: f64| {
-        format!(
-            r#"
-[[contact]]
-name = "on_{name}"
-secondary = {{ body = "block", face = "{face}" }}
-primary = {{ rigid_body = "{name}" }}
-friction = {friction}
-initial_penetration = "ignore"
-"#
-        )
-    };
-    let shapes = [
+    let moving = "velocity = [0.2, 0.0, -0.5]";
+    let bodies = [
         ("ball", 0.98, "{ sphere = { radius = 0.25 } }", "free", "z+", 0.3),
         (
             "rod",
@@ -128,9 +100,27 @@ initial_penetration = "ignore"
         ),
         ("ground", 0.24, "{ plane = { normal = [0.0, 0.0, 1.0] } }", "fixed", "z-", 0.0),
     ];
-    let mut text = format!(
+    let mut text = block_scene(
+        "block among rigid bodies",
+        end_time,
+        "velocity = [0.3, 0.1, -0.2]",
+    );
+    for (name, z, shape, motion, face, mu) in bodies {
+        let velocity = if motion == "fixed" { "" } else { moving };
+        let position = format!("[0.5, 0.5, {z}]");
+        text += &rigid_body(name, 0.05, (&position, velocity), (shape, motion));
+        text += &rigid_contact(name, face, mu);
+        text += "initial_penetration = \"ignore\"\n";
+    }
+    text + extra
+}
+
+/// The half-unit block of the rigid-body scenes (4 x 4 x 4 cells, under gravity), its
+/// velocity line `velocity` (may be empty).
+fn block_scene(title: &str, end_time: f64, velocity: &str) -> String {
+    format!(
         r#"
-title = "block among rigid bodies"
+title = "{title}"
 gravity = [0.0, 0.0, -10.0]
 
 [run]
@@ -147,14 +137,43 @@ poissons_ratio = 0.3
 name = "block"
 material = "elastic"
 box = {{ min = [0.25, 0.25, 0.25], max = [0.75, 0.75, 0.75], divisions = [4, 4, 4] }}
-velocity = [0.3, 0.1, -0.2]
+{velocity}
 "#
-    );
-    for (name, z, shape, motion, face, mu) in shapes {
-        text += &body(name, z, shape, motion);
-        text += &contact(name, face, mu);
-    }
-    text + extra
+    )
+}
+
+/// A `[[rigid_body]]` of `mass` at `position` with its velocity line (may be empty), its
+/// shape and motion.
+fn rigid_body(
+    name: &str,
+    mass: f64,
+    (position, velocity): (&str, &str),
+    (shape, motion): (&str, &str),
+) -> String {
+    format!(
+        r#"
+[[rigid_body]]
+name = "{name}"
+mass = {mass}
+position = {position}
+{velocity}
+motion = "{motion}"
+shape = {shape}
+"#
+    )
+}
+
+/// The `[[contact]]` of the block's face `face` against the rigid body `name`.
+fn rigid_contact(name: &str, face: &str, friction: f64) -> String {
+    format!(
+        r#"
+[[contact]]
+name = "on_{name}"
+secondary = {{ body = "block", face = "{face}" }}
+primary = {{ rigid_body = "{name}" }}
+friction = {friction}
+"#
+    )
 }
 
 fn model_of(text: &str, name: &str) -> Model {
@@ -576,74 +595,38 @@ fn resident_rigid_bodies_match_the_cpu_twin_over_1000_steps() {
 /// The run of [`resident_rigid_bodies_match_the_cpu_twin_over_1000_steps`]: 0.73 s, 1,006
 /// steps of this mesh (the stack's).
 fn rigid_run_scene() -> String {
-    let rigid = |name: &str, position: &str, shape: &str, motion: &str, velocity: &str| {
-        format!(
-            r#"
-[[rigid_body]]
-name = "{name}"
-mass = 0.2
-position = {position}
-{velocity}
-motion = "{motion}"
-shape = {shape}
-"#
-        )
-    };
-    let contact = |name: &str, face: &str, friction: f64| {
-        format!(
-            r#"
-[[contact]]
-name = "on_{name}"
-secondary = {{ body = "block", face = "{face}" }}
-primary = {{ rigid_body = "{name}" }}
-friction = {friction}
-"#
-        )
-    };
-    let mut text = r#"
-title = "a sphere falls on a block on a windowed support; a capsule presses into it"
-gravity = [0.0, 0.0, -10.0]
-
-[run]
-method = "explicit"
-end_time = 0.73
-
-[[material]]
-name = "elastic"
-density = 0.01
-youngs_modulus = 100.0
-poissons_ratio = 0.3
-
-[[body]]
-name = "block"
-material = "elastic"
-box = { min = [0.25, 0.25, 0.25], max = [0.75, 0.75, 0.75], divisions = [4, 4, 4] }
-"#
-    .to_string();
-    text += &rigid(
-        "ball",
-        "[0.55, 0.5, 1.05]",
-        "{ sphere = { radius = 0.25 } }",
-        "free",
-        "velocity = [0.1, 0.0, -0.5]",
-    );
-    text += &contact("ball", "z+", 0.3);
-    text += &rigid(
-        "rod",
-        "[0.5, 0.3, 0.89]",
-        "{ cylinder = { radius = 0.1, axis = [1.0, 0.0, 0.0], length = 0.2, ends = \"round\" } }",
-        "prescribed",
-        "velocity = [0.0, 0.0, -0.1]",
-    );
-    text += &contact("rod", "z+", 0.0);
-    text += &rigid(
-        "support",
-        "[0.5, 0.5, 0.25]",
-        "{ plate = { normal = [0.0, 0.0, 1.0], size = [0.6, 0.6], opening = [0.3, 0.2] } }",
-        "fixed",
+    let mut text = block_scene(
+        "a sphere falls on a block on a windowed support; a capsule presses into it",
+        0.73,
         "",
     );
-    text += &contact("support", "z-", 0.2);
+    text += &rigid_body(
+        "ball",
+        0.2,
+        ("[0.55, 0.5, 1.05]", "velocity = [0.1, 0.0, -0.5]"),
+        ("{ sphere = { radius = 0.25 } }", "free"),
+    );
+    text += &rigid_contact("ball", "z+", 0.3);
+    text += &rigid_body(
+        "rod",
+        0.2,
+        ("[0.5, 0.3, 0.89]", "velocity = [0.0, 0.0, -0.1]"),
+        (
+            "{ cylinder = { radius = 0.1, axis = [1.0, 0.0, 0.0], length = 0.2, ends = \"round\" } }",
+            "prescribed",
+        ),
+    );
+    text += &rigid_contact("rod", "z+", 0.0);
+    text += &rigid_body(
+        "support",
+        0.2,
+        ("[0.5, 0.5, 0.25]", ""),
+        (
+            "{ plate = { normal = [0.0, 0.0, 1.0], size = [0.6, 0.6], opening = [0.3, 0.2] } }",
+            "fixed",
+        ),
+    );
+    text += &rigid_contact("support", "z-", 0.2);
     text
 }
 

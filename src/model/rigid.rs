@@ -46,8 +46,11 @@ impl RigidBody {
 
     /// Whether it rotates: free with an inertia, or prescribed with an angular velocity.
     pub fn rotates(&self) -> bool {
-        self.inertia.is_some()
-            || (self.motion == RigidMotion::Prescribed && self.angular_velocity != [0.0; 3])
+        crate::scene::rigid_body::rotates(
+            self.inertia.is_some(),
+            self.motion,
+            self.angular_velocity,
+        )
     }
 
     /// The distance of the point `x` from its surface when its node is displaced by `u`

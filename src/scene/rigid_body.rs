@@ -35,11 +35,15 @@ pub struct RigidBodySpec {
 }
 
 impl RigidBodySpec {
-    /// Whether it rotates: a free body with an inertia, or a prescribed one spinning.
+    /// Whether it rotates ([`rotates`]).
     pub fn rotates(&self) -> bool {
-        self.inertia.is_some()
-            || (self.motion == RigidMotion::Prescribed && self.angular_velocity != [0.0; 3])
+        rotates(self.inertia.is_some(), self.motion, self.angular_velocity)
     }
+}
+
+/// Whether a rigid body rotates: a free body with an inertia, or a prescribed one spinning.
+pub fn rotates(inertia: bool, motion: RigidMotion, angular_velocity: [f64; 3]) -> bool {
+    inertia || (motion == RigidMotion::Prescribed && angular_velocity != [0.0; 3])
 }
 
 /// The primary side of a `[[contact]]`: a surface of a meshed body or a rigid body.

@@ -108,12 +108,15 @@ pub fn plane_gap_within_reach(
 ) -> (f64, bool) {
     let x = std::array::from_fn(|a| x0[a] + u[a]);
     let gap = -dot(vector::sub(x, point), normal);
-    let reach = -4.0 * dt * vector::norm(v);
-    // a NaN gap stays in (and its NaN impulse ends the run as diverged)
-    (
-        gap,
-        gap.partial_cmp(&reach) != Some(std::cmp::Ordering::Less),
-    )
+    (gap, within_reach(gap, v, dt))
+}
+
+/// Whether a gap is within four steps of the relative velocity `rel`'s motion,
+/// $g \ge -4 \Delta t |rel|$ (a NaN gap stays in, and its NaN impulse ends the run as
+/// diverged).
+fn within_reach(gap: f64, rel: [f64; 3], dt: f64) -> bool {
+    let reach = -4.0 * dt * vector::norm(rel);
+    gap.partial_cmp(&reach) != Some(std::cmp::Ordering::Less)
 }
 
 /// The gap and normal of secondary node `n` against the surface of the rigid body on node
@@ -133,10 +136,8 @@ pub fn rigid_gap_within_reach(
     let x0 = model.mesh.nodes[n];
     let x = std::array::from_fn(|a| x0[a] + u[3 * n + a]);
     let (distance, normal) = model.rigid[body].distance(model.mesh.nodes[b], at(u, b), x);
-    let reach = -4.0 * dt * vector::norm(vector::sub(at(v, n), at(v, b)));
-    // a NaN gap stays in (and its NaN impulse ends the run as diverged)
-    let within = (-distance).partial_cmp(&reach) != Some(std::cmp::Ordering::Less);
-    within.then_some((-distance, normal))
+    let rel = vector::sub(at(v, n), at(v, b));
+    within_reach(-distance, rel, dt).then_some((-distance, normal))
 }
 
 impl ExplicitContact {
@@ -678,7 +679,6 @@ fn turned_gap_within_reach(
     let (distance, normal) = rb.distance_turned((model.mesh.nodes[b], at(u, b)), rotation, x);
     let arm = vector::sub(x, xb);
     let surface = vector::add(at(v, b), vector::cross(spins.omega(body), arm));
-    let reach = -4.0 * dt * vector::norm(vector::sub(at(v, n), surface));
-    let within = (-distance).partial_cmp(&reach) != Some(std::cmp::Ordering::Less);
-    within.then_some((-distance, normal, arm))
+    let rel = vector::sub(at(v, n), surface);
+    within_reach(-distance, rel, dt).then_some((-distance, normal, arm))
 }
