@@ -441,6 +441,25 @@ fn rigid_bodies_are_the_same_on_2_and_4_ranks() {
     same_on_ranks("mpi_rigid_sphere", &sphere);
 }
 
+/// A rotating rigid body on ranks: the shipped spinning roller, prescribed and made free
+/// (its spin slowed by the friction on the block, the block's contacts split over the
+/// ranks); every rank holds the rotation, so the rotation columns are the single process's
+/// bits and the sums within rounding.
+#[test]
+fn rotating_rigid_bodies_are_the_same_on_2_and_4_ranks() {
+    let roller = scene_text("spinning_roller.toml");
+    let h = same_on_ranks("mpi_roller", &roller);
+    assert!(h.col("roll.fx").iter().any(|&f| f != 0.0), "friction acts");
+    let free = edit(
+        &roller,
+        "motion = \"prescribed\"",
+        "mass = 0.02\ninertia = [[4e-4, 0.0, 0.0], [0.0, 4e-4, 0.0], [0.0, 0.0, 4e-4]]",
+    );
+    let h = same_on_ranks("mpi_roller_free", &free);
+    let w = h.col("roller.wy");
+    assert!(w.last() < w.first(), "the friction slows the spin: {w:?}");
+}
+
 #[test]
 fn bar_on_rigid_wall_is_the_same_on_2_and_4_ranks() {
     same_on_ranks(

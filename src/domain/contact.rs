@@ -21,6 +21,7 @@ use super::ranks::Timed;
 use super::subdomain::Subdomain;
 use super::surface::{surface_model, SurfaceIndex};
 use crate::error::Result;
+use crate::integrate::explicit::spin::{BodySpin, Spins};
 use crate::integrate::explicit::{
     plane_gap_within_reach, rigid_gap_within_reach, ContactFields, ExplicitContact,
     ExplicitInterface, NodalStart,
@@ -82,6 +83,9 @@ pub(crate) struct SurfaceContact {
     stamp: Vec<u32>,
     step: u32,
     inv_mass: Vec<f64>,
+    /// The rigid bodies' rotation: every rank works the same sweeps on the same contacts,
+    /// so every rank holds the same bits.
+    spins: Spins,
     /// Primary-face node states received from other ranks, over the run.
     pub received: usize,
 }
@@ -144,6 +148,7 @@ impl SurfaceContact {
             stamp: vec![0; map.nodes.len()],
             step: 0,
             inv_mass: start.inv_mass,
+            spins: Spins::new(&surface),
             received: 0,
             model: surface,
         }
@@ -179,7 +184,7 @@ impl SurfaceContact {
             v_half: &self.v_half,
             inv_mass: &self.inv_mass,
             planes: Some(&present),
-            spins: None,
+            spins: self.spins.any().then_some(&mut self.spins),
         };
         let candidates = Some(&self.candidates[..]);
         let report =
@@ -196,9 +201,21 @@ impl SurfaceContact {
         &self.contact
     }
 
-    /// Continues from a checkpoint's interfaces (each whole, as every rank holds them).
-    pub fn restore(&mut self, interfaces: Vec<ExplicitInterface>) {
+    /// The rigid bodies' rotation.
+    pub fn spins(&self) -> &Spins {
+        &self.spins
+    }
+
+    /// Turns the rotating bodies over the step (after the contact's impulses).
+    pub fn drift_spins(&mut self, dt: f64) {
+        self.spins.drift(dt);
+    }
+
+    /// Continues from a checkpoint's interfaces and rotations (each whole, as every rank
+    /// holds them).
+    pub fn restore(&mut self, interfaces: Vec<ExplicitInterface>, spins: Vec<BodySpin>) {
         self.contact.restore(interfaces);
+        self.spins.restore(spins);
     }
 
     /// Sets surface node `k`'s state from node `n` of the fields `[u, v, v_half]`.
@@ -254,6 +271,7 @@ impl SurfaceContact {
         }
         let mut send: Vec<u32> = Vec::new();
         let fields = (&self.u[..], &self.v[..]);
+        let spins = self.spins.any().then_some(&self.spins);
         for (k, (itf, owned)) in (self.model.interfaces.iter())
             .zip(&self.index.owned_secondary)
             .enumerate()
@@ -267,7 +285,7 @@ impl SurfaceContact {
                 }
                 Primary::Rigid { node: b, .. } => {
                     let pair = (s as usize, b as usize);
-                    rigid_gap_within_reach(&self.model, fields, pair, k, dt).is_some()
+                    rigid_gap_within_reach(&self.model, fields, pair, k, dt, spins).is_some()
                 }
                 Primary::Surface { .. } => false,
             };

@@ -248,6 +248,7 @@ impl Integrator for DomainSolver<'_> {
         self.u_prev.copy_from_slice(&self.u);
         self.v_half.copy_from_slice(&self.v);
         kernels::explicit_drift(dt, &self.v, &mut self.u);
+        self.surface.drift_spins(dt);
         self.internal_forces()?;
         let forces = (&self.f_ext[..], &self.f_int[..], &self.inv_mass[..]);
         correct(dt, forces, &mut self.a, &mut self.v);
@@ -323,6 +324,10 @@ impl Integrator for DomainSolver<'_> {
     }
 
     /// Each body's mass and momentum over the rank's owned nodes, summed over the ranks.
+    fn body_spins(&self) -> Vec<ProbeValues> {
+        self.surface.spins().columns()
+    }
+
     fn body_velocities(&self) -> Vec<[f64; 3]> {
         // each body's nodes on this rank: its range of the rank's part
         let bodies = &self.piece.mesh.bodies;
@@ -369,7 +374,7 @@ impl Integrator for DomainSolver<'_> {
             u_prev,
             v_half,
             interfaces: self.surface.contact().interfaces.clone(),
-            spins: Vec::new(),
+            spins: self.surface.spins().saved(),
         })))
     }
 
@@ -387,7 +392,7 @@ impl Integrator for DomainSolver<'_> {
         [self.u, self.v, self.a, self.f_int, self.u_prev, self.v_half] =
             checkpoint::restrict_fields(&self.sub, global);
         (self.dt, self.time, self.steps) = (s.dt, s.time, s.steps);
-        self.surface.restore(s.interfaces);
+        self.surface.restore(s.interfaces, s.spins);
         Ok(())
     }
 
@@ -416,7 +421,7 @@ impl Integrator for DomainSolver<'_> {
                     fe[d] * u[d]
                 }]);
             return Ok(Energies {
-                kinetic: 0.5 * k,
+                kinetic: 0.5 * k + self.surface.spins().kinetic(),
                 strain: 0.5 * s,
                 potential: -p,
             });
@@ -436,7 +441,8 @@ impl Integrator for DomainSolver<'_> {
             &|d| fe[d] * u1[d],
         ]);
         Ok(Energies {
-            kinetic: 0.5 * k - self.measure_shift,
+            // the bodies' rotation as every rank has it, once
+            kinetic: 0.5 * k - self.measure_shift + self.surface.spins().kinetic(),
             strain: 0.5 * s,
             // the prescribed rigid bodies' drivers work on the model (every rank has it whole)
             potential: -0.5 * (p0 + p1) - self.surface.contact().driver_work(),

@@ -75,13 +75,6 @@ fn build_solver<'m>(
 ) -> Result<Box<dyn Integrator + 'm>> {
     let (model, dt) = (&setup.model, setup.dt);
     if let Some(ranks) = ranks {
-        if let Some(i) = model.rigid.iter().position(|b| b.rotates()) {
-            return Err(ImpactError::SceneValue {
-                path: scene.path.clone(),
-                key: format!("rigid_body[{i}] (rigid body `{}`)", model.rigid[i].name),
-                message: "a rotating rigid body runs in a single process: run without mpirun, or leave out its inertia and angular_velocity".into(),
-            });
-        }
         let partition = Partition::bisect(model, ranks.size());
         let settings = (&scene.explicit, dt, speed_scale);
         return Ok(Box::new(

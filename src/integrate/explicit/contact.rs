@@ -119,25 +119,34 @@ fn within_reach(gap: f64, rel: [f64; 3], dt: f64) -> bool {
     gap.partial_cmp(&reach) != Some(std::cmp::Ordering::Less)
 }
 
+/// A rotating body's contact: the body and the secondary node's arm from its reference point.
+pub type BodyArm = Option<(u32, [f64; 3])>;
+
 /// The gap and normal of secondary node `n` against the surface of the rigid body on node
 /// `b` (interface `k`), where the node is within four steps of their relative motion of it
-/// (the rigid planes' rule).
+/// (the rigid planes' rule). Against a body that rotates (`spins`) the surface is turned,
+/// its points move with the body's angular velocity too, and the body and arm come back.
 pub fn rigid_gap_within_reach(
     model: &Model,
     (u, v): (&[f64], &[f64]),
     (n, b): (usize, usize),
     k: usize,
     dt: f64,
-) -> Option<(f64, [f64; 3])> {
+    spins: Option<&Spins>,
+) -> Option<(f64, [f64; 3], BodyArm)> {
     let at = |x: &[f64], n: usize| [x[3 * n], x[3 * n + 1], x[3 * n + 2]];
     let Primary::Rigid { body, .. } = model.interfaces[k].primary else {
         return None;
     };
+    if let Some(s) = spins.filter(|s| s.rotates(body)) {
+        let (gap, normal, arm) = turned_gap_within_reach(model, (u, v), (n, b), body, s, dt)?;
+        return Some((gap, normal, Some((body as u32, arm))));
+    }
     let x0 = model.mesh.nodes[n];
     let x = std::array::from_fn(|a| x0[a] + u[3 * n + a]);
     let (distance, normal) = model.rigid[body].distance(model.mesh.nodes[b], at(u, b), x);
     let rel = vector::sub(at(v, n), at(v, b));
-    within_reach(-distance, rel, dt).then_some((-distance, normal))
+    within_reach(-distance, rel, dt).then_some((-distance, normal, None))
 }
 
 impl ExplicitContact {
@@ -403,16 +412,10 @@ impl ExplicitContact {
                 }
                 (None, [0.0; 4], *normal, gap)
             }
-            Primary::Rigid { node: b, body, .. } => {
-                let (gap, normal) = match spins.filter(|s| s.rotates(*body)) {
-                    Some(s) => {
-                        let (gap, normal, arm) =
-                            turned_gap_within_reach(model, (u, v), (n, *b as usize), *body, s, dt)?;
-                        spin = Some((*body as u32, arm));
-                        (gap, normal)
-                    }
-                    None => rigid_gap_within_reach(model, (u, v), (n, *b as usize), k, dt)?,
-                };
+            Primary::Rigid { node: b, .. } => {
+                let (gap, normal, arm) =
+                    rigid_gap_within_reach(model, (u, v), (n, *b as usize), k, dt, spins)?;
+                spin = arm;
                 // a face of one node: the body's, with weight 1
                 (Some([*b; 4]), [1.0, 0.0, 0.0, 0.0], normal, gap)
             }

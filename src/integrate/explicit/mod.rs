@@ -197,10 +197,7 @@ impl<'m> ExplicitSolver<'m> {
             u_prev: self.u_prev.clone(),
             v_half: self.v_half.clone(),
             interfaces: self.contact.interfaces.clone(),
-            spins: match self.spins.any() {
-                true => self.spins.bodies.clone(),
-                false => Vec::new(),
-            },
+            spins: self.spins.saved(),
         }
     }
 
@@ -278,10 +275,7 @@ impl Integrator for ExplicitSolver<'_> {
     }
 
     fn body_spins(&self) -> Vec<super::state::ProbeValues> {
-        (0..self.model.rigid.len())
-            .filter(|&b| self.spins.rotates(b))
-            .map(|b| (self.spins.rotation_vector(b), self.spins.omega(b)))
-            .collect()
+        self.spins.columns()
     }
 
     fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {

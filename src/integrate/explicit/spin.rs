@@ -189,6 +189,22 @@ impl Spins {
         [v.x, v.y, v.z]
     }
 
+    /// The states a checkpoint keeps: every body's where any rotates, none otherwise.
+    pub fn saved(&self) -> Vec<BodySpin> {
+        match self.any() {
+            true => self.bodies.clone(),
+            false => Vec::new(),
+        }
+    }
+
+    /// Each rotating body's rotation vector and angular velocity (the history's columns).
+    pub fn columns(&self) -> Vec<crate::integrate::ProbeValues> {
+        (0..self.bodies.len())
+            .filter(|&b| self.rotates[b])
+            .map(|b| (self.rotation_vector(b), self.omega(b)))
+            .collect()
+    }
+
     /// Continues from a checkpoint's states (one per body).
     pub fn restore(&mut self, bodies: Vec<BodySpin>) {
         if bodies.len() == self.bodies.len() {
