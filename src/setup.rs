@@ -298,15 +298,6 @@ pub(crate) fn implicit_step_cost(elements: usize) -> f64 {
 pub(crate) fn choose_method(scene: &Scene, model: &Model, stable: f64) -> (Method, String) {
     let explicit_dt = scene.explicit.safety_factor * stable;
     let cost = implicit_step_cost(model.mesh.element_count());
-    if let Some(b) = model.rigid.iter().find(|b| b.rotates()) {
-        return (
-            Method::Explicit,
-            format!(
-                "explicit: the rigid body `{}` rotates, which the explicit path alone takes",
-                b.name
-            ),
-        );
-    }
     match scene.run.time_step {
         None => (
             Method::Explicit,

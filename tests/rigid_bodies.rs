@@ -286,11 +286,14 @@ fn st_venant_turning(method: &str) -> String {
 
 #[test]
 fn a_rotating_mass_striking_off_centre_moves_its_struck_point_as_its_reduced_mass() {
-    let (s, h) = run_text_on(
-        "st_venant_turning",
-        &st_venant_turning("explicit"),
-        Some(DeviceChoice::Cpu),
-    );
+    for method in ["explicit", "implicit"] {
+        strike_off_centre(method);
+    }
+}
+
+fn strike_off_centre(method: &str) {
+    let tag = format!("st_venant_turning_{method}");
+    let (s, h) = run_text_on(&tag, &st_venant_turning(method), Some(DeviceChoice::Cpu));
     assert_eq!(s.expect("run completes").status, "completed");
     let (t, f) = (h.col("time"), h.col("strike.normal_force"));
     let (vx, wz, rz) = (h.col("tup.vx"), h.col("tup.wz"), h.col("tup.rz"));
@@ -302,22 +305,28 @@ fn a_rotating_mass_striking_off_centre_moves_its_struck_point_as_its_reduced_mas
         if t[i] > RETURN - 1e-9 {
             break;
         }
-        // the struck point's velocity: the body's plus omega x arm (arm -ARM along y). It
-        // runs half a step behind exp(-t / m), by exp(dt / 2m) = 1 + 2.5% (the first step's
-        // inelastic meeting with the bar's end nodes, of mass Z dt / 2: 1.25% of the
-        // unturned tup's, which the test above takes in its 2%)
+        // the struck point's velocity: the body's plus omega x arm (arm -ARM along y). On
+        // the explicit path it runs half a step behind exp(-t / m), by exp(dt / 2m) = 1 +
+        // 2.5% (the first step's inelastic meeting with the bar's end nodes, of mass Z dt /
+        // 2: 1.25% of the unturned tup's, which the test above takes in its 2%); the
+        // implicit step's force is the step's mean, and its velocity follows exp(-t / m)
+        // until the reflected wave's precursor, which the implicit step carries ahead of the
+        // wave (by 0.01 v0 in the last step before it, where the point has slowed to 0.01 v0)
+        let lag = if method == "explicit" { 0.5 * DT } else { 0.0 };
         let point = vx[i] + ARM * wz[i];
-        worst.1 = worst.1.max((point - (-(t[i] - 0.5 * DT) / m).exp()).abs());
+        if t[i] < 0.9 * RETURN {
+            worst.1 = worst.1.max((point - (-(t[i] - lag) / m).exp()).abs());
+        }
         if i > ONSET && t[i] < 0.9 * RETURN {
             let exact = m * ((-(t[i] - DT) / m).exp() - (-t[i] / m).exp()) / DT;
             worst.0 = worst.0.max((f[i] - exact).abs());
         }
     }
     eprintln!(
-        "reduced mass {m:.5}: largest force error {:.4} Z v0, struck point's velocity error {:.4} v0 (half a step on)",
+        "{method}: reduced mass {m:.5}: largest force error {:.4} Z v0, struck point's velocity error {:.4} v0",
         worst.0, worst.1
     );
-    assert!(worst.0 <= 0.02 && worst.1 <= 0.02, "{worst:?}");
+    assert!(worst.0 <= 0.02 && worst.1 <= 0.02, "{method}: {worst:?}");
     // momentum: the linear impulse is the body's loss; the angular one, about its centre,
     // the arm times it (the rows' arms average ARM, to their spread's share)
     // (the force on the body as a vector: its face turns, so the normal force is not along x)
@@ -325,57 +334,75 @@ fn a_rotating_mass_striking_off_centre_moves_its_struck_point_as_its_reduced_mas
     let impulse: f64 = -h.col("strike.fx").iter().map(|x| x * DT).sum::<f64>();
     assert!(
         (impulse - M * (1.0 - vx[n])).abs() <= 1e-9 * M,
-        "linear impulse {impulse} against {}",
+        "{method}: linear impulse {impulse} against {}",
         M * (1.0 - vx[n])
     );
     let angular = -I_ZZ * wz[n];
     eprintln!(
-        "angular impulse / (arm x impulse) = {:.5}",
+        "{method}: angular impulse / (arm x impulse) = {:.5}",
         angular / (ARM * impulse)
     );
     assert!(
         (angular - ARM * impulse).abs() <= 0.005 * ARM * impulse,
-        "angular impulse {angular} against the arm times the impulse {}",
+        "{method}: angular impulse {angular} against the arm times the impulse {}",
         ARM * impulse
     );
-    // the orientation: a turn about z by the integral of the angular velocity
+    // the orientation: a turn about z by the integral of the angular velocity (the rows'
+    // on the explicit path; the implicit path takes the steps that hold the impact in
+    // sub-steps, whose angular velocities the rows do not show: 0.2% here)
     let integral: f64 = wz[1..].iter().map(|w| w * DT).sum();
+    let tol = if method == "explicit" { 1e-9 } else { 5e-3 };
     assert!(
-        (rz[n] - integral).abs() <= 1e-9 * integral.abs(),
-        "rz {} against the integral of wz {integral}",
+        (rz[n] - integral).abs() <= tol * integral.abs(),
+        "{method}: rz {} against the integral of wz {integral}",
         rz[n]
     );
     assert!(h.col("tup.rx")[n].abs() < 1e-12 && h.col("tup.ry")[n].abs() < 1e-6);
     let e = h.col("total_energy");
     let rise = e.iter().fold(f64::MIN, |m, &x| m.max(x)) - e[0];
-    assert!(rise <= 1e-9 * e[0], "energy rises by {rise}");
+    assert!(rise <= 1e-9 * e[0], "{method}: energy rises by {rise}");
 }
 
 /// A free body spinning about a principal axis, touching nothing, keeps its angular velocity
 /// and turns by it: the rotation vector is omega t, the energy constant.
 #[test]
 fn a_free_body_spins_about_its_principal_axis() {
+    for method in ["explicit", "implicit"] {
+        free_spin(method);
+    }
+}
+
+fn free_spin(method: &str) {
     let tup = format!(
         "mass = {M}\ninertia = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]]\nangular_velocity = [0.0, 0.0, 5.0]"
     );
     // far from the bar, moving away from it
     let text = edit(
         &edit(
-            &st_venant("explicit", &tup, true),
+            &st_venant(method, &tup, true),
             "position = [0.0, 0.5, 0.5]",
             "position = [-5.0, 0.5, 0.5]",
         ),
         "velocity = [1.0, 0.0, 0.0]\nshape",
         "velocity = [-1.0, 0.0, 0.0]\nshape",
     );
-    let (s, h) = run_text_on("free_spin", &text, Some(DeviceChoice::Cpu));
+    let (s, h) = run_text_on(
+        &format!("free_spin_{method}"),
+        &text,
+        Some(DeviceChoice::Cpu),
+    );
     assert_eq!(s.expect("run completes").status, "completed");
     let (t, wz, rz) = (h.col("time"), h.col("tup.wz"), h.col("tup.rz"));
     for i in 0..t.len() {
-        assert!((wz[i] - 5.0).abs() <= 1e-12, "wz {} at {}", wz[i], t[i]);
+        assert!(
+            (wz[i] - 5.0).abs() <= 1e-12,
+            "{method}: wz {} at {}",
+            wz[i],
+            t[i]
+        );
         assert!(
             (rz[i] - 5.0 * t[i]).abs() <= 1e-12,
-            "rz {} at {}",
+            "{method}: rz {} at {}",
             rz[i],
             t[i]
         );
@@ -395,8 +422,19 @@ fn a_free_body_spins_about_its_principal_axis() {
 /// slip dissipates).
 #[test]
 fn a_spinning_roller_drives_a_block_by_friction() {
-    let text = &scene_text("spinning_roller.toml");
-    let (s, h) = run_text_on("spinning_roller", text, Some(DeviceChoice::Cpu));
+    let text = scene_text("spinning_roller.toml");
+    roller_drives_block("explicit", &text);
+    let implicit = edit(
+        &text,
+        "method = \"explicit\"",
+        "method = \"implicit\"\ntime_step = 2.5e-4",
+    );
+    roller_drives_block("implicit", &implicit);
+}
+
+fn roller_drives_block(method: &str, text: &str) {
+    let tag = format!("spinning_roller_{method}");
+    let (s, h) = run_text_on(&tag, text, Some(DeviceChoice::Cpu));
     let s = s.expect("run completes");
     assert_eq!(s.status, "completed");
     let (t, vx, fx) = (h.col("time"), h.col("block.vx"), h.col("roll.fx"));
@@ -445,6 +483,7 @@ fn runs_with_rigid_bodies_resume_to_the_unbroken_history() {
         ("explicit", "motion = \"prescribed\"".to_string()),
         ("implicit", "motion = \"prescribed\"".to_string()),
         ("explicit", "turning".to_string()),
+        ("implicit", "turning".to_string()),
     ] {
         let text = match tup.as_str() {
             "turning" => st_venant_turning(method),

@@ -17,6 +17,7 @@ use crate::model::{Model, Primary};
 use crate::scene::{Acceleration, ConstraintMeasure};
 use crate::search;
 
+use super::super::explicit::spin::Spins;
 use super::interface::InterfaceState;
 use super::StepConstants;
 
@@ -50,6 +51,9 @@ pub(super) struct MultiplierIteration {
     aa_g: Vec<f64>,
     aa_w: Vec<f64>,
     aa_out: Vec<f64>,
+    /// Each secondary node's arm from its rotating rigid body's reference point, as the
+    /// last kinematics found it (empty for the other interfaces).
+    arms: Vec<Vec<[f64; 3]>>,
 }
 
 impl MultiplierIteration {
@@ -70,6 +74,14 @@ impl MultiplierIteration {
             aa_g: Vec::new(),
             aa_w: Vec::new(),
             aa_out: Vec::new(),
+            arms: (model.interfaces.iter())
+                .map(|itf| match itf.primary {
+                    Primary::Rigid { body, .. } if model.rigid[body].rotates() => {
+                        vec![[0.0; 3]; itf.nodes.len()]
+                    }
+                    _ => Vec::new(),
+                })
+                .collect(),
         }
     }
 
@@ -87,14 +99,15 @@ impl MultiplierIteration {
         self.held.fill(NO_FACE);
     }
 
-    /// Contact kinematics of every interface at (u, v): surfaces through the kernels,
-    /// rigid planes and rigid bodies' surfaces analytically.
+    /// Contact kinematics of every interface at (u, v) with the rigid bodies turned as
+    /// `spins` has them: surfaces through the kernels, rigid planes and rigid bodies'
+    /// surfaces analytically.
     pub(super) fn kinematics(
         &mut self,
         model: &Model,
         kernels: &mut dyn Kernels,
-        u: &[f64],
-        v: &[f64],
+        (u, v): (&[f64], &[f64]),
+        spins: &Spins,
     ) -> Result<()> {
         if !self.queries.is_empty() {
             let pts = &mut self.query_points;
@@ -107,22 +120,21 @@ impl MultiplierIteration {
                 }
             }
         }
-        for (itf, st) in model.interfaces.iter().zip(&mut self.interfaces) {
+        for (k, (itf, st)) in model
+            .interfaces
+            .iter()
+            .zip(&mut self.interfaces)
+            .enumerate()
+        {
             if let Primary::Rigid { body, node: b, .. } = itf.primary {
-                let b = b as usize;
-                let (ub, vb) = (at(u, b), at(v, b));
+                let turned = spins.rotates(body).then_some(spins);
                 for (i, &n) in itf.nodes.iter().enumerate() {
-                    let n = n as usize;
-                    let x0 = model.mesh.nodes[n];
-                    let x = std::array::from_fn(|a| x0[a] + u[3 * n + a]);
-                    let (distance, normal) = model.rigid[body].distance(model.mesh.nodes[b], ub, x);
-                    st.points[i] = ContactPoint {
-                        face: 0,
-                        xi: [0.0; 2],
-                        normal,
-                        gap: -distance,
-                        gap_rate: -dot(vector::sub(at(v, n), vb), normal),
-                    };
+                    let (point, arm) =
+                        rigid_point(model, (u, v), (n as usize, b as usize), body, turned);
+                    st.points[i] = point;
+                    if let Some(arm) = arm {
+                        self.arms[k][i] = arm;
+                    }
                 }
             }
             if let Primary::Plane { point, normal } = &itf.primary {
@@ -141,7 +153,7 @@ impl MultiplierIteration {
                 }
             }
         }
-        self.friction_kinematics(model, kernels, u, v)
+        self.friction_kinematics(model, kernels, (u, v), spins)
     }
 
     /// Within a step, a query whose closest face changed keeps the face it held in the
@@ -177,8 +189,8 @@ impl MultiplierIteration {
         &mut self,
         model: &Model,
         kernels: &mut dyn Kernels,
-        u: &[f64],
-        v: &[f64],
+        (u, v): (&[f64], &[f64]),
+        spins: &Spins,
     ) -> Result<()> {
         if self.surface_friction {
             kernels.slip_rate_into(
@@ -194,7 +206,12 @@ impl MultiplierIteration {
             let x0 = model.mesh.nodes[n];
             [x0[0] + u[3 * n], x0[1] + u[3 * n + 1], x0[2] + u[3 * n + 2]]
         };
-        for (itf, st) in model.interfaces.iter().zip(&mut self.interfaces) {
+        for (k, (itf, st)) in model
+            .interfaces
+            .iter()
+            .zip(&mut self.interfaces)
+            .enumerate()
+        {
             let Some(fr) = &mut st.friction else { continue };
             match &itf.primary {
                 Primary::Surface { queries, .. } => {
@@ -218,11 +235,16 @@ impl MultiplierIteration {
                         fr.slip[i] = [dot(vel, e[0]), dot(vel, e[1])];
                     }
                 }
-                Primary::Rigid { node: b, .. } => {
+                Primary::Rigid { node: b, body, .. } => {
                     let vb = at(v, *b as usize);
+                    let arms = &self.arms[k];
                     for (i, &n) in itf.nodes.iter().enumerate() {
                         let e = plane_basis(st.points[i].normal);
-                        let rel = vector::sub(at(v, n as usize), vb);
+                        let surface = match arms.is_empty() {
+                            true => vb,
+                            false => vector::add(vb, vector::cross(spins.omega(*body), arms[i])),
+                        };
+                        let rel = vector::sub(at(v, n as usize), surface);
                         fr.tangents[i] = e;
                         fr.slip[i] = [dot(rel, e[0]), dot(rel, e[1])];
                     }
@@ -232,25 +254,41 @@ impl MultiplierIteration {
         Ok(())
     }
 
+    /// The contact force on secondary node `i` of an interface (`itf`, `st`): the traction
+    /// $T_N n + T_T$ times its area.
+    fn node_force(itf: &crate::model::Interface, st: &InterfaceState, i: usize) -> [f64; 3] {
+        let t = st.lambda[i];
+        let mut traction = st.points[i].normal.map(|x| t * x);
+        if let Some(fr) = &st.friction {
+            traction = vector::add(traction, fr.traction_of(i));
+        }
+        traction.map(|x| x * itf.area[i])
+    }
+
+    /// The moment of interface `k`'s contact forces on its secondary nodes about its
+    /// rotating rigid body's reference point, $\sum_i r_i \times f_i$ (zero for the other
+    /// interfaces). The body takes its negative.
+    pub(super) fn moment(&self, model: &Model, k: usize) -> [f64; 3] {
+        let (itf, st) = (&model.interfaces[k], &self.interfaces[k]);
+        let mut m = [0.0; 3];
+        for (i, arm) in self.arms[k].iter().enumerate() {
+            if st.lambda[i] != 0.0 {
+                m = vector::add(m, vector::cross(*arm, Self::node_force(itf, st, i)));
+            }
+        }
+        m
+    }
+
     /// Nodal contact forces of the current pressures and geometry into `f_c`.
     pub(super) fn forces_into(&self, model: &Model, f_c: &mut [f64]) {
         f_c.fill(0.0);
         for (itf, st) in model.interfaces.iter().zip(&self.interfaces) {
             for (i, &node) in itf.nodes.iter().enumerate() {
-                let t = st.lambda[i];
-                if t == 0.0 {
+                if st.lambda[i] == 0.0 {
                     continue;
                 }
                 let p = st.points[i];
-                // traction on the secondary node: T_N n + T_T
-                let mut traction = p.normal.map(|x| t * x);
-                if let Some(fr) = &st.friction {
-                    let tt = fr.traction_of(i);
-                    for a in 0..3 {
-                        traction[a] += tt[a];
-                    }
-                }
-                let f = traction.map(|x| x * itf.area[i]);
+                let f = Self::node_force(itf, st, i);
                 for a in 0..3 {
                     f_c[3 * node as usize + a] += f[a];
                 }
@@ -431,4 +469,39 @@ impl MultiplierIteration {
             .map(InterfaceState::penalties)
             .collect()
     }
+}
+
+/// The kinematics of secondary node `n` against the surface of rigid body `body` on node
+/// `b`: its gap, normal and gap rate, the surface as `turned` has it where the body rotates
+/// (its points moving with the body's angular velocity too; the node's arm comes back).
+fn rigid_point(
+    model: &Model,
+    (u, v): (&[f64], &[f64]),
+    (n, b): (usize, usize),
+    body: usize,
+    turned: Option<&Spins>,
+) -> (ContactPoint, Option<[f64; 3]>) {
+    let (xb0, ub, vb) = (model.mesh.nodes[b], at(u, b), at(v, b));
+    let x = vector::add(model.mesh.nodes[n], at(u, n));
+    let rb = &model.rigid[body];
+    let (distance, normal, surface, arm) = match turned {
+        None => {
+            let (distance, normal) = rb.distance(xb0, ub, x);
+            (distance, normal, vb, None)
+        }
+        Some(s) => {
+            let (distance, normal) = rb.distance_turned((xb0, ub), s.rotation(body), x);
+            let arm = vector::sub(x, vector::add(xb0, ub));
+            let surface = vector::add(vb, vector::cross(s.omega(body), arm));
+            (distance, normal, surface, Some(arm))
+        }
+    };
+    let point = ContactPoint {
+        face: 0,
+        xi: [0.0; 2],
+        normal,
+        gap: -distance,
+        gap_rate: -dot(vector::sub(at(v, n), surface), normal),
+    };
+    (point, arm)
 }

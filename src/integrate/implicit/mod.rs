@@ -23,6 +23,13 @@
 //! compares against; the reported force is then the step's impulse / dt,
 //! $(1-\gamma) f_{c,n} + \gamma f_{c,n+1}$.
 //!
+//! **Rotating rigid bodies.** A rigid body that rotates keeps its orientation and angular
+//! momentum beside the system (its translation is a node of it). Its angular impulse over
+//! the step is $\Delta t$ times the moment of the step's contact forces, held constant as
+//! the forces are: each iteration updates $L_{n+1} = L_n - \Delta t \sum_i r_i \times f_i$,
+//! turns the body as the explicit path does ([`super::explicit::spin`]), and takes the
+//! kinematics on the turned surface, whose points move at $v_b + \omega_{n+1} \times r$.
+//!
 //! **Iteration.** Each iteration solves with the current pressures (one triangular solve pair;
 //! the effective matrix does not depend on the contact, so it is factorised once per run, and
 //! once more for the sub-step at the first contact event: see [`ImplicitSolver::step`]),
@@ -45,6 +52,7 @@ use crate::linalg::{assemble, Assembled, FactorStats, SpdSolver};
 use crate::model::{Model, Primary};
 use crate::scene::{ConstraintMeasure, ImplicitSettings, Method};
 
+use super::explicit::spin::{BodySpin, Spins};
 use super::integrator::{ImplicitFigures, Integrator};
 use super::state::{ContactReport, Energies, InterfaceEnd, StepReport};
 use super::SolverState;
@@ -67,6 +75,7 @@ struct Snapshot {
     v: Vec<f64>,
     a: Vec<f64>,
     interfaces: Vec<InterfaceState>,
+    spins: Spins,
 }
 
 /// Everything an implicit run carries from one step to the next: the checkpoint's part.
@@ -79,6 +88,8 @@ pub struct ImplicitState {
     pub v: Vec<f64>,
     pub a: Vec<f64>,
     pub interfaces: Vec<InterfaceState>,
+    /// The rotating rigid bodies' orientations and momenta (none without them).
+    pub spins: Vec<BodySpin>,
 }
 
 pub struct ImplicitSolver<'m> {
@@ -102,6 +113,9 @@ pub struct ImplicitSolver<'m> {
     pub a: Vec<f64>,
     f_ext: Vec<f64>,
     contact: MultiplierIteration,
+    /// The rigid bodies' rotation at the end of the last step, and at the iterate's.
+    spins: Spins,
+    spins_new: Spins,
     work: Workspace,
 }
 
@@ -164,6 +178,8 @@ impl<'m> ImplicitSolver<'m> {
             a: vec![0.0; ndof],
             f_ext,
             contact: MultiplierIteration::new(model, interfaces),
+            spins: Spins::new(model),
+            spins_new: Spins::new(model),
             work: Workspace::new(ndof, asm.dof_of.len()),
             asm,
         };
@@ -175,7 +191,7 @@ impl<'m> ImplicitSolver<'m> {
         // initial contact kinematics, for the history's first row
         s.contact.broad_phase(s.model, &s.u, &s.v, s.dt);
         let (u, v) = (s.u.clone(), s.v.clone());
-        s.contact.kinematics(s.model, s.kernels.as_mut(), &u, &v)?;
+        (s.contact).kinematics(s.model, s.kernels.as_mut(), (&u, &v), &s.spins)?;
         Ok(s)
     }
 
@@ -189,6 +205,7 @@ impl<'m> ImplicitSolver<'m> {
             v: self.v.clone(),
             a: self.a.clone(),
             interfaces: self.contact.interfaces.clone(),
+            spins: self.spins.saved(),
         }
     }
 
@@ -205,6 +222,7 @@ impl<'m> ImplicitSolver<'m> {
         self.v = s.v;
         self.a = s.a;
         self.contact.interfaces = s.interfaces;
+        self.spins.restore(s.spins);
         Ok(())
     }
 
@@ -264,6 +282,7 @@ impl<'m> ImplicitSolver<'m> {
         self.contact.anderson.reset();
         for _k in 0..self.settings.max_iterations {
             let (corr, size) = self.equilibrium(&k, sub)?;
+            self.turn_bodies(k.dt);
             report.iterations += 1;
             self.correct(&k)?;
             let (converged, map_changed) =
@@ -325,8 +344,8 @@ impl<'m> ImplicitSolver<'m> {
         self.contact
             .broad_phase(self.model, &self.u, &self.v, self.dt);
         let (u0, v0) = (std::mem::take(&mut self.u), std::mem::take(&mut self.v));
-        self.contact
-            .kinematics(self.model, self.kernels.as_mut(), &u0, &v0)?;
+        let spins = &self.spins;
+        (self.contact).kinematics(self.model, self.kernels.as_mut(), (&u0, &v0), spins)?;
         self.u = u0;
         self.v = v0;
         for st in &mut self.contact.interfaces {
@@ -410,11 +429,30 @@ impl<'m> ImplicitSolver<'m> {
             std::mem::take(&mut self.work.u_new),
             std::mem::take(&mut self.work.v_new),
         );
-        self.contact
-            .kinematics(self.model, self.kernels.as_mut(), &un, &vn)?;
+        let spins = &self.spins_new;
+        (self.contact).kinematics(self.model, self.kernels.as_mut(), (&un, &vn), spins)?;
         self.work.u_new = un;
         self.work.v_new = vn;
         Ok(())
+    }
+
+    /// The rotating rigid bodies at the step's end under the current contact forces: a free
+    /// body's angular momentum takes the moment of the step's impulses, then each body turns
+    /// over the step ([`Spins::drift`]).
+    fn turn_bodies(&mut self, dt: f64) {
+        if !self.spins.any() {
+            return;
+        }
+        self.spins_new.clone_from(&self.spins);
+        for (k, itf) in self.model.interfaces.iter().enumerate() {
+            if let Primary::Rigid { body, .. } = itf.primary {
+                let m = self.contact.moment(self.model, k);
+                if self.spins.is_free(body) && m != [0.0; 3] {
+                    self.spins_new.add_angular_impulse(body, m.map(|x| -dt * x));
+                }
+            }
+        }
+        self.spins_new.drift(dt);
     }
 
     /// Accepts the step: the new state, and each interface's report.
@@ -422,11 +460,18 @@ impl<'m> ImplicitSolver<'m> {
         std::mem::swap(&mut self.u, &mut self.work.u_new);
         std::mem::swap(&mut self.v, &mut self.work.v_new);
         std::mem::swap(&mut self.a, &mut self.work.a_new);
-        for (itf, st) in self
-            .model
-            .interfaces
-            .iter()
+        if self.spins.any() {
+            self.spins.clone_from(&self.spins_new);
+        }
+        let moments: Vec<[f64; 3]> = match self.spins.any() {
+            true => (0..self.model.interfaces.len())
+                .map(|j| self.contact.moment(self.model, j))
+                .collect(),
+            false => Vec::new(),
+        };
+        for (j, (itf, st)) in (self.model.interfaces.iter())
             .zip(&mut self.contact.interfaces)
+            .enumerate()
         {
             let mut r = ContactReport {
                 driver_work: st.report.driver_work,
@@ -457,6 +502,10 @@ impl<'m> ImplicitSolver<'m> {
             r.force = force.map(|f| -f);
             if let Some(vb) = driven_velocity(self.model, itf, &self.v) {
                 r.driver_work += k.dt * dot_slices(&force, &vb);
+                // through the turning surface points too: omega . sum r x f
+                if let (Primary::Rigid { body, .. }, Some(m)) = (&itf.primary, moments.get(j)) {
+                    r.driver_work += k.dt * vector::dot(self.spins.omega(*body), *m);
+                }
             }
             if k.endpoint {
                 // impulse of the step / dt with forces at both ends
@@ -524,6 +573,7 @@ impl Integrator for ImplicitSolver<'_> {
             v: self.v.clone(),
             a: self.a.clone(),
             interfaces: self.contact.interfaces.clone(),
+            spins: self.spins.clone(),
         });
         let mut report = self.advance(self.dt, false)?;
         if let Some(saved) = saved {
@@ -580,7 +630,7 @@ impl Integrator for ImplicitSolver<'_> {
             .map(|i| i.report.driver_work)
             .sum();
         Ok(Energies {
-            kinetic,
+            kinetic: kinetic + self.spins.kinetic(),
             strain,
             potential: -dot_slices(&self.f_ext, &self.u) - driver_work,
         })
@@ -588,6 +638,10 @@ impl Integrator for ImplicitSolver<'_> {
 
     fn reports(&self) -> Vec<ContactReport> {
         self.contact.interfaces.iter().map(|i| i.report).collect()
+    }
+
+    fn body_spins(&self) -> Vec<super::state::ProbeValues> {
+        self.spins.columns()
     }
 
     fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {

@@ -73,6 +73,7 @@ impl ImplicitSolver<'_> {
         self.v = saved.v;
         self.a = saved.a;
         self.contact.interfaces = saved.interfaces;
+        self.spins = saved.spins;
         for st in &mut self.contact.interfaces {
             if let Some(p) = st.sub_penalties {
                 st.set_penalties(p);
@@ -92,8 +93,9 @@ impl ImplicitSolver<'_> {
             iterations: 0,
             converged: true,
         };
-        // impulses of the sub-steps, normal and tangential, and each node's
-        let mut sums = vec![(0.0, [0.0; 3]); self.contact.interfaces.len()];
+        // impulses of the sub-steps, normal, tangential and as the force on the model's
+        // side, and each node's
+        let mut sums = vec![(0.0, [0.0; 3], [0.0; 3]); self.contact.interfaces.len()];
         for st in &mut self.contact.interfaces {
             st.step_pressure = vec![0.0; st.lambda.len()];
         }
@@ -108,6 +110,7 @@ impl ImplicitSolver<'_> {
                 sum.0 += st.report.normal_force;
                 for a in 0..3 {
                     sum.1[a] += st.tangential[a];
+                    sum.2[a] += st.report.force[a];
                 }
             }
         }
@@ -123,6 +126,7 @@ impl ImplicitSolver<'_> {
             st.set_penalty_counts([0, 1, 2, 3].map(|i| now[i] + c[i]));
             st.report.normal_force = sum.0 / kf;
             st.tangential = sum.1.map(|x| x / kf);
+            st.report.force = sum.2.map(|x| x / kf);
             st.report.tangential_force = vector::norm(st.tangential);
         }
         self.event_steps += 1;

@@ -891,7 +891,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
     let explicit = c.explicit(raw.explicit)?;
     let materials = c.materials(&raw.material)?;
     let bodies = c.bodies(&raw.body, &materials)?;
-    let rigid_bodies = c.rigid_bodies(&raw.rigid_body, run.method)?;
+    let rigid_bodies = c.rigid_bodies(&raw.rigid_body)?;
     let contacts = c.contacts(&raw.contact, &raw.body, &bodies, &rigid_bodies)?;
     let planes = c.planes(&raw.rigid_plane, &raw.body, bodies.len())?;
     let fixes = c.fixes(&raw.fix, &raw.body, &bodies, &rigid_bodies)?;

@@ -5,27 +5,15 @@ use crate::error::Result;
 use crate::geometry::rigid_shape::RigidShape;
 use crate::material::rotation::unit;
 use crate::scene::raw::{RawRigidBody, RawRigidShape};
-use crate::scene::{Method, RigidBodySpec, RigidMotion};
+use crate::scene::{RigidBodySpec, RigidMotion};
 
 impl Checker<'_> {
-    /// Every `[[rigid_body]]`, checked; a rotating body needs the explicit method.
-    pub(super) fn rigid_bodies(
-        &self,
-        raw: &[RawRigidBody],
-        method: Method,
-    ) -> Result<Vec<RigidBodySpec>> {
+    /// Every `[[rigid_body]]`, checked.
+    pub(super) fn rigid_bodies(&self, raw: &[RawRigidBody]) -> Result<Vec<RigidBodySpec>> {
         (raw.iter().enumerate())
             .map(|(i, b)| {
                 let key = |k: &str| format!("rigid_body[{i}].{k} (rigid body `{}`)", b.name);
-                let spec = self.rigid_body(&key, b)?;
-                if spec.rotates() && method == Method::Implicit {
-                    let k = if spec.inertia.is_some() { "inertia" } else { "angular_velocity" };
-                    return Err(self.err(
-                        key(k),
-                        "a rotating rigid body runs on the explicit path only: give run.method = \"explicit\" (or \"auto\"), or leave out its rotation",
-                    ));
-                }
-                Ok(spec)
+                self.rigid_body(&key, b)
             })
             .collect()
     }
