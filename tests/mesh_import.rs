@@ -130,10 +130,10 @@ point = [-0.5, -0.5, 0.0]
 /// sets, and coordinates equal to the 16 digits the ASCII file keeps.
 #[test]
 fn ascii_and_binary_msh_read_alike() {
-    let a = import(&meshes().join("block_tet.msh"), 1.0, [0.0; 3])
+    let a = import(&meshes().join("block_tet.msh"), 1.0, [0.0; 3], None)
         .expect("ascii")
         .0;
-    let b = import(&meshes().join("block_tet_binary.msh"), 1.0, [0.0; 3])
+    let b = import(&meshes().join("block_tet_binary.msh"), 1.0, [0.0; 3], None)
         .expect("binary")
         .0;
     assert_eq!(a.nodes.len(), b.nodes.len());
@@ -163,7 +163,7 @@ fn ascii_and_binary_msh_read_alike() {
 /// Scale, then translate: the `.inp` cube becomes [0, 2] x [0, 2] x [1, 3].
 #[test]
 fn scale_then_translate() {
-    let m = import(&meshes().join("block_hex.inp"), 2.0, [1.0, 1.0, 1.0])
+    let m = import(&meshes().join("block_hex.inp"), 2.0, [1.0, 1.0, 1.0], None)
         .expect("deck")
         .0;
     let lo = [0, 1, 2].map(|a| m.nodes.iter().map(|p| p[a]).fold(f64::INFINITY, f64::min));
@@ -445,8 +445,8 @@ fn an_included_deck_reads_as_the_whole_deck() {
         + "\n";
     let main_path = dir.join("main.inp");
     std::fs::write(&main_path, main).unwrap();
-    let (a, notices) = import(&main_path, 1.0, [0.0; 3]).expect("the included deck");
-    let (b, _) = import(&whole_path, 1.0, [0.0; 3]).expect("the whole deck");
+    let (a, notices) = import(&main_path, 1.0, [0.0; 3], None).expect("the included deck");
+    let (b, _) = import(&whole_path, 1.0, [0.0; 3], None).expect("the whole deck");
     assert_eq!(a.elements.count_of(ElementKind::Hex8), 512);
     assert!(
         a.nodes == b.nodes && a.elements == b.elements,
@@ -466,10 +466,14 @@ fn an_included_deck_reads_as_the_whole_deck() {
     // a missing include names the including file and line; a file that includes itself
     // stops at the depth limit
     std::fs::write(sub.join("more.inp"), "*INCLUDE, INPUT=gone.inp\n").unwrap();
-    let e = import(&main_path, 1.0, [0.0; 3]).unwrap_err().to_string();
+    let e = import(&main_path, 1.0, [0.0; 3], None)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("more.inp:1") && e.contains("gone.inp"), "{e}");
     std::fs::write(sub.join("more.inp"), "*INCLUDE, INPUT=more.inp\n").unwrap();
-    let e = import(&main_path, 1.0, [0.0; 3]).unwrap_err().to_string();
+    let e = import(&main_path, 1.0, [0.0; 3], None)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("nested more than"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -482,7 +486,7 @@ fn a_mesh_path_that_is_a_device_is_refused() {
     let link = dir.join("zero.msh");
     let _ = std::fs::remove_file(&link);
     std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
-    let e = import(&link, 1.0, [0.0; 3]).unwrap_err().to_string();
+    let e = import(&link, 1.0, [0.0; 3], None).unwrap_err().to_string();
     assert!(e.contains("not a regular file"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -496,8 +500,8 @@ fn a_byte_order_mark_is_passed_over() {
     bytes.extend(std::fs::read(meshes().join("block_tet.msh")).unwrap());
     let path = dir.join("bom.msh");
     std::fs::write(&path, bytes).unwrap();
-    let (a, _) = import(&path, 1.0, [0.0; 3]).expect("read with its mark");
-    let (b, _) = import(&meshes().join("block_tet.msh"), 1.0, [0.0; 3]).unwrap();
+    let (a, _) = import(&path, 1.0, [0.0; 3], None).expect("read with its mark");
+    let (b, _) = import(&meshes().join("block_tet.msh"), 1.0, [0.0; 3], None).unwrap();
     assert!(a.nodes == b.nodes && a.elements == b.elements);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -108,7 +108,7 @@ struct Reader {
     max_elements: usize,
 }
 
-fn params(line: &str) -> (String, HashMap<String, String>) {
+pub(crate) fn params(line: &str) -> (String, HashMap<String, String>) {
     let mut parts = line[1..].split(',');
     let keyword = parts.next().unwrap_or("").trim().to_ascii_uppercase();
     let mut map = HashMap::new();
@@ -168,8 +168,10 @@ fn defined_bounds(text: &str) -> (usize, usize) {
     (nodes, elements)
 }
 
-/// Reads a deck's text.
-pub fn read(text: &str) -> Res<FileMesh> {
+/// Reads a deck's text: every element, or (`elset`) the elements of one `*ELSET` only, a
+/// body of a deck that holds several. Restricted, a surface keeps its faces on the set's
+/// elements, and one with none is left out.
+pub fn read(text: &str, elset: Option<&str>) -> Res<FileMesh> {
     let mut p = Parser::new(text);
     for (i, raw) in text.lines().enumerate() {
         let line_no = i + 1;
@@ -185,7 +187,11 @@ pub fn read(text: &str) -> Res<FileMesh> {
         }
     }
     p.no_pending()?;
-    p.r.finish()
+    let kept = match elset {
+        None => None,
+        Some(name) => Some(p.r.kept_elements(name)?),
+    };
+    p.r.finish(kept.as_ref())
 }
 
 /// A keyword line: its keyword (upper case), its parameters (keys upper case) and its line.
@@ -737,14 +743,30 @@ impl Reader {
             .ok_or_else(|| ParseError::at(line, format!("element {id} is not defined")))
     }
 
-    fn finish(self) -> Res<FileMesh> {
+    /// The indices of the elements of the `*ELSET` named `name`.
+    fn kept_elements(&self, name: &str) -> Res<HashSet<usize>> {
+        let set = find_set(&self.elsets, name).ok_or_else(|| {
+            let known: Vec<&str> = self.elsets.iter().map(|s| s.name.as_str()).collect();
+            ParseError::whole(format!(
+                "no *ELSET named `{name}`; the deck's element sets are {known:?}"
+            ))
+        })?;
+        set.ids.iter().map(|&id| self.element(id, 0)).collect()
+    }
+
+    /// The mesh of every element, or of the `kept` ones.
+    fn finish(self, kept: Option<&HashSet<usize>>) -> Res<FileMesh> {
         let mut mesh = FileMesh {
             nodes: self.nodes.clone(),
             ..Default::default()
         };
-        let corners = self.add_elements(&mut mesh)?;
+        let keeps = |k: usize| kept.is_none_or(|s| s.contains(&k));
+        let corners = self.add_elements(&mut mesh, &keeps)?;
         for surface in &self.surfaces {
-            mesh.surfaces.push(self.side_surface(surface, &corners)?);
+            let s = self.side_surface(surface, &corners, &keeps)?;
+            if kept.is_none() || !s.faces.is_empty() {
+                mesh.surfaces.push(s);
+            }
         }
         let mut node_sets = Vec::new();
         for s in &self.nsets {
@@ -763,14 +785,14 @@ impl Reader {
             node_sets.push(self.elset_nodes(s, &corners)?);
         }
         mesh.node_sets = node_sets;
-        mesh.axes = self.element_axes()?;
+        mesh.axes = self.element_axes(&keeps)?;
         mesh.skipped = self.skipped.clone();
         Ok(mesh)
     }
 
     /// The axes of each element in a `*SOLID SECTION` with an orientation, by block as
     /// [`Self::add_elements`] places the elements.
-    fn element_axes(&self) -> Res<ElementAxes> {
+    fn element_axes(&self, keeps: &dyn Fn(usize) -> bool) -> Res<ElementAxes> {
         if self.sections.is_empty() {
             return Ok(ElementAxes::default());
         }
@@ -802,33 +824,44 @@ impl Reader {
             }
         }
         let mut axes = ElementAxes::default();
-        for (e, a) in self.elements.iter().zip(per_element) {
-            axes.push(e.kind, a);
+        for (k, (e, a)) in self.elements.iter().zip(per_element).enumerate() {
+            if keeps(k) {
+                axes.push(e.kind, a);
+            }
         }
         Ok(axes)
     }
 
-    /// Adds the elements to `mesh`'s blocks; returns each element's node indices.
-    fn add_elements(&self, mesh: &mut FileMesh) -> Res<Vec<Vec<u32>>> {
+    /// Adds the elements `keeps` takes to `mesh`'s blocks; returns every element's node
+    /// indices.
+    fn add_elements(
+        &self,
+        mesh: &mut FileMesh,
+        keeps: &dyn Fn(usize) -> bool,
+    ) -> Res<Vec<Vec<u32>>> {
         let mut corners: Vec<Vec<u32>> = Vec::with_capacity(self.elements.len());
-        for e in &self.elements {
+        for (k, e) in self.elements.iter().enumerate() {
             let whose = format!("element {}", e.id);
             let c: Vec<u32> = e
                 .nodes
                 .iter()
                 .map(|&n| self.node(n, e.line, &whose))
                 .collect::<Res<_>>()?;
-            mesh.elements.push(e.kind, &c, 0);
+            if keeps(k) {
+                mesh.elements.push(e.kind, &c, 0);
+            }
             corners.push(c);
         }
         Ok(corners)
     }
 
-    /// The faces of a `*SURFACE, TYPE=ELEMENT` (`corners`: each element's node indices).
+    /// The faces of a `*SURFACE, TYPE=ELEMENT` on the elements `keeps` takes (`corners`:
+    /// each element's node indices).
     fn side_surface(
         &self,
         (name, entries, surface_line): &SideSurface,
         corners: &[Vec<u32>],
+        keeps: &dyn Fn(usize) -> bool,
     ) -> Res<FileSurface> {
         let mut faces = Vec::new();
         // each (element, side) once, however many lines name it: the faces are at most
@@ -837,7 +870,7 @@ impl Reader {
         for (target, side, line) in entries {
             for id in self.elements_named(target, *line)? {
                 let k = self.element(id, *line)?;
-                if !done.insert((k, *side)) {
+                if !keeps(k) || !done.insert((k, *side)) {
                     continue;
                 }
                 let c = &corners[k];
@@ -964,7 +997,7 @@ CUBE, S1
 
     #[test]
     fn reads_nodes_elements_sets_and_surfaces() {
-        let m = read(CUBE).unwrap();
+        let m = read(CUBE, None).unwrap();
         assert_eq!(m.nodes.len(), 8);
         assert_eq!(
             m.elements.block(ElementKind::Hex8).nodes,
@@ -980,7 +1013,7 @@ CUBE, S1
     #[test]
     fn an_unsupported_element_type_names_the_type_and_line() {
         let t = CUBE.replace("TYPE=C3D8,", "TYPE=C3D20R,");
-        let e = read(&t).unwrap_err();
+        let e = read(&t, None).unwrap_err();
         assert_eq!(e.line, Some(13));
         assert!(e.message.contains("C3D20R"), "{}", e.message);
     }
@@ -988,7 +1021,7 @@ CUBE, S1
     #[test]
     fn a_missing_node_names_the_element_line() {
         let t = CUBE.replace("5, 6, 7, 8", "5, 6, 7, 99");
-        let e = read(&t).unwrap_err();
+        let e = read(&t, None).unwrap_err();
         assert_eq!(e.line, Some(14));
         assert!(e.message.contains("node 99"), "{}", e.message);
     }
@@ -1001,7 +1034,7 @@ CUBE, S1
             "*MATERIAL, NAME=STEEL",
             "*SURFACE, NAME=TopNodes, TYPE=NODE\n,\n*MATERIAL, NAME=STEEL",
         );
-        let e = read(&t).unwrap_err();
+        let e = read(&t, None).unwrap_err();
         assert_eq!(e.line, Some(21));
         assert!(e.message.contains("TYPE=NODE"), "{}", e.message);
     }
@@ -1013,7 +1046,7 @@ CUBE, S1
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join(format!("{name}.inp"));
         std::fs::write(&path, text).unwrap();
-        let e = crate::mesh::import(&path, 1.0, [0.0; 3]).expect_err("must be refused");
+        let e = crate::mesh::import(&path, 1.0, [0.0; 3], None).expect_err("must be refused");
         (path, e.to_string())
     }
 
@@ -1066,10 +1099,10 @@ CUBE, S1
             "18446744073709551610, 18446744073709551615, 3",
         );
         // two numbers, within the bound; neither is a node, which `finish` refuses
-        let e = read(&t).unwrap_err();
+        let e = read(&t, None).unwrap_err();
         assert!(e.message.contains("node 18446744073709551610"), "{e:?}");
         let (t, _) = with_set("*NSET, NSET=ALL_U64, GENERATE", "0, 18446744073709551615");
-        let e = read(&t).unwrap_err();
+        let e = read(&t, None).unwrap_err();
         assert_eq!(e.line, Some(line));
         assert!(
             e.message
@@ -1083,7 +1116,7 @@ CUBE, S1
         // each line would triple the set if numbers were kept as often as named
         let lines = "TWICE, TWICE, TWICE\n".repeat(64);
         let t = format!("{CUBE}*NSET, NSET=TWICE\n1, 2\n{lines}");
-        let m = read(&t).unwrap();
+        let m = read(&t, None).unwrap();
         let set = m.node_sets.iter().find(|s| s.name == "TWICE").unwrap();
         assert_eq!(set.nodes, vec![0, 1]);
     }
@@ -1091,7 +1124,7 @@ CUBE, S1
     #[test]
     fn a_set_of_more_numbers_than_nodes_names_the_line() {
         let (t, line) = with_set("*NSET, NSET=LISTED", "1, 2, 3, 4, 5, 6, 7, 8, 9");
-        let e = read(&t).unwrap_err();
+        let e = read(&t, None).unwrap_err();
         assert_eq!(e.line, Some(line));
         assert!(
             e.message

@@ -750,7 +750,7 @@ $EndElements
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join(format!("{name}.msh"));
         std::fs::write(&path, bytes).unwrap();
-        let e = crate::mesh::import(&path, 1.0, [0.0; 3]).expect_err("must be refused");
+        let e = crate::mesh::import(&path, 1.0, [0.0; 3], None).expect_err("must be refused");
         (path, e.to_string())
     }
 

@@ -38,9 +38,15 @@ pub struct FileMesh {
 
 /// Reads a `.msh` (Gmsh 4.1, ASCII or binary) or `.inp` (Abaqus/CalculiX, with its
 /// `*INCLUDE`s) file, scales the coordinates by `scale` about the origin, then translates them
-/// by `translate`. Returns the body and the notices to show (keywords a deck holds that
-/// were not read).
-pub fn import(path: &Path, scale: f64, translate: [f64; 3]) -> Result<(BodyParts, Vec<String>)> {
+/// by `translate`. With `elset`, a deck's body is the elements of that `*ELSET` only (a
+/// deck may hold several bodies). Returns the body and the notices to show (keywords a deck
+/// holds that were not read).
+pub fn import(
+    path: &Path,
+    scale: f64,
+    translate: [f64; 3],
+    elset: Option<&str>,
+) -> Result<(BodyParts, Vec<String>)> {
     let located = |e: ParseError| ImpactError::Mesh {
         path: e.file.unwrap_or_else(|| path.to_path_buf()),
         line: e.line,
@@ -55,12 +61,18 @@ pub fn import(path: &Path, scale: f64, translate: [f64; 3]) -> Result<(BodyParts
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
     let (file, deck) = match ext.as_str() {
+        "msh" if elset.is_some() => {
+            return Err(located(ParseError::whole(
+                "an element set selects a body of an Abaqus/CalculiX deck (.inp); a .msh file is one body",
+            )))
+        }
         "msh" => (super::gmsh::read(bytes).map_err(located)?, None),
         "inp" => {
             let text = std::str::from_utf8(bytes)
                 .map_err(|e| located(ParseError::whole(format!("not a text file: {e}"))))?;
             let deck = Deck::expand(text, Some(path)).map_err(located)?;
-            let file = super::abaqus::read(&deck.text).map_err(|e| located(deck.locate(e)))?;
+            let file =
+                super::abaqus::read(&deck.text, elset).map_err(|e| located(deck.locate(e)))?;
             (file, Some(deck))
         }
         _ => {

@@ -167,6 +167,7 @@ pub(crate) struct RawBody {
     #[serde(rename = "box")]
     pub box_: Option<RawBox>,
     pub mesh: Option<String>,
+    pub elset: Option<String>,
     pub scale: Option<f64>,
     pub translate: Option<[f64; 3]>,
     pub velocity: Option<[f64; 3]>,

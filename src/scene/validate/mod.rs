@@ -570,9 +570,14 @@ impl Checker<'_> {
                 })?;
             let shape = match (&b.box_, &b.mesh) {
                 (Some(bx), None) => {
-                    if b.scale.is_some() || b.translate.is_some() {
+                    if b.scale.is_some() || b.translate.is_some() || b.elset.is_some() {
+                        let k = match (b.scale.is_some(), b.translate.is_some()) {
+                            (true, _) => "scale",
+                            (_, true) => "translate",
+                            _ => "elset",
+                        };
                         return Err(self.err(
-                            key(if b.scale.is_some() { "scale" } else { "translate" }),
+                            key(k),
                             "applies to `mesh` files only; a box is placed by box.min and box.max",
                         ));
                     }
@@ -593,8 +598,15 @@ impl Checker<'_> {
                             source,
                         });
                     }
-                    let (parts, notices) = crate::mesh::import(&file_path, scale, translate)?;
-                    self.notices.borrow_mut().extend(notices);
+                    let elset = b.elset.as_deref();
+                    let (parts, notices) =
+                        crate::mesh::import(&file_path, scale, translate, elset)?;
+                    let mut known = self.notices.borrow_mut();
+                    // bodies of one deck share its notice
+                    let notices: Vec<String> =
+                        notices.into_iter().filter(|n| !known.contains(n)).collect();
+                    known.extend(notices);
+                    drop(known);
                     BodyShape::Imported {
                         path: file_path,
                         parts: Arc::new(parts),

@@ -203,7 +203,7 @@ impl Checker<'_> {
                 source,
             });
         }
-        let (parts, notices) = crate::mesh::import(&path, 1.0, [0.0; 3])?;
+        let (parts, notices) = crate::mesh::import(&path, 1.0, [0.0; 3], None)?;
         self.notices.borrow_mut().extend(notices);
         let names: Vec<&str> = parts.surfaces.iter().map(|s| s.name.as_str()).collect();
         let Some(found) = super::find_name(&names, surface) else {
