@@ -93,6 +93,15 @@ enum Command {
         #[arg(long)]
         keep_runs: bool,
     },
+    /// Write the scene an Abaqus/CalculiX deck (.inp) runs as, its mesh kept in the deck:
+    /// running the scene gives the deck's history.
+    Convert {
+        /// The deck.
+        deck: PathBuf,
+        /// The scene file to write (beside the deck, whose file its bodies name).
+        #[arg(long)]
+        to: PathBuf,
+    },
     /// List the GPU adapters found, the one each device setting would use, and the limits
     /// and features that matter to the kernels.
     Info,
@@ -199,6 +208,7 @@ fn real_main() -> anyhow::Result<u8> {
         } => run_command(&scene, out, device, quiet, overwrite, resume, strict),
         Command::Check { scene, device } => check_command(&scene, device),
         Command::Info => info_command(),
+        Command::Convert { deck, to } => convert_command(&deck, &to),
     }
 }
 
@@ -449,4 +459,32 @@ fn info_command() -> anyhow::Result<u8> {
     );
     print!("{}", impact::gpu::context::info_report()?);
     Ok(exit::SUCCESS)
+}
+
+/// `impact convert`: the deck's scene written to `to`, and the deck's notice.
+fn convert_command(deck: &std::path::Path, to: &std::path::Path) -> anyhow::Result<u8> {
+    if !impact::scene::from_deck::is_deck(deck) {
+        anyhow::bail!(
+            "{}: not a deck: impact converts Abaqus/CalculiX decks (.inp)",
+            deck.display()
+        );
+    }
+    let converted = impact::scene::from_deck::convert(deck)?;
+    let beside = |p: &std::path::Path| p.parent().map(|d| d.canonicalize().ok());
+    if beside(deck) != beside(to) {
+        anyhow::bail!(
+            "{}: write the scene in the deck's folder ({}), whose file its bodies name",
+            to.display(),
+            deck.parent()
+                .map_or(".".into(), |d| d.display().to_string())
+        );
+    }
+    // the scene must be one impact reads
+    impact::scene::Scene::parse(&converted.toml, to)?;
+    std::fs::write(to, &converted.toml)
+        .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", to.display()))?;
+    if let Some(n) = converted.notice {
+        eprintln!("notice: {n}");
+    }
+    Ok(0)
 }

@@ -103,6 +103,8 @@ struct Input {
     /// For a mesh: its file name and the text of a scene whose `mesh` key names
     /// `meshes/<file name>`.
     mesh: Option<(String, String)>,
+    /// A deck run as it stands (`impact run model.inp`).
+    deck: bool,
 }
 
 fn files(dir: &Path, ext: &[&str]) -> Vec<PathBuf> {
@@ -140,8 +142,17 @@ fn inputs() -> Vec<Input> {
             name: format!("scenes/{name}"),
             bytes: text.clone().into_bytes(),
             mesh: None,
+            deck: false,
         })
         .collect();
+    for p in files(&scenes_dir, &["inp"]) {
+        v.push(Input {
+            name: format!("scenes/{}", p.file_name().unwrap().to_string_lossy()),
+            bytes: std::fs::read(&p).expect("deck"),
+            mesh: None,
+            deck: true,
+        });
+    }
     for p in files(&scenes_dir.join("meshes"), &["inp", "msh"]) {
         let file = p.file_name().unwrap().to_string_lossy().into_owned();
         let ext = p.extension().unwrap().to_string_lossy().into_owned();
@@ -163,6 +174,7 @@ fn inputs() -> Vec<Input> {
             name: format!("scenes/{wanted}"),
             bytes: std::fs::read(&p).expect("mesh"),
             mesh: Some((file, host)),
+            deck: false,
         });
     }
     v
@@ -347,6 +359,11 @@ fn mutate(rng: &mut Rng, b: &mut Vec<u8>, mesh: bool) -> String {
 /// message if it panicked.
 fn run_case(input: &Input, bytes: &[u8], tmp: &Path) -> Result<bool, String> {
     let outcome = catch_unwind(AssertUnwindSafe(|| match &input.mesh {
+        None if input.deck => {
+            let deck = tmp.join("deck.inp");
+            std::fs::write(&deck, bytes).expect("write deck");
+            Scene::load(&deck).is_ok()
+        }
         None => {
             let text = String::from_utf8_lossy(bytes);
             let path = repo().join(&input.name);
@@ -406,7 +423,7 @@ fn mutated_scenes_and_meshes_never_panic() {
         let input = &inputs[rng.below(inputs.len())];
         let mut bytes = input.bytes.clone();
         let edits: Vec<String> = (0..1 + rng.below(3))
-            .map(|_| mutate(&mut rng, &mut bytes, input.mesh.is_some()))
+            .map(|_| mutate(&mut rng, &mut bytes, input.mesh.is_some() || input.deck))
             .collect();
         let what = format!("{}: {}", input.name, edits.join("; "));
         if only.is_some() {

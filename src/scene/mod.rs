@@ -2,6 +2,7 @@
 //!
 //! `docs/scene-format.md` documents each key (meaning, units, default).
 
+pub mod from_deck;
 mod raw;
 pub mod suggest;
 mod validate;
@@ -399,15 +400,30 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Reads and checks a scene file.
+    /// Reads and checks a scene file, or an Abaqus/CalculiX deck (`.inp`) as the scene it
+    /// converts to ([`from_deck`]).
     pub fn load(path: impl AsRef<Path>) -> Result<Scene> {
         let path = path.as_ref();
+        if from_deck::is_deck(path) {
+            return Self::from_deck(path);
+        }
         let text =
             crate::limits::read_input_text(path).map_err(|source| ImpactError::ReadScene {
                 path: path.to_path_buf(),
                 source,
             })?;
         Self::parse(&text, path)
+    }
+
+    /// The scene of the deck at `path`: its converted text, checked, with the deck's notice
+    /// in place of the mesh reader's (which lists the keywords the conversion read).
+    fn from_deck(path: &Path) -> Result<Scene> {
+        let converted = from_deck::convert(path)?;
+        let mut scene = Self::parse(&converted.toml, path)?;
+        let mesh_notice = format!("{}: keywords not read", path.display());
+        scene.notices.retain(|n| !n.starts_with(&mesh_notice));
+        scene.notices.extend(converted.notice);
+        Ok(scene)
     }
 
     /// Checks scene text; `path` is used in messages and for the default output folder.

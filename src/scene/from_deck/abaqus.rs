@@ -1,0 +1,581 @@
+//! An Abaqus/CalculiX deck read as a scene. The mesh keywords (`*NODE`, `*ELEMENT`, `*NSET`,
+//! `*ELSET`, `*SURFACE`, `*ORIENTATION`) stay the mesh reader's ([`crate::mesh::abaqus`]);
+//! this reader takes the rest: `*HEADING`, `*MATERIAL` with `*ELASTIC` (isotropic or
+//! engineering constants) and `*DENSITY`, `*SOLID SECTION` (each section's element set is a
+//! body), `*BOUNDARY` (zero values on node sets), `*INITIAL CONDITIONS, TYPE=VELOCITY` (a
+//! velocity per body), `*SURFACE INTERACTION` with `*FRICTION`, `*CONTACT PAIR`, `*DLOAD`
+//! gravity and one `*STEP` with `*DYNAMIC` (implicit) or `*DYNAMIC, EXPLICIT`.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use super::{DeckBody, DeckContact, DeckFix, DeckMaterial, DeckScene, DeckStep, Elastic};
+use crate::error::{ImpactError, Result};
+use crate::mesh::abaqus::params;
+use crate::mesh::deck::Deck;
+use crate::mesh::BodyParts;
+
+/// Keywords the mesh reader takes.
+const MESH: [&str; 6] = ["NODE", "ELEMENT", "NSET", "ELSET", "SURFACE", "ORIENTATION"];
+
+/// Keywords passed over with a notice: output requests and solver controls, and the deck's
+/// contact penalty (the augmented Lagrange iteration replaces it).
+const PASSED_OVER: [&str; 14] = [
+    "NODE PRINT",
+    "EL PRINT",
+    "NODE FILE",
+    "EL FILE",
+    "CONTACT PRINT",
+    "CONTACT FILE",
+    "OUTPUT",
+    "NODE OUTPUT",
+    "ELEMENT OUTPUT",
+    "CONTACT OUTPUT",
+    "ENERGY PRINT",
+    "CONTROLS",
+    "PREPRINT",
+    "SURFACE BEHAVIOR",
+];
+
+/// A keyword line and its data lines (fields trimmed), each with its expanded line number.
+struct Block {
+    name: String,
+    params: HashMap<String, String>,
+    line: usize,
+    data: Vec<(Vec<String>, usize)>,
+}
+
+impl Block {
+    fn get(&self, key: &str) -> Option<&str> {
+        self.params
+            .get(key)
+            .map(String::as_str)
+            .filter(|v| !v.is_empty())
+    }
+}
+
+/// The deck's blocks in order (comments and blank lines left out).
+fn blocks(text: &str) -> Vec<Block> {
+    let mut out: Vec<Block> = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with("**") {
+            continue;
+        }
+        if line.starts_with('*') {
+            let (name, params) = params(line);
+            out.push(Block {
+                name,
+                params,
+                line: i + 1,
+                data: Vec::new(),
+            });
+        } else if let Some(b) = out.last_mut() {
+            let fields = line.split(',').map(|f| f.trim().to_string()).collect();
+            b.data.push((fields, i + 1));
+        }
+    }
+    out
+}
+
+/// What the reader gathers before the bodies are known.
+#[derive(Default)]
+struct Gathered {
+    title: Option<String>,
+    /// (element set, g times direction, line) of each `*DLOAD` GRAV line.
+    gravity: Vec<(String, [f64; 3], usize)>,
+    materials: Vec<DeckMaterial>,
+    /// (element set, material, line) of each section.
+    sections: Vec<(String, String, usize)>,
+    /// (node set, first dof, last dof, line).
+    boundaries: Vec<(String, usize, usize, usize)>,
+    /// (node set, dof, value, line).
+    velocities: Vec<(String, usize, f64, usize)>,
+    /// Each interaction's friction coefficient, and the interaction last opened.
+    friction: HashMap<String, f64>,
+    interaction: Option<String>,
+    /// (secondary surface, primary surface, interaction, line).
+    pairs: Vec<(String, String, String, usize)>,
+    step: Option<DeckStep>,
+    steps: usize,
+    /// Keywords passed over, with their lines.
+    passed: Vec<(String, usize)>,
+}
+
+/// The reader: the deck and the error it locates.
+struct Reader<'a> {
+    path: &'a Path,
+    deck: Deck,
+}
+
+impl Reader<'_> {
+    /// An error at expanded line `line`, in the file and at the line it came from.
+    fn err(&self, line: usize, message: impl Into<String>) -> ImpactError {
+        let (file, l) = self.deck.origin(line);
+        ImpactError::Mesh {
+            path: file.unwrap_or(self.path).to_path_buf(),
+            line: Some(l),
+            message: message.into(),
+        }
+    }
+
+    fn number(&self, fields: &[String], i: usize, line: usize, what: &str) -> Result<f64> {
+        let f = fields.get(i).map(String::as_str).unwrap_or("");
+        f.parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| self.err(line, format!("{what}: `{f}` is not a finite number")))
+    }
+
+    fn dof(&self, fields: &[String], i: usize, line: usize) -> Result<usize> {
+        let f = fields.get(i).map(String::as_str).unwrap_or("");
+        match f.parse::<usize>() {
+            Ok(d @ 1..=3) => Ok(d),
+            _ => Err(self.err(
+                line,
+                format!("degree of freedom `{f}`: a solid's are 1, 2 and 3 (x, y, z)"),
+            )),
+        }
+    }
+
+    /// The first data line of `b`, refused when there is none.
+    fn first<'b>(&self, b: &'b Block) -> Result<&'b (Vec<String>, usize)> {
+        b.data
+            .first()
+            .ok_or_else(|| self.err(b.line, format!("*{} needs a data line", b.name)))
+    }
+
+    /// Takes one block into `g`.
+    fn take(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        match b.name.as_str() {
+            n if MESH.contains(&n) || n == "END STEP" => {}
+            "HEADING" => g.title = b.data.first().map(|(f, _)| f.join(",")),
+            "MATERIAL" => {
+                let name = b.get("NAME").ok_or_else(|| self.err(b.line, "*MATERIAL needs NAME="))?;
+                g.materials.push(DeckMaterial {
+                    name: name.to_string(),
+                    density: None,
+                    elastic: None,
+                });
+            }
+            "ELASTIC" => {
+                let e = self.elastic(b)?;
+                self.material(g, b)?.elastic = Some(e);
+            }
+            "DENSITY" => {
+                let (f, l) = self.first(b)?;
+                let rho = self.number(f, 0, *l, "*DENSITY")?;
+                self.material(g, b)?.density = Some(rho);
+            }
+            "SOLID SECTION" => {
+                let need = |k: &str| {
+                    b.get(k)
+                        .map(str::to_string)
+                        .ok_or_else(|| self.err(b.line, format!("*SOLID SECTION needs {k}=")))
+                };
+                g.sections.push((need("ELSET")?, need("MATERIAL")?, b.line));
+            }
+            "BOUNDARY" => self.boundary(b, g)?,
+            "INITIAL CONDITIONS" => self.initial_velocity(b, g)?,
+            "SURFACE INTERACTION" => {
+                let name = (b.get("NAME"))
+                    .ok_or_else(|| self.err(b.line, "*SURFACE INTERACTION needs NAME="))?;
+                g.friction.insert(name.to_ascii_uppercase(), 0.0);
+                g.interaction = Some(name.to_ascii_uppercase());
+            }
+            "FRICTION" => self.friction(b, g)?,
+            "CONTACT PAIR" => self.contact_pair(b, g)?,
+            "STEP" => {
+                g.steps += 1;
+                if g.steps > 1 {
+                    return Err(self.err(b.line, "a second *STEP: impact runs one dynamic step; split the analysis into decks of one step each"));
+                }
+            }
+            "DYNAMIC" => g.step = Some(self.dynamic(b)?),
+            "DLOAD" => self.gravity(b, g)?,
+            n if PASSED_OVER.contains(&n) => g.passed.push((n.to_string(), b.line)),
+            n => {
+                return Err(self.err(
+                    b.line,
+                    format!("*{n}: impact cannot honour this keyword (it reads elastic solids, their supports, initial velocities, contact pairs with friction, gravity and one *DYNAMIC step; docs/decks.md lists them)"),
+                ))
+            }
+        }
+        Ok(())
+    }
+
+    /// The material the last `*MATERIAL` opened.
+    fn material<'g>(&self, g: &'g mut Gathered, b: &Block) -> Result<&'g mut DeckMaterial> {
+        g.materials
+            .last_mut()
+            .ok_or_else(|| self.err(b.line, format!("*{} outside a *MATERIAL", b.name)))
+    }
+
+    fn elastic(&self, b: &Block) -> Result<Elastic> {
+        let ty = b.get("TYPE").unwrap_or("ISOTROPIC").to_ascii_uppercase();
+        let values: Vec<(String, usize)> = (b.data.iter())
+            .flat_map(|(f, l)| f.iter().filter(|x| !x.is_empty()).map(|x| (x.clone(), *l)))
+            .collect();
+        let at = |i: usize| -> Result<f64> {
+            let (v, l) = values
+                .get(i)
+                .cloned()
+                .unwrap_or_else(|| (String::new(), b.line));
+            self.number(&[v], 0, l, &format!("*ELASTIC, TYPE={ty}, value {}", i + 1))
+        };
+        match ty.as_str() {
+            "ISOTROPIC" => Ok(Elastic::Isotropic {
+                e: at(0)?,
+                nu: at(1)?,
+            }),
+            "ENGINEERING CONSTANTS" => {
+                let mut c = [0.0; 9];
+                for (i, x) in c.iter_mut().enumerate() {
+                    *x = at(i)?;
+                }
+                Ok(Elastic::Orthotropic(c))
+            }
+            _ => Err(self.err(
+                b.line,
+                format!("*ELASTIC, TYPE={ty}: impact reads TYPE=ISOTROPIC and TYPE=ENGINEERING CONSTANTS"),
+            )),
+        }
+    }
+
+    fn boundary(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        for (f, l) in &b.data {
+            let set = f[0].clone();
+            let first = self.dof(f, 1, *l)?;
+            let last = match f.get(2).filter(|x| !x.is_empty()) {
+                Some(_) => self.dof(f, 2, *l)?,
+                None => first,
+            };
+            if f.get(3).is_some_and(|x| !x.is_empty())
+                && self.number(f, 3, *l, "*BOUNDARY value")? != 0.0
+            {
+                return Err(self.err(*l, "*BOUNDARY with a value other than 0: impact holds dofs, it does not move them (a prescribed motion is a rigid body's)"));
+            }
+            g.boundaries.push((set, first, last.max(first), *l));
+        }
+        Ok(())
+    }
+
+    fn initial_velocity(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        let ty = b.get("TYPE").unwrap_or("").to_ascii_uppercase();
+        if ty != "VELOCITY" {
+            return Err(self.err(
+                b.line,
+                format!("*INITIAL CONDITIONS, TYPE={ty}: impact reads TYPE=VELOCITY"),
+            ));
+        }
+        for (f, l) in &b.data {
+            let dof = self.dof(f, 1, *l)?;
+            let value = self.number(f, 2, *l, "*INITIAL CONDITIONS velocity")?;
+            g.velocities.push((f[0].clone(), dof, value, *l));
+        }
+        Ok(())
+    }
+
+    fn friction(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        let (f, l) = self.first(b)?;
+        let mu = self.number(f, 0, *l, "*FRICTION coefficient")?;
+        if f.get(1).is_some_and(|x| !x.is_empty()) {
+            g.passed.push(("FRICTION stick slope".into(), *l));
+        }
+        let last = (g.interaction.clone())
+            .ok_or_else(|| self.err(b.line, "*FRICTION outside a *SURFACE INTERACTION"))?;
+        g.friction.insert(last, mu);
+        Ok(())
+    }
+
+    fn contact_pair(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        let interaction = (b.get("INTERACTION"))
+            .ok_or_else(|| self.err(b.line, "*CONTACT PAIR needs INTERACTION="))?;
+        if let Some(ty) = b.get("TYPE") {
+            let ty = ty.to_ascii_uppercase();
+            if ty != "NODE TO SURFACE" && ty != "SURFACE TO SURFACE" {
+                return Err(self.err(b.line, format!("*CONTACT PAIR, TYPE={ty}: impact reads NODE TO SURFACE and SURFACE TO SURFACE (both become its node-to-surface contact)")));
+            }
+        }
+        for (f, l) in &b.data {
+            if f.len() < 2 || f[1].is_empty() {
+                return Err(self.err(
+                    *l,
+                    "a contact pair line names the slave, then the master surface",
+                ));
+            }
+            g.pairs.push((
+                f[0].clone(),
+                f[1].clone(),
+                interaction.to_ascii_uppercase(),
+                *l,
+            ));
+        }
+        Ok(())
+    }
+
+    fn dynamic(&self, b: &Block) -> Result<DeckStep> {
+        let explicit = b.params.contains_key("EXPLICIT");
+        let (f, l) = self.first(b)?;
+        let end_time = self.number(f, 1, *l, "*DYNAMIC time period")?;
+        let time_step = match explicit {
+            // the explicit path takes the mesh's stable step (the notice says so)
+            true => None,
+            false => Some(self.number(f, 0, *l, "*DYNAMIC time increment")?),
+        };
+        Ok(DeckStep {
+            explicit,
+            end_time,
+            time_step,
+        })
+    }
+
+    fn gravity(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        for (f, l) in &b.data {
+            if !f.get(1).is_some_and(|t| t.eq_ignore_ascii_case("GRAV")) {
+                return Err(self.err(*l, "*DLOAD: impact reads GRAV (gravity); other distributed loads are not supported"));
+            }
+            let m = self.number(f, 2, *l, "*DLOAD GRAV magnitude")?;
+            let d = [3, 4, 5].map(|i| self.number(f, i, *l, "*DLOAD GRAV direction"));
+            let [x, y, z] = d;
+            g.gravity.push((f[0].clone(), [m * x?, m * y?, m * z?], *l));
+        }
+        Ok(())
+    }
+
+    /// The model's gravity: the GRAV lines must give one vector to every section's elements
+    /// (impact's gravity acts on the whole model).
+    fn whole_gravity(&self, g: &Gathered) -> Result<Option<[f64; 3]>> {
+        let Some((_, first, _)) = g.gravity.first() else {
+            return Ok(None);
+        };
+        for (set, v, l) in &g.gravity {
+            if v != first {
+                return Err(self.err(*l, "*DLOAD GRAV: a second gravity vector; impact's gravity is one vector on the whole model"));
+            }
+            if !g
+                .sections
+                .iter()
+                .any(|(e, _, _)| e.eq_ignore_ascii_case(set))
+            {
+                return Err(self.err(*l, format!("*DLOAD GRAV on `{set}`: name the *SOLID SECTION element sets (impact's gravity acts on every body)")));
+            }
+        }
+        for (e, _, l) in &g.sections {
+            if !g
+                .gravity
+                .iter()
+                .any(|(set, _, _)| e.eq_ignore_ascii_case(set))
+            {
+                return Err(self.err(
+                    *l,
+                    format!("*DLOAD GRAV leaves out `{e}`: impact's gravity acts on every body"),
+                ));
+            }
+        }
+        Ok(Some(*first))
+    }
+}
+
+/// The deck at `path` as a scene, and the notice of the keywords it passed over.
+pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
+    let located = |message: String| ImpactError::Mesh {
+        path: path.to_path_buf(),
+        line: None,
+        message,
+    };
+    let text =
+        crate::limits::read_input_text(path).map_err(|e| located(format!("cannot read: {e}")))?;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+    let deck = Deck::expand(text, Some(path)).map_err(|e| ImpactError::Mesh {
+        path: e.file.clone().unwrap_or_else(|| path.to_path_buf()),
+        line: e.line,
+        message: e.message,
+    })?;
+    let r = Reader { path, deck };
+    let mut g = Gathered::default();
+    for b in blocks(&r.deck.text) {
+        r.take(&b, &mut g)?;
+    }
+    let step = g.step.clone().ok_or_else(|| {
+        located("no *STEP with *DYNAMIC: impact runs a dynamic step, implicit (*DYNAMIC) or explicit (*DYNAMIC, EXPLICIT)".into())
+    })?;
+    if g.sections.is_empty() {
+        return Err(located(
+            "no *SOLID SECTION: each section's element set is a body, with its material".into(),
+        ));
+    }
+    let bodies = r.bodies(&g)?;
+    let scene = DeckScene {
+        title: g.title.clone(),
+        mesh: path
+            .file_name()
+            .map_or_else(String::new, |f| f.to_string_lossy().into_owned()),
+        gravity: r.whole_gravity(&g)?,
+        materials: g.materials.clone(),
+        fixes: r.fixes(&g, &bodies)?,
+        contacts: r.contacts(&g, &bodies)?,
+        bodies: r.velocities(&g, &bodies)?,
+        step,
+    };
+    let notice = notice(&r, &g);
+    Ok((scene, notice))
+}
+
+/// One line naming the keywords passed over, with their files' lines.
+fn notice(r: &Reader, g: &Gathered) -> Option<String> {
+    let mut listed: Vec<(String, Vec<String>)> = Vec::new();
+    for (name, line) in &g.passed {
+        let at = match r.deck.origin(*line) {
+            (None, l) => format!("{l}"),
+            (Some(f), l) => format!("{}:{l}", f.display()),
+        };
+        match listed.iter_mut().find(|(k, _)| k == name) {
+            Some((_, lines)) => lines.push(at),
+            None => listed.push((name.clone(), vec![at])),
+        }
+    }
+    let mut parts: Vec<String> = listed
+        .iter()
+        .map(|(k, l)| format!("*{k} (line {})", l.join(", ")))
+        .collect();
+    if g.step.as_ref().is_some_and(|s| s.explicit) {
+        parts.push("the *DYNAMIC, EXPLICIT time increment (the explicit path takes the mesh's stable step)".into());
+    }
+    if !g.pairs.is_empty() {
+        parts.push("the contact pairs' penalty (the augmented Lagrange iteration on the gap rate enforces the contact)".into());
+    }
+    (!parts.is_empty()).then(|| format!("{}: passed over: {}", r.path.display(), parts.join("; ")))
+}
+
+impl Reader<'_> {
+    /// Each section's body, its mesh read from the deck.
+    fn bodies(&self, g: &Gathered) -> Result<Vec<(DeckBody, BodyParts)>> {
+        let mut out = Vec::new();
+        for (elset, material, line) in &g.sections {
+            if !(g.materials.iter()).any(|m| m.name.eq_ignore_ascii_case(material)) {
+                return Err(self.err(
+                    *line,
+                    format!("*SOLID SECTION: no *MATERIAL named `{material}`"),
+                ));
+            }
+            let m = (g.materials.iter())
+                .find(|m| m.name.eq_ignore_ascii_case(material))
+                .map(|m| m.name.clone())
+                .unwrap_or_default();
+            let (parts, _) = crate::mesh::import(self.path, 1.0, [0.0; 3], Some(elset))?;
+            out.push((
+                DeckBody {
+                    name: elset.clone(),
+                    material: m,
+                    velocity: [0.0; 3],
+                },
+                parts,
+            ));
+        }
+        Ok(out)
+    }
+
+    /// The bodies holding nodes of node set `set` (by name), with how many of their nodes.
+    fn holders<'b>(
+        &self,
+        bodies: &'b [(DeckBody, BodyParts)],
+        set: &str,
+        line: usize,
+    ) -> Result<Vec<(&'b DeckBody, usize, usize)>> {
+        if set.parse::<u64>().is_ok() {
+            return Err(self.err(
+                line,
+                format!("node {set}: name a node set (*NSET) instead of a node number"),
+            ));
+        }
+        let found: Vec<_> = (bodies.iter())
+            .filter_map(|(b, p)| {
+                let s = p
+                    .node_sets
+                    .iter()
+                    .find(|s| s.name.eq_ignore_ascii_case(set))?;
+                (!s.nodes.is_empty()).then_some((b, s.nodes.len(), p.nodes.len()))
+            })
+            .collect();
+        if found.is_empty() {
+            return Err(self.err(
+                line,
+                format!("no body's elements hold the nodes of node set `{set}`"),
+            ));
+        }
+        Ok(found)
+    }
+
+    fn fixes(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckFix>> {
+        let mut out = Vec::new();
+        for (set, first, last, line) in &g.boundaries {
+            let components: Vec<&'static str> =
+                (*first..=*last).map(|d| ["x", "y", "z"][d - 1]).collect();
+            for (b, _, _) in self.holders(bodies, set, *line)? {
+                out.push(DeckFix {
+                    body: b.name.clone(),
+                    set: set.clone(),
+                    components: components.clone(),
+                });
+            }
+        }
+        Ok(out)
+    }
+
+    /// The bodies with the initial velocities of the deck: a node set's velocity must be a
+    /// whole body's.
+    fn velocities(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckBody>> {
+        let mut out: Vec<DeckBody> = bodies.iter().map(|(b, _)| b.clone()).collect();
+        for (set, dof, value, line) in &g.velocities {
+            for (b, count, total) in self.holders(bodies, set, *line)? {
+                if count != total {
+                    return Err(self.err(*line, format!("node set `{set}` holds {count} of body `{}`'s {total} nodes: impact gives a body one initial velocity, so the set must hold all of its nodes or none", b.name)));
+                }
+                if let Some(o) = out.iter_mut().find(|o| o.name == b.name) {
+                    o.velocity[dof - 1] = *value;
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    fn contacts(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckContact>> {
+        let owner = |surface: &str, line: usize| -> Result<(String, String)> {
+            let mut found = (bodies.iter()).filter_map(|(b, p)| {
+                p.surfaces
+                    .iter()
+                    .find(|s| s.name.eq_ignore_ascii_case(surface))
+                    .map(|s| (b.name.clone(), s.name.clone()))
+            });
+            let first = found.next().ok_or_else(|| {
+                self.err(line, format!("no body's elements hold surface `{surface}`"))
+            })?;
+            if found.next().is_some() {
+                return Err(self.err(
+                    line,
+                    format!(
+                        "surface `{surface}` lies on two bodies: a contact surface is one body's"
+                    ),
+                ));
+            }
+            Ok(first)
+        };
+        let mut out = Vec::new();
+        for (slave, master, interaction, line) in &g.pairs {
+            let friction = *g.friction.get(interaction).ok_or_else(|| {
+                self.err(
+                    *line,
+                    format!("no *SURFACE INTERACTION named `{interaction}`"),
+                )
+            })?;
+            out.push(DeckContact {
+                name: format!("{slave}-{master}"),
+                secondary: owner(slave, *line)?,
+                primary: owner(master, *line)?,
+                friction,
+            });
+        }
+        Ok(out)
+    }
+}

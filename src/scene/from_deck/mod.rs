@@ -1,0 +1,215 @@
+//! A scene from a solver's input deck: the deck is read into a [`DeckScene`] (what a scene
+//! file would say, the mesh kept in the deck) and written out as scene TOML, which the scene
+//! reader then checks as any other. `impact run model.inp` runs that text; `impact convert`
+//! writes it to a file, so that a deck and its scene give the same history.
+//!
+//! What the deck asks that `impact` cannot honour is refused, naming the keyword, the file
+//! and the line; what it may safely pass over (output requests, solver controls, the deck's
+//! contact penalty) is listed once in [`Converted::notice`].
+
+mod abaqus;
+
+use std::fmt::Write;
+use std::path::Path;
+
+use crate::error::Result;
+
+/// A material as the deck gives it.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct DeckMaterial {
+    pub name: String,
+    pub density: Option<f64>,
+    pub elastic: Option<Elastic>,
+}
+
+/// A material's elastic constants.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Elastic {
+    Isotropic {
+        e: f64,
+        nu: f64,
+    },
+    /// E1, E2, E3, nu12, nu13, nu23, G12, G13, G23.
+    Orthotropic([f64; 9]),
+}
+
+/// A body: a section's element set of the deck.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct DeckBody {
+    pub name: String,
+    pub material: String,
+    pub velocity: [f64; 3],
+}
+
+/// Held components of a node set of a body.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct DeckFix {
+    pub body: String,
+    pub set: String,
+    pub components: Vec<&'static str>,
+}
+
+/// A contact pair: the secondary (slave) and primary (master) surfaces and their bodies.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct DeckContact {
+    pub name: String,
+    pub secondary: (String, String),
+    pub primary: (String, String),
+    pub friction: f64,
+}
+
+/// The step: its method, period and (implicit) time step.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct DeckStep {
+    pub explicit: bool,
+    pub end_time: f64,
+    pub time_step: Option<f64>,
+}
+
+/// Everything a scene file would say, read from a deck.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct DeckScene {
+    pub title: Option<String>,
+    /// The deck's file name, as the bodies' `mesh` (the scene sits beside it).
+    pub mesh: String,
+    pub gravity: Option<[f64; 3]>,
+    pub materials: Vec<DeckMaterial>,
+    pub bodies: Vec<DeckBody>,
+    pub fixes: Vec<DeckFix>,
+    pub contacts: Vec<DeckContact>,
+    pub step: DeckStep,
+}
+
+/// A deck's scene as TOML text, and the notice of what it passed over.
+#[derive(Debug, Clone)]
+pub struct Converted {
+    pub toml: String,
+    pub notice: Option<String>,
+}
+
+/// Whether `path` is a deck (`.inp`) rather than a scene file.
+pub fn is_deck(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("inp"))
+}
+
+/// Reads the deck at `path` as a scene.
+pub fn convert(path: &Path) -> Result<Converted> {
+    let (scene, notice) = abaqus::read_scene(path)?;
+    Ok(Converted {
+        toml: scene.to_toml(),
+        notice,
+    })
+}
+
+/// A TOML string (quoted, escaped).
+fn quoted(s: &str) -> String {
+    toml::Value::String(s.to_string()).to_string()
+}
+
+/// A TOML float.
+fn float(x: f64) -> String {
+    format!("{x:?}")
+}
+
+fn vector(v: [f64; 3]) -> String {
+    format!("[{}, {}, {}]", float(v[0]), float(v[1]), float(v[2]))
+}
+
+impl DeckScene {
+    /// The scene file's text.
+    pub fn to_toml(&self) -> String {
+        let mut t = String::new();
+        let title = self.title.as_deref().unwrap_or("a deck's model");
+        let _ = writeln!(
+            t,
+            "# read from the deck {}\ntitle = {}",
+            self.mesh,
+            quoted(title)
+        );
+        if let Some(g) = self.gravity {
+            let _ = writeln!(t, "gravity = {}", vector(g));
+        }
+        self.write_run(&mut t);
+        for m in &self.materials {
+            let _ = writeln!(t, "\n[[material]]\nname = {}", quoted(&m.name));
+            if let Some(rho) = m.density {
+                let _ = writeln!(t, "density = {}", float(rho));
+            }
+            match &m.elastic {
+                Some(Elastic::Isotropic { e, nu }) => {
+                    let _ = writeln!(
+                        t,
+                        "youngs_modulus = {}\npoissons_ratio = {}",
+                        float(*e),
+                        float(*nu)
+                    );
+                }
+                Some(Elastic::Orthotropic(c)) => {
+                    let keys = [
+                        "e1", "e2", "e3", "nu12", "nu13", "nu23", "g12", "g13", "g23",
+                    ];
+                    let pairs: Vec<String> = (keys.iter().zip(c))
+                        .map(|(k, v)| format!("{k} = {}", float(*v)))
+                        .collect();
+                    let _ = writeln!(t, "orthotropic = {{ {} }}", pairs.join(", "));
+                }
+                None => {}
+            }
+        }
+        for b in &self.bodies {
+            let _ = writeln!(
+                t,
+                "\n[[body]]\nname = {}\nmaterial = {}\nmesh = {}\nelset = {}",
+                quoted(&b.name),
+                quoted(&b.material),
+                quoted(&self.mesh),
+                quoted(&b.name)
+            );
+            if b.velocity != [0.0; 3] {
+                let _ = writeln!(t, "velocity = {}", vector(b.velocity));
+            }
+        }
+        self.write_pieces(&mut t);
+        t
+    }
+
+    fn write_run(&self, t: &mut String) {
+        let s = &self.step;
+        let method = if s.explicit { "explicit" } else { "implicit" };
+        let _ = writeln!(
+            t,
+            "\n[run]\nend_time = {}\nmethod = \"{method}\"",
+            float(s.end_time)
+        );
+        if let Some(dt) = s.time_step {
+            let _ = writeln!(t, "time_step = {}", float(dt));
+        }
+    }
+
+    /// The contacts and the fixes.
+    fn write_pieces(&self, t: &mut String) {
+        for c in &self.contacts {
+            let _ = writeln!(
+                t,
+                "\n[[contact]]\nname = {}\nsecondary = {{ body = {}, surface = {} }}\nprimary = {{ body = {}, surface = {} }}\nfriction = {}",
+                quoted(&c.name),
+                quoted(&c.secondary.0),
+                quoted(&c.secondary.1),
+                quoted(&c.primary.0),
+                quoted(&c.primary.1),
+                float(c.friction)
+            );
+        }
+        for f in &self.fixes {
+            let components: Vec<String> = f.components.iter().map(|c| quoted(c)).collect();
+            let _ = writeln!(
+                t,
+                "\n[[fix]]\nbody = {}\nset = {}\ncomponents = [{}]",
+                quoted(&f.body),
+                quoted(&f.set),
+                components.join(", ")
+            );
+        }
+    }
+}

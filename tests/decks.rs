@@ -1,0 +1,316 @@
+//! Abaqus/CalculiX decks run as they stand (`impact run model.inp`): the shipped two bars
+//! against wave theory and their TOML twin, a block sliding on a supported plate (supports,
+//! friction, gravity, the explicit step) against its twin, `impact convert`'s scene against
+//! the deck, and what a deck asks that impact cannot honour, refused by keyword and line.
+
+mod common;
+use common::*;
+
+use impact::run::{run, RunOptions};
+use impact::scene::{DeviceChoice, Scene};
+use std::path::Path;
+
+/// Runs the scene (or deck) at `path` on the CPU into `tag`'s folder.
+fn run_file(tag: &str, path: &Path) -> (impact::output::Summary, History) {
+    let scene = Scene::load(path).unwrap_or_else(|e| panic!("{tag}: {e}"));
+    let out = out_dir(tag);
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        quiet: true,
+        device: Some(DeviceChoice::Cpu),
+        ..Default::default()
+    };
+    let s = run(&scene, &opts).unwrap_or_else(|e| panic!("{tag}: {e}"));
+    assert_eq!(s.status, "completed", "{tag}");
+    (s, History::read(&out.join("history.csv")))
+}
+
+/// The largest difference of `a`'s column `ca` from `b`'s `cb`, relative to `b`'s largest
+/// magnitude in it (absolute where that is below `floor`).
+fn difference(a: &History, ca: &str, b: &History, cb: &str, floor: f64) -> f64 {
+    let (x, y) = (a.col(ca), b.col(cb));
+    assert_eq!(x.len(), y.len(), "{ca}: rows");
+    let scale = y.iter().fold(floor, |m, v| m.max(v.abs()));
+    x.iter()
+        .zip(&y)
+        .map(|(p, q)| (p - q).abs())
+        .fold(0.0, f64::max)
+        / scale
+}
+
+#[test]
+fn the_two_bars_deck_runs_as_it_stands_and_matches_wave_theory_and_its_scene() {
+    let deck = repo().join("scenes/two_bars.inp");
+    let scene = Scene::load(&deck).expect("the deck reads");
+    let notice = scene.notices.join("\n");
+    for passed in [
+        "*SURFACE BEHAVIOR (line 131)",
+        "*NODE PRINT (line 140)",
+        "*CONTACT PRINT (line 142)",
+        "penalty",
+    ] {
+        assert!(notice.contains(passed), "{passed} in: {notice}");
+    }
+    assert!(!notice.contains("keywords not read"), "{notice}");
+    let (s, h) = run_file("deck_two_bars", &deck);
+    let m = measures(&h, "TIPA-ENDB", TWO_BARS_FORCE, 0.01);
+    eprintln!(
+        "deck: plateau mean {:.5}, release {}, impulse {:.5}",
+        m.plateau_mean, m.last_contact, m.impulse
+    );
+    // the paper's coarse-mesh tolerances (tests/two_bars.rs)
+    assert!((m.plateau_mean - TWO_BARS_FORCE).abs() <= 0.02 * TWO_BARS_FORCE);
+    assert!(
+        (m.last_contact - 0.2).abs() <= 0.02 + 1e-9,
+        "release at {}",
+        m.last_contact
+    );
+    assert!(
+        (m.impulse - 0.1).abs() <= 0.03 * 0.1,
+        "impulse {}",
+        m.impulse
+    );
+    assert_eq!(s.unconverged_steps, 0);
+    // the TOML twin: the same model with box meshes numbered otherwise
+    let (_, twin) = run_file("deck_two_bars_twin", &repo().join("scenes/two_bars.toml"));
+    for (a, b) in [
+        ("TIPA-ENDB.normal_force", "impact.normal_force"),
+        ("A.vx", "A.vx"),
+        ("B.vx", "B.vx"),
+        ("total_energy", "total_energy"),
+        ("strain_energy", "strain_energy"),
+    ] {
+        let d = difference(&h, a, &twin, b, 0.0);
+        assert!(d <= 1e-8, "{a} against the scene's {b}: {d:e}");
+    }
+}
+
+/// A deck's brick of `n` = [nx, ny, nz] C3D8 over `min`..`max`, nodes from `node0` and
+/// elements from `el0`, its elements in `elset`, its nodes in `nset`.
+fn brick(
+    (min, max, n): ([f64; 3], [f64; 3], [usize; 3]),
+    (node0, el0): (usize, usize),
+    (elset, nset): (&str, &str),
+) -> String {
+    let id = |i: usize, j: usize, k: usize| node0 + i + (n[0] + 1) * (j + (n[1] + 1) * k);
+    let mut t = format!("*NODE, NSET={nset}\n");
+    for k in 0..=n[2] {
+        for j in 0..=n[1] {
+            for i in 0..=n[0] {
+                let x = [i, j, k].map(|q| q as f64);
+                let p: Vec<String> = (0..3)
+                    .map(|a| format!("{}", min[a] + (max[a] - min[a]) * x[a] / n[a] as f64))
+                    .collect();
+                t += &format!("{}, {}\n", id(i, j, k), p.join(", "));
+            }
+        }
+    }
+    t += &format!("*ELEMENT, TYPE=C3D8, ELSET={elset}\n");
+    let mut e = el0;
+    for k in 0..n[2] {
+        for j in 0..n[1] {
+            for i in 0..n[0] {
+                let c = [
+                    id(i, j, k),
+                    id(i + 1, j, k),
+                    id(i + 1, j + 1, k),
+                    id(i, j + 1, k),
+                    id(i, j, k + 1),
+                    id(i + 1, j, k + 1),
+                    id(i + 1, j + 1, k + 1),
+                    id(i, j + 1, k + 1),
+                ];
+                let c: Vec<String> = c.iter().map(|x| x.to_string()).collect();
+                t += &format!("{e}, {}\n", c.join(", "));
+                e += 1;
+            }
+        }
+    }
+    t
+}
+
+/// A block sliding on a plate held at its base, with friction and gravity, explicit: as a
+/// CalculiX deck (surfaces as element sides, S1 the bottom and S2 the top of a C3D8).
+fn sliding_block_deck() -> String {
+    let mut t = String::from("*HEADING\nA block slides on a held plate\n");
+    t += &brick(
+        ([0.0, 0.0, -1.0], [4.0, 4.0, 0.0], [4, 4, 1]),
+        (1, 1),
+        ("PLATE", "NPLATE"),
+    );
+    t += &brick(
+        ([1.0, 1.0, 0.01], [3.0, 3.0, 2.01], [2, 2, 2]),
+        (101, 101),
+        ("BLOCK", "NBLOCK"),
+    );
+    t += "*NSET, NSET=BASE, GENERATE\n1, 25, 1\n";
+    t += "*ELSET, ELSET=PLATETOP, GENERATE\n1, 16, 1\n";
+    t += "*ELSET, ELSET=BLOCKBOTTOM, GENERATE\n101, 104, 1\n";
+    t += "*SURFACE, NAME=TOP, TYPE=ELEMENT\nPLATETOP, S2\n";
+    t += "*SURFACE, NAME=BOTTOM, TYPE=ELEMENT\nBLOCKBOTTOM, S1\n";
+    t += "*MATERIAL, NAME=SOFT\n*ELASTIC, TYPE=ISOTROPIC\n100.0, 0.3\n*DENSITY\n0.01\n";
+    t += "*SOLID SECTION, ELSET=PLATE, MATERIAL=SOFT\n";
+    t += "*SOLID SECTION, ELSET=BLOCK, MATERIAL=SOFT\n";
+    t += "*BOUNDARY\nBASE, 1, 3\n";
+    t += "*SURFACE INTERACTION, NAME=ROUGH\n*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=HARD\n";
+    t += "*FRICTION\n0.2\n";
+    t += "*CONTACT PAIR, INTERACTION=ROUGH, TYPE=NODE TO SURFACE\nBOTTOM, TOP\n";
+    t += "*INITIAL CONDITIONS, TYPE=VELOCITY\nNBLOCK, 1, 0.5\nNBLOCK, 3, -1.0\n";
+    t += "*STEP\n*DYNAMIC, EXPLICIT\n1e-4, 0.05\n";
+    t += "*DLOAD\nPLATE, GRAV, 9.81, 0., 0., -1.\nBLOCK, GRAV, 9.81, 0., 0., -1.\n";
+    t += "*NODE OUTPUT\nU\n*END STEP\n";
+    t
+}
+
+/// The same block and plate as a scene.
+const SLIDING_BLOCK_SCENE: &str = r#"title = "A block slides on a held plate"
+gravity = [0.0, 0.0, -9.81]
+[run]
+end_time = 0.05
+method = "explicit"
+[[material]]
+name = "SOFT"
+density = 0.01
+youngs_modulus = 100.0
+poissons_ratio = 0.3
+[[body]]
+name = "PLATE"
+material = "SOFT"
+box = { min = [0.0, 0.0, -1.0], max = [4.0, 4.0, 0.0], divisions = [4, 4, 1] }
+[[body]]
+name = "BLOCK"
+material = "SOFT"
+box = { min = [1.0, 1.0, 0.01], max = [3.0, 3.0, 2.01], divisions = [2, 2, 2] }
+velocity = [0.5, 0.0, -1.0]
+[[fix]]
+body = "PLATE"
+face = "z-"
+components = ["x", "y", "z"]
+[[contact]]
+name = "BOTTOM-TOP"
+secondary = { body = "BLOCK", face = "z-" }
+primary = { body = "PLATE", face = "z+" }
+friction = 0.2
+"#;
+
+#[test]
+fn a_block_sliding_on_a_held_plate_as_a_deck_matches_its_scene() {
+    let dir = out_dir("deck_sliding_block_files");
+    std::fs::create_dir_all(&dir).unwrap();
+    let deck = dir.join("sliding_block.inp");
+    std::fs::write(&deck, sliding_block_deck()).unwrap();
+    let scene = dir.join("sliding_block.toml");
+    std::fs::write(&scene, SLIDING_BLOCK_SCENE).unwrap();
+    let (_, h) = run_file("deck_sliding_block", &deck);
+    let (_, twin) = run_file("deck_sliding_block_twin", &scene);
+    let friction = h.col("BOTTOM-TOP.tangential_force");
+    assert!(
+        friction.iter().any(|&f| f > 0.0),
+        "the block slides with friction"
+    );
+    // the deck numbers the nodes and elements as the boxes do: the same model, the same
+    // numbers
+    for c in [
+        "BLOCK.vx",
+        "BLOCK.vz",
+        "PLATE.vz",
+        "total_energy",
+        "BOTTOM-TOP.normal_force",
+    ] {
+        let d = difference(&h, c, &twin, c, 0.0);
+        eprintln!("{c}: {d:.2e}");
+        assert!(d <= 1e-12, "{c} against the scene's: {d:e}");
+    }
+}
+
+#[test]
+fn a_converted_deck_runs_to_the_decks_history() {
+    let dir = out_dir("deck_convert_files");
+    std::fs::create_dir_all(&dir).unwrap();
+    let deck = dir.join("two_bars.inp");
+    std::fs::copy(repo().join("scenes/two_bars.inp"), &deck).unwrap();
+    let scene = dir.join("two_bars_scene.toml");
+    let o = impact(&["convert", s(&deck), "--to", s(&scene)]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stderr(&o).contains("*NODE PRINT"), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&scene).unwrap();
+    assert!(
+        text.contains("elset = \"A\"") && text.contains("mesh = \"two_bars.inp\""),
+        "{text}"
+    );
+    let (_, a) = run_file("deck_convert_deck", &deck);
+    let (_, b) = run_file("deck_convert_scene", &scene);
+    let read = |h: &History| format!("{:?}{:?}", h.columns, h.rows);
+    assert!(
+        read(&a) == read(&b),
+        "the scene's history differs from the deck's"
+    );
+}
+
+/// The deck `text` (written as `bad.inp`) is refused with every piece of `words`.
+fn refused(tag: &str, text: &str, words: &[&str]) {
+    let dir = out_dir(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    let deck = dir.join("bad.inp");
+    std::fs::write(&deck, text).unwrap();
+    let e = Scene::load(&deck)
+        .expect_err("the deck is refused")
+        .to_string();
+    for w in words {
+        assert!(e.contains(w), "`{w}` in: {e}");
+    }
+}
+
+#[test]
+fn what_a_deck_asks_that_impact_cannot_honour_is_refused_by_keyword_and_line() {
+    let deck = std::fs::read_to_string(repo().join("scenes/two_bars.inp")).unwrap();
+    let plastic = edit(&deck, "*DENSITY\n", "*PLASTIC\n1.0, 0.0\n*DENSITY\n");
+    refused(
+        "deck_plastic",
+        &plastic,
+        &["bad.inp:126", "*PLASTIC", "cannot honour"],
+    );
+    let second = deck.clone() + "*STEP\n*DYNAMIC\n0.01, 0.4\n*END STEP\n";
+    refused(
+        "deck_second_step",
+        &second,
+        &["bad.inp:145", "second *STEP"],
+    );
+    let moved = edit(
+        &deck,
+        "*INITIAL CONDITIONS",
+        "*BOUNDARY\nNA, 1, 1, 0.5\n*INITIAL CONDITIONS",
+    );
+    refused("deck_moved", &moved, &["*BOUNDARY", "other than 0"]);
+    let part = edit(&deck, "NA, 1, 1.0", "TIPA_NODES, 1, 1.0");
+    let part = edit(
+        &part,
+        "*SURFACE, NAME=TIPA",
+        "*NSET, NSET=TIPA_NODES\n41, 42, 43, 44\n*SURFACE, NAME=TIPA",
+    );
+    refused(
+        "deck_part_velocity",
+        &part,
+        &["TIPA_NODES", "4 of body `A`'s 44 nodes"],
+    );
+    let static_step = edit(&deck, "*DYNAMIC\n", "*STATIC\n");
+    refused("deck_static", &static_step, &["*STATIC", "cannot honour"]);
+    let no_step: String = deck
+        .lines()
+        .take_while(|l| !l.starts_with("*STEP"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    refused("deck_no_step", &no_step, &["no *STEP with *DYNAMIC"]);
+    let no_material = edit(
+        &deck,
+        "ELSET=B, MATERIAL=ELASTIC",
+        "ELSET=B, MATERIAL=STEEL",
+    );
+    refused(
+        "deck_no_material",
+        &no_material,
+        &["no *MATERIAL named `STEEL`"],
+    );
+    let dof = edit(&deck, "NA, 1, 1.0", "NA, 5, 1.0");
+    refused("deck_dof", &dof, &["degree of freedom `5`"]);
+}
