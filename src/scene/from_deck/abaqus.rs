@@ -9,11 +9,19 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use super::{DeckBody, DeckContact, DeckFix, DeckMaterial, DeckScene, DeckStep, Elastic};
+use super::{
+    DeckBody, DeckContact, DeckFix, DeckMaterial, DeckProbe, DeckScene, DeckStep, Elastic,
+};
 use crate::error::{ImpactError, Result};
 use crate::mesh::abaqus::params;
 use crate::mesh::deck::Deck;
 use crate::mesh::BodyParts;
+
+/// The probes of the printed node sets, and the (set, line) of those too large for probes.
+type Probes = (Vec<DeckProbe>, Vec<(String, usize)>);
+
+/// The most probes one printed node set makes.
+const MAX_PROBES: usize = 32;
 
 /// Keywords the mesh reader takes.
 const MESH: [&str; 6] = ["NODE", "ELEMENT", "NSET", "ELSET", "SURFACE", "ORIENTATION"];
@@ -22,13 +30,13 @@ const MESH: [&str; 6] = ["NODE", "ELEMENT", "NSET", "ELSET", "SURFACE", "ORIENTA
 /// contact penalty (the augmented Lagrange iteration replaces it).
 const PASSED_OVER: [&str; 14] = [
     "NODE PRINT",
+    "NODE OUTPUT",
     "EL PRINT",
     "NODE FILE",
     "EL FILE",
     "CONTACT PRINT",
     "CONTACT FILE",
     "OUTPUT",
-    "NODE OUTPUT",
     "ELEMENT OUTPUT",
     "CONTACT OUTPUT",
     "ENERGY PRINT",
@@ -98,6 +106,8 @@ struct Gathered {
     pairs: Vec<(String, String, String, usize)>,
     step: Option<DeckStep>,
     steps: usize,
+    /// (node set, line) of each `*NODE PRINT` or `*NODE OUTPUT` with `NSET=`.
+    printed: Vec<(String, usize)>,
     /// Keywords passed over, with their lines.
     passed: Vec<(String, usize)>,
 }
@@ -193,6 +203,10 @@ impl Reader<'_> {
             }
             "DYNAMIC" => g.step = Some(self.dynamic(b)?),
             "DLOAD" => self.gravity(b, g)?,
+            "NODE PRINT" | "NODE OUTPUT" if b.get("NSET").is_some() => {
+                let set = b.get("NSET").unwrap_or_default().to_string();
+                g.printed.push((set, b.line));
+            }
             n if PASSED_OVER.contains(&n) => g.passed.push((n.to_string(), b.line)),
             n => {
                 return Err(self.err(
@@ -406,6 +420,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         ));
     }
     let bodies = r.bodies(&g)?;
+    let (probes, unprobed) = r.probes(&g, &bodies)?;
     let scene = DeckScene {
         title: g.title.clone(),
         mesh: path
@@ -415,15 +430,16 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         materials: g.materials.clone(),
         fixes: r.fixes(&g, &bodies)?,
         contacts: r.contacts(&g, &bodies)?,
+        probes,
         bodies: r.velocities(&g, &bodies)?,
         step,
     };
-    let notice = notice(&r, &g);
+    let notice = notice(&r, &g, &unprobed);
     Ok((scene, notice))
 }
 
 /// One line naming the keywords passed over, with their files' lines.
-fn notice(r: &Reader, g: &Gathered) -> Option<String> {
+fn notice(r: &Reader, g: &Gathered, unprobed: &[(String, usize)]) -> Option<String> {
     let mut listed: Vec<(String, Vec<String>)> = Vec::new();
     for (name, line) in &g.passed {
         let at = match r.deck.origin(*line) {
@@ -434,6 +450,11 @@ fn notice(r: &Reader, g: &Gathered) -> Option<String> {
             Some((_, lines)) => lines.push(at),
             None => listed.push((name.clone(), vec![at])),
         }
+    }
+    for (set, line) in unprobed {
+        let (_, l) = r.deck.origin(*line);
+        let what = format!("NODE PRINT NSET={set}, more nodes than the {MAX_PROBES} history probes a set makes (the frames hold every node)");
+        listed.push((what, vec![l.to_string()]));
     }
     let mut parts: Vec<String> = listed
         .iter()
@@ -505,6 +526,51 @@ impl Reader<'_> {
             ));
         }
         Ok(found)
+    }
+
+    /// A probe at each node of each printed node set: `SET` for a set of one node, `SET_1`,
+    /// `SET_2`, ... for more; a set of more than [`MAX_PROBES`] nodes makes none (the
+    /// notice names it: the frames hold every node).
+    fn probes(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Probes> {
+        let mut out: Vec<DeckProbe> = Vec::new();
+        let mut unprobed = Vec::new();
+        for (set, line) in &g.printed {
+            let mut points = Vec::new();
+            for (b, p) in bodies {
+                let Some(s) = p
+                    .node_sets
+                    .iter()
+                    .find(|s| s.name.eq_ignore_ascii_case(set))
+                else {
+                    continue;
+                };
+                points.extend(
+                    s.nodes
+                        .iter()
+                        .map(|&n| (b.name.clone(), p.nodes[n as usize])),
+                );
+            }
+            if points.is_empty() {
+                return Err(self.err(
+                    *line,
+                    format!("no body's elements hold the nodes of node set `{set}`"),
+                ));
+            }
+            if points.len() > MAX_PROBES {
+                unprobed.push((set.clone(), *line));
+                continue;
+            }
+            let one = points.len() == 1;
+            for (i, (body, point)) in points.into_iter().enumerate() {
+                let name = if one {
+                    set.clone()
+                } else {
+                    format!("{set}_{}", i + 1)
+                };
+                out.push(DeckProbe { name, body, point });
+            }
+        }
+        Ok((out, unprobed))
     }
 
     fn fixes(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckFix>> {

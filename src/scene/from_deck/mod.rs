@@ -58,6 +58,14 @@ pub(crate) struct DeckContact {
     pub friction: f64,
 }
 
+/// A probe: a node of a printed node set, at its position.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct DeckProbe {
+    pub name: String,
+    pub body: String,
+    pub point: [f64; 3],
+}
+
 /// The step: its method, period and (implicit) time step.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct DeckStep {
@@ -77,6 +85,7 @@ pub(crate) struct DeckScene {
     pub bodies: Vec<DeckBody>,
     pub fixes: Vec<DeckFix>,
     pub contacts: Vec<DeckContact>,
+    pub probes: Vec<DeckProbe>,
     pub step: DeckStep,
 }
 
@@ -187,7 +196,7 @@ impl DeckScene {
         }
     }
 
-    /// The contacts and the fixes.
+    /// The contacts, the fixes and the probes.
     fn write_pieces(&self, t: &mut String) {
         for c in &self.contacts {
             let _ = writeln!(
@@ -209,6 +218,15 @@ impl DeckScene {
                 quoted(&f.body),
                 quoted(&f.set),
                 components.join(", ")
+            );
+        }
+        for p in &self.probes {
+            let _ = writeln!(
+                t,
+                "\n[[probe]]\nname = {}\nbody = {}\npoint = {}",
+                quoted(&p.name),
+                quoted(&p.body),
+                vector(p.point)
             );
         }
     }
