@@ -319,6 +319,14 @@ fn what_a_deck_asks_that_impact_cannot_honour_is_refused_by_keyword_and_line() {
         &no_material,
         &["no *MATERIAL named `STEEL`"],
     );
+    let warm = edit(&deck, "100.0, 0.0\n", "100.0, 0.0, 20.0\n");
+    refused(
+        "deck_warm",
+        &warm,
+        &["bad.inp:127", "more than its 2 constants"],
+    );
+    let dense = edit(&deck, "0.01\n", "0.01, 20.0\n0.011, 100.0\n");
+    refused("deck_dense", &dense, &["*DENSITY over temperatures"]);
     let dof = edit(&deck, "NA, 1, 1.0", "NA, 5, 1.0");
     refused("deck_dof", &dof, &["degree of freedom `5`"]);
 }
@@ -393,4 +401,13 @@ fn the_papers_oblique_cube_as_a_deck_matches_its_scene() {
         eprintln!("{a}: {d:.2e}");
         assert!(d <= 1e-9, "{a} against the scene's {b}: {d:e}");
     }
+    // Abaqus's named condition for the pinned edge, its set named in another case
+    let named = edit(&oblique_cube_deck(), "PINNED, 1, 3", "pinned, PINNED");
+    let deck = dir.join("cube_on_plate_named.inp");
+    std::fs::write(&deck, named).unwrap();
+    let (_, n) = run_file("deck_oblique_cube_named", &deck);
+    assert!(
+        format!("{:?}", n.rows) == format!("{:?}", h.rows),
+        "PINNED holds as 1, 3 does"
+    );
 }

@@ -17,6 +17,15 @@ use crate::mesh::abaqus::params;
 use crate::mesh::deck::Deck;
 use crate::mesh::BodyParts;
 
+/// A body holding nodes of a node set: the set's name as the mesh has it, how many of the
+/// body's nodes it holds, and the body's count.
+struct Holder<'b> {
+    body: &'b DeckBody,
+    set: String,
+    count: usize,
+    total: usize,
+}
+
 /// The probes of the printed node sets, and the (set, line) of those too large for probes.
 type Probes = (Vec<DeckProbe>, Vec<(String, usize)>);
 
@@ -174,6 +183,9 @@ impl Reader<'_> {
             }
             "DENSITY" => {
                 let (f, l) = self.first(b)?;
+                if b.data.len() > 1 || f.iter().skip(1).any(|x| !x.is_empty()) {
+                    return Err(self.err(*l, "*DENSITY over temperatures: impact's materials take one density"));
+                }
                 let rho = self.number(f, 0, *l, "*DENSITY")?;
                 self.material(g, b)?.density = Some(rho);
             }
@@ -237,6 +249,14 @@ impl Reader<'_> {
                 .unwrap_or_else(|| (String::new(), b.line));
             self.number(&[v], 0, l, &format!("*ELASTIC, TYPE={ty}, value {}", i + 1))
         };
+        let count = match ty.as_str() {
+            "ISOTROPIC" => 2,
+            _ => 9,
+        };
+        if values.len() > count {
+            let (_, l) = &values[count];
+            return Err(self.err(*l, format!("*ELASTIC, TYPE={ty}: more than its {count} constants (a temperature, or a table over temperatures): impact's materials take one set of constants")));
+        }
         match ty.as_str() {
             "ISOTROPIC" => Ok(Elastic::Isotropic {
                 e: at(0)?,
@@ -259,6 +279,18 @@ impl Reader<'_> {
     fn boundary(&self, b: &Block, g: &mut Gathered) -> Result<()> {
         for (f, l) in &b.data {
             let set = f[0].clone();
+            // Abaqus's named conditions, as they hold a solid's translations
+            let named = match f.get(1).map(|x| x.to_ascii_uppercase()).as_deref() {
+                Some("ENCASTRE" | "PINNED") => Some((1, 3)),
+                Some("XSYMM") => Some((1, 1)),
+                Some("YSYMM") => Some((2, 2)),
+                Some("ZSYMM") => Some((3, 3)),
+                _ => None,
+            };
+            if let Some((first, last)) = named {
+                g.boundaries.push((set, first, last, *l));
+                continue;
+            }
             let first = self.dof(f, 1, *l)?;
             let last = match f.get(2).filter(|x| !x.is_empty()) {
                 Some(_) => self.dof(f, 2, *l)?,
@@ -503,7 +535,7 @@ impl Reader<'_> {
         bodies: &'b [(DeckBody, BodyParts)],
         set: &str,
         line: usize,
-    ) -> Result<Vec<(&'b DeckBody, usize, usize)>> {
+    ) -> Result<Vec<Holder<'b>>> {
         if set.parse::<u64>().is_ok() {
             return Err(self.err(
                 line,
@@ -516,7 +548,12 @@ impl Reader<'_> {
                     .node_sets
                     .iter()
                     .find(|s| s.name.eq_ignore_ascii_case(set))?;
-                (!s.nodes.is_empty()).then_some((b, s.nodes.len(), p.nodes.len()))
+                (!s.nodes.is_empty()).then_some(Holder {
+                    body: b,
+                    set: s.name.clone(),
+                    count: s.nodes.len(),
+                    total: p.nodes.len(),
+                })
             })
             .collect();
         if found.is_empty() {
@@ -578,10 +615,10 @@ impl Reader<'_> {
         for (set, first, last, line) in &g.boundaries {
             let components: Vec<&'static str> =
                 (*first..=*last).map(|d| ["x", "y", "z"][d - 1]).collect();
-            for (b, _, _) in self.holders(bodies, set, *line)? {
+            for h in self.holders(bodies, set, *line)? {
                 out.push(DeckFix {
-                    body: b.name.clone(),
-                    set: set.clone(),
+                    body: h.body.name.clone(),
+                    set: h.set,
                     components: components.clone(),
                 });
             }
@@ -594,11 +631,12 @@ impl Reader<'_> {
     fn velocities(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckBody>> {
         let mut out: Vec<DeckBody> = bodies.iter().map(|(b, _)| b.clone()).collect();
         for (set, dof, value, line) in &g.velocities {
-            for (b, count, total) in self.holders(bodies, set, *line)? {
+            for h in self.holders(bodies, set, *line)? {
+                let (count, total, name) = (h.count, h.total, &h.body.name);
                 if count != total {
-                    return Err(self.err(*line, format!("node set `{set}` holds {count} of body `{}`'s {total} nodes: impact gives a body one initial velocity, so the set must hold all of its nodes or none", b.name)));
+                    return Err(self.err(*line, format!("node set `{set}` holds {count} of body `{name}`'s {total} nodes: impact gives a body one initial velocity, so the set must hold all of its nodes or none")));
                 }
-                if let Some(o) = out.iter_mut().find(|o| o.name == b.name) {
+                if let Some(o) = out.iter_mut().find(|o| &o.name == name) {
                     o.velocity[dof - 1] = *value;
                 }
             }
