@@ -32,7 +32,7 @@ struct Cli {
 enum Command {
     /// Run a scene and write history.csv and summary.json.
     Run {
-        /// The scene file (TOML).
+        /// The scene file (TOML), or an Abaqus/CalculiX deck (.inp) or LS-DYNA keyword file (.k).
         scene: PathBuf,
         /// Output folder (default: the scene's output.dir, or results/<scene stem>).
         #[arg(long)]
@@ -57,7 +57,7 @@ enum Command {
     /// Read, build and check a scene's model without running it: bodies, stable step,
     /// contact interfaces and their initial gaps, fixes, method and memory.
     Check {
-        /// The scene file (TOML).
+        /// The scene file (TOML), or an Abaqus/CalculiX deck (.inp) or LS-DYNA keyword file (.k).
         scene: PathBuf,
         /// Where the kernels would run; overrides the scene's run.device.
         #[arg(long, value_parser = ["auto", "gpu", "cpu"])]
@@ -93,7 +93,7 @@ enum Command {
         #[arg(long)]
         keep_runs: bool,
     },
-    /// Write the scene an Abaqus/CalculiX deck (.inp) runs as, its mesh kept in the deck:
+    /// Write the scene an Abaqus/CalculiX deck (.inp) or LS-DYNA file (.k) runs as, its mesh kept in it:
     /// running the scene gives the deck's history.
     Convert {
         /// The deck.
@@ -465,7 +465,7 @@ fn info_command() -> anyhow::Result<u8> {
 fn convert_command(deck: &std::path::Path, to: &std::path::Path) -> anyhow::Result<u8> {
     if !impact::scene::from_deck::is_deck(deck) {
         anyhow::bail!(
-            "{}: not a deck: impact converts Abaqus/CalculiX decks (.inp)",
+            "{}: not a deck: impact converts Abaqus/CalculiX decks (.inp) and LS-DYNA keyword files (.k)",
             deck.display()
         );
     }

@@ -411,3 +411,143 @@ fn the_papers_oblique_cube_as_a_deck_matches_its_scene() {
         "PINNED holds as 1, 3 does"
     );
 }
+
+/// `scenes/block_drop.k` as a scene: the same block of boxes, the same wall.
+const BLOCK_DROP_SCENE: &str = r#"title = "Block dropped on a rigid wall"
+[run]
+end_time = 0.06
+method = "explicit"
+[[material]]
+name = "mat1"
+density = 0.01
+youngs_modulus = 100.0
+poissons_ratio = 0.3
+[[body]]
+name = "block"
+material = "mat1"
+box = { min = [-0.5, -0.5, 0.01], max = [0.5, 0.5, 1.01], divisions = [4, 4, 4] }
+velocity = [0.0, 0.0, -1.0]
+[[rigid_plane]]
+name = "wall1"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+friction = 0.0
+"#;
+
+#[test]
+fn the_lsdyna_block_drop_runs_as_it_stands_and_matches_its_scene() {
+    let deck = repo().join("scenes/block_drop.k");
+    let scene = Scene::load(&deck).expect("the keyword file reads");
+    let notice = scene.notices.join("\n");
+    for passed in [
+        "*CONTROL_TIMESTEP (line 10)",
+        "*DATABASE_GLSTAT (line 13)",
+        "ELFORM",
+    ] {
+        assert!(notice.contains(passed), "{passed} in: {notice}");
+    }
+    let (s, h) = run_file("deck_block_drop", &deck);
+    let dir = out_dir("deck_block_drop_files");
+    std::fs::create_dir_all(&dir).unwrap();
+    let twin_path = dir.join("block_drop.toml");
+    std::fs::write(&twin_path, BLOCK_DROP_SCENE).unwrap();
+    let (_, twin) = run_file("deck_block_drop_twin", &twin_path);
+    // the block rebounds: its momentum turns, and the wall's impulse is its change
+    let vz = h.col("block.vz");
+    assert!(*vz.last().unwrap() > 0.5, "the block rebounds: {vz:?}");
+    assert_eq!(s.unconverged_steps, 0);
+    // the file's coordinates are the boxes' printed to 8 decimals: the same model to rounding
+    for c in [
+        "block.vz",
+        "total_energy",
+        "wall1.normal_force",
+        "strain_energy",
+    ] {
+        let d = difference(&h, c, &twin, c, 0.0);
+        eprintln!("{c}: {d:.2e}");
+        assert!(d <= 1e-9, "{c} against the scene's: {d:e}");
+    }
+    // free format (commas) reads as the fixed columns do
+    let text = std::fs::read_to_string(&deck).unwrap();
+    let free = edit(
+        &text,
+        "         1         2       0.0       0.0       0.0      -1.0         0         0",
+        "1, 2, 0.0, 0.0, 0.0, -1.0, 0, 0",
+    );
+    let free_path = dir.join("block_drop_free.k");
+    std::fs::write(&free_path, free).unwrap();
+    let (_, f) = run_file("deck_block_drop_free", &free_path);
+    assert!(
+        format!("{:?}", f.rows) == format!("{:?}", h.rows),
+        "free format"
+    );
+}
+
+#[test]
+fn what_a_keyword_file_asks_that_impact_cannot_honour_is_refused_by_keyword_and_line() {
+    let deck = std::fs::read_to_string(repo().join("scenes/block_drop.k")).unwrap();
+    let k = |tag: &str, text: &str, words: &[&str]| {
+        let dir = out_dir(tag);
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("bad.k");
+        std::fs::write(&path, text).unwrap();
+        let e = Scene::load(&path).expect_err("refused").to_string();
+        for w in words {
+            assert!(e.contains(w), "`{w}` in: {e}");
+        }
+    };
+    let plastic = edit(&deck, "*MAT_ELASTIC", "*MAT_PLASTIC_KINEMATIC");
+    k(
+        "k_plastic",
+        &plastic,
+        &["bad.k:24", "*MAT_PLASTIC_KINEMATIC", "cannot honour"],
+    );
+    let spin = edit(
+        &deck,
+        "         1         2       0.0       0.0",
+        "         1         2       5.0       0.0",
+    );
+    k("k_spin", &spin, &["bad.k:29", "rotation"]);
+    let no_end = edit(&deck, "*CONTROL_TERMINATION", "*CONTROL_ENERGY");
+    k("k_no_end", &no_end, &["no *CONTROL_TERMINATION"]);
+    let no_mat = edit(
+        &deck,
+        "         1         1         1",
+        "         1         1         7",
+    );
+    k("k_no_mat", &no_mat, &["bad.k:20", "no *MAT_ELASTIC 7"]);
+    let load = deck.replace("*END", "*LOAD_BODY_Z\n         1\n*END");
+    k("k_load", &load, &["*LOAD_BODY_Z", "cannot honour"]);
+}
+
+/// A scene's `elset` selects an Abaqus/CalculiX deck's body, `part` an LS-DYNA file's;
+/// each is refused elsewhere by its key.
+#[test]
+fn elset_and_part_are_each_their_formats_key() {
+    let scene = |mesh: &str, key: &str| {
+        format!(
+            "[run]\nend_time = 0.1\nmethod = \"explicit\"\n[[material]]\nname = \"m\"\ndensity = 1.0\nyoungs_modulus = 1.0\npoissons_ratio = 0.0\n[[body]]\nname = \"b\"\nmaterial = \"m\"\nmesh = \"{mesh}\"\n{key}\n"
+        )
+    };
+    let parse = |text: &str| {
+        Scene::parse(text, &repo().join("scenes/keys.toml"))
+            .expect_err("refused")
+            .to_string()
+    };
+    let e = parse(&scene("block_drop.k", "elset = \"A\""));
+    assert!(e.contains("body[0].elset") && e.contains("part"), "{e}");
+    let e = parse(&scene("two_bars.inp", "part = 1"));
+    assert!(e.contains("body[0].part") && e.contains("elset"), "{e}");
+    let e = parse(&scene("two_bars.inp", "elset = \"C\""));
+    assert!(e.contains("no *ELSET named `C`"), "{e}");
+    let e = parse(&scene("block_drop.k", "part = 3"));
+    assert!(e.contains("no *ELEMENT_SOLID of part 3"), "{e}");
+    let boxed = scene("x.inp", "").replace(
+        "mesh = \"x.inp\"",
+        "box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0], divisions = [1, 1, 1] }\npart = 1",
+    );
+    assert!(parse(&boxed).contains("body[0].part"));
+    let two_bars = repo().join("scenes/two_bars.toml");
+    let ok = scene("two_bars.inp", "elset = \"B\"");
+    Scene::parse(&ok, &two_bars).expect("bar B alone");
+}

@@ -145,7 +145,7 @@ fn inputs() -> Vec<Input> {
             deck: false,
         })
         .collect();
-    for p in files(&scenes_dir, &["inp"]) {
+    for p in files(&scenes_dir, &["inp", "k"]) {
         v.push(Input {
             name: format!("scenes/{}", p.file_name().unwrap().to_string_lossy()),
             bytes: std::fs::read(&p).expect("deck"),
@@ -360,7 +360,11 @@ fn mutate(rng: &mut Rng, b: &mut Vec<u8>, mesh: bool) -> String {
 fn run_case(input: &Input, bytes: &[u8], tmp: &Path) -> Result<bool, String> {
     let outcome = catch_unwind(AssertUnwindSafe(|| match &input.mesh {
         None if input.deck => {
-            let deck = tmp.join("deck.inp");
+            let ext = Path::new(&input.name)
+                .extension()
+                .unwrap()
+                .to_string_lossy();
+            let deck = tmp.join(format!("deck.{ext}"));
             std::fs::write(&deck, bytes).expect("write deck");
             Scene::load(&deck).is_ok()
         }

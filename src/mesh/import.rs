@@ -36,10 +36,11 @@ pub struct FileMesh {
     pub skipped: Vec<(String, usize)>,
 }
 
-/// Reads a `.msh` (Gmsh 4.1, ASCII or binary) or `.inp` (Abaqus/CalculiX, with its
-/// `*INCLUDE`s) file, scales the coordinates by `scale` about the origin, then translates them
-/// by `translate`. With `elset`, a deck's body is the elements of that `*ELSET` only (a
-/// deck may hold several bodies). Returns the body and the notices to show (keywords a deck
+/// Reads a `.msh` (Gmsh 4.1, ASCII or binary), `.inp` (Abaqus/CalculiX, with its
+/// `*INCLUDE`s) or `.k` (LS-DYNA keywords) file, scales the coordinates by `scale` about the
+/// origin, then translates them by `translate`. With `elset`, a deck's body is the elements
+/// of that `*ELSET` (`.inp`) or of the part of that id (`.k`) only (a deck may hold several
+/// bodies). Returns the body and the notices to show (keywords a deck
 /// holds that were not read).
 pub fn import(
     path: &Path,
@@ -60,6 +61,7 @@ pub fn import(
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
+    let keywords = matches!(ext.as_str(), "k" | "key" | "dyn");
     let (file, deck) = match ext.as_str() {
         "msh" if elset.is_some() => {
             return Err(located(ParseError::whole(
@@ -67,6 +69,11 @@ pub fn import(
             )))
         }
         "msh" => (super::gmsh::read(bytes).map_err(located)?, None),
+        "k" | "key" | "dyn" => {
+            let text = std::str::from_utf8(bytes)
+                .map_err(|e| located(ParseError::whole(format!("not a text file: {e}"))))?;
+            (super::lsdyna::read(text, elset).map_err(located)?, None)
+        }
         "inp" => {
             let text = std::str::from_utf8(bytes)
                 .map_err(|e| located(ParseError::whole(format!("not a text file: {e}"))))?;
@@ -77,15 +84,17 @@ pub fn import(
         }
         _ => {
             return Err(located(ParseError::whole(format!(
-            "unknown mesh format `.{ext}`: expected `.msh` (Gmsh 4.1) or `.inp` (Abaqus/CalculiX)"
+            "unknown mesh format `.{ext}`: expected `.msh` (Gmsh 4.1), `.inp` (Abaqus/CalculiX) or `.k` (LS-DYNA)"
         ))))
         }
     };
-    let notices = deck
-        .as_ref()
-        .and_then(|d| skipped_notice(path, d, &file.skipped))
-        .into_iter()
-        .collect();
+    let notices = match &deck {
+        Some(d) => skipped_notice(path, &|l| d.origin(l), &file.skipped),
+        None if keywords => skipped_notice(path, &|l| (None, l), &file.skipped),
+        None => None,
+    }
+    .into_iter()
+    .collect();
     let in_file = |e: ParseError| match &deck {
         Some(d) => d.locate(e),
         None => e,
@@ -95,11 +104,15 @@ pub fn import(
 }
 
 /// One line naming every keyword of a deck that was not read, each with its lines.
-fn skipped_notice(path: &Path, deck: &Deck, skipped: &[(String, usize)]) -> Option<String> {
+fn skipped_notice<'a>(
+    path: &Path,
+    origin: &dyn Fn(usize) -> (Option<&'a Path>, usize),
+    skipped: &[(String, usize)],
+) -> Option<String> {
     const SHOWN: usize = 8;
     let mut keywords: Vec<(&str, Vec<String>)> = Vec::new();
     for (name, line) in skipped {
-        let at = match deck.origin(*line) {
+        let at = match origin(*line) {
             (None, l) => format!("{l}"),
             (Some(f), l) => format!("{}:{l}", f.display()),
         };

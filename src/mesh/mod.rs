@@ -14,6 +14,7 @@ pub mod box_mesh;
 pub mod deck;
 pub mod gmsh;
 pub mod import;
+pub mod lsdyna;
 pub mod orientation;
 pub mod parse_error;
 

@@ -10,21 +10,13 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::{
-    DeckBody, DeckContact, DeckFix, DeckMaterial, DeckProbe, DeckScene, DeckStep, Elastic,
+    holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckProbe, DeckScene, DeckStep, Elastic,
+    Holder, Select,
 };
 use crate::error::{ImpactError, Result};
 use crate::mesh::abaqus::params;
 use crate::mesh::deck::Deck;
 use crate::mesh::BodyParts;
-
-/// A body holding nodes of a node set: the set's name as the mesh has it, how many of the
-/// body's nodes it holds, and the body's count.
-struct Holder<'b> {
-    body: &'b DeckBody,
-    set: String,
-    count: usize,
-    total: usize,
-}
 
 /// The probes of the printed node sets, and the (set, line) of those too large for probes.
 type Probes = (Vec<DeckProbe>, Vec<(String, usize)>);
@@ -463,6 +455,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         fixes: r.fixes(&g, &bodies)?,
         contacts: r.contacts(&g, &bodies)?,
         probes,
+        planes: Vec::new(),
         bodies: r.velocities(&g, &bodies)?,
         step,
     };
@@ -522,6 +515,7 @@ impl Reader<'_> {
                     name: elset.clone(),
                     material: m,
                     velocity: [0.0; 3],
+                    select: Select::Elset(elset.clone()),
                 },
                 parts,
             ));
@@ -542,20 +536,7 @@ impl Reader<'_> {
                 format!("node {set}: name a node set (*NSET) instead of a node number"),
             ));
         }
-        let found: Vec<_> = (bodies.iter())
-            .filter_map(|(b, p)| {
-                let s = p
-                    .node_sets
-                    .iter()
-                    .find(|s| s.name.eq_ignore_ascii_case(set))?;
-                (!s.nodes.is_empty()).then_some(Holder {
-                    body: b,
-                    set: s.name.clone(),
-                    count: s.nodes.len(),
-                    total: p.nodes.len(),
-                })
-            })
-            .collect();
+        let found = holders(bodies, set);
         if found.is_empty() {
             return Err(self.err(
                 line,

@@ -1,4 +1,4 @@
-//! A scene from a solver's input deck: the deck is read into a [`DeckScene`] (what a scene
+//! A scene from a solver's input deck (Abaqus/CalculiX `.inp`, LS-DYNA `.k`): the deck is read into a [`DeckScene`] (what a scene
 //! file would say, the mesh kept in the deck) and written out as scene TOML, which the scene
 //! reader then checks as any other. `impact run model.inp` runs that text; `impact convert`
 //! writes it to a file, so that a deck and its scene give the same history.
@@ -8,6 +8,7 @@
 //! contact penalty) is listed once in [`Converted::notice`].
 
 mod abaqus;
+mod lsdyna;
 
 use std::fmt::Write;
 use std::path::Path;
@@ -33,12 +34,33 @@ pub(crate) enum Elastic {
     Orthotropic([f64; 9]),
 }
 
-/// A body: a section's element set of the deck.
+/// Which of the deck's elements make a body.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Select {
+    /// An Abaqus/CalculiX element set (a section's).
+    Elset(String),
+    /// An LS-DYNA part id.
+    Part(u64),
+}
+
+/// A body: a section's element set, or a part, of the deck.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct DeckBody {
     pub name: String,
     pub material: String,
     pub velocity: [f64; 3],
+    pub select: Select,
+}
+
+/// A rigid plane (an LS-DYNA planar rigid wall).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct DeckPlane {
+    pub name: String,
+    pub point: [f64; 3],
+    pub normal: [f64; 3],
+    pub friction: f64,
+    /// The bodies it stops (every body where `None`).
+    pub bodies: Option<Vec<String>>,
 }
 
 /// Held components of a node set of a body.
@@ -86,6 +108,7 @@ pub(crate) struct DeckScene {
     pub fixes: Vec<DeckFix>,
     pub contacts: Vec<DeckContact>,
     pub probes: Vec<DeckProbe>,
+    pub planes: Vec<DeckPlane>,
     pub step: DeckStep,
 }
 
@@ -96,19 +119,59 @@ pub struct Converted {
     pub notice: Option<String>,
 }
 
-/// Whether `path` is a deck (`.inp`) rather than a scene file.
+/// The deck formats by file extension: Abaqus/CalculiX, then LS-DYNA.
+const ABAQUS: [&str; 1] = ["inp"];
+const LSDYNA: [&str; 3] = ["k", "key", "dyn"];
+
+fn extension(path: &Path) -> String {
+    (path.extension())
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default()
+}
+
+/// Whether `path` is a deck (`.inp`, `.k`) rather than a scene file.
 pub fn is_deck(path: &Path) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("inp"))
+    let e = extension(path);
+    ABAQUS.contains(&e.as_str()) || LSDYNA.contains(&e.as_str())
 }
 
 /// Reads the deck at `path` as a scene.
 pub fn convert(path: &Path) -> Result<Converted> {
-    let (scene, notice) = abaqus::read_scene(path)?;
+    let (scene, notice) = match LSDYNA.contains(&extension(path).as_str()) {
+        true => lsdyna::read_scene(path)?,
+        false => abaqus::read_scene(path)?,
+    };
     Ok(Converted {
         toml: scene.to_toml(),
         notice,
     })
+}
+
+/// A body holding nodes of a node set: the set's name as the mesh has it, how many of the
+/// body's nodes it holds, and the body's count.
+pub(crate) struct Holder<'b> {
+    pub body: &'b DeckBody,
+    pub set: String,
+    pub count: usize,
+    pub total: usize,
+}
+
+/// The bodies holding nodes of the node set named `set` (in any case).
+pub(crate) fn holders<'b>(
+    bodies: &'b [(DeckBody, crate::mesh::BodyParts)],
+    set: &str,
+) -> Vec<Holder<'b>> {
+    (bodies.iter())
+        .filter_map(|(b, p)| {
+            let s = (p.node_sets.iter()).find(|s| s.name.eq_ignore_ascii_case(set))?;
+            (!s.nodes.is_empty()).then_some(Holder {
+                body: b,
+                set: s.name.clone(),
+                count: s.nodes.len(),
+                total: p.nodes.len(),
+            })
+        })
+        .collect()
 }
 
 /// A TOML string (quoted, escaped).
@@ -167,13 +230,16 @@ impl DeckScene {
             }
         }
         for b in &self.bodies {
+            let select = match &b.select {
+                Select::Elset(e) => format!("elset = {}", quoted(e)),
+                Select::Part(p) => format!("part = {p}"),
+            };
             let _ = writeln!(
                 t,
-                "\n[[body]]\nname = {}\nmaterial = {}\nmesh = {}\nelset = {}",
+                "\n[[body]]\nname = {}\nmaterial = {}\nmesh = {}\n{select}",
                 quoted(&b.name),
                 quoted(&b.material),
                 quoted(&self.mesh),
-                quoted(&b.name)
             );
             if b.velocity != [0.0; 3] {
                 let _ = writeln!(t, "velocity = {}", vector(b.velocity));
@@ -219,6 +285,20 @@ impl DeckScene {
                 quoted(&f.set),
                 components.join(", ")
             );
+        }
+        for p in &self.planes {
+            let _ = writeln!(
+                t,
+                "\n[[rigid_plane]]\nname = {}\npoint = {}\nnormal = {}\nfriction = {}",
+                quoted(&p.name),
+                vector(p.point),
+                vector(p.normal),
+                float(p.friction)
+            );
+            if let Some(bodies) = &p.bodies {
+                let names: Vec<String> = bodies.iter().map(|b| quoted(b)).collect();
+                let _ = writeln!(t, "bodies = [{}]", names.join(", "));
+            }
         }
         for p in &self.probes {
             let _ = writeln!(

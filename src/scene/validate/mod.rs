@@ -88,6 +88,39 @@ impl Checker<'_> {
         })
     }
 
+    /// Which elements of a mesh file make the body: an Abaqus/CalculiX deck's `elset`, an
+    /// LS-DYNA file's `part`, or every element.
+    fn selection(
+        &self,
+        key: &dyn Fn(&str) -> String,
+        b: &RawBody,
+        file: &Path,
+    ) -> Result<Option<String>> {
+        let ext = (file.extension())
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        let deck = ext == "inp";
+        let keywords = matches!(ext.as_str(), "k" | "key" | "dyn");
+        match (&b.elset, b.part) {
+            (Some(_), Some(_)) => Err(self.err(
+                key("part"),
+                "give `elset` (an Abaqus/CalculiX deck's element set) or `part` (an LS-DYNA part id), not both",
+            )),
+            (Some(_), None) if !deck => Err(self.err(
+                key("elset"),
+                "selects an element set of an Abaqus/CalculiX deck (.inp); an LS-DYNA file's body is a `part`",
+            )),
+            (None, Some(_)) if !keywords => Err(self.err(
+                key("part"),
+                "selects a part of an LS-DYNA keyword file (.k); an Abaqus/CalculiX deck's body is an `elset`",
+            )),
+            (None, Some(p)) if p <= 0 => {
+                Err(self.err(key("part"), format!("{p}: a part id is a positive integer")))
+            }
+            (e, p) => Ok(e.clone().or(p.map(|p| p.to_string()))),
+        }
+    }
+
     fn box_spec(&self, key: &dyn Fn(&str) -> String, b: &RawBox) -> Result<BoxSpec> {
         let min = self.finite3(&key("box.min"), b.min)?;
         let max = self.finite3(&key("box.max"), b.max)?;
@@ -570,11 +603,16 @@ impl Checker<'_> {
                 })?;
             let shape = match (&b.box_, &b.mesh) {
                 (Some(bx), None) => {
-                    if b.scale.is_some() || b.translate.is_some() || b.elset.is_some() {
-                        let k = match (b.scale.is_some(), b.translate.is_some()) {
-                            (true, _) => "scale",
-                            (_, true) => "translate",
-                            _ => "elset",
+                    if b.scale.is_some()
+                        || b.translate.is_some()
+                        || b.elset.is_some()
+                        || b.part.is_some()
+                    {
+                        let k = match (b.scale, b.translate, &b.elset) {
+                            (Some(_), _, _) => "scale",
+                            (_, Some(_), _) => "translate",
+                            (_, _, Some(_)) => "elset",
+                            _ => "part",
                         };
                         return Err(self.err(
                             key(k),
@@ -598,9 +636,9 @@ impl Checker<'_> {
                             source,
                         });
                     }
-                    let elset = b.elset.as_deref();
+                    let selection = self.selection(&key, b, &file_path)?;
                     let (parts, notices) =
-                        crate::mesh::import(&file_path, scale, translate, elset)?;
+                        crate::mesh::import(&file_path, scale, translate, selection.as_deref())?;
                     let mut known = self.notices.borrow_mut();
                     // bodies of one deck share its notice
                     let notices: Vec<String> =

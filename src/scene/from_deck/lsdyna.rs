@@ -1,0 +1,515 @@
+//! An LS-DYNA keyword file read as a scene. The mesh keywords (`*NODE`, `*ELEMENT_SOLID`,
+//! `*SET_NODE_LIST`, `*SET_SEGMENT`) stay the mesh reader's ([`crate::mesh::lsdyna`]); this
+//! reader takes `*TITLE`, `*PART` (each part a body), `*SECTION_SOLID`, `*MAT_ELASTIC`,
+//! `*BOUNDARY_SPC_SET`, `*INITIAL_VELOCITY_GENERATION` (a part's) and `*INITIAL_VELOCITY`
+//! (a node set's), the node-to-surface and surface-to-surface contacts on segment sets with
+//! their static friction, `*RIGIDWALL_PLANAR`, `*CONTROL_TERMINATION` and
+//! `*CONTROL_IMPLICIT_GENERAL`. Units are the deck's own.
+
+use std::path::Path;
+
+use super::{
+    holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckPlane, DeckScene, DeckStep, Elastic,
+    Holder, Select,
+};
+use crate::error::{ImpactError, Result};
+use crate::mesh::lsdyna::{card, keyword};
+use crate::mesh::BodyParts;
+
+/// Keywords the mesh reader takes.
+const MESH: [&str; 7] = [
+    "NODE",
+    "ELEMENT_SOLID",
+    "SET_NODE_LIST",
+    "SET_NODE_LIST_TITLE",
+    "SET_SEGMENT",
+    "SET_SEGMENT_TITLE",
+    "KEYWORD",
+];
+
+/// The contacts read (each on segment sets, with its static friction).
+const CONTACTS: [&str; 4] = [
+    "CONTACT_AUTOMATIC_SURFACE_TO_SURFACE",
+    "CONTACT_AUTOMATIC_NODES_TO_SURFACE",
+    "CONTACT_SURFACE_TO_SURFACE",
+    "CONTACT_NODES_TO_SURFACE",
+];
+
+/// A keyword and its data cards (comment cards left out), with their lines.
+struct Block {
+    name: String,
+    line: usize,
+    cards: Vec<(String, usize)>,
+}
+
+fn blocks(text: &str) -> Vec<Block> {
+    let mut out: Vec<Block> = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        if raw.trim().is_empty() || raw.starts_with('$') {
+            continue;
+        }
+        if raw.starts_with('*') {
+            out.push(Block {
+                name: keyword(raw),
+                line: i + 1,
+                cards: Vec::new(),
+            });
+        } else if let Some(b) = out.last_mut() {
+            b.cards.push((raw.to_string(), i + 1));
+        }
+    }
+    out
+}
+
+/// A planar rigid wall: the node set it stops (0: every node), its point (the tail),
+/// normal (tail to head), friction and line.
+struct Wall {
+    nsid: u64,
+    point: [f64; 3],
+    normal: [f64; 3],
+    friction: f64,
+    line: usize,
+}
+
+/// What the reader gathers before the bodies are known.
+#[derive(Default)]
+struct Gathered {
+    title: Option<String>,
+    /// (part id, title, section id, material id, line).
+    parts: Vec<(u64, String, u64, u64, usize)>,
+    sections: Vec<u64>,
+    /// (material id, density, E, nu).
+    materials: Vec<(u64, f64, f64, f64)>,
+    /// (node set, components, line).
+    spcs: Vec<(String, Vec<&'static str>, usize)>,
+    /// (part id, velocity, line).
+    part_velocities: Vec<(u64, [f64; 3], usize)>,
+    /// (node set, velocity, line).
+    set_velocities: Vec<(String, [f64; 3], usize)>,
+    /// (secondary segment set, primary segment set, friction, line).
+    contacts: Vec<(String, String, f64, usize)>,
+    walls: Vec<Wall>,
+    end_time: Option<f64>,
+    implicit_step: Option<f64>,
+    passed: Vec<(String, usize)>,
+}
+
+struct Reader<'a> {
+    path: &'a Path,
+}
+
+impl Reader<'_> {
+    fn err(&self, line: usize, message: impl Into<String>) -> ImpactError {
+        ImpactError::Mesh {
+            path: self.path.to_path_buf(),
+            line: Some(line),
+            message: message.into(),
+        }
+    }
+
+    /// Field `i` of a card as a number (an empty field is 0, as LS-DYNA reads it).
+    fn real(&self, f: &[String], i: usize, line: usize, what: &str) -> Result<f64> {
+        let s = f.get(i).map(String::as_str).unwrap_or("");
+        if s.is_empty() {
+            return Ok(0.0);
+        }
+        s.parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| self.err(line, format!("{what}: `{s}` is not a finite number")))
+    }
+
+    fn id(&self, f: &[String], i: usize, line: usize, what: &str) -> Result<u64> {
+        let x = self.real(f, i, line, what)?;
+        if x < 0.0 || x.fract() != 0.0 {
+            return Err(self.err(line, format!("{what}: `{x}` is not an id")));
+        }
+        Ok(x as u64)
+    }
+
+    /// Card `k` of `b` in 10-column fields, refused when missing.
+    fn card(&self, b: &Block, k: usize) -> Result<(Vec<String>, usize)> {
+        let (text, line) = b.cards.get(k).ok_or_else(|| {
+            self.err(
+                b.line,
+                format!("*{} needs card {} of its data", b.name, k + 1),
+            )
+        })?;
+        Ok((card(text, &[10]), *line))
+    }
+
+    fn take(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        let name = b.name.as_str();
+        match name {
+            n if MESH.contains(&n) || n == "END" => {}
+            "TITLE" => g.title = b.cards.first().map(|(t, _)| t.trim().to_string()),
+            "PART" => {
+                for pair in b.cards.chunks(2) {
+                    let title = pair[0].0.trim().to_string();
+                    let (text, l) = pair.get(1).ok_or_else(|| {
+                        self.err(b.line, "*PART: a title card, then pid, secid, mid")
+                    })?;
+                    let f = card(text, &[10]);
+                    let ids = [0, 1, 2].map(|i| self.id(&f, i, *l, "*PART id"));
+                    let [pid, sec, mid] = ids;
+                    g.parts.push((pid?, title, sec?, mid?, *l));
+                }
+            }
+            "SECTION_SOLID" => {
+                let (f, l) = self.card(b, 0)?;
+                g.sections.push(self.id(&f, 0, l, "*SECTION_SOLID secid")?);
+                g.passed.push(("SECTION_SOLID ELFORM (impact's hex8 and tet4)".into(), l));
+            }
+            "MAT_ELASTIC" | "MAT_001" => {
+                let (f, l) = self.card(b, 0)?;
+                let v = [1, 2, 3].map(|i| self.real(&f, i, l, "*MAT_ELASTIC"));
+                let [ro, e, pr] = v;
+                g.materials.push((self.id(&f, 0, l, "*MAT_ELASTIC mid")?, ro?, e?, pr?));
+            }
+            "BOUNDARY_SPC_SET" => self.spc(b, g)?,
+            "INITIAL_VELOCITY_GENERATION" => self.velocity_generation(b, g)?,
+            "INITIAL_VELOCITY" => self.initial_velocity(b, g)?,
+            n if CONTACTS.contains(&n) => self.contact(b, g)?,
+            "RIGIDWALL_PLANAR" => self.wall(b, g)?,
+            "CONTROL_TERMINATION" => {
+                let (f, l) = self.card(b, 0)?;
+                g.end_time = Some(self.real(&f, 0, l, "*CONTROL_TERMINATION endtim")?);
+            }
+            "CONTROL_IMPLICIT_GENERAL" => {
+                let (f, l) = self.card(b, 0)?;
+                if self.real(&f, 0, l, "imflag")? == 1.0 {
+                    g.implicit_step = Some(self.real(&f, 1, l, "*CONTROL_IMPLICIT_GENERAL dt0")?);
+                }
+            }
+            n if n.starts_with("DATABASE_") || n.starts_with("CONTROL_") || n == "HOURGLASS" => {
+                g.passed.push((n.to_string(), b.line))
+            }
+            n => {
+                return Err(self.err(
+                    b.line,
+                    format!("*{n}: impact cannot honour this keyword (it reads elastic solid parts, their supports, initial velocities, node-to-surface contacts with friction, planar rigid walls and the run's end; docs/decks.md lists them)"),
+                ))
+            }
+        }
+        Ok(())
+    }
+
+    fn spc(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        for k in 0..b.cards.len() {
+            let (f, l) = self.card(b, k)?;
+            if self.id(&f, 1, l, "*BOUNDARY_SPC_SET cid")? != 0 {
+                return Err(self.err(l, "*BOUNDARY_SPC_SET with a coordinate system (cid): impact holds global components"));
+            }
+            let mut components = Vec::new();
+            for (a, c) in ["x", "y", "z"].into_iter().enumerate() {
+                if self.real(&f, 2 + a, l, "*BOUNDARY_SPC_SET dof")? != 0.0 {
+                    components.push(c);
+                }
+            }
+            let set = self.id(&f, 0, l, "*BOUNDARY_SPC_SET nsid")?.to_string();
+            g.spcs.push((set, components, l));
+        }
+        Ok(())
+    }
+
+    fn velocity_generation(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        let (f, l) = self.card(b, 0)?;
+        let styp = self.id(&f, 1, l, "styp")?;
+        if styp != 2 {
+            return Err(self.err(
+                l,
+                "*INITIAL_VELOCITY_GENERATION: impact reads STYP = 2 (a part)",
+            ));
+        }
+        if self.real(&f, 2, l, "omega")? != 0.0 || self.id(&f, 7, l, "icid")? != 0 {
+            return Err(self.err(l, "*INITIAL_VELOCITY_GENERATION with a rotation or a coordinate system: impact gives a body one initial velocity"));
+        }
+        let v = [3, 4, 5].map(|i| self.real(&f, i, l, "velocity"));
+        let [x, y, z] = v;
+        g.part_velocities
+            .push((self.id(&f, 0, l, "part id")?, [x?, y?, z?], l));
+        Ok(())
+    }
+
+    fn initial_velocity(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        let (f, l) = self.card(b, 0)?;
+        if self.id(&f, 1, l, "nsidex")? != 0 || self.id(&f, 2, l, "boxid")? != 0 {
+            return Err(self.err(l, "*INITIAL_VELOCITY with an excluded set or a box: impact gives a body one initial velocity"));
+        }
+        let set = self.id(&f, 0, l, "nsid")?.to_string();
+        let (v, l2) = self.card(b, 1)?;
+        if (3..6).any(|i| self.real(&v, i, l2, "rotation").map_or(true, |x| x != 0.0)) {
+            return Err(self.err(
+                l2,
+                "*INITIAL_VELOCITY with rotational velocities: impact's solids have none",
+            ));
+        }
+        let w = [0, 1, 2].map(|i| self.real(&v, i, l2, "velocity"));
+        let [x, y, z] = w;
+        g.set_velocities.push((set, [x?, y?, z?], l2));
+        Ok(())
+    }
+
+    fn contact(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        let (f, l) = self.card(b, 0)?;
+        let (sstyp, mstyp) = (self.id(&f, 2, l, "sstyp")?, self.id(&f, 3, l, "mstyp")?);
+        if sstyp != 0 || mstyp != 0 {
+            return Err(self.err(
+                l,
+                format!(
+                    "*{}: impact reads segment sets on both sides (SSTYP = MSTYP = 0)",
+                    b.name
+                ),
+            ));
+        }
+        let (c, l2) = self.card(b, 1)?;
+        let (fs, fd) = (self.real(&c, 0, l2, "fs")?, self.real(&c, 1, l2, "fd")?);
+        if fd != 0.0 && fd != fs {
+            g.passed
+                .push(("CONTACT FD (Coulomb friction at FS)".into(), l2));
+        }
+        if b.cards.len() > 2 {
+            g.passed
+                .push((format!("{} card 3 (penalty scales)", b.name), b.cards[2].1));
+        }
+        let ids = [0, 1].map(|i| self.id(&f, i, l, "segment set id"));
+        let [s, m] = ids;
+        g.contacts.push((s?.to_string(), m?.to_string(), fs, l));
+        Ok(())
+    }
+
+    fn wall(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        let (f, l) = self.card(b, 0)?;
+        if self.id(&f, 1, l, "nsidex")? != 0 || self.id(&f, 2, l, "boxid")? != 0 {
+            return Err(self.err(l, "*RIGIDWALL_PLANAR with an excluded set or a box: impact's rigid plane stops whole bodies"));
+        }
+        let (c, l2) = self.card(b, 1)?;
+        let v: Vec<f64> = (0..7)
+            .map(|i| self.real(&c, i, l2, "*RIGIDWALL_PLANAR"))
+            .collect::<Result<_>>()?;
+        let (tail, head) = ([v[0], v[1], v[2]], [v[3], v[4], v[5]]);
+        let normal = std::array::from_fn(|a| head[a] - tail[a]);
+        g.walls.push(Wall {
+            nsid: self.id(&f, 0, l, "nsid")?,
+            point: tail,
+            normal,
+            friction: v[6],
+            line: l,
+        });
+        Ok(())
+    }
+}
+
+/// A part's body name: its title where that is a name (letters, digits, `_`, `-`), else
+/// `part<id>`.
+fn body_name(pid: u64, title: &str) -> String {
+    let ok = !title.is_empty()
+        && (title.chars()).all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if ok {
+        title.to_string()
+    } else {
+        format!("part{pid}")
+    }
+}
+
+/// The keyword file at `path` as a scene, and the notice of what it passed over.
+pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
+    let whole = |message: String| ImpactError::Mesh {
+        path: path.to_path_buf(),
+        line: None,
+        message,
+    };
+    let text =
+        crate::limits::read_input_text(path).map_err(|e| whole(format!("cannot read: {e}")))?;
+    let r = Reader { path };
+    let mut g = Gathered::default();
+    for b in blocks(&text) {
+        r.take(&b, &mut g)?;
+    }
+    let end_time = g
+        .end_time
+        .ok_or_else(|| whole("no *CONTROL_TERMINATION: impact runs to its ENDTIM".into()))?;
+    if g.parts.is_empty() {
+        return Err(whole(
+            "no *PART: each part of solid elements is a body".into(),
+        ));
+    }
+    let bodies = r.bodies(&g)?;
+    let scene = DeckScene {
+        title: g.title.clone(),
+        mesh: path
+            .file_name()
+            .map_or_else(String::new, |f| f.to_string_lossy().into_owned()),
+        gravity: None,
+        materials: r.materials(&g),
+        fixes: r.fixes(&g, &bodies)?,
+        contacts: r.contacts(&g, &bodies)?,
+        planes: r.walls(&g, &bodies)?,
+        bodies: r.velocities(&g, &bodies)?,
+        probes: Vec::new(),
+        step: DeckStep {
+            explicit: g.implicit_step.is_none(),
+            end_time,
+            time_step: g.implicit_step,
+        },
+    };
+    Ok((scene, notice(path, &g)))
+}
+
+fn notice(path: &Path, g: &Gathered) -> Option<String> {
+    let mut parts: Vec<String> = g
+        .passed
+        .iter()
+        .map(|(k, l)| format!("*{k} (line {l})"))
+        .collect();
+    if !g.contacts.is_empty() || !g.walls.is_empty() {
+        parts.push("the contacts' penalty (the augmented Lagrange iteration on the gap rate enforces the contact)".into());
+    }
+    (!parts.is_empty()).then(|| format!("{}: passed over: {}", path.display(), parts.join("; ")))
+}
+
+impl Reader<'_> {
+    fn materials(&self, g: &Gathered) -> Vec<DeckMaterial> {
+        (g.materials.iter())
+            .map(|&(mid, ro, e, nu)| DeckMaterial {
+                name: format!("mat{mid}"),
+                density: Some(ro),
+                elastic: Some(Elastic::Isotropic { e, nu }),
+            })
+            .collect()
+    }
+
+    fn bodies(&self, g: &Gathered) -> Result<Vec<(DeckBody, BodyParts)>> {
+        let mut out = Vec::new();
+        for (pid, title, sec, mid, line) in &g.parts {
+            if !g.sections.contains(sec) {
+                return Err(self.err(*line, format!("part {pid}: no *SECTION_SOLID {sec}")));
+            }
+            if !g.materials.iter().any(|m| m.0 == *mid) {
+                return Err(self.err(
+                    *line,
+                    format!("part {pid}: no *MAT_ELASTIC {mid} (impact reads elastic materials)"),
+                ));
+            }
+            let part = pid.to_string();
+            let (parts, _) = crate::mesh::import(self.path, 1.0, [0.0; 3], Some(&part))?;
+            let body = DeckBody {
+                name: body_name(*pid, title),
+                material: format!("mat{mid}"),
+                velocity: [0.0; 3],
+                select: Select::Part(*pid),
+            };
+            out.push((body, parts));
+        }
+        Ok(out)
+    }
+
+    fn held<'b>(
+        &self,
+        bodies: &'b [(DeckBody, BodyParts)],
+        set: &str,
+        line: usize,
+    ) -> Result<Vec<Holder<'b>>> {
+        let found = holders(bodies, set);
+        match found.is_empty() {
+            true => Err(self.err(
+                line,
+                format!("no part's elements hold the nodes of node set {set}"),
+            )),
+            false => Ok(found),
+        }
+    }
+
+    fn fixes(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckFix>> {
+        let mut out = Vec::new();
+        for (set, components, line) in g.spcs.iter().filter(|s| !s.1.is_empty()) {
+            for h in self.held(bodies, set, *line)? {
+                out.push(DeckFix {
+                    body: h.body.name.clone(),
+                    set: h.set,
+                    components: components.clone(),
+                });
+            }
+        }
+        Ok(out)
+    }
+
+    fn velocities(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckBody>> {
+        let mut out: Vec<DeckBody> = bodies.iter().map(|(b, _)| b.clone()).collect();
+        for (pid, v, line) in &g.part_velocities {
+            let b = (out.iter_mut())
+                .find(|b| b.select == Select::Part(*pid))
+                .ok_or_else(|| self.err(*line, format!("no *PART {pid}")))?;
+            b.velocity = *v;
+        }
+        for (set, v, line) in &g.set_velocities {
+            for h in self.held(bodies, set, *line)? {
+                if h.count != h.total {
+                    return Err(self.err(*line, format!("node set {set} holds {} of body `{}`'s {} nodes: impact gives a body one initial velocity", h.count, h.body.name, h.total)));
+                }
+                if let Some(o) = out.iter_mut().find(|o| o.name == h.body.name) {
+                    o.velocity = *v;
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    fn contacts(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckContact>> {
+        let owner = |set: &str, line: usize| -> Result<(String, String)> {
+            let mut found = (bodies.iter()).filter_map(|(b, p)| {
+                (p.surfaces.iter())
+                    .find(|s| s.name == set)
+                    .map(|s| (b.name.clone(), s.name.clone()))
+            });
+            let first = found.next().ok_or_else(|| {
+                self.err(line, format!("no part's elements hold segment set {set}"))
+            })?;
+            if found.next().is_some() {
+                return Err(self.err(
+                    line,
+                    format!("segment set {set} lies on two parts: a contact surface is one body's"),
+                ));
+            }
+            Ok(first)
+        };
+        let mut out = Vec::new();
+        for (k, (s, m, fs, line)) in g.contacts.iter().enumerate() {
+            out.push(DeckContact {
+                name: format!("contact{}", k + 1),
+                secondary: owner(s, *line)?,
+                primary: owner(m, *line)?,
+                friction: *fs,
+            });
+        }
+        Ok(out)
+    }
+
+    fn walls(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckPlane>> {
+        let mut out = Vec::new();
+        for (k, w) in g.walls.iter().enumerate() {
+            let line = &w.line;
+            let stops = match w.nsid {
+                0 => None,
+                s => {
+                    let mut names = Vec::new();
+                    for h in self.held(bodies, &s.to_string(), *line)? {
+                        if h.count != h.total {
+                            return Err(self.err(*line, format!("node set {s} holds {} of body `{}`'s {} nodes: impact's rigid plane stops whole bodies", h.count, h.body.name, h.total)));
+                        }
+                        names.push(h.body.name.clone());
+                    }
+                    Some(names)
+                }
+            };
+            out.push(DeckPlane {
+                name: format!("wall{}", k + 1),
+                point: w.point,
+                normal: w.normal,
+                friction: w.friction,
+                bodies: stops,
+            });
+        }
+        Ok(out)
+    }
+}
