@@ -515,7 +515,11 @@ fn what_a_keyword_file_asks_that_impact_cannot_honour_is_refused_by_keyword_and_
         "         1         1         1",
         "         1         1         7",
     );
-    k("k_no_mat", &no_mat, &["bad.k:20", "no *MAT_ELASTIC 7"]);
+    k(
+        "k_no_mat",
+        &no_mat,
+        &["bad.k:20", "no *MAT_ELASTIC or *MAT_RIGID 7"],
+    );
     let load = deck.replace("*END", "*LOAD_BODY_Z\n         1\n*END");
     k("k_load", &load, &["*LOAD_BODY_Z", "cannot honour"]);
 }
@@ -550,4 +554,122 @@ fn elset_and_part_are_each_their_formats_key() {
     let two_bars = repo().join("scenes/two_bars.toml");
     let ok = scene("two_bars.inp", "elset = \"B\"");
     Scene::parse(&ok, &two_bars).expect("bar B alone");
+}
+
+/// An LS-DYNA rigid part (`*MAT_RIGID`, rotations held) as a tup: a 0.5 cube of density 0.08
+/// (mass 0.01) dropped at 1 on an elastic block held at its base, the contact between the
+/// block's top and the tup's boundary segment sets.
+fn rigid_tup_deck() -> String {
+    let mut t =
+        String::from("*KEYWORD\n*TITLE\nA rigid tup on a block\n*CONTROL_TERMINATION\n0.05\n");
+    t += "*PART\nblock\n1, 1, 1\n*PART\ntup\n2, 1, 2\n*SECTION_SOLID\n1, 2\n";
+    t += "*MAT_ELASTIC\n1, 0.01, 100.0, 0.3\n*MAT_RIGID\n2, 0.08, 100.0, 0.3\n1.0, 0.0, 7.0\n";
+    t += "*INITIAL_VELOCITY_GENERATION\n2, 2, 0.0, 0.0, 0.0, -1.0, 0, 0\n0, 0, 0, 0, 0, 0, 0, 0\n";
+    t += "*NODE\n";
+    let mut nodes = String::new();
+    let mut elements = String::new();
+    // block: 2 x 2 x 2 over [0, 1]^3, nodes 1.., elements 1..; tup: 1 element over
+    // [0.25, 0.75]^2 x [1.01, 1.51], nodes 101.., element 101
+    let id = |i: usize, j: usize, k: usize| 1 + i + 3 * (j + 3 * k);
+    for k in 0..3 {
+        for j in 0..3 {
+            for i in 0..3 {
+                let x = [i, j, k].map(|q| q as f64 * 0.5);
+                nodes += &format!("{}, {}, {}, {}\n", id(i, j, k), x[0], x[1], x[2]);
+            }
+        }
+    }
+    let mut e = 1;
+    for k in 0..2 {
+        for j in 0..2 {
+            for i in 0..2 {
+                let c = [
+                    id(i, j, k),
+                    id(i + 1, j, k),
+                    id(i + 1, j + 1, k),
+                    id(i, j + 1, k),
+                    id(i, j, k + 1),
+                    id(i + 1, j, k + 1),
+                    id(i + 1, j + 1, k + 1),
+                    id(i, j + 1, k + 1),
+                ];
+                let c: Vec<String> = c.iter().map(|n| n.to_string()).collect();
+                elements += &format!("{e}, 1, {}\n", c.join(", "));
+                e += 1;
+            }
+        }
+    }
+    let tup = [
+        [0.25, 0.25, 1.01],
+        [0.75, 0.25, 1.01],
+        [0.75, 0.75, 1.01],
+        [0.25, 0.75, 1.01],
+        [0.25, 0.25, 1.51],
+        [0.75, 0.25, 1.51],
+        [0.75, 0.75, 1.51],
+        [0.25, 0.75, 1.51],
+    ];
+    for (k, x) in tup.iter().enumerate() {
+        nodes += &format!("{}, {}, {}, {}\n", 101 + k, x[0], x[1], x[2]);
+    }
+    elements += "101, 2, 101, 102, 103, 104, 105, 106, 107, 108\n";
+    t += &nodes;
+    t += "*ELEMENT_SOLID\n";
+    t += &elements;
+    // the block's base nodes (k = 0), its top faces (k = 2, outward +z), the tup's bottom
+    t += "*SET_NODE_LIST\n1\n1, 2, 3, 4, 5, 6, 7, 8\n9\n";
+    t += "*SET_SEGMENT\n1\n";
+    for j in 0..2 {
+        for i in 0..2 {
+            let s = [
+                id(i, j, 2),
+                id(i + 1, j, 2),
+                id(i + 1, j + 1, 2),
+                id(i, j + 1, 2),
+            ];
+            t += &format!("{}, {}, {}, {}\n", s[0], s[1], s[2], s[3]);
+        }
+    }
+    // the tup's whole boundary: a closed surface
+    t += "*SET_SEGMENT\n2\n101, 104, 103, 102\n105, 106, 107, 108\n101, 102, 106, 105\n";
+    t += "102, 103, 107, 106\n103, 104, 108, 107\n104, 101, 105, 108\n";
+    t += "*BOUNDARY_SPC_SET\n1, 0, 1, 1, 1, 0, 0, 0\n";
+    t += "*CONTACT_AUTOMATIC_NODES_TO_SURFACE\n1, 2, 0, 0\n0.0, 0.0\n*END\n";
+    t
+}
+
+#[test]
+fn an_lsdyna_rigid_part_strikes_as_a_rigid_body_of_its_mass() {
+    let dir = out_dir("deck_rigid_tup_files");
+    std::fs::create_dir_all(&dir).unwrap();
+    let deck = dir.join("rigid_tup.k");
+    std::fs::write(&deck, rigid_tup_deck()).unwrap();
+    let (_, h) = run_file("deck_rigid_tup", &deck);
+    let (t, fz, vz) = (h.col("time"), h.col("contact1.fz"), h.col("tup.vz"));
+    assert!(fz.iter().any(|&f| f > 0.0), "the tup strikes the block");
+    // the contact's impulse on the tup is its change of momentum, with its mass RO x V
+    let mass = 0.08 * 0.125;
+    let impulse: f64 = (1..t.len()).map(|i| fz[i] * (t[i] - t[i - 1])).sum();
+    let n = t.len() - 1;
+    let change = mass * (vz[n] - vz[0]);
+    eprintln!(
+        "impulse {impulse:.6e}, change of momentum {change:.6e}, vz {}",
+        vz[n]
+    );
+    assert!(vz[n] > -0.9, "the block slows the tup: {}", vz[n]);
+    assert!(
+        (impulse - change).abs() <= 1e-9 * mass,
+        "{impulse} against {change}"
+    );
+    let e = h.col("total_energy");
+    let rise = e.iter().fold(f64::MIN, |m, &x| m.max(x)) - e[0];
+    assert!(rise <= 1e-9 * e[0], "energy rises by {rise}");
+    // a rigid part free to rotate is refused by its line
+    let turning = edit(&rigid_tup_deck(), "1.0, 0.0, 7.0", "1.0, 0.0, 0.0");
+    std::fs::write(&deck, turning).unwrap();
+    let e = Scene::load(&deck).expect_err("refused").to_string();
+    assert!(
+        e.contains("rigid_tup.k:17") && e.contains("CON2 = 7"),
+        "{e}"
+    );
 }

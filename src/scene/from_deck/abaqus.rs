@@ -11,7 +11,7 @@ use std::path::Path;
 
 use super::{
     holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckProbe, DeckScene, DeckStep, Elastic,
-    Holder, Select,
+    Holder, PrimarySide, Select,
 };
 use crate::error::{ImpactError, Result};
 use crate::mesh::abaqus::params;
@@ -456,6 +456,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         contacts: r.contacts(&g, &bodies)?,
         probes,
         planes: Vec::new(),
+        rigid: Vec::new(),
         bodies: r.velocities(&g, &bodies)?,
         step,
     };
@@ -657,7 +658,10 @@ impl Reader<'_> {
             out.push(DeckContact {
                 name: format!("{slave}-{master}"),
                 secondary: owner(slave, *line)?,
-                primary: owner(master, *line)?,
+                primary: {
+                    let (body, surface) = owner(master, *line)?;
+                    PrimarySide::Surface(body, surface)
+                },
                 friction,
             });
         }

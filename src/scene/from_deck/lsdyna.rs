@@ -9,8 +9,8 @@
 use std::path::Path;
 
 use super::{
-    holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckPlane, DeckScene, DeckStep, Elastic,
-    Holder, Select,
+    holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckPlane, DeckRigid, DeckScene,
+    DeckStep, Elastic, Holder, PrimarySide, Select,
 };
 use crate::error::{ImpactError, Result};
 use crate::mesh::lsdyna::{card, keyword};
@@ -71,6 +71,14 @@ struct Wall {
     line: usize,
 }
 
+/// A `*MAT_RIGID`: its id, density, and its constraints (CMO, CON1, CON2), with its line.
+struct RigidMaterial {
+    mid: u64,
+    ro: f64,
+    constraints: [f64; 3],
+    line: usize,
+}
+
 /// What the reader gathers before the bodies are known.
 #[derive(Default)]
 struct Gathered {
@@ -80,6 +88,7 @@ struct Gathered {
     sections: Vec<u64>,
     /// (material id, density, E, nu).
     materials: Vec<(u64, f64, f64, f64)>,
+    rigid_materials: Vec<RigidMaterial>,
     /// (node set, components, line).
     spcs: Vec<(String, Vec<&'static str>, usize)>,
     /// (part id, velocity, line).
@@ -165,6 +174,18 @@ impl Reader<'_> {
                 let v = [1, 2, 3].map(|i| self.real(&f, i, l, "*MAT_ELASTIC"));
                 let [ro, e, pr] = v;
                 g.materials.push((self.id(&f, 0, l, "*MAT_ELASTIC mid")?, ro?, e?, pr?));
+            }
+            "MAT_RIGID" | "MAT_020" => {
+                let (f, l) = self.card(b, 0)?;
+                let (c, l2) = self.card(b, 1)?;
+                let k = [0, 1, 2].map(|i| self.real(&c, i, l2, "*MAT_RIGID constraint"));
+                let [cmo, con1, con2] = k;
+                g.rigid_materials.push(RigidMaterial {
+                    mid: self.id(&f, 0, l, "*MAT_RIGID mid")?,
+                    ro: self.real(&f, 1, l, "*MAT_RIGID ro")?,
+                    constraints: [cmo?, con1?, con2?],
+                    line: l,
+                });
             }
             "BOUNDARY_SPC_SET" => self.spc(b, g)?,
             "INITIAL_VELOCITY_GENERATION" => self.velocity_generation(b, g)?,
@@ -300,6 +321,15 @@ impl Reader<'_> {
     }
 }
 
+/// A rigid body's name and the segment set its contacts name.
+type RigidSurface = (String, String);
+
+/// The rigid material of part `pid`, if its material is one.
+fn rigid_part(g: &Gathered, pid: u64) -> Option<&RigidMaterial> {
+    let (_, _, _, mid, _) = g.parts.iter().find(|p| p.0 == pid)?;
+    g.rigid_materials.iter().find(|m| m.mid == *mid)
+}
+
 /// A part's body name: its title where that is a name (letters, digits, `_`, `-`), else
 /// `part<id>`.
 fn body_name(pid: u64, title: &str) -> String {
@@ -335,6 +365,8 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         ));
     }
     let bodies = r.bodies(&g)?;
+    let rigid = r.rigid_parts(&g)?;
+    let (contacts, surfaces) = r.contacts(&g, &bodies, &rigid)?;
     let scene = DeckScene {
         title: g.title.clone(),
         mesh: path
@@ -343,7 +375,17 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         gravity: None,
         materials: r.materials(&g),
         fixes: r.fixes(&g, &bodies)?,
-        contacts: r.contacts(&g, &bodies)?,
+        contacts,
+        rigid: (rigid.iter())
+            .filter_map(|(d, _)| {
+                // a rigid part that no contact names has no surface to act through
+                let surface = surfaces.iter().find(|(n, _)| *n == d.name)?.1.clone();
+                Some(DeckRigid {
+                    surface,
+                    ..d.clone()
+                })
+            })
+            .collect(),
         planes: r.walls(&g, &bodies)?,
         bodies: r.velocities(&g, &bodies)?,
         probes: Vec::new(),
@@ -353,7 +395,22 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
             time_step: g.implicit_step,
         },
     };
-    Ok((scene, notice(path, &g)))
+    let untouched: Vec<String> = (rigid.iter())
+        .filter(|(d, _)| !scene.rigid.iter().any(|r| r.name == d.name))
+        .map(|(d, _)| d.name.clone())
+        .collect();
+    let mut notice = notice(path, &g);
+    if !untouched.is_empty() {
+        let line = format!(
+            "rigid parts that no contact names, left out: {}",
+            untouched.join(", ")
+        );
+        notice = Some(match notice {
+            Some(n) => format!("{n}; {line}"),
+            None => format!("{}: {line}", path.display()),
+        });
+    }
+    Ok((scene, notice))
 }
 
 fn notice(path: &Path, g: &Gathered) -> Option<String> {
@@ -385,10 +442,13 @@ impl Reader<'_> {
             if !g.sections.contains(sec) {
                 return Err(self.err(*line, format!("part {pid}: no *SECTION_SOLID {sec}")));
             }
+            if g.rigid_materials.iter().any(|m| m.mid == *mid) {
+                continue;
+            }
             if !g.materials.iter().any(|m| m.0 == *mid) {
                 return Err(self.err(
                     *line,
-                    format!("part {pid}: no *MAT_ELASTIC {mid} (impact reads elastic materials)"),
+                    format!("part {pid}: no *MAT_ELASTIC or *MAT_RIGID {mid} (impact reads elastic and rigid materials)"),
                 ));
             }
             let part = pid.to_string();
@@ -437,6 +497,9 @@ impl Reader<'_> {
     fn velocities(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckBody>> {
         let mut out: Vec<DeckBody> = bodies.iter().map(|(b, _)| b.clone()).collect();
         for (pid, v, line) in &g.part_velocities {
+            if rigid_part(g, *pid).is_some() {
+                continue;
+            }
             let b = (out.iter_mut())
                 .find(|b| b.select == Select::Part(*pid))
                 .ok_or_else(|| self.err(*line, format!("no *PART {pid}")))?;
@@ -455,7 +518,65 @@ impl Reader<'_> {
         Ok(out)
     }
 
-    fn contacts(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckContact>> {
+    /// The rigid parts as rigid bodies (their surfaces still to come from the contacts),
+    /// each with its mesh.
+    fn rigid_parts(&self, g: &Gathered) -> Result<Vec<(DeckRigid, BodyParts)>> {
+        let mut out = Vec::new();
+        for (pid, title, _, _, line) in &g.parts {
+            let Some(m) = rigid_part(g, *pid) else {
+                continue;
+            };
+            let motion = match m.constraints {
+                [1.0, 0.0, 7.0] => "free",
+                [1.0, 7.0, 7.0] => "fixed",
+                _ => return Err(self.err(m.line, "*MAT_RIGID: impact's rigid part translates as a whole or is held: give CMO = 1, CON2 = 7 (rotations held) and CON1 = 0 (free) or 7 (held)")),
+            };
+            let part = pid.to_string();
+            let (parts, _) = crate::mesh::import(self.path, 1.0, [0.0; 3], Some(&part))?;
+            let volume: f64 = (parts.elements.iter())
+                .map(|e| {
+                    let x: Vec<[f64; 3]> =
+                        e.nodes.iter().map(|&n| parts.nodes[n as usize]).collect();
+                    e.kind.volume(&x)
+                })
+                .sum();
+            let mass = m.ro * volume;
+            if mass.is_nan() || mass <= 0.0 {
+                return Err(self.err(
+                    *line,
+                    format!(
+                        "rigid part {pid}: its mass, RO x volume = {} x {volume}, must be positive",
+                        m.ro
+                    ),
+                ));
+            }
+            let velocity = (g.part_velocities.iter())
+                .find(|v| v.0 == *pid)
+                .map_or([0.0; 3], |v| v.1);
+            let rigid = DeckRigid {
+                name: body_name(*pid, title),
+                mass,
+                velocity,
+                motion,
+                surface: String::new(),
+            };
+            out.push((rigid, parts));
+        }
+        Ok(out)
+    }
+
+    /// The contacts, and the surface (segment set) each rigid body acts through.
+    fn contacts(
+        &self,
+        g: &Gathered,
+        bodies: &[(DeckBody, BodyParts)],
+        rigid: &[(DeckRigid, BodyParts)],
+    ) -> Result<(Vec<DeckContact>, Vec<RigidSurface>)> {
+        let on_rigid = |set: &str| {
+            (rigid.iter())
+                .find(|(_, p)| p.surfaces.iter().any(|s| s.name == set))
+                .map(|(r, _)| r.name.clone())
+        };
         let owner = |set: &str, line: usize| -> Result<(String, String)> {
             let mut found = (bodies.iter()).filter_map(|(b, p)| {
                 (p.surfaces.iter())
@@ -474,15 +595,35 @@ impl Reader<'_> {
             Ok(first)
         };
         let mut out = Vec::new();
+        let mut surfaces: Vec<RigidSurface> = Vec::new();
         for (k, (s, m, fs, line)) in g.contacts.iter().enumerate() {
+            if on_rigid(s).is_some() {
+                return Err(self.err(*line, format!("segment set {s} lies on a rigid part: a rigid part is a contact's master side")));
+            }
+            let primary = match on_rigid(m) {
+                Some(name) => {
+                    match surfaces.iter().find(|(n, _)| *n == name) {
+                        Some((_, other)) if other != m => {
+                            return Err(self.err(*line, format!("rigid part `{name}` meets its contacts through segment sets {other} and {m}: impact's rigid body has one surface")));
+                        }
+                        Some(_) => {}
+                        None => surfaces.push((name.clone(), m.clone())),
+                    }
+                    PrimarySide::Rigid(name)
+                }
+                None => {
+                    let (body, surface) = owner(m, *line)?;
+                    PrimarySide::Surface(body, surface)
+                }
+            };
             out.push(DeckContact {
                 name: format!("contact{}", k + 1),
                 secondary: owner(s, *line)?,
-                primary: owner(m, *line)?,
+                primary,
                 friction: *fs,
             });
         }
-        Ok(out)
+        Ok((out, surfaces))
     }
 
     fn walls(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckPlane>> {

@@ -71,12 +71,30 @@ pub(crate) struct DeckFix {
     pub components: Vec<&'static str>,
 }
 
+/// A contact's primary side: a body's surface, or a rigid body.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum PrimarySide {
+    Surface(String, String),
+    Rigid(String),
+}
+
+/// A rigid body made of a deck's rigid part: its mass, velocity and motion (`"free"` or
+/// `"fixed"`, translating), its surface a set of the deck, in the deck's coordinates.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct DeckRigid {
+    pub name: String,
+    pub mass: f64,
+    pub velocity: [f64; 3],
+    pub motion: &'static str,
+    pub surface: String,
+}
+
 /// A contact pair: the secondary (slave) and primary (master) surfaces and their bodies.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct DeckContact {
     pub name: String,
     pub secondary: (String, String),
-    pub primary: (String, String),
+    pub primary: PrimarySide,
     pub friction: f64,
 }
 
@@ -109,6 +127,7 @@ pub(crate) struct DeckScene {
     pub contacts: Vec<DeckContact>,
     pub probes: Vec<DeckProbe>,
     pub planes: Vec<DeckPlane>,
+    pub rigid: Vec<DeckRigid>,
     pub step: DeckStep,
 }
 
@@ -264,15 +283,31 @@ impl DeckScene {
 
     /// The contacts, the fixes and the probes.
     fn write_pieces(&self, t: &mut String) {
-        for c in &self.contacts {
+        for r in &self.rigid {
             let _ = writeln!(
                 t,
-                "\n[[contact]]\nname = {}\nsecondary = {{ body = {}, surface = {} }}\nprimary = {{ body = {}, surface = {} }}\nfriction = {}",
+                "\n[[rigid_body]]\nname = {}\nmass = {}\nposition = [0.0, 0.0, 0.0]\nvelocity = {}\nmotion = \"{}\"\nshape = {{ mesh = {}, surface = {} }}",
+                quoted(&r.name),
+                float(r.mass),
+                vector(r.velocity),
+                r.motion,
+                quoted(&self.mesh),
+                quoted(&r.surface)
+            );
+        }
+        for c in &self.contacts {
+            let primary = match &c.primary {
+                PrimarySide::Surface(b, s) => {
+                    format!("{{ body = {}, surface = {} }}", quoted(b), quoted(s))
+                }
+                PrimarySide::Rigid(r) => format!("{{ rigid_body = {} }}", quoted(r)),
+            };
+            let _ = writeln!(
+                t,
+                "\n[[contact]]\nname = {}\nsecondary = {{ body = {}, surface = {} }}\nprimary = {primary}\nfriction = {}",
                 quoted(&c.name),
                 quoted(&c.secondary.0),
                 quoted(&c.secondary.1),
-                quoted(&c.primary.0),
-                quoted(&c.primary.1),
                 float(c.friction)
             );
         }
