@@ -70,7 +70,8 @@ fn integer(f: &[String], i: usize, line: usize, what: &str) -> Res<u64> {
         .map_err(|_| ParseError::at(line, format!("{what}: `{s}` is not a positive integer")))
 }
 
-fn real(f: &[String], i: usize, line: usize, what: &str) -> Res<f64> {
+/// Field `i` of a card as a number (an empty field is 0, as LS-DYNA reads it).
+pub(crate) fn real(f: &[String], i: usize, line: usize, what: &str) -> Res<f64> {
     let s = f.get(i).map(String::as_str).unwrap_or("");
     if s.is_empty() {
         return Ok(0.0);

@@ -10,8 +10,8 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::{
-    holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckProbe, DeckScene, DeckStep, Elastic,
-    Holder, PrimarySide, Select,
+    fixes_of, holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckProbe, DeckScene,
+    DeckStep, Elastic, Holder, PrimarySide, Select,
 };
 use crate::error::{ImpactError, Result};
 use crate::mesh::abaqus::params;
@@ -597,13 +597,7 @@ impl Reader<'_> {
         for (set, first, last, line) in &g.boundaries {
             let components: Vec<&'static str> =
                 (*first..=*last).map(|d| ["x", "y", "z"][d - 1]).collect();
-            for h in self.holders(bodies, set, *line)? {
-                out.push(DeckFix {
-                    body: h.body.name.clone(),
-                    set: h.set,
-                    components: components.clone(),
-                });
-            }
+            out.extend(fixes_of(self.holders(bodies, set, *line)?, &components));
         }
         Ok(out)
     }

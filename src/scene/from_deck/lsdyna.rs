@@ -9,8 +9,8 @@
 use std::path::Path;
 
 use super::{
-    holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckPlane, DeckRigid, DeckScene,
-    DeckStep, Elastic, Holder, PrimarySide, Select,
+    fixes_of, holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckPlane, DeckRigid,
+    DeckScene, DeckStep, Elastic, Holder, PrimarySide, Select,
 };
 use crate::error::{ImpactError, Result};
 use crate::mesh::lsdyna::{card, keyword};
@@ -116,16 +116,9 @@ impl Reader<'_> {
         }
     }
 
-    /// Field `i` of a card as a number (an empty field is 0, as LS-DYNA reads it).
+    /// Field `i` of a card as a number ([`crate::mesh::lsdyna::real`]).
     fn real(&self, f: &[String], i: usize, line: usize, what: &str) -> Result<f64> {
-        let s = f.get(i).map(String::as_str).unwrap_or("");
-        if s.is_empty() {
-            return Ok(0.0);
-        }
-        s.parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| self.err(line, format!("{what}: `{s}` is not a finite number")))
+        crate::mesh::lsdyna::real(f, i, line, what).map_err(|e| self.err(line, e.message))
     }
 
     fn id(&self, f: &[String], i: usize, line: usize, what: &str) -> Result<u64> {
@@ -483,13 +476,7 @@ impl Reader<'_> {
     fn fixes(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckFix>> {
         let mut out = Vec::new();
         for (set, components, line) in g.spcs.iter().filter(|s| !s.1.is_empty()) {
-            for h in self.held(bodies, set, *line)? {
-                out.push(DeckFix {
-                    body: h.body.name.clone(),
-                    set: h.set,
-                    components: components.clone(),
-                });
-            }
+            out.extend(fixes_of(self.held(bodies, set, *line)?, components));
         }
         Ok(out)
     }

@@ -193,6 +193,18 @@ pub(crate) fn holders<'b>(
         .collect()
 }
 
+/// A fix of `components` on the node set of each body that `holders` names.
+pub(crate) fn fixes_of<'a>(
+    holders: Vec<Holder<'a>>,
+    components: &'a [&'static str],
+) -> impl Iterator<Item = DeckFix> + 'a {
+    holders.into_iter().map(move |h| DeckFix {
+        body: h.body.name.clone(),
+        set: h.set,
+        components: components.to_vec(),
+    })
+}
+
 /// A TOML string (quoted, escaped).
 fn quoted(s: &str) -> String {
     toml::Value::String(s.to_string()).to_string()
