@@ -19,7 +19,9 @@
 //! 10^7-element row on the resident engine alone where the adapter is a hardware GPU;
 //! `-- --quick` for 10^4 and 10^5 only; `-- --large` adds the 10^7 row on any adapter;
 //! `-- --resident` times the resident engine alone; `-- --sweeps N` fixes the contact
-//! sweeps the resident engine records per step; `-- --plate` runs the plate scene alone and
+//! sweeps the resident engine records per step; `-- --search-interval N` fixes the steps
+//! between its contact search's sorts of the faces (1: every step); `-- --plate` runs the
+//! plate scene alone and
 //! `-- --no-large` leaves the 10^7-element rows out).
 
 use std::path::Path;
@@ -100,13 +102,15 @@ struct Resident {
     /// Stage name and microseconds per step.
     stages: Vec<(&'static str, f64)>,
     copy: f64,
-    /// Steps timed, and the contact sweeps recorded (as dispatches of their own) and needed
-    /// per step over them.
+    /// Steps timed, the contact sweeps recorded (as dispatches of their own) and needed
+    /// per step over them, and the contact search's sorts of the faces per step.
     steps: usize,
     sweeps: Option<(f64, f64)>,
-    /// The contact iteration's parts alone, microseconds: setup; setup and every sweep in
-    /// `contact_finish`; setup, the recorded sweeps and `contact_finish`; report.
-    contact_parts: Option<[f64; 4]>,
+    rebuilds: Option<f64>,
+    /// The contact iteration's parts alone, microseconds: setup; setup keeping the faces'
+    /// sort; setup and every sweep in `contact_finish`; setup, the recorded sweeps and
+    /// `contact_finish`; report.
+    contact_parts: Option<[f64; 5]>,
 }
 
 /// The bytes one explicit step moves at least: per node the predictor (a, v), drift (v, u),
@@ -168,7 +172,11 @@ fn time_resident(
     if let Some(n) = fixed_sweeps() {
         s.fix_recorded_sweeps(n);
     }
+    if let Some(n) = fixed_search_interval() {
+        s.fix_search_interval(n);
+    }
     let before = s.sweep_counts();
+    let sorts_before = s.search_counts().0;
     let t = Instant::now();
     let mut steps = 0;
     while steps == 0 || (steps + chunk <= max_steps && t.elapsed().as_secs_f64() < 1.0) {
@@ -185,6 +193,8 @@ fn time_resident(
         .impulse_sweeps()
         .is_some()
         .then(|| (per_step(after.0, before.0), per_step(after.1, before.1)));
+    let sorts = s.search_counts().0;
+    let rebuilds = (sorts > 0).then(|| per_step(sorts, sorts_before));
     let engine = s.engine_mut();
     let reps = steps.clamp(4, 50);
     let recorded = engine.sweeps();
@@ -222,6 +232,7 @@ fn time_resident(
         copy,
         steps,
         sweeps,
+        rebuilds,
         contact_parts,
     }
 }
@@ -309,11 +320,11 @@ fn table(
     println!("\nThe resident step's stages alone (microseconds per step; each stage repeated in one submission), and the host's time to record and submit a step (it overlaps the device's work on the submission before):\n");
     let names: Vec<&str> = stage_rows[0].1.stages.iter().map(|s| s.0).collect();
     println!(
-        "| elements | {} | sum | whole step | steps timed | contact sweeps recorded per step | needed per step |",
+        "| elements | {} | sum | whole step | steps timed | contact sweeps recorded per step | needed per step | search rebuilds per step |",
         names.join(" | ")
     );
     println!(
-        "|---:|{}---:|---:|---:|---:|---:|",
+        "|---:|{}---:|---:|---:|---:|---:|---:|",
         "---:|".repeat(names.len())
     );
     for (elements, r) in &stage_rows {
@@ -326,25 +337,26 @@ fn table(
             .map(|s| s.1)
             .sum();
         println!(
-            "| {elements} | {} | {sum:.1} | {:.1} | {} | {} | {} |",
+            "| {elements} | {} | {sum:.1} | {:.1} | {} | {} | {} | {} |",
             cells.join(" | "),
             r.ns * *elements as f64 * 1e-3,
             r.steps,
             r.sweeps.map_or("-".into(), |x| format!("{:.2}", x.0)),
             r.sweeps.map_or("-".into(), |x| format!("{:.2}", x.1)),
+            r.rebuilds.map_or("-".into(), |x| format!("{x:.3}")),
         );
     }
     if stage_rows.iter().all(|(_, r)| r.contact_parts.is_none()) {
         return;
     }
-    println!("\nThe contact iteration's parts alone (microseconds per step): its setup (search, constraints, sort, compliance), the setup with every sweep in `contact_finish` (one workgroup), the setup with the sweeps the run records per step and `contact_finish`, and the report:\n");
-    println!("| elements | setup | setup + finish | setup + recorded + finish | report |");
-    println!("|---:|---:|---:|---:|---:|");
+    println!("\nThe contact iteration's parts alone (microseconds per step): its setup (search with the faces' sort into the grid, constraints, sort, compliance), the setup keeping the faces' last sort, the setup with every sweep in `contact_finish` (one workgroup), the setup with the sweeps the run records per step and `contact_finish`, and the report:\n");
+    println!("| elements | setup | setup keeping the sort | setup + finish | setup + recorded + finish | report |");
+    println!("|---:|---:|---:|---:|---:|---:|");
     for (elements, r) in &stage_rows {
         if let Some(p) = r.contact_parts {
             println!(
-                "| {elements} | {:.1} | {:.1} | {:.1} | {:.1} |",
-                p[0], p[1], p[2], p[3]
+                "| {elements} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} |",
+                p[0], p[1], p[2], p[3], p[4]
             );
         }
     }
@@ -382,6 +394,14 @@ fn thread_table(title: &str, scenes: &[String], max_steps: usize) {
             single / many
         );
     }
+}
+
+/// `-- --search-interval N`: the resident engine sorts the faces into its search grid every
+/// N steps instead of following the grid's fill.
+fn fixed_search_interval() -> Option<usize> {
+    let args: Vec<String> = std::env::args().collect();
+    let at = args.iter().position(|a| a == "--search-interval")?;
+    args.get(at + 1).and_then(|n| n.parse().ok())
 }
 
 /// `-- --sweeps N`: the resident engine records N contact sweeps per step as dispatches of

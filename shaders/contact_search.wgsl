@@ -1,9 +1,10 @@
 // Narrow phase of the GPU contact search, one secondary node per invocation (twin:
 // `kernels::contact_search`): the faces of the 27 grid cells around the node (of its own
-// interface, faces first..end) whose box grown by the margin holds the node are its
-// candidates, the same test as the host's broad phase (`contact::search`); of those, the
-// closest by projection gives the contact point, as `contact_gap` computes it (ties: the
-// lower face index).
+// interface, faces first..end), or every face of the interface where the grid kept from an
+// earlier step no longer holds (grid.all_faces), whose box grown by the margin holds the
+// node are its candidates, the same test as the host's broad phase (`contact::search`); of
+// those, the closest by projection gives the contact point, as `contact_gap` computes it
+// (ties: the lower face index, so the order the faces are visited in does not matter).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> grid: SearchGrid;
@@ -22,6 +23,31 @@
 
 // include: face_state
 
+// The closest candidate so far and its distance.
+struct Closest {
+    point: ContactPoint,
+    distance: f32,
+}
+
+// `best`, or face fi where it is a candidate of the node (reference rs, displacement us,
+// velocity vs) and closer (ties: the lower face index).
+fn closer(fi: u32, rs: Split3, us: Split3, vs: vec3<f32>, best: Closest) -> Closest {
+    let face = faces[fi].nodes;
+    let p = corners_from(face, rs, us);
+    let lo = min(min(p.p0, p.p1), min(p.p2, p.p3));
+    let hi = max(max(p.p0, p.p1), max(p.p2, p.p3));
+    // the candidate test: the grown box holds the node (the origin)
+    if (any(lo - grid.margin > vec3<f32>(0.0)) || any(hi + grid.margin < vec3<f32>(0.0))) {
+        return best;
+    }
+    let hit = face_hit(face, p);
+    if (hit.distance < best.distance
+        || (hit.distance == best.distance && fi < best.point.face)) {
+        return Closest(hit_point(fi, hit, vs - face_velocity(face, hit.xi)), hit.distance);
+    }
+    return best;
+}
+
 @compute @workgroup_size(64)
 fn contact_search(@builtin(global_invocation_id) gid: vec3<u32>) {
     let q = item_index(gid, params);
@@ -33,31 +59,24 @@ fn contact_search(@builtin(global_invocation_id) gid: vec3<u32>) {
     let rs = reference[s];
     let us = displacement[s];
     let vs = load_v(s);
+    var best = Closest(open_point(), bitcast<f32>(0x7f800000u)); // +inf
+    if (grid.all_faces != 0u) {
+        for (var fi = query.first; fi < query.end; fi++) {
+            best = closer(fi, rs, us, vs, best);
+        }
+        points[q] = best.point;
+        return;
+    }
     let home = cell_of(split_sum(rs, us), grid.cell);
-    var best = open_point();
-    var best_d = bitcast<f32>(0x7f800000u); // +inf
     for (var c = 0; c < 27; c++) {
         let offset = vec3<i32>(c % 3 - 1, (c / 3) % 3 - 1, c / 9 - 1);
         let key = cell_key(home + offset, query.first, grid.mask);
         for (var j = starts[key]; j < starts[key + 1u]; j++) {
             let fi = sorted[j];
-            if (fi < query.first || fi >= query.end) {
-                continue;
-            }
-            let face = faces[fi].nodes;
-            let p = corners_from(face, rs, us);
-            let lo = min(min(p.p0, p.p1), min(p.p2, p.p3));
-            let hi = max(max(p.p0, p.p1), max(p.p2, p.p3));
-            // the candidate test: the grown box holds the node (the origin)
-            if (any(lo - grid.margin > vec3<f32>(0.0)) || any(hi + grid.margin < vec3<f32>(0.0))) {
-                continue;
-            }
-            let hit = face_hit(face, p);
-            if (hit.distance < best_d || (hit.distance == best_d && fi < best.face)) {
-                best_d = hit.distance;
-                best = hit_point(fi, hit, vs - face_velocity(face, hit.xi));
+            if (fi >= query.first && fi < query.end) {
+                best = closer(fi, rs, us, vs, best);
             }
         }
     }
-    points[q] = best;
+    points[q] = best.point;
 }

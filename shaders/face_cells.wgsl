@@ -1,6 +1,7 @@
-// The search grid's bucket of every primary face: the cell of the mean of its four stored
-// slots (inside a triangle, whose fourth slot repeats its third, too), hashed with its
-// interface (twin: `kernels::face_cells`). One invocation per face.
+// The search grid's bucket of every primary face: the cell of its centre (`face_centre`),
+// hashed with its interface (twin: `kernels::face_cells`); the centre is kept, so that the
+// steps that keep the grid can measure how far the face has moved (`search_bounds`). One
+// invocation per face.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> grid: SearchGrid;
@@ -10,6 +11,9 @@
 // the first face of each face's interface (the hash's salt)
 @group(0) @binding(5) var<storage, read> face_first: array<u32>;
 @group(0) @binding(6) var<storage, read_write> keys: array<u32>;
+@group(0) @binding(7) var<storage, read_write> centres: array<Float3>;
+
+// include: face_centre
 
 @compute @workgroup_size(64)
 fn face_cells(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -17,10 +21,7 @@ fn face_cells(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (f >= params.count) {
         return;
     }
-    var c = vec3<f32>(0.0);
-    for (var k = 0u; k < 4u; k++) {
-        let n = faces[f].nodes[k];
-        c += split_sum(reference[n], displacement[n]);
-    }
-    keys[f] = cell_key(cell_of(0.25 * c, grid.cell), face_first[f], grid.mask);
+    let c = face_centre(f);
+    centres[f] = float3(c);
+    keys[f] = cell_key(cell_of(c, grid.cell), face_first[f], grid.mask);
 }

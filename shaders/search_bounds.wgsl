@@ -1,6 +1,7 @@
-// The two bounds of the step's search grid (twin: `kernels::search_bounds`): the fastest
-// node's speed and the largest box side of a primary face at u_n, folded into bounds[0] and
-// bounds[1] (zeroed before) by atomicMax on their f32 bits (non-negative floats order as
+// The bounds of the step's search grid (twin: `kernels::search_bounds`): the fastest node's
+// speed, the largest box side of a primary face at u_n and the largest move of a face's
+// centre since the faces were last sorted (`face_cells` wrote the centres), folded into
+// bounds[0..3] (zeroed before) by atomicMax on their f32 bits (non-negative floats order as
 // their bits). One invocation per node (params.aux nodes) and per face (params.aux2 faces);
 // each workgroup reduces in workgroup memory, then takes one atomic per bound.
 
@@ -9,10 +10,14 @@
 @group(0) @binding(2) var<storage, read> displacement: array<Split3>;
 @group(0) @binding(3) var<storage, read> velocity: array<f32>;
 @group(0) @binding(4) var<storage, read> faces: array<Quad>;
-@group(0) @binding(5) var<storage, read_write> bounds: array<atomic<u32>, 2>;
+@group(0) @binding(5) var<storage, read> centres: array<Float3>;
+@group(0) @binding(6) var<storage, read_write> bounds: array<atomic<u32>, 3>;
 
 var<workgroup> speeds: array<f32, 64>;
 var<workgroup> sides: array<f32, 64>;
+var<workgroup> drifts: array<f32, 64>;
+
+// include: face_centre
 
 @compute @workgroup_size(64)
 fn search_bounds(
@@ -22,6 +27,7 @@ fn search_bounds(
     let i = item_index(gid, params);
     var speed = 0.0;
     var side = 0.0;
+    var drift = 0.0;
     if (i < params.aux) {
         speed = length(vec3<f32>(velocity[3u * i], velocity[3u * i + 1u], velocity[3u * i + 2u]));
     }
@@ -39,19 +45,24 @@ fn search_bounds(
         }
         let e = hi - lo;
         side = max(e.x, max(e.y, e.z));
+        let d = abs(face_centre(i) - vec3_of(centres[i]));
+        drift = max(d.x, max(d.y, d.z));
     }
     speeds[local] = speed;
     sides[local] = side;
+    drifts[local] = drift;
     workgroupBarrier();
     for (var s = 32u; s > 0u; s >>= 1u) {
         if (local < s) {
             speeds[local] = max(speeds[local], speeds[local + s]);
             sides[local] = max(sides[local], sides[local + s]);
+            drifts[local] = max(drifts[local], drifts[local + s]);
         }
         workgroupBarrier();
     }
     if (local == 0u) {
         atomicMax(&bounds[0], bitcast<u32>(speeds[0]));
         atomicMax(&bounds[1], bitcast<u32>(sides[0]));
+        atomicMax(&bounds[2], bitcast<u32>(drifts[0]));
     }
 }

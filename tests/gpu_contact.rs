@@ -15,7 +15,7 @@ use impact::integrate::resident;
 use impact::integrate::{Integrator, ResidentSolver};
 use impact::kernels::contact_gap::NO_FACE;
 use impact::kernels::plane_contact::SLOT;
-use impact::kernels::{self, Constraint, SweepState};
+use impact::kernels::{self, Constraint, SearchMode, SweepState};
 use impact::model::Model;
 use impact::scene::Scene;
 use rand::rngs::StdRng;
@@ -185,6 +185,177 @@ fn stack_model() -> Model {
     model_of(&stack_scene(0.1, ""), "stack.toml")
 }
 
+/// The contact search's kept grid on the device against its twins: after a sort at u, a
+/// setup at u plus a small move of the primary faces keeps the sort (the faces' drift from
+/// `search_bounds` and the grid's fill from `search_grid` against their twins; the grid
+/// holds) and finds the contact points a fresh sort finds, bit for bit; after a move of the
+/// primary faces by more than the skin the kept grid no longer holds, and the setup's
+/// search over every face finds them too.
+#[test]
+fn kept_search_grid_matches_its_twins_and_a_fresh_sort() {
+    let tag = "kept search grid";
+    let Some(ctx) = gpu_context(tag) else {
+        return;
+    };
+    let model = stack_model();
+    let mut rng = StdRng::seed_from_u64(seed(tag));
+    let dt = 2e-3;
+    let (setup, _) = resident::setup(&model, &model_settings(), dt, 1.0).unwrap();
+    let contact = setup.contact.clone().expect("surface contact");
+    let nodes = model.mesh.node_count();
+    let data = model.element_data();
+    let reference = data.reference.clone();
+    let h = 0.125;
+    let u: Vec<f64> = (0..3 * nodes)
+        .map(|_| rng.random_range(-0.1 * h..0.1 * h))
+        .collect();
+    let v: Vec<f64> = (0..3 * nodes)
+        .map(|_| rng.random_range(-1.0..1.0))
+        .collect();
+    let zeros = vec![0.0; 3 * nodes];
+    let mut gpu = ResidentStep::new(ctx, &data, &setup, 8).expect("device step");
+    let mut setup_at = |u: &[f64], mode: SearchMode| {
+        gpu.upload(u, &v, &zeros, &zeros, &[]).unwrap();
+        let (ctx, it) = gpu.impulse_sweeps().expect("contact iteration");
+        let ctx = ctx.clone();
+        it.run(&ctx, |it, p| it.dispatch_setup(p, mode)).unwrap();
+        let (bounds, grid) = it.read_grid(&ctx).unwrap();
+        (
+            bounds,
+            grid,
+            it.read_points(&ctx, contact.queries.len()).unwrap(),
+        )
+    };
+    let position = |u: &[f64], n: u32| -> [f64; 3] {
+        std::array::from_fn(|a| reference[n as usize][a] + u[3 * n as usize + a])
+    };
+    let centres: Vec<[f64; 3]> = (contact.faces.iter())
+        .map(|f| kernels::face_centre(f, |n| position(&u, n)))
+        .collect();
+    let plate = model.mesh.bodies[1].nodes.clone();
+    for (shift, stale) in [(0.02 * h, false), (3.0 * h, true)] {
+        let (_, sorted, _) = setup_at(&u, SearchMode::First);
+        let mut moved = u.clone();
+        for n in plate.clone() {
+            moved[3 * n] += shift;
+            moved[3 * n + 1] -= shift;
+        }
+        let (bounds, grid, kept) = setup_at(&moved, SearchMode::Keep);
+        let twin = kernels::search_bounds(&reference, &moved, &v, &contact.faces, &centres);
+        let e = rel_err(&bounds, &twin);
+        eprintln!("shift {shift}: bounds {bounds:?}, error {e:.2e}");
+        assert!(e <= TOL, "search_bounds with a drift {e:.2e}");
+        assert!(
+            (bounds[2] - shift).abs() <= 1e-5,
+            "the drift is the faces' move"
+        );
+        let before = kernels::SearchGrid {
+            cell: sorted.cell as f64,
+            mask: sorted.mask,
+            face_size: contact.face_size,
+            ..Default::default()
+        };
+        let want = kernels::search_grid(bounds, dt, &before, SearchMode::Keep);
+        eprintln!(
+            "kept grid: fill {} (twin {}), stale {}",
+            grid.fill, want.fill, grid.all_faces
+        );
+        assert_eq!(grid.cell, sorted.cell, "a kept grid keeps its cell");
+        assert_eq!(grid.all_faces != 0, want.all_faces, "the twin's verdict");
+        assert_eq!(want.all_faces, stale, "a move of {shift}");
+        assert_eq!(grid.stale_steps, stale as u32);
+        let e = rel_err(
+            &[grid.fill as f64, grid.margin as f64],
+            &[want.fill, want.margin],
+        );
+        assert!(e <= TOL, "search_grid kept: {e:.2e}");
+        let (_, _, fresh) = setup_at(&moved, SearchMode::Build);
+        let found = fresh.iter().filter(|p| p.face != NO_FACE).count();
+        assert!(found > 0, "the search must find faces");
+        assert_eq!(
+            kept, fresh,
+            "a move of {shift}: the kept grid against a fresh sort"
+        );
+    }
+}
+
+/// The resident step keeps the contact search's sort of the faces across steps while the
+/// grid holds, and a step for which it no longer holds tests every face: the results must
+/// not depend on how often the faces are sorted. The stack with the block fast over the
+/// plate, and primary side of a second interface (its faces move the cells' skin in about
+/// 15 steps): sorting every step, once per submission of 25 steps (with stale steps), and
+/// as the rule says give the same rows and final state, bit for bit.
+#[test]
+fn the_kept_search_grid_does_not_change_the_results() {
+    let Some(ctx) = gpu_context("kept search grid run") else {
+        return;
+    };
+    let lift = r#"
+[[contact]]
+name = "lift"
+secondary = { body = "plate", face = "z+" }
+primary = { body = "block", face = "z-" }
+"#;
+    let text = stack_scene(0.1, lift).replace("[1.0, 0.3, -0.2]", "[8.0, 2.4, -0.2]");
+    let model = model_of(&text, "kept_grid.toml");
+    let settings = model_settings();
+    let steps = 150;
+    let run = |interval: Option<usize>| {
+        let mut s = ResidentSolver::with_chunk(
+            ctx.clone(),
+            &model,
+            &settings,
+            5e-4,
+            1.0,
+            (steps, None, 25),
+            None,
+        )
+        .expect("resident solver");
+        if let Some(k) = interval {
+            s.fix_search_interval(k);
+        }
+        let mut rows = Vec::new();
+        for _ in 0..steps {
+            let r = s.step().expect("step");
+            let e = s.energies().expect("energies");
+            let reports = s.reports();
+            rows.push((
+                r.iterations,
+                r.converged,
+                [e.kinetic, e.strain, e.potential],
+                reports
+                    .iter()
+                    .map(|c| [c.normal_force, c.tangential_force, c.friction_work])
+                    .collect::<Vec<_>>(),
+                s.body_velocities(),
+            ));
+        }
+        (rows, s.search_counts(), s.u.clone(), s.v.clone())
+    };
+    let (every, counts_every, u_every, v_every) = run(Some(1));
+    let active: usize = (every.iter())
+        .filter(|r| r.3.iter().any(|c| c[0] > 0.0))
+        .count();
+    assert!(active > steps / 2, "the block must press on the plate");
+    let collected = counts_every.0;
+    eprintln!("sorting every step: {counts_every:?}");
+    assert!(collected >= 100 && counts_every.1 == 0, "{counts_every:?}");
+    for interval in [Some(1000), None] {
+        let (rows, counts, u, v) = run(interval);
+        eprintln!("interval {interval:?}: sorts and stale steps {counts:?}");
+        assert!(counts.0 < collected / 4, "{counts:?}");
+        if interval.is_some() {
+            assert!(counts.1 > 0, "sorting once per submission, steps go stale");
+        }
+        assert_eq!(every, rows, "the rows differ sorting every {interval:?}");
+        assert_eq!(
+            (&u_every, &v_every),
+            (&u, &v),
+            "the final state differs sorting every {interval:?}"
+        );
+    }
+}
+
 /// The fields of the constraints but the compliance (compared on its own: its scale, the
 /// inverse mass, would hide the others').
 fn constraint_fields(c: &[Constraint]) -> Vec<f64> {
@@ -254,7 +425,8 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     gpu.upload(&u, &v, &a, &vec![0.0; 3 * nodes], &[]).unwrap();
     let (ctx, it) = gpu.impulse_sweeps().expect("contact iteration");
     let ctx: GpuContext = ctx.clone();
-    it.run(&ctx, |it, p| it.dispatch_setup(p)).unwrap();
+    it.run(&ctx, |it, p| it.dispatch_setup(p, SearchMode::First))
+        .unwrap();
 
     // search bounds and grid (where a surface is primary)
     let (points, margin) = match contact.queries.is_empty() {
@@ -515,12 +687,19 @@ fn search_stages(
     contact: &impact::gpu::ContactSetup,
     seed: u64,
 ) -> (Vec<impact::kernels::ContactPoint>, f64) {
-    let ([speed, side], [cell, margin]) = it.read_grid(ctx).unwrap();
-    let cpu_bounds = kernels::search_bounds(reference, u, v, &contact.faces);
-    let e = rel_err(&[speed, side], &cpu_bounds);
+    let (bounds, grid) = it.read_grid(ctx).unwrap();
+    // the centres start at zero: the drift is the centres' largest coordinate
+    let zero = vec![[0.0; 3]; contact.faces.len()];
+    let cpu_bounds = kernels::search_bounds(reference, u, v, &contact.faces, &zero);
+    let e = rel_err(&bounds, &cpu_bounds);
     eprintln!("search_bounds: {e:.2e}");
     assert!(e <= TOL, "seed {seed}: search_bounds {e:.2e}");
-    let cpu_grid = kernels::search_grid([speed, side], dt, contact.face_size, 0);
+    let before = kernels::SearchGrid {
+        face_size: contact.face_size,
+        ..Default::default()
+    };
+    let cpu_grid = kernels::search_grid(bounds, dt, &before, SearchMode::First);
+    let (cell, margin) = (grid.cell as f64, grid.margin as f64);
     let e = rel_err(&[cell, margin], &[cpu_grid.cell, cpu_grid.margin]);
     eprintln!("search_grid: {e:.2e}");
     assert!(e <= TOL, "seed {seed}: search_grid {e:.2e}");

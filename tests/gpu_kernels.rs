@@ -1014,10 +1014,34 @@ primary = {{ body = "block", face = "z-" }}
         &model.queries.faces,
         &starts,
         &sorted,
-        kernels::SearchGrid { cell, margin, mask },
+        kernels::SearchGrid::at(cell, margin, mask),
     );
     compare("contact_search against its twin", &got, &twin);
     compare("contact_search twin against the host search", &twin, &want);
+
+    // a grid that no longer holds: every face of the interface is tested, on the device and
+    // in the twin, and the closest face is the same (its ties too: the lower index wins)
+    let stale = kernels::SearchGrid {
+        all_faces: true,
+        ..kernels::SearchGrid::at(cell, margin, mask)
+    };
+    let every = kernels::contact_search(
+        &model.mesh.nodes,
+        &u3,
+        &v3,
+        &model.queries.secondary,
+        &range,
+        &model.queries.faces,
+        &starts,
+        &sorted,
+        stale,
+    );
+    assert_eq!(every, twin, "seed {seed}: the twin over every face");
+    let (ctx, search) = gpu.search_parts().expect("search built");
+    let all = search
+        .run(ctx, ctx.encoder("every_face"), stale)
+        .expect("device search over every face");
+    assert_eq!(all, got, "seed {seed}: the device search over every face");
 }
 
 /// Three bodies with ply strengths: a laminate of hex8i cells spanning two plies each

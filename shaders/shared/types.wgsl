@@ -200,11 +200,21 @@ struct Step {
 }
 
 // The uniform grid of the contact search: cubic cells of side `cell`, hashed into a table of
-// mask + 1 buckets (a power of two); `margin` grows each face's box for the candidate test.
+// mask + 1 buckets (a power of two), into which the faces were last sorted; `margin` grows
+// each face's box for this step's candidate test. A grid kept across steps (`search_grid`)
+// holds while every face within the margin of a node lies in the 27 cells around it; a step
+// for which it no longer does tests every face of the query's interface (`all_faces` 1).
+// `face_size` is the margin's base (the largest face size); `fill` the largest share of the
+// cell that the kept steps since the last reset needed, and `stale_steps` counts the steps
+// that tested every face.
 struct SearchGrid {
     cell: f32,
     margin: f32,
     mask: u32,
+    all_faces: u32,
+    face_size: f32,
+    fill: f32,
+    stale_steps: u32,
     pad: u32,
 }
 

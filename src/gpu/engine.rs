@@ -567,6 +567,7 @@ impl GpuKernels {
             faces,
             &face_first,
             &queries,
+            0.0,
         )
     }
 
@@ -664,11 +665,11 @@ impl Kernels for GpuKernels {
         }
         let enc = self.ctx.encoder("contact_search");
         let search = self.search.as_mut().expect("built above");
-        let grid = SearchGrid {
-            cell: search::search_cell(&model.mesh.nodes, u, &queries.faces, margin),
+        let grid = SearchGrid::at(
+            search::search_cell(&model.mesh.nodes, u, &queries.faces, margin),
             margin,
-            mask: search.mask(),
-        };
+            search.mask(),
+        );
         let pts = search.run(&self.ctx, enc, grid)?;
         out[..pts.len()].copy_from_slice(&pts);
         Ok(())

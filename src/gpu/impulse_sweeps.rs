@@ -6,7 +6,9 @@
 //! atomics) and every sum is gathered in a fixed order:
 //!
 //! 1. the search grid from the step's bounds (`search_bounds`, `search_grid`) and the device
-//!    search ([`GpuSearch`]), if any interface has a primary surface;
+//!    search ([`GpuSearch`]), if any interface has a primary surface: the faces' sort into
+//!    the grid on the steps the caller says ([`SearchMode`]), the narrow phase on every step
+//!    (over every face of an interface on a step whose kept grid no longer holds);
 //! 2. `contact_constraints`, one per pair (secondary node of an interface), then the pairs
 //!    in reach bucket-sorted by their primary face (`bucket_count`, `prefix_sum`,
 //!    `bucket_fill`, as the search sorts faces by cell) and each bucket put in pair order
@@ -42,6 +44,7 @@ use super::types::{self, to_device, WORKGROUP};
 use crate::error::Result;
 use crate::kernels::plane_contact::SLOT;
 use crate::kernels::sweep_control::word;
+use crate::kernels::SearchMode;
 use crate::kernels::{ContactNode, ContactPair, RigidSurface};
 
 /// What the device contact iteration needs, in f64 (the CPU twins take the same).
@@ -123,7 +126,8 @@ struct Launches {
     zero_counts: Launch,
     zero_state: Launch,
     bounds: Option<Launch>,
-    grid: Option<Launch>,
+    /// `search_grid` in each [`SearchMode`] (indexed by its value).
+    grid: Option<[Launch; 3]>,
     constraints: Launch,
     count: Launch,
     fill: Launch,
@@ -194,7 +198,7 @@ impl WorkBuffers {
         ranges: usize,
     ) -> Result<Self> {
         let words = |n: usize| (4 * n) as u64;
-        let bounds = Storage::new(ctx, "contact.bounds", 8)?;
+        let bounds = Storage::new(ctx, "contact.bounds", 12)?;
         let constraints = Storage::new(
             ctx,
             "contact.constraints",
@@ -244,13 +248,13 @@ struct Bindings<'a> {
 }
 
 impl Bindings<'_> {
-    /// The search's launches, `search_bounds` and `search_grid` (none without a search).
+    /// The search's launches, `search_bounds` and `search_grid` in each [`SearchMode`] (none
+    /// without a search).
     fn search(
         &self,
         search: Option<&GpuSearch>,
         nodes: usize,
-        face_size: f64,
-    ) -> (Option<Launch>, Option<Launch>) {
+    ) -> (Option<Launch>, Option<[Launch; 3]>) {
         let (ctx, k, b, w) = (self.ctx, self.k, self.b, self.w);
         let item_count = nodes.max(self.nf as usize) as u32;
         let bounds = search.map(|s| {
@@ -263,19 +267,22 @@ impl Bindings<'_> {
                 b.displacement,
                 b.velocity,
                 s.faces_buffer(),
+                s.centres_buffer(),
                 &w.bounds.buffer,
             )
         });
         let grid = search.map(|s| {
-            k.grid.launch(
-                ctx,
-                1,
-                s.mask(),
-                (face_size as f32).to_bits(),
-                b.step,
-                &w.bounds.buffer,
-                s.grid_buffer(),
-            )
+            [SearchMode::Keep, SearchMode::Build, SearchMode::First].map(|mode| {
+                k.grid.launch(
+                    ctx,
+                    1,
+                    s.mask(),
+                    mode as u32,
+                    b.step,
+                    &w.bounds.buffer,
+                    s.grid_buffer(),
+                )
+            })
         });
         (bounds, grid)
     }
@@ -412,13 +419,13 @@ impl Bindings<'_> {
         (sweep, apply, control, finish)
     }
 
-    /// The zeroing launches (`fill_words`): the search bounds (two words), the pair
+    /// The zeroing launches (`fill_words`): the search bounds (three words), the pair
     /// buckets' sizes and the state words.
     fn zeroing(&self) -> [Launch; 3] {
         let (ctx, k, w) = (self.ctx, self.k, self.w);
         let zero = |words: usize, s: &Storage| k.zero.launch(ctx, words as u32, 0, 0, &s.buffer);
         [
-            zero(2, &w.bounds),
+            zero(3, &w.bounds),
             zero(self.nf as usize + 1, &w.sort.counts),
             zero(word::WORDS, &w.state),
         ]
@@ -443,8 +450,8 @@ impl Bindings<'_> {
     }
 
     /// Every launch of the iteration, stage after stage.
-    fn launches(&self, search: Option<&GpuSearch>, setup: &ContactSetup, nodes: usize) -> Launches {
-        let (bounds, grid) = self.search(search, nodes, setup.face_size);
+    fn launches(&self, search: Option<&GpuSearch>, nodes: usize) -> Launches {
+        let (bounds, grid) = self.search(search, nodes);
         let [constraints, count, fill, order] = self.sort();
         let [touches, compliance] = self.compliance();
         let (sweep, apply, control, finish) = self.sweeps();
@@ -534,7 +541,7 @@ impl ImpulseSweeps {
             nc: setup.nodes.len() as u32,
             nr: setup.rigid.len() as u32,
         }
-        .launches(search.as_ref(), setup, nodes);
+        .launches(search.as_ref(), nodes);
         let ModelBuffers {
             pairs,
             nodes: cnodes,
@@ -579,6 +586,7 @@ impl ImpulseSweeps {
             &setup.faces,
             &setup.face_first,
             &setup.queries,
+            setup.face_size,
         )?))
     }
 
@@ -613,15 +621,19 @@ impl ImpulseSweeps {
         .sum()
     }
 
-    /// Dispatches the search (if any), the constraints up to their compliance and the first
-    /// `sweep_control`, inside an open compute pass.
-    pub fn dispatch_setup(&self, pass: &mut wgpu::ComputePass) {
+    /// Dispatches the search (if any; the faces sorted into its grid again unless `mode`
+    /// keeps the last sort), the constraints up to their compliance and the first
+    /// `sweep_control`, inside an open compute pass. The results do not depend on `mode`.
+    pub fn dispatch_setup(&self, pass: &mut wgpu::ComputePass, mode: SearchMode) {
         let (k, l) = (&self.kernels, &self.launches);
         if let (Some(search), Some(bounds), Some(grid)) = (&self.search, &l.bounds, &l.grid) {
             k.zero.0.dispatch(pass, &l.zero_bounds);
             k.bounds.0.dispatch(pass, bounds);
-            k.grid.0.dispatch(pass, grid);
-            search.dispatch_stages(pass);
+            k.grid.0.dispatch(pass, &grid[mode as usize]);
+            if mode != SearchMode::Keep {
+                search.dispatch_sort(pass);
+            }
+            search.dispatch_narrow(pass);
         }
         k.constraints.0.dispatch(pass, &l.constraints);
         k.zero.0.dispatch(pass, &l.zero_counts);
@@ -662,10 +674,10 @@ impl ImpulseSweeps {
     }
 
     /// Dispatches the whole iteration of a step, `sweeps` of its sweeps as dispatches of
-    /// their own and the rest in `contact_finish`, inside an open compute pass (wgpu orders
-    /// each dispatch after the writes of the ones before).
-    pub fn dispatch(&self, pass: &mut wgpu::ComputePass, sweeps: u32) {
-        self.dispatch_setup(pass);
+    /// their own and the rest in `contact_finish`, the search as `mode` says, inside an open
+    /// compute pass (wgpu orders each dispatch after the writes of the ones before).
+    pub fn dispatch(&self, pass: &mut wgpu::ComputePass, sweeps: u32, mode: SearchMode) {
+        self.dispatch_setup(pass, mode);
         self.dispatch_sweeps(pass, sweeps);
         self.dispatch_finish(pass);
         self.dispatch_report(pass);

@@ -22,7 +22,7 @@ use crate::element::ElementKind;
 use crate::error::{ImpactError, Result};
 use crate::kernels::plane_contact::SLOT;
 use crate::kernels::sweep_control::word;
-use crate::kernels::{Constraint, ContactPoint, ReduceColumn, SweepState};
+use crate::kernels::{Constraint, ContactPoint, ReduceColumn, SearchMode, SweepState};
 
 /// Wall time of `enc`'s commands alone: the device is left idle first, then they are
 /// submitted and waited for.
@@ -337,7 +337,7 @@ impl ResidentStep {
                     k.plane.0.record_launch(enc, p);
                 }
                 if let Some(c) = &self.contact {
-                    c.record(enc, |c, p| c.dispatch(p, self.sweeps()));
+                    c.record(enc, |c, p| c.dispatch(p, self.sweeps(), SearchMode::Build));
                 }
             }
             Stage::Drift => k.drift.0.record_launch(enc, &l.drift),
@@ -369,15 +369,16 @@ impl ResidentStep {
     }
 
     /// The contact iteration's parts alone, each repeated `reps` times in one submission on
-    /// the device's current state (which they change, as the stages do): its setup (search,
-    /// constraints, sort, compliance); the setup and every sweep in `contact_finish`; the
-    /// setup, `sweeps` recorded sweeps and `contact_finish`; and the report. None without a
-    /// contact iteration.
+    /// the device's current state (which they change, as the stages do): its setup (search
+    /// with the faces' sort, constraints, sort, compliance); the setup keeping the faces'
+    /// sort (after one sort); the setup and every sweep in `contact_finish`; the setup,
+    /// `sweeps` recorded sweeps and `contact_finish`; and the report. None without a contact
+    /// iteration.
     pub fn time_contact_parts(
         &mut self,
         reps: usize,
         sweeps: u32,
-    ) -> Result<Option<[Duration; 4]>> {
+    ) -> Result<Option<[Duration; 5]>> {
         let Some(c) = &self.contact else {
             return Ok(None);
         };
@@ -389,17 +390,19 @@ impl ResidentStep {
             }
             time_submission(ctx, enc)
         };
+        let build = SearchMode::Build;
         Ok(Some([
-            time(&|enc| c.record(enc, |c, p| c.dispatch_setup(p)))?,
+            time(&|enc| c.record(enc, |c, p| c.dispatch_setup(p, build)))?,
+            time(&|enc| c.record(enc, |c, p| c.dispatch_setup(p, SearchMode::Keep)))?,
             time(&|enc| {
                 c.record(enc, |c, p| {
-                    c.dispatch_setup(p);
+                    c.dispatch_setup(p, build);
                     c.dispatch_finish(p);
                 })
             })?,
             time(&|enc| {
                 c.record(enc, |c, p| {
-                    c.dispatch_setup(p);
+                    c.dispatch_setup(p, build);
                     c.dispatch_sweeps(p, sweeps);
                     c.dispatch_finish(p);
                 })
@@ -535,15 +538,15 @@ impl ImpulseSweeps {
         })
     }
 
-    /// The search grid's bounds and the grid (cell, margin) of the last search.
-    pub fn read_grid(&mut self, ctx: &GpuContext) -> Result<([f64; 2], [f64; 2])> {
+    /// The search grid's bounds (speed, side, drift) and the grid of the last search.
+    pub fn read_grid(&mut self, ctx: &GpuContext) -> Result<([f64; 3], types::GpuSearchGrid)> {
         let staging = &mut self.staging;
-        let b = read_floats(ctx, staging, CONTACT_READ, &self.work.bounds.buffer, 2)?;
+        let b = read_floats(ctx, staging, CONTACT_READ, &self.work.bounds.buffer, 3)?;
         let g = match &self.search {
-            Some(s) => read_floats(ctx, staging, CONTACT_READ, s.grid_buffer(), 2)?,
-            None => vec![0.0; 2],
+            Some(s) => read_back(ctx, staging, CONTACT_READ, s.grid_buffer(), 1)?[0],
+            None => types::GpuSearchGrid::default(),
         };
-        Ok(([b[0], b[1]], [g[0], g[1]]))
+        Ok(([b[0], b[1], b[2]], g))
     }
 
     /// The contact points of the last search.

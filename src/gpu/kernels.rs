@@ -83,7 +83,7 @@ kernel_table! {
     );
     ExplicitDrift = explicit_drift(step, velocity, displacement);
     ExplicitPredict = explicit_predict(step, acceleration, velocity);
-    FaceCells = face_cells(grid, reference, displacement, faces, face_first, keys);
+    FaceCells = face_cells(grid, reference, displacement, faces, face_first, keys, centres);
     FailureReduce = failure_reduce(partials, rows);
     FailureSurveyKernel = failure_survey(displacement, points, operators, strengths, partials);
     FillWords = fill_words(words);
@@ -99,7 +99,7 @@ kernel_table! {
     );
     PrefixSum = prefix_sum(values, totals, starts);
     ScanTotals = scan_totals(values, totals);
-    SearchBounds = search_bounds(reference, displacement, velocity, faces, bounds);
+    SearchBounds = search_bounds(reference, displacement, velocity, faces, centres, bounds);
     SearchGridKernel = search_grid(step, bounds, grid);
     SlipRate = slip_rate(reference, displacement, velocity, queries, faces, points, slip);
     StableStep = stable_step(reference, hex8_elements, tet4_elements, materials, steps);

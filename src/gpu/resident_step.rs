@@ -9,9 +9,13 @@
 //! `explicit_correct` once per body and once over the rigid bodies' nodes (a, v and the
 //! energy and momentum sums per workgroup) and `history_reduce` (one row of history
 //! values, written at the step's place in the submission's rows). A whole submission is
-//! one compute pass. The rows are copied into a mapped
-//! read-back buffer at the end of the submission; two read-back buffers alternate: the host
-//! decodes one submission's rows while the device runs the next.
+//! one compute pass. The contact search sorts the faces into its grid at the submission's
+//! first step and every [`ResidentStep::set_search_interval`] steps after it, and keeps the
+//! sort in between (its grid says when it no longer holds, and such a step tests every
+//! face: the results do not depend on the interval). The rows, after the search grid's
+//! record, are copied into a mapped read-back buffer at the end of the submission; two
+//! read-back buffers alternate: the host decodes one submission's rows while the device runs
+//! the next.
 //!
 //! The state stays on the device; [`ResidentStep::read_state`] fetches it (VTU frames).
 
@@ -33,8 +37,22 @@ use crate::kernels::explicit_correct::FIELDS;
 use crate::kernels::history_reduce::{OP_DISPLACEMENT, OP_MAX, OP_PARTIALS, OP_SUM, OP_VELOCITY};
 use crate::kernels::plane_contact::{slot, MAX_PLANES, SLOT};
 use crate::kernels::{
-    ElementData, LumpedNode, PlaneData, PlaneNode, ReduceColumn, SurveySetup, FAILURE_FIELDS,
+    ElementData, LumpedNode, PlaneData, PlaneNode, ReduceColumn, SearchMode, SurveySetup,
+    FAILURE_FIELDS,
 };
+
+/// Bytes of the search grid's record at the start of each read-back buffer.
+const GRID_BYTES: u64 = std::mem::size_of::<types::GpuSearchGrid>() as u64;
+
+/// What the steps of the last collected submission made of the contact search's kept grid.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SearchRecord {
+    /// The largest share of a grid cell the steps that kept the grid needed (at most 1 while
+    /// it holds; about 1 / (1 + skin) just after a sort).
+    pub fill: f64,
+    /// The steps of the run so far whose kept grid no longer held (they tested every face).
+    pub stale_steps: u64,
+}
 
 /// What the resident step needs besides the elements, in f64 (the CPU twins take the same).
 #[derive(Debug, Clone)]
@@ -400,6 +418,10 @@ pub struct ResidentStep {
     /// `max_iterations`); `contact_finish` runs the rest.
     sweeps: u32,
     max_iterations: u32,
+    /// Steps between the contact search's sorts of the faces (1: every step).
+    search_interval: usize,
+    /// The search grid's record of the last collected submission.
+    search_record: Option<SearchRecord>,
     readback: [Storage; 2],
     pending: [Option<Pending>; 2],
     /// Steps one submission can hold (the read-back buffers' size).
@@ -468,6 +490,8 @@ impl ResidentStep {
             failure,
             sweeps: setup.max_iterations,
             max_iterations: setup.max_iterations,
+            search_interval: 1,
+            search_record: None,
             readback,
             pending: [None, None],
             chunk_capacity,
@@ -537,13 +561,13 @@ impl ResidentStep {
         )?))
     }
 
-    /// The two read-back buffers of the history rows, `floats` each.
+    /// The two read-back buffers of the search grid's record and `floats` of history rows.
     fn readback_buffers(ctx: &GpuContext, floats: usize) -> Result<[Storage; 2]> {
         let make_readback = || {
             Storage::with_usage(
                 ctx,
                 "history.readback",
-                (floats * 4) as u64,
+                GRID_BYTES + (floats * 4) as u64,
                 wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             )
         };
@@ -634,10 +658,48 @@ impl ResidentStep {
         for j in 0..steps {
             self.dispatch_front(&mut pass);
             if let Some(c) = &self.contact {
-                c.dispatch(&mut pass, self.sweeps);
+                c.dispatch(&mut pass, self.sweeps, self.search_mode(j));
             }
             self.dispatch_back(&mut pass, j);
         }
+    }
+
+    /// What the submission's step `j` does with the search grid: its first step sorts the
+    /// faces and starts the grid's fill anew, every `search_interval`-th sorts them, the
+    /// others keep the sort.
+    fn search_mode(&self, j: usize) -> SearchMode {
+        if j == 0 {
+            SearchMode::First
+        } else if j % self.search_interval == 0 {
+            SearchMode::Build
+        } else {
+            SearchMode::Keep
+        }
+    }
+
+    /// Steps between the contact search's sorts of the faces, from the next submission on
+    /// (at least 1). The results do not depend on it.
+    pub fn set_search_interval(&mut self, steps: usize) {
+        self.search_interval = steps.max(1);
+    }
+
+    pub fn search_interval(&self) -> usize {
+        self.search_interval
+    }
+
+    /// The sorts of the faces a submission of `steps` steps records (none without a device
+    /// search).
+    pub fn sorts_in(&self, steps: usize) -> usize {
+        match self.contact.as_ref().and_then(|c| c.search.as_ref()) {
+            Some(_) => steps.div_ceil(self.search_interval),
+            None => 0,
+        }
+    }
+
+    /// The search grid's record of the last collected submission (none without a device
+    /// search, or before the first collection).
+    pub fn search_record(&self) -> Option<SearchRecord> {
+        self.search_record
     }
 
     /// Records and submits `steps` steps whose history rows go to read-back buffer `slot`,
@@ -649,16 +711,20 @@ impl ResidentStep {
             )));
         }
         let steps = steps.min(self.chunk_capacity);
-        let bytes = (steps * self.history.row_len * 4) as u64;
+        let bytes = GRID_BYTES + (steps * self.history.row_len * 4) as u64;
         let ctx = &self.k.ctx;
         let mut enc = ctx.encoder("explicit_steps");
         self.record_steps(&mut enc, steps);
+        let readback = &self.readback[slot].buffer;
+        if let Some(s) = self.contact.as_ref().and_then(|c| c.search.as_ref()) {
+            enc.copy_buffer_to_buffer(s.grid_buffer(), 0, readback, 0, GRID_BYTES);
+        }
         enc.copy_buffer_to_buffer(
             &self.history.rows.buffer,
             0,
-            &self.readback[slot].buffer,
-            0,
-            bytes,
+            readback,
+            GRID_BYTES,
+            bytes - GRID_BYTES,
         );
         let index = ctx.queue.submit([enc.finish()]);
         self.pending[slot] = Some(Pending {
@@ -756,9 +822,19 @@ impl ResidentStep {
                     ctx.adapter.name
                 ))
             })?;
-        let bytes = (p.steps * self.history.row_len * 4) as u64;
+        let bytes = GRID_BYTES + (p.steps * self.history.row_len * 4) as u64;
         let buffer = &self.readback[slot].buffer;
-        take_mapped(ctx, buffer, bytes, &p.mapped, "the history rows")
+        let mut words: Vec<f32> = take_mapped(ctx, buffer, bytes, &p.mapped, "the history rows")?;
+        let rows = words.split_off(GRID_BYTES as usize / 4);
+        if self.sorts_in(1) > 0 {
+            let grid: types::GpuSearchGrid =
+                bytemuck::pod_read_unaligned(bytemuck::cast_slice(&words));
+            self.search_record = Some(SearchRecord {
+                fill: grid.fill as f64,
+                stale_steps: grid.stale_steps as u64,
+            });
+        }
+        Ok(rows)
     }
 
     /// Sets the step length of the submissions from the next on (a shortened last step).

@@ -1,10 +1,12 @@
 //! [`GpuSearch`]: the contact search on the device. Broad phase: a uniform grid of cells at
 //! least as large as a face's box plus the margin, hashed into a table of buckets; the faces
-//! are bucket-sorted by the cell of their centroid (`face_cells`, `bucket_count`,
-//! `prefix_sum`, `bucket_fill`), rebuilt at every search (the faces are few beside the
-//! elements). Narrow phase: `contact_search`, one secondary node per invocation, over the 27
-//! cells around it, with the host broad phase's candidate test (a face's box grown by the
-//! margin holds the node) and `contact_gap`'s projection.
+//! are bucket-sorted by the cell of their centre (`face_cells`, `bucket_count`,
+//! `prefix_sum`, `bucket_fill`). Narrow phase: `contact_search`, one secondary node per
+//! invocation, over the 27 cells around it, with the host broad phase's candidate test (a
+//! face's box grown by the margin holds the node) and `contact_gap`'s projection. The host
+//! loop sorts the faces at every search; the resident step keeps a sort across steps while
+//! the grid holds (`search_grid`: the cells have a skin, and the faces' centres are kept to
+//! measure their drift), so that most of its steps run the narrow phase alone.
 
 use super::bucket_sort::BucketSort;
 use super::buffer::{staging, submit_and_read, Storage};
@@ -58,8 +60,9 @@ pub(super) struct SearchBuffers {
     faces: Storage,
     face_first: Storage,
     queries: Storage,
-    /// The faces sorted by the grid cell of their centroid.
+    /// The faces sorted by the grid cell of their centre, and the centres at that sort.
     pub(super) sort: BucketSort,
+    centres: Storage,
     points: Storage,
 }
 
@@ -102,6 +105,7 @@ impl SearchBuffers {
                 nf,
                 table,
             )?,
+            centres: Storage::new(ctx, "search.centres", (12 * nf.max(1)) as u64)?,
             points: Storage::new(ctx, "search.points", point_bytes as u64)?,
         })
     }
@@ -128,6 +132,7 @@ fn binds(
             &b.faces.buffer,
             &b.face_first.buffer,
             &b.sort.keys.buffer,
+            &b.centres.buffer,
         ),
         k.bucket_count.bind(
             ctx,
@@ -171,7 +176,9 @@ pub struct GpuSearch {
 
 impl GpuSearch {
     /// `queries[i] = (secondary node, first face, end face)` of its interface;
-    /// `face_first[f]` the first face of face f's interface.
+    /// `face_first[f]` the first face of face f's interface; `face_size` the largest face
+    /// size (the margin's base where the device computes the grid).
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         ctx: &GpuContext,
         reference: &wgpu::Buffer,
@@ -180,9 +187,17 @@ impl GpuSearch {
         faces: &[[u32; 4]],
         face_first: &[u32],
         queries: &[(u32, u32, u32)],
+        face_size: f64,
     ) -> Result<Self> {
         let table = table_size(faces.len());
         let buffers = SearchBuffers::new(ctx, faces, face_first, queries, table)?;
+        let grid = types::GpuSearchGrid {
+            face_size: face_size as f32,
+            mask: (table - 1) as u32,
+            ..Default::default()
+        };
+        ctx.queue
+            .write_buffer(&buffers.grid.buffer, 0, bytemuck::bytes_of(&grid));
         let kernels = SearchKernels::new(ctx);
         let binds = binds(ctx, &kernels, &buffers, reference, displacement, velocity);
         kernels.set_counts(ctx, faces.len(), table, queries.len());
@@ -200,13 +215,12 @@ impl GpuSearch {
         })
     }
 
-    /// Records a whole search with `grid` (set now, applied at the next submission).
+    /// Records a whole search with `grid` (set now, applied at the next submission; the
+    /// table's mask is the search's own).
     pub fn record(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, grid: SearchGrid) {
         let g = types::GpuSearchGrid {
-            cell: grid.cell as f32,
-            margin: grid.margin as f32,
-            mask: (self.table - 1) as u32,
-            pad: 0,
+            mask: self.mask(),
+            ..types::GpuSearchGrid::of(&grid)
         };
         ctx.queue
             .write_buffer(&self.buffers.grid.buffer, 0, bytemuck::bytes_of(&g));
@@ -225,6 +239,13 @@ impl GpuSearch {
 
     /// Dispatches a whole search's stages inside an open compute pass.
     pub fn dispatch_stages(&self, pass: &mut wgpu::ComputePass) {
+        self.dispatch_sort(pass);
+        self.dispatch_narrow(pass);
+    }
+
+    /// Dispatches the faces' sort into the grid's cells (the broad phase) inside an open
+    /// compute pass.
+    pub fn dispatch_sort(&self, pass: &mut wgpu::ComputePass) {
         let (k, b) = (&self.kernels, &self.binds);
         let f = self.faces as u32;
         let t = self.table as u32;
@@ -241,6 +262,11 @@ impl GpuSearch {
         k.bucket_fill
             .0
             .dispatch_with(pass, &b[3], k.bucket_fill.0.grid(f));
+    }
+
+    /// Dispatches the narrow phase on the faces' last sort inside an open compute pass.
+    pub fn dispatch_narrow(&self, pass: &mut wgpu::ComputePass) {
+        let (k, b) = (&self.kernels, &self.binds);
         let q = self.queries as u32;
         k.contact_search
             .0
@@ -255,6 +281,11 @@ impl GpuSearch {
     /// The contact point of each query after a search.
     pub fn points_buffer(&self) -> &wgpu::Buffer {
         &self.buffers.points.buffer
+    }
+
+    /// The faces' centres at their last sort (3 floats per face).
+    pub fn centres_buffer(&self) -> &wgpu::Buffer {
+        &self.buffers.centres.buffer
     }
 
     /// The primary faces ([`types::Quad`]).

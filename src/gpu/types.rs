@@ -336,7 +336,27 @@ device_struct! {
         pub cell: f32,
         pub margin: f32,
         pub mask: u32,
+        pub all_faces: u32,
+        pub face_size: f32,
+        pub fill: f32,
+        pub stale_steps: u32,
         pub pad: u32,
+    }
+}
+
+impl GpuSearchGrid {
+    /// The device form of a grid the host computed for one step (its faces sorted at it).
+    pub fn of(grid: &crate::kernels::SearchGrid) -> Self {
+        GpuSearchGrid {
+            cell: grid.cell as f32,
+            margin: grid.margin as f32,
+            mask: grid.mask,
+            all_faces: grid.all_faces as u32,
+            face_size: grid.face_size as f32,
+            fill: grid.fill as f32,
+            stale_steps: grid.stale_steps,
+            pad: 0,
+        }
     }
 }
 

@@ -113,6 +113,13 @@ pub trait Integrator {
         None
     }
 
+    /// The resident step's device contact search: the sorts of the faces into its grid and
+    /// the steps whose kept grid no longer held (they tested every face), over the steps
+    /// taken.
+    fn search_rebuilds(&self) -> Option<(u64, u64)> {
+        None
+    }
+
     /// The device's ply failure record of the last step (the resident step surveys every
     /// step itself: [`crate::kernels::failure_reduce`]'s record); `None` where the host
     /// surveys the state.

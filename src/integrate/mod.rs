@@ -3,6 +3,7 @@
 pub mod explicit;
 pub mod implicit;
 pub mod integrator;
+pub mod kept_search;
 pub mod recorded_sweeps;
 pub mod resident;
 pub mod stable_step;

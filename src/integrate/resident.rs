@@ -15,6 +15,7 @@ use rayon::prelude::*;
 
 use super::explicit::lumped_mass;
 use super::integrator::{Integrator, Pipelined, ENGINE_GPU_RESIDENT};
+use super::kept_search::{KeptSearch, FIRST_INTERVAL};
 use super::recorded_sweeps::{RecordedSweeps, FIRST_GUESS};
 use super::state::{ContactReport, Energies, StepReport};
 use super::SolverState;
@@ -327,6 +328,8 @@ pub struct ResidentSolver<'m> {
     pair_ranges: Option<Vec<Range<usize>>>,
     /// The contact sweeps recorded per step and the run's tally.
     sweeps: RecordedSweeps,
+    /// The steps between the contact search's sorts and the run's tally.
+    search: KeptSearch,
     /// The shortened last step, if the run has one (see [`Pipelined::schedule`]).
     last_dt: Option<f64>,
     /// The step length the rows being decoded were computed with.
@@ -386,6 +389,7 @@ impl<'m> ResidentSolver<'m> {
         let chunk = chunk.max(1);
         let mut engine = ResidentStep::new(ctx, &model.element_data(), &setup, chunk)?;
         engine.set_sweeps(FIRST_GUESS);
+        engine.set_search_interval(FIRST_INTERVAL);
         // the setup lumped the mass already (an element loop over the whole mesh)
         let mass: Vec<f64> = setup.lumped.iter().map(|l| l.mass).collect();
         let body_mass = model
@@ -433,6 +437,7 @@ impl<'m> ResidentSolver<'m> {
             plane_count,
             pair_ranges,
             sweeps: RecordedSweeps::default(),
+            search: KeptSearch::default(),
             last_dt: None,
             row_dt: dt,
             measure_shift: 0.0,
@@ -525,6 +530,11 @@ impl<'m> ResidentSolver<'m> {
             let next = self.sweeps.collected(self.slot, &needs);
             self.engine.set_sweeps(next);
         }
+        if let Some(record) = self.engine.search_record() {
+            let interval = self.engine.search_interval();
+            let next = self.search.collected(self.slot, interval, record);
+            self.engine.set_search_interval(next);
+        }
         self.slot = other;
         self.rows.extend(rows);
         Ok(())
@@ -534,6 +544,7 @@ impl<'m> ResidentSolver<'m> {
     fn submit(&mut self, slot: usize, n: usize) -> Result<()> {
         self.engine.submit(slot, n)?;
         self.sweeps.submitted(slot, self.engine.sweeps());
+        self.search.submitted(slot, self.engine.sorts_in(n));
         self.submitted += n;
         Ok(())
     }
@@ -544,6 +555,20 @@ impl<'m> ResidentSolver<'m> {
     pub fn fix_recorded_sweeps(&mut self, sweeps: u32) {
         self.sweeps.fix(sweeps);
         self.engine.set_sweeps(sweeps);
+    }
+
+    /// Fixes the steps between the contact search's sorts of the faces (from the next
+    /// submission on; by default they follow the last submission's grid, see
+    /// [`KeptSearch`]). The results do not depend on it.
+    pub fn fix_search_interval(&mut self, steps: usize) {
+        self.search.fix(steps);
+        self.engine.set_search_interval(steps);
+    }
+
+    /// The contact search's sorts of the faces and its stale steps over the steps collected
+    /// (zero without a device search).
+    pub fn search_counts(&self) -> (u64, u64) {
+        (self.search.rebuilds, self.search.stale_steps)
     }
 
     /// The contact sweeps recorded and needed over the steps collected (the device contact
@@ -646,6 +671,10 @@ impl Integrator for ResidentSolver<'_> {
 
     fn recorded_sweeps(&self) -> Option<(u64, u64)> {
         self.pair_ranges.is_some().then(|| self.sweep_counts())
+    }
+
+    fn search_rebuilds(&self) -> Option<(u64, u64)> {
+        (self.engine.sorts_in(1) > 0).then(|| self.search_counts())
     }
 
     fn engine(&self) -> &'static str {

@@ -1,17 +1,40 @@
 //! Narrow phase of the GPU contact search (CPU twin of `shaders/contact_search.wgsl`): for
-//! each query, the faces of its interface in the 27 grid cells around the node whose box,
+//! each query, the faces of its interface in the 27 grid cells around the node (every face
+//! of the interface where the grid no longer holds: [`SearchGrid::all_faces`]) whose box,
 //! grown by the margin, holds the node; of those the closest by projection, with the
 //! kinematics of [`super::contact_gap`] (ties: the lower face index).
 
 use super::contact_gap::{contact_gap, ContactPoint, ContactQueries};
 use super::face_cells::{cell_key, cell_of};
 
-/// The search grid: cell side, candidate margin, table mask.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The search grid: the cell side and table mask the faces were last sorted with, this
+/// step's candidate margin, and whether the grid still holds (see `search_grid`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SearchGrid {
     pub cell: f64,
     pub margin: f64,
     pub mask: u32,
+    /// The grid kept from an earlier sort no longer holds: every face of the query's
+    /// interface is tested.
+    pub all_faces: bool,
+    /// The margin's base, the largest face size.
+    pub face_size: f64,
+    /// The largest share of the cell the steps that kept the grid needed since the last
+    /// reset, and the steps that tested every face.
+    pub fill: f64,
+    pub stale_steps: u32,
+}
+
+impl SearchGrid {
+    /// A grid the faces are sorted with at this step: cell side, margin, mask.
+    pub fn at(cell: f64, margin: f64, mask: u32) -> Self {
+        SearchGrid {
+            cell,
+            margin,
+            mask,
+            ..Self::default()
+        }
+    }
 }
 
 /// `face_range[q]` is the face range of query q's interface; bucket k of the grid holds
@@ -39,27 +62,30 @@ pub fn contact_search(
     };
     for (&s, &(first, end)) in secondary.iter().zip(face_range) {
         let x = pos(s);
-        let home = cell_of(x, grid.cell);
+        let candidate = |fi: u32| {
+            let p = faces[fi as usize].map(pos);
+            (0..3).all(|a| {
+                let lo = p.iter().map(|y| y[a]).fold(f64::INFINITY, f64::min);
+                let hi = p.iter().map(|y| y[a]).fold(f64::NEG_INFINITY, f64::max);
+                lo - grid.margin <= x[a] && x[a] <= hi + grid.margin
+            })
+        };
         let mut list = Vec::new();
-        for c in 0..27i32 {
-            let cell = [
-                home[0] + c % 3 - 1,
-                home[1] + (c / 3) % 3 - 1,
-                home[2] + c / 9 - 1,
-            ];
-            let key = cell_key(cell, first, grid.mask) as usize;
-            for &fi in &sorted[starts[key] as usize..starts[key + 1] as usize] {
-                if fi < first || fi >= end || list.contains(&fi) {
-                    continue;
-                }
-                let p = faces[fi as usize].map(pos);
-                let inside = (0..3).all(|a| {
-                    let lo = p.iter().map(|y| y[a]).fold(f64::INFINITY, f64::min);
-                    let hi = p.iter().map(|y| y[a]).fold(f64::NEG_INFINITY, f64::max);
-                    lo - grid.margin <= x[a] && x[a] <= hi + grid.margin
-                });
-                if inside {
-                    list.push(fi);
+        if grid.all_faces {
+            list.extend((first..end).filter(|&fi| candidate(fi)));
+        } else {
+            let home = cell_of(x, grid.cell);
+            for c in 0..27i32 {
+                let cell = [
+                    home[0] + c % 3 - 1,
+                    home[1] + (c / 3) % 3 - 1,
+                    home[2] + c / 9 - 1,
+                ];
+                let key = cell_key(cell, first, grid.mask) as usize;
+                for &fi in &sorted[starts[key] as usize..starts[key + 1] as usize] {
+                    if fi >= first && fi < end && !list.contains(&fi) && candidate(fi) {
+                        list.push(fi);
+                    }
                 }
             }
         }

@@ -1,8 +1,6 @@
 //! The contact search grid's bucket of every primary face (CPU twin of
-//! `shaders/face_cells.wgsl`): the cell of the mean of the face's four stored
-//! slots (for a triangle, whose fourth slot repeats its third, a point inside it, not its
-//! centroid), hashed with its
-//! interface.
+//! `shaders/face_cells.wgsl`): the cell of the face's centre ([`face_centre`]) hashed with
+//! its interface.
 
 /// The bucket of grid cell `c` of the interface whose faces start at `salt`, in a table of
 /// `mask + 1` buckets (the WGSL `cell_key`, in the same wrapping u32 arithmetic).
@@ -32,10 +30,16 @@ pub fn face_cells(
         .iter()
         .zip(face_first)
         .map(|(f, &salt)| {
-            let c: [f64; 3] = std::array::from_fn(|a| {
-                0.25 * f.iter().map(|&n| positions[n as usize][a]).sum::<f64>()
-            });
+            let c = face_centre(f, |n| positions[n as usize]);
             cell_key(cell_of(c, cell), salt, mask)
         })
         .collect()
+}
+
+/// The mean of a face's four stored corners (inside a triangle, whose fourth slot repeats
+/// its third, too; not its centroid), with `position` each node's position: the point the
+/// grid sorts the face by, kept to measure how far it moves (`search_bounds`).
+pub fn face_centre(f: &[u32; 4], position: impl Fn(u32) -> [f64; 3]) -> [f64; 3] {
+    let p = f.map(position);
+    std::array::from_fn(|a| 0.25 * (p[0][a] + p[1][a] + p[2][a] + p[3][a]))
 }

@@ -119,6 +119,14 @@ pub struct Summary {
     pub sweeps_recorded: Option<u64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sweeps_needed: Option<u64>,
+    /// The resident engine's device contact search: the sorts of the primary faces into its
+    /// grid over the run (the steps in between keep the last sort while the faces have
+    /// moved less than the grid's skin), and the steps whose kept grid no longer held, which
+    /// tested every face of their interfaces instead. Counted by this process.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub search_rebuilds: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub search_stale_steps: Option<u64>,
     pub energy_initial: f64,
     pub energy_final: f64,
     pub energy_max: f64,

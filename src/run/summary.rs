@@ -200,6 +200,10 @@ pub(super) fn fill_summary(
         summary.sweeps_recorded = Some(recorded);
         summary.sweeps_needed = Some(needed);
     }
+    if let Some((rebuilds, stale)) = solver.search_rebuilds() {
+        summary.search_rebuilds = Some(rebuilds);
+        summary.search_stale_steps = Some(stale);
+    }
 }
 
 /// Ends an interrupted run: a checkpoint (CPU integrators), the history, a summary with
