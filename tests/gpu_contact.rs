@@ -809,6 +809,67 @@ fn rigid_run_scene() -> String {
     text
 }
 
+/// A node at a distance from a rigid surface whose square is below f32's normal range (GPU
+/// hardware flushes such values to zero) still gets the surface's unit normal: the block's
+/// bottom nodes lifted by 1e-20 to 1e-40 off the windowed support's plane, on its frame and
+/// over its window. (An H100 gave a NaN normal there, and the friction work of the pair went
+/// NaN; lavapipe keeps subnormals, so it passes there either way.)
+#[test]
+fn rigid_normals_stay_unit_at_subnormal_distances() {
+    let Some(ctx) = gpu_context("rigid normals at subnormal distances") else {
+        return;
+    };
+    let model = model_of(&rigid_run_scene(), "rigid.toml");
+    let (setup, _) = resident::setup(&model, &model_settings(), 5e-4, 1.0).unwrap();
+    let contact = setup.contact.clone().expect("rigid contact");
+    let nodes = model.mesh.node_count();
+    let tiny = [1e-20, 3e-23, 1e-25, 1e-30, 1e-37, 1e-40];
+    let mut u = vec![0.0; 3 * nodes];
+    let mut lifted = 0;
+    // the block's 125 nodes come first, then the rigid bodies'
+    for n in 0..125 {
+        if model.mesh.nodes[n][2] == 0.25 {
+            u[3 * n + 2] = tiny[lifted % tiny.len()];
+            lifted += 1;
+        }
+    }
+    assert_eq!(lifted, 25, "the block's bottom nodes");
+    // closing at 0.1: in reach (g >= -4 dt |v|)
+    let v: Vec<f64> = (0..3 * nodes)
+        .map(|d| if d % 3 == 2 && d / 3 < 125 { -0.1 } else { 0.0 })
+        .collect();
+    let zeros = vec![0.0; 3 * nodes];
+    let mut gpu = ResidentStep::new(ctx, &model.element_data(), &setup, 8).expect("device step");
+    gpu.upload(&u, &v, &zeros, &zeros, &[]).unwrap();
+    let (ctx, it) = gpu.impulse_sweeps().expect("contact iteration");
+    let ctx = ctx.clone();
+    it.run(&ctx, |it, p| it.dispatch_setup(p, SearchMode::First))
+        .unwrap();
+    let c = it.read_constraints(&ctx).unwrap();
+    let support = (model.rigid.iter())
+        .position(|r| r.name == "support")
+        .expect("the support") as u32;
+    let mut checked = 0;
+    for (p, k) in contact.pairs.iter().zip(&c) {
+        if p.body != support || !k.in_reach {
+            continue;
+        }
+        let length = k.normal.iter().map(|x| x * x).sum::<f64>().sqrt();
+        assert!(
+            (length - 1.0).abs() <= 1e-6,
+            "node {}: normal {:?} at gap {}",
+            p.node,
+            k.normal,
+            k.gap
+        );
+        checked += 1;
+    }
+    assert!(
+        checked >= 20,
+        "{checked} of the bottom nodes in reach of the support"
+    );
+}
+
 /// The device records a number of contact sweeps per step as dispatches of their own, and
 /// `contact_finish` runs the rest of each step's iteration in one workgroup. The results must
 /// not depend on how many were recorded: none (every sweep in `contact_finish`), one, and

@@ -30,6 +30,17 @@ fn sphere_distance(r: vec3<f32>, c: vec3<f32>, radius: f32) -> SignedDistance {
     return SignedDistance(l - radius, n);
 }
 
+// The length d of (a, b), a and b >= 0 and not both zero, and the unit vector (a, b) / d,
+// as (d, a / d, b / d) (twin: `rigid_shape::scaled_hypot`): scaled by the larger part, so
+// that parts whose squares are below f32's normal range (flushed to zero on GPU hardware)
+// keep a unit direction.
+fn scaled_hypot(a: f32, b: f32) -> vec3<f32> {
+    let m = max(a, b);
+    let r = vec2<f32>(a, b) / m;
+    let l = sqrt(dot(r, r));
+    return vec3<f32>(m * l, r / l);
+}
+
 // The intersection of two solids given by their signed distances and orthogonal unit outward
 // gradients: inside both, the larger distance with its normal; outside, the Euclidean
 // combination of the positive parts.
@@ -40,10 +51,8 @@ fn extruded(a: SignedDistance, b: SignedDistance) -> SignedDistance {
         }
         return b;
     }
-    let pa = max(a.d, 0.0);
-    let pb = max(b.d, 0.0);
-    let d = sqrt(pa * pa + pb * pb);
-    return SignedDistance(d, (pa * a.n + pb * b.n) / d);
+    let h = scaled_hypot(max(a.d, 0.0), max(b.d, 0.0));
+    return SignedDistance(h.x, h.y * a.n + h.z * b.n);
 }
 
 // Signed distance from `p` to the centred rectangle of half-sides `h`, and its unit gradient.
@@ -56,9 +65,8 @@ fn rectangle_distance(p: vec2<f32>, h: vec2<f32>) -> PlanarDistance {
         }
         return PlanarDistance(q.y, vec2<f32>(0.0, s.y));
     }
-    let o = max(q, vec2<f32>(0.0));
-    let d = length(o);
-    return PlanarDistance(d, s * o / d);
+    let o = scaled_hypot(max(q.x, 0.0), max(q.y, 0.0));
+    return PlanarDistance(o.x, s * o.yz);
 }
 
 // Signed distance in the plane from `p` to the frame `size` minus the centred `opening`

@@ -125,10 +125,18 @@ fn extruded((a, ga): (f64, V3), (b, gb): (f64, V3)) -> (f64, V3) {
     if a <= 0.0 && b <= 0.0 {
         return if a >= b { (a, ga) } else { (b, gb) };
     }
-    let (pa, pb) = (a.max(0.0), b.max(0.0));
-    let d = (pa * pa + pb * pb).sqrt();
-    let n = std::array::from_fn(|k| (pa * ga[k] + pb * gb[k]) / d);
-    (d, n)
+    let (d, ca, cb) = scaled_hypot(a.max(0.0), b.max(0.0));
+    (d, std::array::from_fn(|k| ca * ga[k] + cb * gb[k]))
+}
+
+/// The length d of (a, b), a and b >= 0 and not both zero, and the unit vector (a, b) / d,
+/// as (d, a / d, b / d): scaled by the larger part, as the device computes it (there, parts
+/// whose squares are below f32's normal range are flushed to zero).
+fn scaled_hypot(a: f64, b: f64) -> (f64, f64, f64) {
+    let m = a.max(b);
+    let (ra, rb) = (a / m, b / m);
+    let l = (ra * ra + rb * rb).sqrt();
+    (m * l, ra / l, rb / l)
 }
 
 /// Signed distance in the plane from `p` to the frame `size` minus the centred `opening`
@@ -158,9 +166,8 @@ fn rectangle(p: [f64; 2], h: [f64; 2]) -> (f64, [f64; 2]) {
             (q[1], [0.0, sign[1]])
         };
     }
-    let o = [q[0].max(0.0), q[1].max(0.0)];
-    let d = (o[0] * o[0] + o[1] * o[1]).sqrt();
-    (d, [sign[0] * o[0] / d, sign[1] * o[1] / d])
+    let (d, c0, c1) = scaled_hypot(q[0].max(0.0), q[1].max(0.0));
+    (d, [sign[0] * c0, sign[1] * c1])
 }
 
 #[cfg(test)]
