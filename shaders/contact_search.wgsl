@@ -4,7 +4,10 @@
 // earlier step no longer holds (grid.all_faces), whose box grown by the margin holds the
 // node are its candidates, the same test as the host's broad phase (`contact::search`); of
 // those, the closest by projection gives the contact point, as `contact_gap` computes it
-// (ties: the lower face index, so the order the faces are visited in does not matter).
+// (ties: the lower face index, so the order the faces are visited in does not matter). A
+// face whose box (`face_box`, absolute f32 coordinates) grown by the margin and a slack far
+// above its rounding misses the node is passed over before its corners are read: the exact
+// test, relative to the node, decides the others, so the filter changes no result.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> grid: SearchGrid;
@@ -18,6 +21,7 @@
 @group(0) @binding(7) var<storage, read> starts: array<u32>;
 @group(0) @binding(8) var<storage, read> sorted: array<u32>;
 @group(0) @binding(9) var<storage, read_write> points: array<ContactPoint>;
+@group(0) @binding(10) var<storage, read> boxes: array<FaceBox>;
 
 // include: velocity
 
@@ -29,9 +33,20 @@ struct Closest {
     distance: f32,
 }
 
+// The node's position x in f32 and the reach of the box filter around it: the margin and a
+// slack of 1e-5 of the coordinates' size (the box and x are each within a few f32 ulps).
+struct Probe {
+    x: vec3<f32>,
+    reach: f32,
+}
+
 // `best`, or face fi where it is a candidate of the node (reference rs, displacement us,
-// velocity vs) and closer (ties: the lower face index).
-fn closer(fi: u32, rs: Split3, us: Split3, vs: vec3<f32>, best: Closest) -> Closest {
+// velocity vs, position and filter `at`) and closer (ties: the lower face index).
+fn closer(fi: u32, rs: Split3, us: Split3, vs: vec3<f32>, at: Probe, best: Closest) -> Closest {
+    let b = boxes[fi];
+    if (any(vec3_of(b.lo) - at.reach > at.x) || any(vec3_of(b.hi) + at.reach < at.x)) {
+        return best;
+    }
     let face = faces[fi].nodes;
     let p = corners_from(face, rs, us);
     let lo = min(min(p.p0, p.p1), min(p.p2, p.p3));
@@ -60,21 +75,24 @@ fn contact_search(@builtin(global_invocation_id) gid: vec3<u32>) {
     let us = displacement[s];
     let vs = load_v(s);
     var best = Closest(open_point(), bitcast<f32>(0x7f800000u)); // +inf
+    let x = split_sum(rs, us);
+    let size = max(max(abs(x.x), abs(x.y)), abs(x.z)) + grid.margin;
+    let at = Probe(x, grid.margin + 1e-5 * size);
     if (grid.all_faces != 0u) {
         for (var fi = query.first; fi < query.end; fi++) {
-            best = closer(fi, rs, us, vs, best);
+            best = closer(fi, rs, us, vs, at, best);
         }
         points[q] = best.point;
         return;
     }
-    let home = cell_of(split_sum(rs, us), grid.cell);
+    let home = cell_of(x, grid.cell);
     for (var c = 0; c < 27; c++) {
         let offset = vec3<i32>(c % 3 - 1, (c / 3) % 3 - 1, c / 9 - 1);
         let key = cell_key(home + offset, query.first, grid.mask);
         for (var j = starts[key]; j < starts[key + 1u]; j++) {
             let fi = sorted[j];
             if (fi >= query.first && fi < query.end) {
-                best = closer(fi, rs, us, vs, best);
+                best = closer(fi, rs, us, vs, at, best);
             }
         }
     }

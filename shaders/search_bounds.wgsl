@@ -2,8 +2,9 @@
 // speed, the largest box side of a primary face at u_n and the largest move of a face's
 // centre since the faces were last sorted (`face_cells` wrote the centres), folded into
 // bounds[0..3] (zeroed before) by atomicMax on their f32 bits (non-negative floats order as
-// their bits). One invocation per node (params.aux nodes) and per face (params.aux2 faces);
-// each workgroup reduces in workgroup memory, then takes one atomic per bound.
+// their bits); and each face's box for the narrow phase (`face_box`). One invocation per node
+// (params.aux nodes) and per face (params.aux2 faces); each workgroup reduces in workgroup
+// memory, then takes one atomic per bound.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> reference: array<Split3>;
@@ -12,6 +13,7 @@
 @group(0) @binding(4) var<storage, read> faces: array<Quad>;
 @group(0) @binding(5) var<storage, read> centres: array<Float3>;
 @group(0) @binding(6) var<storage, read_write> bounds: array<atomic<u32>, 3>;
+@group(0) @binding(7) var<storage, read_write> boxes: array<FaceBox>;
 
 var<workgroup> speeds: array<f32, 64>;
 var<workgroup> sides: array<f32, 64>;
@@ -45,6 +47,7 @@ fn search_bounds(
         }
         let e = hi - lo;
         side = max(e.x, max(e.y, e.z));
+        boxes[i] = face_box(i);
         let d = abs(face_centre(i) - vec3_of(centres[i]));
         drift = max(d.x, max(d.y, d.z));
     }

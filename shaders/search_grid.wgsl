@@ -18,7 +18,7 @@
 
 const SEARCH_KEEP: u32 = 0u;
 const SEARCH_FIRST: u32 = 2u;
-const SEARCH_SKIN: f32 = 0.25;
+const SEARCH_SKIN: f32 = 0.1;
 
 @compute @workgroup_size(1)
 fn search_grid() {

@@ -220,8 +220,11 @@ fn kept_search_grid_matches_its_twins_and_a_fresh_sort() {
         let ctx = ctx.clone();
         it.run(&ctx, |it, p| it.dispatch_setup(p, mode)).unwrap();
         let (bounds, grid) = it.read_grid(&ctx).unwrap();
+        let boxes: Vec<f64> = (it.read_boxes(&ctx).unwrap().iter())
+            .flat_map(|b| b.concat())
+            .collect();
         (
-            bounds,
+            (bounds, boxes),
             grid,
             it.read_points(&ctx, contact.queries.len()).unwrap(),
         )
@@ -240,7 +243,12 @@ fn kept_search_grid_matches_its_twins_and_a_fresh_sort() {
             moved[3 * n] += shift;
             moved[3 * n + 1] -= shift;
         }
-        let (bounds, grid, kept) = setup_at(&moved, SearchMode::Keep);
+        let ((bounds, boxes), grid, kept) = setup_at(&moved, SearchMode::Keep);
+        let twin: Vec<f64> = (contact.faces.iter())
+            .flat_map(|f| kernels::face_box(f, |n| position(&moved, n)).concat())
+            .collect();
+        let e = rel_err(&boxes, &twin);
+        assert!(e <= TOL, "face_box {e:.2e}");
         let twin = kernels::search_bounds(&reference, &moved, &v, &contact.faces, &centres);
         let e = rel_err(&bounds, &twin);
         eprintln!("shift {shift}: bounds {bounds:?}, error {e:.2e}");
@@ -343,7 +351,7 @@ primary = { body = "block", face = "z-" }
     for interval in [Some(1000), None] {
         let (rows, counts, u, v) = run(interval);
         eprintln!("interval {interval:?}: sorts and stale steps {counts:?}");
-        assert!(counts.0 < collected / 4, "{counts:?}");
+        assert!(counts.0 < collected / 2, "{counts:?}");
         if interval.is_some() {
             assert!(counts.1 > 0, "sorting once per submission, steps go stale");
         }

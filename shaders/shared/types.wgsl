@@ -98,6 +98,13 @@ struct Quad {
     nodes: vec4<u32>,
 }
 
+// A primary face's box at the current displacement, in absolute f32 coordinates (the
+// narrow phase's first, conservative filter: `face_box`).
+struct FaceBox {
+    lo: Float3,
+    hi: Float3,
+}
+
 // Contact kinematics of one query; face = 0xffffffff when it has no candidate.
 struct ContactPoint {
     face: u32,

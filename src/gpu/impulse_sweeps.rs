@@ -269,6 +269,7 @@ impl Bindings<'_> {
                 s.faces_buffer(),
                 s.centres_buffer(),
                 &w.bounds.buffer,
+                s.boxes_buffer(),
             )
         });
         let grid = search.map(|s| {

@@ -549,6 +549,23 @@ impl ImpulseSweeps {
         Ok(([b[0], b[1], b[2]], g))
     }
 
+    /// The faces' boxes of the last search, as (lo, hi).
+    pub fn read_boxes(&mut self, ctx: &GpuContext) -> Result<Vec<[[f64; 3]; 2]>> {
+        let Some(s) = &self.search else {
+            return Ok(Vec::new());
+        };
+        let b: Vec<types::FaceBox> = read_back(
+            ctx,
+            &mut self.staging,
+            CONTACT_READ,
+            s.boxes_buffer(),
+            s.faces,
+        )?;
+        Ok(b.iter()
+            .map(|b| [b.lo.map(f64::from), b.hi.map(f64::from)])
+            .collect())
+    }
+
     /// The contact points of the last search.
     pub fn read_points(&mut self, ctx: &GpuContext, queries: usize) -> Result<Vec<ContactPoint>> {
         let p: Vec<types::GpuContactPoint> = match &self.search {

@@ -73,7 +73,7 @@ kernel_table! {
         step, constraints, pairs, velocity, state, results, rigid,
     );
     ContactSearch = contact_search(
-        grid, reference, displacement, velocity, queries, faces, starts, sorted, points,
+        grid, reference, displacement, velocity, queries, faces, starts, sorted, points, boxes,
     );
     ContactSweep = contact_sweep(step, constraints, pairs, velocity, dj, state);
     ContactTouches = contact_touches(nodes, links, constraints, starts, sorted, touches, state);
@@ -83,7 +83,7 @@ kernel_table! {
     );
     ExplicitDrift = explicit_drift(step, velocity, displacement);
     ExplicitPredict = explicit_predict(step, acceleration, velocity);
-    FaceCells = face_cells(grid, reference, displacement, faces, face_first, keys, centres);
+    FaceCells = face_cells(grid, reference, displacement, faces, face_first, keys, centres, boxes);
     FailureReduce = failure_reduce(partials, rows);
     FailureSurveyKernel = failure_survey(displacement, points, operators, strengths, partials);
     FillWords = fill_words(words);
@@ -99,7 +99,7 @@ kernel_table! {
     );
     PrefixSum = prefix_sum(values, totals, starts);
     ScanTotals = scan_totals(values, totals);
-    SearchBounds = search_bounds(reference, displacement, velocity, faces, centres, bounds);
+    SearchBounds = search_bounds(reference, displacement, velocity, faces, centres, bounds, boxes);
     SearchGridKernel = search_grid(step, bounds, grid);
     SlipRate = slip_rate(reference, displacement, velocity, queries, faces, points, slip);
     StableStep = stable_step(reference, hex8_elements, tet4_elements, materials, steps);

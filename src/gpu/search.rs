@@ -63,6 +63,8 @@ pub(super) struct SearchBuffers {
     /// The faces sorted by the grid cell of their centre, and the centres at that sort.
     pub(super) sort: BucketSort,
     centres: Storage,
+    /// The faces' boxes at the current displacement ([`types::FaceBox`]).
+    pub(super) boxes: Storage,
     points: Storage,
 }
 
@@ -106,6 +108,7 @@ impl SearchBuffers {
                 table,
             )?,
             centres: Storage::new(ctx, "search.centres", (12 * nf.max(1)) as u64)?,
+            boxes: Storage::new(ctx, "search.boxes", (24 * nf.max(1)) as u64)?,
             points: Storage::new(ctx, "search.points", point_bytes as u64)?,
         })
     }
@@ -133,6 +136,7 @@ fn binds(
             &b.face_first.buffer,
             &b.sort.keys.buffer,
             &b.centres.buffer,
+            &b.boxes.buffer,
         ),
         k.bucket_count.bind(
             ctx,
@@ -158,6 +162,7 @@ fn binds(
             &b.sort.starts.buffer,
             &b.sort.sorted.buffer,
             &b.points.buffer,
+            &b.boxes.buffer,
         ),
     ]
 }
@@ -286,6 +291,11 @@ impl GpuSearch {
     /// The faces' centres at their last sort (3 floats per face).
     pub fn centres_buffer(&self) -> &wgpu::Buffer {
         &self.buffers.centres.buffer
+    }
+
+    /// The faces' boxes ([`types::FaceBox`]) the narrow phase filters with.
+    pub fn boxes_buffer(&self) -> &wgpu::Buffer {
+        &self.buffers.boxes.buffer
     }
 
     /// The primary faces ([`types::Quad`]).

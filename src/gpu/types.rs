@@ -188,6 +188,15 @@ device_struct! {
     }
 }
 
+device_struct! {
+    /// A primary face's box in absolute f32 coordinates (twin: `kernels::face_cells::face_box`).
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+    pub struct FaceBox {
+        pub lo: [f32; 3],
+        pub hi: [f32; 3],
+    }
+}
+
 impl From<&[u32; 4]> for Quad {
     fn from(&nodes: &[u32; 4]) -> Self {
         Quad { nodes }
@@ -648,6 +657,7 @@ pub fn layouts() -> Vec<StructLayout> {
         GpuMaterial::layout(),
         ContactQuery::layout(),
         Quad::layout(),
+        FaceBox::layout(),
         GpuContactPoint::layout(),
         Lumped::layout(),
         Plane::layout(),

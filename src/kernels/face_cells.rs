@@ -36,6 +36,17 @@ pub fn face_cells(
         .collect()
 }
 
+/// A face's box (lowest and highest corner coordinates), with `position` each node's
+/// position: the narrow phase's first filter (the device's in f32).
+pub fn face_box(f: &[u32; 4], position: impl Fn(u32) -> [f64; 3]) -> [[f64; 3]; 2] {
+    let p = f.map(position);
+    let fold = |a: usize, pick: fn(f64, f64) -> f64| p.iter().map(|y| y[a]).reduce(pick).unwrap();
+    [
+        std::array::from_fn(|a| fold(a, f64::min)),
+        std::array::from_fn(|a| fold(a, f64::max)),
+    ]
+}
+
 /// The mean of a face's four stored corners (inside a triangle, whose fourth slot repeats
 /// its third, too; not its centroid), with `position` each node's position: the point the
 /// grid sorts the face by, kept to measure how far it moves (`search_bounds`).

@@ -63,7 +63,7 @@ pub use corner_select::corner_select;
 pub use explicit_correct::{explicit_correct, LumpedNode};
 pub use explicit_drift::explicit_drift;
 pub use explicit_predict::explicit_predict;
-pub use face_cells::{face_cells, face_centre};
+pub use face_cells::{face_box, face_cells, face_centre};
 pub use failure_reduce::{failure_reduce, FAILURE_FIELDS};
 pub use failure_survey::{failure_survey, SurveyPoint, SurveySetup};
 pub use fill_words::fill_words;

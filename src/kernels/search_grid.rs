@@ -7,7 +7,7 @@ use super::contact_search::SearchGrid;
 /// The cell side of a sort is the largest face box side plus the margin, a thousandth more,
 /// and this share more (the faces may move by about this share of a cell before the grid
 /// must be sorted again).
-pub const SEARCH_SKIN: f64 = 0.25;
+pub const SEARCH_SKIN: f64 = 0.1;
 
 /// What a step does with the search grid: keep the last sort (checking that it holds), sort
 /// the faces again, or sort them again and start a new [`SearchGrid::fill`] (the first step
