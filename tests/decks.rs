@@ -483,6 +483,51 @@ fn the_lsdyna_block_drop_runs_as_it_stands_and_matches_its_scene() {
     );
 }
 
+/// `*INCLUDE` in a keyword file: `scenes/block_drop.k` with its nodes and elements moved
+/// into an included file (in a subfolder, named on two cards joined by ` +`) runs to the
+/// single file's history, byte for byte; a keyword the included file asks that impact cannot
+/// honour is refused naming that file and its line, and an include without its file's name
+/// is refused at its line.
+#[test]
+fn an_lsdyna_include_reads_as_the_one_file_does() {
+    let deck = repo().join("scenes/block_drop.k");
+    let text = std::fs::read_to_string(&deck).unwrap();
+    let (_, whole) = run_file("deck_block_drop_whole", &deck);
+    let at = text.find("*NODE").expect("the nodes");
+    let end = text.find("*END").expect("the end");
+    let (head, mesh) = (&text[..at], &text[at..end]);
+    let dir = out_dir("deck_include");
+    std::fs::create_dir_all(dir.join("mesh")).unwrap();
+    let included = format!("$ the block's nodes and elements\n{mesh}");
+    std::fs::write(dir.join("mesh/block_mesh.k"), &included).unwrap();
+    let main = format!("{head}*INCLUDE\n$ the mesh\nmesh/block_ +\nmesh.k\n*END\n");
+    let path = dir.join("block_drop_include.k");
+    std::fs::write(&path, &main).unwrap();
+    let (s, split) = run_file("deck_block_drop_include", &path);
+    assert_eq!(s.status, "completed");
+    assert!(
+        format!("{:?}", split.rows) == format!("{:?}", whole.rows),
+        "the included mesh"
+    );
+    // a keyword in the included file is refused at its file and line
+    let bad = format!("{included}*MAT_PLASTIC_KINEMATIC\n         1\n");
+    std::fs::write(dir.join("mesh/block_mesh.k"), &bad).unwrap();
+    let e = Scene::load(&path).expect_err("refused").to_string();
+    let line = bad.lines().count() - 1;
+    assert!(
+        e.contains(&format!("block_mesh.k:{line}")) && e.contains("*MAT_PLASTIC_KINEMATIC"),
+        "{e}"
+    );
+    let nameless = format!("{head}*INCLUDE\n*END\n");
+    std::fs::write(&path, &nameless).unwrap();
+    let e = Scene::load(&path).expect_err("refused").to_string();
+    let line = head.lines().count() + 1;
+    assert!(
+        e.contains(&format!("block_drop_include.k:{line}")) && e.contains("file's name"),
+        "{e}"
+    );
+}
+
 #[test]
 fn what_a_keyword_file_asks_that_impact_cannot_honour_is_refused_by_keyword_and_line() {
     let deck = std::fs::read_to_string(repo().join("scenes/block_drop.k")).unwrap();

@@ -1,4 +1,6 @@
-//! An Abaqus/CalculiX deck's lines with `*INCLUDE, INPUT=file` expanded in place.
+//! A deck's lines with its includes expanded in place: an Abaqus/CalculiX deck's
+//! `*INCLUDE, INPUT=file`, or an LS-DYNA keyword file's `*INCLUDE` with the file's name on
+//! the card after it (a name ending in ` +` goes on on the next card).
 //!
 //! An included file is found relative to the folder of the file that includes it, may
 //! include others in turn (at most [`MAX_DEPTH`] deep, which also stops a file that includes
@@ -12,6 +14,15 @@ use super::parse_error::ParseError;
 
 /// Includes nest at most this deep.
 pub(crate) const MAX_DEPTH: usize = 16;
+
+/// How a deck names an included file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Dialect {
+    /// `*INCLUDE, INPUT=file` (Abaqus, CalculiX).
+    Abaqus,
+    /// `*INCLUDE`, then the file's name on the next card (LS-DYNA; `$` starts a comment).
+    Keyword,
+}
 
 /// A deck's text with its includes expanded.
 pub(crate) struct Deck {
@@ -28,12 +39,21 @@ impl Deck {
     /// The deck in `text`, read from `path` (`None`: text with no file, where an `*INCLUDE`
     /// is refused).
     pub fn expand(text: &str, path: Option<&Path>) -> Result<Deck, ParseError> {
+        Self::expand_as(Dialect::Abaqus, text, path)
+    }
+
+    /// [`Self::expand`] for a deck of `dialect`.
+    pub fn expand_as(
+        dialect: Dialect,
+        text: &str,
+        path: Option<&Path>,
+    ) -> Result<Deck, ParseError> {
         let mut deck = Deck {
             text: String::with_capacity(text.len()),
             lines: Vec::new(),
             files: vec![path.map(Path::to_path_buf).unwrap_or_default()],
         };
-        deck.add(text, 0, 0)?;
+        deck.add(dialect, text, 0, 0)?;
         Ok(deck)
     }
 
@@ -58,12 +78,23 @@ impl Deck {
     }
 
     /// Appends the lines of `text`, file `file` at include depth `depth`.
-    fn add(&mut self, text: &str, file: usize, depth: usize) -> Result<(), ParseError> {
+    fn add(
+        &mut self,
+        dialect: Dialect,
+        text: &str,
+        file: usize,
+        depth: usize,
+    ) -> Result<(), ParseError> {
         // a byte-order mark some editors write is no part of the deck
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        for (i, raw) in text.lines().enumerate() {
+        let mut lines = text.lines().enumerate();
+        while let Some((i, raw)) = lines.next() {
             let line = i + 1;
-            match include_target(raw) {
+            let include = match dialect {
+                Dialect::Abaqus => include_target(raw),
+                Dialect::Keyword => keyword_include(raw, &mut lines),
+            };
+            match include {
                 None => {
                     self.text.push_str(raw);
                     self.text.push('\n');
@@ -104,12 +135,49 @@ impl Deck {
                     }
                     self.files.push(path);
                     let index = self.files.len() - 1;
-                    self.add(&text, index, depth + 1)?;
+                    self.add(dialect, &text, index, depth + 1)?;
                 }
             }
         }
         Ok(())
     }
+}
+
+/// For an LS-DYNA `*INCLUDE` keyword line, the file its next card names (taken from
+/// `lines`, with any comment cards before it, and the cards a name ending in ` +` goes on
+/// on), or what is wrong with it; `None` for any other line (`*INCLUDE_PATH` and the other
+/// options are keywords of their own, which the reader refuses).
+fn keyword_include<'a>(
+    raw: &str,
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+) -> Option<Result<String, String>> {
+    let rest = raw.trim_end().strip_prefix('*')?;
+    if !rest.trim().eq_ignore_ascii_case("INCLUDE") {
+        return None;
+    }
+    let mut name = String::new();
+    for (_, card) in lines.by_ref() {
+        if card.starts_with('$') || card.trim().is_empty() {
+            continue;
+        }
+        if card.starts_with('*') {
+            return Some(Err(format!(
+                "*INCLUDE needs the file's name on the card after it, not the keyword `{}`",
+                card.trim()
+            )));
+        }
+        let card = card.trim();
+        match card.strip_suffix(" +") {
+            Some(head) => name.push_str(head.trim_end()),
+            None => {
+                name.push_str(card);
+                return Some(Ok(name));
+            }
+        }
+    }
+    Some(Err(
+        "*INCLUDE needs the file's name on the card after it".into()
+    ))
 }
 
 /// For an `*INCLUDE` keyword line, the file it names (or what is wrong with it); `None` for
@@ -152,6 +220,24 @@ mod tests {
         assert!(matches!(include_target("*INCLUDE"), Some(Err(_))));
         assert_eq!(include_target("** *INCLUDE, INPUT=x"), None);
         assert_eq!(include_target("*NODE"), None);
+    }
+
+    #[test]
+    fn keyword_includes_take_the_next_card() {
+        let take = |text: &str| {
+            let mut lines = text.lines().enumerate();
+            let (_, first) = lines.next().unwrap();
+            keyword_include(first, &mut lines)
+        };
+        assert_eq!(take("*INCLUDE\nmesh.k\n"), Some(Ok("mesh.k".into())));
+        assert_eq!(
+            take("*include\n$ the mesh\n  parts/a +\n/b.k\n"),
+            Some(Ok("parts/a/b.k".into()))
+        );
+        assert_eq!(take("*INCLUDE_PATH\nparts\n"), None);
+        assert!(matches!(take("*INCLUDE\n*NODE\n"), Some(Err(_))));
+        assert!(matches!(take("*INCLUDE\n"), Some(Err(_))));
+        assert_eq!(take("*NODE\n"), None);
     }
 
     #[test]

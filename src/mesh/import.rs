@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use super::boundary::{boundary_faces, orient, BoundaryIndex};
-use super::deck::Deck;
+use super::deck::{Deck, Dialect};
 use super::orientation::ElementAxes;
 pub use super::parse_error::ParseError;
 use super::{BodyParts, Face, NodeSet, Surface};
@@ -61,7 +61,6 @@ pub fn import(
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
-    let keywords = matches!(ext.as_str(), "k" | "key" | "dyn");
     let (file, deck) = match ext.as_str() {
         "msh" if elset.is_some() => {
             return Err(located(ParseError::whole(
@@ -72,7 +71,10 @@ pub fn import(
         "k" | "key" | "dyn" => {
             let text = std::str::from_utf8(bytes)
                 .map_err(|e| located(ParseError::whole(format!("not a text file: {e}"))))?;
-            (super::lsdyna::read(text, elset).map_err(located)?, None)
+            let deck = Deck::expand_as(Dialect::Keyword, text, Some(path)).map_err(located)?;
+            let file =
+                super::lsdyna::read(&deck.text, elset).map_err(|e| located(deck.locate(e)))?;
+            (file, Some(deck))
         }
         "inp" => {
             let text = std::str::from_utf8(bytes)
@@ -90,7 +92,6 @@ pub fn import(
     };
     let notices = match &deck {
         Some(d) => skipped_notice(path, &|l| d.origin(l), &file.skipped),
-        None if keywords => skipped_notice(path, &|l| (None, l), &file.skipped),
         None => None,
     }
     .into_iter()

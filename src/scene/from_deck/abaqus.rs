@@ -10,8 +10,8 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::{
-    fixes_of, holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckProbe, DeckScene,
-    DeckStep, Elastic, Holder, PrimarySide, Select,
+    deck_line, fixes_of, holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckProbe,
+    DeckScene, DeckStep, Elastic, Holder, PrimarySide, Select,
 };
 use crate::error::{ImpactError, Result};
 use crate::mesh::abaqus::params;
@@ -468,10 +468,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
 fn notice(r: &Reader, g: &Gathered, unprobed: &[(String, usize)]) -> Option<String> {
     let mut listed: Vec<(String, Vec<String>)> = Vec::new();
     for (name, line) in &g.passed {
-        let at = match r.deck.origin(*line) {
-            (None, l) => format!("{l}"),
-            (Some(f), l) => format!("{}:{l}", f.display()),
-        };
+        let at = deck_line(&r.deck, *line);
         match listed.iter_mut().find(|(k, _)| k == name) {
             Some((_, lines)) => lines.push(at),
             None => listed.push((name.clone(), vec![at])),

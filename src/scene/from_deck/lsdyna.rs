@@ -9,10 +9,11 @@
 use std::path::Path;
 
 use super::{
-    fixes_of, holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckPlane, DeckRigid,
-    DeckScene, DeckStep, Elastic, Holder, PrimarySide, Select,
+    deck_line, fixes_of, holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckPlane,
+    DeckRigid, DeckScene, DeckStep, Elastic, Holder, PrimarySide, Select,
 };
 use crate::error::{ImpactError, Result};
+use crate::mesh::deck::{Deck, Dialect};
 use crate::mesh::lsdyna::{card, keyword};
 use crate::mesh::BodyParts;
 
@@ -105,13 +106,17 @@ struct Gathered {
 
 struct Reader<'a> {
     path: &'a Path,
+    /// The file with its includes expanded (the lines below count through it).
+    deck: Deck,
 }
 
 impl Reader<'_> {
+    /// An error at expanded line `line`, in the file and at the line it came from.
     fn err(&self, line: usize, message: impl Into<String>) -> ImpactError {
+        let (file, l) = self.deck.origin(line);
         ImpactError::Mesh {
-            path: self.path.to_path_buf(),
-            line: Some(line),
+            path: file.unwrap_or(self.path).to_path_buf(),
+            line: Some(l),
             message: message.into(),
         }
     }
@@ -344,9 +349,15 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
     };
     let text =
         crate::limits::read_input_text(path).map_err(|e| whole(format!("cannot read: {e}")))?;
-    let r = Reader { path };
+    let deck =
+        Deck::expand_as(Dialect::Keyword, &text, Some(path)).map_err(|e| ImpactError::Mesh {
+            path: e.file.clone().unwrap_or_else(|| path.to_path_buf()),
+            line: e.line,
+            message: e.message,
+        })?;
+    let r = Reader { path, deck };
     let mut g = Gathered::default();
-    for b in blocks(&text) {
+    for b in blocks(&r.deck.text) {
         r.take(&b, &mut g)?;
     }
     let end_time = g
@@ -392,7 +403,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         .filter(|(d, _)| !scene.rigid.iter().any(|r| r.name == d.name))
         .map(|(d, _)| d.name.clone())
         .collect();
-    let mut notice = notice(path, &g);
+    let mut notice = notice(&r, &g);
     if !untouched.is_empty() {
         let line = format!(
             "rigid parts that no contact names, left out: {}",
@@ -406,11 +417,12 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
     Ok((scene, notice))
 }
 
-fn notice(path: &Path, g: &Gathered) -> Option<String> {
+fn notice(r: &Reader, g: &Gathered) -> Option<String> {
+    let path = r.path;
     let mut parts: Vec<String> = g
         .passed
         .iter()
-        .map(|(k, l)| format!("*{k} (line {l})"))
+        .map(|(k, l)| format!("*{k} (line {})", deck_line(&r.deck, *l)))
         .collect();
     if !g.contacts.is_empty() || !g.walls.is_empty() {
         parts.push("the contacts' penalty (the augmented Lagrange iteration on the gap rate enforces the contact)".into());

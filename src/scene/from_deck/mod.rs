@@ -358,3 +358,12 @@ impl DeckScene {
         }
     }
 }
+
+/// Expanded line `line` of a deck as its notice names it: the line, or the included file
+/// and its line.
+fn deck_line(deck: &crate::mesh::deck::Deck, line: usize) -> String {
+    match deck.origin(line) {
+        (None, l) => format!("{l}"),
+        (Some(f), l) => format!("{}:{l}", f.display()),
+    }
+}
