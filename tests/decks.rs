@@ -231,6 +231,83 @@ fn a_block_sliding_on_a_held_plate_as_a_deck_matches_its_scene() {
     }
 }
 
+/// `*ELASTIC, TYPE=ORTHOTROPIC` (the stiffness D1111 .. D2323) runs the sliding block as
+/// `TYPE=ENGINEERING CONSTANTS` of the same material does, to the rounding of the
+/// conversion.
+#[test]
+fn an_abaqus_orthotropic_stiffness_runs_as_its_engineering_constants() {
+    let c = [100.0, 80.0, 60.0, 0.3, 0.25, 0.2, 35.0, 30.0, 25.0];
+    let [e1, e2, e3, n12, n13, n23, g12, g13, g23] = c;
+    let s = nalgebra::Matrix3::new(
+        1.0 / e1,
+        -n12 / e1,
+        -n13 / e1,
+        -n12 / e1,
+        1.0 / e2,
+        -n23 / e2,
+        -n13 / e1,
+        -n23 / e2,
+        1.0 / e3,
+    );
+    let d = s.try_inverse().unwrap();
+    let stiffness = [
+        d[(0, 0)],
+        d[(0, 1)],
+        d[(1, 1)],
+        d[(0, 2)],
+        d[(1, 2)],
+        d[(2, 2)],
+        g12,
+        g13,
+        g23,
+    ];
+    let lines = |v: [f64; 9]| {
+        let t: Vec<String> = v.iter().map(|x| format!("{x:e}")).collect();
+        format!("{}\n{}\n", t[..8].join(", "), t[8])
+    };
+    let isotropic = "*ELASTIC, TYPE=ISOTROPIC\n100.0, 0.3\n";
+    let deck = sliding_block_deck();
+    assert!(deck.contains(isotropic));
+    let dir = out_dir("deck_orthotropic");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut histories = Vec::new();
+    for (ty, values) in [("ENGINEERING CONSTANTS", c), ("ORTHOTROPIC", stiffness)] {
+        let text = deck.replace(
+            isotropic,
+            &format!("*ELASTIC, TYPE={ty}\n{}", lines(values)),
+        );
+        let path = dir.join(format!("{}.inp", ty.replace(' ', "_")));
+        std::fs::write(&path, text).unwrap();
+        let (s, h) = run_file(&format!("deck_{}", ty.replace(' ', "_")), &path);
+        assert_eq!(s.status, "completed");
+        histories.push(h);
+    }
+    for col in [
+        "BLOCK.vx",
+        "BLOCK.vz",
+        "strain_energy",
+        "BOTTOM-TOP.normal_force",
+    ] {
+        let e = difference(&histories[0], col, &histories[1], col, 0.0);
+        eprintln!("{col}: {e:.2e}");
+        assert!(e <= 1e-9, "{col}: {e:e}");
+    }
+    // a stiffness that is not positive definite is refused at its keyword
+    let mut bad = stiffness;
+    bad[1] = 2.0 * (bad[0] * bad[2]).sqrt();
+    let text = deck.replace(
+        isotropic,
+        &format!("*ELASTIC, TYPE=ORTHOTROPIC\n{}", lines(bad)),
+    );
+    let path = dir.join("bad.inp");
+    std::fs::write(&path, text).unwrap();
+    let e = Scene::load(&path).expect_err("refused").to_string();
+    assert!(
+        e.contains("bad.inp:") && e.contains("positive definite"),
+        "{e}"
+    );
+}
+
 #[test]
 fn a_converted_deck_runs_to_the_decks_history() {
     let dir = out_dir("deck_convert_files");
@@ -526,6 +603,102 @@ fn an_lsdyna_include_reads_as_the_one_file_does() {
         e.contains(&format!("block_drop_include.k:{line}")) && e.contains("file's name"),
         "{e}"
     );
+}
+
+/// `*MAT_ORTHOTROPIC_ELASTIC` with its axes given globally (AOPT 2): the block drop with
+/// an orthotropic block turned off the global axes runs as the TOML scene with the
+/// engineering constants (PRBA, PRCA, PRCB are LS-DYNA's minor ratios: nu12 = PRBA EA / EB)
+/// and `orientation = { axes = [a, d] }`; element-based axes (AOPT 0) are refused at the card.
+#[test]
+fn an_lsdyna_orthotropic_material_runs_as_its_scene() {
+    let deck = std::fs::read_to_string(repo().join("scenes/block_drop.k")).unwrap();
+    let elastic = "*MAT_ELASTIC\n$#     mid        ro         e        pr\n         1      0.01     100.0       0.3\n";
+    assert!(deck.contains(elastic));
+    let card = |aopt: &str| {
+        format!(
+            "*MAT_ORTHOTROPIC_ELASTIC\n\
+             $#     mid        ro        ea        eb        ec      prba      prca      prcb\n\
+             {:>10}{:>10}{:>10}{:>10}{:>10}{:>10}{:>10}{:>10}\n\
+             $#     gab       gbc       gca      aopt\n\
+             {:>10}{:>10}{:>10}{:>10}\n\
+             {:>10}{:>10}{:>10}{:>10}{:>10}{:>10}{:>10}\n\
+             {:>10}{:>10}{:>10}{:>10}{:>10}{:>10}\n",
+            1,
+            0.01,
+            200.0,
+            100.0,
+            50.0,
+            0.15,
+            0.06,
+            0.1,
+            40.0,
+            30.0,
+            20.0,
+            aopt,
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+            1.0,
+            0.0,
+            1.0,
+            0.0,
+            0.0,
+            0.0,
+            -1.0,
+            1.0,
+            0.5
+        )
+    };
+    let dir = out_dir("deck_lsdyna_orthotropic");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("ortho_drop.k");
+    std::fs::write(&path, deck.replace(elastic, &card("2.0"))).unwrap();
+    let (s, h) = run_file("deck_lsdyna_orthotropic", &path);
+    assert_eq!(s.status, "completed");
+    let scene = BLOCK_DROP_SCENE
+        .replace(
+            "youngs_modulus = 100.0\npoissons_ratio = 0.3",
+            "orthotropic = { e1 = 200.0, e2 = 100.0, e3 = 50.0, nu12 = 0.3, nu13 = 0.24, nu23 = 0.2, g12 = 40.0, g13 = 20.0, g23 = 30.0 }",
+        )
+        .replace(
+            "velocity = [0.0, 0.0, -1.0]",
+            "velocity = [0.0, 0.0, -1.0]\norientation = { axes = [[1.0, 1.0, 0.0], [-1.0, 1.0, 0.5]] }",
+        );
+    let twin_path = dir.join("ortho_drop.toml");
+    std::fs::write(&twin_path, scene).unwrap();
+    let (_, twin) = run_file("deck_lsdyna_orthotropic_twin", &twin_path);
+    let (_, isotropic) = run_file("deck_lsdyna_isotropic", &repo().join("scenes/block_drop.k"));
+    for c in ["block.vz", "block.vx", "total_energy", "strain_energy"] {
+        let d = difference(&h, c, &twin, c, 0.0);
+        eprintln!("{c}: {d:.2e}");
+        assert!(d <= 1e-9, "{c} against the scene's: {d:e}");
+    }
+    // the constants and the axes both reach the run: the same drop with the isotropic
+    // block, or with the orthotropic one on the global axes, strains otherwise
+    let global = std::fs::read_to_string(&twin_path).unwrap().replace(
+        "orientation = { axes = [[1.0, 1.0, 0.0], [-1.0, 1.0, 0.5]] }\n",
+        "",
+    );
+    let global_path = dir.join("ortho_drop_global.toml");
+    std::fs::write(&global_path, global).unwrap();
+    let (_, unturned) = run_file("deck_lsdyna_orthotropic_global", &global_path);
+    let peak = |h: &History| {
+        h.col("wall1.normal_force")
+            .iter()
+            .fold(0.0f64, |m, &f| m.max(f))
+    };
+    for (other, what) in [(&isotropic, "isotropic"), (&unturned, "global axes")] {
+        let d = (peak(&h) - peak(other)).abs() / peak(&h);
+        eprintln!("peak wall force against the {what} block: {d:.2e}");
+        assert!(
+            d > 1e-2,
+            "the {what} block strikes as the turned one: {d:e}"
+        );
+    }
+    std::fs::write(&path, deck.replace(elastic, &card("0.0"))).unwrap();
+    let e = Scene::load(&path).expect_err("refused").to_string();
+    assert!(e.contains("AOPT") && e.contains("ortho_drop.k:"), "{e}");
 }
 
 #[test]

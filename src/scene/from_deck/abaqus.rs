@@ -254,16 +254,20 @@ impl Reader<'_> {
                 e: at(0)?,
                 nu: at(1)?,
             }),
-            "ENGINEERING CONSTANTS" => {
+            "ENGINEERING CONSTANTS" | "ORTHOTROPIC" => {
                 let mut c = [0.0; 9];
                 for (i, x) in c.iter_mut().enumerate() {
                     *x = at(i)?;
                 }
-                Ok(Elastic::Orthotropic(c))
+                if ty == "ENGINEERING CONSTANTS" {
+                    return Ok(Elastic::Orthotropic(c));
+                }
+                Elastic::from_stiffness(c)
+                    .map_err(|e| self.err(b.line, format!("*ELASTIC, TYPE=ORTHOTROPIC: {e}")))
             }
             _ => Err(self.err(
                 b.line,
-                format!("*ELASTIC, TYPE={ty}: impact reads TYPE=ISOTROPIC and TYPE=ENGINEERING CONSTANTS"),
+                format!("*ELASTIC, TYPE={ty}: impact reads TYPE=ISOTROPIC, ENGINEERING CONSTANTS and ORTHOTROPIC"),
             )),
         }
     }
@@ -514,6 +518,8 @@ impl Reader<'_> {
                     material: m,
                     velocity: [0.0; 3],
                     select: Select::Elset(elset.clone()),
+                    // a section's ORIENTATION reaches the elements through the mesh
+                    axes: None,
                 },
                 parts,
             ));

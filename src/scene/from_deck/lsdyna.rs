@@ -72,6 +72,15 @@ struct Wall {
     line: usize,
 }
 
+/// An elastic material: its id, density, constants and axes (`*MAT_ORTHOTROPIC_ELASTIC`'s,
+/// as the scene's `orientation = { axes = [a, d] }`).
+struct ElasticMaterial {
+    mid: u64,
+    ro: f64,
+    elastic: Elastic,
+    axes: Option<[[f64; 3]; 2]>,
+}
+
 /// A `*MAT_RIGID`: its id, density, and its constraints (CMO, CON1, CON2), with its line.
 struct RigidMaterial {
     mid: u64,
@@ -88,7 +97,7 @@ struct Gathered {
     parts: Vec<(u64, String, u64, u64, usize)>,
     sections: Vec<u64>,
     /// (material id, density, E, nu).
-    materials: Vec<(u64, f64, f64, f64)>,
+    materials: Vec<ElasticMaterial>,
     rigid_materials: Vec<RigidMaterial>,
     /// (node set, components, line).
     spcs: Vec<(String, Vec<&'static str>, usize)>,
@@ -171,8 +180,15 @@ impl Reader<'_> {
                 let (f, l) = self.card(b, 0)?;
                 let v = [1, 2, 3].map(|i| self.real(&f, i, l, "*MAT_ELASTIC"));
                 let [ro, e, pr] = v;
-                g.materials.push((self.id(&f, 0, l, "*MAT_ELASTIC mid")?, ro?, e?, pr?));
+                let elastic = Elastic::Isotropic { e: e?, nu: pr? };
+                g.materials.push(ElasticMaterial {
+                    mid: self.id(&f, 0, l, "*MAT_ELASTIC mid")?,
+                    ro: ro?,
+                    elastic,
+                    axes: None,
+                });
             }
+            "MAT_ORTHOTROPIC_ELASTIC" | "MAT_002" => self.orthotropic(b, g)?,
             "MAT_RIGID" | "MAT_020" => {
                 let (f, l) = self.card(b, 0)?;
                 let (c, l2) = self.card(b, 1)?;
@@ -433,12 +449,66 @@ fn notice(r: &Reader, g: &Gathered) -> Option<String> {
 impl Reader<'_> {
     fn materials(&self, g: &Gathered) -> Vec<DeckMaterial> {
         (g.materials.iter())
-            .map(|&(mid, ro, e, nu)| DeckMaterial {
-                name: format!("mat{mid}"),
-                density: Some(ro),
-                elastic: Some(Elastic::Isotropic { e, nu }),
+            .map(|m| DeckMaterial {
+                name: format!("mat{}", m.mid),
+                density: Some(m.ro),
+                elastic: Some(m.elastic.clone()),
             })
             .collect()
+    }
+
+    /// `*MAT_ORTHOTROPIC_ELASTIC` (002): EA, EB, EC, the minor Poisson's ratios and the
+    /// shear moduli, with its axes given globally (AOPT 2: the vectors a and d).
+    fn orthotropic(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        let what = "*MAT_ORTHOTROPIC_ELASTIC";
+        let (f, l) = self.card(b, 0)?;
+        let mut c = [0.0; 7];
+        for (i, x) in c.iter_mut().enumerate() {
+            *x = self.real(&f, i + 1, l, what)?;
+        }
+        let [ro, ea, eb, ec, prba, prca, prcb] = c;
+        let (f2, l2) = self.card(b, 1)?;
+        let mut s = [0.0; 6];
+        for (i, x) in s.iter_mut().enumerate() {
+            *x = self.real(&f2, i, l2, what)?;
+        }
+        let [gab, gbc, gca, aopt, gdamp, sigf] = s;
+        if aopt != 2.0 {
+            return Err(self.err(l2, format!("{what} AOPT {aopt}: impact reads AOPT = 2, axes given by the vectors a and d (axes from the elements' nodes, a point or a coordinate system are not read)")));
+        }
+        if gdamp != 0.0 || sigf != 0.0 {
+            return Err(self.err(l2, format!("{what}: G and SIGF (frequency-independent damping) are not read; impact's materials are elastic")));
+        }
+        let (f3, l3) = self.card(b, 2)?;
+        let macf = self.real(&f3, 6, l3, what)?;
+        if macf > 1.0 {
+            return Err(self.err(
+                l3,
+                format!("{what} MACF {macf}: the axes are read as given (MACF 1)"),
+            ));
+        }
+        let (f4, l4) = self.card(b, 3)?;
+        let (mut a, mut d) = ([0.0; 3], [0.0; 3]);
+        for k in 0..3 {
+            a[k] = self.real(&f3, 3 + k, l3, what)?;
+            d[k] = self.real(&f4, 3 + k, l4, what)?;
+        }
+        use crate::geometry::vector::{cross, norm};
+        if norm(cross(a, d)) <= 1e-12 * norm(a) * norm(d) {
+            return Err(self.err(
+                l3,
+                format!("{what}: the vectors a {a:?} and d {d:?} must not be parallel (or zero)"),
+            ));
+        }
+        let elastic = Elastic::from_lsdyna([ea, eb, ec], [prba, prca, prcb], [gab, gbc, gca]);
+        let mid = self.id(&f, 0, l, what)?;
+        g.materials.push(ElasticMaterial {
+            mid,
+            ro,
+            elastic,
+            axes: Some([a, d]),
+        });
+        Ok(())
     }
 
     fn bodies(&self, g: &Gathered) -> Result<Vec<(DeckBody, BodyParts)>> {
@@ -450,7 +520,7 @@ impl Reader<'_> {
             if g.rigid_materials.iter().any(|m| m.mid == *mid) {
                 continue;
             }
-            if !g.materials.iter().any(|m| m.0 == *mid) {
+            if !g.materials.iter().any(|m| m.mid == *mid) {
                 return Err(self.err(
                     *line,
                     format!("part {pid}: no *MAT_ELASTIC or *MAT_RIGID {mid} (impact reads elastic and rigid materials)"),
@@ -458,11 +528,15 @@ impl Reader<'_> {
             }
             let part = pid.to_string();
             let (parts, _) = crate::mesh::import(self.path, 1.0, [0.0; 3], Some(&part))?;
+            let axes = (g.materials.iter())
+                .find(|m| m.mid == *mid)
+                .and_then(|m| m.axes);
             let body = DeckBody {
                 name: body_name(*pid, title),
                 material: format!("mat{mid}"),
                 velocity: [0.0; 3],
                 select: Select::Part(*pid),
+                axes,
             };
             out.push((body, parts));
         }

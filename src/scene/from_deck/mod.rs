@@ -34,6 +34,55 @@ pub(crate) enum Elastic {
     Orthotropic([f64; 9]),
 }
 
+impl Elastic {
+    /// The engineering constants of an orthotropic stiffness given as Abaqus orders it:
+    /// D1111, D1122, D2222, D1133, D2233, D3333, D1212, D1313, D2323 (D1212 = G12 with the
+    /// engineering shear strain). The normal block's inverse is the compliance S: E_i =
+    /// 1 / S_ii, nu_ij = -S_ij E_i. Refused unless the stiffness is positive definite.
+    pub(crate) fn from_stiffness(d: [f64; 9]) -> std::result::Result<Elastic, String> {
+        let [d11, d12, d22, d13, d23, d33, g12, g13, g23] = d;
+        let c = nalgebra::Matrix3::new(d11, d12, d13, d12, d22, d23, d13, d23, d33);
+        let minors = [d11, d11 * d22 - d12 * d12, c.determinant()];
+        // NaN is not positive either
+        let positive = |x: &f64| *x > 0.0;
+        if !minors.iter().chain(&[g12, g13, g23]).all(positive) {
+            return Err(format!(
+                "the stiffness (D1111 {d11}, D1122 {d12}, D2222 {d22}, D1133 {d13}, D2233 {d23}, D3333 {d33}, D1212 {g12}, D1313 {g13}, D2323 {g23}) is not positive definite"
+            ));
+        }
+        let s = c
+            .try_inverse()
+            .ok_or("the stiffness's normal block is singular")?;
+        let e = [1.0 / s[(0, 0)], 1.0 / s[(1, 1)], 1.0 / s[(2, 2)]];
+        let nu12 = -s[(0, 1)] * e[0];
+        let nu13 = -s[(0, 2)] * e[0];
+        let nu23 = -s[(1, 2)] * e[1];
+        Ok(Elastic::Orthotropic([
+            e[0], e[1], e[2], nu12, nu13, nu23, g12, g13, g23,
+        ]))
+    }
+
+    /// The engineering constants of LS-DYNA's `*MAT_ORTHOTROPIC_ELASTIC`: EA, EB, EC, its
+    /// minor Poisson's ratios PRBA, PRCA, PRCB (nu_ba, the strain along a under a stress
+    /// along b) and GAB, GBC, GCA; nu_ab = PRBA EA / EB.
+    pub(crate) fn from_lsdyna(e: [f64; 3], pr: [f64; 3], g: [f64; 3]) -> Elastic {
+        let [ea, eb, ec] = e;
+        let [prba, prca, prcb] = pr;
+        let [gab, gbc, gca] = g;
+        Elastic::Orthotropic([
+            ea,
+            eb,
+            ec,
+            prba * ea / eb,
+            prca * ea / ec,
+            prcb * eb / ec,
+            gab,
+            gca,
+            gbc,
+        ])
+    }
+}
+
 /// Which of the deck's elements make a body.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) enum Select {
@@ -50,6 +99,9 @@ pub(crate) struct DeckBody {
     pub material: String,
     pub velocity: [f64; 3],
     pub select: Select,
+    /// The material axes: axis 1 along the first vector, axis 2 the second's part normal
+    /// to it (the scene's `orientation = { axes = [...] }`); the global axes where `None`.
+    pub axes: Option<[[f64; 3]; 2]>,
 }
 
 /// A rigid plane (an LS-DYNA planar rigid wall).
@@ -275,6 +327,14 @@ impl DeckScene {
             if b.velocity != [0.0; 3] {
                 let _ = writeln!(t, "velocity = {}", vector(b.velocity));
             }
+            if let Some([a, d]) = b.axes {
+                let _ = writeln!(
+                    t,
+                    "orientation = {{ axes = [{}, {}] }}",
+                    vector(a),
+                    vector(d)
+                );
+            }
         }
         self.write_pieces(&mut t);
         t
@@ -365,5 +425,70 @@ fn deck_line(deck: &crate::mesh::deck::Deck, line: usize) -> String {
     match deck.origin(line) {
         (None, l) => format!("{l}"),
         (Some(f), l) => format!("{}:{l}", f.display()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The stiffness of engineering constants, in Abaqus's order (the compliance inverted).
+    fn stiffness(c: [f64; 9]) -> [f64; 9] {
+        let [e1, e2, e3, n12, n13, n23, g12, g13, g23] = c;
+        let s = nalgebra::Matrix3::new(
+            1.0 / e1,
+            -n12 / e1,
+            -n13 / e1,
+            -n12 / e1,
+            1.0 / e2,
+            -n23 / e2,
+            -n13 / e1,
+            -n23 / e2,
+            1.0 / e3,
+        );
+        let d = s.try_inverse().unwrap();
+        [
+            d[(0, 0)],
+            d[(0, 1)],
+            d[(1, 1)],
+            d[(0, 2)],
+            d[(1, 2)],
+            d[(2, 2)],
+            g12,
+            g13,
+            g23,
+        ]
+    }
+
+    #[test]
+    fn an_orthotropic_stiffness_gives_back_its_engineering_constants() {
+        let c = [
+            161e3, 11.38e3, 9.0e3, 0.32, 0.3, 0.45, 5.17e3, 5.2e3, 3.98e3,
+        ];
+        let Elastic::Orthotropic(back) = Elastic::from_stiffness(stiffness(c)).unwrap() else {
+            panic!("orthotropic");
+        };
+        for (a, b) in back.iter().zip(c) {
+            assert!((a - b).abs() <= 1e-12 * b.abs(), "{back:?} against {c:?}");
+        }
+        // not positive definite: a Poisson's ratio past its bound, a shear modulus of zero
+        let mut d = stiffness(c);
+        d[1] = 2.0 * (d[0] * d[2]).sqrt();
+        assert!(Elastic::from_stiffness(d).is_err());
+        let mut d = stiffness(c);
+        d[8] = 0.0;
+        assert!(Elastic::from_stiffness(d).is_err());
+    }
+
+    #[test]
+    fn lsdyna_minor_ratios_become_the_major_ones() {
+        let e = Elastic::from_lsdyna([200.0, 100.0, 50.0], [0.15, 0.06, 0.1], [40.0, 30.0, 20.0]);
+        let want = [200.0, 100.0, 50.0, 0.3, 0.24, 0.2, 40.0, 20.0, 30.0];
+        let Elastic::Orthotropic(c) = e else {
+            panic!("orthotropic");
+        };
+        for (a, b) in c.iter().zip(want) {
+            assert!((a - b).abs() <= 1e-12, "{c:?}");
+        }
     }
 }
