@@ -882,12 +882,12 @@ fn an_lsdyna_rigid_part_strikes_as_a_rigid_body_of_its_mass() {
     let e = h.col("total_energy");
     let rise = e.iter().fold(f64::MIN, |m, &x| m.max(x)) - e[0];
     assert!(rise <= 1e-9 * e[0], "energy rises by {rise}");
-    // a rigid part free to rotate is refused by its line
+    // a rigid part free to rotate is refused at its constraints card
     let turning = edit(&rigid_tup_deck(), "1.0, 0.0, 7.0", "1.0, 0.0, 0.0");
     std::fs::write(&deck, turning).unwrap();
     let e = Scene::load(&deck).expect_err("refused").to_string();
     assert!(
-        e.contains("rigid_tup.k:17") && e.contains("CON2 = 7"),
+        e.contains("rigid_tup.k:18") && e.contains("CON2 = 7"),
         "{e}"
     );
 }

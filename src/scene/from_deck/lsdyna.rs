@@ -81,7 +81,8 @@ struct ElasticMaterial {
     axes: Option<[[f64; 3]; 2]>,
 }
 
-/// A `*MAT_RIGID`: its id, density, and its constraints (CMO, CON1, CON2), with its line.
+/// A `*MAT_RIGID`: its id, density, and its constraints (CMO, CON1, CON2), with the line of
+/// the constraints' card.
 struct RigidMaterial {
     mid: u64,
     ro: f64,
@@ -198,7 +199,7 @@ impl Reader<'_> {
                     mid: self.id(&f, 0, l, "*MAT_RIGID mid")?,
                     ro: self.real(&f, 1, l, "*MAT_RIGID ro")?,
                     constraints: [cmo?, con1?, con2?],
-                    line: l,
+                    line: l2,
                 });
             }
             "BOUNDARY_SPC_SET" => self.spc(b, g)?,
