@@ -48,8 +48,10 @@ device() {
     mkdir -p "$here"
     tar xzf "$here"/.gpu/project.tgz -C "$here"
     cd "$here"
-    # where the tests write their runs (CARGO_TARGET_TMPDIR, the build's path)
-    mkdir -p target/tmp
+    # where the tests write their runs (CARGO_TARGET_TMPDIR, the build's path), and the binary
+    # the CLI tests run (CARGO_BIN_EXE_impact, the build's path too)
+    mkdir -p target/tmp target/release
+    cp "$B"/impact target/release/impact
     out=${OUT:-/tmp/out}
     mkdir -p "$out"
     "$B"/impact info | tee "$out"/info.txt
