@@ -287,6 +287,49 @@ fn kept_search_grid_matches_its_twins_and_a_fresh_sort() {
     }
 }
 
+/// One row of a resident run as the bit-for-bit comparisons take it: iterations, converged,
+/// energies, each interface's normal and tangential force and friction work, the bodies'
+/// velocities.
+type RunRow = (usize, bool, [f64; 3], Vec<[f64; 3]>, Vec<[f64; 3]>);
+
+/// `steps` resident steps of `model` at dt 5e-4, 25 steps per submission, after `configure`
+/// (which fixes what the run records or sorts); the rows and the solver at the end.
+fn resident_rows<'m>(
+    ctx: &GpuContext,
+    model: &'m Model,
+    steps: usize,
+    configure: impl FnOnce(&mut ResidentSolver<'m>),
+) -> (Vec<RunRow>, ResidentSolver<'m>) {
+    let mut s = ResidentSolver::with_chunk(
+        ctx.clone(),
+        model,
+        &model_settings(),
+        5e-4,
+        1.0,
+        (steps, None, 25),
+        None,
+    )
+    .expect("resident solver");
+    configure(&mut s);
+    let mut rows = Vec::new();
+    for _ in 0..steps {
+        let r = s.step().expect("step");
+        let e = s.energies().expect("energies");
+        let reports = s.reports();
+        rows.push((
+            r.iterations,
+            r.converged,
+            [e.kinetic, e.strain, e.potential],
+            reports
+                .iter()
+                .map(|c| [c.normal_force, c.tangential_force, c.friction_work])
+                .collect::<Vec<_>>(),
+            s.body_velocities(),
+        ));
+    }
+    (rows, s)
+}
+
 /// The resident step keeps the contact search's sort of the faces across steps while the
 /// grid holds, and a step for which it no longer holds tests every face: the results must
 /// not depend on how often the faces are sorted. The stack with the block fast over the
@@ -306,38 +349,13 @@ primary = { body = "block", face = "z-" }
 "#;
     let text = stack_scene(0.1, lift).replace("[1.0, 0.3, -0.2]", "[8.0, 2.4, -0.2]");
     let model = model_of(&text, "kept_grid.toml");
-    let settings = model_settings();
     let steps = 150;
     let run = |interval: Option<usize>| {
-        let mut s = ResidentSolver::with_chunk(
-            ctx.clone(),
-            &model,
-            &settings,
-            5e-4,
-            1.0,
-            (steps, None, 25),
-            None,
-        )
-        .expect("resident solver");
-        if let Some(k) = interval {
-            s.fix_search_interval(k);
-        }
-        let mut rows = Vec::new();
-        for _ in 0..steps {
-            let r = s.step().expect("step");
-            let e = s.energies().expect("energies");
-            let reports = s.reports();
-            rows.push((
-                r.iterations,
-                r.converged,
-                [e.kinetic, e.strain, e.potential],
-                reports
-                    .iter()
-                    .map(|c| [c.normal_force, c.tangential_force, c.friction_work])
-                    .collect::<Vec<_>>(),
-                s.body_velocities(),
-            ));
-        }
+        let (rows, s) = resident_rows(&ctx, &model, steps, |s| {
+            if let Some(k) = interval {
+                s.fix_search_interval(k);
+            }
+        });
         (rows, s.search_counts(), s.u.clone(), s.v.clone())
     };
     let (every, counts_every, u_every, v_every) = run(Some(1));
@@ -899,38 +917,12 @@ fn recorded_sweeps_do_not_change_the_results() {
 /// [`recorded_sweeps_do_not_change_the_results`] on one model over `steps` steps.
 fn recorded_sweeps_agree(ctx: &GpuContext, model: &Model, steps: usize) {
     let settings = model_settings();
-    let dt = 5e-4;
     let run = |recorded: Option<u32>| {
-        // 25 steps per submission: the device runs one submission ahead of the host
-        let mut s = ResidentSolver::with_chunk(
-            ctx.clone(),
-            model,
-            &settings,
-            dt,
-            1.0,
-            (steps, None, 25),
-            None,
-        )
-        .expect("resident solver");
-        if let Some(n) = recorded {
-            s.fix_recorded_sweeps(n);
-        }
-        let mut rows = Vec::new();
-        for _ in 0..steps {
-            let r = s.step().expect("step");
-            let e = s.energies().expect("energies");
-            let reports = s.reports();
-            rows.push((
-                r.iterations,
-                r.converged,
-                [e.kinetic, e.strain, e.potential],
-                reports
-                    .iter()
-                    .map(|c| [c.normal_force, c.tangential_force, c.friction_work])
-                    .collect::<Vec<_>>(),
-                s.body_velocities(),
-            ));
-        }
+        let (rows, s) = resident_rows(ctx, model, steps, |s| {
+            if let Some(n) = recorded {
+                s.fix_recorded_sweeps(n);
+            }
+        });
         (rows, s.sweep_counts(), s.u.clone(), s.v.clone())
     };
     let (all, counts_all, u_all, v_all) = run(Some(settings.max_iterations as u32));

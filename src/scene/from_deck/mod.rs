@@ -432,31 +432,17 @@ fn deck_line(deck: &crate::mesh::deck::Deck, line: usize) -> String {
 mod tests {
     use super::*;
 
-    /// The stiffness of engineering constants, in Abaqus's order (the compliance inverted).
+    /// The stiffness of engineering constants, in Abaqus's order.
     fn stiffness(c: [f64; 9]) -> [f64; 9] {
-        let [e1, e2, e3, n12, n13, n23, g12, g13, g23] = c;
-        let s = nalgebra::Matrix3::new(
-            1.0 / e1,
-            -n12 / e1,
-            -n13 / e1,
-            -n12 / e1,
-            1.0 / e2,
-            -n23 / e2,
-            -n13 / e1,
-            -n23 / e2,
-            1.0 / e3,
-        );
-        let d = s.try_inverse().unwrap();
+        let m = crate::material::Orthotropic {
+            e: [c[0], c[1], c[2]],
+            nu: [c[3], c[4], c[5]],
+            g: [c[6], c[7], c[8]],
+        };
+        let d = m.stiffness();
+        let g = m.g;
         [
-            d[(0, 0)],
-            d[(0, 1)],
-            d[(1, 1)],
-            d[(0, 2)],
-            d[(1, 2)],
-            d[(2, 2)],
-            g12,
-            g13,
-            g23,
+            d[0][0], d[0][1], d[1][1], d[0][2], d[1][2], d[2][2], g[0], g[1], g[2],
         ]
     }
 
