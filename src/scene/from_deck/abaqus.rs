@@ -10,12 +10,12 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::{
-    deck_line, fixes_of, holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckProbe,
+    fixes_of, holders, DeckBody, DeckContact, DeckFile, DeckFix, DeckMaterial, DeckProbe,
     DeckScene, DeckStep, Elastic, Holder, PrimarySide, Select,
 };
-use crate::error::{ImpactError, Result};
+use crate::error::Result;
 use crate::mesh::abaqus::params;
-use crate::mesh::deck::Deck;
+use crate::mesh::deck::Dialect;
 use crate::mesh::BodyParts;
 
 /// The probes of the printed node sets, and the (set, line) of those too large for probes.
@@ -115,34 +115,26 @@ struct Gathered {
 
 /// The reader: the deck and the error it locates.
 struct Reader<'a> {
-    path: &'a Path,
-    deck: Deck,
+    src: DeckFile<'a>,
 }
 
 impl Reader<'_> {
-    /// An error at expanded line `line`, in the file and at the line it came from.
-    fn err(&self, line: usize, message: impl Into<String>) -> ImpactError {
-        let (file, l) = self.deck.origin(line);
-        ImpactError::Mesh {
-            path: file.unwrap_or(self.path).to_path_buf(),
-            line: Some(l),
-            message: message.into(),
-        }
-    }
-
     fn number(&self, fields: &[String], i: usize, line: usize, what: &str) -> Result<f64> {
         let f = fields.get(i).map(String::as_str).unwrap_or("");
         f.parse::<f64>()
             .ok()
             .filter(|x| x.is_finite())
-            .ok_or_else(|| self.err(line, format!("{what}: `{f}` is not a finite number")))
+            .ok_or_else(|| {
+                self.src
+                    .err(line, format!("{what}: `{f}` is not a finite number"))
+            })
     }
 
     fn dof(&self, fields: &[String], i: usize, line: usize) -> Result<usize> {
         let f = fields.get(i).map(String::as_str).unwrap_or("");
         match f.parse::<usize>() {
             Ok(d @ 1..=3) => Ok(d),
-            _ => Err(self.err(
+            _ => Err(self.src.err(
                 line,
                 format!("degree of freedom `{f}`: a solid's are 1, 2 and 3 (x, y, z)"),
             )),
@@ -151,9 +143,10 @@ impl Reader<'_> {
 
     /// The first data line of `b`, refused when there is none.
     fn first<'b>(&self, b: &'b Block) -> Result<&'b (Vec<String>, usize)> {
-        b.data
-            .first()
-            .ok_or_else(|| self.err(b.line, format!("*{} needs a data line", b.name)))
+        b.data.first().ok_or_else(|| {
+            self.src
+                .err(b.line, format!("*{} needs a data line", b.name))
+        })
     }
 
     /// Takes one block into `g`.
@@ -162,7 +155,7 @@ impl Reader<'_> {
             n if MESH.contains(&n) || n == "END STEP" => {}
             "HEADING" => g.title = b.data.first().map(|(f, _)| f.join(",")),
             "MATERIAL" => {
-                let name = b.get("NAME").ok_or_else(|| self.err(b.line, "*MATERIAL needs NAME="))?;
+                let name = b.get("NAME").ok_or_else(|| self.src.err(b.line, "*MATERIAL needs NAME="))?;
                 g.materials.push(DeckMaterial {
                     name: name.to_string(),
                     density: None,
@@ -176,7 +169,7 @@ impl Reader<'_> {
             "DENSITY" => {
                 let (f, l) = self.first(b)?;
                 if b.data.len() > 1 || f.iter().skip(1).any(|x| !x.is_empty()) {
-                    return Err(self.err(*l, "*DENSITY over temperatures: impact's materials take one density"));
+                    return Err(self.src.err(*l, "*DENSITY over temperatures: impact's materials take one density"));
                 }
                 let rho = self.number(f, 0, *l, "*DENSITY")?;
                 self.material(g, b)?.density = Some(rho);
@@ -185,7 +178,7 @@ impl Reader<'_> {
                 let need = |k: &str| {
                     b.get(k)
                         .map(str::to_string)
-                        .ok_or_else(|| self.err(b.line, format!("*SOLID SECTION needs {k}=")))
+                        .ok_or_else(|| self.src.err(b.line, format!("*SOLID SECTION needs {k}=")))
                 };
                 g.sections.push((need("ELSET")?, need("MATERIAL")?, b.line));
             }
@@ -193,7 +186,7 @@ impl Reader<'_> {
             "INITIAL CONDITIONS" => self.initial_velocity(b, g)?,
             "SURFACE INTERACTION" => {
                 let name = (b.get("NAME"))
-                    .ok_or_else(|| self.err(b.line, "*SURFACE INTERACTION needs NAME="))?;
+                    .ok_or_else(|| self.src.err(b.line, "*SURFACE INTERACTION needs NAME="))?;
                 g.friction.insert(name.to_ascii_uppercase(), 0.0);
                 g.interaction = Some(name.to_ascii_uppercase());
             }
@@ -202,7 +195,7 @@ impl Reader<'_> {
             "STEP" => {
                 g.steps += 1;
                 if g.steps > 1 {
-                    return Err(self.err(b.line, "a second *STEP: impact runs one dynamic step; split the analysis into decks of one step each"));
+                    return Err(self.src.err(b.line, "a second *STEP: impact runs one dynamic step; split the analysis into decks of one step each"));
                 }
             }
             "DYNAMIC" => g.step = Some(self.dynamic(b)?),
@@ -213,7 +206,7 @@ impl Reader<'_> {
             }
             n if PASSED_OVER.contains(&n) => g.passed.push((n.to_string(), b.line)),
             n => {
-                return Err(self.err(
+                return Err(self.src.err(
                     b.line,
                     format!("*{n}: impact cannot honour this keyword (it reads elastic solids, their supports, initial velocities, contact pairs with friction, gravity and one *DYNAMIC step; docs/decks.md lists them)"),
                 ))
@@ -224,9 +217,10 @@ impl Reader<'_> {
 
     /// The material the last `*MATERIAL` opened.
     fn material<'g>(&self, g: &'g mut Gathered, b: &Block) -> Result<&'g mut DeckMaterial> {
-        g.materials
-            .last_mut()
-            .ok_or_else(|| self.err(b.line, format!("*{} outside a *MATERIAL", b.name)))
+        g.materials.last_mut().ok_or_else(|| {
+            self.src
+                .err(b.line, format!("*{} outside a *MATERIAL", b.name))
+        })
     }
 
     fn elastic(&self, b: &Block) -> Result<Elastic> {
@@ -247,7 +241,7 @@ impl Reader<'_> {
         };
         if values.len() > count {
             let (_, l) = &values[count];
-            return Err(self.err(*l, format!("*ELASTIC, TYPE={ty}: more than its {count} constants (a temperature, or a table over temperatures): impact's materials take one set of constants")));
+            return Err(self.src.err(*l, format!("*ELASTIC, TYPE={ty}: more than its {count} constants (a temperature, or a table over temperatures): impact's materials take one set of constants")));
         }
         match ty.as_str() {
             "ISOTROPIC" => Ok(Elastic::Isotropic {
@@ -263,9 +257,9 @@ impl Reader<'_> {
                     return Ok(Elastic::Orthotropic(c));
                 }
                 Elastic::from_stiffness(c)
-                    .map_err(|e| self.err(b.line, format!("*ELASTIC, TYPE=ORTHOTROPIC: {e}")))
+                    .map_err(|e| self.src.err(b.line, format!("*ELASTIC, TYPE=ORTHOTROPIC: {e}")))
             }
-            _ => Err(self.err(
+            _ => Err(self.src.err(
                 b.line,
                 format!("*ELASTIC, TYPE={ty}: impact reads TYPE=ISOTROPIC, ENGINEERING CONSTANTS and ORTHOTROPIC"),
             )),
@@ -295,7 +289,7 @@ impl Reader<'_> {
             if f.get(3).is_some_and(|x| !x.is_empty())
                 && self.number(f, 3, *l, "*BOUNDARY value")? != 0.0
             {
-                return Err(self.err(*l, "*BOUNDARY with a value other than 0: impact holds dofs, it does not move them (a prescribed motion is a rigid body's)"));
+                return Err(self.src.err(*l, "*BOUNDARY with a value other than 0: impact holds dofs, it does not move them (a prescribed motion is a rigid body's)"));
             }
             g.boundaries.push((set, first, last.max(first), *l));
         }
@@ -305,7 +299,7 @@ impl Reader<'_> {
     fn initial_velocity(&self, b: &Block, g: &mut Gathered) -> Result<()> {
         let ty = b.get("TYPE").unwrap_or("").to_ascii_uppercase();
         if ty != "VELOCITY" {
-            return Err(self.err(
+            return Err(self.src.err(
                 b.line,
                 format!("*INITIAL CONDITIONS, TYPE={ty}: impact reads TYPE=VELOCITY"),
             ));
@@ -324,24 +318,26 @@ impl Reader<'_> {
         if f.get(1).is_some_and(|x| !x.is_empty()) {
             g.passed.push(("FRICTION stick slope".into(), *l));
         }
-        let last = (g.interaction.clone())
-            .ok_or_else(|| self.err(b.line, "*FRICTION outside a *SURFACE INTERACTION"))?;
+        let last = (g.interaction.clone()).ok_or_else(|| {
+            self.src
+                .err(b.line, "*FRICTION outside a *SURFACE INTERACTION")
+        })?;
         g.friction.insert(last, mu);
         Ok(())
     }
 
     fn contact_pair(&self, b: &Block, g: &mut Gathered) -> Result<()> {
         let interaction = (b.get("INTERACTION"))
-            .ok_or_else(|| self.err(b.line, "*CONTACT PAIR needs INTERACTION="))?;
+            .ok_or_else(|| self.src.err(b.line, "*CONTACT PAIR needs INTERACTION="))?;
         if let Some(ty) = b.get("TYPE") {
             let ty = ty.to_ascii_uppercase();
             if ty != "NODE TO SURFACE" && ty != "SURFACE TO SURFACE" {
-                return Err(self.err(b.line, format!("*CONTACT PAIR, TYPE={ty}: impact reads NODE TO SURFACE and SURFACE TO SURFACE (both become its node-to-surface contact)")));
+                return Err(self.src.err(b.line, format!("*CONTACT PAIR, TYPE={ty}: impact reads NODE TO SURFACE and SURFACE TO SURFACE (both become its node-to-surface contact)")));
             }
         }
         for (f, l) in &b.data {
             if f.len() < 2 || f[1].is_empty() {
-                return Err(self.err(
+                return Err(self.src.err(
                     *l,
                     "a contact pair line names the slave, then the master surface",
                 ));
@@ -375,7 +371,7 @@ impl Reader<'_> {
     fn gravity(&self, b: &Block, g: &mut Gathered) -> Result<()> {
         for (f, l) in &b.data {
             if !f.get(1).is_some_and(|t| t.eq_ignore_ascii_case("GRAV")) {
-                return Err(self.err(*l, "*DLOAD: impact reads GRAV (gravity); other distributed loads are not supported"));
+                return Err(self.src.err(*l, "*DLOAD: impact reads GRAV (gravity); other distributed loads are not supported"));
             }
             let m = self.number(f, 2, *l, "*DLOAD GRAV magnitude")?;
             let d = [3, 4, 5].map(|i| self.number(f, i, *l, "*DLOAD GRAV direction"));
@@ -393,14 +389,14 @@ impl Reader<'_> {
         };
         for (set, v, l) in &g.gravity {
             if v != first {
-                return Err(self.err(*l, "*DLOAD GRAV: a second gravity vector; impact's gravity is one vector on the whole model"));
+                return Err(self.src.err(*l, "*DLOAD GRAV: a second gravity vector; impact's gravity is one vector on the whole model"));
             }
             if !g
                 .sections
                 .iter()
                 .any(|(e, _, _)| e.eq_ignore_ascii_case(set))
             {
-                return Err(self.err(*l, format!("*DLOAD GRAV on `{set}`: name the *SOLID SECTION element sets (impact's gravity acts on every body)")));
+                return Err(self.src.err(*l, format!("*DLOAD GRAV on `{set}`: name the *SOLID SECTION element sets (impact's gravity acts on every body)")));
             }
         }
         for (e, _, l) in &g.sections {
@@ -409,7 +405,7 @@ impl Reader<'_> {
                 .iter()
                 .any(|(set, _, _)| e.eq_ignore_ascii_case(set))
             {
-                return Err(self.err(
+                return Err(self.src.err(
                     *l,
                     format!("*DLOAD GRAV leaves out `{e}`: impact's gravity acts on every body"),
                 ));
@@ -421,31 +417,20 @@ impl Reader<'_> {
 
 /// The deck at `path` as a scene, and the notice of the keywords it passed over.
 pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
-    let located = |message: String| ImpactError::Mesh {
-        path: path.to_path_buf(),
-        line: None,
-        message,
+    let r = Reader {
+        src: DeckFile::read(path, Dialect::Abaqus)?,
     };
-    let text =
-        crate::limits::read_input_text(path).map_err(|e| located(format!("cannot read: {e}")))?;
-    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
-    let deck = Deck::expand(text, Some(path)).map_err(|e| ImpactError::Mesh {
-        path: e.file.clone().unwrap_or_else(|| path.to_path_buf()),
-        line: e.line,
-        message: e.message,
-    })?;
-    let r = Reader { path, deck };
     let mut g = Gathered::default();
-    for b in blocks(&r.deck.text) {
+    for b in blocks(&r.src.deck.text) {
         r.take(&b, &mut g)?;
     }
     let step = g.step.clone().ok_or_else(|| {
-        located("no *STEP with *DYNAMIC: impact runs a dynamic step, implicit (*DYNAMIC) or explicit (*DYNAMIC, EXPLICIT)".into())
+        r.src.whole("no *STEP with *DYNAMIC: impact runs a dynamic step, implicit (*DYNAMIC) or explicit (*DYNAMIC, EXPLICIT)")
     })?;
     if g.sections.is_empty() {
-        return Err(located(
-            "no *SOLID SECTION: each section's element set is a body, with its material".into(),
-        ));
+        return Err(r
+            .src
+            .whole("no *SOLID SECTION: each section's element set is a body, with its material"));
     }
     let bodies = r.bodies(&g)?;
     let (probes, unprobed) = r.probes(&g, &bodies)?;
@@ -472,14 +457,14 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
 fn notice(r: &Reader, g: &Gathered, unprobed: &[(String, usize)]) -> Option<String> {
     let mut listed: Vec<(String, Vec<String>)> = Vec::new();
     for (name, line) in &g.passed {
-        let at = deck_line(&r.deck, *line);
+        let at = r.src.line(*line);
         match listed.iter_mut().find(|(k, _)| k == name) {
             Some((_, lines)) => lines.push(at),
             None => listed.push((name.clone(), vec![at])),
         }
     }
     for (set, line) in unprobed {
-        let (_, l) = r.deck.origin(*line);
+        let (_, l) = r.src.deck.origin(*line);
         let what = format!("NODE PRINT NSET={set}, more nodes than the {MAX_PROBES} history probes a set makes (the frames hold every node)");
         listed.push((what, vec![l.to_string()]));
     }
@@ -493,7 +478,13 @@ fn notice(r: &Reader, g: &Gathered, unprobed: &[(String, usize)]) -> Option<Stri
     if !g.pairs.is_empty() {
         parts.push("the contact pairs' penalty (the augmented Lagrange iteration on the gap rate enforces the contact)".into());
     }
-    (!parts.is_empty()).then(|| format!("{}: passed over: {}", r.path.display(), parts.join("; ")))
+    (!parts.is_empty()).then(|| {
+        format!(
+            "{}: passed over: {}",
+            r.src.path.display(),
+            parts.join("; ")
+        )
+    })
 }
 
 impl Reader<'_> {
@@ -502,7 +493,7 @@ impl Reader<'_> {
         let mut out = Vec::new();
         for (elset, material, line) in &g.sections {
             if !(g.materials.iter()).any(|m| m.name.eq_ignore_ascii_case(material)) {
-                return Err(self.err(
+                return Err(self.src.err(
                     *line,
                     format!("*SOLID SECTION: no *MATERIAL named `{material}`"),
                 ));
@@ -511,7 +502,7 @@ impl Reader<'_> {
                 .find(|m| m.name.eq_ignore_ascii_case(material))
                 .map(|m| m.name.clone())
                 .unwrap_or_default();
-            let (parts, _) = crate::mesh::import(self.path, 1.0, [0.0; 3], Some(elset))?;
+            let (parts, _) = crate::mesh::import(self.src.path, 1.0, [0.0; 3], Some(elset))?;
             out.push((
                 DeckBody {
                     name: elset.clone(),
@@ -535,14 +526,14 @@ impl Reader<'_> {
         line: usize,
     ) -> Result<Vec<Holder<'b>>> {
         if set.parse::<u64>().is_ok() {
-            return Err(self.err(
+            return Err(self.src.err(
                 line,
                 format!("node {set}: name a node set (*NSET) instead of a node number"),
             ));
         }
         let found = holders(bodies, set);
         if found.is_empty() {
-            return Err(self.err(
+            return Err(self.src.err(
                 line,
                 format!("no body's elements hold the nodes of node set `{set}`"),
             ));
@@ -573,7 +564,7 @@ impl Reader<'_> {
                 );
             }
             if points.is_empty() {
-                return Err(self.err(
+                return Err(self.src.err(
                     *line,
                     format!("no body's elements hold the nodes of node set `{set}`"),
                 ));
@@ -613,7 +604,7 @@ impl Reader<'_> {
             for h in self.holders(bodies, set, *line)? {
                 let (count, total, name) = (h.count, h.total, &h.body.name);
                 if count != total {
-                    return Err(self.err(*line, format!("node set `{set}` holds {count} of body `{name}`'s {total} nodes: impact gives a body one initial velocity, so the set must hold all of its nodes or none")));
+                    return Err(self.src.err(*line, format!("node set `{set}` holds {count} of body `{name}`'s {total} nodes: impact gives a body one initial velocity, so the set must hold all of its nodes or none")));
                 }
                 if let Some(o) = out.iter_mut().find(|o| &o.name == name) {
                     o.velocity[dof - 1] = *value;
@@ -632,10 +623,11 @@ impl Reader<'_> {
                     .map(|s| (b.name.clone(), s.name.clone()))
             });
             let first = found.next().ok_or_else(|| {
-                self.err(line, format!("no body's elements hold surface `{surface}`"))
+                self.src
+                    .err(line, format!("no body's elements hold surface `{surface}`"))
             })?;
             if found.next().is_some() {
-                return Err(self.err(
+                return Err(self.src.err(
                     line,
                     format!(
                         "surface `{surface}` lies on two bodies: a contact surface is one body's"
@@ -647,7 +639,7 @@ impl Reader<'_> {
         let mut out = Vec::new();
         for (slave, master, interaction, line) in &g.pairs {
             let friction = *g.friction.get(interaction).ok_or_else(|| {
-                self.err(
+                self.src.err(
                     *line,
                     format!("no *SURFACE INTERACTION named `{interaction}`"),
                 )

@@ -9,11 +9,11 @@
 use std::path::Path;
 
 use super::{
-    deck_line, fixes_of, holders, DeckBody, DeckContact, DeckFix, DeckMaterial, DeckPlane,
+    fixes_of, holders, DeckBody, DeckContact, DeckFile, DeckFix, DeckMaterial, DeckPlane,
     DeckRigid, DeckScene, DeckStep, Elastic, Holder, PrimarySide, Select,
 };
-use crate::error::{ImpactError, Result};
-use crate::mesh::deck::{Deck, Dialect};
+use crate::error::Result;
+use crate::mesh::deck::Dialect;
 use crate::mesh::lsdyna::{card, keyword};
 use crate::mesh::BodyParts;
 
@@ -115,31 +115,19 @@ struct Gathered {
 }
 
 struct Reader<'a> {
-    path: &'a Path,
-    /// The file with its includes expanded (the lines below count through it).
-    deck: Deck,
+    src: DeckFile<'a>,
 }
 
 impl Reader<'_> {
-    /// An error at expanded line `line`, in the file and at the line it came from.
-    fn err(&self, line: usize, message: impl Into<String>) -> ImpactError {
-        let (file, l) = self.deck.origin(line);
-        ImpactError::Mesh {
-            path: file.unwrap_or(self.path).to_path_buf(),
-            line: Some(l),
-            message: message.into(),
-        }
-    }
-
     /// Field `i` of a card as a number ([`crate::mesh::lsdyna::real`]).
     fn real(&self, f: &[String], i: usize, line: usize, what: &str) -> Result<f64> {
-        crate::mesh::lsdyna::real(f, i, line, what).map_err(|e| self.err(line, e.message))
+        crate::mesh::lsdyna::real(f, i, line, what).map_err(|e| self.src.err(line, e.message))
     }
 
     fn id(&self, f: &[String], i: usize, line: usize, what: &str) -> Result<u64> {
         let x = self.real(f, i, line, what)?;
         if x < 0.0 || x.fract() != 0.0 {
-            return Err(self.err(line, format!("{what}: `{x}` is not an id")));
+            return Err(self.src.err(line, format!("{what}: `{x}` is not an id")));
         }
         Ok(x as u64)
     }
@@ -147,7 +135,7 @@ impl Reader<'_> {
     /// Card `k` of `b` in 10-column fields, refused when missing.
     fn card(&self, b: &Block, k: usize) -> Result<(Vec<String>, usize)> {
         let (text, line) = b.cards.get(k).ok_or_else(|| {
-            self.err(
+            self.src.err(
                 b.line,
                 format!("*{} needs card {} of its data", b.name, k + 1),
             )
@@ -164,7 +152,7 @@ impl Reader<'_> {
                 for pair in b.cards.chunks(2) {
                     let title = pair[0].0.trim().to_string();
                     let (text, l) = pair.get(1).ok_or_else(|| {
-                        self.err(b.line, "*PART: a title card, then pid, secid, mid")
+                        self.src.err(b.line, "*PART: a title card, then pid, secid, mid")
                     })?;
                     let f = card(text, &[10]);
                     let ids = [0, 1, 2].map(|i| self.id(&f, i, *l, "*PART id"));
@@ -221,7 +209,7 @@ impl Reader<'_> {
                 g.passed.push((n.to_string(), b.line))
             }
             n => {
-                return Err(self.err(
+                return Err(self.src.err(
                     b.line,
                     format!("*{n}: impact cannot honour this keyword (it reads elastic solid parts, their supports, initial velocities, node-to-surface contacts with friction, planar rigid walls and the run's end; docs/decks.md lists them)"),
                 ))
@@ -234,7 +222,7 @@ impl Reader<'_> {
         for k in 0..b.cards.len() {
             let (f, l) = self.card(b, k)?;
             if self.id(&f, 1, l, "*BOUNDARY_SPC_SET cid")? != 0 {
-                return Err(self.err(l, "*BOUNDARY_SPC_SET with a coordinate system (cid): impact holds global components"));
+                return Err(self.src.err(l, "*BOUNDARY_SPC_SET with a coordinate system (cid): impact holds global components"));
             }
             let mut components = Vec::new();
             for (a, c) in ["x", "y", "z"].into_iter().enumerate() {
@@ -252,13 +240,13 @@ impl Reader<'_> {
         let (f, l) = self.card(b, 0)?;
         let styp = self.id(&f, 1, l, "styp")?;
         if styp != 2 {
-            return Err(self.err(
+            return Err(self.src.err(
                 l,
                 "*INITIAL_VELOCITY_GENERATION: impact reads STYP = 2 (a part)",
             ));
         }
         if self.real(&f, 2, l, "omega")? != 0.0 || self.id(&f, 7, l, "icid")? != 0 {
-            return Err(self.err(l, "*INITIAL_VELOCITY_GENERATION with a rotation or a coordinate system: impact gives a body one initial velocity"));
+            return Err(self.src.err(l, "*INITIAL_VELOCITY_GENERATION with a rotation or a coordinate system: impact gives a body one initial velocity"));
         }
         let v = [3, 4, 5].map(|i| self.real(&f, i, l, "velocity"));
         let [x, y, z] = v;
@@ -270,12 +258,12 @@ impl Reader<'_> {
     fn initial_velocity(&self, b: &Block, g: &mut Gathered) -> Result<()> {
         let (f, l) = self.card(b, 0)?;
         if self.id(&f, 1, l, "nsidex")? != 0 || self.id(&f, 2, l, "boxid")? != 0 {
-            return Err(self.err(l, "*INITIAL_VELOCITY with an excluded set or a box: impact gives a body one initial velocity"));
+            return Err(self.src.err(l, "*INITIAL_VELOCITY with an excluded set or a box: impact gives a body one initial velocity"));
         }
         let set = self.id(&f, 0, l, "nsid")?.to_string();
         let (v, l2) = self.card(b, 1)?;
         if (3..6).any(|i| self.real(&v, i, l2, "rotation").map_or(true, |x| x != 0.0)) {
-            return Err(self.err(
+            return Err(self.src.err(
                 l2,
                 "*INITIAL_VELOCITY with rotational velocities: impact's solids have none",
             ));
@@ -290,7 +278,7 @@ impl Reader<'_> {
         let (f, l) = self.card(b, 0)?;
         let (sstyp, mstyp) = (self.id(&f, 2, l, "sstyp")?, self.id(&f, 3, l, "mstyp")?);
         if sstyp != 0 || mstyp != 0 {
-            return Err(self.err(
+            return Err(self.src.err(
                 l,
                 format!(
                     "*{}: impact reads segment sets on both sides (SSTYP = MSTYP = 0)",
@@ -317,7 +305,7 @@ impl Reader<'_> {
     fn wall(&self, b: &Block, g: &mut Gathered) -> Result<()> {
         let (f, l) = self.card(b, 0)?;
         if self.id(&f, 1, l, "nsidex")? != 0 || self.id(&f, 2, l, "boxid")? != 0 {
-            return Err(self.err(l, "*RIGIDWALL_PLANAR with an excluded set or a box: impact's rigid plane stops whole bodies"));
+            return Err(self.src.err(l, "*RIGIDWALL_PLANAR with an excluded set or a box: impact's rigid plane stops whole bodies"));
         }
         let (c, l2) = self.card(b, 1)?;
         let v: Vec<f64> = (0..7)
@@ -359,31 +347,21 @@ fn body_name(pid: u64, title: &str) -> String {
 
 /// The keyword file at `path` as a scene, and the notice of what it passed over.
 pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
-    let whole = |message: String| ImpactError::Mesh {
-        path: path.to_path_buf(),
-        line: None,
-        message,
+    let r = Reader {
+        src: DeckFile::read(path, Dialect::Keyword)?,
     };
-    let text =
-        crate::limits::read_input_text(path).map_err(|e| whole(format!("cannot read: {e}")))?;
-    let deck =
-        Deck::expand_as(Dialect::Keyword, &text, Some(path)).map_err(|e| ImpactError::Mesh {
-            path: e.file.clone().unwrap_or_else(|| path.to_path_buf()),
-            line: e.line,
-            message: e.message,
-        })?;
-    let r = Reader { path, deck };
     let mut g = Gathered::default();
-    for b in blocks(&r.deck.text) {
+    for b in blocks(&r.src.deck.text) {
         r.take(&b, &mut g)?;
     }
-    let end_time = g
-        .end_time
-        .ok_or_else(|| whole("no *CONTROL_TERMINATION: impact runs to its ENDTIM".into()))?;
+    let end_time = g.end_time.ok_or_else(|| {
+        r.src
+            .whole("no *CONTROL_TERMINATION: impact runs to its ENDTIM")
+    })?;
     if g.parts.is_empty() {
-        return Err(whole(
-            "no *PART: each part of solid elements is a body".into(),
-        ));
+        return Err(r
+            .src
+            .whole("no *PART: each part of solid elements is a body"));
     }
     let bodies = r.bodies(&g)?;
     let rigid = r.rigid_parts(&g)?;
@@ -435,11 +413,11 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
 }
 
 fn notice(r: &Reader, g: &Gathered) -> Option<String> {
-    let path = r.path;
+    let path = r.src.path;
     let mut parts: Vec<String> = g
         .passed
         .iter()
-        .map(|(k, l)| format!("*{k} (line {})", deck_line(&r.deck, *l)))
+        .map(|(k, l)| format!("*{k} (line {})", r.src.line(*l)))
         .collect();
     if !g.contacts.is_empty() || !g.walls.is_empty() {
         parts.push("the contacts' penalty (the augmented Lagrange iteration on the gap rate enforces the contact)".into());
@@ -475,15 +453,15 @@ impl Reader<'_> {
         }
         let [gab, gbc, gca, aopt, gdamp, sigf] = s;
         if aopt != 2.0 {
-            return Err(self.err(l2, format!("{what} AOPT {aopt}: impact reads AOPT = 2, axes given by the vectors a and d (axes from the elements' nodes, a point or a coordinate system are not read)")));
+            return Err(self.src.err(l2, format!("{what} AOPT {aopt}: impact reads AOPT = 2, axes given by the vectors a and d (axes from the elements' nodes, a point or a coordinate system are not read)")));
         }
         if gdamp != 0.0 || sigf != 0.0 {
-            return Err(self.err(l2, format!("{what}: G and SIGF (frequency-independent damping) are not read; impact's materials are elastic")));
+            return Err(self.src.err(l2, format!("{what}: G and SIGF (frequency-independent damping) are not read; impact's materials are elastic")));
         }
         let (f3, l3) = self.card(b, 2)?;
         let macf = self.real(&f3, 6, l3, what)?;
         if macf > 1.0 {
-            return Err(self.err(
+            return Err(self.src.err(
                 l3,
                 format!("{what} MACF {macf}: the axes are read as given (MACF 1)"),
             ));
@@ -496,7 +474,7 @@ impl Reader<'_> {
         }
         use crate::geometry::vector::{cross, norm};
         if norm(cross(a, d)) <= 1e-12 * norm(a) * norm(d) {
-            return Err(self.err(
+            return Err(self.src.err(
                 l3,
                 format!("{what}: the vectors a {a:?} and d {d:?} must not be parallel (or zero)"),
             ));
@@ -516,19 +494,21 @@ impl Reader<'_> {
         let mut out = Vec::new();
         for (pid, title, sec, mid, line) in &g.parts {
             if !g.sections.contains(sec) {
-                return Err(self.err(*line, format!("part {pid}: no *SECTION_SOLID {sec}")));
+                return Err(self
+                    .src
+                    .err(*line, format!("part {pid}: no *SECTION_SOLID {sec}")));
             }
             if g.rigid_materials.iter().any(|m| m.mid == *mid) {
                 continue;
             }
             if !g.materials.iter().any(|m| m.mid == *mid) {
-                return Err(self.err(
+                return Err(self.src.err(
                     *line,
                     format!("part {pid}: no *MAT_ELASTIC or *MAT_RIGID {mid} (impact reads elastic and rigid materials)"),
                 ));
             }
             let part = pid.to_string();
-            let (parts, _) = crate::mesh::import(self.path, 1.0, [0.0; 3], Some(&part))?;
+            let (parts, _) = crate::mesh::import(self.src.path, 1.0, [0.0; 3], Some(&part))?;
             let axes = (g.materials.iter())
                 .find(|m| m.mid == *mid)
                 .and_then(|m| m.axes);
@@ -552,7 +532,7 @@ impl Reader<'_> {
     ) -> Result<Vec<Holder<'b>>> {
         let found = holders(bodies, set);
         match found.is_empty() {
-            true => Err(self.err(
+            true => Err(self.src.err(
                 line,
                 format!("no part's elements hold the nodes of node set {set}"),
             )),
@@ -576,13 +556,13 @@ impl Reader<'_> {
             }
             let b = (out.iter_mut())
                 .find(|b| b.select == Select::Part(*pid))
-                .ok_or_else(|| self.err(*line, format!("no *PART {pid}")))?;
+                .ok_or_else(|| self.src.err(*line, format!("no *PART {pid}")))?;
             b.velocity = *v;
         }
         for (set, v, line) in &g.set_velocities {
             for h in self.held(bodies, set, *line)? {
                 if h.count != h.total {
-                    return Err(self.err(*line, format!("node set {set} holds {} of body `{}`'s {} nodes: impact gives a body one initial velocity", h.count, h.body.name, h.total)));
+                    return Err(self.src.err(*line, format!("node set {set} holds {} of body `{}`'s {} nodes: impact gives a body one initial velocity", h.count, h.body.name, h.total)));
                 }
                 if let Some(o) = out.iter_mut().find(|o| o.name == h.body.name) {
                     o.velocity = *v;
@@ -603,10 +583,10 @@ impl Reader<'_> {
             let motion = match m.constraints {
                 [1.0, 0.0, 7.0] => "free",
                 [1.0, 7.0, 7.0] => "fixed",
-                _ => return Err(self.err(m.line, "*MAT_RIGID: impact's rigid part translates as a whole or is held: give CMO = 1, CON2 = 7 (rotations held) and CON1 = 0 (free) or 7 (held)")),
+                _ => return Err(self.src.err(m.line, "*MAT_RIGID: impact's rigid part translates as a whole or is held: give CMO = 1, CON2 = 7 (rotations held) and CON1 = 0 (free) or 7 (held)")),
             };
             let part = pid.to_string();
-            let (parts, _) = crate::mesh::import(self.path, 1.0, [0.0; 3], Some(&part))?;
+            let (parts, _) = crate::mesh::import(self.src.path, 1.0, [0.0; 3], Some(&part))?;
             let volume: f64 = (parts.elements.iter())
                 .map(|e| {
                     let x: Vec<[f64; 3]> =
@@ -616,7 +596,7 @@ impl Reader<'_> {
                 .sum();
             let mass = m.ro * volume;
             if mass.is_nan() || mass <= 0.0 {
-                return Err(self.err(
+                return Err(self.src.err(
                     *line,
                     format!(
                         "rigid part {pid}: its mass, RO x volume = {} x {volume}, must be positive",
@@ -658,10 +638,11 @@ impl Reader<'_> {
                     .map(|s| (b.name.clone(), s.name.clone()))
             });
             let first = found.next().ok_or_else(|| {
-                self.err(line, format!("no part's elements hold segment set {set}"))
+                self.src
+                    .err(line, format!("no part's elements hold segment set {set}"))
             })?;
             if found.next().is_some() {
-                return Err(self.err(
+                return Err(self.src.err(
                     line,
                     format!("segment set {set} lies on two parts: a contact surface is one body's"),
                 ));
@@ -672,13 +653,13 @@ impl Reader<'_> {
         let mut surfaces: Vec<RigidSurface> = Vec::new();
         for (k, (s, m, fs, line)) in g.contacts.iter().enumerate() {
             if on_rigid(s).is_some() {
-                return Err(self.err(*line, format!("segment set {s} lies on a rigid part: a rigid part is a contact's master side")));
+                return Err(self.src.err(*line, format!("segment set {s} lies on a rigid part: a rigid part is a contact's master side")));
             }
             let primary = match on_rigid(m) {
                 Some(name) => {
                     match surfaces.iter().find(|(n, _)| *n == name) {
                         Some((_, other)) if other != m => {
-                            return Err(self.err(*line, format!("rigid part `{name}` meets its contacts through segment sets {other} and {m}: impact's rigid body has one surface")));
+                            return Err(self.src.err(*line, format!("rigid part `{name}` meets its contacts through segment sets {other} and {m}: impact's rigid body has one surface")));
                         }
                         Some(_) => {}
                         None => surfaces.push((name.clone(), m.clone())),
@@ -710,7 +691,7 @@ impl Reader<'_> {
                     let mut names = Vec::new();
                     for h in self.held(bodies, &s.to_string(), *line)? {
                         if h.count != h.total {
-                            return Err(self.err(*line, format!("node set {s} holds {} of body `{}`'s {} nodes: impact's rigid plane stops whole bodies", h.count, h.body.name, h.total)));
+                            return Err(self.src.err(*line, format!("node set {s} holds {} of body `{}`'s {} nodes: impact's rigid plane stops whole bodies", h.count, h.body.name, h.total)));
                         }
                         names.push(h.body.name.clone());
                     }

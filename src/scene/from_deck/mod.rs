@@ -13,7 +13,8 @@ mod lsdyna;
 use std::fmt::Write;
 use std::path::Path;
 
-use crate::error::Result;
+use crate::error::{ImpactError, Result};
+use crate::mesh::deck::{Deck, Dialect};
 
 /// A material as the deck gives it.
 #[derive(Debug, Clone, PartialEq)]
@@ -419,12 +420,54 @@ impl DeckScene {
     }
 }
 
-/// Expanded line `line` of a deck as its notice names it: the line, or the included file
-/// and its line.
-fn deck_line(deck: &crate::mesh::deck::Deck, line: usize) -> String {
-    match deck.origin(line) {
-        (None, l) => format!("{l}"),
-        (Some(f), l) => format!("{}:{l}", f.display()),
+/// A deck file read with its includes expanded: where its errors and notices point.
+struct DeckFile<'a> {
+    path: &'a Path,
+    deck: Deck,
+}
+
+impl<'a> DeckFile<'a> {
+    /// The deck at `path`, in `dialect`, with its includes expanded.
+    fn read(path: &'a Path, dialect: Dialect) -> Result<Self> {
+        let text = crate::limits::read_input_text(path).map_err(|e| ImpactError::Mesh {
+            path: path.to_path_buf(),
+            line: None,
+            message: format!("cannot read: {e}"),
+        })?;
+        let deck = Deck::expand_as(dialect, &text, Some(path)).map_err(|e| ImpactError::Mesh {
+            path: e.file.clone().unwrap_or_else(|| path.to_path_buf()),
+            line: e.line,
+            message: e.message,
+        })?;
+        Ok(DeckFile { path, deck })
+    }
+
+    /// An error about the whole deck.
+    fn whole(&self, message: impl Into<String>) -> ImpactError {
+        ImpactError::Mesh {
+            path: self.path.to_path_buf(),
+            line: None,
+            message: message.into(),
+        }
+    }
+
+    /// An error at expanded line `line`, in the file and at the line it came from.
+    fn err(&self, line: usize, message: impl Into<String>) -> ImpactError {
+        let (file, l) = self.deck.origin(line);
+        ImpactError::Mesh {
+            path: file.unwrap_or(self.path).to_path_buf(),
+            line: Some(l),
+            message: message.into(),
+        }
+    }
+
+    /// Expanded line `line` as a notice names it: the line, or the included file and its
+    /// line.
+    fn line(&self, line: usize) -> String {
+        match self.deck.origin(line) {
+            (None, l) => format!("{l}"),
+            (Some(f), l) => format!("{}:{l}", f.display()),
+        }
     }
 }
 
