@@ -8,7 +8,7 @@ use common::*;
 
 use impact::run::{run, RunOptions};
 use impact::scene::{DeviceChoice, Scene};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Runs the scene (or deck) at `path` on the CPU into `tag`'s folder.
 fn run_file(tag: &str, path: &Path) -> (impact::output::Summary, History) {
@@ -23,6 +23,15 @@ fn run_file(tag: &str, path: &Path) -> (impact::output::Summary, History) {
     let s = run(&scene, &opts).unwrap_or_else(|e| panic!("{tag}: {e}"));
     assert_eq!(s.status, "completed", "{tag}");
     (s, History::read(&out.join("history.csv")))
+}
+
+/// `text` written as `name` in the output folder of `tag` (made anew); its path.
+fn written(tag: &str, name: &str, text: &str) -> PathBuf {
+    let dir = out_dir(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
 }
 
 /// The largest difference of `a`'s column `ca` from `b`'s `cb`, relative to `b`'s largest
@@ -203,12 +212,13 @@ friction = 0.2
 
 #[test]
 fn a_block_sliding_on_a_held_plate_as_a_deck_matches_its_scene() {
-    let dir = out_dir("deck_sliding_block_files");
-    std::fs::create_dir_all(&dir).unwrap();
-    let deck = dir.join("sliding_block.inp");
-    std::fs::write(&deck, sliding_block_deck()).unwrap();
-    let scene = dir.join("sliding_block.toml");
-    std::fs::write(&scene, SLIDING_BLOCK_SCENE).unwrap();
+    let tag = "deck_sliding_block_files";
+    let deck = written(tag, "sliding_block.inp", &sliding_block_deck());
+    let scene = written(
+        "deck_sliding_block_twin_files",
+        "sliding_block.toml",
+        SLIDING_BLOCK_SCENE,
+    );
     let (_, h) = run_file("deck_sliding_block", &deck);
     let (_, twin) = run_file("deck_sliding_block_twin", &scene);
     let friction = h.col("BOTTOM-TOP.tangential_force");
@@ -319,10 +329,7 @@ fn a_converted_deck_runs_to_the_decks_history() {
 
 /// The deck `text` (written as `bad.inp`) is refused with every piece of `words`.
 fn refused(tag: &str, text: &str, words: &[&str]) {
-    let dir = out_dir(tag);
-    std::fs::create_dir_all(&dir).unwrap();
-    let deck = dir.join("bad.inp");
-    std::fs::write(&deck, text).unwrap();
+    let deck = written(tag, "bad.inp", text);
     let e = Scene::load(&deck)
         .expect_err("the deck is refused")
         .to_string();
@@ -435,10 +442,11 @@ fn oblique_cube_deck() -> String {
 
 #[test]
 fn the_papers_oblique_cube_as_a_deck_matches_its_scene() {
-    let dir = out_dir("deck_oblique_cube_files");
-    std::fs::create_dir_all(&dir).unwrap();
-    let deck = dir.join("cube_on_plate.inp");
-    std::fs::write(&deck, oblique_cube_deck()).unwrap();
+    let deck = written(
+        "deck_oblique_cube_files",
+        "cube_on_plate.inp",
+        &oblique_cube_deck(),
+    );
     let (_, h) = run_file("deck_oblique_cube", &deck);
     let (_, twin) = run_file(
         "deck_oblique_cube_twin",
@@ -465,8 +473,11 @@ fn the_papers_oblique_cube_as_a_deck_matches_its_scene() {
     }
     // Abaqus's named condition for the pinned edge, its set named in another case
     let named = edit(&oblique_cube_deck(), "PINNED, 1, 3", "pinned, PINNED");
-    let deck = dir.join("cube_on_plate_named.inp");
-    std::fs::write(&deck, named).unwrap();
+    let deck = written(
+        "deck_oblique_cube_named_files",
+        "cube_on_plate_named.inp",
+        &named,
+    );
     let (_, n) = run_file("deck_oblique_cube_named", &deck);
     assert!(
         format!("{:?}", n.rows) == format!("{:?}", h.rows),
@@ -509,10 +520,7 @@ fn the_lsdyna_block_drop_runs_as_it_stands_and_matches_its_scene() {
         assert!(notice.contains(passed), "{passed} in: {notice}");
     }
     let (s, h) = run_file("deck_block_drop", &deck);
-    let dir = out_dir("deck_block_drop_files");
-    std::fs::create_dir_all(&dir).unwrap();
-    let twin_path = dir.join("block_drop.toml");
-    std::fs::write(&twin_path, BLOCK_DROP_SCENE).unwrap();
+    let twin_path = written("deck_block_drop_files", "block_drop.toml", BLOCK_DROP_SCENE);
     let (_, twin) = run_file("deck_block_drop_twin", &twin_path);
     // the block rebounds: its momentum turns, and the wall's impulse is its change
     let vz = h.col("block.vz");
@@ -536,8 +544,7 @@ fn the_lsdyna_block_drop_runs_as_it_stands_and_matches_its_scene() {
         "         1         2       0.0       0.0       0.0      -1.0         0         0",
         "1, 2, 0.0, 0.0, 0.0, -1.0, 0, 0",
     );
-    let free_path = dir.join("block_drop_free.k");
-    std::fs::write(&free_path, free).unwrap();
+    let free_path = written("deck_block_drop_free_files", "block_drop_free.k", &free);
     let (_, f) = run_file("deck_block_drop_free", &free_path);
     assert!(
         format!("{:?}", f.rows) == format!("{:?}", h.rows),
@@ -690,10 +697,7 @@ fn an_lsdyna_orthotropic_material_runs_as_its_scene() {
 fn what_a_keyword_file_asks_that_impact_cannot_honour_is_refused_by_keyword_and_line() {
     let deck = std::fs::read_to_string(repo().join("scenes/block_drop.k")).unwrap();
     let k = |tag: &str, text: &str, words: &[&str]| {
-        let dir = out_dir(tag);
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("bad.k");
-        std::fs::write(&path, text).unwrap();
+        let path = written(tag, "bad.k", text);
         let e = Scene::load(&path).expect_err("refused").to_string();
         for w in words {
             assert!(e.contains(w), "`{w}` in: {e}");
@@ -843,10 +847,7 @@ fn rigid_tup_deck() -> String {
 
 #[test]
 fn an_lsdyna_rigid_part_strikes_as_a_rigid_body_of_its_mass() {
-    let dir = out_dir("deck_rigid_tup_files");
-    std::fs::create_dir_all(&dir).unwrap();
-    let deck = dir.join("rigid_tup.k");
-    std::fs::write(&deck, rigid_tup_deck()).unwrap();
+    let deck = written("deck_rigid_tup_files", "rigid_tup.k", &rigid_tup_deck());
     let (_, h) = run_file("deck_rigid_tup", &deck);
     let (t, fz, vz) = (h.col("time"), h.col("contact1.fz"), h.col("tup.vz"));
     assert!(fz.iter().any(|&f| f > 0.0), "the tup strikes the block");

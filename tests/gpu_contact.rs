@@ -205,10 +205,7 @@ fn kept_search_grid_matches_its_twins_and_a_fresh_sort() {
     let nodes = model.mesh.node_count();
     let data = model.element_data();
     let reference = data.reference.clone();
-    let h = 0.125;
-    let u: Vec<f64> = (0..3 * nodes)
-        .map(|_| rng.random_range(-0.1 * h..0.1 * h))
-        .collect();
+    let u = tenth_of_an_element(&mut rng, nodes);
     let v: Vec<f64> = (0..3 * nodes)
         .map(|_| rng.random_range(-1.0..1.0))
         .collect();
@@ -236,7 +233,7 @@ fn kept_search_grid_matches_its_twins_and_a_fresh_sort() {
         .map(|f| kernels::face_centre(f, |n| position(&u, n)))
         .collect();
     let plate = model.mesh.bodies[1].nodes.clone();
-    for (shift, stale) in [(0.02 * h, false), (3.0 * h, true)] {
+    for (shift, stale) in [(0.02 * H, false), (3.0 * H, true)] {
         let (_, sorted, _) = setup_at(&u, SearchMode::First);
         let mut moved = u.clone();
         for n in plate.clone() {
@@ -382,6 +379,16 @@ primary = { body = "block", face = "z-" }
     }
 }
 
+/// The stack's element size.
+const H: f64 = 0.125;
+
+/// Random displacements of up to a tenth of the stack's element in each component.
+fn tenth_of_an_element(rng: &mut StdRng, nodes: usize) -> Vec<f64> {
+    (0..3 * nodes)
+        .map(|_| rng.random_range(-0.1 * H..0.1 * H))
+        .collect()
+}
+
 /// The fields of the constraints but the compliance (compared on its own: its scale, the
 /// inverse mass, would hide the others').
 fn constraint_fields(c: &[Constraint]) -> Vec<f64> {
@@ -437,10 +444,7 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     let reference = data.reference.clone();
     // displacements of a tenth of an element (the block's bottom then overlaps the plate's
     // top, or not, by a little); velocities of order 1 (the normal ones closing)
-    let h = 0.125;
-    let u: Vec<f64> = (0..3 * nodes)
-        .map(|_| rng.random_range(-0.1 * h..0.1 * h))
-        .collect();
+    let u = tenth_of_an_element(&mut rng, nodes);
     let v: Vec<f64> = (0..3 * nodes)
         .map(|d| rng.random_range(-1.0..1.0) - if d % 3 == 2 { 0.5 } else { 0.0 })
         .collect();

@@ -1005,17 +1005,20 @@ primary = {{ body = "block", face = "z-" }}
         "seed {seed}: bucket_fill"
     );
     let range: Vec<(u32, u32)> = layout.iter().map(|&(_, a, b)| (a, b)).collect();
-    let twin = kernels::contact_search(
-        &model.mesh.nodes,
-        &u3,
-        &v3,
-        &model.queries.secondary,
-        &range,
-        &model.queries.faces,
-        &starts,
-        &sorted,
-        kernels::SearchGrid::at(cell, margin, mask),
-    );
+    let twin_search = |grid: kernels::SearchGrid| {
+        kernels::contact_search(
+            &model.mesh.nodes,
+            &u3,
+            &v3,
+            &model.queries.secondary,
+            &range,
+            &model.queries.faces,
+            &starts,
+            &sorted,
+            grid,
+        )
+    };
+    let twin = twin_search(kernels::SearchGrid::at(cell, margin, mask));
     compare("contact_search against its twin", &got, &twin);
     compare("contact_search twin against the host search", &twin, &want);
 
@@ -1025,17 +1028,7 @@ primary = {{ body = "block", face = "z-" }}
         all_faces: true,
         ..kernels::SearchGrid::at(cell, margin, mask)
     };
-    let every = kernels::contact_search(
-        &model.mesh.nodes,
-        &u3,
-        &v3,
-        &model.queries.secondary,
-        &range,
-        &model.queries.faces,
-        &starts,
-        &sorted,
-        stale,
-    );
+    let every = twin_search(stale);
     assert_eq!(every, twin, "seed {seed}: the twin over every face");
     let (ctx, search) = gpu.search_parts().expect("search built");
     let all = search
