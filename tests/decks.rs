@@ -396,8 +396,14 @@ fn what_a_deck_asks_that_impact_cannot_honour_is_refused_by_keyword_and_line() {
     );
     let dense = edit(&deck, "0.01\n", "0.01, 20.0\n0.011, 100.0\n");
     refused("deck_dense", &dense, &["*DENSITY over temperatures"]);
-    let dof = edit(&deck, "NA, 1, 1.0", "NA, 5, 1.0");
-    refused("deck_dof", &dof, &["degree of freedom `5`"]);
+    let dof = edit(&deck, "NA, 1, 1.0", "NA, 7, 1.0");
+    refused("deck_dof", &dof, &["degree of freedom `7`"]);
+    let rotation = edit(&deck, "NA, 1, 1.0", "NA, 5, 1.0");
+    refused(
+        "deck_rotation",
+        &rotation,
+        &["bad.inp:138", "dofs 4-6 are rotations"],
+    );
 }
 
 /// The paper's second example (`scenes/cube_on_plate.toml`) as a CalculiX deck: the cube
@@ -714,7 +720,21 @@ fn what_a_keyword_file_asks_that_impact_cannot_honour_is_refused_by_keyword_and_
         "         1         2       0.0       0.0",
         "         1         2       5.0       0.0",
     );
-    k("k_spin", &spin, &["bad.k:29", "rotation"]);
+    k(
+        "k_spin_axis",
+        &spin,
+        &["bad.k:31", "rotation axis (NX, NY, NZ) is zero"],
+    );
+    let spin = edit(
+        &spin,
+        "       0.0       0.0       0.0       0.0       0.0       0.0",
+        "       0.0       0.0       0.0       0.0       0.0       1.0",
+    );
+    k(
+        "k_spin",
+        &spin,
+        &["bad.k:29", "part 1 is not rigid", "without a rotation"],
+    );
     let no_end = edit(&deck, "*CONTROL_TERMINATION", "*CONTROL_ENERGY");
     k("k_no_end", &no_end, &["no *CONTROL_TERMINATION"]);
     let no_mat = edit(
@@ -868,12 +888,282 @@ fn an_lsdyna_rigid_part_strikes_as_a_rigid_body_of_its_mass() {
     let e = h.col("total_energy");
     let rise = e.iter().fold(f64::MIN, |m, &x| m.max(x)) - e[0];
     assert!(rise <= 1e-9 * e[0], "energy rises by {rise}");
-    // a rigid part free to rotate is refused at its constraints card
-    let turning = edit(&rigid_tup_deck(), "1.0, 0.0, 7.0", "1.0, 0.0, 0.0");
+    // a rigid part with some of its rotations held is refused at its constraints card
+    let turning = edit(&rigid_tup_deck(), "1.0, 0.0, 7.0", "1.0, 0.0, 3.0");
     std::fs::write(&deck, turning).unwrap();
     let e = Scene::load(&deck).expect_err("refused").to_string();
     assert!(
-        e.contains("rigid_tup.k:18") && e.contains("CON2 = 7"),
+        e.contains("rigid_tup.k:18") && e.contains("CON2 = 0 (free to turn) or 7"),
         "{e}"
     );
+}
+
+/// The rigid tup of [`rigid_tup_deck`] free to turn (CMO = 0), over the block's edge (x
+/// from 0.6 to 1.1), started turning at 3 about z through (0.5, 0.5, 0), run to 0.3.
+fn turning_tup_deck() -> String {
+    let mut deck = edit(&rigid_tup_deck(), "1.0, 0.0, 7.0\n", "0.0, 0.0, 0.0\n");
+    deck = edit(
+        &deck,
+        "0, 0, 0, 0, 0, 0, 0, 0\n",
+        "0.5, 0.5, 0.0, 0.0, 0.0, 1.0, 0, 0\n",
+    );
+    deck = edit(
+        &deck,
+        "2, 2, 0.0, 0.0, 0.0, -1.0",
+        "2, 2, 3.0, 0.0, 0.0, -1.0",
+    );
+    deck = edit(&deck, "TERMINATION\n0.05\n", "TERMINATION\n0.3\n");
+    for (from, to) in [("0.25, ", "0.6, "), ("0.75, ", "1.1, ")] {
+        for k in 101..109 {
+            deck = deck.replace(&format!("{k}, {from}"), &format!("{k}, {to}"));
+        }
+    }
+    deck
+}
+
+/// The rigid tup of [`rigid_tup_deck`] free to turn (CMO = 0), moved to overhang the
+/// block's edge (x from 0.6 to 1.1) and started turning at 3 about z through (0.5, 0.5, 0):
+/// its mass, centre and inertia are the cube's, its centre starts at v + w x (c - a), the
+/// off-centre blow turns it, and it keeps its angular velocity once free (a cube's inertia
+/// is isotropic); the contact's impulse is its change of momentum and the energy does not
+/// rise.
+#[test]
+fn an_lsdyna_rigid_part_free_to_turn_takes_its_inertia_from_its_elements() {
+    let deck = turning_tup_deck();
+    let path = written("deck_turning_tup_files", "turning_tup.k", &deck);
+    let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let tup = &scene.rigid_bodies[0];
+    let (mass, c) = (0.01, [0.85, 0.5, 1.26]);
+    assert!((tup.mass - mass).abs() <= 1e-15, "{}", tup.mass);
+    let off = tup.position.iter().zip(c).map(|(p, q)| (p - q).abs());
+    assert!(off.fold(0.0, f64::max) <= 1e-14, "{:?}", tup.position);
+    let inertia = tup.inertia.expect("it turns");
+    let i0 = mass * 0.5 / 12.0;
+    for a in 0..3 {
+        for b in 0..3 {
+            let want = if a == b { i0 } else { 0.0 };
+            assert!((inertia[a][b] - want).abs() <= 1e-14 * i0, "{inertia:?}");
+        }
+    }
+    // w x (c - a) with w = 3 z, c - a = (0.35, 0, 1.26)
+    let v = [0.0, 3.0 * 0.35, -1.0];
+    assert_eq!(tup.angular_velocity, [0.0, 0.0, 3.0]);
+    assert!(
+        (0..3).all(|a| (tup.velocity[a] - v[a]).abs() <= 1e-15),
+        "{:?}",
+        tup.velocity
+    );
+    let (_, h) = run_file("deck_turning_tup", &path);
+    let (t, fz, vz) = (h.col("time"), h.col("contact1.fz"), h.col("tup.vz"));
+    let last = (0..t.len())
+        .rev()
+        .find(|&i| fz[i] != 0.0)
+        .expect("the tup strikes");
+    let n = t.len() - 1;
+    assert!(
+        last < n - 10,
+        "the tup leaves the block before the end ({last} of {n})"
+    );
+    let w: Vec<[f64; 3]> = (0..=n)
+        .map(|i| ["wx", "wy", "wz"].map(|c| h.col(&format!("tup.{c}"))[i]))
+        .collect();
+    assert!((w[0][2] - 3.0).abs() <= 1e-12, "{:?}", w[0]);
+    assert!(
+        w[n][1].abs() > 1e-3,
+        "the off-centre blow turns it about y: {:?}",
+        w[n]
+    );
+    for i in last + 1..=n {
+        assert!(
+            (0..3).all(|a| (w[i][a] - w[n][a]).abs() <= 1e-12),
+            "free, it keeps its angular velocity: {:?} against {:?}",
+            w[i],
+            w[n]
+        );
+    }
+    let impulse: f64 = (1..t.len()).map(|i| fz[i] * (t[i] - t[i - 1])).sum();
+    let change = mass * (vz[n] - vz[0]);
+    assert!(
+        (impulse - change).abs() <= 1e-9 * mass,
+        "{impulse} against {change}"
+    );
+    let e = h.col("total_energy");
+    let rise = e.iter().fold(f64::MIN, |m, &x| m.max(x)) - e[0];
+    eprintln!(
+        "w end {:?}, vz end {}, energy {} -> {}, rise {rise:e}",
+        w[n], vz[n], e[0], e[n]
+    );
+    assert!(rise <= 1e-6 * e[0], "energy rises by {rise}");
+}
+
+/// The tup of [`rigid_tup_deck`] as a CalculiX deck: `*RIGID BODY, ELSET=TUP, REF NODE=REF`
+/// with its reference node at (0.5, 0.5, 0), its x from `x0` to `x1`; `lines` are its
+/// reference node's `*BOUNDARY` and `*INITIAL CONDITIONS` data lines.
+fn abaqus_tup_deck((x0, x1): (f64, f64), boundary: &str, velocity: &str) -> String {
+    let mut t = String::from("*HEADING\nA rigid tup on a block\n");
+    t += &brick(
+        ([0.0, 0.0, 0.0], [1.0, 1.0, 1.0], [2, 2, 2]),
+        (1, 1),
+        ("BLOCK", "NBLOCK"),
+    );
+    t += &brick(
+        ([x0, 0.25, 1.01], [x1, 0.75, 1.51], [1, 1, 1]),
+        (101, 101),
+        ("TUP", "NTUP"),
+    );
+    t += "*NODE, NSET=REF\n1000, 0.5, 0.5, 0.0\n";
+    t += "*NSET, NSET=BASE, GENERATE\n1, 9, 1\n";
+    t += "*ELSET, ELSET=BLOCKTOP, GENERATE\n5, 8, 1\n";
+    t += "*SURFACE, NAME=BTOP, TYPE=ELEMENT\nBLOCKTOP, S2\n";
+    t += "*SURFACE, NAME=TUPS, TYPE=ELEMENT\n";
+    for k in 1..=6 {
+        t += &format!("TUP, S{k}\n");
+    }
+    t += "*MATERIAL, NAME=SOFT\n*ELASTIC\n100.0, 0.3\n*DENSITY\n0.01\n";
+    t += "*MATERIAL, NAME=HEAVY\n*ELASTIC\n100.0, 0.3\n*DENSITY\n0.08\n";
+    t += "*SOLID SECTION, ELSET=BLOCK, MATERIAL=SOFT\n";
+    t += "*SOLID SECTION, ELSET=TUP, MATERIAL=HEAVY\n";
+    t += "*RIGID BODY, ELSET=TUP, REF NODE=REF\n";
+    t += &format!("*BOUNDARY\nBASE, 1, 3\n{boundary}");
+    t += &format!("*INITIAL CONDITIONS, TYPE=VELOCITY\n{velocity}");
+    t += "*SURFACE INTERACTION, NAME=SMOOTH\n*FRICTION\n0.0\n";
+    t += "*CONTACT PAIR, INTERACTION=SMOOTH, TYPE=NODE TO SURFACE\nBTOP, TUPS\n";
+    t += "*STEP\n*DYNAMIC, EXPLICIT\n1e-4, 0.05\n*NODE PRINT, NSET=REF\nU\n*END STEP\n";
+    t
+}
+
+/// The largest difference of the CalculiX tup's history from the LS-DYNA tup's in the
+/// contact force, the tup's motion (and turning where `turning`) and the energy,
+/// relative to each column's largest magnitude.
+fn tup_difference(a: &History, b: &History, turning: bool) -> f64 {
+    let mut pairs = vec![
+        ("BTOP-TUPS.fz", "contact1.fz"),
+        ("TUP.uz", "tup.uz"),
+        ("TUP.vz", "tup.vz"),
+        ("TUP.vy", "tup.vy"),
+        ("total_energy", "total_energy"),
+    ];
+    if turning {
+        pairs.extend([
+            ("TUP.wx", "tup.wx"),
+            ("TUP.wy", "tup.wy"),
+            ("TUP.wz", "tup.wz"),
+        ]);
+    }
+    let mut worst: f64 = 0.0;
+    for (ca, cb) in pairs {
+        let d = difference(a, ca, b, cb, 1e-30);
+        eprintln!("{ca}: {d:.2e}");
+        worst = worst.max(d);
+    }
+    worst
+}
+
+/// A CalculiX `*RIGID BODY` strikes as the LS-DYNA rigid part of the same tup does: held
+/// rotations (dofs 4-6 of its reference node) make it translate; free, and started turning
+/// about z at its reference node (dof 6), it turns about its centre of mass with the
+/// inertia of its elements. The two readers build the rigid mesh from differently ordered
+/// corners, so the histories need agree only to rounding (they agree to the bit).
+#[test]
+fn an_abaqus_rigid_body_strikes_as_the_lsdyna_rigid_part_does() {
+    let inp = abaqus_tup_deck((0.25, 0.75), "REF, 4, 6\n", "REF, 3, -1.0\n");
+    let inp = written("deck_abaqus_tup_files", "tup.inp", &inp);
+    let k = written("deck_lsdyna_tup_files", "tup.k", &rigid_tup_deck());
+    let converted = impact::scene::from_deck::convert(&inp).unwrap();
+    let notice = converted.notice.unwrap_or_default();
+    assert!(
+        notice.contains("NSET=REF, a rigid body's reference node"),
+        "{notice}"
+    );
+    let (_, a) = run_file("deck_abaqus_tup", &inp);
+    let (_, b) = run_file("deck_lsdyna_tup", &k);
+    assert!(
+        b.col("contact1.fz").iter().any(|&f| f > 0.0),
+        "the tup strikes"
+    );
+    let d = tup_difference(&a, &b, false);
+    assert!(d <= 1e-9, "translating: {d:e}");
+
+    // the shipped deck is this tup free to turn, over the block's edge, run to 0.3
+    let inp = repo().join("scenes/rigid_tup.inp");
+    let shipped = std::fs::read_to_string(&inp).unwrap();
+    let generated = abaqus_tup_deck((0.6, 1.1), "", "REF, 3, -1.0\nREF, 6, 3.0\n");
+    let data = |t: &str| -> String {
+        let t = t.replace("0.05\n*NODE PRINT", "0.3\n*NODE PRINT");
+        let kept = t
+            .lines()
+            .filter(|l| !l.starts_with("**") && !l.starts_with("A rigid tup"));
+        kept.collect::<Vec<_>>().join("\n")
+    };
+    assert_eq!(data(&shipped), data(&generated), "scenes/rigid_tup.inp");
+    let deck = turning_tup_deck();
+    let k = written("deck_lsdyna_turning_files", "turning.k", &deck);
+    let (_, a) = run_file("deck_abaqus_turning", &inp);
+    let (_, b) = run_file("deck_lsdyna_turning", &k);
+    assert!(
+        b.col("tup.wy").last().unwrap().abs() > 1e-3,
+        "the blow turns it"
+    );
+    let d = tup_difference(&a, &b, true);
+    assert!(d <= 1e-9, "turning: {d:e}");
+}
+
+/// What a `*RIGID BODY` asks that impact cannot honour is refused at its line.
+#[test]
+fn what_a_rigid_body_asks_that_impact_cannot_honour_is_refused() {
+    let tup = |b: &str| abaqus_tup_deck((0.25, 0.75), b, "REF, 3, -1.0\n");
+    // some rotations held
+    refused(
+        "rigid_some_rotations",
+        &tup("REF, 5, 5\n"),
+        &["bad.inp:", "some of its reference node's rotations"],
+    );
+    // held at a reference node off its centre of mass while free to turn: a pivot
+    refused(
+        "rigid_pivot",
+        &tup("REF, 1, 3\n"),
+        &["bad.inp:", "POSITION=CENTER OF MASS"],
+    );
+    // ... which POSITION=CENTER OF MASS makes a body held at its centre
+    let centred = edit(
+        &tup("REF, 1, 2\n"),
+        "REF NODE=REF\n",
+        "REF NODE=REF, POSITION=CENTER OF MASS\n",
+    );
+    let path = written("rigid_centred_files", "centred.inp", &centred);
+    let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert!(scene.rigid_bodies[0].inertia.is_some());
+    // a rigid body of nodes, without elements to take its mass from
+    let nodes = edit(
+        &tup("REF, 4, 6\n"),
+        "ELSET=TUP, REF NODE",
+        "NSET=NTUP, REF NODE",
+    );
+    refused("rigid_nset", &nodes, &["bad.inp:", "*RIGID BODY, NSET="]);
+    // a rotation on a solid's nodes
+    refused(
+        "rigid_solid_rotation",
+        &tup("REF, 4, 6\nBASE, 4, 4\n"),
+        &["bad.inp:", "dofs 4-6 are rotations"],
+    );
+    // a rigid body's element set without a density
+    let light = edit(&tup("REF, 4, 6\n"), "*DENSITY\n0.08\n", "");
+    refused("rigid_no_density", &light, &["bad.inp:", "no *DENSITY"]);
+}
+
+/// A reference node named by its number reads as the set of that one node does.
+#[test]
+fn a_rigid_bodys_reference_node_may_be_given_by_number() {
+    let named = abaqus_tup_deck((0.25, 0.75), "REF, 4, 6\n", "REF, 3, -1.0\n");
+    let numbered = abaqus_tup_deck((0.25, 0.75), "1000, 4, 6\n", "1000, 3, -1.0\n");
+    let numbered = edit(&numbered, "REF NODE=REF", "REF NODE=1000");
+    let a = written("rigid_named_files", "tup.inp", &named);
+    let b = written("rigid_numbered_files", "tup.inp", &numbered);
+    let [a, b] = [a, b].map(|p| impact::scene::from_deck::convert(&p).unwrap().toml);
+    assert_eq!(a, b);
+    assert!(
+        a.contains("motion = \"free\"") && a.contains("velocity = [0.0, 0.0, -1.0]"),
+        "{a}"
+    );
+    assert!(!a.contains("inertia"), "its rotations are held: {a}");
 }

@@ -11,6 +11,7 @@ pub mod corners;
 pub mod hex8;
 pub mod hex8i;
 pub mod kind;
+pub mod mass_moments;
 pub mod section;
 pub mod stable_step;
 pub mod tet4;
@@ -20,6 +21,7 @@ use crate::material::Elastic;
 pub use block::{ElementBlock, ElementRef, Elements};
 pub use corners::CornerLayout;
 pub use kind::{ElementKind, Sample};
+pub use mass_moments::MassMoments;
 pub use section::Section;
 
 /// Cauchy stress $\sigma = \lambda\, \mathrm{tr}(\varepsilon) I + 2\mu\varepsilon$ of the linear

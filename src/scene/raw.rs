@@ -230,6 +230,7 @@ pub(crate) struct RawRigidShape {
     pub plate: Option<RawRigidPlate>,
     pub mesh: Option<String>,
     pub surface: Option<String>,
+    pub origin: Option<[f64; 3]>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -2,21 +2,25 @@
 //! `*ELSET`, `*SURFACE`, `*ORIENTATION`) stay the mesh reader's ([`crate::mesh::abaqus`]);
 //! this reader takes the rest: `*HEADING`, `*MATERIAL` with `*ELASTIC` (isotropic or
 //! engineering constants) and `*DENSITY`, `*SOLID SECTION` (each section's element set is a
-//! body), `*BOUNDARY` (zero values on node sets), `*INITIAL CONDITIONS, TYPE=VELOCITY` (a
-//! velocity per body), `*SURFACE INTERACTION` with `*FRICTION`, `*CONTACT PAIR`, `*DLOAD`
-//! gravity and one `*STEP` with `*DYNAMIC` (implicit) or `*DYNAMIC, EXPLICIT`.
+//! body), `*RIGID BODY` (a section's element set moving as one, [`rigid`]), `*BOUNDARY`
+//! (zero values on node sets), `*INITIAL CONDITIONS, TYPE=VELOCITY` (a velocity per body),
+//! `*SURFACE INTERACTION` with `*FRICTION`, `*CONTACT PAIR`, `*DLOAD` gravity and one
+//! `*STEP` with `*DYNAMIC` (implicit) or `*DYNAMIC, EXPLICIT`.
+
+mod rigid;
 
 use std::collections::HashMap;
 use std::path::Path;
 
 use super::{
     fixes_of, holders, DeckBody, DeckContact, DeckFile, DeckFix, DeckMaterial, DeckProbe,
-    DeckScene, DeckStep, Elastic, Holder, PrimarySide, Select,
+    DeckRigid, DeckScene, DeckStep, Elastic, Holder, PrimarySide, Select,
 };
 use crate::error::Result;
 use crate::mesh::abaqus::params;
 use crate::mesh::deck::Dialect;
 use crate::mesh::BodyParts;
+use rigid::{DeckNodes, RigidDecl, Rigids};
 
 /// The probes of the printed node sets, and the (set, line) of those too large for probes.
 type Probes = (Vec<DeckProbe>, Vec<(String, usize)>);
@@ -96,8 +100,8 @@ struct Gathered {
     materials: Vec<DeckMaterial>,
     /// (element set, material, line) of each section.
     sections: Vec<(String, String, usize)>,
-    /// (node set, first dof, last dof, line).
-    boundaries: Vec<(String, usize, usize, usize)>,
+    boundaries: Vec<Boundary>,
+    rigid: Vec<RigidDecl>,
     /// (node set, dof, value, line).
     velocities: Vec<(String, usize, f64, usize)>,
     /// Each interaction's friction coefficient, and the interaction last opened.
@@ -111,6 +115,16 @@ struct Gathered {
     printed: Vec<(String, usize)>,
     /// Keywords passed over, with their lines.
     passed: Vec<(String, usize)>,
+}
+
+/// A `*BOUNDARY` line: its node set, the dofs it holds (1-3 translations, 4-6 a rigid
+/// body's reference node's rotations), whether a named condition (`ENCASTRE`, ...) gave
+/// them, and its line.
+struct Boundary {
+    set: String,
+    dofs: Vec<usize>,
+    named: bool,
+    line: usize,
 }
 
 /// The reader: the deck and the error it locates.
@@ -133,10 +147,10 @@ impl Reader<'_> {
     fn dof(&self, fields: &[String], i: usize, line: usize) -> Result<usize> {
         let f = fields.get(i).map(String::as_str).unwrap_or("");
         match f.parse::<usize>() {
-            Ok(d @ 1..=3) => Ok(d),
+            Ok(d @ 1..=6) => Ok(d),
             _ => Err(self.src.err(
                 line,
-                format!("degree of freedom `{f}`: a solid's are 1, 2 and 3 (x, y, z)"),
+                format!("degree of freedom `{f}`: a solid's are 1, 2 and 3 (x, y, z), a rigid body's reference node's also 4, 5 and 6 (its rotations)"),
             )),
         }
     }
@@ -183,6 +197,7 @@ impl Reader<'_> {
                 g.sections.push((need("ELSET")?, need("MATERIAL")?, b.line));
             }
             "BOUNDARY" => self.boundary(b, g)?,
+            "RIGID BODY" => self.rigid_body_keyword(b, g)?,
             "INITIAL CONDITIONS" => self.initial_velocity(b, g)?,
             "SURFACE INTERACTION" => {
                 let name = (b.get("NAME"))
@@ -208,7 +223,7 @@ impl Reader<'_> {
             n => {
                 return Err(self.src.err(
                     b.line,
-                    format!("*{n}: impact cannot honour this keyword (it reads elastic solids, their supports, initial velocities, contact pairs with friction, gravity and one *DYNAMIC step; docs/decks.md lists them)"),
+                    format!("*{n}: impact cannot honour this keyword (it reads elastic solids, rigid bodies of solid elements, their supports, initial velocities, contact pairs with friction, gravity and one *DYNAMIC step; docs/decks.md lists them)"),
                 ))
             }
         }
@@ -270,15 +285,22 @@ impl Reader<'_> {
         for (f, l) in &b.data {
             let set = f[0].clone();
             // Abaqus's named conditions, as they hold a solid's translations
-            let named = match f.get(1).map(|x| x.to_ascii_uppercase()).as_deref() {
-                Some("ENCASTRE" | "PINNED") => Some((1, 3)),
-                Some("XSYMM") => Some((1, 1)),
-                Some("YSYMM") => Some((2, 2)),
-                Some("ZSYMM") => Some((3, 3)),
+            let named: Option<&[usize]> = match f.get(1).map(|x| x.to_ascii_uppercase()).as_deref()
+            {
+                Some("ENCASTRE") => Some(&[1, 2, 3, 4, 5, 6]),
+                Some("PINNED") => Some(&[1, 2, 3]),
+                Some("XSYMM") => Some(&[1, 5, 6]),
+                Some("YSYMM") => Some(&[2, 4, 6]),
+                Some("ZSYMM") => Some(&[3, 4, 5]),
                 _ => None,
             };
-            if let Some((first, last)) = named {
-                g.boundaries.push((set, first, last, *l));
+            if let Some(dofs) = named {
+                g.boundaries.push(Boundary {
+                    set,
+                    dofs: dofs.to_vec(),
+                    named: true,
+                    line: *l,
+                });
                 continue;
             }
             let first = self.dof(f, 1, *l)?;
@@ -291,7 +313,12 @@ impl Reader<'_> {
             {
                 return Err(self.src.err(*l, "*BOUNDARY with a value other than 0: impact holds dofs, it does not move them (a prescribed motion is a rigid body's)"));
             }
-            g.boundaries.push((set, first, last.max(first), *l));
+            g.boundaries.push(Boundary {
+                set,
+                dofs: (first..=last.max(first)).collect(),
+                named: false,
+                line: *l,
+            });
         }
         Ok(())
     }
@@ -421,8 +448,9 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         src: DeckFile::read(path, Dialect::Abaqus)?,
     };
     let mut g = Gathered::default();
-    for b in blocks(&r.src.deck.text) {
-        r.take(&b, &mut g)?;
+    let all = blocks(&r.src.deck.text);
+    for b in &all {
+        r.take(b, &mut g)?;
     }
     let step = g.step.clone().ok_or_else(|| {
         r.src.whole("no *STEP with *DYNAMIC: impact runs a dynamic step, implicit (*DYNAMIC) or explicit (*DYNAMIC, EXPLICIT)")
@@ -432,8 +460,15 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
             .src
             .whole("no *SOLID SECTION: each section's element set is a body, with its material"));
     }
+    let deck = DeckNodes { blocks: &all };
+    let rigid = r.rigid_bodies(&g, &deck)?;
+    let on = On {
+        deck: &deck,
+        rigid: &rigid,
+    };
     let bodies = r.bodies(&g)?;
-    let (probes, unprobed) = r.probes(&g, &bodies)?;
+    let (probes, unprobed) = r.probes(&g, &bodies, &on)?;
+    let (contacts, rigid_bodies) = r.contacts(&g, &bodies, &rigid)?;
     let scene = DeckScene {
         title: g.title.clone(),
         mesh: path
@@ -441,19 +476,49 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
             .map_or_else(String::new, |f| f.to_string_lossy().into_owned()),
         gravity: r.whole_gravity(&g)?,
         materials: g.materials.clone(),
-        fixes: r.fixes(&g, &bodies)?,
-        contacts: r.contacts(&g, &bodies)?,
+        fixes: r.fixes(&g, &bodies, &on)?,
+        contacts,
         probes,
         planes: Vec::new(),
-        rigid: Vec::new(),
-        bodies: r.velocities(&g, &bodies)?,
+        rigid: rigid_bodies,
+        bodies: r.velocities(&g, &bodies, &on)?,
         step,
     };
+    let mut unprobed = unprobed;
+    let untouched: Vec<&str> = (rigid.bodies.iter())
+        .filter(|(d, _)| !scene.rigid.iter().any(|r| r.name == d.name))
+        .map(|(d, _)| d.name.as_str())
+        .collect();
+    if !untouched.is_empty() {
+        let line = g.rigid.first().map_or(0, |d| d.line);
+        unprobed.push((
+            format!(
+                "RIGID BODY ELSET={}: no contact pair names its surface, left out",
+                untouched.join(", ")
+            ),
+            line,
+        ));
+    }
     let notice = notice(&r, &g, &unprobed);
     Ok((scene, notice))
 }
 
+/// What names a rigid body's nodes: the deck's nodes and its rigid bodies.
+struct On<'a, 'b> {
+    deck: &'a DeckNodes<'b>,
+    rigid: &'a Rigids,
+}
+
+impl On<'_, '_> {
+    /// Whether `set` names a rigid body's reference or rotation node.
+    fn rigid(&self, set: &str) -> bool {
+        self.rigid.names_a_node(self.deck, set)
+    }
+}
+
 /// One line naming the keywords passed over, with their files' lines.
+/// `unprobed`: what else was passed over (printed sets without probes, rigid bodies
+/// without contacts), with its line.
 fn notice(r: &Reader, g: &Gathered, unprobed: &[(String, usize)]) -> Option<String> {
     let mut listed: Vec<(String, Vec<String>)> = Vec::new();
     for (name, line) in &g.passed {
@@ -463,10 +528,9 @@ fn notice(r: &Reader, g: &Gathered, unprobed: &[(String, usize)]) -> Option<Stri
             None => listed.push((name.clone(), vec![at])),
         }
     }
-    for (set, line) in unprobed {
+    for (what, line) in unprobed {
         let (_, l) = r.src.deck.origin(*line);
-        let what = format!("NODE PRINT NSET={set}, more nodes than the {MAX_PROBES} history probes a set makes (the frames hold every node)");
-        listed.push((what, vec![l.to_string()]));
+        listed.push((what.clone(), vec![l.to_string()]));
     }
     let mut parts: Vec<String> = listed
         .iter()
@@ -492,6 +556,9 @@ impl Reader<'_> {
     fn bodies(&self, g: &Gathered) -> Result<Vec<(DeckBody, BodyParts)>> {
         let mut out = Vec::new();
         for (elset, material, line) in &g.sections {
+            if (g.rigid.iter()).any(|d| d.elset.eq_ignore_ascii_case(elset)) {
+                continue;
+            }
             if !(g.materials.iter()).any(|m| m.name.eq_ignore_ascii_case(material)) {
                 return Err(self.src.err(
                     *line,
@@ -544,7 +611,7 @@ impl Reader<'_> {
     /// A probe at each node of each printed node set: `SET` for a set of one node, `SET_1`,
     /// `SET_2`, ... for more; a set of more than [`MAX_PROBES`] nodes makes none (the
     /// notice names it: the frames hold every node).
-    fn probes(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Probes> {
+    fn probes(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)], on: &On) -> Result<Probes> {
         let mut out: Vec<DeckProbe> = Vec::new();
         let mut unprobed = Vec::new();
         for (set, line) in &g.printed {
@@ -563,6 +630,11 @@ impl Reader<'_> {
                         .map(|&n| (b.name.clone(), p.nodes[n as usize])),
                 );
             }
+            if points.is_empty() && on.rigid(set) {
+                let what = format!("NODE PRINT NSET={set}, a rigid body's reference node (the body's own history columns record it)");
+                unprobed.push((what, *line));
+                continue;
+            }
             if points.is_empty() {
                 return Err(self.src.err(
                     *line,
@@ -570,7 +642,8 @@ impl Reader<'_> {
                 ));
             }
             if points.len() > MAX_PROBES {
-                unprobed.push((set.clone(), *line));
+                let what = format!("NODE PRINT NSET={set}, more nodes than the {MAX_PROBES} history probes a set makes (the frames hold every node)");
+                unprobed.push((what, *line));
                 continue;
             }
             let one = points.len() == 1;
@@ -586,22 +659,62 @@ impl Reader<'_> {
         Ok((out, unprobed))
     }
 
-    fn fixes(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckFix>> {
+    /// The solids' fixes: each `*BOUNDARY` line's translations on the bodies holding its
+    /// set's nodes (a line on a rigid body's reference node is the rigid body's).
+    fn fixes(
+        &self,
+        g: &Gathered,
+        bodies: &[(DeckBody, BodyParts)],
+        on: &On,
+    ) -> Result<Vec<DeckFix>> {
         let mut out = Vec::new();
-        for (set, first, last, line) in &g.boundaries {
-            let components: Vec<&'static str> =
-                (*first..=*last).map(|d| ["x", "y", "z"][d - 1]).collect();
-            out.extend(fixes_of(self.holders(bodies, set, *line)?, &components));
+        for b in &g.boundaries {
+            let Some(found) = self.solids(bodies, &b.set, b.line, on)? else {
+                continue;
+            };
+            if !b.named && b.dofs.iter().any(|&d| d > 3) {
+                return Err(self.src.err(b.line, format!("*BOUNDARY on `{}`: dofs 4-6 are rotations, which a solid's nodes do not have (a rigid body's reference node does)", b.set)));
+            }
+            let components: Vec<&'static str> = (b.dofs.iter())
+                .filter(|&&d| d <= 3)
+                .map(|&d| ["x", "y", "z"][d - 1])
+                .collect();
+            out.extend(fixes_of(found, &components));
         }
         Ok(out)
     }
 
+    /// The solids holding nodes of `set`; `None` where it names only a rigid body's node.
+    fn solids<'b>(
+        &self,
+        bodies: &'b [(DeckBody, BodyParts)],
+        set: &str,
+        line: usize,
+        on: &On,
+    ) -> Result<Option<Vec<Holder<'b>>>> {
+        if on.rigid(set) && (set.parse::<u64>().is_ok() || holders(bodies, set).is_empty()) {
+            return Ok(None);
+        }
+        self.holders(bodies, set, line).map(Some)
+    }
+
     /// The bodies with the initial velocities of the deck: a node set's velocity must be a
     /// whole body's.
-    fn velocities(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckBody>> {
+    fn velocities(
+        &self,
+        g: &Gathered,
+        bodies: &[(DeckBody, BodyParts)],
+        on: &On,
+    ) -> Result<Vec<DeckBody>> {
         let mut out: Vec<DeckBody> = bodies.iter().map(|(b, _)| b.clone()).collect();
         for (set, dof, value, line) in &g.velocities {
-            for h in self.holders(bodies, set, *line)? {
+            let Some(found) = self.solids(bodies, set, *line, on)? else {
+                continue;
+            };
+            if *dof > 3 {
+                return Err(self.src.err(*line, format!("*INITIAL CONDITIONS on `{set}`: dofs 4-6 are rotations, which a solid's nodes do not have (a rigid body's reference node does)")));
+            }
+            for h in found {
                 let (count, total, name) = (h.count, h.total, &h.body.name);
                 if count != total {
                     return Err(self.src.err(*line, format!("node set `{set}` holds {count} of body `{name}`'s {total} nodes: impact gives a body one initial velocity, so the set must hold all of its nodes or none")));
@@ -614,7 +727,14 @@ impl Reader<'_> {
         Ok(out)
     }
 
-    fn contacts(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckContact>> {
+    /// The contact pairs, and the rigid bodies whose surfaces they name as masters (each
+    /// with that surface).
+    fn contacts(
+        &self,
+        g: &Gathered,
+        bodies: &[(DeckBody, BodyParts)],
+        rigid: &Rigids,
+    ) -> Result<(Vec<DeckContact>, Vec<DeckRigid>)> {
         let owner = |surface: &str, line: usize| -> Result<(String, String)> {
             let mut found = (bodies.iter()).filter_map(|(b, p)| {
                 p.surfaces
@@ -637,6 +757,7 @@ impl Reader<'_> {
             Ok(first)
         };
         let mut out = Vec::new();
+        let mut used: Vec<DeckRigid> = Vec::new();
         for (slave, master, interaction, line) in &g.pairs {
             let friction = *g.friction.get(interaction).ok_or_else(|| {
                 self.src.err(
@@ -644,16 +765,47 @@ impl Reader<'_> {
                     format!("no *SURFACE INTERACTION named `{interaction}`"),
                 )
             })?;
+            if rigid.with_surface(slave).is_some() {
+                return Err(self.src.err(*line, format!("surface `{slave}` lies on a rigid body: a rigid body is a contact pair's master side")));
+            }
+            let primary = match rigid.with_surface(master) {
+                Some((i, surface)) => {
+                    self.rigid_master(&rigid.bodies[i].0, surface, &mut used, *line)?
+                }
+                None => {
+                    let (body, surface) = owner(master, *line)?;
+                    PrimarySide::Surface(body, surface)
+                }
+            };
             out.push(DeckContact {
                 name: format!("{slave}-{master}"),
                 secondary: owner(slave, *line)?,
-                primary: {
-                    let (body, surface) = owner(master, *line)?;
-                    PrimarySide::Surface(body, surface)
-                },
+                primary,
                 friction,
             });
         }
-        Ok(out)
+        Ok((out, used))
+    }
+
+    /// A rigid body as a contact's master through `surface`, added to `used` the first
+    /// time; a rigid body acts through one surface.
+    fn rigid_master(
+        &self,
+        body: &DeckRigid,
+        surface: String,
+        used: &mut Vec<DeckRigid>,
+        line: usize,
+    ) -> Result<PrimarySide> {
+        match used.iter().find(|r| r.name == body.name) {
+            Some(r) if !r.surface.eq_ignore_ascii_case(&surface) => {
+                return Err(self.src.err(line, format!("rigid body `{}` meets its contacts through surfaces {} and {surface}: impact's rigid body has one surface", body.name, r.surface)));
+            }
+            Some(_) => {}
+            None => used.push(DeckRigid {
+                surface,
+                ..body.clone()
+            }),
+        }
+        Ok(PrimarySide::Rigid(body.name.clone()))
     }
 }

@@ -10,7 +10,7 @@ use std::path::Path;
 
 use super::{
     fixes_of, holders, DeckBody, DeckContact, DeckFile, DeckFix, DeckMaterial, DeckPlane,
-    DeckRigid, DeckScene, DeckStep, Elastic, Holder, PrimarySide, Select,
+    DeckRigid, DeckScene, DeckStep, Elastic, Holder, PrimarySide, Select, Spin,
 };
 use crate::error::Result;
 use crate::mesh::deck::Dialect;
@@ -102,8 +102,8 @@ struct Gathered {
     rigid_materials: Vec<RigidMaterial>,
     /// (node set, components, line).
     spcs: Vec<(String, Vec<&'static str>, usize)>,
-    /// (part id, velocity, line).
-    part_velocities: Vec<(u64, [f64; 3], usize)>,
+    /// (part id, velocity, spin, line).
+    part_velocities: Vec<(u64, [f64; 3], Option<Spin>, usize)>,
     /// (node set, velocity, line).
     set_velocities: Vec<(String, [f64; 3], usize)>,
     /// (secondary segment set, primary segment set, friction, line).
@@ -180,7 +180,11 @@ impl Reader<'_> {
             "MAT_ORTHOTROPIC_ELASTIC" | "MAT_002" => self.orthotropic(b, g)?,
             "MAT_RIGID" | "MAT_020" => {
                 let (f, l) = self.card(b, 0)?;
-                let (c, l2) = self.card(b, 1)?;
+                // without its second card a rigid part is unconstrained (CMO = 0)
+                let (c, l2) = match b.cards.len() {
+                    1 => (Vec::new(), l),
+                    _ => self.card(b, 1)?,
+                };
                 let k = [0, 1, 2].map(|i| self.real(&c, i, l2, "*MAT_RIGID constraint"));
                 let [cmo, con1, con2] = k;
                 g.rigid_materials.push(RigidMaterial {
@@ -245,14 +249,38 @@ impl Reader<'_> {
                 "*INITIAL_VELOCITY_GENERATION: impact reads STYP = 2 (a part)",
             ));
         }
-        if self.real(&f, 2, l, "omega")? != 0.0 || self.id(&f, 7, l, "icid")? != 0 {
-            return Err(self.src.err(l, "*INITIAL_VELOCITY_GENERATION with a rotation or a coordinate system: impact gives a body one initial velocity"));
+        if self.id(&f, 7, l, "icid")? != 0 {
+            return Err(self.src.err(l, "*INITIAL_VELOCITY_GENERATION with a coordinate system (icid): impact reads global components"));
         }
+        let omega = self.real(&f, 2, l, "omega")?;
+        let spin = match omega {
+            0.0 => None,
+            _ => Some(self.spin(b, omega)?),
+        };
         let v = [3, 4, 5].map(|i| self.real(&f, i, l, "velocity"));
         let [x, y, z] = v;
         g.part_velocities
-            .push((self.id(&f, 0, l, "part id")?, [x?, y?, z?], l));
+            .push((self.id(&f, 0, l, "part id")?, [x?, y?, z?], spin, l));
         Ok(())
+    }
+
+    /// The turning of an `*INITIAL_VELOCITY_GENERATION` of rate `omega`: its second card's
+    /// axis (XC, YC, ZC through NX, NY, NZ, normalised).
+    fn spin(&self, b: &Block, omega: f64) -> Result<Spin> {
+        let (c, l) = self.card(b, 1)?;
+        let x = [0, 1, 2, 3, 4, 5].map(|i| self.real(&c, i, l, "rotation axis"));
+        let [xc, yc, zc, nx, ny, nz] = x;
+        let n = [nx?, ny?, nz?];
+        let Some(n) = crate::material::rotation::unit(n) else {
+            return Err(self.src.err(
+                l,
+                "*INITIAL_VELOCITY_GENERATION: the rotation axis (NX, NY, NZ) is zero",
+            ));
+        };
+        Ok(Spin {
+            omega: n.map(|a| omega * a),
+            centre: [xc?, yc?, zc?],
+        })
     }
 
     fn initial_velocity(&self, b: &Block, g: &mut Gathered) -> Result<()> {
@@ -550,9 +578,12 @@ impl Reader<'_> {
 
     fn velocities(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckBody>> {
         let mut out: Vec<DeckBody> = bodies.iter().map(|(b, _)| b.clone()).collect();
-        for (pid, v, line) in &g.part_velocities {
+        for (pid, v, spin, line) in &g.part_velocities {
             if rigid_part(g, *pid).is_some() {
                 continue;
+            }
+            if spin.is_some() {
+                return Err(self.src.err(*line, format!("*INITIAL_VELOCITY_GENERATION: part {pid} is not rigid; impact gives a deformable body one initial velocity, without a rotation")));
             }
             let b = (out.iter_mut())
                 .find(|b| b.select == Select::Part(*pid))
@@ -572,6 +603,30 @@ impl Reader<'_> {
         Ok(out)
     }
 
+    /// The constraints of a `*MAT_RIGID` (CMO, CON1, CON2): whether the part turns, and the
+    /// translations held. CMO = 0 leaves it free; CMO = 1 holds CON1's translations (0
+    /// none, 1 x, 2 y, 3 z, 4 x and y, 5 y and z, 6 z and x, 7 all) and CON2's rotations (0
+    /// none, 7 all).
+    fn rigid_constraints(&self, m: &RigidMaterial) -> Result<(bool, Vec<&'static str>)> {
+        const HELD: [&[&str]; 8] = [
+            &[],
+            &["x"],
+            &["y"],
+            &["z"],
+            &["x", "y"],
+            &["y", "z"],
+            &["x", "z"],
+            &["x", "y", "z"],
+        ];
+        let [cmo, con1, con2] = m.constraints;
+        let code = |c: f64| (c.fract() == 0.0 && (0.0..=7.0).contains(&c)).then_some(c as usize);
+        match (cmo, code(con1), code(con2)) {
+            (0.0, _, _) => Ok((true, Vec::new())),
+            (1.0, Some(t), Some(r @ (0 | 7))) => Ok((r == 0, HELD[t].to_vec())),
+            _ => Err(self.src.err(m.line, "*MAT_RIGID: impact reads CMO = 0 (free), or CMO = 1 with CON1 = 0..7 (global translations held) and CON2 = 0 (free to turn) or 7 (rotations held)")),
+        }
+    }
+
     /// The rigid parts as rigid bodies (their surfaces still to come from the contacts),
     /// each with its mesh.
     fn rigid_parts(&self, g: &Gathered) -> Result<Vec<(DeckRigid, BodyParts)>> {
@@ -580,40 +635,21 @@ impl Reader<'_> {
             let Some(m) = rigid_part(g, *pid) else {
                 continue;
             };
-            let motion = match m.constraints {
-                [1.0, 0.0, 7.0] => "free",
-                [1.0, 7.0, 7.0] => "fixed",
-                _ => return Err(self.src.err(m.line, "*MAT_RIGID: impact's rigid part translates as a whole or is held: give CMO = 1, CON2 = 7 (rotations held) and CON1 = 0 (free) or 7 (held)")),
-            };
+            let (turns, held) = self.rigid_constraints(m)?;
             let part = pid.to_string();
             let (parts, _) = crate::mesh::import(self.src.path, 1.0, [0.0; 3], Some(&part))?;
-            let volume: f64 = (parts.elements.iter())
-                .map(|e| {
-                    let x: Vec<[f64; 3]> =
-                        e.nodes.iter().map(|&n| parts.nodes[n as usize]).collect();
-                    e.kind.volume(&x)
-                })
-                .sum();
-            let mass = m.ro * volume;
-            if mass.is_nan() || mass <= 0.0 {
-                return Err(self.src.err(
-                    *line,
-                    format!(
-                        "rigid part {pid}: its mass, RO x volume = {} x {volume}, must be positive",
-                        m.ro
-                    ),
-                ));
+            let mut rigid = DeckRigid::of_elements(body_name(*pid, title), &parts, m.ro, turns)
+                .map_err(|e| self.src.err(*line, format!("rigid part {pid}: {e}")))?;
+            match held.len() {
+                3 if !turns => rigid.motion = "fixed",
+                _ => rigid.held = held,
             }
-            let velocity = (g.part_velocities.iter())
-                .find(|v| v.0 == *pid)
-                .map_or([0.0; 3], |v| v.1);
-            let rigid = DeckRigid {
-                name: body_name(*pid, title),
-                mass,
-                velocity,
-                motion,
-                surface: String::new(),
-            };
+            if let Some((_, v, spin, l)) = g.part_velocities.iter().find(|v| v.0 == *pid) {
+                if rigid.motion == "fixed" && (*v != [0.0; 3] || spin.is_some()) {
+                    return Err(self.src.err(*l, format!("rigid part {pid} is held (CON1 = CON2 = 7): it takes no initial velocity")));
+                }
+                rigid.start(*v, *spin).map_err(|e| self.src.err(*l, e))?;
+            }
             out.push((rigid, parts));
         }
         Ok(out)

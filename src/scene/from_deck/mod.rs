@@ -116,7 +116,8 @@ pub(crate) struct DeckPlane {
     pub bodies: Option<Vec<String>>,
 }
 
-/// Held components of a node set of a body.
+/// Held components of a node set of a body (of a rigid body as a whole where `set` is
+/// empty).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct DeckFix {
     pub body: String,
@@ -131,15 +132,95 @@ pub(crate) enum PrimarySide {
     Rigid(String),
 }
 
-/// A rigid body made of a deck's rigid part: its mass, velocity and motion (`"free"` or
-/// `"fixed"`, translating), its surface a set of the deck, in the deck's coordinates.
+/// A rigid body made of a deck's rigid part: its mass and centre of mass (its `position`)
+/// from its elements, its motion (`"free"` or `"fixed"`), the translations held where it is
+/// free, its inertia about its centre where it turns, its velocity and angular velocity, its
+/// surface a set of the deck, in the deck's coordinates.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct DeckRigid {
     pub name: String,
     pub mass: f64,
+    pub position: [f64; 3],
     pub velocity: [f64; 3],
     pub motion: &'static str,
+    pub held: Vec<&'static str>,
+    pub inertia: Option<[[f64; 3]; 3]>,
+    pub angular_velocity: [f64; 3],
     pub surface: String,
+}
+
+/// A rigid part's initial turning: its angular velocity, about an axis through `centre`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Spin {
+    pub omega: [f64; 3],
+    pub centre: [f64; 3],
+}
+
+impl DeckRigid {
+    /// The rigid body of the elements of `parts`, of density `density`, free (turning where
+    /// `turns`): its mass, centre of mass and inertia from the elements. The error says why
+    /// its mass is not positive.
+    pub(crate) fn of_elements(
+        name: String,
+        parts: &crate::mesh::BodyParts,
+        density: f64,
+        turns: bool,
+    ) -> std::result::Result<DeckRigid, String> {
+        // the moments about the nodes' mean, where the inertia's S - m c c^T cancels little
+        let count = parts.nodes.len().max(1) as f64;
+        let o: [f64; 3] =
+            std::array::from_fn(|a| parts.nodes.iter().map(|x| x[a]).sum::<f64>() / count);
+        let m = (parts.elements.iter())
+            .map(|e| {
+                let x: Vec<[f64; 3]> = (e.nodes.iter())
+                    .map(|&n| std::array::from_fn(|a| parts.nodes[n as usize][a] - o[a]))
+                    .collect();
+                crate::element::MassMoments::of_element(e.kind, &x, density)
+            })
+            .fold(crate::element::MassMoments::default(), |a, b| a.plus(b));
+        if m.mass.is_nan() || m.mass <= 0.0 {
+            return Err(format!(
+                "its mass, density x volume = {density} x {}, must be positive",
+                m.mass / density
+            ));
+        }
+        Ok(DeckRigid {
+            name,
+            mass: m.mass,
+            position: std::array::from_fn(|a| o[a] + m.centre()[a]),
+            velocity: [0.0; 3],
+            motion: "free",
+            held: Vec::new(),
+            inertia: turns.then(|| m.inertia()),
+            angular_velocity: [0.0; 3],
+            surface: String::new(),
+        })
+    }
+
+    /// Sets its initial motion: `v` at the point `at` and the `spin` (or none), as its
+    /// centre's velocity $v + \omega \times (c - a)$ and its angular velocity. The error
+    /// says why it cannot take the spin.
+    pub(crate) fn start(
+        &mut self,
+        v: [f64; 3],
+        spin: Option<Spin>,
+    ) -> std::result::Result<(), String> {
+        self.velocity = v;
+        let Some(Spin { omega, centre }) = spin.filter(|s| s.omega != [0.0; 3]) else {
+            return Ok(());
+        };
+        if self.inertia.is_none() {
+            return Err(format!(
+                "rigid part `{}` has its rotations held: it cannot start turning",
+                self.name
+            ));
+        }
+        let r: [f64; 3] = std::array::from_fn(|a| self.position[a] - centre[a]);
+        let turn = crate::geometry::vector::cross(omega, r);
+        self.velocity = std::array::from_fn(|a| v[a] + turn[a]);
+        self.angular_velocity = omega;
+        Ok(())
+    }
 }
 
 /// A contact pair: the secondary (slave) and primary (master) surfaces and their bodies.
@@ -359,14 +440,28 @@ impl DeckScene {
         for r in &self.rigid {
             let _ = writeln!(
                 t,
-                "\n[[rigid_body]]\nname = {}\nmass = {}\nposition = [0.0, 0.0, 0.0]\nvelocity = {}\nmotion = \"{}\"\nshape = {{ mesh = {}, surface = {} }}",
+                "\n[[rigid_body]]\nname = {}\nmass = {}\nposition = {}\nvelocity = {}\nmotion = \"{}\"\nshape = {{ mesh = {}, surface = {}, origin = {} }}",
                 quoted(&r.name),
                 float(r.mass),
+                vector(r.position),
                 vector(r.velocity),
                 r.motion,
                 quoted(&self.mesh),
-                quoted(&r.surface)
+                quoted(&r.surface),
+                vector(r.position),
             );
+            if let Some(i) = r.inertia {
+                let _ = writeln!(
+                    t,
+                    "inertia = [{}, {}, {}]",
+                    vector(i[0]),
+                    vector(i[1]),
+                    vector(i[2])
+                );
+            }
+            if r.angular_velocity != [0.0; 3] {
+                let _ = writeln!(t, "angular_velocity = {}", vector(r.angular_velocity));
+            }
         }
         for c in &self.contacts {
             let primary = match &c.primary {
@@ -384,15 +479,20 @@ impl DeckScene {
                 float(c.friction)
             );
         }
-        for f in &self.fixes {
+        let held = (self.rigid.iter())
+            .filter(|r| !r.held.is_empty())
+            .map(|r| DeckFix {
+                body: r.name.clone(),
+                set: String::new(),
+                components: r.held.clone(),
+            });
+        for f in self.fixes.iter().cloned().chain(held) {
             let components: Vec<String> = f.components.iter().map(|c| quoted(c)).collect();
-            let _ = writeln!(
-                t,
-                "\n[[fix]]\nbody = {}\nset = {}\ncomponents = [{}]",
-                quoted(&f.body),
-                quoted(&f.set),
-                components.join(", ")
-            );
+            let _ = writeln!(t, "\n[[fix]]\nbody = {}", quoted(&f.body));
+            if !f.set.is_empty() {
+                let _ = writeln!(t, "set = {}", quoted(&f.set));
+            }
+            let _ = writeln!(t, "components = [{}]", components.join(", "));
         }
         for p in &self.planes {
             let _ = writeln!(

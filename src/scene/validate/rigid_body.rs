@@ -109,14 +109,17 @@ impl Checker<'_> {
             ("cylinder", s.cylinder.is_some()),
             ("plane", s.plane.is_some()),
             ("plate", s.plate.is_some()),
-            ("mesh", s.mesh.is_some() || s.surface.is_some()),
+            (
+                "mesh",
+                s.mesh.is_some() || s.surface.is_some() || s.origin.is_some(),
+            ),
         ];
         let named: Vec<&str> = given.iter().filter(|g| g.1).map(|g| g.0).collect();
         if named.len() != 1 {
             return Err(self.err(
                 key("shape"),
                 format!(
-                    "give exactly one of `sphere`, `cylinder`, `plane` or `plate` (found {})",
+                    "give exactly one of `sphere`, `cylinder`, `plane`, `plate` or `mesh` (found {})",
                     if named.is_empty() {
                         "none".into()
                     } else {
@@ -183,8 +186,9 @@ impl Checker<'_> {
         self.meshed_shape(key, s)
     }
 
-    /// `{ mesh = "file", surface = "name" }`: the file's named surface, its coordinates
-    /// relative to the body's `position`, quads split into two triangles.
+    /// `{ mesh = "file", surface = "name", origin = [..] }`: the file's named surface, its
+    /// point `origin` (default the file's origin) placed at the body's `position`, quads
+    /// split into two triangles.
     fn meshed_shape(&self, key: &dyn Fn(&str) -> String, s: &RawRigidShape) -> Result<RigidShape> {
         let (Some(file), Some(surface)) = (&s.mesh, &s.surface) else {
             return Err(self.err(
@@ -218,7 +222,11 @@ impl Checker<'_> {
                 ),
             ));
         };
-        let at = |n: u32| parts.nodes[n as usize];
+        let origin = self.finite3(&key("shape.origin"), s.origin.unwrap_or([0.0; 3]))?;
+        let at = |n: u32| {
+            let x = parts.nodes[n as usize];
+            std::array::from_fn(|a| x[a] - origin[a])
+        };
         let triangles = (parts.surfaces[found].faces.iter())
             .flat_map(|f| match *f {
                 crate::geometry::face::Face::Quad([a, b, c, d]) => {
