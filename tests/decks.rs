@@ -325,6 +325,23 @@ fn a_converted_deck_runs_to_the_decks_history() {
         read(&a) == read(&b),
         "the scene's history differs from the deck's"
     );
+    // a rigid body that turns: its surface placed by `origin` where the deck has it
+    let deck = dir.join("rigid_tup.inp");
+    std::fs::copy(repo().join("scenes/rigid_tup.inp"), &deck).unwrap();
+    let scene = dir.join("rigid_tup_scene.toml");
+    let o = impact(&["convert", s(&deck), "--to", s(&scene)]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let text = std::fs::read_to_string(&scene).unwrap();
+    assert!(
+        text.contains("origin = [") && text.contains("inertia = ["),
+        "{text}"
+    );
+    let (_, a) = run_file("deck_convert_rigid_deck", &deck);
+    let (_, b) = run_file("deck_convert_rigid_scene", &scene);
+    assert!(
+        read(&a) == read(&b),
+        "the rigid scene's history differs from the deck's"
+    );
 }
 
 /// The deck `text` (written as `bad.inp`) is refused with every piece of `words`.

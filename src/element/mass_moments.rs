@@ -51,12 +51,14 @@ impl MassMoments {
     /// $I = \mathrm{tr}(S_c)\, 1 - S_c$ with $S_c = S - m\, \mathbf{c} \mathbf{c}^T$.
     pub fn inertia(&self) -> M3 {
         let c = self.centre();
-        let sc: M3 = std::array::from_fn(|a| {
-            std::array::from_fn(|b| self.second[a][b] - self.mass * c[a] * c[b])
-        });
-        let trace = sc[0][0] + sc[1][1] + sc[2][2];
+        // each pair once, so that the tensor is symmetric to the bit
+        let sc = |a: usize, b: usize| {
+            let (a, b) = (a.min(b), a.max(b));
+            self.second[a][b] - self.mass * c[a] * c[b]
+        };
+        let trace = sc(0, 0) + sc(1, 1) + sc(2, 2);
         std::array::from_fn(|a| {
-            std::array::from_fn(|b| if a == b { trace - sc[a][b] } else { -sc[a][b] })
+            std::array::from_fn(|b| if a == b { trace - sc(a, a) } else { -sc(a, b) })
         })
     }
 }
@@ -196,6 +198,11 @@ mod tests {
             t = t.plus(MassMoments::of_element(ElementKind::Tet4, &x, 3.0));
         }
         assert!((h.mass - t.mass).abs() <= 1e-12 * t.mass);
+        let i = h.inertia();
+        assert!(
+            (0..3).all(|a| (0..3).all(|b| i[a][b] == i[b][a])),
+            "symmetric: {i:?}"
+        );
         let (ch, ct) = (h.centre(), t.centre());
         assert!(
             (0..3).all(|a| (ch[a] - ct[a]).abs() <= 1e-12),
