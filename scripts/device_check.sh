@@ -52,8 +52,11 @@ device() {
     # the CLI tests run (CARGO_BIN_EXE_impact, the build's path too)
     mkdir -p target/tmp target/release
     cp "$B"/impact target/release/impact
-    out=${OUT:-/tmp/out}
-    mkdir -p "$out"
+    # the device tool brings back only a few files: everything goes into results.tgz, the
+    # table and the failures beside it
+    final=${OUT:-/tmp/out}
+    out=$(mktemp -d)
+    mkdir -p "$final"
     "$B"/impact info | tee "$out"/info.txt
     for t in "${tests[@]}"; do
         "$B"/"$t" 2>&1 | tail -40 > "$out"/test_"$t".txt || echo "$t: FAILED" >> "$out"/failures.txt
@@ -69,6 +72,9 @@ device() {
         done
     done
     cat "$out"/times.md
+    cp "$out"/times.md "$final"/
+    if [ -f "$out"/failures.txt ]; then cp "$out"/failures.txt "$final"/; fi
+    tar czf "$final"/results.tgz -C "$out" .
 }
 
 case "${1:-}" in

@@ -39,7 +39,23 @@ pub fn run_text(tag: &str, text: &str) -> (impact::Result<Summary>, History) {
     run_text_on(tag, text, None)
 }
 
-/// Runs a scene text, on the given device if one is named (else the scene's).
+/// The device a test runs a scene on: the one named, else the scene's, where the scene
+/// names one; a scene left to `device = "auto"` runs on the CPU in f64, so that its f64
+/// tolerances hold on machines with a GPU too (auto would take a real GPU, in f32, for
+/// 20,000 elements and more, and lavapipe never).
+fn test_device(
+    device: Option<impact::scene::DeviceChoice>,
+    scene: &Scene,
+) -> Option<impact::scene::DeviceChoice> {
+    use impact::scene::DeviceChoice;
+    match (device, scene.run.device) {
+        (Some(d), _) => Some(d),
+        (None, DeviceChoice::Auto) => Some(DeviceChoice::Cpu),
+        (None, _) => None,
+    }
+}
+
+/// Runs a scene text, on the given device if one is named (else as [`test_device`]).
 pub fn run_text_on(
     tag: &str,
     text: &str,
@@ -51,7 +67,7 @@ pub fn run_text_on(
     let scene = Scene::parse(text, &path).expect("valid scene");
     let opts = RunOptions {
         out: Some(dir.clone()),
-        device,
+        device: test_device(device, &scene),
         quiet: true,
         ..Default::default()
     };
@@ -71,6 +87,7 @@ pub fn run_scene_at(
     let scene = Scene::load(path).expect("valid scene");
     let opts = RunOptions {
         out: Some(out.to_path_buf()),
+        device: test_device(None, &scene),
         quiet: true,
         ..Default::default()
     };
