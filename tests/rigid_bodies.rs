@@ -504,3 +504,89 @@ fn runs_with_rigid_bodies_resume_to_the_unbroken_history() {
         assert_eq!(read(&full), read(&part), "{method}, {tup}: histories");
     }
 }
+
+/// A held table whose mesh surface is its top face alone (an open surface), and a block
+/// sliding off its edge under gravity: past the rim the table has no inside, so the block
+/// tips over the edge and falls freely (its mean velocity falls at g once the contact has
+/// let go, and the contact lets go for good), and the energy never rises.
+#[test]
+fn a_block_slides_off_an_open_rigid_surface_and_falls_freely() {
+    let dir = out_dir("open_table_files");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut mesh = String::from("*NODE\n");
+    for (k, [x, y, z]) in [
+        [0.0, 0.0, -1.0],
+        [1.0, 0.0, -1.0],
+        [1.0, 1.0, -1.0],
+        [0.0, 1.0, -1.0],
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ]
+    .iter()
+    .enumerate()
+    {
+        mesh += &format!("{}, {x}, {y}, {z}\n", k + 1);
+    }
+    mesh += "*ELEMENT, TYPE=C3D8, ELSET=T\n1, 1, 2, 3, 4, 5, 6, 7, 8\n";
+    mesh += "*SURFACE, NAME=TOP, TYPE=ELEMENT\nT, S2\n";
+    std::fs::write(dir.join("table.inp"), mesh).unwrap();
+    let scene = r#"title = "A block slides off an open table"
+gravity = [0.0, 0.0, -9.81]
+[run]
+end_time = 0.6
+method = "explicit"
+device = "cpu"
+[[material]]
+name = "soft"
+density = 1.0
+youngs_modulus = 1000.0
+poissons_ratio = 0.3
+[[body]]
+name = "block"
+material = "soft"
+box = { min = [0.3, 0.3, 0.0], max = [0.7, 0.7, 0.4], divisions = [2, 2, 2] }
+velocity = [2.0, 0.0, 0.0]
+[[rigid_body]]
+name = "table"
+motion = "fixed"
+position = [0.0, 0.0, 0.0]
+shape = { mesh = "table.inp", surface = "TOP" }
+[[contact]]
+name = "on_table"
+secondary = { body = "block", face = "z-" }
+primary = { rigid_body = "table" }
+"#;
+    let path = dir.join("open_table.toml");
+    std::fs::write(&path, scene).unwrap();
+    let (s, h) = run_scene_at(&path, &dir.join("out"));
+    assert_eq!(s.expect("run completes").status, "completed");
+    let (t, f, vz) = (
+        h.col("time"),
+        h.col("on_table.normal_force"),
+        h.col("block.vz"),
+    );
+    let n = t.len() - 1;
+    let last = (0..=n)
+        .rev()
+        .find(|&i| f[i] != 0.0)
+        .expect("the table carries the block");
+    eprintln!("contact ends at t = {}, vz {} at the end", t[last], vz[n]);
+    assert!(
+        t[last] < 0.45,
+        "the contact lets go once the block is past the edge: {}",
+        t[last]
+    );
+    for i in last + 2..=n {
+        let a = (vz[i] - vz[i - 1]) / (t[i] - t[i - 1]);
+        assert!(
+            (a + 9.81).abs() <= 1e-9 * 9.81,
+            "free fall at t = {}: {a}",
+            t[i]
+        );
+    }
+    let e = h.col("total_energy");
+    let rise = e.iter().fold(f64::MIN, |m, &x| m.max(x)) - e[0];
+    assert!(rise <= 1e-9 * e[0].abs().max(1.0), "energy rises by {rise}");
+}
