@@ -138,6 +138,61 @@ fn metis_node_nd(xadj: &[usize], adjncy: &[usize]) -> Result<Vec<usize>> {
     Ok(perm.into_iter().map(|p| p as usize).collect())
 }
 
+/// The supervariables of `a` ([`supervariables`]), also split where `last` changes, so that
+/// each lies wholly among the equations `last` marks or wholly outside them.
+fn split_supervariables(a: &Csc, last: &[bool]) -> Vec<usize> {
+    let mut starts = Vec::new();
+    for w in supervariables(a).windows(2) {
+        starts.push(w[0]);
+        starts.extend((w[0] + 1..w[1]).filter(|&j| last[j] != last[j - 1]));
+    }
+    starts.push(a.n);
+    starts
+}
+
+/// The nested-dissection permutation of a symmetric matrix that numbers the equations
+/// `last` marks after all the others, in their own order: the trailing block of the
+/// Cholesky factor is then the factor of the Schur complement on them (the contact space).
+/// The other equations are ordered by nested dissection of their own graph.
+pub fn nested_dissection_last(a: &Csc, last: &[bool]) -> Result<Permutation> {
+    debug_assert_eq!(last.len(), a.n);
+    let starts = split_supervariables(a, last);
+    let count = starts.len() - 1;
+    let (xadj, adjncy) = quotient_graph(a, &starts);
+    // the interior supervariables, renumbered, and their graph without the last ones
+    let mut index = vec![usize::MAX; count];
+    let interior: Vec<usize> = (0..count).filter(|&s| !last[starts[s]]).collect();
+    for (k, &s) in interior.iter().enumerate() {
+        index[s] = k;
+    }
+    let (mut sub_xadj, mut sub_adjncy) = (vec![0], Vec::new());
+    for &s in &interior {
+        let kept = adjncy[xadj[s]..xadj[s + 1]].iter().map(|&t| index[t]);
+        sub_adjncy.extend(kept.filter(|&t| t != usize::MAX));
+        sub_xadj.push(sub_adjncy.len());
+    }
+    let order = match interior.len() {
+        0 | 1 => (0..interior.len()).collect(),
+        _ => metis_node_nd(&sub_xadj, &sub_adjncy)?,
+    };
+    let mut forward = Vec::with_capacity(a.n);
+    for k in order {
+        let s = interior[k];
+        forward.extend(starts[s]..starts[s + 1]);
+    }
+    forward.extend((0..a.n).filter(|&j| last[j]));
+    Ok(from_forward(forward))
+}
+
+/// The permutation of `forward[new] = old`.
+fn from_forward(forward: Vec<usize>) -> Permutation {
+    let mut inverse = vec![0; forward.len()];
+    for (new, &old) in forward.iter().enumerate() {
+        inverse[old] = new;
+    }
+    Permutation { forward, inverse }
+}
+
 /// The nested-dissection permutation of a symmetric matrix given with full storage.
 pub fn nested_dissection(a: &Csc) -> Result<Permutation> {
     let starts = supervariables(a);
@@ -152,11 +207,7 @@ pub fn nested_dissection(a: &Csc) -> Result<Permutation> {
         }
         forward
     };
-    let mut inverse = vec![0; a.n];
-    for (new, &old) in forward.iter().enumerate() {
-        inverse[old] = new;
-    }
-    Ok(Permutation { forward, inverse })
+    Ok(from_forward(forward))
 }
 
 #[cfg(test)]
@@ -204,6 +255,40 @@ mod tests {
             assert_eq!(p.forward[k..k + 3], [3 * node, 3 * node + 1, 3 * node + 2]);
         }
         assert_eq!(nested_dissection(&a).unwrap(), p);
+    }
+
+    /// The equations marked last come last, in their order; the rest keep each node's dofs
+    /// together; the permutation is a repeatable bijection.
+    #[test]
+    fn marked_equations_are_numbered_last() {
+        let a = chain(60, 3);
+        // a node's dofs marked, and one node's dofs split (its first dof only)
+        let mut last = vec![false; a.n];
+        for n in [3, 17, 40, 41, 59] {
+            last[3 * n..3 * n + 3].fill(true);
+        }
+        last[3 * 25] = true;
+        let p = nested_dissection_last(&a, &last).unwrap();
+        let marked: Vec<usize> = (0..a.n).filter(|&j| last[j]).collect();
+        assert_eq!(p.forward[a.n - marked.len()..], marked[..]);
+        let mut seen = vec![false; a.n];
+        for (new, &old) in p.forward.iter().enumerate() {
+            assert!(!seen[old]);
+            seen[old] = true;
+            assert_eq!(p.inverse[old], new);
+        }
+        for k in (0..a.n - marked.len()).filter(|&k| p.forward[k] % 3 == 0) {
+            let n = p.forward[k];
+            if n != 75 {
+                assert_eq!(p.forward[k..k + 3], [n, n + 1, n + 2]);
+            }
+        }
+        assert_eq!(nested_dissection_last(&a, &last).unwrap(), p);
+        // nothing marked: an ordering of everything; everything marked: the identity
+        let none = nested_dissection_last(&a, &vec![false; a.n]).unwrap();
+        assert_eq!(none.forward.len(), a.n);
+        let all = nested_dissection_last(&a, &vec![true; a.n]).unwrap();
+        assert_eq!(all.forward, (0..a.n).collect::<Vec<_>>());
     }
 
     #[test]
