@@ -1129,19 +1129,42 @@ fn an_abaqus_rigid_body_strikes_as_the_lsdyna_rigid_part_does() {
 #[test]
 fn what_a_rigid_body_asks_that_impact_cannot_honour_is_refused() {
     let tup = |b: &str| abaqus_tup_deck((0.25, 0.75), b, "REF, 3, -1.0\n");
-    // some rotations held
-    refused(
-        "rigid_some_rotations",
-        &tup("REF, 5, 5\n"),
-        &["bad.inp:", "some of its reference node's rotations"],
+    // the file and line of the first line of `text` that is `line`
+    let at = |text: &str, line: &str| {
+        let n = text.lines().position(|l| l == line).expect("the line") + 1;
+        format!("bad.inp:{n}")
+    };
+    let check = |tag: &str, text: &str, line: &str, words: &str| {
+        refused(tag, text, &[&at(text, line), words]);
+    };
+    // some rotations held, named at the *BOUNDARY line
+    let some = tup("REF, 5, 5\n");
+    check(
+        "rigid_some",
+        &some,
+        "REF, 5, 5",
+        "some of its reference node's rotations",
+    );
+    // a node set holding CalculiX's reference and rotation nodes: dofs 1-3 hold both the
+    // translations and the rotations, so the body is held
+    let both = edit(&tup("BOTH, 1, 3\n"), "*RIGID BODY, ELSET=TUP, REF NODE=REF\n", "*NODE, NSET=ROT\n1001, 0.5, 0.5, 0.0\n*NSET, NSET=BOTH\nREF, ROT\n*RIGID BODY, ELSET=TUP, REF NODE=REF, ROT NODE=ROT\n");
+    let both = edit(&both, "REF, 3, -1.0\n", "");
+    let path = written("rigid_both_files", "both.inp", &both);
+    let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        scene.rigid_bodies[0].motion,
+        impact::scene::RigidMotion::Fixed
     );
     // held at a reference node off its centre of mass while free to turn: a pivot
-    refused(
+    let pivot = tup("REF, 1, 3\n");
+    check(
         "rigid_pivot",
-        &tup("REF, 1, 3\n"),
-        &["bad.inp:", "POSITION=CENTER OF MASS"],
+        &pivot,
+        "REF, 1, 3",
+        "POSITION=CENTER OF MASS",
     );
-    // ... which POSITION=CENTER OF MASS makes a body held at its centre
+    // ... which POSITION=CENTER OF MASS makes a body held at its centre; its velocity along
+    // a held axis is refused at the velocity's line
     let centred = edit(
         &tup("REF, 1, 2\n"),
         "REF NODE=REF\n",
@@ -1150,22 +1173,55 @@ fn what_a_rigid_body_asks_that_impact_cannot_honour_is_refused() {
     let path = written("rigid_centred_files", "centred.inp", &centred);
     let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
     assert!(scene.rigid_bodies[0].inertia.is_some());
+    let pushed = edit(&centred, "REF, 3, -1.0\n", "REF, 1, 0.5\n");
+    check("rigid_pushed", &pushed, "REF, 1, 0.5", "along x");
     // a rigid body of nodes, without elements to take its mass from
     let nodes = edit(
         &tup("REF, 4, 6\n"),
         "ELSET=TUP, REF NODE",
         "NSET=NTUP, REF NODE",
     );
-    refused("rigid_nset", &nodes, &["bad.inp:", "*RIGID BODY, NSET="]);
+    let line = "*RIGID BODY, NSET=NTUP, REF NODE=REF";
+    check("rigid_nset", &nodes, line, "*RIGID BODY, NSET=");
     // a rotation on a solid's nodes
-    refused(
+    let solid = tup("REF, 4, 6\nBASE, 4, 4\n");
+    check(
         "rigid_solid_rotation",
-        &tup("REF, 4, 6\nBASE, 4, 4\n"),
-        &["bad.inp:", "dofs 4-6 are rotations"],
+        &solid,
+        "BASE, 4, 4",
+        "dofs 4-6 are rotations",
     );
     // a rigid body's element set without a density
     let light = edit(&tup("REF, 4, 6\n"), "*DENSITY\n0.08\n", "");
-    refused("rigid_no_density", &light, &["bad.inp:", "no *DENSITY"]);
+    let line = "*RIGID BODY, ELSET=TUP, REF NODE=REF";
+    check("rigid_no_density", &light, line, "no *DENSITY");
+    // a master surface on the rigid body and on the block
+    let spanning = edit(&tup("REF, 4, 6\n"), "TUP, S1\n", "TUP, S1\nBLOCKTOP, S2\n");
+    let line = "BTOP, TUPS";
+    check(
+        "rigid_spanning",
+        &spanning,
+        line,
+        "on a rigid body and on a deformable one",
+    );
+}
+
+/// A rigid part whose initial velocity moves it along a translation its CON1 holds is
+/// refused at the velocity's card.
+#[test]
+fn an_lsdyna_rigid_part_held_along_its_velocity_is_refused() {
+    let deck = edit(&rigid_tup_deck(), "1.0, 0.0, 7.0", "1.0, 3.0, 7.0");
+    let path = written("k_rigid_held_files", "bad.k", &deck);
+    let e = Scene::load(&path).expect_err("refused").to_string();
+    assert!(
+        e.contains("bad.k:20") && e.contains("along z, which its *MAT_RIGID CON1 holds"),
+        "{e}"
+    );
+    // held along x only, it drops along z as before
+    let deck = edit(&rigid_tup_deck(), "1.0, 0.0, 7.0", "1.0, 1.0, 7.0");
+    std::fs::write(&path, deck).unwrap();
+    let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.rigid_bodies[0].velocity, [0.0, 0.0, -1.0]);
 }
 
 /// A reference node named by its number reads as the set of that one node does.
@@ -1174,10 +1230,19 @@ fn a_rigid_bodys_reference_node_may_be_given_by_number() {
     let named = abaqus_tup_deck((0.25, 0.75), "REF, 4, 6\n", "REF, 3, -1.0\n");
     let numbered = abaqus_tup_deck((0.25, 0.75), "1000, 4, 6\n", "1000, 3, -1.0\n");
     let numbered = edit(&numbered, "REF NODE=REF", "REF NODE=1000");
+    // a generated set of the one node
+    let generated = edit(&named, "*NODE, NSET=REF\n1000", "*NODE\n1000");
+    let generated = edit(
+        &generated,
+        "*NSET, NSET=BASE",
+        "*NSET, NSET=REF, GENERATE\n1000, 1000, 1\n*NSET, NSET=BASE",
+    );
     let a = written("rigid_named_files", "tup.inp", &named);
     let b = written("rigid_numbered_files", "tup.inp", &numbered);
-    let [a, b] = [a, b].map(|p| impact::scene::from_deck::convert(&p).unwrap().toml);
+    let c = written("rigid_generated_files", "tup.inp", &generated);
+    let [a, b, c] = [a, b, c].map(|p| impact::scene::from_deck::convert(&p).unwrap().toml);
     assert_eq!(a, b);
+    assert_eq!(a, c);
     assert!(
         a.contains("motion = \"free\"") && a.contains("velocity = [0.0, 0.0, -1.0]"),
         "{a}"

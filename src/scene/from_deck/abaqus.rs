@@ -485,19 +485,14 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         step,
     };
     let mut unprobed = unprobed;
-    let untouched: Vec<&str> = (rigid.bodies.iter())
-        .filter(|(d, _)| !scene.rigid.iter().any(|r| r.name == d.name))
-        .map(|(d, _)| d.name.as_str())
-        .collect();
-    if !untouched.is_empty() {
-        let line = g.rigid.first().map_or(0, |d| d.line);
-        unprobed.push((
-            format!(
+    for (d, (r, _)) in g.rigid.iter().zip(&rigid.bodies) {
+        if !scene.rigid.iter().any(|s| s.name == r.name) {
+            let what = format!(
                 "RIGID BODY ELSET={}: no contact pair names its surface, left out",
-                untouched.join(", ")
-            ),
-            line,
-        ));
+                d.elset
+            );
+            unprobed.push((what, d.line));
+        }
     }
     let notice = notice(&r, &g, &unprobed);
     Ok((scene, notice))
@@ -765,6 +760,12 @@ impl Reader<'_> {
                     format!("no *SURFACE INTERACTION named `{interaction}`"),
                 )
             })?;
+            let on_both = rigid.with_surface(master).is_some()
+                && (bodies.iter())
+                    .any(|(_, p)| (p.surfaces.iter()).any(|s| s.name.eq_ignore_ascii_case(master)));
+            if on_both {
+                return Err(self.src.err(*line, format!("surface `{master}` lies on a rigid body and on a deformable one: a contact surface is one body's")));
+            }
             if rigid.with_surface(slave).is_some() {
                 return Err(self.src.err(*line, format!("surface `{slave}` lies on a rigid body: a rigid body is a contact pair's master side")));
             }

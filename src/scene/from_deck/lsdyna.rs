@@ -582,12 +582,12 @@ impl Reader<'_> {
             if rigid_part(g, *pid).is_some() {
                 continue;
             }
-            if spin.is_some() {
-                return Err(self.src.err(*line, format!("*INITIAL_VELOCITY_GENERATION: part {pid} is not rigid; impact gives a deformable body one initial velocity, without a rotation")));
-            }
             let b = (out.iter_mut())
                 .find(|b| b.select == Select::Part(*pid))
                 .ok_or_else(|| self.src.err(*line, format!("no *PART {pid}")))?;
+            if spin.is_some() {
+                return Err(self.src.err(*line, format!("*INITIAL_VELOCITY_GENERATION: part {pid} is not rigid; impact gives a deformable body one initial velocity, without a rotation")));
+            }
             b.velocity = *v;
         }
         for (set, v, line) in &g.set_velocities {
@@ -649,6 +649,12 @@ impl Reader<'_> {
                     return Err(self.src.err(*l, format!("rigid part {pid} is held (CON1 = CON2 = 7): it takes no initial velocity")));
                 }
                 rigid.start(*v, *spin).map_err(|e| self.src.err(*l, e))?;
+                let along = |c: &str| {
+                    rigid.velocity[["x", "y", "z"].iter().position(|x| *x == c).unwrap_or(0)]
+                };
+                if let Some(c) = rigid.held.iter().find(|c| along(c) != 0.0) {
+                    return Err(self.src.err(*l, format!("rigid part {pid}: its initial velocity moves its centre along {c}, which its *MAT_RIGID CON1 holds")));
+                }
             }
             out.push((rigid, parts));
         }
@@ -690,6 +696,11 @@ impl Reader<'_> {
         for (k, (s, m, fs, line)) in g.contacts.iter().enumerate() {
             if on_rigid(s).is_some() {
                 return Err(self.src.err(*line, format!("segment set {s} lies on a rigid part: a rigid part is a contact's master side")));
+            }
+            let on_body =
+                |set: &str| (bodies.iter()).any(|(_, p)| p.surfaces.iter().any(|s| s.name == set));
+            if on_rigid(m).is_some() && on_body(m) {
+                return Err(self.src.err(*line, format!("segment set {m} lies on a rigid part and on a deformable one: a contact surface is one part's")));
             }
             let primary = match on_rigid(m) {
                 Some(name) => {

@@ -175,23 +175,25 @@ impl DeckRigid {
                 let x: Vec<[f64; 3]> = (e.nodes.iter())
                     .map(|&n| std::array::from_fn(|a| parts.nodes[n as usize][a] - o[a]))
                     .collect();
-                crate::element::MassMoments::of_element(e.kind, &x, density)
+                crate::element::MassMoments::of_element(e.kind, &x, 1.0)
             })
             .fold(crate::element::MassMoments::default(), |a, b| a.plus(b));
-        if m.mass.is_nan() || m.mass <= 0.0 {
+        // the moments at unit density: the volume, and the density scales the rest
+        let mass = density * m.mass;
+        if mass.is_nan() || mass <= 0.0 {
             return Err(format!(
                 "its mass, density x volume = {density} x {}, must be positive",
-                m.mass / density
+                m.mass
             ));
         }
         Ok(DeckRigid {
             name,
-            mass: m.mass,
+            mass,
             position: std::array::from_fn(|a| o[a] + m.centre()[a]),
             velocity: [0.0; 3],
             motion: "free",
             held: Vec::new(),
-            inertia: turns.then(|| m.inertia()),
+            inertia: turns.then(|| m.inertia().map(|row| row.map(|i| density * i))),
             angular_velocity: [0.0; 3],
             surface: String::new(),
         })
@@ -211,7 +213,7 @@ impl DeckRigid {
         };
         if self.inertia.is_none() {
             return Err(format!(
-                "rigid part `{}` has its rotations held: it cannot start turning",
+                "rigid body `{}` has its rotations held: it cannot start turning",
                 self.name
             ));
         }

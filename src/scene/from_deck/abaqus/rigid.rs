@@ -76,24 +76,59 @@ impl DeckNodes<'_> {
         false
     }
 
-    /// The node that `set` names: a node number, or a set of that one node.
+    /// The node that `set` names: a node number, or a set of that one node (listed,
+    /// generated or nested, perhaps more than once).
     fn one(&self, set: &str) -> Option<u64> {
-        if let Ok(n) = set.parse::<u64>() {
-            return Some(n);
+        let mut ids = Vec::new();
+        self.members(set, &mut ids, &mut Vec::new());
+        match ids[..] {
+            [id] => Some(id),
+            _ => None,
         }
-        let named = |b: &&Block| b.get("NSET").is_some_and(|s| s.eq_ignore_ascii_case(set));
-        let mut ids = (self.blocks.iter())
-            .filter(|b| {
-                (b.name == "NSET" && !b.params.contains_key("GENERATE")) || b.name == "NODE"
-            })
-            .filter(named)
-            .flat_map(|b| b.data.iter().map(move |(f, _)| (b.name == "NODE", f)))
-            .flat_map(|(node, f)| match node {
-                true => vec![f[0].clone()],
-                false => f.iter().filter(|x| !x.is_empty()).cloned().collect(),
-            });
-        let first = ids.next()?.parse::<u64>().ok()?;
-        ids.next().is_none().then_some(first)
+    }
+
+    /// Adds the distinct nodes of `set` to `ids`, stopping past two (enough to tell one).
+    fn members(&self, set: &str, ids: &mut Vec<u64>, seen: &mut Vec<String>) {
+        let add = |id: u64, ids: &mut Vec<u64>| {
+            if !ids.contains(&id) {
+                ids.push(id);
+            }
+        };
+        if let Ok(n) = set.parse::<u64>() {
+            return add(n, ids);
+        }
+        let upper = set.to_ascii_uppercase();
+        if seen.contains(&upper) {
+            return;
+        }
+        seen.push(upper);
+        let named = |b: &Block| b.get("NSET").is_some_and(|s| s.eq_ignore_ascii_case(set));
+        for b in self.blocks.iter().filter(|b| named(b)) {
+            for (f, _) in &b.data {
+                if ids.len() > 1 {
+                    return;
+                }
+                match b.name.as_str() {
+                    "NODE" => f[0].parse().into_iter().for_each(|id| add(id, ids)),
+                    "NSET" if b.params.contains_key("GENERATE") => {
+                        let at = |i: usize| f.get(i).and_then(|x| x.parse::<u64>().ok());
+                        if let (Some(a), Some(z)) = (at(0), at(1)) {
+                            add(a, ids);
+                            let step = at(2).unwrap_or(1).max(1);
+                            if let Some(next) = a.checked_add(step).filter(|&n| n <= z) {
+                                add(next, ids);
+                            }
+                        }
+                    }
+                    "NSET" => {
+                        for x in f.iter().filter(|x| !x.is_empty()) {
+                            self.members(x, ids, seen);
+                        }
+                    }
+                    _ => {}
+                }
+            }
+        }
     }
 }
 
@@ -133,8 +168,10 @@ impl Rigids {
 /// What the deck holds of a rigid body's dofs, or starts it with.
 #[derive(Default)]
 struct RefDofs {
-    /// Translations 1-3 and rotations 1-3 held.
-    held: [bool; 6],
+    /// Translations 1-3 and rotations 1-3 held, each with the line that holds it.
+    held: [Option<usize>; 6],
+    /// The line of the last `*INITIAL CONDITIONS` on the body.
+    velocity_line: Option<usize>,
     /// The velocity of the reference node, then the angular velocity.
     velocity: [f64; 6],
 }
@@ -218,25 +255,24 @@ impl Reader<'_> {
     /// and the rotation node `o`.
     fn ref_dofs(&self, g: &Gathered, deck: &DeckNodes, (r, o): (u64, Option<u64>)) -> RefDofs {
         let mut out = RefDofs::default();
-        // the dof of the rigid body that dof `k` of a node of `set` is: 0-2 translations,
-        // 3-5 rotations
-        let dof = |set: &str, k: usize| -> Option<usize> {
-            match (deck.holds(set, r), o.is_some_and(|o| deck.holds(set, o))) {
-                (true, _) => Some(k - 1),
-                (false, true) if k <= 3 => Some(k + 2),
-                _ => None,
-            }
+        // the dofs of the rigid body that dof `k` of the nodes of `set` are: 0-2
+        // translations, 3-5 rotations (a set may hold both nodes)
+        let dofs = |set: &str, k: usize| -> Vec<usize> {
+            let on_ref = deck.holds(set, r).then_some(k - 1);
+            let on_rot = (k <= 3 && o.is_some_and(|o| deck.holds(set, o))).then_some(k + 2);
+            on_ref.into_iter().chain(on_rot).collect()
         };
         for b in &g.boundaries {
             for &k in &b.dofs {
-                if let Some(i) = dof(&b.set, k) {
-                    out.held[i] = true;
+                for i in dofs(&b.set, k) {
+                    out.held[i] = Some(b.line);
                 }
             }
         }
-        for (set, k, value, _) in &g.velocities {
-            if let Some(i) = dof(set, *k) {
+        for (set, k, value, line) in &g.velocities {
+            for i in dofs(set, *k) {
                 out.velocity[i] = *value;
+                out.velocity_line = Some(*line);
             }
         }
         out
@@ -252,10 +288,13 @@ impl Reader<'_> {
         at: [f64; 3],
     ) -> Result<DeckRigid> {
         let rotations = &dofs.held[3..];
-        let turns = match rotations.iter().filter(|&&h| h).count() {
+        let turns = match rotations.iter().flatten().count() {
             0 => true,
             3 => false,
-            _ => return Err(self.src.err(d.line, format!("*RIGID BODY, ELSET={}: some of its reference node's rotations are held; impact holds all of a rigid body's rotations or none", d.elset))),
+            _ => {
+                let line = rotations.iter().flatten().next().copied().unwrap_or(d.line);
+                return Err(self.src.err(line, format!("*RIGID BODY, ELSET={}: some of its reference node's rotations are held; impact holds all of a rigid body's rotations or none", d.elset)));
+            }
         };
         let mut rigid =
             DeckRigid::of_elements(d.elset.clone(), parts, density, turns).map_err(|e| {
@@ -263,9 +302,10 @@ impl Reader<'_> {
                     .err(d.line, format!("*RIGID BODY, ELSET={}: {e}", d.elset))
             })?;
         let held: Vec<&'static str> = (0..3)
-            .filter(|&a| dofs.held[a])
+            .filter(|&a| dofs.held[a].is_some())
             .map(|a| ["x", "y", "z"][a])
             .collect();
+        let held_line = dofs.held[..3].iter().flatten().next().copied();
         // a node held away from the centre of mass of a body free to turn would be a pivot
         let size = parts
             .nodes
@@ -278,23 +318,22 @@ impl Reader<'_> {
             .sum::<f64>()
             .sqrt();
         if turns && !held.is_empty() && !d.at_centre && off > 1e-9 * size {
-            return Err(self.src.err(d.line, format!("*RIGID BODY, ELSET={}: its reference node, {off:e} from its centre of mass, is held while the body may turn; impact turns a rigid body about its centre of mass: hold its rotations, or give POSITION=CENTER OF MASS", d.elset)));
+            return Err(self.src.err(held_line.unwrap_or(d.line), format!("*RIGID BODY, ELSET={}: its reference node, {off:e} from its centre of mass, is held while the body may turn; impact turns a rigid body about its centre of mass: hold its rotations, or give POSITION=CENTER OF MASS", d.elset)));
         }
         let velocity: [f64; 3] = std::array::from_fn(|a| dofs.velocity[a]);
         let omega: [f64; 3] = std::array::from_fn(|a| dofs.velocity[3 + a]);
+        let velocity_line = dofs.velocity_line.unwrap_or(d.line);
         match held.len() {
-            3 if !turns => {
-                if dofs.velocity != [0.0; 6] {
-                    return Err(self.src.err(d.line, format!("*RIGID BODY, ELSET={}: its reference node is held, yet *INITIAL CONDITIONS give it a velocity", d.elset)));
-                }
-                rigid.motion = "fixed";
-            }
+            3 if !turns => rigid.motion = "fixed",
             _ => rigid.held = held,
         }
         let centre = if d.at_centre { rigid.position } else { at };
         rigid
             .start(velocity, Some(Spin { omega, centre }))
-            .map_err(|e| self.src.err(d.line, e))?;
+            .map_err(|e| self.src.err(velocity_line, e))?;
+        if let Some(a) = (0..3).find(|&a| dofs.held[a].is_some() && rigid.velocity[a] != 0.0) {
+            return Err(self.src.err(velocity_line, format!("*RIGID BODY, ELSET={}: *INITIAL CONDITIONS move its centre along {}, which its reference node's *BOUNDARY holds", d.elset, ["x", "y", "z"][a])));
+        }
         Ok(rigid)
     }
 }
