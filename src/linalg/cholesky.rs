@@ -14,7 +14,8 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
 
-use super::ordering::{nested_dissection, Ordering};
+use super::contact_space::TrailingSolve;
+use super::ordering::{nested_dissection, nested_dissection_last, Ordering, Permutation};
 use super::supernodal_solve::SupernodalSolve;
 use super::Csc;
 use crate::error::{ImpactError, Result};
@@ -55,6 +56,8 @@ pub struct SpdSolver {
     factor: Vec<f64>,
     /// The tree-parallel solve of a supernodal factor (`None`: faer's solve).
     tree_solve: Option<SupernodalSolve>,
+    /// The solve on the equations numbered last ([`SpdSolver::with_last`]).
+    contact: Option<TrailingSolve>,
     stats: FactorStats,
     solves: Cell<(usize, f64)>,
 }
@@ -73,18 +76,25 @@ pub(super) fn analyse(
             SymmetricOrdering::Amd,
             Default::default(),
         ),
-        Ordering::NestedDissection => {
-            let p = nested_dissection(a)?;
-            let perm = PermRef::new_checked(&p.forward, &p.inverse, a.n);
-            factorize_symbolic_cholesky(
-                pattern.as_ref(),
-                Side::Upper,
-                SymmetricOrdering::Custom(perm),
-                Default::default(),
-            )
-        }
+        Ordering::NestedDissection => return analyse_permuted(pattern, &nested_dissection(a)?),
     };
     symbolic.map(Arc::new).map_err(failed)
+}
+
+/// The symbolic analysis of a pattern in the order of `p`.
+fn analyse_permuted(
+    pattern: &SymbolicSparseColMat<usize>,
+    p: &Permutation,
+) -> Result<Arc<SymbolicCholesky<usize>>> {
+    let perm = PermRef::new_checked(&p.forward, &p.inverse, pattern.nrows());
+    factorize_symbolic_cholesky(
+        pattern.as_ref(),
+        Side::Upper,
+        SymmetricOrdering::Custom(perm),
+        Default::default(),
+    )
+    .map(Arc::new)
+    .map_err(|e| ImpactError::Solver(format!("symbolic analysis failed: {e:?}")))
 }
 
 /// The numeric factor of `a` on a symbolic analysis of its pattern.
@@ -153,6 +163,45 @@ impl SpdSolver {
         Self::with_symbolic(symbolic, pattern, stats, a)
     }
 
+    /// [`Self::new`] with the equations `last` marks numbered after all the others (nested
+    /// dissection of the rest), so that [`Self::contact_solve_in_place`] solves on them
+    /// alone.
+    pub fn with_last(a: &Csc, last: &[bool]) -> Result<SpdSolver> {
+        let start = Instant::now();
+        let pattern =
+            SymbolicSparseColMat::new_checked(a.n, a.n, a.col_ptr.clone(), None, a.row_idx.clone());
+        let symbolic = analyse_permuted(&pattern, &nested_dissection_last(a, last)?)?;
+        let stats = FactorStats {
+            ordering: Ordering::NestedDissection,
+            equations: a.n,
+            matrix_nonzeros: a.nnz(),
+            factor_nonzeros: symbolic.len_val(),
+            analysis_seconds: start.elapsed().as_secs_f64(),
+            ..FactorStats::default()
+        };
+        let mut s = Self::with_symbolic(symbolic, pattern, stats, a)?;
+        s.contact = TrailingSolve::new(&s.symbolic, last.iter().filter(|&&m| m).count());
+        Ok(s)
+    }
+
+    /// The solve on the equations numbered last, where [`Self::with_last`] made one (a
+    /// supernodal factor).
+    pub fn contact_space(&self) -> Option<&TrailingSolve> {
+        self.contact.as_ref()
+    }
+
+    /// $x = (A^{-1})_{CC}\, b$ in place on the equations numbered last, `b` in the order of
+    /// [`TrailingSolve::equations`]; false (and `b` untouched) without a contact space.
+    pub fn contact_solve_in_place(&self, b: &mut [f64]) -> bool {
+        match &self.contact {
+            Some(t) => {
+                t.solve_in_place(&self.factor, b);
+                true
+            }
+            None => false,
+        }
+    }
+
     fn with_symbolic(
         symbolic: Arc<SymbolicCholesky<usize>>,
         pattern: SymbolicSparseColMat<usize>,
@@ -162,6 +211,7 @@ impl SpdSolver {
         let mut s = SpdSolver {
             factor: Vec::new(),
             tree_solve: SupernodalSolve::new(&symbolic),
+            contact: None,
             symbolic,
             pattern,
             stats,

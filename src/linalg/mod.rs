@@ -3,8 +3,11 @@
 
 pub mod assembly;
 pub mod cholesky;
+pub mod contact_space;
 pub mod ordering;
 pub mod supernodal_solve;
+#[cfg(test)]
+pub(crate) mod test_matrices;
 
 pub use assembly::{assemble, Assembled, Csc};
 pub use cholesky::{FactorStats, SpdSolver};

@@ -1,0 +1,198 @@
+//! [`TrailingSolve`]: solves on the contact space of a factor whose contact equations are
+//! numbered last ([`super::ordering::nested_dissection_last`]).
+//!
+//! With $L L^T = P A P^T$ and the contact equations C in the last places, the trailing block
+//! $L_{CC}$ of L is the Cholesky factor of the Schur complement $S = A_{CC} - A_{CI}
+//! A_{II}^{-1} A_{IC}$, so $(A^{-1})_{CC}\, b = S^{-1} b = L_{CC}^{-T} L_{CC}^{-1} b$: the
+//! response of the contact equations to loads on them alone, found from the supernodes that
+//! hold the trailing columns, without touching the rest of the factor. A supernode that
+//! starts before the trailing columns carries zeros in its other columns forward (their
+//! loads are zero, and so are the updates they take) and its solution there is not read.
+
+use std::ops::Range;
+use std::sync::{Mutex, PoisonError};
+
+use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
+
+use super::supernodal_solve::{lower_solve, upper_solve};
+
+/// A supernode of the trailing solve: its values, its first column and column count, and its
+/// rows below the diagonal block (a range of [`TrailingSolve::rows`]); columns and rows are
+/// positions counted from [`TrailingSolve::base`].
+#[derive(Debug, Clone)]
+struct Node {
+    val: usize,
+    col: usize,
+    ncols: usize,
+    rows: Range<usize>,
+}
+
+/// The solve on the trailing equations of a supernodal factor.
+#[derive(Debug)]
+pub struct TrailingSolve {
+    nodes: Vec<Node>,
+    rows: Vec<usize>,
+    /// The first position of the first supernode holding a trailing column.
+    base: usize,
+    /// The first trailing position, counted from `base`.
+    first: usize,
+    /// The equations in the trailing places, in their order.
+    equations: Vec<usize>,
+    /// The solution vector from `base` on, and a supernode's work.
+    scratch: Mutex<(Vec<f64>, Vec<f64>)>,
+}
+
+impl TrailingSolve {
+    /// The solve on the last `count` places of a symbolic factor; `None` for a simplicial
+    /// factor or no trailing place.
+    pub fn new(symbolic: &SymbolicCholesky<usize>, count: usize) -> Option<TrailingSolve> {
+        let SymbolicCholeskyRaw::Supernodal(s) = symbolic.raw() else {
+            return None;
+        };
+        let n = s.nrows();
+        if count == 0 || count > n {
+            return None;
+        }
+        let start = n - count;
+        let (begin, end) = (s.supernode_begin(), s.supernode_end());
+        let k0 = (0..begin.len()).find(|&k| end[k] > start)?;
+        let base = begin[k0];
+        let mut nodes = Vec::new();
+        let mut rows = Vec::new();
+        let mut front = 0;
+        for k in k0..begin.len() {
+            let pattern = &s.row_idx()[s.col_ptr_for_row_idx()[k]..s.col_ptr_for_row_idx()[k + 1]];
+            let first = rows.len();
+            rows.extend(pattern.iter().map(|&r| r - base));
+            let ncols = end[k] - begin[k];
+            front = front.max(ncols + pattern.len());
+            nodes.push(Node {
+                val: s.col_ptr_for_val()[k],
+                col: begin[k] - base,
+                ncols,
+                rows: first..rows.len(),
+            });
+        }
+        let equations = match symbolic.perm() {
+            Some(p) => p.arrays().0[start..].to_vec(),
+            None => (start..n).collect(),
+        };
+        Some(TrailingSolve {
+            nodes,
+            rows,
+            base,
+            first: start - base,
+            equations,
+            scratch: Mutex::new((vec![0.0; n - base], vec![0.0; front])),
+        })
+    }
+
+    /// The equations of the trailing places, in order: the entries of the vectors
+    /// [`Self::solve_in_place`] takes.
+    pub fn equations(&self) -> &[usize] {
+        &self.equations
+    }
+
+    /// $x = (A^{-1})_{CC}\, b$ in place, `b` given on [`Self::equations`], with the factor's
+    /// values `l`.
+    pub fn solve_in_place(&self, l: &[f64], b: &mut [f64]) {
+        debug_assert_eq!(b.len(), self.equations.len());
+        let mut scratch = self.scratch.lock().unwrap_or_else(PoisonError::into_inner);
+        let (y, work) = &mut *scratch;
+        y.fill(0.0);
+        y[self.first..].copy_from_slice(b);
+        for node in &self.nodes {
+            let (nc, rows) = (node.ncols, &self.rows[node.rows.clone()]);
+            let w = &mut work[..nc + rows.len()];
+            w[..nc].copy_from_slice(&y[node.col..node.col + nc]);
+            w[nc..].fill(0.0);
+            lower_solve(&l[node.val..node.val + w.len() * nc], w, nc, 1);
+            y[node.col..node.col + nc].copy_from_slice(&w[..nc]);
+            for (&r, &u) in rows.iter().zip(&w[nc..]) {
+                y[r] += u;
+            }
+        }
+        for node in self.nodes.iter().rev() {
+            let (nc, rows) = (node.ncols, &self.rows[node.rows.clone()]);
+            let w = &mut work[..nc + rows.len()];
+            w[..nc].copy_from_slice(&y[node.col..node.col + nc]);
+            for (v, &r) in w[nc..].iter_mut().zip(rows) {
+                *v = y[r];
+            }
+            upper_solve(&l[node.val..node.val + w.len() * nc], w, nc, 1);
+            y[node.col..node.col + nc].copy_from_slice(&w[..nc]);
+        }
+        b.copy_from_slice(&y[self.first..]);
+    }
+
+    /// The first position the solve reads of the factor (the supernodes from there on).
+    pub fn base(&self) -> usize {
+        self.base
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_matrices::{grid_matrix, Lcg};
+    use super::super::SpdSolver;
+
+    fn max_abs(v: impl IntoIterator<Item = f64>) -> f64 {
+        v.into_iter().fold(0.0, |m, x| m.max(x.abs()))
+    }
+
+    /// On a 27-point grid matrix with its top layer numbered last, the trailing solve of a
+    /// load on that layer gives the full solve's response there, and the contact-space
+    /// operator it builds column by column is symmetric.
+    #[test]
+    fn the_trailing_solve_is_the_full_solve_on_the_contact_space() {
+        let m = 14;
+        let a = grid_matrix(m, 3);
+        let last: Vec<bool> = (0..a.n).map(|i| i / (m * m) == m - 1).collect();
+        let solver = SpdSolver::with_last(&a, &last).unwrap();
+        let trailing = solver.contact_space().expect("a supernodal factor");
+        let plain = SpdSolver::new(&a, super::super::Ordering::NestedDissection).unwrap();
+        let (with, without) = (
+            solver.stats().factor_nonzeros,
+            plain.stats().factor_nonzeros,
+        );
+        eprintln!("factor values: {with} with the top layer last, {without} without");
+        assert!(
+            with < 2 * without,
+            "the constraint costs little fill: {with} against {without}"
+        );
+        let marked: Vec<usize> = (0..a.n).filter(|&i| last[i]).collect();
+        assert_eq!(trailing.equations(), &marked[..]);
+        assert!(
+            trailing.base() > a.n / 2,
+            "the solve reads the factor's end only"
+        );
+        let mut rng = Lcg(9);
+        let b: Vec<f64> = marked.iter().map(|_| rng.next() - 0.5).collect();
+        let mut full = vec![0.0; a.n];
+        for (&i, &v) in marked.iter().zip(&b) {
+            full[i] = v;
+        }
+        solver.solve_in_place(&mut full);
+        let mut x = b.clone();
+        solver.contact_solve_in_place(&mut x);
+        let want: Vec<f64> = marked.iter().map(|&i| full[i]).collect();
+        let diff = max_abs(x.iter().zip(&want).map(|(p, q)| p - q));
+        assert!(diff <= 1e-13 * max_abs(want.iter().copied()), "{diff}");
+        // W = (A^-1)_CC column by column: symmetric to rounding
+        let k = marked.len().min(40);
+        let w: Vec<Vec<f64>> = (0..k)
+            .map(|j| {
+                let mut e = vec![0.0; marked.len()];
+                e[j] = 1.0;
+                solver.contact_solve_in_place(&mut e);
+                e
+            })
+            .collect();
+        let scale = max_abs(w.iter().flatten().copied());
+        let asymmetry = (0..k)
+            .flat_map(|i| (0..k).map(move |j| (i, j)))
+            .map(|(i, j)| (w[i][j] - w[j][i]).abs())
+            .fold(0.0, f64::max);
+        assert!(asymmetry <= 1e-13 * scale, "{asymmetry}");
+    }
+}
