@@ -26,6 +26,18 @@ use crate::error::{ImpactError, Result};
 /// default, the pool's thread count, would make the rounding follow the machine.
 pub const FAER_TASKS: usize = 8;
 
+/// The largest share of the plain factor's values that a solve on the contact space may
+/// read ([`SpdSolver::for_contact`]).
+pub const MAX_TRAILING_SHARE: f64 = 0.25;
+/// The most the contact equations numbered last may grow the factor
+/// ([`SpdSolver::for_contact`]).
+pub const MAX_FILL_GROWTH: f64 = 2.0;
+
+/// The pattern of `a` as faer takes it.
+fn pattern_of(a: &Csc) -> SymbolicSparseColMat<usize> {
+    SymbolicSparseColMat::new_checked(a.n, a.n, a.col_ptr.clone(), None, a.row_idx.clone())
+}
+
 fn par() -> Par {
     Par::rayon(FAER_TASKS)
 }
@@ -45,9 +57,15 @@ pub struct FactorStats {
     pub analysis_seconds: f64,
     pub factorizations: usize,
     pub factorization_seconds: f64,
-    /// Triangular solve pairs (one per multiplier iteration and step).
+    /// Triangular solve pairs of the whole model (one per multiplier iteration and step, or
+    /// two per step where the iteration solves on the contact space).
     pub solves: usize,
     pub solve_seconds: f64,
+    /// The equations numbered last for the contact space (0: none), and the solves on
+    /// them alone.
+    pub contact_equations: usize,
+    pub contact_solves: usize,
+    pub contact_solve_seconds: f64,
 }
 
 pub struct SpdSolver {
@@ -60,6 +78,7 @@ pub struct SpdSolver {
     contact: Option<TrailingSolve>,
     stats: FactorStats,
     solves: Cell<(usize, f64)>,
+    contact_solves: Cell<(usize, f64)>,
 }
 
 /// The fill-reducing ordering and symbolic analysis of `a`'s pattern.
@@ -165,22 +184,71 @@ impl SpdSolver {
 
     /// [`Self::new`] with the equations `last` marks numbered after all the others (nested
     /// dissection of the rest), so that [`Self::contact_solve_in_place`] solves on them
-    /// alone.
+    /// alone (where the factor is supernodal).
     pub fn with_last(a: &Csc, last: &[bool]) -> Result<SpdSolver> {
         let start = Instant::now();
-        let pattern =
-            SymbolicSparseColMat::new_checked(a.n, a.n, a.col_ptr.clone(), None, a.row_idx.clone());
+        let pattern = pattern_of(a);
         let symbolic = analyse_permuted(&pattern, &nested_dissection_last(a, last)?)?;
+        let count = last.iter().filter(|&&m| m).count();
+        let contact = TrailingSolve::new(&symbolic, count);
+        Self::with_contact(a, (symbolic, pattern, start), contact)
+    }
+
+    /// The factor for a multiplier iteration on the contact equations `last`: with them
+    /// numbered last ([`Self::with_last`]) where its contact-space solve reads at most
+    /// [`MAX_TRAILING_SHARE`] of the values of the factor `ordering` gives and its fill at
+    /// most [`MAX_FILL_GROWTH`] times that factor's, else that factor without a contact
+    /// space (too many contact equations for the model: their block is dense).
+    pub fn for_contact(a: &Csc, last: &[bool], ordering: Ordering) -> Result<SpdSolver> {
+        let start = Instant::now();
+        let pattern = pattern_of(a);
+        let plain = analyse(a, &pattern, ordering)?;
+        let symbolic = analyse_permuted(&pattern, &nested_dissection_last(a, last)?)?;
+        let count = last.iter().filter(|&&m| m).count();
+        let contact = TrailingSolve::new(&symbolic, count);
+        let (values, plain_values) = (symbolic.len_val() as f64, plain.len_val() as f64);
+        let worth = contact.as_ref().is_some_and(|t| {
+            (t.values() as f64) <= MAX_TRAILING_SHARE * plain_values
+                && values <= MAX_FILL_GROWTH * plain_values
+        });
+        match worth {
+            true => Self::with_contact(a, (symbolic, pattern, start), contact),
+            false => {
+                let stats = FactorStats {
+                    ordering,
+                    equations: a.n,
+                    matrix_nonzeros: a.nnz(),
+                    factor_nonzeros: plain.len_val(),
+                    analysis_seconds: start.elapsed().as_secs_f64(),
+                    ..FactorStats::default()
+                };
+                Self::with_symbolic(plain, pattern, stats, a)
+            }
+        }
+    }
+
+    /// The factor on a symbolic analysis with the contact equations last, and its
+    /// contact-space solve (if any).
+    fn with_contact(
+        a: &Csc,
+        (symbolic, pattern, start): (
+            Arc<SymbolicCholesky<usize>>,
+            SymbolicSparseColMat<usize>,
+            Instant,
+        ),
+        contact: Option<TrailingSolve>,
+    ) -> Result<SpdSolver> {
         let stats = FactorStats {
             ordering: Ordering::NestedDissection,
             equations: a.n,
             matrix_nonzeros: a.nnz(),
             factor_nonzeros: symbolic.len_val(),
             analysis_seconds: start.elapsed().as_secs_f64(),
+            contact_equations: contact.as_ref().map_or(0, |t| t.equations().len()),
             ..FactorStats::default()
         };
         let mut s = Self::with_symbolic(symbolic, pattern, stats, a)?;
-        s.contact = TrailingSolve::new(&s.symbolic, last.iter().filter(|&&m| m).count());
+        s.contact = contact;
         Ok(s)
     }
 
@@ -193,13 +261,14 @@ impl SpdSolver {
     /// $x = (A^{-1})_{CC}\, b$ in place on the equations numbered last, `b` in the order of
     /// [`TrailingSolve::equations`]; false (and `b` untouched) without a contact space.
     pub fn contact_solve_in_place(&self, b: &mut [f64]) -> bool {
-        match &self.contact {
-            Some(t) => {
-                t.solve_in_place(&self.factor, b);
-                true
-            }
-            None => false,
-        }
+        let Some(t) = &self.contact else {
+            return false;
+        };
+        let start = Instant::now();
+        t.solve_in_place(&self.factor, b);
+        let (count, seconds) = self.contact_solves.get();
+        (self.contact_solves).set((count + 1, seconds + start.elapsed().as_secs_f64()));
+        true
     }
 
     fn with_symbolic(
@@ -216,6 +285,7 @@ impl SpdSolver {
             pattern,
             stats,
             solves: Cell::new((0, 0.0)),
+            contact_solves: Cell::new((0, 0.0)),
         };
         s.refactor(&a.values)?;
         Ok(s)
@@ -286,9 +356,12 @@ impl SpdSolver {
     /// The ordering, sizes, counts and times of this factor.
     pub fn stats(&self) -> FactorStats {
         let (solves, solve_seconds) = self.solves.get();
+        let (contact_solves, contact_solve_seconds) = self.contact_solves.get();
         FactorStats {
             solves,
             solve_seconds,
+            contact_solves,
+            contact_solve_seconds,
             ..self.stats.clone()
         }
     }

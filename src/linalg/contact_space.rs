@@ -14,17 +14,19 @@ use std::sync::{Mutex, PoisonError};
 
 use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
 
-use super::supernodal_solve::{lower_solve, upper_solve};
+use super::supernodal_solve::{eliminate, upper_solve_strided};
 
-/// A supernode of the trailing solve: its values, its first column and column count, and its
-/// rows below the diagonal block (a range of [`TrailingSolve::rows`]); columns and rows are
-/// positions counted from [`TrailingSolve::base`].
+/// A supernode of the trailing solve: its values, its first column and column count, its
+/// rows below the diagonal block (a range of [`TrailingSolve::rows`]), and how many of its
+/// first columns lie before the trailing ones (skipped: their loads and updates are zero);
+/// columns and rows are positions counted from [`TrailingSolve::base`].
 #[derive(Debug, Clone)]
 struct Node {
     val: usize,
     col: usize,
     ncols: usize,
     rows: Range<usize>,
+    skip: usize,
 }
 
 /// The solve on the trailing equations of a supernodal factor.
@@ -71,6 +73,7 @@ impl TrailingSolve {
                 col: begin[k] - base,
                 ncols,
                 rows: first..rows.len(),
+                skip: start.saturating_sub(begin[k]),
             });
         }
         let equations = match symbolic.perm() {
@@ -102,25 +105,27 @@ impl TrailingSolve {
         y.fill(0.0);
         y[self.first..].copy_from_slice(b);
         for node in &self.nodes {
-            let (nc, rows) = (node.ncols, &self.rows[node.rows.clone()]);
-            let w = &mut work[..nc + rows.len()];
-            w[..nc].copy_from_slice(&y[node.col..node.col + nc]);
+            let (block, ld, cols, rows) = self.part(node, l);
+            let nc = cols.len();
+            let w = &mut work[..ld - node.skip];
+            w[..nc].copy_from_slice(&y[cols.clone()]);
             w[nc..].fill(0.0);
-            lower_solve(&l[node.val..node.val + w.len() * nc], w, nc, 1);
-            y[node.col..node.col + nc].copy_from_slice(&w[..nc]);
+            eliminate(block, ld, w, 0..nc);
+            y[cols].copy_from_slice(&w[..nc]);
             for (&r, &u) in rows.iter().zip(&w[nc..]) {
                 y[r] += u;
             }
         }
         for node in self.nodes.iter().rev() {
-            let (nc, rows) = (node.ncols, &self.rows[node.rows.clone()]);
-            let w = &mut work[..nc + rows.len()];
-            w[..nc].copy_from_slice(&y[node.col..node.col + nc]);
+            let (block, ld, cols, rows) = self.part(node, l);
+            let nc = cols.len();
+            let w = &mut work[..ld - node.skip];
+            w[..nc].copy_from_slice(&y[cols.clone()]);
             for (v, &r) in w[nc..].iter_mut().zip(rows) {
                 *v = y[r];
             }
-            upper_solve(&l[node.val..node.val + w.len() * nc], w, nc, 1);
-            y[node.col..node.col + nc].copy_from_slice(&w[..nc]);
+            upper_solve_strided(block, ld, w, nc, 1);
+            y[cols].copy_from_slice(&w[..nc]);
         }
         b.copy_from_slice(&y[self.first..]);
     }
@@ -128,6 +133,28 @@ impl TrailingSolve {
     /// The first position the solve reads of the factor (the supernodes from there on).
     pub fn base(&self) -> usize {
         self.base
+    }
+
+    /// The factor values the solve reads (twice: forward and backward).
+    pub fn values(&self) -> usize {
+        (self.nodes.iter())
+            .map(|n| (n.ncols - n.skip) * (n.ncols - n.skip + n.rows.len()))
+            .sum()
+    }
+
+    /// The part of a supernode's block the solve reads: its values from its first trailing
+    /// column's diagonal entry, its columns' length, its trailing columns (positions from
+    /// `base`) and its rows below.
+    fn part<'l>(&self, node: &Node, l: &'l [f64]) -> (&'l [f64], usize, Range<usize>, &[usize]) {
+        let ld = node.ncols + node.rows.len();
+        let start = node.val + node.skip * ld + node.skip;
+        let cols = node.col + node.skip..node.col + node.ncols;
+        (
+            &l[start..node.val + node.ncols * ld],
+            ld,
+            cols,
+            &self.rows[node.rows.clone()],
+        )
     }
 }
 

@@ -600,7 +600,7 @@ pub(super) fn lower_solve(block: &[f64], w: &mut [f64], nc: usize, chunks: usize
 /// as `w` holds (at least to the last of `cols`): each column's entry is divided by its
 /// diagonal, then its multiples are taken from the rows after it, four columns at a time
 /// where there are four (the bits of one at a time).
-fn eliminate(block: &[f64], ld: usize, w: &mut [f64], cols: Range<usize>) {
+pub(super) fn eliminate(block: &[f64], ld: usize, w: &mut [f64], cols: Range<usize>) {
     let end = w.len();
     let column = |j: usize| &block[j * ld..j * ld + end];
     let mut j = cols.start;
@@ -629,13 +629,25 @@ fn eliminate(block: &[f64], ld: usize, w: &mut [f64], cols: Range<usize>) {
 /// each column of a block takes minus its dot product with the solution after the block
 /// (in `chunks` of columns in parallel: the same bits), then the block's triangle is solved.
 pub(super) fn upper_solve(block: &[f64], w: &mut [f64], nc: usize, chunks: usize) {
-    let ld = w.len();
+    upper_solve_strided(block, w.len(), w, nc, chunks);
+}
+
+/// [`upper_solve`] on the trailing part of a block whose columns are `ld` long: `block`
+/// starts at the part's first diagonal entry and `w` holds the part's rows.
+pub(super) fn upper_solve_strided(
+    block: &[f64],
+    ld: usize,
+    w: &mut [f64],
+    nc: usize,
+    chunks: usize,
+) {
+    let rows = w.len();
     for p0 in (0..nc).step_by(BLOCK).rev() {
         let p1 = (p0 + BLOCK).min(nc);
         let (head, solved) = w.split_at_mut(p1);
         let solved = &*solved;
         let take_after = |first: usize, part: &mut [f64]| {
-            let column = |j: usize| &block[j * ld + p1..(j + 1) * ld];
+            let column = |j: usize| &block[j * ld + p1..j * ld + rows];
             let mut j = first;
             let mut groups = part.chunks_exact_mut(4);
             for x4 in &mut groups {

@@ -40,6 +40,7 @@ option_names!(DeviceChoice { Auto = "auto", Gpu = "gpu", Cpu = "cpu" });
 option_names!(ConstraintMeasure { GapRate = "gap_rate", Gap = "gap" });
 option_names!(PenaltyLaw { Adaptive = "adaptive", Fixed = "fixed" });
 option_names!(Acceleration { Anderson = "anderson", None = "none" });
+option_names!(ContactSpace { Auto = "auto", Off = "off" });
 option_names!(MassKind { Lumped = "lumped", Consistent = "consistent" });
 option_names!(PenetrationPolicy { Error = "error", Adjust = "adjust", Ignore = "ignore" });
 option_names!(Ordering { NestedDissection = "nested_dissection", Amd = "amd" });
@@ -104,6 +105,18 @@ pub enum Acceleration {
     Anderson,
     None,
 }
+
+/// Where the implicit multiplier iteration solves: on the contact equations alone, through
+/// the trailing block of a factor that numbers them last (`Auto`, where the kernels compute
+/// in f64 and there are at most [`CONTACT_SPACE_MAX`] of them), or on the whole model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ContactSpace {
+    Auto,
+    Off,
+}
+
+/// The most contact equations the iteration solves on alone.
+pub const CONTACT_SPACE_MAX: usize = 20_000;
 
 /// Mass matrix of the implicit integrator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -201,6 +214,8 @@ pub struct ImplicitSettings {
     pub event_force_change: f64,
     /// The fill-reducing ordering of the factorisation.
     pub ordering: Ordering,
+    /// Whether the multiplier iteration solves on the contact equations alone.
+    pub contact_space: ContactSpace,
 }
 
 impl Default for ImplicitSettings {
@@ -221,6 +236,7 @@ impl Default for ImplicitSettings {
             event_substeps: 4,
             event_force_change: 0.2,
             ordering: Ordering::default(),
+            contact_space: ContactSpace::Auto,
         }
     }
 }

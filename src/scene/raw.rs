@@ -61,6 +61,7 @@ pub(crate) struct RawImplicit {
     pub event_substeps: Option<i64>,
     pub event_force_change: Option<f64>,
     pub ordering: Option<String>,
+    pub contact_space: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -38,6 +38,7 @@
 //! internal forces, so a backend in f32 is corrected iteratively.
 
 mod contact;
+mod contact_space;
 mod interface;
 mod substeps;
 mod workspace;
@@ -50,7 +51,7 @@ use crate::geometry::vector;
 use crate::kernels::contact_gap::NO_FACE;
 use crate::linalg::{assemble, Assembled, FactorStats, SpdSolver};
 use crate::model::{Model, Primary};
-use crate::scene::{ConstraintMeasure, ImplicitSettings, Method};
+use crate::scene::{ConstraintMeasure, ContactSpace, ImplicitSettings, Method, CONTACT_SPACE_MAX};
 
 use super::explicit::spin::{BodySpin, Spins};
 use super::integrator::{ImplicitFigures, Integrator};
@@ -106,6 +107,9 @@ pub struct ImplicitSolver<'m> {
     /// Steps taken again in sub-steps because they held a contact event.
     pub event_steps: usize,
     mass_solver: Option<SpdSolver>,
+    /// The contact equations (all false without a contact space), and a vector on them.
+    in_space: Vec<bool>,
+    contact_rhs: Vec<f64>,
     kernels: Box<dyn Kernels + 'm>,
     /// The state at the end of the last step.
     pub u: Vec<f64>,
@@ -145,9 +149,20 @@ impl<'m> ImplicitSolver<'m> {
     ) -> Result<Self> {
         let c_m = 1.0 / (settings.beta * dt * dt);
         let asm = assemble(model, settings.mass, c_m);
-        let solver = SpdSolver::new(&asm.effective, settings.ordering)?;
+        let exact = kernels.unit_roundoff() < 1e-12;
+        let in_space = match settings.contact_space {
+            ContactSpace::Auto if exact => contact_space::contact_equations(model, &asm),
+            _ => vec![false; asm.dof_of.len()],
+        };
+        let count = in_space.iter().filter(|&&c| c).count();
+        let space = count > 0 && count <= CONTACT_SPACE_MAX;
+        let factor = |a| match space {
+            true => SpdSolver::for_contact(a, &in_space, settings.ordering),
+            false => SpdSolver::new(a, settings.ordering),
+        };
+        let solver = factor(&asm.effective)?;
         let mass_solver = match &asm.consistent_mass {
-            Some(m) => Some(SpdSolver::new(m, settings.ordering)?),
+            Some(m) => Some(factor(m)?),
             None => None,
         };
         let ndof = model.dofs();
@@ -172,6 +187,8 @@ impl<'m> ImplicitSolver<'m> {
             sub_solver: None,
             event_steps: 0,
             mass_solver,
+            contact_rhs: vec![0.0; count],
+            in_space,
             kernels,
             u: vec![0.0; ndof],
             v,
@@ -280,8 +297,22 @@ impl<'m> ImplicitSolver<'m> {
         self.start_contact()?;
         let mut report = StepReport::default();
         self.contact.anderson.reset();
+        let space = self.contact_space_ready(&k, sub);
+        // whether the iterate's contact equations ran ahead of the rest of the model
+        let mut ahead = false;
         for _k in 0..self.settings.max_iterations {
-            let (corr, size) = self.equilibrium(&k, sub)?;
+            let on_space = match space && report.iterations > 0 {
+                true => self.contact_equilibrium(&k)?,
+                false => None,
+            };
+            ahead |= on_space.is_some();
+            let (corr, size) = match on_space {
+                Some(c) => c,
+                None => {
+                    ahead = false;
+                    self.equilibrium(&k, sub)?
+                }
+            };
             self.turn_bodies(k.dt);
             report.iterations += 1;
             self.correct(&k)?;
@@ -301,6 +332,12 @@ impl<'m> ImplicitSolver<'m> {
                     map_changed,
                 );
             }
+        }
+        if ahead {
+            // the rest of the model under the final multipliers
+            self.equilibrium(&k, sub)?;
+            self.turn_bodies(k.dt);
+            self.correct(&k)?;
         }
         self.accept(&k)?;
         Ok(report)
@@ -370,6 +407,7 @@ impl<'m> ImplicitSolver<'m> {
     /// displacement increment of the step.
     fn equilibrium(&mut self, k: &StepConstants, sub: bool) -> Result<(f64, f64)> {
         self.contact.forces_into(self.model, &mut self.work.f_c);
+        self.work.f_last.copy_from_slice(&self.work.f_c);
         let f_c = std::mem::take(&mut self.work.f_c);
         let mut w = std::mem::take(&mut self.work.w);
         if k.endpoint {

@@ -7,6 +7,8 @@ pub(super) struct Workspace {
     pub(super) f_int: Vec<f64>,
     /// Nodal contact forces of the current multipliers.
     pub(super) f_c: Vec<f64>,
+    /// The contact forces of the last solve.
+    pub(super) f_last: Vec<f64>,
     /// $w = M^{-1} \bar f_c$.
     pub(super) w: Vec<f64>,
     /// The effective equation's right-hand side, then its solution (free dofs).
@@ -31,6 +33,7 @@ impl Workspace {
         Workspace {
             f_int: zeros(ndof),
             f_c: zeros(ndof),
+            f_last: zeros(ndof),
             w: zeros(ndof),
             rhs: zeros(free),
             tmp: zeros(free),

@@ -458,6 +458,12 @@ impl Checker<'_> {
                 Ordering::default(),
                 Ordering::CHOICES,
             )?;
+            implicit.contact_space = self.choice(
+                "implicit.contact_space",
+                ri.contact_space.as_deref(),
+                ContactSpace::Auto,
+                ContactSpace::CHOICES,
+            )?;
             implicit.acceleration = self.choice(
                 "implicit.acceleration",
                 ri.acceleration.as_deref(),

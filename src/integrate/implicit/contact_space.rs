@@ -1,0 +1,117 @@
+//! The multiplier iteration on the contact space (`implicit.contact_space = "auto"`).
+//!
+//! The effective matrix is factorised once and the element forces are linear in u, so once
+//! a step's first solve has balanced the effective equation under the first multipliers, a
+//! change $\Delta f_c$ of the contact forces moves the iterate by $K_{eff}^{-1} w_f \Delta
+//! f_c$; the forces act on the contact equations C alone (the interfaces' secondary nodes,
+//! their primary surfaces' nodes, their rigid bodies' nodes), and the kinematics read only
+//! those, so each later iteration needs only $(K_{eff}^{-1})_{CC}$, the trailing block of a
+//! factor that numbers C last ([`crate::linalg::contact_space`]), and, for the gap rate
+//! with a consistent mass, $(M^{-1})_{CC}$ likewise. After the iteration one full solve
+//! under the final multipliers brings the rest of the model to the same state: the step
+//! costs two full solve pairs however many iterations it takes.
+
+use crate::error::Result;
+use crate::linalg::Assembled;
+use crate::model::{Model, Primary};
+
+use super::{ImplicitSolver, StepConstants};
+
+/// The contact equations, marked in equation order: every free dof of the interfaces'
+/// secondary nodes, the nodes of their primary surfaces and their rigid bodies' nodes.
+pub(super) fn contact_equations(model: &Model, asm: &Assembled) -> Vec<bool> {
+    let mut node = vec![false; model.dofs() / 3];
+    for itf in &model.interfaces {
+        for &n in &itf.nodes {
+            node[n as usize] = true;
+        }
+        match &itf.primary {
+            Primary::Surface { faces, .. } => {
+                for f in &model.queries.faces[faces.clone()] {
+                    for &n in f {
+                        node[n as usize] = true;
+                    }
+                }
+            }
+            Primary::Rigid { node: n, .. } => node[*n as usize] = true,
+            Primary::Plane { .. } => {}
+        }
+    }
+    (asm.dof_of.iter()).map(|&d| node[d as usize / 3]).collect()
+}
+
+impl ImplicitSolver<'_> {
+    /// Whether this step's iteration may run on the contact space: the factors have one
+    /// (the gap rate with a consistent mass needs the mass factor's too), and the step is
+    /// not a sub-step (whose factor has none).
+    pub(super) fn contact_space_ready(&self, k: &StepConstants, sub: bool) -> bool {
+        let mass_ready = match &self.mass_solver {
+            Some(m) => k.endpoint || m.contact_space().is_some(),
+            None => true,
+        };
+        !sub && self.solver.contact_space().is_some() && mass_ready
+    }
+
+    /// One solve of the effective equation on the contact space: u_new's contact equations
+    /// move by $(K_{eff}^{-1})_{CC}\, w_f\, (f_c - f_{c,last})$ and w takes $M^{-1} f_c$
+    /// there. Returns the largest correction and increment on the contact equations, or
+    /// `None` (nothing changed) where the forces changed outside them.
+    pub(super) fn contact_equilibrium(&mut self, k: &StepConstants) -> Result<Option<(f64, f64)>> {
+        self.contact.forces_into(self.model, &mut self.work.f_c);
+        let (f_c, f_last) = (&self.work.f_c, &self.work.f_last);
+        let outside = (self.asm.dof_of.iter().zip(&self.in_space))
+            .any(|(&d, &inside)| !inside && f_c[d as usize] != f_last[d as usize]);
+        let Some(space) = self.solver.contact_space() else {
+            return Ok(None);
+        };
+        if outside {
+            return Ok(None);
+        }
+        let equations = space.equations();
+        let rhs = &mut self.contact_rhs;
+        for (r, &e) in rhs.iter_mut().zip(equations) {
+            let d = self.asm.dof_of[e] as usize;
+            *r = k.force_weight * (f_c[d] - f_last[d]);
+        }
+        self.solver.contact_solve_in_place(rhs);
+        let (mut corr, mut size) = (0.0f64, 0.0f64);
+        for (&delta, &e) in rhs.iter().zip(equations) {
+            let d = self.asm.dof_of[e] as usize;
+            self.work.u_new[d] += delta;
+            corr = corr.max(delta.abs());
+            size = size.max((self.work.u_new[d] - self.u[d]).abs());
+        }
+        if !k.endpoint {
+            self.contact_mass_inverse();
+        }
+        self.work.f_last.copy_from_slice(&self.work.f_c);
+        Ok(Some((corr, size)))
+    }
+
+    /// w = M^-1 f_c on the contact equations (the rest waits for the step's last solve).
+    fn contact_mass_inverse(&mut self) {
+        let Some(space) = self.solver.contact_space() else {
+            return;
+        };
+        let equations = space.equations();
+        let f_c = &self.work.f_c;
+        match &self.mass_solver {
+            None => {
+                for &e in equations {
+                    let d = self.asm.dof_of[e] as usize;
+                    self.work.w[d] = f_c[d] / self.asm.nodal_mass[d / 3];
+                }
+            }
+            Some(ms) => {
+                let rhs = &mut self.contact_rhs;
+                for (r, &e) in rhs.iter_mut().zip(equations) {
+                    *r = f_c[self.asm.dof_of[e] as usize];
+                }
+                ms.contact_solve_in_place(rhs);
+                for (&x, &e) in rhs.iter().zip(equations) {
+                    self.work.w[self.asm.dof_of[e] as usize] = x;
+                }
+            }
+        }
+    }
+}

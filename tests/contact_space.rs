@@ -1,0 +1,134 @@
+//! The implicit multiplier iteration on the contact space (`implicit.contact_space =
+//! "auto"`) against the same iteration on the whole model: a block dropped on a held rigid
+//! floor, with the consistent and the lumped mass. The histories agree to the iteration's tolerance, the iteration counts
+//! nearly so, and the summary shows two full solves a step with the rest on the contact
+//! space.
+
+mod common;
+use common::*;
+
+use impact::output::Summary;
+
+/// A block of `n` x `n` x `n` cells dropped at 1 on a held rigid floor it touches at
+/// t = 0, the contact on the block's bottom face, implicit at the wave-resolving step, for
+/// `steps` steps; `extra` goes under `[implicit]`.
+fn block_drop(n: usize, steps: usize, extra: &str) -> String {
+    let h = 1.0 / n as f64;
+    let dt = h / (200.0f64 / 7.8e-3).sqrt();
+    format!(
+        r#"
+[run]
+end_time = {end}
+time_step = {dt}
+device = "cpu"
+[implicit]
+{extra}
+[[material]]
+name = "steel"
+density = 7.8e-3
+youngs_modulus = 200.0
+poissons_ratio = 0.3
+[[body]]
+name = "block"
+material = "steel"
+box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0], divisions = [{n}, {n}, {n}] }}
+velocity = [0.0, 0.0, -1.0]
+[[rigid_body]]
+name = "floor"
+motion = "fixed"
+position = [0.0, 0.0, 0.0]
+shape = {{ plane = {{ normal = [0.0, 0.0, 1.0] }} }}
+[[contact]]
+name = "drop"
+secondary = {{ body = "block", face = "z-" }}
+primary = {{ rigid_body = "floor" }}
+"#,
+        end = (steps as f64 - 0.5) * dt,
+    )
+}
+
+/// Runs `text` with the contact space and without; returns both summaries and histories.
+fn both(tag: &str, text: &str) -> [(Summary, History); 2] {
+    ["auto", "off"].map(|mode| {
+        let t = text.replace(
+            "[implicit]\n",
+            &format!("[implicit]\ncontact_space = \"{mode}\"\n"),
+        );
+        let (s, h) = run_text(&format!("{tag}_{mode}"), &t);
+        let s = s.unwrap_or_else(|e| panic!("{tag} {mode}: {e}"));
+        assert_eq!(s.status, "completed", "{tag} {mode}");
+        (s, h)
+    })
+}
+
+/// Every column of `a` against `b`'s, relative to the column's largest magnitude (absolute
+/// below `floor`): the largest difference.
+fn worst(a: &History, b: &History, floor: f64) -> (String, f64) {
+    let mut out = (String::new(), 0.0f64);
+    for c in a.columns.iter().filter(|c| *c != "step") {
+        let (x, y) = (a.col(c), b.col(c));
+        let scale = y.iter().fold(floor, |m, v| m.max(v.abs()));
+        let d = x
+            .iter()
+            .zip(&y)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max)
+            / scale;
+        if d > out.1 {
+            out = (c.clone(), d);
+        }
+    }
+    out
+}
+
+/// Checks the run of `text` on the contact space against the run on the whole model;
+/// `two_a_step`: at most two full solves a step.
+fn check(tag: &str, text: &str, steps: usize, two_a_step: bool) {
+    let [(sa, ha), (so, ho)] = both(tag, text);
+    let ls = sa.linear_solver.as_ref().expect("an implicit run");
+    eprintln!(
+        "{tag}: {} contact equations, {} full solves and {} contact-space solves against {} full solves; {:.3} s against {:.3} s",
+        ls.contact_equations,
+        ls.solves,
+        ls.contact_solves,
+        so.linear_solver.as_ref().unwrap().solves,
+        sa.wall_seconds,
+        so.wall_seconds
+    );
+    assert!(
+        ls.contact_equations > 0 && ls.contact_solves > 0,
+        "{tag}: the iteration ran on the contact space"
+    );
+    if two_a_step {
+        let solves = ls.solves;
+        assert!(
+            solves <= 2 * steps,
+            "{tag}: {solves} full solves in {steps} steps"
+        );
+    }
+    let (column, d) = worst(&ha, &ho, 1e-9);
+    eprintln!("{tag}: largest difference {d:.2e} in {column}");
+    assert!(d <= 1e-6, "{tag}: {column} differs by {d:e}");
+}
+
+#[test]
+fn a_block_dropped_on_a_rigid_floor_iterates_on_its_bottom_face() {
+    // without event sub-steps (whose factor solves on the whole model): two full solves a
+    // step at most (the step's first iteration and its last solve)
+    let plain = "event_substeps = 1";
+    check("contact_space_drop", &block_drop(10, 12, plain), 12, true);
+    let lumped = format!("{plain}\nmass = \"lumped\"");
+    check(
+        "contact_space_drop_lumped",
+        &block_drop(10, 12, &lumped),
+        12,
+        true,
+    );
+    // with them, the same history as the whole model's too
+    check(
+        "contact_space_drop_substeps",
+        &block_drop(10, 12, ""),
+        12,
+        false,
+    );
+}
