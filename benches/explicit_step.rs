@@ -38,6 +38,7 @@ use impact::scene::Scene;
 use impact::setup::explicit_time_step;
 
 #[path = "../tests/common/bench_scenes.rs"]
+#[allow(dead_code)]
 mod bench_scenes;
 use bench_scenes::contact_scene;
 

@@ -23,51 +23,10 @@ use impact::linalg::{assemble, Assembled, Ordering, SpdSolver};
 use impact::model::Model;
 use impact::scene::{Acceleration, ContactSpace, Scene};
 
-fn scene(n: [usize; 3]) -> String {
-    // a steel-like block (E = 200, rho = 7.8e-3 in consistent units) dropped at 1 on a held
-    // rigid floor it touches at t = 0 with its bottom face; dt = h / c, the wave-resolving
-    // implicit step
-    let h = 1.0 / n[0] as f64;
-    let c = (200.0f64 / 7.8e-3).sqrt();
-    let dt = h / c;
-    format!(
-        r#"
-[run]
-end_time = {end}
-time_step = {dt}
-
-[[material]]
-name = "steel"
-density = 7.8e-3
-youngs_modulus = 200.0
-poissons_ratio = 0.3
-
-[[body]]
-name = "block"
-material = "steel"
-box = {{ min = [0.0, 0.0, 0.0], max = [1.0, {ly}, {lz}], divisions = [{nx}, {ny}, {nz}] }}
-velocity = [0.0, 0.0, -1.0]
-
-[[rigid_body]]
-name = "floor"
-motion = "fixed"
-position = [0.0, 0.0, 0.0]
-shape = {{ plane = {{ normal = [0.0, 0.0, 1.0] }} }}
-
-[[contact]]
-name = "drop"
-secondary = {{ body = "block", face = "z-" }}
-primary = {{ rigid_body = "floor" }}
-"#,
-        end = 100.0 * dt,
-        dt = dt,
-        ly = n[1] as f64 * h,
-        lz = n[2] as f64 * h,
-        nx = n[0],
-        ny = n[1],
-        nz = n[2],
-    )
-}
+#[path = "../tests/common/bench_scenes.rs"]
+#[allow(dead_code)]
+mod bench_scenes;
+use bench_scenes::implicit_block_drop;
 
 /// Seconds of `f`, and its value.
 fn timed<T>(f: impl FnOnce() -> T) -> (f64, T) {
@@ -122,7 +81,8 @@ fn main() {
     let models: Vec<(Scene, Model)> = sizes
         .iter()
         .map(|&n| {
-            let sc = Scene::parse(&scene(n), Path::new("bench.toml")).expect("bench scene");
+            let sc = Scene::parse(&implicit_block_drop(n, 100, ""), Path::new("bench.toml"))
+                .expect("bench scene");
             let model = Model::from_scene(&sc).expect("model");
             (sc, model)
         })

@@ -1,50 +1,18 @@
 //! The implicit multiplier iteration on the contact space (`implicit.contact_space =
 //! "auto"`) against the same iteration on the whole model: a block dropped on a held rigid
-//! floor, with the consistent and the lumped mass. The histories agree to the iteration's tolerance, the iteration counts
-//! nearly so, and the summary shows two full solves a step with the rest on the contact
-//! space.
+//! floor, with the consistent and the lumped mass. The histories agree to the iteration's
+//! tolerance, the iteration counts nearly so, and the summary shows two full solves a step
+//! with the rest on the contact space.
 
 mod common;
 use common::*;
 
 use impact::output::Summary;
 
-/// A block of `n` x `n` x `n` cells dropped at 1 on a held rigid floor it touches at
-/// t = 0, the contact on the block's bottom face, implicit at the wave-resolving step, for
+/// The implicit bench's block of `n` x `n` x `n` cells dropped on a rigid floor, for
 /// `steps` steps; `extra` goes under `[implicit]`.
 fn block_drop(n: usize, steps: usize, extra: &str) -> String {
-    let h = 1.0 / n as f64;
-    let dt = h / (200.0f64 / 7.8e-3).sqrt();
-    format!(
-        r#"
-[run]
-end_time = {end}
-time_step = {dt}
-device = "cpu"
-[implicit]
-{extra}
-[[material]]
-name = "steel"
-density = 7.8e-3
-youngs_modulus = 200.0
-poissons_ratio = 0.3
-[[body]]
-name = "block"
-material = "steel"
-box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0], divisions = [{n}, {n}, {n}] }}
-velocity = [0.0, 0.0, -1.0]
-[[rigid_body]]
-name = "floor"
-motion = "fixed"
-position = [0.0, 0.0, 0.0]
-shape = {{ plane = {{ normal = [0.0, 0.0, 1.0] }} }}
-[[contact]]
-name = "drop"
-secondary = {{ body = "block", face = "z-" }}
-primary = {{ rigid_body = "floor" }}
-"#,
-        end = (steps as f64 - 0.5) * dt,
-    )
+    implicit_block_drop([n; 3], steps, extra)
 }
 
 /// Runs `text` with the contact space and without; returns both summaries and histories.
