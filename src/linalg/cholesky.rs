@@ -68,6 +68,26 @@ pub struct FactorStats {
     pub contact_solve_seconds: f64,
 }
 
+impl FactorStats {
+    /// The stats of a factor of `a` analysed in `seconds` with `ordering`, before any
+    /// factorisation or solve.
+    fn analysed(
+        a: &Csc,
+        ordering: Ordering,
+        symbolic: &SymbolicCholesky<usize>,
+        seconds: f64,
+    ) -> FactorStats {
+        FactorStats {
+            ordering,
+            equations: a.n,
+            matrix_nonzeros: a.nnz(),
+            factor_nonzeros: symbolic.len_val(),
+            analysis_seconds: seconds,
+            ..FactorStats::default()
+        }
+    }
+}
+
 pub struct SpdSolver {
     symbolic: Arc<SymbolicCholesky<usize>>,
     pattern: SymbolicSparseColMat<usize>,
@@ -167,18 +187,10 @@ impl SpdSolver {
     /// Orders, analyses the pattern and factorises.
     pub fn new(a: &Csc, ordering: Ordering) -> Result<SpdSolver> {
         let start = Instant::now();
-        let pattern =
-            SymbolicSparseColMat::new_checked(a.n, a.n, a.col_ptr.clone(), None, a.row_idx.clone());
+        let pattern = pattern_of(a);
         let symbolic = analyse(a, &pattern, ordering)?;
         let analysis_seconds = start.elapsed().as_secs_f64();
-        let stats = FactorStats {
-            ordering,
-            equations: a.n,
-            matrix_nonzeros: a.nnz(),
-            factor_nonzeros: symbolic.len_val(),
-            analysis_seconds,
-            ..FactorStats::default()
-        };
+        let stats = FactorStats::analysed(a, ordering, &symbolic, analysis_seconds);
         Self::with_symbolic(symbolic, pattern, stats, a)
     }
 
@@ -214,14 +226,8 @@ impl SpdSolver {
         match worth {
             true => Self::with_contact(a, (symbolic, pattern, start), contact),
             false => {
-                let stats = FactorStats {
-                    ordering,
-                    equations: a.n,
-                    matrix_nonzeros: a.nnz(),
-                    factor_nonzeros: plain.len_val(),
-                    analysis_seconds: start.elapsed().as_secs_f64(),
-                    ..FactorStats::default()
-                };
+                let seconds = start.elapsed().as_secs_f64();
+                let stats = FactorStats::analysed(a, ordering, &plain, seconds);
                 Self::with_symbolic(plain, pattern, stats, a)
             }
         }
@@ -238,14 +244,10 @@ impl SpdSolver {
         ),
         contact: Option<TrailingSolve>,
     ) -> Result<SpdSolver> {
+        let seconds = start.elapsed().as_secs_f64();
         let stats = FactorStats {
-            ordering: Ordering::NestedDissection,
-            equations: a.n,
-            matrix_nonzeros: a.nnz(),
-            factor_nonzeros: symbolic.len_val(),
-            analysis_seconds: start.elapsed().as_secs_f64(),
             contact_equations: contact.as_ref().map_or(0, |t| t.equations().len()),
-            ..FactorStats::default()
+            ..FactorStats::analysed(a, Ordering::NestedDissection, &symbolic, seconds)
         };
         let mut s = Self::with_symbolic(symbolic, pattern, stats, a)?;
         s.contact = contact;

@@ -649,10 +649,8 @@ impl Reader<'_> {
                     return Err(self.src.err(*l, format!("rigid part {pid} is held (CON1 = CON2 = 7): it takes no initial velocity")));
                 }
                 rigid.start(*v, *spin).map_err(|e| self.src.err(*l, e))?;
-                let along = |c: &str| {
-                    rigid.velocity[["x", "y", "z"].iter().position(|x| *x == c).unwrap_or(0)]
-                };
-                if let Some(c) = rigid.held.iter().find(|c| along(c) != 0.0) {
+                let mut axes = ["x", "y", "z"].into_iter().zip(rigid.velocity);
+                if let Some((c, _)) = axes.find(|(c, v)| *v != 0.0 && rigid.held.contains(c)) {
                     return Err(self.src.err(*l, format!("rigid part {pid}: its initial velocity moves its centre along {c}, which its *MAT_RIGID CON1 holds")));
                 }
             }
