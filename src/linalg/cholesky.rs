@@ -136,6 +136,15 @@ fn analyse_permuted(
     .map_err(|e| ImpactError::Solver(format!("symbolic analysis failed: {e:?}")))
 }
 
+/// The bytes a numeric factorisation on `symbolic` holds at its peak: its values and faer's
+/// workspace.
+fn factor_bytes(symbolic: &SymbolicCholesky<usize>) -> u64 {
+    let scratch = symbolic.factorize_numeric_llt_scratch::<f64>(par(), Default::default());
+    (symbolic.len_val() as u64)
+        .saturating_mul(8)
+        .saturating_add(scratch.size_bytes() as u64)
+}
+
 /// The numeric factor of `a` on a symbolic analysis of its pattern.
 pub(super) fn factorise(
     symbolic: &SymbolicCholesky<usize>,
@@ -143,9 +152,7 @@ pub(super) fn factorise(
 ) -> Result<Vec<f64>> {
     let scratch = symbolic.factorize_numeric_llt_scratch::<f64>(par(), Default::default());
     let values = symbolic.len_val();
-    let needed = (values as u64)
-        .saturating_mul(8)
-        .saturating_add(scratch.size_bytes() as u64);
+    let needed = factor_bytes(symbolic);
     let too_large = |limit: u64, limit_source: String| {
         ImpactError::TooLarge {
         // the run names the scene
@@ -183,35 +190,50 @@ pub(super) fn factorise(
     Ok(factor)
 }
 
-impl SpdSolver {
-    /// Orders, analyses the pattern and factorises.
-    pub fn new(a: &Csc, ordering: Ordering) -> Result<SpdSolver> {
+/// A factor's ordering and symbolic analysis, before any value is computed: what its
+/// numeric factorisation will hold is known exactly ([`Self::bytes`]), so a caller can check
+/// every factor of a model against the memory before allocating one.
+pub struct SpdAnalysis {
+    symbolic: Arc<SymbolicCholesky<usize>>,
+    pattern: SymbolicSparseColMat<usize>,
+    stats: FactorStats,
+    contact: Option<TrailingSolve>,
+}
+
+impl SpdAnalysis {
+    /// Orders and analyses the pattern of `a`.
+    pub fn new(a: &Csc, ordering: Ordering) -> Result<SpdAnalysis> {
         let start = Instant::now();
         let pattern = pattern_of(a);
         let symbolic = analyse(a, &pattern, ordering)?;
         let analysis_seconds = start.elapsed().as_secs_f64();
         let stats = FactorStats::analysed(a, ordering, &symbolic, analysis_seconds);
-        Self::with_symbolic(symbolic, pattern, stats, a)
+        Ok(SpdAnalysis {
+            symbolic,
+            pattern,
+            stats,
+            contact: None,
+        })
     }
 
     /// [`Self::new`] with the equations `last` marks numbered after all the others (nested
-    /// dissection of the rest), so that [`Self::contact_solve_in_place`] solves on them
-    /// alone (where the factor is supernodal).
-    pub fn with_last(a: &Csc, last: &[bool]) -> Result<SpdSolver> {
+    /// dissection of the rest), so that [`SpdSolver::contact_solve_in_place`] solves on
+    /// them alone (where the factor is supernodal).
+    pub fn with_last(a: &Csc, last: &[bool]) -> Result<SpdAnalysis> {
         let start = Instant::now();
         let pattern = pattern_of(a);
         let symbolic = analyse_permuted(&pattern, &nested_dissection_last(a, last)?)?;
         let count = last.iter().filter(|&&m| m).count();
         let contact = TrailingSolve::new(&symbolic, count);
-        Self::with_contact(a, (symbolic, pattern, start), contact)
+        Ok(Self::with_contact(a, (symbolic, pattern, start), contact))
     }
 
-    /// The factor for a multiplier iteration on the contact equations `last`: with them
+    /// The analysis for a multiplier iteration on the contact equations `last`: with them
     /// numbered last ([`Self::with_last`]) where its contact-space solve reads at most
     /// [`MAX_TRAILING_SHARE`] of the values of the factor `ordering` gives and its fill at
     /// most [`MAX_FILL_GROWTH`] times that factor's, else that factor without a contact
     /// space (too many contact equations for the model: their block is dense).
-    pub fn for_contact(a: &Csc, last: &[bool], ordering: Ordering) -> Result<SpdSolver> {
+    pub fn for_contact(a: &Csc, last: &[bool], ordering: Ordering) -> Result<SpdAnalysis> {
         let start = Instant::now();
         let pattern = pattern_of(a);
         let plain = analyse(a, &pattern, ordering)?;
@@ -224,17 +246,21 @@ impl SpdSolver {
                 && values <= MAX_FILL_GROWTH * plain_values
         });
         match worth {
-            true => Self::with_contact(a, (symbolic, pattern, start), contact),
+            true => Ok(Self::with_contact(a, (symbolic, pattern, start), contact)),
             false => {
                 let seconds = start.elapsed().as_secs_f64();
                 let stats = FactorStats::analysed(a, ordering, &plain, seconds);
-                Self::with_symbolic(plain, pattern, stats, a)
+                Ok(SpdAnalysis {
+                    symbolic: plain,
+                    pattern,
+                    stats,
+                    contact: None,
+                })
             }
         }
     }
 
-    /// The factor on a symbolic analysis with the contact equations last, and its
-    /// contact-space solve (if any).
+    /// The analysis with the contact equations last, and its contact-space solve (if any).
     fn with_contact(
         a: &Csc,
         (symbolic, pattern, start): (
@@ -243,15 +269,67 @@ impl SpdSolver {
             Instant,
         ),
         contact: Option<TrailingSolve>,
-    ) -> Result<SpdSolver> {
+    ) -> SpdAnalysis {
         let seconds = start.elapsed().as_secs_f64();
         let stats = FactorStats {
             contact_equations: contact.as_ref().map_or(0, |t| t.equations().len()),
             ..FactorStats::analysed(a, Ordering::NestedDissection, &symbolic, seconds)
         };
-        let mut s = Self::with_symbolic(symbolic, pattern, stats, a)?;
-        s.contact = contact;
+        SpdAnalysis {
+            symbolic,
+            pattern,
+            stats,
+            contact,
+        }
+    }
+
+    /// The values the factor will store.
+    pub fn values(&self) -> usize {
+        self.symbolic.len_val()
+    }
+
+    /// The equations numbered last for the contact space (0: none).
+    pub fn contact_equations(&self) -> usize {
+        self.stats.contact_equations
+    }
+
+    /// The bytes a numeric factorisation holds at its peak: the factor's values and faer's
+    /// workspace.
+    pub fn bytes(&self) -> u64 {
+        factor_bytes(&self.symbolic)
+    }
+
+    /// The numeric factor of `a`, whose pattern this analysis was made from.
+    pub fn factorise(self, a: &Csc) -> Result<SpdSolver> {
+        let mut s = SpdSolver {
+            factor: Vec::new(),
+            tree_solve: SupernodalSolve::new(&self.symbolic),
+            contact: self.contact,
+            symbolic: self.symbolic,
+            pattern: self.pattern,
+            stats: self.stats,
+            solves: Cell::new((0, 0.0)),
+            contact_solves: Cell::new((0, 0.0)),
+        };
+        s.refactor(&a.values)?;
         Ok(s)
+    }
+}
+
+impl SpdSolver {
+    /// Orders, analyses the pattern and factorises.
+    pub fn new(a: &Csc, ordering: Ordering) -> Result<SpdSolver> {
+        SpdAnalysis::new(a, ordering)?.factorise(a)
+    }
+
+    /// [`SpdAnalysis::with_last`], factorised.
+    pub fn with_last(a: &Csc, last: &[bool]) -> Result<SpdSolver> {
+        SpdAnalysis::with_last(a, last)?.factorise(a)
+    }
+
+    /// [`SpdAnalysis::for_contact`], factorised.
+    pub fn for_contact(a: &Csc, last: &[bool], ordering: Ordering) -> Result<SpdSolver> {
+        SpdAnalysis::for_contact(a, last, ordering)?.factorise(a)
     }
 
     /// The solve on the equations numbered last, where [`Self::with_last`] made one (a
@@ -273,26 +351,6 @@ impl SpdSolver {
         true
     }
 
-    fn with_symbolic(
-        symbolic: Arc<SymbolicCholesky<usize>>,
-        pattern: SymbolicSparseColMat<usize>,
-        stats: FactorStats,
-        a: &Csc,
-    ) -> Result<SpdSolver> {
-        let mut s = SpdSolver {
-            factor: Vec::new(),
-            tree_solve: SupernodalSolve::new(&symbolic),
-            contact: None,
-            symbolic,
-            pattern,
-            stats,
-            solves: Cell::new((0, 0.0)),
-            contact_solves: Cell::new((0, 0.0)),
-        };
-        s.refactor(&a.values)?;
-        Ok(s)
-    }
-
     /// A factorisation of another matrix with the same pattern (the effective matrix of another
     /// step size), reusing this one's ordering and symbolic analysis.
     pub fn sibling(&self, a: &Csc) -> Result<SpdSolver> {
@@ -312,7 +370,13 @@ impl SpdSolver {
             solve_seconds: 0.0,
             ..self.stats.clone()
         };
-        Self::with_symbolic(self.symbolic.clone(), self.pattern.clone(), stats, a)
+        let analysis = SpdAnalysis {
+            symbolic: self.symbolic.clone(),
+            pattern: self.pattern.clone(),
+            stats,
+            contact: None,
+        };
+        analysis.factorise(a)
     }
 
     /// Numeric refactorisation with new values on the same pattern.
@@ -394,6 +458,38 @@ mod tests {
         s.solve_in_place(&mut b);
         for i in 0..n {
             assert!((b[i] - x[i]).abs() < 1e-12);
+        }
+    }
+
+    /// The analysis knows the factor's size before it exists: the values a factorisation
+    /// on it stores are the values it announced, and its bytes count them and the workspace.
+    #[test]
+    fn an_analysis_announces_the_size_of_its_factor() {
+        let (nx, ny) = (30, 20);
+        let id = |i: usize, j: usize| (i * ny + j) as u32;
+        let mut t = Vec::new();
+        for i in 0..nx {
+            for j in 0..ny {
+                t.push((id(i, j), id(i, j), 4.5));
+                for (di, dj) in [(1, 0), (0, 1)] {
+                    if i + di < nx && j + dj < ny {
+                        t.push((id(i, j), id(i + di, j + dj), -1.0));
+                        t.push((id(i + di, j + dj), id(i, j), -1.0));
+                    }
+                }
+            }
+        }
+        let a = Csc::from_triplets(nx * ny, t);
+        for ordering in [Ordering::Amd, Ordering::NestedDissection] {
+            let analysis = SpdAnalysis::new(&a, ordering).unwrap();
+            let (values, bytes) = (analysis.values(), analysis.bytes());
+            assert!(
+                bytes >= 8 * values as u64,
+                "{bytes} bytes for {values} values"
+            );
+            let solver = analysis.factorise(&a).unwrap();
+            assert_eq!(solver.factor.len(), values);
+            assert_eq!(solver.stats().factor_nonzeros, values);
         }
     }
 

@@ -10,5 +10,5 @@ pub mod supernodal_solve;
 pub(crate) mod test_matrices;
 
 pub use assembly::{assemble, Assembled, Csc};
-pub use cholesky::{FactorStats, SpdSolver};
+pub use cholesky::{FactorStats, SpdAnalysis, SpdSolver};
 pub use ordering::Ordering;
