@@ -145,6 +145,27 @@ pub mod exit {
 }
 
 impl ImpactError {
+    /// An error raised below the scene's level (a factor too large for the memory) with the
+    /// scene's path.
+    pub fn at_scene(self, scene: &std::path::Path) -> ImpactError {
+        match self {
+            ImpactError::TooLarge {
+                path,
+                what,
+                estimate,
+                limit,
+                limit_source,
+            } if path.as_os_str().is_empty() => ImpactError::TooLarge {
+                path: scene.to_path_buf(),
+                what,
+                estimate,
+                limit,
+                limit_source,
+            },
+            e => e,
+        }
+    }
+
     /// The process exit status this error ends a command with.
     pub fn exit_code(&self) -> u8 {
         use ImpactError::*;

@@ -52,6 +52,20 @@ pub fn host_limit(held: u64) -> Option<(u64, String)> {
     best
 }
 
+/// What this process holds now, as the limit named by `source` (from [`host_limit`]) counts
+/// it: its address space (`VmSize`) against `ulimit -v`, its resident memory (`VmRSS`)
+/// otherwise; 0 where it cannot be read.
+pub fn process_bytes(source: &str) -> u64 {
+    let label = match source.contains("ulimit -v") {
+        true => "VmSize:",
+        false => "VmRSS:",
+    };
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|t| field(&t, label))
+        .map_or(0, |kib| kib.saturating_mul(1024))
+}
+
 /// The first number after `label` on its line (`unlimited` is none).
 pub(crate) fn field(text: &str, label: &str) -> Option<u64> {
     let line = text.lines().find(|l| l.starts_with(label))?;

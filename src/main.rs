@@ -446,7 +446,7 @@ fn check_command(scene: &Path, device: Option<String>) -> anyhow::Result<u8> {
     let device = parse_device(device)?.unwrap_or(sc.run.device);
     let mut clock = impact::output::summary::SetupClock::start();
     let setup = impact::setup::prepare(&sc, device, &mut |l| eprintln!("{l}"), &mut clock)?;
-    print!("{}", impact::report::model_report(&sc, &setup));
+    print!("{}", impact::report::model_report(&sc, &setup)?);
     Ok(exit::SUCCESS)
 }
 

@@ -3,13 +3,17 @@
 use std::fmt::Write as _;
 
 use crate::check::memory;
+use crate::error::{bytes, Result};
 use crate::integrate::explicit::lumped_mass;
+use crate::integrate::implicit::FactorPlan;
 use crate::integrate::stable_step::stable_step_on;
+use crate::linalg::assemble;
 use crate::scene::{Method, Scene};
 use crate::setup::{choose_method, Setup};
 
-/// The report of a prepared scene.
-pub fn model_report(scene: &Scene, setup: &Setup) -> String {
+/// The report of a prepared scene; an implicit model's factors are analysed for it, and
+/// refused as a run would refuse them when they do not fit the memory.
+pub fn model_report(scene: &Scene, setup: &Setup) -> Result<String> {
     let mut out = String::new();
     let _ = writeln!(out, "scene {}", scene.path.display());
     let _ = writeln!(out, "bodies:");
@@ -21,10 +25,34 @@ pub fn model_report(scene: &Scene, setup: &Setup) -> String {
     let _ = writeln!(out, "fixes:");
     fixes(&mut out, scene, setup);
     let _ = writeln!(out, "memory: {}", memory::describe(&setup.estimate));
+    if setup.method == Method::Implicit {
+        let _ = writeln!(out, "implicit factors: {}", implicit_factors(scene, setup)?);
+    }
     for w in &setup.warnings {
         let _ = writeln!(out, "warning: {}: {}", w.kind, w.message);
     }
-    out
+    Ok(out)
+}
+
+/// The implicit run's factors from their symbolic analysis (as the run plans them), checked
+/// against the memory.
+fn implicit_factors(scene: &Scene, setup: &Setup) -> Result<String> {
+    let settings = &scene.implicit;
+    let c_m = 1.0 / (settings.beta * setup.dt * setup.dt);
+    let asm = assemble(&setup.model, settings.mass, c_m);
+    // the GPU's kernels compute in f32, which keeps the iteration on the whole model
+    let exact = setup.ctx.is_none();
+    let plan = FactorPlan::new(&setup.model, settings, &asm, exact)?;
+    plan.check().map_err(|e| e.at_scene(&scene.path))?;
+    let space = match plan.effective.contact_equations() {
+        0 => "the contact iteration solves on the whole model".to_string(),
+        n => format!("the contact iteration solves on {n} contact equations"),
+    };
+    Ok(format!(
+        "{}; {} with their workspace (from the symbolic analysis); {space}",
+        plan.describe(),
+        bytes(plan.bytes())
+    ))
 }
 
 /// Each body: elements, nodes, dofs, mass, centre of mass and material.

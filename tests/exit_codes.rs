@@ -169,9 +169,40 @@ fn check_reports_the_model_without_running_it() {
         "impact: 25 secondary nodes against a surface, friction 0.3; initial gap",
         "fix[0]: 5 nodes of body `plate`, components xyz",
         "memory: host at least",
+        "implicit factors: effective matrix ",
+        "with their workspace (from the symbolic analysis)",
     ] {
         assert!(out.contains(part), "{out}\nshould contain {part:?}");
     }
+    // the factor check reports is the factor the run makes
+    let values = |text: &str, after: &str| -> usize {
+        let at = text
+            .find(after)
+            .unwrap_or_else(|| panic!("{after:?} in {text}"))
+            + after.len();
+        let digits: String = text[at..]
+            .chars()
+            .take_while(char::is_ascii_digit)
+            .collect();
+        digits.parse().unwrap()
+    };
+    let run = out_path("check_factor").join("run");
+    let ran = impact(&[
+        "run",
+        s(&repo().join("scenes/cube_on_plate.toml")),
+        "--out",
+        s(&run),
+        "--quiet",
+        "--overwrite",
+        "--device",
+        "cpu",
+    ]);
+    assert_eq!(code(&ran), 0, "{}", stderr(&ran));
+    let summary = std::fs::read_to_string(run.join("summary.json")).unwrap();
+    assert_eq!(
+        values(&out, "implicit factors: effective matrix "),
+        values(&summary, "\"factor_nonzeros\": ")
+    );
     let o = impact(&[
         "check",
         s(&repo().join("scenes/block_hex_drop.toml")),
@@ -235,11 +266,28 @@ fn an_implicit_factor_too_large_for_the_process_is_refused_before_it_is_allocate
     assert_eq!(code(&o), 3, "{}", stderr(&o));
     let err = stderr(&o);
     for part in [
-        "Cholesky factor",
+        "Cholesky factors",
         "symbolic analysis",
+        "effective matrix",
+        "consistent mass",
         "3.0 GiB",
         "ulimit -v",
     ] {
+        assert!(err.contains(part), "{err:?} should contain {part:?}");
+    }
+    // `impact check` analyses the factors as the run does, and refuses them alike
+    let o = Command::new("bash")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v 3145728; exec '{}' check '{}' --device cpu",
+            env!("CARGO_BIN_EXE_impact"),
+            s(&scene)
+        ))
+        .output()
+        .unwrap();
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let err = stderr(&o);
+    for part in ["Cholesky factors", "symbolic analysis", "3.0 GiB"] {
         assert!(err.contains(part), "{err:?} should contain {part:?}");
     }
 }

@@ -115,7 +115,7 @@ fn build_solver<'m>(
                 )?),
                 _ => Box::new(
                     ImplicitSolver::new(model, scene.implicit.clone(), dt, speed_scale, kern)
-                        .map_err(|e| of_scene(scene, e))?,
+                        .map_err(|e| e.at_scene(&scene.path))?,
                 ),
             }
         }
@@ -124,27 +124,6 @@ fn build_solver<'m>(
         p.schedule(setup.last_step, scene.checkpoint_every);
     }
     Ok(solver)
-}
-
-/// An error raised below the scene's level (a factor too large for the memory) with the
-/// scene's path.
-fn of_scene(scene: &Scene, e: ImpactError) -> ImpactError {
-    match e {
-        ImpactError::TooLarge {
-            path,
-            what,
-            estimate,
-            limit,
-            limit_source,
-        } if path.as_os_str().is_empty() => ImpactError::TooLarge {
-            path: scene.path.clone(),
-            what,
-            estimate,
-            limit,
-            limit_source,
-        },
-        e => e,
-    }
 }
 
 /// Every `[[exact]]` curve must name a history column.

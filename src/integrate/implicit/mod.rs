@@ -39,6 +39,7 @@
 
 mod contact;
 mod contact_space;
+mod factors;
 mod interface;
 mod substeps;
 mod workspace;
@@ -51,13 +52,14 @@ use crate::geometry::vector;
 use crate::kernels::contact_gap::NO_FACE;
 use crate::linalg::{assemble, Assembled, FactorStats, SpdSolver};
 use crate::model::{Model, Primary};
-use crate::scene::{ConstraintMeasure, ContactSpace, ImplicitSettings, Method, CONTACT_SPACE_MAX};
+use crate::scene::{ConstraintMeasure, ImplicitSettings, Method};
 
 use super::explicit::spin::{BodySpin, Spins};
 use super::integrator::{ImplicitFigures, Integrator};
 use super::state::{ContactReport, Energies, InterfaceEnd, StepReport};
 use super::SolverState;
 use contact::MultiplierIteration;
+pub(crate) use factors::FactorPlan;
 use interface::interface_states;
 use workspace::Workspace;
 
@@ -150,20 +152,19 @@ impl<'m> ImplicitSolver<'m> {
         let c_m = 1.0 / (settings.beta * dt * dt);
         let asm = assemble(model, settings.mass, c_m);
         let exact = kernels.unit_roundoff() < 1e-12;
-        let in_space = match settings.contact_space {
-            ContactSpace::Auto if exact => contact_space::contact_equations(model, &asm),
-            _ => vec![false; asm.dof_of.len()],
-        };
-        let count = in_space.iter().filter(|&&c| c).count();
-        let space = count > 0 && count <= CONTACT_SPACE_MAX;
-        let factor = |a| match space {
-            true => SpdSolver::for_contact(a, &in_space, settings.ordering),
-            false => SpdSolver::new(a, settings.ordering),
-        };
-        let solver = factor(&asm.effective)?;
-        let mass_solver = match &asm.consistent_mass {
-            Some(m) => Some(factor(m)?),
-            None => None,
+        let plan = FactorPlan::new(model, &settings, &asm, exact)?;
+        plan.check()?;
+        let FactorPlan {
+            effective,
+            mass,
+            in_space,
+            ..
+        } = plan;
+        let count = effective.contact_equations();
+        let solver = effective.factorise(&asm.effective)?;
+        let mass_solver = match (mass, &asm.consistent_mass) {
+            (Some(plan), Some(m)) => Some(plan.factorise(m)?),
+            _ => None,
         };
         let ndof = model.dofs();
         let f_ext = gravity_force(model, &asm);
