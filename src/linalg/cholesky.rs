@@ -352,7 +352,8 @@ impl SpdSolver {
     }
 
     /// A factorisation of another matrix with the same pattern (the effective matrix of another
-    /// step size), reusing this one's ordering and symbolic analysis.
+    /// step size), reusing this one's ordering and symbolic analysis, and its contact space
+    /// where it has one.
     pub fn sibling(&self, a: &Csc) -> Result<SpdSolver> {
         if a.n != self.pattern.nrows()
             || a.col_ptr != self.pattern.col_ptr()
@@ -370,11 +371,13 @@ impl SpdSolver {
             solve_seconds: 0.0,
             ..self.stats.clone()
         };
+        let contact = (self.contact.as_ref())
+            .and_then(|t| TrailingSolve::new(&self.symbolic, t.equations().len()));
         let analysis = SpdAnalysis {
             symbolic: self.symbolic.clone(),
             pattern: self.pattern.clone(),
             stats,
-            contact: None,
+            contact,
         };
         analysis.factorise(a)
     }

@@ -41,27 +41,35 @@ pub(super) fn contact_equations(model: &Model, asm: &Assembled) -> Vec<bool> {
 }
 
 impl ImplicitSolver<'_> {
-    /// Whether this step's iteration may run on the contact space: the factors have one
-    /// (the gap rate with a consistent mass needs the mass factor's too), and the step is
-    /// not a sub-step (whose factor has none).
+    /// Whether this step's iteration may run on the contact space: the step's effective
+    /// factor has one (the sub-step's shares the run's symbolic analysis, and so its contact
+    /// space), and the gap rate with a consistent mass needs the mass factor's too.
     pub(super) fn contact_space_ready(&self, k: &StepConstants, sub: bool) -> bool {
         let mass_ready = match &self.mass_solver {
             Some(m) => k.endpoint || m.contact_space().is_some(),
             None => true,
         };
-        !sub && self.solver.contact_space().is_some() && mass_ready
+        self.effective(sub).contact_space().is_some() && mass_ready
     }
 
     /// One solve of the effective equation on the contact space: u_new's contact equations
     /// move by $(K_{eff}^{-1})_{CC}\, w_f\, (f_c - f_{c,last})$ and w takes $M^{-1} f_c$
     /// there. Returns the largest correction and increment on the contact equations, or
     /// `None` (nothing changed) where the forces changed outside them.
-    pub(super) fn contact_equilibrium(&mut self, k: &StepConstants) -> Result<Option<(f64, f64)>> {
+    pub(super) fn contact_equilibrium(
+        &mut self,
+        k: &StepConstants,
+        sub: bool,
+    ) -> Result<Option<(f64, f64)>> {
         self.contact.forces_into(self.model, &mut self.work.f_c);
         let (f_c, f_last) = (&self.work.f_c, &self.work.f_last);
         let outside = (self.asm.dof_of.iter().zip(&self.in_space))
             .any(|(&d, &inside)| !inside && f_c[d as usize] != f_last[d as usize]);
-        let Some(space) = self.solver.contact_space() else {
+        let solver = match (sub, &self.sub_solver) {
+            (true, Some(s)) => s,
+            _ => &self.solver,
+        };
+        let Some(space) = solver.contact_space() else {
             return Ok(None);
         };
         if outside {
@@ -73,7 +81,7 @@ impl ImplicitSolver<'_> {
             let d = self.asm.dof_of[e] as usize;
             *r = k.force_weight * (f_c[d] - f_last[d]);
         }
-        self.solver.contact_solve_in_place(rhs);
+        solver.contact_solve_in_place(rhs);
         let (mut corr, mut size) = (0.0f64, 0.0f64);
         for (&delta, &e) in rhs.iter().zip(equations) {
             let d = self.asm.dof_of[e] as usize;

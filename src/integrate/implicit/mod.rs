@@ -260,6 +260,8 @@ impl<'m> ImplicitSolver<'m> {
             stats.factorization_seconds += s.factorization_seconds;
             stats.solves += s.solves;
             stats.solve_seconds += s.solve_seconds;
+            stats.contact_solves += s.contact_solves;
+            stats.contact_solve_seconds += s.contact_solve_seconds;
         }
         stats
     }
@@ -303,7 +305,7 @@ impl<'m> ImplicitSolver<'m> {
         let mut ahead = false;
         for _k in 0..self.settings.max_iterations {
             let on_space = match space && report.iterations > 0 {
-                true => self.contact_equilibrium(&k)?,
+                true => self.contact_equilibrium(&k, sub)?,
                 false => None,
             };
             ahead |= on_space.is_some();
@@ -342,6 +344,14 @@ impl<'m> ImplicitSolver<'m> {
         }
         self.accept(&k)?;
         Ok(report)
+    }
+
+    /// The effective matrix's factor of the step (`sub`: the sub-step's, where it was made).
+    fn effective(&self, sub: bool) -> &SpdSolver {
+        match (sub, &self.sub_solver) {
+            (true, Some(s)) => s,
+            _ => &self.solver,
+        }
     }
 
     /// The constants of a step of length `h`.
@@ -434,10 +444,7 @@ impl<'m> ImplicitSolver<'m> {
         self.work.f_c = f_c;
         self.work.w = w;
         let mut delta = std::mem::take(&mut self.work.rhs);
-        match (sub, &self.sub_solver) {
-            (true, Some(s)) => s.solve_in_place(&mut delta),
-            _ => self.solver.solve_in_place(&mut delta),
-        }
+        self.effective(sub).solve_in_place(&mut delta);
         let mut corr = 0.0f64;
         let mut size = 0.0f64;
         for (e, &d) in self.asm.dof_of.iter().enumerate() {
