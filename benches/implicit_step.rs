@@ -11,7 +11,10 @@
 //!   sub-steps: the first steps are the block's impact, so they are refined into 4 sub-steps
 //!   each (the sub-step's factorisation is counted in its step).
 //!
-//! `cargo bench --bench implicit_step` (add `-- --quick` for a smaller block).
+//! `cargo bench --bench implicit_step` (add `-- --quick` for a smaller block, or `-- --large`
+//! for the steps table alone on a block of 101,376 elements, Anderson with the default
+//! event sub-steps on the whole model and on the contact space: its factors need about
+//! 16 GB).
 
 use std::path::Path;
 use std::time::Instant;
@@ -71,11 +74,12 @@ fn factor_table(asm: &Assembled, elements: usize) {
 }
 
 fn main() {
-    let quick = std::env::args().any(|a| a == "--quick");
-    let sizes: &[[usize; 3]] = if quick {
-        &[[12, 12, 8]]
-    } else {
-        &[[16, 16, 12], [30, 30, 20]]
+    let flag = |f: &str| std::env::args().any(|a| a == f);
+    let (quick, large) = (flag("--quick"), flag("--large"));
+    let sizes: &[[usize; 3]] = match (quick, large) {
+        (true, _) => &[[12, 12, 8]],
+        (false, true) => &[[48, 48, 44]],
+        (false, false) => &[[16, 16, 12], [30, 30, 20]],
     };
     let all = rayon::current_num_threads();
     let models: Vec<(Scene, Model)> = sizes
@@ -87,6 +91,10 @@ fn main() {
             (sc, model)
         })
         .collect();
+    if large {
+        steps_table(&models, all, true);
+        return;
+    }
     println!("Factorisation of the effective matrix (1 thread and {all} threads; faer with {FAER_TASKS} tasks):\n");
     println!("| elements | equations | ordering | factor nonzeros | ordering + analysis s | factorisation s, 1 thread | factorisation s, {all} threads | solve pair ms, 1 thread | solve pair ms, {all} threads |");
     println!("|---:|---:|---|---:|---:|---:|---:|---:|---:|");
@@ -103,16 +111,21 @@ fn main() {
         let asm = assemble(model, sc.implicit.mass, 1.0 / (0.25 * dt * dt));
         contact_space_row(&asm, model);
     }
+    steps_table(&models, all, false);
+}
+
+/// The table of steps with contact; `large`: Anderson with the default sub-steps only.
+fn steps_table(models: &[(Scene, Model)], all: usize, large: bool) {
     println!(
         "\nSteps with contact ({all} threads, ordering {}):\n",
         Ordering::default().name()
     );
     println!(
-        "| elements | free dofs | contact nodes | assembly s | acceleration | event sub-steps | contact space | step ms (mean of 5) | iterations/step | steps refined |"
+        "| elements | free dofs | contact nodes | assembly s | acceleration | event sub-steps | contact space | setup s (factors s) | step ms (mean of 5) | iterations/step | steps refined |"
     );
-    println!("|---:|---:|---:|---:|---|---:|---|---:|---:|---:|");
-    for (sc, model) in &models {
-        step_rows(sc, model);
+    println!("|---:|---:|---:|---:|---|---:|---|---:|---:|---:|---:|");
+    for (sc, model) in models {
+        step_rows(sc, model, large);
     }
 }
 
@@ -150,7 +163,7 @@ fn contact_space_row(asm: &Assembled, model: &Model) {
 
 /// Five steps of the block's impact with each multiplier iteration, on the whole model and
 /// on the contact space.
-fn step_rows(sc: &Scene, model: &Model) {
+fn step_rows(sc: &Scene, model: &Model, large: bool) {
     let dt = sc.run.time_step.unwrap();
     let (t_asm, asm) = timed(|| assemble(model, sc.implicit.mass, 1.0 / (0.25 * dt * dt)));
     let configs = [
@@ -162,15 +175,28 @@ fn step_rows(sc: &Scene, model: &Model) {
             sc.implicit.event_substeps,
         ),
     ];
+    let configs = match large {
+        true => &configs[2..],
+        false => &configs[..],
+    };
     let spaces = [ContactSpace::Off, ContactSpace::Auto];
-    for (space, (name, acc, k)) in spaces.iter().flat_map(|&s| configs.map(|c| (s, c))) {
+    for (space, &(name, acc, k)) in spaces
+        .iter()
+        .flat_map(|&s| configs.iter().map(move |c| (s, c)))
+    {
         let mut settings = sc.implicit.clone();
         settings.acceleration = acc;
         settings.event_substeps = k;
         settings.contact_space = space;
         let kernels = Box::new(CpuKernels::new(model.element_data()));
-        let mut s =
-            ImplicitSolver::new(model, settings, dt, sc.speed_scale(), kernels).expect("solver");
+        let (t_setup, mut s) = timed(|| {
+            ImplicitSolver::new(model, settings, dt, sc.speed_scale(), kernels).expect("solver")
+        });
+        let factors = [Some(s.linear_solver()), s.mass_factor()]
+            .iter()
+            .flatten()
+            .map(|f| f.analysis_seconds + f.factorization_seconds)
+            .sum::<f64>();
         let steps = 5;
         let mut iters = 0;
         let (t, ()) = timed(|| {
@@ -180,7 +206,7 @@ fn step_rows(sc: &Scene, model: &Model) {
         });
         let contact = s.linear_solver().contact_equations;
         println!(
-            "| {} | {} | {} | {:.2} | {name} | {k} | {} | {:.0} | {:.1} | {} |",
+            "| {} | {} | {} | {:.2} | {name} | {k} | {} | {t_setup:.1} ({factors:.1}) | {:.0} | {:.1} | {} |",
             model.mesh.element_count(),
             asm.dof_of.len(),
             model.interfaces[0].nodes.len(),
