@@ -150,9 +150,45 @@ fn split_supervariables(a: &Csc, last: &[bool]) -> Vec<usize> {
     starts
 }
 
+/// The connected component of each equation in the graph of `a` (numbered by their first
+/// equation's order).
+fn components(a: &Csc) -> Vec<usize> {
+    let mut parent: Vec<usize> = (0..a.n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for j in 0..a.n {
+        for &i in &a.row_idx[a.col_ptr[j]..a.col_ptr[j + 1]] {
+            let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+            if ri != rj {
+                parent[ri.max(rj)] = ri.min(rj);
+            }
+        }
+    }
+    let mut number = vec![usize::MAX; a.n];
+    let mut count = 0;
+    (0..a.n)
+        .map(|j| {
+            let r = root(&mut parent, j);
+            if number[r] == usize::MAX {
+                number[r] = count;
+                count += 1;
+            }
+            number[r]
+        })
+        .collect()
+}
+
 /// The nested-dissection permutation of a symmetric matrix that numbers the equations
-/// `last` marks after all the others, in their own order: the trailing block of the
-/// Cholesky factor is then the factor of the Schur complement on them (the contact space).
+/// `last` marks after all the others: the trailing block of the Cholesky factor is then the
+/// factor of the Schur complement on them (the contact space). They keep their own order
+/// within each connected component of the matrix's graph, one component after the other
+/// (the consistent mass couples x dofs with x dofs only: its trailing block is three dense
+/// blocks, each then contiguous, whose supernodes are whole rather than one column wide).
 /// The other equations are ordered by nested dissection of their own graph.
 pub fn nested_dissection_last(a: &Csc, last: &[bool]) -> Result<Permutation> {
     debug_assert_eq!(last.len(), a.n);
@@ -180,7 +216,10 @@ pub fn nested_dissection_last(a: &Csc, last: &[bool]) -> Result<Permutation> {
         let s = interior[k];
         forward.extend(starts[s]..starts[s + 1]);
     }
-    forward.extend((0..a.n).filter(|&j| last[j]));
+    let component = components(a);
+    let mut trailing: Vec<usize> = (0..a.n).filter(|&j| last[j]).collect();
+    trailing.sort_by_key(|&j| component[j]);
+    forward.extend(trailing);
     Ok(from_forward(forward))
 }
 
@@ -289,6 +328,33 @@ mod tests {
         assert_eq!(none.forward.len(), a.n);
         let all = nested_dissection_last(&a, &vec![true; a.n]).unwrap();
         assert_eq!(all.forward, (0..a.n).collect::<Vec<_>>());
+    }
+
+    /// A matrix whose dofs decouple by component (a mass: x with x only) numbers its marked
+    /// equations one component after the other, each in its own order.
+    #[test]
+    fn marked_equations_of_decoupled_components_are_grouped() {
+        let nodes: usize = 30;
+        let mut t = Vec::new();
+        for n in 0..nodes {
+            for m in n.saturating_sub(1)..(n + 2).min(nodes) {
+                for a in 0..3 {
+                    let v = if n == m { 4.0 } else { -0.1 };
+                    t.push(((3 * n + a) as u32, (3 * m + a) as u32, v));
+                }
+            }
+        }
+        let a = Csc::from_triplets(3 * nodes, t);
+        let mut last = vec![false; a.n];
+        for n in [2, 11, 12, 29] {
+            last[3 * n..3 * n + 3].fill(true);
+        }
+        let p = nested_dissection_last(&a, &last).unwrap();
+        let tail = &p.forward[a.n - 12..];
+        let by_component: Vec<usize> = (0..3)
+            .flat_map(|c| [2, 11, 12, 29].map(|n| 3 * n + c))
+            .collect();
+        assert_eq!(tail, &by_component[..]);
     }
 
     #[test]

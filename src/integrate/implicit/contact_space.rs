@@ -111,6 +111,11 @@ impl ImplicitSolver<'_> {
                 }
             }
             Some(ms) => {
+                // the same equations, in the mass factor's own trailing order
+                let Some(mass_space) = ms.contact_space() else {
+                    return;
+                };
+                let equations = mass_space.equations();
                 let rhs = &mut self.contact_rhs;
                 for (r, &e) in rhs.iter_mut().zip(equations) {
                     *r = f_c[self.asm.dof_of[e] as usize];
