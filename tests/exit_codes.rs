@@ -217,6 +217,26 @@ fn check_reports_the_model_without_running_it() {
     assert!(!out_path("check").exists());
 }
 
+/// `impact` with `args` under `ulimit -v kib`: it must exit 3, and its error must name each
+/// of `parts`.
+fn refused_under_limit(kib: u64, args: &[&str], parts: &[&str]) {
+    let quoted: Vec<String> = args.iter().map(|a| format!("'{a}'")).collect();
+    let o = Command::new("bash")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v {kib}; exec '{}' {}",
+            env!("CARGO_BIN_EXE_impact"),
+            quoted.join(" ")
+        ))
+        .output()
+        .unwrap();
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let err = stderr(&o);
+    for part in parts {
+        assert!(err.contains(part), "{err:?} should contain {part:?}");
+    }
+}
+
 #[test]
 fn a_model_too_large_for_the_process_is_refused_before_it_is_built() {
     // "a 1,000,000-element implicit box on a 4 GiB limit" aborted in assembly
@@ -226,20 +246,11 @@ fn a_model_too_large_for_the_process_is_refused_before_it_is_built() {
         "divisions = [100, 100, 100]",
     );
     let scene = scene_file("exit_too_large", &text);
-    let o = Command::new("bash")
-        .arg("-c")
-        .arg(format!(
-            "ulimit -v 4194304; exec '{}' check '{}' --device cpu",
-            env!("CARGO_BIN_EXE_impact"),
-            s(&scene)
-        ))
-        .output()
-        .unwrap();
-    assert_eq!(code(&o), 3, "{}", stderr(&o));
-    let err = stderr(&o);
-    for part in ["needs about", "triplets", "4.0 GiB", "ulimit -v"] {
-        assert!(err.contains(part), "{err:?} should contain {part:?}");
-    }
+    refused_under_limit(
+        4194304,
+        &["check", s(&scene), "--device", "cpu"],
+        &["needs about", "triplets", "4.0 GiB", "ulimit -v"],
+    );
 }
 
 /// "a 196,608-element block under `ulimit -v 6 GiB` passes the memory check, then dies with
@@ -253,43 +264,33 @@ fn an_implicit_factor_too_large_for_the_process_is_refused_before_it_is_allocate
         scene_text("two_bars.toml").replace("divisions = [10, 1, 1]", "divisions = [40, 40, 30]");
     let scene = scene_file("exit_factor_too_large", &text);
     let out = out_path("exit_factor_too_large").join("run");
-    let o = Command::new("bash")
-        .arg("-c")
-        .arg(format!(
-            "ulimit -v 3145728; exec '{}' run '{}' --out '{}' --quiet --device cpu",
-            env!("CARGO_BIN_EXE_impact"),
-            s(&scene),
-            s(&out)
-        ))
-        .output()
-        .unwrap();
-    assert_eq!(code(&o), 3, "{}", stderr(&o));
-    let err = stderr(&o);
-    for part in [
-        "Cholesky factors",
-        "symbolic analysis",
-        "effective matrix",
-        "consistent mass",
-        "3.0 GiB",
-        "ulimit -v",
-    ] {
-        assert!(err.contains(part), "{err:?} should contain {part:?}");
-    }
+    let run = [
+        "run",
+        s(&scene),
+        "--out",
+        s(&out),
+        "--quiet",
+        "--device",
+        "cpu",
+    ];
+    refused_under_limit(
+        3145728,
+        &run,
+        &[
+            "Cholesky factors",
+            "symbolic analysis",
+            "effective matrix",
+            "consistent mass",
+            "3.0 GiB",
+            "ulimit -v",
+        ],
+    );
     // `impact check` analyses the factors as the run does, and refuses them alike
-    let o = Command::new("bash")
-        .arg("-c")
-        .arg(format!(
-            "ulimit -v 3145728; exec '{}' check '{}' --device cpu",
-            env!("CARGO_BIN_EXE_impact"),
-            s(&scene)
-        ))
-        .output()
-        .unwrap();
-    assert_eq!(code(&o), 3, "{}", stderr(&o));
-    let err = stderr(&o);
-    for part in ["Cholesky factors", "symbolic analysis", "3.0 GiB"] {
-        assert!(err.contains(part), "{err:?} should contain {part:?}");
-    }
+    refused_under_limit(
+        3145728,
+        &["check", s(&scene), "--device", "cpu"],
+        &["Cholesky factors", "symbolic analysis", "3.0 GiB"],
+    );
 }
 
 #[test]
