@@ -15,7 +15,7 @@ use crate::error::Result;
 use crate::linalg::Assembled;
 use crate::model::{Model, Primary};
 
-use super::{ImplicitSolver, StepConstants};
+use super::{step_factor, ImplicitSolver, StepConstants};
 
 /// The contact equations, marked in equation order: every free dof of the interfaces'
 /// secondary nodes, the nodes of their primary surfaces and their rigid bodies' nodes.
@@ -65,10 +65,7 @@ impl ImplicitSolver<'_> {
         let (f_c, f_last) = (&self.work.f_c, &self.work.f_last);
         let outside = (self.asm.dof_of.iter().zip(&self.in_space))
             .any(|(&d, &inside)| !inside && f_c[d as usize] != f_last[d as usize]);
-        let solver = match (sub, &self.sub_solver) {
-            (true, Some(s)) => s,
-            _ => &self.solver,
-        };
+        let solver = step_factor(&self.solver, &self.sub_solver, sub);
         let Some(space) = solver.contact_space() else {
             return Ok(None);
         };

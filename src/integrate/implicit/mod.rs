@@ -348,10 +348,7 @@ impl<'m> ImplicitSolver<'m> {
 
     /// The effective matrix's factor of the step (`sub`: the sub-step's, where it was made).
     fn effective(&self, sub: bool) -> &SpdSolver {
-        match (sub, &self.sub_solver) {
-            (true, Some(s)) => s,
-            _ => &self.solver,
-        }
+        step_factor(&self.solver, &self.sub_solver, sub)
     }
 
     /// The constants of a step of length `h`.
@@ -751,6 +748,19 @@ impl Integrator for ImplicitSolver<'_> {
 }
 
 /// The velocity of the interface's rigid body where it is prescribed (its driver works).
+/// [`ImplicitSolver::effective`] from the two factors alone (for a caller that borrows the
+/// solver's other fields mutably meanwhile).
+fn step_factor<'a>(
+    solver: &'a SpdSolver,
+    sub_solver: &'a Option<SpdSolver>,
+    sub: bool,
+) -> &'a SpdSolver {
+    match (sub, sub_solver) {
+        (true, Some(s)) => s,
+        _ => solver,
+    }
+}
+
 fn driven_velocity(model: &Model, itf: &crate::model::Interface, v: &[f64]) -> Option<[f64; 3]> {
     let Primary::Rigid { body, node, .. } = itf.primary else {
         return None;
