@@ -21,14 +21,15 @@
 //! `-- --resident` times the resident engine alone; `-- --sweeps N` fixes the contact
 //! sweeps the resident engine records per step; `-- --search-interval N` fixes the steps
 //! between its contact search's sorts of the faces (1: every step); `-- --plate` runs the
-//! plate scene alone and
+//! plate scene alone; `-- --dispatches` times each kernel of a resident submission on the
+//! device (adapters with timestamps inside passes); and
 //! `-- --no-large` leaves the 10^7-element rows out).
 
 use std::path::Path;
 use std::time::Instant;
 
 use impact::backend::{CpuKernels, Kernels};
-use impact::gpu::inspect::Stage;
+use impact::gpu::inspect::{KernelTime, Stage};
 use impact::gpu::{GpuContext, GpuKernels};
 use impact::integrate::resident;
 use impact::integrate::stable_step::{stable_step, stable_step_on};
@@ -112,6 +113,10 @@ struct Resident {
     /// sort; setup and every sweep in `contact_finish`; setup, the recorded sweeps and
     /// `contact_finish`; report.
     contact_parts: Option<[f64; 5]>,
+    /// `-- --dispatches`: each kernel of a submission timed on the device (kernel,
+    /// dispatches per step, microseconds per step), where the adapter has timestamps
+    /// inside passes.
+    dispatches: Option<Vec<KernelTime>>,
 }
 
 /// The bytes one explicit step moves at least: per node the predictor (a, v), drift (v, u),
@@ -199,6 +204,13 @@ fn time_resident(
     let engine = s.engine_mut();
     let reps = steps.clamp(4, 50);
     let recorded = engine.sweeps();
+    // every timing below starts from the state the timed steps left
+    engine.drain().expect("the last submissions");
+    let state = engine.read_step_state().expect("the step state");
+    let dispatches = match std::env::args().any(|a| a == "--dispatches") {
+        true => engine.profile_dispatches(chunk).expect("dispatch profile"),
+        false => None,
+    };
     let contact_parts = engine
         .time_contact_parts(reps, recorded)
         .expect("contact part timing")
@@ -213,10 +225,12 @@ fn time_resident(
     ]
     .into_iter()
     .map(|(name, stage)| {
+        engine.write_step_state(&state).expect("the step state");
         let t = engine.time_stage(stage, reps).expect("stage timing");
         (name, t.as_secs_f64() / reps as f64 * 1e6)
     })
     .collect::<Vec<_>>();
+    engine.write_step_state(&state).expect("the step state");
     let host = engine.recording_time(chunk).expect("recording time");
     let mut stages: Vec<(&'static str, f64)> = stages;
     stages.push((
@@ -235,6 +249,7 @@ fn time_resident(
         sweeps,
         rebuilds,
         contact_parts,
+        dispatches,
     }
 }
 
@@ -347,6 +362,11 @@ fn table(
             r.rebuilds.map_or("-".into(), |x| format!("{x:.3}")),
         );
     }
+    for (elements, r) in &stage_rows {
+        if let Some(d) = &r.dispatches {
+            print_dispatches(*elements, d);
+        }
+    }
     if stage_rows.iter().all(|(_, r)| r.contact_parts.is_none()) {
         return;
     }
@@ -360,6 +380,20 @@ fn table(
                 p[0], p[1], p[2], p[3], p[4]
             );
         }
+    }
+}
+
+/// A submission's kernels (`-- --dispatches`), timed on the device in the step's sequence.
+fn print_dispatches(elements: usize, kernels: &[KernelTime]) {
+    let dispatches: f64 = kernels.iter().map(|k| k.dispatches).sum();
+    let sum: f64 = kernels.iter().map(|k| k.us).sum();
+    println!(
+        "\nThe resident step's kernels at {elements} elements, timed in one submission as the run records it (a timestamp after each dispatch; a dispatch's time, from the timestamp before it, includes its barrier and launch): {dispatches:.1} dispatches and {sum:.1} us per step:\n"
+    );
+    println!("| kernel | dispatches per step | us per step |");
+    println!("|---|---:|---:|");
+    for k in kernels {
+        println!("| {} | {:.2} | {:.1} |", k.name, k.dispatches, k.us);
     }
 }
 

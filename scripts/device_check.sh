@@ -7,6 +7,8 @@
 #   bash scripts/device_check.sh prepare   # here: the loader packages (.gl/), the stripped
 #                                          # binaries and the project (.gpu/)
 #   bash scripts/device_check.sh device    # there, with carry [".gl", ".gpu"]
+#   bash scripts/device_check.sh pack-bench LABEL   # here: this build's explicit_step bench
+#   bash scripts/device_check.sh bench ARGS         # there: every packed bench with ARGS
 #
 # The test binaries look for scenes at the path they were built in, so the device unpacks the
 # project there.
@@ -77,8 +79,41 @@ device() {
     tar czf "$final"/results.tgz -C "$out" .
 }
 
+# Packs this build's explicit_step bench as .gpu/bench/explicit_step_<label> (several labels
+# side by side: a build before a change and after it, timed in one call on one card).
+pack_bench() {
+    cd "$here"
+    label=${1:?a label}
+    cargo build --release --bench explicit_step
+    f=$(ls -t target/release/deps/explicit_step-* | grep -v '\.d$' | head -1)
+    mkdir -p .gpu/bench
+    strip -o .gpu/bench/explicit_step_"$label" "$f"
+    gzip -f .gpu/bench/explicit_step_"$label"
+    du -sh .gpu/bench
+}
+
+# Runs every packed explicit_step bench with the arguments given, in label order, each
+# table into $OUT/bench_<label>.md.
+bench() {
+    for f in "$here"/.gl/*.deb; do dpkg -x "$f" /; done
+    ldconfig
+    export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+    export WGPU_BACKEND=vulkan
+    final=${OUT:-/tmp/out}
+    mkdir -p "$final"
+    dir=$(mktemp -d)
+    for g in "$here"/.gpu/bench/explicit_step_*.gz; do
+        label=$(basename "$g" .gz)
+        label=${label#explicit_step_}
+        gunzip -c "$g" > "$dir/$label" && chmod +x "$dir/$label"
+        "$dir/$label" "$@" 2>&1 | tee "$final/bench_$label.md" | tail -5
+    done
+}
+
 case "${1:-}" in
 prepare) prepare ;;
 device) device ;;
-*) echo "usage: $0 prepare|device" >&2; exit 2 ;;
+pack-bench) pack_bench "${2:-}" ;;
+bench) shift; bench "$@" ;;
+*) echo "usage: $0 prepare|device|pack-bench LABEL|bench ARGS" >&2; exit 2 ;;
 esac

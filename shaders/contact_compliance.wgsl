@@ -3,12 +3,19 @@
 // sum over the constraint's nodes of |weight| x touches x largest inverse mass (the
 // secondary node's weight is 1), or zero where the normal meets only prescribed dofs (such a
 // constraint cannot be enforced and is left out of the sweeps).
+//
+// Its first invocation also starts the iteration, in the dispatch before the first sweep
+// (the rule of `kernels::sweep_control` for an iteration not started): `contact_touches`
+// has counted the pairs in reach, and with none the iteration stops at once (0 sweeps, as
+// the host path), else it starts sweeping. After each sweep `contact_apply` applies the
+// stopping rule (its `stopping_rule`).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read_write> constraints: array<Constraint>;
 @group(0) @binding(2) var<storage, read> touches: array<f32>;
 @group(0) @binding(3) var<storage, read> lumped: array<Lumped>;
 @group(0) @binding(4) var<storage, read> pairs: array<ContactPair>;
+@group(0) @binding(5) var<storage, read_write> state: array<u32, 8>;
 
 fn along(n: u32, nrm: vec3<f32>) -> f32 {
     return dot(nrm * nrm, vec3_of(lumped[n].inv_mass));
@@ -27,6 +34,9 @@ fn corner_share(m: u32, w: f32, nrm: vec3<f32>) -> vec2<f32> {
 @compute @workgroup_size(64)
 fn contact_compliance(@builtin(global_invocation_id) gid: vec3<u32>) {
     let p = item_index(gid, params);
+    if (p == 0u && state[STATE_PHASE] == 0u) {
+        state[STATE_PHASE] = select(2u, 1u, state[STATE_ACTIVE] != 0u);
+    }
     if (p >= params.count) {
         return;
     }

@@ -522,7 +522,7 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     assert!(e <= TOL, "seed {seed}: contact_constraints {e:.2e}");
 
     // the bucket sort of the pairs by face
-    let [keys, starts, sorted] = it.read_sort(&ctx).unwrap();
+    let [keys, starts, sorted, counts] = it.read_sort(&ctx).unwrap();
     assert_eq!(keys, cpu_keys, "seed {seed}: keys");
     let nf = contact.faces.len();
     for f in 0..=nf {
@@ -534,9 +534,14 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
         assert_eq!(bucket, expected, "seed {seed}: bucket {f}");
     }
     // bucket_order: each face's bucket in pair order (the gathers then add in a fixed order)
-    let mut ordered = sorted.clone();
-    kernels::bucket_order(nf, &starts, &mut ordered);
+    // and the bucket sizes cleared for the next step's count
+    let (mut ordered, mut cleared) = (sorted.clone(), vec![1; nf + 1]);
+    kernels::bucket_order(nf, &starts, &mut ordered, &mut cleared);
     assert_eq!(sorted, ordered, "seed {seed}: bucket_order");
+    assert_eq!(
+        counts, cleared,
+        "seed {seed}: bucket_order clears the sizes"
+    );
 
     // touches and compliance
     let gpu_t = it.read_touches(&ctx, nodes).unwrap();
@@ -556,6 +561,30 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     let state = it.read_state(&ctx).unwrap();
     assert_eq!(state.active, active, "seed {seed}: pairs in reach");
     assert_eq!(active as usize, in_reach);
+    // contact_compliance's first invocation started the sweeps
+    let mut started = SweepState {
+        active,
+        ..Default::default()
+    };
+    kernels::sweep_control(&mut started, setup.tolerance, setup.max_iterations);
+    assert_eq!(state, started, "seed {seed}: the iteration's start");
+    // a second setup from the same state starts from cleared sizes and state words, as a
+    // step after a step does: the same sort and count
+    it.run(&ctx, |it, p| it.dispatch_setup(p, SearchMode::Keep))
+        .unwrap();
+    let again = it.read_sort(&ctx).unwrap();
+    // (the sentinel bucket of the pairs on no face keeps its atomics' order)
+    let faced = starts[nf] as usize;
+    assert_eq!(
+        [&again[0], &again[1], &again[2][..faced]],
+        [&keys[..], &starts, &sorted[..faced]],
+        "seed {seed}: a second setup's sort"
+    );
+    assert_eq!(
+        it.read_state(&ctx).unwrap(),
+        started,
+        "seed {seed}: a second setup"
+    );
     let mut cpu_c = gpu_c.clone();
     kernels::contact_compliance(&mut cpu_c, &contact.pairs, &gpu_t, &setup.lumped);
     let comp = |c: &[Constraint]| c.iter().map(|c| c.compliance).collect::<Vec<_>>();
@@ -989,4 +1018,55 @@ fn recorded_sweeps_follow_the_needs_of_the_steps() {
             "{tag}: {recorded} sweeps recorded for {needed} needed over {steps} steps"
         );
     }
+}
+
+/// The benchmarks' profile of a submission (`ResidentStep::profile_dispatches`) times every
+/// dispatch the run records, counted per step as the run records them (three recorded
+/// sweeps a step: three `contact_sweep` and three `contact_apply`), and leaves the step
+/// state as it found it.
+#[test]
+fn the_dispatch_profile_times_every_dispatch_and_leaves_the_state() {
+    let Some(ctx) = gpu_context("dispatch profile") else {
+        return;
+    };
+    let model = stack_model();
+    let (_, mut s) = resident_rows(&ctx, &model, 30, |s| s.fix_recorded_sweeps(3));
+    let engine = s.engine_mut();
+    engine.drain().unwrap();
+    let before = engine.read_step_state().unwrap();
+    let Some(kernels) = engine.profile_dispatches(10).unwrap() else {
+        eprintln!("dispatch profile: no timestamps inside passes on this adapter");
+        return;
+    };
+    for k in &kernels {
+        eprintln!("{}: {:.2} a step, {:.1} us", k.name, k.dispatches, k.us);
+        assert!(k.us >= 0.0 && k.us.is_finite(), "{}: {} us", k.name, k.us);
+    }
+    let per_step = |name: &str| {
+        (kernels.iter().find(|k| k.name == name))
+            .unwrap_or_else(|| panic!("{name} is not in the profile"))
+            .dispatches
+    };
+    for (name, n) in [
+        ("explicit_predict", 1.0),
+        ("contact_constraints", 1.0),
+        ("contact_sweep", 3.0),
+        ("contact_apply", 3.0),
+        ("contact_finish", 1.0),
+        ("hex8_forces", 1.0),
+        ("explicit_correct", 1.0),
+        ("history_reduce", 1.0),
+    ] {
+        assert!(
+            (per_step(name) - n).abs() < 1e-9,
+            "{name}: {}",
+            per_step(name)
+        );
+    }
+    assert!(kernels.iter().map(|k| k.us).sum::<f64>() > 0.0);
+    assert_eq!(
+        engine.read_step_state().unwrap(),
+        before,
+        "the state is left as found"
+    );
 }

@@ -125,8 +125,15 @@ pub struct GpuContext {
     pub adapter: AdapterSummary,
     pub limits: wgpu::Limits,
     /// The adapter's features (none is required by the kernels; `impact info` reports them).
+    /// Of them the device asks for [`PROFILING`] where the adapter has it all.
     pub features: wgpu::Features,
 }
+
+/// Timestamps between a compute pass's dispatches, which the benchmarks' profile of a step
+/// writes ([`crate::gpu::ResidentStep::profile_dispatches`]); nothing else uses them.
+pub const PROFILING: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
+    .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
+    .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
 
 /// The process's wgpu instance, made at the first use and never dropped.
 fn instance() -> &'static wgpu::Instance {
@@ -227,8 +234,14 @@ impl GpuContext {
         }
         let limits = adapter.limits();
         let features = adapter.features();
+        let profiling = if features.contains(PROFILING) {
+            PROFILING
+        } else {
+            wgpu::Features::empty()
+        };
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("impact"),
+            required_features: profiling,
             required_limits: limits.clone(),
             memory_hints: wgpu::MemoryHints::Performance,
             ..Default::default()

@@ -12,10 +12,11 @@
 //! 2. `contact_constraints`, one per pair (secondary node of an interface), then the pairs
 //!    in reach bucket-sorted by their primary face (`bucket_count`, `prefix_sum`,
 //!    `bucket_fill`, as the search sorts faces by cell) and each bucket put in pair order
-//!    (`bucket_order`: the atomics rank them in a different order every run);
+//!    (`bucket_order`: the atomics rank them in a different order every run; it also clears
+//!    the bucket sizes for the next step's count and the state words);
 //! 3. the row-sum compliance: `contact_touches` per contact node (it gathers the pairs of
-//!    its faces from the buckets) and `contact_compliance` per pair, then a first
-//!    `sweep_control`;
+//!    its faces from the buckets) and `contact_compliance` per pair, whose first
+//!    invocation starts the sweeps (or stops the iteration with no pair in reach);
 //! 4. the sweeps: `contact_sweep` per pair (impulse changes), `body_gather` per rigid body
 //!    range (one workgroup each sums its pairs' impulse changes), then `contact_apply` per
 //!    contact node (it gathers them into its velocity; its first invocation applies the
@@ -36,7 +37,7 @@ use super::kernel::Launch;
 use super::kernels::{
     BodyGather, BucketCount, BucketFill, BucketOrder, ContactApply, ContactCompliance,
     ContactConstraints, ContactFinish, ContactReportKernel, ContactSweep, ContactTouches,
-    FillWords, SearchBounds, SearchGridKernel, SweepControl,
+    FillWords, SearchBounds, SearchGridKernel,
 };
 use super::scan::Scan;
 use super::search::GpuSearch;
@@ -92,7 +93,6 @@ struct IterationKernels {
     compliance: ContactCompliance,
     sweep: ContactSweep,
     apply: ContactApply,
-    control: SweepControl,
     finish: ContactFinish,
     report: ContactReportKernel,
 }
@@ -113,7 +113,6 @@ impl IterationKernels {
             compliance: ContactCompliance::new(ctx),
             sweep: ContactSweep::new(ctx),
             apply: ContactApply::new(ctx),
-            control: SweepControl::new(ctx),
             finish: ContactFinish::new(ctx),
             report: ContactReportKernel::new(ctx),
         }
@@ -121,10 +120,9 @@ impl IterationKernels {
 }
 
 struct Launches {
-    /// The zeroing of the search bounds, the pair buckets' sizes and the state words.
+    /// The zeroing of the search bounds (`bucket_order` clears the pair buckets' sizes and
+    /// the state words).
     zero_bounds: Launch,
-    zero_counts: Launch,
-    zero_state: Launch,
     bounds: Option<Launch>,
     /// `search_grid` in each [`SearchMode`] (indexed by its value).
     grid: Option<[Launch; 3]>,
@@ -137,7 +135,6 @@ struct Launches {
     sweep: Launch,
     gather: Launch,
     apply: Launch,
-    control: Launch,
     finish: Launch,
     report: Launch,
 }
@@ -332,9 +329,16 @@ impl Bindings<'_> {
             &w.sort.sorted.buffer,
         );
         // the face buckets only: the sentinel bucket is never gathered
-        let order = k
-            .order
-            .launch(ctx, nf, 0, 0, &w.sort.starts.buffer, &w.sort.sorted.buffer);
+        let order = k.order.launch(
+            ctx,
+            nf,
+            0,
+            0,
+            &w.sort.starts.buffer,
+            &w.sort.sorted.buffer,
+            &w.sort.counts.buffer,
+            &w.state.buffer,
+        );
         [constraints, count, fill, order]
     }
 
@@ -363,13 +367,13 @@ impl Bindings<'_> {
             &w.touches.buffer,
             b.lumped,
             &m.pairs.buffer,
+            &w.state.buffer,
         );
         [touches, compliance]
     }
 
-    /// The sweeps' launches: `contact_sweep`, `contact_apply`, `sweep_control` and
-    /// `contact_finish`.
-    fn sweeps(&self) -> (Launch, Launch, Launch, Launch) {
+    /// The sweeps' launches: `contact_sweep`, `contact_apply` and `contact_finish`.
+    fn sweeps(&self) -> (Launch, Launch, Launch) {
         let (ctx, k, b, m, w) = (self.ctx, self.k, self.b, self.m, self.w);
         let sweep = k.sweep.launch(
             ctx,
@@ -399,7 +403,6 @@ impl Bindings<'_> {
             b.velocity,
             &w.state.buffer,
         );
-        let control = k.control.launch(ctx, 1, 0, 0, &w.state.buffer);
         let finish = k.finish.launch(
             ctx,
             self.np,
@@ -417,19 +420,12 @@ impl Bindings<'_> {
             &w.sort.sorted.buffer,
             b.lumped,
         );
-        (sweep, apply, control, finish)
+        (sweep, apply, finish)
     }
 
-    /// The zeroing launches (`fill_words`): the search bounds (three words), the pair
-    /// buckets' sizes and the state words.
-    fn zeroing(&self) -> [Launch; 3] {
-        let (ctx, k, w) = (self.ctx, self.k, self.w);
-        let zero = |words: usize, s: &Storage| k.zero.launch(ctx, words as u32, 0, 0, &s.buffer);
-        [
-            zero(3, &w.bounds),
-            zero(self.nf as usize + 1, &w.sort.counts),
-            zero(word::WORDS, &w.state),
-        ]
+    /// The search bounds' zeroing (`fill_words`, three words).
+    fn zero_bounds(&self) -> Launch {
+        (self.k.zero).launch(self.ctx, 3, 0, 0, &self.w.bounds.buffer)
     }
 
     /// The report's launch, `contact_report`.
@@ -455,8 +451,8 @@ impl Bindings<'_> {
         let (bounds, grid) = self.search(search, nodes);
         let [constraints, count, fill, order] = self.sort();
         let [touches, compliance] = self.compliance();
-        let (sweep, apply, control, finish) = self.sweeps();
-        let [zero_bounds, zero_counts, zero_state] = self.zeroing();
+        let (sweep, apply, finish) = self.sweeps();
+        let zero_bounds = self.zero_bounds();
         // one workgroup per rigid body range: Params.aux the pairs
         let gather = self.k.gather.launch(
             self.ctx,
@@ -470,8 +466,6 @@ impl Bindings<'_> {
         );
         Launches {
             zero_bounds,
-            zero_counts,
-            zero_state,
             bounds,
             grid,
             constraints,
@@ -483,7 +477,6 @@ impl Bindings<'_> {
             sweep,
             gather,
             apply,
-            control,
             finish,
             report: self.report(),
         }
@@ -623,8 +616,8 @@ impl ImpulseSweeps {
     }
 
     /// Dispatches the search (if any; the faces sorted into its grid again unless `mode`
-    /// keeps the last sort), the constraints up to their compliance and the first
-    /// `sweep_control`, inside an open compute pass. The results do not depend on `mode`.
+    /// keeps the last sort) and the constraints up to their compliance (which starts the
+    /// sweeps), inside an open compute pass. The results do not depend on `mode`.
     pub fn dispatch_setup(&self, pass: &mut wgpu::ComputePass, mode: SearchMode) {
         let (k, l) = (&self.kernels, &self.launches);
         if let (Some(search), Some(bounds), Some(grid)) = (&self.search, &l.bounds, &l.grid) {
@@ -637,16 +630,13 @@ impl ImpulseSweeps {
             search.dispatch_narrow(pass);
         }
         k.constraints.0.dispatch(pass, &l.constraints);
-        k.zero.0.dispatch(pass, &l.zero_counts);
         k.count.0.dispatch(pass, &l.count);
         self.scan.dispatch(pass);
         k.fill.0.dispatch(pass, &l.fill);
         k.order.0.dispatch(pass, &l.order);
-        k.zero.0.dispatch(pass, &l.zero_state);
         k.touches.0.dispatch(pass, &l.touches);
+        // its first invocation starts the sweeps, or stops with no pair in reach
         k.compliance.0.dispatch(pass, &l.compliance);
-        // before the first sweep: start the sweeps, or stop with no pair in reach
-        k.control.0.dispatch(pass, &l.control);
     }
 
     /// Dispatches `sweeps` sweeps (at most `max_iterations`), each a `contact_sweep` and a

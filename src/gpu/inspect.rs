@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 use super::buffer::{
     read_back, read_floats, staging, submit_and_read, submit_and_read_parts, Storage,
 };
+use super::captured;
 use super::context::GpuContext;
 use super::corner_select::CornerSelection;
 use super::engine::{bytes_of, GpuKernels};
@@ -23,6 +24,16 @@ use crate::error::{ImpactError, Result};
 use crate::kernels::plane_contact::SLOT;
 use crate::kernels::sweep_control::word;
 use crate::kernels::{Constraint, ContactPoint, ReduceColumn, SearchMode, SweepState};
+
+/// One kernel's share of a step on the device ([`ResidentStep::profile_dispatches`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct KernelTime {
+    pub name: &'static str,
+    /// Dispatches per step (a sort every few steps adds a fraction).
+    pub dispatches: f64,
+    /// Microseconds per step, its dispatches' barriers and launches included.
+    pub us: f64,
+}
 
 /// Wall time of `enc`'s commands alone: the device is left idle first, then they are
 /// submitted and waited for.
@@ -342,11 +353,7 @@ impl ResidentStep {
             }
             Stage::Drift => k.drift.0.record_launch(enc, &l.drift),
             Stage::InternalForces => self.k.record_internal_forces(enc),
-            Stage::Correct => {
-                for c in &l.correct {
-                    k.correct.0.record_launch(enc, c);
-                }
-            }
+            Stage::Correct => k.correct.0.record_launch(enc, &l.correct),
             Stage::Reduce => k.reduce.0.record_launch(enc, &l.reduce[0]),
         }
     }
@@ -368,8 +375,10 @@ impl ResidentStep {
         time_submission(&self.k.ctx, enc)
     }
 
-    /// The contact iteration's parts alone, each repeated `reps` times in one submission on
-    /// the device's current state (which they change, as the stages do): its setup (search
+    /// The contact iteration's parts alone, each repeated `reps` times in one submission
+    /// from the step state the engine holds (restored before each part; the repetitions of
+    /// a part change it, as the stages' do: the sweeps after the first repetition's start
+    /// from velocities that already meet the constraints): its setup (search
     /// with the faces' sort, constraints, sort, compliance); the setup keeping the faces'
     /// sort (after one sort); the setup and every sweep in `contact_finish`; the setup,
     /// `sweeps` recorded sweeps and `contact_finish`; and the report. None without a contact
@@ -379,11 +388,16 @@ impl ResidentStep {
         reps: usize,
         sweeps: u32,
     ) -> Result<Option<[Duration; 5]>> {
+        if self.contact.is_none() {
+            return Ok(None);
+        }
+        let state = self.read_step_state()?;
         let Some(c) = &self.contact else {
             return Ok(None);
         };
         let ctx = &self.k.ctx;
         let time = |part: &dyn Fn(&mut wgpu::CommandEncoder)| {
+            self.write_step_state(&state)?;
             let mut enc = ctx.encoder("contact_part_timing");
             for _ in 0..reps {
                 part(&mut enc);
@@ -409,6 +423,112 @@ impl ResidentStep {
             })?,
             time(&|enc| c.record(enc, |c, p| c.dispatch_report(p)))?,
         ]))
+        .and_then(|parts| self.write_step_state(&state).map(|_| parts))
+    }
+
+    /// Waits for the submissions in flight and drops their rows (the caller steps no more:
+    /// a benchmark about to time parts of the step from the state the steps left).
+    pub fn drain(&mut self) -> Result<()> {
+        for slot in 0..2 {
+            if self.is_pending(slot) {
+                self.collect(slot)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Each kernel of a submission timed on the device: a submission of `steps` steps
+    /// (fewer where the adapter's query set is too small) is recorded as the run records it
+    /// (the faces' sort at its first step and where the search interval says), in one
+    /// compute pass with a timestamp before the first dispatch and after each, from the
+    /// state the caller's steps left. A dispatch's time runs from the timestamp before it
+    /// to the one after it, so it includes its wait for the dispatch before (the barrier)
+    /// and its launch. Per kernel, in the order of its first dispatch: its name, its
+    /// dispatches and microseconds per step ([`KernelTime`]). `None` where the adapter has no
+    /// timestamps inside passes ([`super::context::PROFILING`]). Submissions in flight are
+    /// waited for first (their rows dropped: the caller steps no more); the state is left as
+    /// it was found.
+    pub fn profile_dispatches(&mut self, steps: usize) -> Result<Option<Vec<KernelTime>>> {
+        if !self
+            .k
+            .ctx
+            .device
+            .features()
+            .contains(super::context::PROFILING)
+        {
+            return Ok(None);
+        }
+        self.drain()?;
+        let state = self.read_step_state()?;
+        let ctx = self.k.ctx.clone();
+        let record = |steps| {
+            // recorded only to be captured: never submitted
+            let mut enc = ctx.encoder("dispatch_capture");
+            captured::capture(|| self.record_steps(&mut enc, steps))
+        };
+        let most = wgpu::QUERY_SET_MAX_QUERIES as usize - 1;
+        let mut steps = steps.clamp(1, self.chunk_capacity);
+        let mut list = record(steps);
+        // one timestamp per dispatch and one before them all
+        while list.len() > most && steps > 1 {
+            steps = (steps * most / list.len()).clamp(1, steps - 1);
+            list = record(steps);
+        }
+        let queries = (1 + list.len()) as u32;
+        let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("dispatch_profile"),
+            ty: wgpu::QueryType::Timestamp,
+            count: queries,
+        });
+        let resolved = Storage::with_usage(
+            &ctx,
+            "dispatch_profile",
+            8 * queries as u64,
+            wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+        )?;
+        let mut enc = ctx.encoder("dispatch_profile");
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("dispatch_profile"),
+                timestamp_writes: None,
+            });
+            pass.write_timestamp(&set, 0);
+            for (q, d) in list.iter().enumerate() {
+                d.dispatch(&mut pass);
+                pass.write_timestamp(&set, q as u32 + 1);
+            }
+        }
+        enc.resolve_query_set(&set, 0..queries, &resolved.buffer, 0);
+        let words: Vec<u32> = submit_and_read(
+            &ctx,
+            &mut self.k.staging,
+            enc,
+            &resolved.buffer,
+            2 * queries as usize,
+        )?;
+        self.write_step_state(&state)?;
+        let stamps: Vec<u64> = (words.chunks(2))
+            .map(|w| w[0] as u64 | (w[1] as u64) << 32)
+            .collect();
+        let us = ctx.queue.get_timestamp_period() as f64 * 1e-3;
+        let mut kernels: Vec<KernelTime> = Vec::new();
+        for (q, d) in list.iter().enumerate() {
+            let t = stamps[q + 1].saturating_sub(stamps[q]) as f64 * us / steps as f64;
+            let k = match kernels.iter().position(|k| k.name == d.name) {
+                Some(i) => &mut kernels[i],
+                None => {
+                    kernels.push(KernelTime {
+                        name: d.name,
+                        dispatches: 0.0,
+                        us: 0.0,
+                    });
+                    kernels.last_mut().expect("just pushed")
+                }
+            };
+            k.dispatches += 1.0 / steps as f64;
+            k.us += t;
+        }
+        Ok(Some(kernels))
     }
 
     /// The host's time to record and submit `steps` steps (without waiting for the device,
@@ -501,8 +621,9 @@ impl ImpulseSweeps {
         Ok(c.into_iter().map(Constraint::from).collect())
     }
 
-    /// The bucket keys, the bucket starts (faces + 2) and the sorted pairs.
-    pub fn read_sort(&mut self, ctx: &GpuContext) -> Result<[Vec<u32>; 3]> {
+    /// The bucket keys, the bucket starts (faces + 2), the sorted pairs and the bucket sizes
+    /// (faces + 1; `bucket_order` clears them for the next step's count).
+    pub fn read_sort(&mut self, ctx: &GpuContext) -> Result<[Vec<u32>; 4]> {
         let (np, nf, w) = (self.pairs, self.faces, &self.work);
         let mut read =
             |s: &Storage, n| read_back(ctx, &mut self.staging, CONTACT_READ, &s.buffer, n);
@@ -510,6 +631,7 @@ impl ImpulseSweeps {
             read(&w.sort.keys, np)?,
             read(&w.sort.starts, nf + 2)?,
             read(&w.sort.sorted, np)?,
+            read(&w.sort.counts, nf + 1)?,
         ])
     }
 

@@ -169,6 +169,7 @@ impl Kernel {
         bind: &wgpu::BindGroup,
         grid: [u32; 2],
     ) {
+        super::captured::note(self.name, &self.pipeline, bind, grid);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind, &[]);
         pass.dispatch_workgroups(grid[0], grid[1], 1);

@@ -56,11 +56,11 @@ kernel_table! {
     BodyGather = body_gather(links, constraints, dj, state);
     BucketCount = bucket_count(keys, counts, ranks);
     BucketFill = bucket_fill(keys, ranks, starts, sorted);
-    BucketOrder = bucket_order(starts, sorted);
+    BucketOrder = bucket_order(starts, sorted, counts, state);
     ContactApply = contact_apply(
         step, nodes, links, constraints, starts, sorted, dj, lumped, velocity, state,
     );
-    ContactCompliance = contact_compliance(constraints, touches, lumped, pairs);
+    ContactCompliance = contact_compliance(constraints, touches, lumped, pairs, state);
     ContactConstraints = contact_constraints(
         step, grid, reference, displacement, velocity, acceleration, pairs, points, faces,
         constraints, keys, rigid,
@@ -79,7 +79,7 @@ kernel_table! {
     ContactTouches = contact_touches(nodes, links, constraints, starts, sorted, touches, state);
     CornerSelect = corner_select(slots, corner_forces, chosen);
     ExplicitCorrect = explicit_correct(
-        step, displacement, forces, lumped, velocity, acceleration, partials,
+        step, displacement, forces, lumped, velocity, acceleration, partials, bodies,
     );
     ExplicitDrift = explicit_drift(step, velocity, displacement);
     ExplicitPredict = explicit_predict(step, acceleration, velocity);
@@ -103,7 +103,6 @@ kernel_table! {
     SearchGridKernel = search_grid(step, bounds, grid);
     SlipRate = slip_rate(reference, displacement, velocity, queries, faces, points, slip);
     StableStep = stable_step(reference, hex8_elements, tet4_elements, materials, steps);
-    SweepControl = sweep_control(state);
     Tet4Forces = tet4_forces(
         reference, displacement, block_nodes, block_material, materials, corner_forces,
     );

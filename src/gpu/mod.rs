@@ -6,6 +6,7 @@
 
 mod bucket_sort;
 pub mod buffer;
+pub mod captured;
 pub mod context;
 pub mod corner_select;
 pub mod engine;

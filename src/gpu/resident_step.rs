@@ -6,8 +6,8 @@
 //! (`plane_contact` where all contacts are rigid planes, at most 8; otherwise the contact
 //! iteration, [`super::ImpulseSweeps`], which takes rigid bodies' surfaces too),
 //! `explicit_drift` (u += dt v), the element kernels and `node_gather` (internal forces),
-//! `explicit_correct` once per body and once over the rigid bodies' nodes (a, v and the
-//! energy and momentum sums per workgroup) and `history_reduce` (one row of history
+//! `explicit_correct` over every body's nodes and the rigid bodies' nodes in one dispatch
+//! (a, v and the energy and momentum sums per workgroup, each body's apart) and `history_reduce` (one row of history
 //! values, written at the step's place in the submission's rows). A whole submission is
 //! one compute pass. The contact search sorts the faces into its grid at the submission's
 //! first step and every [`ResidentStep::set_search_interval`] steps after it, and keeps the
@@ -265,6 +265,7 @@ struct LaunchBuffers<'a> {
     step: &'a wgpu::Buffer,
     m: &'a ModelBuffers,
     partials: &'a Storage,
+    correct_bodies: &'a Storage,
     history: &'a HistoryRows,
     /// The contact results the history reads: the contact iteration's or the planes'.
     results: &'a wgpu::Buffer,
@@ -274,21 +275,16 @@ pub(super) struct Launches {
     pub(super) predict: Launch,
     pub(super) plane: Option<Launch>,
     pub(super) drift: Launch,
-    pub(super) correct: Vec<Launch>,
+    /// Every body's nodes in one dispatch.
+    pub(super) correct: Launch,
     /// One per row of a submission: launch j writes the row of the submission's step j.
     pub(super) reduce: Vec<Launch>,
 }
 
 impl Launches {
-    /// Every launch of the step, stage after stage; `groups` are the bodies' (first slot,
-    /// workgroups) in the partials.
-    fn new(
-        ks: &StepKernels,
-        b: &LaunchBuffers,
-        bodies: &[Range<usize>],
-        groups: &[(u32, u32)],
-        chunk_capacity: usize,
-    ) -> Self {
+    /// Every launch of the step, stage after stage; `groups` are the workgroups in all of
+    /// the bodies' partials.
+    fn new(ks: &StepKernels, b: &LaunchBuffers, groups: u32, chunk_capacity: usize) -> Self {
         let (k, ctx) = (b.k, &b.k.ctx);
         let nodes = k.nodes;
         Launches {
@@ -305,7 +301,7 @@ impl Launches {
             drift: ks
                 .drift
                 .launch(ctx, nodes as u32, 0, 0, b.step, &k.v.buffer, &k.u.buffer),
-            correct: Self::correct(&ks.correct, b, bodies, groups),
+            correct: Self::correct(&ks.correct, b, groups),
             reduce: Self::reduce(&ks.reduce, b, chunk_capacity),
         }
     }
@@ -333,35 +329,25 @@ impl Launches {
         })
     }
 
-    /// The correctors' launches, one per body.
-    fn correct(
-        correct: &ExplicitCorrect,
-        b: &LaunchBuffers,
-        bodies: &[Range<usize>],
-        groups: &[(u32, u32)],
-    ) -> Vec<Launch> {
+    /// The corrector's launch over every body's `groups` workgroups (Params.aux the
+    /// bodies).
+    fn correct(correct: &ExplicitCorrect, b: &LaunchBuffers, groups: u32) -> Launch {
         let k = b.k;
-        bodies
-            .iter()
-            .zip(groups)
-            .map(|(body, &(base, _))| {
-                // a body's nodes: Params.aux its first node, aux2 its first workgroup slot
-                // of the partial sums
-                correct.launch(
-                    &k.ctx,
-                    body.len() as u32,
-                    body.start as u32,
-                    base,
-                    b.step,
-                    &k.u.buffer,
-                    &k.forces.buffer,
-                    &b.m.lumped.buffer,
-                    &k.v.buffer,
-                    &b.m.a.buffer,
-                    &b.partials.buffer,
-                )
-            })
-            .collect()
+        let bodies = (b.correct_bodies.capacity / 16 - 1) as u32;
+        correct.launch(
+            &k.ctx,
+            groups * WORKGROUP,
+            bodies,
+            0,
+            b.step,
+            &k.u.buffer,
+            &k.forces.buffer,
+            &b.m.lumped.buffer,
+            &k.v.buffer,
+            &b.m.a.buffer,
+            &b.partials.buffer,
+            &b.correct_bodies.buffer,
+        )
     }
 
     /// The history reductions' launches, one per row of a submission.
@@ -408,6 +394,9 @@ pub struct ResidentStep {
     pub(super) m: ModelBuffers,
     /// The correctors' workgroup sums, [`FIELDS`] per workgroup, body after body.
     pub(super) partials: Storage,
+    /// Each body's first workgroup, first node and nodes for the corrector, and the
+    /// workgroups in all.
+    correct_bodies: Storage,
     /// The history row's columns and the rows buffer.
     pub(super) history: HistoryRows,
     pub(super) launches: Launches,
@@ -449,8 +438,9 @@ impl ResidentStep {
         let (step, step_consts) = Self::step_uniform(ctx, setup);
         let kernels = StepKernels::new(ctx);
         // the correctors' partials: one slot of FIELDS per workgroup, body after body
-        let (groups, total_groups) = Self::partial_groups(&kernels.correct, &setup.bodies);
+        let (groups, total_groups) = Self::partial_groups(&setup.bodies);
         let partials = Storage::new(ctx, "partials", (total_groups as usize * FIELDS * 4) as u64)?;
+        let correct_bodies = Self::correct_bodies(ctx, &setup.bodies, &groups, total_groups)?;
         let contact = Self::new_impulse_sweeps(&k, &step, &m, setup)?;
         let chunk_capacity = chunk_capacity.max(1);
         let history = HistoryRows::new(ctx, setup, &groups, &m, chunk_capacity)?;
@@ -459,12 +449,13 @@ impl ResidentStep {
             step: &step,
             m: &m,
             partials: &partials,
+            correct_bodies: &correct_bodies,
             history: &history,
             results: contact
                 .as_ref()
                 .map_or(&m.results.buffer, |c| c.results_buffer()),
         };
-        let launches = Launches::new(&kernels, &buffers, &setup.bodies, &groups, chunk_capacity);
+        let launches = Launches::new(&kernels, &buffers, total_groups, chunk_capacity);
         let failure = (setup.survey.as_ref())
             .map(|s| {
                 let target = StageTarget {
@@ -484,6 +475,7 @@ impl ResidentStep {
             step_consts,
             m,
             partials,
+            correct_bodies,
             history,
             launches,
             contact,
@@ -518,20 +510,32 @@ impl ResidentStep {
         (step, step_consts)
     }
 
-    /// Each body's (first workgroup slot, workgroups) in the correctors' partials, and the
-    /// workgroups in all.
-    fn partial_groups(
-        correct: &ExplicitCorrect,
-        bodies: &[Range<usize>],
-    ) -> (Vec<(u32, u32)>, u32) {
+    /// Each body's (first workgroup slot, workgroups) in the correctors' partials (at least
+    /// one each), and the workgroups in all.
+    fn partial_groups(bodies: &[Range<usize>]) -> (Vec<(u32, u32)>, u32) {
         let mut groups = Vec::new();
         let mut total_groups = 0u32;
         for b in bodies {
-            let g = correct.0.grid(b.len() as u32);
-            groups.push((total_groups, g[0] * g[1]));
-            total_groups += g[0] * g[1];
+            let g = b.len().div_ceil(WORKGROUP as usize).max(1) as u32;
+            groups.push((total_groups, g));
+            total_groups += g;
         }
         (groups, total_groups)
+    }
+
+    /// The corrector's table of bodies: each body's first workgroup, first node and nodes,
+    /// then the workgroups in all.
+    fn correct_bodies(
+        ctx: &GpuContext,
+        bodies: &[Range<usize>],
+        groups: &[(u32, u32)],
+        total_groups: u32,
+    ) -> Result<Storage> {
+        let table: Vec<[u32; 4]> = (bodies.iter().zip(groups))
+            .map(|(b, &(first, _))| [first, b.start as u32, b.len() as u32, 0])
+            .chain([[total_groups, 0, 0, 0]])
+            .collect();
+        Storage::with_data(ctx, "correct_bodies", &table)
     }
 
     /// The device contact iteration, where the model has contact between meshed bodies.
@@ -597,6 +601,7 @@ impl ResidentStep {
                 &self.m.plane_nodes,
                 &self.m.results,
                 &self.partials,
+                &self.correct_bodies,
                 &self.history.columns,
                 &self.history.rows,
                 &self.readback[0],
@@ -637,9 +642,7 @@ impl ResidentStep {
         let l = &self.launches;
         self.kernels.drift.0.dispatch(pass, &l.drift);
         self.k.dispatch_internal_forces(pass);
-        for c in &l.correct {
-            self.kernels.correct.0.dispatch(pass, c);
-        }
+        self.kernels.correct.0.dispatch(pass, &l.correct);
         if let Some(f) = &self.failure {
             f.dispatch(pass, j);
         }
@@ -774,7 +777,7 @@ impl ResidentStep {
     }
 
     /// Writes back what [`Self::read_step_state`] read (of an engine of the same model).
-    pub fn write_step_state(&mut self, state: &[Vec<u32>]) -> Result<()> {
+    pub fn write_step_state(&self, state: &[Vec<u32>]) -> Result<()> {
         let buffers = self.state_buffers();
         if state.len() != buffers.len()
             || state

@@ -1,7 +1,8 @@
 //! The split compliance of each in-reach constraint (CPU twin of
 //! `shaders/contact_compliance.wgsl`): the host path's row-sum (Gershgorin) bound,
 //! $\sum_{node} |w_{node}|\, t_{node} \max_a M^{-1}_{node,a}$ (t from
-//! [`super::contact_touches`]), or zero where the normal meets only prescribed dofs.
+//! [`super::contact_touches`]), or zero where the normal meets only prescribed dofs. (The
+//! kernel's first invocation also starts the iteration: [`super::sweep_control`].)
 
 use super::contact_constraints::{Constraint, ContactPair};
 use super::contact_gap::NO_FACE;

@@ -1,5 +1,6 @@
-//! The stopping rule of the device contact iteration (CPU twin of
-//! `shaders/sweep_control.wgsl`), run once before the first sweep and once after each:
+//! The stopping rule of the device contact iteration (CPU twin of the start that
+//! `contact_compliance`'s first invocation makes and of `contact_apply`'s `stopping_rule`),
+//! run once before the first sweep and once after each:
 //! no pair in reach stops it at once (0 sweeps); otherwise it stops, converged, after the
 //! first sweep whose violation is within the tolerance, or, not converged, at the sweep
 //! limit. The host path's loop (`integrate::explicit`), one decision at a time.
