@@ -1,6 +1,7 @@
 //! [`capture`]: the dispatches a recording makes, each with its kernel's name, pipeline,
-//! bind group and grid, so that the benchmarks can dispatch each of a step's kernels again
-//! alone and time it ([`super::ResidentStep::time_dispatches`]). Every dispatch goes through
+//! bind group and grid, so that the benchmarks can replay a submission's dispatches in their
+//! order with a timestamp after each ([`super::ResidentStep::profile_dispatches`]). Every
+//! dispatch goes through
 //! [`super::kernel::Kernel::dispatch_with`], which notes it here while a capture is open on
 //! its thread; outside a capture noting costs one thread-local check.
 

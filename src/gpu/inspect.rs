@@ -35,10 +35,11 @@ pub struct KernelTime {
     pub us: f64,
 }
 
-/// Wall time of `enc`'s commands alone: the device is left idle first, then they are
-/// submitted and waited for.
+/// Wall time of `enc`'s commands alone: the writes queued before them (a state restored)
+/// are submitted and the device left idle first, then they are submitted and waited for.
 fn time_submission(ctx: &GpuContext, enc: wgpu::CommandEncoder) -> Result<Duration> {
     let commands = enc.finish();
+    ctx.queue.submit([]);
     ctx.wait()?;
     let start = Instant::now();
     ctx.queue.submit([commands]);
@@ -473,6 +474,12 @@ impl ResidentStep {
         while list.len() > most && steps > 1 {
             steps = (steps * most / list.len()).clamp(1, steps - 1);
             list = record(steps);
+        }
+        if list.len() > most {
+            return Err(ImpactError::Gpu(format!(
+                "a step records {} dispatches, more than the {most} timestamps a query set holds",
+                list.len()
+            )));
         }
         let queries = (1 + list.len()) as u32;
         let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {

@@ -265,7 +265,9 @@ struct LaunchBuffers<'a> {
     step: &'a wgpu::Buffer,
     m: &'a ModelBuffers,
     partials: &'a Storage,
+    /// The corrector's table of bodies, and the bodies in it.
     correct_bodies: &'a Storage,
+    bodies: u32,
     history: &'a HistoryRows,
     /// The contact results the history reads: the contact iteration's or the planes'.
     results: &'a wgpu::Buffer,
@@ -333,11 +335,10 @@ impl Launches {
     /// bodies).
     fn correct(correct: &ExplicitCorrect, b: &LaunchBuffers, groups: u32) -> Launch {
         let k = b.k;
-        let bodies = (b.correct_bodies.capacity / 16 - 1) as u32;
         correct.launch(
             &k.ctx,
             groups * WORKGROUP,
-            bodies,
+            b.bodies,
             0,
             b.step,
             &k.u.buffer,
@@ -450,6 +451,7 @@ impl ResidentStep {
             m: &m,
             partials: &partials,
             correct_bodies: &correct_bodies,
+            bodies: setup.bodies.len() as u32,
             history: &history,
             results: contact
                 .as_ref()
@@ -651,8 +653,8 @@ impl ResidentStep {
 
     /// Records `steps` whole steps, writing their history rows into the rows buffer, in one
     /// compute pass (wgpu orders each dispatch after the writes of the ones before; the
-    /// contact iteration zeroes its counters with `fill_words`, not buffer clears, which
-    /// would end the pass).
+    /// search zeroes its counters with `fill_words` and `bucket_order` clears the
+    /// iteration's, not buffer clears, which would end the pass).
     pub(super) fn record_steps(&self, enc: &mut wgpu::CommandEncoder, steps: usize) {
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("explicit_step"),
