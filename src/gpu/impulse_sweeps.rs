@@ -328,7 +328,8 @@ impl Bindings<'_> {
             &w.sort.starts.buffer,
             &w.sort.sorted.buffer,
         );
-        // the face buckets only: the sentinel bucket is never gathered
+        // the face buckets only (the sentinel bucket is never gathered); it clears every
+        // bucket's size and the state words too
         let order = k.order.launch(
             ctx,
             nf,
