@@ -1,9 +1,10 @@
 // Corrector of the explicit step over every body's nodes in one dispatch, one node per
 // invocation (twin: `kernels::explicit_correct`, body by body): each body's nodes start at a
 // workgroup of their own (`bodies[b]`: its first workgroup, first node and node count;
-// `bodies[params.aux].x` the workgroups in all), so that a workgroup's sums are one body's; a_{n+1} = a_ext - f_int / m,
-// v_{n+1} = v_{n+1/2} + dt/2 a_{n+1}; and the workgroup's share of the body's history values
-// in the time-centred form the host path reports (integrate/explicit.rs): kinetic
+// `bodies[params.aux].x` the workgroups in all), so that a workgroup's sums are one body's;
+// a_{n+1} = a_ext - f_int / m, v_{n+1} = v_{n+1/2} + dt/2 a_{n+1}; and the workgroup's
+// share of the body's history values in the time-centred form the host path reports
+// (integrate/explicit.rs): kinetic
 // 1/2 m v_{n+1/2}^2, strain 1/2 u_n . f_int(u_{n+1}) with u_n = u_{n+1} - dt v_{n+1/2},
 // gravity -f_ext . (u_n + u_{n+1}) / 2, and momentum m v_{n+1}: FIELDS floats per workgroup at
 // partials[workgroup * FIELDS], body after body.

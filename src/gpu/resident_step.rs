@@ -7,8 +7,9 @@
 //! iteration, [`super::ImpulseSweeps`], which takes rigid bodies' surfaces too),
 //! `explicit_drift` (u += dt v), the element kernels and `node_gather` (internal forces),
 //! `explicit_correct` over every body's nodes and the rigid bodies' nodes in one dispatch
-//! (a, v and the energy and momentum sums per workgroup, each body's apart) and `history_reduce` (one row of history
-//! values, written at the step's place in the submission's rows). A whole submission is
+//! (a, v and the energy and momentum sums per workgroup, each body's apart) and
+//! `history_reduce` (one row of history values, written at the step's place in the
+//! submission's rows). A whole submission is
 //! one compute pass. The contact search sorts the faces into its grid at the submission's
 //! first step and every [`ResidentStep::set_search_interval`] steps after it, and keeps the
 //! sort in between (its grid says when it no longer holds, and such a step tests every
