@@ -114,6 +114,7 @@ fn random_inputs(rng: &mut StdRng) -> Inputs {
         lumped,
         planes,
         plane_nodes,
+        reported_plane_nodes: None,
         bodies: vec![0..half, half..n],
         probes: vec![0, (n - 1) as u32, half as u32],
         velocity: vec![0.0; 3 * n],

@@ -11,7 +11,7 @@ use impact::backend::Kernels;
 use impact::element::ElementKind::{Hex8, Hex8i, Tet4};
 use impact::element::Elements;
 use impact::geometry::face::FaceKind;
-use impact::gpu::{CornerSelection, GpuKernels};
+use impact::gpu::{CornerSelection, GpuKernels, RankExchange};
 use impact::kernels::contact_gap::NO_FACE;
 use impact::kernels::{self, ContactPoint, ContactQueries, ElementData, Incidence};
 use impact::material::{Elastic, Orthotropic, Rotation};
@@ -335,6 +335,49 @@ fn corner_select_matches_its_cpu_twin() {
         chosen.len()
     );
     assert!(e <= TOL, "seed {seed}: corner_select error {e:.3e}");
+}
+
+/// The shared nodes' sums written over random nodal forces: the shared nodes (in no order)
+/// take their sums, every other node keeps its force.
+#[test]
+fn shared_forces_matches_its_cpu_twin() {
+    let Some(ctx) = gpu_context("shared_forces") else {
+        return;
+    };
+    let seed = seed("shared_forces");
+    let mut rng = StdRng::seed_from_u64(seed);
+    let p = distorted_box(&mut rng);
+    let n = p.data.reference.len();
+    let mut shared: Vec<u32> = (0..n as u32).filter(|_| rng.random_bool(0.3)).collect();
+    shared.reverse();
+    let forces: Vec<f64> = (0..3 * n).map(|_| rng.random_range(-1.0..1.0)).collect();
+    let sums: Vec<[f64; 3]> = (0..shared.len())
+        .map(|_| std::array::from_fn(|_| rng.random_range(-1.0..1.0)))
+        .collect();
+    let mut cpu = forces.clone();
+    kernels::shared_forces(&shared, &sums, &mut cpu);
+    let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
+    let exchange = RankExchange::new(&gpu, &[], &shared).expect("exchange");
+    let g = gpu
+        .shared_forces(&exchange, &forces, &sums)
+        .expect("dispatch");
+    let e = rel_err(&g, &cpu);
+    eprintln!(
+        "{} of {n} nodes shared, relative error {e:.2e}",
+        shared.len()
+    );
+    assert!(e <= TOL, "seed {seed}: shared_forces error {e:.3e}");
+    let kept = (0..n).filter(|i| !shared.contains(&(*i as u32)));
+    assert!(kept.clone().count() > 0 && shared.len() > 0);
+    for i in kept {
+        for a in 0..3 {
+            assert_eq!(
+                g[3 * i + a],
+                forces[3 * i + a] as f32 as f64,
+                "node {i} kept"
+            );
+        }
+    }
 }
 
 /// The forces with chosen corners read back alongside: the nodal forces are those of

@@ -50,6 +50,23 @@ impl CornerSelection {
         })
     }
 
+    /// Corners chosen.
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// The packed forces of the chosen corners (3 floats each).
+    pub(super) fn chosen_buffer(&self) -> &wgpu::Buffer {
+        &self.chosen.buffer
+    }
+
+    /// Dispatches the selection on `k`'s corner forces in an open pass.
+    pub(super) fn dispatch(&self, k: &GpuKernels, pass: &mut wgpu::ComputePass) {
+        if self.count > 0 {
+            (k.kernels.corner_select.0).dispatch(pass, &self.launch);
+        }
+    }
+
     /// The kernel alone on `k`'s corner forces as they are (for the twin test).
     pub(super) fn run_alone(&self, k: &mut GpuKernels) -> Result<Vec<[f32; 3]>> {
         if k.fill_nan {

@@ -14,6 +14,7 @@ use super::captured;
 use super::context::GpuContext;
 use super::corner_select::CornerSelection;
 use super::engine::{bytes_of, GpuKernels};
+use super::rank_exchange::RankExchange;
 use super::resident_step::{to_f32, ResidentStep};
 use super::scan::Scan;
 use super::search::GpuSearch;
@@ -216,6 +217,21 @@ impl GpuKernels {
         self.upload_corners(corners)?;
         let chosen = selection.run_alone(self)?;
         Ok(chosen.into_iter().map(|f| f.map(f64::from)).collect())
+    }
+
+    /// Runs `shared_forces` of `exchange` (built on these kernels) alone over the nodal
+    /// forces `forces` with the shared nodes' `sums`: every node's forces after it.
+    pub fn shared_forces(
+        &mut self,
+        exchange: &RankExchange,
+        forces: &[f64],
+        sums: &[[f64; 3]],
+    ) -> Result<Vec<f64>> {
+        let f: Vec<f32> = forces.iter().map(|&x| x as f32).collect();
+        self.forces.upload(&self.ctx, &f)?;
+        let sums: Vec<[f32; 3]> = sums.iter().map(|s| s.map(|x| x as f32)).collect();
+        let out = exchange.run_alone(self, &sums)?;
+        Ok(out.into_iter().map(f64::from).collect())
     }
 
     /// Runs `node_gather` alone on the given corner forces (the twin's order).

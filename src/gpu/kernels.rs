@@ -101,6 +101,7 @@ kernel_table! {
     ScanTotals = scan_totals(values, totals);
     SearchBounds = search_bounds(reference, displacement, velocity, faces, centres, bounds, boxes);
     SearchGridKernel = search_grid(step, bounds, grid);
+    SharedForces = shared_forces(shared_nodes, sums, forces);
     SlipRate = slip_rate(reference, displacement, velocity, queries, faces, points, slip);
     StableStep = stable_step(reference, hex8_elements, tet4_elements, materials, steps);
     Tet4Forces = tet4_forces(

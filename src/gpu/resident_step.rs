@@ -30,6 +30,7 @@ use super::engine::{at_least_one, GpuKernels};
 use super::failure_stage::{FailureStage, StageTarget};
 use super::impulse_sweeps::{ContactSetup, ImpulseSweeps, StepBuffers};
 use super::kernel::Launch;
+use super::rank_exchange::RankExchange;
 use super::types::WORKGROUP;
 use super::types::{self, to_device, Split3};
 use super::{ExplicitCorrect, ExplicitDrift, ExplicitPredict, HistoryReduce, PlaneContact};
@@ -65,6 +66,9 @@ pub struct ResidentSetup {
     pub lumped: Vec<LumpedNode>,
     pub planes: Vec<PlaneData>,
     pub plane_nodes: Vec<PlaneNode>,
+    /// The first plane nodes whose contact results the history rows sum (all of them where
+    /// `None`): a rank of a decomposed run reports the nodes it owns, listed first.
+    pub reported_plane_nodes: Option<usize>,
     /// Node range of each body, then that of the rigid bodies' nodes where there are any
     /// (the correctors' ranges).
     pub bodies: Vec<Range<usize>>,
@@ -239,7 +243,11 @@ impl HistoryRows {
     ) -> Result<Self> {
         let slots = match &setup.contact {
             Some(c) => pair_slots(&c.interfaces),
-            None => plane_slots(m.plane_count, m.plane_node_count),
+            None => plane_slots(
+                m.plane_count,
+                (setup.reported_plane_nodes)
+                    .map_or(m.plane_node_count, |r| r.min(m.plane_node_count)),
+            ),
         };
         let column_list = row_columns(groups, &slots, &setup.probes);
         let survey = if setup.survey.is_some() {
@@ -405,6 +413,8 @@ pub struct ResidentStep {
     pub(super) contact: Option<ImpulseSweeps>,
     /// The ply failure survey of every step, where materials have strengths.
     failure: Option<FailureStage>,
+    /// A rank's exchange of the forces of the nodes it shares (a decomposed run).
+    pub(super) exchange: Option<RankExchange>,
     /// Sweeps of the contact iteration recorded per step as dispatches of their own (at most
     /// `max_iterations`); `contact_finish` runs the rest.
     sweeps: u32,
@@ -483,6 +493,7 @@ impl ResidentStep {
             launches,
             contact,
             failure,
+            exchange: None,
             sweeps: setup.max_iterations,
             max_iterations: setup.max_iterations,
             search_interval: 1,
@@ -631,7 +642,7 @@ impl ResidentStep {
 
     /// Dispatches the step's stages before the contact iteration (the predictor, and the
     /// rigid planes' impulses when they are the only contacts).
-    fn dispatch_front(&self, pass: &mut wgpu::ComputePass) {
+    pub(super) fn dispatch_front(&self, pass: &mut wgpu::ComputePass) {
         let l = &self.launches;
         self.kernels.predict.0.dispatch(pass, &l.predict);
         if let Some(p) = &l.plane {
@@ -642,9 +653,20 @@ impl ResidentStep {
     /// Dispatches the step's stages after the contact iteration: drift, internal forces,
     /// correctors, the failure survey and the history row of the submission's step `j`.
     fn dispatch_back(&self, pass: &mut wgpu::ComputePass, j: usize) {
-        let l = &self.launches;
-        self.kernels.drift.0.dispatch(pass, &l.drift);
+        self.dispatch_forces(pass);
+        self.dispatch_row(pass, j);
+    }
+
+    /// Dispatches the drift and the internal forces.
+    pub(super) fn dispatch_forces(&self, pass: &mut wgpu::ComputePass) {
+        self.kernels.drift.0.dispatch(pass, &self.launches.drift);
         self.k.dispatch_internal_forces(pass);
+    }
+
+    /// Dispatches the correctors, the failure survey and the history row of the
+    /// submission's step `j`.
+    pub(super) fn dispatch_row(&self, pass: &mut wgpu::ComputePass, j: usize) {
+        let l = &self.launches;
         self.kernels.correct.0.dispatch(pass, &l.correct);
         if let Some(f) = &self.failure {
             f.dispatch(pass, j);

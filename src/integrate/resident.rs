@@ -242,6 +242,7 @@ pub fn setup(
         lumped,
         planes,
         plane_nodes,
+        reported_plane_nodes: None,
         bodies: corrected_ranges(model),
         probes: model.probes.iter().map(|p| p.node).collect(),
         velocity,

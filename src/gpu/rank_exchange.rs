@@ -1,0 +1,165 @@
+//! [`RankExchange`]: what the resident step of a rank of a decomposed run needs to give the
+//! nodes it shares with its neighbours their whole internal force: the corners the exchange
+//! reads ([`CornerSelection`], read back after the element kernels) and the shared nodes'
+//! sums over every rank's corners, written over the node gather's partial sums
+//! (`shaders/shared_forces.wgsl`, CPU twin [`crate::kernels::shared_forces`]).
+
+use super::buffer::{submit_and_read, Storage};
+use super::corner_select::CornerSelection;
+use super::engine::{at_least_one, bytes_of, GpuKernels};
+use super::kernel::Launch;
+use super::resident_step::ResidentStep;
+use super::SharedForces;
+use crate::error::{ImpactError, Result};
+
+pub struct RankExchange {
+    pub(super) selection: CornerSelection,
+    /// Kept alive for the launch's bindings.
+    _shared_nodes: Storage,
+    sums: Storage,
+    kernel: SharedForces,
+    launch: Launch,
+    shared: usize,
+}
+
+impl RankExchange {
+    /// The corners `chosen` of `k`'s mesh (by corner id) and the nodes `shared_nodes` whose
+    /// sums the host gives (by `k`'s node numbers).
+    pub fn new(k: &GpuKernels, chosen: &[u32], shared_nodes: &[u32]) -> Result<Self> {
+        if let Some(&n) = shared_nodes.iter().find(|&&n| n as usize >= k.nodes) {
+            return Err(ImpactError::Gpu(format!(
+                "shared node {n} of a mesh of {} nodes",
+                k.nodes
+            )));
+        }
+        let ctx = &k.ctx;
+        let selection = CornerSelection::new(k, chosen)?;
+        let nodes = Storage::with_data(ctx, "shared_nodes", &at_least_one(shared_nodes.to_vec()))?;
+        let floats = (3 * shared_nodes.len()).max(1);
+        let sums = Storage::new(ctx, "shared_sums", bytes_of::<f32>(floats))?;
+        let kernel = SharedForces::new(ctx);
+        let launch = kernel.launch(
+            ctx,
+            shared_nodes.len() as u32,
+            0,
+            0,
+            &nodes.buffer,
+            &sums.buffer,
+            &k.forces.buffer,
+        );
+        Ok(RankExchange {
+            selection,
+            _shared_nodes: nodes,
+            sums,
+            kernel,
+            launch,
+            shared: shared_nodes.len(),
+        })
+    }
+
+    /// The shared nodes.
+    pub fn shared(&self) -> usize {
+        self.shared
+    }
+
+    /// Dispatches the selection of the exchanged corners (after the element kernels).
+    pub(super) fn dispatch_select(&self, k: &GpuKernels, pass: &mut wgpu::ComputePass) {
+        self.selection.dispatch(k, pass);
+    }
+
+    /// Writes the shared nodes' sums (one per shared node, in order) for the next
+    /// [`Self::dispatch_sums`].
+    pub(super) fn write_sums(&self, k: &GpuKernels, sums: &[[f32; 3]]) -> Result<()> {
+        if sums.len() != self.shared {
+            return Err(ImpactError::Gpu(format!(
+                "{} shared sums for {} shared nodes",
+                sums.len(),
+                self.shared
+            )));
+        }
+        if self.shared > 0 {
+            k.ctx
+                .queue
+                .write_buffer(&self.sums.buffer, 0, bytemuck::cast_slice(sums));
+        }
+        Ok(())
+    }
+
+    /// Dispatches the shared nodes' sums over the gathered forces (after the gather).
+    pub(super) fn dispatch_sums(&self, pass: &mut wgpu::ComputePass) {
+        if self.shared > 0 {
+            self.kernel.0.dispatch(pass, &self.launch);
+        }
+    }
+
+    /// The kernel alone on `k`'s forces as they are (for the twin test): writes `sums`, runs
+    /// `shared_forces` and reads every node's forces back.
+    pub(super) fn run_alone(&self, k: &mut GpuKernels, sums: &[[f32; 3]]) -> Result<Vec<f32>> {
+        self.write_sums(k, sums)?;
+        let mut enc = k.ctx.encoder("shared_forces");
+        self.kernel.0.record_launch(&mut enc, &self.launch);
+        submit_and_read(&k.ctx, &mut k.staging, enc, &k.forces.buffer, 3 * k.nodes)
+    }
+}
+
+impl ResidentStep {
+    /// Makes the step a rank's of a decomposed run: [`Self::step_forces`] reads back the
+    /// corners `chosen` (by corner id) and [`Self::step_correct`] takes the sums of the nodes
+    /// `shared_nodes`. The contact iteration between meshed bodies is not taken (its
+    /// sweeps would need the other ranks' surfaces).
+    pub fn exchange_with(&mut self, chosen: &[u32], shared_nodes: &[u32]) -> Result<()> {
+        if self.contact.is_some() {
+            return Err(ImpactError::Gpu(
+                "a rank's resident step takes rigid planes alone as contact".into(),
+            ));
+        }
+        self.exchange = Some(RankExchange::new(&self.k, chosen, shared_nodes)?);
+        Ok(())
+    }
+
+    /// The first part of a rank's step: the predictor, the rigid planes, the drift and the
+    /// internal forces of the rank's elements; returns the chosen corners' forces as the
+    /// device computed them (waits for the device).
+    pub fn step_forces(&mut self) -> Result<Vec<[f32; 3]>> {
+        let Some(x) = &self.exchange else {
+            return Err(ImpactError::Gpu("step_forces: no exchange".into()));
+        };
+        let mut enc = self.k.ctx.encoder("rank_step_forces");
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("rank_step_forces"),
+                timestamp_writes: None,
+            });
+            self.dispatch_front(&mut pass);
+            self.dispatch_forces(&mut pass);
+            x.dispatch_select(&self.k, &mut pass);
+        }
+        let count = x.selection.count();
+        let source = x.selection.chosen_buffer().clone();
+        let k = &mut self.k;
+        let out: Vec<f32> = submit_and_read(&k.ctx, &mut k.staging, enc, &source, 3 * count)?;
+        Ok(out.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+    }
+
+    /// The rest of a rank's step: the shared nodes' `sums` over the gathered forces, the
+    /// correctors and the history row; returns the row (waits for the device).
+    pub fn step_correct(&mut self, sums: &[[f32; 3]]) -> Result<Vec<f32>> {
+        let Some(x) = &self.exchange else {
+            return Err(ImpactError::Gpu("step_correct: no exchange".into()));
+        };
+        x.write_sums(&self.k, sums)?;
+        let mut enc = self.k.ctx.encoder("rank_step_correct");
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("rank_step_correct"),
+                timestamp_writes: None,
+            });
+            x.dispatch_sums(&mut pass);
+            self.dispatch_row(&mut pass, 0);
+        }
+        let rows = self.history.rows.buffer.clone();
+        let len = self.history.row_len;
+        let k = &mut self.k;
+        submit_and_read(&k.ctx, &mut k.staging, enc, &rows, len)
+    }
+}
