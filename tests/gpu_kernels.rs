@@ -368,7 +368,7 @@ fn shared_forces_matches_its_cpu_twin() {
     );
     assert!(e <= TOL, "seed {seed}: shared_forces error {e:.3e}");
     let kept = (0..n).filter(|i| !shared.contains(&(*i as u32)));
-    assert!(kept.clone().count() > 0 && shared.len() > 0);
+    assert!(kept.clone().count() > 0 && !shared.is_empty());
     for i in kept {
         for a in 0..3 {
             assert_eq!(

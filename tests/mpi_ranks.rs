@@ -66,9 +66,10 @@ fn impact_command(ranks: usize, scene: &Path, out: &Path, extra: [&str; 3]) -> C
     cmd
 }
 
-/// Whether a column is a sum over the model (the energies, a body's velocity), and its
+/// Whether a column is a sum over the model (the energies, a body's velocity; on the resident
+/// GPU step the contact forces too, which its device adds over the plane nodes), and its
 /// kind.
-fn sum_kind(column: &str, bodies: &[String]) -> Option<&'static str> {
+fn sum_kind(column: &str, bodies: &[String], resident: bool) -> Option<&'static str> {
     let body_velocity = |b: &String| {
         ["vx", "vy", "vz"]
             .map(|v| format!("{b}.{v}"))
@@ -78,6 +79,10 @@ fn sum_kind(column: &str, bodies: &[String]) -> Option<&'static str> {
         Some("energy")
     } else if bodies.iter().any(body_velocity) {
         Some("body velocity")
+    } else if resident
+        && (column.ends_with(".normal_force") || column.ends_with(".tangential_force"))
+    {
+        Some("contact force")
     } else {
         None
     }
@@ -86,12 +91,24 @@ fn sum_kind(column: &str, bodies: &[String]) -> Option<&'static str> {
 /// `h` against the single process's `one`: the columns that follow the state bit for bit,
 /// the sums over the model within 1e-12 of the largest value of their kind.
 fn same_history(tag: &str, one: &History, h: &History, bodies: &[String]) {
+    same_history_within(tag, one, h, (bodies, false), 1e-12);
+}
+
+/// [`same_history`] with the sums within `tolerance` of the largest value of their kind
+/// (`resident`: the contact forces are sums too).
+fn same_history_within(
+    tag: &str,
+    one: &History,
+    h: &History,
+    (bodies, resident): (&[String], bool),
+    tolerance: f64,
+) {
     assert_eq!(h.columns, one.columns, "{tag}: columns");
     assert_eq!(h.rows.len(), one.rows.len(), "{tag}: rows");
     for (j, c) in one.columns.iter().enumerate() {
-        let kind = sum_kind(c, bodies);
+        let kind = sum_kind(c, bodies, resident);
         let scale = (one.columns.iter().enumerate())
-            .filter(|(_, d)| sum_kind(d, bodies) == kind)
+            .filter(|(_, d)| sum_kind(d, bodies, resident) == kind)
             .flat_map(|(k, _)| one.rows.iter().map(move |r| r[k].abs()))
             .fold(0.0f64, f64::max);
         for (a, b) in one.rows.iter().zip(&h.rows) {
@@ -104,7 +121,7 @@ fn same_history(tag: &str, one: &History, h: &History, bodies: &[String]) {
                     a[j]
                 ),
                 Some(_) => assert!(
-                    (a[j] - b[j]).abs() <= 1e-12 * scale,
+                    (a[j] - b[j]).abs() <= tolerance * scale,
                     "{tag}, {c}: {} against {}",
                     b[j],
                     a[j]
@@ -377,6 +394,134 @@ fn block_on_plate_on_gpus_is_the_same_on_2_and_4_ranks() {
         &explicit_at_default_step(&scene_text("cube_on_plate.toml")),
         "gpu",
     );
+}
+
+/// Blocks dropped on a rigid floor, every rank's whole step on its GPU (here each opens the
+/// machine's one adapter), against one process on the GPU, resident too: the state's
+/// columns (probes, penetration, active nodes, time) are the single GPU's bits on 2 and 4
+/// ranks; the sums (energies, body velocities, contact forces), which each rank's device
+/// adds in f32 over its owned nodes before the ranks are added in order, are within 1e-6 of
+/// the largest value of their kind. Hex8 as imported, and the tet4 block.
+#[test]
+fn blocks_dropped_on_a_floor_resident_on_gpus_are_one_gpu_on_2_and_4_ranks() {
+    if skip_gpu("mpi ranks resident on gpus") {
+        return;
+    }
+    for name in ["block_hex_drop", "block_tet_drop"] {
+        let tag = format!("mpi_resident_{name}");
+        let dir = out_dir(&tag);
+        std::fs::create_dir_all(&dir).unwrap();
+        let text = scene_text(&format!("{name}.toml"));
+        let text = match name {
+            "block_hex_drop" => edit(
+                &text,
+                "\"meshes/block_hex.inp\"",
+                &format!(
+                    "{:?}",
+                    repo()
+                        .join("scenes/meshes/block_hex.inp")
+                        .display()
+                        .to_string()
+                ),
+            ),
+            _ => edit(
+                &text,
+                "\"meshes/block_tet.msh\"",
+                &format!(
+                    "{:?}",
+                    repo()
+                        .join("scenes/meshes/block_tet.msh")
+                        .display()
+                        .to_string()
+                ),
+            ),
+        };
+        let parsed = Scene::parse(&text, &dir.join(format!("{tag}.toml"))).expect("valid scene");
+        let bodies: Vec<String> = parsed.bodies.iter().map(|b| b.name.clone()).collect();
+        let scene = dir.join(format!("{tag}.toml"));
+        std::fs::write(&scene, &text).unwrap();
+        impact_run_on(0, &scene, &dir.join("process"), "gpu");
+        let one = History::read(&dir.join("process/history.csv"));
+        for ranks in [0, 2, 4] {
+            let out = match ranks {
+                0 => dir.join("process"),
+                _ => dir.join(format!("ranks{ranks}")),
+            };
+            if ranks > 0 {
+                impact_run_on(ranks, &scene, &out, "gpu");
+            }
+            let summary: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                    .unwrap();
+            assert_eq!(summary["status"], "completed", "{tag} on {ranks} ranks");
+            assert_eq!(summary["engine"], "gpu resident", "{tag} on {ranks} ranks");
+            if ranks > 0 {
+                assert_eq!(summary["ranks"]["ranks"], ranks, "{tag}");
+                let h = History::read(&out.join("history.csv"));
+                let what = format!("{tag}, {ranks} ranks");
+                same_history_within(&what, &one, &h, (&bodies, true), 1e-6);
+            }
+        }
+    }
+}
+
+/// The resident ranks' checkpoint is the single GPU's: a block dropped on a floor, stopped
+/// at half its end time on 2 ranks resident on their GPUs, writes the device state of one
+/// GPU's run stopped there, word for word (every rank's owned nodes and plane nodes
+/// gathered); resumed on 4 resident ranks and on one process, it continues to the unbroken
+/// one-GPU history (the state's columns bit for bit, the sums within 1e-6 as above).
+#[test]
+fn a_resident_run_checkpointed_on_2_ranks_resumes_on_4_and_on_one_gpu() {
+    if skip_gpu("mpi resident checkpoints") {
+        return;
+    }
+    let tag = "mpi_resident_checkpoints";
+    let dir = out_dir(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mesh = repo().join("scenes/meshes/block_hex.inp");
+    let text = edit(
+        &scene_text("block_hex_drop.toml"),
+        "\"meshes/block_hex.inp\"",
+        &format!("{:?}", mesh.display().to_string()),
+    ) + "\n[output]\ncheckpoint_every = 20\n";
+    let half = edit(&text, "end_time = 0.06", "end_time = 0.03");
+    let (whole_scene, half_scene) = (dir.join("whole.toml"), dir.join("half.toml"));
+    std::fs::write(&whole_scene, &text).unwrap();
+    std::fs::write(&half_scene, &half).unwrap();
+    let parsed = Scene::parse(&text, &whole_scene).unwrap();
+    let bodies: Vec<String> = parsed.bodies.iter().map(|b| b.name.clone()).collect();
+    impact_run_on(0, &whole_scene, &dir.join("unbroken"), "gpu");
+    impact_run_on(0, &half_scene, &dir.join("gpu_half"), "gpu");
+    let one = History::read(&dir.join("unbroken/history.csv"));
+    let read = |d: &str| impact::checkpoint::Checkpoint::read(&dir.join(d), &parsed).unwrap();
+    let state = |c: &impact::checkpoint::Checkpoint| bincode::serialize(&c.solver).unwrap();
+    let reference = read("gpu_half");
+    assert!(matches!(
+        reference.solver,
+        impact::integrate::SolverState::Resident(_)
+    ));
+    for (resumed_on, d) in [(4, "resumed_on_4"), (0, "resumed_on_one")] {
+        impact_run_on(2, &half_scene, &dir.join(d), "gpu");
+        let c = read(d);
+        assert_eq!(c.tally.steps, reference.tally.steps, "{d}");
+        assert!(
+            state(&c) == state(&reference),
+            "{d}: the 2-rank state differs from one gpu's"
+        );
+        impact_run_with(
+            resumed_on,
+            &whole_scene,
+            &dir.join(d),
+            ["--resume", "--device", "gpu"],
+        );
+        same_history_within(
+            d,
+            &one,
+            &History::read(&dir.join(d).join("history.csv")),
+            (&bodies, true),
+            1e-6,
+        );
+    }
 }
 
 /// An imported tet4 mesh dropped on a rigid floor: many plane nodes, some within reach of

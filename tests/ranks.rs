@@ -471,3 +471,37 @@ fn one_rank_on_its_gpu_follows_the_cpu() {
     let read = |o: &RunOptions| History::read(&o.out.as_ref().unwrap().join("history.csv"));
     compare_histories(&read(&cpu), &read(&gpu), 0.125, 1e-5);
 }
+
+/// One rank with its whole step on its GPU (a block dropped on a rigid plane: the plane is
+/// its only contact) runs the single GPU's resident step: the same engine, and the history
+/// byte for byte.
+#[test]
+fn one_rank_resident_on_its_gpu_is_the_single_gpu_byte_for_byte() {
+    if skip_gpu("one rank resident on its gpu") {
+        return;
+    }
+    let tag = "ranks_resident_block_drop";
+    let text = scene_text("block_hex_drop.toml");
+    let scene = Scene::parse(&text, &repo().join("scenes").join(format!("{tag}.toml")))
+        .expect("valid scene");
+    let opts = |d: &str| RunOptions {
+        out: Some(out_dir(&format!("{tag}_{d}"))),
+        quiet: true,
+        device: Some(DeviceChoice::Gpu),
+        ..Default::default()
+    };
+    let (one, ranked) = (opts("gpu"), opts("rank"));
+    let s = run(&scene, &one).expect("single gpu run completes");
+    let r = run_ranks(&scene, &ranked, &Single).expect("one resident rank completes");
+    for x in [&s, &r] {
+        assert_eq!(x.status, "completed");
+        assert_eq!(x.engine, "gpu resident");
+    }
+    assert_eq!(r.ranks.as_ref().map(|d| d.ranks), Some(1));
+    let read = |o: &RunOptions| {
+        std::fs::read_to_string(o.out.as_ref().unwrap().join("history.csv")).expect("history")
+    };
+    let (a, b) = (read(&one), read(&ranked));
+    assert!(a.lines().count() > 50, "{} rows", a.lines().count());
+    assert_eq!(a, b, "the history of one resident rank is the single gpu's");
+}

@@ -54,3 +54,25 @@ pub(crate) fn gather_fields(
 pub(crate) fn restrict_fields(sub: &Subdomain, global: [&[f64]; FIELDS]) -> [Vec<f64>; FIELDS] {
     global.map(|g| sub.restrict(g))
 }
+
+/// The whole model's records (`count` of `width` values each, zero where no rank gives one)
+/// from every rank's owned records `records` at their places `places`, on rank 0 (`None` on
+/// the others): two gathers.
+pub(crate) fn gather_records(
+    talk: &Timed,
+    places: &[usize],
+    records: &[f64],
+    (width, count): (usize, usize),
+) -> Option<Vec<f64>> {
+    debug_assert_eq!(records.len(), width * places.len());
+    let places: Vec<f64> = places.iter().map(|&p| p as f64).collect();
+    let places = talk.talk(|r| r.gather_varied_to_first(&places));
+    let all = talk.talk(|r| r.gather_varied_to_first(records));
+    let (places, all) = (places?, all?);
+    let mut out = vec![0.0; width * count];
+    for (&p, x) in places.iter().zip(all.chunks_exact(width.max(1))) {
+        let p = width * p as usize;
+        out[p..p + width].copy_from_slice(x);
+    }
+    Some(out)
+}

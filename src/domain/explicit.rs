@@ -44,6 +44,29 @@ pub struct RankFigures {
     pub face_nodes_received: usize,
 }
 
+/// Sends each neighbour its corners (`sends`, in the order of `sub.neighbours`) and
+/// receives theirs into `received` (3 per corner, each neighbour's at its
+/// [`super::subdomain::Neighbour::receive`] range).
+pub(super) fn exchange_corners(
+    talk: &Timed,
+    sub: &Subdomain,
+    sends: &[Vec<f64>],
+    received: &mut [f64],
+) {
+    let send_list: Vec<(usize, &[f64])> = (sub.neighbours.iter())
+        .zip(sends)
+        .map(|(nb, s)| (nb.rank, s.as_slice()))
+        .collect();
+    let mut recv_list = Vec::with_capacity(sub.neighbours.len());
+    let mut rest = received;
+    for nb in &sub.neighbours {
+        let (mine, after) = rest.split_at_mut(3 * nb.receive.len());
+        recv_list.push((nb.rank, mine));
+        rest = after;
+    }
+    talk.talk(|r| r.exchange(&send_list, &mut recv_list));
+}
+
 /// One rank's explicit solver.
 pub struct DomainSolver<'m> {
     model: &'m Model,
@@ -161,24 +184,12 @@ impl<'m> DomainSolver<'m> {
             return Ok(());
         }
         let sends = self.kernels.sends(&self.sub);
-        let mut received = std::mem::take(&mut self.received);
-        let sub = &self.sub;
-        {
-            let send_list: Vec<(usize, &[f64])> = (sub.neighbours.iter())
-                .zip(&sends)
-                .map(|(nb, s)| (nb.rank, s.as_slice()))
-                .collect();
-            let mut recv_list = Vec::with_capacity(sub.neighbours.len());
-            let mut rest = received.as_mut_slice();
-            for nb in &sub.neighbours {
-                let (mine, after) = rest.split_at_mut(3 * nb.receive.len());
-                recv_list.push((nb.rank, mine));
-                rest = after;
-            }
-            self.talk(|r| r.exchange(&send_list, &mut recv_list));
-        }
-        (self.kernels).sum_shared(&self.sub, &received, &mut self.f_int);
-        self.received = received;
+        let talk = Timed {
+            ranks: self.ranks,
+            seconds: &self.communication,
+        };
+        exchange_corners(&talk, &self.sub, &sends, &mut self.received);
+        (self.kernels).sum_shared(&self.sub, &self.received, &mut self.f_int);
         Ok(())
     }
 
@@ -470,29 +481,33 @@ impl Decomposed for DomainSolver<'_> {
     }
 
     fn decomposition(&mut self) -> Decomposition {
-        let f = self.figures();
-        let mine = [
-            f.elements as f64,
-            f.nodes as f64,
-            f.shared_nodes as f64,
-            f.neighbours as f64,
-            f.communication,
-            f.face_nodes_received as f64,
-            f.contact,
-        ];
-        let all = self.ranks.gather_all(&mine);
-        let column = |k: usize| all.iter().map(|r| r[k] as usize).collect();
-        Decomposition {
-            ranks: self.ranks.size(),
-            partition: super::partition::DESCRIPTION.into(),
-            contact: super::contact::DESCRIPTION.into(),
-            elements: column(0),
-            nodes: column(1),
-            shared_nodes: column(2),
-            neighbours: column(3),
-            communication_seconds: all.iter().map(|r| r[4]).collect(),
-            contact_seconds: all.iter().map(|r| r[6]).collect(),
-            face_nodes_received: column(5),
-        }
+        decomposition_of(self.ranks, &self.figures())
+    }
+}
+
+/// The decomposition of a run whose ranks each report `f` (gathered: every rank calls it).
+pub(super) fn decomposition_of(ranks: &dyn Ranks, f: &RankFigures) -> Decomposition {
+    let mine = [
+        f.elements as f64,
+        f.nodes as f64,
+        f.shared_nodes as f64,
+        f.neighbours as f64,
+        f.communication,
+        f.face_nodes_received as f64,
+        f.contact,
+    ];
+    let all = ranks.gather_all(&mine);
+    let column = |k: usize| all.iter().map(|r| r[k] as usize).collect();
+    Decomposition {
+        ranks: ranks.size(),
+        partition: super::partition::DESCRIPTION.into(),
+        contact: super::contact::DESCRIPTION.into(),
+        elements: column(0),
+        nodes: column(1),
+        shared_nodes: column(2),
+        neighbours: column(3),
+        communication_seconds: all.iter().map(|r| r[4]).collect(),
+        contact_seconds: all.iter().map(|r| r[6]).collect(),
+        face_nodes_received: column(5),
     }
 }

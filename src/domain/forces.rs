@@ -61,18 +61,9 @@ impl RankForces {
 
     /// The corners `sub` sends each neighbour, in its order, as f64 (an f32 corner exactly).
     pub fn sends(&self, sub: &Subdomain) -> Vec<Vec<f64>> {
-        fn pick<T: Copy + Into<f64>>(sub: &Subdomain, corners: &[[T; 3]]) -> Vec<Vec<f64>> {
-            (sub.neighbours.iter())
-                .map(|nb| {
-                    (nb.send.iter())
-                        .flat_map(|&c| corners[c as usize].map(Into::into))
-                        .collect()
-                })
-                .collect()
-        }
         match self {
-            RankForces::Cpu(k) => pick(sub, k.corner_forces()),
-            RankForces::Gpu { chosen, .. } => pick(sub, chosen),
+            RankForces::Cpu(k) => sub.sends(k.corner_forces()),
+            RankForces::Gpu { chosen, .. } => sub.sends(chosen),
         }
     }
 

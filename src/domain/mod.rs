@@ -12,6 +12,8 @@
 //! - [`contact`]: a rank's contact: the faces its secondary nodes may reach, its own
 //!   search, the contacts gathered and the sweeps;
 //! - [`explicit`]: the rank's explicit solver;
+//! - [`resident`]: the rank's explicit solver with the whole step on its GPU (rigid planes
+//!   as the only contacts);
 //! - [`checkpoint`]: a rank's part of the single process's checkpoint, both ways;
 //! - [`launch`]: what an MPI launcher tells a process.
 
@@ -24,9 +26,11 @@ pub mod launch;
 pub mod mpi;
 pub mod partition;
 pub mod ranks;
+pub mod resident;
 pub mod subdomain;
 pub mod surface;
 
 pub use explicit::{DomainSolver, RankFigures};
 pub use partition::Partition;
 pub use ranks::{Ranks, Single};
+pub use resident::{resident_on_ranks, RankResident};

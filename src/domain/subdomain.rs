@@ -246,25 +246,47 @@ impl Subdomain {
     /// corner order. The sum is taken in the corners' own precision: f64 from the CPU, f32
     /// as a GPU computed them (which is how the GPU's own gather adds them).
     pub fn sum_shared<T: CornerValue>(&self, corners: &[[T; 3]], received: &[f64], f: &mut [f64]) {
-        for (i, &n) in self.shared.iter().enumerate() {
-            let mut sum = [T::default(); 3];
-            for s in &self.sources[self.offsets[i] as usize..self.offsets[i + 1] as usize] {
-                let x = match *s {
-                    Source::Local(c) => corners[c as usize],
-                    Source::Remote(r) => {
-                        let r = 3 * r as usize;
-                        std::array::from_fn(|a| T::of(received[r + a]))
-                    }
-                };
-                for a in 0..3 {
-                    sum[a] += x[a];
-                }
-            }
+        for (&n, sum) in self.shared.iter().zip(self.shared_sums(corners, received)) {
             let f = &mut f[3 * n as usize..3 * n as usize + 3];
             for a in 0..3 {
                 f[a] = sum[a].into();
             }
         }
+    }
+
+    /// Each shared node's sum of its corners, in the order of [`Self::shared`] (see
+    /// [`Self::sum_shared`]).
+    pub fn shared_sums<T: CornerValue>(&self, corners: &[[T; 3]], received: &[f64]) -> Vec<[T; 3]> {
+        (0..self.shared.len())
+            .map(|i| {
+                let mut sum = [T::default(); 3];
+                for s in &self.sources[self.offsets[i] as usize..self.offsets[i + 1] as usize] {
+                    let x = match *s {
+                        Source::Local(c) => corners[c as usize],
+                        Source::Remote(r) => {
+                            let r = 3 * r as usize;
+                            std::array::from_fn(|a| T::of(received[r + a]))
+                        }
+                    };
+                    for a in 0..3 {
+                        sum[a] += x[a];
+                    }
+                }
+                sum
+            })
+            .collect()
+    }
+
+    /// The corners this rank sends each neighbour, in its order, as f64 (an f32 corner
+    /// exactly), from the rank's `corners` (as [`Source::Local`] numbers them).
+    pub fn sends<T: Copy + Into<f64>>(&self, corners: &[[T; 3]]) -> Vec<Vec<f64>> {
+        (self.neighbours.iter())
+            .map(|nb| {
+                (nb.send.iter())
+                    .flat_map(|&c| corners[c as usize].map(Into::into))
+                    .collect()
+            })
+            .collect()
     }
 
     /// The local corners the exchange reads (those sent to the neighbours and the shared

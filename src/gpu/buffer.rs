@@ -17,6 +17,11 @@ pub struct Storage {
 /// Every buffer has at least this many bytes (a binding cannot be empty).
 const MIN_BYTES: u64 = 32;
 
+/// The bytes a buffer asked for `bytes` holds.
+pub fn padded_bytes(bytes: u64) -> u64 {
+    bytes.max(MIN_BYTES).next_multiple_of(16)
+}
+
 impl Storage {
     pub fn new(ctx: &GpuContext, label: &'static str, bytes: u64) -> Result<Self> {
         Self::with_usage(
@@ -35,7 +40,7 @@ impl Storage {
         bytes: u64,
         usage: wgpu::BufferUsages,
     ) -> Result<Self> {
-        let capacity = bytes.max(MIN_BYTES).next_multiple_of(16);
+        let capacity = padded_bytes(bytes);
         if usage.contains(wgpu::BufferUsages::STORAGE) && capacity > ctx.max_binding() {
             return Err(ImpactError::Gpu(format!(
                 "{}: buffer `{label}` needs {capacity} bytes but the adapter binds at most {} bytes; use a smaller mesh or device = \"cpu\"",

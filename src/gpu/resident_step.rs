@@ -801,6 +801,13 @@ impl ResidentStep {
             .collect()
     }
 
+    /// The words of each buffer [`Self::read_step_state`] reads (their padding included).
+    pub fn step_state_words(&self) -> Vec<usize> {
+        (self.state_buffers().iter())
+            .map(|b| (b.size() / 4) as usize)
+            .collect()
+    }
+
     /// Writes back what [`Self::read_step_state`] read (of an engine of the same model).
     pub fn write_step_state(&self, state: &[Vec<u32>]) -> Result<()> {
         let buffers = self.state_buffers();

@@ -281,14 +281,90 @@ fn corrected_ranges(model: &Model) -> Vec<Range<usize>> {
 
 /// One decoded history row.
 #[derive(Debug, Clone, Default)]
-struct Row {
-    energies: Energies,
-    bodies: Vec<[f64; 3]>,
-    reports: Vec<ContactReport>,
-    probes: Vec<([f64; 3], [f64; 3])>,
-    report: StepReport,
+pub(crate) struct Row {
+    pub energies: Energies,
+    pub bodies: Vec<[f64; 3]>,
+    pub reports: Vec<ContactReport>,
+    pub probes: Vec<([f64; 3], [f64; 3])>,
+    pub report: StepReport,
     /// The ply failure survey's record, where the step surveys.
-    failure: Option<[f64; FAILURE_FIELDS]>,
+    pub failure: Option<[f64; FAILURE_FIELDS]>,
+}
+
+/// What decoding a history row needs besides its values: the model, each body's mass, the
+/// contact iteration's sweep limit and the step length the row was computed with.
+pub(crate) struct RowReader<'a> {
+    pub model: &'a Model,
+    pub body_mass: &'a [f64],
+    pub max_iterations: usize,
+    pub dt: f64,
+}
+
+impl RowReader<'_> {
+    /// The row `r` (of [`row_len`] values) decoded.
+    pub fn decode(&self, r: &[f64]) -> Row {
+        // the meshed bodies' ranges, then the rigid bodies' (energies only)
+        let nb = self.model.mesh.bodies.len() + usize::from(!self.model.rigid.is_empty());
+        let np = self.model.interfaces.len();
+        let surveyed = r.len() == row_len(nb, np, self.model.probes.len(), true);
+        debug_assert_eq!(r.len(), row_len(nb, np, self.model.probes.len(), surveyed));
+        let mut e = Energies::default();
+        let mut bodies = Vec::with_capacity(nb);
+        for b in 0..nb {
+            let q = &r[FIELDS * b..FIELDS * (b + 1)];
+            e.kinetic += q[0];
+            e.strain += q[1];
+            e.potential += q[2];
+            if let Some(m) = self.body_mass.get(b) {
+                bodies.push([q[3], q[4], q[5]].map(|p| p / m));
+            }
+        }
+        let mut report = StepReport {
+            iterations: 0,
+            converged: true,
+        };
+        let mut reports = Vec::with_capacity(np);
+        for p in 0..np {
+            let q = &r[FIELDS * nb + SLOT * p..FIELDS * nb + SLOT * (p + 1)];
+            let sweeps = q[8].round() as usize;
+            report.iterations = report.iterations.max(sweeps.min(self.max_iterations));
+            report.converged &= sweeps <= self.max_iterations;
+            let jt = [q[1], q[2], q[3]];
+            let j = &q[slot::IMPULSE..slot::IMPULSE + 3];
+            reports.push(ContactReport {
+                normal_force: q[0] / self.dt,
+                tangential_force: crate::geometry::vector::norm(jt) / self.dt,
+                active: q[4].round() as usize,
+                max_penetration: q[6],
+                sliding: q[5].round() as usize,
+                friction_work: q[7],
+                driver_work: q[slot::DRIVER_WORK],
+                // on the primary side: minus the impulses on the secondary nodes
+                force: std::array::from_fn(|a| -j[a] / self.dt),
+            });
+            // the drivers' work is the model's energy input (the host path's balance)
+            e.potential -= q[slot::DRIVER_WORK];
+        }
+        let base = FIELDS * nb + SLOT * np;
+        let probes = (0..self.model.probes.len())
+            .map(|i| {
+                let q = &r[base + 6 * i..base + 6 * (i + 1)];
+                ([q[0], q[1], q[2]], [q[3], q[4], q[5]])
+            })
+            .collect();
+        let failure = surveyed.then(|| {
+            let tail = &r[r.len() - FAILURE_FIELDS..];
+            std::array::from_fn(|k| tail[k])
+        });
+        Row {
+            energies: e,
+            bodies,
+            reports,
+            probes,
+            report,
+            failure,
+        }
+    }
 }
 
 /// Everything a resident run carries from one step to the next: the checkpoint's part
@@ -579,67 +655,13 @@ impl<'m> ResidentSolver<'m> {
     }
 
     fn decode(&self, r: &[f64]) -> Row {
-        // the meshed bodies' ranges, then the rigid bodies' (energies only)
-        let nb = self.model.mesh.bodies.len() + usize::from(!self.model.rigid.is_empty());
-        let np = self.model.interfaces.len();
-        let surveyed = r.len() == row_len(nb, np, self.model.probes.len(), true);
-        debug_assert_eq!(r.len(), row_len(nb, np, self.model.probes.len(), surveyed));
-        let mut e = Energies::default();
-        let mut bodies = Vec::with_capacity(nb);
-        for b in 0..nb {
-            let q = &r[FIELDS * b..FIELDS * (b + 1)];
-            e.kinetic += q[0];
-            e.strain += q[1];
-            e.potential += q[2];
-            if let Some(m) = self.body_mass.get(b) {
-                bodies.push([q[3], q[4], q[5]].map(|p| p / m));
-            }
+        RowReader {
+            model: self.model,
+            body_mass: &self.body_mass,
+            max_iterations: self.max_iterations,
+            dt: self.row_dt,
         }
-        let mut report = StepReport {
-            iterations: 0,
-            converged: true,
-        };
-        let mut reports = Vec::with_capacity(np);
-        for p in 0..np {
-            let q = &r[FIELDS * nb + SLOT * p..FIELDS * nb + SLOT * (p + 1)];
-            let sweeps = q[8].round() as usize;
-            report.iterations = report.iterations.max(sweeps.min(self.max_iterations));
-            report.converged &= sweeps <= self.max_iterations;
-            let jt = [q[1], q[2], q[3]];
-            let j = &q[slot::IMPULSE..slot::IMPULSE + 3];
-            reports.push(ContactReport {
-                normal_force: q[0] / self.row_dt,
-                tangential_force: crate::geometry::vector::norm(jt) / self.row_dt,
-                active: q[4].round() as usize,
-                max_penetration: q[6],
-                sliding: q[5].round() as usize,
-                friction_work: q[7],
-                driver_work: q[slot::DRIVER_WORK],
-                // on the primary side: minus the impulses on the secondary nodes
-                force: std::array::from_fn(|a| -j[a] / self.row_dt),
-            });
-            // the drivers' work is the model's energy input (the host path's balance)
-            e.potential -= q[slot::DRIVER_WORK];
-        }
-        let base = FIELDS * nb + SLOT * np;
-        let probes = (0..self.model.probes.len())
-            .map(|i| {
-                let q = &r[base + 6 * i..base + 6 * (i + 1)];
-                ([q[0], q[1], q[2]], [q[3], q[4], q[5]])
-            })
-            .collect();
-        let failure = surveyed.then(|| {
-            let tail = &r[r.len() - FAILURE_FIELDS..];
-            std::array::from_fn(|k| tail[k])
-        });
-        Row {
-            energies: e,
-            bodies,
-            reports,
-            probes,
-            report,
-            failure,
-        }
+        .decode(r)
     }
 
     /// Normal impulse and end-of-step gap of secondary node `local` of interface

@@ -26,7 +26,7 @@ use summary::{
 
 use crate::backend::{CpuKernels, Kernels};
 use crate::checkpoint::{Checkpoint, Tally};
-use crate::domain::{DomainSolver, Partition, Ranks};
+use crate::domain::{resident_on_ranks, DomainSolver, Partition, RankResident, Ranks};
 use crate::error::{ImpactError, Result};
 use crate::gpu::GpuKernels;
 use crate::integrate::{
@@ -77,10 +77,23 @@ fn build_solver<'m>(
     if let Some(ranks) = ranks {
         let partition = Partition::bisect(model, ranks.size());
         let settings = (&scene.explicit, dt, speed_scale);
-        return Ok(Box::new(
-            DomainSolver::new(model, ranks, &partition, settings, setup.ctx.clone())
+        return Ok(match setup.ctx.clone() {
+            // rigid planes alone as contacts: each rank's whole step on its GPU
+            Some(ctx) if resident_on_ranks(model) => Box::new(
+                RankResident::new(
+                    model,
+                    ranks,
+                    &partition,
+                    settings,
+                    (ctx, setup.steps, scene.vtu_every),
+                )
                 .map_err(|e| gpu_error(scene, e))?,
-        ));
+            ),
+            ctx => Box::new(
+                DomainSolver::new(model, ranks, &partition, settings, ctx)
+                    .map_err(|e| gpu_error(scene, e))?,
+            ),
+        });
     }
     let mut solver: Box<dyn Integrator + 'm> = match (setup.method, setup.ctx.clone()) {
         // a meshed rigid surface has no device form: its contact runs on the host, the

@@ -181,7 +181,8 @@ pub(super) fn start_resumed(
 
 /// Refuses a checkpoint the run cannot continue from, before anything in the folder changes:
 /// one at or past the scene's last step, one taken with another step length (the stable
-/// step found on another device), or on `ranks` one of the GPU resident engine.
+/// step found on another device), or on `ranks` one of the GPU resident engine where the
+/// ranks do not run resident on their GPUs.
 pub(super) fn check_resumable(
     dir: &Path,
     c: &Checkpoint,
@@ -192,9 +193,10 @@ pub(super) fn check_resumable(
         dir: dir.to_path_buf(),
         message,
     };
-    if let (Some(p), SolverState::Resident(_)) = (ranks, &c.solver) {
+    let resident_ranks = setup.ctx.is_some() && crate::domain::resident_on_ranks(&setup.model);
+    if let (Some(p), SolverState::Resident(_), false) = (ranks, &c.solver, resident_ranks) {
         return Err(refuse(format!(
-            "the checkpoint holds the GPU resident engine's device state, which resumes on one process on the same kind of adapter, not on {p} ranks"
+            "the checkpoint holds the GPU resident engine's device state, which resumes on one process, or on ranks each resident on its GPU (a model whose only contacts are rigid planes), on the same kind of adapter, not on {p} ranks on this device"
         )));
     }
     let (steps, time, dt) = match &c.solver {

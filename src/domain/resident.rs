@@ -1,0 +1,701 @@
+//! [`RankResident`]: a rank of a decomposed explicit run with its whole step on its GPU
+//! ([`crate::gpu::ResidentStep`]), for models whose contacts are rigid planes alone (each
+//! node's contact is its own, so no contact crosses the cut).
+//!
+//! A step is two submissions. The first runs the predictor, the planes, the drift and the
+//! rank's element forces, and reads back the corners the exchange needs; the host sends
+//! the neighbours theirs and sums each shared node's corners, its own and the received, in
+//! the global corner order in f32 (as the single GPU's gather adds them). The second writes
+//! those sums over the gathered forces, runs the correctors and reduces the history row,
+//! which comes back to be added over the ranks. So every node a rank holds takes the same
+//! f32 operations as on one GPU of the same kind: the state (displacements, velocities,
+//! contact results) and the history's state columns (probes, maxima) are the single GPU's
+//! bits on any number of ranks. The history's sums (energies, momenta, contact forces) add
+//! each rank's owned nodes on its device and then the ranks in order: the single GPU's
+//! values to the rounding of a different order of the same f32 sums.
+//!
+//! The rank's nodes are renumbered on the device, each body's owned nodes first and then
+//! the nodes it holds for its neighbours, so that the correctors' sums of the owned nodes
+//! are ranges of their own; likewise the plane nodes, owned first.
+
+use std::ops::Range;
+
+use super::checkpoint::gather_records;
+use super::explicit::{decomposition_of, exchange_corners, RankFigures};
+use super::partition::Partition;
+use super::ranks::{agree, Ranks, Timed};
+use super::subdomain::Subdomain;
+use crate::error::{ImpactError, Result};
+use crate::gpu::buffer::padded_bytes;
+use crate::gpu::{GpuContext, ResidentSetup, ResidentStep};
+use crate::integrate::integrator::ENGINE_GPU_RESIDENT;
+use crate::integrate::resident::{self, planes_only, ResidentState, Row, RowReader};
+use crate::integrate::{
+    ContactReport, Decomposed, Decomposition, Energies, Integrator, Piece, ProbeValues,
+    SolverState, StepReport,
+};
+use crate::kernels::explicit_correct::FIELDS;
+use crate::kernels::plane_contact::{slot, SLOT};
+use crate::kernels::{ElementData, PlaneNode};
+use crate::model::Model;
+use crate::scene::{ExplicitSettings, Method};
+
+/// Whether a decomposed run of `model` on GPUs can keep each rank's whole step on its
+/// device: every contact a rigid plane (at most 8), no rigid body and no ply failure
+/// survey. Otherwise the ranks compute their element forces on their GPUs and the rest of
+/// the step on their cores ([`super::DomainSolver`]).
+pub fn resident_on_ranks(model: &Model) -> bool {
+    planes_only(model) && model.rigid.is_empty() && model.strengths.iter().all(Option::is_none)
+}
+
+/// The rank's nodes on its device: each body's owned nodes, then the nodes it holds for
+/// its neighbours.
+struct DeviceOrder {
+    /// The device number of each local node.
+    device_of: Vec<u32>,
+    /// The local node of each device number.
+    local_of: Vec<u32>,
+    /// Each body's owned nodes, then each body's other nodes (device numbers).
+    ranges: Vec<Range<usize>>,
+    /// Whether the rank owns each device node.
+    owned: Vec<bool>,
+}
+
+impl DeviceOrder {
+    fn new(sub: &Subdomain, piece: &Model) -> Result<Self> {
+        let n = sub.nodes.len();
+        let mut local_of = Vec::with_capacity(n);
+        let (mut mine, mut others) = (Vec::new(), Vec::new());
+        for body in &piece.mesh.bodies {
+            let start = local_of.len();
+            let own = body.nodes.clone().filter(|&l| sub.owned[l]);
+            local_of.extend(own.map(|l| l as u32));
+            mine.push(start..local_of.len());
+            let held = body.nodes.clone().filter(|&l| !sub.owned[l]);
+            let start = local_of.len();
+            local_of.extend(held.map(|l| l as u32));
+            others.push(start..local_of.len());
+        }
+        if local_of.len() != n {
+            return Err(ImpactError::Gpu(format!(
+                "rank {}: {} of its {n} nodes lie in no body",
+                sub.rank,
+                n - local_of.len()
+            )));
+        }
+        let mut device_of = vec![0u32; n];
+        for (d, &l) in local_of.iter().enumerate() {
+            device_of[l as usize] = d as u32;
+        }
+        let owned = local_of.iter().map(|&l| sub.owned[l as usize]).collect();
+        mine.extend(others);
+        Ok(DeviceOrder {
+            device_of,
+            local_of,
+            ranges: mine,
+            owned,
+        })
+    }
+
+    /// Per-node values (`width` per node) of the local order in the device's.
+    fn to_device<T: Copy>(&self, x: &[T], width: usize) -> Vec<T> {
+        (self.local_of.iter())
+            .flat_map(|&l| {
+                x[width * l as usize..width * (l as usize + 1)]
+                    .iter()
+                    .copied()
+            })
+            .collect()
+    }
+
+    /// Per-node values (`width` per node) of the device's order in the local one.
+    fn to_local<T: Copy>(&self, x: &[T], width: usize) -> Vec<T> {
+        (self.device_of.iter())
+            .flat_map(|&d| {
+                x[width * d as usize..width * (d as usize + 1)]
+                    .iter()
+                    .copied()
+            })
+            .collect()
+    }
+
+    /// The rank's elements on device node numbers.
+    fn element_data(&self, data: &ElementData) -> ElementData {
+        let mut d = data.clone();
+        d.reference = self.to_device(&data.reference, 1);
+        for block in &mut d.elements.blocks {
+            for n in &mut block.nodes {
+                *n = self.device_of[*n as usize];
+            }
+        }
+        d
+    }
+}
+
+/// The rank's plane nodes: which of the model's (by their place in the single GPU's list)
+/// it holds, at which of its own places.
+struct PlacedPlanes {
+    nodes: Vec<PlaneNode>,
+    /// The owned ones, listed first.
+    owned: usize,
+    /// The rank's place of each of the model's plane nodes, where it holds it.
+    place: Vec<Option<usize>>,
+}
+
+impl PlacedPlanes {
+    fn new(global: &[PlaneNode], sub: &Subdomain, order: &DeviceOrder) -> Self {
+        let held: Vec<(usize, u32, bool)> = (global.iter().enumerate())
+            .filter_map(|(g, p)| {
+                let l = sub.nodes.binary_search(&p.node).ok()?;
+                Some((g, order.device_of[l], sub.owned[l]))
+            })
+            .collect();
+        let mut place = vec![None; global.len()];
+        let mut nodes = Vec::with_capacity(held.len());
+        for owned in [true, false] {
+            for &(g, d, o) in held.iter().filter(|h| h.2 == owned) {
+                place[g] = Some(nodes.len());
+                nodes.push(PlaneNode {
+                    node: d,
+                    planes: global[g].planes,
+                });
+                debug_assert_eq!(o, owned);
+            }
+        }
+        let owned = held.iter().filter(|h| h.2).count();
+        PlacedPlanes {
+            nodes,
+            owned,
+            place,
+        }
+    }
+}
+
+/// The records of one of the resident state's buffers a rank has: each one's place among
+/// the model's (`count` of them) and on the rank's device, `width` words each.
+struct StateRecords {
+    places: Vec<(usize, usize)>,
+    width: usize,
+    count: usize,
+}
+
+/// One rank's explicit solver, resident on its GPU.
+pub struct RankResident<'m> {
+    model: &'m Model,
+    ranks: &'m dyn Ranks,
+    sub: Subdomain,
+    order: DeviceOrder,
+    engine: ResidentStep,
+    dt: f64,
+    /// The shortened last step, once the run asked for it.
+    last_dt: Option<f64>,
+    time: f64,
+    steps: usize,
+    total: usize,
+    frame_every: Option<usize>,
+    /// Every node's lumped mass (the whole model's).
+    mass_all: Vec<f64>,
+    body_mass: Vec<f64>,
+    max_iterations: usize,
+    /// Each interface's secondary nodes' places in the rank's plane nodes, where it holds
+    /// them.
+    places: Vec<Vec<Option<usize>>>,
+    plane_count: usize,
+    /// The model's place (in the single GPU's list) of each of the rank's plane nodes, the
+    /// owned ones (listed first) and the model's plane nodes.
+    plane_places: Vec<usize>,
+    owned_planes: usize,
+    model_plane_nodes: usize,
+    /// Whether the rank owns each probe's node, and its device number where it holds it.
+    probes: Vec<(bool, u32)>,
+    current: Row,
+    initial: Energies,
+    measure_shift: f64,
+    /// The state at the last frame (or the start), on the rank's local nodes, and the
+    /// rank's plane results (as [`Self::places`] points into them).
+    u: Vec<f64>,
+    v: Vec<f64>,
+    results: Vec<f64>,
+    received: Vec<f64>,
+    piece: Model,
+    communication: std::cell::Cell<f64>,
+}
+
+impl<'m> RankResident<'m> {
+    /// Rank `ranks.rank()`'s part of `model` under `partition` on `ctx`, for `total` steps
+    /// with a frame every `frame_every`.
+    pub fn new(
+        model: &'m Model,
+        ranks: &'m dyn Ranks,
+        partition: &Partition,
+        (settings, dt, speed_scale): (&ExplicitSettings, f64, f64),
+        (ctx, total, frame_every): (GpuContext, usize, Option<usize>),
+    ) -> Result<Self> {
+        let mut sub = Subdomain::new(model, partition, ranks.rank());
+        let piece = sub.piece_model(model);
+        let (global, places) = resident::setup(model, settings, dt, speed_scale)?;
+        let built = Self::device_step(&mut sub, &piece, &global, ctx);
+        // a rank whose device step fails stops every rank (none waits for it)
+        let (order, planes, engine) = agree(ranks, built)
+            .map_err(|why| ImpactError::Gpu(format!("building the resident step: {why}")))?;
+        let mass_all: Vec<f64> = global.lumped.iter().map(|l| l.mass).collect();
+        let body_mass = (model.mesh.bodies.iter())
+            .map(|b| b.nodes.clone().map(|n| mass_all[n]).sum())
+            .collect();
+        let v = sub.restrict(&global.velocity);
+        let timed = Timed {
+            ranks,
+            seconds: &std::cell::Cell::new(0.0),
+        };
+        let mine: f64 = (0..sub.nodes.len())
+            .filter(|&l| sub.owned[l])
+            .flat_map(|l| (0..3).map(move |a| (l, a)))
+            .map(|(l, a)| mass_all[sub.nodes[l] as usize] * v[3 * l + a] * v[3 * l + a])
+            .sum();
+        let kinetic = 0.5 * timed.talk(|r| r.sum(&[mine]))[0];
+        let probes = (model.probes.iter())
+            .map(|p| match sub.nodes.binary_search(&p.node) {
+                Ok(l) => (sub.owned[l], order.device_of[l]),
+                Err(_) => (false, 0),
+            })
+            .collect();
+        let places = (places.iter())
+            .map(|list| list.iter().map(|&g| planes.place[g]).collect())
+            .collect();
+        let plane_count = global.planes.len();
+        let mut plane_places = vec![0; planes.nodes.len()];
+        for (g, at) in planes.place.iter().enumerate() {
+            if let Some(at) = at {
+                plane_places[*at] = g;
+            }
+        }
+        let results = vec![0.0; SLOT * plane_count * planes.nodes.len()];
+        Ok(RankResident {
+            model,
+            ranks,
+            current: Row {
+                bodies: crate::integrate::body_velocities(model, &mass_all, &global.velocity),
+                reports: vec![ContactReport::default(); model.interfaces.len()],
+                ..Default::default()
+            },
+            received: vec![0.0; 3 * sub.received],
+            u: vec![0.0; 3 * sub.nodes.len()],
+            v,
+            sub,
+            order,
+            engine,
+            dt,
+            last_dt: None,
+            time: 0.0,
+            steps: 0,
+            total,
+            frame_every: frame_every.filter(|&e| e > 0),
+            mass_all,
+            body_mass,
+            max_iterations: settings.max_iterations,
+            places,
+            plane_count,
+            plane_places,
+            owned_planes: planes.owned,
+            model_plane_nodes: global.plane_nodes.len(),
+            probes,
+            initial: Energies {
+                kinetic,
+                strain: 0.0,
+                potential: 0.0,
+            },
+            measure_shift: 0.0,
+            results,
+            piece,
+            communication: std::cell::Cell::new(0.0),
+        })
+    }
+
+    /// The rank's device order, plane nodes and resident step, with its exchange.
+    fn device_step(
+        sub: &mut Subdomain,
+        piece: &Model,
+        global: &ResidentSetup,
+        ctx: GpuContext,
+    ) -> Result<(DeviceOrder, PlacedPlanes, ResidentStep)> {
+        let order = DeviceOrder::new(sub, piece)?;
+        let planes = PlacedPlanes::new(&global.plane_nodes, sub, &order);
+        let lumped: Vec<_> = sub
+            .nodes
+            .iter()
+            .map(|&n| global.lumped[n as usize])
+            .collect();
+        // a probe's node where the rank holds it (its owner's row is the one taken)
+        let probes = (global.probes.iter())
+            .map(|&n| {
+                sub.nodes
+                    .binary_search(&n)
+                    .map_or(0, |l| order.device_of[l])
+            })
+            .collect();
+        let setup = ResidentSetup {
+            dt: global.dt,
+            tolerance: global.tolerance,
+            max_iterations: global.max_iterations,
+            lumped: order.to_device(&lumped, 1),
+            planes: global.planes.clone(),
+            plane_nodes: planes.nodes.clone(),
+            reported_plane_nodes: Some(planes.owned),
+            bodies: order.ranges.clone(),
+            probes,
+            velocity: order.to_device(&sub.restrict(&global.velocity), 3),
+            acceleration: order.to_device(&sub.restrict(&global.acceleration), 3),
+            contact: None,
+            survey: None,
+        };
+        let data = order.element_data(&sub.data);
+        let mut engine = ResidentStep::new(ctx, &data, &setup, 1)?;
+        let chosen = sub.exchanged_corners();
+        let shared: Vec<u32> = (sub.shared.iter())
+            .map(|&l| order.device_of[l as usize])
+            .collect();
+        engine.exchange_with(&chosen, &shared)?;
+        sub.pack_corners(&chosen);
+        Ok((order, planes, engine))
+    }
+
+    /// The ranks with the rank's communication clock.
+    fn timed(&self) -> Timed<'_> {
+        Timed {
+            ranks: self.ranks,
+            seconds: &self.communication,
+        }
+    }
+
+    /// The whole model's history row from the rank's (its bodies' owned and other nodes'
+    /// sums, its interfaces' results over its owned plane nodes, no probes): each value
+    /// added over the ranks in order, the maxima taken, each probe its owner's.
+    fn model_row(&self, row: &[f32]) -> Vec<f64> {
+        let nb = self.model.mesh.bodies.len();
+        let np = self.model.interfaces.len();
+        let mut mine: Vec<f64> = row[..FIELDS * nb].iter().map(|&x| f64::from(x)).collect();
+        let contact = &row[2 * FIELDS * nb..2 * FIELDS * nb + SLOT * np];
+        mine.extend(contact.iter().map(|&x| f64::from(x)));
+        let base = 2 * FIELDS * nb + SLOT * np;
+        for (p, &(owned, _)) in self.probes.iter().enumerate() {
+            let values = &row[base + 6 * p..base + 6 * (p + 1)];
+            mine.extend(
+                values
+                    .iter()
+                    .map(|&x| if owned { f64::from(x) } else { 0.0 }),
+            );
+        }
+        let all = self.timed().talk(|r| r.gather_all(&mine));
+        let by_max = |c: usize| {
+            c >= FIELDS * nb
+                && c < FIELDS * nb + SLOT * np
+                && slot::reduced_by_max((c - FIELDS * nb) % SLOT)
+        };
+        (0..mine.len())
+            .map(|c| match by_max(c) {
+                true => all.iter().map(|r| r[c]).fold(0.0, f64::max),
+                false => all.iter().map(|r| r[c]).fold(0.0, |s, x| s + x),
+            })
+            .collect()
+    }
+
+    /// Reads the device's state into the rank's local arrays (a frame).
+    fn read_state(&mut self) -> Result<()> {
+        let (u, v, results) = self.engine.read_state()?;
+        self.u = self.order.to_local(&u, 3);
+        self.v = self.order.to_local(&v, 3);
+        self.results = results;
+        Ok(())
+    }
+
+    /// Each state buffer's records the rank owns (`owned_only`) or holds: u (a split pair
+    /// per node), v, a, and the plane results (per plane node, in the single GPU's order).
+    fn state_layout(&self, owned_only: bool) -> [StateRecords; 4] {
+        let (order, sub) = (&self.order, &self.sub);
+        let nodes: Vec<(usize, usize)> = (0..order.local_of.len())
+            .filter(|&d| !owned_only || order.owned[d])
+            .map(|d| (sub.nodes[order.local_of[d] as usize] as usize, d))
+            .collect();
+        let planes = (self.plane_places.iter().enumerate())
+            .take(if owned_only {
+                self.owned_planes
+            } else {
+                usize::MAX
+            })
+            .map(|(at, &g)| (g, at))
+            .collect();
+        let n = self.model.mesh.node_count();
+        let records = |places, width, count| StateRecords {
+            places,
+            width,
+            count,
+        };
+        [
+            records(nodes.clone(), 6, n),
+            records(nodes.clone(), 3, n),
+            records(nodes, 3, n),
+            records(planes, SLOT * self.plane_count, self.model_plane_nodes),
+        ]
+    }
+
+    fn at_frame(&self, step: usize) -> bool {
+        self.frame_every.is_some_and(|e| step % e == 0)
+    }
+}
+
+impl Integrator for RankResident<'_> {
+    fn model(&self) -> &Model {
+        self.model
+    }
+
+    fn method(&self) -> Method {
+        Method::Explicit
+    }
+
+    fn device_name(&self) -> String {
+        self.engine.device_name()
+    }
+
+    fn engine(&self) -> &'static str {
+        ENGINE_GPU_RESIDENT
+    }
+
+    /// One step: the rank's forces, the exchange of the shared nodes' corners, the
+    /// correctors and the history row added over the ranks; at a frame step the state is
+    /// read back.
+    fn step(&mut self) -> Result<StepReport> {
+        let chosen = self.engine.step_forces()?;
+        let sends = self.sub.sends(&chosen);
+        let talk = Timed {
+            ranks: self.ranks,
+            seconds: &self.communication,
+        };
+        exchange_corners(&talk, &self.sub, &sends, &mut self.received);
+        let sums = self.sub.shared_sums(&chosen, &self.received);
+        let row = self.engine.step_correct(&sums)?;
+        let row = self.model_row(&row);
+        self.steps += 1;
+        let reader = RowReader {
+            model: self.model,
+            body_mass: &self.body_mass,
+            max_iterations: self.max_iterations,
+            dt: self.last_dt.unwrap_or(self.dt),
+        };
+        self.current = reader.decode(&row);
+        self.current.energies.kinetic -= self.measure_shift;
+        self.time = match self.last_dt {
+            Some(last) => (self.steps - 1) as f64 * self.dt + last,
+            None => self.steps as f64 * self.dt,
+        };
+        if self.at_frame(self.steps) || self.steps == self.total {
+            self.read_state()?;
+        }
+        Ok(self.current.report)
+    }
+
+    fn energies(&mut self) -> Result<Energies> {
+        Ok(if self.steps == 0 {
+            self.initial
+        } else {
+            self.current.energies
+        })
+    }
+
+    fn reports(&self) -> Vec<ContactReport> {
+        self.current.reports.clone()
+    }
+
+    /// The pressure and gap of a secondary node the rank holds, at the last state read
+    /// (zero and no gap for another rank's: a frame takes the rank's own nodes).
+    fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {
+        let Some(place) = self.places[interface][point] else {
+            return (0.0, f64::NAN);
+        };
+        let o = SLOT * (place * self.plane_count + interface);
+        let area = self.model.interfaces[interface].area[point];
+        let dt = self.last_dt.unwrap_or(self.dt);
+        (
+            self.results[o + slot::NORMAL_IMPULSE] / (dt * area),
+            self.results[o + slot::GAP],
+        )
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn steps(&self) -> usize {
+        self.steps
+    }
+
+    /// The displacements of the rank's nodes at the last frame.
+    fn displacement(&self) -> &[f64] {
+        &self.u
+    }
+
+    /// The velocities of the rank's nodes at the last frame.
+    fn velocity(&self) -> &[f64] {
+        &self.v
+    }
+
+    fn nodal_mass(&self) -> &[f64] {
+        &self.mass_all
+    }
+
+    fn body_velocities(&self) -> Vec<[f64; 3]> {
+        self.current.bodies.clone()
+    }
+
+    fn probes(&self) -> Vec<ProbeValues> {
+        if self.steps > 0 {
+            return self.current.probes.clone();
+        }
+        // the start: no displacement, the initial velocity (every rank holds the model's)
+        let mine: Vec<f64> = (self.model.probes.iter().zip(&self.probes))
+            .flat_map(|(p, &(owned, _))| {
+                let l = self.sub.nodes.binary_search(&p.node).unwrap_or(0);
+                (0..3).map(move |a| (owned, 3 * l + a))
+            })
+            .map(|(owned, d)| if owned { self.v[d] } else { 0.0 })
+            .collect();
+        let all = self.timed().talk(|r| r.sum(&mine));
+        all.chunks_exact(3)
+            .map(|c| ([0.0; 3], [c[0], c[1], c[2]]))
+            .collect()
+    }
+
+    /// The single GPU's resident state at this step (its device buffers' words), gathered
+    /// on rank 0 from the nodes and plane nodes each rank owns.
+    fn checkpoint_state(&mut self) -> Result<Option<SolverState>> {
+        let words = self.engine.read_step_state()?;
+        let layout = self.state_layout(true);
+        let talk = self.timed();
+        let mut buffers = Vec::with_capacity(words.len());
+        for (w, r) in words.iter().zip(&layout) {
+            let width = r.width;
+            let mine: Vec<f64> = (r.places.iter())
+                .flat_map(|&(_, at)| w[width * at..width * (at + 1)].iter())
+                .map(|&x| f64::from(x))
+                .collect();
+            let global: Vec<usize> = r.places.iter().map(|&(g, _)| g).collect();
+            if let Some(all) = gather_records(&talk, &global, &mine, (width, r.count)) {
+                let padded = (padded_bytes(4 * all.len() as u64) / 4) as usize;
+                let mut b: Vec<u32> = all.into_iter().map(|x| x as u32).collect();
+                b.resize(padded, 0);
+                buffers.push(b);
+            }
+        }
+        // rank 0 gathered every buffer, the others none
+        if buffers.len() != words.len() {
+            return Ok(None);
+        }
+        Ok(Some(SolverState::Resident(ResidentState {
+            dt: self.dt,
+            time: self.time,
+            steps: self.steps,
+            buffers,
+        })))
+    }
+
+    /// Continues from the single GPU's resident state (written on one process or on any
+    /// number of ranks): each device node and plane node takes its words.
+    fn restore(&mut self, state: SolverState) -> std::result::Result<(), String> {
+        let SolverState::Resident(s) = state else {
+            return Err(crate::integrate::integrator::other_integrator());
+        };
+        if s.steps >= self.total {
+            return Err(format!(
+                "the checkpoint is at step {}, the run has {}",
+                s.steps, self.total
+            ));
+        }
+        let layout = self.state_layout(false);
+        let sizes = self.engine.step_state_words();
+        let other = || "the checkpoint's state is of another model".to_string();
+        if s.buffers.len() != layout.len() {
+            return Err(other());
+        }
+        let mut mine = Vec::with_capacity(layout.len());
+        for ((global, r), size) in s.buffers.iter().zip(&layout).zip(sizes) {
+            let width = r.width;
+            if global.len() < width * r.count {
+                return Err(other());
+            }
+            let mut w = vec![0u32; size];
+            for &(g, at) in &r.places {
+                w[width * at..width * (at + 1)]
+                    .copy_from_slice(&global[width * g..width * (g + 1)]);
+            }
+            mine.push(w);
+        }
+        (self.engine)
+            .write_step_state(&mine)
+            .map_err(|e| e.to_string())?;
+        (self.dt, self.time, self.steps) = (s.dt, s.time, s.steps);
+        self.read_state().map_err(|e| e.to_string())
+    }
+
+    /// Makes the last step `dt` long; the energy measure shifts by $\frac{1}{8}(\Delta t^2 -
+    /// dt^2)\, a \cdot M a$, summed over the ranks' owned nodes.
+    fn shorten_step(&mut self, dt: f64) {
+        let ama = match self.engine.read_acceleration() {
+            Ok(a) => {
+                let (order, lumped_mass) = (&self.order, &self.mass_all);
+                let sub = &self.sub;
+                (a.iter().enumerate())
+                    .filter(|(d, _)| order.owned[d / 3])
+                    .map(|(d, a)| {
+                        let l = order.local_of[d / 3] as usize;
+                        lumped_mass[sub.nodes[l] as usize] * a * a
+                    })
+                    .sum()
+            }
+            Err(_) => f64::NAN,
+        };
+        let ama = self.timed().talk(|r| r.sum(&[ama]))[0];
+        self.measure_shift = 0.125 * (self.dt * self.dt - dt * dt) * ama;
+        self.engine.set_dt(dt);
+        self.last_dt = Some(dt);
+    }
+
+    fn end_at(&mut self, time: f64) {
+        self.time = time;
+    }
+
+    fn decomposed(&self) -> Option<&dyn Decomposed> {
+        Some(self)
+    }
+
+    fn decomposed_mut(&mut self) -> Option<&mut dyn Decomposed> {
+        Some(self)
+    }
+}
+
+impl Decomposed for RankResident<'_> {
+    fn piece(&self) -> Piece<'_> {
+        Piece {
+            model: &self.piece,
+            u: &self.u,
+            v: &self.v,
+            nodes: &self.sub.nodes,
+            elements: &self.sub.elements,
+        }
+    }
+
+    fn gather_all(&self, mine: &[f64]) -> Vec<Vec<f64>> {
+        self.timed().talk(|r| r.gather_all(mine))
+    }
+
+    fn decomposition(&mut self) -> Decomposition {
+        let figures = RankFigures {
+            elements: self.sub.data.elements.count(),
+            nodes: self.sub.nodes.len(),
+            shared_nodes: self.sub.shared.len(),
+            neighbours: self.sub.neighbours.len(),
+            communication: self.communication.get(),
+            contact: 0.0,
+            face_nodes_received: 0,
+        };
+        decomposition_of(self.ranks, &figures)
+    }
+}
