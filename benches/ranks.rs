@@ -18,6 +18,13 @@
 //! rank on 1 and 2 ranks; `-- --gpu` with every rank's element forces on its GPU (the
 //! machine's GPUs shared out by local rank), where P = 1 is the single process on the GPU,
 //! its whole step resident there (a column names each run's engine).
+//!
+//! With `--gpu` a third table drops a slab of `P` ranks' worth on a rigid floor: the plane
+//! is its only contact, so every rank keeps its whole step on its GPU (`gpu resident` on
+//! ranks, `domain::RankResident`) and exchanges its shared nodes' corners once a step.
+//! Several ranks on one card show what the exchange and the two submissions a step cost.
+//! `-- --gpu --floor N` refines it (800 N^3 elements per rank; N = 2 by default, 1 with
+//! `--quick`).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -83,6 +90,40 @@ friction = 0.2
         );
     }
     s
+}
+
+/// A slab `4 P x 4 x 0.4` in `(20 P n) x (20 n) x (2 n)` hex8 (800 n^3 elements per rank)
+/// dropped at 1 on a rigid floor: the plane is its only contact.
+fn floor_scene(ranks: usize, n: usize) -> String {
+    format!(
+        r#"
+[run]
+method = "explicit"
+end_time = {end}
+
+[[material]]
+name = "steel"
+density = 7.8e-3
+youngs_modulus = 200.0
+poissons_ratio = 0.3
+
+[[body]]
+name = "slab"
+material = "steel"
+box = {{ min = [0.0, 0.0, 0.01], max = [{lx}, 4.0, 0.41], divisions = [{px}, {py}, {pz}] }}
+velocity = [0.0, 0.0, -1.0]
+
+[[rigid_plane]]
+name = "floor"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+"#,
+        end = 0.1 / n as f64,
+        lx = 4.0 * ranks as f64,
+        px = 20 * ranks * n,
+        py = 20 * n,
+        pz = 2 * n,
+    )
 }
 
 /// The figures of one run from its summary.
@@ -153,7 +194,8 @@ fn run(ranks: usize, name: &str, text: &str, dir: &Path, device: &str) -> Figure
 }
 
 fn main() {
-    let quick = std::env::args().any(|a| a == "--quick");
+    let args: Vec<String> = std::env::args().collect();
+    let quick = args.iter().any(|a| a == "--quick");
     let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
     let (n, mut ranks) = if quick {
         (1, vec![1, 2])
@@ -166,7 +208,7 @@ fn main() {
         p *= 2;
     }
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench_ranks");
-    let gpu = std::env::args().any(|a| a == "--gpu");
+    let gpu = args.iter().any(|a| a == "--gpu");
     let device = if gpu { "gpu" } else { "cpu" };
     let path = if gpu {
         "each rank's element forces on its GPU, the single process resident"
@@ -210,6 +252,40 @@ fn main() {
             100.0 * f.communication,
             milliseconds(f.contact),
             f.received as f64 / f.steps as f64,
+            f.engine
+        );
+    }
+    if gpu {
+        let floor = (args.iter().position(|a| a == "--floor"))
+            .and_then(|i| args.get(i + 1)?.parse().ok())
+            .unwrap_or(n.max(2) - usize::from(quick));
+        floor_table(&ranks, floor, &dir);
+    }
+}
+
+/// The third table: the slab on a rigid floor, refined `n`, every rank resident on its GPU.
+fn floor_table(ranks: &[usize], n: usize, dir: &Path) {
+    println!();
+    println!(
+        "a slab on a rigid floor (the plane its only contact), every rank resident on its GPU"
+    );
+    println!(
+        "| ranks | elements | per rank | steps | ms per step | ns per element-step | against one rank | communication | engine |"
+    );
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---|");
+    let mut one = None;
+    for &r in ranks {
+        let f = run(r, &format!("floor_{r}"), &floor_scene(r, n), dir, "gpu");
+        let base = *one.get_or_insert(f.step_seconds);
+        println!(
+            "| {r} | {} | {} | {} | {:.2} | {:.2} | {:.2}x | {:.1}% | {} |",
+            f.elements,
+            f.elements / r,
+            f.steps,
+            1e3 * f.step_seconds,
+            1e9 * f.step_seconds / f.elements as f64,
+            f.step_seconds / base,
+            100.0 * f.communication,
             f.engine
         );
     }

@@ -16,6 +16,7 @@ pub mod inspect;
 pub mod kernel;
 pub mod kernels;
 pub mod rank_exchange;
+mod rank_step;
 pub mod resident_step;
 pub mod scan;
 pub mod search;
