@@ -340,11 +340,11 @@ fn corner_select_matches_its_cpu_twin() {
 /// The shared nodes' sums written over random nodal forces: the shared nodes (in no order)
 /// take their sums, every other node keeps its force.
 #[test]
-fn shared_forces_matches_its_cpu_twin() {
-    let Some(ctx) = gpu_context("shared_forces") else {
+fn node_scatter_matches_its_cpu_twin() {
+    let Some(ctx) = gpu_context("node_scatter") else {
         return;
     };
-    let seed = seed("shared_forces");
+    let seed = seed("node_scatter");
     let mut rng = StdRng::seed_from_u64(seed);
     let p = distorted_box(&mut rng);
     let n = p.data.reference.len();
@@ -355,18 +355,18 @@ fn shared_forces_matches_its_cpu_twin() {
         .map(|_| std::array::from_fn(|_| rng.random_range(-1.0..1.0)))
         .collect();
     let mut cpu = forces.clone();
-    kernels::shared_forces(&shared, &sums, &mut cpu);
+    kernels::node_scatter(&shared, &sums, &mut cpu);
     let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
     let exchange = RankExchange::new(&gpu, &[], &shared).expect("exchange");
     let g = gpu
-        .shared_forces(&exchange, &forces, &sums)
+        .node_scatter(&exchange, &forces, &sums)
         .expect("dispatch");
     let e = rel_err(&g, &cpu);
     eprintln!(
         "{} of {n} nodes shared, relative error {e:.2e}",
         shared.len()
     );
-    assert!(e <= TOL, "seed {seed}: shared_forces error {e:.3e}");
+    assert!(e <= TOL, "seed {seed}: node_scatter error {e:.3e}");
     let kept = (0..n).filter(|i| !shared.contains(&(*i as u32)));
     assert!(kept.clone().count() > 0 && !shared.is_empty());
     for i in kept {

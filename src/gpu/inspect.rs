@@ -219,9 +219,9 @@ impl GpuKernels {
         Ok(chosen.into_iter().map(|f| f.map(f64::from)).collect())
     }
 
-    /// Runs `shared_forces` of `exchange` (built on these kernels) alone over the nodal
+    /// Runs `node_scatter` of `exchange` (built on these kernels) alone over the nodal
     /// forces `forces` with the shared nodes' `sums`: every node's forces after it.
-    pub fn shared_forces(
+    pub fn node_scatter(
         &mut self,
         exchange: &RankExchange,
         forces: &[f64],

@@ -93,6 +93,7 @@ kernel_table! {
     Hex8iForces = hex8i_forces(reference, displacement, block_nodes, kept, corner_forces);
     HistoryReduce = history_reduce(columns, partials, results, displacement, velocity, rows);
     NodeGather = node_gather(offsets, incidence, corner_forces, forces);
+    NodeScatter = node_scatter(nodes, values, nodal);
     PlaneContact = plane_contact(
         step, reference, displacement, acceleration, lumped, planes, plane_nodes, velocity,
         results,
@@ -101,7 +102,6 @@ kernel_table! {
     ScanTotals = scan_totals(values, totals);
     SearchBounds = search_bounds(reference, displacement, velocity, faces, centres, bounds, boxes);
     SearchGridKernel = search_grid(step, bounds, grid);
-    SharedForces = shared_forces(shared_nodes, sums, forces);
     SlipRate = slip_rate(reference, displacement, velocity, queries, faces, points, slip);
     StableStep = stable_step(reference, hex8_elements, tet4_elements, materials, steps);
     Tet4Forces = tet4_forces(

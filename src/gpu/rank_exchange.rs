@@ -2,13 +2,13 @@
 //! nodes it shares with its neighbours their whole internal force: the corners the exchange
 //! reads ([`CornerSelection`], read back after the element kernels) and the shared nodes'
 //! sums over every rank's corners, written over the node gather's partial sums
-//! (`shaders/shared_forces.wgsl`, CPU twin [`crate::kernels::shared_forces`]).
+//! (`shaders/node_scatter.wgsl`, CPU twin [`crate::kernels::node_scatter`]).
 
 use super::buffer::{submit_and_read, Storage};
 use super::corner_select::CornerSelection;
 use super::engine::{at_least_one, bytes_of, GpuKernels};
 use super::kernel::Launch;
-use super::SharedForces;
+use super::NodeScatter;
 use crate::error::{ImpactError, Result};
 
 pub struct RankExchange {
@@ -16,7 +16,7 @@ pub struct RankExchange {
     /// Kept alive for the launch's bindings.
     _shared_nodes: Storage,
     sums: Storage,
-    kernel: SharedForces,
+    kernel: NodeScatter,
     launch: Launch,
     shared: usize,
 }
@@ -36,7 +36,7 @@ impl RankExchange {
         let nodes = Storage::with_data(ctx, "shared_nodes", &at_least_one(shared_nodes.to_vec()))?;
         let floats = (3 * shared_nodes.len()).max(1);
         let sums = Storage::new(ctx, "shared_sums", bytes_of::<f32>(floats))?;
-        let kernel = SharedForces::new(ctx);
+        let kernel = NodeScatter::new(ctx);
         let launch = kernel.launch(
             ctx,
             shared_nodes.len() as u32,
@@ -92,10 +92,10 @@ impl RankExchange {
     }
 
     /// The kernel alone on `k`'s forces as they are (for the twin test): writes `sums`, runs
-    /// `shared_forces` and reads every node's forces back.
+    /// `node_scatter` and reads every node's forces back.
     pub(super) fn run_alone(&self, k: &mut GpuKernels, sums: &[[f32; 3]]) -> Result<Vec<f32>> {
         self.write_sums(k, sums)?;
-        let mut enc = k.ctx.encoder("shared_forces");
+        let mut enc = k.ctx.encoder("node_scatter");
         self.kernel.0.record_launch(&mut enc, &self.launch);
         submit_and_read(&k.ctx, &mut k.staging, enc, &k.forces.buffer, 3 * k.nodes)
     }
