@@ -380,6 +380,38 @@ fn node_scatter_matches_its_cpu_twin() {
     }
 }
 
+/// The state of listed nodes packed: random displacements (packed as split pairs, hi + lo)
+/// and velocities of a random subset of the nodes, in no order, against the twin.
+#[test]
+fn node_select_matches_its_cpu_twin() {
+    let Some(ctx) = gpu_context("node_select") else {
+        return;
+    };
+    let seed = seed("node_select");
+    let mut rng = StdRng::seed_from_u64(seed);
+    let p = distorted_box(&mut rng);
+    let n = p.data.reference.len();
+    let mut owned: Vec<u32> = (0..n as u32).filter(|_| rng.random_bool(0.4)).collect();
+    owned.reverse();
+    let u = displacements(&mut rng, n, p.h);
+    let v: Vec<f64> = (0..3 * n).map(|_| rng.random_range(-3.0..3.0)).collect();
+    let (mut cu, mut cv) = (vec![0.0; 3 * owned.len()], vec![0.0; 3 * owned.len()]);
+    kernels::node_select(&owned, 3, &u, &mut cu);
+    kernels::node_select(&owned, 3, &v, &mut cv);
+    let mut gpu = GpuKernels::new(ctx, &p.data).expect("engine");
+    let (gu, gv) = gpu.node_select(&owned, &u, &v).expect("dispatch");
+    let (eu, ev) = (rel_err(&gu, &cu), rel_err(&gv, &cv));
+    eprintln!(
+        "{} of {n} nodes, relative errors u {eu:.2e}, v {ev:.2e}",
+        owned.len()
+    );
+    assert!(!owned.is_empty());
+    assert!(
+        eu <= 1e-12 && ev <= TOL,
+        "seed {seed}: node_select errors {eu:.3e} {ev:.3e}"
+    );
+}
+
 /// The forces with chosen corners read back alongside: the nodal forces are those of
 /// `internal_forces_into`, bit for bit, and the corners those of the CPU kernels.
 #[test]

@@ -380,10 +380,11 @@ fn tet4_cube_on_tet4_plate_is_the_same_on_2_and_4_ranks() {
     );
 }
 
-/// Every rank on its own GPU (here each opens the machine's one adapter): the state
-/// columns on 2 and 4 ranks are the bits of one rank on the GPU, as on the CPU; the element
-/// forces are f32, the shared nodes' corners added in f32 in global corner order as the
-/// GPU's gather adds them.
+/// Every rank with its element forces on its own GPU (here each opens the machine's one
+/// adapter; the model has a rigid body, which the resident step on ranks does not take):
+/// the state columns on 2 and 4 ranks are the bits of one rank on the GPU, as on the CPU;
+/// the element forces are f32, the shared nodes' corners added in f32 in global corner
+/// order as the GPU's gather adds them.
 #[test]
 fn block_on_plate_on_gpus_is_the_same_on_2_and_4_ranks() {
     if skip_gpu("mpi ranks on gpus") {
@@ -391,28 +392,31 @@ fn block_on_plate_on_gpus_is_the_same_on_2_and_4_ranks() {
     }
     same_on_ranks_on(
         "mpi_gpu_cube_on_plate",
-        &explicit_at_default_step(&scene_text("cube_on_plate.toml")),
+        &with_idle_rigid_body(&explicit_at_default_step(&scene_text("cube_on_plate.toml"))),
         "gpu",
     );
 }
 
-/// Blocks dropped on a rigid floor, every rank's whole step on its GPU (here each opens the
-/// machine's one adapter), against one process on the GPU, resident too: the state's
-/// columns (probes, penetration, active nodes, time) are the single GPU's bits on 2 and 4
-/// ranks; the sums (energies, body velocities, contact forces), which each rank's device
-/// adds in f32 over its owned nodes before the ranks are added in order, are within 1e-6 of
-/// the largest value of their kind. Hex8 as imported, and the tet4 block.
+/// Every rank's whole step on its GPU (here each opens the machine's one adapter), against
+/// one process on the GPU, resident too: the state's columns (probes, penetration, active
+/// nodes, time; the contact forces where the contact is on the surfaces) are the single
+/// GPU's bits on 2 and 4 ranks; the sums (energies, body velocities, a rigid plane's contact
+/// forces), which each rank's device adds in f32 over its owned nodes before the ranks are
+/// added in order, are within 1e-6 of the largest value of their kind. Blocks dropped on a
+/// rigid floor (hex8 as imported, and tet4: the plane their only contact), and the cube on
+/// the plate (the contact iteration on the surfaces, which every rank works).
 #[test]
-fn blocks_dropped_on_a_floor_resident_on_gpus_are_one_gpu_on_2_and_4_ranks() {
+fn resident_ranks_on_gpus_are_one_gpu_on_2_and_4_ranks() {
     if skip_gpu("mpi ranks resident on gpus") {
         return;
     }
-    for name in ["block_hex_drop", "block_tet_drop"] {
+    for name in ["block_hex_drop", "block_tet_drop", "cube_on_plate"] {
         let tag = format!("mpi_resident_{name}");
         let dir = out_dir(&tag);
         std::fs::create_dir_all(&dir).unwrap();
         let text = scene_text(&format!("{name}.toml"));
         let text = match name {
+            "cube_on_plate" => explicit_at_default_step(&text),
             "block_hex_drop" => edit(
                 &text,
                 "\"meshes/block_hex.inp\"",
@@ -475,20 +479,38 @@ fn a_resident_run_checkpointed_on_2_ranks_resumes_on_4_and_on_one_gpu() {
     if skip_gpu("mpi resident checkpoints") {
         return;
     }
-    let tag = "mpi_resident_checkpoints";
-    let dir = out_dir(tag);
-    std::fs::create_dir_all(&dir).unwrap();
     let mesh = repo().join("scenes/meshes/block_hex.inp");
-    let text = edit(
+    let block = edit(
         &scene_text("block_hex_drop.toml"),
         "\"meshes/block_hex.inp\"",
         &format!("{:?}", mesh.display().to_string()),
     ) + "\n[output]\ncheckpoint_every = 20\n";
-    let half = edit(&text, "end_time = 0.06", "end_time = 0.03");
+    let cube = explicit_at_default_step(&scene_text("cube_on_plate.toml"))
+        + "\n[output]\ncheckpoint_every = 7\n";
+    let cases = [
+        ("block", block, ("end_time = 0.06", "end_time = 0.03")),
+        ("cube", cube, ("end_time = 0.1", "end_time = 0.05")),
+    ];
+    for (name, text, (end, half_end)) in cases {
+        resident_checkpoint_case(
+            &format!("mpi_resident_checkpoints_{name}"),
+            &text,
+            end,
+            half_end,
+        );
+    }
+}
+
+/// The case of [`a_resident_run_checkpointed_on_2_ranks_resumes_on_4_and_on_one_gpu`]:
+/// `text`, cut at `half_end` in place of `end`.
+fn resident_checkpoint_case(tag: &str, text: &str, end: &str, half_end: &str) {
+    let dir = out_dir(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    let half = edit(text, end, half_end);
     let (whole_scene, half_scene) = (dir.join("whole.toml"), dir.join("half.toml"));
-    std::fs::write(&whole_scene, &text).unwrap();
+    std::fs::write(&whole_scene, text).unwrap();
     std::fs::write(&half_scene, &half).unwrap();
-    let parsed = Scene::parse(&text, &whole_scene).unwrap();
+    let parsed = Scene::parse(text, &whole_scene).unwrap();
     let bodies: Vec<String> = parsed.bodies.iter().map(|b| b.name.clone()).collect();
     impact_run_on(0, &whole_scene, &dir.join("unbroken"), "gpu");
     impact_run_on(0, &half_scene, &dir.join("gpu_half"), "gpu");
@@ -503,10 +525,10 @@ fn a_resident_run_checkpointed_on_2_ranks_resumes_on_4_and_on_one_gpu() {
     for (resumed_on, d) in [(4, "resumed_on_4"), (0, "resumed_on_one")] {
         impact_run_on(2, &half_scene, &dir.join(d), "gpu");
         let c = read(d);
-        assert_eq!(c.tally.steps, reference.tally.steps, "{d}");
+        assert_eq!(c.tally.steps, reference.tally.steps, "{tag}, {d}");
         assert!(
             state(&c) == state(&reference),
-            "{d}: the 2-rank state differs from one gpu's"
+            "{tag}, {d}: the 2-rank state differs from one gpu's"
         );
         impact_run_with(
             resumed_on,
@@ -515,7 +537,7 @@ fn a_resident_run_checkpointed_on_2_ranks_resumes_on_4_and_on_one_gpu() {
             ["--resume", "--device", "gpu"],
         );
         same_history_within(
-            d,
+            &format!("{tag}, {d}"),
             &one,
             &History::read(&dir.join(d).join("history.csv")),
             (&bodies, true),

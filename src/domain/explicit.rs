@@ -481,12 +481,13 @@ impl Decomposed for DomainSolver<'_> {
     }
 
     fn decomposition(&mut self) -> Decomposition {
-        decomposition_of(self.ranks, &self.figures())
+        decomposition_of(self.ranks, &self.figures(), super::contact::DESCRIPTION)
     }
 }
 
-/// The decomposition of a run whose ranks each report `f` (gathered: every rank calls it).
-pub(super) fn decomposition_of(ranks: &dyn Ranks, f: &RankFigures) -> Decomposition {
+/// The decomposition of a run whose ranks each report `f` and share out the contact as
+/// `contact` says (gathered: every rank calls it).
+pub(super) fn decomposition_of(ranks: &dyn Ranks, f: &RankFigures, contact: &str) -> Decomposition {
     let mine = [
         f.elements as f64,
         f.nodes as f64,
@@ -501,7 +502,7 @@ pub(super) fn decomposition_of(ranks: &dyn Ranks, f: &RankFigures) -> Decomposit
     Decomposition {
         ranks: ranks.size(),
         partition: super::partition::DESCRIPTION.into(),
-        contact: super::contact::DESCRIPTION.into(),
+        contact: contact.into(),
         elements: column(0),
         nodes: column(1),
         shared_nodes: column(2),

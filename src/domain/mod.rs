@@ -27,6 +27,7 @@ pub mod mpi;
 pub mod partition;
 pub mod ranks;
 pub mod resident;
+mod resident_contact;
 pub mod subdomain;
 pub mod surface;
 

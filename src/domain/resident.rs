@@ -1,18 +1,24 @@
 //! [`RankResident`]: a rank of a decomposed explicit run with its whole step on its GPU
-//! ([`crate::gpu::ResidentStep`]), for models whose contacts are rigid planes alone (each
-//! node's contact is its own, so no contact crosses the cut).
+//! ([`crate::gpu::ResidentStep`]), for models without rigid bodies or ply strengths.
 //!
-//! A step is two submissions. The first runs the predictor, the planes, the drift and the
-//! rank's element forces, and reads back the corners the exchange needs; the host sends
-//! the neighbours theirs and sums each shared node's corners, its own and the received, in
-//! the global corner order in f32 (as the single GPU's gather adds them). The second writes
-//! those sums over the gathered forces, runs the correctors and reduces the history row,
-//! which comes back to be added over the ranks. So every node a rank holds takes the same
-//! f32 operations as on one GPU of the same kind: the state (displacements, velocities,
-//! contact results) and the history's state columns (probes, maxima) are the single GPU's
-//! bits on any number of ranks. The history's sums (energies, momenta, contact forces) add
-//! each rank's owned nodes on its device and then the ranks in order: the single GPU's
-//! values to the rounding of a different order of the same f32 sums.
+//! Where rigid planes are the only contacts (each node's contact is its own, so none
+//! crosses the cut), a step is two submissions. The first runs the predictor, the planes,
+//! the drift and the rank's element forces, and reads back the corners the exchange needs;
+//! the host sends the neighbours theirs and sums each shared node's corners, its own and
+//! the received, in the global corner order in f32 (as the single GPU's gather adds them).
+//! The second writes those sums over the gathered forces, runs the correctors and reduces
+//! the history row, which comes back to be added over the ranks. With contact between
+//! meshed bodies, the predictor is a submission of its own, after which every rank works the
+//! contact iteration on the whole contact surfaces ([`super::resident_contact`]) and takes
+//! back its surface nodes' velocities before the drift.
+//!
+//! So every node a rank holds takes the same f32 operations as on one GPU of the same
+//! kind: the state (displacements, velocities, contact results) and the history's state
+//! columns (probes, maxima, and the contact on the surfaces, which every rank has whole)
+//! are the single GPU's bits on any number of ranks. The history's sums over the nodes
+//! (energies, momenta, the planes' contact forces) add each rank's owned nodes on its device
+//! and then the ranks in order: the single GPU's values to the rounding of a different
+//! order of the same f32 sums.
 //!
 //! The rank's nodes are renumbered on the device, each body's owned nodes first and then
 //! the nodes it holds for its neighbours, so that the correctors' sums of the owned nodes
@@ -24,6 +30,7 @@ use super::checkpoint::gather_records;
 use super::explicit::{decomposition_of, exchange_corners, RankFigures};
 use super::partition::Partition;
 use super::ranks::{agree, Ranks, Timed};
+use super::resident_contact::SurfaceContact;
 use super::subdomain::Subdomain;
 use crate::error::{ImpactError, Result};
 use crate::gpu::buffer::padded_bytes;
@@ -40,12 +47,16 @@ use crate::kernels::{ElementData, PlaneNode};
 use crate::model::Model;
 use crate::scene::{ExplicitSettings, Method};
 
+/// The contact's share-out in words (`summary.json`), on the surfaces and on rigid planes
+/// alone.
+const SURFACES: &str = "every rank reads back the state of the surface nodes it owns after the predictor; one gather gives every rank every surface node's state, and every rank works the contact iteration on the whole contact surfaces on its GPU and takes back the velocities of the surface nodes it holds";
+const PLANES: &str = "each node's contact with the rigid planes on every rank that holds it, the history's sums over the plane nodes each rank owns";
+
 /// Whether a decomposed run of `model` on GPUs can keep each rank's whole step on its
-/// device: every contact a rigid plane (at most 8), no rigid body and no ply failure
-/// survey. Otherwise the ranks compute their element forces on their GPUs and the rest of
+/// device: no rigid body and no ply failure survey. Otherwise the ranks compute their element forces on their GPUs and the rest of
 /// the step on their cores ([`super::DomainSolver`]).
 pub fn resident_on_ranks(model: &Model) -> bool {
-    planes_only(model) && model.rigid.is_empty() && model.strengths.iter().all(Option::is_none)
+    model.rigid.is_empty() && model.strengths.iter().all(Option::is_none)
 }
 
 /// The rank's nodes on its device: each body's owned nodes, then the nodes it holds for
@@ -208,6 +219,10 @@ pub struct RankResident<'m> {
     model_plane_nodes: usize,
     /// Whether the rank owns each probe's node, and its device number where it holds it.
     probes: Vec<(bool, u32)>,
+    /// The contact between meshed bodies, on the surfaces (none where rigid planes are the
+    /// only contacts), and its history columns of the step.
+    surface: Option<SurfaceContact>,
+    contact_row: Vec<f32>,
     current: Row,
     initial: Energies,
     measure_shift: f64,
@@ -234,10 +249,30 @@ impl<'m> RankResident<'m> {
         let mut sub = Subdomain::new(model, partition, ranks.rank());
         let piece = sub.piece_model(model);
         let (global, places) = resident::setup(model, settings, dt, speed_scale)?;
-        let built = Self::device_step(&mut sub, &piece, &global, ctx);
+        let built = Self::device_step(&mut sub, &piece, &global, ctx.clone());
         // a rank whose device step fails stops every rank (none waits for it)
-        let (order, planes, engine) = agree(ranks, built)
+        let (order, planes, mut engine) = agree(ranks, built)
             .map_err(|why| ImpactError::Gpu(format!("building the resident step: {why}")))?;
+        let surface = match planes_only(model) {
+            true => None,
+            false => {
+                let talk = Timed {
+                    ranks,
+                    seconds: &std::cell::Cell::new(0.0),
+                };
+                let built = SurfaceContact::new(model, &sub, &global, ctx, &talk);
+                let built = built.and_then(|(c, owned, held)| {
+                    let device = |l: &[u32]| -> Vec<u32> {
+                        l.iter().map(|&l| order.device_of[l as usize]).collect()
+                    };
+                    engine.surface_with(&device(&owned), &device(&held))?;
+                    Ok(c)
+                });
+                Some(agree(ranks, built).map_err(|why| {
+                    ImpactError::Gpu(format!("building the contact on the surfaces: {why}"))
+                })?)
+            }
+        };
         let mass_all: Vec<f64> = global.lumped.iter().map(|l| l.mass).collect();
         let body_mass = (model.mesh.bodies.iter())
             .map(|b| b.nodes.clone().map(|n| mass_all[n]).sum())
@@ -269,7 +304,10 @@ impl<'m> RankResident<'m> {
                 plane_places[*at] = g;
             }
         }
-        let results = vec![0.0; SLOT * plane_count * planes.nodes.len()];
+        let results = match &surface {
+            Some(c) => vec![0.0; SLOT * c.pairs.last().map_or(0, |r| r.end)],
+            None => vec![0.0; SLOT * plane_count * planes.nodes.len()],
+        };
         Ok(RankResident {
             model,
             ranks,
@@ -298,6 +336,8 @@ impl<'m> RankResident<'m> {
             plane_places,
             owned_planes: planes.owned,
             model_plane_nodes: global.plane_nodes.len(),
+            surface,
+            contact_row: Vec::new(),
             probes,
             initial: Energies {
                 kinetic,
@@ -374,9 +414,22 @@ impl<'m> RankResident<'m> {
         let nb = self.model.mesh.bodies.len();
         let np = self.model.interfaces.len();
         let mut mine: Vec<f64> = row[..FIELDS * nb].iter().map(|&x| f64::from(x)).collect();
-        let contact = &row[2 * FIELDS * nb..2 * FIELDS * nb + SLOT * np];
-        mine.extend(contact.iter().map(|&x| f64::from(x)));
-        let base = 2 * FIELDS * nb + SLOT * np;
+        // the contact on the surfaces is every rank's: rank 0 gives it (the others add
+        // zeros, exactly)
+        let (contact, in_row) = match &self.surface {
+            Some(_) => (&self.contact_row[..], 0),
+            None => (
+                &row[2 * FIELDS * nb..2 * FIELDS * nb + SLOT * np],
+                SLOT * np,
+            ),
+        };
+        let first = self.surface.is_none() || self.ranks.rank() == 0;
+        mine.extend(
+            contact
+                .iter()
+                .map(|&x| if first { f64::from(x) } else { 0.0 }),
+        );
+        let base = 2 * FIELDS * nb + in_row;
         for (p, &(owned, _)) in self.probes.iter().enumerate() {
             let values = &row[base + 6 * p..base + 6 * (p + 1)];
             mine.extend(
@@ -404,7 +457,12 @@ impl<'m> RankResident<'m> {
         let (u, v, results) = self.engine.read_state()?;
         self.u = self.order.to_local(&u, 3);
         self.v = self.order.to_local(&v, 3);
-        self.results = results;
+        self.results = match &mut self.surface {
+            Some(c) => (c.step.read_results()?.into_iter())
+                .map(|w| f64::from(f32::from_bits(w)))
+                .collect(),
+            None => results,
+        };
         Ok(())
     }
 
@@ -464,7 +522,19 @@ impl Integrator for RankResident<'_> {
     /// correctors and the history row added over the ranks; at a frame step the state is
     /// read back.
     fn step(&mut self) -> Result<StepReport> {
-        let chosen = self.engine.step_forces()?;
+        let chosen = match &mut self.surface {
+            None => self.engine.step_forces()?,
+            Some(surface) => {
+                let mine = self.engine.step_front()?;
+                let talk = Timed {
+                    ranks: self.ranks,
+                    seconds: &self.communication,
+                };
+                let (v, row) = surface.step(&talk, &mine)?;
+                self.contact_row = row;
+                self.engine.step_forces_with(&v)?
+            }
+        };
         let sends = self.sub.sends(&chosen);
         let talk = Timed {
             ranks: self.ranks,
@@ -508,10 +578,14 @@ impl Integrator for RankResident<'_> {
     /// The pressure and gap of a secondary node the rank holds, at the last state read
     /// (zero and no gap for another rank's: a frame takes the rank's own nodes).
     fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {
-        let Some(place) = self.places[interface][point] else {
-            return (0.0, f64::NAN);
+        let o = match &self.surface {
+            // every rank has every pair's results
+            Some(c) => SLOT * (c.pairs[interface].start + point),
+            None => match self.places[interface][point] {
+                Some(place) => SLOT * (place * self.plane_count + interface),
+                None => return (0.0, f64::NAN),
+            },
         };
-        let o = SLOT * (place * self.plane_count + interface);
         let area = self.model.interfaces[interface].area[point];
         let dt = self.last_dt.unwrap_or(self.dt);
         (
@@ -569,9 +643,20 @@ impl Integrator for RankResident<'_> {
     fn checkpoint_state(&mut self) -> Result<Option<SolverState>> {
         let words = self.engine.read_step_state()?;
         let layout = self.state_layout(true);
-        let talk = self.timed();
         let mut buffers = Vec::with_capacity(words.len());
-        for (w, r) in words.iter().zip(&layout) {
+        // the contact on the surfaces: every rank has its results whole
+        let surface_results = match &mut self.surface {
+            Some(c) => Some(c.step.read_results()?),
+            None => None,
+        };
+        let talk = self.timed();
+        for (k, (w, r)) in words.iter().zip(&layout).enumerate() {
+            if let (3, Some(results)) = (k, &surface_results) {
+                if self.ranks.rank() == 0 {
+                    buffers.push(results.clone());
+                }
+                continue;
+            }
             let width = r.width;
             let mine: Vec<f64> = (r.places.iter())
                 .flat_map(|&(_, at)| w[width * at..width * (at + 1)].iter())
@@ -615,8 +700,18 @@ impl Integrator for RankResident<'_> {
         if s.buffers.len() != layout.len() {
             return Err(other());
         }
+        if let Some(c) = &self.surface {
+            c.step
+                .write_results(&s.buffers[3])
+                .map_err(|e| e.to_string())?;
+        }
         let mut mine = Vec::with_capacity(layout.len());
-        for ((global, r), size) in s.buffers.iter().zip(&layout).zip(sizes) {
+        for (k, ((global, r), size)) in s.buffers.iter().zip(&layout).zip(sizes).enumerate() {
+            if k == 3 && self.surface.is_some() {
+                // the rank's own plane results (none): as they are
+                mine.push(vec![0; size]);
+                continue;
+            }
             let width = r.width;
             if global.len() < width * r.count {
                 return Err(other());
@@ -655,6 +750,9 @@ impl Integrator for RankResident<'_> {
         let ama = self.timed().talk(|r| r.sum(&[ama]))[0];
         self.measure_shift = 0.125 * (self.dt * self.dt - dt * dt) * ama;
         self.engine.set_dt(dt);
+        if let Some(c) = &mut self.surface {
+            c.step.set_dt(dt);
+        }
         self.last_dt = Some(dt);
     }
 
@@ -696,6 +794,10 @@ impl Decomposed for RankResident<'_> {
             contact: 0.0,
             face_nodes_received: 0,
         };
-        decomposition_of(self.ranks, &figures)
+        let contact = match self.surface {
+            Some(_) => SURFACES,
+            None => PLANES,
+        };
+        decomposition_of(self.ranks, &figures, contact)
     }
 }

@@ -501,6 +501,9 @@ pub struct ImpulseSweeps {
     /// The rigid body ranges, whose impulse changes follow the pairs' in `dj`.
     pub(super) ranges: usize,
     max_iterations: u32,
+    /// Where set, the search bounds' speed starts from this one (f32 bits) instead of zero:
+    /// the fastest node of a model of which these nodes are a part ([`Self::set_speed_floor`]).
+    speed_floor: Option<Launch>,
 }
 
 impl ImpulseSweeps {
@@ -561,6 +564,7 @@ impl ImpulseSweeps {
             faces: nf,
             ranges: setup.rigid.len(),
             max_iterations,
+            speed_floor: None,
         })
     }
 
@@ -588,6 +592,22 @@ impl ImpulseSweeps {
     /// The contact results, [`SLOT`] floats per pair (see `contact_report.wgsl`).
     pub fn results_buffer(&self) -> &wgpu::Buffer {
         &self.work.results.buffer
+    }
+
+    /// Makes the search's bounds start from `speed` (f32 bits) as their fastest node's speed,
+    /// from the next dispatch on: the iteration on a part of a model (a decomposed run's
+    /// surfaces) then takes the whole model's search reach, as the single GPU does.
+    pub fn set_speed_floor(&mut self, ctx: &GpuContext, speed: u32) {
+        match &mut self.speed_floor {
+            Some(l) => l.set_count(ctx, 1, speed),
+            None => {
+                let l = self
+                    .kernels
+                    .zero
+                    .launch(ctx, 1, speed, 0, &self.work.bounds.buffer);
+                self.speed_floor = Some(l);
+            }
+        }
     }
 
     pub fn pair_count(&self) -> usize {
@@ -623,6 +643,9 @@ impl ImpulseSweeps {
         let (k, l) = (&self.kernels, &self.launches);
         if let (Some(search), Some(bounds), Some(grid)) = (&self.search, &l.bounds, &l.grid) {
             k.zero.0.dispatch(pass, &l.zero_bounds);
+            if let Some(floor) = &self.speed_floor {
+                k.zero.0.dispatch(pass, floor);
+            }
             k.bounds.0.dispatch(pass, bounds);
             k.grid.0.dispatch(pass, &grid[mode as usize]);
             if mode != SearchMode::Keep {

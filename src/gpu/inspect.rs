@@ -15,6 +15,7 @@ use super::context::GpuContext;
 use super::corner_select::CornerSelection;
 use super::engine::{bytes_of, GpuKernels};
 use super::rank_exchange::RankExchange;
+use super::rank_surface::RankSurface;
 use super::resident_step::{to_f32, ResidentStep};
 use super::scan::Scan;
 use super::search::GpuSearch;
@@ -232,6 +233,42 @@ impl GpuKernels {
         let sums: Vec<[f32; 3]> = sums.iter().map(|s| s.map(|x| x as f32)).collect();
         let out = exchange.run_alone(self, &sums)?;
         Ok(out.into_iter().map(f64::from).collect())
+    }
+
+    /// Runs `node_select` alone (a rank's surface read-back, [`RankSurface`]) on the
+    /// displacements `u` and velocities `v`: the packed displacements (hi + lo) and
+    /// velocities of the nodes `owned`, in order.
+    pub fn node_select(
+        &mut self,
+        owned: &[u32],
+        u: &[f64],
+        v: &[f64],
+    ) -> Result<(Vec<f64>, Vec<f64>)> {
+        self.upload_nodal(false, u)?;
+        self.upload_velocity(v)?;
+        let surface = RankSurface::new(self, &self.forces.buffer, owned, &[])?;
+        for s in &surface.selected {
+            s.fill_nan(&self.ctx, s.capacity);
+        }
+        let mut enc = self.ctx.encoder("node_select");
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("node_select"),
+                timestamp_writes: None,
+            });
+            surface.dispatch_select(&mut pass);
+        }
+        let c = owned.len();
+        let parts = [
+            (&surface.selected[0].buffer, 6 * c),
+            (&surface.selected[1].buffer, 3 * c),
+        ];
+        let out: Vec<f32> = submit_and_read_parts(&self.ctx, &mut self.staging, enc, &parts)?;
+        let (split, vel) = out.split_at(6 * c);
+        let u = (split.chunks_exact(6))
+            .flat_map(|w| (0..3).map(move |a| f64::from(w[a]) + f64::from(w[3 + a])))
+            .collect();
+        Ok((u, vel.iter().map(|&x| f64::from(x)).collect()))
     }
 
     /// Runs `node_gather` alone on the given corner forces (the twin's order).

@@ -94,6 +94,7 @@ kernel_table! {
     HistoryReduce = history_reduce(columns, partials, results, displacement, velocity, rows);
     NodeGather = node_gather(offsets, incidence, corner_forces, forces);
     NodeScatter = node_scatter(nodes, values, nodal);
+    NodeSelect = node_select(nodes, nodal, selected);
     PlaneContact = plane_contact(
         step, reference, displacement, acceleration, lumped, planes, plane_nodes, velocity,
         results,

@@ -17,11 +17,13 @@ pub mod kernel;
 pub mod kernels;
 pub mod rank_exchange;
 mod rank_step;
+pub mod rank_surface;
 pub mod resident_step;
 pub mod scan;
 pub mod search;
 pub mod shaders;
 pub mod stable_step;
+pub mod surface_step;
 pub mod types;
 
 pub use context::{list_adapters, AdapterPolicy, AdapterSummary, GpuContext};
@@ -33,3 +35,4 @@ pub use rank_exchange::RankExchange;
 pub use resident_step::{ResidentSetup, ResidentStep};
 pub use search::GpuSearch;
 pub use stable_step::element_steps;
+pub use surface_step::SurfaceStep;

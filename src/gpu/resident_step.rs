@@ -31,6 +31,7 @@ use super::failure_stage::{FailureStage, StageTarget};
 use super::impulse_sweeps::{ContactSetup, ImpulseSweeps, StepBuffers};
 use super::kernel::Launch;
 use super::rank_exchange::RankExchange;
+use super::rank_surface::RankSurface;
 use super::types::WORKGROUP;
 use super::types::{self, to_device, Split3};
 use super::{ExplicitCorrect, ExplicitDrift, ExplicitPredict, HistoryReduce, PlaneContact};
@@ -415,6 +416,8 @@ pub struct ResidentStep {
     failure: Option<FailureStage>,
     /// A rank's exchange of the forces of the nodes it shares (a decomposed run).
     pub(super) exchange: Option<RankExchange>,
+    /// A rank's part in the contact iteration on the surfaces (a decomposed run).
+    pub(super) surface: Option<RankSurface>,
     /// Sweeps of the contact iteration recorded per step as dispatches of their own (at most
     /// `max_iterations`); `contact_finish` runs the rest.
     sweeps: u32,
@@ -494,6 +497,7 @@ impl ResidentStep {
             contact,
             failure,
             exchange: None,
+            surface: None,
             sweeps: setup.max_iterations,
             max_iterations: setup.max_iterations,
             search_interval: 1,

@@ -144,3 +144,19 @@ pub fn explicit_at_default_step(text: &str) -> String {
         .join("\n");
     edit(&text, "[run]", "[run]\nmethod = \"explicit\"")
 }
+
+/// `text` with a small rigid sphere far above everything and in no contact: the physics
+/// of `text` (the sphere moves alone), but a model with a rigid body, which ranks on GPUs
+/// run with their element forces on the device and the rest on the host (the "gpu kernels,
+/// decomposed over mpi ranks" engine) rather than resident.
+#[allow(dead_code)]
+pub fn with_idle_rigid_body(text: &str) -> String {
+    text.to_string()
+        + r#"
+[[rigid_body]]
+name = "idle"
+mass = 1.0
+position = [0.0, 0.0, 50.0]
+shape = { sphere = { radius = 0.1 } }
+"#
+}

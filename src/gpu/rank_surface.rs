@@ -1,0 +1,160 @@
+//! [`RankSurface`]: what the resident step of a rank of a decomposed run needs for the
+//! contact between meshed bodies, which every rank works on the whole contact surfaces
+//! ([`super::SurfaceStep`]): the state of the surface nodes it owns packed for the read-back
+//! (`shaders/node_select.wgsl`, twin [`crate::kernels::node_select`]), its nodes' fastest
+//! speed (`search_bounds` over its nodes alone: the single GPU's search reach takes the
+//! fastest node of the model), and the velocities the iteration gave the surface nodes it
+//! holds, written back (`node_scatter`).
+
+use super::buffer::Storage;
+use super::engine::{at_least_one, bytes_of, GpuKernels};
+use super::kernel::Launch;
+use super::types::Split3;
+use super::{FillWords, NodeScatter, NodeSelect, SearchBounds};
+use crate::error::{ImpactError, Result};
+
+pub struct RankSurface {
+    select: NodeSelect,
+    scatter: NodeScatter,
+    speed: SearchBounds,
+    zero: FillWords,
+    pub(super) bounds: Storage,
+    /// The packed displacements (hi and lo), velocities and accelerations of the owned
+    /// surface nodes.
+    pub(super) selected: [Storage; 3],
+    select_launches: [Launch; 3],
+    zero_launch: Launch,
+    speed_launch: Launch,
+    values: Storage,
+    scatter_launch: Launch,
+    pub(super) owned: usize,
+    held: usize,
+    // kept alive for the bindings
+    _buffers: Vec<Storage>,
+}
+
+impl RankSurface {
+    /// The surface nodes the rank owns (`owned`, whose state it reads back) and holds
+    /// (`held`, whose velocities it takes back), by `k`'s node numbers, and `acceleration`,
+    /// the step's acceleration buffer.
+    pub fn new(
+        k: &GpuKernels,
+        acceleration: &wgpu::Buffer,
+        owned: &[u32],
+        held: &[u32],
+    ) -> Result<Self> {
+        if let Some(&n) = owned.iter().chain(held).find(|&&n| n as usize >= k.nodes) {
+            return Err(ImpactError::Gpu(format!(
+                "surface node {n} of a mesh of {} nodes",
+                k.nodes
+            )));
+        }
+        let ctx = &k.ctx;
+        let (select, scatter) = (NodeSelect::new(ctx), NodeScatter::new(ctx));
+        let (speed, zero) = (SearchBounds::new(ctx), FillWords::new(ctx));
+        let owned_list = Storage::with_data(ctx, "surface.owned", &at_least_one(owned.to_vec()))?;
+        let held_list = Storage::with_data(ctx, "surface.held", &at_least_one(held.to_vec()))?;
+        let c = owned.len();
+        let selected = [
+            Storage::new(ctx, "surface.u", bytes_of::<f32>(6 * c))?,
+            Storage::new(ctx, "surface.v", bytes_of::<f32>(3 * c))?,
+            Storage::new(ctx, "surface.a", bytes_of::<f32>(3 * c))?,
+        ];
+        let sources = [&k.u.buffer, &k.v.buffer, acceleration];
+        let select_launches = [0, 1, 2].map(|f| {
+            let width = if f == 0 { 6 } else { 3 };
+            let (list, from, to) = (&owned_list.buffer, sources[f], &selected[f].buffer);
+            select.launch(ctx, c as u32, width, 0, list, from, to)
+        });
+        let bounds = Storage::new(ctx, "surface.bounds", 16)?;
+        // no face: placeholders (read, and written: two buffers)
+        let none = Storage::new(ctx, "surface.none", 64)?;
+        let boxes = Storage::new(ctx, "surface.boxes", 64)?;
+        let zero_launch = zero.launch(ctx, 3, 0, 0, &bounds.buffer);
+        // its nodes' speeds alone: no face (Params.aux the nodes, aux2 the faces)
+        let speed_launch = speed.launch(
+            ctx,
+            k.nodes as u32,
+            k.nodes as u32,
+            0,
+            &k.mesh.reference.buffer,
+            &k.u.buffer,
+            &k.v.buffer,
+            &none.buffer,
+            &none.buffer,
+            &bounds.buffer,
+            &boxes.buffer,
+        );
+        let values = Storage::new(ctx, "surface.values", bytes_of::<f32>(3 * held.len()))?;
+        let scatter_launch = scatter.launch(
+            ctx,
+            held.len() as u32,
+            0,
+            0,
+            &held_list.buffer,
+            &values.buffer,
+            &k.v.buffer,
+        );
+        Ok(RankSurface {
+            select,
+            scatter,
+            speed,
+            zero,
+            bounds,
+            selected,
+            select_launches,
+            zero_launch,
+            speed_launch,
+            values,
+            scatter_launch,
+            owned: c,
+            held: held.len(),
+            _buffers: vec![owned_list, held_list, none, boxes],
+        })
+    }
+
+    /// Dispatches the rank's fastest speed and the packing of its owned surface nodes'
+    /// state (after the predictor).
+    pub(super) fn dispatch_select(&self, pass: &mut wgpu::ComputePass) {
+        self.zero.0.dispatch(pass, &self.zero_launch);
+        self.speed.0.dispatch(pass, &self.speed_launch);
+        if self.owned > 0 {
+            for l in &self.select_launches {
+                self.select.0.dispatch(pass, l);
+            }
+        }
+    }
+
+    /// Writes the held surface nodes' velocities (one per held node, in order) for the next
+    /// [`Self::dispatch_scatter`].
+    pub(super) fn write_velocities(&self, k: &GpuKernels, v: &[[f32; 3]]) -> Result<()> {
+        if v.len() != self.held {
+            return Err(ImpactError::Gpu(format!(
+                "{} velocities for {} held surface nodes",
+                v.len(),
+                self.held
+            )));
+        }
+        if self.held > 0 {
+            (k.ctx.queue).write_buffer(&self.values.buffer, 0, bytemuck::cast_slice(v));
+        }
+        Ok(())
+    }
+
+    /// Dispatches the held surface nodes' velocities over the step's.
+    pub(super) fn dispatch_scatter(&self, pass: &mut wgpu::ComputePass) {
+        if self.held > 0 {
+            self.scatter.0.dispatch(pass, &self.scatter_launch);
+        }
+    }
+}
+
+/// The state of a rank's owned surface nodes after the predictor, as its device holds it,
+/// and the fastest speed of its nodes (f32 bits).
+#[derive(Debug, Clone, Default)]
+pub struct SurfaceState {
+    pub speed: u32,
+    pub u: Vec<Split3>,
+    pub v: Vec<[f32; 3]>,
+    pub a: Vec<[f32; 3]>,
+}

@@ -1,0 +1,188 @@
+//! [`SurfaceStep`]: the contact iteration of an explicit step on the contact surfaces
+//! alone, on a device of its own state: the surface model of a decomposed run
+//! (`domain::surface`), which every rank holds whole. Each step it takes the surface nodes'
+//! state after the predictor (gathered from their owners) and the model's fastest speed,
+//! runs the single GPU's iteration ([`ImpulseSweeps`]) and its report, reduces the
+//! interfaces' history columns as the single GPU's step does, and gives back the surface
+//! nodes' velocities.
+
+use super::buffer::{read_back, submit_and_read_parts, Storage};
+use super::context::GpuContext;
+use super::engine::{at_least_one, bytes_of};
+use super::impulse_sweeps::{ContactSetup, ImpulseSweeps, StepBuffers};
+use super::kernel::Launch;
+use super::rank_surface::SurfaceState;
+use super::resident_step::{pair_slots, row_columns};
+use super::types::{self, to_device, Split3, WORKGROUP};
+use super::HistoryReduce;
+use crate::error::{ImpactError, Result};
+use crate::kernels::plane_contact::{slot, SLOT};
+use crate::kernels::{LumpedNode, SearchMode};
+
+pub struct SurfaceStep {
+    ctx: GpuContext,
+    nodes: usize,
+    u: Storage,
+    v: Storage,
+    a: Storage,
+    step: wgpu::Buffer,
+    step_consts: types::Step,
+    contact: ImpulseSweeps,
+    reduce: HistoryReduce,
+    reduce_launch: Launch,
+    row: Storage,
+    row_len: usize,
+    staging: Storage,
+    /// Sweeps recorded as dispatches of their own (the last step's need and two more; the
+    /// results do not depend on it).
+    sweeps: u32,
+    // kept alive for the bindings
+    _buffers: Vec<Storage>,
+}
+
+impl SurfaceStep {
+    /// The surface model's nodes (`reference`, `lumped`, in its node order) and contact
+    /// (`setup`), with the step's `dt`, tolerance and sweep limit.
+    pub fn new(
+        ctx: GpuContext,
+        (reference, lumped): (&[[f64; 3]], &[LumpedNode]),
+        setup: &ContactSetup,
+        (dt, tolerance, max_iterations): (f64, f64, u32),
+    ) -> Result<Self> {
+        let nodes = reference.len();
+        let split: Vec<Split3> = reference.iter().map(|&x| Split3::split(x)).collect();
+        let reference = Storage::with_data(&ctx, "surface.reference", &at_least_one(split))?;
+        let u = Storage::new(&ctx, "surface.displacement", bytes_of::<Split3>(nodes))?;
+        let v = Storage::new(&ctx, "surface.velocity", bytes_of::<f32>(3 * nodes))?;
+        let a = Storage::new(&ctx, "surface.acceleration", bytes_of::<f32>(3 * nodes))?;
+        let lumped: Vec<types::Lumped> = to_device(lumped);
+        let lumped = Storage::with_data(&ctx, "surface.lumped", &at_least_one(lumped))?;
+        let step_consts = types::Step {
+            dt: dt as f32,
+            tolerance: tolerance as f32,
+            max_iterations,
+            pad: 0,
+        };
+        let step = Storage::with_usage(
+            &ctx,
+            "surface.step",
+            std::mem::size_of::<types::Step>() as u64,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        )?
+        .buffer;
+        ctx.queue
+            .write_buffer(&step, 0, bytemuck::bytes_of(&step_consts));
+        let buffers = StepBuffers {
+            step: &step,
+            reference: &reference.buffer,
+            displacement: &u.buffer,
+            velocity: &v.buffer,
+            acceleration: &a.buffer,
+            lumped: &lumped.buffer,
+        };
+        let contact = ImpulseSweeps::new(&ctx, &buffers, setup, nodes, max_iterations)?;
+        // the interfaces' columns of the history row, as the single GPU's step reduces them
+        let columns = row_columns(&[], &pair_slots(&setup.interfaces), &[]);
+        let row_len = columns.len();
+        let cols: Vec<types::GpuReduceColumn> = to_device(&columns);
+        let columns = Storage::with_data(&ctx, "surface.columns", &at_least_one(cols))?;
+        let row = Storage::new(&ctx, "surface.row", bytes_of::<f32>(row_len))?;
+        let none = Storage::new(&ctx, "surface.partials", 64)?;
+        let reduce = HistoryReduce::new(&ctx);
+        let mut reduce_launch = reduce.launch(
+            &ctx,
+            row_len as u32 * WORKGROUP,
+            0,
+            0,
+            &columns.buffer,
+            &none.buffer,
+            contact.results_buffer(),
+            &u.buffer,
+            &v.buffer,
+            &row.buffer,
+        );
+        reduce_launch.set_count(&ctx, row_len as u32, 0);
+        let staging = super::buffer::staging(&ctx)?;
+        Ok(SurfaceStep {
+            nodes,
+            u,
+            v,
+            a,
+            step,
+            step_consts,
+            contact,
+            reduce,
+            reduce_launch,
+            row,
+            row_len,
+            staging,
+            sweeps: max_iterations.min(8),
+            _buffers: vec![reference, lumped, columns, none],
+            ctx,
+        })
+    }
+
+    /// One step's contact from the surface nodes' state after the predictor (`state`, in
+    /// the surface model's node order, with the model's fastest speed): the surface nodes'
+    /// velocities after the iteration and the interfaces' history columns.
+    pub fn step(&mut self, state: &SurfaceState) -> Result<(Vec<[f32; 3]>, Vec<f32>)> {
+        let n = self.nodes;
+        if state.u.len() != n || state.v.len() != n || state.a.len() != n {
+            return Err(ImpactError::Gpu(format!(
+                "the state of {} surface nodes for {n}",
+                state.u.len()
+            )));
+        }
+        let q = &self.ctx.queue;
+        q.write_buffer(&self.u.buffer, 0, bytemuck::cast_slice(&state.u));
+        q.write_buffer(&self.v.buffer, 0, bytemuck::cast_slice(&state.v));
+        q.write_buffer(&self.a.buffer, 0, bytemuck::cast_slice(&state.a));
+        self.contact.set_speed_floor(&self.ctx, state.speed);
+        let mut enc = self.ctx.encoder("surface_contact");
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("surface_contact"),
+                timestamp_writes: None,
+            });
+            self.contact
+                .dispatch(&mut pass, self.sweeps, SearchMode::First);
+            self.reduce.0.dispatch(&mut pass, &self.reduce_launch);
+        }
+        let parts = [(&self.v.buffer, 3 * n), (&self.row.buffer, self.row_len)];
+        let out: Vec<f32> = submit_and_read_parts(&self.ctx, &mut self.staging, enc, &parts)?;
+        let (v, row) = out.split_at(3 * n);
+        // the sweeps the step needed (the largest of the interfaces'), and two more
+        let needed = (row.chunks_exact(SLOT))
+            .map(|q| q[slot::SWEEPS] as u32)
+            .max()
+            .unwrap_or(0);
+        self.sweeps = (needed + 2).min(self.step_consts.max_iterations);
+        let v = v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        Ok((v, row.to_vec()))
+    }
+
+    /// The contact results ([`SLOT`] per pair) as words: a step's state.
+    pub fn read_results(&mut self) -> Result<Vec<u32>> {
+        let b = self.contact.results_buffer().clone();
+        let words = (b.size() / 4) as usize;
+        read_back(&self.ctx, &mut self.staging, "surface_results", &b, words)
+    }
+
+    /// Writes back what [`Self::read_results`] read.
+    pub fn write_results(&self, words: &[u32]) -> Result<()> {
+        let b = self.contact.results_buffer();
+        if (words.len() * 4) as u64 != b.size() {
+            return Err(ImpactError::Gpu(
+                "the contact results are of another model".into(),
+            ));
+        }
+        (self.ctx.queue).write_buffer(b, 0, bytemuck::cast_slice(words));
+        Ok(())
+    }
+
+    /// Sets the step length from the next step on (a shortened last step).
+    pub fn set_dt(&mut self, dt: f64) {
+        self.step_consts.dt = dt as f32;
+        (self.ctx.queue).write_buffer(&self.step, 0, bytemuck::bytes_of(&self.step_consts));
+    }
+}
