@@ -15,14 +15,15 @@
 //!
 //! `cargo bench --features mpi --bench ranks` (14,528 elements per rank, about 150 steps,
 //! ranks 1, 2 and every power of two up to the cores); `-- --quick` for 1,816 elements per
-//! rank on 1 and 2 ranks; `-- --gpu` with every rank's element forces on its GPU (the
-//! machine's GPUs shared out by local rank), where P = 1 is the single process on the GPU,
-//! its whole step resident there (a column names each run's engine).
+//! rank on 1 and 2 ranks; `-- --gpu` with every rank on its GPU (the machine's GPUs shared
+//! out by local rank), its whole step resident there (`domain::RankResident`: the contact
+//! iteration on the whole surfaces on every rank), where P = 1 is the single process on
+//! the GPU (a column names each run's engine).
 //!
 //! With `--gpu` a third table drops a slab of `P` ranks' worth on a rigid floor: the plane
-//! is its only contact, so every rank keeps its whole step on its GPU (`gpu resident` on
-//! ranks, `domain::RankResident`) and exchanges its shared nodes' corners once a step.
-//! Several ranks on one card show what the exchange and the two submissions a step cost.
+//! is its only contact, so every rank exchanges only its shared nodes' corners, once a
+//! step. Several ranks on one card show what the exchange and the two submissions a step
+//! cost.
 //! `-- --gpu --floor N` refines it (800 N^3 elements per rank; N = 2 by default, 1 with
 //! `--quick`).
 
@@ -211,7 +212,7 @@ fn main() {
     let gpu = args.iter().any(|a| a == "--gpu");
     let device = if gpu { "gpu" } else { "cpu" };
     let path = if gpu {
-        "each rank's element forces on its GPU, the single process resident"
+        "every rank resident on its GPU, as the single process"
     } else {
         "explicit CPU path, one thread per rank"
     };

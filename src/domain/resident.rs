@@ -223,6 +223,8 @@ pub struct RankResident<'m> {
     /// only contacts), and its history columns of the step.
     surface: Option<SurfaceContact>,
     contact_row: Vec<f32>,
+    /// Seconds in the contact on the surfaces (its read-back and gather included).
+    contact_seconds: f64,
     current: Row,
     initial: Energies,
     measure_shift: f64,
@@ -338,6 +340,7 @@ impl<'m> RankResident<'m> {
             model_plane_nodes: global.plane_nodes.len(),
             surface,
             contact_row: Vec::new(),
+            contact_seconds: 0.0,
             probes,
             initial: Energies {
                 kinetic,
@@ -518,6 +521,19 @@ impl Integrator for RankResident<'_> {
         ENGINE_GPU_RESIDENT
     }
 
+    /// The contact iteration on the surfaces: each step records the last step's sweeps and
+    /// two more as dispatches of their own.
+    fn recorded_sweeps(&self) -> Option<(u64, u64)> {
+        (self.surface.as_ref()).map(|c| (c.step.recorded, c.step.needed))
+    }
+
+    /// The search on the surfaces sorts the faces every step (a step is a submission).
+    fn search_rebuilds(&self) -> Option<(u64, u64)> {
+        (self.surface.as_ref())
+            .filter(|c| c.step.has_search())
+            .map(|c| (c.step.sorts, 0))
+    }
+
     /// One step: the rank's forces, the exchange of the shared nodes' corners, the
     /// correctors and the history row added over the ranks; at a frame step the state is
     /// read back.
@@ -525,6 +541,7 @@ impl Integrator for RankResident<'_> {
         let chosen = match &mut self.surface {
             None => self.engine.step_forces()?,
             Some(surface) => {
+                let clock = std::time::Instant::now();
                 let mine = self.engine.step_front()?;
                 let talk = Timed {
                     ranks: self.ranks,
@@ -532,6 +549,7 @@ impl Integrator for RankResident<'_> {
                 };
                 let (v, row) = surface.step(&talk, &mine)?;
                 self.contact_row = row;
+                self.contact_seconds += clock.elapsed().as_secs_f64();
                 self.engine.step_forces_with(&v)?
             }
         };
@@ -791,7 +809,7 @@ impl Decomposed for RankResident<'_> {
             shared_nodes: self.sub.shared.len(),
             neighbours: self.sub.neighbours.len(),
             communication: self.communication.get(),
-            contact: 0.0,
+            contact: self.contact_seconds,
             face_nodes_received: 0,
         };
         let contact = match self.surface {

@@ -36,6 +36,10 @@ pub struct SurfaceStep {
     /// Sweeps recorded as dispatches of their own (the last step's need and two more; the
     /// results do not depend on it).
     sweeps: u32,
+    /// The run's tally: sweeps recorded and needed, and the search's sorts of the faces.
+    pub recorded: u64,
+    pub needed: u64,
+    pub sorts: u64,
     // kept alive for the bindings
     _buffers: Vec<Storage>,
 }
@@ -117,6 +121,9 @@ impl SurfaceStep {
             row_len,
             staging,
             sweeps: max_iterations.min(8),
+            recorded: 0,
+            needed: 0,
+            sorts: 0,
             _buffers: vec![reference, lumped, columns, none],
             ctx,
         })
@@ -156,6 +163,9 @@ impl SurfaceStep {
             .map(|q| q[slot::SWEEPS] as u32)
             .max()
             .unwrap_or(0);
+        self.recorded += u64::from(self.sweeps);
+        self.needed += u64::from(needed);
+        self.sorts += u64::from(self.contact.search.is_some());
         self.sweeps = (needed + 2).min(self.step_consts.max_iterations);
         let v = v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
         Ok((v, row.to_vec()))
@@ -178,6 +188,11 @@ impl SurfaceStep {
         }
         (self.ctx.queue).write_buffer(b, 0, bytemuck::cast_slice(words));
         Ok(())
+    }
+
+    /// Whether an interface has a primary surface (the iteration searches).
+    pub fn has_search(&self) -> bool {
+        self.contact.search.is_some()
     }
 
     /// Sets the step length from the next step on (a shortened last step).
