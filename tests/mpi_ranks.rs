@@ -403,19 +403,29 @@ fn block_on_plate_on_gpus_is_the_same_on_2_and_4_ranks() {
 /// GPU's bits on 2 and 4 ranks; the sums (energies, body velocities, a rigid plane's contact
 /// forces), which each rank's device adds in f32 over its owned nodes before the ranks are
 /// added in order, are within 1e-6 of the largest value of their kind. Blocks dropped on a
-/// rigid floor (hex8 as imported, and tet4: the plane their only contact), and the cube on
-/// the plate (the contact iteration on the surfaces, which every rank works).
+/// rigid floor (hex8 as imported, and tet4: the plane their only contact), the cube on the
+/// plate (the contact iteration on the surfaces, which every rank works) and a rigid ball
+/// dropped on a block (its node rank 0's).
 #[test]
 fn resident_ranks_on_gpus_are_one_gpu_on_2_and_4_ranks() {
     if skip_gpu("mpi ranks resident on gpus") {
         return;
     }
-    for name in ["block_hex_drop", "block_tet_drop", "cube_on_plate"] {
+    for name in [
+        "block_hex_drop",
+        "block_tet_drop",
+        "cube_on_plate",
+        "rigid_ball",
+    ] {
         let tag = format!("mpi_resident_{name}");
         let dir = out_dir(&tag);
         std::fs::create_dir_all(&dir).unwrap();
-        let text = scene_text(&format!("{name}.toml"));
         let text = match name {
+            "rigid_ball" => rigid_ball_on_block(),
+            _ => scene_text(&format!("{name}.toml")),
+        };
+        let text = match name {
+            "rigid_ball" => text,
             "cube_on_plate" => explicit_at_default_step(&text),
             "block_hex_drop" => edit(
                 &text,

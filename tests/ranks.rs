@@ -476,7 +476,8 @@ fn one_rank_on_its_gpu_follows_the_cpu() {
 
 /// One rank with its whole step on its GPU runs the single GPU's resident step: the same
 /// engine, and the history byte for byte. A block dropped on a rigid plane (the plane its
-/// only contact), and the cube on the plate (the contact iteration on the surfaces).
+/// only contact), the cube on the plate (the contact iteration on the surfaces) and a rigid
+/// ball dropped on a block.
 #[test]
 fn one_rank_resident_on_its_gpu_is_the_single_gpu_byte_for_byte() {
     if skip_gpu("one rank resident on its gpu") {
@@ -488,6 +489,7 @@ fn one_rank_resident_on_its_gpu_is_the_single_gpu_byte_for_byte() {
             "cube_on_plate",
             explicit_at_default_step(&scene_text("cube_on_plate.toml")),
         ),
+        ("rigid_ball", rigid_ball_on_block()),
     ];
     for (name, text) in scenes {
         let tag = format!("ranks_resident_{name}");

@@ -1,5 +1,6 @@
 //! [`RankResident`]: a rank of a decomposed explicit run with its whole step on its GPU
-//! ([`crate::gpu::ResidentStep`]), for models without rigid bodies or ply strengths.
+//! ([`crate::gpu::ResidentStep`]), for models without ply strengths whose rigid bodies'
+//! surfaces have a device form (analytic shapes that do not rotate).
 //!
 //! Where rigid planes are the only contacts (each node's contact is its own, so none
 //! crosses the cut), a step is two submissions. The first runs the predictor, the planes,
@@ -22,7 +23,8 @@
 //!
 //! The rank's nodes are renumbered on the device, each body's owned nodes first and then
 //! the nodes it holds for its neighbours, so that the correctors' sums of the owned nodes
-//! are ranges of their own; likewise the plane nodes, owned first.
+//! are ranges of their own; likewise the plane nodes, owned first. The rigid bodies' nodes
+//! (in no element) are rank 0's, one more range of the correctors, as on one GPU.
 
 use std::ops::Range;
 
@@ -53,10 +55,12 @@ const SURFACES: &str = "every rank reads back the state of the surface nodes it 
 const PLANES: &str = "each node's contact with the rigid planes on every rank that holds it, the history's sums over the plane nodes each rank owns";
 
 /// Whether a decomposed run of `model` on GPUs can keep each rank's whole step on its
-/// device: no rigid body and no ply failure survey. Otherwise the ranks compute their element forces on their GPUs and the rest of
+/// device: its rigid bodies' surfaces have a device form (the analytic shapes, on bodies
+/// that do not rotate, as for the single GPU's resident step) and it has no ply failure
+/// survey. Otherwise the ranks compute their element forces on their GPUs and the rest of
 /// the step on their cores ([`super::DomainSolver`]).
 pub fn resident_on_ranks(model: &Model) -> bool {
-    model.rigid.is_empty() && model.strengths.iter().all(Option::is_none)
+    resident::rigid_surfaces_on_device(model) && model.strengths.iter().all(Option::is_none)
 }
 
 /// The rank's nodes on its device: each body's owned nodes, then the nodes it holds for
@@ -73,11 +77,17 @@ struct DeviceOrder {
 }
 
 impl DeviceOrder {
-    fn new(sub: &Subdomain, piece: &Model) -> Result<Self> {
+    /// The rank's nodes in the device's order; `rigid`: the model's rigid bodies' nodes
+    /// (in no element: rank 0 holds and owns them) are one more range of owned nodes, after
+    /// the bodies' owned nodes, on every rank (empty on the others), as the single GPU's
+    /// correctors take them after the bodies.
+    fn new(sub: &Subdomain, piece: &Model, rigid: bool) -> Result<Self> {
         let n = sub.nodes.len();
         let mut local_of = Vec::with_capacity(n);
         let (mut mine, mut others) = (Vec::new(), Vec::new());
+        let mut in_body = vec![false; n];
         for body in &piece.mesh.bodies {
+            body.nodes.clone().for_each(|l| in_body[l] = true);
             let start = local_of.len();
             let own = body.nodes.clone().filter(|&l| sub.owned[l]);
             local_of.extend(own.map(|l| l as u32));
@@ -86,6 +96,12 @@ impl DeviceOrder {
             let start = local_of.len();
             local_of.extend(held.map(|l| l as u32));
             others.push(start..local_of.len());
+        }
+        if rigid {
+            let start = local_of.len();
+            let free = (0..n).filter(|&l| !in_body[l] && sub.owned[l]);
+            local_of.extend(free.map(|l| l as u32));
+            mine.push(start..local_of.len());
         }
         if local_of.len() != n {
             return Err(ImpactError::Gpu(format!(
@@ -251,7 +267,8 @@ impl<'m> RankResident<'m> {
         let mut sub = Subdomain::new(model, partition, ranks.rank());
         let piece = sub.piece_model(model);
         let (global, places) = resident::setup(model, settings, dt, speed_scale)?;
-        let built = Self::device_step(&mut sub, &piece, &global, ctx.clone());
+        let rigid = !model.rigid.is_empty();
+        let built = Self::device_step(&mut sub, (&piece, rigid), &global, ctx.clone());
         // a rank whose device step fails stops every rank (none waits for it)
         let (order, planes, mut engine) = agree(ranks, built)
             .map_err(|why| ImpactError::Gpu(format!("building the resident step: {why}")))?;
@@ -355,13 +372,14 @@ impl<'m> RankResident<'m> {
     }
 
     /// The rank's device order, plane nodes and resident step, with its exchange.
+    /// (`rigid`: the model has rigid bodies.)
     fn device_step(
         sub: &mut Subdomain,
-        piece: &Model,
+        (piece, rigid): (&Model, bool),
         global: &ResidentSetup,
         ctx: GpuContext,
     ) -> Result<(DeviceOrder, PlacedPlanes, ResidentStep)> {
-        let order = DeviceOrder::new(sub, piece)?;
+        let order = DeviceOrder::new(sub, piece, rigid)?;
         let planes = PlacedPlanes::new(&global.plane_nodes, sub, &order);
         let lumped: Vec<_> = sub
             .nodes
@@ -414,15 +432,18 @@ impl<'m> RankResident<'m> {
     /// sums, its interfaces' results over its owned plane nodes, no probes): each value
     /// added over the ranks in order, the maxima taken, each probe its owner's.
     fn model_row(&self, row: &[f32]) -> Vec<f64> {
+        // the bodies' owned nodes and the rigid bodies' (as one more body, where there are
+        // any), then the bodies' other nodes
         let nb = self.model.mesh.bodies.len();
+        let nr = nb + usize::from(!self.model.rigid.is_empty());
         let np = self.model.interfaces.len();
-        let mut mine: Vec<f64> = row[..FIELDS * nb].iter().map(|&x| f64::from(x)).collect();
+        let mut mine: Vec<f64> = row[..FIELDS * nr].iter().map(|&x| f64::from(x)).collect();
         // the contact on the surfaces is every rank's: rank 0 gives it (the others add
         // zeros, exactly)
         let (contact, in_row) = match &self.surface {
             Some(_) => (&self.contact_row[..], 0),
             None => (
-                &row[2 * FIELDS * nb..2 * FIELDS * nb + SLOT * np],
+                &row[FIELDS * (nr + nb)..FIELDS * (nr + nb) + SLOT * np],
                 SLOT * np,
             ),
         };
@@ -432,7 +453,7 @@ impl<'m> RankResident<'m> {
                 .iter()
                 .map(|&x| if first { f64::from(x) } else { 0.0 }),
         );
-        let base = 2 * FIELDS * nb + in_row;
+        let base = FIELDS * (nr + nb) + in_row;
         for (p, &(owned, _)) in self.probes.iter().enumerate() {
             let values = &row[base + 6 * p..base + 6 * (p + 1)];
             mine.extend(
@@ -443,9 +464,9 @@ impl<'m> RankResident<'m> {
         }
         let all = self.timed().talk(|r| r.gather_all(&mine));
         let by_max = |c: usize| {
-            c >= FIELDS * nb
-                && c < FIELDS * nb + SLOT * np
-                && slot::reduced_by_max((c - FIELDS * nb) % SLOT)
+            c >= FIELDS * nr
+                && c < FIELDS * nr + SLOT * np
+                && slot::reduced_by_max((c - FIELDS * nr) % SLOT)
         };
         (0..mine.len())
             .map(|c| match by_max(c) {

@@ -145,18 +145,67 @@ pub fn explicit_at_default_step(text: &str) -> String {
     edit(&text, "[run]", "[run]\nmethod = \"explicit\"")
 }
 
-/// `text` with a small rigid sphere far above everything and in no contact: the physics
-/// of `text` (the sphere moves alone), but a model with a rigid body, which ranks on GPUs
-/// run with their element forces on the device and the rest on the host (the "gpu kernels,
-/// decomposed over mpi ranks" engine) rather than resident.
+/// `text` with a small rigid sphere far above everything, spinning in place and in no
+/// contact: the physics of `text`, but a model with a rotating rigid body, which ranks on
+/// GPUs run with their element forces on the device and the rest on the host (the "gpu
+/// kernels, decomposed over mpi ranks" engine) rather than resident.
 #[allow(dead_code)]
 pub fn with_idle_rigid_body(text: &str) -> String {
     text.to_string()
         + r#"
 [[rigid_body]]
 name = "idle"
-mass = 1.0
+motion = "prescribed"
 position = [0.0, 0.0, 50.0]
+angular_velocity = [0.0, 0.0, 1.0]
 shape = { sphere = { radius = 0.1 } }
 "#
+}
+
+/// A rigid ball (0.01, radius 0.3) dropped at 1 on a unit block of 6 x 6 x 6 hex8 clamped
+/// at its base, friction 0.2, a probe on the block's top: a small scene with a free rigid
+/// body in contact with a meshed one.
+#[allow(dead_code)]
+pub fn rigid_ball_on_block() -> String {
+    r#"title = "A rigid ball dropped on a clamped block"
+
+[run]
+end_time = 0.04
+method = "explicit"
+
+[[material]]
+name = "elastic"
+density = 0.01
+youngs_modulus = 100.0
+poissons_ratio = 0.3
+
+[[body]]
+name = "block"
+material = "elastic"
+box = { min = [-0.5, -0.5, 0.0], max = [0.5, 0.5, 1.0], divisions = [6, 6, 6] }
+
+[[fix]]
+body = "block"
+region = { min = [-0.5, -0.5, 0.0], max = [0.5, 0.5, 0.0] }
+components = ["x", "y", "z"]
+
+[[rigid_body]]
+name = "ball"
+mass = 0.01
+position = [0.05, 0.0, 1.301]
+velocity = [0.0, 0.0, -1.0]
+shape = { sphere = { radius = 0.3 } }
+
+[[contact]]
+name = "hit"
+secondary = { body = "block", face = "z+" }
+primary = { rigid_body = "ball" }
+friction = 0.2
+
+[[probe]]
+name = "top"
+body = "block"
+point = [0.0, 0.0, 1.0]
+"#
+    .to_string()
 }
