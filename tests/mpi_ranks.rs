@@ -719,6 +719,37 @@ fn frames_on_3_ranks_are_pieces_of_the_single_process_frames() {
     assert!(text.contains("6 frames"), "{text}");
 }
 
+/// The frames of ranks resident on their GPUs are pieces of one GPU's frames, bit for bit
+/// (displacements, velocities, stresses, contact pressures and gaps): the cube on the plate
+/// (the contact on the surfaces) on 3 ranks, and the rigid ball on the block on 2.
+#[test]
+fn resident_frames_on_ranks_are_pieces_of_one_gpus_frames() {
+    if skip_gpu("mpi resident frames") {
+        return;
+    }
+    let cube = explicit_at_default_step(&scene_text("cube_on_plate.toml"));
+    for (name, text, ranks) in [("cube", cube, 3), ("ball", rigid_ball_on_block(), 2)] {
+        let dir = out_dir(&format!("mpi_resident_frames_{name}"));
+        std::fs::create_dir_all(&dir).unwrap();
+        let scene = dir.join(format!("{name}.toml"));
+        std::fs::write(&scene, text + "\n[output]\nvtu_every = 10\n").unwrap();
+        impact_run_on(0, &scene, &dir.join("process"), "gpu");
+        impact_run_on(ranks, &scene, &dir.join("ranks"), "gpu");
+        let summary = std::fs::read_to_string(dir.join("ranks/summary.json")).unwrap();
+        assert!(summary.contains("\"engine\": \"gpu resident\""), "{name}");
+        let out = Command::new("python3")
+            .arg(repo().join("scripts/compare_pieces.py"))
+            .args([dir.join("process"), dir.join("ranks")])
+            .arg(name)
+            .output()
+            .expect("python3 with meshio");
+        let text = String::from_utf8_lossy(&out.stdout).to_string()
+            + &String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{name}: {text}");
+        assert!(text.contains("every piece equals"), "{name}: {text}");
+    }
+}
+
 /// A rank that finds no GPU (here rank 1, its wgpu told to look for DirectX 12 alone, which
 /// Linux has not) stops every rank: the job ends with an error naming that rank and the key
 /// `run.device`, and no rank waits for it.
