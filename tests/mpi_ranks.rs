@@ -404,8 +404,10 @@ fn block_on_plate_on_gpus_is_the_same_on_2_and_4_ranks() {
 /// forces), which each rank's device adds in f32 over its owned nodes before the ranks are
 /// added in order, are within 1e-6 of the largest value of their kind. Blocks dropped on a
 /// rigid floor (hex8 as imported, and tet4: the plane their only contact), the cube on the
-/// plate (the contact iteration on the surfaces, which every rank works) and a rigid ball
-/// dropped on a block (its node rank 0's).
+/// plate (the contact iteration on the surfaces, which every rank works), a rigid ball
+/// dropped on a block (its node rank 0's) and the coarse drop-weight coupon (rigid tup,
+/// support and clamps; its ply failure survey on each rank's cells, the records merged: the
+/// failure columns and `first_failure` are the single GPU's).
 #[test]
 fn resident_ranks_on_gpus_are_one_gpu_on_2_and_4_ranks() {
     if skip_gpu("mpi ranks resident on gpus") {
@@ -416,6 +418,7 @@ fn resident_ranks_on_gpus_are_one_gpu_on_2_and_4_ranks() {
         "block_tet_drop",
         "cube_on_plate",
         "rigid_ball",
+        "drop_weight_d7136",
     ] {
         let tag = format!("mpi_resident_{name}");
         let dir = out_dir(&tag);
@@ -426,6 +429,7 @@ fn resident_ranks_on_gpus_are_one_gpu_on_2_and_4_ranks() {
         };
         let text = match name {
             "rigid_ball" => text,
+            "drop_weight_d7136" => coarse_drop_weight(&text),
             "cube_on_plate" => explicit_at_default_step(&text),
             "block_hex_drop" => edit(
                 &text,
@@ -469,6 +473,15 @@ fn resident_ranks_on_gpus_are_one_gpu_on_2_and_4_ranks() {
                     .unwrap();
             assert_eq!(summary["status"], "completed", "{tag} on {ranks} ranks");
             assert_eq!(summary["engine"], "gpu resident", "{tag} on {ranks} ranks");
+            // the ply failure survey's first failure (the coupon's) is the single GPU's
+            let single = std::fs::read_to_string(dir.join("process/summary.json")).unwrap();
+            let single: serde_json::Value = serde_json::from_str(&single).unwrap();
+            assert_eq!(summary["first_failure"], single["first_failure"], "{tag}");
+            assert_eq!(
+                summary["first_failure"].is_object(),
+                name == "drop_weight_d7136",
+                "{tag}"
+            );
             if ranks > 0 {
                 assert_eq!(summary["ranks"]["ranks"], ranks, "{tag}");
                 let h = History::read(&out.join("history.csv"));
@@ -577,13 +590,7 @@ fn imported_tet4_block_dropped_on_a_floor_is_the_same_on_2_and_4_ranks() {
 /// into the graded block by a prescribed motion.
 #[test]
 fn rigid_bodies_are_the_same_on_2_and_4_ranks() {
-    let drop = scene_text("drop_weight_d7136.toml");
-    let drop = edit(&drop, "divisions = [50, 34, 4]", "divisions = [20, 14, 2]");
-    let drop = edit(&drop, "end_time = 4.5e-3", "end_time = 6.0e-4");
-    let drop: String = (drop.lines())
-        .filter(|l| !l.starts_with("vtu_every"))
-        .collect::<Vec<_>>()
-        .join("\n");
+    let drop = coarse_drop_weight(&scene_text("drop_weight_d7136.toml"));
     let h = same_on_ranks("mpi_drop_weight", &drop);
     let f = h.col("impact.fz");
     assert!(f.iter().any(|&x| x > 0.0), "the tup strikes the coupon");
@@ -616,6 +623,17 @@ fn rigid_bodies_are_the_same_on_2_and_4_ranks() {
         "name = \"ball\"\nmotion = \"prescribed\"",
     );
     same_on_ranks("mpi_rigid_sphere", &sphere);
+}
+
+/// The drop-weight coupon `text` (`scenes/drop_weight_d7136.toml`) coarsened to 20 x 14 x 2
+/// and run through the impact's onset (a ply reaches failure), without frames.
+fn coarse_drop_weight(text: &str) -> String {
+    let drop = edit(text, "divisions = [50, 34, 4]", "divisions = [20, 14, 2]");
+    let drop = edit(&drop, "end_time = 4.5e-3", "end_time = 6.0e-4");
+    (drop.lines())
+        .filter(|l| !l.starts_with("vtu_every"))
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// A rotating rigid body on ranks: the shipped spinning roller, prescribed and made free

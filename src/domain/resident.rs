@@ -1,6 +1,8 @@
 //! [`RankResident`]: a rank of a decomposed explicit run with its whole step on its GPU
-//! ([`crate::gpu::ResidentStep`]), for models without ply strengths whose rigid bodies'
-//! surfaces have a device form (analytic shapes that do not rotate).
+//! ([`crate::gpu::ResidentStep`]), for models whose rigid bodies' surfaces have a device
+//! form (analytic shapes that do not rotate). Where plies have strengths, each rank's
+//! device surveys its own cells and the ranks merge their records (the worst point
+//! numbered as in the model's survey, the lowest on a tie): the single GPU's record.
 //!
 //! Where rigid planes are the only contacts (each node's contact is its own, so none
 //! crosses the cut), a step is two submissions. The first runs the predictor, the planes,
@@ -44,9 +46,11 @@ use crate::integrate::{
     SolverState, StepReport,
 };
 use crate::kernels::explicit_correct::FIELDS;
+use crate::kernels::failure_reduce::{empty, merge};
 use crate::kernels::plane_contact::{slot, SLOT};
-use crate::kernels::{ElementData, PlaneNode};
+use crate::kernels::{ElementData, PlaneNode, SurveySetup, FAILURE_FIELDS};
 use crate::model::Model;
+use crate::output::failure_survey::FailureSurvey;
 use crate::scene::{ExplicitSettings, Method};
 
 /// The contact's share-out in words (`summary.json`), on the surfaces and on rigid planes
@@ -56,11 +60,42 @@ const PLANES: &str = "each node's contact with the rigid planes on every rank th
 
 /// Whether a decomposed run of `model` on GPUs can keep each rank's whole step on its
 /// device: its rigid bodies' surfaces have a device form (the analytic shapes, on bodies
-/// that do not rotate, as for the single GPU's resident step) and it has no ply failure
-/// survey. Otherwise the ranks compute their element forces on their GPUs and the rest of
-/// the step on their cores ([`super::DomainSolver`]).
+/// that do not rotate), as for the single GPU's resident step. Otherwise the ranks compute
+/// their element forces on their GPUs and the rest of the step on their cores
+/// ([`super::DomainSolver`]).
 pub fn resident_on_ranks(model: &Model) -> bool {
-    resident::rigid_surfaces_on_device(model) && model.strengths.iter().all(Option::is_none)
+    resident::rigid_surfaces_on_device(model)
+}
+
+/// The rank's part of the device's ply failure survey: the points of its cells, on its
+/// device's node numbers, and each one's number in the model's survey (`cells`: the model's
+/// cell of each of `global`'s points).
+fn rank_survey(
+    global: &SurveySetup,
+    cells: &[u32],
+    sub: &Subdomain,
+    order: &DeviceOrder,
+) -> (SurveySetup, Vec<u32>) {
+    let (mut points, mut numbers) = (Vec::new(), Vec::new());
+    for (i, (p, &c)) in global.points.iter().zip(cells).enumerate() {
+        if sub.elements.binary_search(&c).is_err() {
+            continue;
+        }
+        let mut q = *p;
+        for n in &mut q.nodes[..p.corners as usize] {
+            // an element's nodes are its rank's
+            let l = sub.nodes.binary_search(n).unwrap_or(0);
+            *n = order.device_of[l];
+        }
+        points.push(q);
+        numbers.push(i as u32);
+    }
+    let setup = SurveySetup {
+        points,
+        operators: global.operators.clone(),
+        strengths: global.strengths.clone(),
+    };
+    (setup, numbers)
 }
 
 /// The rank's nodes on its device: each body's owned nodes, then the nodes it holds for
@@ -241,6 +276,9 @@ pub struct RankResident<'m> {
     contact_row: Vec<f32>,
     /// Seconds in the contact on the surfaces (its read-back and gather included).
     contact_seconds: f64,
+    /// Where plies have strengths: the model's survey number of each point the rank's
+    /// device surveys (its row ends with their record).
+    survey_points: Option<Vec<u32>>,
     current: Row,
     initial: Energies,
     measure_shift: f64,
@@ -268,9 +306,16 @@ impl<'m> RankResident<'m> {
         let piece = sub.piece_model(model);
         let (global, places) = resident::setup(model, settings, dt, speed_scale)?;
         let rigid = !model.rigid.is_empty();
-        let built = Self::device_step(&mut sub, (&piece, rigid), &global, ctx.clone());
+        // the model's device survey and each of its points' cell, where plies have strengths
+        let survey = FailureSurvey::new(model).map(|s| (s.device(model), s.point_cells()));
+        let built = Self::device_step(
+            &mut sub,
+            (&piece, rigid),
+            (&global, survey.as_ref()),
+            ctx.clone(),
+        );
         // a rank whose device step fails stops every rank (none waits for it)
-        let (order, planes, mut engine) = agree(ranks, built)
+        let (order, planes, mut engine, survey_points) = agree(ranks, built)
             .map_err(|why| ImpactError::Gpu(format!("building the resident step: {why}")))?;
         let surface = match planes_only(model) {
             true => None,
@@ -358,6 +403,7 @@ impl<'m> RankResident<'m> {
             surface,
             contact_row: Vec::new(),
             contact_seconds: 0.0,
+            survey_points: survey.is_some().then_some(survey_points),
             probes,
             initial: Energies {
                 kinetic,
@@ -376,10 +422,17 @@ impl<'m> RankResident<'m> {
     fn device_step(
         sub: &mut Subdomain,
         (piece, rigid): (&Model, bool),
-        global: &ResidentSetup,
+        (global, survey): (&ResidentSetup, Option<&(SurveySetup, Vec<u32>)>),
         ctx: GpuContext,
-    ) -> Result<(DeviceOrder, PlacedPlanes, ResidentStep)> {
+    ) -> Result<(DeviceOrder, PlacedPlanes, ResidentStep, Vec<u32>)> {
         let order = DeviceOrder::new(sub, piece, rigid)?;
+        let (survey, numbers) = match survey {
+            Some((setup, cells)) => {
+                let (setup, numbers) = rank_survey(setup, cells, sub, &order);
+                (Some(setup), numbers)
+            }
+            None => (None, Vec::new()),
+        };
         let planes = PlacedPlanes::new(&global.plane_nodes, sub, &order);
         let lumped: Vec<_> = sub
             .nodes
@@ -407,7 +460,7 @@ impl<'m> RankResident<'m> {
             velocity: order.to_device(&sub.restrict(&global.velocity), 3),
             acceleration: order.to_device(&sub.restrict(&global.acceleration), 3),
             contact: None,
-            survey: None,
+            survey,
         };
         let data = order.element_data(&sub.data);
         let mut engine = ResidentStep::new(ctx, &data, &setup, 1)?;
@@ -417,7 +470,7 @@ impl<'m> RankResident<'m> {
             .collect();
         engine.exchange_with(&chosen, &shared)?;
         sub.pack_corners(&chosen);
-        Ok((order, planes, engine))
+        Ok((order, planes, engine, numbers))
     }
 
     /// The ranks with the rank's communication clock.
@@ -462,18 +515,37 @@ impl<'m> RankResident<'m> {
                     .map(|&x| if owned { f64::from(x) } else { 0.0 }),
             );
         }
+        // the failure survey's record, its worst point numbered as the model's survey
+        let columns = mine.len();
+        if let Some(numbers) = &self.survey_points {
+            let tail = &row[row.len() - FAILURE_FIELDS..];
+            let mut record: Vec<f64> = tail.iter().map(|&x| f64::from(x)).collect();
+            if record[6] >= 0.0 {
+                record[6] = f64::from(numbers[record[6] as usize]);
+            }
+            mine.extend(record);
+        }
         let all = self.timed().talk(|r| r.gather_all(&mine));
         let by_max = |c: usize| {
             c >= FIELDS * nr
                 && c < FIELDS * nr + SLOT * np
                 && slot::reduced_by_max((c - FIELDS * nr) % SLOT)
         };
-        (0..mine.len())
+        let mut out: Vec<f64> = (0..columns)
             .map(|c| match by_max(c) {
                 true => all.iter().map(|r| r[c]).fold(0.0, f64::max),
                 false => all.iter().map(|r| r[c]).fold(0.0, |s, x| s + x),
             })
-            .collect()
+            .collect();
+        if self.survey_points.is_some() {
+            // the ranks' records merged (in any order: the lowest point wins a tie)
+            let mut record = empty();
+            for r in &all {
+                merge(&mut record, &r[columns..]);
+            }
+            out.extend(record);
+        }
+        out
     }
 
     /// Reads the device's state into the rank's local arrays (a frame).
@@ -657,6 +729,15 @@ impl Integrator for RankResident<'_> {
 
     fn body_velocities(&self) -> Vec<[f64; 3]> {
         self.current.bodies.clone()
+    }
+
+    /// The merged record of the ranks' device surveys (at the start, with no displacement,
+    /// every index is zero).
+    fn failure_record(&self) -> Option<[f64; FAILURE_FIELDS]> {
+        match self.steps {
+            0 => self.survey_points.as_ref().map(|_| empty()),
+            _ => self.current.failure,
+        }
     }
 
     fn probes(&self) -> Vec<ProbeValues> {

@@ -304,6 +304,12 @@ impl FailureSurvey {
         }
     }
 
+    /// The model's cell (element number) of each surveyed point, in the points' order (the
+    /// device's point numbers).
+    pub fn point_cells(&self) -> Vec<u32> {
+        self.points.iter().map(|p| p.cell).collect()
+    }
+
     /// The maxima of a device record ([`crate::kernels::failure_reduce`]), its worst point
     /// located.
     pub fn of_record(&self, model: &Model, r: &[f64; FAILURE_FIELDS]) -> FailureMaxima {

@@ -336,11 +336,16 @@ fn failure_survey(
     rank: Option<(usize, usize)>,
 ) -> Option<FailureSurvey> {
     use crate::integrate::integrator::{ENGINE_CPU, ENGINE_GPU_KERNELS, ENGINE_GPU_RESIDENT};
+    let engine = solver.engine();
     if let Some(d) = solver.decomposed() {
+        // resident ranks survey on their devices and merge their records: the model's
+        // survey locates the worst point
+        if engine == ENGINE_GPU_RESIDENT {
+            return FailureSurvey::new(model);
+        }
         let p = d.piece();
         return FailureSurvey::of_piece(p.model, p.elements);
     }
-    let engine = solver.engine();
     let engines = [ENGINE_CPU, ENGINE_GPU_KERNELS, ENGINE_GPU_RESIDENT];
     let surveyed = rank.is_none() && engines.contains(&engine);
     surveyed.then(|| FailureSurvey::new(model)).flatten()
