@@ -50,7 +50,6 @@ use crate::kernels::failure_reduce::{empty, merge};
 use crate::kernels::plane_contact::{slot, SLOT};
 use crate::kernels::{ElementData, PlaneNode, SurveySetup, FAILURE_FIELDS};
 use crate::model::Model;
-use crate::output::failure_survey::FailureSurvey;
 use crate::scene::{ExplicitSettings, Method};
 
 /// The contact's share-out in words (`summary.json`), on the surfaces and on rigid planes
@@ -294,20 +293,20 @@ pub struct RankResident<'m> {
 
 impl<'m> RankResident<'m> {
     /// Rank `ranks.rank()`'s part of `model` under `partition` on `ctx`, for `total` steps
-    /// with a frame every `frame_every`.
+    /// with a frame every `frame_every`; `survey`: the model's device failure survey and the
+    /// cell of each of its points, where plies have strengths.
     pub fn new(
         model: &'m Model,
         ranks: &'m dyn Ranks,
         partition: &Partition,
         (settings, dt, speed_scale): (&ExplicitSettings, f64, f64),
         (ctx, total, frame_every): (GpuContext, usize, Option<usize>),
+        survey: Option<(SurveySetup, Vec<u32>)>,
     ) -> Result<Self> {
         let mut sub = Subdomain::new(model, partition, ranks.rank());
         let piece = sub.piece_model(model);
         let (global, places) = resident::setup(model, settings, dt, speed_scale)?;
         let rigid = !model.rigid.is_empty();
-        // the model's device survey and each of its points' cell, where plies have strengths
-        let survey = FailureSurvey::new(model).map(|s| (s.device(model), s.point_cells()));
         let built = Self::device_step(
             &mut sub,
             (&piece, rigid),

@@ -86,6 +86,7 @@ fn build_solver<'m>(
                     &partition,
                     settings,
                     (ctx, setup.steps, scene.vtu_every),
+                    FailureSurvey::new(model).map(|s| (s.device(model), s.point_cells())),
                 )
                 .map_err(|e| gpu_error(scene, e))?,
             ),
