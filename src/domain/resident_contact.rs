@@ -51,10 +51,6 @@ impl SurfaceContact {
         let nodes = surface_nodes(model);
         let surfaces = surface_model(model, &nodes);
         let setup = contact_setup(&surfaces)?;
-        let lumped: Vec<_> = nodes.iter().map(|&n| global.lumped[n as usize]).collect();
-        let reference = &surfaces.mesh.nodes;
-        let consts = (global.dt, global.tolerance, global.max_iterations);
-        let step = SurfaceStep::new(ctx, (reference, &lumped), &setup, consts)?;
         let (mut owned, mut held) = (Vec::new(), Vec::new());
         let (mut owned_local, mut held_local) = (Vec::new(), Vec::new());
         for (s, &n) in nodes.iter().enumerate() {
@@ -68,9 +64,15 @@ impl SurfaceContact {
             held.push(s);
             held_local.push(l as u32);
         }
+        // the collective first: a rank whose device step fails below returns after it, and
+        // the ranks agree on the outcome
         let counts = (ranks.talk(|r| r.gather_all(&[owned.len() as f64])).iter())
             .map(|c| RECORD * c[0] as usize)
             .collect();
+        let lumped: Vec<_> = nodes.iter().map(|&n| global.lumped[n as usize]).collect();
+        let reference = &surfaces.mesh.nodes;
+        let consts = (global.dt, global.tolerance, global.max_iterations);
+        let step = SurfaceStep::new(ctx, (reference, &lumped), &setup, consts)?;
         let contact = SurfaceContact {
             step,
             owned,
