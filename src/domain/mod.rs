@@ -34,4 +34,4 @@ pub mod surface;
 pub use explicit::{DomainSolver, RankFigures};
 pub use partition::Partition;
 pub use ranks::{Ranks, Single};
-pub use resident::{resident_on_ranks, RankResident};
+pub use resident::RankResident;

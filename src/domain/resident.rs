@@ -57,15 +57,6 @@ use crate::scene::{ExplicitSettings, Method};
 const SURFACES: &str = "every rank reads back the state of the surface nodes it owns after the predictor; one gather gives every rank every surface node's state, and every rank works the contact iteration on the whole contact surfaces on its GPU and takes back the velocities of the surface nodes it holds";
 const PLANES: &str = "each node's contact with the rigid planes on every rank that holds it, the history's sums over the plane nodes each rank owns";
 
-/// Whether a decomposed run of `model` on GPUs can keep each rank's whole step on its
-/// device: its rigid bodies' surfaces have a device form (the analytic shapes, on bodies
-/// that do not rotate), as for the single GPU's resident step. Otherwise the ranks compute
-/// their element forces on their GPUs and the rest of the step on their cores
-/// ([`super::DomainSolver`]).
-pub fn resident_on_ranks(model: &Model) -> bool {
-    resident::rigid_surfaces_on_device(model)
-}
-
 /// The rank's part of the device's ply failure survey: the points of its cells, on its
 /// device's node numbers, and each one's number in the model's survey (`cells`: the model's
 /// cell of each of `global`'s points).
@@ -201,6 +192,8 @@ struct PlacedPlanes {
     owned: usize,
     /// The rank's place of each of the model's plane nodes, where it holds it.
     place: Vec<Option<usize>>,
+    /// The model's place of each of the rank's plane nodes.
+    model_place: Vec<usize>,
 }
 
 impl PlacedPlanes {
@@ -213,9 +206,11 @@ impl PlacedPlanes {
             .collect();
         let mut place = vec![None; global.len()];
         let mut nodes = Vec::with_capacity(held.len());
+        let mut model_place = Vec::with_capacity(held.len());
         for owned in [true, false] {
             for &(g, d, o) in held.iter().filter(|h| h.2 == owned) {
                 place[g] = Some(nodes.len());
+                model_place.push(g);
                 nodes.push(PlaneNode {
                     node: d,
                     planes: global[g].planes,
@@ -228,6 +223,7 @@ impl PlacedPlanes {
             nodes,
             owned,
             place,
+            model_place,
         }
     }
 }
@@ -316,13 +312,15 @@ impl<'m> RankResident<'m> {
         // a rank whose device step fails stops every rank (none waits for it)
         let (order, planes, mut engine, survey_points) = agree(ranks, built)
             .map_err(|why| ImpactError::Gpu(format!("building the resident step: {why}")))?;
+        // the setup's collectives, on a clock of their own
+        let setup_clock = std::cell::Cell::new(0.0);
+        let talk = Timed {
+            ranks,
+            seconds: &setup_clock,
+        };
         let surface = match planes_only(model) {
             true => None,
             false => {
-                let talk = Timed {
-                    ranks,
-                    seconds: &std::cell::Cell::new(0.0),
-                };
                 let built = SurfaceContact::new(model, &sub, &global, ctx, &talk);
                 let built = built.and_then(|(c, owned, held)| {
                     let device = |l: &[u32]| -> Vec<u32> {
@@ -341,16 +339,12 @@ impl<'m> RankResident<'m> {
             .map(|b| b.nodes.clone().map(|n| mass_all[n]).sum())
             .collect();
         let v = sub.restrict(&global.velocity);
-        let timed = Timed {
-            ranks,
-            seconds: &std::cell::Cell::new(0.0),
-        };
         let mine: f64 = (0..sub.nodes.len())
             .filter(|&l| sub.owned[l])
             .flat_map(|l| (0..3).map(move |a| (l, a)))
             .map(|(l, a)| mass_all[sub.nodes[l] as usize] * v[3 * l + a] * v[3 * l + a])
             .sum();
-        let kinetic = 0.5 * timed.talk(|r| r.sum(&[mine]))[0];
+        let kinetic = 0.5 * talk.talk(|r| r.sum(&[mine]))[0];
         let probes = (model.probes.iter())
             .map(|p| match sub.nodes.binary_search(&p.node) {
                 Ok(l) => (sub.owned[l], order.device_of[l]),
@@ -361,12 +355,6 @@ impl<'m> RankResident<'m> {
             .map(|list| list.iter().map(|&g| planes.place[g]).collect())
             .collect();
         let plane_count = global.planes.len();
-        let mut plane_places = vec![0; planes.nodes.len()];
-        for (g, at) in planes.place.iter().enumerate() {
-            if let Some(at) = at {
-                plane_places[*at] = g;
-            }
-        }
         let results = match &surface {
             Some(c) => vec![0.0; SLOT * c.pairs.last().map_or(0, |r| r.end)],
             None => vec![0.0; SLOT * plane_count * planes.nodes.len()],
@@ -396,13 +384,13 @@ impl<'m> RankResident<'m> {
             max_iterations: settings.max_iterations,
             places,
             plane_count,
-            plane_places,
+            plane_places: planes.model_place,
             owned_planes: planes.owned,
             model_plane_nodes: global.plane_nodes.len(),
             surface,
             contact_row: Vec::new(),
             contact_seconds: 0.0,
-            survey_points: survey.is_some().then_some(survey_points),
+            survey_points,
             probes,
             initial: Energies {
                 kinetic,
@@ -423,14 +411,14 @@ impl<'m> RankResident<'m> {
         (piece, rigid): (&Model, bool),
         (global, survey): (&ResidentSetup, Option<&(SurveySetup, Vec<u32>)>),
         ctx: GpuContext,
-    ) -> Result<(DeviceOrder, PlacedPlanes, ResidentStep, Vec<u32>)> {
+    ) -> Result<(DeviceOrder, PlacedPlanes, ResidentStep, Option<Vec<u32>>)> {
         let order = DeviceOrder::new(sub, piece, rigid)?;
         let (survey, numbers) = match survey {
             Some((setup, cells)) => {
                 let (setup, numbers) = rank_survey(setup, cells, sub, &order);
-                (Some(setup), numbers)
+                (Some(setup), Some(numbers))
             }
-            None => (None, Vec::new()),
+            None => (None, None),
         };
         let planes = PlacedPlanes::new(&global.plane_nodes, sub, &order);
         let lumped: Vec<_> = sub

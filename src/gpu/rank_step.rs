@@ -54,9 +54,6 @@ impl ResidentStep {
             (&s.selected[1].buffer, 3 * c),
             (&s.selected[2].buffer, 3 * c),
         ];
-        let parts: Vec<(wgpu::Buffer, usize)> =
-            parts.iter().map(|(b, n)| ((*b).clone(), *n)).collect();
-        let parts: Vec<(&wgpu::Buffer, usize)> = parts.iter().map(|(b, n)| (b, *n)).collect();
         let k = &mut self.k;
         let out: Vec<f32> = submit_and_read_parts(&k.ctx, &mut k.staging, enc, &parts)?;
         let (speed, rest) = out.split_at(1);
@@ -114,9 +111,9 @@ impl ResidentStep {
             x.dispatch_select(&self.k, &mut pass);
         }
         let count = x.selection.count();
-        let source = x.selection.chosen_buffer().clone();
+        let source = x.selection.chosen_buffer();
         let k = &mut self.k;
-        let out: Vec<f32> = submit_and_read(&k.ctx, &mut k.staging, enc, &source, 3 * count)?;
+        let out: Vec<f32> = submit_and_read(&k.ctx, &mut k.staging, enc, source, 3 * count)?;
         Ok(out.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
     }
 
@@ -136,9 +133,9 @@ impl ResidentStep {
             x.dispatch_sums(&mut pass);
             self.dispatch_row(&mut pass, 0);
         }
-        let rows = self.history.rows.buffer.clone();
+        let rows = &self.history.rows.buffer;
         let len = self.history.row_len;
         let k = &mut self.k;
-        submit_and_read(&k.ctx, &mut k.staging, enc, &rows, len)
+        submit_and_read(&k.ctx, &mut k.staging, enc, rows, len)
     }
 }

@@ -173,9 +173,9 @@ impl SurfaceStep {
 
     /// The contact results ([`SLOT`] per pair) as words: a step's state.
     pub fn read_results(&mut self) -> Result<Vec<u32>> {
-        let b = self.contact.results_buffer().clone();
+        let b = self.contact.results_buffer();
         let words = (b.size() / 4) as usize;
-        read_back(&self.ctx, &mut self.staging, "surface_results", &b, words)
+        read_back(&self.ctx, &mut self.staging, "surface_results", b, words)
     }
 
     /// Writes back what [`Self::read_results`] read.

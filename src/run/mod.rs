@@ -26,7 +26,7 @@ use summary::{
 
 use crate::backend::{CpuKernels, Kernels};
 use crate::checkpoint::{Checkpoint, Tally};
-use crate::domain::{resident_on_ranks, DomainSolver, Partition, RankResident, Ranks};
+use crate::domain::{DomainSolver, Partition, RankResident, Ranks};
 use crate::error::{ImpactError, Result};
 use crate::gpu::GpuKernels;
 use crate::integrate::{
@@ -78,8 +78,8 @@ fn build_solver<'m>(
         let partition = Partition::bisect(model, ranks.size());
         let settings = (&scene.explicit, dt, speed_scale);
         return Ok(match setup.ctx.clone() {
-            // rigid planes alone as contacts: each rank's whole step on its GPU
-            Some(ctx) if resident_on_ranks(model) => Box::new(
+            // rigid bodies with a device form, as on one GPU: each rank's step on its GPU
+            Some(ctx) if resident::rigid_surfaces_on_device(model) => Box::new(
                 RankResident::new(
                     model,
                     ranks,

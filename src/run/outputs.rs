@@ -193,7 +193,8 @@ pub(super) fn check_resumable(
         dir: dir.to_path_buf(),
         message,
     };
-    let resident_ranks = setup.ctx.is_some() && crate::domain::resident_on_ranks(&setup.model);
+    let resident_ranks =
+        setup.ctx.is_some() && crate::integrate::resident::rigid_surfaces_on_device(&setup.model);
     if let (Some(p), SolverState::Resident(_), false) = (ranks, &c.solver, resident_ranks) {
         return Err(refuse(format!(
             "the checkpoint holds the GPU resident engine's device state, which resumes on one process, or on ranks each resident on its GPU (a model whose only contacts are rigid planes), on the same kind of adapter, not on {p} ranks on this device"
