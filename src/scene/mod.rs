@@ -39,7 +39,7 @@ option_names!(Method { Implicit = "implicit", Explicit = "explicit", Auto = "aut
 option_names!(DeviceChoice { Auto = "auto", Gpu = "gpu", Cpu = "cpu" });
 option_names!(ConstraintMeasure { GapRate = "gap_rate", Gap = "gap" });
 option_names!(PenaltyLaw { Adaptive = "adaptive", Fixed = "fixed" });
-option_names!(Acceleration { Anderson = "anderson", None = "none" });
+option_names!(Acceleration { Anderson = "anderson", Newton = "newton", None = "none" });
 option_names!(ContactSpace { Auto = "auto", Off = "off" });
 option_names!(MassKind { Lumped = "lumped", Consistent = "consistent" });
 option_names!(PenetrationPolicy { Error = "error", Adjust = "adjust", Ignore = "ignore" });
@@ -98,11 +98,13 @@ pub enum PenaltyLaw {
     Fixed,
 }
 
-/// How the multiplier iteration is driven: the plain augmented Lagrange update, or that
-/// update with Anderson acceleration (`contact::anderson`).
+/// How the multiplier iteration is driven: the plain augmented Lagrange update, that update
+/// with Anderson acceleration (`contact::anderson`), or the semi-smooth Newton step on the
+/// update's active set (`integrate::implicit::newton`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Acceleration {
     Anderson,
+    Newton,
     None,
 }
 

@@ -463,6 +463,28 @@ impl MultiplierIteration {
         }
     }
 
+    /// The area-weighted size of the last update's change of the pressures,
+    /// $\sqrt{\sum_i (A_i (\lambda^{next}_i - \lambda_i))^2}$.
+    pub(super) fn residual(&self, model: &Model) -> f64 {
+        let mut sum = 0.0;
+        for (itf, st) in model.interfaces.iter().zip(&self.interfaces) {
+            for ((&next, &now), &a) in st.next.iter().zip(&st.lambda).zip(&itf.area) {
+                sum += (a * (next - now)).powi(2);
+            }
+        }
+        sum.sqrt()
+    }
+
+    /// Whether some interface has friction (the Newton step leaves those to Anderson).
+    pub(super) fn frictional(&self) -> bool {
+        self.interfaces.iter().any(|st| st.friction.is_some())
+    }
+
+    /// The interfaces' states and the surface faces, for the Newton step.
+    pub(super) fn newton_parts(&mut self) -> (&mut [InterfaceState], &[[u32; 4]]) {
+        (&mut self.interfaces, &self.queries.faces)
+    }
+
     pub(super) fn penalties(&self) -> Vec<(f64, f64)> {
         self.interfaces
             .iter()

@@ -40,7 +40,9 @@
 mod contact;
 mod contact_space;
 mod factors;
+mod flexibility;
 mod interface;
+mod newton;
 mod substeps;
 mod workspace;
 
@@ -52,7 +54,7 @@ use crate::geometry::vector;
 use crate::kernels::contact_gap::NO_FACE;
 use crate::linalg::{assemble, Assembled, FactorStats, SpdSolver};
 use crate::model::{Model, Primary};
-use crate::scene::{ConstraintMeasure, ImplicitSettings, Method};
+use crate::scene::{Acceleration, ConstraintMeasure, ImplicitSettings, Method};
 
 use super::explicit::spin::{BodySpin, Spins};
 use super::integrator::{ImplicitFigures, Integrator};
@@ -60,6 +62,7 @@ use super::state::{ContactReport, Energies, InterfaceEnd, StepReport};
 use super::SolverState;
 use contact::MultiplierIteration;
 pub(crate) use factors::FactorPlan;
+use flexibility::Flexibility;
 use interface::interface_states;
 use workspace::Workspace;
 
@@ -93,6 +96,10 @@ pub struct ImplicitState {
     pub interfaces: Vec<InterfaceState>,
     /// The rotating rigid bodies' orientations and momenta (none without them).
     pub spins: Vec<BodySpin>,
+    /// The nodes of the Newton step's flexibilities, of the step and of the sub-step, in the
+    /// order they joined (`acceleration = "newton"`).
+    #[serde(default)]
+    pub flexibility_nodes: [Vec<u32>; 2],
 }
 
 pub struct ImplicitSolver<'m> {
@@ -123,6 +130,9 @@ pub struct ImplicitSolver<'m> {
     spins: Spins,
     spins_new: Spins,
     work: Workspace,
+    /// $K_{eff}^{-1}$ on the contact nodes, of the step's factor and of the sub-step's
+    /// (`acceleration = "newton"`).
+    flexibility: [Flexibility; 2],
 }
 
 /// What one step of length `dt` holds fixed: Newmark's parameters, the effective mass
@@ -200,6 +210,7 @@ impl<'m> ImplicitSolver<'m> {
             spins_new: Spins::new(model),
             work: Workspace::new(ndof, asm.dof_of.len()),
             asm,
+            flexibility: Default::default(),
         };
         // a_0 = M^-1 f_ext (u_0 = 0, no contact force at t = 0)
         let f = s.f_ext.clone();
@@ -224,6 +235,7 @@ impl<'m> ImplicitSolver<'m> {
             a: self.a.clone(),
             interfaces: self.contact.interfaces.clone(),
             spins: self.spins.saved(),
+            flexibility_nodes: self.flexibility.each_ref().map(Flexibility::nodes),
         }
     }
 
@@ -241,6 +253,7 @@ impl<'m> ImplicitSolver<'m> {
         self.a = s.a;
         self.contact.interfaces = s.interfaces;
         self.spins.restore(s.spins);
+        self.flexibility = s.flexibility_nodes.map(Flexibility::resume);
         Ok(())
     }
 
@@ -303,6 +316,9 @@ impl<'m> ImplicitSolver<'m> {
         let space = self.contact_space_ready(&k, sub);
         // whether the iterate's contact equations ran ahead of the rest of the model
         let mut ahead = false;
+        let mut newton = newton::NewtonGuard::new(
+            self.settings.acceleration == Acceleration::Newton && !self.contact.frictional(),
+        );
         for _k in 0..self.settings.max_iterations {
             let on_space = match space && report.iterations > 0 {
                 true => self.contact_equilibrium(&k, sub)?,
@@ -329,11 +345,16 @@ impl<'m> ImplicitSolver<'m> {
                 break;
             }
             if !converged {
-                (self.contact).next_multipliers(
-                    self.model,
-                    self.settings.acceleration,
-                    map_changed,
-                );
+                let residual = self.contact.residual(self.model);
+                let stepped = newton.allows(residual, map_changed) && self.newton_step(&k, sub);
+                if !stepped {
+                    let acceleration = match self.settings.acceleration {
+                        Acceleration::Newton => Acceleration::Anderson,
+                        a => a,
+                    };
+                    let restart = map_changed || newton.left();
+                    (self.contact).next_multipliers(self.model, acceleration, restart);
+                }
             }
         }
         if ahead {
@@ -344,6 +365,26 @@ impl<'m> ImplicitSolver<'m> {
         }
         self.accept(&k)?;
         Ok(report)
+    }
+
+    /// The Newton step of the pressures ([`newton`]) with the step's (or sub-step's)
+    /// flexibility, grown to the nodes the candidates touch; false where it cannot be taken
+    /// (more nodes than a flexibility holds, or a singular matrix).
+    fn newton_step(&mut self, k: &StepConstants, sub: bool) -> bool {
+        let solver = step_factor(&self.solver, &self.sub_solver, sub);
+        let flex = &mut self.flexibility[usize::from(sub)];
+        let (interfaces, faces) = self.contact.newton_parts();
+        let nodes = newton::touched_nodes(self.model, interfaces, faces);
+        if !flex.ensure(&nodes, &self.asm, solver) {
+            return false;
+        }
+        let alpha_k = k.gamma * k.c_m * k.dt * k.force_weight;
+        let alpha_m = match k.endpoint {
+            true => 0.0,
+            false => k.dt * (1.0 - k.gamma / (2.0 * k.beta)),
+        };
+        let alpha = (alpha_k, alpha_m);
+        newton::newton_update(self.model, interfaces, faces, flex, alpha, &self.asm)
     }
 
     /// The effective matrix's factor of the step (`sub`: the sub-step's, where it was made).
