@@ -373,8 +373,18 @@ impl<'m> ImplicitSolver<'m> {
     fn newton_step(&mut self, k: &StepConstants, sub: bool) -> bool {
         let solver = step_factor(&self.solver, &self.sub_solver, sub);
         let flex = &mut self.flexibility[usize::from(sub)];
+        // the forces of the current pressures on the current geometry, less the last solve's
+        self.contact.forces_into(self.model, &mut self.work.f_c);
+        let (f_c, f_last) = (&self.work.f_c, &self.work.f_last);
+        let lag: Vec<(u32, [f64; 3])> = (0..f_c.len() / 3)
+            .filter_map(|n| {
+                let d = [0, 1, 2].map(|a| f_c[3 * n + a] - f_last[3 * n + a]);
+                (d != [0.0; 3]).then_some((n as u32, d))
+            })
+            .collect();
         let (interfaces, faces) = self.contact.newton_parts();
-        let nodes = newton::touched_nodes(self.model, interfaces, faces);
+        let mut nodes = newton::touched_nodes(self.model, interfaces, faces);
+        nodes.extend(lag.iter().map(|l| l.0));
         if !flex.ensure(&nodes, &self.asm, solver) {
             return false;
         }
@@ -384,7 +394,8 @@ impl<'m> ImplicitSolver<'m> {
             false => k.dt * (1.0 - k.gamma / (2.0 * k.beta)),
         };
         let alpha = (alpha_k, alpha_m);
-        newton::newton_update(self.model, interfaces, faces, flex, alpha, &self.asm)
+        let parts = (interfaces, faces);
+        newton::newton_update(self.model, parts, &lag, flex, alpha, &self.asm)
     }
 
     /// The effective matrix's factor of the step (`sub`: the sub-step's, where it was made).

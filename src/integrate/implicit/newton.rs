@@ -137,17 +137,26 @@ fn coupling(
     sum
 }
 
-/// The Newton step of the candidates' pressures (module docs), from the measures and
-/// penalties the last update left; false (nothing changed) where its matrix is singular.
+/// The Newton step of the candidates' pressures (module docs), from the measures the last
+/// update left; false (nothing changed) where its matrix is singular. `lag` is the change of
+/// the nodal contact forces that the last solve did not see: the current pressures on the
+/// current geometry less the forces it solved with (the forces take each iteration's
+/// normals and points from the one before), whose response the step includes.
 pub(super) fn newton_update(
     model: &Model,
-    interfaces: &mut [InterfaceState],
-    faces: &[[u32; 4]],
+    (interfaces, faces): (&mut [InterfaceState], &[[u32; 4]]),
+    lag: &[(u32, [f64; 3])],
     flex: &Flexibility,
     alpha: (f64, f64),
     asm: &Assembled,
 ) -> bool {
     let rows = rows(model, interfaces, faces);
+    let lag: Option<Vec<(u32, usize, [f64; 3])>> = (lag.iter())
+        .map(|&(n, d)| flex.slot(n).map(|p| (n, p, d)))
+        .collect();
+    let Some(lag) = lag else {
+        return false;
+    };
     let Some(gathers) = rows
         .iter()
         .map(|r| placed(r, flex))
@@ -183,7 +192,7 @@ pub(super) fn newton_update(
             s[(x, y)] = v;
             s[(y, x)] = v;
         }
-        rhs[x] = measure[r];
+        rhs[x] = measure[r] - coupling(&gathers[r], &lag, flex, alpha, asm);
         for c in 0..rows.len() {
             if !active[c] && lambda[c] != 0.0 {
                 let w = coupling(&gathers[r], &gathers[c], flex, alpha, asm) * area[c];
