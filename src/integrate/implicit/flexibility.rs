@@ -1,7 +1,9 @@
 //! The effective matrix's flexibility on the contact nodes: $H = K_{eff}^{-1}$ restricted to
 //! the dofs of the nodes the contact iteration has touched, found column by column (one
 //! triangular solve pair per dof, the first time a node is a candidate or carries one's
-//! face) and kept for the run, since the effective matrix does not change.
+//! face) and kept for the run, since the effective matrix does not change. Where the factor
+//! has a contact space, a column is its solve on the contact equations alone
+//! ([`SpdSolver::contact_solve_in_place`]): every node the iteration touches is in it.
 //!
 //! The matrix grows by nodes: a new node's three columns give its rows and, by the symmetry
 //! of $K_{eff}^{-1}$, its entries in the columns of the nodes before it. So an entry comes
@@ -25,6 +27,9 @@ pub(super) struct Flexibility {
     columns: Vec<Vec<f64>>,
     /// A checkpoint's nodes, added first the next time nodes are needed.
     pending: Vec<u32>,
+    /// Whether every node held has its free equations in the factor's contact space (then a
+    /// column is a solve on the contact space alone).
+    in_space: bool,
 }
 
 impl Flexibility {
@@ -82,14 +87,39 @@ impl Flexibility {
         self.slot.insert(n, p);
         self.nodes.push(n);
         let equation = |node: u32, a: usize| asm.equation[3 * node as usize + a];
+        let space = solver.contact_space().map(|s| {
+            let mut place = vec![u32::MAX; asm.dof_of.len()];
+            for (k, &e) in s.equations().iter().enumerate() {
+                place[e] = k as u32;
+            }
+            (s.equations(), place)
+        });
+        // the first node decides; a node outside the contact space turns it off for good
+        let node_in = |m: u32, place: &[u32]| {
+            (0..3).all(|a| equation(m, a) == u32::MAX || place[equation(m, a) as usize] != u32::MAX)
+        };
+        self.in_space = (p == 0 || self.in_space)
+            && space.as_ref().is_some_and(|(_, place)| node_in(n, place));
         let mut x = vec![0.0; asm.dof_of.len()];
         for a in 0..3 {
-            let mut column = vec![0.0; 3 * (p + 1)];
             let e = equation(n, a);
+            let mut column = vec![0.0; 3 * (p + 1)];
             if e != u32::MAX {
-                x.fill(0.0);
-                x[e as usize] = 1.0;
-                solver.solve_in_place(&mut x);
+                match (&space, self.in_space) {
+                    (Some((equations, place)), true) => {
+                        let mut y = vec![0.0; equations.len()];
+                        y[place[e as usize] as usize] = 1.0;
+                        solver.contact_solve_in_place(&mut y);
+                        for (&v, &f) in y.iter().zip(equations.iter()) {
+                            x[f] = v;
+                        }
+                    }
+                    _ => {
+                        x.fill(0.0);
+                        x[e as usize] = 1.0;
+                        solver.solve_in_place(&mut x);
+                    }
+                }
                 for (q, &m) in self.nodes.iter().enumerate() {
                     for b in 0..3 {
                         let f = equation(m, b);
@@ -102,6 +132,7 @@ impl Flexibility {
             self.columns.push(column);
         }
         // the earlier nodes' columns take their entries at n from n's columns (symmetry)
+        debug_assert!(self.columns.len() == 3 * (p + 1));
         for q in 0..p {
             for b in 0..3 {
                 for a in 0..3 {
