@@ -126,7 +126,7 @@ fn warnings_under_strict_are_6() {
     let text = edit(
         &scene_text("two_bars.toml"),
         "penalty = \"adaptive\"",
-        "penalty = \"adaptive\"\nmax_iterations = 2",
+        "penalty = \"adaptive\"\nmax_iterations = 2\nacceleration = \"anderson\"",
     );
     let scene = scene_file("exit_strict", &text);
     let out = out_path("exit_strict").join("run");

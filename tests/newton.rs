@@ -9,9 +9,18 @@ use common::scenes::{edit, out_dir, out_path, repo, run_text, scene_text};
 use impact::run::{run, RunOptions};
 use impact::scene::Scene;
 
-/// The scene with `acceleration = "newton"` in its `[implicit]` table.
+/// The scene with `acceleration = "newton"` (the default) in its `[implicit]` table.
 fn newton(text: &str) -> String {
     edit(text, "[implicit]", "[implicit]\nacceleration = \"newton\"")
+}
+
+/// The scene with `acceleration = "anderson"`.
+fn anderson(text: &str) -> String {
+    edit(
+        text,
+        "[implicit]",
+        "[implicit]\nacceleration = \"anderson\"",
+    )
 }
 
 /// The steel ball on the [0/90]s plate over its first 20 steps (17 of them in contact).
@@ -26,7 +35,7 @@ fn ball_on_laminate() -> String {
 #[test]
 fn newton_follows_anderson_on_the_ball_on_the_laminate_in_fewer_iterations() {
     let text = ball_on_laminate();
-    let (anderson, ha) = run_text("newton_ball_anderson", &text);
+    let (anderson, ha) = run_text("newton_ball_anderson", &anderson(&text));
     let (newton, hn) = run_text("newton_ball_newton", &newton(&text));
     let (anderson, newton) = (anderson.expect("anderson"), newton.expect("newton"));
     for s in [&anderson, &newton] {
@@ -43,10 +52,10 @@ fn newton_follows_anderson_on_the_ball_on_the_laminate_in_fewer_iterations() {
         "ball on the laminate, 20 steps: {:.2} iterations a step with Anderson, {:.2} with Newton; force {force:.2e}, motion {motion:.2e}",
         anderson.iterations_mean, newton.iterations_mean
     );
-    // the iteration stops at a relative change of 1e-6 a step: the two answers differ by a
-    // few times that where the force changes fastest
-    assert!(force <= 2e-4, "normal force differs by {force:.2e}");
-    assert!(motion <= 2e-5, "motion differs by {motion:.2e}");
+    // both stop at a relative change of 1e-6 a step; Anderson's answer is the farther from
+    // the converged one (2e-6 of the force at 12 us, docs/method-notes.md)
+    assert!(force <= 3e-5, "normal force differs by {force:.2e}");
+    assert!(motion <= 5e-6, "motion differs by {motion:.2e}");
     assert!(
         newton.iterations_mean * 3.0 < anderson.iterations_mean,
         "{} against {}",
@@ -64,7 +73,10 @@ fn newton_follows_anderson_on_a_block_dropped_on_a_floor() {
     for constraint in ["gap_rate", "gap"] {
         let implicit = format!("constraint = \"{constraint}\"");
         let text = common::bench_scenes::implicit_block_drop([6, 6, 6], 40, &implicit);
-        let (anderson, ha) = run_text(&format!("newton_block_anderson_{constraint}"), &text);
+        let (anderson, ha) = run_text(
+            &format!("newton_block_anderson_{constraint}"),
+            &anderson(&text),
+        );
         let (newton, hn) = run_text(&format!("newton_block_newton_{constraint}"), &newton(&text));
         let (anderson, newton) = (anderson.expect("anderson"), newton.expect("newton"));
         let status = match constraint {
@@ -142,7 +154,7 @@ fn with_friction_newton_leaves_the_iteration_to_anderson() {
         "velocity = [0.0, 0.0, -1.0]",
         "velocity = [0.5, 0.0, -1.0]",
     );
-    let (a, ha) = run_text("newton_friction_anderson", &text);
+    let (a, ha) = run_text("newton_friction_anderson", &anderson(&text));
     let (n, hn) = run_text("newton_friction_newton", &newton(&text));
     let (a, n) = (a.expect("anderson"), n.expect("newton"));
     assert_eq!(n.status, "completed");

@@ -234,7 +234,7 @@ impl Default for ImplicitSettings {
             mass: MassKind::Consistent,
             max_gap_rate: None,
             max_force_change: 0.05,
-            acceleration: Acceleration::Anderson,
+            acceleration: Acceleration::Newton,
             event_substeps: 4,
             event_force_change: 0.2,
             ordering: Ordering::default(),

@@ -98,8 +98,8 @@ impl Flexibility {
         let node_in = |m: u32, place: &[u32]| {
             (0..3).all(|a| equation(m, a) == u32::MAX || place[equation(m, a) as usize] != u32::MAX)
         };
-        self.in_space = (p == 0 || self.in_space)
-            && space.as_ref().is_some_and(|(_, place)| node_in(n, place));
+        self.in_space =
+            (p == 0 || self.in_space) && space.as_ref().is_some_and(|(_, place)| node_in(n, place));
         let mut x = vec![0.0; asm.dof_of.len()];
         for a in 0..3 {
             let e = equation(n, a);

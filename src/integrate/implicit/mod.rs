@@ -335,18 +335,27 @@ impl<'m> ImplicitSolver<'m> {
             self.turn_bodies(k.dt);
             report.iterations += 1;
             self.correct(&k)?;
-            let (converged, map_changed) =
+            let (mut converged, map_changed) =
                 self.contact
                     .update_multipliers(self.model, self.settings.constraint, &k);
             let residual_ok =
                 k.exact || corr <= 1e3 * self.kernels.unit_roundoff() * size.max(f64::MIN_POSITIVE);
+            let residual = self.contact.residual(self.model);
+            let mut stepped = false;
+            if converged && residual_ok && newton.allows(residual, map_changed) {
+                // the update's change is eps m: small for a small eps however far m is from
+                // zero. The Newton step measures how far the pressures are
+                let size = self.newton_step(&k, sub, Some(k.tol));
+                stepped = size.is_some_and(|s| s > k.tol);
+                converged = !stepped;
+            }
             if converged && residual_ok {
                 report.converged = true;
                 break;
             }
-            if !converged {
-                let residual = self.contact.residual(self.model);
-                let stepped = newton.allows(residual, map_changed) && self.newton_step(&k, sub);
+            if !converged && !stepped {
+                let stepped = newton.allows(residual, map_changed)
+                    && self.newton_step(&k, sub, None).is_some();
                 if !stepped {
                     let acceleration = match self.settings.acceleration {
                         Acceleration::Newton => Acceleration::Anderson,
@@ -368,9 +377,15 @@ impl<'m> ImplicitSolver<'m> {
     }
 
     /// The Newton step of the pressures ([`newton`]) with the step's (or sub-step's)
-    /// flexibility, grown to the nodes the candidates touch; false where it cannot be taken
-    /// (more nodes than a flexibility holds, or a singular matrix).
-    fn newton_step(&mut self, k: &StepConstants, sub: bool) -> bool {
+    /// flexibility, grown to the nodes the candidates touch: its relative size, or `None`
+    /// where it cannot be taken (more nodes than a flexibility holds, or a singular matrix).
+    /// With `keep_below`, a step no larger is not taken ([`newton::newton_update`]).
+    fn newton_step(
+        &mut self,
+        k: &StepConstants,
+        sub: bool,
+        keep_below: Option<f64>,
+    ) -> Option<f64> {
         let solver = step_factor(&self.solver, &self.sub_solver, sub);
         let flex = &mut self.flexibility[usize::from(sub)];
         // the forces of the current pressures on the current geometry, less the last solve's
@@ -386,7 +401,7 @@ impl<'m> ImplicitSolver<'m> {
         let mut nodes = newton::touched_nodes(self.model, interfaces, faces);
         nodes.extend(lag.iter().map(|l| l.0));
         if !flex.ensure(&nodes, &self.asm, solver) {
-            return false;
+            return None;
         }
         let alpha_k = k.gamma * k.c_m * k.dt * k.force_weight;
         let alpha_m = match k.endpoint {
@@ -395,7 +410,14 @@ impl<'m> ImplicitSolver<'m> {
         };
         let alpha = (alpha_k, alpha_m);
         let parts = (interfaces, faces);
-        newton::newton_update(self.model, parts, &lag, flex, alpha, &self.asm)
+        newton::newton_update(
+            self.model,
+            parts,
+            &lag,
+            flex,
+            (alpha, &self.asm),
+            keep_below,
+        )
     }
 
     /// The effective matrix's factor of the step (`sub`: the sub-step's, where it was made).

@@ -138,7 +138,9 @@ fn coupling(
 }
 
 /// The Newton step of the candidates' pressures (module docs), from the measures the last
-/// update left; false (nothing changed) where its matrix is singular. `lag` is the change of
+/// update left. Returns its relative size (area-weighted, as the update's change); `None`
+/// (nothing changed) where its matrix is singular. With `keep_below = Some(tol)`, a step
+/// of relative size at most tol is not taken (the iteration has converged). `lag` is the change of
 /// the nodal contact forces that the last solve did not see: the current pressures on the
 /// current geometry less the forces it solved with (the forces take each iteration's
 /// normals and points from the one before), whose response the step includes.
@@ -147,23 +149,17 @@ pub(super) fn newton_update(
     (interfaces, faces): (&mut [InterfaceState], &[[u32; 4]]),
     lag: &[(u32, [f64; 3])],
     flex: &Flexibility,
-    alpha: (f64, f64),
-    asm: &Assembled,
-) -> bool {
+    (alpha, asm): ((f64, f64), &Assembled),
+    keep_below: Option<f64>,
+) -> Option<f64> {
     let rows = rows(model, interfaces, faces);
     let lag: Option<Vec<(u32, usize, [f64; 3])>> = (lag.iter())
         .map(|&(n, d)| flex.slot(n).map(|p| (n, p, d)))
         .collect();
-    let Some(lag) = lag else {
-        return false;
-    };
-    let Some(gathers) = rows
-        .iter()
+    let lag = lag?;
+    let gathers = (rows.iter())
         .map(|r| placed(r, flex))
-        .collect::<Option<Vec<_>>>()
-    else {
-        return false;
-    };
+        .collect::<Option<Vec<_>>>()?;
     let lambda: Vec<f64> = (rows.iter())
         .map(|r| interfaces[r.interface].lambda[r.node])
         .collect();
@@ -203,24 +199,31 @@ pub(super) fn newton_update(
     // S y = rhs with y_j = A_j delta_j (W = S A)
     let y = match s.clone().cholesky() {
         Some(c) => c.solve(&rhs),
-        None => match s.lu().solve(&rhs) {
-            Some(y) => y,
-            None => return false,
-        },
+        None => s.lu().solve(&rhs)?,
     };
     if y.iter().any(|v| !v.is_finite()) {
-        return false;
+        return None;
     }
+    let mut next = vec![0.0; rows.len()];
     for (x, &r) in a.iter().enumerate() {
-        let row = &rows[r];
-        interfaces[row.interface].lambda[row.node] = (lambda[r] + y[x] / area[r]).max(0.0);
+        next[r] = (lambda[r] + y[x] / area[r]).max(0.0);
     }
-    for (r, row) in rows.iter().enumerate() {
-        if !active[r] {
-            interfaces[row.interface].lambda[row.node] = 0.0;
-        }
+    let (mut change, mut scale) = (0.0, 0.0);
+    for r in 0..rows.len() {
+        change += (area[r] * (next[r] - lambda[r])).powi(2);
+        scale += (area[r] * next[r].max(lambda[r])).powi(2);
     }
-    true
+    let relative = match change > 0.0 {
+        true => (change / scale).sqrt(),
+        false => 0.0,
+    };
+    if keep_below.is_some_and(|tol| relative <= tol) {
+        return Some(relative);
+    }
+    for (row, &x) in rows.iter().zip(&next) {
+        interfaces[row.interface].lambda[row.node] = x;
+    }
+    Some(relative)
 }
 
 /// When a step's iteration takes Newton steps: at most [`NewtonGuard::MAX_STEPS`] of them,

@@ -467,7 +467,7 @@ impl Checker<'_> {
             implicit.acceleration = self.choice(
                 "implicit.acceleration",
                 ri.acceleration.as_deref(),
-                Acceleration::Anderson,
+                Acceleration::Newton,
                 Acceleration::CHOICES,
             )?;
             if let Some(e) = ri.penalty_normal {
