@@ -18,6 +18,22 @@ pub(crate) const ENGINE_GPU_RESIDENT: &str = "gpu resident";
 pub(crate) const ENGINE_RANKS: &str = "cpu, decomposed over mpi ranks";
 pub(crate) const ENGINE_RANKS_GPU: &str = "gpu kernels, decomposed over mpi ranks";
 
+/// The implicit contact iteration's Newton steps (`implicit.acceleration = "newton"`), for
+/// the summary; counted by this process (a resumed run counts from its resumption).
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct NewtonFigures {
+    /// Newton steps taken as the multiplier update.
+    pub steps: usize,
+    /// Steps and sub-steps that went on with Anderson's update: their Newton steps stopped
+    /// bringing the residual down, or their candidates touched more nodes than a
+    /// flexibility holds.
+    pub steps_left: usize,
+    /// Nodes in the flexibilities (the step's and the sub-step's): each cost three solves.
+    pub flexibility_nodes: usize,
+    /// An interface has friction, so every update is Anderson's.
+    pub friction_keeps_anderson: bool,
+}
+
 /// The implicit solver's linear-algebra figures for the summary.
 #[derive(Debug, Clone)]
 pub struct ImplicitFigures {
@@ -28,6 +44,8 @@ pub struct ImplicitFigures {
     pub mass_factor: Option<FactorStats>,
     /// Steps taken again in sub-steps because they held a contact event.
     pub event_steps: usize,
+    /// With `acceleration = "newton"`: its steps.
+    pub newton: Option<NewtonFigures>,
 }
 
 pub trait Integrator {

@@ -11,7 +11,7 @@ pub mod state;
 
 pub use explicit::ExplicitSolver;
 pub use implicit::ImplicitSolver;
-pub use integrator::{Decomposed, ImplicitFigures, Integrator, Pipelined};
+pub use integrator::{Decomposed, ImplicitFigures, Integrator, NewtonFigures, Pipelined};
 pub use resident::ResidentSolver;
 pub use state::{
     ContactReport, Decomposition, Energies, InterfaceEnd, Piece, ProbeValues, StepReport,

@@ -111,6 +111,10 @@ pub struct Summary {
     pub mass_factor: Option<FactorStats>,
     /// Implicit steps taken again in `event_substeps` sub-steps at a contact event.
     pub event_steps: usize,
+    /// Implicit runs with `acceleration = "newton"`: its steps, the steps that went on with
+    /// Anderson's update, and the flexibility's nodes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub newton: Option<crate::integrate::NewtonFigures>,
     /// The resident engine with contact between meshed bodies: the contact sweeps recorded
     /// as dispatches of their own over the run, and the sweeps the steps needed (the rest
     /// of each step's sweeps ran in `contact_finish`). Counted by this process (a resumed

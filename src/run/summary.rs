@@ -195,6 +195,7 @@ pub(super) fn fill_summary(
         summary.linear_solver = Some(f.linear_solver);
         summary.mass_factor = f.mass_factor;
         summary.event_steps = f.event_steps;
+        summary.newton = f.newton;
     }
     if let Some((recorded, needed)) = solver.recorded_sweeps() {
         summary.sweeps_recorded = Some(recorded);

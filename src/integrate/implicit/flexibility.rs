@@ -143,3 +143,177 @@ impl Flexibility {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{DMatrix, Matrix3};
+
+    use super::*;
+    use crate::linalg::{Csc, Ordering};
+
+    /// A stiffness on a grid of n^3 nodes: each edge couples its two nodes' dofs through a
+    /// random SPD 3 x 3 block, plus a mass shift on the diagonal. Node 0 is held, and node
+    /// 1 in x. Returns the assembled system and the dense K on all dofs (held rows unit).
+    fn grid(n: usize) -> (Assembled, DMatrix<f64>) {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut random = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let nodes = n * n * n;
+        let id = |i: usize, j: usize, k: usize| (i * n + j) * n + k;
+        let mut k_full = DMatrix::<f64>::identity(3 * nodes, 3 * nodes) * 0.3;
+        for (i, j, k) in
+            (0..n).flat_map(|i| (0..n).flat_map(move |j| (0..n).map(move |k| (i, j, k))))
+        {
+            for (di, dj, dk) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
+                if i + di >= n || j + dj >= n || k + dk >= n {
+                    continue;
+                }
+                let a = Matrix3::from_fn(|_, _| random());
+                let b = a * a.transpose() + Matrix3::identity();
+                let (p, q) = (id(i, j, k), id(i + di, j + dj, k + dk));
+                for (r, c, s) in [(p, p, 1.0), (q, q, 1.0), (p, q, -1.0), (q, p, -1.0)] {
+                    for x in 0..3 {
+                        for y in 0..3 {
+                            k_full[(3 * r + x, 3 * c + y)] += s * b[(x, y)];
+                        }
+                    }
+                }
+            }
+        }
+        // node 0 held, and node 1 in x
+        let held = |d: usize| d <= 3;
+        let mut equation = vec![u32::MAX; 3 * nodes];
+        let mut dof_of = Vec::new();
+        for (d, e) in equation.iter_mut().enumerate() {
+            if !held(d) {
+                *e = dof_of.len() as u32;
+                dof_of.push(d as u32);
+            }
+        }
+        let mut t = Vec::new();
+        for (r, &dr) in dof_of.iter().enumerate() {
+            for (c, &dc) in dof_of.iter().enumerate() {
+                let v = k_full[(dr as usize, dc as usize)];
+                if v != 0.0 {
+                    t.push((r as u32, c as u32, v));
+                }
+            }
+        }
+        let effective = Csc::from_triplets(dof_of.len(), t);
+        let asm = Assembled {
+            equation,
+            dof_of,
+            effective,
+            consistent_mass: None,
+            nodal_mass: vec![1.0; nodes],
+            impulse_mass: vec![1.0; nodes],
+        };
+        (asm, k_full)
+    }
+
+    /// K^-1 on the free dofs, zero on the held ones.
+    fn inverse(asm: &Assembled, k: &DMatrix<f64>) -> DMatrix<f64> {
+        let free = &asm.dof_of;
+        let kf = DMatrix::from_fn(free.len(), free.len(), |r, c| {
+            k[(free[r] as usize, free[c] as usize)]
+        });
+        let inv = kf.try_inverse().expect("SPD");
+        let mut out = DMatrix::zeros(k.nrows(), k.ncols());
+        for (r, &dr) in free.iter().enumerate() {
+            for (c, &dc) in free.iter().enumerate() {
+                out[(dr as usize, dc as usize)] = inv[(r, c)];
+            }
+        }
+        out
+    }
+
+    /// The largest difference between `f`'s entries and `exact`'s (of node dofs m, l),
+    /// relative to the largest of `exact`.
+    fn largest_error(f: &Flexibility, exact: impl Fn(u32, usize, u32, usize) -> f64) -> f64 {
+        let (mut worst, mut scale) = (0.0f64, 0.0f64);
+        for (p, &m) in f.nodes.iter().enumerate() {
+            for (q, &l) in f.nodes.iter().enumerate() {
+                for a in 0..3 {
+                    for b in 0..3 {
+                        let x = exact(m, a, l, b);
+                        worst = worst.max((f.entry((p, a), (q, b)) - x).abs());
+                        scale = scale.max(x.abs());
+                    }
+                }
+            }
+        }
+        worst / scale
+    }
+
+    /// Node `n`'s place in `f`.
+    fn at(f: &Flexibility, n: u32) -> usize {
+        f.slot(n).expect("held")
+    }
+
+    /// The flexibility is K^-1 on its nodes' dofs (held dofs zero), grown in any order; a
+    /// checkpoint's order rebuilds the same bits; it refuses to grow past its size.
+    #[test]
+    fn the_flexibility_is_the_inverse_on_its_nodes_and_resumes_to_the_same_bits() {
+        let (asm, k) = grid(6);
+        let exact = inverse(&asm, &k);
+        let first: Vec<u32> = vec![40, 1, 7, 41];
+        let later: Vec<u32> = vec![100, 7, 0, 150];
+        let full = SpdSolver::new(&asm.effective, Ordering::NestedDissection).unwrap();
+        let mut f = Flexibility::default();
+        assert!(f.ensure(&first, &asm, &full));
+        assert!(f.ensure(&later, &asm, &full));
+        assert_eq!(f.nodes(), vec![40, 1, 7, 41, 100, 0, 150]);
+        let e = largest_error(&f, |m, a, l, b| {
+            exact[(3 * m as usize + a, 3 * l as usize + b)]
+        });
+        assert!(e < 1e-12, "full solves: {e:.2e}");
+        // a resumed flexibility rebuilds the same entries, bit for bit
+        let mut r = Flexibility::resume(f.nodes());
+        assert!(r.ensure(&[150], &asm, &full));
+        assert_eq!(r.nodes(), f.nodes());
+        for c in 0..f.columns.len() {
+            let (a, b) = (&f.columns[c], &r.columns[c]);
+            assert!(a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()));
+        }
+        // more nodes than it may hold: refused, nothing added
+        let many: Vec<u32> = (0..MAX_NODES as u32 + 1).collect();
+        assert!(!f.ensure(&many, &asm, &full));
+        assert_eq!(f.nodes().len(), 7);
+    }
+
+    /// On a factor with the nodes' equations numbered last, the columns are solves on that
+    /// contact space alone, and equal the full solves' to rounding.
+    #[test]
+    fn the_flexibility_on_the_contact_space_is_the_full_solves() {
+        let (asm, _) = grid(14);
+        let first: Vec<u32> = vec![400, 1, 7, 401, 1500];
+        let later: Vec<u32> = vec![1000, 7, 0, 2700];
+        let full = SpdSolver::new(&asm.effective, Ordering::NestedDissection).unwrap();
+        let mut f = Flexibility::default();
+        assert!(f.ensure(&first, &asm, &full) && f.ensure(&later, &asm, &full));
+        assert!(!f.in_space);
+        let mut last = vec![false; asm.dof_of.len()];
+        for &n in first.iter().chain(&later) {
+            for a in 0..3 {
+                let q = asm.equation[3 * n as usize + a];
+                if q != u32::MAX {
+                    last[q as usize] = true;
+                }
+            }
+        }
+        let space = SpdSolver::with_last(&asm.effective, &last).unwrap();
+        assert!(space.contact_space().is_some(), "a supernodal factor");
+        let mut g = Flexibility::default();
+        assert!(g.ensure(&first, &asm, &space) && g.ensure(&later, &asm, &space));
+        assert!(g.in_space);
+        let (solves, contact_solves) = (space.stats().solves, space.stats().contact_solves);
+        // 8 nodes' dofs, less node 0's three and node 1's x (held)
+        assert_eq!((solves, contact_solves), (0, 3 * 8 - 4));
+        let e = largest_error(&g, |m, a, l, b| f.entry((at(&f, m), a), (at(&f, l), b)));
+        assert!(e < 1e-12, "contact-space solves: {e:.2e}");
+    }
+}

@@ -57,7 +57,7 @@ use crate::model::{Model, Primary};
 use crate::scene::{Acceleration, ConstraintMeasure, ImplicitSettings, Method};
 
 use super::explicit::spin::{BodySpin, Spins};
-use super::integrator::{ImplicitFigures, Integrator};
+use super::integrator::{ImplicitFigures, Integrator, NewtonFigures};
 use super::state::{ContactReport, Energies, InterfaceEnd, StepReport};
 use super::SolverState;
 use contact::MultiplierIteration;
@@ -131,8 +131,9 @@ pub struct ImplicitSolver<'m> {
     spins_new: Spins,
     work: Workspace,
     /// $K_{eff}^{-1}$ on the contact nodes, of the step's factor and of the sub-step's
-    /// (`acceleration = "newton"`).
+    /// (`acceleration = "newton"`), and the Newton steps' counts.
     flexibility: [Flexibility; 2],
+    newton: NewtonFigures,
 }
 
 /// What one step of length `dt` holds fixed: Newmark's parameters, the effective mass
@@ -211,6 +212,7 @@ impl<'m> ImplicitSolver<'m> {
             work: Workspace::new(ndof, asm.dof_of.len()),
             asm,
             flexibility: Default::default(),
+            newton: NewtonFigures::default(),
         };
         // a_0 = M^-1 f_ext (u_0 = 0, no contact force at t = 0)
         let f = s.f_ext.clone();
@@ -348,6 +350,7 @@ impl<'m> ImplicitSolver<'m> {
                 let size = self.newton_step(&k, sub, Some(k.tol));
                 stepped = size.is_some_and(|s| s > k.tol);
                 converged = !stepped;
+                self.newton.steps += usize::from(stepped);
             }
             if converged && residual_ok {
                 report.converged = true;
@@ -356,7 +359,9 @@ impl<'m> ImplicitSolver<'m> {
             if !converged && !stepped {
                 let stepped = newton.allows(residual, map_changed)
                     && self.newton_step(&k, sub, None).is_some();
+                self.newton.steps += usize::from(stepped);
                 if !stepped {
+                    newton.give_up();
                     let acceleration = match self.settings.acceleration {
                         Acceleration::Newton => Acceleration::Anderson,
                         a => a,
@@ -366,6 +371,7 @@ impl<'m> ImplicitSolver<'m> {
                 }
             }
         }
+        self.newton.steps_left += usize::from(newton.was_left());
         if ahead {
             // the rest of the model under the final multipliers
             self.equilibrium(&k, sub)?;
@@ -817,6 +823,11 @@ impl Integrator for ImplicitSolver<'_> {
             linear_solver: self.linear_solver(),
             mass_factor: self.mass_factor(),
             event_steps: self.event_steps,
+            newton: (self.settings.acceleration == Acceleration::Newton).then(|| NewtonFigures {
+                flexibility_nodes: self.flexibility.iter().map(|f| f.nodes().len()).sum(),
+                friction_keeps_anderson: self.contact.frictional(),
+                ..self.newton
+            }),
         })
     }
 }

@@ -232,6 +232,8 @@ pub(super) fn newton_update(
 /// change). After that the step goes on with Anderson's acceleration, started afresh: this
 /// catches an active set that cycles, and geometry that moves too far for W.
 pub(super) struct NewtonGuard {
+    /// Whether the step began with Newton steps, and whether it still takes them.
+    began: bool,
     on: bool,
     steps: usize,
     /// Steps since the lowest residual, and that residual.
@@ -247,6 +249,7 @@ impl NewtonGuard {
 
     pub(super) fn new(on: bool) -> Self {
         NewtonGuard {
+            began: on,
             on,
             steps: 0,
             rises: 0,
@@ -276,6 +279,19 @@ impl NewtonGuard {
             return false;
         }
         true
+    }
+
+    /// Leaves Newton for the rest of the step (its step could not be taken).
+    pub(super) fn give_up(&mut self) {
+        if self.on {
+            self.on = false;
+            self.left = true;
+        }
+    }
+
+    /// Whether the step began with Newton steps and left them.
+    pub(super) fn was_left(&self) -> bool {
+        self.began && !self.on
     }
 
     /// Whether Newton was just left (once).
