@@ -7,14 +7,16 @@
 //! $-N_k n$ on its primary face's nodes, -n on a rigid body's node) and $A_j$ is node j's
 //! area; $\alpha_K = \gamma w_f/(\beta \Delta t)$ and $\alpha_M = \Delta t (1 - \gamma/(2\beta))$
 //! for the gap rate (0 for the classical gap, whose measure is scaled alike). The augmented
-//! Lagrange update $\lambda \leftarrow \langle \lambda + \epsilon m \rangle$ is a fixed point
-//! of the same solution; its active set $\mathcal A = \{i : \lambda_i + \epsilon m_i > 0\}$
-//! (the primal-dual active set of Hintermüller, Ito & Kunisch 2002, with the paper's penalty
-//! as its weight) gives the Newton step
+//! Lagrange update $\lambda \leftarrow \langle \lambda + \epsilon m \rangle$ has the same
+//! solution as its fixed point. The active set of the Jacobi trial, $\mathcal A = \{i :
+//! \lambda_i + m_i / W_{ii} > 0\}$ (the primal-dual active set method of Hintermüller, Ito &
+//! Kunisch 2002, weighted by W's diagonal, so that the penalty's scale does not decide
+//! membership), gives the Newton step
 //!
 //! $\lambda_{\mathcal A} \leftarrow \lambda_{\mathcal A} + W_{\mathcal A\mathcal A}^{-1}
-//! (m_{\mathcal A} + W_{\mathcal A \mathcal I} \lambda_{\mathcal I})$, $\lambda_{\mathcal I}
-//! \leftarrow 0$, then clipped at zero.
+//! (m_{\mathcal A} + W_{\mathcal A \mathcal I} \lambda_{\mathcal I} - B d)$, $\lambda_{\mathcal
+//! I} \leftarrow 0$, then clipped at zero, where $B d$ is the measures' response to the
+//! forces the last solve did not see (`lag` of [`newton_update`]).
 //!
 //! $K_{eff}^{-1}$ on the nodes comes from the run's [`super::flexibility::Flexibility`]; the
 //! consistent mass's inverse is taken as the lumped one (W only steers the step: each
