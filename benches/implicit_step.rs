@@ -9,12 +9,14 @@
 //! - assembly, step time and iterations per step with the plain multiplier iteration and with
 //!   Anderson acceleration, with plain steps, and once more with the default event
 //!   sub-steps: the first steps are the block's impact, so they are refined into 4 sub-steps
-//!   each (the sub-step's factorisation is counted in its step).
+//!   each (the sub-step's factorisation is counted in its step); and the Newton step (the
+//!   default iteration) with the default sub-steps, whose flexibility holds at most 1,024
+//!   nodes: on wider contacts its steps go on with Anderson's update.
 //!
 //! `cargo bench --bench implicit_step` (add `-- --quick` for a smaller block, or `-- --large`
-//! for the steps table alone on a block of 101,376 elements, Anderson with the default
-//! event sub-steps on the whole model and on the contact space: its factors need about
-//! 16 GB).
+//! for the steps table alone on a block of 101,376 elements, Anderson and Newton with the
+//! default event sub-steps on the whole model and on the contact space: its factors need
+//! about 16 GB).
 
 use std::path::Path;
 use std::time::Instant;
@@ -114,7 +116,8 @@ fn main() {
     steps_table(&models, all, false);
 }
 
-/// The table of steps with contact; `large`: Anderson with the default sub-steps only.
+/// The table of steps with contact; `large`: Anderson and Newton with the default sub-steps
+/// only.
 fn steps_table(models: &[(Scene, Model)], all: usize, large: bool) {
     println!(
         "\nSteps with contact ({all} threads, ordering {}):\n",
@@ -174,6 +177,7 @@ fn step_rows(sc: &Scene, model: &Model, large: bool) {
             Acceleration::Anderson,
             sc.implicit.event_substeps,
         ),
+        ("newton", Acceleration::Newton, sc.implicit.event_substeps),
     ];
     let configs = match large {
         true => &configs[2..],
