@@ -30,6 +30,9 @@ pub(super) struct Flexibility {
     /// Whether every node held has its free equations in the factor's contact space (then a
     /// column is a solve on the contact space alone).
     in_space: bool,
+    /// Each equation's place in the factor's contact space (`u32::MAX` outside it), made at
+    /// the first node where the factor has one (the factor does not change).
+    place: Vec<u32>,
 }
 
 impl Flexibility {
@@ -87,28 +90,28 @@ impl Flexibility {
         self.slot.insert(n, p);
         self.nodes.push(n);
         let equation = |node: u32, a: usize| asm.equation[3 * node as usize + a];
-        let space = solver.contact_space().map(|s| {
-            let mut place = vec![u32::MAX; asm.dof_of.len()];
-            for (k, &e) in s.equations().iter().enumerate() {
-                place[e] = k as u32;
+        let space = solver.contact_space().map(|s| s.equations());
+        if let (Some(equations), true) = (space, self.place.is_empty()) {
+            self.place = vec![u32::MAX; asm.dof_of.len()];
+            for (k, &e) in equations.iter().enumerate() {
+                self.place[e] = k as u32;
             }
-            (s.equations(), place)
-        });
+        }
+        let place = &self.place;
         // the first node decides; a node outside the contact space turns it off for good
-        let node_in = |m: u32, place: &[u32]| {
+        let node_in = |m: u32| {
             (0..3).all(|a| equation(m, a) == u32::MAX || place[equation(m, a) as usize] != u32::MAX)
         };
-        self.in_space =
-            (p == 0 || self.in_space) && space.as_ref().is_some_and(|(_, place)| node_in(n, place));
+        self.in_space = (p == 0 || self.in_space) && space.is_some() && node_in(n);
         let mut x = vec![0.0; asm.dof_of.len()];
         for a in 0..3 {
             let e = equation(n, a);
             let mut column = vec![0.0; 3 * (p + 1)];
             if e != u32::MAX {
-                match (&space, self.in_space) {
-                    (Some((equations, place)), true) => {
+                match (space, self.in_space) {
+                    (Some(equations), true) => {
                         let mut y = vec![0.0; equations.len()];
-                        y[place[e as usize] as usize] = 1.0;
+                        y[self.place[e as usize] as usize] = 1.0;
                         solver.contact_solve_in_place(&mut y);
                         for (&v, &f) in y.iter().zip(equations.iter()) {
                             x[f] = v;

@@ -404,7 +404,8 @@ impl<'m> ImplicitSolver<'m> {
             })
             .collect();
         let (interfaces, faces) = self.contact.newton_parts();
-        let mut nodes = newton::touched_nodes(self.model, interfaces, faces);
+        let rows = newton::rows(self.model, interfaces, faces);
+        let mut nodes = newton::touched_nodes(&rows);
         nodes.extend(lag.iter().map(|l| l.0));
         if !flex.ensure(&nodes, &self.asm, solver) {
             return None;
@@ -415,7 +416,7 @@ impl<'m> ImplicitSolver<'m> {
             false => k.dt * (1.0 - k.gamma / (2.0 * k.beta)),
         };
         let alpha = (alpha_k, alpha_m);
-        let parts = (interfaces, faces);
+        let parts = (interfaces, rows.as_slice());
         newton::newton_update(
             self.model,
             parts,

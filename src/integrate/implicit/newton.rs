@@ -38,7 +38,7 @@ use super::interface::InterfaceState;
 const TERMS: usize = 5;
 
 /// One candidate: its interface and node, and its gather $g_i$ as (node, coefficient) pairs.
-struct Row {
+pub(super) struct Row {
     interface: usize,
     node: usize,
     terms: [(u32, [f64; 3]); TERMS],
@@ -57,7 +57,7 @@ impl Row {
 }
 
 /// Every candidate's gather, in interface and node order.
-fn rows(model: &Model, interfaces: &[InterfaceState], faces: &[[u32; 4]]) -> Vec<Row> {
+pub(super) fn rows(model: &Model, interfaces: &[InterfaceState], faces: &[[u32; 4]]) -> Vec<Row> {
     let mut rows = Vec::new();
     for (k, (itf, st)) in model.interfaces.iter().zip(interfaces).enumerate() {
         for (i, &n) in itf.nodes.iter().enumerate() {
@@ -93,20 +93,16 @@ fn rows(model: &Model, interfaces: &[InterfaceState], faces: &[[u32; 4]]) -> Vec
 }
 
 /// The nodes the candidates' gathers touch (the flexibility must hold them).
-pub(super) fn touched_nodes(
-    model: &Model,
-    interfaces: &[InterfaceState],
-    faces: &[[u32; 4]],
-) -> Vec<u32> {
-    let rows = rows(model, interfaces, faces);
+pub(super) fn touched_nodes(rows: &[Row]) -> Vec<u32> {
     rows.iter()
         .flat_map(|r| r.terms().iter().map(|t| t.0))
         .collect()
 }
 
-/// A gather's terms with each node's place in the flexibility; `None` where it lacks one.
-fn placed(r: &Row, flex: &Flexibility) -> Option<Vec<(u32, usize, [f64; 3])>> {
-    (r.terms().iter())
+/// (node, coefficient) terms with each node's place in the flexibility; `None` where it
+/// lacks one.
+fn placed(terms: &[(u32, [f64; 3])], flex: &Flexibility) -> Option<Vec<(u32, usize, [f64; 3])>> {
+    (terms.iter())
         .map(|&(n, c)| flex.slot(n).map(|p| (n, p, c)))
         .collect()
 }
@@ -148,19 +144,15 @@ fn coupling(
 /// normals and points from the one before), whose response the step includes.
 pub(super) fn newton_update(
     model: &Model,
-    (interfaces, faces): (&mut [InterfaceState], &[[u32; 4]]),
+    (interfaces, rows): (&mut [InterfaceState], &[Row]),
     lag: &[(u32, [f64; 3])],
     flex: &Flexibility,
     (alpha, asm): ((f64, f64), &Assembled),
     keep_below: Option<f64>,
 ) -> Option<f64> {
-    let rows = rows(model, interfaces, faces);
-    let lag: Option<Vec<(u32, usize, [f64; 3])>> = (lag.iter())
-        .map(|&(n, d)| flex.slot(n).map(|p| (n, p, d)))
-        .collect();
-    let lag = lag?;
+    let lag = placed(lag, flex)?;
     let gathers = (rows.iter())
-        .map(|r| placed(r, flex))
+        .map(|r| placed(r.terms(), flex))
         .collect::<Option<Vec<_>>>()?;
     let lambda: Vec<f64> = (rows.iter())
         .map(|r| interfaces[r.interface].lambda[r.node])
@@ -171,10 +163,13 @@ pub(super) fn newton_update(
     let area: Vec<f64> = (rows.iter())
         .map(|r| model.interfaces[r.interface].area[r.node].max(f64::MIN_POSITIVE))
         .collect();
+    let diagonal: Vec<f64> = (gathers.iter())
+        .map(|g| coupling(g, g, flex, alpha, asm))
+        .collect();
     // the active set of the Jacobi trial lambda + m / W_ii (W_ii > 0 for a node that moves)
     let active: Vec<bool> = (0..rows.len())
         .map(|r| {
-            let w = coupling(&gathers[r], &gathers[r], flex, alpha, asm) * area[r];
+            let w = diagonal[r] * area[r];
             match w > 0.0 {
                 true => lambda[r] + measure[r] / w > 0.0,
                 false => lambda[r] > 0.0,
@@ -185,7 +180,8 @@ pub(super) fn newton_update(
     let mut s = DMatrix::<f64>::zeros(a.len(), a.len());
     let mut rhs = DVector::<f64>::zeros(a.len());
     for (x, &r) in a.iter().enumerate() {
-        for (y, &c) in a.iter().enumerate().skip(x) {
+        s[(x, x)] = diagonal[r];
+        for (y, &c) in a.iter().enumerate().skip(x + 1) {
             let v = coupling(&gathers[r], &gathers[c], flex, alpha, asm);
             s[(x, y)] = v;
             s[(y, x)] = v;
