@@ -251,10 +251,6 @@ fn gpu_run(
     impact::run::run(&scene, &opts)
 }
 
-fn history_text(tag: &str) -> String {
-    std::fs::read_to_string(out_path(tag).join("history.csv")).unwrap()
-}
-
 /// The resident engine's checkpoint is its device state word for word: a resident run
 /// stopped part way (at half its end time; by a signal, after handing out the steps in
 /// flight) and resumed gives the unbroken run's history exactly, on the rigid-plane path

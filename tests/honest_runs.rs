@@ -344,17 +344,7 @@ fn the_last_step_always_gets_a_vtu_frame() {
 
 /// Runs `text` in `tag`'s folder (fresh unless `resume`), returning the summary.
 fn run_in(tag: &str, text: &str, resume: bool) -> impact::Result<impact::output::Summary> {
-    let o = RunOptions {
-        out: Some(if resume { out_path(tag) } else { out_dir(tag) }),
-        quiet: true,
-        resume,
-        ..Default::default()
-    };
-    run(&parse(text, "resumed"), &o)
-}
-
-fn history_text(tag: &str) -> String {
-    std::fs::read_to_string(out_path(tag).join("history.csv")).unwrap()
+    run_resumable(tag, "resumed", text, (resume, None))
 }
 
 #[test]

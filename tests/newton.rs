@@ -5,9 +5,7 @@
 mod common;
 
 use common::history::{history_difference, same_columns, History};
-use common::scenes::{edit, out_dir, out_path, repo, run_text, scene_text};
-use impact::run::{run, RunOptions};
-use impact::scene::Scene;
+use common::scenes::{edit, history_text, out_path, run_resumable, run_text, scene_text};
 
 /// The scene with `acceleration = "newton"` (the default) in its `[implicit]` table.
 fn newton(text: &str) -> String {
@@ -104,14 +102,7 @@ fn newton_follows_anderson_on_a_block_dropped_on_a_floor() {
 
 /// Runs `text` in `tag`'s folder (fresh unless `resume`).
 fn run_in(tag: &str, text: &str, resume: bool) -> impact::Result<impact::output::Summary> {
-    let o = RunOptions {
-        out: Some(if resume { out_path(tag) } else { out_dir(tag) }),
-        quiet: true,
-        resume,
-        ..Default::default()
-    };
-    let path = repo().join("scenes").join("newton_resumed.toml");
-    run(&Scene::parse(text, &path).expect("parses"), &o)
+    run_resumable(tag, "newton_resumed", text, (resume, None))
 }
 
 /// The flexibility's nodes travel in the checkpoint in the order they joined, so the resumed
@@ -134,8 +125,7 @@ fn a_newton_run_resumed_from_its_checkpoint_equals_the_unbroken_run() {
     .expect("first half");
     let r = run_in(part, &text, true).expect("resumed");
     assert_eq!(r.status, "completed");
-    let read = |tag: &str| std::fs::read_to_string(out_path(tag).join("history.csv")).unwrap();
-    assert_eq!(read(full), read(part), "histories");
+    assert_eq!(history_text(full), history_text(part), "histories");
     assert_eq!(r.energy_final.to_bits(), s.energy_final.to_bits());
     let h = History::read(&out_path(part).join("history.csv"));
     assert!(h.col("impact.normal_force").iter().any(|&f| f > 0.0));

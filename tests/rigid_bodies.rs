@@ -463,16 +463,7 @@ fn roller_drives_block(method: &str, text: &str) {
 
 /// Runs `text` into `tag`'s folder (fresh unless `resume`) on the CPU.
 fn run_in(tag: &str, text: &str, resume: bool) -> impact::output::Summary {
-    let opts = impact::run::RunOptions {
-        out: Some(if resume { out_path(tag) } else { out_dir(tag) }),
-        device: Some(DeviceChoice::Cpu),
-        quiet: true,
-        resume,
-        ..Default::default()
-    };
-    let path = repo().join("scenes").join("resumed.toml");
-    let scene = impact::scene::Scene::parse(text, &path).expect("valid scene");
-    impact::run::run(&scene, &opts).expect("runs")
+    run_resumable(tag, "resumed", text, (resume, Some(DeviceChoice::Cpu))).expect("runs")
 }
 
 #[test]

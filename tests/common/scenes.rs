@@ -79,6 +79,32 @@ pub fn run_text_on(
     (s, History::read(&dir.join("history.csv")))
 }
 
+/// Runs `text`, as if it were the file `scenes/<stem>.toml`, into `tag`'s folder: a fresh
+/// one, or (`resume`) the one it ran in before, from its latest checkpoint; on the device
+/// named, else as [`test_device`] picks it.
+pub fn run_resumable(
+    tag: &str,
+    stem: &str,
+    text: &str,
+    (resume, device): (bool, Option<impact::scene::DeviceChoice>),
+) -> impact::Result<Summary> {
+    let path = repo().join("scenes").join(format!("{stem}.toml"));
+    let scene = Scene::parse(text, &path).expect("valid scene");
+    let opts = RunOptions {
+        out: Some(if resume { out_path(tag) } else { out_dir(tag) }),
+        device: test_device(device, &scene),
+        quiet: true,
+        resume,
+        ..Default::default()
+    };
+    run(&scene, &opts)
+}
+
+/// The history the run tagged `tag` wrote, as text.
+pub fn history_text(tag: &str) -> String {
+    std::fs::read_to_string(out_path(tag).join("history.csv")).expect("a history")
+}
+
 /// Runs the scene file `path` into `out`.
 pub fn run_scene_at(
     path: &std::path::Path,
