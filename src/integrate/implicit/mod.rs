@@ -374,7 +374,7 @@ impl<'m> ImplicitSolver<'m> {
         self.newton.steps_left += usize::from(newton.was_left());
         if ahead {
             // the rest of the model under the final multipliers
-            self.equilibrium(&k, sub)?;
+            self.recover(&k, sub)?;
             self.turn_bodies(k.dt);
             self.correct(&k)?;
         }
@@ -532,7 +532,45 @@ impl<'m> ImplicitSolver<'m> {
             size = size.max((self.work.u_new[d] - self.u[d]).abs());
         }
         self.work.rhs = delta;
+        self.work.u_base.copy_from_slice(&self.work.u_new);
+        self.work.f_base.copy_from_slice(&self.work.f_last);
         Ok((corr, size))
+    }
+
+    /// The whole model under the current contact forces after iterations on the contact
+    /// space: the effective equation is linear in them, so the iterate is the last full
+    /// solve's plus $K_{eff}^{-1} w_f (f_c - f_{base})$, a load on the contact equations
+    /// alone (with them numbered last, the forward solve touches only the factor's top), and
+    /// w takes $M^{-1} f_c$ everywhere. Where the forces changed outside the contact
+    /// equations, a full [`Self::equilibrium`] instead.
+    fn recover(&mut self, k: &StepConstants, sub: bool) -> Result<()> {
+        self.contact.forces_into(self.model, &mut self.work.f_c);
+        let (f_c, f_base) = (&self.work.f_c, &self.work.f_base);
+        let outside = (self.asm.dof_of.iter().zip(&self.in_space))
+            .any(|(&d, &inside)| !inside && f_c[d as usize] != f_base[d as usize]);
+        if outside {
+            return self.equilibrium(k, sub).map(|_| ());
+        }
+        let mut delta = std::mem::take(&mut self.work.rhs);
+        for (r, &d) in delta.iter_mut().zip(&self.asm.dof_of) {
+            *r = k.force_weight * (f_c[d as usize] - f_base[d as usize]);
+        }
+        self.effective(sub).solve_in_place(&mut delta);
+        self.work.u_new.copy_from_slice(&self.work.u_base);
+        for (&x, &d) in delta.iter().zip(&self.asm.dof_of) {
+            self.work.u_new[d as usize] += x;
+        }
+        self.work.rhs = delta;
+        let f_c = std::mem::take(&mut self.work.f_c);
+        let mut w = std::mem::take(&mut self.work.w);
+        match k.endpoint {
+            true => w.fill(0.0),
+            false => self.apply_mass_inverse(&f_c, &mut w),
+        }
+        self.work.f_last.copy_from_slice(&f_c);
+        self.work.f_c = f_c;
+        self.work.w = w;
+        Ok(())
     }
 
     /// Newmark's correctors from u_new, and the contact kinematics there.

@@ -9,6 +9,10 @@ pub(super) struct Workspace {
     pub(super) f_c: Vec<f64>,
     /// The contact forces of the last solve.
     pub(super) f_last: Vec<f64>,
+    /// The last full solve's contact forces and iterate: the base the contact space's
+    /// iterations move from ([`super::ImplicitSolver::recover`]).
+    pub(super) f_base: Vec<f64>,
+    pub(super) u_base: Vec<f64>,
     /// $w = M^{-1} \bar f_c$.
     pub(super) w: Vec<f64>,
     /// The effective equation's right-hand side, then its solution (free dofs).
@@ -34,6 +38,8 @@ impl Workspace {
             f_int: zeros(ndof),
             f_c: zeros(ndof),
             f_last: zeros(ndof),
+            f_base: zeros(ndof),
+            u_base: zeros(ndof),
             w: zeros(ndof),
             rhs: zeros(free),
             tmp: zeros(free),
