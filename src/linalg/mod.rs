@@ -4,6 +4,7 @@
 pub mod assembly;
 pub mod cholesky;
 pub mod contact_space;
+pub mod dense;
 pub mod ordering;
 pub mod supernodal_solve;
 #[cfg(test)]

@@ -28,7 +28,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::geometry::face;
 use crate::kernels::contact_gap::NO_FACE;
-use crate::linalg::Assembled;
+use crate::linalg::{dense, Assembled};
 use crate::model::{Model, Primary};
 
 use super::flexibility::Flexibility;
@@ -195,10 +195,10 @@ pub(super) fn newton_update(
         }
     }
     // S y = rhs with y_j = A_j delta_j (W = S A)
-    let y = match s.clone().cholesky() {
-        Some(c) => c.solve(&rhs),
-        None => s.lu().solve(&rhs)?,
-    };
+    let mut y = rhs.clone();
+    if !dense::spd_solve_in_place(s.clone().as_mut_slice(), y.as_mut_slice()) {
+        y = s.lu().solve(&rhs)?;
+    }
     if y.iter().any(|v| !v.is_finite()) {
         return None;
     }
