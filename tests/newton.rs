@@ -131,6 +131,26 @@ fn a_newton_run_resumed_from_its_checkpoint_equals_the_unbroken_run() {
     assert!(h.col("impact.normal_force").iter().any(|&f| f > 0.0));
 }
 
+/// On the contact space the flexibility's columns are solved in blocks; the resumed run
+/// rebuilds them in other blocks and takes the same steps.
+#[test]
+fn a_newton_run_on_the_contact_space_resumed_equals_the_unbroken_run() {
+    let text = |steps| {
+        let t = common::bench_scenes::implicit_block_drop([10; 3], steps, "");
+        format!("{t}\n[output]\ncheckpoint_every = 4\n")
+    };
+    let (full, part) = ("newton_space_resume_full", "newton_space_resume_part");
+    let s = run_in(full, &text(12), false).expect("unbroken");
+    let space = s.linear_solver.as_ref().expect("implicit");
+    assert!(space.contact_equations > 0 && space.contact_solves > 0);
+    assert!(s.newton.as_ref().is_some_and(|n| n.steps > 0));
+    run_in(part, &text(8), false).expect("first part");
+    let r = run_in(part, &text(12), true).expect("resumed");
+    assert_eq!(r.status, "completed");
+    assert_eq!(history_text(full), history_text(part), "histories");
+    assert_eq!(r.energy_final.to_bits(), s.energy_final.to_bits());
+}
+
 /// With friction on an interface the iteration keeps Anderson's acceleration: the same bits.
 #[test]
 fn with_friction_newton_leaves_the_iteration_to_anderson() {

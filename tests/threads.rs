@@ -101,3 +101,12 @@ fn a_spinning_rigid_body_is_the_same_on_any_thread_count() {
     );
     same_on_any_thread_count("spinning_roller", &text);
 }
+
+/// The implicit block drop iterating on its contact space with the Newton step: the
+/// flexibility's block solves, W's dense solve and the recovery's solve are the same on any
+/// thread count.
+#[test]
+fn implicit_newton_on_the_contact_space_is_the_same_on_any_thread_count() {
+    let text = implicit_block_drop([10; 3], 12, "");
+    same_on_any_thread_count("implicit_block_space", &text);
+}

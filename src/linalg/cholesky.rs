@@ -351,6 +351,22 @@ impl SpdSolver {
         true
     }
 
+    /// $X = (A^{-1})_{CC}\, B$ in place for a block of right-hand sides on the equations
+    /// numbered last: `b` column-major, one column of [`TrailingSolve::equations`]' length
+    /// per right-hand side ([`TrailingSolve::solve_block_in_place`]; each column counts as a
+    /// contact solve); false (and `b` untouched) without a contact space.
+    pub fn contact_solve_block_in_place(&self, b: &mut [f64]) -> bool {
+        let Some(t) = &self.contact else {
+            return false;
+        };
+        let start = Instant::now();
+        t.solve_block_in_place(&self.factor, b, par());
+        let columns = b.len() / t.equations().len().max(1);
+        let (count, seconds) = self.contact_solves.get();
+        (self.contact_solves).set((count + columns, seconds + start.elapsed().as_secs_f64()));
+        true
+    }
+
     /// A factorisation of another matrix with the same pattern (the effective matrix of another
     /// step size), reusing this one's ordering and symbolic analysis, and its contact space
     /// where it has one.

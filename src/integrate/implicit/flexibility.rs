@@ -17,6 +17,8 @@ use crate::linalg::{Assembled, SpdSolver};
 
 /// The most nodes a flexibility holds: 9 n^2 values, 75 MB at this size.
 pub(super) const MAX_NODES: usize = 1024;
+/// Nodes whose columns one block solve on the contact space takes (48 right-hand sides).
+const BLOCK_NODES: usize = 16;
 
 /// $K_{eff}^{-1}$ on the dofs of a growing set of nodes.
 #[derive(Debug, Default)]
@@ -65,9 +67,8 @@ impl Flexibility {
     /// Adds the `nodes` not held yet, in their order; false (and nothing added) where that
     /// would exceed [`MAX_NODES`].
     pub(super) fn ensure(&mut self, nodes: &[u32], asm: &Assembled, solver: &SpdSolver) -> bool {
-        for n in std::mem::take(&mut self.pending) {
-            self.add(n, asm, solver);
-        }
+        let pending = std::mem::take(&mut self.pending);
+        self.add_all(&pending, asm, solver);
         let mut new: Vec<u32> = Vec::new();
         for &n in nodes {
             if !self.slot.contains_key(&n) && !new.contains(&n) {
@@ -77,32 +78,74 @@ impl Flexibility {
         if self.nodes.len() + new.len() > MAX_NODES {
             return false;
         }
-        for n in new {
-            self.add(n, asm, solver);
-        }
+        self.add_all(&new, asm, solver);
         true
     }
 
+    /// Adds `nodes` in their order. On the contact space their columns are solved in blocks
+    /// of [`BLOCK_NODES`] nodes, zero columns filling the last block: a column's bits depend
+    /// on the block's width alone, so a checkpoint's nodes rebuild the same bits however
+    /// they were grouped when they joined.
+    fn add_all(&mut self, nodes: &[u32], asm: &Assembled, solver: &SpdSolver) {
+        self.make_places(asm, solver);
+        for group in nodes.chunks(BLOCK_NODES) {
+            let stays = (self.nodes.is_empty() || self.in_space)
+                && group.iter().all(|&n| self.node_in(n, asm));
+            let block = match (solver.contact_space(), stays) {
+                (Some(space), true) => {
+                    let count = space.equations().len();
+                    let mut b = vec![0.0; 3 * BLOCK_NODES * count];
+                    for (j, &n) in group.iter().enumerate() {
+                        for a in 0..3 {
+                            let e = asm.equation[3 * n as usize + a];
+                            if e != u32::MAX {
+                                b[(3 * j + a) * count + self.place[e as usize] as usize] = 1.0;
+                            }
+                        }
+                    }
+                    solver.contact_solve_block_in_place(&mut b);
+                    Some((b, count))
+                }
+                _ => None,
+            };
+            for (j, &n) in group.iter().enumerate() {
+                let solved =
+                    (block.as_ref()).map(|(b, count)| &b[3 * j * count..3 * (j + 1) * count]);
+                self.add(n, asm, solver, solved);
+            }
+        }
+    }
+
+    /// Each equation's place in the factor's contact space, the first time a factor with
+    /// one is seen.
+    fn make_places(&mut self, asm: &Assembled, solver: &SpdSolver) {
+        if let (Some(space), true) = (solver.contact_space(), self.place.is_empty()) {
+            self.place = vec![u32::MAX; asm.dof_of.len()];
+            for (k, &e) in space.equations().iter().enumerate() {
+                self.place[e] = k as u32;
+            }
+        }
+    }
+
+    /// Whether node `m`'s free equations are all in the factor's contact space.
+    fn node_in(&self, m: u32, asm: &Assembled) -> bool {
+        (0..3).all(|a| {
+            let e = asm.equation[3 * m as usize + a];
+            e == u32::MAX || self.place.get(e as usize).is_some_and(|&p| p != u32::MAX)
+        })
+    }
+
     /// Node `n`'s three columns: a unit force on each of its free dofs solved for, read at
-    /// every node held (a fixed dof's column and row are zero).
-    fn add(&mut self, n: u32, asm: &Assembled, solver: &SpdSolver) {
+    /// every node held (a fixed dof's column and row are zero). `solved`: the three columns
+    /// on the contact space, solved already in a block.
+    fn add(&mut self, n: u32, asm: &Assembled, solver: &SpdSolver, solved: Option<&[f64]>) {
         let p = self.nodes.len();
         self.slot.insert(n, p);
         self.nodes.push(n);
         let equation = |node: u32, a: usize| asm.equation[3 * node as usize + a];
         let space = solver.contact_space().map(|s| s.equations());
-        if let (Some(equations), true) = (space, self.place.is_empty()) {
-            self.place = vec![u32::MAX; asm.dof_of.len()];
-            for (k, &e) in equations.iter().enumerate() {
-                self.place[e] = k as u32;
-            }
-        }
-        let place = &self.place;
         // the first node decides; a node outside the contact space turns it off for good
-        let node_in = |m: u32| {
-            (0..3).all(|a| equation(m, a) == u32::MAX || place[equation(m, a) as usize] != u32::MAX)
-        };
-        self.in_space = (p == 0 || self.in_space) && space.is_some() && node_in(n);
+        self.in_space = (p == 0 || self.in_space) && space.is_some() && self.node_in(n, asm);
         let mut x = vec![0.0; asm.dof_of.len()];
         for a in 0..3 {
             let e = equation(n, a);
@@ -110,9 +153,15 @@ impl Flexibility {
             if e != u32::MAX {
                 match (space, self.in_space) {
                     (Some(equations), true) => {
-                        let mut y = vec![0.0; equations.len()];
-                        y[self.place[e as usize] as usize] = 1.0;
-                        solver.contact_solve_in_place(&mut y);
+                        let count = equations.len();
+                        let mut y = vec![0.0; count];
+                        match solved {
+                            Some(b) => y.copy_from_slice(&b[a * count..(a + 1) * count]),
+                            None => {
+                                y[self.place[e as usize] as usize] = 1.0;
+                                solver.contact_solve_in_place(&mut y);
+                            }
+                        }
                         for (&v, &f) in y.iter().zip(equations.iter()) {
                             x[f] = v;
                         }
@@ -314,9 +363,17 @@ mod tests {
         assert!(g.ensure(&first, &asm, &space) && g.ensure(&later, &asm, &space));
         assert!(g.in_space);
         let (solves, contact_solves) = (space.stats().solves, space.stats().contact_solves);
-        // 8 nodes' dofs, less node 0's three and node 1's x (held)
-        assert_eq!((solves, contact_solves), (0, 3 * 8 - 4));
+        // two blocks of right-hand sides, one per ensure with new nodes
+        assert_eq!((solves, contact_solves), (0, 2 * 3 * BLOCK_NODES));
         let e = largest_error(&g, |m, a, l, b| f.entry((at(&f, m), a), (at(&f, l), b)));
         assert!(e < 1e-12, "contact-space solves: {e:.2e}");
+        // resumed, its nodes join in one block: the same bits
+        let mut r = Flexibility::resume(g.nodes());
+        assert!(r.ensure(&[], &asm, &space));
+        assert_eq!(r.nodes(), g.nodes());
+        for c in 0..g.columns.len() {
+            let (a, b) = (&g.columns[c], &r.columns[c]);
+            assert!(a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()));
+        }
     }
 }
