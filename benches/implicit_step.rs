@@ -10,7 +10,7 @@
 //!   Anderson acceleration, with plain steps, and once more with the default event
 //!   sub-steps: the first steps are the block's impact, so they are refined into 4 sub-steps
 //!   each (the sub-step's factorisation is counted in its step); and the Newton step (the
-//!   default iteration) with the default sub-steps, whose flexibility holds at most 1,024
+//!   default iteration) with the default sub-steps, whose flexibility holds at most 2,500
 //!   nodes: on wider contacts its steps go on with Anderson's update.
 //!
 //! `cargo bench --bench implicit_step` (add `-- --quick` for a smaller block, or `-- --large`

@@ -7,9 +7,10 @@
 //! their primary surfaces' nodes, their rigid bodies' nodes), and the kinematics read only
 //! those, so each later iteration needs only $(K_{eff}^{-1})_{CC}$, the trailing block of a
 //! factor that numbers C last ([`crate::linalg::contact_space`]), and, for the gap rate
-//! with a consistent mass, $(M^{-1})_{CC}$ likewise. After the iteration one full solve
-//! under the final multipliers brings the rest of the model to the same state: the step
-//! costs two full solve pairs however many iterations it takes.
+//! with a consistent mass, $(M^{-1})_{CC}$ likewise. After the iteration the rest of the
+//! model is the first full solve's iterate plus the response to the forces' change, a load
+//! on C alone ([`ImplicitSolver::recover`]): the step costs one full solve pair, one
+//! recovery and one pass of element forces however many iterations it takes.
 
 use crate::error::Result;
 use crate::linalg::Assembled;
@@ -17,9 +18,16 @@ use crate::model::{Model, Primary};
 
 use super::{step_factor, ImplicitSolver, StepConstants};
 
-/// The contact equations, marked in equation order: every free dof of the interfaces'
-/// secondary nodes, the nodes of their primary surfaces and their rigid bodies' nodes.
+/// The contact equations, marked in equation order: every free dof of the
+/// [`contact_nodes`].
 pub(super) fn contact_equations(model: &Model, asm: &Assembled) -> Vec<bool> {
+    let node = contact_nodes(model);
+    (asm.dof_of.iter()).map(|&d| node[d as usize / 3]).collect()
+}
+
+/// The contact nodes, marked: the interfaces' secondary nodes, the nodes of their primary
+/// surfaces and their rigid bodies' nodes.
+pub(super) fn contact_nodes(model: &Model) -> Vec<bool> {
     let mut node = vec![false; model.dofs() / 3];
     for itf in &model.interfaces {
         for &n in &itf.nodes {
@@ -37,7 +45,7 @@ pub(super) fn contact_equations(model: &Model, asm: &Assembled) -> Vec<bool> {
             Primary::Plane { .. } => {}
         }
     }
-    (asm.dof_of.iter()).map(|&d| node[d as usize / 3]).collect()
+    node
 }
 
 impl ImplicitSolver<'_> {

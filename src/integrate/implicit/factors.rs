@@ -2,7 +2,7 @@
 //! consistent mass's and the event sub-step's, each ordered and analysed symbolically, so
 //! that what their numeric factorisations will hold together is known exactly and checked
 //! against the memory this process may use before a value is allocated (`impact check`
-//! reports the same figures).
+//! reports the same figures), with the Newton step's flexibilities at their largest.
 
 use std::fmt::Write as _;
 
@@ -10,9 +10,12 @@ use crate::error::{bytes, ImpactError, Result};
 use crate::limits::{host_limit, process_bytes};
 use crate::linalg::{Assembled, SpdAnalysis};
 use crate::model::Model;
-use crate::scene::{ConstraintMeasure, ContactSpace, ImplicitSettings, CONTACT_SPACE_MAX};
+use crate::scene::{
+    Acceleration, ConstraintMeasure, ContactSpace, ImplicitSettings, CONTACT_SPACE_MAX,
+};
 
-use super::contact_space::contact_equations;
+use super::contact_space::{contact_equations, contact_nodes};
+use super::flexibility::MAX_NODES;
 
 /// The symbolic analyses of a model's implicit factors.
 pub(crate) struct FactorPlan {
@@ -23,6 +26,9 @@ pub(crate) struct FactorPlan {
     /// Whether a contact event refactorises the effective matrix for its sub-steps (a
     /// second factor of the effective matrix's size, made at the first event).
     pub substeps: bool,
+    /// The most nodes the Newton step's flexibilities may hold (0 without Newton steps):
+    /// the contact nodes, at most [`MAX_NODES`]; one flexibility per effective factor.
+    pub flexibility_nodes: usize,
 }
 
 impl FactorPlan {
@@ -52,22 +58,36 @@ impl FactorPlan {
         let substeps = settings.event_substeps > 1
             && settings.constraint == ConstraintMeasure::GapRate
             && !model.interfaces.is_empty();
+        let newton = settings.acceleration == Acceleration::Newton
+            && !model.interfaces.iter().any(|i| i.law.is_frictional());
+        let flexibility_nodes = match newton {
+            true => contact_nodes(model)
+                .iter()
+                .filter(|&&c| c)
+                .count()
+                .min(MAX_NODES),
+            false => 0,
+        };
         Ok(FactorPlan {
             effective,
             mass,
             in_space,
             substeps,
+            flexibility_nodes,
         })
     }
 
     /// The bytes the factors hold together at their peak (the sub-step's factor counted
-    /// where it can be made).
+    /// where it can be made), with the Newton step's flexibilities at their largest.
     pub fn bytes(&self) -> u64 {
         let mass = self.mass.as_ref().map_or(0, SpdAnalysis::bytes);
         let effective = self.effective.bytes();
+        let effective_factors = 1 + u64::from(self.substeps);
+        let flexibility = 9 * 8 * (self.flexibility_nodes as u64).pow(2);
         effective
-            .saturating_mul(1 + u64::from(self.substeps))
+            .saturating_mul(effective_factors)
             .saturating_add(mass)
+            .saturating_add(flexibility.saturating_mul(effective_factors))
     }
 
     /// What the factors hold, one clause each.
@@ -81,6 +101,13 @@ impl FactorPlan {
                 out,
                 ", the event sub-step's {} values",
                 self.effective.values()
+            );
+        }
+        if self.flexibility_nodes > 0 {
+            let _ = write!(
+                out,
+                ", the Newton step's flexibilities on up to {} nodes",
+                self.flexibility_nodes
             );
         }
         out
@@ -104,7 +131,7 @@ impl FactorPlan {
             // the run names the scene
             path: Default::default(),
             what: format!(
-                "the sparse Cholesky factors known from the symbolic analysis, {} ({}, with their workspace), on top of the {} the process holds",
+                "the sparse Cholesky factors known from the symbolic analysis and the contact iteration's dense matrices, {} ({}, with their workspace), on top of the {} the process holds",
                 bytes(self.bytes()),
                 self.describe(),
                 bytes(held)

@@ -15,8 +15,9 @@ use std::collections::HashMap;
 
 use crate::linalg::{Assembled, SpdSolver};
 
-/// The most nodes a flexibility holds: 9 n^2 values, 75 MB at this size.
-pub(super) const MAX_NODES: usize = 1024;
+/// The most nodes a flexibility holds: 9 n^2 values, 450 MB at this size (counted in the
+/// memory check, [`super::factors::FactorPlan`]).
+pub(super) const MAX_NODES: usize = 2500;
 /// Nodes whose columns one block solve on the contact space takes (48 right-hand sides).
 const BLOCK_NODES: usize = 16;
 
