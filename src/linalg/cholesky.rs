@@ -420,6 +420,30 @@ impl SpdSolver {
             .set((count + 1, seconds + start.elapsed().as_secs_f64()));
     }
 
+    /// Solves A X = B in place for a block of right-hand sides, `b` column-major (one
+    /// column of the equations' length each), with faer's supernodal solve on a fixed task
+    /// count: a column's bits depend on the number of columns, not on the others' values.
+    /// Each column counts as a solve.
+    pub fn solve_block_in_place(&self, b: &mut [f64]) {
+        let n = self.pattern.nrows();
+        if n == 0 || b.is_empty() {
+            return;
+        }
+        let start = Instant::now();
+        let k = b.len() / n;
+        let rhs = MatMut::from_column_major_slice_mut(b, n, k);
+        let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, par()));
+        LltRef::new(&self.symbolic, &self.factor).solve_in_place_with_conj(
+            Conj::No,
+            rhs,
+            par(),
+            MemStack::new(&mut mem),
+        );
+        let (count, seconds) = self.solves.get();
+        self.solves
+            .set((count + k, seconds + start.elapsed().as_secs_f64()));
+    }
+
     /// Solves A x = b in place with faer's own solve.
     fn faer_solve_in_place(&self, b: &mut [f64]) {
         let n = b.len();

@@ -18,7 +18,7 @@ use crate::linalg::{Assembled, SpdSolver};
 /// The most nodes a flexibility holds: 9 n^2 values, 450 MB at this size (counted in the
 /// memory check, [`super::factors::FactorPlan`]).
 pub(super) const MAX_NODES: usize = 2500;
-/// Nodes whose columns one block solve on the contact space takes (48 right-hand sides).
+/// Nodes whose columns one block solve takes (48 right-hand sides).
 const BLOCK_NODES: usize = 16;
 
 /// $K_{eff}^{-1}$ on the dofs of a growing set of nodes.
@@ -83,38 +83,78 @@ impl Flexibility {
         true
     }
 
-    /// Adds `nodes` in their order. On the contact space their columns are solved in blocks
-    /// of [`BLOCK_NODES`] nodes, zero columns filling the last block: a column's bits depend
-    /// on the block's width alone, so a checkpoint's nodes rebuild the same bits however
-    /// they were grouped when they joined.
+    /// Adds `nodes` in their order, their columns solved in blocks of [`BLOCK_NODES`]
+    /// nodes' right-hand sides (on the contact space, or on the whole model), zero columns
+    /// filling a block: a column's bits depend on the block's width alone, so a checkpoint's
+    /// nodes rebuild the same bits however they were grouped when they joined.
     fn add_all(&mut self, nodes: &[u32], asm: &Assembled, solver: &SpdSolver) {
         self.make_places(asm, solver);
         for group in nodes.chunks(BLOCK_NODES) {
-            let stays = (self.nodes.is_empty() || self.in_space)
-                && group.iter().all(|&n| self.node_in(n, asm));
-            let block = match (solver.contact_space(), stays) {
-                (Some(space), true) => {
-                    let count = space.equations().len();
-                    let mut b = vec![0.0; 3 * BLOCK_NODES * count];
-                    for (j, &n) in group.iter().enumerate() {
-                        for a in 0..3 {
-                            let e = asm.equation[3 * n as usize + a];
-                            if e != u32::MAX {
-                                b[(3 * j + a) * count + self.place[e as usize] as usize] = 1.0;
-                            }
-                        }
-                    }
-                    solver.contact_solve_block_in_place(&mut b);
-                    Some((b, count))
-                }
-                _ => None,
-            };
+            // the first node decides; a node outside the contact space turns it off for good
+            let mut on_space = Vec::with_capacity(group.len());
+            let mut in_space = self.in_space;
             for (j, &n) in group.iter().enumerate() {
-                let solved =
-                    (block.as_ref()).map(|(b, count)| &b[3 * j * count..3 * (j + 1) * count]);
-                self.add(n, asm, solver, solved);
+                let first = self.nodes.is_empty() && j == 0;
+                in_space =
+                    (first || in_space) && solver.contact_space().is_some() && self.node_in(n, asm);
+                on_space.push(in_space);
+            }
+            let space: Vec<u32> = (group.iter().zip(&on_space))
+                .filter_map(|(&n, &s)| s.then_some(n))
+                .collect();
+            let full: Vec<u32> = (group.iter().zip(&on_space))
+                .filter_map(|(&n, &s)| (!s).then_some(n))
+                .collect();
+            let space_columns = self.solve_block(&space, asm, solver, true);
+            let full_columns = self.solve_block(&full, asm, solver, false);
+            let (mut i_space, mut i_full) = (0, 0);
+            for (&n, &s) in group.iter().zip(&on_space) {
+                let (columns, i) = match s {
+                    true => (&space_columns, &mut i_space),
+                    false => (&full_columns, &mut i_full),
+                };
+                let rows = columns.len() / (3 * BLOCK_NODES);
+                self.add(n, asm, &columns[3 * *i * rows..3 * (*i + 1) * rows], s);
+                self.in_space = s;
+                *i += 1;
             }
         }
+    }
+
+    /// The three columns of each of `nodes` (at most [`BLOCK_NODES`]) in one block solve:
+    /// on the contact space (`space`, rows in its order) or on the whole model (rows in
+    /// equation order); a fixed dof's column is zero.
+    fn solve_block(
+        &self,
+        nodes: &[u32],
+        asm: &Assembled,
+        solver: &SpdSolver,
+        space: bool,
+    ) -> Vec<f64> {
+        if nodes.is_empty() {
+            return Vec::new();
+        }
+        let rows = match (space, solver.contact_space()) {
+            (true, Some(s)) => s.equations().len(),
+            _ => asm.dof_of.len(),
+        };
+        let mut b = vec![0.0; 3 * BLOCK_NODES * rows];
+        for (j, &n) in nodes.iter().enumerate() {
+            for a in 0..3 {
+                let e = asm.equation[3 * n as usize + a];
+                if e != u32::MAX {
+                    let row = match space {
+                        true => self.place[e as usize] as usize,
+                        false => e as usize,
+                    };
+                    b[(3 * j + a) * rows + row] = 1.0;
+                }
+            }
+        }
+        if !(space && solver.contact_solve_block_in_place(&mut b)) {
+            solver.solve_block_in_place(&mut b);
+        }
+        b
     }
 
     /// Each equation's place in the factor's contact space, the first time a factor with
@@ -136,48 +176,28 @@ impl Flexibility {
         })
     }
 
-    /// Node `n`'s three columns: a unit force on each of its free dofs solved for, read at
-    /// every node held (a fixed dof's column and row are zero). `solved`: the three columns
-    /// on the contact space, solved already in a block.
-    fn add(&mut self, n: u32, asm: &Assembled, solver: &SpdSolver, solved: Option<&[f64]>) {
+    /// Node `n`'s three columns, solved already (`solved`: three columns, on the contact
+    /// space where `space`, else on the whole model), read at every node held (a fixed
+    /// dof's column and row are zero).
+    fn add(&mut self, n: u32, asm: &Assembled, solved: &[f64], space: bool) {
         let p = self.nodes.len();
         self.slot.insert(n, p);
         self.nodes.push(n);
+        let rows = solved.len() / 3;
         let equation = |node: u32, a: usize| asm.equation[3 * node as usize + a];
-        let space = solver.contact_space().map(|s| s.equations());
-        // the first node decides; a node outside the contact space turns it off for good
-        self.in_space = (p == 0 || self.in_space) && space.is_some() && self.node_in(n, asm);
-        let mut x = vec![0.0; asm.dof_of.len()];
         for a in 0..3 {
-            let e = equation(n, a);
+            let x = &solved[a * rows..(a + 1) * rows];
             let mut column = vec![0.0; 3 * (p + 1)];
-            if e != u32::MAX {
-                match (space, self.in_space) {
-                    (Some(equations), true) => {
-                        let count = equations.len();
-                        let mut y = vec![0.0; count];
-                        match solved {
-                            Some(b) => y.copy_from_slice(&b[a * count..(a + 1) * count]),
-                            None => {
-                                y[self.place[e as usize] as usize] = 1.0;
-                                solver.contact_solve_in_place(&mut y);
-                            }
-                        }
-                        for (&v, &f) in y.iter().zip(equations.iter()) {
-                            x[f] = v;
-                        }
-                    }
-                    _ => {
-                        x.fill(0.0);
-                        x[e as usize] = 1.0;
-                        solver.solve_in_place(&mut x);
-                    }
-                }
+            if equation(n, a) != u32::MAX {
                 for (q, &m) in self.nodes.iter().enumerate() {
                     for b in 0..3 {
                         let f = equation(m, b);
                         if f != u32::MAX {
-                            column[3 * q + b] = x[f as usize];
+                            let row = match space {
+                                true => self.place[f as usize] as usize,
+                                false => f as usize,
+                            };
+                            column[3 * q + b] = x[row];
                         }
                     }
                 }
