@@ -54,7 +54,7 @@ use crate::geometry::vector;
 use crate::kernels::contact_gap::NO_FACE;
 use crate::linalg::{assemble, Assembled, FactorStats, SpdSolver};
 use crate::model::{Model, Primary};
-use crate::scene::{Acceleration, ConstraintMeasure, ImplicitSettings, Method};
+use crate::scene::{Acceleration, ConstraintMeasure, ContactSpace, ImplicitSettings, Method};
 
 use super::explicit::spin::{BodySpin, Spins};
 use super::integrator::{ImplicitFigures, Integrator, NewtonFigures};
@@ -316,6 +316,13 @@ impl<'m> ImplicitSolver<'m> {
         let mut report = StepReport::default();
         self.contact.anderson.reset();
         let space = self.contact_space_ready(&k, sub);
+        // without one, later iterations solve for the forces' change alone (f64 kernels, no
+        // friction: on the sliding block of tests/friction.rs, whose Anderson iteration
+        // takes up to 144 iterations in a step, the last bits the re-formed residual removes
+        // left two steps at the iteration limit)
+        let incremental = k.exact
+            && self.settings.contact_space == ContactSpace::Auto
+            && !self.contact.frictional();
         // whether the iterate's contact equations ran ahead of the rest of the model
         let mut ahead = false;
         let mut newton = newton::NewtonGuard::new(
@@ -329,6 +336,9 @@ impl<'m> ImplicitSolver<'m> {
             ahead |= on_space.is_some();
             let (corr, size) = match on_space {
                 Some(c) => c,
+                None if incremental && !space && report.iterations > 0 => {
+                    self.incremental_equilibrium(&k, sub)?
+                }
                 None => {
                     ahead = false;
                     self.equilibrium(&k, sub)?
@@ -534,6 +544,39 @@ impl<'m> ImplicitSolver<'m> {
         self.work.rhs = delta;
         self.work.u_base.copy_from_slice(&self.work.u_new);
         self.work.f_base.copy_from_slice(&self.work.f_last);
+        Ok((corr, size))
+    }
+
+    /// One solve of the effective equation for the change of the contact forces since the
+    /// last solve: the element forces are linear in u and the iterate balances the last
+    /// solve's forces, so u_new moves by $K_{eff}^{-1} w_f (f_c - f_{c,last})$, a load on the
+    /// contact nodes alone, whose forward pass skips the supernodes it does not reach; no
+    /// element forces. w takes $M^{-1} f_c$. Returns as [`Self::equilibrium`].
+    fn incremental_equilibrium(&mut self, k: &StepConstants, sub: bool) -> Result<(f64, f64)> {
+        self.contact.forces_into(self.model, &mut self.work.f_c);
+        let mut delta = std::mem::take(&mut self.work.rhs);
+        let (f_c, f_last) = (&self.work.f_c, &self.work.f_last);
+        for (r, &d) in delta.iter_mut().zip(&self.asm.dof_of) {
+            *r = k.force_weight * (f_c[d as usize] - f_last[d as usize]);
+        }
+        self.effective(sub).solve_in_place(&mut delta);
+        let (mut corr, mut size) = (0.0f64, 0.0f64);
+        for (&x, &d) in delta.iter().zip(&self.asm.dof_of) {
+            let d = d as usize;
+            self.work.u_new[d] += x;
+            corr = corr.max(x.abs());
+            size = size.max((self.work.u_new[d] - self.u[d]).abs());
+        }
+        self.work.rhs = delta;
+        let f_c = std::mem::take(&mut self.work.f_c);
+        let mut w = std::mem::take(&mut self.work.w);
+        match k.endpoint {
+            true => w.fill(0.0),
+            false => self.apply_mass_inverse(&f_c, &mut w),
+        }
+        self.work.f_last.copy_from_slice(&f_c);
+        self.work.f_c = f_c;
+        self.work.w = w;
         Ok((corr, size))
     }
 
