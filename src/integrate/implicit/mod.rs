@@ -554,12 +554,7 @@ impl<'m> ImplicitSolver<'m> {
     /// element forces. w takes $M^{-1} f_c$. Returns as [`Self::equilibrium`].
     fn incremental_equilibrium(&mut self, k: &StepConstants, sub: bool) -> Result<(f64, f64)> {
         self.contact.forces_into(self.model, &mut self.work.f_c);
-        let mut delta = std::mem::take(&mut self.work.rhs);
-        let (f_c, f_last) = (&self.work.f_c, &self.work.f_last);
-        for (r, &d) in delta.iter_mut().zip(&self.asm.dof_of) {
-            *r = k.force_weight * (f_c[d as usize] - f_last[d as usize]);
-        }
-        self.effective(sub).solve_in_place(&mut delta);
+        let delta = self.force_change_response(k, sub, false);
         let (mut corr, mut size) = (0.0f64, 0.0f64);
         for (&x, &d) in delta.iter().zip(&self.asm.dof_of) {
             let d = d as usize;
@@ -568,6 +563,29 @@ impl<'m> ImplicitSolver<'m> {
             size = size.max((self.work.u_new[d] - self.u[d]).abs());
         }
         self.work.rhs = delta;
+        self.accept_forces(k);
+        Ok((corr, size))
+    }
+
+    /// $K_{eff}^{-1} w_f (f_c - f_{ref})$ on the free dofs (the workspace's right-hand side,
+    /// taken out), $f_{ref}$ the last solve's forces or, `from_base`, the last full solve's.
+    fn force_change_response(&mut self, k: &StepConstants, sub: bool, from_base: bool) -> Vec<f64> {
+        let mut delta = std::mem::take(&mut self.work.rhs);
+        let f_c = &self.work.f_c;
+        let f_ref = match from_base {
+            true => &self.work.f_base,
+            false => &self.work.f_last,
+        };
+        for (r, &d) in delta.iter_mut().zip(&self.asm.dof_of) {
+            *r = k.force_weight * (f_c[d as usize] - f_ref[d as usize]);
+        }
+        self.effective(sub).solve_in_place(&mut delta);
+        delta
+    }
+
+    /// The current contact forces become the last solve's: w takes $M^{-1} f_c$ (zero under
+    /// the classical gap constraint).
+    fn accept_forces(&mut self, k: &StepConstants) {
         let f_c = std::mem::take(&mut self.work.f_c);
         let mut w = std::mem::take(&mut self.work.w);
         match k.endpoint {
@@ -577,7 +595,6 @@ impl<'m> ImplicitSolver<'m> {
         self.work.f_last.copy_from_slice(&f_c);
         self.work.f_c = f_c;
         self.work.w = w;
-        Ok((corr, size))
     }
 
     /// The whole model under the current contact forces after iterations on the contact
@@ -594,25 +611,13 @@ impl<'m> ImplicitSolver<'m> {
         if outside {
             return self.equilibrium(k, sub).map(|_| ());
         }
-        let mut delta = std::mem::take(&mut self.work.rhs);
-        for (r, &d) in delta.iter_mut().zip(&self.asm.dof_of) {
-            *r = k.force_weight * (f_c[d as usize] - f_base[d as usize]);
-        }
-        self.effective(sub).solve_in_place(&mut delta);
+        let delta = self.force_change_response(k, sub, true);
         self.work.u_new.copy_from_slice(&self.work.u_base);
         for (&x, &d) in delta.iter().zip(&self.asm.dof_of) {
             self.work.u_new[d as usize] += x;
         }
         self.work.rhs = delta;
-        let f_c = std::mem::take(&mut self.work.f_c);
-        let mut w = std::mem::take(&mut self.work.w);
-        match k.endpoint {
-            true => w.fill(0.0),
-            false => self.apply_mass_inverse(&f_c, &mut w),
-        }
-        self.work.f_last.copy_from_slice(&f_c);
-        self.work.f_c = f_c;
-        self.work.w = w;
+        self.accept_forces(k);
         Ok(())
     }
 
