@@ -101,6 +101,15 @@ fn a_block_dropped_on_a_rigid_floor_iterates_on_its_bottom_face() {
         4,
     );
     assert!(refined > 0, "the impact is refined");
+    // Newmark with numerical damping (gamma > 1/2): w = M^-1 f_c moves the velocity, so
+    // every iteration forms it, on the contact space too
+    let damped = format!("{plain}\nbeta = 0.3025\ngamma = 0.6");
+    check(
+        "contact_space_drop_damped",
+        &block_drop(10, 12, &damped),
+        12,
+        0,
+    );
 }
 
 /// Where the contact space does not pay (a flat plate: its bottom face is a third of the

@@ -94,7 +94,7 @@ impl ImplicitSolver<'_> {
             corr = corr.max(delta.abs());
             size = size.max((self.work.u_new[d] - self.u[d]).abs());
         }
-        if !k.endpoint {
+        if k.mass_term {
             self.contact_mass_inverse();
         }
         self.work.f_last.copy_from_slice(&self.work.f_c);

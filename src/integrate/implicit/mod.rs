@@ -149,6 +149,10 @@ struct StepConstants {
     /// The kernels compute in f64 (the residual test is then not needed).
     exact: bool,
     tol: f64,
+    /// Whether the iterate's velocity depends on $w = M^{-1} f_c$, through $\Delta t (1 -
+    /// \gamma/(2\beta))$: not for the trapezoidal rule, whose w is then formed once, at the
+    /// step's end, for the acceleration (the classical gap has no w).
+    mass_term: bool,
 }
 
 impl<'m> ImplicitSolver<'m> {
@@ -386,6 +390,19 @@ impl<'m> ImplicitSolver<'m> {
             // the rest of the model under the final multipliers
             self.recover(&k, sub)?;
             self.turn_bodies(k.dt);
+        }
+        let deferred = !k.endpoint && !k.mass_term;
+        if deferred {
+            // the trapezoidal rule's w, for the acceleration, under the last solve's forces
+            let (f, mut w) = (
+                std::mem::take(&mut self.work.f_last),
+                std::mem::take(&mut self.work.w),
+            );
+            self.apply_mass_inverse(&f, &mut w);
+            self.work.f_last = f;
+            self.work.w = w;
+        }
+        if ahead || deferred {
             self.correct(&k)?;
         }
         self.accept(&k)?;
@@ -456,6 +473,7 @@ impl<'m> ImplicitSolver<'m> {
             endpoint,
             force_weight: if endpoint { 1.0 } else { 1.0 / (2.0 * beta) },
             exact: self.kernels.unit_roundoff() < 1e-12,
+            mass_term: !endpoint && dt * (1.0 - gamma / (2.0 * beta)) != 0.0,
             // the multipliers cannot settle below the noise of the kernels' arithmetic
             tol: self
                 .settings
@@ -509,10 +527,10 @@ impl<'m> ImplicitSolver<'m> {
         self.work.f_last.copy_from_slice(&self.work.f_c);
         let f_c = std::mem::take(&mut self.work.f_c);
         let mut w = std::mem::take(&mut self.work.w);
-        if k.endpoint {
-            w.fill(0.0);
-        } else {
-            self.apply_mass_inverse(&f_c, &mut w);
+        // without the mass term w waits for the step's end (it does not move the velocity)
+        match k.mass_term {
+            true => self.apply_mass_inverse(&f_c, &mut w),
+            false => w.fill(0.0),
         }
         // residual of the effective equation at u_new
         let u_new = std::mem::take(&mut self.work.u_new);
@@ -588,9 +606,10 @@ impl<'m> ImplicitSolver<'m> {
     fn accept_forces(&mut self, k: &StepConstants) {
         let f_c = std::mem::take(&mut self.work.f_c);
         let mut w = std::mem::take(&mut self.work.w);
-        match k.endpoint {
-            true => w.fill(0.0),
-            false => self.apply_mass_inverse(&f_c, &mut w),
+        // without the mass term w waits for the step's end (it does not move the velocity)
+        match k.mass_term {
+            true => self.apply_mass_inverse(&f_c, &mut w),
+            false => w.fill(0.0),
         }
         self.work.f_last.copy_from_slice(&f_c);
         self.work.f_c = f_c;
