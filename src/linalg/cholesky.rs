@@ -413,7 +413,7 @@ impl SpdSolver {
         let start = Instant::now();
         match &self.tree_solve {
             Some(tree) => tree.solve_in_place(&self.factor, b),
-            None => self.faer_solve_in_place(b),
+            None => self.faer_solve_in_place(b, 1),
         }
         let (count, seconds) = self.solves.get();
         self.solves
@@ -431,24 +431,17 @@ impl SpdSolver {
         }
         let start = Instant::now();
         let k = b.len() / n;
-        let rhs = MatMut::from_column_major_slice_mut(b, n, k);
-        let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, par()));
-        LltRef::new(&self.symbolic, &self.factor).solve_in_place_with_conj(
-            Conj::No,
-            rhs,
-            par(),
-            MemStack::new(&mut mem),
-        );
+        self.faer_solve_in_place(b, k);
         let (count, seconds) = self.solves.get();
         self.solves
             .set((count + k, seconds + start.elapsed().as_secs_f64()));
     }
 
-    /// Solves A x = b in place with faer's own solve.
-    fn faer_solve_in_place(&self, b: &mut [f64]) {
-        let n = b.len();
-        let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
-        let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, par()));
+    /// Solves A X = B in place with faer's own solve, `b` column-major with `k` columns.
+    fn faer_solve_in_place(&self, b: &mut [f64], k: usize) {
+        let n = b.len() / k;
+        let rhs = MatMut::from_column_major_slice_mut(b, n, k);
+        let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, par()));
         LltRef::new(&self.symbolic, &self.factor).solve_in_place_with_conj(
             Conj::No,
             rhs,

@@ -395,13 +395,7 @@ impl<'m> ImplicitSolver<'m> {
         let deferred = !k.endpoint && !k.mass_term;
         if deferred {
             // the trapezoidal rule's w, for the acceleration, under the last solve's forces
-            let (f, mut w) = (
-                std::mem::take(&mut self.work.f_last),
-                std::mem::take(&mut self.work.w),
-            );
-            self.apply_mass_inverse(&f, &mut w);
-            self.work.f_last = f;
-            self.work.w = w;
+            self.form_w(true);
         }
         if ahead || deferred {
             self.correct(&k)?;
@@ -528,14 +522,7 @@ impl<'m> ImplicitSolver<'m> {
     /// displacement increment of the step.
     fn equilibrium(&mut self, k: &StepConstants, sub: bool) -> Result<(f64, f64)> {
         self.contact.forces_into(self.model, &mut self.work.f_c);
-        self.work.f_last.copy_from_slice(&self.work.f_c);
         let f_c = std::mem::take(&mut self.work.f_c);
-        let mut w = std::mem::take(&mut self.work.w);
-        // without the mass term w waits for the step's end (it does not move the velocity)
-        match k.mass_term {
-            true => self.apply_mass_inverse(&f_c, &mut w),
-            false => w.fill(0.0),
-        }
         // residual of the effective equation at u_new
         let u_new = std::mem::take(&mut self.work.u_new);
         self.kernels
@@ -552,21 +539,27 @@ impl<'m> ImplicitSolver<'m> {
         self.work.increment = increment;
         self.work.u_new = u_new;
         self.work.f_c = f_c;
-        self.work.w = w;
         let mut delta = std::mem::take(&mut self.work.rhs);
         self.effective(sub).solve_in_place(&mut delta);
-        let mut corr = 0.0f64;
-        let mut size = 0.0f64;
-        for (e, &d) in self.asm.dof_of.iter().enumerate() {
-            let d = d as usize;
-            self.work.u_new[d] += delta[e];
-            corr = corr.max(delta[e].abs());
-            size = size.max((self.work.u_new[d] - self.u[d]).abs());
-        }
+        let moved = self.move_iterate(&delta);
         self.work.rhs = delta;
+        self.accept_forces(k);
         self.work.u_base.copy_from_slice(&self.work.u_new);
         self.work.f_base.copy_from_slice(&self.work.f_last);
-        Ok((corr, size))
+        Ok(moved)
+    }
+
+    /// u_new moves by `delta` (free dofs, equation order). Returns the largest correction
+    /// and the largest displacement increment of the step.
+    fn move_iterate(&mut self, delta: &[f64]) -> (f64, f64) {
+        let (mut corr, mut size) = (0.0f64, 0.0f64);
+        for (&x, &d) in delta.iter().zip(&self.asm.dof_of) {
+            let d = d as usize;
+            self.work.u_new[d] += x;
+            corr = corr.max(x.abs());
+            size = size.max((self.work.u_new[d] - self.u[d]).abs());
+        }
+        (corr, size)
     }
 
     /// One solve of the effective equation for the change of the contact forces since the
@@ -577,16 +570,10 @@ impl<'m> ImplicitSolver<'m> {
     fn incremental_equilibrium(&mut self, k: &StepConstants, sub: bool) -> Result<(f64, f64)> {
         self.contact.forces_into(self.model, &mut self.work.f_c);
         let delta = self.force_change_response(k, sub, false);
-        let (mut corr, mut size) = (0.0f64, 0.0f64);
-        for (&x, &d) in delta.iter().zip(&self.asm.dof_of) {
-            let d = d as usize;
-            self.work.u_new[d] += x;
-            corr = corr.max(x.abs());
-            size = size.max((self.work.u_new[d] - self.u[d]).abs());
-        }
+        let moved = self.move_iterate(&delta);
         self.work.rhs = delta;
         self.accept_forces(k);
-        Ok((corr, size))
+        Ok(moved)
     }
 
     /// $K_{eff}^{-1} w_f (f_c - f_{ref})$ on the free dofs (the workspace's right-hand side,
@@ -608,15 +595,27 @@ impl<'m> ImplicitSolver<'m> {
     /// The current contact forces become the last solve's: w takes $M^{-1} f_c$ (zero under
     /// the classical gap constraint).
     fn accept_forces(&mut self, k: &StepConstants) {
-        let f_c = std::mem::take(&mut self.work.f_c);
-        let mut w = std::mem::take(&mut self.work.w);
         // without the mass term w waits for the step's end (it does not move the velocity)
         match k.mass_term {
-            true => self.apply_mass_inverse(&f_c, &mut w),
-            false => w.fill(0.0),
+            true => self.form_w(false),
+            false => self.work.w.fill(0.0),
         }
-        self.work.f_last.copy_from_slice(&f_c);
-        self.work.f_c = f_c;
+        self.work.f_last.copy_from_slice(&self.work.f_c);
+    }
+
+    /// w = $M^{-1} f$, f the current contact forces or (`last`) the last solve's.
+    fn form_w(&mut self, last: bool) {
+        let forces = match last {
+            true => &mut self.work.f_last,
+            false => &mut self.work.f_c,
+        };
+        let f = std::mem::take(forces);
+        let mut w = std::mem::take(&mut self.work.w);
+        self.apply_mass_inverse(&f, &mut w);
+        match last {
+            true => self.work.f_last = f,
+            false => self.work.f_c = f,
+        }
         self.work.w = w;
     }
 
