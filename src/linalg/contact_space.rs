@@ -151,11 +151,7 @@ impl TrailingSolve {
             let (l_diag, l_below, cols, rows) = self.blocks(node, l);
             let mut w = Mat::from_fn(cols.len(), k, |i, c| y[(cols.start + i - first, c)]);
             triangular_solve::solve_lower_triangular_in_place(l_diag, w.as_mut(), par);
-            for (i, r) in cols.clone().enumerate() {
-                for c in 0..k {
-                    y[(r - first, c)] = w[(i, c)];
-                }
-            }
+            (y.as_mut().subrows_mut(cols.start - first, cols.len())).copy_from(&w);
             if !rows.is_empty() {
                 let mut t = Mat::<f64>::zeros(rows.len(), k);
                 matmul(t.as_mut(), Accum::Replace, l_below, w.as_ref(), 1.0, par);
@@ -175,11 +171,7 @@ impl TrailingSolve {
                 matmul(w.as_mut(), Accum::Add, lt, x.as_ref(), -1.0, par);
             }
             triangular_solve::solve_upper_triangular_in_place(l_diag.transpose(), w.as_mut(), par);
-            for (i, r) in cols.clone().enumerate() {
-                for c in 0..k {
-                    y[(r - first, c)] = w[(i, c)];
-                }
-            }
+            (y.as_mut().subrows_mut(cols.start - first, cols.len())).copy_from(&w);
         }
     }
 
@@ -235,6 +227,15 @@ mod tests {
     use super::super::test_matrices::{grid_matrix, Lcg};
     use super::super::SpdSolver;
 
+    /// A 27-point grid matrix of m^3 nodes, its top layer marked, and its factor with that
+    /// layer numbered last.
+    fn top_layer_last(m: usize) -> (super::super::Csc, Vec<bool>, SpdSolver) {
+        let a = grid_matrix(m, 3);
+        let last: Vec<bool> = (0..a.n).map(|i| i / (m * m) == m - 1).collect();
+        let solver = SpdSolver::with_last(&a, &last).unwrap();
+        (a, last, solver)
+    }
+
     fn max_abs(v: impl IntoIterator<Item = f64>) -> f64 {
         v.into_iter().fold(0.0, |m, x| m.max(x.abs()))
     }
@@ -244,10 +245,7 @@ mod tests {
     /// operator it builds column by column is symmetric.
     #[test]
     fn the_trailing_solve_is_the_full_solve_on_the_contact_space() {
-        let m = 14;
-        let a = grid_matrix(m, 3);
-        let last: Vec<bool> = (0..a.n).map(|i| i / (m * m) == m - 1).collect();
-        let solver = SpdSolver::with_last(&a, &last).unwrap();
+        let (a, last, solver) = top_layer_last(14);
         let trailing = solver.contact_space().expect("a supernodal factor");
         let plain = SpdSolver::new(&a, super::super::Ordering::NestedDissection).unwrap();
         let (with, without) = (
@@ -299,10 +297,7 @@ mod tests {
     /// rounding; a column's bits do not depend on the other columns' values.
     #[test]
     fn the_block_solve_is_the_single_solves_and_each_column_its_own() {
-        let m = 12;
-        let a = grid_matrix(m, 3);
-        let last: Vec<bool> = (0..a.n).map(|i| i / (m * m) == m - 1).collect();
-        let solver = SpdSolver::with_last(&a, &last).unwrap();
+        let (_, _, solver) = top_layer_last(12);
         let count = solver
             .contact_space()
             .expect("a supernodal factor")
