@@ -31,6 +31,9 @@ pub struct NewtonFigures {
     /// Nodes in the flexibilities (the step's and the sub-step's): each costs three
     /// columns, solved in blocks of 16 nodes on the contact space.
     pub flexibility_nodes: usize,
+    /// Iterations that moved the contact nodes by the flexibility's columns alone, without
+    /// a solve (no contact space, f64 kernels, the trapezoidal rule, no friction).
+    pub flexibility_moves: usize,
     /// An interface has friction, so every update is Anderson's.
     pub friction_keeps_anderson: bool,
 }

@@ -15,6 +15,7 @@
 use crate::error::Result;
 use crate::linalg::Assembled;
 use crate::model::{Model, Primary};
+use crate::scene::{Acceleration, ContactSpace};
 
 use super::{step_factor, ImplicitSolver, StepConstants};
 
@@ -23,6 +24,16 @@ use super::{step_factor, ImplicitSolver, StepConstants};
 pub(super) fn contact_equations(model: &Model, asm: &Assembled) -> Vec<bool> {
     let node = contact_nodes(model);
     (asm.dof_of.iter()).map(|&d| node[d as usize / 3]).collect()
+}
+
+/// The free equations of the [`contact_nodes`], in node order.
+pub(super) fn contact_node_equations(model: &Model, asm: &Assembled) -> Vec<u32> {
+    let node = contact_nodes(model);
+    (0..node.len())
+        .filter(|&n| node[n])
+        .flat_map(|n| (0..3).map(move |a| asm.equation[3 * n + a]))
+        .filter(|&e| e != u32::MAX)
+        .collect()
 }
 
 /// The contact nodes, marked: the interfaces' secondary nodes, the nodes of their primary
@@ -99,6 +110,57 @@ impl ImplicitSolver<'_> {
         }
         self.work.f_last.copy_from_slice(&self.work.f_c);
         Ok(Some((corr, size)))
+    }
+
+    /// Whether the iterations of this factor's steps may move the contact nodes by the
+    /// flexibility's columns alone ([`Self::flexibility_equilibrium`]): f64 kernels, no
+    /// contact space, Newton steps, no friction, and no w during the iterations (the
+    /// trapezoidal rule).
+    pub(super) fn respond(&self, k: &StepConstants, sub: bool) -> bool {
+        k.exact
+            && self.settings.contact_space == ContactSpace::Auto
+            && self.settings.acceleration == Acceleration::Newton
+            && !self.contact.frictional()
+            && !k.mass_term
+            && !k.endpoint
+            && !self.contact_space_ready(k, sub)
+    }
+
+    /// One iteration without a solve: where the step's flexibility keeps its columns at the
+    /// contact nodes' equations and holds every node whose force changed since the last
+    /// solve, the contact nodes of u_new move by $K_{eff}^{-1} w_f (f_c - f_{c,last})$,
+    /// read from those columns; the rest of the model waits for the step's recovery
+    /// ([`Self::recover`]). Returns as [`Self::contact_equilibrium`], or `None` (nothing
+    /// changed) where it cannot.
+    pub(super) fn flexibility_equilibrium(
+        &mut self,
+        k: &StepConstants,
+        sub: bool,
+    ) -> Option<(f64, f64)> {
+        let flex = &self.flexibility[usize::from(sub)];
+        if !self.respond(k, sub) || flex.response_equations().is_empty() {
+            return None;
+        }
+        self.contact.forces_into(self.model, &mut self.work.f_c);
+        let (f_c, f_last) = (&self.work.f_c, &self.work.f_last);
+        let change: Vec<(u32, usize, f64)> = (0..f_c.len())
+            .filter(|&d| f_c[d] != f_last[d] && self.asm.equation[d] != u32::MAX)
+            .map(|d| ((d / 3) as u32, d % 3, k.force_weight * (f_c[d] - f_last[d])))
+            .collect();
+        let equations = flex.response_equations();
+        let mut delta = vec![0.0; equations.len()];
+        if !flex.respond(&change, &mut delta) {
+            return None;
+        }
+        let (mut corr, mut size) = (0.0f64, 0.0f64);
+        for (&x, &e) in delta.iter().zip(equations) {
+            let d = self.asm.dof_of[e as usize] as usize;
+            self.work.u_new[d] += x;
+            corr = corr.max(x.abs());
+            size = size.max((self.work.u_new[d] - self.u[d]).abs());
+        }
+        self.accept_forces(k);
+        Some((corr, size))
     }
 
     /// w = M^-1 f_c on the contact equations (the rest waits for the step's last solve).

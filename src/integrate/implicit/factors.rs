@@ -14,8 +14,8 @@ use crate::scene::{
     Acceleration, ConstraintMeasure, ContactSpace, ImplicitSettings, CONTACT_SPACE_MAX,
 };
 
-use super::contact_space::{contact_equations, contact_nodes};
-use super::flexibility::MAX_NODES;
+use super::contact_space::{contact_equations, contact_node_equations, contact_nodes};
+use super::flexibility::{MAX_NODES, RESPONSE_MAX_VALUES};
 
 /// The symbolic analyses of a model's implicit factors.
 pub(crate) struct FactorPlan {
@@ -29,6 +29,9 @@ pub(crate) struct FactorPlan {
     /// The most nodes the Newton step's flexibilities may hold (0 without Newton steps):
     /// the contact nodes, at most [`MAX_NODES`]; one flexibility per effective factor.
     pub flexibility_nodes: usize,
+    /// The most values a flexibility's columns keep at the contact nodes' equations
+    /// (without a contact space, f64 kernels: the iterations' moves without solves).
+    pub response_values: usize,
 }
 
 impl FactorPlan {
@@ -68,12 +71,23 @@ impl FactorPlan {
                 .min(MAX_NODES),
             false => 0,
         };
+        // without a contact space (none asked for, or declined)
+        let respond = exact
+            && settings.contact_space == ContactSpace::Auto
+            && effective.contact_equations() == 0;
+        let response_values = match respond && flexibility_nodes > 0 {
+            true => (3 * flexibility_nodes)
+                .saturating_mul(contact_node_equations(model, asm).len())
+                .min(RESPONSE_MAX_VALUES),
+            false => 0,
+        };
         Ok(FactorPlan {
             effective,
             mass,
             in_space,
             substeps,
             flexibility_nodes,
+            response_values,
         })
     }
 
@@ -83,7 +97,8 @@ impl FactorPlan {
         let mass = self.mass.as_ref().map_or(0, SpdAnalysis::bytes);
         let effective = self.effective.bytes();
         let effective_factors = 1 + u64::from(self.substeps);
-        let flexibility = 9 * 8 * (self.flexibility_nodes as u64).pow(2);
+        let flexibility =
+            9 * 8 * (self.flexibility_nodes as u64).pow(2) + 8 * self.response_values as u64;
         effective
             .saturating_mul(effective_factors)
             .saturating_add(mass)
@@ -109,6 +124,13 @@ impl FactorPlan {
                 ", the Newton step's flexibilities on up to {} nodes",
                 self.flexibility_nodes
             );
+            if self.response_values > 0 {
+                let _ = write!(
+                    out,
+                    " with up to {} values at the contact nodes",
+                    self.response_values
+                );
+            }
         }
         out
     }

@@ -10,6 +10,11 @@
 //! from the column of the later of its two nodes, and the nodes' order decides the last bits:
 //! a checkpoint keeps that order ([`Flexibility::nodes`]) and a resumed run rebuilds the
 //! same matrix from it ([`Flexibility::resume`]) the first time it needs one.
+//!
+//! Where the factor has no contact space, a column solved on the whole model can also be
+//! kept at the equations of every contact node ([`Flexibility::respond_at`]): then a change
+//! of the contact forces on the nodes held moves the contact nodes, all the kinematics read,
+//! by a product with those rows, without a solve ([`Flexibility::respond`]).
 
 use std::collections::HashMap;
 
@@ -20,6 +25,9 @@ use crate::linalg::{Assembled, SpdSolver};
 pub(super) const MAX_NODES: usize = 2500;
 /// Nodes whose columns one block solve takes (48 right-hand sides).
 const BLOCK_NODES: usize = 16;
+/// The most values the columns' rows at the contact nodes may take (128 MB); past it they
+/// are dropped, and the iterations go back to solves (counted in the memory check).
+pub(super) const RESPONSE_MAX_VALUES: usize = 16 << 20;
 
 /// $K_{eff}^{-1}$ on the dofs of a growing set of nodes.
 #[derive(Debug, Default)]
@@ -36,6 +44,10 @@ pub(super) struct Flexibility {
     /// Each equation's place in the factor's contact space (`u32::MAX` outside it), made at
     /// the first node where the factor has one (the factor does not change).
     place: Vec<u32>,
+    /// The equations every column is also read at ([`Flexibility::respond_at`]; empty where
+    /// the columns are not kept there), and column 3 p + a's values at them, in their order.
+    respond: Vec<u32>,
+    response: Vec<Vec<f64>>,
 }
 
 impl Flexibility {
@@ -65,9 +77,48 @@ impl Flexibility {
         self.columns[3 * p + a][3 * q + b]
     }
 
+    /// Keeps every column's values at `equations` too (the contact nodes' free equations),
+    /// from a flexibility's first node on: where it holds nodes already, or their columns
+    /// come from the contact space, or the values would pass [`RESPONSE_MAX_VALUES`], they
+    /// are not kept.
+    pub(super) fn respond_at(&mut self, equations: &[u32]) {
+        if self.nodes.is_empty() && self.respond.is_empty() && self.response.is_empty() {
+            self.respond = equations.to_vec();
+        }
+    }
+
+    /// The equations the columns are kept at (empty where they are not).
+    pub(super) fn response_equations(&self) -> &[u32] {
+        &self.respond
+    }
+
+    /// Adds $H x$ at the [`Self::response_equations`] to `out`, x given as (place p, dof a,
+    /// value) of nodes held; false (`out` untouched) where a node is not held or the columns
+    /// are not kept there.
+    pub(super) fn respond(&self, x: &[(u32, usize, f64)], out: &mut [f64]) -> bool {
+        if self.respond.is_empty() || x.iter().any(|&(n, ..)| !self.slot.contains_key(&n)) {
+            return false;
+        }
+        for &(n, a, value) in x {
+            let column = &self.response[3 * self.slot[&n] + a];
+            for (o, &h) in out.iter_mut().zip(column) {
+                *o += h * value;
+            }
+        }
+        true
+    }
+
     /// Adds the `nodes` not held yet, in their order; false (and nothing added) where that
-    /// would exceed [`MAX_NODES`].
-    pub(super) fn ensure(&mut self, nodes: &[u32], asm: &Assembled, solver: &SpdSolver) -> bool {
+    /// would exceed [`MAX_NODES`]. Where nodes join, the first of the nodes `ahead` (those
+    /// likely to be needed next) fill the last block solve's free columns: a block costs
+    /// about as much however many of its 16 nodes are new.
+    pub(super) fn ensure(
+        &mut self,
+        nodes: &[u32],
+        ahead: &[u32],
+        asm: &Assembled,
+        solver: &SpdSolver,
+    ) -> bool {
         let pending = std::mem::take(&mut self.pending);
         self.add_all(&pending, asm, solver);
         let mut new: Vec<u32> = Vec::new();
@@ -78,6 +129,16 @@ impl Flexibility {
         }
         if self.nodes.len() + new.len() > MAX_NODES {
             return false;
+        }
+        let whole = new.len().div_ceil(BLOCK_NODES) * BLOCK_NODES;
+        let room = whole.min(MAX_NODES - self.nodes.len());
+        for &n in ahead {
+            if new.len() >= room {
+                break;
+            }
+            if !self.slot.contains_key(&n) && !new.contains(&n) {
+                new.push(n);
+            }
         }
         self.add_all(&new, asm, solver);
         true
@@ -176,6 +237,25 @@ impl Flexibility {
         })
     }
 
+    /// The three columns' values at the response equations, or none from now on (columns
+    /// on the contact space, or too many values).
+    fn keep_response(&mut self, solved: &[f64], space: bool) {
+        let rows = solved.len() / 3;
+        let fits = (self.response.len() + 3) * self.respond.len() <= RESPONSE_MAX_VALUES;
+        if space || !fits {
+            self.respond = Vec::new();
+            self.response = Vec::new();
+        }
+        if self.respond.is_empty() {
+            return;
+        }
+        for a in 0..3 {
+            let x = &solved[a * rows..(a + 1) * rows];
+            let column = self.respond.iter().map(|&e| x[e as usize]).collect();
+            self.response.push(column);
+        }
+    }
+
     /// Node `n`'s three columns, solved already (`solved`: three columns, on the contact
     /// space where `space`, else on the whole model), read at every node held (a fixed
     /// dof's column and row are zero).
@@ -184,6 +264,7 @@ impl Flexibility {
         self.slot.insert(n, p);
         self.nodes.push(n);
         let rows = solved.len() / 3;
+        self.keep_response(solved, space);
         let equation = |node: u32, a: usize| asm.equation[3 * node as usize + a];
         for a in 0..3 {
             let x = &solved[a * rows..(a + 1) * rows];
@@ -337,8 +418,8 @@ mod tests {
         let later: Vec<u32> = vec![100, 7, 0, 150];
         let full = SpdSolver::new(&asm.effective, Ordering::NestedDissection).unwrap();
         let mut f = Flexibility::default();
-        assert!(f.ensure(&first, &asm, &full));
-        assert!(f.ensure(&later, &asm, &full));
+        assert!(f.ensure(&first, &[], &asm, &full));
+        assert!(f.ensure(&later, &[], &asm, &full));
         assert_eq!(f.nodes(), vec![40, 1, 7, 41, 100, 0, 150]);
         let e = largest_error(&f, |m, a, l, b| {
             exact[(3 * m as usize + a, 3 * l as usize + b)]
@@ -346,7 +427,7 @@ mod tests {
         assert!(e < 1e-12, "full solves: {e:.2e}");
         // a resumed flexibility rebuilds the same entries, bit for bit
         let mut r = Flexibility::resume(f.nodes());
-        assert!(r.ensure(&[150], &asm, &full));
+        assert!(r.ensure(&[150], &[], &asm, &full));
         assert_eq!(r.nodes(), f.nodes());
         for c in 0..f.columns.len() {
             let (a, b) = (&f.columns[c], &r.columns[c]);
@@ -354,7 +435,7 @@ mod tests {
         }
         // more nodes than it may hold: refused, nothing added
         let many: Vec<u32> = (0..MAX_NODES as u32 + 1).collect();
-        assert!(!f.ensure(&many, &asm, &full));
+        assert!(!f.ensure(&many, &[], &asm, &full));
         assert_eq!(f.nodes().len(), 7);
     }
 
@@ -367,7 +448,7 @@ mod tests {
         let later: Vec<u32> = vec![1000, 7, 0, 2700];
         let full = SpdSolver::new(&asm.effective, Ordering::NestedDissection).unwrap();
         let mut f = Flexibility::default();
-        assert!(f.ensure(&first, &asm, &full) && f.ensure(&later, &asm, &full));
+        assert!(f.ensure(&first, &[], &asm, &full) && f.ensure(&later, &[], &asm, &full));
         assert!(!f.in_space);
         let mut last = vec![false; asm.dof_of.len()];
         for &n in first.iter().chain(&later) {
@@ -381,7 +462,7 @@ mod tests {
         let space = SpdSolver::with_last(&asm.effective, &last).unwrap();
         assert!(space.contact_space().is_some(), "a supernodal factor");
         let mut g = Flexibility::default();
-        assert!(g.ensure(&first, &asm, &space) && g.ensure(&later, &asm, &space));
+        assert!(g.ensure(&first, &[], &asm, &space) && g.ensure(&later, &[], &asm, &space));
         assert!(g.in_space);
         let (solves, contact_solves) = (space.stats().solves, space.stats().contact_solves);
         // two blocks of right-hand sides, one per ensure with new nodes
@@ -390,11 +471,66 @@ mod tests {
         assert!(e < 1e-12, "contact-space solves: {e:.2e}");
         // resumed, its nodes join in one block: the same bits
         let mut r = Flexibility::resume(g.nodes());
-        assert!(r.ensure(&[], &asm, &space));
+        assert!(r.ensure(&[], &[], &asm, &space));
         assert_eq!(r.nodes(), g.nodes());
         for c in 0..g.columns.len() {
             let (a, b) = (&g.columns[c], &r.columns[c]);
             assert!(a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()));
         }
+    }
+
+    /// Kept at a set of equations, the columns move those equations by K^-1 x for a load x
+    /// on the nodes held (and refuse a load on a node not held); the nodes ahead fill the
+    /// block's free columns; on a contact space the columns are not kept.
+    #[test]
+    fn the_columns_at_the_contact_equations_are_the_response_to_a_load() {
+        let (asm, k) = grid(6);
+        let exact = inverse(&asm, &k);
+        let full = SpdSolver::new(&asm.effective, Ordering::NestedDissection).unwrap();
+        // the equations of every node in the top layer (z = 5), and some of their nodes
+        let top: Vec<u32> = (0..216u32).filter(|n| n % 6 == 5).collect();
+        let equation = &asm.equation;
+        let equations: Vec<u32> = (top.iter())
+            .flat_map(|&n| (0..3).map(move |a| equation[3 * n as usize + a]))
+            .filter(|&e| e != u32::MAX)
+            .collect();
+        let mut f = Flexibility::default();
+        f.respond_at(&equations);
+        let ahead: Vec<u32> = top.iter().rev().copied().collect();
+        assert!(f.ensure(&[5, 11, 17], &ahead, &asm, &full));
+        assert_eq!(
+            f.nodes().len(),
+            BLOCK_NODES,
+            "the block filled from the nodes ahead"
+        );
+        assert_eq!(&f.nodes()[..4], &[5, 11, 17, 215]);
+        let load = [(11u32, 2usize, 1.5), (215, 0, -0.5), (5, 1, 2.0)];
+        let mut moved = vec![0.0; equations.len()];
+        assert!(f.respond(&load, &mut moved));
+        let (mut worst, mut scale) = (0.0f64, 0.0f64);
+        for (&e, &m) in equations.iter().zip(&moved) {
+            let d = asm.dof_of[e as usize] as usize;
+            let want: f64 = (load.iter())
+                .map(|&(n, a, x)| exact[(d, 3 * n as usize + a)] * x)
+                .sum();
+            worst = worst.max((m - want).abs());
+            scale = scale.max(want.abs());
+        }
+        assert!(worst <= 1e-12 * scale, "{worst:e} of {scale:e}");
+        // a node not held: refused, nothing moved
+        let mut untouched = vec![0.0; equations.len()];
+        assert!(!f.respond(&[(100, 0, 1.0)], &mut untouched));
+        assert!(untouched.iter().all(|&x| x == 0.0));
+        // on a contact space the columns are solved there alone: not kept
+        let mut last = vec![false; asm.dof_of.len()];
+        for &e in &equations {
+            last[e as usize] = true;
+        }
+        let space = SpdSolver::with_last(&asm.effective, &last).unwrap();
+        let mut g = Flexibility::default();
+        g.respond_at(&equations);
+        assert!(g.ensure(&[5, 11], &[], &asm, &space));
+        assert!(g.response_equations().is_empty());
+        assert!(!g.respond(&[(5, 0, 1.0)], &mut moved));
     }
 }

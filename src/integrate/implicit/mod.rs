@@ -119,6 +119,9 @@ pub struct ImplicitSolver<'m> {
     /// The contact equations (all false without a contact space), and a vector on them.
     in_space: Vec<bool>,
     contact_rhs: Vec<f64>,
+    /// The free equations of every contact node, where a flexibility may keep its columns
+    /// (without a contact space: [`Self::flexibility_equilibrium`]).
+    response_equations: Vec<u32>,
     kernels: Box<dyn Kernels + 'm>,
     /// The state at the end of the last step.
     pub u: Vec<f64>,
@@ -206,6 +209,7 @@ impl<'m> ImplicitSolver<'m> {
             mass_solver,
             contact_rhs: vec![0.0; count],
             in_space,
+            response_equations: contact_space::contact_node_equations(model, &asm),
             kernels,
             u: vec![0.0; ndof],
             v,
@@ -339,7 +343,13 @@ impl<'m> ImplicitSolver<'m> {
                 false => None,
             };
             ahead |= on_space.is_some();
-            let (corr, size) = match on_space {
+            let moved = match (incremental && !space && report.iterations > 0, on_space) {
+                (true, None) => self.flexibility_equilibrium(&k, sub),
+                _ => None,
+            };
+            ahead |= moved.is_some();
+            self.newton.flexibility_moves += usize::from(moved.is_some());
+            let (corr, size) = match on_space.or(moved) {
                 Some(c) => c,
                 None if incremental && !space && report.iterations > 0 => {
                     self.incremental_equilibrium(&k, sub)?
@@ -414,6 +424,9 @@ impl<'m> ImplicitSolver<'m> {
         sub: bool,
         keep_below: Option<f64>,
     ) -> Option<f64> {
+        if self.respond(k, sub) {
+            self.flexibility[usize::from(sub)].respond_at(&self.response_equations);
+        }
         let solver = step_factor(&self.solver, &self.sub_solver, sub);
         let flex = &mut self.flexibility[usize::from(sub)];
         // the forces of the current pressures on the current geometry, less the last solve's
@@ -429,7 +442,8 @@ impl<'m> ImplicitSolver<'m> {
         let rows = newton::rows(self.model, interfaces, faces);
         let mut nodes = newton::touched_nodes(&rows);
         nodes.extend(lag.iter().map(|l| l.0));
-        if !flex.ensure(&nodes, &self.asm, solver) {
+        let ahead = newton::nodes_ahead(self.model, interfaces, faces);
+        if !flex.ensure(&nodes, &ahead, &self.asm, solver) {
             return None;
         }
         let alpha_k = k.gamma * k.c_m * k.dt * k.force_weight;
@@ -624,12 +638,15 @@ impl<'m> ImplicitSolver<'m> {
     /// solve's plus $K_{eff}^{-1} w_f (f_c - f_{base})$, a load on the contact equations
     /// alone (with them numbered last, the forward solve touches only the factor's top), and
     /// w takes $M^{-1} f_c$ everywhere. Where the forces changed outside the contact
-    /// equations, a full [`Self::equilibrium`] instead.
+    /// equations of a contact space, a full [`Self::equilibrium`] instead (without one, the
+    /// iterations moved the contact nodes by the flexibility's columns, from f64 kernels).
     fn recover(&mut self, k: &StepConstants, sub: bool) -> Result<()> {
         self.contact.forces_into(self.model, &mut self.work.f_c);
         let (f_c, f_base) = (&self.work.f_c, &self.work.f_base);
-        let outside = (self.asm.dof_of.iter().zip(&self.in_space))
-            .any(|(&d, &inside)| !inside && f_c[d as usize] != f_base[d as usize]);
+        let space = self.contact_space_ready(k, sub);
+        let outside = space
+            && (self.asm.dof_of.iter().zip(&self.in_space))
+                .any(|(&d, &inside)| !inside && f_c[d as usize] != f_base[d as usize]);
         if outside {
             return self.equilibrium(k, sub).map(|_| ());
         }

@@ -99,6 +99,40 @@ pub(super) fn touched_nodes(rows: &[Row]) -> Vec<u32> {
         .collect()
 }
 
+/// The nodes the candidates are likely to touch next: each secondary node that has a face
+/// but is not a candidate, nearest the surface first, and its face's nodes (a rigid body's
+/// node), for a flexibility's block solves to fill their free columns with.
+pub(super) fn nodes_ahead(
+    model: &Model,
+    interfaces: &[InterfaceState],
+    faces: &[[u32; 4]],
+) -> Vec<u32> {
+    // (gap, interface, node): the largest gap (the least separated) first
+    let mut near: Vec<(f64, usize, usize)> = Vec::new();
+    for (k, st) in interfaces.iter().enumerate() {
+        for (i, p) in st.points.iter().enumerate() {
+            if p.face != NO_FACE && !st.candidate[i] && p.gap.is_finite() {
+                near.push((p.gap, k, i));
+            }
+        }
+    }
+    near.sort_by(|a, b| b.0.total_cmp(&a.0).then((a.1, a.2).cmp(&(b.1, b.2))));
+    let mut nodes = Vec::new();
+    for (_, k, i) in near {
+        let itf = &model.interfaces[k];
+        nodes.push(itf.nodes[i]);
+        match &itf.primary {
+            Primary::Surface { .. } => {
+                let face = faces[interfaces[k].points[i].face as usize];
+                nodes.extend(face);
+            }
+            Primary::Rigid { node, .. } => nodes.push(*node),
+            Primary::Plane { .. } => {}
+        }
+    }
+    nodes
+}
+
 /// (node, coefficient) terms with each node's place in the flexibility; `None` where it
 /// lacks one.
 fn placed(terms: &[(u32, [f64; 3])], flex: &Flexibility) -> Option<Vec<(u32, usize, [f64; 3])>> {
@@ -163,49 +197,20 @@ pub(super) fn newton_update(
     let area: Vec<f64> = (rows.iter())
         .map(|r| model.interfaces[r.interface].area[r.node].max(f64::MIN_POSITIVE))
         .collect();
-    let diagonal: Vec<f64> = (gathers.iter())
-        .map(|g| coupling(g, g, flex, alpha, asm))
-        .collect();
-    // the active set of the Jacobi trial lambda + m / W_ii (W_ii > 0 for a node that moves)
-    let active: Vec<bool> = (0..rows.len())
-        .map(|r| {
-            let w = diagonal[r] * area[r];
-            match w > 0.0 {
-                true => lambda[r] + measure[r] / w > 0.0,
-                false => lambda[r] > 0.0,
-            }
-        })
-        .collect();
-    let a: Vec<usize> = (0..rows.len()).filter(|&r| active[r]).collect();
-    let mut s = DMatrix::<f64>::zeros(a.len(), a.len());
-    let mut rhs = DVector::<f64>::zeros(a.len());
-    for (x, &r) in a.iter().enumerate() {
-        s[(x, x)] = diagonal[r];
-        for (y, &c) in a.iter().enumerate().skip(x + 1) {
+    // S = W A^-1 on every candidate (symmetric), and the measures less the lag's response
+    let n = rows.len();
+    let mut s = DMatrix::<f64>::zeros(n, n);
+    for r in 0..n {
+        for c in r..n {
             let v = coupling(&gathers[r], &gathers[c], flex, alpha, asm);
-            s[(x, y)] = v;
-            s[(y, x)] = v;
-        }
-        rhs[x] = measure[r] - coupling(&gathers[r], &lag, flex, alpha, asm);
-        for c in 0..rows.len() {
-            if !active[c] && lambda[c] != 0.0 {
-                let w = coupling(&gathers[r], &gathers[c], flex, alpha, asm) * area[c];
-                rhs[x] += w * lambda[c];
-            }
+            s[(r, c)] = v;
+            s[(c, r)] = v;
         }
     }
-    // S y = rhs with y_j = A_j delta_j (W = S A)
-    let mut y = rhs.clone();
-    if !dense::spd_solve_in_place(s.clone().as_mut_slice(), y.as_mut_slice()) {
-        y = s.lu().solve(&rhs)?;
-    }
-    if y.iter().any(|v| !v.is_finite()) {
-        return None;
-    }
-    let mut next = vec![0.0; rows.len()];
-    for (x, &r) in a.iter().enumerate() {
-        next[r] = (lambda[r] + y[x] / area[r]).max(0.0);
-    }
+    let m0: Vec<f64> = (0..n)
+        .map(|r| measure[r] - coupling(&gathers[r], &lag, flex, alpha, asm))
+        .collect();
+    let next = linear_model_pressures(&s, (&lambda, &m0, &area))?;
     let (mut change, mut scale) = (0.0, 0.0);
     for r in 0..rows.len() {
         change += (area[r] * (next[r] - lambda[r])).powi(2);
@@ -222,6 +227,87 @@ pub(super) fn newton_update(
         interfaces[row.interface].lambda[row.node] = x;
     }
     Some(relative)
+}
+
+/// The most active sets the Newton step tries on the linear model before it takes the last.
+const ACTIVE_SET_ROUNDS: usize = 8;
+
+/// The pressures of the linear model $m(\lambda') = m_0 - S A (\lambda' - \lambda)$ (W = S
+/// A) with $\lambda' \ge 0$, $m(\lambda') \le 0$ and $\lambda' m(\lambda') = 0$: the
+/// primal-dual active set iteration on it, from the Jacobi trial's set, until the set
+/// repeats (at most [`ACTIVE_SET_ROUNDS`] sets, the last then taken), clipped at zero.
+/// `None` where S is singular on a set.
+fn linear_model_pressures(
+    s: &DMatrix<f64>,
+    (lambda, m0, area): (&[f64], &[f64], &[f64]),
+) -> Option<Vec<f64>> {
+    let n = lambda.len();
+    // the Jacobi trial lambda + m / W_ii > 0 (W_ii > 0 for a node that moves)
+    let trial = |lambda: &[f64], m: &[f64]| -> Vec<bool> {
+        (0..n)
+            .map(|r| {
+                let w = s[(r, r)] * area[r];
+                match w > 0.0 {
+                    true => lambda[r] + m[r] / w > 0.0,
+                    false => lambda[r] > 0.0,
+                }
+            })
+            .collect()
+    };
+    let mut active = trial(lambda, m0);
+    let mut next = lambda.to_vec();
+    for _ in 0..ACTIVE_SET_ROUNDS {
+        next = active_set_solve(s, (lambda, m0, area), &active)?;
+        let m: Vec<f64> = (0..n)
+            .map(|r| {
+                let moved: f64 = (0..n)
+                    .map(|c| s[(r, c)] * area[c] * (next[c] - lambda[c]))
+                    .sum();
+                m0[r] - moved
+            })
+            .collect();
+        let again = trial(&next, &m);
+        if again == active {
+            break;
+        }
+        active = again;
+    }
+    for x in &mut next {
+        *x = x.max(0.0);
+    }
+    Some(next)
+}
+
+/// The pressures that zero the linear model's measures on the `active` candidates, with the
+/// others' zero: $S_{AA} y = m_{0,A} + S_{AI} A_I \lambda_I$, $y = A_A (\lambda'_A -
+/// \lambda_A)$ (W = S A); `None` where S is singular.
+fn active_set_solve(
+    s: &DMatrix<f64>,
+    (lambda, m0, area): (&[f64], &[f64], &[f64]),
+    active: &[bool],
+) -> Option<Vec<f64>> {
+    let a: Vec<usize> = (0..lambda.len()).filter(|&r| active[r]).collect();
+    let s_aa = DMatrix::from_fn(a.len(), a.len(), |x, y| s[(a[x], a[y])]);
+    let rhs = DVector::from_fn(a.len(), |x, _| {
+        let r = a[x];
+        let inactive: f64 = (0..lambda.len())
+            .filter(|&c| !active[c] && lambda[c] != 0.0)
+            .map(|c| s[(r, c)] * area[c] * lambda[c])
+            .sum();
+        m0[r] + inactive
+    });
+    let mut y = rhs.clone();
+    if !dense::spd_solve_in_place(s_aa.clone().as_mut_slice(), y.as_mut_slice()) {
+        y = s_aa.lu().solve(&rhs)?;
+    }
+    if y.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let mut next = vec![0.0; lambda.len()];
+    for (x, &r) in a.iter().enumerate() {
+        next[r] = lambda[r] + y[x] / area[r];
+    }
+    Some(next)
 }
 
 /// When a step's iteration takes Newton steps: at most [`NewtonGuard::MAX_STEPS`] of them,
@@ -261,15 +347,13 @@ impl NewtonGuard {
         if !self.on {
             return false;
         }
-        if map_changed {
-            self.last = f64::INFINITY;
-        }
-        self.rises = if residual >= self.last {
-            self.rises + 1
-        } else {
-            0
+        // a changed map (a candidate admitted, a penalty adapted) makes a new problem: its
+        // low starts with the next residual, this one being the old problem's
+        (self.rises, self.last) = match map_changed {
+            true => (0, f64::INFINITY),
+            false if residual >= self.last => (self.rises + 1, self.last),
+            false => (0, residual),
         };
-        self.last = self.last.min(residual);
         self.steps += 1;
         if self.steps > Self::MAX_STEPS || self.rises >= Self::MAX_RISES {
             self.on = false;
@@ -295,5 +379,120 @@ impl NewtonGuard {
     /// Whether Newton was just left (once).
     pub(super) fn left(&mut self) -> bool {
         std::mem::take(&mut self.left)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lcg(seed: &mut u64) -> f64 {
+        *seed = seed
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// A compliance like the contact's: nodes on a line, each pressure moving its
+    /// neighbours less with distance (the exponential kernel, SPD, scaled by random node
+    /// weights on both sides).
+    fn compliance(n: usize, seed: &mut u64) -> DMatrix<f64> {
+        let x: Vec<f64> = (0..n).map(|i| i as f64 + 0.3 * lcg(seed)).collect();
+        let d: Vec<f64> = (0..n).map(|_| 0.5 + lcg(seed)).collect();
+        DMatrix::from_fn(n, n, |r, c| {
+            d[r] * d[c] * (-(x[r] - x[c]).abs() / 1.5).exp()
+        })
+    }
+
+    /// On a linear model the Newton step's pressures solve the complementarity problem:
+    /// nonnegative pressures, no node approaching (m <= 0), and m = 0 wherever a node is
+    /// pressed; from the Jacobi trial's set the active set iteration finds the set that the
+    /// enumeration of every set finds.
+    #[test]
+    fn the_newton_step_solves_the_linear_models_complementarity_problem() {
+        let mut seed = 11u64;
+        // cases whose solution's set is not the Jacobi trial's
+        let mut changed = 0;
+        for case in 0..200 {
+            let n = 2 + case % 7;
+            let s = compliance(n, &mut seed);
+            let area: Vec<f64> = (0..n).map(|_| 0.5 + lcg(&mut seed)).collect();
+            let lambda: Vec<f64> = (0..n).map(|_| (lcg(&mut seed) - 0.4).max(0.0)).collect();
+            let m0: Vec<f64> = (0..n).map(|_| 2.0 * lcg(&mut seed) - 1.0).collect();
+            let next = linear_model_pressures(&s, (&lambda, &m0, &area)).expect("SPD");
+            let trial = (0..n)
+                .any(|r| (lambda[r] + m0[r] / (s[(r, r)] * area[r]) > 0.0) != (next[r] > 0.0));
+            changed += usize::from(trial);
+            let m: Vec<f64> = (0..n)
+                .map(|r| {
+                    m0[r]
+                        - (0..n)
+                            .map(|c| s[(r, c)] * area[c] * (next[c] - lambda[c]))
+                            .sum::<f64>()
+                })
+                .collect();
+            let scale = m0.iter().fold(1.0f64, |a, x| a.max(x.abs()));
+            for r in 0..n {
+                assert!(next[r] >= 0.0);
+                assert!(
+                    m[r] <= 1e-12 * scale,
+                    "case {case}: node {r} approaches, {m:?}"
+                );
+                if next[r] > 0.0 {
+                    assert!(m[r].abs() <= 1e-12 * scale, "case {case}: node {r}");
+                }
+            }
+            // the unique solution (S A is a P-matrix): the one set whose solve satisfies all
+            let mut found = 0;
+            for bits in 0..(1u32 << n) {
+                let set: Vec<bool> = (0..n).map(|r| bits >> r & 1 == 1).collect();
+                let Some(p) = active_set_solve(&s, (&lambda, &m0, &area), &set) else {
+                    continue;
+                };
+                let mp: Vec<f64> = (0..n)
+                    .map(|r| {
+                        m0[r]
+                            - (0..n)
+                                .map(|c| s[(r, c)] * area[c] * (p[c] - lambda[c]))
+                                .sum::<f64>()
+                    })
+                    .collect();
+                if (0..n).all(|r| p[r] >= -1e-12 && mp[r] <= 1e-12 * scale) {
+                    found += 1;
+                    for r in 0..n {
+                        assert!((p[r].max(0.0) - next[r]).abs() <= 1e-9 * (1.0 + p[r].abs()));
+                    }
+                }
+            }
+            assert!(found >= 1, "case {case}: some set solves it");
+        }
+        assert!(
+            changed >= 20,
+            "{changed} cases needed more than the trial's set"
+        );
+    }
+
+    /// The guard allows Newton steps while the residual reaches new lows within three, the
+    /// low restarting after a changed map: the residual of the iteration that admitted a
+    /// candidate belongs to the old candidates, so the new low starts after it.
+    #[test]
+    fn the_guard_restarts_its_low_after_a_changed_map() {
+        let mut g = NewtonGuard::new(true);
+        // converging, a candidate admitted at 4e-8, then the new problem's first residuals
+        for (r, changed) in [
+            (9.9, false),
+            (0.23, false),
+            (4.9e-5, false),
+            (4.3e-8, true),
+            (0.93, false),
+            (0.10, false),
+            (4.2e-5, false),
+        ] {
+            assert!(g.allows(r, changed), "{r}");
+        }
+        // three without a new low: left for Anderson's update
+        assert!(g.allows(1e-4, false) && g.allows(2e-4, false));
+        assert!(!g.allows(3e-4, false));
+        assert!(g.was_left());
     }
 }
