@@ -110,3 +110,12 @@ fn implicit_newton_on_the_contact_space_is_the_same_on_any_thread_count() {
     let text = implicit_block_drop([10; 3], 12, "");
     same_on_any_thread_count("implicit_block_space", &text);
 }
+
+/// A flat plate dropped on a floor, whose contact space is declined: the iterations move
+/// the contact nodes by the flexibility's columns kept at their equations, and the
+/// recovery solves once a step; the same on any thread count.
+#[test]
+fn implicit_newton_moves_without_a_contact_space_are_the_same_on_any_thread_count() {
+    let text = implicit_block_drop([8, 8, 2], 12, "");
+    same_on_any_thread_count("implicit_plate_moves", &text);
+}
