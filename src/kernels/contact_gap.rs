@@ -207,6 +207,7 @@ pub(crate) fn face_point(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::test_matrices::Lcg;
 
     /// The plain scan: every candidate projected on, the first of equally close ones.
     fn scanned(
@@ -241,13 +242,8 @@ mod tests {
     /// bit, through both the boxes made once per call and those made per candidate.
     #[test]
     fn skipping_faces_by_their_boxes_gives_the_plain_scan_bit_for_bit() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut random = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rng = Lcg(0x9e37_79b9_7f4a_7c15);
+        let mut random = move || rng.next() - 0.5;
         let n = 9;
         let mut reference: Vec<V3> = Vec::new();
         for i in 0..n {

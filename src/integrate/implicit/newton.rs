@@ -258,15 +258,7 @@ fn linear_model_pressures(
     let mut next = lambda.to_vec();
     for _ in 0..ACTIVE_SET_ROUNDS {
         next = active_set_solve(s, (lambda, m0, area), &active)?;
-        let m: Vec<f64> = (0..n)
-            .map(|r| {
-                let moved: f64 = (0..n)
-                    .map(|c| s[(r, c)] * area[c] * (next[c] - lambda[c]))
-                    .sum();
-                m0[r] - moved
-            })
-            .collect();
-        let again = trial(&next, &m);
+        let again = trial(&next, &model_measures(s, (lambda, m0, area), &next));
         if again == active {
             break;
         }
@@ -276,6 +268,22 @@ fn linear_model_pressures(
         *x = x.max(0.0);
     }
     Some(next)
+}
+
+/// The linear model's measures at the pressures `next`: $m_0 - S A (\lambda' - \lambda)$.
+fn model_measures(
+    s: &DMatrix<f64>,
+    (lambda, m0, area): (&[f64], &[f64], &[f64]),
+    next: &[f64],
+) -> Vec<f64> {
+    (0..lambda.len())
+        .map(|r| {
+            let moved: f64 = (0..lambda.len())
+                .map(|c| s[(r, c)] * area[c] * (next[c] - lambda[c]))
+                .sum();
+            m0[r] - moved
+        })
+        .collect()
 }
 
 /// The pressures that zero the linear model's measures on the `active` candidates, with the
@@ -385,20 +393,14 @@ impl NewtonGuard {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn lcg(seed: &mut u64) -> f64 {
-        *seed = seed
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (*seed >> 11) as f64 / (1u64 << 53) as f64
-    }
+    use crate::linalg::test_matrices::Lcg;
 
     /// A compliance like the contact's: nodes on a line, each pressure moving its
     /// neighbours less with distance (the exponential kernel, SPD, scaled by random node
     /// weights on both sides).
-    fn compliance(n: usize, seed: &mut u64) -> DMatrix<f64> {
-        let x: Vec<f64> = (0..n).map(|i| i as f64 + 0.3 * lcg(seed)).collect();
-        let d: Vec<f64> = (0..n).map(|_| 0.5 + lcg(seed)).collect();
+    fn compliance(n: usize, rng: &mut Lcg) -> DMatrix<f64> {
+        let x: Vec<f64> = (0..n).map(|i| i as f64 + 0.3 * rng.next()).collect();
+        let d: Vec<f64> = (0..n).map(|_| 0.5 + rng.next()).collect();
         DMatrix::from_fn(n, n, |r, c| {
             d[r] * d[c] * (-(x[r] - x[c]).abs() / 1.5).exp()
         })
@@ -410,27 +412,20 @@ mod tests {
     /// enumeration of every set finds.
     #[test]
     fn the_newton_step_solves_the_linear_models_complementarity_problem() {
-        let mut seed = 11u64;
+        let mut rng = Lcg(11);
         // cases whose solution's set is not the Jacobi trial's
         let mut changed = 0;
         for case in 0..200 {
             let n = 2 + case % 7;
-            let s = compliance(n, &mut seed);
-            let area: Vec<f64> = (0..n).map(|_| 0.5 + lcg(&mut seed)).collect();
-            let lambda: Vec<f64> = (0..n).map(|_| (lcg(&mut seed) - 0.4).max(0.0)).collect();
-            let m0: Vec<f64> = (0..n).map(|_| 2.0 * lcg(&mut seed) - 1.0).collect();
+            let s = compliance(n, &mut rng);
+            let area: Vec<f64> = (0..n).map(|_| 0.5 + rng.next()).collect();
+            let lambda: Vec<f64> = (0..n).map(|_| (rng.next() - 0.4).max(0.0)).collect();
+            let m0: Vec<f64> = (0..n).map(|_| 2.0 * rng.next() - 1.0).collect();
             let next = linear_model_pressures(&s, (&lambda, &m0, &area)).expect("SPD");
             let trial = (0..n)
                 .any(|r| (lambda[r] + m0[r] / (s[(r, r)] * area[r]) > 0.0) != (next[r] > 0.0));
             changed += usize::from(trial);
-            let m: Vec<f64> = (0..n)
-                .map(|r| {
-                    m0[r]
-                        - (0..n)
-                            .map(|c| s[(r, c)] * area[c] * (next[c] - lambda[c]))
-                            .sum::<f64>()
-                })
-                .collect();
+            let m = model_measures(&s, (&lambda, &m0, &area), &next);
             let scale = m0.iter().fold(1.0f64, |a, x| a.max(x.abs()));
             for r in 0..n {
                 assert!(next[r] >= 0.0);
@@ -449,14 +444,7 @@ mod tests {
                 let Some(p) = active_set_solve(&s, (&lambda, &m0, &area), &set) else {
                     continue;
                 };
-                let mp: Vec<f64> = (0..n)
-                    .map(|r| {
-                        m0[r]
-                            - (0..n)
-                                .map(|c| s[(r, c)] * area[c] * (p[c] - lambda[c]))
-                                .sum::<f64>()
-                    })
-                    .collect();
+                let mp = model_measures(&s, (&lambda, &m0, &area), &p);
                 if (0..n).all(|r| p[r] >= -1e-12 && mp[r] <= 1e-12 * scale) {
                     found += 1;
                     for r in 0..n {
