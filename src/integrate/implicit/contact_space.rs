@@ -17,7 +17,7 @@ use crate::linalg::Assembled;
 use crate::model::{Model, Primary};
 use crate::scene::{Acceleration, ContactSpace};
 
-use super::{step_factor, ImplicitSolver, StepConstants};
+use super::{move_dofs, step_factor, ImplicitSolver, StepConstants};
 
 /// The contact equations, marked in equation order: every free dof of the
 /// [`contact_nodes`].
@@ -98,13 +98,9 @@ impl ImplicitSolver<'_> {
             *r = k.force_weight * (f_c[d] - f_last[d]);
         }
         solver.contact_solve_in_place(rhs);
-        let (mut corr, mut size) = (0.0f64, 0.0f64);
-        for (&delta, &e) in rhs.iter().zip(equations) {
-            let d = self.asm.dof_of[e] as usize;
-            self.work.u_new[d] += delta;
-            corr = corr.max(delta.abs());
-            size = size.max((self.work.u_new[d] - self.u[d]).abs());
-        }
+        let dof_of = &self.asm.dof_of;
+        let moves = (rhs.iter().zip(equations)).map(|(&x, &e)| (dof_of[e] as usize, x));
+        let (corr, size) = move_dofs(&mut self.work.u_new, &self.u, moves);
         if k.mass_term {
             self.contact_mass_inverse();
         }
@@ -152,13 +148,9 @@ impl ImplicitSolver<'_> {
         if !flex.respond(&change, &mut delta) {
             return None;
         }
-        let (mut corr, mut size) = (0.0f64, 0.0f64);
-        for (&x, &e) in delta.iter().zip(equations) {
-            let d = self.asm.dof_of[e as usize] as usize;
-            self.work.u_new[d] += x;
-            corr = corr.max(x.abs());
-            size = size.max((self.work.u_new[d] - self.u[d]).abs());
-        }
+        let dof_of = &self.asm.dof_of;
+        let moves = (delta.iter().zip(equations)).map(|(&x, &e)| (dof_of[e as usize] as usize, x));
+        let (corr, size) = move_dofs(&mut self.work.u_new, &self.u, moves);
         self.accept_forces(k);
         Some((corr, size))
     }

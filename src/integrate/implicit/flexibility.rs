@@ -82,7 +82,7 @@ impl Flexibility {
     /// come from the contact space, or the values would pass [`RESPONSE_MAX_VALUES`], they
     /// are not kept.
     pub(super) fn respond_at(&mut self, equations: &[u32]) {
-        if self.nodes.is_empty() && self.respond.is_empty() && self.response.is_empty() {
+        if self.nodes.is_empty() && self.respond.is_empty() {
             self.respond = equations.to_vec();
         }
     }
@@ -109,13 +109,13 @@ impl Flexibility {
     }
 
     /// Adds the `nodes` not held yet, in their order; false (and nothing added) where that
-    /// would exceed [`MAX_NODES`]. Where nodes join, the first of the nodes `ahead` (those
-    /// likely to be needed next) fill the last block solve's free columns: a block costs
-    /// about as much however many of its 16 nodes are new.
+    /// would exceed [`MAX_NODES`]. Where nodes join, the first of the nodes `ahead` gives
+    /// (those likely to be needed next; asked for only then) fill the last block solve's
+    /// free columns: a block costs about as much however many of its 16 nodes are new.
     pub(super) fn ensure(
         &mut self,
         nodes: &[u32],
-        ahead: &[u32],
+        ahead: impl FnOnce() -> Vec<u32>,
         asm: &Assembled,
         solver: &SpdSolver,
     ) -> bool {
@@ -130,9 +130,12 @@ impl Flexibility {
         if self.nodes.len() + new.len() > MAX_NODES {
             return false;
         }
+        if new.is_empty() {
+            return true;
+        }
         let whole = new.len().div_ceil(BLOCK_NODES) * BLOCK_NODES;
         let room = whole.min(MAX_NODES - self.nodes.len());
-        for &n in ahead {
+        for n in ahead() {
             if new.len() >= room {
                 break;
             }
@@ -418,8 +421,8 @@ mod tests {
         let later: Vec<u32> = vec![100, 7, 0, 150];
         let full = SpdSolver::new(&asm.effective, Ordering::NestedDissection).unwrap();
         let mut f = Flexibility::default();
-        assert!(f.ensure(&first, &[], &asm, &full));
-        assert!(f.ensure(&later, &[], &asm, &full));
+        assert!(f.ensure(&first, Vec::new, &asm, &full));
+        assert!(f.ensure(&later, Vec::new, &asm, &full));
         assert_eq!(f.nodes(), vec![40, 1, 7, 41, 100, 0, 150]);
         let e = largest_error(&f, |m, a, l, b| {
             exact[(3 * m as usize + a, 3 * l as usize + b)]
@@ -427,7 +430,7 @@ mod tests {
         assert!(e < 1e-12, "full solves: {e:.2e}");
         // a resumed flexibility rebuilds the same entries, bit for bit
         let mut r = Flexibility::resume(f.nodes());
-        assert!(r.ensure(&[150], &[], &asm, &full));
+        assert!(r.ensure(&[150], Vec::new, &asm, &full));
         assert_eq!(r.nodes(), f.nodes());
         for c in 0..f.columns.len() {
             let (a, b) = (&f.columns[c], &r.columns[c]);
@@ -435,7 +438,7 @@ mod tests {
         }
         // more nodes than it may hold: refused, nothing added
         let many: Vec<u32> = (0..MAX_NODES as u32 + 1).collect();
-        assert!(!f.ensure(&many, &[], &asm, &full));
+        assert!(!f.ensure(&many, Vec::new, &asm, &full));
         assert_eq!(f.nodes().len(), 7);
     }
 
@@ -448,7 +451,7 @@ mod tests {
         let later: Vec<u32> = vec![1000, 7, 0, 2700];
         let full = SpdSolver::new(&asm.effective, Ordering::NestedDissection).unwrap();
         let mut f = Flexibility::default();
-        assert!(f.ensure(&first, &[], &asm, &full) && f.ensure(&later, &[], &asm, &full));
+        assert!(f.ensure(&first, Vec::new, &asm, &full) && f.ensure(&later, Vec::new, &asm, &full));
         assert!(!f.in_space);
         let mut last = vec![false; asm.dof_of.len()];
         for &n in first.iter().chain(&later) {
@@ -462,7 +465,9 @@ mod tests {
         let space = SpdSolver::with_last(&asm.effective, &last).unwrap();
         assert!(space.contact_space().is_some(), "a supernodal factor");
         let mut g = Flexibility::default();
-        assert!(g.ensure(&first, &[], &asm, &space) && g.ensure(&later, &[], &asm, &space));
+        assert!(
+            g.ensure(&first, Vec::new, &asm, &space) && g.ensure(&later, Vec::new, &asm, &space)
+        );
         assert!(g.in_space);
         let (solves, contact_solves) = (space.stats().solves, space.stats().contact_solves);
         // two blocks of right-hand sides, one per ensure with new nodes
@@ -471,7 +476,7 @@ mod tests {
         assert!(e < 1e-12, "contact-space solves: {e:.2e}");
         // resumed, its nodes join in one block: the same bits
         let mut r = Flexibility::resume(g.nodes());
-        assert!(r.ensure(&[], &[], &asm, &space));
+        assert!(r.ensure(&[], Vec::new, &asm, &space));
         assert_eq!(r.nodes(), g.nodes());
         for c in 0..g.columns.len() {
             let (a, b) = (&g.columns[c], &r.columns[c]);
@@ -496,8 +501,8 @@ mod tests {
             .collect();
         let mut f = Flexibility::default();
         f.respond_at(&equations);
-        let ahead: Vec<u32> = top.iter().rev().copied().collect();
-        assert!(f.ensure(&[5, 11, 17], &ahead, &asm, &full));
+        let ahead = || top.iter().rev().copied().collect();
+        assert!(f.ensure(&[5, 11, 17], ahead, &asm, &full));
         assert_eq!(
             f.nodes().len(),
             BLOCK_NODES,
@@ -529,7 +534,7 @@ mod tests {
         let space = SpdSolver::with_last(&asm.effective, &last).unwrap();
         let mut g = Flexibility::default();
         g.respond_at(&equations);
-        assert!(g.ensure(&[5, 11], &[], &asm, &space));
+        assert!(g.ensure(&[5, 11], Vec::new, &asm, &space));
         assert!(g.response_equations().is_empty());
         assert!(!g.respond(&[(5, 0, 1.0)], &mut moved));
     }

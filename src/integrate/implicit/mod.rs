@@ -338,22 +338,22 @@ impl<'m> ImplicitSolver<'m> {
             self.settings.acceleration == Acceleration::Newton && !self.contact.frictional(),
         );
         for _k in 0..self.settings.max_iterations {
-            let on_space = match space && report.iterations > 0 {
+            let later = report.iterations > 0;
+            let on_space = match space && later {
                 true => self.contact_equilibrium(&k, sub)?,
                 false => None,
             };
             ahead |= on_space.is_some();
-            let moved = match (incremental && !space && report.iterations > 0, on_space) {
-                (true, None) => self.flexibility_equilibrium(&k, sub),
-                _ => None,
+            let off_space = incremental && !space && later;
+            let moved = match off_space {
+                true => self.flexibility_equilibrium(&k, sub),
+                false => None,
             };
             ahead |= moved.is_some();
             self.newton.flexibility_moves += usize::from(moved.is_some());
             let (corr, size) = match on_space.or(moved) {
                 Some(c) => c,
-                None if incremental && !space && report.iterations > 0 => {
-                    self.incremental_equilibrium(&k, sub)?
-                }
+                None if off_space => self.incremental_equilibrium(&k, sub)?,
                 None => {
                     ahead = false;
                     self.equilibrium(&k, sub)?
@@ -442,8 +442,8 @@ impl<'m> ImplicitSolver<'m> {
         let rows = newton::rows(self.model, interfaces, faces);
         let mut nodes = newton::touched_nodes(&rows);
         nodes.extend(lag.iter().map(|l| l.0));
-        let ahead = newton::nodes_ahead(self.model, interfaces, faces);
-        if !flex.ensure(&nodes, &ahead, &self.asm, solver) {
+        let ahead = || newton::nodes_ahead(self.model, interfaces, faces);
+        if !flex.ensure(&nodes, ahead, &self.asm, solver) {
             return None;
         }
         let alpha_k = k.gamma * k.c_m * k.dt * k.force_weight;
@@ -566,14 +566,12 @@ impl<'m> ImplicitSolver<'m> {
     /// u_new moves by `delta` (free dofs, equation order). Returns the largest correction
     /// and the largest displacement increment of the step.
     fn move_iterate(&mut self, delta: &[f64]) -> (f64, f64) {
-        let (mut corr, mut size) = (0.0f64, 0.0f64);
-        for (&x, &d) in delta.iter().zip(&self.asm.dof_of) {
-            let d = d as usize;
-            self.work.u_new[d] += x;
-            corr = corr.max(x.abs());
-            size = size.max((self.work.u_new[d] - self.u[d]).abs());
-        }
-        (corr, size)
+        let moves = delta.iter().zip(&self.asm.dof_of);
+        move_dofs(
+            &mut self.work.u_new,
+            &self.u,
+            moves.map(|(&x, &d)| (d as usize, x)),
+        )
     }
 
     /// One solve of the effective equation for the change of the contact forces since the
@@ -979,6 +977,22 @@ fn driven_velocity(model: &Model, itf: &crate::model::Interface, v: &[f64]) -> O
     let b = 3 * node as usize;
     (model.rigid[body].motion == crate::scene::RigidMotion::Prescribed)
         .then(|| [v[b], v[b + 1], v[b + 2]])
+}
+
+/// `u_new` moves by x at each (dof, x) of `moves`. Returns the largest move and the largest
+/// displacement increment from `u` among the dofs moved.
+fn move_dofs(
+    u_new: &mut [f64],
+    u: &[f64],
+    moves: impl Iterator<Item = (usize, f64)>,
+) -> (f64, f64) {
+    let (mut corr, mut size) = (0.0f64, 0.0f64);
+    for (d, x) in moves {
+        u_new[d] += x;
+        corr = corr.max(x.abs());
+        size = size.max((u_new[d] - u[d]).abs());
+    }
+    (corr, size)
 }
 
 fn dot_slices(a: &[f64], b: &[f64]) -> f64 {
