@@ -25,7 +25,9 @@
 //! step. Several ranks on one card show what the exchange and the two submissions a step
 //! cost.
 //! `-- --gpu --floor N` refines it (800 N^3 elements per rank; N = 2 by default, 1 with
-//! `--quick`).
+//! `--quick`); `-- --gpu --floor-only` runs that table alone.
+//!
+//! `-- --ranks 1,2,8` runs those rank counts in place of the default ones.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -208,6 +210,9 @@ fn main() {
         ranks.push(p);
         p *= 2;
     }
+    if let Some(list) = rank_list(&args) {
+        ranks = list;
+    }
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench_ranks");
     let gpu = args.iter().any(|a| a == "--gpu");
     let device = if gpu { "gpu" } else { "cpu" };
@@ -216,6 +221,13 @@ fn main() {
     } else {
         "explicit CPU path, one thread per rank"
     };
+    let floor = (args.iter().position(|a| a == "--floor"))
+        .and_then(|i| args.get(i + 1)?.parse().ok())
+        .unwrap_or(n.max(2) - usize::from(quick));
+    if gpu && args.iter().any(|a| a == "--floor-only") {
+        floor_table(&ranks, floor, &dir);
+        return;
+    }
     println!("weak scaling, {path} ({cores} cores here)");
     println!(
         "| ranks | elements | per rank | steps | ms per step | ns per element-step | communication | contact ms per step | engine |"
@@ -257,10 +269,21 @@ fn main() {
         );
     }
     if gpu {
-        let floor = (args.iter().position(|a| a == "--floor"))
-            .and_then(|i| args.get(i + 1)?.parse().ok())
-            .unwrap_or(n.max(2) - usize::from(quick));
         floor_table(&ranks, floor, &dir);
+    }
+}
+
+/// `-- --ranks 1,2,8`: the rank counts to run, in that order (none where the option is
+/// absent; the bench stops, naming the value, where it is not a list of counts).
+fn rank_list(args: &[String]) -> Option<Vec<usize>> {
+    let at = args.iter().position(|a| a == "--ranks")?;
+    let value = args.get(at + 1).map_or("", String::as_str);
+    let list: Option<Vec<usize>> = (value.split(','))
+        .map(|r| r.trim().parse().ok().filter(|&r| r > 0))
+        .collect();
+    match list {
+        Some(l) if !l.is_empty() => Some(l),
+        _ => panic!("--ranks {value:?}: expected rank counts such as 1,2,4"),
     }
 }
 

@@ -9,6 +9,10 @@
 #   bash scripts/device_check.sh device    # there, with carry [".gl", ".gpu"]
 #   bash scripts/device_check.sh pack-bench LABEL   # here: this build's explicit_step bench
 #   bash scripts/device_check.sh bench ARGS         # there: every packed bench with ARGS
+#   bash scripts/device_check.sh pack-ranks         # here: OpenMPI's runtime (.gl/mpi/),
+#                                                   # impact with MPI and the ranks bench
+#   bash scripts/device_check.sh ranks ARGS         # there: the ranks bench with ARGS, e.g.
+#                                                   # --gpu --floor-only --floor 8 --ranks 1,2
 #
 # The test binaries look for scenes at the path they were built in, so the device unpacks the
 # project there.
@@ -16,17 +20,30 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 tests=(gpu_contact gpu_kernels gpu_runs gpu_explicit rigid_bodies drop_weight)
 
-prepare() {
+# Downloads Debian packages (amd64) into folder $1 of .gl/, which git ignores.
+download() {
+    local folder=.gl/$1
+    shift
     cd "$here"
-    if [ ! -d .gl ]; then
-        grep -qx '/.gl/' .git/info/exclude || printf '/.gl/\n/.gpu/\n' >> .git/info/exclude
-        mkdir -p .gl /tmp/amd64/partial
-        o='-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/amd64'
-        # shellcheck disable=SC2086
-        apt-get $o update >/dev/null
-        # shellcheck disable=SC2086
-        (cd .gl && apt-get $o download libvulkan1 libegl1 libglvnd0 libopengl0 libgl1 libglx0 libgles2)
+    grep -qx '/.gl/' .git/info/exclude || printf '/.gl/\n/.gpu/\n' >> .git/info/exclude
+    mkdir -p "$folder" /tmp/amd64/partial
+    o='-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/amd64'
+    # shellcheck disable=SC2086
+    apt-get $o update >/dev/null
+    # shellcheck disable=SC2086
+    (cd "$folder" && apt-get $o download "$@")
+}
+
+# The Vulkan loader and GL libraries the device machine lacks (.gl/*.deb).
+loader() {
+    if ! ls "$here"/.gl/libvulkan1_*.deb >/dev/null 2>&1; then
+        download . libvulkan1 libegl1 libglvnd0 libopengl0 libgl1 libglx0 libgles2
     fi
+}
+
+prepare() {
+    loader
+    cd "$here"
     cargo build --release --all-targets
     rm -rf .gpu && mkdir -p .gpu/bin
     for t in "${tests[@]}"; do
@@ -110,10 +127,69 @@ bench() {
     done
 }
 
+# OpenMPI 4.1's runtime on Debian 12 and what it needs beyond a base system (libc6,
+# libstdc++6 and the packages of priority required or important); no ssh client: one node
+# launches its ranks itself (OMPI_MCA_plm=isolated).
+mpi_packages=(openmpi-bin openmpi-common libopenmpi3 libpmix2 libevent-core-2.1-7
+    libevent-pthreads-2.1-7 libhwloc15 libhwloc-plugins libfabric1 libibverbs1
+    ibverbs-providers librdmacm1 libnl-3-200 libnl-route-3-200 libucx0 libpsm2-2
+    libpsm-infinipath1 libmunge2 libnuma1 libatomic1 libpciaccess0 libudev1 libuuid1
+    libxml2 libicu72 libx11-6 libx11-data libxau6 libxcb1 libxdmcp6 libxext6 libxnvctrl0
+    ocl-icd-libopencl1 libbsd0 libmd0 liblzma5 zlib1g)
+
+# Packs OpenMPI's runtime packages (.gl/mpi/), and impact built with MPI and the ranks bench
+# (.gpu/ranks.tgz): the bench runs `mpirun ... impact run` at the path it was built in.
+pack_ranks() {
+    loader
+    download mpi "${mpi_packages[@]}"
+    cd "$here"
+    cargo build --release --features mpi --bench ranks --bin impact
+    rm -rf .gpu/ranks && mkdir -p .gpu/ranks
+    f=$(ls -t target/release/deps/ranks-* | grep -v '\.d$' | head -1)
+    strip -o .gpu/ranks/ranks "$f"
+    strip -o .gpu/ranks/impact target/release/impact
+    tar czf .gpu/ranks.tgz -C .gpu ranks && rm -rf .gpu/ranks
+    du -sh .gl/mpi .gpu/ranks.tgz
+}
+
+# Installs the packed MPI runtime where it is missing (files already there are kept), and
+# the `mpirun` link its package's setup would make.
+install_mpi() {
+    staging=$(mktemp -d)
+    for f in "$here"/.gl/mpi/*.deb; do dpkg -x "$f" "$staging"; done
+    # (merged /usr: /lib is a link to usr/lib, which stays)
+    tar -C "$staging" -cf - . | tar -C / -xf - --skip-old-files --keep-directory-symlink
+    # the links their packages' setup scripts make
+    [ -e /usr/bin/mpirun ] || ln -s orterun /usr/bin/mpirun
+    psm=/usr/lib/x86_64-linux-gnu/libpsm_infinipath.so.1
+    [ -e $psm ] || ln -s /usr/lib/libpsm1/libpsm_infinipath.so.1.16 $psm
+    ldconfig
+}
+
+# Runs the ranks bench with the arguments given, its tables into $OUT/ranks.md.
+ranks() {
+    for f in "$here"/.gl/*.deb; do dpkg -x "$f" /; done
+    install_mpi
+    export VK_DRIVER_FILES=${VK_DRIVER_FILES:-/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json}
+    # no ssh: one node launches its ranks itself
+    export WGPU_BACKEND=vulkan OMPI_MCA_plm=isolated
+    export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+    final=${OUT:-/tmp/out}
+    mkdir -p "$final"
+    bin=$(mktemp -d)
+    tar xzf "$here"/.gpu/ranks.tgz -C "$bin"
+    mkdir -p "$here"/target/release "$here"/target/tmp
+    cp "$bin"/ranks/impact "$here"/target/release/impact
+    cd "$here"
+    "$bin"/ranks/ranks "$@" 2>&1 | tee "$final"/ranks.md
+}
+
 case "${1:-}" in
 prepare) prepare ;;
 device) device ;;
 pack-bench) pack_bench "${2:-}" ;;
 bench) shift; bench "$@" ;;
-*) echo "usage: $0 prepare|device|pack-bench LABEL|bench ARGS" >&2; exit 2 ;;
+pack-ranks) pack_ranks ;;
+ranks) shift; ranks "$@" ;;
+*) echo "usage: $0 prepare|device|pack-bench LABEL|bench ARGS|pack-ranks|ranks ARGS" >&2; exit 2 ;;
 esac
