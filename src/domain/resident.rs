@@ -38,11 +38,12 @@ use super::resident_contact::SurfaceContact;
 use super::subdomain::Subdomain;
 use crate::error::{ImpactError, Result};
 use crate::gpu::buffer::padded_bytes;
+use crate::gpu::rank_surface::SurfaceState;
 use crate::gpu::{GpuContext, ResidentSetup, ResidentStep};
 use crate::integrate::integrator::ENGINE_GPU_RESIDENT;
 use crate::integrate::resident::{self, planes_only, ResidentState, Row, RowReader};
 use crate::integrate::{
-    ContactReport, Decomposed, Decomposition, Energies, Integrator, Piece, ProbeValues,
+    ContactReport, Decomposed, Decomposition, Energies, Integrator, Piece, Pipelined, ProbeValues,
     SolverState, StepReport,
 };
 use crate::kernels::explicit_correct::FIELDS;
@@ -285,6 +286,21 @@ pub struct RankResident<'m> {
     received: Vec<f64>,
     piece: Model,
     communication: std::cell::Cell<f64>,
+    /// The next step's first part, where the last step's submission ran it.
+    ahead: Option<Ahead>,
+    checkpoint_every: Option<usize>,
+    /// The run stops: no step runs ahead any more.
+    stopping: bool,
+}
+
+/// The first part of a rank's next step, run in the submission of the step before (its
+/// correctors and history row) where the run reads no state between the two.
+enum Ahead {
+    /// The next step's chosen corners (rigid planes as the only contacts).
+    Corners(Vec<[f32; 3]>),
+    /// The state of the surface nodes after the next step's predictor (contact on the
+    /// surfaces).
+    Front(SurfaceState),
 }
 
 impl<'m> RankResident<'m> {
@@ -401,6 +417,9 @@ impl<'m> RankResident<'m> {
             results,
             piece,
             communication: std::cell::Cell::new(0.0),
+            ahead: None,
+            checkpoint_every: None,
+            stopping: false,
         })
     }
 
@@ -582,6 +601,37 @@ impl<'m> RankResident<'m> {
     fn at_frame(&self, step: usize) -> bool {
         self.frame_every.is_some_and(|e| step % e == 0)
     }
+
+    /// Whether the submission that ends step `s` also runs step `s + 1`'s first part: not
+    /// into the run's last step (it may be shortened, and the state is read after it), not
+    /// at a frame or a checkpoint (the state is read there), and not once the run stops.
+    fn runs_ahead(&self, s: usize) -> bool {
+        !self.stopping
+            && s + 1 < self.total
+            && !self.at_frame(s)
+            && self.checkpoint_every.is_none_or(|e| s % e != 0)
+    }
+
+    /// The correctors and history row of the step that `sums` complete, and where
+    /// [`Self::runs_ahead`] the next step's first part in the same submission (one wait for
+    /// the device, where there were two; the same operations on the same values).
+    fn correct(&mut self, sums: &[[f32; 3]]) -> Result<Vec<f32>> {
+        if !self.runs_ahead(self.steps + 1) {
+            return self.engine.step_correct(sums);
+        }
+        let (row, ahead) = match self.surface {
+            None => {
+                let (row, corners) = self.engine.step_correct_then_forces(sums)?;
+                (row, Ahead::Corners(corners))
+            }
+            Some(_) => {
+                let (row, state) = self.engine.step_correct_then_front(sums)?;
+                (row, Ahead::Front(state))
+            }
+        };
+        self.ahead = Some(ahead);
+        Ok(row)
+    }
 }
 
 impl Integrator for RankResident<'_> {
@@ -618,11 +668,18 @@ impl Integrator for RankResident<'_> {
     /// correctors and the history row added over the ranks; at a frame step the state is
     /// read back.
     fn step(&mut self) -> Result<StepReport> {
+        let ahead = self.ahead.take();
         let chosen = match &mut self.surface {
-            None => self.engine.step_forces()?,
+            None => match ahead {
+                Some(Ahead::Corners(chosen)) => chosen,
+                _ => self.engine.step_forces()?,
+            },
             Some(surface) => {
                 let clock = std::time::Instant::now();
-                let mine = self.engine.step_front()?;
+                let mine = match ahead {
+                    Some(Ahead::Front(state)) => state,
+                    _ => self.engine.step_front()?,
+                };
                 let talk = Timed {
                     ranks: self.ranks,
                     seconds: &self.communication,
@@ -640,7 +697,7 @@ impl Integrator for RankResident<'_> {
         };
         exchange_corners(&talk, &self.sub, &sends, &mut self.received);
         let sums = self.sub.shared_sums(&chosen, &self.received);
-        let row = self.engine.step_correct(&sums)?;
+        let row = self.correct(&sums)?;
         let row = self.model_row(&row);
         self.steps += 1;
         let reader = RowReader {
@@ -748,6 +805,12 @@ impl Integrator for RankResident<'_> {
     /// The single GPU's resident state at this step (its device buffers' words), gathered
     /// on rank 0 from the nodes and plane nodes each rank owns.
     fn checkpoint_state(&mut self) -> Result<Option<SolverState>> {
+        if self.ahead.is_some() {
+            return Err(ImpactError::Gpu(format!(
+                "the resident state is read at rest only (step {}, the next one begun)",
+                self.steps
+            )));
+        }
         let words = self.engine.read_step_state()?;
         let layout = self.state_layout(true);
         let mut buffers = Vec::with_capacity(words.len());
@@ -873,6 +936,27 @@ impl Integrator for RankResident<'_> {
 
     fn decomposed_mut(&mut self) -> Option<&mut dyn Decomposed> {
         Some(self)
+    }
+
+    fn pipelined(&mut self) -> Option<&mut dyn Pipelined> {
+        Some(self)
+    }
+}
+
+impl Pipelined for RankResident<'_> {
+    /// The checkpoint interval: the state is read there, so no step runs ahead into the
+    /// next (the shortened last step never has a step run ahead into it).
+    fn schedule(&mut self, _last_step: Option<f64>, checkpoint_every: Option<usize>) {
+        self.checkpoint_every = checkpoint_every.map(|e| e.max(1));
+    }
+
+    /// No step runs ahead any more: the one begun, if any, is the last handed out.
+    fn stop_submitting(&mut self) {
+        self.stopping = true;
+    }
+
+    fn at_rest(&self) -> bool {
+        self.ahead.is_none()
     }
 }
 

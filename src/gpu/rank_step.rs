@@ -5,7 +5,6 @@ use super::buffer::{submit_and_read, submit_and_read_parts};
 use super::rank_exchange::RankExchange;
 use super::rank_surface::{RankSurface, SurfaceState};
 use super::resident_step::ResidentStep;
-use super::types::Split3;
 use crate::error::{ImpactError, Result};
 
 impl ResidentStep {
@@ -47,30 +46,10 @@ impl ResidentStep {
             self.dispatch_front(&mut pass);
             s.dispatch_select(&mut pass);
         }
-        let c = s.owned;
-        let parts = [
-            (&s.bounds.buffer, 1),
-            (&s.selected[0].buffer, 6 * c),
-            (&s.selected[1].buffer, 3 * c),
-            (&s.selected[2].buffer, 3 * c),
-        ];
+        let parts = s.state_parts();
         let k = &mut self.k;
         let out: Vec<f32> = submit_and_read_parts(&k.ctx, &mut k.staging, enc, &parts)?;
-        let (speed, rest) = out.split_at(1);
-        let (u, rest) = rest.split_at(6 * c);
-        let (v, a) = rest.split_at(3 * c);
-        let three = |x: &[f32]| x.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-        Ok(SurfaceState {
-            speed: speed[0].to_bits(),
-            u: (u.chunks_exact(6))
-                .map(|c| Split3 {
-                    hi: [c[0], c[1], c[2]],
-                    lo: [c[3], c[4], c[5]],
-                })
-                .collect(),
-            v: three(v),
-            a: three(a),
-        })
+        Ok(s.state_of(&out))
     }
 
     /// The rest of a rank's step before the exchange, after [`Self::step_front`]: the held
@@ -120,6 +99,79 @@ impl ResidentStep {
     /// The rest of a rank's step: the shared nodes' `sums` over the gathered forces, the
     /// correctors and the history row; returns the row (waits for the device).
     pub fn step_correct(&mut self, sums: &[[f32; 3]]) -> Result<Vec<f32>> {
+        let enc = self.correct_encoder(sums, |_, _| {})?;
+        let rows = &self.history.rows.buffer;
+        let len = self.history.row_len;
+        let k = &mut self.k;
+        submit_and_read(&k.ctx, &mut k.staging, enc, rows, len)
+    }
+
+    /// [`Self::step_correct`], then in the same submission the next step's
+    /// [`Self::step_forces`] (rigid planes as the only contacts): returns the row and the
+    /// next step's chosen corners (one wait for the device where there were two). The
+    /// caller reads no state between the two steps: the device is then past the
+    /// predictor of the next one.
+    pub fn step_correct_then_forces(
+        &mut self,
+        sums: &[[f32; 3]],
+    ) -> Result<(Vec<f32>, Vec<[f32; 3]>)> {
+        let enc = self.correct_encoder(sums, |step, pass| {
+            step.dispatch_front(pass);
+            step.dispatch_forces(pass);
+            if let Some(x) = &step.exchange {
+                x.dispatch_select(&step.k, pass);
+            }
+        })?;
+        let Some(x) = &self.exchange else {
+            return Err(ImpactError::Gpu("step_correct: no exchange".into()));
+        };
+        let len = self.history.row_len;
+        let parts = [
+            (&self.history.rows.buffer, len),
+            (x.selection.chosen_buffer(), 3 * x.selection.count()),
+        ];
+        let k = &mut self.k;
+        let out: Vec<f32> = submit_and_read_parts(&k.ctx, &mut k.staging, enc, &parts)?;
+        let (row, corners) = out.split_at(len);
+        let corners = corners.chunks_exact(3).map(|c| [c[0], c[1], c[2]]);
+        Ok((row.to_vec(), corners.collect()))
+    }
+
+    /// [`Self::step_correct`], then in the same submission the next step's
+    /// [`Self::step_front`] (contact on the surfaces): returns the row and the next step's
+    /// surface state (one wait for the device where there were two). The caller reads no
+    /// state between the two steps.
+    pub fn step_correct_then_front(
+        &mut self,
+        sums: &[[f32; 3]],
+    ) -> Result<(Vec<f32>, SurfaceState)> {
+        let enc = self.correct_encoder(sums, |step, pass| {
+            step.dispatch_front(pass);
+            if let Some(s) = &step.surface {
+                s.dispatch_select(pass);
+            }
+        })?;
+        let Some(s) = &self.surface else {
+            return Err(ImpactError::Gpu(
+                "step_correct_then_front: no surface".into(),
+            ));
+        };
+        let len = self.history.row_len;
+        let [a, b, c, d] = s.state_parts();
+        let parts = [(&self.history.rows.buffer, len), a, b, c, d];
+        let k = &mut self.k;
+        let out: Vec<f32> = submit_and_read_parts(&k.ctx, &mut k.staging, enc, &parts)?;
+        let (row, state) = out.split_at(len);
+        Ok((row.to_vec(), s.state_of(state)))
+    }
+
+    /// An encoder with the shared nodes' `sums` written over the gathered forces, the
+    /// correctors and the history row, and then whatever `next` records, in one compute pass.
+    fn correct_encoder(
+        &self,
+        sums: &[[f32; 3]],
+        next: impl FnOnce(&Self, &mut wgpu::ComputePass),
+    ) -> Result<wgpu::CommandEncoder> {
         let Some(x) = &self.exchange else {
             return Err(ImpactError::Gpu("step_correct: no exchange".into()));
         };
@@ -132,10 +184,8 @@ impl ResidentStep {
             });
             x.dispatch_sums(&mut pass);
             self.dispatch_row(&mut pass, 0);
+            next(self, &mut pass);
         }
-        let rows = &self.history.rows.buffer;
-        let len = self.history.row_len;
-        let k = &mut self.k;
-        submit_and_read(&k.ctx, &mut k.staging, enc, rows, len)
+        Ok(enc)
     }
 }

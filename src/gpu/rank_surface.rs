@@ -125,6 +125,38 @@ impl RankSurface {
         }
     }
 
+    /// What [`Self::dispatch_select`] leaves for the read-back, in its order: the speed
+    /// bits, then the owned nodes' split displacements, velocities and accelerations.
+    pub(super) fn state_parts(&self) -> [(&wgpu::Buffer, usize); 4] {
+        let c = self.owned;
+        [
+            (&self.bounds.buffer, 1),
+            (&self.selected[0].buffer, 6 * c),
+            (&self.selected[1].buffer, 3 * c),
+            (&self.selected[2].buffer, 3 * c),
+        ]
+    }
+
+    /// The state read back from [`Self::state_parts`].
+    pub(super) fn state_of(&self, out: &[f32]) -> SurfaceState {
+        let c = self.owned;
+        let (speed, rest) = out.split_at(1);
+        let (u, rest) = rest.split_at(6 * c);
+        let (v, a) = rest.split_at(3 * c);
+        let three = |x: &[f32]| x.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        SurfaceState {
+            speed: speed[0].to_bits(),
+            u: (u.chunks_exact(6))
+                .map(|c| Split3 {
+                    hi: [c[0], c[1], c[2]],
+                    lo: [c[3], c[4], c[5]],
+                })
+                .collect(),
+            v: three(v),
+            a: three(a),
+        }
+    }
+
     /// Writes the held surface nodes' velocities (one per held node, in order) for the next
     /// [`Self::dispatch_scatter`].
     pub(super) fn write_velocities(&self, k: &GpuKernels, v: &[[f32; 3]]) -> Result<()> {
