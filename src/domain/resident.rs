@@ -270,7 +270,9 @@ pub struct RankResident<'m> {
     /// only contacts), and its history columns of the step.
     surface: Option<SurfaceContact>,
     contact_row: Vec<f32>,
-    /// Seconds in the contact on the surfaces (its read-back and gather included).
+    /// Seconds in the contact on the surfaces: the surface state's read-back (where not run
+    /// ahead), its gather, and the submission that runs the iteration with the rank's
+    /// element forces.
     contact_seconds: f64,
     /// Where plies have strengths: the model's survey number of each point the rank's
     /// device surveys (its row ends with their record).
@@ -342,7 +344,8 @@ impl<'m> RankResident<'m> {
                     let device = |l: &[u32]| -> Vec<u32> {
                         l.iter().map(|&l| order.device_of[l as usize]).collect()
                     };
-                    engine.surface_with(&device(&owned), &device(&held))?;
+                    let nodes = (device(&owned), device(&held));
+                    engine.surface_with((&nodes.0, &nodes.1), &c.step, &c.held_places())?;
                     Ok(c)
                 });
                 Some(agree(ranks, built).map_err(|why| {
@@ -684,10 +687,11 @@ impl Integrator for RankResident<'_> {
                     ranks: self.ranks,
                     seconds: &self.communication,
                 };
-                let (v, row) = surface.step(&talk, &mine)?;
+                surface.gather(&talk, &mine)?;
+                let (row, chosen) = self.engine.step_surface_forces(&mut surface.step)?;
                 self.contact_row = row;
                 self.contact_seconds += clock.elapsed().as_secs_f64();
-                self.engine.step_forces_with(&v)?
+                chosen
             }
         };
         let sends = self.sub.sends(&chosen);

@@ -6,8 +6,9 @@
 //! owns (split displacement, velocity, acceleration) and its nodes' fastest speed; one
 //! gather gives every rank every surface node's state, and the fastest speed of the model
 //! (the single GPU's search reach). Every rank then runs the iteration on the same values,
-//! so each gets the single GPU's impulses, velocities and contact results, and takes back
-//! the velocities of the surface nodes it holds.
+//! so each gets the single GPU's impulses, velocities and contact results, and its device
+//! takes the velocities of the surface nodes it holds, in the same submission as its
+//! element forces.
 
 use std::ops::Range;
 
@@ -84,14 +85,10 @@ impl SurfaceContact {
         Ok((contact, owned_local, held_local))
     }
 
-    /// The step's contact from the rank's owned surface nodes' state (`mine`, as its device
-    /// read them back): the velocities of the surface nodes it holds, in order, and the
-    /// interfaces' history columns.
-    pub(super) fn step(
-        &mut self,
-        talk: &Timed,
-        mine: &SurfaceState,
-    ) -> Result<(Vec<[f32; 3]>, Vec<f32>)> {
+    /// Gives the surface step every surface node's state from the rank's owned surface
+    /// nodes' (`mine`, as its device read them back) and the other ranks': its iteration
+    /// then runs in the rank's submission (`ResidentStep::step_surface_forces`).
+    pub(super) fn gather(&mut self, talk: &Timed, mine: &SurfaceState) -> Result<()> {
         let speed = talk.talk(|r| r.max(f64::from(f32::from_bits(mine.speed))));
         let mut records = Vec::with_capacity(RECORD * self.owned.len());
         for (j, &s) in self.owned.iter().enumerate() {
@@ -119,7 +116,12 @@ impl SurfaceContact {
             state.v[s] = [f(7), f(8), f(9)];
             state.a[s] = [f(10), f(11), f(12)];
         }
-        let (v, row) = self.step.step(&state)?;
-        Ok((self.held.iter().map(|&s| v[s]).collect(), row))
+        self.step.take_state(&state)
+    }
+
+    /// Each held surface node's place in the surface model (the order the rank's device
+    /// numbers them in [`Self::new`]'s held list).
+    pub(super) fn held_places(&self) -> Vec<u32> {
+        self.held.iter().map(|&s| s as u32).collect()
     }
 }

@@ -246,7 +246,8 @@ impl GpuKernels {
     ) -> Result<(Vec<f64>, Vec<f64>)> {
         self.upload_nodal(false, u)?;
         self.upload_velocity(v)?;
-        let surface = RankSurface::new(self, &self.forces.buffer, owned, &[])?;
+        let none = (&self.forces.buffer, &[][..]);
+        let surface = RankSurface::new(self, &self.forces.buffer, (owned, &[]), none)?;
         for s in &surface.selected {
             s.fill_nan(&self.ctx, s.capacity);
         }

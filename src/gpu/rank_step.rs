@@ -5,6 +5,7 @@ use super::buffer::{submit_and_read, submit_and_read_parts};
 use super::rank_exchange::RankExchange;
 use super::rank_surface::{RankSurface, SurfaceState};
 use super::resident_step::ResidentStep;
+use super::surface_step::SurfaceStep;
 use crate::error::{ImpactError, Result};
 
 impl ResidentStep {
@@ -22,12 +23,19 @@ impl ResidentStep {
         Ok(())
     }
 
-    /// Makes the rank take part in the contact iteration on the surfaces:
-    /// [`Self::step_front`] reads back the state of the surface nodes it owns (`owned`) and
-    /// [`Self::step_forces_with`] takes the velocities of those it holds (`held`), by the
-    /// device's node numbers.
-    pub fn surface_with(&mut self, owned: &[u32], held: &[u32]) -> Result<()> {
-        self.surface = Some(RankSurface::new(&self.k, &self.m.a.buffer, owned, held)?);
+    /// Makes the rank take part in the contact iteration on the surfaces, `surface` on
+    /// this step's device: [`Self::step_front`] reads back the state of the surface nodes it
+    /// owns (`owned`) and [`Self::step_surface_forces`] takes the velocities of those it
+    /// holds (`held`), by the device's node numbers, from their `places` in `surface`.
+    pub fn surface_with(
+        &mut self,
+        (owned, held): (&[u32], &[u32]),
+        surface: &SurfaceStep,
+        places: &[u32],
+    ) -> Result<()> {
+        let v = surface.velocity_buffer();
+        let s = RankSurface::new(&self.k, &self.m.a.buffer, (owned, held), (v, places))?;
+        self.surface = Some(s);
         Ok(())
     }
 
@@ -52,27 +60,41 @@ impl ResidentStep {
         Ok(s.state_of(&out))
     }
 
-    /// The rest of a rank's step before the exchange, after [`Self::step_front`]: the held
-    /// surface nodes take the velocities `v` the iteration gave them, then the drift and the
-    /// internal forces; returns the chosen corners' forces (waits for the device).
-    pub fn step_forces_with(&mut self, v: &[[f32; 3]]) -> Result<Vec<[f32; 3]>> {
+    /// The rest of a rank's step before the exchange, after [`Self::step_front`] and the
+    /// surface step's [`SurfaceStep::take_state`]: the surface step's contact iteration, the
+    /// held surface nodes' velocities taken from it, then the drift and the internal forces,
+    /// in one submission; returns the interfaces' history columns (counted by the surface
+    /// step) and the chosen corners' forces (waits for the device).
+    pub fn step_surface_forces(
+        &mut self,
+        surface: &mut SurfaceStep,
+    ) -> Result<(Vec<f32>, Vec<[f32; 3]>)> {
         let Some(s) = &self.surface else {
-            return Err(ImpactError::Gpu("step_forces_with: no surface".into()));
+            return Err(ImpactError::Gpu("step_surface_forces: no surface".into()));
         };
-        s.write_velocities(&self.k, v)?;
-        self.forces_then_select(true)
+        let enc = self.forces_encoder(|pass| {
+            surface.dispatch(pass);
+            s.dispatch_scatter(pass);
+        })?;
+        let (row, corners) = self.read_with_corners(enc, Some(surface.row_part()))?;
+        surface.tally(&row);
+        Ok((row, corners))
     }
 
     /// The first part of a rank's step: the predictor, the rigid planes, the drift and the
     /// internal forces of the rank's elements; returns the chosen corners' forces as the
     /// device computed them (waits for the device).
     pub fn step_forces(&mut self) -> Result<Vec<[f32; 3]>> {
-        self.forces_then_select(false)
+        let enc = self.forces_encoder(|pass| self.dispatch_front(pass))?;
+        Ok(self.read_with_corners(enc, None)?.1)
     }
 
-    /// The predictor and planes (unless `after_front`: the surface nodes' velocities
-    /// instead), the drift, the internal forces and the exchanged corners read back.
-    fn forces_then_select(&mut self, after_front: bool) -> Result<Vec<[f32; 3]>> {
+    /// An encoder with what `first` records, then the drift, the internal forces and the
+    /// exchanged corners' packing, in one compute pass.
+    fn forces_encoder(
+        &self,
+        first: impl FnOnce(&mut wgpu::ComputePass),
+    ) -> Result<wgpu::CommandEncoder> {
         let Some(x) = &self.exchange else {
             return Err(ImpactError::Gpu("step_forces: no exchange".into()));
         };
@@ -82,18 +104,31 @@ impl ResidentStep {
                 label: Some("rank_step_forces"),
                 timestamp_writes: None,
             });
-            match (after_front, &self.surface) {
-                (true, Some(s)) => s.dispatch_scatter(&mut pass),
-                _ => self.dispatch_front(&mut pass),
-            }
+            first(&mut pass);
             self.dispatch_forces(&mut pass);
             x.dispatch_select(&self.k, &mut pass);
         }
-        let count = x.selection.count();
-        let source = x.selection.chosen_buffer();
+        Ok(enc)
+    }
+
+    /// Submits `enc` and reads back `part` (if any), then the exchanged corners (one wait
+    /// for the device).
+    fn read_with_corners(
+        &mut self,
+        enc: wgpu::CommandEncoder,
+        part: Option<(&wgpu::Buffer, usize)>,
+    ) -> Result<(Vec<f32>, Vec<[f32; 3]>)> {
+        let Some(x) = &self.exchange else {
+            return Err(ImpactError::Gpu("step_forces: no exchange".into()));
+        };
+        let corners = (x.selection.chosen_buffer(), 3 * x.selection.count());
+        let parts: Vec<_> = part.into_iter().chain([corners]).collect();
+        let len = part.map_or(0, |p| p.1);
         let k = &mut self.k;
-        let out: Vec<f32> = submit_and_read(&k.ctx, &mut k.staging, enc, source, 3 * count)?;
-        Ok(out.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+        let out: Vec<f32> = submit_and_read_parts(&k.ctx, &mut k.staging, enc, &parts)?;
+        let (head, corners) = out.split_at(len);
+        let corners = corners.chunks_exact(3).map(|c| [c[0], c[1], c[2]]);
+        Ok((head.to_vec(), corners.collect()))
     }
 
     /// The rest of a rank's step: the shared nodes' `sums` over the gathered forces, the

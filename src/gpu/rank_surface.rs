@@ -4,7 +4,8 @@
 //! (`shaders/node_select.wgsl`, twin [`crate::kernels::node_select`]), its nodes' fastest
 //! speed (`search_bounds` over its nodes alone: the single GPU's search reach takes the
 //! fastest node of the model), and the velocities the iteration gave the surface nodes it
-//! holds, written back (`node_scatter`).
+//! holds, taken from the surface step's buffer on the same device (`node_select`) and
+//! written over the step's (`node_scatter`).
 
 use super::buffer::Storage;
 use super::engine::{at_least_one, bytes_of, GpuKernels};
@@ -25,7 +26,7 @@ pub struct RankSurface {
     select_launches: [Launch; 3],
     zero_launch: Launch,
     speed_launch: Launch,
-    values: Storage,
+    take_launch: Launch,
     scatter_launch: Launch,
     pub(super) owned: usize,
     held: usize,
@@ -36,17 +37,26 @@ pub struct RankSurface {
 impl RankSurface {
     /// The surface nodes the rank owns (`owned`, whose state it reads back) and holds
     /// (`held`, whose velocities it takes back), by `k`'s node numbers, and `acceleration`,
-    /// the step's acceleration buffer.
+    /// the step's acceleration buffer; `surface`: the surface step's velocities (a buffer of
+    /// `k`'s device) and each held node's place among them.
     pub fn new(
         k: &GpuKernels,
         acceleration: &wgpu::Buffer,
-        owned: &[u32],
-        held: &[u32],
+        (owned, held): (&[u32], &[u32]),
+        (surface, places): (&wgpu::Buffer, &[u32]),
     ) -> Result<Self> {
         if let Some(&n) = owned.iter().chain(held).find(|&&n| n as usize >= k.nodes) {
             return Err(ImpactError::Gpu(format!(
                 "surface node {n} of a mesh of {} nodes",
                 k.nodes
+            )));
+        }
+        let surface_nodes = surface.size() / 12;
+        if places.len() != held.len() || places.iter().any(|&p| u64::from(p) >= surface_nodes) {
+            return Err(ImpactError::Gpu(format!(
+                "{} places among {surface_nodes} surface nodes for {} held nodes",
+                places.len(),
+                held.len()
             )));
         }
         let ctx = &k.ctx;
@@ -86,6 +96,9 @@ impl RankSurface {
             &boxes.buffer,
         );
         let values = Storage::new(ctx, "surface.values", bytes_of::<f32>(3 * held.len()))?;
+        let places = Storage::with_data(ctx, "surface.places", &at_least_one(places.to_vec()))?;
+        let h = held.len() as u32;
+        let take_launch = select.launch(ctx, h, 3, 0, &places.buffer, surface, &values.buffer);
         let scatter_launch = scatter.launch(
             ctx,
             held.len() as u32,
@@ -105,11 +118,12 @@ impl RankSurface {
             select_launches,
             zero_launch,
             speed_launch,
-            values,
+            take_launch,
             scatter_launch,
             owned: c,
             held: held.len(),
-            _buffers: vec![owned_list, held_list, none, boxes],
+            // (values: the held surface nodes' velocities as the surface step left them)
+            _buffers: vec![owned_list, held_list, none, boxes, places, values],
         })
     }
 
@@ -157,25 +171,11 @@ impl RankSurface {
         }
     }
 
-    /// Writes the held surface nodes' velocities (one per held node, in order) for the next
-    /// [`Self::dispatch_scatter`].
-    pub(super) fn write_velocities(&self, k: &GpuKernels, v: &[[f32; 3]]) -> Result<()> {
-        if v.len() != self.held {
-            return Err(ImpactError::Gpu(format!(
-                "{} velocities for {} held surface nodes",
-                v.len(),
-                self.held
-            )));
-        }
-        if self.held > 0 {
-            (k.ctx.queue).write_buffer(&self.values.buffer, 0, bytemuck::cast_slice(v));
-        }
-        Ok(())
-    }
-
-    /// Dispatches the held surface nodes' velocities over the step's.
+    /// Dispatches the held surface nodes' velocities, taken from the surface step's after
+    /// its iteration, over the step's.
     pub(super) fn dispatch_scatter(&self, pass: &mut wgpu::ComputePass) {
         if self.held > 0 {
+            self.select.0.dispatch(pass, &self.take_launch);
             self.scatter.0.dispatch(pass, &self.scatter_launch);
         }
     }

@@ -2,11 +2,11 @@
 //! alone, on a device of its own state: the surface model of a decomposed run
 //! (`domain::surface`), which every rank holds whole. Each step it takes the surface nodes'
 //! state after the predictor (gathered from their owners) and the model's fastest speed,
-//! runs the single GPU's iteration ([`ImpulseSweeps`]) and its report, reduces the
-//! interfaces' history columns as the single GPU's step does, and gives back the surface
-//! nodes' velocities.
+//! runs the single GPU's iteration ([`ImpulseSweeps`]) and its report, and reduces the
+//! interfaces' history columns as the single GPU's step does, in a rank's submission on the
+//! same device: the rank takes the velocities of its surface nodes from it there.
 
-use super::buffer::{read_back, submit_and_read_parts, Storage};
+use super::buffer::{read_back, Storage};
 use super::context::GpuContext;
 use super::engine::{at_least_one, bytes_of};
 use super::impulse_sweeps::{ContactSetup, ImpulseSweeps, StepBuffers};
@@ -129,10 +129,9 @@ impl SurfaceStep {
         })
     }
 
-    /// One step's contact from the surface nodes' state after the predictor (`state`, in
-    /// the surface model's node order, with the model's fastest speed): the surface nodes'
-    /// velocities after the iteration and the interfaces' history columns.
-    pub fn step(&mut self, state: &SurfaceState) -> Result<(Vec<[f32; 3]>, Vec<f32>)> {
+    /// Takes the surface nodes' state after the predictor (`state`, in the surface model's
+    /// node order, with the model's fastest speed) for the next [`Self::dispatch`].
+    pub fn take_state(&mut self, state: &SurfaceState) -> Result<()> {
         let n = self.nodes;
         if state.u.len() != n || state.v.len() != n || state.a.len() != n {
             return Err(ImpactError::Gpu(format!(
@@ -145,20 +144,31 @@ impl SurfaceStep {
         q.write_buffer(&self.v.buffer, 0, bytemuck::cast_slice(&state.v));
         q.write_buffer(&self.a.buffer, 0, bytemuck::cast_slice(&state.a));
         self.contact.set_speed_floor(&self.ctx, state.speed);
-        let mut enc = self.ctx.encoder("surface_contact");
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("surface_contact"),
-                timestamp_writes: None,
-            });
-            self.contact
-                .dispatch(&mut pass, self.sweeps, SearchMode::First);
-            self.reduce.0.dispatch(&mut pass, &self.reduce_launch);
-        }
-        let parts = [(&self.v.buffer, 3 * n), (&self.row.buffer, self.row_len)];
-        let out: Vec<f32> = submit_and_read_parts(&self.ctx, &mut self.staging, enc, &parts)?;
-        let (v, row) = out.split_at(3 * n);
-        // the sweeps the step needed (the largest of the interfaces'), and two more
+        Ok(())
+    }
+
+    /// Dispatches the step's contact iteration with its report and the interfaces' history
+    /// columns, after [`Self::take_state`]; the surface nodes' velocities are then in
+    /// [`Self::velocity_buffer`] and the columns in [`Self::row_part`].
+    pub fn dispatch(&self, pass: &mut wgpu::ComputePass) {
+        self.contact.dispatch(pass, self.sweeps, SearchMode::First);
+        self.reduce.0.dispatch(pass, &self.reduce_launch);
+    }
+
+    /// The surface nodes' velocities (3 per node, in the surface model's order).
+    pub fn velocity_buffer(&self) -> &wgpu::Buffer {
+        &self.v.buffer
+    }
+
+    /// The interfaces' history columns of the last [`Self::dispatch`], for a read-back.
+    pub fn row_part(&self) -> (&wgpu::Buffer, usize) {
+        (&self.row.buffer, self.row_len)
+    }
+
+    /// Counts a step whose columns (read back from [`Self::row_part`]) are `row`: the sweeps
+    /// recorded and needed, and the next step records the sweeps this one needed (the
+    /// largest of the interfaces') and two more.
+    pub fn tally(&mut self, row: &[f32]) {
         let needed = (row.chunks_exact(SLOT))
             .map(|q| q[slot::SWEEPS] as u32)
             .max()
@@ -167,8 +177,6 @@ impl SurfaceStep {
         self.needed += u64::from(needed);
         self.sorts += u64::from(self.contact.search.is_some());
         self.sweeps = (needed + 2).min(self.step_consts.max_iterations);
-        let v = v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-        Ok((v, row.to_vec()))
     }
 
     /// The contact results ([`SLOT`] per pair) as words: a step's state.
