@@ -319,7 +319,8 @@ impl<'m> RankResident<'m> {
     ) -> Result<Self> {
         let mut sub = Subdomain::new(model, partition, ranks.rank());
         let piece = sub.piece_model(model);
-        let (global, places) = resident::setup(model, settings, dt, speed_scale)?;
+        // the contact between meshed bodies is the surface model's (`SurfaceContact`)
+        let (global, places) = resident::setup_without_contact(model, settings, dt, speed_scale);
         let rigid = !model.rigid.is_empty();
         let built = Self::device_step(
             &mut sub,

@@ -177,6 +177,21 @@ pub fn setup(
     dt: f64,
     speed_scale: f64,
 ) -> Result<(ResidentSetup, Vec<Vec<usize>>)> {
+    let (mut setup, places) = setup_without_contact(model, settings, dt, speed_scale);
+    if !planes_only(model) {
+        setup.contact = Some(contact_setup(model)?);
+    }
+    Ok((setup, places))
+}
+
+/// [`setup`] without the contact iteration's inputs where the model has contact between
+/// meshed bodies (the ranks of a decomposed run work it on the surface model).
+pub fn setup_without_contact(
+    model: &Model,
+    settings: &ExplicitSettings,
+    dt: f64,
+    speed_scale: f64,
+) -> (ResidentSetup, Vec<Vec<usize>>) {
     let mass = lumped_mass(model);
     let nodes = model.mesh.node_count();
     let lumped: Vec<LumpedNode> = (0..nodes)
@@ -195,11 +210,8 @@ pub fn setup(
     let mut plane_nodes: Vec<PlaneNode> = Vec::new();
     // for each plane interface, each secondary node's place in `plane_nodes`
     let mut places = Vec::new();
-    let contact = match planes_only(model) {
-        true => None,
-        false => Some(contact_setup(model)?),
-    };
-    for itf in model.interfaces.iter().filter(|_| contact.is_none()) {
+    let planes_only = planes_only(model);
+    for itf in model.interfaces.iter().filter(|_| planes_only) {
         let Primary::Plane { point, normal } = itf.primary else {
             continue;
         };
@@ -247,10 +259,10 @@ pub fn setup(
         probes: model.probes.iter().map(|p| p.node).collect(),
         velocity,
         acceleration,
-        contact,
+        contact: None,
         survey: None,
     };
-    Ok((setup, places))
+    (setup, places)
 }
 
 /// The smallest contact tolerance the device iteration takes, relative to the speed scale:
