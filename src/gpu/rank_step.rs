@@ -2,6 +2,7 @@
 //! around the exchange of the shared nodes' corners ([`RankExchange`]).
 
 use super::buffer::{submit_and_read, submit_and_read_parts};
+use super::engine::GpuKernels;
 use super::rank_exchange::RankExchange;
 use super::rank_surface::{RankSurface, SurfaceState};
 use super::resident_step::ResidentStep;
@@ -76,7 +77,10 @@ impl ResidentStep {
             surface.dispatch(pass);
             s.dispatch_scatter(pass);
         })?;
-        let (row, corners) = self.read_with_corners(enc, Some(surface.row_part()))?;
+        let Some(x) = &self.exchange else {
+            return Err(ImpactError::Gpu("step_forces: no exchange".into()));
+        };
+        let (row, corners) = read_with_corners(&mut self.k, x, enc, Some(surface.row_part()))?;
         surface.tally(&row);
         Ok((row, corners))
     }
@@ -86,7 +90,10 @@ impl ResidentStep {
     /// device computed them (waits for the device).
     pub fn step_forces(&mut self) -> Result<Vec<[f32; 3]>> {
         let enc = self.forces_encoder(|pass| self.dispatch_front(pass))?;
-        Ok(self.read_with_corners(enc, None)?.1)
+        let Some(x) = &self.exchange else {
+            return Err(ImpactError::Gpu("step_forces: no exchange".into()));
+        };
+        Ok(read_with_corners(&mut self.k, x, enc, None)?.1)
     }
 
     /// An encoder with what `first` records, then the drift, the internal forces and the
@@ -95,9 +102,9 @@ impl ResidentStep {
         &self,
         first: impl FnOnce(&mut wgpu::ComputePass),
     ) -> Result<wgpu::CommandEncoder> {
-        let Some(x) = &self.exchange else {
+        if self.exchange.is_none() {
             return Err(ImpactError::Gpu("step_forces: no exchange".into()));
-        };
+        }
         let mut enc = self.k.ctx.encoder("rank_step_forces");
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -105,30 +112,17 @@ impl ResidentStep {
                 timestamp_writes: None,
             });
             first(&mut pass);
-            self.dispatch_forces(&mut pass);
-            x.dispatch_select(&self.k, &mut pass);
+            self.dispatch_forces_select(&mut pass);
         }
         Ok(enc)
     }
 
-    /// Submits `enc` and reads back `part` (if any), then the exchanged corners (one wait
-    /// for the device).
-    fn read_with_corners(
-        &mut self,
-        enc: wgpu::CommandEncoder,
-        part: Option<(&wgpu::Buffer, usize)>,
-    ) -> Result<(Vec<f32>, Vec<[f32; 3]>)> {
-        let Some(x) = &self.exchange else {
-            return Err(ImpactError::Gpu("step_forces: no exchange".into()));
-        };
-        let corners = (x.selection.chosen_buffer(), 3 * x.selection.count());
-        let parts: Vec<_> = part.into_iter().chain([corners]).collect();
-        let len = part.map_or(0, |p| p.1);
-        let k = &mut self.k;
-        let out: Vec<f32> = submit_and_read_parts(&k.ctx, &mut k.staging, enc, &parts)?;
-        let (head, corners) = out.split_at(len);
-        let corners = corners.chunks_exact(3).map(|c| [c[0], c[1], c[2]]);
-        Ok((head.to_vec(), corners.collect()))
+    /// Dispatches the drift, the internal forces and the exchanged corners' packing.
+    fn dispatch_forces_select(&self, pass: &mut wgpu::ComputePass) {
+        self.dispatch_forces(pass);
+        if let Some(x) = &self.exchange {
+            x.dispatch_select(&self.k, pass);
+        }
     }
 
     /// The rest of a rank's step: the shared nodes' `sums` over the gathered forces, the
@@ -152,24 +146,13 @@ impl ResidentStep {
     ) -> Result<(Vec<f32>, Vec<[f32; 3]>)> {
         let enc = self.correct_encoder(sums, |step, pass| {
             step.dispatch_front(pass);
-            step.dispatch_forces(pass);
-            if let Some(x) = &step.exchange {
-                x.dispatch_select(&step.k, pass);
-            }
+            step.dispatch_forces_select(pass);
         })?;
         let Some(x) = &self.exchange else {
             return Err(ImpactError::Gpu("step_correct: no exchange".into()));
         };
-        let len = self.history.row_len;
-        let parts = [
-            (&self.history.rows.buffer, len),
-            (x.selection.chosen_buffer(), 3 * x.selection.count()),
-        ];
-        let k = &mut self.k;
-        let out: Vec<f32> = submit_and_read_parts(&k.ctx, &mut k.staging, enc, &parts)?;
-        let (row, corners) = out.split_at(len);
-        let corners = corners.chunks_exact(3).map(|c| [c[0], c[1], c[2]]);
-        Ok((row.to_vec(), corners.collect()))
+        let row = (&self.history.rows.buffer, self.history.row_len);
+        read_with_corners(&mut self.k, x, enc, Some(row))
     }
 
     /// [`Self::step_correct`], then in the same submission the next step's
@@ -223,4 +206,21 @@ impl ResidentStep {
         }
         Ok(enc)
     }
+}
+
+/// Submits `enc` on `k`'s device and reads back `part` (if any), then the corners `x`
+/// exchanges (one wait for the device).
+fn read_with_corners(
+    k: &mut GpuKernels,
+    x: &RankExchange,
+    enc: wgpu::CommandEncoder,
+    part: Option<(&wgpu::Buffer, usize)>,
+) -> Result<(Vec<f32>, Vec<[f32; 3]>)> {
+    let corners = (x.selection.chosen_buffer(), 3 * x.selection.count());
+    let parts: Vec<_> = part.into_iter().chain([corners]).collect();
+    let len = part.map_or(0, |p| p.1);
+    let out: Vec<f32> = submit_and_read_parts(&k.ctx, &mut k.staging, enc, &parts)?;
+    let (head, corners) = out.split_at(len);
+    let corners = corners.chunks_exact(3).map(|c| [c[0], c[1], c[2]]);
+    Ok((head.to_vec(), corners.collect()))
 }
