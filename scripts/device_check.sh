@@ -41,6 +41,15 @@ loader() {
     fi
 }
 
+# On the device machine: the Vulkan loader unpacked, and wgpu on NVIDIA's Vulkan driver
+# (VK_DRIVER_FILES may name another, for a check elsewhere).
+use_card() {
+    for f in "$here"/.gl/*.deb; do dpkg -x "$f" /; done
+    ldconfig
+    export VK_DRIVER_FILES=${VK_DRIVER_FILES:-/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json}
+    export WGPU_BACKEND=vulkan
+}
+
 prepare() {
     loader
     cd "$here"
@@ -57,10 +66,7 @@ prepare() {
 }
 
 device() {
-    for f in "$here"/.gl/*.deb; do dpkg -x "$f" /; done
-    ldconfig
-    export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-    export WGPU_BACKEND=vulkan
+    use_card
     bin=$(mktemp -d)
     tar xzf "$here"/.gpu/bin.tgz -C "$bin"
     B=$bin/bin
@@ -112,10 +118,7 @@ pack_bench() {
 # Runs every packed explicit_step bench with the arguments given, in label order, each
 # table into $OUT/bench_<label>.md.
 bench() {
-    for f in "$here"/.gl/*.deb; do dpkg -x "$f" /; done
-    ldconfig
-    export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-    export WGPU_BACKEND=vulkan
+    use_card
     final=${OUT:-/tmp/out}
     mkdir -p "$final"
     dir=$(mktemp -d)
@@ -168,11 +171,10 @@ install_mpi() {
 
 # Runs the ranks bench with the arguments given, its tables into $OUT/ranks.md.
 ranks() {
-    for f in "$here"/.gl/*.deb; do dpkg -x "$f" /; done
+    use_card
     install_mpi
-    export VK_DRIVER_FILES=${VK_DRIVER_FILES:-/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json}
     # no ssh: one node launches its ranks itself
-    export WGPU_BACKEND=vulkan OMPI_MCA_plm=isolated
+    export OMPI_MCA_plm=isolated
     export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
     final=${OUT:-/tmp/out}
     mkdir -p "$final"
