@@ -18,6 +18,8 @@
 @group(0) @binding(3) var<storage, read_write> counts: array<u32>;
 @group(0) @binding(4) var<storage, read_write> state: array<u32, 8>;
 
+// include: order_bucket
+
 @compute @workgroup_size(64)
 fn bucket_order(@builtin(global_invocation_id) gid: vec3<u32>) {
     let b = item_index(gid, params);
@@ -31,15 +33,5 @@ fn bucket_order(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     counts[b] = 0u;
-    let first = starts[b];
-    let end = starts[b + 1u];
-    for (var i = first + 1u; i < end; i++) {
-        let x = sorted[i];
-        var j = i;
-        while (j > first && sorted[j - 1u] > x) {
-            sorted[j] = sorted[j - 1u];
-            j--;
-        }
-        sorted[j] = x;
-    }
+    order_bucket(b);
 }

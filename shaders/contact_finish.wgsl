@@ -20,68 +20,13 @@
 @group(0) @binding(10) var<storage, read> sorted: array<u32>;
 @group(0) @binding(11) var<storage, read> lumped: array<Lumped>;
 
-const FINISH_SIZE: u32 = 256u;
-
-var<workgroup> worst: array<f32, FINISH_SIZE>;
-var<workgroup> phase: u32;
-var<workgroup> parts: array<vec3<f32>, 64>;
-var<workgroup> ranges: u32;
-
 // include: velocity
 // include: sweep_pair
 // include: apply_node
 // include: gather_range
+// include: sweep_loop
 
-// Each rigid body range's gather after a sweep, as `body_gather` takes it: its 64 parts on
-// the first 64 lanes, then the same tree; written after the pairs' impulse changes.
-fn gather_bodies(local: u32) {
-    if (local == 0u) {
-        ranges = links[0];
-    }
-    let count = workgroupUniformLoad(&ranges);
-    for (var r = 0u; r < count; r++) {
-        if (local < 64u) {
-            parts[local] = gather_range_part(r, local);
-        }
-        gather_range(r, params.count, local);
-        workgroupBarrier();
-    }
-}
-
-@compute @workgroup_size(256)
+@compute @workgroup_size(ONE_GROUP)
 fn contact_finish(@builtin(local_invocation_index) local: u32) {
-    loop {
-        if (local == 0u) {
-            phase = state[STATE_PHASE];
-        }
-        if (workgroupUniformLoad(&phase) != 1u) {
-            break;
-        }
-        var violation = 0.0;
-        for (var p = local; p < params.count; p += FINISH_SIZE) {
-            violation = max(violation, sweep_pair(p));
-        }
-        worst[local] = violation;
-        workgroupBarrier();
-        for (var s = FINISH_SIZE / 2u; s > 0u; s >>= 1u) {
-            if (local < s) {
-                worst[local] = max(worst[local], worst[local + s]);
-            }
-            workgroupBarrier();
-        }
-        // the sweep's impulse changes and impulses are written before any node gathers them
-        storageBarrier();
-        if (local == 0u) {
-            state[STATE_VIOLATION] = max(state[STATE_VIOLATION], bitcast<u32>(worst[0]));
-            stopping_rule();
-        }
-        gather_bodies(local);
-        storageBarrier();
-        for (var i = local; i < params.aux; i += FINISH_SIZE) {
-            apply_node(i, params.count);
-        }
-        // the velocities are written before the next sweep reads them
-        storageBarrier();
-        workgroupBarrier();
-    }
+    sweep_while_sweeping(local);
 }

@@ -15,32 +15,15 @@
 @group(0) @binding(6) var<storage, read_write> touches: array<f32>;
 @group(0) @binding(7) var<storage, read_write> state: array<atomic<u32>, 8>;
 
+// include: node_touches
+
 @compute @workgroup_size(64)
 fn contact_touches(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = item_index(gid, params);
     if (i >= params.count) {
         return;
     }
-    let cn = nodes[i];
-    var own = 0u;
-    for (var j = cn.pair_first; j < cn.pair_end; j++) {
-        own += constraints[links[j]].in_reach;
-    }
-    var t = f32(own);
-    for (var j = cn.face_first; j < cn.face_end; j++) {
-        let f = links[j] / 4u;
-        let k = links[j] % 4u;
-        for (var b = starts[f]; b < starts[f + 1u]; b++) {
-            t += abs(constraints[sorted[b]].weights[k]);
-        }
-    }
-    for (var j = cn.body_first; j < cn.body_end; j++) {
-        let r = links[j];
-        for (var q = links[1u + 2u * r]; q < links[2u + 2u * r]; q++) {
-            t += abs(constraints[q].weights[0]);
-        }
-    }
-    touches[cn.node] = t;
+    let own = node_touches(i);
     if (own > 0u) {
         atomicAdd(&state[STATE_ACTIVE], own);
     }

@@ -737,6 +737,164 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     assert!(e <= TOL, "seed {seed}: contact_report {e:.2e}");
 }
 
+/// `contact_zone`, the whole iteration in one workgroup, on the stack (surface and plane
+/// pairs) and among the rigid bodies (rigid pairs), from random states as above: against its
+/// CPU twin (the staged twins one after another) within 1e-5, and against the staged
+/// iteration on the device from the same state, bit for bit.
+#[test]
+fn contact_zone_matches_its_cpu_twin_and_the_staged_bits() {
+    let rigid = model_of(&rigid_scene(0.1, ""), "rigid.toml");
+    for (tag, model) in [("zone stack", stack_model()), ("zone rigid", rigid)] {
+        zone_matches(tag, &model);
+    }
+}
+
+/// What the device's iteration leaves: constraints, keys, starts, the faces' part of the
+/// sort, touches, state, results and the velocity.
+type IterationOutputs = (
+    Vec<Constraint>,
+    [Vec<u32>; 3],
+    Vec<f64>,
+    SweepState,
+    Vec<f64>,
+    Vec<f64>,
+);
+
+/// One step's iteration of `model` from a random state (seeded by `tag`), in one workgroup
+/// or staged; its outputs, and the device's contact points and margin.
+fn iteration_outputs(
+    ctx: &GpuContext,
+    (tag, seed): (&str, u64),
+    model: &Model,
+    zone: bool,
+) -> Option<(IterationOutputs, Vec<kernels::ContactPoint>, f64)> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let dt = 2e-3;
+    let (mut setup, _) = resident::setup(model, &model_settings(), dt, 1.0).unwrap();
+    setup.tolerance = 1e-4;
+    let contact = setup.contact.clone().expect("surface contact");
+    let nodes = model.mesh.node_count();
+    let data = model.element_data();
+    let u = tenth_of_an_element(&mut rng, nodes);
+    let v: Vec<f64> = (0..3 * nodes)
+        .map(|d| rng.random_range(-1.0..1.0) - if d % 3 == 2 { 0.5 } else { 0.0 })
+        .collect();
+    let a: Vec<f64> = (0..3 * nodes)
+        .map(|_| rng.random_range(-20.0..20.0))
+        .collect();
+    let mut gpu = ResidentStep::new(ctx.clone(), &data, &setup, 8).expect("device step");
+    gpu.upload(&u, &v, &a, &vec![0.0; 3 * nodes], &[]).unwrap();
+    if gpu.set_zone(zone) != zone {
+        eprintln!("{tag}: the adapter does not run contact_zone");
+        return None;
+    }
+    let (ctx, it) = gpu.impulse_sweeps().expect("contact iteration");
+    let ctx = ctx.clone();
+    it.run(&ctx, |it, p| it.dispatch(p, 0, SearchMode::First))
+        .unwrap();
+    let [keys, starts, sorted, _] = it.read_sort(&ctx).unwrap();
+    let faced = sorted[..starts[contact.faces.len()] as usize].to_vec();
+    let points = it.read_points(&ctx, contact.queries.len()).unwrap();
+    let margin = it.read_grid(&ctx).unwrap().1.margin as f64;
+    let out = (
+        it.read_constraints(&ctx).unwrap(),
+        [keys, starts, faced],
+        it.read_touches(&ctx, nodes).unwrap(),
+        it.read_state(&ctx).unwrap(),
+        it.read_results(&ctx).unwrap(),
+        gpu_state(&mut gpu).1,
+    );
+    Some((out, points, margin))
+}
+
+/// [`contact_zone_matches_its_cpu_twin_and_the_staged_bits`] on one model.
+fn zone_matches(tag: &str, model: &Model) {
+    let Some(ctx) = gpu_context(tag) else {
+        return;
+    };
+    let seed = seed(tag);
+    let Some((zone, points, margin)) = iteration_outputs(&ctx, (tag, seed), model, true) else {
+        return;
+    };
+    let (staged, ..) =
+        iteration_outputs(&ctx, (tag, seed), model, false).expect("staged iteration");
+    let (c, sort, touches, state, results, v_gpu) = &zone;
+    assert!(state.sweeps > 2 && !state.sweeping(), "{tag}: {state:?}");
+    assert_eq!(
+        &zone, &staged,
+        "{tag}: the zone against the staged iteration"
+    );
+
+    // the twin from the same random state (the device's contact points and margin)
+    let dt = 2e-3;
+    let (mut setup, _) = resident::setup(model, &model_settings(), dt, 1.0).unwrap();
+    setup.tolerance = 1e-4;
+    let contact = setup.contact.clone().unwrap();
+    let nodes = model.mesh.node_count();
+    let mut rng = StdRng::seed_from_u64(seed);
+    let u = tenth_of_an_element(&mut rng, nodes);
+    let mut v: Vec<f64> = (0..3 * nodes)
+        .map(|d| rng.random_range(-1.0..1.0) - if d % 3 == 2 { 0.5 } else { 0.0 })
+        .collect();
+    let a: Vec<f64> = (0..3 * nodes)
+        .map(|_| rng.random_range(-20.0..20.0))
+        .collect();
+    let data = model.element_data();
+    let inputs = kernels::ZoneInputs {
+        dt,
+        margin,
+        tolerance: setup.tolerance,
+        max_iterations: setup.max_iterations,
+        reference: &data.reference,
+        u: &u,
+        a: &a,
+        pairs: &contact.pairs,
+        points: &points,
+        faces: &contact.faces,
+        rigid: &contact.rigid,
+        nodes: &contact.nodes,
+        links: &contact.links,
+        lumped: &setup.lumped,
+    };
+    let mut cpu_r = vec![0.0; SLOT * contact.pairs.len()];
+    let twin = kernels::contact_zone(&inputs, &mut v, &mut cpu_r);
+    let reach = |c: &[Constraint]| c.iter().map(|c| c.in_reach).collect::<Vec<_>>();
+    assert_eq!(reach(c), reach(&twin.constraints), "{tag}: in reach");
+    assert_eq!(sort[0], twin.keys, "{tag}: keys");
+    assert_eq!(sort[1], twin.starts, "{tag}: starts");
+    assert_eq!(
+        sort[2],
+        twin.sorted[..sort[2].len()],
+        "{tag}: the faces' buckets"
+    );
+    let at = |t: &[f64]| -> Vec<f64> { contact.nodes.iter().map(|c| t[c.node as usize]).collect() };
+    let e = rel_err(&at(touches), &at(&twin.touches));
+    assert!(e <= TOL, "{tag}: touches {e:.2e}");
+    assert_eq!(state.active, twin.state.active, "{tag}: pairs in reach");
+    // the stopping rule compares an f32 violation with the tolerance: one sweep either way
+    assert!(
+        state.sweeps.abs_diff(twin.state.sweeps) <= 1 && state.phase == twin.state.phase,
+        "{tag}: {state:?} against the twin's {:?}",
+        twin.state
+    );
+    let ev = rel_err(v_gpu, &v);
+    let ec = rel_err(&constraint_fields(c), &constraint_fields(&twin.constraints));
+    let computed = |r: &[f64]| -> Vec<f64> {
+        r.chunks_exact(SLOT)
+            .flat_map(|s| s[..8].iter().chain(&s[9..13]).copied().collect::<Vec<_>>())
+            .collect()
+    };
+    let er = rel_err(&computed(results), &computed(&cpu_r));
+    eprintln!(
+        "{tag}: {} sweeps (twin {}), velocity {ev:.2e}, constraints {ec:.2e}, results {er:.2e}",
+        state.sweeps, twin.state.sweeps
+    );
+    assert!(
+        ev <= TOL && ec <= TOL && er <= TOL,
+        "{tag}: {ev:.2e} {ec:.2e} {er:.2e}"
+    );
+}
+
 /// The search stages against their twins; returns the device's contact points and margin.
 fn search_stages(
     ctx: &GpuContext,
@@ -947,17 +1105,21 @@ fn recorded_sweeps_do_not_change_the_results() {
     }
 }
 
-/// [`recorded_sweeps_do_not_change_the_results`] on one model over `steps` steps.
+/// [`recorded_sweeps_do_not_change_the_results`] on one model over `steps` steps: the
+/// staged iteration with every sweep recorded, none, one and as the rule says, and the
+/// iteration in one workgroup (`contact_zone`, where the adapter runs it).
 fn recorded_sweeps_agree(ctx: &GpuContext, model: &Model, steps: usize) {
     let settings = model_settings();
-    let run = |recorded: Option<u32>| {
+    let run_as = |recorded: Option<u32>, zone: bool| {
         let (rows, s) = resident_rows(ctx, model, steps, |s| {
+            assert_eq!(s.fix_contact_zone(zone), zone);
             if let Some(n) = recorded {
                 s.fix_recorded_sweeps(n);
             }
         });
         (rows, s.sweep_counts(), s.u.clone(), s.v.clone())
     };
+    let run = |recorded: Option<u32>| run_as(recorded, false);
     let (all, counts_all, u_all, v_all) = run(Some(settings.max_iterations as u32));
     let sweeps: usize = all.iter().map(|r| r.0).sum();
     assert!(all.iter().all(|r| r.1), "every step converges");
@@ -978,12 +1140,26 @@ fn recorded_sweeps_agree(ctx: &GpuContext, model: &Model, steps: usize) {
             "the final state differs recording {recorded:?}"
         );
     }
+    if !zone_runs(ctx) {
+        return;
+    }
+    let (rows, counts, u, v) = run_as(None, true);
+    eprintln!("in one workgroup: recorded and needed {counts:?}");
+    assert_eq!(counts.0, 0, "contact_zone records no sweeps");
+    assert_eq!(all, rows, "the rows differ in one workgroup");
+    assert_eq!(
+        (&u_all, &v_all),
+        (&u, &v),
+        "the final state differs in one workgroup"
+    );
 }
 
 /// The sweeps the resident engine records as dispatches of their own follow what the steps
 /// need: over a run, at most 1.25 times the sweeps needed plus 2 per step (`summary.json`'s
 /// `sweeps_recorded` and `sweeps_needed`), on the shipped cube on the plate (explicit, at the
-/// default step) and on the explicit bench's plate scene (about 10^4 elements).
+/// default step) and on the explicit bench's plate scene (about 10^4 elements). Their
+/// contact zones are small: the runs take the iteration in one workgroup (`contact_zone`)
+/// and record none; the staged iteration is held to the bound over the same steps.
 #[test]
 fn recorded_sweeps_follow_the_needs_of_the_steps() {
     if gpu_context("recorded sweeps follow the needs").is_none() {
@@ -1013,6 +1189,37 @@ fn recorded_sweeps_follow_the_needs_of_the_steps() {
             "{tag}: needed = iterations"
         );
         assert!(needed > steps, "{tag}: the steps must need sweeps");
+        let ctx = gpu_context(tag).unwrap();
+        assert_eq!(s.contact_zone, Some(zone_runs(&ctx)), "{tag}: a small zone");
+        if zone_runs(&ctx) {
+            assert_eq!(recorded, 0.0, "{tag}: contact_zone records no sweeps");
+        }
+        // the staged iteration over the same steps
+        let model = model_of(&text, &format!("{tag}.toml"));
+        let mut staged = ResidentSolver::with_chunk(
+            ctx,
+            &model,
+            &model_settings(),
+            s.time_step,
+            1.0,
+            (s.steps, None, 25),
+            None,
+        )
+        .expect("resident solver");
+        assert!(!staged.fix_contact_zone(false));
+        let mut iterations = 0;
+        for _ in 0..s.steps {
+            iterations += staged.step().expect("step").iterations;
+        }
+        let (recorded, needed) = staged.sweep_counts();
+        let (recorded, needed) = (recorded as f64, needed as f64);
+        eprintln!(
+            "{tag} staged: {:.2} sweeps recorded and {:.2} needed per step",
+            recorded / steps,
+            needed / steps
+        );
+        // the last submission's steps are not collected yet
+        assert!(needed > steps / 2.0 && needed <= iterations as f64);
         assert!(
             recorded <= 1.25 * needed + 2.0 * steps,
             "{tag}: {recorded} sweeps recorded for {needed} needed over {steps} steps"
@@ -1029,8 +1236,38 @@ fn the_dispatch_profile_times_every_dispatch_and_leaves_the_state() {
     let Some(ctx) = gpu_context("dispatch profile") else {
         return;
     };
+    let staged = [
+        ("contact_constraints", 1.0),
+        ("contact_sweep", 3.0),
+        ("contact_apply", 3.0),
+        ("contact_finish", 1.0),
+    ];
+    profile_case(&ctx, false, &staged);
+    if zone_runs(&ctx) {
+        let zone = [
+            ("contact_zone", 1.0),
+            ("contact_constraints", 0.0),
+            ("contact_sweep", 0.0),
+            ("contact_finish", 0.0),
+        ];
+        profile_case(&ctx, true, &zone);
+    }
+}
+
+/// Whether the adapter runs `contact_zone` (it binds enough storage buffers).
+fn zone_runs(ctx: &GpuContext) -> bool {
+    ctx.limits.max_storage_buffers_per_shader_stage >= impact::gpu::context::ZONE_BINDINGS
+}
+
+/// [`the_dispatch_profile_times_every_dispatch_and_leaves_the_state`], the iteration in one
+/// workgroup or staged with three sweeps recorded: `contact` gives the contact kernels'
+/// dispatches per step.
+fn profile_case(ctx: &GpuContext, zone: bool, contact: &[(&str, f64)]) {
     let model = stack_model();
-    let (_, mut s) = resident_rows(&ctx, &model, 30, |s| s.fix_recorded_sweeps(3));
+    let (_, mut s) = resident_rows(ctx, &model, 30, |s| {
+        s.fix_contact_zone(zone);
+        s.fix_recorded_sweeps(3)
+    });
     let engine = s.engine_mut();
     engine.drain().unwrap();
     let before = engine.read_step_state().unwrap();
@@ -1042,21 +1279,15 @@ fn the_dispatch_profile_times_every_dispatch_and_leaves_the_state() {
         eprintln!("{}: {:.2} a step, {:.1} us", k.name, k.dispatches, k.us);
         assert!(k.us >= 0.0 && k.us.is_finite(), "{}: {} us", k.name, k.us);
     }
-    let per_step = |name: &str| {
-        (kernels.iter().find(|k| k.name == name))
-            .unwrap_or_else(|| panic!("{name} is not in the profile"))
-            .dispatches
-    };
-    for (name, n) in [
+    let per_step =
+        |name: &str| (kernels.iter().find(|k| k.name == name)).map_or(0.0, |k| k.dispatches);
+    let step = [
         ("explicit_predict", 1.0),
-        ("contact_constraints", 1.0),
-        ("contact_sweep", 3.0),
-        ("contact_apply", 3.0),
-        ("contact_finish", 1.0),
         ("hex8_forces", 1.0),
         ("explicit_correct", 1.0),
         ("history_reduce", 1.0),
-    ] {
+    ];
+    for &(name, n) in step.iter().chain(contact) {
         assert!(
             (per_step(name) - n).abs() < 1e-9,
             "{name}: {}",

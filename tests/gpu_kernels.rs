@@ -803,7 +803,8 @@ fn gpu_types_match_wgsl() {
 }
 
 /// No kernel binds more storage buffers than `STORAGE_BINDINGS`, the limit an adapter must
-/// meet, and the most demanding one binds exactly that many.
+/// meet, and the most demanding one binds exactly that many; `contact_zone`, which runs only
+/// on adapters that bind more, binds `ZONE_BINDINGS`.
 #[test]
 fn kernels_bind_at_most_the_storage_buffers_adapters_are_asked_for() {
     let mut most = 0;
@@ -814,6 +815,10 @@ fn kernels_bind_at_most_the_storage_buffers_adapters_are_asked_for() {
             .iter()
             .filter(|(_, g)| matches!(g.space, naga::AddressSpace::Storage { .. }))
             .count() as u32;
+        if name == "contact_zone" {
+            assert_eq!(storage, impact::gpu::context::ZONE_BINDINGS);
+            continue;
+        }
         assert!(
             storage <= impact::gpu::context::STORAGE_BINDINGS,
             "{name} binds {storage} storage buffers"

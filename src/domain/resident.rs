@@ -661,6 +661,10 @@ impl Integrator for RankResident<'_> {
         (self.surface.as_ref()).map(|c| (c.step.recorded, c.step.needed))
     }
 
+    fn contact_zone(&self) -> Option<bool> {
+        (self.surface.as_ref()).map(|c| c.step.runs_zone())
+    }
+
     /// The search on the surfaces sorts the faces every step (a step is a submission).
     fn search_rebuilds(&self) -> Option<(u64, u64)> {
         (self.surface.as_ref())

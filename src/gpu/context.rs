@@ -19,6 +19,11 @@ use crate::error::{ImpactError, Result};
 /// binds fewer per shader stage cannot run the kernels (a test keeps this the maximum).
 pub const STORAGE_BINDINGS: u32 = 11;
 
+/// Storage buffers `contact_zone` binds: the whole contact iteration in one workgroup, which
+/// runs only where the adapter binds this many per shader stage (the staged iteration runs
+/// elsewhere; a test keeps this the kernel's count).
+pub const ZONE_BINDINGS: u32 = 22;
+
 /// Under `device = "auto"`, scenes with at least this many elements run their kernels on a
 /// hardware GPU when there is one. Smaller scenes stay on the CPU in f64: there the kernels
 /// cost less than a few milliseconds per iteration, and f64 keeps the contact iteration's

@@ -77,6 +77,11 @@ kernel_table! {
     );
     ContactSweep = contact_sweep(step, constraints, pairs, velocity, dj, state);
     ContactTouches = contact_touches(nodes, links, constraints, starts, sorted, touches, state);
+    ContactZone = contact_zone(
+        step, grid, reference, displacement, velocity, acceleration, pairs, points, faces,
+        constraints, keys, rigid, counts, ranks, starts, sorted, state, nodes, links, touches,
+        lumped, dj, results,
+    );
     CornerSelect = corner_select(slots, corner_forces, chosen);
     ExplicitCorrect = explicit_correct(
         step, displacement, forces, lumped, velocity, acceleration, partials, bodies,

@@ -838,8 +838,25 @@ impl ResidentStep {
         self.sweeps = sweeps.min(self.max_iterations);
     }
 
+    /// Sweeps recorded per step as dispatches of their own: none where the iteration runs in
+    /// one workgroup ([`ImpulseSweeps::set_zone`]).
     pub fn sweeps(&self) -> u32 {
-        self.sweeps
+        match &self.contact {
+            Some(c) if c.runs_zone() => 0,
+            _ => self.sweeps,
+        }
+    }
+
+    /// The device contact iteration, where the model has contact between meshed bodies.
+    pub fn impulse_sweeps_ref(&self) -> Option<&ImpulseSweeps> {
+        self.contact.as_ref()
+    }
+
+    /// Runs each step's contact iteration in one workgroup or staged, from the next
+    /// submission on ([`ImpulseSweeps::set_zone`]); returns whether it runs in one
+    /// workgroup. The results do not depend on it.
+    pub fn set_zone(&mut self, zone: bool) -> bool {
+        self.contact.as_mut().is_some_and(|c| c.set_zone(zone))
     }
 
     /// Waits for submission `slot` and returns its rows (steps x [`Self::row_len`]).

@@ -160,6 +160,11 @@ impl SurfaceStep {
         &self.v.buffer
     }
 
+    /// Whether the iteration runs in one workgroup ([`ImpulseSweeps::set_zone`]).
+    pub fn runs_zone(&self) -> bool {
+        self.contact.runs_zone()
+    }
+
     /// The interfaces' history columns of the last [`Self::dispatch`], for a read-back.
     pub fn row_part(&self) -> (&wgpu::Buffer, usize) {
         (&self.row.buffer, self.row_len)
@@ -167,13 +172,16 @@ impl SurfaceStep {
 
     /// Counts a step whose columns (read back from [`Self::row_part`]) are `row`: the sweeps
     /// recorded and needed, and the next step records the sweeps this one needed (the
-    /// largest of the interfaces') and two more.
+    /// largest of the interfaces') and two more (none recorded where the iteration runs in
+    /// one workgroup).
     pub fn tally(&mut self, row: &[f32]) {
         let needed = (row.chunks_exact(SLOT))
             .map(|q| q[slot::SWEEPS] as u32)
             .max()
             .unwrap_or(0);
-        self.recorded += u64::from(self.sweeps);
+        if !self.contact.runs_zone() {
+            self.recorded += u64::from(self.sweeps);
+        }
         self.needed += u64::from(needed);
         self.sorts += u64::from(self.contact.search.is_some());
         self.sweeps = (needed + 2).min(self.step_consts.max_iterations);

@@ -135,6 +135,12 @@ pub trait Integrator {
         None
     }
 
+    /// The resident step's device contact iteration: whether it runs in one workgroup
+    /// (`contact_zone`) rather than staged.
+    fn contact_zone(&self) -> Option<bool> {
+        None
+    }
+
     /// The resident step's device contact search: the sorts of the faces into its grid and
     /// the steps whose kept grid no longer held (they tested every face), over the steps
     /// taken.

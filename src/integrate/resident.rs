@@ -646,6 +646,14 @@ impl<'m> ResidentSolver<'m> {
         self.engine.set_sweeps(sweeps);
     }
 
+    /// Runs each step's contact iteration in one workgroup (`contact_zone`) or staged, from
+    /// the next submission on, where the adapter runs it; returns whether it runs in one
+    /// workgroup. By default it does on zones of at most
+    /// [`crate::gpu::impulse_sweeps::ZONE_PAIRS`] pairs. The results do not depend on it.
+    pub fn fix_contact_zone(&mut self, zone: bool) -> bool {
+        self.engine.set_zone(zone)
+    }
+
     /// Fixes the steps between the contact search's sorts of the faces (from the next
     /// submission on; by default they follow the last submission's grid, see
     /// [`KeptSearch`]). The results do not depend on it.
@@ -706,6 +714,10 @@ impl Integrator for ResidentSolver<'_> {
 
     fn recorded_sweeps(&self) -> Option<(u64, u64)> {
         self.pair_ranges.is_some().then(|| self.sweep_counts())
+    }
+
+    fn contact_zone(&self) -> Option<bool> {
+        (self.engine.impulse_sweeps_ref()).map(|c| c.runs_zone())
     }
 
     fn search_rebuilds(&self) -> Option<(u64, u64)> {

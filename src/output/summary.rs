@@ -123,6 +123,11 @@ pub struct Summary {
     pub sweeps_recorded: Option<u64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sweeps_needed: Option<u64>,
+    /// The resident engine with contact between meshed bodies: whether each step's contact
+    /// iteration ran in one workgroup (`contact_zone`, no sweeps recorded) rather than
+    /// staged.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact_zone: Option<bool>,
     /// The resident engine's device contact search: the sorts of the primary faces into its
     /// grid over the run (the steps in between keep the last sort while the faces have
     /// moved less than the grid's skin), and the steps whose kept grid no longer held, which

@@ -201,6 +201,7 @@ pub(super) fn fill_summary(
         summary.sweeps_recorded = Some(recorded);
         summary.sweeps_needed = Some(needed);
     }
+    summary.contact_zone = solver.contact_zone();
     if let Some((rebuilds, stale)) = solver.search_rebuilds() {
         summary.search_rebuilds = Some(rebuilds);
         summary.search_stale_steps = Some(stale);

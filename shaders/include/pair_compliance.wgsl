@@ -1,0 +1,36 @@
+// included by kernels that bind `constraints` (read_write), `touches`, `lumped:
+// array<Lumped>` and `pairs`
+
+fn along(n: u32, nrm: vec3<f32>) -> f32 {
+    return dot(nrm * nrm, vec3_of(lumped[n].inv_mass));
+}
+
+fn inv_max(n: u32) -> f32 {
+    let inv = lumped[n].inv_mass;
+    return max(inv.x, max(inv.y, inv.z));
+}
+
+// Corner k's share (weight w) of the compliance: along the normal, and the row-sum bound.
+fn corner_share(m: u32, w: f32, nrm: vec3<f32>) -> vec2<f32> {
+    return abs(w) * vec2<f32>(along(m, nrm), touches[m] * inv_max(m));
+}
+
+// Pair p's split compliance (twin: `kernels::contact_compliance`; see
+// `contact_compliance.wgsl`).
+fn pair_compliance(p: u32) {
+    let c = constraints[p];
+    if (c.in_reach == 0u) {
+        return;
+    }
+    let s = pairs[p].node;
+    let nrm = vec3_of(c.normal);
+    // (along the normal, row-sum bound)
+    var sum = vec2<f32>(along(s, nrm), touches[s] * inv_max(s));
+    if (c.face[0] != NO_FACE) {
+        sum += corner_share(c.face[0], c.weights[0], nrm);
+        sum += corner_share(c.face[1], c.weights[1], nrm);
+        sum += corner_share(c.face[2], c.weights[2], nrm);
+        sum += corner_share(c.face[3], c.weights[3], nrm);
+    }
+    constraints[p].compliance = select(0.0, sum.y, sum.x > 0.0);
+}
