@@ -22,7 +22,9 @@
 //! sweeps the resident engine records per step; `-- --search-interval N` fixes the steps
 //! between its contact search's sorts of the faces (1: every step); `-- --plate` runs the
 //! plate scene alone; `-- --dispatches` times each kernel of a resident submission on the
-//! device (adapters with timestamps inside passes); and
+//! device (adapters with timestamps inside passes); `-- --zone on` or `-- --zone off` runs
+//! each step's contact iteration in one workgroup (`contact_zone`) or staged, whatever the
+//! zone's size (by default small zones run in one workgroup); and
 //! `-- --no-large` leaves the 10^7-element rows out).
 
 use std::path::Path;
@@ -113,6 +115,10 @@ struct Resident {
     /// sort; setup and every sweep in `contact_finish`; setup, the recorded sweeps and
     /// `contact_finish`; report.
     contact_parts: Option<[f64; 5]>,
+    /// The search and the iteration in one workgroup alone, microseconds, where the
+    /// adapter runs `contact_zone`; and whether the timed steps ran it.
+    zone_part: Option<f64>,
+    zone: bool,
     /// `-- --dispatches`: each kernel of a submission timed on the device (kernel,
     /// dispatches per step, microseconds per step), where the adapter has timestamps
     /// inside passes.
@@ -181,6 +187,9 @@ fn time_resident(
     if let Some(n) = fixed_search_interval() {
         s.fix_search_interval(n);
     }
+    if let Some(zone) = fixed_zone() {
+        s.fix_contact_zone(zone);
+    }
     let before = s.sweep_counts();
     let sorts_before = s.search_counts().0;
     let t = Instant::now();
@@ -204,6 +213,7 @@ fn time_resident(
     let engine = s.engine_mut();
     let reps = steps.clamp(4, 50);
     let recorded = engine.sweeps();
+    let zone = engine.impulse_sweeps_ref().is_some_and(|c| c.runs_zone());
     // every timing below starts from the state the timed steps left
     engine.drain().expect("the last submissions");
     let state = engine.read_step_state().expect("the step state");
@@ -215,6 +225,8 @@ fn time_resident(
         .time_contact_parts(reps, recorded)
         .expect("contact part timing")
         .map(|t| t.map(|d| d.as_secs_f64() / reps as f64 * 1e6));
+    let zone_part = (engine.time_zone(reps).expect("contact_zone timing"))
+        .map(|d| d.as_secs_f64() / reps as f64 * 1e6);
     let stages = [
         ("predict", Stage::Predict),
         ("contact", Stage::PlaneContact),
@@ -249,6 +261,8 @@ fn time_resident(
         sweeps,
         rebuilds,
         contact_parts,
+        zone_part,
+        zone,
         dispatches,
     }
 }
@@ -370,14 +384,20 @@ fn table(
     if stage_rows.iter().all(|(_, r)| r.contact_parts.is_none()) {
         return;
     }
-    println!("\nThe contact iteration's parts alone (microseconds per step): its setup (search with the faces' sort into the grid, constraints, sort, compliance), the setup keeping the faces' last sort, the setup with every sweep in `contact_finish` (one workgroup), the setup with the sweeps the run records per step and `contact_finish`, and the report:\n");
-    println!("| elements | setup | setup keeping the sort | setup + finish | setup + recorded + finish | report |");
-    println!("|---:|---:|---:|---:|---:|---:|");
+    println!("\nThe contact iteration's parts alone (microseconds per step): its setup (search with the faces' sort into the grid, constraints, sort, compliance), the setup keeping the faces' last sort, the setup with every sweep in `contact_finish` (one workgroup), the setup with the sweeps the run records per step and `contact_finish`, the report, and the search with the whole iteration in one workgroup (`contact_zone`); which of the two the timed steps ran:\n");
+    println!("| elements | setup | setup keeping the sort | setup + finish | setup + recorded + finish | report | search + contact_zone | timed steps ran |");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---|");
     for (elements, r) in &stage_rows {
         if let Some(p) = r.contact_parts {
             println!(
-                "| {elements} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} |",
-                p[0], p[1], p[2], p[3], p[4]
+                "| {elements} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {} | {} |",
+                p[0],
+                p[1],
+                p[2],
+                p[3],
+                p[4],
+                r.zone_part.map_or("-".into(), |z| format!("{z:.1}")),
+                if r.zone { "contact_zone" } else { "staged" },
             );
         }
     }
@@ -441,6 +461,17 @@ fn fixed_search_interval() -> Option<usize> {
 
 /// `-- --sweeps N`: the resident engine records N contact sweeps per step as dispatches of
 /// their own instead of following the steps' needs.
+/// `-- --zone on|off`: the contact iteration in one workgroup or staged.
+fn fixed_zone() -> Option<bool> {
+    let args: Vec<String> = std::env::args().collect();
+    let at = args.iter().position(|a| a == "--zone")?;
+    match args.get(at + 1).map(String::as_str) {
+        Some("on") => Some(true),
+        Some("off") => Some(false),
+        other => panic!("--zone takes on or off, not {other:?}"),
+    }
+}
+
 fn fixed_sweeps() -> Option<u32> {
     let args: Vec<String> = std::env::args().collect();
     let at = args.iter().position(|a| a == "--sweeps")?;

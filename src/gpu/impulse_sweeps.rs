@@ -678,6 +678,12 @@ impl ImpulseSweeps {
         self.zone
     }
 
+    /// Whether the adapter runs `contact_zone` (it binds [`ZONE_BINDINGS`] storage buffers
+    /// per stage).
+    pub fn zone_available(&self) -> bool {
+        self.launches.zone.is_some()
+    }
+
     /// Whether a step's iteration runs in one workgroup (no sweeps recorded).
     pub fn runs_zone(&self) -> bool {
         self.zone
@@ -723,7 +729,7 @@ impl ImpulseSweeps {
 
     /// Dispatches the search, if any (the faces sorted into its grid again unless `mode`
     /// keeps the last sort).
-    fn dispatch_search(&self, pass: &mut wgpu::ComputePass, mode: SearchMode) {
+    pub fn dispatch_search(&self, pass: &mut wgpu::ComputePass, mode: SearchMode) {
         let (k, l) = (&self.kernels, &self.launches);
         if let (Some(search), Some(bounds), Some(grid)) = (&self.search, &l.bounds, &l.grid) {
             k.zero.0.dispatch(pass, &l.zero_bounds);

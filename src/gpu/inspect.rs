@@ -481,6 +481,27 @@ impl ResidentStep {
         .and_then(|parts| self.write_step_state(&state).map(|_| parts))
     }
 
+    /// The search and the whole iteration in one workgroup (`contact_zone`) repeated `reps`
+    /// times in one submission from the step state (left as found), where the model has
+    /// contact between meshed bodies and the adapter runs the kernel.
+    pub fn time_zone(&mut self, reps: usize) -> Result<Option<Duration>> {
+        let state = self.read_step_state()?;
+        let Some(c) = self.contact.as_ref().filter(|c| c.zone_available()) else {
+            return Ok(None);
+        };
+        let ctx = &self.k.ctx;
+        let mut enc = ctx.encoder("contact_zone_timing");
+        for _ in 0..reps {
+            c.record(&mut enc, |c, p| {
+                c.dispatch_search(p, SearchMode::Build);
+                c.dispatch_zone(p);
+            });
+        }
+        let t = time_submission(ctx, enc)?;
+        self.write_step_state(&state)?;
+        Ok(Some(t))
+    }
+
     /// Waits for the submissions in flight and drops their rows (the caller steps no more:
     /// a benchmark about to time parts of the step from the state the steps left).
     pub fn drain(&mut self) -> Result<()> {
