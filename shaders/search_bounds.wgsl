@@ -1,7 +1,7 @@
 // The bounds of the step's search grid (twin: `kernels::search_bounds`): the fastest node's
 // speed, the largest box side of a primary face at u_n and the largest move of a face's
 // centre since the faces were last sorted (`face_cells` wrote the centres), folded into
-// bounds[0..3] (zeroed before) by atomicMax on their f32 bits (non-negative floats order as
+// bounds[0..3] (cleared by the last step's `search_grid`) by atomicMax on their f32 bits (non-negative floats order as
 // their bits); and each face's box for the narrow phase (`face_box`). One invocation per node
 // (params.aux nodes) and per face (params.aux2 faces); each workgroup reduces in workgroup
 // memory, then takes one atomic per bound.

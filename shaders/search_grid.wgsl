@@ -10,10 +10,12 @@
 // into, so the 27 cells around the node hold every candidate while (side + margin + drift)
 // x 1.001 < cell; otherwise the step tests every face (all_faces). params.aux is the table's
 // mask. One invocation.
+// It is the bounds' one reader: it moves them to bounds[3..6] (where they can be read back)
+// and clears bounds[0..3] for the next step's `search_bounds`, saving a dispatch a step.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<uniform> step: Step;
-@group(0) @binding(2) var<storage, read> bounds: array<u32, 3>;
+@group(0) @binding(2) var<storage, read_write> bounds: array<u32, 6>;
 @group(0) @binding(3) var<storage, read_write> grid: SearchGrid;
 
 const SEARCH_KEEP: u32 = 0u;
@@ -38,5 +40,9 @@ fn search_grid() {
         if (params.aux2 == SEARCH_FIRST) {
             grid.fill = 0.0;
         }
+    }
+    for (var k = 0u; k < 3u; k++) {
+        bounds[3u + k] = bounds[k];
+        bounds[k] = 0u;
     }
 }

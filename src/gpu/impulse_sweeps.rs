@@ -129,10 +129,9 @@ impl IterationKernels {
     }
 }
 
+/// (`search_grid` clears the search bounds, and `bucket_order` the pair buckets' sizes and
+/// the state words, for the next step.)
 struct Launches {
-    /// The zeroing of the search bounds (`bucket_order` clears the pair buckets' sizes and
-    /// the state words).
-    zero_bounds: Launch,
     bounds: Option<Launch>,
     /// `search_grid` in each [`SearchMode`] (indexed by its value).
     grid: Option<[Launch; 3]>,
@@ -206,7 +205,8 @@ impl WorkBuffers {
         ranges: usize,
     ) -> Result<Self> {
         let words = |n: usize| (4 * n) as u64;
-        let bounds = Storage::new(ctx, "contact.bounds", 12)?;
+        // the step's bounds, then their copy `search_grid` leaves
+        let bounds = Storage::new(ctx, "contact.bounds", 24)?;
         let constraints = Storage::new(
             ctx,
             "contact.constraints",
@@ -473,11 +473,6 @@ impl Bindings<'_> {
         })
     }
 
-    /// The search bounds' zeroing (`fill_words`, three words).
-    fn zero_bounds(&self) -> Launch {
-        (self.k.zero).launch(self.ctx, 3, 0, 0, &self.w.bounds.buffer)
-    }
-
     /// The report's launch, `contact_report`.
     fn report(&self) -> Launch {
         let (b, w) = (self.b, self.w);
@@ -502,7 +497,6 @@ impl Bindings<'_> {
         let [constraints, count, fill, order] = self.sort();
         let [touches, compliance] = self.compliance();
         let (sweep, apply, finish) = self.sweeps();
-        let zero_bounds = self.zero_bounds();
         // one workgroup per rigid body range: Params.aux the pairs
         let gather = self.k.gather.launch(
             self.ctx,
@@ -515,7 +509,6 @@ impl Bindings<'_> {
             &self.w.state.buffer,
         );
         Launches {
-            zero_bounds,
             bounds,
             grid,
             constraints,
@@ -732,7 +725,6 @@ impl ImpulseSweeps {
     pub fn dispatch_search(&self, pass: &mut wgpu::ComputePass, mode: SearchMode) {
         let (k, l) = (&self.kernels, &self.launches);
         if let (Some(search), Some(bounds), Some(grid)) = (&self.search, &l.bounds, &l.grid) {
-            k.zero.0.dispatch(pass, &l.zero_bounds);
             if let Some(floor) = &self.speed_floor {
                 k.zero.0.dispatch(pass, floor);
             }

@@ -742,10 +742,11 @@ impl ImpulseSweeps {
         })
     }
 
-    /// The search grid's bounds (speed, side, drift) and the grid of the last search.
+    /// The search grid's bounds (speed, side, drift; `search_grid` keeps them after clearing
+    /// the accumulators) and the grid of the last search.
     pub fn read_grid(&mut self, ctx: &GpuContext) -> Result<([f64; 3], types::GpuSearchGrid)> {
         let staging = &mut self.staging;
-        let b = read_floats(ctx, staging, CONTACT_READ, &self.work.bounds.buffer, 3)?;
+        let b = read_floats(ctx, staging, CONTACT_READ, &self.work.bounds.buffer, 6)?[3..].to_vec();
         let g = match &self.search {
             Some(s) => read_back(ctx, staging, CONTACT_READ, s.grid_buffer(), 1)?[0],
             None => types::GpuSearchGrid::default(),
