@@ -19,10 +19,11 @@
 @group(0) @binding(7) var<storage, read_write> partials: array<f32>;
 @group(0) @binding(8) var<storage, read> bodies: array<vec4<u32>>;
 
+fn node_force(n: u32) -> vec3<f32> {
+    return vec3<f32>(forces[3u * n], forces[3u * n + 1u], forces[3u * n + 2u]);
+}
 
-// the invocations' sums, FIELDS rows of 64: one barrier, then FIELDS invocations add a row
-// each (a tree of barriers per field is much slower on software adapters)
-var<workgroup> scratch: array<f32, 384>;
+// include: correct_group
 
 @compute @workgroup_size(64)
 fn explicit_correct(
@@ -30,52 +31,5 @@ fn explicit_correct(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
 ) {
-    let group = wid.x + wid.y * groups.x;
-    let end = bodies[params.aux].x;
-    // the workgroup's body: bodies[b].x <= group < bodies[b + 1].x
-    var b = 0u;
-    while (b + 1u < params.aux && group >= bodies[b + 1u].x) {
-        b++;
-    }
-    let body = bodies[b];
-    let i = (group - body.x) * 64u + local;
-    var kinetic = 0.0;
-    var strain = 0.0;
-    var gravity = 0.0;
-    var momentum = vec3<f32>(0.0);
-    if (group < end && i < body.z) {
-        let n = body.y + i;
-        let lm = lumped[n];
-        let un1 = split_value(displacement[n]);
-        let dt = step.dt;
-        let vh = vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
-        let f = vec3<f32>(forces[3u * n], forces[3u * n + 1u], forces[3u * n + 2u]);
-        let ext = vec3_of(lm.ext_acc);
-        let acc = ext - f * vec3_of(lm.inv_mass);
-        let v1 = vh + 0.5 * dt * acc;
-        acceleration[3u * n] = acc.x;
-        acceleration[3u * n + 1u] = acc.y;
-        acceleration[3u * n + 2u] = acc.z;
-        velocity[3u * n] = v1.x;
-        velocity[3u * n + 1u] = v1.y;
-        velocity[3u * n + 2u] = v1.z;
-        kinetic = 0.5 * lm.mass * dot(vh, vh);
-        strain = 0.5 * dot(un1 - dt * vh, f);
-        gravity = -lm.mass * dot(ext, un1 - 0.5 * dt * vh);
-        momentum = lm.mass * v1;
-    }
-    scratch[local] = kinetic;
-    scratch[64u + local] = strain;
-    scratch[128u + local] = gravity;
-    scratch[192u + local] = momentum.x;
-    scratch[256u + local] = momentum.y;
-    scratch[320u + local] = momentum.z;
-    workgroupBarrier();
-    if (local < FIELDS && group < end) {
-        var total = 0.0;
-        for (var j = 0u; j < 64u; j++) {
-            total += scratch[local * 64u + j];
-        }
-        partials[group * FIELDS + local] = total;
-    }
+    correct_group(local, wid.x + wid.y * groups.x);
 }

@@ -10,18 +10,15 @@
 @group(0) @binding(3) var<storage, read> corner_forces: array<f32>;
 @group(0) @binding(4) var<storage, read_write> forces: array<f32>;
 
+// include: gather_force
+
 @compute @workgroup_size(64)
 fn node_gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     let n = item_index(gid, params);
     if (n >= params.count) {
         return;
     }
-    let c = params.aux;
-    var f = vec3<f32>(0.0);
-    for (var i = offsets[n]; i < offsets[n + 1u]; i++) {
-        let s = incidence[i];
-        f += vec3<f32>(corner_forces[s], corner_forces[c + s], corner_forces[2u * c + s]);
-    }
+    let f = gather_force(n, params.aux);
     forces[3u * n] = f.x;
     forces[3u * n + 1u] = f.y;
     forces[3u * n + 2u] = f.z;

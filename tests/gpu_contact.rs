@@ -1284,7 +1284,9 @@ fn profile_case(ctx: &GpuContext, zone: bool, contact: &[(&str, f64)]) {
     let step = [
         ("explicit_predict", 1.0),
         ("hex8_forces", 1.0),
-        ("explicit_correct", 1.0),
+        ("gather_correct", 1.0),
+        ("node_gather", 0.0),
+        ("explicit_correct", 0.0),
         ("history_reduce", 1.0),
     ];
     for &(name, n) in step.iter().chain(contact) {

@@ -333,7 +333,60 @@ fn explicit_stages_match_their_cpu_twins() {
             "seed {seed}: explicit_correct {name} error {e:.3e}"
         );
     }
+    // the gather and the corrector in one dispatch: against its twin on random corner
+    // forces, and the bits of node_gather then explicit_correct from the element kernels'
+    // corner forces
+    upload(&mut gpu);
+    let corners: Vec<[f64; 3]> = (0..inp.data.corner_count())
+        .map(|_| std::array::from_fn(|_| rng.random_range(-5.0..5.0)))
+        .collect();
+    gpu.run_gather_correct(&corners).unwrap();
+    let fused = (
+        gpu.read_state().unwrap().1,
+        gpu.read_acceleration().unwrap(),
+        gpu.read_partials().unwrap(),
+    );
+    let inc = kernels::Incidence::new(&inp.data.elements, inp.u.len() / 3);
+    let (mut cpu_v, mut cpu_a, mut cpu_p) = (inp.v.clone(), inp.a.clone(), Vec::new());
+    for b in &s.bodies {
+        let sums = kernels::gather_correct(
+            s.dt,
+            (b.start, b.len()),
+            &inp.u,
+            (&inc, &corners),
+            &s.lumped,
+            &mut cpu_v,
+            &mut cpu_a,
+        );
+        cpu_p.extend(sums.into_iter().flatten());
+    }
+    for (name, g, c) in [
+        ("velocity", &fused.0, &cpu_v),
+        ("acceleration", &fused.1, &cpu_a),
+        ("partials", &fused.2[..cpu_p.len()].to_vec(), &cpu_p),
+    ] {
+        let e = rel_err(g, c);
+        eprintln!("gather_correct {name}: {e:.3e}");
+        assert!(e <= TOL, "seed {seed}: gather_correct {name} error {e:.3e}");
+    }
+    let apart_and_fused = [Stage::Correct, Stage::GatherCorrect].map(|last| {
+        upload(&mut gpu);
+        gpu.run_stage(Stage::InternalForces).unwrap();
+        gpu.run_stage(last).unwrap();
+        (
+            gpu.read_state().unwrap().1,
+            gpu.read_acceleration().unwrap(),
+            gpu.read_partials().unwrap(),
+        )
+    });
+    assert_eq!(
+        apart_and_fused[0], apart_and_fused[1],
+        "seed {seed}: gather_correct against node_gather and explicit_correct"
+    );
+
     // the row reads the corrector's partials, the plane results and the state
+    upload(&mut gpu);
+    gpu.run_stage(Stage::Correct).unwrap();
     gpu.run_stage(Stage::PlaneContact).unwrap();
     gpu.run_stage(Stage::Reduce).unwrap();
     let row = gpu.read_row().unwrap();

@@ -117,8 +117,8 @@ pub(super) struct MeshBuffers {
     pub(super) reference: Storage,
     blocks: Vec<BlockBuffers>,
     materials: Storage,
-    offsets: Storage,
-    incidence: Storage,
+    pub(super) offsets: Storage,
+    pub(super) incidence: Storage,
 }
 
 impl MeshBuffers {
@@ -447,11 +447,17 @@ impl GpuKernels {
     /// Dispatches the element kernels and the gather in an open pass: the internal forces at
     /// the device's displacement into the forces buffer.
     pub(super) fn dispatch_internal_forces(&self, pass: &mut wgpu::ComputePass) {
+        self.dispatch_element_kernels(pass);
+        (self.kernels.node_gather.0).dispatch(pass, &self.launches.gather);
+    }
+
+    /// Dispatches the element kernels in an open pass: the corner forces at the device's
+    /// displacement (a gather sums them per node).
+    pub(super) fn dispatch_element_kernels(&self, pass: &mut wgpu::ComputePass) {
         let (k, l) = (&self.kernels, &self.launches);
         for (kind, launch) in &l.blocks {
             k.forces(*kind).dispatch(pass, launch);
         }
-        k.node_gather.0.dispatch(pass, &l.gather);
     }
 
     /// Records the element kernels and the gather in one pass (see

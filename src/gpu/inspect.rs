@@ -196,7 +196,7 @@ impl GpuKernels {
     }
 
     /// Uploads corner forces given in the twin's order into the device's layout.
-    fn upload_corners(&mut self, corners: &[[f64; 3]]) -> Result<()> {
+    pub(super) fn upload_corners(&mut self, corners: &[[f64; 3]]) -> Result<()> {
         let slots = corners.len();
         let mut c = vec![0f32; 3 * slots];
         for (i, f) in corners.iter().enumerate() {
@@ -376,6 +376,9 @@ pub enum Stage {
     Drift,
     InternalForces,
     Correct,
+    /// `gather_correct`: the gather and the corrector in one dispatch, from the corner
+    /// forces the last `InternalForces` left.
+    GatherCorrect,
     Reduce,
 }
 
@@ -409,8 +412,16 @@ impl ResidentStep {
             Stage::Drift => k.drift.0.record_launch(enc, &l.drift),
             Stage::InternalForces => self.k.record_internal_forces(enc),
             Stage::Correct => k.correct.0.record_launch(enc, &l.correct),
+            Stage::GatherCorrect => k.gather_correct.0.record_launch(enc, &l.gather_correct),
             Stage::Reduce => k.reduce.0.record_launch(enc, &l.reduce[0]),
         }
+    }
+
+    /// Runs `gather_correct` alone on the corner forces `corners` (the twin's order) and the
+    /// device's state.
+    pub fn run_gather_correct(&mut self, corners: &[[f64; 3]]) -> Result<()> {
+        self.k.upload_corners(corners)?;
+        self.run_stage(Stage::GatherCorrect)
     }
 
     /// Runs one stage alone on the device's current buffers and waits for it.

@@ -92,6 +92,10 @@ kernel_table! {
     FailureReduce = failure_reduce(partials, rows);
     FailureSurveyKernel = failure_survey(displacement, points, operators, strengths, partials);
     FillWords = fill_words(words);
+    GatherCorrect = gather_correct(
+        step, displacement, lumped, velocity, acceleration, partials, bodies, offsets, incidence,
+        corner_forces,
+    );
     Hex8Forces = hex8_forces(
         reference, displacement, block_nodes, block_material, materials, corner_forces,
     );

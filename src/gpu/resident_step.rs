@@ -5,9 +5,11 @@
 //! A step records: `explicit_predict` (v* = v + dt/2 a), the contact impulses
 //! (`plane_contact` where all contacts are rigid planes, at most 8; otherwise the contact
 //! iteration, [`super::ImpulseSweeps`], which takes rigid bodies' surfaces too),
-//! `explicit_drift` (u += dt v), the element kernels and `node_gather` (internal forces),
-//! `explicit_correct` over every body's nodes and the rigid bodies' nodes in one dispatch
-//! (a, v and the energy and momentum sums per workgroup, each body's apart) and
+//! `explicit_drift` (u += dt v), the element kernels (corner forces), `gather_correct` over
+//! every body's nodes and the rigid bodies' nodes in one dispatch (the nodal forces gathered
+//! as `node_gather` sums them, a, v and the energy and momentum sums per workgroup, each
+//! body's apart; a rank runs `node_gather` and `explicit_correct` apart, its shared nodes'
+//! exchange between them) and
 //! `history_reduce` (one row of history values, written at the step's place in the
 //! submission's rows). A whole submission is
 //! one compute pass. The contact search sorts the faces into its grid at the submission's
@@ -34,7 +36,9 @@ use super::rank_exchange::RankExchange;
 use super::rank_surface::RankSurface;
 use super::types::WORKGROUP;
 use super::types::{self, to_device, Split3};
-use super::{ExplicitCorrect, ExplicitDrift, ExplicitPredict, HistoryReduce, PlaneContact};
+use super::{
+    ExplicitCorrect, ExplicitDrift, ExplicitPredict, GatherCorrect, HistoryReduce, PlaneContact,
+};
 use crate::error::{ImpactError, Result};
 use crate::kernels::explicit_correct::FIELDS;
 use crate::kernels::history_reduce::{OP_DISPLACEMENT, OP_MAX, OP_PARTIALS, OP_SUM, OP_VELOCITY};
@@ -166,6 +170,7 @@ pub(super) struct StepKernels {
     pub(super) plane: PlaneContact,
     pub(super) drift: ExplicitDrift,
     pub(super) correct: ExplicitCorrect,
+    pub(super) gather_correct: GatherCorrect,
     pub(super) reduce: HistoryReduce,
 }
 
@@ -177,6 +182,7 @@ impl StepKernels {
             plane: PlaneContact::new(ctx),
             drift: ExplicitDrift::new(ctx),
             correct: ExplicitCorrect::new(ctx),
+            gather_correct: GatherCorrect::new(ctx),
             reduce: HistoryReduce::new(ctx),
         }
     }
@@ -289,6 +295,8 @@ pub(super) struct Launches {
     pub(super) drift: Launch,
     /// Every body's nodes in one dispatch.
     pub(super) correct: Launch,
+    /// The gather and the corrector in one dispatch (a single device's step).
+    pub(super) gather_correct: Launch,
     /// One per row of a submission: launch j writes the row of the submission's step j.
     pub(super) reduce: Vec<Launch>,
 }
@@ -314,6 +322,7 @@ impl Launches {
                 .drift
                 .launch(ctx, nodes as u32, 0, 0, b.step, &k.v.buffer, &k.u.buffer),
             correct: Self::correct(&ks.correct, b, groups),
+            gather_correct: Self::gather_correct(&ks.gather_correct, b, groups),
             reduce: Self::reduce(&ks.reduce, b, chunk_capacity),
         }
     }
@@ -358,6 +367,28 @@ impl Launches {
             &b.m.a.buffer,
             &b.partials.buffer,
             &b.correct_bodies.buffer,
+        )
+    }
+
+    /// The gather and corrector's launch over every body's `groups` workgroups (Params.aux
+    /// the bodies, aux2 the corner slots).
+    fn gather_correct(kernel: &GatherCorrect, b: &LaunchBuffers, groups: u32) -> Launch {
+        let k = b.k;
+        kernel.launch(
+            &k.ctx,
+            groups * WORKGROUP,
+            b.bodies,
+            k.layout.count() as u32,
+            b.step,
+            &k.u.buffer,
+            &b.m.lumped.buffer,
+            &k.v.buffer,
+            &b.m.a.buffer,
+            &b.partials.buffer,
+            &b.correct_bodies.buffer,
+            &k.mesh.offsets.buffer,
+            &k.mesh.incidence.buffer,
+            &k.corners.buffer,
         )
     }
 
@@ -654,11 +685,18 @@ impl ResidentStep {
         }
     }
 
-    /// Dispatches the step's stages after the contact iteration: drift, internal forces,
-    /// correctors, the failure survey and the history row of the submission's step `j`.
+    /// Dispatches the step's stages after the contact iteration: drift, the element
+    /// kernels, the gather with the correctors in one dispatch, the failure survey and the
+    /// history row of the submission's step `j`.
     fn dispatch_back(&self, pass: &mut wgpu::ComputePass, j: usize) {
-        self.dispatch_forces(pass);
-        self.dispatch_row(pass, j);
+        let l = &self.launches;
+        self.kernels.drift.0.dispatch(pass, &l.drift);
+        self.k.dispatch_element_kernels(pass);
+        self.kernels
+            .gather_correct
+            .0
+            .dispatch(pass, &l.gather_correct);
+        self.dispatch_survey_row(pass, j);
     }
 
     /// Dispatches the drift and the internal forces.
@@ -670,8 +708,16 @@ impl ResidentStep {
     /// Dispatches the correctors, the failure survey and the history row of the
     /// submission's step `j`.
     pub(super) fn dispatch_row(&self, pass: &mut wgpu::ComputePass, j: usize) {
+        self.kernels
+            .correct
+            .0
+            .dispatch(pass, &self.launches.correct);
+        self.dispatch_survey_row(pass, j);
+    }
+
+    /// Dispatches the failure survey and the history row of the submission's step `j`.
+    fn dispatch_survey_row(&self, pass: &mut wgpu::ComputePass, j: usize) {
         let l = &self.launches;
-        self.kernels.correct.0.dispatch(pass, &l.correct);
         if let Some(f) = &self.failure {
             f.dispatch(pass, j);
         }
