@@ -15,11 +15,8 @@
 @group(0) @binding(6) var<storage, read_write> bounds: array<atomic<u32>, 3>;
 @group(0) @binding(7) var<storage, read_write> boxes: array<FaceBox>;
 
-var<workgroup> speeds: array<f32, 64>;
-var<workgroup> sides: array<f32, 64>;
-var<workgroup> drifts: array<f32, 64>;
-
 // include: face_centre
+// include: fold_bounds
 
 @compute @workgroup_size(64)
 fn search_bounds(
@@ -28,44 +25,12 @@ fn search_bounds(
 ) {
     let i = item_index(gid, params);
     var speed = 0.0;
-    var side = 0.0;
-    var drift = 0.0;
+    var side_drift = vec2<f32>(0.0);
     if (i < params.aux) {
         speed = length(vec3<f32>(velocity[3u * i], velocity[3u * i + 1u], velocity[3u * i + 2u]));
     }
     if (i < params.aux2) {
-        let f = faces[i];
-        let r0 = reference[f.nodes[0]];
-        let u0 = displacement[f.nodes[0]];
-        var lo = vec3<f32>(0.0);
-        var hi = vec3<f32>(0.0);
-        for (var k = 1u; k < 4u; k++) {
-            let n = f.nodes[k];
-            let p = split_difference(reference[n], r0) + split_difference(displacement[n], u0);
-            lo = min(lo, p);
-            hi = max(hi, p);
-        }
-        let e = hi - lo;
-        side = max(e.x, max(e.y, e.z));
-        boxes[i] = face_box(i);
-        let d = abs(face_centre(i) - vec3_of(centres[i]));
-        drift = max(d.x, max(d.y, d.z));
+        side_drift = face_bounds(i);
     }
-    speeds[local] = speed;
-    sides[local] = side;
-    drifts[local] = drift;
-    workgroupBarrier();
-    for (var s = 32u; s > 0u; s >>= 1u) {
-        if (local < s) {
-            speeds[local] = max(speeds[local], speeds[local + s]);
-            sides[local] = max(sides[local], sides[local + s]);
-            drifts[local] = max(drifts[local], drifts[local + s]);
-        }
-        workgroupBarrier();
-    }
-    if (local == 0u) {
-        atomicMax(&bounds[0], bitcast<u32>(speeds[0]));
-        atomicMax(&bounds[1], bitcast<u32>(sides[0]));
-        atomicMax(&bounds[2], bitcast<u32>(drifts[0]));
-    }
+    fold_bounds(local, speed, side_drift);
 }

@@ -10,6 +10,7 @@
 mod common;
 use common::*;
 
+use impact::gpu::inspect::Stage;
 use impact::gpu::{GpuContext, ResidentStep};
 use impact::integrate::resident;
 use impact::integrate::{Integrator, ResidentSolver};
@@ -737,6 +738,46 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     assert!(e <= TOL, "seed {seed}: contact_report {e:.2e}");
 }
 
+/// `predict_bounds`, the step's predictor with the search's bounds, against its twin on the
+/// stack from a random state (velocities of order 1, accelerations of order 20).
+#[test]
+fn predict_bounds_matches_its_cpu_twin() {
+    let tag = "predict_bounds";
+    let Some(ctx) = gpu_context(tag) else {
+        return;
+    };
+    let mut rng = StdRng::seed_from_u64(seed(tag));
+    let model = stack_model();
+    let dt = 2e-3;
+    let (setup, _) = resident::setup(&model, &model_settings(), dt, 1.0).unwrap();
+    let contact = setup.contact.clone().expect("surface contact");
+    let nodes = model.mesh.node_count();
+    let data = model.element_data();
+    let u = tenth_of_an_element(&mut rng, nodes);
+    let mut v: Vec<f64> = (0..3 * nodes)
+        .map(|_| rng.random_range(-1.0..1.0))
+        .collect();
+    let a: Vec<f64> = (0..3 * nodes)
+        .map(|_| rng.random_range(-20.0..20.0))
+        .collect();
+    let mut gpu = ResidentStep::new(ctx, &data, &setup, 8).expect("device step");
+    gpu.upload(&u, &v, &a, &vec![0.0; 3 * nodes], &[]).unwrap();
+    let (ctx, it) = gpu.impulse_sweeps().unwrap();
+    let ctx = ctx.clone();
+    assert!(it.predicts(), "the stack has a device search");
+    it.run(&ctx, |it, p| it.dispatch_search(p, SearchMode::First, true))
+        .unwrap();
+    let (bounds, _) = it.read_grid(&ctx).unwrap();
+    let v_gpu = gpu_state(&mut gpu).1;
+    // the centres start at zero: the drift is the centres' largest coordinate
+    let zero = vec![[0.0; 3]; contact.faces.len()];
+    let reference = &data.reference;
+    let cpu = kernels::predict_bounds(dt, (reference, &u, &a), &mut v, &contact.faces, &zero);
+    let (ev, eb) = (rel_err(&v_gpu, &v), rel_err(&bounds, &cpu));
+    eprintln!("predict_bounds: velocity {ev:.2e}, bounds {eb:.2e}");
+    assert!(ev <= TOL && eb <= TOL, "{ev:.2e} {eb:.2e}");
+}
+
 /// `contact_zone`, the whole iteration in one workgroup, on the stack (surface and plane
 /// pairs) and among the rigid bodies (rigid pairs), from random states as above: against its
 /// CPU twin (the staged twins one after another) within 1e-5, and against the staged
@@ -762,11 +803,14 @@ type IterationOutputs = (
 
 /// One step's iteration of `model` from a random state (seeded by `tag`), in one workgroup
 /// or staged; its outputs, and the device's contact points and margin.
+/// `predict`: None takes the random velocity as v*; Some(false) runs `explicit_predict`
+/// before the iteration, Some(true) the predictor in the search's bounds
+/// (`dispatch_predicting`).
 fn iteration_outputs(
     ctx: &GpuContext,
     (tag, seed): (&str, u64),
     model: &Model,
-    zone: bool,
+    (zone, predict): (bool, Option<bool>),
 ) -> Option<(IterationOutputs, Vec<kernels::ContactPoint>, f64)> {
     let mut rng = StdRng::seed_from_u64(seed);
     let dt = 2e-3;
@@ -788,10 +832,22 @@ fn iteration_outputs(
         eprintln!("{tag}: the adapter does not run contact_zone");
         return None;
     }
+    if predict == Some(false) {
+        gpu.run_stage(Stage::Predict).unwrap();
+    }
     let (ctx, it) = gpu.impulse_sweeps().expect("contact iteration");
     let ctx = ctx.clone();
-    it.run(&ctx, |it, p| it.dispatch(p, 0, SearchMode::First))
-        .unwrap();
+    if predict == Some(true) && !it.predicts() {
+        eprintln!("{tag}: no device search to predict in");
+        return None;
+    }
+    match predict {
+        Some(true) => it.run(&ctx, |it, p| {
+            it.dispatch_predicting(p, 0, SearchMode::First)
+        }),
+        _ => it.run(&ctx, |it, p| it.dispatch(p, 0, SearchMode::First)),
+    }
+    .unwrap();
     let [keys, starts, sorted, _] = it.read_sort(&ctx).unwrap();
     let faced = sorted[..starts[contact.faces.len()] as usize].to_vec();
     let points = it.read_points(&ctx, contact.queries.len()).unwrap();
@@ -813,17 +869,26 @@ fn zone_matches(tag: &str, model: &Model) {
         return;
     };
     let seed = seed(tag);
-    let Some((zone, points, margin)) = iteration_outputs(&ctx, (tag, seed), model, true) else {
+    let at = (tag, seed);
+    let Some((zone, points, margin)) = iteration_outputs(&ctx, at, model, (true, None)) else {
         return;
     };
-    let (staged, ..) =
-        iteration_outputs(&ctx, (tag, seed), model, false).expect("staged iteration");
+    let (staged, ..) = iteration_outputs(&ctx, at, model, (false, None)).expect("staged");
     let (c, sort, touches, state, results, v_gpu) = &zone;
     assert!(state.sweeps > 2 && !state.sweeping(), "{tag}: {state:?}");
     assert_eq!(
         &zone, &staged,
         "{tag}: the zone against the staged iteration"
     );
+    // the predictor in the search's bounds: the bits of the predictor before the search
+    // (where there is a device search)
+    if let Some((fused, ..)) = iteration_outputs(&ctx, at, model, (true, Some(true))) {
+        let (apart, ..) = iteration_outputs(&ctx, at, model, (true, Some(false))).unwrap();
+        assert_eq!(
+            apart, fused,
+            "{tag}: predict_bounds against explicit_predict"
+        );
+    }
 
     // the twin from the same random state (the device's contact points and margin)
     let dt = 2e-3;
@@ -1282,7 +1347,9 @@ fn profile_case(ctx: &GpuContext, zone: bool, contact: &[(&str, f64)]) {
     let per_step =
         |name: &str| (kernels.iter().find(|k| k.name == name)).map_or(0.0, |k| k.dispatches);
     let step = [
-        ("explicit_predict", 1.0),
+        ("predict_bounds", 1.0),
+        ("explicit_predict", 0.0),
+        ("search_bounds", 0.0),
         ("hex8_forces", 1.0),
         ("gather_correct", 1.0),
         ("node_gather", 0.0),

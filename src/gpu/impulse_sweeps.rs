@@ -37,7 +37,7 @@ use super::kernel::Launch;
 use super::kernels::{
     BodyGather, BucketCount, BucketFill, BucketOrder, ContactApply, ContactCompliance,
     ContactConstraints, ContactFinish, ContactReportKernel, ContactSweep, ContactTouches,
-    ContactZone, FillWords, SearchBounds, SearchGridKernel,
+    ContactZone, FillWords, PredictBounds, SearchBounds, SearchGridKernel,
 };
 use super::scan::Scan;
 use super::search::GpuSearch;
@@ -89,6 +89,7 @@ struct IterationKernels {
     gather: BodyGather,
     zero: FillWords,
     bounds: SearchBounds,
+    predict_bounds: PredictBounds,
     grid: SearchGridKernel,
     constraints: ContactConstraints,
     count: BucketCount,
@@ -112,6 +113,7 @@ impl IterationKernels {
             gather: BodyGather::new(ctx),
             zero: FillWords::new(ctx),
             bounds: SearchBounds::new(ctx),
+            predict_bounds: PredictBounds::new(ctx),
             grid: SearchGridKernel::new(ctx),
             constraints: ContactConstraints::new(ctx),
             count: BucketCount::new(ctx),
@@ -133,6 +135,8 @@ impl IterationKernels {
 /// the state words, for the next step.)
 struct Launches {
     bounds: Option<Launch>,
+    /// `predict_bounds`: the step's predictor with the bounds.
+    predict_bounds: Option<Launch>,
     /// `search_grid` in each [`SearchMode`] (indexed by its value).
     grid: Option<[Launch; 3]>,
     constraints: Launch,
@@ -256,17 +260,17 @@ struct Bindings<'a> {
 }
 
 impl Bindings<'_> {
-    /// The search's launches, `search_bounds` and `search_grid` in each [`SearchMode`] (none
-    /// without a search).
+    /// The search's launches, `search_bounds`, `predict_bounds` and `search_grid` in each
+    /// [`SearchMode`] (none without a search).
     fn search(
         &self,
         search: Option<&GpuSearch>,
         nodes: usize,
-    ) -> (Option<Launch>, Option<[Launch; 3]>) {
+    ) -> (Option<[Launch; 2]>, Option<[Launch; 3]>) {
         let (ctx, k, b, w) = (self.ctx, self.k, self.b, self.w);
         let item_count = nodes.max(self.nf as usize) as u32;
         let bounds = search.map(|s| {
-            k.bounds.launch(
+            let bounds = k.bounds.launch(
                 ctx,
                 item_count,
                 nodes as u32,
@@ -278,7 +282,23 @@ impl Bindings<'_> {
                 s.centres_buffer(),
                 &w.bounds.buffer,
                 s.boxes_buffer(),
-            )
+            );
+            let predict = k.predict_bounds.launch(
+                ctx,
+                item_count,
+                nodes as u32,
+                self.nf,
+                b.step,
+                b.reference,
+                b.displacement,
+                b.velocity,
+                b.acceleration,
+                s.faces_buffer(),
+                s.centres_buffer(),
+                &w.bounds.buffer,
+                s.boxes_buffer(),
+            );
+            [bounds, predict]
         });
         let grid = search.map(|s| {
             [SearchMode::Keep, SearchMode::Build, SearchMode::First].map(|mode| {
@@ -508,8 +528,13 @@ impl Bindings<'_> {
             &self.w.dj.buffer,
             &self.w.state.buffer,
         );
+        let (bounds, predict_bounds) = match bounds {
+            Some([b, p]) => (Some(b), Some(p)),
+            None => (None, None),
+        };
         Launches {
             bounds,
+            predict_bounds,
             grid,
             constraints,
             count,
@@ -708,8 +733,13 @@ impl ImpulseSweeps {
     /// keeps the last sort) and the constraints up to their compliance (which starts the
     /// sweeps), inside an open compute pass. The results do not depend on `mode`.
     pub fn dispatch_setup(&self, pass: &mut wgpu::ComputePass, mode: SearchMode) {
+        self.dispatch_search(pass, mode, false);
+        self.dispatch_constraints(pass);
+    }
+
+    /// Dispatches the constraints up to their compliance (which starts the sweeps).
+    fn dispatch_constraints(&self, pass: &mut wgpu::ComputePass) {
         let (k, l) = (&self.kernels, &self.launches);
-        self.dispatch_search(pass, mode);
         k.constraints.0.dispatch(pass, &l.constraints);
         k.count.0.dispatch(pass, &l.count);
         self.scan.dispatch(pass);
@@ -721,14 +751,18 @@ impl ImpulseSweeps {
     }
 
     /// Dispatches the search, if any (the faces sorted into its grid again unless `mode`
-    /// keeps the last sort).
-    pub fn dispatch_search(&self, pass: &mut wgpu::ComputePass, mode: SearchMode) {
+    /// keeps the last sort); with `predict`, the step's predictor runs in its bounds
+    /// ([`Self::dispatch_predicting`]).
+    pub fn dispatch_search(&self, pass: &mut wgpu::ComputePass, mode: SearchMode, predict: bool) {
         let (k, l) = (&self.kernels, &self.launches);
         if let (Some(search), Some(bounds), Some(grid)) = (&self.search, &l.bounds, &l.grid) {
             if let Some(floor) = &self.speed_floor {
                 k.zero.0.dispatch(pass, floor);
             }
-            k.bounds.0.dispatch(pass, bounds);
+            match (predict, &l.predict_bounds) {
+                (true, Some(p)) => k.predict_bounds.0.dispatch(pass, p),
+                _ => k.bounds.0.dispatch(pass, bounds),
+            }
             k.grid.0.dispatch(pass, &grid[mode as usize]);
             if mode != SearchMode::Keep {
                 search.dispatch_sort(pass);
@@ -776,12 +810,38 @@ impl ImpulseSweeps {
     /// iteration with `sweeps` of its sweeps as dispatches of their own and the rest in
     /// `contact_finish`.
     pub fn dispatch(&self, pass: &mut wgpu::ComputePass, sweeps: u32, mode: SearchMode) {
+        self.dispatch_step(pass, (sweeps, mode), false);
+    }
+
+    /// Whether the iteration can run the step's predictor in its search's bounds
+    /// ([`Self::dispatch_predicting`]): it has a device search.
+    pub fn predicts(&self) -> bool {
+        self.launches.predict_bounds.is_some()
+    }
+
+    /// [`Self::dispatch`] with the step's predictor, v* = v_n + dt/2 a_n, in the search's
+    /// bounds (`predict_bounds`, one dispatch in place of `explicit_predict` and
+    /// `search_bounds`): the velocity is v_n on entry, and the iteration's nodes are every
+    /// node of the model (a single device's step). Only where the iteration
+    /// [`Self::predicts`] (it has a device search); elsewhere the caller runs the predictor
+    /// and [`Self::dispatch`].
+    pub fn dispatch_predicting(&self, pass: &mut wgpu::ComputePass, sweeps: u32, mode: SearchMode) {
+        self.dispatch_step(pass, (sweeps, mode), true);
+    }
+
+    /// The step's iteration, `predict` as [`Self::dispatch_search`] takes it.
+    fn dispatch_step(
+        &self,
+        pass: &mut wgpu::ComputePass,
+        (sweeps, mode): (u32, SearchMode),
+        predict: bool,
+    ) {
+        self.dispatch_search(pass, mode, predict);
         if self.zone {
-            self.dispatch_search(pass, mode);
             self.dispatch_zone(pass);
             return;
         }
-        self.dispatch_setup(pass, mode);
+        self.dispatch_constraints(pass);
         self.dispatch_sweeps(pass, sweeps);
         self.dispatch_finish(pass);
         self.dispatch_report(pass);

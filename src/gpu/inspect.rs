@@ -504,7 +504,7 @@ impl ResidentStep {
         let mut enc = ctx.encoder("contact_zone_timing");
         for _ in 0..reps {
             c.record(&mut enc, |c, p| {
-                c.dispatch_search(p, SearchMode::Build);
+                c.dispatch_search(p, SearchMode::Build, false);
                 c.dispatch_zone(p);
             });
         }

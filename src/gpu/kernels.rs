@@ -108,6 +108,9 @@ kernel_table! {
         step, reference, displacement, acceleration, lumped, planes, plane_nodes, velocity,
         results,
     );
+    PredictBounds = predict_bounds(
+        step, reference, displacement, velocity, acceleration, faces, centres, bounds, boxes,
+    );
     PrefixSum = prefix_sum(values, totals, starts);
     ScanTotals = scan_totals(values, totals);
     SearchBounds = search_bounds(reference, displacement, velocity, faces, centres, bounds, boxes);

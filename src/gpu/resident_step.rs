@@ -2,7 +2,8 @@
 //! per submission, with the history values reduced on the device and read back
 //! asynchronously once per submission.
 //!
-//! A step records: `explicit_predict` (v* = v + dt/2 a), the contact impulses
+//! A step records: `explicit_predict` (v* = v + dt/2 a; with a device contact search,
+//! `predict_bounds` runs it with the search's bounds in one dispatch), the contact impulses
 //! (`plane_contact` where all contacts are rigid planes, at most 8; otherwise the contact
 //! iteration, [`super::ImpulseSweeps`], which takes rigid bodies' surfaces too),
 //! `explicit_drift` (u += dt v), the element kernels (corner forces), `gather_correct` over
@@ -734,9 +735,18 @@ impl ResidentStep {
             timestamp_writes: None,
         });
         for j in 0..steps {
-            self.dispatch_front(&mut pass);
-            if let Some(c) = &self.contact {
-                c.dispatch(&mut pass, self.sweeps, self.search_mode(j));
+            let mode = self.search_mode(j);
+            match &self.contact {
+                // no rigid planes' kernel runs between the predictor and the iteration
+                Some(c) if c.predicts() && self.launches.plane.is_none() => {
+                    c.dispatch_predicting(&mut pass, self.sweeps, mode);
+                }
+                contact => {
+                    self.dispatch_front(&mut pass);
+                    if let Some(c) = contact {
+                        c.dispatch(&mut pass, self.sweeps, mode);
+                    }
+                }
             }
             self.dispatch_back(&mut pass, j);
         }
