@@ -383,6 +383,20 @@ primary = { body = "block", face = "z-" }
 /// The stack's element size.
 const H: f64 = 0.125;
 
+/// A random state of `nodes` nodes: displacements of a tenth of an element (the block's
+/// bottom then overlaps the plate's top, or not, by a little), velocities of order 1 (the
+/// normal ones closing) and accelerations of order 20.
+fn random_state(rng: &mut StdRng, nodes: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let u = tenth_of_an_element(rng, nodes);
+    let v = (0..3 * nodes)
+        .map(|d| rng.random_range(-1.0..1.0) - if d % 3 == 2 { 0.5 } else { 0.0 })
+        .collect();
+    let a = (0..3 * nodes)
+        .map(|_| rng.random_range(-20.0..20.0))
+        .collect();
+    (u, v, a)
+}
+
 /// Random displacements of up to a tenth of the stack's element in each component.
 fn tenth_of_an_element(rng: &mut StdRng, nodes: usize) -> Vec<f64> {
     (0..3 * nodes)
@@ -443,15 +457,7 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     let nodes = model.mesh.node_count();
     let data = model.element_data();
     let reference = data.reference.clone();
-    // displacements of a tenth of an element (the block's bottom then overlaps the plate's
-    // top, or not, by a little); velocities of order 1 (the normal ones closing)
-    let u = tenth_of_an_element(&mut rng, nodes);
-    let v: Vec<f64> = (0..3 * nodes)
-        .map(|d| rng.random_range(-1.0..1.0) - if d % 3 == 2 { 0.5 } else { 0.0 })
-        .collect();
-    let a: Vec<f64> = (0..3 * nodes)
-        .map(|_| rng.random_range(-20.0..20.0))
-        .collect();
+    let (u, v, a) = random_state(&mut rng, nodes);
     let mut gpu = ResidentStep::new(ctx, &data, &setup, 8).expect("device step");
     gpu.upload(&u, &v, &a, &vec![0.0; 3 * nodes], &[]).unwrap();
     let (ctx, it) = gpu.impulse_sweeps().expect("contact iteration");
@@ -739,7 +745,7 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
 }
 
 /// `predict_bounds`, the step's predictor with the search's bounds, against its twin on the
-/// stack from a random state (velocities of order 1, accelerations of order 20).
+/// stack from a random state ([`random_state`]).
 #[test]
 fn predict_bounds_matches_its_cpu_twin() {
     let tag = "predict_bounds";
@@ -753,13 +759,7 @@ fn predict_bounds_matches_its_cpu_twin() {
     let contact = setup.contact.clone().expect("surface contact");
     let nodes = model.mesh.node_count();
     let data = model.element_data();
-    let u = tenth_of_an_element(&mut rng, nodes);
-    let mut v: Vec<f64> = (0..3 * nodes)
-        .map(|_| rng.random_range(-1.0..1.0))
-        .collect();
-    let a: Vec<f64> = (0..3 * nodes)
-        .map(|_| rng.random_range(-20.0..20.0))
-        .collect();
+    let (u, mut v, a) = random_state(&mut rng, nodes);
     let mut gpu = ResidentStep::new(ctx, &data, &setup, 8).expect("device step");
     gpu.upload(&u, &v, &a, &vec![0.0; 3 * nodes], &[]).unwrap();
     let (ctx, it) = gpu.impulse_sweeps().unwrap();
@@ -819,13 +819,7 @@ fn iteration_outputs(
     let contact = setup.contact.clone().expect("surface contact");
     let nodes = model.mesh.node_count();
     let data = model.element_data();
-    let u = tenth_of_an_element(&mut rng, nodes);
-    let v: Vec<f64> = (0..3 * nodes)
-        .map(|d| rng.random_range(-1.0..1.0) - if d % 3 == 2 { 0.5 } else { 0.0 })
-        .collect();
-    let a: Vec<f64> = (0..3 * nodes)
-        .map(|_| rng.random_range(-20.0..20.0))
-        .collect();
+    let (u, v, a) = random_state(&mut rng, nodes);
     let mut gpu = ResidentStep::new(ctx.clone(), &data, &setup, 8).expect("device step");
     gpu.upload(&u, &v, &a, &vec![0.0; 3 * nodes], &[]).unwrap();
     if gpu.set_zone(zone) != zone {
@@ -897,13 +891,7 @@ fn zone_matches(tag: &str, model: &Model) {
     let contact = setup.contact.clone().unwrap();
     let nodes = model.mesh.node_count();
     let mut rng = StdRng::seed_from_u64(seed);
-    let u = tenth_of_an_element(&mut rng, nodes);
-    let mut v: Vec<f64> = (0..3 * nodes)
-        .map(|d| rng.random_range(-1.0..1.0) - if d % 3 == 2 { 0.5 } else { 0.0 })
-        .collect();
-    let a: Vec<f64> = (0..3 * nodes)
-        .map(|_| rng.random_range(-20.0..20.0))
-        .collect();
+    let (u, mut v, a) = random_state(&mut rng, nodes);
     let data = model.element_data();
     let inputs = kernels::ZoneInputs {
         dt,
