@@ -134,9 +134,8 @@ impl IterationKernels {
 /// (`search_grid` clears the search bounds, and `bucket_order` the pair buckets' sizes and
 /// the state words, for the next step.)
 struct Launches {
-    bounds: Option<Launch>,
-    /// `predict_bounds`: the step's predictor with the bounds.
-    predict_bounds: Option<Launch>,
+    /// `search_bounds`, then `predict_bounds` (the step's predictor with the bounds).
+    bounds: Option<[Launch; 2]>,
     /// `search_grid` in each [`SearchMode`] (indexed by its value).
     grid: Option<[Launch; 3]>,
     constraints: Launch,
@@ -528,13 +527,8 @@ impl Bindings<'_> {
             &self.w.dj.buffer,
             &self.w.state.buffer,
         );
-        let (bounds, predict_bounds) = match bounds {
-            Some([b, p]) => (Some(b), Some(p)),
-            None => (None, None),
-        };
         Launches {
             bounds,
-            predict_bounds,
             grid,
             constraints,
             count,
@@ -596,7 +590,7 @@ impl ImpulseSweeps {
             Some(s) => (s.grid_buffer(), s.points_buffer(), s.faces_buffer()),
             None => (&none.buffer, &none.buffer, &none.buffer),
         };
-        let launches: Launches = Bindings {
+        let launches = Bindings {
             ctx,
             k: &kernels,
             b,
@@ -759,9 +753,9 @@ impl ImpulseSweeps {
             if let Some(floor) = &self.speed_floor {
                 k.zero.0.dispatch(pass, floor);
             }
-            match (predict, &l.predict_bounds) {
-                (true, Some(p)) => k.predict_bounds.0.dispatch(pass, p),
-                _ => k.bounds.0.dispatch(pass, bounds),
+            match predict {
+                true => k.predict_bounds.0.dispatch(pass, &bounds[1]),
+                false => k.bounds.0.dispatch(pass, &bounds[0]),
             }
             k.grid.0.dispatch(pass, &grid[mode as usize]);
             if mode != SearchMode::Keep {
@@ -816,7 +810,7 @@ impl ImpulseSweeps {
     /// Whether the iteration can run the step's predictor in its search's bounds
     /// ([`Self::dispatch_predicting`]): it has a device search.
     pub fn predicts(&self) -> bool {
-        self.launches.predict_bounds.is_some()
+        self.launches.bounds.is_some()
     }
 
     /// [`Self::dispatch`] with the step's predictor, v* = v_n + dt/2 a_n, in the search's
