@@ -19,6 +19,7 @@
 
 // include: velocity
 // include: apply_node
+// include: stopping_rule
 
 @compute @workgroup_size(64)
 fn contact_apply(@builtin(global_invocation_id) gid: vec3<u32>) {

@@ -5,8 +5,10 @@
 // normal and gap and is in reach if g >= -4 dt |v*| (four steps of its node's motion); a
 // rigid body's pair takes the gap and normal of the body's surface (`rigid_distance`) and a
 // face of one node, the body's, and is in reach if g >= -4 dt |v* - v*_b|.
-// The slip at v_{n-1/2} = v* - dt a_n is kept for the friction work. The impulses and the
-// compliance start at zero. keys[p]: the pair's face for the bucket sort by face (an
+// The slip at v_{n-1/2} = v* - dt a_n is kept for the friction work. The compliance starts
+// at zero, and the impulses at the last step's (`results`, the report's) against a face or
+// a rigid body, zero against a plane (the warm start; `contact_compliance` keeps them only
+// where the constraint can be enforced). keys[p]: the pair's face for the bucket sort by face (an
 // in-reach surface pair), otherwise params.aux (one bucket past the faces).
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -22,6 +24,7 @@
 @group(0) @binding(10) var<storage, read_write> constraints: array<Constraint>;
 @group(0) @binding(11) var<storage, read_write> keys: array<u32>;
 @group(0) @binding(12) var<storage, read> rigid: array<RigidSurface>;
+@group(0) @binding(13) var<storage, read> results: array<f32>;
 
 // include: velocity
 // include: constrain_pair

@@ -5,8 +5,8 @@
 // so the results are the staged iteration's bits. The stages: `contact_constraints`, the
 // pairs' counting sort by face (`bucket_count`, the scan of the bucket sizes, `bucket_fill`,
 // `bucket_order`, which clears the sizes and the state words), `contact_touches`,
-// `contact_compliance` (which starts the sweeps), the sweeps as `contact_finish` runs them,
-// and `contact_report`. One dispatch in place of about twenty: on a small zone the staged
+// `contact_compliance` (which starts the sweeps), the warm start's `body_gather` and
+// `contact_warm`, the sweeps as `contact_finish` runs them, and `contact_report`. One dispatch in place of about twenty: on a small zone the staged
 // iteration's dispatches, not their work, set the step's time.
 // params.count: the pairs; params.aux: the contact nodes; params.aux2: the primary faces
 // (the bucket of a pair on no face).
@@ -43,6 +43,7 @@
 // include: pair_compliance
 // include: sweep_pair
 // include: apply_node
+// include: stopping_rule
 // include: gather_range
 // include: sweep_loop
 // include: report_pair
@@ -125,11 +126,29 @@ fn row_sums(local: u32, np: u32, nc: u32) {
     }
     stage_end();
     if (local == 0u) {
-        state[STATE_ACTIVE] = atomicLoad(&zone_active);
-        state[STATE_PHASE] = select(2u, 1u, state[STATE_ACTIVE] != 0u);
+        let in_reach = atomicLoad(&zone_active);
+        state[STATE_ACTIVE] = in_reach;
+        state[STATE_PHASE] = select(2u, 1u, in_reach != 0u);
+        state[STATE_SWEPT] = u32(in_reach != 0u);
     }
     for (var p = local; p < np; p += ONE_GROUP) {
         pair_compliance(p);
+    }
+}
+
+// The warm start's velocity change where the iteration sweeps, as `body_gather` and
+// `contact_warm` make it.
+fn warm_start(local: u32, np: u32, nc: u32) {
+    if (local == 0u) {
+        phase = state[STATE_PHASE];
+    }
+    if (workgroupUniformLoad(&phase) != 1u) {
+        return;
+    }
+    gather_bodies(local);
+    storageBarrier();
+    for (var i = local; i < nc; i += ONE_GROUP) {
+        apply_node(i, np);
     }
 }
 
@@ -146,6 +165,8 @@ fn contact_zone(@builtin(local_invocation_index) local: u32) {
     sort_pairs(local, np, params.aux2);
     stage_end();
     row_sums(local, np, params.aux);
+    stage_end();
+    warm_start(local, np, params.aux);
     stage_end();
     sweep_while_sweeping(local);
     stage_end();

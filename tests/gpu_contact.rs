@@ -404,6 +404,32 @@ fn tenth_of_an_element(rng: &mut StdRng, nodes: usize) -> Vec<f64> {
         .collect()
 }
 
+/// A last step's report of `pairs` ([`SLOT`] per pair) with random impulses, which the
+/// next step's iteration starts from: on a third of the pairs none, on the others a normal
+/// impulse that stops up to half a unit of speed of the secondary node, and a tangential one
+/// up to 1.5 times the normal one, some of it along the pair's normal (the warm start
+/// removes it and returns the rest onto the law's set).
+fn last_results(
+    rng: &mut StdRng,
+    pairs: &[kernels::ContactPair],
+    lumped: &[kernels::LumpedNode],
+) -> Vec<f64> {
+    let mut r = vec![0.0; SLOT * pairs.len()];
+    for (p, pair) in pairs.iter().enumerate() {
+        if rng.random_range(0..3) == 0 {
+            continue;
+        }
+        let inv = lumped[pair.node as usize].inv_mass;
+        let m = 1.0 / inv.into_iter().fold(1e-30, f64::max);
+        let jn = rng.random_range(0.0..0.5) * m;
+        r[SLOT * p] = jn;
+        for a in 1..4 {
+            r[SLOT * p + a] = rng.random_range(-0.9..0.9) * jn;
+        }
+    }
+    r
+}
+
 /// The fields of the constraints but the compliance (compared on its own: its scale, the
 /// inverse mass, would hide the others').
 fn constraint_fields(c: &[Constraint]) -> Vec<f64> {
@@ -460,10 +486,16 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     let (u, v, a) = random_state(&mut rng, nodes);
     let mut gpu = ResidentStep::new(ctx, &data, &setup, 8).expect("device step");
     gpu.upload(&u, &v, &a, &vec![0.0; 3 * nodes], &[]).unwrap();
+    let last = last_results(&mut rng, &contact.pairs, &setup.lumped);
     let (ctx, it) = gpu.impulse_sweeps().expect("contact iteration");
     let ctx: GpuContext = ctx.clone();
+    it.upload_results(&ctx, &last).unwrap();
     it.run(&ctx, |it, p| it.dispatch_setup(p, SearchMode::First))
         .unwrap();
+    let dj_warm = it.read_dj(&ctx).unwrap();
+    let v_warm = gpu_state(&mut gpu).1;
+    let (ctx, it) = gpu.impulse_sweeps().unwrap();
+    let ctx: GpuContext = ctx.clone();
 
     // search bounds and grid (where a surface is primary)
     let (points, margin) = match contact.queries.is_empty() {
@@ -482,6 +514,7 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
         &points,
         &contact.faces,
         &contact.rigid,
+        &last,
     );
     let reach: Vec<bool> = gpu_c.iter().map(|c| c.in_reach).collect();
     let in_reach = reach.iter().filter(|&&r| r).count();
@@ -575,8 +608,10 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     };
     kernels::sweep_control(&mut started, setup.tolerance, setup.max_iterations);
     assert_eq!(state, started, "seed {seed}: the iteration's start");
-    // a second setup from the same state starts from cleared sizes and state words, as a
-    // step after a step does: the same sort and count
+    // a second setup from the same state (v* again: the warm start moved it) starts from
+    // cleared sizes and state words, as a step after a step does: the same sort and count
+    gpu.upload(&u, &v, &a, &vec![0.0; 3 * nodes], &[]).unwrap();
+    let (_, it) = gpu.impulse_sweeps().unwrap();
     it.run(&ctx, |it, p| it.dispatch_setup(p, SearchMode::Keep))
         .unwrap();
     let again = it.read_sort(&ctx).unwrap();
@@ -593,11 +628,40 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
         "seed {seed}: a second setup"
     );
     let mut cpu_c = gpu_c.clone();
-    kernels::contact_compliance(&mut cpu_c, &contact.pairs, &gpu_t, &setup.lumped);
+    let mut dj_cpu = vec![0.0; 3 * (contact.pairs.len() + contact.rigid.len())];
+    kernels::contact_compliance(
+        &mut cpu_c,
+        &contact.pairs,
+        &gpu_t,
+        &setup.lumped,
+        &mut dj_cpu,
+    );
     let comp = |c: &[Constraint]| c.iter().map(|c| c.compliance).collect::<Vec<_>>();
     let e = rel_err(&comp(&gpu_c), &comp(&cpu_c));
     eprintln!("contact_compliance: {e:.2e}");
     assert!(e <= TOL, "seed {seed}: contact_compliance {e:.2e}");
+
+    // the warm start: the last step's impulses, where the constraint can be enforced,
+    // applied to v* (with the rigid bodies' gathers)
+    let warm = cpu_c.iter().filter(|c| c.jn > 0.0).count();
+    eprintln!("{warm} pairs start from an impulse");
+    assert!(warm > 0, "seed {seed}: warm started pairs");
+    let mut v_cpu = v.clone();
+    let inputs = kernels::WarmInputs {
+        nodes: &contact.nodes,
+        links: &contact.links,
+        starts: &starts,
+        sorted: &sorted,
+        lumped: &setup.lumped,
+    };
+    kernels::contact_warm(&inputs, &started, &cpu_c, &mut dj_cpu, &mut v_cpu);
+    let e = rel_err(&dj_warm, &dj_cpu);
+    eprintln!("contact_compliance and body_gather, the warm impulses: {e:.2e}");
+    assert!(e <= TOL, "seed {seed}: warm impulses {e:.2e}");
+    let e = rel_err(&v_warm, &v_cpu);
+    eprintln!("contact_warm: {e:.2e}");
+    assert!(e <= TOL, "seed {seed}: contact_warm {e:.2e}");
+    assert!(rel_err(&v_warm, &v) > 1e-3, "the warm start moves v*");
 
     // sweeps, one at a time (sweep_control ran once before the first): each stage's twin
     // takes the device's inputs to it, read back before the sweep
@@ -820,6 +884,7 @@ fn iteration_outputs(
     let nodes = model.mesh.node_count();
     let data = model.element_data();
     let (u, v, a) = random_state(&mut rng, nodes);
+    let last = last_results(&mut rng, &contact.pairs, &setup.lumped);
     let mut gpu = ResidentStep::new(ctx.clone(), &data, &setup, 8).expect("device step");
     gpu.upload(&u, &v, &a, &vec![0.0; 3 * nodes], &[]).unwrap();
     if gpu.set_zone(zone) != zone {
@@ -831,6 +896,7 @@ fn iteration_outputs(
     }
     let (ctx, it) = gpu.impulse_sweeps().expect("contact iteration");
     let ctx = ctx.clone();
+    it.upload_results(&ctx, &last).unwrap();
     if predict == Some(true) && !it.predicts() {
         eprintln!("{tag}: no device search to predict in");
         return None;
@@ -892,6 +958,7 @@ fn zone_matches(tag: &str, model: &Model) {
     let nodes = model.mesh.node_count();
     let mut rng = StdRng::seed_from_u64(seed);
     let (u, mut v, a) = random_state(&mut rng, nodes);
+    let mut cpu_r = last_results(&mut rng, &contact.pairs, &setup.lumped);
     let data = model.element_data();
     let inputs = kernels::ZoneInputs {
         dt,
@@ -909,7 +976,6 @@ fn zone_matches(tag: &str, model: &Model) {
         links: &contact.links,
         lumped: &setup.lumped,
     };
-    let mut cpu_r = vec![0.0; SLOT * contact.pairs.len()];
     let twin = kernels::contact_zone(&inputs, &mut v, &mut cpu_r);
     let reach = |c: &[Constraint]| c.iter().map(|c| c.in_reach).collect::<Vec<_>>();
     assert_eq!(reach(c), reach(&twin.constraints), "{tag}: in reach");

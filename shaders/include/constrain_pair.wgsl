@@ -1,12 +1,27 @@
 // included by kernels that bind `step: Step`, `grid: SearchGrid`, `reference`,
 // `displacement`, `velocity`, `acceleration`, `pairs`, `points`, `faces`, `constraints`
-// (read_write), `keys` (read_write) and `rigid`, and include `velocity.wgsl`
+// (read_write), `keys` (read_write), `rigid` and `results` (the last step's report), and
+// include `velocity.wgsl`
 
 // The constraint of one pair (twin: `kernels::contact_constraints`); see
 // `contact_constraints.wgsl`.
 
 fn load_a(n: u32) -> vec3<f32> {
     return vec3<f32>(acceleration[3u * n], acceleration[3u * n + 1u], acceleration[3u * n + 2u]);
+}
+
+// The impulses pair p's sweeps start from (the warm start), against a face or a rigid body
+// in reach: its last step's, as the report left them, the tangential one without its part
+// along the new normal `nrm` and returned onto the law's set.
+fn warm_impulses(p: u32, nrm: vec3<f32>) -> vec4<f32> {
+    let o = SLOT * p;
+    let jn = max(results[o + SLOT_NORMAL_IMPULSE], 0.0);
+    let t = vec3<f32>(
+        results[o + SLOT_FRICTION_IMPULSE],
+        results[o + SLOT_FRICTION_IMPULSE + 1u],
+        results[o + SLOT_FRICTION_IMPULSE + 2u],
+    );
+    return vec4<f32>(law_projected(pairs[p].law, pairs[p].mu, t, nrm, jn), jn);
 }
 
 // Pair p's constraint and bucket key (`other`: the key of a pair on no face).
@@ -61,15 +76,18 @@ fn constrain_pair(p: u32, other: u32) {
         reach = gap >= -4.0 * step.dt * length(vn);
     }
     let slip = rel_before - dot(rel_before, nrm) * nrm;
-    let zero = Float3(0.0, 0.0, 0.0);
+    var warm = vec4<f32>(0.0);
+    if (reach && face.x != NO_FACE) {
+        warm = warm_impulses(p, nrm);
+    }
     constraints[p] = Constraint(
         array<u32, 4>(face.x, face.y, face.z, face.w),
         array<f32, 4>(w.x, w.y, w.z, w.w),
         float3(nrm),
         gap,
         0.0,
-        0.0,
-        zero,
+        warm.w,
+        float3(warm.xyz),
         float3(slip),
         select(0u, 1u, reach),
     );

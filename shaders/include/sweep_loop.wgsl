@@ -1,5 +1,6 @@
-// included by kernels that bind what `sweep_pair`, `apply_node` and `gather_range` need,
-// include those files and `velocity.wgsl`, and run ONE_GROUP invocations a workgroup
+// included by kernels that bind what `sweep_pair`, `apply_node`, `stopping_rule` and
+// `gather_range` need, include those files and `velocity.wgsl`, and run ONE_GROUP
+// invocations a workgroup
 
 // The invocations of the one-workgroup kernels.
 const ONE_GROUP: u32 = 256u;

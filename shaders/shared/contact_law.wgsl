@@ -24,6 +24,12 @@ fn law_returned(law: u32, mu: f32, trial: vec3<f32>, jn: f32) -> Returned {
     }
 }
 
+// The tangential impulse `t` without its part along the unit normal `n`, returned onto the
+// law's set for the normal impulse `jn` (twin: `ContactLaw::projected`).
+fn law_projected(law: u32, mu: f32, t: vec3<f32>, n: vec3<f32>, jn: f32) -> vec3<f32> {
+    return law_returned(law, mu, t - dot(t, n) * n, jn).t;
+}
+
 // Whether a node pressed by `jn` with the tangential impulse `t` slides (its force on the
 // law's bound within 1e-6).
 fn law_sliding(law: u32, mu: f32, t: vec3<f32>, jn: f32) -> bool {

@@ -17,7 +17,7 @@ use crate::error::{ImpactError, Result};
 
 /// Storage buffers the most demanding kernel binds (`contact_constraints`); an adapter that
 /// binds fewer per shader stage cannot run the kernels (a test keeps this the maximum).
-pub const STORAGE_BINDINGS: u32 = 11;
+pub const STORAGE_BINDINGS: u32 = 12;
 
 /// Storage buffers `contact_zone` binds: the whole contact iteration in one workgroup, which
 /// runs only where the adapter binds this many per shader stage (the staged iteration runs

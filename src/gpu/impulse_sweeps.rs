@@ -16,7 +16,9 @@
 //!    the bucket sizes for the next step's count and the state words);
 //! 3. the row-sum compliance: `contact_touches` per contact node (it gathers the pairs of
 //!    its faces from the buckets) and `contact_compliance` per pair, whose first
-//!    invocation starts the sweeps (or stops the iteration with no pair in reach);
+//!    invocation starts the sweeps (or stops the iteration with no pair in reach); then the
+//!    warm start, the last step's impulses (`contact_constraints` takes them from the
+//!    results) applied to the velocities (`body_gather`, `contact_warm`);
 //! 4. the sweeps: `contact_sweep` per pair (impulse changes), `body_gather` per rigid body
 //!    range (one workgroup each sums its pairs' impulse changes), then `contact_apply` per
 //!    contact node (it gathers them into its velocity; its first invocation applies the
@@ -37,7 +39,7 @@ use super::kernel::Launch;
 use super::kernels::{
     BodyGather, BucketCount, BucketFill, BucketOrder, ContactApply, ContactCompliance,
     ContactConstraints, ContactFinish, ContactReportKernel, ContactSweep, ContactTouches,
-    ContactZone, FillWords, PredictBounds, SearchBounds, SearchGridKernel,
+    ContactWarm, ContactZone, FillWords, PredictBounds, SearchBounds, SearchGridKernel,
 };
 use super::scan::Scan;
 use super::search::GpuSearch;
@@ -97,6 +99,7 @@ struct IterationKernels {
     order: BucketOrder,
     touches: ContactTouches,
     compliance: ContactCompliance,
+    warm: ContactWarm,
     sweep: ContactSweep,
     apply: ContactApply,
     finish: ContactFinish,
@@ -121,6 +124,7 @@ impl IterationKernels {
             order: BucketOrder::new(ctx),
             touches: ContactTouches::new(ctx),
             compliance: ContactCompliance::new(ctx),
+            warm: ContactWarm::new(ctx),
             sweep: ContactSweep::new(ctx),
             apply: ContactApply::new(ctx),
             finish: ContactFinish::new(ctx),
@@ -144,6 +148,7 @@ struct Launches {
     order: Launch,
     touches: Launch,
     compliance: Launch,
+    warm: Launch,
     sweep: Launch,
     gather: Launch,
     apply: Launch,
@@ -338,6 +343,7 @@ impl Bindings<'_> {
             &w.constraints.buffer,
             &w.sort.keys.buffer,
             &m.rigid.buffer,
+            &w.results.buffer,
         );
         let count = k.count.launch(
             ctx,
@@ -373,8 +379,9 @@ impl Bindings<'_> {
         [constraints, count, fill, order]
     }
 
-    /// The row-sum compliance's launches: `contact_touches` and `contact_compliance`.
-    fn compliance(&self) -> [Launch; 2] {
+    /// The row-sum compliance's launches, `contact_touches` and `contact_compliance`, and
+    /// the warm start's `contact_warm`.
+    fn compliance(&self) -> [Launch; 3] {
         let (ctx, k, b, m, w) = (self.ctx, self.k, self.b, self.m, self.w);
         let touches = k.touches.launch(
             ctx,
@@ -399,8 +406,24 @@ impl Bindings<'_> {
             b.lumped,
             &m.pairs.buffer,
             &w.state.buffer,
+            &w.dj.buffer,
         );
-        [touches, compliance]
+        let warm = k.warm.launch(
+            ctx,
+            self.nc,
+            self.np,
+            0,
+            &m.nodes.buffer,
+            &m.links.buffer,
+            &w.constraints.buffer,
+            &w.sort.starts.buffer,
+            &w.sort.sorted.buffer,
+            &w.dj.buffer,
+            b.lumped,
+            b.velocity,
+            &w.state.buffer,
+        );
+        [touches, compliance, warm]
     }
 
     /// The sweeps' launches: `contact_sweep`, `contact_apply` and `contact_finish`.
@@ -514,7 +537,7 @@ impl Bindings<'_> {
     fn launches(&self, search: Option<&GpuSearch>, nodes: usize) -> Launches {
         let (bounds, grid) = self.search(search, nodes);
         let [constraints, count, fill, order] = self.sort();
-        let [touches, compliance] = self.compliance();
+        let [touches, compliance, warm] = self.compliance();
         let (sweep, apply, finish) = self.sweeps();
         // one workgroup per rigid body range: Params.aux the pairs
         let gather = self.k.gather.launch(
@@ -536,6 +559,7 @@ impl Bindings<'_> {
             order,
             touches,
             compliance,
+            warm,
             sweep,
             gather,
             apply,
@@ -724,14 +748,16 @@ impl ImpulseSweeps {
     }
 
     /// Dispatches the search (if any; the faces sorted into its grid again unless `mode`
-    /// keeps the last sort) and the constraints up to their compliance (which starts the
-    /// sweeps), inside an open compute pass. The results do not depend on `mode`.
+    /// keeps the last sort), the constraints up to their compliance (which starts the
+    /// sweeps) and the warm start, inside an open compute pass. The results do not depend
+    /// on `mode`.
     pub fn dispatch_setup(&self, pass: &mut wgpu::ComputePass, mode: SearchMode) {
         self.dispatch_search(pass, mode, false);
         self.dispatch_constraints(pass);
     }
 
-    /// Dispatches the constraints up to their compliance (which starts the sweeps).
+    /// Dispatches the constraints up to their compliance (which starts the sweeps) and the
+    /// warm start.
     fn dispatch_constraints(&self, pass: &mut wgpu::ComputePass) {
         let (k, l) = (&self.kernels, &self.launches);
         k.constraints.0.dispatch(pass, &l.constraints);
@@ -742,6 +768,10 @@ impl ImpulseSweeps {
         k.touches.0.dispatch(pass, &l.touches);
         // its first invocation starts the sweeps, or stops with no pair in reach
         k.compliance.0.dispatch(pass, &l.compliance);
+        if self.ranges > 0 {
+            k.gather.0.dispatch(pass, &l.gather);
+        }
+        k.warm.0.dispatch(pass, &l.warm);
     }
 
     /// Dispatches the search, if any (the faces sorted into its grid again unless `mode`

@@ -809,6 +809,20 @@ impl ImpulseSweeps {
         )
     }
 
+    /// Overwrites the contact results ([`SLOT`] per pair, in f32): what a last step's report
+    /// left, the warm start's impulses among them.
+    pub fn upload_results(&mut self, ctx: &GpuContext, results: &[f64]) -> Result<()> {
+        let r: Vec<f32> = results.iter().map(|&x| x as f32).collect();
+        if r.len() != SLOT * self.pairs {
+            return Err(crate::error::ImpactError::Gpu(format!(
+                "upload_results: {} values for {} pairs",
+                r.len(),
+                self.pairs
+            )));
+        }
+        self.work.results.upload(ctx, &r).map(|_| ())
+    }
+
     /// Overwrites the constraints (to feed a stage the same inputs as its twin).
     pub fn upload_constraints(&mut self, ctx: &GpuContext, c: &[Constraint]) -> Result<()> {
         let c: Vec<types::GpuConstraint> = c.iter().map(types::GpuConstraint::from).collect();

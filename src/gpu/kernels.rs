@@ -60,10 +60,10 @@ kernel_table! {
     ContactApply = contact_apply(
         step, nodes, links, constraints, starts, sorted, dj, lumped, velocity, state,
     );
-    ContactCompliance = contact_compliance(constraints, touches, lumped, pairs, state);
+    ContactCompliance = contact_compliance(constraints, touches, lumped, pairs, state, dj);
     ContactConstraints = contact_constraints(
         step, grid, reference, displacement, velocity, acceleration, pairs, points, faces,
-        constraints, keys, rigid,
+        constraints, keys, rigid, results,
     );
     ContactFinish = contact_finish(
         step, constraints, pairs, velocity, dj, state, nodes, links, starts, sorted, lumped,
@@ -77,6 +77,9 @@ kernel_table! {
     );
     ContactSweep = contact_sweep(step, constraints, pairs, velocity, dj, state);
     ContactTouches = contact_touches(nodes, links, constraints, starts, sorted, touches, state);
+    ContactWarm = contact_warm(
+        nodes, links, constraints, starts, sorted, dj, lumped, velocity, state,
+    );
     ContactZone = contact_zone(
         step, grid, reference, displacement, velocity, acceleration, pairs, points, faces,
         constraints, keys, rigid, counts, ranks, starts, sorted, state, nodes, links, touches,

@@ -5,9 +5,13 @@
 //! and is in reach if $g \ge -4 \Delta t |v^*|$; a rigid body's pair takes the gap and normal
 //! of the body's surface ([`RigidShape::distance`], `shaders/shared/rigid_shape.wgsl`) and a
 //! face of one node, the body's, and is in reach if $g \ge -4 \Delta t |v^* - v^*_b|$. The
-//! slip at $v_{n-1/2} = v^* - \Delta t\, a_n$ is kept for the friction work.
+//! slip at $v_{n-1/2} = v^* - \Delta t\, a_n$ is kept for the friction work. Against a face or
+//! a rigid body the impulses start from the last step's (the warm start; the report's
+//! `results`), the tangential one without its part along the new normal and returned onto
+//! the law's set ([`ContactLaw::projected`]); against a plane from zero.
 
 use super::contact_gap::{ContactPoint, NO_FACE};
+use super::plane_contact::{slot, SLOT};
 use crate::contact::law::ContactLaw;
 use crate::geometry::rigid_shape::RigidShape;
 use crate::geometry::{
@@ -107,8 +111,23 @@ fn rigid_constraint(
     (-distance, normal, -distance >= -4.0 * dt * norm(rel))
 }
 
+/// The impulses pair `p` (`pair`) starts from against the normal `normal`, from the last
+/// step's `results` ([`SLOT`] per pair).
+fn warm_impulses(
+    results: &[f64],
+    p: usize,
+    pair: &ContactPair,
+    normal: [f64; 3],
+) -> (f64, [f64; 3]) {
+    let o = SLOT * p;
+    let jn = results[o + slot::NORMAL_IMPULSE].max(0.0);
+    let t = std::array::from_fn(|a| results[o + slot::FRICTION_IMPULSE + a]);
+    (jn, pair.law.projected(t, normal, jn))
+}
+
 /// Returns the constraints and the bucket keys (the face of an in-reach surface pair,
-/// otherwise `faces.len()`). `v` is $v^*$, `a` is $a_n$ (3 per node).
+/// otherwise `faces.len()`). `v` is $v^*$, `a` is $a_n$ (3 per node); `results` the last
+/// step's report ([`SLOT`] per pair).
 #[allow(clippy::too_many_arguments)]
 pub fn contact_constraints(
     dt: f64,
@@ -121,12 +140,13 @@ pub fn contact_constraints(
     points: &[ContactPoint],
     faces: &[[u32; 4]],
     rigid: &[RigidSurface],
+    results: &[f64],
 ) -> (Vec<Constraint>, Vec<u32>) {
     let sentinel = faces.len() as u32;
     let mut out = Vec::with_capacity(pairs.len());
     let mut keys = Vec::with_capacity(pairs.len());
     let before: Vec<f64> = v.iter().zip(a).map(|(v, a)| v - dt * a).collect();
-    for pair in pairs {
+    for (p, pair) in pairs.iter().enumerate() {
         let n = pair.node as usize;
         let mut c = Constraint::default();
         let mut key = sentinel;
@@ -161,6 +181,9 @@ pub fn contact_constraints(
         let rel = relative(&c, pair.node, &before);
         let rn = dot(rel, c.normal);
         c.slip = std::array::from_fn(|ax| rel[ax] - rn * c.normal[ax]);
+        if c.in_reach && c.face[0] != NO_FACE {
+            (c.jn, c.jt) = warm_impulses(results, p, pair, c.normal);
+        }
         out.push(c);
         keys.push(key);
     }

@@ -2,13 +2,15 @@
 //! `shaders/contact_zone.wgsl`): the staged iteration's stages one after another,
 //! [`contact_constraints`], the pairs' counting sort by face ([`bucket_count`],
 //! [`prefix_sum`], [`bucket_fill`], [`bucket_order`]), [`contact_touches`],
-//! [`contact_compliance`] and the start of the sweeps ([`sweep_control`]), the sweeps to the
-//! iteration's end ([`contact_finish`]) and [`contact_report`].
+//! [`contact_compliance`] and the start of the sweeps ([`sweep_control`]), the warm start
+//! ([`contact_warm`]), the sweeps to the iteration's end ([`contact_finish`]) and
+//! [`contact_report`].
 
 use super::contact_constraints::{contact_constraints, Constraint, ContactPair, RigidSurface};
 use super::contact_finish::{contact_finish, SweepInputs};
 use super::contact_gap::ContactPoint;
 use super::contact_touches::{contact_touches, ContactNode};
+use super::contact_warm::{contact_warm, WarmInputs};
 use super::explicit_correct::LumpedNode;
 use super::sweep_control::{sweep_control, SweepState};
 use super::{
@@ -47,8 +49,9 @@ pub struct ZoneState {
     pub state: SweepState,
 }
 
-/// Runs the iteration on $v^*$ (`v`, changed in place) and writes the step's results (the
-/// friction and driver work carry over in `results`).
+/// Runs the iteration on $v^*$ (`v`, changed in place) from the last step's `results` (the
+/// warm start's impulses) and writes the step's results there (the friction and driver work
+/// carry over).
 pub fn contact_zone(z: &ZoneInputs, v: &mut [f64], results: &mut [f64]) -> ZoneState {
     let (mut constraints, keys) = contact_constraints(
         z.dt,
@@ -61,6 +64,7 @@ pub fn contact_zone(z: &ZoneInputs, v: &mut [f64], results: &mut [f64]) -> ZoneS
         z.points,
         z.faces,
         z.rigid,
+        results,
     );
     let nf = z.faces.len();
     let (mut counts, ranks) = bucket_count(&keys, nf + 1);
@@ -76,12 +80,21 @@ pub fn contact_zone(z: &ZoneInputs, v: &mut [f64], results: &mut [f64]) -> ZoneS
         &sorted,
         &mut touches,
     );
-    contact_compliance(&mut constraints, z.pairs, &touches, z.lumped);
+    let mut dj = vec![0.0; 3 * (z.pairs.len() + z.rigid.len())];
+    contact_compliance(&mut constraints, z.pairs, &touches, z.lumped, &mut dj);
     let mut state = SweepState {
         active,
         ..Default::default()
     };
     sweep_control(&mut state, z.tolerance, z.max_iterations);
+    let warm = WarmInputs {
+        nodes: z.nodes,
+        links: z.links,
+        starts: &starts,
+        sorted: &sorted,
+        lumped: z.lumped,
+    };
+    contact_warm(&warm, &state, &constraints, &mut dj, v);
     let sweeps = SweepInputs {
         dt: z.dt,
         tolerance: z.tolerance,
@@ -93,7 +106,6 @@ pub fn contact_zone(z: &ZoneInputs, v: &mut [f64], results: &mut [f64]) -> ZoneS
         sorted: &sorted,
         lumped: z.lumped,
     };
-    let mut dj = vec![0.0; 3 * (z.pairs.len() + z.rigid.len())];
     contact_finish(&sweeps, &mut state, &mut constraints, &mut dj, v);
     let reported = state.reported(z.max_iterations);
     contact_report(z.dt, reported, (&constraints, z.pairs), z.rigid, v, results);

@@ -247,9 +247,17 @@ impl ExplicitContact {
         margin: f64,
         candidates: Option<&[(u32, u32)]>,
     ) -> Result<StepReport> {
+        let last: Vec<(u32, u32)> = (self.constraints.iter())
+            .map(|c| (c.interface, c.local))
+            .collect();
+        let mut f = f;
+        let mut spins = f.spins.take();
+        self.gather_constraints(model, &f, dt, margin, candidates, spins.as_deref());
+        let count = self.constraints.len();
+        let (mut jn, mut jt) = self.warm_impulses();
         match candidates {
             // only the entries the last step's constraints set
-            Some(_) if !self.restored => self.clear_reported(),
+            Some(_) if !self.restored => self.clear_reported(&last),
             _ => {
                 for st in &mut self.interfaces {
                     st.impulse.fill(0.0);
@@ -259,12 +267,6 @@ impl ExplicitContact {
                 self.restored = false;
             }
         }
-        let mut f = f;
-        let mut spins = f.spins.take();
-        self.gather_constraints(model, &f, dt, margin, candidates, spins.as_deref());
-        let count = self.constraints.len();
-        let mut jn = vec![0.0f64; count];
-        let mut jt = vec![[0.0f64; 3]; count];
         // the slip at v_{n-1/2}: with it the friction work is the tangential share of the
         // impulses' change of the time-centred energy (docs/method-notes.md)
         self.slip_before.clear();
@@ -282,6 +284,7 @@ impl ExplicitContact {
         if count > 0 {
             report.converged = false;
             let touched = touched_nodes(&self.constraints);
+            self.apply_warm((f.v, f.inv_mass), (&jn, &jt), &touched);
             for sweep in 0..self.max_iterations {
                 report.iterations = sweep + 1;
                 let violation = self.sweep(
@@ -370,13 +373,34 @@ impl ExplicitContact {
         self.split_compliances(f.inv_mass, spins);
     }
 
-    /// Zeroes the interfaces' impulses and gaps the last step's constraints set.
-    fn clear_reported(&mut self) {
-        for c in &self.constraints {
-            let st = &mut self.interfaces[c.interface as usize];
-            let i = c.local as usize;
+    /// Zeroes the interfaces' impulses and gaps the last step's constraints (`last`: their
+    /// interface and secondary node) set.
+    fn clear_reported(&mut self, last: &[(u32, u32)]) {
+        for &(k, i) in last {
+            let st = &mut self.interfaces[k as usize];
+            let i = i as usize;
             (st.impulse[i], st.tangential[i], st.gap[i]) = (0.0, [0.0; 3], f64::NAN);
         }
+    }
+
+    /// The impulses the step's sweeps start from (the warm start): a constraint against a
+    /// face or a body that does not turn, and that can be enforced, starts from its
+    /// secondary node's impulses of the last step, the tangential one without its part along
+    /// the new normal and returned onto the law's set; planes and new contacts start from
+    /// zero.
+    fn warm_impulses(&self) -> (Vec<f64>, Vec<[f64; 3]>) {
+        let count = self.constraints.len();
+        let (mut jn, mut jt) = (vec![0.0f64; count], vec![[0.0f64; 3]; count]);
+        for (i, c) in self.constraints.iter().enumerate() {
+            if c.face.is_none() || c.spin.is_some() || c.compliance <= 0.0 {
+                continue;
+            }
+            let st = &self.interfaces[c.interface as usize];
+            let l = c.local as usize;
+            jn[i] = st.impulse[l].max(0.0);
+            jt[i] = c.law.projected(st.tangential[l], c.normal, jn[i]);
+        }
+        (jn, jt)
     }
 
     /// The constraint of secondary node `i` of interface `k`, if it is within reach of its
@@ -541,28 +565,9 @@ impl ExplicitContact {
         let mut angular = vec![[0.0f64; 3]; omega.len()];
         for (i, up) in updates.into_iter().enumerate() {
             let Some(up) = up else { continue };
-            let c = &self.constraints[i];
             violation = violation.max(up.violation);
             (jn[i], jt[i]) = (up.jn, up.jt);
-            let dj = up.dj;
-            let n = c.node as usize;
-            for (d, j) in self.delta[n].iter_mut().zip(dj) {
-                *d += j;
-            }
-            if let Some(f) = c.face {
-                for (&m, w) in f.iter().zip(&c.weights) {
-                    for (d, j) in self.delta[m as usize].iter_mut().zip(dj) {
-                        *d -= w * j;
-                    }
-                }
-            }
-            // the body takes -dj at the node: the angular impulse arm x (-dj)
-            if let Some((b, arm)) = c.spin {
-                let t = vector::cross(arm, dj);
-                for (l, t) in angular[b as usize].iter_mut().zip(t) {
-                    *l -= t;
-                }
-            }
+            self.scatter(i, up.dj, &mut angular);
         }
         if let Some(spins) = spins {
             for (b, l) in angular.iter().enumerate() {
@@ -571,7 +576,59 @@ impl ExplicitContact {
                 }
             }
         }
-        // only the constrained nodes and their faces' nodes moved
+        self.move_touched(v, inv_mass, touched);
+        violation
+    }
+
+    /// Applies the warm start's impulses `jn`, `jt` ([`Self::warm_impulses`]; none on a
+    /// turning body) to the velocities, in constraint order as a sweep applies its changes.
+    fn apply_warm(
+        &mut self,
+        (v, inv_mass): (&mut [f64], &[f64]),
+        (jn, jt): (&[f64], &[[f64; 3]]),
+        touched: &[u32],
+    ) {
+        let mut warm = false;
+        for i in 0..self.constraints.len() {
+            if jn[i] > 0.0 {
+                let n = self.constraints[i].normal;
+                let dj = std::array::from_fn(|a| jn[i] * n[a] + jt[i][a]);
+                self.scatter(i, dj, &mut []);
+                warm = true;
+            }
+        }
+        if warm {
+            self.move_touched(v, inv_mass, touched);
+        }
+    }
+
+    /// Adds constraint i's impulse change `dj` to its nodes' sums (and, against a turning
+    /// body, the body's angular impulse to `angular`).
+    fn scatter(&mut self, i: usize, dj: [f64; 3], angular: &mut [[f64; 3]]) {
+        let c = &self.constraints[i];
+        let n = c.node as usize;
+        for (d, j) in self.delta[n].iter_mut().zip(dj) {
+            *d += j;
+        }
+        if let Some(f) = c.face {
+            for (&m, w) in f.iter().zip(&c.weights) {
+                for (d, j) in self.delta[m as usize].iter_mut().zip(dj) {
+                    *d -= w * j;
+                }
+            }
+        }
+        // the body takes -dj at the node: the angular impulse arm x (-dj)
+        if let Some((b, arm)) = c.spin {
+            let t = vector::cross(arm, dj);
+            for (l, t) in angular[b as usize].iter_mut().zip(t) {
+                *l -= t;
+            }
+        }
+    }
+
+    /// Moves the velocities of the constrained nodes and their faces' nodes (`touched`) by
+    /// their sums over the inverse mass, and clears the sums.
+    fn move_touched(&mut self, v: &mut [f64], inv_mass: &[f64], touched: &[u32]) {
         for &n in touched {
             let n = n as usize;
             let d = std::mem::take(&mut self.delta[n]);
@@ -579,7 +636,6 @@ impl ExplicitContact {
                 v[3 * n + a] += d[a] * inv_mass[3 * n + a];
             }
         }
-        violation
     }
 
     /// Each interface's report of the step from the final impulses `jn`, `jt`.

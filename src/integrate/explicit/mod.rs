@@ -22,7 +22,9 @@
 //! is a projected-gradient step in a metric that majorises the compliance: the iteration
 //! descends monotonically, and a lone constraint is solved in one sweep.
 //! Coulomb friction takes the tangential impulse that stops the relative tangential
-//! velocity and returns it onto the cone $|J_T| \le \mu J_N$ in the same sweep.
+//! velocity and returns it onto the cone $|J_T| \le \mu J_N$ in the same sweep. The sweeps
+//! start from the last step's impulses against a face or a rigid body that does not turn
+//! (the warm start, applied to the velocities first), from zero elsewhere.
 //!
 //! Momentum is exact (every impulse acts with its opposite on the primary face's nodes by
 //! the shape functions). The history's contact force is the impulse / dt.
