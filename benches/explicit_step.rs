@@ -119,6 +119,8 @@ struct Resident {
     /// adapter runs `contact_zone`; and whether the timed steps ran it.
     zone_part: Option<f64>,
     zone: bool,
+    /// The lanes of the one-workgroup kernels (`contact_zone`, `contact_finish`).
+    lanes: u32,
     /// `-- --dispatches`: each kernel of a submission timed on the device (kernel,
     /// dispatches per step, microseconds per step), where the adapter has timestamps
     /// inside passes.
@@ -214,6 +216,7 @@ fn time_resident(
     let reps = steps.clamp(4, 50);
     let recorded = engine.sweeps();
     let zone = engine.impulse_sweeps_ref().is_some_and(|c| c.runs_zone());
+    let lanes = engine.impulse_sweeps_ref().map_or(0, |c| c.zone_lanes());
     // every timing below starts from the state the timed steps left
     engine.drain().expect("the last submissions");
     let state = engine.read_step_state().expect("the step state");
@@ -263,6 +266,7 @@ fn time_resident(
         contact_parts,
         zone_part,
         zone,
+        lanes,
         dispatches,
     }
 }
@@ -384,13 +388,13 @@ fn table(
     if stage_rows.iter().all(|(_, r)| r.contact_parts.is_none()) {
         return;
     }
-    println!("\nThe contact iteration's parts alone (microseconds per step): its setup (search with the faces' sort into the grid, constraints, sort, compliance), the setup keeping the faces' last sort, the setup with every sweep in `contact_finish` (one workgroup), the setup with the sweeps the run records per step and `contact_finish`, the report, and the search with the whole iteration in one workgroup (`contact_zone`); which of the two the timed steps ran:\n");
+    println!("\nThe contact iteration's parts alone (microseconds per step): its setup (search with the faces' sort into the grid, constraints, sort, compliance), the setup keeping the faces' last sort, the setup with every sweep in `contact_finish` (one workgroup), the setup with the sweeps the run records per step and `contact_finish`, the report, and the search with the whole iteration in one workgroup (`contact_zone`); which of the two the timed steps ran (and the lanes of `contact_zone` and `contact_finish`):\n");
     println!("| elements | setup | setup keeping the sort | setup + finish | setup + recorded + finish | report | search + contact_zone | timed steps ran |");
     println!("|---:|---:|---:|---:|---:|---:|---:|---|");
     for (elements, r) in &stage_rows {
         if let Some(p) = r.contact_parts {
             println!(
-                "| {elements} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {} | {} |",
+                "| {elements} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {} | {}, {} lanes |",
                 p[0],
                 p[1],
                 p[2],
@@ -398,6 +402,7 @@ fn table(
                 p[4],
                 r.zone_part.map_or("-".into(), |z| format!("{z:.1}")),
                 if r.zone { "contact_zone" } else { "staged" },
+                r.lanes,
             );
         }
     }

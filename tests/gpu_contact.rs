@@ -896,6 +896,12 @@ fn iteration_outputs(
     }
     let (ctx, it) = gpu.impulse_sweeps().expect("contact iteration");
     let ctx = ctx.clone();
+    if zone {
+        // as wide as the adapter runs it; the bits do not depend on it (the staged
+        // iteration's, below)
+        eprintln!("{tag}: contact_zone in {} lanes", it.zone_lanes());
+        assert!(it.zone_lanes() >= impact::gpu::one_group::ONE_GROUP);
+    }
     it.upload_results(&ctx, &last).unwrap();
     if predict == Some(true) && !it.predicts() {
         eprintln!("{tag}: no device search to predict in");

@@ -2,7 +2,8 @@
 // `gather_range` need, include those files and `velocity.wgsl`, and run ONE_GROUP
 // invocations a workgroup
 
-// The invocations of the one-workgroup kernels.
+// The invocations of the one-workgroup kernels (the host builds them wider where the
+// adapter allows: `src/gpu/one_group.rs`; nothing they compute depends on it).
 const ONE_GROUP: u32 = 256u;
 
 var<workgroup> worst: array<f32, ONE_GROUP>;

@@ -344,8 +344,8 @@ pub fn info_report() -> Result<String> {
             let _ = writeln!(r, "  max buffer size: {} MiB", l.max_buffer_size >> 20);
             let _ = writeln!(
                 r,
-                "  storage buffers per shader stage: {} (kernels use at most {})",
-                l.max_storage_buffers_per_shader_stage, STORAGE_BINDINGS
+                "  storage buffers per shader stage: {} (kernels use at most {}; contact_zone {} where there are that many)",
+                l.max_storage_buffers_per_shader_stage, STORAGE_BINDINGS, ZONE_BINDINGS
             );
             let _ = writeln!(
                 r,
@@ -354,8 +354,9 @@ pub fn info_report() -> Result<String> {
             );
             let _ = writeln!(
                 r,
-                "  invocations per workgroup: {} (kernels use 64)",
-                l.max_compute_invocations_per_workgroup
+                "  invocations per workgroup: {} (kernels use 64; contact_zone and contact_finish {})",
+                l.max_compute_invocations_per_workgroup,
+                super::one_group::lanes(l)
             );
             let f = ctx.features;
             let _ = writeln!(

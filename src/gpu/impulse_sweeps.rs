@@ -35,14 +35,16 @@ use super::bucket_sort::BucketSort;
 use super::buffer::Storage;
 use super::context::{GpuContext, ZONE_BINDINGS};
 use super::engine::at_least_one;
-use super::kernel::Launch;
+use super::kernel::{Kernel, Launch};
 use super::kernels::{
     BodyGather, BucketCount, BucketFill, BucketOrder, ContactApply, ContactCompliance,
     ContactConstraints, ContactFinish, ContactReportKernel, ContactSweep, ContactTouches,
     ContactWarm, ContactZone, FillWords, PredictBounds, SearchBounds, SearchGridKernel,
 };
+use super::one_group;
 use super::scan::Scan;
 use super::search::GpuSearch;
+use super::shaders;
 use super::types::{self, to_device, WORKGROUP};
 use crate::error::Result;
 use crate::kernels::plane_contact::SLOT;
@@ -107,11 +109,22 @@ struct IterationKernels {
     /// The whole iteration in one workgroup, where the adapter binds [`ZONE_BINDINGS`]
     /// storage buffers per stage.
     zone: Option<ContactZone>,
+    /// The lanes of `contact_finish` and `contact_zone` ([`one_group::lanes`]).
+    lanes: u32,
 }
 
 impl IterationKernels {
-    /// Builds the pipelines of every kernel of the iteration, once.
+    /// Builds the pipelines of every kernel of the iteration, once; the one-workgroup
+    /// kernels as wide as the adapter runs them (up to [`one_group::WIDEST`] lanes).
     fn new(ctx: &GpuContext) -> Self {
+        let lanes = one_group::lanes(&ctx.limits);
+        let wide = |name: &'static str| {
+            Kernel::new(
+                ctx,
+                name,
+                &one_group::with_lanes(shaders::source(name), lanes),
+            )
+        };
         IterationKernels {
             gather: BodyGather::new(ctx),
             zero: FillWords::new(ctx),
@@ -127,10 +140,11 @@ impl IterationKernels {
             warm: ContactWarm::new(ctx),
             sweep: ContactSweep::new(ctx),
             apply: ContactApply::new(ctx),
-            finish: ContactFinish::new(ctx),
+            finish: ContactFinish(wide(ContactFinish::NAME)),
             report: ContactReportKernel::new(ctx),
             zone: (ctx.limits.max_storage_buffers_per_shader_stage >= ZONE_BINDINGS)
-                .then(|| ContactZone::new(ctx)),
+                .then(|| ContactZone(wide(ContactZone::NAME))),
+            lanes,
         }
     }
 }
@@ -723,6 +737,11 @@ impl ImpulseSweeps {
     /// Whether a step's iteration runs in one workgroup (no sweeps recorded).
     pub fn runs_zone(&self) -> bool {
         self.zone
+    }
+
+    /// The lanes of the one-workgroup kernels, `contact_zone` and `contact_finish`.
+    pub fn zone_lanes(&self) -> u32 {
+        self.kernels.lanes
     }
 
     /// Bytes held on the device.

@@ -15,6 +15,7 @@ pub mod impulse_sweeps;
 pub mod inspect;
 pub mod kernel;
 pub mod kernels;
+pub mod one_group;
 pub mod rank_exchange;
 mod rank_step;
 pub mod rank_surface;

@@ -1,0 +1,76 @@
+//! The lanes of the kernels that run in one workgroup (`contact_zone` and
+//! `contact_finish`: `ONE_GROUP` in `shaders/include/sweep_loop.wgsl`). Their sweeps are
+//! bound by each lane's chain of dependent reads, so a wider workgroup runs a sweep in
+//! fewer rounds on the one multiprocessor it occupies. The shaders are written for
+//! [`ONE_GROUP`] lanes; where the adapter runs wider workgroups the pipelines are built
+//! with up to [`WIDEST`]. Every sum those kernels take is over a fixed order that does not
+//! depend on the lanes (a maximum, an integer count, per-item gathers, the rigid bodies'
+//! 64-lane trees), so the results are the same bits at any width.
+
+/// The lanes the shader files declare.
+pub const ONE_GROUP: u32 = 256;
+
+/// The most lanes the pipelines are built with.
+pub const WIDEST: u32 = 1024;
+
+/// The shader files' declaration of the lanes, which [`with_lanes`] replaces.
+const DECLARATION: &str = "const ONE_GROUP: u32 = 256u;";
+
+/// Bytes of workgroup memory the one-workgroup kernels take at `lanes` lanes: two words
+/// per lane (the sweeps' violations, the scan's sums), the rigid bodies' 64 parts (16 bytes
+/// each) and a few words.
+pub fn workgroup_bytes(lanes: u32) -> u32 {
+    8 * lanes + 16 * 64 + 64
+}
+
+/// The widest power of two from [`ONE_GROUP`] to [`WIDEST`] lanes that `limits` allow.
+pub fn lanes(limits: &wgpu::Limits) -> u32 {
+    let mut lanes = WIDEST;
+    while lanes > ONE_GROUP
+        && (lanes > limits.max_compute_invocations_per_workgroup
+            || lanes > limits.max_compute_workgroup_size_x
+            || workgroup_bytes(lanes) > limits.max_compute_workgroup_storage_size)
+    {
+        lanes /= 2;
+    }
+    lanes
+}
+
+/// `source` (an assembled kernel that declares [`ONE_GROUP`] lanes) built for `lanes`.
+pub fn with_lanes(source: &str, lanes: u32) -> String {
+    assert!(
+        source.contains(DECLARATION),
+        "a one-workgroup kernel declares {DECLARATION}"
+    );
+    source.replace(DECLARATION, &format!("const ONE_GROUP: u32 = {lanes}u;"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_widest_allowed_width_is_chosen() {
+        let mut l = wgpu::Limits::default();
+        // WebGPU's defaults: 256 invocations, 16 KiB of workgroup memory
+        assert_eq!(lanes(&l), 256);
+        l.max_compute_invocations_per_workgroup = 1024;
+        l.max_compute_workgroup_size_x = 1024;
+        assert_eq!(lanes(&l), 1024);
+        l.max_compute_workgroup_storage_size = workgroup_bytes(1024) - 1;
+        assert_eq!(lanes(&l), 512);
+        l.max_compute_workgroup_size_x = 256;
+        assert_eq!(lanes(&l), 256);
+    }
+
+    #[test]
+    fn the_declaration_is_replaced_once() {
+        for name in ["contact_zone", "contact_finish"] {
+            let source = crate::gpu::shaders::source(name);
+            assert_eq!(source.matches(DECLARATION).count(), 1, "{name}");
+            let wide = with_lanes(source, 1024);
+            assert!(wide.contains("const ONE_GROUP: u32 = 1024u;"));
+            assert!(!wide.contains(DECLARATION));
+        }
+    }
+}
