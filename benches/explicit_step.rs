@@ -24,8 +24,10 @@
 //! plate scene alone; `-- --dispatches` times each kernel of a resident submission on the
 //! device (adapters with timestamps inside passes); `-- --zone on` or `-- --zone off` runs
 //! each step's contact iteration in one workgroup (`contact_zone`) or staged, whatever the
-//! zone's size (by default small zones run in one workgroup); and
-//! `-- --no-large` leaves the 10^7-element rows out).
+//! zone's size (by default small zones run in one workgroup); `-- --lanes N` builds
+//! `contact_zone` and `contact_finish` with N lanes (256 by default; up to 1,024 where the
+//! adapter allows, the same results); and `-- --no-large` leaves the 10^7-element rows
+//! out).
 
 use std::path::Path;
 use std::time::Instant;
@@ -144,10 +146,13 @@ fn time_resident(
     model_time: f64,
     model: &Model,
     sc: &Scene,
-    ctx: GpuContext,
+    mut ctx: GpuContext,
     max_steps: usize,
 ) -> Resident {
     let start = Instant::now();
+    if let Some(lanes) = fixed_lanes() {
+        ctx.zone_lanes = lanes;
+    }
     let (stable, _) = stable_step_on(model, Some(&ctx)).expect("stable step");
     let dt = explicit_time_step(sc, (stable, 0)).expect("time step");
     let elements = model.mesh.element_count() as f64;
@@ -474,6 +479,16 @@ fn fixed_zone() -> Option<bool> {
         Some("on") => Some(true),
         Some("off") => Some(false),
         other => panic!("--zone takes on or off, not {other:?}"),
+    }
+}
+
+/// `-- --lanes N`: the lanes of the one-workgroup kernels (`impact::gpu::one_group`).
+fn fixed_lanes() -> Option<u32> {
+    let args: Vec<String> = std::env::args().collect();
+    let at = args.iter().position(|a| a == "--lanes")?;
+    match args.get(at + 1).and_then(|n| n.parse().ok()) {
+        Some(n) => Some(n),
+        None => panic!("--lanes takes a number of lanes (256, 512 or 1024)"),
     }
 }
 

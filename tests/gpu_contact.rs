@@ -940,6 +940,19 @@ fn zone_matches(tag: &str, model: &Model) {
         return;
     };
     let (staged, ..) = iteration_outputs(&ctx, at, model, (false, None)).expect("staged");
+    // the one-workgroup kernels as wide as the adapter runs them: the same bits
+    let mut wide = ctx.clone();
+    wide.zone_lanes = impact::gpu::one_group::WIDEST;
+    let (wider, ..) = iteration_outputs(&wide, at, model, (true, None)).expect("wide");
+    assert_eq!(
+        &zone, &wider,
+        "{tag}: the zone at its widest against 256 lanes"
+    );
+    let (wider, ..) = iteration_outputs(&wide, at, model, (false, None)).expect("wide");
+    assert_eq!(
+        &staged, &wider,
+        "{tag}: contact_finish at its widest against 256 lanes"
+    );
     let (c, sort, touches, state, results, v_gpu) = &zone;
     assert!(state.sweeps > 2 && !state.sweeping(), "{tag}: {state:?}");
     assert_eq!(

@@ -132,6 +132,10 @@ pub struct GpuContext {
     /// The adapter's features (none is required by the kernels; `impact info` reports them).
     /// Of them the device asks for [`PROFILING`] where the adapter has it all.
     pub features: wgpu::Features,
+    /// The lanes `contact_zone` and `contact_finish` are built with, at most what the
+    /// adapter runs ([`super::one_group`]); [`super::one_group::ONE_GROUP`] unless a caller
+    /// (the bench's `--lanes`) sets it before building the step.
+    pub zone_lanes: u32,
 }
 
 /// Timestamps between a compute pass's dispatches, which the benchmarks' profile of a step
@@ -258,6 +262,7 @@ impl GpuContext {
             adapter: summary,
             limits,
             features,
+            zone_lanes: super::one_group::ONE_GROUP,
         }))
     }
 
@@ -354,9 +359,10 @@ pub fn info_report() -> Result<String> {
             );
             let _ = writeln!(
                 r,
-                "  invocations per workgroup: {} (kernels use 64; contact_zone and contact_finish {})",
+                "  invocations per workgroup: {} (kernels use 64; contact_zone and contact_finish {}, up to {} with the explicit bench's --lanes)",
                 l.max_compute_invocations_per_workgroup,
-                super::one_group::lanes(l)
+                super::one_group::within(l, ctx.zone_lanes),
+                super::one_group::widest(l)
             );
             let f = ctx.features;
             let _ = writeln!(

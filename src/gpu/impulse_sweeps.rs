@@ -109,15 +109,16 @@ struct IterationKernels {
     /// The whole iteration in one workgroup, where the adapter binds [`ZONE_BINDINGS`]
     /// storage buffers per stage.
     zone: Option<ContactZone>,
-    /// The lanes of `contact_finish` and `contact_zone` ([`one_group::lanes`]).
+    /// The lanes of `contact_finish` and `contact_zone` ([`GpuContext::zone_lanes`], within
+    /// the adapter's limits).
     lanes: u32,
 }
 
 impl IterationKernels {
     /// Builds the pipelines of every kernel of the iteration, once; the one-workgroup
-    /// kernels as wide as the adapter runs them (up to [`one_group::WIDEST`] lanes).
+    /// kernels with [`GpuContext::zone_lanes`] lanes (within the adapter's limits).
     fn new(ctx: &GpuContext) -> Self {
-        let lanes = one_group::lanes(&ctx.limits);
+        let lanes = one_group::within(&ctx.limits, ctx.zone_lanes);
         let wide = |name: &'static str| {
             Kernel::new(
                 ctx,

@@ -1,9 +1,12 @@
 //! The lanes of the kernels that run in one workgroup (`contact_zone` and
 //! `contact_finish`: `ONE_GROUP` in `shaders/include/sweep_loop.wgsl`). Their sweeps are
 //! bound by each lane's chain of dependent reads, so a wider workgroup runs a sweep in
-//! fewer rounds on the one multiprocessor it occupies. The shaders are written for
-//! [`ONE_GROUP`] lanes; where the adapter runs wider workgroups the pipelines are built
-//! with up to [`WIDEST`]. Every sum those kernels take is over a fixed order that does not
+//! fewer rounds on the one multiprocessor it occupies; but a wider workgroup also leaves
+//! each lane fewer registers (on NVIDIA 64 at 1,024 lanes, against 255 at 256), and a
+//! kernel past that spills into local memory. The shaders are written for [`ONE_GROUP`]
+//! lanes, which the runs take ([`super::GpuContext::zone_lanes`]); the pipelines can be
+//! built with up to [`WIDEST`] where the adapter allows (the explicit bench's `--lanes`),
+//! for a card to measure. Every sum those kernels take is over a fixed order that does not
 //! depend on the lanes (a maximum, an integer count, per-item gathers, the rigid bodies'
 //! 64-lane trees), so the results are the same bits at any width.
 
@@ -24,8 +27,16 @@ pub fn workgroup_bytes(lanes: u32) -> u32 {
 }
 
 /// The widest power of two from [`ONE_GROUP`] to [`WIDEST`] lanes that `limits` allow.
-pub fn lanes(limits: &wgpu::Limits) -> u32 {
-    let mut lanes = WIDEST;
+pub fn widest(limits: &wgpu::Limits) -> u32 {
+    within(limits, WIDEST)
+}
+
+/// The widest power of two from [`ONE_GROUP`] to `lanes` that `limits` allow.
+pub fn within(limits: &wgpu::Limits, lanes: u32) -> u32 {
+    let mut lanes = lanes
+        .clamp(ONE_GROUP, WIDEST)
+        .next_power_of_two()
+        .min(WIDEST);
     while lanes > ONE_GROUP
         && (lanes > limits.max_compute_invocations_per_workgroup
             || lanes > limits.max_compute_workgroup_size_x
@@ -50,17 +61,20 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_widest_allowed_width_is_chosen() {
+    fn the_widest_allowed_width_up_to_the_one_asked_for_is_chosen() {
         let mut l = wgpu::Limits::default();
         // WebGPU's defaults: 256 invocations, 16 KiB of workgroup memory
-        assert_eq!(lanes(&l), 256);
+        assert_eq!(widest(&l), 256);
         l.max_compute_invocations_per_workgroup = 1024;
         l.max_compute_workgroup_size_x = 1024;
-        assert_eq!(lanes(&l), 1024);
+        assert_eq!(widest(&l), 1024);
+        assert_eq!(within(&l, 512), 512);
+        assert_eq!(within(&l, 300), 512);
+        assert_eq!(within(&l, 64), 256);
         l.max_compute_workgroup_storage_size = workgroup_bytes(1024) - 1;
-        assert_eq!(lanes(&l), 512);
+        assert_eq!(widest(&l), 512);
         l.max_compute_workgroup_size_x = 256;
-        assert_eq!(lanes(&l), 256);
+        assert_eq!(widest(&l), 256);
     }
 
     #[test]
