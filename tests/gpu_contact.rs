@@ -647,7 +647,11 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     eprintln!("{warm} pairs start from an impulse");
     assert!(warm > 0, "seed {seed}: warm started pairs");
     let mut v_cpu = v.clone();
-    let inputs = kernels::WarmInputs {
+    let inputs = kernels::SweepInputs {
+        dt,
+        tolerance: setup.tolerance,
+        max_iterations: setup.max_iterations,
+        pairs: &contact.pairs,
         nodes: &contact.nodes,
         links: &contact.links,
         starts: &starts,
@@ -743,17 +747,6 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     let mut c_cpu = c_in.clone();
     let mut v_cpu = v_in.clone();
     let mut dj_cpu = vec![0.0; 3 * (contact.pairs.len() + contact.rigid.len())];
-    let inputs = kernels::SweepInputs {
-        dt,
-        tolerance: setup.tolerance,
-        max_iterations: setup.max_iterations,
-        pairs: &contact.pairs,
-        nodes: &contact.nodes,
-        links: &contact.links,
-        starts: &starts,
-        sorted: &sorted,
-        lumped: &setup.lumped,
-    };
     kernels::contact_finish(&inputs, &mut cpu_state, &mut c_cpu, &mut dj_cpu, &mut v_cpu);
     let e = rel_err(&v_gpu, &v_cpu);
     let ei = rel_err(&constraint_fields(&c_gpu), &constraint_fields(&c_cpu));

@@ -5,23 +5,14 @@
 //! gathered by [`super::body_gather`] first.
 
 use super::contact_constraints::Constraint;
-use super::contact_touches::ContactNode;
-use super::explicit_correct::LumpedNode;
+use super::contact_finish::SweepInputs;
 use super::sweep_control::SweepState;
 use super::{body_gather, contact_apply};
 
-/// What the warm start reads besides the constraints and the impulse changes: the contact
-/// nodes and their links, the pairs' sort by face and the lumped masses.
-pub struct WarmInputs<'a> {
-    pub nodes: &'a [ContactNode],
-    pub links: &'a [u32],
-    pub starts: &'a [u32],
-    pub sorted: &'a [u32],
-    pub lumped: &'a [LumpedNode],
-}
-
+/// `w`: what the sweeps read (of which the contact nodes and their links, the pairs' sort
+/// by face and the lumped masses).
 pub fn contact_warm(
-    w: &WarmInputs,
+    w: &SweepInputs,
     state: &SweepState,
     constraints: &[Constraint],
     dj: &mut [f64],

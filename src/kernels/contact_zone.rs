@@ -10,7 +10,7 @@ use super::contact_constraints::{contact_constraints, Constraint, ContactPair, R
 use super::contact_finish::{contact_finish, SweepInputs};
 use super::contact_gap::ContactPoint;
 use super::contact_touches::{contact_touches, ContactNode};
-use super::contact_warm::{contact_warm, WarmInputs};
+use super::contact_warm::contact_warm;
 use super::explicit_correct::LumpedNode;
 use super::sweep_control::{sweep_control, SweepState};
 use super::{
@@ -87,14 +87,6 @@ pub fn contact_zone(z: &ZoneInputs, v: &mut [f64], results: &mut [f64]) -> ZoneS
         ..Default::default()
     };
     sweep_control(&mut state, z.tolerance, z.max_iterations);
-    let warm = WarmInputs {
-        nodes: z.nodes,
-        links: z.links,
-        starts: &starts,
-        sorted: &sorted,
-        lumped: z.lumped,
-    };
-    contact_warm(&warm, &state, &constraints, &mut dj, v);
     let sweeps = SweepInputs {
         dt: z.dt,
         tolerance: z.tolerance,
@@ -106,6 +98,7 @@ pub fn contact_zone(z: &ZoneInputs, v: &mut [f64], results: &mut [f64]) -> ZoneS
         sorted: &sorted,
         lumped: z.lumped,
     };
+    contact_warm(&sweeps, &state, &constraints, &mut dj, v);
     contact_finish(&sweeps, &mut state, &mut constraints, &mut dj, v);
     let reported = state.reported(z.max_iterations);
     contact_report(z.dt, reported, (&constraints, z.pairs), z.rigid, v, results);

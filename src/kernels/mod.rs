@@ -65,7 +65,7 @@ pub use contact_report::contact_report;
 pub use contact_search::{contact_search, SearchGrid};
 pub use contact_sweep::contact_sweep;
 pub use contact_touches::{contact_touches, ContactNode};
-pub use contact_warm::{contact_warm, WarmInputs};
+pub use contact_warm::contact_warm;
 pub use contact_zone::{contact_zone, ZoneInputs, ZoneState};
 pub use corner_select::corner_select;
 pub use explicit_correct::{explicit_correct, LumpedNode};

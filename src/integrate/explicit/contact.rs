@@ -247,9 +247,8 @@ impl ExplicitContact {
         margin: f64,
         candidates: Option<&[(u32, u32)]>,
     ) -> Result<StepReport> {
-        let last: Vec<(u32, u32)> = (self.constraints.iter())
-            .map(|c| (c.interface, c.local))
-            .collect();
+        // the last step's constraints, whose entries the candidates' path clears
+        let last = std::mem::take(&mut self.constraints);
         let mut f = f;
         let mut spins = f.spins.take();
         self.gather_constraints(model, &f, dt, margin, candidates, spins.as_deref());
@@ -373,12 +372,11 @@ impl ExplicitContact {
         self.split_compliances(f.inv_mass, spins);
     }
 
-    /// Zeroes the interfaces' impulses and gaps the last step's constraints (`last`: their
-    /// interface and secondary node) set.
-    fn clear_reported(&mut self, last: &[(u32, u32)]) {
-        for &(k, i) in last {
-            let st = &mut self.interfaces[k as usize];
-            let i = i as usize;
+    /// Zeroes the interfaces' impulses and gaps the last step's constraints `last` set.
+    fn clear_reported(&mut self, last: &[NodeConstraint]) {
+        for c in last {
+            let st = &mut self.interfaces[c.interface as usize];
+            let i = c.local as usize;
             (st.impulse[i], st.tangential[i], st.gap[i]) = (0.0, [0.0; 3], f64::NAN);
         }
     }
