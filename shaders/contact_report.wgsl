@@ -6,7 +6,9 @@
 // stopped unconverged at the limit, max_iterations + 2 where it was still sweeping when the
 // recorded sweeps ran out: the host then runs the submission again with more), the impulse
 // on the secondary node (3: J_N n + J_T) and the work of a driven rigid body's driver since
-// the start (the impulse against the body's velocity).
+// the start (the impulse against the body's velocity). Invocation i < params.aux2 also
+// drifts contact node i where it `is_late` (its v* is final after the sweeps), as
+// `explicit_drift` would. params.aux: the pairs; params.aux2: the contact nodes.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<uniform> step: Step;
@@ -16,14 +18,25 @@
 @group(0) @binding(5) var<storage, read> state: array<u32, 8>;
 @group(0) @binding(6) var<storage, read_write> results: array<f32>;
 @group(0) @binding(7) var<storage, read> rigid: array<RigidSurface>;
+@group(0) @binding(8) var<storage, read> nodes: array<ContactNode>;
+@group(0) @binding(9) var<storage, read_write> displacement: array<Split3>;
+@group(0) @binding(10) var<storage, read> late: array<u32>;
 
 // include: velocity
 // include: report_pair
+// include: drift
+// include: late
 
 @compute @workgroup_size(64)
 fn contact_report(@builtin(global_invocation_id) gid: vec3<u32>) {
     let p = item_index(gid, params);
-    if (p < params.count) {
+    if (p < params.aux) {
         report_pair(p, reported_sweeps());
+    }
+    if (p < params.aux2) {
+        let n = nodes[p].node;
+        if (is_late(n)) {
+            drift_by(n, load_v(n));
+        }
     }
 }

@@ -6,7 +6,8 @@
 // pairs' counting sort by face (`bucket_count`, the scan of the bucket sizes, `bucket_fill`,
 // `bucket_order`, which clears the sizes and the state words), `contact_touches`,
 // `contact_compliance` (which starts the sweeps), the warm start's `body_gather` and
-// `contact_warm`, the sweeps as `contact_finish` runs them, and `contact_report`. One dispatch in place of about twenty: on a small zone the staged
+// `contact_warm`, the sweeps as `contact_finish` runs them, and `contact_report` (with the
+// drift of the late contact nodes). One dispatch in place of about twenty: on a small zone the staged
 // iteration's dispatches, not their work, set the step's time.
 // params.count: the pairs; params.aux: the contact nodes; params.aux2: the primary faces
 // (the bucket of a pair on no face).
@@ -15,7 +16,7 @@
 @group(0) @binding(1) var<uniform> step: Step;
 @group(0) @binding(2) var<storage, read> grid: SearchGrid;
 @group(0) @binding(3) var<storage, read> reference: array<Split3>;
-@group(0) @binding(4) var<storage, read> displacement: array<Split3>;
+@group(0) @binding(4) var<storage, read_write> displacement: array<Split3>;
 @group(0) @binding(5) var<storage, read_write> velocity: array<f32>;
 @group(0) @binding(6) var<storage, read> acceleration: array<f32>;
 @group(0) @binding(7) var<storage, read> pairs: array<ContactPair>;
@@ -35,6 +36,7 @@
 @group(0) @binding(21) var<storage, read> lumped: array<Lumped>;
 @group(0) @binding(22) var<storage, read_write> dj: array<f32>;
 @group(0) @binding(23) var<storage, read_write> results: array<f32>;
+@group(0) @binding(24) var<storage, read> late: array<u32>;
 
 // include: velocity
 // include: constrain_pair
@@ -47,6 +49,8 @@
 // include: gather_range
 // include: sweep_loop
 // include: report_pair
+// include: drift
+// include: late
 
 var<workgroup> sums: array<u32, ONE_GROUP>;
 var<workgroup> zone_active: atomic<u32>;
@@ -173,5 +177,11 @@ fn contact_zone(@builtin(local_invocation_index) local: u32) {
     let reported = reported_sweeps();
     for (var p = local; p < np; p += ONE_GROUP) {
         report_pair(p, reported);
+    }
+    for (var i = local; i < params.aux; i += ONE_GROUP) {
+        let n = nodes[i].node;
+        if (is_late(n)) {
+            drift_by(n, load_v(n));
+        }
     }
 }

@@ -801,8 +801,9 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     assert!(e <= TOL, "seed {seed}: contact_report {e:.2e}");
 }
 
-/// `predict_bounds`, the step's predictor with the search's bounds, against its twin on the
-/// stack from a random state ([`random_state`]).
+/// `predict_bounds`, the step's predictor with the search's bounds and the drift of the nodes
+/// the iteration does not move, against its twin on the stack from a random state
+/// ([`random_state`]); the contact nodes keep u_n exactly.
 #[test]
 fn predict_bounds_matches_its_cpu_twin() {
     let tag = "predict_bounds";
@@ -816,23 +817,50 @@ fn predict_bounds_matches_its_cpu_twin() {
     let contact = setup.contact.clone().expect("surface contact");
     let nodes = model.mesh.node_count();
     let data = model.element_data();
-    let (u, mut v, a) = random_state(&mut rng, nodes);
+    let (mut u, mut v, a) = random_state(&mut rng, nodes);
     let mut gpu = ResidentStep::new(ctx, &data, &setup, 8).expect("device step");
     gpu.upload(&u, &v, &a, &vec![0.0; 3 * nodes], &[]).unwrap();
+    let u_in = gpu_state(&mut gpu).0;
     let (ctx, it) = gpu.impulse_sweeps().unwrap();
     let ctx = ctx.clone();
     assert!(it.predicts(), "the stack has a device search");
     it.run(&ctx, |it, p| it.dispatch_search(p, SearchMode::First, true))
         .unwrap();
     let (bounds, _) = it.read_grid(&ctx).unwrap();
-    let v_gpu = gpu_state(&mut gpu).1;
+    let (u_gpu, v_gpu, _) = gpu_state(&mut gpu);
     // the centres start at zero: the drift is the centres' largest coordinate
     let zero = vec![[0.0; 3]; contact.faces.len()];
     let reference = &data.reference;
-    let cpu = kernels::predict_bounds(dt, (reference, &u, &a), &mut v, &contact.faces, &zero);
-    let (ev, eb) = (rel_err(&v_gpu, &v), rel_err(&bounds, &cpu));
-    eprintln!("predict_bounds: velocity {ev:.2e}, bounds {eb:.2e}");
-    assert!(ev <= TOL && eb <= TOL, "{ev:.2e} {eb:.2e}");
+    let mut late = vec![false; nodes];
+    for c in &contact.nodes {
+        late[c.node as usize] = true;
+    }
+    let cpu = kernels::predict_bounds(
+        dt,
+        (reference, &a),
+        (&mut u, &mut v),
+        (&contact.faces, &zero),
+        &late,
+    );
+    let (ev, eb, eu) = (
+        rel_err(&v_gpu, &v),
+        rel_err(&bounds, &cpu),
+        rel_err(&u_gpu, &u),
+    );
+    eprintln!("predict_bounds: velocity {ev:.2e}, bounds {eb:.2e}, displacement {eu:.2e}");
+    assert!(
+        ev <= TOL && eb <= TOL && eu <= TOL,
+        "{ev:.2e} {eb:.2e} {eu:.2e}"
+    );
+    let moved = |n: usize| (0..3).any(|k| u_gpu[3 * n + k] != u_in[3 * n + k]);
+    let early = (0..nodes).filter(|&n| !late[n]).count();
+    assert!(
+        early > 0 && early < nodes,
+        "the stack has both kinds of node"
+    );
+    for (n, &l) in late.iter().enumerate() {
+        assert_eq!(moved(n), !l, "node {n} (late {l}) drifted");
+    }
 }
 
 /// `contact_zone`, the whole iteration in one workgroup, on the stack (surface and plane
@@ -848,12 +876,14 @@ fn contact_zone_matches_its_cpu_twin_and_the_staged_bits() {
 }
 
 /// What the device's iteration leaves: constraints, keys, starts, the faces' part of the
-/// sort, touches, state, results and the velocity.
+/// sort, touches, state, results, the velocity and, after the step's drift, the
+/// displacement.
 type IterationOutputs = (
     Vec<Constraint>,
     [Vec<u32>; 3],
     Vec<f64>,
     SweepState,
+    Vec<f64>,
     Vec<f64>,
     Vec<f64>,
 );
@@ -862,7 +892,7 @@ type IterationOutputs = (
 /// or staged; its outputs, and the device's contact points and margin.
 /// `predict`: None takes the random velocity as v*; Some(false) runs `explicit_predict`
 /// before the iteration, Some(true) the predictor in the search's bounds
-/// (`dispatch_predicting`).
+/// (`dispatch_predicting`, which drifts every node); `explicit_drift` runs after the others.
 fn iteration_outputs(
     ctx: &GpuContext,
     (tag, seed): (&str, u64),
@@ -911,14 +941,17 @@ fn iteration_outputs(
     let faced = sorted[..starts[contact.faces.len()] as usize].to_vec();
     let points = it.read_points(&ctx, contact.queries.len()).unwrap();
     let margin = it.read_grid(&ctx).unwrap().1.margin as f64;
-    let out = (
+    let (c, t, s, r) = (
         it.read_constraints(&ctx).unwrap(),
-        [keys, starts, faced],
         it.read_touches(&ctx, nodes).unwrap(),
         it.read_state(&ctx).unwrap(),
         it.read_results(&ctx).unwrap(),
-        gpu_state(&mut gpu).1,
     );
+    if predict != Some(true) {
+        gpu.run_stage(Stage::Drift).unwrap();
+    }
+    let (u, v, _) = gpu_state(&mut gpu);
+    let out = (c, [keys, starts, faced], t, s, r, v, u);
     Some((out, points, margin))
 }
 
@@ -946,20 +979,24 @@ fn zone_matches(tag: &str, model: &Model) {
         &staged, &wider,
         "{tag}: contact_finish at its widest against 256 lanes"
     );
-    let (c, sort, touches, state, results, v_gpu) = &zone;
+    let (c, sort, touches, state, results, v_gpu, _) = &zone;
     assert!(state.sweeps > 2 && !state.sweeping(), "{tag}: {state:?}");
     assert_eq!(
         &zone, &staged,
         "{tag}: the zone against the staged iteration"
     );
-    // the predictor in the search's bounds: the bits of the predictor before the search
-    // (where there is a device search)
-    if let Some((fused, ..)) = iteration_outputs(&ctx, at, model, (true, Some(true))) {
-        let (apart, ..) = iteration_outputs(&ctx, at, model, (true, Some(false))).unwrap();
-        assert_eq!(
-            apart, fused,
-            "{tag}: predict_bounds against explicit_predict"
-        );
+    // the predictor in the search's bounds, which drifts the other nodes, and the
+    // iteration, which drifts the contact nodes: the bits of the predictor before the search
+    // and `explicit_drift` after the iteration (where there is a device search), in one
+    // workgroup and staged
+    for zone in [true, false] {
+        if let Some((fused, ..)) = iteration_outputs(&ctx, at, model, (zone, Some(true))) {
+            let (apart, ..) = iteration_outputs(&ctx, at, model, (zone, Some(false))).unwrap();
+            assert_eq!(
+                apart, fused,
+                "{tag}: predict_bounds and the late drift against explicit_predict and explicit_drift (zone {zone})"
+            );
+        }
     }
 
     // the twin from the same random state (the device's contact points and margin)

@@ -168,8 +168,19 @@ struct Launches {
     gather: Launch,
     apply: Launch,
     finish: Launch,
-    report: Launch,
-    zone: Option<Launch>,
+    /// `contact_report`, [`Drift::None`] and [`Drift::Late`] (indexed by its value).
+    report: [Launch; 2],
+    /// `contact_zone`, as `report`.
+    zone: Option<[Launch; 2]>,
+}
+
+/// Whether the iteration's last kernel drifts the contact nodes: where the step's predictor
+/// ran in the search's bounds (`predict_bounds`, which drifts the other nodes), so that the
+/// step dispatches no `explicit_drift`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Drift {
+    None = 0,
+    Late = 1,
 }
 
 /// The model's contact data on the device: its pairs, contact nodes and their links, and the
@@ -217,15 +228,20 @@ pub(super) struct WorkBuffers {
     pub(super) dj: Storage,
     pub(super) state: Storage,
     pub(super) results: Storage,
+    /// Bitsets of the model's nodes (bit n % 32 of word n / 32): no node, and the contact
+    /// nodes (the late nodes of [`Drift::Late`]), indexed by [`Drift`].
+    late: [Storage; 2],
 }
 
 impl WorkBuffers {
     /// Allocates the working buffers for `np` pairs, `nf` primary faces, `nodes` nodes and
-    /// `ranges` rigid body ranges (whose impulse changes follow the pairs' in `dj`).
+    /// `ranges` rigid body ranges (whose impulse changes follow the pairs' in `dj`), and the
+    /// late nodes' bitsets of the setup's contact nodes.
     fn new(
         ctx: &GpuContext,
         (np, nf, nodes): (usize, usize, usize),
         ranges: usize,
+        contact_nodes: &[ContactNode],
     ) -> Result<Self> {
         let words = |n: usize| (4 * n) as u64;
         // the step's bounds, then their copy `search_grid` leaves
@@ -247,6 +263,12 @@ impl WorkBuffers {
         let dj = Storage::new(ctx, "contact.dj", words(3 * (np + ranges)))?;
         let state = Storage::new(ctx, "contact.state", 4 * word::WORDS as u64)?;
         let results = Storage::with_data(ctx, "contact.results", &vec![0.0f32; SLOT * np])?;
+        let mut bits = vec![0u32; nodes.div_ceil(32).max(1)];
+        let none = Storage::with_data(ctx, "contact.early", &bits)?;
+        for c in contact_nodes {
+            bits[c.node as usize / 32] |= 1 << (c.node % 32);
+        }
+        let late = [none, Storage::with_data(ctx, "contact.late", &bits)?];
         Ok(WorkBuffers {
             bounds,
             constraints,
@@ -255,6 +277,7 @@ impl WorkBuffers {
             dj,
             state,
             results,
+            late,
         })
     }
 }
@@ -316,6 +339,7 @@ impl Bindings<'_> {
                 s.centres_buffer(),
                 &w.bounds.buffer,
                 s.boxes_buffer(),
+                &w.late[Drift::Late as usize].buffer,
             );
             [bounds, predict]
         });
@@ -492,12 +516,13 @@ impl Bindings<'_> {
         (sweep, apply, finish)
     }
 
-    /// The whole iteration's launch, `contact_zone` (where the adapter runs it): one
-    /// workgroup, Params.aux the contact nodes and aux2 the primary faces.
-    fn zone(&self) -> Option<Launch> {
+    /// The whole iteration's launches, `contact_zone` (where the adapter runs it), each
+    /// [`Drift`]: one workgroup, Params.aux the contact nodes and aux2 the primary faces.
+    fn zone(&self) -> Option<[Launch; 2]> {
         let (ctx, b, m, w) = (self.ctx, self.b, self.m, self.w);
         let sort = &w.sort;
-        self.k.zone.as_ref().map(|k| {
+        let k = self.k.zone.as_ref()?;
+        Some([Drift::None, Drift::Late].map(|drift| {
             k.launch(
                 ctx,
                 self.np,
@@ -526,26 +551,33 @@ impl Bindings<'_> {
                 b.lumped,
                 &w.dj.buffer,
                 &w.results.buffer,
+                &w.late[drift as usize].buffer,
             )
-        })
+        }))
     }
 
-    /// The report's launch, `contact_report`.
-    fn report(&self) -> Launch {
+    /// The report's launches, `contact_report`, each [`Drift`]: an invocation per pair
+    /// (Params.aux) and per contact node (aux2).
+    fn report(&self) -> [Launch; 2] {
         let (b, w) = (self.b, self.w);
-        self.k.report.launch(
-            self.ctx,
-            self.np,
-            0,
-            0,
-            b.step,
-            &w.constraints.buffer,
-            &self.m.pairs.buffer,
-            b.velocity,
-            &w.state.buffer,
-            &w.results.buffer,
-            &self.m.rigid.buffer,
-        )
+        [Drift::None, Drift::Late].map(|drift| {
+            self.k.report.launch(
+                self.ctx,
+                self.np.max(self.nc),
+                self.np,
+                self.nc,
+                b.step,
+                &w.constraints.buffer,
+                &self.m.pairs.buffer,
+                b.velocity,
+                &w.state.buffer,
+                &w.results.buffer,
+                &self.m.rigid.buffer,
+                &self.m.nodes.buffer,
+                b.displacement,
+                &w.late[drift as usize].buffer,
+            )
+        })
     }
 
     /// Every launch of the iteration, stage after stage.
@@ -622,7 +654,7 @@ impl ImpulseSweeps {
         let kernels = IterationKernels::new(ctx);
         let (np, nf) = (setup.pairs.len(), setup.faces.len());
         let model = ModelBuffers::upload(ctx, setup)?;
-        let work = WorkBuffers::new(ctx, (np, nf, nodes), setup.rigid.len())?;
+        let work = WorkBuffers::new(ctx, (np, nf, nodes), setup.rigid.len(), &setup.nodes)?;
         // placeholders where no interface has a primary surface
         let none = Storage::new(ctx, "contact.none", 64)?;
         let (grid, points, faces) = match &search {
@@ -836,15 +868,25 @@ impl ImpulseSweeps {
 
     /// Dispatches the report of the step's results.
     pub fn dispatch_report(&self, pass: &mut wgpu::ComputePass) {
+        self.dispatch_report_drifting(pass, Drift::None);
+    }
+
+    /// Dispatches the report, with the late nodes' drift as `drift` says.
+    fn dispatch_report_drifting(&self, pass: &mut wgpu::ComputePass, drift: Drift) {
         let (k, l) = (&self.kernels, &self.launches);
-        k.report.0.dispatch(pass, &l.report);
+        k.report.0.dispatch(pass, &l.report[drift as usize]);
     }
 
     /// Dispatches `contact_zone`: the whole iteration after the search in one workgroup
     /// (where the adapter runs it; nothing otherwise).
     pub fn dispatch_zone(&self, pass: &mut wgpu::ComputePass) {
+        self.dispatch_zone_drifting(pass, Drift::None);
+    }
+
+    /// Dispatches `contact_zone`, with the late nodes' drift as `drift` says.
+    fn dispatch_zone_drifting(&self, pass: &mut wgpu::ComputePass, drift: Drift) {
         if let (Some(k), Some(l)) = (&self.kernels.zone, &self.launches.zone) {
-            k.0.dispatch_with(pass, &l.bind, [1, 1]);
+            k.0.dispatch_with(pass, &l[drift as usize].bind, [1, 1]);
         }
     }
 
@@ -864,11 +906,13 @@ impl ImpulseSweeps {
     }
 
     /// [`Self::dispatch`] with the step's predictor, v* = v_n + dt/2 a_n, in the search's
-    /// bounds (`predict_bounds`, one dispatch in place of `explicit_predict` and
-    /// `search_bounds`): the velocity is v_n on entry, and the iteration's nodes are every
-    /// node of the model (a single device's step). Only where the iteration
-    /// [`Self::predicts`] (it has a device search); elsewhere the caller runs the predictor
-    /// and [`Self::dispatch`].
+    /// bounds and the step's drift, u_{n+1} = u_n + dt v* (`predict_bounds`, one dispatch in
+    /// place of `explicit_predict` and `search_bounds`, drifts every node but the contact
+    /// nodes, and the iteration's last kernel drifts those after the sweeps): the velocity
+    /// is v_n on entry, and the iteration's nodes are every node of the model (a single
+    /// device's step). The caller dispatches no `explicit_drift`. Only where the iteration
+    /// [`Self::predicts`] (it has a device search); elsewhere the caller runs the predictor,
+    /// [`Self::dispatch`] and the drift.
     pub fn dispatch_predicting(&self, pass: &mut wgpu::ComputePass, sweeps: u32, mode: SearchMode) {
         self.dispatch_step(pass, (sweeps, mode), true);
     }
@@ -881,14 +925,15 @@ impl ImpulseSweeps {
         predict: bool,
     ) {
         self.dispatch_search(pass, mode, predict);
+        let drift = if predict { Drift::Late } else { Drift::None };
         if self.zone {
-            self.dispatch_zone(pass);
+            self.dispatch_zone_drifting(pass, drift);
             return;
         }
         self.dispatch_constraints(pass);
         self.dispatch_sweeps(pass, sweeps);
         self.dispatch_finish(pass);
-        self.dispatch_report(pass);
+        self.dispatch_report_drifting(pass, drift);
     }
 
     /// Records `part` of the iteration (one of the `dispatch_*` above) in a compute pass of

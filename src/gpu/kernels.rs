@@ -70,7 +70,7 @@ kernel_table! {
     );
     ContactGap = contact_gap(reference, displacement, velocity, queries, candidates, faces, points);
     ContactReportKernel = contact_report(
-        step, constraints, pairs, velocity, state, results, rigid,
+        step, constraints, pairs, velocity, state, results, rigid, nodes, displacement, late,
     );
     ContactSearch = contact_search(
         grid, reference, displacement, velocity, queries, faces, starts, sorted, points, boxes,
@@ -83,7 +83,7 @@ kernel_table! {
     ContactZone = contact_zone(
         step, grid, reference, displacement, velocity, acceleration, pairs, points, faces,
         constraints, keys, rigid, counts, ranks, starts, sorted, state, nodes, links, touches,
-        lumped, dj, results,
+        lumped, dj, results, late,
     );
     CornerSelect = corner_select(slots, corner_forces, chosen);
     ExplicitCorrect = explicit_correct(
@@ -113,6 +113,7 @@ kernel_table! {
     );
     PredictBounds = predict_bounds(
         step, reference, displacement, velocity, acceleration, faces, centres, bounds, boxes,
+        late,
     );
     PrefixSum = prefix_sum(values, totals, starts);
     ScanTotals = scan_totals(values, totals);

@@ -6,7 +6,8 @@
 //! `predict_bounds` runs it with the search's bounds in one dispatch), the contact impulses
 //! (`plane_contact` where all contacts are rigid planes, at most 8; otherwise the contact
 //! iteration, [`super::ImpulseSweeps`], which takes rigid bodies' surfaces too),
-//! `explicit_drift` (u += dt v), the element kernels (corner forces), `gather_correct` over
+//! `explicit_drift` (u += dt v; where `predict_bounds` runs, it drifts the nodes the
+//! iteration does not move and the iteration drifts the rest), the element kernels (corner forces), `gather_correct` over
 //! every body's nodes and the rigid bodies' nodes in one dispatch (the nodal forces gathered
 //! as `node_gather` sums them, a, v and the energy and momentum sums per workgroup, each
 //! body's apart; a rank runs `node_gather` and `explicit_correct` apart, its shared nodes'
@@ -686,12 +687,14 @@ impl ResidentStep {
         }
     }
 
-    /// Dispatches the step's stages after the contact iteration: drift, the element
-    /// kernels, the gather with the correctors in one dispatch, the failure survey and the
-    /// history row of the submission's step `j`.
-    fn dispatch_back(&self, pass: &mut wgpu::ComputePass, j: usize) {
+    /// Dispatches the step's stages after the contact iteration: the drift (unless the
+    /// step `drifted` already), the element kernels, the gather with the correctors in one
+    /// dispatch, the failure survey and the history row of the submission's step `j`.
+    fn dispatch_back(&self, pass: &mut wgpu::ComputePass, j: usize, drifted: bool) {
         let l = &self.launches;
-        self.kernels.drift.0.dispatch(pass, &l.drift);
+        if !drifted {
+            self.kernels.drift.0.dispatch(pass, &l.drift);
+        }
         self.k.dispatch_element_kernels(pass);
         self.kernels
             .gather_correct
@@ -736,19 +739,22 @@ impl ResidentStep {
         });
         for j in 0..steps {
             let mode = self.search_mode(j);
-            match &self.contact {
-                // no rigid planes' kernel runs between the predictor and the iteration
+            let drifted = match &self.contact {
+                // no rigid planes' kernel runs between the predictor and the iteration; the
+                // iteration drifts every node
                 Some(c) if c.predicts() && self.launches.plane.is_none() => {
                     c.dispatch_predicting(&mut pass, self.sweeps, mode);
+                    true
                 }
                 contact => {
                     self.dispatch_front(&mut pass);
                     if let Some(c) = contact {
                         c.dispatch(&mut pass, self.sweeps, mode);
                     }
+                    false
                 }
-            }
-            self.dispatch_back(&mut pass, j);
+            };
+            self.dispatch_back(&mut pass, j, drifted);
         }
     }
 

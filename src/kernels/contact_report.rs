@@ -2,7 +2,9 @@
 //! kernel's layout ([`super::plane_contact::SLOT`] per pair): normal impulse, friction
 //! impulse (3), active, sliding, linearised end-of-step gap ($-\infty$ out of reach), friction
 //! work since the start, the iteration's sweeps, the impulse on the secondary node (3) and
-//! the work of a driven rigid body's driver since the start.
+//! the work of a driven rigid body's driver since the start. (Where the step's predictor ran
+//! in the search's bounds, the kernel also drifts the contact nodes: that is
+//! [`super::explicit_drift`], whose bits `tests/gpu_contact.rs` holds the device's to.)
 
 use super::contact_constraints::{relative, Constraint, ContactPair, RigidSurface};
 use super::contact_gap::NO_FACE;

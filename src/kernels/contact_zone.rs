@@ -4,7 +4,9 @@
 //! [`prefix_sum`], [`bucket_fill`], [`bucket_order`]), [`contact_touches`],
 //! [`contact_compliance`] and the start of the sweeps ([`sweep_control`]), the warm start
 //! ([`contact_warm`]), the sweeps to the iteration's end ([`contact_finish`]) and
-//! [`contact_report`].
+//! [`contact_report`]. (Where the step's predictor ran in the search's bounds, the kernel
+//! also drifts the contact nodes at their final $v^*$: that is [`super::explicit_drift`],
+//! and `tests/gpu_contact.rs` holds the device's drift to `explicit_drift`'s bits.)
 
 use super::contact_constraints::{contact_constraints, Constraint, ContactPair, RigidSurface};
 use super::contact_finish::{contact_finish, SweepInputs};
