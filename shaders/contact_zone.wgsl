@@ -4,11 +4,12 @@
 // where the staged iteration has dispatch boundaries: the same arithmetic in the same order,
 // so the results are the staged iteration's bits. The stages: `contact_constraints`, the
 // pairs' counting sort by face (`bucket_count`, the scan of the bucket sizes, `bucket_fill`,
-// `bucket_order`, which clears the sizes and the state words), `contact_touches`,
-// `contact_compliance` (which starts the sweeps), the warm start's `body_gather` and
-// `contact_warm`, the sweeps as `contact_finish` runs them, and `contact_report` (with the
-// drift of the late contact nodes). One dispatch in place of about twenty: on a small zone the staged
-// iteration's dispatches, not their work, set the step's time.
+// `bucket_order`, which clears the sizes, the state words and the search bounds),
+// `contact_touches`, `contact_compliance` (which starts the sweeps), the warm start's
+// `body_gather` and `contact_warm`, the sweeps as `contact_finish` runs them, and
+// `contact_report` (with the drift of the late contact nodes). One dispatch in place of
+// about twenty: on a small zone the staged iteration's dispatches, not their work, set the
+// step's time.
 // params.count: the pairs; params.aux: the contact nodes; params.aux2: the primary faces
 // (the bucket of a pair on no face).
 
@@ -37,6 +38,7 @@
 @group(0) @binding(22) var<storage, read_write> dj: array<f32>;
 @group(0) @binding(23) var<storage, read_write> results: array<f32>;
 @group(0) @binding(24) var<storage, read> late: array<u32>;
+@group(0) @binding(25) var<storage, read_write> bounds: array<u32, 6>;
 
 // include: velocity
 // include: constrain_pair
@@ -94,8 +96,8 @@ fn scan_counts(local: u32, nb: u32) {
 }
 
 // The pairs sorted by primary face into buckets 0..nf (nf: pairs on no face), each face's
-// bucket in pair order; the sizes and the state words cleared after, as `bucket_order`
-// leaves them.
+// bucket in pair order; the sizes, the state words and the search bounds cleared after, as
+// `bucket_order` leaves them.
 fn sort_pairs(local: u32, np: u32, nf: u32) {
     for (var p = local; p < np; p += ONE_GROUP) {
         ranks[p] = atomicAdd(&counts[keys[p]], 1u);
@@ -115,6 +117,9 @@ fn sort_pairs(local: u32, np: u32, nf: u32) {
         atomicStore(&counts[nf], 0u);
         for (var w = 0u; w < 8u; w++) {
             state[w] = 0u;
+        }
+        for (var k = 0u; k < 3u; k++) {
+            bounds[k] = 0u;
         }
     }
 }

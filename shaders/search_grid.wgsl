@@ -4,14 +4,11 @@
 // faces again (params.aux2 SEARCH_BUILD, or SEARCH_FIRST, which also starts a new `fill`)
 // sets the cell side to the largest face box side plus the margin, a thousandth more, and a
 // skin of SEARCH_SKIN more, so that the faces may move before the grid must be rebuilt. A
-// step that keeps the grid (SEARCH_KEEP) checks that it still holds: a node within the
-// margin of a face's box is within side + margin of its centre, which has moved `drift`
-// (bounds[2], the largest move of a face centre since the sort) from the cell it was sorted
-// into, so the 27 cells around the node hold every candidate while (side + margin + drift)
-// x 1.001 < cell; otherwise the step tests every face (all_faces). params.aux is the table's
-// mask. One invocation.
-// It is the bounds' one reader: it moves them to bounds[3..6] (where they can be read back)
-// and clears bounds[0..3] for the next step's `search_bounds`, saving a dispatch a step.
+// step that keeps the grid (SEARCH_KEEP) checks that it still holds (`kept_need`), and
+// otherwise tests every face (all_faces); the resident step's keeping steps dispatch no
+// `search_grid`: their narrow phase does the same arithmetic (`contact_search` with
+// params.aux 1). params.aux is the table's mask. One invocation. It copies the bounds to
+// bounds[3..6] (where they can be read back); `bucket_order` clears them for the next step.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<uniform> step: Step;
@@ -22,18 +19,16 @@ const SEARCH_KEEP: u32 = 0u;
 const SEARCH_FIRST: u32 = 2u;
 const SEARCH_SKIN: f32 = 0.1;
 
+// include: kept_grid
+
 @compute @workgroup_size(1)
 fn search_grid() {
-    let margin = grid.face_size + 4.0 * step.dt * bitcast<f32>(bounds[0]);
-    let side = bitcast<f32>(bounds[1]);
-    grid.margin = margin;
+    let margin = step_margin();
     if (params.aux2 == SEARCH_KEEP) {
-        let need = (side + margin + bitcast<f32>(bounds[2])) * 1.001;
-        grid.fill = max(grid.fill, need / grid.cell);
-        let stale = need >= grid.cell;
-        grid.all_faces = select(0u, 1u, stale);
-        grid.stale_steps += select(0u, 1u, stale);
+        keep_grid(margin, kept_need(margin));
     } else {
+        grid.margin = margin;
+        let side = bitcast<f32>(bounds[1]);
         grid.cell = max((side + margin) * 1.001 * (1.0 + SEARCH_SKIN), 1e-30);
         grid.mask = params.aux;
         grid.all_faces = 0u;
@@ -41,8 +36,5 @@ fn search_grid() {
             grid.fill = 0.0;
         }
     }
-    for (var k = 0u; k < 3u; k++) {
-        bounds[3u + k] = bounds[k];
-        bounds[k] = 0u;
-    }
+    copy_bounds();
 }

@@ -333,7 +333,9 @@ fn resident_rows<'m>(
 /// not depend on how often the faces are sorted. The stack with the block fast over the
 /// plate, and primary side of a second interface (its faces move the cells' skin in about
 /// 15 steps): sorting every step, once per submission of 25 steps (with stale steps), and
-/// as the rule says give the same rows and final state, bit for bit.
+/// as the rule says give the same rows and final state, bit for bit, in one workgroup
+/// (`contact_zone`) and staged. (A step that keeps the sort runs `search_grid`'s arithmetic in
+/// its narrow phase, and the steps that sort run `search_grid`.)
 #[test]
 fn the_kept_search_grid_does_not_change_the_results() {
     let Some(ctx) = gpu_context("kept search grid run") else {
@@ -348,8 +350,20 @@ primary = { body = "block", face = "z-" }
     let text = stack_scene(0.1, lift).replace("[1.0, 0.3, -0.2]", "[8.0, 2.4, -0.2]");
     let model = model_of(&text, "kept_grid.toml");
     let steps = 150;
+    for zone in [true, false] {
+        kept_grid_runs(&ctx, &model, steps, zone);
+    }
+}
+
+/// [`the_kept_search_grid_does_not_change_the_results`] with the iteration in one workgroup
+/// or staged (where the adapter runs the zone).
+fn kept_grid_runs(ctx: &GpuContext, model: &Model, steps: usize, zone: bool) {
+    if zone && !zone_runs(ctx) {
+        return;
+    }
     let run = |interval: Option<usize>| {
-        let (rows, s) = resident_rows(&ctx, &model, steps, |s| {
+        let (rows, s) = resident_rows(ctx, model, steps, |s| {
+            assert_eq!(s.fix_contact_zone(zone), zone);
             if let Some(k) = interval {
                 s.fix_search_interval(k);
             }
@@ -371,11 +385,14 @@ primary = { body = "block", face = "z-" }
         if interval.is_some() {
             assert!(counts.1 > 0, "sorting once per submission, steps go stale");
         }
-        assert_eq!(every, rows, "the rows differ sorting every {interval:?}");
+        assert_eq!(
+            every, rows,
+            "the rows differ sorting every {interval:?} (zone {zone})"
+        );
         assert_eq!(
             (&u_every, &v_every),
             (&u, &v),
-            "the final state differs sorting every {interval:?}"
+            "the final state differs sorting every {interval:?} (zone {zone})"
         );
     }
 }

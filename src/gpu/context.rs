@@ -22,7 +22,7 @@ pub const STORAGE_BINDINGS: u32 = 12;
 /// Storage buffers `contact_zone` binds: the whole contact iteration in one workgroup, which
 /// runs only where the adapter binds this many per shader stage (the staged iteration runs
 /// elsewhere; a test keeps this the kernel's count).
-pub const ZONE_BINDINGS: u32 = 23;
+pub const ZONE_BINDINGS: u32 = 24;
 
 /// Under `device = "auto"`, scenes with at least this many elements run their kernels on a
 /// hardware GPU when there is one. Smaller scenes stay on the CPU in f64: there the kernels

@@ -567,13 +567,12 @@ impl GpuKernels {
         let (face_first, queries) = search::search_layout(model);
         GpuSearch::new(
             &self.ctx,
-            &self.mesh.reference.buffer,
-            &self.u.buffer,
-            &self.v.buffer,
+            (&self.mesh.reference.buffer, &self.u.buffer, &self.v.buffer),
             faces,
             &face_first,
             &queries,
             0.0,
+            None,
         )
     }
 

@@ -8,12 +8,14 @@
 //! 1. the search grid from the step's bounds (`search_bounds`, `search_grid`) and the device
 //!    search ([`GpuSearch`]), if any interface has a primary surface: the faces' sort into
 //!    the grid on the steps the caller says ([`SearchMode`]), the narrow phase on every step
-//!    (over every face of an interface on a step whose kept grid no longer holds);
+//!    (over every face of an interface on a step whose kept grid no longer holds; a step
+//!    that keeps the sort dispatches no `search_grid`, its narrow phase doing the same
+//!    arithmetic);
 //! 2. `contact_constraints`, one per pair (secondary node of an interface), then the pairs
 //!    in reach bucket-sorted by their primary face (`bucket_count`, `prefix_sum`,
 //!    `bucket_fill`, as the search sorts faces by cell) and each bucket put in pair order
 //!    (`bucket_order`: the atomics rank them in a different order every run; it also clears
-//!    the bucket sizes for the next step's count and the state words);
+//!    the bucket sizes for the next step's count, the state words and the search bounds);
 //! 3. the row-sum compliance: `contact_touches` per contact node (it gathers the pairs of
 //!    its faces from the buckets) and `contact_compliance` per pair, whose first
 //!    invocation starts the sweeps (or stops the iteration with no pair in reach); then the
@@ -27,7 +29,8 @@
 //!    indirect dispatch cost several times a direct one). `contact_finish`, one workgroup,
 //!    runs any sweeps the iteration needs after them, the same arithmetic in the same
 //!    order, so that the results do not depend on how many were recorded;
-//! 5. `contact_report`, one per pair: the results `history_reduce` sums per interface.
+//! 5. `contact_report`, one per pair: the results `history_reduce` sums per interface (and,
+//!    where the step's predictor ran in the search's bounds, the contact nodes' drift).
 
 use std::ops::Range;
 
@@ -43,7 +46,7 @@ use super::kernels::{
 };
 use super::one_group;
 use super::scan::Scan;
-use super::search::GpuSearch;
+use super::search::{GpuSearch, KeptBuffers};
 use super::shaders;
 use super::types::{self, to_device, WORKGROUP};
 use crate::error::Result;
@@ -150,8 +153,8 @@ impl IterationKernels {
     }
 }
 
-/// (`search_grid` clears the search bounds, and `bucket_order` the pair buckets' sizes and
-/// the state words, for the next step.)
+/// (`bucket_order` clears the pair buckets' sizes, the state words and the search bounds
+/// for the next step.)
 struct Launches {
     /// `search_bounds`, then `predict_bounds` (the step's predictor with the bounds).
     bounds: Option<[Launch; 2]>,
@@ -244,7 +247,7 @@ impl WorkBuffers {
         contact_nodes: &[ContactNode],
     ) -> Result<Self> {
         let words = |n: usize| (4 * n) as u64;
-        // the step's bounds, then their copy `search_grid` leaves
+        // the step's bounds, then their copy the search leaves
         let bounds = Storage::new(ctx, "contact.bounds", 24)?;
         let constraints = Storage::new(
             ctx,
@@ -414,6 +417,7 @@ impl Bindings<'_> {
             &w.sort.sorted.buffer,
             &w.sort.counts.buffer,
             &w.state.buffer,
+            &w.bounds.buffer,
         );
         [constraints, count, fill, order]
     }
@@ -552,6 +556,7 @@ impl Bindings<'_> {
                 &w.dj.buffer,
                 &w.results.buffer,
                 &w.late[drift as usize].buffer,
+                &w.bounds.buffer,
             )
         }))
     }
@@ -650,11 +655,11 @@ impl ImpulseSweeps {
         nodes: usize,
         max_iterations: u32,
     ) -> Result<Self> {
-        let search = Self::search(ctx, b, setup)?;
         let kernels = IterationKernels::new(ctx);
         let (np, nf) = (setup.pairs.len(), setup.faces.len());
         let model = ModelBuffers::upload(ctx, setup)?;
         let work = WorkBuffers::new(ctx, (np, nf, nodes), setup.rigid.len(), &setup.nodes)?;
+        let search = Self::search(ctx, b, setup, &work.bounds.buffer)?;
         // placeholders where no interface has a primary surface
         let none = Storage::new(ctx, "contact.none", 64)?;
         let (grid, points, faces) = match &search {
@@ -706,24 +711,28 @@ impl ImpulseSweeps {
         })
     }
 
-    /// The device search, if any interface has a primary surface.
+    /// The device search, if any interface has a primary surface, with the step's buffers
+    /// (the step uniform and the search `bounds`).
     fn search(
         ctx: &GpuContext,
         b: &StepBuffers,
         setup: &ContactSetup,
+        bounds: &wgpu::Buffer,
     ) -> Result<Option<GpuSearch>> {
         if setup.queries.is_empty() {
             return Ok(None);
         }
         Ok(Some(GpuSearch::new(
             ctx,
-            b.reference,
-            b.displacement,
-            b.velocity,
+            (b.reference, b.displacement, b.velocity),
             &setup.faces,
             &setup.face_first,
             &setup.queries,
             setup.face_size,
+            Some(KeptBuffers {
+                step: b.step,
+                bounds,
+            }),
         )?))
     }
 
@@ -839,11 +848,14 @@ impl ImpulseSweeps {
                 true => k.predict_bounds.0.dispatch(pass, &bounds[1]),
                 false => k.bounds.0.dispatch(pass, &bounds[0]),
             }
-            k.grid.0.dispatch(pass, &grid[mode as usize]);
-            if mode != SearchMode::Keep {
+            // a step that keeps the sort runs `search_grid`'s arithmetic in its narrow phase
+            if mode == SearchMode::Keep {
+                search.dispatch_narrow_keeping(pass);
+            } else {
+                k.grid.0.dispatch(pass, &grid[mode as usize]);
                 search.dispatch_sort(pass);
+                search.dispatch_narrow(pass);
             }
-            search.dispatch_narrow(pass);
         }
     }
 

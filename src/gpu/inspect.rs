@@ -753,8 +753,8 @@ impl ImpulseSweeps {
         })
     }
 
-    /// The search grid's bounds (speed, side, drift; `search_grid` keeps them after clearing
-    /// the accumulators) and the grid of the last search.
+    /// The search grid's bounds (speed, side, drift: the copy the last search left) and the
+    /// grid of the last search.
     pub fn read_grid(&mut self, ctx: &GpuContext) -> Result<([f64; 3], types::GpuSearchGrid)> {
         let staging = &mut self.staging;
         let b = read_floats(ctx, staging, CONTACT_READ, &self.work.bounds.buffer, 6)?[3..].to_vec();

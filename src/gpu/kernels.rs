@@ -56,7 +56,7 @@ kernel_table! {
     BodyGather = body_gather(links, constraints, dj, state);
     BucketCount = bucket_count(keys, counts, ranks);
     BucketFill = bucket_fill(keys, ranks, starts, sorted);
-    BucketOrder = bucket_order(starts, sorted, counts, state);
+    BucketOrder = bucket_order(starts, sorted, counts, state, bounds);
     ContactApply = contact_apply(
         step, nodes, links, constraints, starts, sorted, dj, lumped, velocity, state,
     );
@@ -74,6 +74,7 @@ kernel_table! {
     );
     ContactSearch = contact_search(
         grid, reference, displacement, velocity, queries, faces, starts, sorted, points, boxes,
+        step, bounds,
     );
     ContactSweep = contact_sweep(step, constraints, pairs, velocity, dj, state);
     ContactTouches = contact_touches(nodes, links, constraints, starts, sorted, touches, state);
@@ -83,7 +84,7 @@ kernel_table! {
     ContactZone = contact_zone(
         step, grid, reference, displacement, velocity, acceleration, pairs, points, faces,
         constraints, keys, rigid, counts, ranks, starts, sorted, state, nodes, links, touches,
-        lumped, dj, results, late,
+        lumped, dj, results, late, bounds,
     );
     CornerSelect = corner_select(slots, corner_forces, chosen);
     ExplicitCorrect = explicit_correct(

@@ -11,6 +11,7 @@
 use super::bucket_sort::BucketSort;
 use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
+use super::kernel::Launch;
 use super::scan::Scan;
 use super::types::{self, to_device, ContactQuery, Quad};
 use super::{BucketCount, BucketFill, ContactSearch, FaceCells, FillWords};
@@ -81,8 +82,8 @@ impl SearchBuffers {
         let nf = faces.len();
         let point_bytes = queries.len() * std::mem::size_of::<types::GpuContactPoint>();
         Ok(SearchBuffers {
-            // a storage buffer: the host writes it (`record`) or a kernel does (the resident
-            // step's `search_grid`)
+            // a storage buffer: the host writes it (`record`) or kernels do (the resident
+            // step's `search_grid`, or its narrow phase on a step that keeps the sort)
             grid: Storage::new(
                 ctx,
                 "search.grid",
@@ -114,6 +115,14 @@ impl SearchBuffers {
     }
 }
 
+/// The step's buffers the narrow phase reads where it keeps the last sort (see
+/// [`GpuSearch::dispatch_narrow_keeping`]): the step uniform and the search bounds (6 words:
+/// speed, side and drift, then their copy).
+pub struct KeptBuffers<'a> {
+    pub step: &'a wgpu::Buffer,
+    pub bounds: &'a wgpu::Buffer,
+}
+
 /// The stages' bind groups, in order: `fill_words` (the bucket sizes zeroed),
 /// `face_cells`, `bucket_count`, `bucket_fill`, `contact_search` (the bucket starts come from
 /// the [`Scan`] between the last two).
@@ -121,9 +130,8 @@ fn binds(
     ctx: &GpuContext,
     k: &SearchKernels,
     b: &SearchBuffers,
-    reference: &wgpu::Buffer,
-    displacement: &wgpu::Buffer,
-    velocity: &wgpu::Buffer,
+    (reference, displacement, velocity): (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
+    kept: &KeptBuffers,
 ) -> [wgpu::BindGroup; 5] {
     [
         k.fill_words.bind(ctx, &b.sort.counts.buffer),
@@ -163,6 +171,8 @@ fn binds(
             &b.sort.sorted.buffer,
             &b.points.buffer,
             &b.boxes.buffer,
+            kept.step,
+            kept.bounds,
         ),
     ]
 }
@@ -172,6 +182,11 @@ pub struct GpuSearch {
     pub(super) buffers: SearchBuffers,
     pub(super) staging: Storage,
     binds: [wgpu::BindGroup; 5],
+    /// The narrow phase on a step that keeps the last sort (`contact_search` with
+    /// params.aux 1), where the search was given the step's [`KeptBuffers`].
+    keeping: Option<Launch>,
+    /// Placeholders for the step's buffers where there are none.
+    _placeholders: (wgpu::Buffer, Storage),
     /// The faces' bucket starts from their sizes.
     scan: Scan,
     pub(super) faces: usize,
@@ -182,17 +197,18 @@ pub struct GpuSearch {
 impl GpuSearch {
     /// `queries[i] = (secondary node, first face, end face)` of its interface;
     /// `face_first[f]` the first face of face f's interface; `face_size` the largest face
-    /// size (the margin's base where the device computes the grid).
+    /// size (the margin's base where the device computes the grid); `kept` the step's
+    /// buffers where the device computes the grid (`search_grid`), so that a step that
+    /// keeps the sort can run [`Self::dispatch_narrow_keeping`].
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         ctx: &GpuContext,
-        reference: &wgpu::Buffer,
-        displacement: &wgpu::Buffer,
-        velocity: &wgpu::Buffer,
+        (reference, displacement, velocity): (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
         faces: &[[u32; 4]],
         face_first: &[u32],
         queries: &[(u32, u32, u32)],
         face_size: f64,
+        kept: Option<KeptBuffers>,
     ) -> Result<Self> {
         let table = table_size(faces.len());
         let buffers = SearchBuffers::new(ctx, faces, face_first, queries, table)?;
@@ -204,7 +220,30 @@ impl GpuSearch {
         ctx.queue
             .write_buffer(&buffers.grid.buffer, 0, bytemuck::bytes_of(&grid));
         let kernels = SearchKernels::new(ctx);
-        let binds = binds(ctx, &kernels, &buffers, reference, displacement, velocity);
+        let state = (reference, displacement, velocity);
+        // bound where the search is given no step buffers (its launches then never read them)
+        let placeholders = (
+            ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("search.step"),
+                size: std::mem::size_of::<types::Step>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM,
+                mapped_at_creation: false,
+            }),
+            Storage::new(ctx, "search.bounds", 24)?,
+        );
+        let step_buffers = match &kept {
+            Some(k) => KeptBuffers {
+                step: k.step,
+                bounds: k.bounds,
+            },
+            None => KeptBuffers {
+                step: &placeholders.0,
+                bounds: &placeholders.1.buffer,
+            },
+        };
+        let binds = binds(ctx, &kernels, &buffers, state, &step_buffers);
+        let keeping =
+            kept.map(|k| keeping_launch(ctx, &kernels, &buffers, state, &k, queries.len()));
         kernels.set_counts(ctx, faces.len(), table, queries.len());
         let sort = &buffers.sort;
         let scan = Scan::new(ctx, &sort.counts.buffer, &sort.starts.buffer, table)?;
@@ -213,6 +252,8 @@ impl GpuSearch {
             buffers,
             staging: staging(ctx)?,
             binds,
+            keeping,
+            _placeholders: placeholders,
             scan,
             faces: faces.len(),
             queries: queries.len(),
@@ -278,6 +319,16 @@ impl GpuSearch {
             .dispatch_with(pass, &b[4], k.contact_search.0.grid(q));
     }
 
+    /// Dispatches the narrow phase of a step that keeps the faces' last sort, with
+    /// `search_grid`'s keeping arithmetic in it (no `search_grid` before it); the plain
+    /// narrow phase where the search was given no step buffers.
+    pub fn dispatch_narrow_keeping(&self, pass: &mut wgpu::ComputePass) {
+        match &self.keeping {
+            Some(l) => self.kernels.contact_search.0.dispatch(pass, l),
+            None => self.dispatch_narrow(pass),
+        }
+    }
+
     /// The search grid ([`types::GpuSearchGrid`]) the stages read.
     pub fn grid_buffer(&self) -> &wgpu::Buffer {
         &self.buffers.grid.buffer
@@ -325,4 +376,34 @@ impl GpuSearch {
         )?;
         Ok(pts.into_iter().map(ContactPoint::from).collect())
     }
+}
+
+/// The narrow phase's launch on the steps that keep the sort: `contact_search` with
+/// params.aux 1 over `queries` queries.
+fn keeping_launch(
+    ctx: &GpuContext,
+    k: &SearchKernels,
+    b: &SearchBuffers,
+    (reference, displacement, velocity): (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
+    kept: &KeptBuffers,
+    queries: usize,
+) -> Launch {
+    k.contact_search.launch(
+        ctx,
+        queries as u32,
+        1,
+        0,
+        &b.grid.buffer,
+        reference,
+        displacement,
+        velocity,
+        &b.queries.buffer,
+        &b.faces.buffer,
+        &b.sort.starts.buffer,
+        &b.sort.sorted.buffer,
+        &b.points.buffer,
+        &b.boxes.buffer,
+        kept.step,
+        kept.bounds,
+    )
 }
