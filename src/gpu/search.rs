@@ -159,21 +159,32 @@ fn binds(
             &b.sort.starts.buffer,
             &b.sort.sorted.buffer,
         ),
-        k.contact_search.bind(
+        k.contact_search.0.bind(
             ctx,
-            &b.grid.buffer,
-            reference,
-            displacement,
-            velocity,
-            &b.queries.buffer,
-            &b.faces.buffer,
-            &b.sort.starts.buffer,
-            &b.sort.sorted.buffer,
-            &b.points.buffer,
-            &b.boxes.buffer,
-            kept.step,
-            kept.bounds,
+            &narrow_buffers(b, (reference, displacement, velocity), kept),
         ),
+    ]
+}
+
+/// `contact_search`'s buffers, in binding order.
+fn narrow_buffers<'a>(
+    b: &'a SearchBuffers,
+    (reference, displacement, velocity): (&'a wgpu::Buffer, &'a wgpu::Buffer, &'a wgpu::Buffer),
+    kept: &KeptBuffers<'a>,
+) -> [&'a wgpu::Buffer; 12] {
+    [
+        &b.grid.buffer,
+        reference,
+        displacement,
+        velocity,
+        &b.queries.buffer,
+        &b.faces.buffer,
+        &b.sort.starts.buffer,
+        &b.sort.sorted.buffer,
+        &b.points.buffer,
+        &b.boxes.buffer,
+        kept.step,
+        kept.bounds,
     ]
 }
 
@@ -384,26 +395,12 @@ fn keeping_launch(
     ctx: &GpuContext,
     k: &SearchKernels,
     b: &SearchBuffers,
-    (reference, displacement, velocity): (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
+    state: (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
     kept: &KeptBuffers,
     queries: usize,
 ) -> Launch {
-    k.contact_search.launch(
-        ctx,
-        queries as u32,
-        1,
-        0,
-        &b.grid.buffer,
-        reference,
-        displacement,
-        velocity,
-        &b.queries.buffer,
-        &b.faces.buffer,
-        &b.sort.starts.buffer,
-        &b.sort.sorted.buffer,
-        &b.points.buffer,
-        &b.boxes.buffer,
-        kept.step,
-        kept.bounds,
-    )
+    let buffers = narrow_buffers(b, state, kept);
+    k.contact_search
+        .0
+        .launch(ctx, queries as u32, 1, 0, &buffers)
 }
