@@ -1,6 +1,7 @@
 // included by kernels that bind `step: Step`, `bounds: array<u32, 6>` (read_write: the
 // step's speed, side and drift as `search_bounds` folds them, then their copy) and `grid:
-// SearchGrid` (read_write)
+// SearchGrid` (read_write): `search_grid` on a step that sorts the faces, `contact_search`
+// on a step that keeps the sort (twin: `kernels::search_grid`)
 
 // The step's margin: the largest face size plus four steps of the fastest node's motion.
 fn step_margin() -> f32 {

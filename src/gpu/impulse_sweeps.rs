@@ -158,8 +158,9 @@ impl IterationKernels {
 struct Launches {
     /// `search_bounds`, then `predict_bounds` (the step's predictor with the bounds).
     bounds: Option<[Launch; 2]>,
-    /// `search_grid` in each [`SearchMode`] (indexed by its value).
-    grid: Option<[Launch; 3]>,
+    /// `search_grid` on the steps that sort the faces: [`SearchMode::Build`] and
+    /// [`SearchMode::First`] (a step that keeps the sort dispatches none).
+    grid: Option<[Launch; 2]>,
     constraints: Launch,
     count: Launch,
     fill: Launch,
@@ -305,13 +306,13 @@ struct Bindings<'a> {
 }
 
 impl Bindings<'_> {
-    /// The search's launches, `search_bounds`, `predict_bounds` and `search_grid` in each
-    /// [`SearchMode`] (none without a search).
+    /// The search's launches, `search_bounds`, `predict_bounds` and `search_grid` on the
+    /// steps that sort the faces (none without a search).
     fn search(
         &self,
         search: Option<&GpuSearch>,
         nodes: usize,
-    ) -> (Option<[Launch; 2]>, Option<[Launch; 3]>) {
+    ) -> (Option<[Launch; 2]>, Option<[Launch; 2]>) {
         let (ctx, k, b, w) = (self.ctx, self.k, self.b, self.w);
         let item_count = nodes.max(self.nf as usize) as u32;
         let bounds = search.map(|s| {
@@ -347,7 +348,7 @@ impl Bindings<'_> {
             [bounds, predict]
         });
         let grid = search.map(|s| {
-            [SearchMode::Keep, SearchMode::Build, SearchMode::First].map(|mode| {
+            [SearchMode::Build, SearchMode::First].map(|mode| {
                 k.grid.launch(
                     ctx,
                     1,
@@ -852,7 +853,9 @@ impl ImpulseSweeps {
             if mode == SearchMode::Keep {
                 search.dispatch_narrow_keeping(pass);
             } else {
-                k.grid.0.dispatch(pass, &grid[mode as usize]);
+                k.grid
+                    .0
+                    .dispatch(pass, &grid[usize::from(mode == SearchMode::First)]);
                 search.dispatch_sort(pass);
                 search.dispatch_narrow(pass);
             }

@@ -1,6 +1,8 @@
-//! The step's search grid from its bounds (CPU twin of `shaders/search_grid.wgsl`), the host
-//! path's rule (`search::{margin, search_cell}`), with a skin that lets the grid be kept
-//! across steps while the faces move less than it.
+//! The step's search grid from its bounds (CPU twin of `shaders/search_grid.wgsl` on the
+//! steps that sort the faces, and of `shaders/include/kept_grid.wgsl`, which
+//! `contact_search` runs on the steps that keep the sort), the host path's rule
+//! (`search::{margin, search_cell}`), with a skin that lets the grid be kept across steps
+//! while the faces move less than it.
 
 use super::contact_search::SearchGrid;
 
