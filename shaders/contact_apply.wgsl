@@ -19,6 +19,7 @@
 
 // include: velocity
 // include: apply_node
+// include: phase_after
 // include: stopping_rule
 
 @compute @workgroup_size(64)

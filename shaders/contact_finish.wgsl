@@ -23,6 +23,7 @@
 // include: velocity
 // include: sweep_pair
 // include: apply_node
+// include: phase_after
 // include: stopping_rule
 // include: gather_range
 // include: sweep_loop

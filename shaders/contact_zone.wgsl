@@ -47,6 +47,7 @@
 // include: pair_compliance
 // include: sweep_pair
 // include: apply_node
+// include: phase_after
 // include: stopping_rule
 // include: gather_range
 // include: sweep_loop

@@ -16,7 +16,7 @@ use impact::integrate::resident;
 use impact::integrate::{Integrator, ResidentSolver};
 use impact::kernels::contact_gap::NO_FACE;
 use impact::kernels::plane_contact::SLOT;
-use impact::kernels::{self, Constraint, SearchMode, SweepState};
+use impact::kernels::{self, Constraint, Relax, SearchMode, SweepState};
 use impact::model::Model;
 use impact::scene::Scene;
 use rand::rngs::StdRng;
@@ -695,7 +695,8 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     let mut v_in = gpu_state(&mut gpu).1;
     for sweep in 0..4 {
         let (ctx2, it) = gpu.impulse_sweeps().unwrap();
-        it.run(ctx2, |it, p| it.dispatch_sweeps(p, 1)).unwrap();
+        it.run(ctx2, |it, p| it.dispatch_staged_sweeps(p, 1))
+            .unwrap();
         let mut c_cpu = c_in.clone();
         let mut dj_cpu = vec![0.0; 3 * (contact.pairs.len() + contact.rigid.len())];
         let violation = kernels::contact_sweep(dt, &mut c_cpu, &contact.pairs, &v_in, &mut dj_cpu);
@@ -816,6 +817,154 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
     assert!(work > 0.0, "the report must compute friction work");
     eprintln!("contact_report: {e:.2e}");
     assert!(e <= TOL, "seed {seed}: contact_report {e:.2e}");
+}
+
+/// `contact_relax`, one launch at a time against its twin from the device's inputs to it, on
+/// the stack from a random state (as [`contact_iteration_stages_match_their_cpu_twins`]):
+/// after the warm start (which leaves its velocities in the carried slot 1, bit for bit),
+/// recorded sweeps 1 to 3 and the settle after them (the last sweep's change still to
+/// carry), then sweeps until the iteration stops, one more that carries the last change,
+/// one that does nothing, and the settle after them (the velocities from the slot).
+#[test]
+fn contact_relax_matches_its_cpu_twin() {
+    let tag = "contact_relax";
+    let Some(ctx) = gpu_context(tag) else {
+        return;
+    };
+    let model = stack_model();
+    let seed = seed(tag);
+    let mut rng = StdRng::seed_from_u64(seed);
+    let dt = 2e-3;
+    let (mut setup, _) = resident::setup(&model, &model_settings(), dt, 1.0).unwrap();
+    // as in the stages' test: a tolerance above the f32 floor of these random states
+    setup.tolerance = 1e-4;
+    let contact = setup.contact.clone().expect("surface contact");
+    assert!(
+        contact.rigid.is_empty(),
+        "no rigid body ranges: contact_relax runs"
+    );
+    let nodes = model.mesh.node_count();
+    let data = model.element_data();
+    let (u, v, a) = random_state(&mut rng, nodes);
+    let mut gpu = ResidentStep::new(ctx, &data, &setup, 8).expect("device step");
+    gpu.upload(&u, &v, &a, &vec![0.0; 3 * nodes], &[]).unwrap();
+    let last = last_results(&mut rng, &contact.pairs, &setup.lumped);
+    let (ctx, it) = gpu.impulse_sweeps().expect("contact iteration");
+    let ctx: GpuContext = ctx.clone();
+    it.upload_results(&ctx, &last).unwrap();
+    it.run(&ctx, |it, p| it.dispatch_setup(p, SearchMode::First))
+        .unwrap();
+    let [_, starts, sorted, _] = it.read_sort(&ctx).unwrap();
+    let r = it.read_relaxation(&ctx).unwrap();
+    assert!(r.state.sweeping(), "seed {seed}: the iteration starts");
+    let v_warm = gpu_state(&mut gpu).1;
+    let nc = contact.nodes.len();
+    for (i, cn) in contact.nodes.iter().enumerate() {
+        let n = cn.node as usize;
+        assert_eq!(
+            r.carried[3 * (nc + i)..3 * (nc + i) + 3],
+            v_warm[3 * n..3 * n + 3],
+            "seed {seed}: contact_warm's carried velocity of contact node {i}"
+        );
+    }
+    let inputs = kernels::SweepInputs {
+        dt,
+        tolerance: setup.tolerance,
+        max_iterations: setup.max_iterations,
+        pairs: &contact.pairs,
+        nodes: &contact.nodes,
+        links: &contact.links,
+        starts: &starts,
+        sorted: &sorted,
+        lumped: &setup.lumped,
+    };
+    let np = contact.pairs.len();
+    let mut first = 0.0f64;
+    let first = &mut first;
+    let mut launch = |launch: Relax| -> kernels::Relaxation {
+        let v_in = gpu_state(&mut gpu).1;
+        let (ctx, it) = gpu.impulse_sweeps().unwrap();
+        let ctx = ctx.clone();
+        let mut r_cpu = it.read_relaxation(&ctx).unwrap();
+        let mut c_cpu = it.read_constraints(&ctx).unwrap();
+        it.run(&ctx, |it, p| it.dispatch_relax(p, launch)).unwrap();
+        let r_gpu = it.read_relaxation(&ctx).unwrap();
+        let c_gpu = it.read_constraints(&ctx).unwrap();
+        let mut v_cpu = v_in.clone();
+        kernels::contact_relax(launch, &inputs, &mut r_cpu, &mut c_cpu, &mut v_cpu);
+        let v_gpu = gpu_state(&mut gpu).1;
+        assert_eq!(
+            r_gpu.state.sweeps, r_cpu.state.sweeps,
+            "seed {seed}: {launch:?} sweeps"
+        );
+        assert_eq!(
+            r_gpu.state.phase, r_cpu.state.phase,
+            "seed {seed}: {launch:?} phase"
+        );
+        // a late sweep's violation is a small gap rate from f32 sums: its error is measured
+        // against the first sweep's
+        *first = first.max(r_cpu.ring[1]);
+        let e = (r_gpu.ring.iter().zip(&r_cpu.ring))
+            .map(|(g, c)| (g - c).abs() / *first)
+            .fold(0.0, f64::max);
+        assert!(e <= TOL, "seed {seed}: {launch:?} violations {e:.2e}");
+        let e = rel_err(&r_gpu.carried, &r_cpu.carried);
+        assert!(
+            e <= TOL,
+            "seed {seed}: {launch:?} carried velocities {e:.2e}"
+        );
+        let e = rel_err(&v_gpu, &v_cpu);
+        assert!(e <= TOL, "seed {seed}: {launch:?} velocity {e:.2e}");
+        // a late sweep's impulse change is the small difference of f32 gap rates: its error
+        // is measured against the impulses it changes
+        let impulses: Vec<f64> = c_cpu
+            .iter()
+            .flat_map(|c| [0, 1, 2].map(|a| c.jn * c.normal[a] + c.jt[a]))
+            .collect();
+        let e_dj = (0..2)
+            .map(|h| {
+                let (g, c) = (
+                    &r_gpu.dj[3 * np * h..3 * np * (h + 1)],
+                    &r_cpu.dj[3 * np * h..3 * np * (h + 1)],
+                );
+                rel_err(g, c) * norm2(c) / norm2(&impulses)
+            })
+            .fold(0.0, f64::max);
+        assert!(
+            e_dj <= TOL,
+            "seed {seed}: {launch:?} impulse changes {e_dj:.2e}"
+        );
+        let e = rel_err(&constraint_fields(&c_gpu), &constraint_fields(&c_cpu));
+        assert!(e <= TOL, "seed {seed}: {launch:?} impulses {e:.2e}");
+        eprintln!(
+            "{launch:?}: {} sweeps, phase {}, violations {:.3e} {:.3e} {:.3e}, impulse changes {e_dj:.2e}",
+            r_gpu.state.sweeps, r_gpu.state.phase, r_gpu.ring[0], r_gpu.ring[1], r_gpu.ring[2]
+        );
+        r_gpu
+    };
+    for d in 1..=3 {
+        let r = launch(Relax::Sweep(d));
+        assert_eq!(r.state.sweeps, d, "seed {seed}: sweep {d} runs");
+    }
+    let r = launch(Relax::Settle(3));
+    assert!(
+        r.state.sweeping(),
+        "seed {seed}: the iteration sweeps on after 3"
+    );
+    let mut d = 4;
+    while launch(Relax::Sweep(d)).state.sweeps == d {
+        d += 1;
+        assert!(d < 60, "seed {seed}: the iteration must stop");
+    }
+    // sweep d did not run: d carried sweep d - 1's change; d + 1 does nothing
+    let r = launch(Relax::Sweep(d + 1));
+    assert_eq!(r.state.sweeps, d - 1, "seed {seed}: the sweeps that ran");
+    let r = launch(Relax::Settle(d + 1));
+    assert!(
+        !r.state.sweeping(),
+        "seed {seed}: the settle stops the iteration"
+    );
+    assert!(d > 5, "seed {seed}: the iteration must need sweeps");
 }
 
 /// `predict_bounds`, the step's predictor with the search's bounds and the drift of the nodes
@@ -1414,8 +1563,8 @@ fn recorded_sweeps_follow_the_needs_of_the_steps() {
 
 /// The benchmarks' profile of a submission (`ResidentStep::profile_dispatches`) times every
 /// dispatch the run records, counted per step as the run records them (three recorded
-/// sweeps a step: three `contact_sweep` and three `contact_apply`), and leaves the step
-/// state as it found it.
+/// sweeps a step: three `contact_relax` and its settle), and leaves the step state as it
+/// found it.
 #[test]
 fn the_dispatch_profile_times_every_dispatch_and_leaves_the_state() {
     let Some(ctx) = gpu_context("dispatch profile") else {
@@ -1423,8 +1572,9 @@ fn the_dispatch_profile_times_every_dispatch_and_leaves_the_state() {
     };
     let staged = [
         ("contact_constraints", 1.0),
-        ("contact_sweep", 3.0),
-        ("contact_apply", 3.0),
+        ("contact_relax", 4.0),
+        ("contact_sweep", 0.0),
+        ("contact_apply", 0.0),
         ("contact_finish", 1.0),
     ];
     profile_case(&ctx, false, &staged);

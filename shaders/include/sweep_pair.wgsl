@@ -2,23 +2,26 @@
 // `pairs: array<ContactPair>`, `velocity: array<f32>` and `dj: array<f32>` (read_write), and
 // include `velocity.wgsl`
 
-// One pair's part of a projected Jacobi sweep (twin: `kernels::contact_sweep`): from the
-// relative velocity at the sweep's start, the normal impulse moves by the residual of
+// Whether constraint c takes part in the sweeps: in reach and enforceable.
+fn swept(c: Constraint) -> bool {
+    return c.in_reach != 0u && c.compliance > 0.0;
+}
+
+// One pair's part of a projected Jacobi sweep (twin: `kernels::contact_sweep`), its
+// constraint c and relative velocity `rel` (read where c is `swept`): from the relative
+// velocity at the sweep's start, the normal impulse moves by the residual of
 // g_n + dt gdot <= 0 over the compliance and is kept >= 0; under a frictional law the
 // tangential impulse that stops the slip is returned onto the law's set. Writes the pair's
-// impulses and its impulse change dj[p] (zero for a pair out of reach or not enforceable)
-// and returns its violation.
-fn sweep_pair(p: u32) -> f32 {
+// impulses and its impulse change (zero for a pair out of reach or not enforceable) into the
+// half of `dj` at `to`, and returns its violation.
+fn sweep_with(p: u32, c: Constraint, rel: vec3<f32>, to: u32) -> f32 {
     var d = vec3<f32>(0.0);
     var violation = 0.0;
-    let c = constraints[p];
-    if (c.in_reach != 0u && c.compliance > 0.0) {
-        let face = vec4<u32>(c.face[0], c.face[1], c.face[2], c.face[3]);
-        let weights = vec4<f32>(c.weights[0], c.weights[1], c.weights[2], c.weights[3]);
+    if (swept(c)) {
         let up = impulse_update(
             c.gap,
             step.dt,
-            relative_velocity(pairs[p].node, face, weights),
+            rel,
             vec3_of(c.normal),
             c.compliance,
             pairs[p].law,
@@ -31,8 +34,21 @@ fn sweep_pair(p: u32) -> f32 {
         constraints[p].jn = up.jn;
         constraints[p].jt = float3(up.jt);
     }
-    dj[3u * p] = d.x;
-    dj[3u * p + 1u] = d.y;
-    dj[3u * p + 2u] = d.z;
+    let o = to + 3u * p;
+    dj[o] = d.x;
+    dj[o + 1u] = d.y;
+    dj[o + 2u] = d.z;
     return violation;
+}
+
+// `sweep_with` at the velocities of `velocity`, the changes into dj[3p].
+fn sweep_pair(p: u32) -> f32 {
+    let c = constraints[p];
+    var rel = vec3<f32>(0.0);
+    if (swept(c)) {
+        let face = vec4<u32>(c.face[0], c.face[1], c.face[2], c.face[3]);
+        let weights = vec4<f32>(c.weights[0], c.weights[1], c.weights[2], c.weights[3]);
+        rel = relative_velocity(pairs[p].node, face, weights);
+    }
+    return sweep_with(p, c, rel, 0u);
 }

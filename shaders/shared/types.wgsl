@@ -338,10 +338,13 @@ const FAILURE_FIELDS: u32 = 8u;
 
 // The contact iteration's state words (`state` buffers): the sweep's largest violation (f32
 // bits: non-negative floats order as their bits), the pairs in reach, the sweeps done, and
-// the phase (0 not started, 1 sweeping, 2 converged, 3 stopped at the sweep limit), and
-// whether the last sweep dispatched ran (the apply after it applies it). Eight words.
+// the phase (0 not started, 1 sweeping, 2 converged, 3 stopped at the sweep limit),
+// whether the last sweep dispatched ran (the apply after it applies it), and three words
+// from STATE_RING on, sweep k's largest violation in word STATE_RING + k % 3
+// (`contact_relax`). Eight words.
 const STATE_VIOLATION: u32 = 0u;
 const STATE_ACTIVE: u32 = 1u;
 const STATE_SWEEPS: u32 = 2u;
 const STATE_PHASE: u32 = 3u;
 const STATE_SWEPT: u32 = 4u;
+const STATE_RING: u32 = 5u;

@@ -21,14 +21,17 @@
 //!    invocation starts the sweeps (or stops the iteration with no pair in reach); then the
 //!    warm start, the last step's impulses (`contact_constraints` takes them from the
 //!    results) applied to the velocities (`body_gather`, `contact_warm`);
-//! 4. the sweeps: `contact_sweep` per pair (impulse changes), `body_gather` per rigid body
-//!    range (one workgroup each sums its pairs' impulse changes), then `contact_apply` per
-//!    contact node (it gathers them into its velocity; its first invocation applies the
-//!    stopping rule). The caller says how many sweeps to record; once the iteration has
-//!    stopped, those recorded after it exit at once (direct dispatches: on an H100 an
-//!    indirect dispatch cost several times a direct one). `contact_finish`, one workgroup,
-//!    runs any sweeps the iteration needs after them, the same arithmetic in the same
-//!    order, so that the results do not depend on how many were recorded;
+//! 4. the sweeps: with no rigid body range, `contact_relax`, one dispatch a sweep (the
+//!    apply of the sweep before it and the sweep itself, the contact nodes' velocities
+//!    carried between two slots), and its settle after the last recorded one; otherwise
+//!    `contact_sweep` per pair (impulse changes), `body_gather` per rigid body range (one
+//!    workgroup each sums its pairs' impulse changes), then `contact_apply` per contact node
+//!    (it gathers them into its velocity; its first invocation applies the stopping rule).
+//!    The caller says how many sweeps to record; once the iteration has stopped, those
+//!    recorded after it exit at once (direct dispatches: on an H100 an indirect dispatch
+//!    cost several times a direct one). `contact_finish`, one workgroup, runs any sweeps the
+//!    iteration needs after them, the same arithmetic in the same order, so that the
+//!    results do not depend on how many were recorded, nor on the kernels that ran them;
 //! 5. `contact_report`, one per pair: the results `history_reduce` sums per interface (and,
 //!    where the step's predictor ran in the search's bounds, the contact nodes' drift).
 
@@ -41,8 +44,9 @@ use super::engine::at_least_one;
 use super::kernel::{Kernel, Launch};
 use super::kernels::{
     BodyGather, BucketCount, BucketFill, BucketOrder, ContactApply, ContactCompliance,
-    ContactConstraints, ContactFinish, ContactReportKernel, ContactSweep, ContactTouches,
-    ContactWarm, ContactZone, FillWords, PredictBounds, SearchBounds, SearchGridKernel,
+    ContactConstraints, ContactFinish, ContactRelax, ContactReportKernel, ContactSweep,
+    ContactTouches, ContactWarm, ContactZone, FillWords, PredictBounds, SearchBounds,
+    SearchGridKernel,
 };
 use super::one_group;
 use super::scan::Scan;
@@ -52,13 +56,20 @@ use super::types::{self, to_device, WORKGROUP};
 use crate::error::Result;
 use crate::kernels::plane_contact::SLOT;
 use crate::kernels::sweep_control::word;
-use crate::kernels::SearchMode;
 use crate::kernels::{ContactNode, ContactPair, RigidSurface};
+use crate::kernels::{Relax, SearchMode};
 
 /// Pairs up to which a step's iteration runs in one workgroup (`contact_zone`) by default:
 /// there one dispatch's latency replaces about twenty, and the workgroup's sweeps are as
 /// fast as recorded ones (H100: 2.3 us a sweep at 361 pairs in one workgroup).
 pub const ZONE_PAIRS: usize = 2048;
+
+/// Sweeps a step records at most as `contact_relax` dispatches (its launches, one per sweep
+/// number, are built once); `contact_finish` runs any after them.
+pub const RELAX_SWEEPS: usize = 64;
+
+/// `Params.aux2`'s flag of `contact_relax`'s settle launch.
+const SETTLE: u32 = 1 << 31;
 
 /// What the device contact iteration needs, in f64 (the CPU twins take the same).
 #[derive(Debug, Clone, Default)]
@@ -107,6 +118,7 @@ struct IterationKernels {
     warm: ContactWarm,
     sweep: ContactSweep,
     apply: ContactApply,
+    relax: ContactRelax,
     finish: ContactFinish,
     report: ContactReportKernel,
     /// The whole iteration in one workgroup, where the adapter binds [`ZONE_BINDINGS`]
@@ -144,6 +156,7 @@ impl IterationKernels {
             warm: ContactWarm::new(ctx),
             sweep: ContactSweep::new(ctx),
             apply: ContactApply::new(ctx),
+            relax: ContactRelax::new(ctx),
             finish: ContactFinish(wide(ContactFinish::NAME)),
             report: ContactReportKernel::new(ctx),
             zone: (ctx.limits.max_storage_buffers_per_shader_stage >= ZONE_BINDINGS)
@@ -171,6 +184,10 @@ struct Launches {
     sweep: Launch,
     gather: Launch,
     apply: Launch,
+    /// `contact_relax` for sweeps 1, 2, ... and its settles after 1, 2, ... recorded sweeps
+    /// (none where the iteration gathers rigid body ranges).
+    relax: Vec<Launch>,
+    settle: Vec<Launch>,
     finish: Launch,
     /// `contact_report`, [`Drift::None`] and [`Drift::Late`] (indexed by its value).
     report: [Launch; 2],
@@ -194,12 +211,18 @@ struct ModelBuffers {
     nodes: Storage,
     links: Storage,
     rigid: Storage,
+    /// Each model node's contact node (`u32::MAX` for the others).
+    contact_of: Storage,
 }
 
 impl ModelBuffers {
     /// Uploads the setup's pairs, contact nodes, links and rigid surfaces (in f32 where they
-    /// are f64).
-    fn upload(ctx: &GpuContext, setup: &ContactSetup) -> Result<Self> {
+    /// are f64), and each of the model's `nodes` nodes' contact node.
+    fn upload(ctx: &GpuContext, setup: &ContactSetup, nodes: usize) -> Result<Self> {
+        let mut contact_of = vec![u32::MAX; nodes.max(1)];
+        for (i, c) in setup.nodes.iter().enumerate() {
+            contact_of[c.node as usize] = i as u32;
+        }
         let pairs: Vec<types::GpuContactPair> = to_device(&setup.pairs);
         let nodes: Vec<types::GpuContactNode> = to_device(&setup.nodes);
         let rigid = (setup.rigid.iter())
@@ -217,6 +240,7 @@ impl ModelBuffers {
             nodes: Storage::with_data(ctx, "contact.nodes", &nodes)?,
             links: Storage::with_data(ctx, "contact.links", &at_least_one(setup.links.clone()))?,
             rigid: Storage::with_data(ctx, "contact.rigid", &at_least_one(rigid))?,
+            contact_of: Storage::with_data(ctx, "contact.contact_of", &contact_of)?,
         })
     }
 }
@@ -229,7 +253,12 @@ pub(super) struct WorkBuffers {
     /// bucket `faces` the others.
     pub(super) sort: BucketSort,
     pub(super) touches: Storage,
+    /// The impulse changes of a sweep, 3 per pair and then per rigid body range, in two
+    /// halves (`contact_relax` keeps two sweeps'; the other kernels use the first).
     pub(super) dj: Storage,
+    /// The contact nodes' velocities `contact_relax` carries from sweep to sweep: two slots
+    /// of 3 per contact node.
+    pub(super) carried: Storage,
     pub(super) state: Storage,
     pub(super) results: Storage,
     /// Bitsets of the model's nodes (bit n % 32 of word n / 32): no node, and the contact
@@ -264,7 +293,12 @@ impl WorkBuffers {
         ];
         let sort = BucketSort::new(ctx, labels, np, nf + 1)?;
         let touches = Storage::new(ctx, "contact.touches", words(nodes))?;
-        let dj = Storage::new(ctx, "contact.dj", words(3 * (np + ranges)))?;
+        let dj = Storage::new(ctx, "contact.dj", words(2 * 3 * (np + ranges)))?;
+        let carried = Storage::new(
+            ctx,
+            "contact.carried",
+            words(6 * contact_nodes.len().max(1)),
+        )?;
         let state = Storage::new(ctx, "contact.state", 4 * word::WORDS as u64)?;
         let results = Storage::with_data(ctx, "contact.results", &vec![0.0f32; SLOT * np])?;
         let mut bits = vec![0u32; nodes.div_ceil(32).max(1)];
@@ -279,6 +313,7 @@ impl WorkBuffers {
             sort,
             touches,
             dj,
+            carried,
             state,
             results,
             late,
@@ -303,6 +338,9 @@ struct Bindings<'a> {
     nc: u32,
     /// The rigid body ranges.
     nr: u32,
+    /// The sweeps a step can record as `contact_relax` dispatches (0 with rigid body
+    /// ranges).
+    relaxed: u32,
 }
 
 impl Bindings<'_> {
@@ -466,6 +504,7 @@ impl Bindings<'_> {
             b.lumped,
             b.velocity,
             &w.state.buffer,
+            &w.carried.buffer,
         );
         [touches, compliance, warm]
     }
@@ -519,6 +558,38 @@ impl Bindings<'_> {
             b.lumped,
         );
         (sweep, apply, finish)
+    }
+
+    /// `contact_relax`'s launches for sweeps 1..=relaxed, and its settles after as many:
+    /// an invocation per pair (Params.aux) and per contact node.
+    fn relax(&self) -> (Vec<Launch>, Vec<Launch>) {
+        let (ctx, k, b, m, w) = (self.ctx, self.k, self.b, self.m, self.w);
+        let launch = |aux2: u32| {
+            k.relax.launch(
+                ctx,
+                self.np + self.nc,
+                self.np,
+                aux2,
+                b.step,
+                &w.constraints.buffer,
+                &m.pairs.buffer,
+                &m.nodes.buffer,
+                &m.links.buffer,
+                &w.sort.starts.buffer,
+                &w.sort.sorted.buffer,
+                b.lumped,
+                &w.dj.buffer,
+                &w.carried.buffer,
+                &m.contact_of.buffer,
+                b.velocity,
+                &w.state.buffer,
+            )
+        };
+        let sweeps = 1..=self.relaxed;
+        (
+            sweeps.clone().map(launch).collect(),
+            sweeps.map(|r| launch((r + 1) | SETTLE)).collect(),
+        )
     }
 
     /// The whole iteration's launches, `contact_zone` (where the adapter runs it), each
@@ -592,6 +663,7 @@ impl Bindings<'_> {
         let [constraints, count, fill, order] = self.sort();
         let [touches, compliance, warm] = self.compliance();
         let (sweep, apply, finish) = self.sweeps();
+        let (relax, settle) = self.relax();
         // one workgroup per rigid body range: Params.aux the pairs
         let gather = self.k.gather.launch(
             self.ctx,
@@ -616,6 +688,8 @@ impl Bindings<'_> {
             sweep,
             gather,
             apply,
+            relax,
+            settle,
             finish,
             report: self.report(),
             zone: self.zone(),
@@ -639,6 +713,7 @@ pub struct ImpulseSweeps {
     pub(super) faces: usize,
     /// The rigid body ranges, whose impulse changes follow the pairs' in `dj`.
     pub(super) ranges: usize,
+    pub(super) contact_nodes: usize,
     max_iterations: u32,
     /// Where set, the search bounds' speed starts from this one (f32 bits) instead of zero:
     /// the fastest node of a model of which these nodes are a part ([`Self::set_speed_floor`]).
@@ -658,7 +733,7 @@ impl ImpulseSweeps {
     ) -> Result<Self> {
         let kernels = IterationKernels::new(ctx);
         let (np, nf) = (setup.pairs.len(), setup.faces.len());
-        let model = ModelBuffers::upload(ctx, setup)?;
+        let model = ModelBuffers::upload(ctx, setup, nodes)?;
         let work = WorkBuffers::new(ctx, (np, nf, nodes), setup.rigid.len(), &setup.nodes)?;
         let search = Self::search(ctx, b, setup, &work.bounds.buffer)?;
         // placeholders where no interface has a primary surface
@@ -680,6 +755,10 @@ impl ImpulseSweeps {
             nf: nf as u32,
             nc: setup.nodes.len() as u32,
             nr: setup.rigid.len() as u32,
+            relaxed: match setup.rigid.is_empty() {
+                true => max_iterations.min(RELAX_SWEEPS as u32),
+                false => 0,
+            },
         }
         .launches(search.as_ref(), nodes);
         let zone = launches.zone.is_some() && np <= ZONE_PAIRS;
@@ -688,6 +767,7 @@ impl ImpulseSweeps {
             nodes: cnodes,
             links,
             rigid,
+            contact_of,
         } = model;
         let scan = Scan::new(
             ctx,
@@ -702,10 +782,11 @@ impl ImpulseSweeps {
             work,
             scan,
             staging: super::buffer::staging(ctx)?,
-            _buffers: vec![pairs, cnodes, links, rigid, none],
+            _buffers: vec![pairs, cnodes, links, rigid, contact_of, none],
             pairs: np,
             faces: nf,
             ranges: setup.rigid.len(),
+            contact_nodes: setup.nodes.len(),
             max_iterations,
             speed_floor: None,
             zone,
@@ -800,6 +881,7 @@ impl ImpulseSweeps {
             &w.sort.sorted,
             &w.touches,
             &w.dj,
+            &w.carried,
             &w.state,
             &w.results,
         ]
@@ -862,9 +944,51 @@ impl ImpulseSweeps {
         }
     }
 
-    /// Dispatches `sweeps` sweeps (at most `max_iterations`), each a `contact_sweep` and a
-    /// `contact_apply` (which applies the stopping rule after the sweep).
+    /// The sweeps [`Self::dispatch_sweeps`] records of `sweeps` asked for.
+    pub fn recorded(&self, sweeps: u32) -> u32 {
+        let relax = self.launches.relax.len();
+        match relax {
+            0 => sweeps.min(self.max_iterations),
+            _ => sweeps.min(relax as u32),
+        }
+    }
+
+    /// Dispatches `sweeps` sweeps (at most `max_iterations`) after the setup: with no rigid
+    /// body range, up to [`RELAX_SWEEPS`] `contact_relax` dispatches and the settle after
+    /// them, otherwise [`Self::dispatch_staged_sweeps`]. The same arithmetic either way.
     pub fn dispatch_sweeps(&self, pass: &mut wgpu::ComputePass, sweeps: u32) {
+        let l = &self.launches;
+        if l.relax.is_empty() {
+            self.dispatch_staged_sweeps(pass, sweeps);
+            return;
+        }
+        let n = (sweeps as usize).min(l.relax.len());
+        let relax = &self.kernels.relax.0;
+        for launch in &l.relax[..n] {
+            relax.dispatch(pass, launch);
+        }
+        if n > 0 {
+            relax.dispatch(pass, &l.settle[n - 1]);
+        }
+    }
+
+    /// Dispatches one launch of `contact_relax` alone (none where the iteration gathers rigid
+    /// body ranges, or past [`RELAX_SWEEPS`]): the stages' tests run them one at a time.
+    pub fn dispatch_relax(&self, pass: &mut wgpu::ComputePass, launch: Relax) {
+        let l = &self.launches;
+        let (launches, n) = match launch {
+            Relax::Sweep(d) => (&l.relax, d),
+            Relax::Settle(r) => (&l.settle, r),
+        };
+        if let Some(launch) = (n as usize).checked_sub(1).and_then(|i| launches.get(i)) {
+            self.kernels.relax.0.dispatch(pass, launch);
+        }
+    }
+
+    /// Dispatches `sweeps` sweeps (at most `max_iterations`), each a `contact_sweep`, the
+    /// rigid bodies' `body_gather` and a `contact_apply` (which applies the stopping rule
+    /// after the sweep): each can follow the last in a submission of its own.
+    pub fn dispatch_staged_sweeps(&self, pass: &mut wgpu::ComputePass, sweeps: u32) {
         let (k, l) = (&self.kernels, &self.launches);
         for _ in 0..sweeps.min(self.max_iterations) {
             k.sweep.0.dispatch(pass, &l.sweep);

@@ -25,7 +25,7 @@ use crate::element::ElementKind;
 use crate::error::{ImpactError, Result};
 use crate::kernels::plane_contact::SLOT;
 use crate::kernels::sweep_control::word;
-use crate::kernels::{Constraint, ContactPoint, ReduceColumn, SearchMode, SweepState};
+use crate::kernels::{Constraint, ContactPoint, ReduceColumn, Relaxation, SearchMode, SweepState};
 
 /// One kernel's share of a step on the device ([`ResidentStep::profile_dispatches`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -704,6 +704,42 @@ impl ImpulseSweeps {
         let mut enc = ctx.encoder("contact_iteration");
         self.record(&mut enc, part);
         ctx.submit_and_wait(enc)
+    }
+
+    /// What `contact_relax` carries from sweep to sweep: the state words (with the
+    /// violations' ring), both halves of the impulse changes and both slots of the contact
+    /// nodes' velocities.
+    pub fn read_relaxation(&mut self, ctx: &GpuContext) -> Result<Relaxation> {
+        let state = self.read_state(ctx)?;
+        let w: Vec<u32> = read_back(
+            ctx,
+            &mut self.staging,
+            CONTACT_READ,
+            &self.work.state.buffer,
+            8,
+        )?;
+        let ring = [0, 1, 2].map(|k| f32::from_bits(w[word::RING + k]) as f64);
+        let half = 3 * (self.pairs + self.ranges);
+        let dj = read_floats(
+            ctx,
+            &mut self.staging,
+            CONTACT_READ,
+            &self.work.dj.buffer,
+            2 * half,
+        )?;
+        let carried = read_floats(
+            ctx,
+            &mut self.staging,
+            CONTACT_READ,
+            &self.work.carried.buffer,
+            6 * self.contact_nodes,
+        )?;
+        Ok(Relaxation {
+            state,
+            ring,
+            dj,
+            carried,
+        })
     }
 
     /// The constraints, in f64.

@@ -78,8 +78,12 @@ kernel_table! {
     );
     ContactSweep = contact_sweep(step, constraints, pairs, velocity, dj, state);
     ContactTouches = contact_touches(nodes, links, constraints, starts, sorted, touches, state);
+    ContactRelax = contact_relax(
+        step, constraints, pairs, nodes, links, starts, sorted, lumped, dj, carried, contact_of,
+        velocity, state,
+    );
     ContactWarm = contact_warm(
-        nodes, links, constraints, starts, sorted, dj, lumped, velocity, state,
+        nodes, links, constraints, starts, sorted, dj, lumped, velocity, state, carried,
     );
     ContactZone = contact_zone(
         step, grid, reference, displacement, velocity, acceleration, pairs, points, faces,

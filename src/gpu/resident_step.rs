@@ -905,6 +905,7 @@ impl ResidentStep {
     pub fn sweeps(&self) -> u32 {
         match &self.contact {
             Some(c) if c.runs_zone() => 0,
+            Some(c) => c.recorded(self.sweeps),
             _ => self.sweeps,
         }
     }

@@ -643,6 +643,7 @@ pub fn shared_constants() -> Vec<(&'static str, u32)> {
         ("STATE_SWEEPS", u(word::SWEEPS)),
         ("STATE_PHASE", u(word::PHASE)),
         ("STATE_SWEPT", u(word::SWEPT)),
+        ("STATE_RING", u(word::RING)),
     ]
 }
 

@@ -22,30 +22,45 @@ pub fn contact_apply(
     v: &mut [f64],
 ) {
     for cn in nodes {
-        let mut delta = [0.0f64; 3];
-        for &p in &links[cn.pair_first as usize..cn.pair_end as usize] {
-            for a in 0..3 {
-                delta[a] += dj[3 * p as usize + a];
-            }
-        }
-        for &l in &links[cn.face_first as usize..cn.face_end as usize] {
-            let (f, k) = ((l / 4) as usize, (l % 4) as usize);
-            for &q in &sorted[starts[f] as usize..starts[f + 1] as usize] {
-                let w = constraints[q as usize].weights[k];
-                for a in 0..3 {
-                    delta[a] -= w * dj[3 * q as usize + a];
-                }
-            }
-        }
-        for &r in &links[cn.body_first as usize..cn.body_end as usize] {
-            let o = 3 * (constraints.len() + r as usize);
-            for a in 0..3 {
-                delta[a] -= dj[o + a];
-            }
-        }
+        let dv = node_change(cn, links, constraints, (starts, sorted), dj, lumped);
         let n = cn.node as usize;
         for a in 0..3 {
-            v[3 * n + a] += delta[a] * lumped[n].inv_mass[a];
+            v[3 * n + a] += dv[a];
         }
     }
+}
+
+/// Contact node `cn`'s velocity change from the impulse changes `dj` (3 per pair, then per
+/// rigid body range), the pairs bucketed by face in (`starts`, `sorted`).
+pub fn node_change(
+    cn: &ContactNode,
+    links: &[u32],
+    constraints: &[Constraint],
+    (starts, sorted): (&[u32], &[u32]),
+    dj: &[f64],
+    lumped: &[LumpedNode],
+) -> [f64; 3] {
+    let mut delta = [0.0f64; 3];
+    for &p in &links[cn.pair_first as usize..cn.pair_end as usize] {
+        for a in 0..3 {
+            delta[a] += dj[3 * p as usize + a];
+        }
+    }
+    for &l in &links[cn.face_first as usize..cn.face_end as usize] {
+        let (f, k) = ((l / 4) as usize, (l % 4) as usize);
+        for &q in &sorted[starts[f] as usize..starts[f + 1] as usize] {
+            let w = constraints[q as usize].weights[k];
+            for a in 0..3 {
+                delta[a] -= w * dj[3 * q as usize + a];
+            }
+        }
+    }
+    for &r in &links[cn.body_first as usize..cn.body_end as usize] {
+        let o = 3 * (constraints.len() + r as usize);
+        for a in 0..3 {
+            delta[a] -= dj[o + a];
+        }
+    }
+    let n = cn.node as usize;
+    [0, 1, 2].map(|a| delta[a] * lumped[n].inv_mass[a])
 }

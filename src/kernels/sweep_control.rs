@@ -19,6 +19,9 @@ pub mod word {
     pub const PHASE: usize = 3;
     /// Whether the last sweep dispatched ran (the device's alone: the apply after it reads it).
     pub const SWEPT: usize = 4;
+    /// The first of three words that hold sweep k's largest violation at `RING + k % 3`
+    /// (`contact_relax`: the sweep after it reads it while the next is gathered).
+    pub const RING: usize = 5;
     /// Words of the state buffer.
     pub const WORDS: usize = 8;
 }
@@ -63,13 +66,22 @@ pub fn sweep_control(state: &mut SweepState, tolerance: f64, max_iterations: u32
         }
         SWEEPING => {
             state.sweeps += 1;
-            if state.violation <= tolerance {
-                state.phase = CONVERGED;
-            } else if state.sweeps >= max_iterations {
-                state.phase = STOPPED;
-            }
+            state.phase = phase_after(state.sweeps, state.violation, tolerance, max_iterations);
             state.violation = 0.0;
         }
         _ => {}
+    }
+}
+
+/// The phase after sweep number `sweeps`, whose largest violation is `violation` (CPU twin
+/// of `shaders/include/phase_after.wgsl`): converged within `tolerance`, stopped at the
+/// sweep limit, or sweeping on.
+pub fn phase_after(sweeps: u32, violation: f64, tolerance: f64, max_iterations: u32) -> u32 {
+    if violation <= tolerance {
+        CONVERGED
+    } else if sweeps >= max_iterations {
+        STOPPED
+    } else {
+        SWEEPING
     }
 }
