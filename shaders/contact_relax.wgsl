@@ -64,9 +64,9 @@ fn before_sweep(d: u32, i: u32) -> vec3<f32> {
 // velocities are taken in one loop (one copy of `before_sweep`'s gathers in the compiled
 // kernel, not five) and combined as `relative_velocity` combines them.
 fn relax_pair(p: u32, d: u32) -> f32 {
-    let c = constraints[p];
     var rel = vec3<f32>(0.0);
-    if (swept(c)) {
+    if (swept(p)) {
+        let c = constraints[p];
         let faced = c.face[0] != NO_FACE;
         var secondary = vec3<f32>(0.0);
         var v0 = vec3<f32>(0.0);
@@ -95,7 +95,7 @@ fn relax_pair(p: u32, d: u32) -> f32 {
             rel -= face_interpolate(w, v0, v1, v2, v3);
         }
     }
-    return sweep_with(p, c, rel, 3u * params.aux * (d % 2u));
+    return sweep_with(p, rel, 3u * params.aux * (d % 2u));
 }
 
 // The settle after the recorded sweeps (d = R + 1): the velocities after the last sweep
