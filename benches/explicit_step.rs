@@ -24,7 +24,9 @@
 //! plate scene alone; `-- --dispatches` times each kernel of a resident submission on the
 //! device (adapters with timestamps inside passes); `-- --zone on` or `-- --zone off` runs
 //! each step's contact iteration in one workgroup (`contact_zone`) or staged, whatever the
-//! zone's size (by default small zones run in one workgroup); `-- --lanes N` builds
+//! zone's size (by default small zones run in one workgroup); `-- --relax on` or
+//! `-- --relax off` records the staged iteration's sweeps as `contact_relax` (one dispatch a
+//! sweep, the default) or as `contact_sweep` and `contact_apply`; `-- --lanes N` builds
 //! `contact_zone` and `contact_finish` with N lanes (256 by default; up to 1,024 where the
 //! adapter allows, the same results); and `-- --no-large` leaves the 10^7-element rows
 //! out).
@@ -118,9 +120,10 @@ struct Resident {
     /// `contact_finish`; report.
     contact_parts: Option<[f64; 5]>,
     /// The search and the iteration in one workgroup alone, microseconds, where the
-    /// adapter runs `contact_zone`; and whether the timed steps ran it.
+    /// adapter runs `contact_zone`; and which iteration the timed steps ran.
     zone_part: Option<f64>,
     zone: bool,
+    relax: bool,
     /// The lanes of the one-workgroup kernels (`contact_zone`, `contact_finish`).
     lanes: u32,
     /// `-- --dispatches`: each kernel of a submission timed on the device (kernel,
@@ -197,6 +200,9 @@ fn time_resident(
     if let Some(zone) = fixed_zone() {
         s.fix_contact_zone(zone);
     }
+    if let Some(relax) = on_off("--relax") {
+        s.fix_contact_relax(relax);
+    }
     let before = s.sweep_counts();
     let sorts_before = s.search_counts().0;
     let t = Instant::now();
@@ -221,6 +227,7 @@ fn time_resident(
     let reps = steps.clamp(4, 50);
     let recorded = engine.sweeps();
     let zone = engine.impulse_sweeps_ref().is_some_and(|c| c.runs_zone());
+    let relax = engine.impulse_sweeps_ref().is_some_and(|c| c.runs_relax());
     let lanes = engine.impulse_sweeps_ref().map_or(0, |c| c.zone_lanes());
     // every timing below starts from the state the timed steps left
     engine.drain().expect("the last submissions");
@@ -271,6 +278,7 @@ fn time_resident(
         contact_parts,
         zone_part,
         zone,
+        relax,
         lanes,
         dispatches,
     }
@@ -406,7 +414,11 @@ fn table(
                 p[3],
                 p[4],
                 r.zone_part.map_or("-".into(), |z| format!("{z:.1}")),
-                if r.zone { "contact_zone" } else { "staged" },
+                match (r.zone, r.relax) {
+                    (true, _) => "contact_zone",
+                    (false, true) => "staged, sweeps in contact_relax",
+                    (false, false) => "staged, sweeps in contact_sweep and contact_apply",
+                },
                 r.lanes,
             );
         }
@@ -473,12 +485,17 @@ fn fixed_search_interval() -> Option<usize> {
 /// their own instead of following the steps' needs.
 /// `-- --zone on|off`: the contact iteration in one workgroup or staged.
 fn fixed_zone() -> Option<bool> {
+    on_off("--zone")
+}
+
+/// `-- FLAG on|off`, where given.
+fn on_off(flag: &str) -> Option<bool> {
     let args: Vec<String> = std::env::args().collect();
-    let at = args.iter().position(|a| a == "--zone")?;
+    let at = args.iter().position(|a| a == flag)?;
     match args.get(at + 1).map(String::as_str) {
         Some("on") => Some(true),
         Some("off") => Some(false),
-        other => panic!("--zone takes on or off, not {other:?}"),
+        other => panic!("{flag} takes on or off, not {other:?}"),
     }
 }
 

@@ -6,10 +6,11 @@
 //   in the `carried` slot (d - 1) % 2, plus sweep d - 1's change (`node_change` of the
 //   `dj` half (d - 1) % 2); the invocations of the contact nodes write it into slot d % 2
 //   (before sweep 1 it is the warm start's velocity, which `contact_warm` left in slot 1);
-// - each pair's invocation computes the same velocities at its secondary node and its
-//   face's corners itself, the same arithmetic in the same order, so its `sweep_with` reads
-//   the bits `contact_apply` would have left, and writes its impulse change into the `dj`
-//   half d % 2. The sweep's largest violation goes into state word STATE_RING + d % 3.
+// - five lanes of a pair compute the same velocities at its secondary node and its face's
+//   corners, the same arithmetic in the same order (a lane each: the pair waits for one
+//   gather, not five in turn), so the pair's `sweep_with` reads the bits `contact_apply`
+//   would have left, and writes its impulse change into the `dj` half d % 2. The sweep's
+//   largest violation goes into state word STATE_RING + d % 3.
 //
 // So every buffer a dispatch reads was written by the dispatches before it. Whether sweep d
 // runs is the stopping rule after sweep d - 1 (`phase_after`), which every invocation takes
@@ -18,7 +19,8 @@
 // SETTLE in params.aux2 (after R recorded sweeps, d = R + 1) writes the contact nodes'
 // velocities after the last sweep that ran into `velocity` (where a sweep ran) and its
 // invocation 0 sets the phase, so that `contact_finish` and the report go on from there.
-// Items: the pairs (params.aux), then the contact nodes (params.count - params.aux).
+// Items: PAIRS_PER_GROUP pairs (params.aux in all) a workgroup, five lanes each, then the
+// contact nodes, one a lane.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<uniform> step: Step;
@@ -41,13 +43,21 @@
 // include: phase_after
 
 const SETTLE: u32 = 0x80000000u;
+const PAIRS_PER_GROUP: u32 = 12u;
+const NO_NODE: u32 = 0xffffffffu;
 
 var<workgroup> worst: array<f32, 64>;
 var<workgroup> words: vec3<u32>;
+var<workgroup> gathered: array<vec3<f32>, 64>;
+
+// The items of the pairs' workgroups (the contact nodes' come after them).
+fn pair_items() -> u32 {
+    return 64u * ((params.aux + PAIRS_PER_GROUP - 1u) / PAIRS_PER_GROUP);
+}
 
 // Contact node i's velocity in `carried` slot s (3 per contact node a slot).
 fn carried_at(s: u32, i: u32) -> vec3<f32> {
-    let o = 3u * (s * (params.count - params.aux) + i);
+    let o = 3u * (s * (params.count - pair_items()) + i);
     return vec3<f32>(carried[o], carried[o + 1u], carried[o + 2u]);
 }
 
@@ -60,54 +70,61 @@ fn before_sweep(d: u32, i: u32) -> vec3<f32> {
     return carried_at(s, i) + node_change(i, params.aux, 3u * params.aux * s);
 }
 
-// Pair p's part of sweep d, as `sweep_pair` at the velocities before it. The five nodes'
-// velocities are taken in one loop (one copy of `before_sweep`'s gathers in the compiled
-// kernel, not five) and combined as `relative_velocity` combines them.
-fn relax_pair(p: u32, d: u32) -> f32 {
+// Lane k's velocity of pair p's nodes before sweep d: k 0 its secondary node, 1 to 4 its
+// face's corners (zero where the pair is not swept or has no face).
+fn pair_node_velocity(p: u32, k: u32, d: u32) -> vec3<f32> {
+    if (!swept(p)) {
+        return vec3<f32>(0.0);
+    }
+    var n = pairs[p].node;
+    if (k > 0u) {
+        n = constraints[p].face[k - 1u];
+        if (constraints[p].face[0] == NO_FACE) {
+            return vec3<f32>(0.0);
+        }
+    }
+    return before_sweep(d, contact_of[n]);
+}
+
+// Pair p's part of sweep d, as `sweep_pair` at the velocities before it, which its five
+// lanes left in `gathered` from `base` on, combined as `relative_velocity` combines them.
+fn relax_pair(p: u32, base: u32, d: u32) -> f32 {
     var rel = vec3<f32>(0.0);
     if (swept(p)) {
         let c = constraints[p];
-        let faced = c.face[0] != NO_FACE;
-        var secondary = vec3<f32>(0.0);
-        var v0 = vec3<f32>(0.0);
-        var v1 = vec3<f32>(0.0);
-        var v2 = vec3<f32>(0.0);
-        var v3 = vec3<f32>(0.0);
-        let corners = select(1u, 5u, faced);
-        for (var k = 0u; k < corners; k++) {
-            // (from the buffer: a dynamic index into the value `c` would copy it to memory)
-            var n = pairs[p].node;
-            if (k > 0u) {
-                n = constraints[p].face[k - 1u];
-            }
-            let vk = before_sweep(d, contact_of[n]);
-            switch k {
-                case 0u: { secondary = vk; }
-                case 1u: { v0 = vk; }
-                case 2u: { v1 = vk; }
-                case 3u: { v2 = vk; }
-                default: { v3 = vk; }
-            }
-        }
-        rel = secondary;
-        if (faced) {
+        rel = gathered[base];
+        if (c.face[0] != NO_FACE) {
             let w = vec4<f32>(c.weights[0], c.weights[1], c.weights[2], c.weights[3]);
-            rel -= face_interpolate(w, v0, v1, v2, v3);
+            rel -= face_interpolate(
+                w,
+                gathered[base + 1u],
+                gathered[base + 2u],
+                gathered[base + 3u],
+                gathered[base + 4u],
+            );
         }
     }
     return sweep_with(p, rel, 3u * params.aux * (d % 2u));
 }
 
+// The contact node of `item` (an item past the pairs' workgroups), or NO_NODE.
+fn node_of(item: u32) -> u32 {
+    let first = pair_items();
+    if (item < first || item >= params.count) {
+        return NO_NODE;
+    }
+    return item - first;
+}
+
 // The settle after the recorded sweeps (d = R + 1): the velocities after the last sweep
 // that ran (`last`; its change not yet carried where it is the R-th) and the phase.
 fn settle(item: u32, d: u32, last: u32) {
-    let np = params.aux;
     if (last == 0u) {
         // no sweep ran: `velocity` is the warm start's
         return;
     }
-    if (item >= np && item < params.count) {
-        let i = item - np;
+    let i = node_of(item);
+    if (i != NO_NODE) {
         var v = carried_at((last + 1u) % 2u, i);
         if (last == d - 1u) {
             v = before_sweep(d, i);
@@ -150,11 +167,10 @@ fn contact_relax(
     if (d >= 2u) {
         sweeping = carries && phase_after(d - 1u, w.z) == 1u;
     }
-    let np = params.aux;
-    if (carries && item >= np && item < params.count) {
-        let i = item - np;
+    let i = node_of(item);
+    if (carries && i != NO_NODE) {
         let v = before_sweep(d, i);
-        let o = 3u * ((d % 2u) * (params.count - np) + i);
+        let o = 3u * ((d % 2u) * (params.count - pair_items()) + i);
         carried[o] = v.x;
         carried[o + 1u] = v.y;
         carried[o + 2u] = v.z;
@@ -166,9 +182,16 @@ fn contact_relax(
         atomicStore(&state[STATE_RING + (d + 1u) % 3u], 0u);
         atomicStore(&state[STATE_SWEEPS], d);
     }
+    // the pairs' lanes: pair p = item / 64 * PAIRS_PER_GROUP + local / 5, node k = local % 5
+    let p = item / 64u * PAIRS_PER_GROUP + local / 5u;
+    let lane_of_pair = item < pair_items() && local < 5u * PAIRS_PER_GROUP && p < params.aux;
+    if (lane_of_pair) {
+        gathered[local] = pair_node_velocity(p, local % 5u, d);
+    }
+    workgroupBarrier();
     var violation = 0.0;
-    if (item < np) {
-        violation = relax_pair(item, d);
+    if (lane_of_pair && local % 5u == 0u) {
+        violation = relax_pair(p, local, d);
     }
     worst[local] = violation;
     workgroupBarrier();

@@ -1440,19 +1440,23 @@ fn recorded_sweeps_do_not_change_the_results() {
 }
 
 /// [`recorded_sweeps_do_not_change_the_results`] on one model over `steps` steps: the
-/// staged iteration with every sweep recorded, none, one and as the rule says, and the
-/// iteration in one workgroup (`contact_zone`, where the adapter runs it).
+/// staged iteration with every sweep recorded, none, one and as the rule says (as
+/// `contact_relax` dispatches where no rigid body range gathers), as `contact_sweep` and
+/// `contact_apply`, and the iteration in one workgroup (`contact_zone`, where the adapter
+/// runs it).
 fn recorded_sweeps_agree(ctx: &GpuContext, model: &Model, steps: usize) {
     let settings = model_settings();
-    let run_as = |recorded: Option<u32>, zone: bool| {
+    let run_with = |recorded: Option<u32>, zone: bool, relax: bool| {
         let (rows, s) = resident_rows(ctx, model, steps, |s| {
             assert_eq!(s.fix_contact_zone(zone), zone);
+            s.fix_contact_relax(relax);
             if let Some(n) = recorded {
                 s.fix_recorded_sweeps(n);
             }
         });
         (rows, s.sweep_counts(), s.u.clone(), s.v.clone())
     };
+    let run_as = |recorded: Option<u32>, zone: bool| run_with(recorded, zone, true);
     let run = |recorded: Option<u32>| run_as(recorded, false);
     let (all, counts_all, u_all, v_all) = run(Some(settings.max_iterations as u32));
     let sweeps: usize = all.iter().map(|r| r.0).sum();
@@ -1474,6 +1478,14 @@ fn recorded_sweeps_agree(ctx: &GpuContext, model: &Model, steps: usize) {
             "the final state differs recording {recorded:?}"
         );
     }
+    // the sweeps as contact_sweep and contact_apply where contact_relax would run
+    let (rows, _, u, v) = run_with(None, false, false);
+    assert_eq!(all, rows, "the rows differ without contact_relax");
+    assert_eq!(
+        (&u_all, &v_all),
+        (&u, &v),
+        "the final state differs without contact_relax"
+    );
     if !zone_runs(ctx) {
         return;
     }

@@ -68,6 +68,10 @@ pub const ZONE_PAIRS: usize = 2048;
 /// number, are built once); `contact_finish` runs any after them.
 pub const RELAX_SWEEPS: usize = 64;
 
+/// Pairs per workgroup of `contact_relax` (five lanes each; `PAIRS_PER_GROUP` in the
+/// shader).
+const RELAX_PAIRS_PER_GROUP: u32 = 12;
+
 /// `Params.aux2`'s flag of `contact_relax`'s settle launch.
 const SETTLE: u32 = 1 << 31;
 
@@ -561,13 +565,14 @@ impl Bindings<'_> {
     }
 
     /// `contact_relax`'s launches for sweeps 1..=relaxed, and its settles after as many:
-    /// an invocation per pair (Params.aux) and per contact node.
+    /// five invocations per pair (Params.aux), [`RELAX_PAIRS_PER_GROUP`] pairs a
+    /// workgroup, then one per contact node.
     fn relax(&self) -> (Vec<Launch>, Vec<Launch>) {
         let (ctx, k, b, m, w) = (self.ctx, self.k, self.b, self.m, self.w);
         let launch = |aux2: u32| {
             k.relax.launch(
                 ctx,
-                self.np + self.nc,
+                64 * self.np.div_ceil(RELAX_PAIRS_PER_GROUP) + self.nc,
                 self.np,
                 aux2,
                 b.step,
@@ -721,6 +726,9 @@ pub struct ImpulseSweeps {
     /// Whether a step's iteration runs in one workgroup (`contact_zone`) after the search,
     /// rather than staged ([`Self::set_zone`]).
     zone: bool,
+    /// Whether the staged iteration's recorded sweeps are `contact_relax` dispatches where
+    /// it can run ([`Self::set_relax`]).
+    relax: bool,
 }
 
 impl ImpulseSweeps {
@@ -790,6 +798,7 @@ impl ImpulseSweeps {
             max_iterations,
             speed_floor: None,
             zone,
+            relax: true,
         })
     }
 
@@ -850,6 +859,20 @@ impl ImpulseSweeps {
     pub fn set_zone(&mut self, zone: bool) -> bool {
         self.zone = zone && self.launches.zone.is_some();
         self.zone
+    }
+
+    /// Records the staged iteration's sweeps as `contact_relax` dispatches (one a sweep and
+    /// the settle) or as `contact_sweep` and `contact_apply` (two a sweep), from the next
+    /// recording on, where `contact_relax` can run (no rigid body range); returns whether it
+    /// runs. The results do not depend on it. By default it runs.
+    pub fn set_relax(&mut self, relax: bool) -> bool {
+        self.relax = relax && !self.launches.relax.is_empty();
+        self.relax
+    }
+
+    /// Whether the staged iteration's recorded sweeps are `contact_relax` dispatches.
+    pub fn runs_relax(&self) -> bool {
+        self.relax && !self.launches.relax.is_empty()
     }
 
     /// Whether the adapter runs `contact_zone` (it binds [`ZONE_BINDINGS`] storage buffers
@@ -946,19 +969,19 @@ impl ImpulseSweeps {
 
     /// The sweeps [`Self::dispatch_sweeps`] records of `sweeps` asked for.
     pub fn recorded(&self, sweeps: u32) -> u32 {
-        let relax = self.launches.relax.len();
-        match relax {
-            0 => sweeps.min(self.max_iterations),
-            _ => sweeps.min(relax as u32),
+        match self.runs_relax() {
+            false => sweeps.min(self.max_iterations),
+            true => sweeps.min(self.launches.relax.len() as u32),
         }
     }
 
     /// Dispatches `sweeps` sweeps (at most `max_iterations`) after the setup: with no rigid
-    /// body range, up to [`RELAX_SWEEPS`] `contact_relax` dispatches and the settle after
-    /// them, otherwise [`Self::dispatch_staged_sweeps`]. The same arithmetic either way.
+    /// body range (and unless [`Self::set_relax`] says otherwise), up to [`RELAX_SWEEPS`]
+    /// `contact_relax` dispatches and the settle after them, otherwise
+    /// [`Self::dispatch_staged_sweeps`]. The same arithmetic either way.
     pub fn dispatch_sweeps(&self, pass: &mut wgpu::ComputePass, sweeps: u32) {
         let l = &self.launches;
-        if l.relax.is_empty() {
+        if !self.runs_relax() {
             self.dispatch_staged_sweeps(pass, sweeps);
             return;
         }

@@ -922,6 +922,14 @@ impl ResidentStep {
         self.contact.as_mut().is_some_and(|c| c.set_zone(zone))
     }
 
+    /// Records the staged iteration's sweeps as `contact_relax` dispatches or as
+    /// `contact_sweep` and `contact_apply`, from the next submission on
+    /// ([`ImpulseSweeps::set_relax`]); returns whether `contact_relax` runs. The results do
+    /// not depend on it.
+    pub fn set_relax(&mut self, relax: bool) -> bool {
+        self.contact.as_mut().is_some_and(|c| c.set_relax(relax))
+    }
+
     /// Waits for submission `slot` and returns its rows (steps x [`Self::row_len`]).
     pub fn collect(&mut self, slot: usize) -> Result<Vec<f32>> {
         let Some(p) = self.pending[slot].take() else {

@@ -654,6 +654,14 @@ impl<'m> ResidentSolver<'m> {
         self.engine.set_zone(zone)
     }
 
+    /// Records the staged contact iteration's sweeps as `contact_relax` dispatches (one a
+    /// sweep) or as `contact_sweep` and `contact_apply` (two), from the next submission on;
+    /// returns whether `contact_relax` runs. By default it does where no rigid body range
+    /// gathers. The results do not depend on it.
+    pub fn fix_contact_relax(&mut self, relax: bool) -> bool {
+        self.engine.set_relax(relax)
+    }
+
     /// Fixes the steps between the contact search's sorts of the faces (from the next
     /// submission on; by default they follow the last submission's grid, see
     /// [`KeptSearch`]). The results do not depend on it.
