@@ -41,6 +41,7 @@
 // include: apply_node
 // include: sweep_pair
 // include: phase_after
+// include: fold_violation
 
 const SETTLE: u32 = 0x80000000u;
 const PAIRS_PER_GROUP: u32 = 12u;
@@ -193,15 +194,5 @@ fn contact_relax(
     if (lane_of_pair && local % 5u == 0u) {
         violation = relax_pair(p, local, d);
     }
-    worst[local] = violation;
-    workgroupBarrier();
-    for (var s = 32u; s > 0u; s >>= 1u) {
-        if (local < s) {
-            worst[local] = max(worst[local], worst[local + s]);
-        }
-        workgroupBarrier();
-    }
-    if (local == 0u && worst[0] > 0.0) {
-        atomicMax(&state[STATE_RING + d % 3u], bitcast<u32>(worst[0]));
-    }
+    fold_violation(local, violation, STATE_RING + d % 3u);
 }

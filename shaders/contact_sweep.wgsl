@@ -18,6 +18,7 @@ var<workgroup> phase: u32;
 
 // include: velocity
 // include: sweep_pair
+// include: fold_violation
 
 @compute @workgroup_size(64)
 fn contact_sweep(
@@ -39,15 +40,5 @@ fn contact_sweep(
     if (p < params.count) {
         violation = sweep_pair(p);
     }
-    worst[local] = violation;
-    workgroupBarrier();
-    for (var s = 32u; s > 0u; s >>= 1u) {
-        if (local < s) {
-            worst[local] = max(worst[local], worst[local + s]);
-        }
-        workgroupBarrier();
-    }
-    if (local == 0u && worst[0] > 0.0) {
-        atomicMax(&state[STATE_VIOLATION], bitcast<u32>(worst[0]));
-    }
+    fold_violation(local, violation, STATE_VIOLATION);
 }
