@@ -56,9 +56,14 @@ fn pair_items() -> u32 {
     return 64u * ((params.aux + PAIRS_PER_GROUP - 1u) / PAIRS_PER_GROUP);
 }
 
-// Contact node i's velocity in `carried` slot s (3 per contact node a slot).
+// Where contact node i's velocity starts in `carried` slot s (3 per contact node a slot).
+fn carried_offset(s: u32, i: u32) -> u32 {
+    return 3u * (s * (params.count - pair_items()) + i);
+}
+
+// Contact node i's velocity in `carried` slot s.
 fn carried_at(s: u32, i: u32) -> vec3<f32> {
-    let o = 3u * (s * (params.count - pair_items()) + i);
+    let o = carried_offset(s, i);
     return vec3<f32>(carried[o], carried[o + 1u], carried[o + 2u]);
 }
 
@@ -171,7 +176,7 @@ fn contact_relax(
     let i = node_of(item);
     if (carries && i != NO_NODE) {
         let v = before_sweep(d, i);
-        let o = 3u * ((d % 2u) * (params.count - pair_items()) + i);
+        let o = carried_offset(d % 2u, i);
         carried[o] = v.x;
         carried[o + 1u] = v.y;
         carried[o + 2u] = v.z;

@@ -706,11 +706,7 @@ fn stages_match_their_twins(tag: &str, model: &Model) {
         let s = it.read_state(ctx2).unwrap();
         // a late sweep's impulse change is the small difference of f32 gap rates: its
         // error is measured against the impulses it changes
-        let impulses: Vec<f64> = c_cpu
-            .iter()
-            .flat_map(|c| [0, 1, 2].map(|a| c.jn * c.normal[a] + c.jt[a]))
-            .collect();
-        let e = rel_err(&dj_gpu, &dj_cpu) * norm2(&dj_cpu) / norm2(&impulses);
+        let e = impulse_change_error(&dj_gpu, &dj_cpu, &c_cpu);
         eprintln!("contact_sweep and body_gather {sweep}: impulse changes {e:.2e} of the impulses");
         assert!(e <= TOL, "seed {seed}: contact_sweep dj {e:.2e}");
         let e = rel_err(&constraint_fields(&c_gpu), &constraint_fields(&c_cpu));
@@ -917,18 +913,9 @@ fn contact_relax_matches_its_cpu_twin() {
         assert!(e <= TOL, "seed {seed}: {launch:?} velocity {e:.2e}");
         // a late sweep's impulse change is the small difference of f32 gap rates: its error
         // is measured against the impulses it changes
-        let impulses: Vec<f64> = c_cpu
-            .iter()
-            .flat_map(|c| [0, 1, 2].map(|a| c.jn * c.normal[a] + c.jt[a]))
-            .collect();
+        let half = |dj: &[f64], h: usize| dj[3 * np * h..3 * np * (h + 1)].to_vec();
         let e_dj = (0..2)
-            .map(|h| {
-                let (g, c) = (
-                    &r_gpu.dj[3 * np * h..3 * np * (h + 1)],
-                    &r_cpu.dj[3 * np * h..3 * np * (h + 1)],
-                );
-                rel_err(g, c) * norm2(c) / norm2(&impulses)
-            })
+            .map(|h| impulse_change_error(&half(&r_gpu.dj, h), &half(&r_cpu.dj, h), &c_cpu))
             .fold(0.0, f64::max);
         assert!(
             e_dj <= TOL,
@@ -1259,6 +1246,16 @@ fn search_stages(
     let found = points.iter().filter(|p| p.face != NO_FACE).count();
     assert!(found * 2 > points.len(), "the search must find faces");
     (points, margin)
+}
+
+/// The error of a sweep's impulse changes `dj` against the twin's, measured against the
+/// impulses `c` they change: a late sweep's change is the small difference of f32 gap rates.
+fn impulse_change_error(dj: &[f64], twin: &[f64], c: &[Constraint]) -> f64 {
+    let impulses: Vec<f64> = c
+        .iter()
+        .flat_map(|c| [0, 1, 2].map(|a| c.jn * c.normal[a] + c.jt[a]))
+        .collect();
+    rel_err(dj, twin) * norm2(twin) / norm2(&impulses)
 }
 
 fn norm2(x: &[f64]) -> f64 {

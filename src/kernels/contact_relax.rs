@@ -51,21 +51,23 @@ pub fn contact_relax(
     }
 }
 
+/// Contact node i's velocity in `carried` slot `slot` (of `nc` contact nodes).
+fn carried_at(r: &Relaxation, nc: usize, slot: usize, i: usize) -> [f64; 3] {
+    let o = 3 * (slot * nc + i);
+    [r.carried[o], r.carried[o + 1], r.carried[o + 2]]
+}
+
 /// Contact node i's velocity before sweep d.
 fn before_sweep(d: u32, i: usize, s: &SweepInputs, r: &Relaxation, c: &[Constraint]) -> [f64; 3] {
     let nc = s.nodes.len();
-    let at = |slot: usize| -> [f64; 3] {
-        let o = 3 * (slot * nc + i);
-        [r.carried[o], r.carried[o + 1], r.carried[o + 2]]
-    };
     if d == 1 {
-        return at(1);
+        return carried_at(r, nc, 1, i);
     }
     let half = (d as usize - 1) % 2;
     let np = c.len();
     let dj = &r.dj[3 * np * half..3 * np * (half + 1)];
     let dv = node_change(&s.nodes[i], s.links, c, (s.starts, s.sorted), dj, s.lumped);
-    let v = at(half);
+    let v = carried_at(r, nc, half, i);
     [0, 1, 2].map(|a| v[a] + dv[a])
 }
 
@@ -122,10 +124,7 @@ fn settle(d: u32, s: &SweepInputs, r: &mut Relaxation, c: &[Constraint], v: &mut
     for (i, cn) in s.nodes.iter().enumerate() {
         let b = match last == d - 1 {
             true => before_sweep(d, i, s, r, c),
-            false => {
-                let o = 3 * (((last as usize + 1) % 2) * nc + i);
-                [r.carried[o], r.carried[o + 1], r.carried[o + 2]]
-            }
+            false => carried_at(r, nc, (last as usize + 1) % 2, i),
         };
         let n = cn.node as usize;
         v[3 * n..3 * n + 3].copy_from_slice(&b);
