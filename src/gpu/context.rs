@@ -130,7 +130,8 @@ pub struct GpuContext {
     pub adapter: AdapterSummary,
     pub limits: wgpu::Limits,
     /// The adapter's features (none is required by the kernels; `impact info` reports them).
-    /// Of them the device asks for [`PROFILING`] where the adapter has it all.
+    /// Of them the device asks for [`PROFILING`] where the adapter has it all, and for
+    /// timestamp queries alone otherwise (the resident step times its submissions).
     pub features: wgpu::Features,
     /// The lanes `contact_zone` and `contact_finish` are built with, at most what the
     /// adapter runs ([`super::one_group`]); [`super::one_group::ONE_GROUP`] unless a caller
@@ -243,10 +244,11 @@ impl GpuContext {
         }
         let limits = adapter.limits();
         let features = adapter.features();
+        // the resident step times its submissions where the adapter has timestamps
         let profiling = if features.contains(PROFILING) {
             PROFILING
         } else {
-            wgpu::Features::empty()
+            features & wgpu::Features::TIMESTAMP_QUERY
         };
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("impact"),

@@ -39,6 +39,7 @@ use std::ops::Range;
 
 use super::bucket_sort::BucketSort;
 use super::buffer::Storage;
+use super::contact_form::{ContactForm, ZONE_TRIAL_PAIRS};
 use super::context::{GpuContext, ZONE_BINDINGS};
 use super::engine::at_least_one;
 use super::kernel::{Kernel, Launch};
@@ -873,6 +874,41 @@ impl ImpulseSweeps {
     /// Whether the staged iteration's recorded sweeps are `contact_relax` dispatches.
     pub fn runs_relax(&self) -> bool {
         self.relax && !self.launches.relax.is_empty()
+    }
+
+    /// The form the iteration is recorded in, from the next recording on.
+    pub fn form(&self) -> ContactForm {
+        match (self.zone, self.runs_relax()) {
+            (true, _) => ContactForm::Zone,
+            (false, true) => ContactForm::Relax,
+            (false, false) => ContactForm::Staged,
+        }
+    }
+
+    /// Records the iteration in `form` from the next recording on, where it runs here
+    /// (otherwise the staged form); returns the form it is recorded in. The results do not
+    /// depend on it.
+    pub fn set_form(&mut self, form: ContactForm) -> ContactForm {
+        self.zone = form == ContactForm::Zone && self.zone_available();
+        if !self.zone {
+            self.set_relax(form == ContactForm::Relax);
+        }
+        self.form()
+    }
+
+    /// The forms worth timing against each other on this adapter: `contact_zone` where it
+    /// runs and the zone has at most [`ZONE_TRIAL_PAIRS`] pairs, `contact_relax` where no
+    /// rigid body range gathers, and the two-dispatch sweeps.
+    pub fn forms(&self) -> Vec<ContactForm> {
+        let zone = self.zone_available() && self.pairs <= ZONE_TRIAL_PAIRS;
+        let relax = !self.launches.relax.is_empty();
+        (ContactForm::ALL.into_iter())
+            .filter(|&f| match f {
+                ContactForm::Zone => zone,
+                ContactForm::Relax => relax,
+                ContactForm::Staged => true,
+            })
+            .collect()
     }
 
     /// Whether the adapter runs `contact_zone` (it binds [`ZONE_BINDINGS`] storage buffers

@@ -551,7 +551,7 @@ impl ResidentStep {
         let record = |steps| {
             // recorded only to be captured: never submitted
             let mut enc = ctx.encoder("dispatch_capture");
-            captured::capture(|| self.record_steps(&mut enc, steps))
+            captured::capture(|| self.record_steps(&mut enc, steps, None))
         };
         let most = wgpu::QUERY_SET_MAX_QUERIES as usize - 1;
         let mut steps = steps.clamp(1, self.chunk_capacity);
@@ -633,7 +633,7 @@ impl ResidentStep {
         ctx.wait()?;
         let start = Instant::now();
         let mut enc = ctx.encoder("recording_timing");
-        self.record_steps(&mut enc, steps);
+        self.record_steps(&mut enc, steps, None);
         ctx.queue.submit([enc.finish()]);
         let host = start.elapsed();
         ctx.wait()?;

@@ -7,6 +7,7 @@
 mod bucket_sort;
 pub mod buffer;
 pub mod captured;
+pub mod contact_form;
 pub mod context;
 pub mod corner_select;
 pub mod engine;
@@ -24,9 +25,11 @@ pub mod scan;
 pub mod search;
 pub mod shaders;
 pub mod stable_step;
+mod submission_clock;
 pub mod surface_step;
 pub mod types;
 
+pub use contact_form::ContactForm;
 pub use context::{list_adapters, AdapterPolicy, AdapterSummary, GpuContext};
 pub use corner_select::CornerSelection;
 pub use engine::GpuKernels;

@@ -29,6 +29,7 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::buffer::{map_read, read_back, read_floats, take_mapped, Mapping, Storage};
+use super::contact_form::ContactForm;
 use super::context::GpuContext;
 use super::engine::{at_least_one, GpuKernels};
 use super::failure_stage::{FailureStage, StageTarget};
@@ -36,6 +37,7 @@ use super::impulse_sweeps::{ContactSetup, ImpulseSweeps, StepBuffers};
 use super::kernel::Launch;
 use super::rank_exchange::RankExchange;
 use super::rank_surface::RankSurface;
+use super::submission_clock::{SubmissionClock, STAMP_BYTES};
 use super::types::WORKGROUP;
 use super::types::{self, to_device, Split3};
 use super::{
@@ -52,6 +54,27 @@ use crate::kernels::{
 
 /// Bytes of the search grid's record at the start of each read-back buffer.
 const GRID_BYTES: u64 = std::mem::size_of::<types::GpuSearchGrid>() as u64;
+
+/// Where the history rows start in a read-back buffer: after the search grid's record and
+/// the submission's timestamps ([`SubmissionClock`]).
+const ROWS_AT: u64 = GRID_BYTES + STAMP_BYTES;
+
+/// What a collected submission took: its steps, the device's time for its compute pass
+/// (where the adapter has timestamps) and the host's time to record and submit it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SubmissionTime {
+    pub steps: usize,
+    pub device: Option<f64>,
+    pub host: f64,
+}
+
+impl SubmissionTime {
+    /// Seconds per step of the slower of the two (the host records a submission while the
+    /// device runs the one before), or `None` without the device's time.
+    pub fn per_step(&self) -> Option<f64> {
+        (self.device).map(|d| d.max(self.host) / self.steps.max(1) as f64)
+    }
+}
 
 /// What the steps of the last collected submission made of the contact search's kept grid.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -426,6 +449,8 @@ struct Pending {
     steps: usize,
     index: wgpu::SubmissionIndex,
     mapped: Mapping,
+    /// The host's seconds to record and submit it.
+    host: f64,
 }
 
 pub struct ResidentStep {
@@ -461,6 +486,10 @@ pub struct ResidentStep {
     search_record: Option<SearchRecord>,
     readback: [Storage; 2],
     pending: [Option<Pending>; 2],
+    /// The submissions' timestamps, where the adapter has them.
+    clock: Option<SubmissionClock>,
+    /// The time of the last collected submission.
+    collected: Option<SubmissionTime>,
     /// Steps one submission can hold (the read-back buffers' size).
     pub chunk_capacity: usize,
 }
@@ -518,6 +547,7 @@ impl ResidentStep {
             })
             .transpose()?;
         let readback = Self::readback_buffers(ctx, chunk_capacity * history.row_len)?;
+        let clock = SubmissionClock::new(ctx)?;
         Ok(ResidentStep {
             kernels,
             step,
@@ -537,6 +567,8 @@ impl ResidentStep {
             search_record: None,
             readback,
             pending: [None, None],
+            clock,
+            collected: None,
             chunk_capacity,
             k,
         })
@@ -616,13 +648,14 @@ impl ResidentStep {
         )?))
     }
 
-    /// The two read-back buffers of the search grid's record and `floats` of history rows.
+    /// The two read-back buffers of the search grid's record, the timestamps and `floats` of
+    /// history rows.
     fn readback_buffers(ctx: &GpuContext, floats: usize) -> Result<[Storage; 2]> {
         let make_readback = || {
             Storage::with_usage(
                 ctx,
                 "history.readback",
-                GRID_BYTES + (floats * 4) as u64,
+                ROWS_AT + (floats * 4) as u64,
                 wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             )
         };
@@ -731,11 +764,17 @@ impl ResidentStep {
     /// Records `steps` whole steps, writing their history rows into the rows buffer, in one
     /// compute pass (wgpu orders each dispatch after the writes of the ones before; the
     /// search zeroes its counters with `fill_words` and `bucket_order` clears the
-    /// iteration's, not buffer clears, which would end the pass).
-    pub(super) fn record_steps(&self, enc: &mut wgpu::CommandEncoder, steps: usize) {
+    /// iteration's, not buffer clears, which would end the pass), with `stamps` at its start
+    /// and end if given.
+    pub(super) fn record_steps(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        steps: usize,
+        stamps: Option<wgpu::ComputePassTimestampWrites>,
+    ) {
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("explicit_step"),
-            timestamp_writes: None,
+            timestamp_writes: stamps,
         });
         for j in 0..steps {
             let mode = self.search_mode(j);
@@ -804,27 +843,33 @@ impl ResidentStep {
                 "read-back buffer {slot} is still in use"
             )));
         }
+        let start = std::time::Instant::now();
         let steps = steps.min(self.chunk_capacity);
-        let bytes = GRID_BYTES + (steps * self.history.row_len * 4) as u64;
+        let bytes = ROWS_AT + (steps * self.history.row_len * 4) as u64;
         let ctx = &self.k.ctx;
         let mut enc = ctx.encoder("explicit_steps");
-        self.record_steps(&mut enc, steps);
+        let clock = self.clock.as_ref();
+        self.record_steps(&mut enc, steps, clock.map(|c| c.writes(slot)));
         let readback = &self.readback[slot].buffer;
         if let Some(s) = self.contact.as_ref().and_then(|c| c.search.as_ref()) {
             enc.copy_buffer_to_buffer(s.grid_buffer(), 0, readback, 0, GRID_BYTES);
+        }
+        if let Some(c) = clock {
+            c.copy(&mut enc, slot, readback, GRID_BYTES);
         }
         enc.copy_buffer_to_buffer(
             &self.history.rows.buffer,
             0,
             readback,
-            GRID_BYTES,
-            bytes - GRID_BYTES,
+            ROWS_AT,
+            bytes - ROWS_AT,
         );
         let index = ctx.queue.submit([enc.finish()]);
         self.pending[slot] = Some(Pending {
             steps,
             index,
             mapped: map_read(&self.readback[slot].buffer, bytes),
+            host: start.elapsed().as_secs_f64(),
         });
         Ok(())
     }
@@ -949,19 +994,54 @@ impl ResidentStep {
                     ctx.adapter.name
                 ))
             })?;
-        let bytes = GRID_BYTES + (p.steps * self.history.row_len * 4) as u64;
+        let bytes = ROWS_AT + (p.steps * self.history.row_len * 4) as u64;
         let buffer = &self.readback[slot].buffer;
-        let mut words: Vec<f32> = take_mapped(ctx, buffer, bytes, &p.mapped, "the history rows")?;
-        let rows = words.split_off(GRID_BYTES as usize / 4);
+        let mut words: Vec<u32> = take_mapped(ctx, buffer, bytes, &p.mapped, "the history rows")?;
+        let rows = (words.split_off(ROWS_AT as usize / 4).into_iter())
+            .map(f32::from_bits)
+            .collect();
+        let (grid_words, stamps) = words.split_at(GRID_BYTES as usize / 4);
+        self.collected = Some(SubmissionTime {
+            steps: p.steps,
+            device: self.clock.as_ref().and_then(|c| c.seconds(stamps)),
+            host: p.host,
+        });
         if self.sorts_in(1) > 0 {
             let grid: types::GpuSearchGrid =
-                bytemuck::pod_read_unaligned(bytemuck::cast_slice(&words));
+                bytemuck::pod_read_unaligned(bytemuck::cast_slice(grid_words));
             self.search_record = Some(SearchRecord {
                 fill: grid.fill as f64,
                 stale_steps: grid.stale_steps as u64,
             });
         }
         Ok(rows)
+    }
+
+    /// What the last collected submission took ([`Self::collect`]).
+    pub fn collected_time(&self) -> Option<SubmissionTime> {
+        self.collected
+    }
+
+    /// Whether the device times its submissions (the adapter has timestamp queries).
+    pub fn times_submissions(&self) -> bool {
+        self.clock.is_some()
+    }
+
+    /// The form the contact iteration is recorded in from the next submission on (`None`
+    /// without the device contact iteration).
+    pub fn form(&self) -> Option<ContactForm> {
+        self.contact.as_ref().map(|c| c.form())
+    }
+
+    /// Records the contact iteration in `form` from the next submission on, where it runs
+    /// here ([`ImpulseSweeps::set_form`]). The results do not depend on it.
+    pub fn set_form(&mut self, form: ContactForm) -> Option<ContactForm> {
+        self.contact.as_mut().map(|c| c.set_form(form))
+    }
+
+    /// The forms of the contact iteration worth timing here ([`ImpulseSweeps::forms`]).
+    pub fn forms(&self) -> Vec<ContactForm> {
+        self.contact.as_ref().map_or(Vec::new(), |c| c.forms())
     }
 
     /// Sets the step length of the submissions from the next on (a shortened last step).
