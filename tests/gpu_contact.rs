@@ -11,7 +11,7 @@ mod common;
 use common::*;
 
 use impact::gpu::inspect::Stage;
-use impact::gpu::{GpuContext, ResidentStep};
+use impact::gpu::{ContactForm, GpuContext, ResidentStep};
 use impact::integrate::resident;
 use impact::integrate::{Integrator, ResidentSolver};
 use impact::kernels::contact_gap::NO_FACE;
@@ -298,13 +298,23 @@ fn resident_rows<'m>(
     steps: usize,
     configure: impl FnOnce(&mut ResidentSolver<'m>),
 ) -> (Vec<RunRow>, ResidentSolver<'m>) {
+    resident_rows_in(ctx, model, (steps, 25), configure)
+}
+
+/// [`resident_rows`] in submissions of `chunk` steps: `(steps, chunk)`.
+fn resident_rows_in<'m>(
+    ctx: &GpuContext,
+    model: &'m Model,
+    (steps, chunk): (usize, usize),
+    configure: impl FnOnce(&mut ResidentSolver<'m>),
+) -> (Vec<RunRow>, ResidentSolver<'m>) {
     let mut s = ResidentSolver::with_chunk(
         ctx.clone(),
         model,
         &model_settings(),
         5e-4,
         1.0,
-        (steps, None, 25),
+        (steps, None, chunk),
         None,
     )
     .expect("resident solver");
@@ -1497,6 +1507,62 @@ fn recorded_sweeps_agree(ctx: &GpuContext, model: &Model, steps: usize) {
     );
 }
 
+/// The run times the contact iteration's forms on its own steps and takes the fastest
+/// (`integrate::form_trial`): the stack over 120 steps in submissions of 5, with the trial,
+/// gives the rows and the final state of the staged iteration fixed, bit for bit. Where the
+/// adapter has timestamps, the trial's first round runs every form the adapter runs, and
+/// the steps each form ran add up to the steps collected.
+#[test]
+fn the_trial_of_the_contact_forms_does_not_change_the_results() {
+    let Some(ctx) = gpu_context("contact forms' trial") else {
+        return;
+    };
+    let model = stack_model();
+    let steps = 120;
+    let (fixed, s) = resident_rows_in(&ctx, &model, (steps, 5), |s| {
+        assert_eq!(
+            s.fix_contact_form(ContactForm::Staged),
+            Some(ContactForm::Staged)
+        );
+    });
+    let (u_fixed, v_fixed) = (s.u.clone(), s.v.clone());
+    let trial = s.form_trial().expect("a device contact iteration");
+    assert_eq!(
+        (trial.rounds, trial.steps.len()),
+        (0, 1),
+        "a fixed form takes no trial"
+    );
+    drop(s);
+    let (rows, mut s) = resident_rows_in(&ctx, &model, (steps, 5), |_| {});
+    assert!(rows.iter().all(|r| r.1), "every step converges");
+    assert_eq!(fixed, rows, "the rows differ with the trial");
+    assert_eq!(
+        (&u_fixed, &v_fixed),
+        (&s.u, &s.v),
+        "the final state differs"
+    );
+    let engine_forms = s.engine_mut().forms();
+    let timed = s.engine_mut().times_submissions();
+    let trial = s.form_trial().expect("a device contact iteration");
+    eprintln!(
+        "forms {engine_forms:?}; trial: {} rounds, steps {:?}, last round (s per step) {:?}, chosen {:?}",
+        trial.rounds,
+        trial.steps,
+        trial.last_round,
+        trial.current()
+    );
+    assert_eq!(trial.steps.values().sum::<u64>(), steps as u64);
+    if !timed {
+        return;
+    }
+    assert!(trial.rounds >= 1, "the trial must have ended a round");
+    assert!(
+        engine_forms.iter().all(|f| trial.steps.contains_key(f)),
+        "every form runs in the first round"
+    );
+    assert!(s.device_seconds().is_some_and(|d| d > 0.0));
+}
+
 /// The sweeps the resident engine records as dispatches of their own follow what the steps
 /// need: over a run, at most 1.25 times the sweeps needed plus 2 per step (`summary.json`'s
 /// `sweeps_recorded` and `sweeps_needed`), on the shipped cube on the plate (explicit, at the
@@ -1536,6 +1602,21 @@ fn recorded_sweeps_follow_the_needs_of_the_steps() {
         assert_eq!(s.contact_zone, Some(zone_runs(&ctx)), "{tag}: a small zone");
         if zone_runs(&ctx) {
             assert_eq!(recorded, 0.0, "{tag}: contact_zone records no sweeps");
+        }
+        let forms = s.contact_forms.as_ref().expect("contact_forms");
+        assert_eq!(forms.steps.values().sum::<u64>(), s.steps as u64, "{tag}");
+        assert_eq!(
+            forms.chosen == "zone",
+            s.contact_zone == Some(true),
+            "{tag}"
+        );
+        if ctx
+            .device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY)
+        {
+            let device = s.device_seconds.expect("device_seconds");
+            assert!(device > 0.0 && device < s.wall_seconds, "{tag}: {device} s");
         }
         // the staged iteration over the same steps
         let model = model_of(&text, &format!("{tag}.toml"));

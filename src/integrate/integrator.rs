@@ -38,6 +38,18 @@ pub struct NewtonFigures {
     pub friction_keeps_anderson: bool,
 }
 
+/// The resident step's forms of the device contact iteration over a run, for the summary
+/// (`contact_forms`; counted by this process).
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ContactForms {
+    /// The form the run's trial chose last (`zone`, `relax` or `staged`), or the one fixed.
+    pub chosen: String,
+    /// Steps each form ran, by name.
+    pub steps: std::collections::BTreeMap<String, u64>,
+    /// The trial's rounds (none without timestamps on the adapter, or with one form).
+    pub rounds: usize,
+}
+
 /// The implicit solver's linear-algebra figures for the summary.
 #[derive(Debug, Clone)]
 pub struct ImplicitFigures {
@@ -138,6 +150,18 @@ pub trait Integrator {
     /// The resident step's device contact iteration: whether it runs in one workgroup
     /// (`contact_zone`) rather than staged.
     fn contact_zone(&self) -> Option<bool> {
+        None
+    }
+
+    /// The resident step's device contact iteration: the form its trial chose, the steps
+    /// each form ran and the trial's rounds ([`super::form_trial::FormTrial`]).
+    fn contact_forms(&self) -> Option<ContactForms> {
+        None
+    }
+
+    /// The device's own time for the steps taken (the resident step, where the adapter has
+    /// timestamps).
+    fn device_seconds(&self) -> Option<f64> {
         None
     }
 

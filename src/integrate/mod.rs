@@ -1,6 +1,7 @@
 //! Time integration.
 
 pub mod explicit;
+pub mod form_trial;
 pub mod implicit;
 pub mod integrator;
 pub mod kept_search;
@@ -11,7 +12,9 @@ pub mod state;
 
 pub use explicit::ExplicitSolver;
 pub use implicit::ImplicitSolver;
-pub use integrator::{Decomposed, ImplicitFigures, Integrator, NewtonFigures, Pipelined};
+pub use integrator::{
+    ContactForms, Decomposed, ImplicitFigures, Integrator, NewtonFigures, Pipelined,
+};
 pub use resident::ResidentSolver;
 pub use state::{
     ContactReport, Decomposition, Energies, InterfaceEnd, Piece, ProbeValues, StepReport,

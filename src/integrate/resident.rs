@@ -14,7 +14,8 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::explicit::lumped_mass;
-use super::integrator::{Integrator, Pipelined, ENGINE_GPU_RESIDENT};
+use super::form_trial::FormTrial;
+use super::integrator::{ContactForms, Integrator, Pipelined, ENGINE_GPU_RESIDENT};
 use super::kept_search::{KeptSearch, FIRST_INTERVAL};
 use super::recorded_sweeps::{RecordedSweeps, FIRST_GUESS};
 use super::state::{ContactReport, Energies, StepReport};
@@ -22,7 +23,7 @@ use super::SolverState;
 use crate::error::{ImpactError, Result};
 use crate::geometry::rigid_shape::RigidShape;
 use crate::gpu::resident_step::row_len;
-use crate::gpu::{ContactSetup, GpuContext, ResidentSetup, ResidentStep};
+use crate::gpu::{ContactForm, ContactSetup, GpuContext, ResidentSetup, ResidentStep};
 use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::explicit_correct::FIELDS;
 use crate::kernels::plane_contact::{slot, MAX_PLANES, SLOT};
@@ -419,6 +420,10 @@ pub struct ResidentSolver<'m> {
     sweeps: RecordedSweeps,
     /// The steps between the contact search's sorts and the run's tally.
     search: KeptSearch,
+    /// The contact iteration's form, timed on the run's steps, and the run's tally.
+    forms: Option<FormTrial>,
+    /// The device's seconds over the submissions collected, where it times them.
+    device_seconds: Option<f64>,
     /// The shortened last step, if the run has one (see [`Pipelined::schedule`]).
     last_dt: Option<f64>,
     /// The step length the rows being decoded were computed with.
@@ -494,6 +499,9 @@ impl<'m> ResidentSolver<'m> {
                 .enumerate()
                 .map(|(d, v)| mass[d / 3] * v * v)
                 .sum::<f64>();
+        let timed = engine.times_submissions();
+        let forms = (engine.form()).map(|f| FormTrial::new(engine.forms(), f, timed));
+        let device_seconds = timed.then_some(0.0);
         let plane_count = setup.planes.len();
         let pair_ranges = setup.contact.as_ref().map(|c| c.interfaces.clone());
         let result_len = match &setup.contact {
@@ -527,6 +535,8 @@ impl<'m> ResidentSolver<'m> {
             pair_ranges,
             sweeps: RecordedSweeps::default(),
             search: KeptSearch::default(),
+            device_seconds,
+            forms,
             last_dt: None,
             row_dt: dt,
             measure_shift: 0.0,
@@ -613,6 +623,13 @@ impl<'m> ResidentSolver<'m> {
             .chunks_exact(len)
             .map(|r| self.decode(&r.iter().map(|&x| x as f64).collect::<Vec<_>>()))
             .collect();
+        let time = self.engine.collected_time();
+        if let (Some(total), Some(d)) = (&mut self.device_seconds, time.and_then(|t| t.device)) {
+            *total += d;
+        }
+        if let (Some(forms), Some(time)) = (&mut self.forms, time) {
+            forms.collected(self.slot, time);
+        }
         if self.pair_ranges.is_some() {
             // the sweeps each step needed (its iterations: the interfaces share one)
             let needs: Vec<u32> = rows.iter().map(|r| r.report.iterations as u32).collect();
@@ -631,6 +648,9 @@ impl<'m> ResidentSolver<'m> {
 
     /// Submits `n` steps to read-back buffer `slot`.
     fn submit(&mut self, slot: usize, n: usize) -> Result<()> {
+        if let Some(forms) = &mut self.forms {
+            self.engine.set_form(forms.submitting(slot));
+        }
         self.engine.submit(slot, n)?;
         self.sweeps.submitted(slot, self.engine.sweeps());
         self.search.submitted(slot, self.engine.sorts_in(n));
@@ -651,7 +671,31 @@ impl<'m> ResidentSolver<'m> {
     /// workgroup. By default it does on zones of at most
     /// [`crate::gpu::impulse_sweeps::ZONE_PAIRS`] pairs. The results do not depend on it.
     pub fn fix_contact_zone(&mut self, zone: bool) -> bool {
-        self.engine.set_zone(zone)
+        let zone = self.engine.set_zone(zone);
+        self.fix_form();
+        zone
+    }
+
+    /// Ends the trial of the contact iteration's forms: the run keeps the engine's form.
+    fn fix_form(&mut self) {
+        if let (Some(forms), Some(form)) = (&mut self.forms, self.engine.form()) {
+            forms.fix(form);
+        }
+    }
+
+    /// Records the contact iteration in `form` from the next submission on, where it runs
+    /// here, instead of the form the run's trial chooses ([`FormTrial`]); returns the form
+    /// it runs in. The results do not depend on it.
+    pub fn fix_contact_form(&mut self, form: ContactForm) -> Option<ContactForm> {
+        let form = self.engine.set_form(form);
+        self.fix_form();
+        form
+    }
+
+    /// The trial of the contact iteration's forms and the steps each ran (the device contact
+    /// iteration; none without one).
+    pub fn form_trial(&self) -> Option<&FormTrial> {
+        self.forms.as_ref()
     }
 
     /// Records the staged contact iteration's sweeps as `contact_relax` dispatches (one a
@@ -659,7 +703,9 @@ impl<'m> ResidentSolver<'m> {
     /// returns whether `contact_relax` runs. By default it does where no rigid body range
     /// gathers. The results do not depend on it.
     pub fn fix_contact_relax(&mut self, relax: bool) -> bool {
-        self.engine.set_relax(relax)
+        let relax = self.engine.set_relax(relax);
+        self.fix_form();
+        relax
     }
 
     /// Fixes the steps between the contact search's sorts of the faces (from the next
@@ -725,7 +771,21 @@ impl Integrator for ResidentSolver<'_> {
     }
 
     fn contact_zone(&self) -> Option<bool> {
-        (self.engine.impulse_sweeps_ref()).map(|c| c.runs_zone())
+        (self.forms.as_ref()).map(|f| f.current() == ContactForm::Zone)
+    }
+
+    fn contact_forms(&self) -> Option<ContactForms> {
+        self.forms.as_ref().map(|f| ContactForms {
+            chosen: f.current().name().to_string(),
+            steps: (f.steps.iter())
+                .map(|(form, &n)| (form.name().to_string(), n))
+                .collect(),
+            rounds: f.rounds,
+        })
+    }
+
+    fn device_seconds(&self) -> Option<f64> {
+        self.device_seconds
     }
 
     fn search_rebuilds(&self) -> Option<(u64, u64)> {

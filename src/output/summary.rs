@@ -123,11 +123,21 @@ pub struct Summary {
     pub sweeps_recorded: Option<u64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sweeps_needed: Option<u64>,
-    /// The resident engine with contact between meshed bodies: whether each step's contact
-    /// iteration ran in one workgroup (`contact_zone`, no sweeps recorded) rather than
-    /// staged.
+    /// The resident engine with contact between meshed bodies: whether the contact
+    /// iteration's form at the end of the run is one workgroup (`contact_zone`, no sweeps
+    /// recorded) rather than staged (`contact_forms` says which forms the steps ran).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub contact_zone: Option<bool>,
+    /// The resident engine with contact between meshed bodies: the form of the contact
+    /// iteration the run's trial chose (`zone`, `relax` or `staged`: one workgroup, or staged
+    /// with one or two dispatches a recorded sweep), the steps each form ran, and the
+    /// trial's rounds. The results do not depend on the form.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact_forms: Option<crate::integrate::ContactForms>,
+    /// The resident engine on an adapter with timestamps: the device's own time for the
+    /// steps taken (each submission's compute pass, start to end).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub device_seconds: Option<f64>,
     /// The resident engine's device contact search: the sorts of the primary faces into its
     /// grid over the run (the steps in between keep the last sort while the faces have
     /// moved less than the grid's skin), and the steps whose kept grid no longer held, which

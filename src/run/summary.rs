@@ -202,6 +202,8 @@ pub(super) fn fill_summary(
         summary.sweeps_needed = Some(needed);
     }
     summary.contact_zone = solver.contact_zone();
+    summary.contact_forms = solver.contact_forms();
+    summary.device_seconds = solver.device_seconds();
     if let Some((rebuilds, stale)) = solver.search_rebuilds() {
         summary.search_rebuilds = Some(rebuilds);
         summary.search_stale_steps = Some(stale);
