@@ -24,9 +24,10 @@
 //! plate scene alone; `-- --dispatches` times each kernel of a resident submission on the
 //! device (adapters with timestamps inside passes); `-- --zone on` or `-- --zone off` runs
 //! each step's contact iteration in one workgroup (`contact_zone`) or staged, whatever the
-//! zone's size (by default small zones run in one workgroup); `-- --relax on` or
-//! `-- --relax off` records the staged iteration's sweeps as `contact_relax` (one dispatch a
-//! sweep, the default) or as `contact_sweep` and `contact_apply`; `-- --lanes N` builds
+//! zone's size; `-- --relax on` or `-- --relax off` records the staged iteration's sweeps as
+//! `contact_relax` (one dispatch a sweep) or as `contact_sweep` and `contact_apply` (either
+//! fixes the form; by default the run's trial times the forms on its first submissions and
+//! takes the fastest, and a table gives its figures); `-- --lanes N` builds
 //! `contact_zone` and `contact_finish` with N lanes (256 by default; up to 1,024 where the
 //! adapter allows, the same results); and `-- --no-large` leaves the 10^7-element rows
 //! out).
@@ -36,7 +37,7 @@ use std::time::Instant;
 
 use impact::backend::{CpuKernels, Kernels};
 use impact::gpu::inspect::{KernelTime, Stage};
-use impact::gpu::{GpuContext, GpuKernels};
+use impact::gpu::{ContactForm, GpuContext, GpuKernels};
 use impact::integrate::resident;
 use impact::integrate::stable_step::{stable_step, stable_step_on};
 use impact::integrate::{ExplicitSolver, Integrator, ResidentSolver};
@@ -124,6 +125,9 @@ struct Resident {
     zone_part: Option<f64>,
     zone: bool,
     relax: bool,
+    /// The run's trial of the contact iteration's forms before the timed steps: each form's
+    /// microseconds per step in its last round, and the form it chose.
+    trial: Option<(Vec<(ContactForm, f64)>, ContactForm)>,
     /// The lanes of the one-workgroup kernels (`contact_zone`, `contact_finish`).
     lanes: u32,
     /// `-- --dispatches`: each kernel of a submission timed on the device (kernel,
@@ -203,6 +207,18 @@ fn time_resident(
     if let Some(relax) = on_off("--relax") {
         s.fix_contact_relax(relax);
     }
+    // the run's trial of the contact iteration's forms (none with a form fixed above) ends
+    // its first round before the timed steps
+    let mut submissions = 0;
+    while s.form_trial().is_some_and(|t| t.rounds == 0) && submissions < 64 {
+        for _ in 0..chunk {
+            s.step().expect("the forms' trial");
+        }
+        submissions += 1;
+    }
+    let trial = (s.form_trial())
+        .filter(|t| t.rounds > 0)
+        .map(|t| (t.last_round.clone(), t.current()));
     let before = s.sweep_counts();
     let sorts_before = s.search_counts().0;
     let t = Instant::now();
@@ -226,8 +242,10 @@ fn time_resident(
     let engine = s.engine_mut();
     let reps = steps.clamp(4, 50);
     let recorded = engine.sweeps();
-    let zone = engine.impulse_sweeps_ref().is_some_and(|c| c.runs_zone());
-    let relax = engine.impulse_sweeps_ref().is_some_and(|c| c.runs_relax());
+    let form = s.form_trial().map(|t| t.current());
+    let engine = s.engine_mut();
+    let zone = form == Some(ContactForm::Zone);
+    let relax = form == Some(ContactForm::Relax);
     let lanes = engine.impulse_sweeps_ref().map_or(0, |c| c.zone_lanes());
     // every timing below starts from the state the timed steps left
     engine.drain().expect("the last submissions");
@@ -279,6 +297,7 @@ fn time_resident(
         zone_part,
         zone,
         relax,
+        trial,
         lanes,
         dispatches,
     }
@@ -398,6 +417,7 @@ fn table(
             print_dispatches(*elements, d);
         }
     }
+    print_trials(&stage_rows);
     if stage_rows.iter().all(|(_, r)| r.contact_parts.is_none()) {
         return;
     }
@@ -422,6 +442,32 @@ fn table(
                 r.lanes,
             );
         }
+    }
+}
+
+/// The run's trial of the contact iteration's forms before the timed steps, where it ran.
+fn print_trials(stage_rows: &[(usize, Resident)]) {
+    if stage_rows.iter().all(|(_, r)| r.trial.is_none()) {
+        return;
+    }
+    println!("\nThe run's trial of the contact iteration's forms before the timed steps (`integrate::form_trial`): microseconds per step of each form in the trial's last round (the device's time for a submission's compute pass, or the host's time to record it where that is longer), and the form the run took:\n");
+    println!("| elements | zone | relax | staged | the run took |");
+    println!("|---:|---:|---:|---:|---|");
+    for (elements, r) in stage_rows {
+        let Some((costs, chosen)) = &r.trial else {
+            continue;
+        };
+        let cost = |form| {
+            (costs.iter().find(|(f, _)| *f == form))
+                .map_or("-".to_string(), |(_, c)| format!("{:.1}", c * 1e6))
+        };
+        println!(
+            "| {elements} | {} | {} | {} | {} |",
+            cost(ContactForm::Zone),
+            cost(ContactForm::Relax),
+            cost(ContactForm::Staged),
+            chosen.name()
+        );
     }
 }
 
