@@ -158,7 +158,9 @@ fn time_resident(
 ) -> Resident {
     let start = Instant::now();
     if let Some(lanes) = fixed_lanes() {
+        // that width alone
         ctx.zone_lanes = lanes;
+        ctx.zone_trial.clear();
     }
     let (stable, _) = stable_step_on(model, Some(&ctx)).expect("stable step");
     let dt = explicit_time_step(sc, (stable, 0)).expect("time step");
@@ -244,9 +246,12 @@ fn time_resident(
     let recorded = engine.sweeps();
     let form = s.form_trial().map(|t| t.current());
     let engine = s.engine_mut();
-    let zone = form == Some(ContactForm::Zone);
+    let zone = form.is_some_and(ContactForm::is_zone);
     let relax = form == Some(ContactForm::Relax);
-    let lanes = engine.impulse_sweeps_ref().map_or(0, |c| c.zone_lanes());
+    let lanes = match form {
+        Some(ContactForm::Zone(lanes)) => lanes,
+        _ => engine.impulse_sweeps_ref().map_or(0, |c| c.zone_lanes()),
+    };
     // every timing below starts from the state the timed steps left
     engine.drain().expect("the last submissions");
     let state = engine.read_step_state().expect("the step state");
@@ -451,23 +456,26 @@ fn print_trials(stage_rows: &[(usize, Resident)]) {
         return;
     }
     println!("\nThe run's trial of the contact iteration's forms before the timed steps (`integrate::form_trial`): microseconds per step of each form in the trial's last round (the device's time for a submission's compute pass, or the host's time to record it where that is longer), and the form the run took:\n");
-    println!("| elements | zone | relax | staged | the run took |");
-    println!("|---:|---:|---:|---:|---|");
+    // a column per form any row timed, in the trial's order
+    let mut forms: Vec<ContactForm> = (stage_rows.iter())
+        .filter_map(|(_, r)| r.trial.as_ref())
+        .flat_map(|(costs, _)| costs.iter().map(|c| c.0))
+        .collect();
+    forms.sort();
+    forms.dedup();
+    let names: Vec<String> = forms.iter().map(|f| f.name()).collect();
+    println!("| elements | {} | the run took |", names.join(" | "));
+    println!("|---:|{}---|", "---:|".repeat(forms.len()));
     for (elements, r) in stage_rows {
         let Some((costs, chosen)) = &r.trial else {
             continue;
         };
-        let cost = |form| {
-            (costs.iter().find(|(f, _)| *f == form))
+        let cost = |form: &ContactForm| {
+            (costs.iter().find(|(f, _)| f == form))
                 .map_or("-".to_string(), |(_, c)| format!("{:.1}", c * 1e6))
         };
-        println!(
-            "| {elements} | {} | {} | {} | {} |",
-            cost(ContactForm::Zone),
-            cost(ContactForm::Relax),
-            cost(ContactForm::Staged),
-            chosen.name()
-        );
+        let cells: Vec<String> = forms.iter().map(cost).collect();
+        println!("| {elements} | {} | {} |", cells.join(" | "), chosen.name());
     }
 }
 

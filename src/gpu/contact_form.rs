@@ -3,11 +3,14 @@
 //! bits whichever runs; which is fastest depends on the adapter and on the contact zone's
 //! size, and the resident solver measures it (`integrate::form_trial`).
 
+use super::one_group::ONE_GROUP;
+
 /// A form of the device contact iteration.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum ContactForm {
-    /// The whole iteration after the search in one workgroup (`contact_zone`).
-    Zone,
+    /// The whole iteration after the search in one workgroup (`contact_zone`) of this many
+    /// lanes ([`super::one_group`]).
+    Zone(u32),
     /// Staged, each recorded sweep one `contact_relax` dispatch (no rigid body range).
     Relax,
     /// Staged, each recorded sweep a `contact_sweep` and a `contact_apply` dispatch.
@@ -15,16 +18,20 @@ pub enum ContactForm {
 }
 
 impl ContactForm {
-    /// Every form, in the order a trial takes them.
-    pub const ALL: [ContactForm; 3] = [ContactForm::Zone, ContactForm::Relax, ContactForm::Staged];
-
-    /// Its name in `summary.json` and the benchmarks' tables.
-    pub fn name(self) -> &'static str {
+    /// Its name in `summary.json` and the benchmarks' tables: `zone` (at
+    /// [`ONE_GROUP`] lanes, `zone_512` and `zone_1024` wider), `relax` or `staged`.
+    pub fn name(self) -> String {
         match self {
-            ContactForm::Zone => "zone",
-            ContactForm::Relax => "relax",
-            ContactForm::Staged => "staged",
+            ContactForm::Zone(ONE_GROUP) => "zone".into(),
+            ContactForm::Zone(lanes) => format!("zone_{lanes}"),
+            ContactForm::Relax => "relax".into(),
+            ContactForm::Staged => "staged".into(),
         }
+    }
+
+    /// Whether the whole iteration runs in one workgroup.
+    pub fn is_zone(self) -> bool {
+        matches!(self, ContactForm::Zone(_))
     }
 }
 

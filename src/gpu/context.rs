@@ -137,6 +137,10 @@ pub struct GpuContext {
     /// adapter runs ([`super::one_group`]); [`super::one_group::ONE_GROUP`] unless a caller
     /// (the bench's `--lanes`) sets it before building the step.
     pub zone_lanes: u32,
+    /// The further widths of `contact_zone` the run's trial of the contact iteration's forms
+    /// times ([`super::one_group::trial_widths`] unless a caller sets them before building
+    /// the step).
+    pub zone_trial: Vec<u32>,
 }
 
 /// Timestamps between a compute pass's dispatches, which the benchmarks' profile of a step
@@ -258,13 +262,16 @@ impl GpuContext {
             ..Default::default()
         }))
         .map_err(|e| ImpactError::Gpu(format!("{}: cannot open the device: {e}", summary.name)))?;
+        let lanes = super::one_group::ONE_GROUP;
+        let zone_trial = super::one_group::trial_widths(&limits, summary.software, lanes);
         Ok(Some(GpuContext {
             device,
             queue,
             adapter: summary,
             limits,
             features,
-            zone_lanes: super::one_group::ONE_GROUP,
+            zone_lanes: lanes,
+            zone_trial,
         }))
     }
 
@@ -361,10 +368,14 @@ pub fn info_report() -> Result<String> {
             );
             let _ = writeln!(
                 r,
-                "  invocations per workgroup: {} (kernels use 64; contact_zone and contact_finish {}, up to {} with the explicit bench's --lanes)",
+                "  invocations per workgroup: {} (kernels use 64; contact_zone and contact_finish {}, up to {} with the explicit bench's --lanes{})",
                 l.max_compute_invocations_per_workgroup,
                 super::one_group::within(l, ctx.zone_lanes),
-                super::one_group::widest(l)
+                super::one_group::widest(l),
+                match ctx.zone_trial.as_slice() {
+                    [] => String::new(),
+                    w => format!("; runs time contact_zone at {w:?} lanes too"),
+                }
             );
             let f = ctx.features;
             let _ = writeln!(

@@ -127,8 +127,9 @@ struct IterationKernels {
     finish: ContactFinish,
     report: ContactReportKernel,
     /// The whole iteration in one workgroup, where the adapter binds [`ZONE_BINDINGS`]
-    /// storage buffers per stage.
-    zone: Option<ContactZone>,
+    /// storage buffers per stage: at `lanes` lanes, then at each further width the run's
+    /// trial times ([`GpuContext::zone_trial`]), with its width.
+    zones: Vec<(u32, ContactZone)>,
     /// The lanes of `contact_finish` and `contact_zone` ([`GpuContext::zone_lanes`], within
     /// the adapter's limits).
     lanes: u32,
@@ -139,13 +140,21 @@ impl IterationKernels {
     /// kernels with [`GpuContext::zone_lanes`] lanes (within the adapter's limits).
     fn new(ctx: &GpuContext) -> Self {
         let lanes = one_group::within(&ctx.limits, ctx.zone_lanes);
-        let wide = |name: &'static str| {
+        let wide = |name: &'static str, lanes: u32| {
             Kernel::new(
                 ctx,
                 name,
                 &one_group::with_lanes(shaders::source(name), lanes),
             )
         };
+        let mut widths = vec![lanes];
+        for &w in &ctx.zone_trial {
+            let w = one_group::within(&ctx.limits, w);
+            if !widths.contains(&w) {
+                widths.push(w);
+            }
+        }
+        let zone = ctx.limits.max_storage_buffers_per_shader_stage >= ZONE_BINDINGS;
         IterationKernels {
             gather: BodyGather::new(ctx),
             zero: FillWords::new(ctx),
@@ -162,10 +171,12 @@ impl IterationKernels {
             sweep: ContactSweep::new(ctx),
             apply: ContactApply::new(ctx),
             relax: ContactRelax::new(ctx),
-            finish: ContactFinish(wide(ContactFinish::NAME)),
+            finish: ContactFinish(wide(ContactFinish::NAME, lanes)),
             report: ContactReportKernel::new(ctx),
-            zone: (ctx.limits.max_storage_buffers_per_shader_stage >= ZONE_BINDINGS)
-                .then(|| ContactZone(wide(ContactZone::NAME))),
+            zones: (widths.into_iter())
+                .filter(|_| zone)
+                .map(|w| (w, ContactZone(wide(ContactZone::NAME, w))))
+                .collect(),
             lanes,
         }
     }
@@ -196,8 +207,8 @@ struct Launches {
     finish: Launch,
     /// `contact_report`, [`Drift::None`] and [`Drift::Late`] (indexed by its value).
     report: [Launch; 2],
-    /// `contact_zone`, as `report`.
-    zone: Option<[Launch; 2]>,
+    /// `contact_zone`, as `report`, at each of the kernels' widths.
+    zone: Vec<[Launch; 2]>,
 }
 
 /// Whether the iteration's last kernel drifts the contact nodes: where the step's predictor
@@ -598,13 +609,20 @@ impl Bindings<'_> {
         )
     }
 
-    /// The whole iteration's launches, `contact_zone` (where the adapter runs it), each
-    /// [`Drift`]: one workgroup, Params.aux the contact nodes and aux2 the primary faces.
-    fn zone(&self) -> Option<[Launch; 2]> {
+    /// The whole iteration's launches, `contact_zone` at each width (where the adapter runs
+    /// it), each [`Drift`]: one workgroup, Params.aux the contact nodes and aux2 the primary
+    /// faces.
+    fn zone(&self) -> Vec<[Launch; 2]> {
+        (self.k.zones.iter())
+            .map(|(_, k)| self.zone_launches(k))
+            .collect()
+    }
+
+    /// [`Self::zone`] of kernel `k`.
+    fn zone_launches(&self, k: &ContactZone) -> [Launch; 2] {
         let (ctx, b, m, w) = (self.ctx, self.b, self.m, self.w);
         let sort = &w.sort;
-        let k = self.k.zone.as_ref()?;
-        Some([Drift::None, Drift::Late].map(|drift| {
+        [Drift::None, Drift::Late].map(|drift| {
             k.launch(
                 ctx,
                 self.np,
@@ -636,7 +654,7 @@ impl Bindings<'_> {
                 &w.late[drift as usize].buffer,
                 &w.bounds.buffer,
             )
-        }))
+        })
     }
 
     /// The report's launches, `contact_report`, each [`Drift`]: an invocation per pair
@@ -724,9 +742,10 @@ pub struct ImpulseSweeps {
     /// Where set, the search bounds' speed starts from this one (f32 bits) instead of zero:
     /// the fastest node of a model of which these nodes are a part ([`Self::set_speed_floor`]).
     speed_floor: Option<Launch>,
-    /// Whether a step's iteration runs in one workgroup (`contact_zone`) after the search,
-    /// rather than staged ([`Self::set_zone`]).
-    zone: bool,
+    /// Which width of `contact_zone` runs a step's iteration in one workgroup after the
+    /// search (an index into the kernels' widths), if it does rather than staged
+    /// ([`Self::set_zone`], [`Self::set_form`]).
+    zone: Option<usize>,
     /// Whether the staged iteration's recorded sweeps are `contact_relax` dispatches where
     /// it can run ([`Self::set_relax`]).
     relax: bool,
@@ -770,7 +789,7 @@ impl ImpulseSweeps {
             },
         }
         .launches(search.as_ref(), nodes);
-        let zone = launches.zone.is_some() && np <= ZONE_PAIRS;
+        let zone = (!launches.zone.is_empty() && np <= ZONE_PAIRS).then_some(0);
         let ModelBuffers {
             pairs,
             nodes: cnodes,
@@ -858,8 +877,8 @@ impl ImpulseSweeps {
     /// results do not depend on it. By default it runs on zones of at most [`ZONE_PAIRS`]
     /// pairs.
     pub fn set_zone(&mut self, zone: bool) -> bool {
-        self.zone = zone && self.launches.zone.is_some();
-        self.zone
+        self.zone = (zone && self.zone_available()).then_some(0);
+        self.zone.is_some()
     }
 
     /// Records the staged iteration's sweeps as `contact_relax` dispatches (one a sweep and
@@ -879,9 +898,9 @@ impl ImpulseSweeps {
     /// The form the iteration is recorded in, from the next recording on.
     pub fn form(&self) -> ContactForm {
         match (self.zone, self.runs_relax()) {
-            (true, _) => ContactForm::Zone,
-            (false, true) => ContactForm::Relax,
-            (false, false) => ContactForm::Staged,
+            (Some(i), _) => ContactForm::Zone(self.kernels.zones[i].0),
+            (None, true) => ContactForm::Relax,
+            (None, false) => ContactForm::Staged,
         }
     }
 
@@ -889,37 +908,42 @@ impl ImpulseSweeps {
     /// (otherwise the staged form); returns the form it is recorded in. The results do not
     /// depend on it.
     pub fn set_form(&mut self, form: ContactForm) -> ContactForm {
-        self.zone = form == ContactForm::Zone && self.zone_available();
-        if !self.zone {
+        self.zone = match form {
+            ContactForm::Zone(lanes) => (self.kernels.zones.iter())
+                .position(|(w, _)| *w == lanes)
+                .or((self.zone_available()).then_some(0)),
+            _ => None,
+        };
+        if self.zone.is_none() {
             self.set_relax(form == ContactForm::Relax);
         }
         self.form()
     }
 
-    /// The forms worth timing against each other on this adapter: `contact_zone` where it
-    /// runs and the zone has at most [`ZONE_TRIAL_PAIRS`] pairs, `contact_relax` where no
-    /// rigid body range gathers, and the two-dispatch sweeps.
+    /// The forms worth timing against each other on this adapter: `contact_zone` at each
+    /// width built where it runs and the zone has at most [`ZONE_TRIAL_PAIRS`] pairs,
+    /// `contact_relax` where no rigid body range gathers, and the two-dispatch sweeps.
     pub fn forms(&self) -> Vec<ContactForm> {
-        let zone = self.zone_available() && self.pairs <= ZONE_TRIAL_PAIRS;
-        let relax = !self.launches.relax.is_empty();
-        (ContactForm::ALL.into_iter())
-            .filter(|&f| match f {
-                ContactForm::Zone => zone,
-                ContactForm::Relax => relax,
-                ContactForm::Staged => true,
-            })
-            .collect()
+        let mut forms: Vec<ContactForm> = (self.kernels.zones.iter())
+            .filter(|_| self.pairs <= ZONE_TRIAL_PAIRS)
+            .map(|(w, _)| ContactForm::Zone(*w))
+            .collect();
+        if !self.launches.relax.is_empty() {
+            forms.push(ContactForm::Relax);
+        }
+        forms.push(ContactForm::Staged);
+        forms
     }
 
     /// Whether the adapter runs `contact_zone` (it binds [`ZONE_BINDINGS`] storage buffers
     /// per stage).
     pub fn zone_available(&self) -> bool {
-        self.launches.zone.is_some()
+        !self.launches.zone.is_empty()
     }
 
     /// Whether a step's iteration runs in one workgroup (no sweeps recorded).
     pub fn runs_zone(&self) -> bool {
-        self.zone
+        self.zone.is_some()
     }
 
     /// The lanes of the one-workgroup kernels, `contact_zone` and `contact_finish`.
@@ -1076,14 +1100,18 @@ impl ImpulseSweeps {
     }
 
     /// Dispatches `contact_zone`: the whole iteration after the search in one workgroup
-    /// (where the adapter runs it; nothing otherwise).
+    /// (where the adapter runs it; nothing otherwise), at the width the step runs it with
+    /// (the run's first otherwise).
     pub fn dispatch_zone(&self, pass: &mut wgpu::ComputePass) {
-        self.dispatch_zone_drifting(pass, Drift::None);
+        self.dispatch_zone_drifting(pass, self.zone.unwrap_or(0), Drift::None);
     }
 
-    /// Dispatches `contact_zone`, with the late nodes' drift as `drift` says.
-    fn dispatch_zone_drifting(&self, pass: &mut wgpu::ComputePass, drift: Drift) {
-        if let (Some(k), Some(l)) = (&self.kernels.zone, &self.launches.zone) {
+    /// Dispatches `contact_zone` at its `width`-th width, with the late nodes' drift as
+    /// `drift` says.
+    fn dispatch_zone_drifting(&self, pass: &mut wgpu::ComputePass, width: usize, drift: Drift) {
+        if let (Some((_, k)), Some(l)) =
+            (self.kernels.zones.get(width), self.launches.zone.get(width))
+        {
             k.0.dispatch_with(pass, &l[drift as usize].bind, [1, 1]);
         }
     }
@@ -1124,8 +1152,8 @@ impl ImpulseSweeps {
     ) {
         self.dispatch_search(pass, mode, predict);
         let drift = if predict { Drift::Late } else { Drift::None };
-        if self.zone {
-            self.dispatch_zone_drifting(pass, drift);
+        if let Some(width) = self.zone {
+            self.dispatch_zone_drifting(pass, width, drift);
             return;
         }
         self.dispatch_constraints(pass);

@@ -152,7 +152,9 @@ impl FormTrial {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use ContactForm::{Relax, Staged, Zone};
+    use ContactForm::{Relax, Staged};
+
+    const ZONE: ContactForm = ContactForm::Zone(256);
 
     /// Runs `n` submissions of `steps` steps through the trial, one in flight ahead of the
     /// one collected as the resident solver keeps them, each costing `cost(form)` seconds per
@@ -181,7 +183,7 @@ mod tests {
 
     fn costs(zone: f64, relax: f64, staged: f64) -> impl Fn(ContactForm) -> f64 {
         move |f| match f {
-            Zone => zone,
+            ContactForm::Zone(_) => zone,
             Relax => relax,
             Staged => staged,
         }
@@ -189,43 +191,43 @@ mod tests {
 
     #[test]
     fn the_first_round_times_each_form_twice_in_mirrored_order_then_takes_the_cheapest() {
-        let mut t = FormTrial::new(vec![Zone, Relax, Staged], Zone, true);
+        let mut t = FormTrial::new(vec![ZONE, Relax, Staged], ZONE, true);
         let forms = run(&mut t, 10, 10, costs(3.0, 1.0, 1.2));
         // two submissions before the round (the second was in flight when the first came
         // back), the round, one more in flight when it ended, then the choice
         assert_eq!(
             forms,
-            [Zone, Zone, Zone, Relax, Staged, Staged, Relax, Zone, Zone, Relax]
+            [ZONE, ZONE, ZONE, Relax, Staged, Staged, Relax, ZONE, ZONE, Relax]
         );
         assert_eq!(t.rounds, 1);
         assert_eq!(t.current(), Relax);
         // the zone, three times the cheapest, is not tried again
         assert_eq!(t.candidates, [Relax, Staged]);
-        assert_eq!(t.last_round, [(Zone, 3.0), (Relax, 1.0), (Staged, 1.2)]);
-        assert_eq!(t.steps[&Zone], 50);
+        assert_eq!(t.last_round, [(ZONE, 3.0), (Relax, 1.0), (Staged, 1.2)]);
+        assert_eq!(t.steps[&ZONE], 50);
         assert_eq!(t.steps[&Relax], 30);
         assert_eq!(t.steps[&Staged], 20);
     }
 
     #[test]
     fn later_rounds_start_at_twice_the_submissions_and_time_each_form_once() {
-        let mut t = FormTrial::new(vec![Zone, Relax, Staged], Zone, true);
+        let mut t = FormTrial::new(vec![ZONE, Relax, Staged], ZONE, true);
         // the first round ends with the eighth submission collected: the next starts after
         // the sixteenth
         let forms = run(&mut t, 20, 10, costs(1.1, 1.0, 1.2));
         assert_eq!(t.rounds, 2);
         assert_eq!(&forms[9..17], [Relax; 8]);
-        assert_eq!(&forms[17..20], [Zone, Relax, Staged]);
+        assert_eq!(&forms[17..20], [ZONE, Relax, Staged]);
         assert_eq!(t.current(), Relax);
     }
 
     #[test]
     fn the_run_keeps_its_form_within_the_margin() {
-        let mut t = FormTrial::new(vec![Zone, Relax], Zone, true);
+        let mut t = FormTrial::new(vec![ZONE, Relax], ZONE, true);
         run(&mut t, 8, 10, costs(1.0, 1.0 - MARGIN / 2.0, 2.0));
         assert_eq!(t.rounds, 1);
-        assert_eq!(t.current(), Zone);
-        let mut t = FormTrial::new(vec![Zone, Relax], Zone, true);
+        assert_eq!(t.current(), ZONE);
+        let mut t = FormTrial::new(vec![ZONE, Relax], ZONE, true);
         run(&mut t, 8, 10, costs(1.0, 1.0 - 2.0 * MARGIN, 2.0));
         assert_eq!(t.current(), Relax);
     }
@@ -247,7 +249,7 @@ mod tests {
 
     #[test]
     fn no_rounds_without_timestamps_with_one_form_or_once_fixed() {
-        let mut t = FormTrial::new(vec![Zone, Relax, Staged], Relax, false);
+        let mut t = FormTrial::new(vec![ZONE, Relax, Staged], Relax, false);
         assert!(run(&mut t, 12, 10, costs(0.1, 1.0, 1.0))
             .iter()
             .all(|&f| f == Relax));
@@ -257,7 +259,7 @@ mod tests {
             .iter()
             .all(|&f| f == Staged));
         assert_eq!(t.rounds, 0);
-        let mut t = FormTrial::new(vec![Zone, Relax, Staged], Zone, true);
+        let mut t = FormTrial::new(vec![ZONE, Relax, Staged], ZONE, true);
         t.fix(Staged);
         assert!(run(&mut t, 12, 10, costs(0.1, 0.1, 1.0))
             .iter()

@@ -771,14 +771,14 @@ impl Integrator for ResidentSolver<'_> {
     }
 
     fn contact_zone(&self) -> Option<bool> {
-        (self.forms.as_ref()).map(|f| f.current() == ContactForm::Zone)
+        (self.forms.as_ref()).map(|f| f.current().is_zone())
     }
 
     fn contact_forms(&self) -> Option<ContactForms> {
         self.forms.as_ref().map(|f| ContactForms {
-            chosen: f.current().name().to_string(),
+            chosen: f.current().name(),
             steps: (f.steps.iter())
-                .map(|(form, &n)| (form.name().to_string(), n))
+                .map(|(form, &n)| (form.name(), n))
                 .collect(),
             rounds: f.rounds,
         })
