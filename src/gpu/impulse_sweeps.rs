@@ -137,8 +137,10 @@ struct IterationKernels {
 
 impl IterationKernels {
     /// Builds the pipelines of every kernel of the iteration, once; the one-workgroup
-    /// kernels with [`GpuContext::zone_lanes`] lanes (within the adapter's limits).
-    fn new(ctx: &GpuContext) -> Self {
+    /// kernels with [`GpuContext::zone_lanes`] lanes (within the adapter's limits), and
+    /// `contact_zone` at the context's further widths where `trial` (the run's trial can
+    /// time them).
+    fn new(ctx: &GpuContext, trial: bool) -> Self {
         let lanes = one_group::within(&ctx.limits, ctx.zone_lanes);
         let wide = |name: &'static str, lanes: u32| {
             Kernel::new(
@@ -148,7 +150,7 @@ impl IterationKernels {
             )
         };
         let mut widths = vec![lanes];
-        for &w in &ctx.zone_trial {
+        for &w in ctx.zone_trial.iter().filter(|_| trial) {
             let w = one_group::within(&ctx.limits, w);
             if !widths.contains(&w) {
                 widths.push(w);
@@ -759,7 +761,13 @@ impl ImpulseSweeps {
         nodes: usize,
         max_iterations: u32,
     ) -> Result<Self> {
-        let kernels = IterationKernels::new(ctx);
+        // the further widths where the run's trial times the zone (timestamps, a zone of
+        // at most ZONE_TRIAL_PAIRS pairs)
+        let timed = ctx
+            .device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY);
+        let kernels = IterationKernels::new(ctx, timed && setup.pairs.len() <= ZONE_TRIAL_PAIRS);
         let (np, nf) = (setup.pairs.len(), setup.faces.len());
         let model = ModelBuffers::upload(ctx, setup, nodes)?;
         let work = WorkBuffers::new(ctx, (np, nf, nodes), setup.rigid.len(), &setup.nodes)?;
