@@ -352,10 +352,12 @@ fn run_command(
         return Ok(exit::SUCCESS);
     }
     println!(
-        "{}: {} steps in {:.2} s on {} ({} contact iterations, at most {} in a step); energy {:.6e} -> {:.6e}; {}; results in {}",
+        "{}: {} steps in {:.2} s{} on {} ({} contact iterations, at most {} in a step); energy {:.6e} -> {:.6e}; {}; results in {}",
         scene.display(),
         s.steps,
         s.wall_seconds,
+        s.device_seconds
+            .map_or(String::new(), |d| format!(" ({d:.2} s on the device)")),
         s.device,
         s.iterations_total,
         s.iterations_max,
