@@ -73,10 +73,16 @@ impl FormTrial {
         }
     }
 
-    /// Records every submission from the next on in `form`: no more rounds.
+    /// Records every submission from the next on in `form`: no more rounds (a round under
+    /// way ends without a choice; its submissions in flight are counted, not timed).
     pub fn fix(&mut self, form: ContactForm) {
         self.current = form;
         self.plan.clear();
+        self.round.clear();
+        self.outstanding = 0;
+        for slot in &mut self.per_slot {
+            slot.1 = false;
+        }
         self.next_round = None;
     }
 
@@ -265,5 +271,26 @@ mod tests {
             .iter()
             .all(|&f| f == Staged));
         assert_eq!(t.rounds, 0);
+    }
+
+    #[test]
+    fn a_form_fixed_during_a_round_stays() {
+        let mut t = FormTrial::new(vec![ZONE, Relax, Staged], ZONE, true);
+        // the round starts with the first submission collected; its first timed one is in
+        // flight when the caller fixes the form
+        assert_eq!(t.submitting(0), ZONE);
+        assert_eq!(t.submitting(1), ZONE);
+        let time = SubmissionTime {
+            steps: 10,
+            device: Some(1.0),
+            host: 0.0,
+        };
+        t.collected(0, time);
+        assert_eq!(t.submitting(0), ZONE);
+        t.fix(Staged);
+        t.collected(1, time);
+        t.collected(0, time);
+        assert_eq!((t.rounds, t.current()), (0, Staged));
+        assert!((0..6).all(|k| t.submitting(k % 2) == Staged));
     }
 }
