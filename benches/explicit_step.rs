@@ -209,10 +209,14 @@ fn time_resident(
     if let Some(relax) = on_off("--relax") {
         s.fix_contact_relax(relax);
     }
-    // the run's trial of the contact iteration's forms (none with a form fixed above) ends
-    // its first round before the timed steps
+    // the run's trial of the contact iteration's forms (none with a form fixed above, without
+    // timestamps or with one form) ends its first round before the timed steps
     let mut submissions = 0;
-    while s.form_trial().is_some_and(|t| t.rounds == 0) && submissions < 64 {
+    while s
+        .form_trial()
+        .is_some_and(|t| t.rounds == 0 && t.trialling())
+        && submissions < 64
+    {
         for _ in 0..chunk {
             s.step().expect("the forms' trial");
         }

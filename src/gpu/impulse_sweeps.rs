@@ -922,9 +922,8 @@ impl ImpulseSweeps {
                 .or((self.zone_available()).then_some(0)),
             _ => None,
         };
-        if self.zone.is_none() {
-            self.set_relax(form == ContactForm::Relax);
-        }
+        // staged after the zone, the sweeps take `contact_relax` unless the form says not
+        self.set_relax(form != ContactForm::Staged);
         self.form()
     }
 

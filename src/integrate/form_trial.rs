@@ -86,6 +86,12 @@ impl FormTrial {
         self.next_round = None;
     }
 
+    /// Whether a round is under way or will start (timestamps, more than one form, not
+    /// fixed).
+    pub fn trialling(&self) -> bool {
+        self.next_round.is_some() || !self.plan.is_empty() || self.outstanding > 0
+    }
+
     /// The form the run records outside the rounds (the last round's choice).
     pub fn current(&self) -> ContactForm {
         self.current
@@ -291,6 +297,7 @@ mod tests {
         t.collected(1, time);
         t.collected(0, time);
         assert_eq!((t.rounds, t.current()), (0, Staged));
+        assert!(!t.trialling());
         assert!((0..6).all(|k| t.submitting(k % 2) == Staged));
     }
 }
