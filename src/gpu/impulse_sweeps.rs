@@ -754,12 +754,14 @@ pub struct ImpulseSweeps {
 }
 
 impl ImpulseSweeps {
+    /// The iteration on `setup`; with `trial`, where the caller's run times the forms
+    /// ([`Self::forms`]), `contact_zone` at the context's further widths too.
     pub fn new(
         ctx: &GpuContext,
         b: &StepBuffers,
         setup: &ContactSetup,
-        nodes: usize,
-        max_iterations: u32,
+        (nodes, max_iterations): (usize, u32),
+        trial: bool,
     ) -> Result<Self> {
         // the further widths where the run's trial times the zone (timestamps, a zone of
         // at most ZONE_TRIAL_PAIRS pairs)
@@ -767,7 +769,8 @@ impl ImpulseSweeps {
             .device
             .features()
             .contains(wgpu::Features::TIMESTAMP_QUERY);
-        let kernels = IterationKernels::new(ctx, timed && setup.pairs.len() <= ZONE_TRIAL_PAIRS);
+        let trial = trial && timed && setup.pairs.len() <= ZONE_TRIAL_PAIRS;
+        let kernels = IterationKernels::new(ctx, trial);
         let (np, nf) = (setup.pairs.len(), setup.faces.len());
         let model = ModelBuffers::upload(ctx, setup, nodes)?;
         let work = WorkBuffers::new(ctx, (np, nf, nodes), setup.rigid.len(), &setup.nodes)?;

@@ -639,12 +639,13 @@ impl ResidentStep {
             acceleration: &m.a.buffer,
             lumped: &m.lumped.buffer,
         };
+        // the resident solver's trial times the forms
         Ok(Some(ImpulseSweeps::new(
             &k.ctx,
             &buffers,
             c,
-            k.nodes,
-            setup.max_iterations,
+            (k.nodes, setup.max_iterations),
+            true,
         )?))
     }
 

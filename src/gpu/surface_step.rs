@@ -84,7 +84,8 @@ impl SurfaceStep {
             acceleration: &a.buffer,
             lumped: &lumped.buffer,
         };
-        let contact = ImpulseSweeps::new(&ctx, &buffers, setup, nodes, max_iterations)?;
+        // a rank's surface iteration keeps its form: no trial
+        let contact = ImpulseSweeps::new(&ctx, &buffers, setup, (nodes, max_iterations), false)?;
         // the interfaces' columns of the history row, as the single GPU's step reduces them
         let columns = row_columns(&[], &pair_slots(&setup.interfaces), &[]);
         let row_len = columns.len();
