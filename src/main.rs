@@ -194,7 +194,17 @@ fn real_main() -> anyhow::Result<u8> {
         pool = pool.num_threads(n);
     }
     let pool = pool.build().context("setting up the CPU threads")?;
-    pool.install(|| command(cli.command))
+    let code = pool.install(|| command(cli.command));
+    close_devices();
+    code
+}
+
+/// Closes the GPU devices the process opened, before it ends; a failure there comes after
+/// the results are written and does not change them, so it is a warning.
+fn close_devices() {
+    if let Err(e) = impact::gpu::close_devices() {
+        eprintln!("warning: closing the GPU devices: {e}");
+    }
 }
 
 /// Runs one command of the command line.
@@ -393,10 +403,15 @@ fn run_scene(sc: &Scene, opts: RunOptions) -> anyhow::Result<(impact::output::Su
     let universe = mpi::initialize().context("initialising MPI")?;
     let world = universe.world();
     if world.size() == 1 {
-        return Ok((run(sc, &opts)?, true));
+        let ran = run(sc, &opts);
+        close_devices();
+        return Ok((ran?, true));
     }
     let ranks = MpiRanks::new(world);
-    match impact::run::run_ranks(sc, &opts, &ranks) {
+    let ran = impact::run::run_ranks(sc, &opts, &ranks);
+    // the devices close before `MPI_Finalize` (when `universe` drops)
+    close_devices();
+    match ran {
         Ok(s) => Ok((s, ranks.rank() == 0)),
         // an error every rank meets alike ends every rank; rank 0 says why
         Err(e) if same_on_every_rank(&e) => match ranks.rank() {

@@ -168,6 +168,21 @@ fn opened() -> std::sync::MutexGuard<'static, Opened> {
     OPENED.lock().unwrap_or_else(|e| e.into_inner())
 }
 
+/// Waits for every device the process opened to finish its work, then closes those that
+/// no run still holds. Called before the process ends (and before `MPI_Finalize` on a
+/// rank): a device left open at exit is torn down by the driver's own exit handlers, which
+/// on lavapipe can run while its worker threads still hold the device, and end the
+/// process with a signal after a run that succeeded. A later [`GpuContext::open`] opens a
+/// device again.
+pub fn close_devices() -> Result<()> {
+    let closing = std::mem::take(&mut *opened());
+    for ctx in closing.iter().filter_map(|(_, c)| c.as_ref()) {
+        ctx.wait()?;
+    }
+    drop(closing);
+    Ok(())
+}
+
 /// The adapters the processes of a decomposed run on one machine take in turn (by their
 /// place among them, modulo the count), as indices into `ranked` (usable adapters, best
 /// first): those of the best one's kind on its backend, each card once (by its PCI bus,

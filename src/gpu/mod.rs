@@ -30,7 +30,7 @@ pub mod surface_step;
 pub mod types;
 
 pub use contact_form::ContactForm;
-pub use context::{list_adapters, AdapterPolicy, AdapterSummary, GpuContext};
+pub use context::{close_devices, list_adapters, AdapterPolicy, AdapterSummary, GpuContext};
 pub use corner_select::CornerSelection;
 pub use engine::GpuKernels;
 pub use impulse_sweeps::{ContactSetup, ImpulseSweeps};
