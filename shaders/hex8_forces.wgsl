@@ -1,5 +1,6 @@
 // Corner forces of linear elastic hex8 elements, f_e = sum_g det J B^T sigma over the 2x2x2
-// Gauss points (twin: `kernels::hex8_forces`), unrolled in `shared/element.wgsl`.
+// Gauss points (twin: `kernels::hex8_forces`), in the element's modal form (a third of the
+// Gauss-point sum's arithmetic; `shared/element.wgsl`).
 // One invocation per element; node_gather sums the corners to the nodes in a fixed order.
 //
 // Layouts (neighbouring invocations touch neighbouring words, `element::CornerLayout`): node
@@ -60,16 +61,20 @@ fn hex8_forces(@builtin(global_invocation_id) gid: vec3<u32>) {
         split_difference(displacement[n7], d0),
     );
     let m = materials[block_material[e]];
+    let a = hex_modes(x);
+    let b = hex_modes(u);
+    // the twin's order of the Gauss points (xi fastest)
     let q = GAUSS;
-    var f = HexCorners(zero, zero, zero, zero, zero, zero, zero, zero);
-    f = hex_gauss_corners(f, x, u, m, vec3<f32>(-q, -q, -q));
-    f = hex_gauss_corners(f, x, u, m, vec3<f32>(q, -q, -q));
-    f = hex_gauss_corners(f, x, u, m, vec3<f32>(q, q, -q));
-    f = hex_gauss_corners(f, x, u, m, vec3<f32>(-q, q, -q));
-    f = hex_gauss_corners(f, x, u, m, vec3<f32>(-q, -q, q));
-    f = hex_gauss_corners(f, x, u, m, vec3<f32>(q, -q, q));
-    f = hex_gauss_corners(f, x, u, m, vec3<f32>(q, q, q));
-    f = hex_gauss_corners(f, x, u, m, vec3<f32>(-q, q, q));
+    let zero_modes = HexModes(zero, zero, zero, zero, zero, zero, zero);
+    var fm = hex_modal_point(zero_modes, a, b, m, vec3<f32>(-q, -q, -q));
+    fm = hex_modal_point(fm, a, b, m, vec3<f32>(q, -q, -q));
+    fm = hex_modal_point(fm, a, b, m, vec3<f32>(-q, q, -q));
+    fm = hex_modal_point(fm, a, b, m, vec3<f32>(q, q, -q));
+    fm = hex_modal_point(fm, a, b, m, vec3<f32>(-q, -q, q));
+    fm = hex_modal_point(fm, a, b, m, vec3<f32>(q, -q, q));
+    fm = hex_modal_point(fm, a, b, m, vec3<f32>(-q, q, q));
+    fm = hex_modal_point(fm, a, b, m, vec3<f32>(q, q, q));
+    let f = hex_corners_of_modes(fm);
     store_corner(e, f.c0);
     store_corner(ne + e, f.c1);
     store_corner(2u * ne + e, f.c2);

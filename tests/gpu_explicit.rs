@@ -476,11 +476,14 @@ fn resident_explicit_matches_the_cpu_twin_over_1000_steps() {
     // thrown so that it lands on an edge and rattles on its corners is a poorer check: each
     // corner impact amplifies the f32/f64 difference, to 3e-4 of the force scale at 1,000
     // steps on llvmpipe's GL driver.)
-    // 2e-4: at the device's contact tolerance (1e-5 of the speed scale, on both) the probe
-    // at the block's corner differs by up to 1.7e-4 of the speed scale (lavapipe): the
-    // iterations stop at the tolerance a sweep apart, and the corner, pressed on the floor
-    // and the wall, keeps the difference. Every other column stays within 1e-4.
-    resident_against_cpu("resident", &slide_scene(0.73, false), 0.125, 2e-4);
+    // 3e-4: at the device's contact tolerance (1e-5 of the speed scale, on both) the probe
+    // at the block's corner differs by up to 2.4e-4 of the speed scale (lavapipe; 1.7e-4
+    // with the hex8 forces summed at the Gauss points instead of in the modal form): the
+    // corner, pressed on the floor and the wall, rattles (its vz swings between -0.3 and
+    // 0.12 over a few steps), the iterations stop at the tolerance a sweep apart, and the
+    // difference peaks at single rattling steps (median 4e-6 over the run). Every other
+    // column stays within 1e-4.
+    resident_against_cpu("resident", &slide_scene(0.73, false), 0.125, 3e-4);
 }
 
 /// Frames cut the submissions (the state is read back at each): the history must not change.

@@ -51,60 +51,111 @@ struct HexCorners {
     c7: vec3<f32>,
 }
 
-// dN_k/dxi at p for the corner at c of the parent cube.
-fn hex_dn(c: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
-    let s = vec3<f32>(1.0) + c * p;
-    return 0.125 * vec3<f32>(c.x * s.y * s.z, s.x * c.y * s.z, s.x * s.y * c.z);
+// The modal coefficients of eight corner values: with the corner signs (xi_k, eta_k,
+// zeta_k) of `element::hex8::CORNERS`, m1..m7 are 1/8 sum_k h_m(k) c_k for the mode signs
+// h = (xi, eta, zeta, xi eta, eta zeta, xi zeta, xi eta zeta). The constant mode m0 drops
+// out of every gradient and is left out. (Twin: `kernels::hex8_forces::modes`.)
+struct HexModes {
+    m1: vec3<f32>,
+    m2: vec3<f32>,
+    m3: vec3<f32>,
+    m4: vec3<f32>,
+    m5: vec3<f32>,
+    m6: vec3<f32>,
+    m7: vec3<f32>,
 }
 
-// Adds Gauss point p (weight 1) to the corner forces f: f_k += det J sigma grad N_k.
-fn hex_gauss_corners(f: HexCorners, x: HexCorners, u: HexCorners, m: Material, p: vec3<f32>) -> HexCorners {
-    let d0 = hex_dn(vec3<f32>(-1.0, -1.0, -1.0), p);
-    let d1 = hex_dn(vec3<f32>(1.0, -1.0, -1.0), p);
-    let d2 = hex_dn(vec3<f32>(1.0, 1.0, -1.0), p);
-    let d3 = hex_dn(vec3<f32>(-1.0, 1.0, -1.0), p);
-    let d4 = hex_dn(vec3<f32>(-1.0, -1.0, 1.0), p);
-    let d5 = hex_dn(vec3<f32>(1.0, -1.0, 1.0), p);
-    let d6 = hex_dn(vec3<f32>(1.0, 1.0, 1.0), p);
-    let d7 = hex_dn(vec3<f32>(-1.0, 1.0, 1.0), p);
-    // J (columns d/dxi_b) = sum_k x_k dN_k/dxi_b
-    let j = mat3x3<f32>(x.c0 * d0.x, x.c0 * d0.y, x.c0 * d0.z)
-        + mat3x3<f32>(x.c1 * d1.x, x.c1 * d1.y, x.c1 * d1.z)
-        + mat3x3<f32>(x.c2 * d2.x, x.c2 * d2.y, x.c2 * d2.z)
-        + mat3x3<f32>(x.c3 * d3.x, x.c3 * d3.y, x.c3 * d3.z)
-        + mat3x3<f32>(x.c4 * d4.x, x.c4 * d4.y, x.c4 * d4.z)
-        + mat3x3<f32>(x.c5 * d5.x, x.c5 * d5.y, x.c5 * d5.z)
-        + mat3x3<f32>(x.c6 * d6.x, x.c6 * d6.y, x.c6 * d6.z)
-        + mat3x3<f32>(x.c7 * d7.x, x.c7 * d7.y, x.c7 * d7.z);
-    let det = determinant(j);
-    let inv_t = cofactor(j) * (1.0 / det);
-    let g0 = inv_t * d0;
-    let g1 = inv_t * d1;
-    let g2 = inv_t * d2;
-    let g3 = inv_t * d3;
-    let g4 = inv_t * d4;
-    let g5 = inv_t * d5;
-    let g6 = inv_t * d6;
-    let g7 = inv_t * d7;
-    // h[b] = sum_k u_k g_k,b
-    let h = mat3x3<f32>(u.c0 * g0.x, u.c0 * g0.y, u.c0 * g0.z)
-        + mat3x3<f32>(u.c1 * g1.x, u.c1 * g1.y, u.c1 * g1.z)
-        + mat3x3<f32>(u.c2 * g2.x, u.c2 * g2.y, u.c2 * g2.z)
-        + mat3x3<f32>(u.c3 * g3.x, u.c3 * g3.y, u.c3 * g3.z)
-        + mat3x3<f32>(u.c4 * g4.x, u.c4 * g4.y, u.c4 * g4.z)
-        + mat3x3<f32>(u.c5 * g5.x, u.c5 * g5.y, u.c5 * g5.z)
-        + mat3x3<f32>(u.c6 * g6.x, u.c6 * g6.y, u.c6 * g6.z)
-        + mat3x3<f32>(u.c7 * g7.x, u.c7 * g7.y, u.c7 * g7.z);
-    let s = elastic_stress(h, m);
+// The modes of corner values c, in three stages of sums and differences (xi, eta, zeta).
+fn hex_modes(c: HexCorners) -> HexModes {
+    // pairs along xi: corners 0-1, 3-2, 4-5, 7-6
+    let s01 = c.c1 + c.c0;
+    let d01 = c.c1 - c.c0;
+    let s32 = c.c2 + c.c3;
+    let d32 = c.c2 - c.c3;
+    let s45 = c.c5 + c.c4;
+    let d45 = c.c5 - c.c4;
+    let s76 = c.c6 + c.c7;
+    let d76 = c.c6 - c.c7;
+    // along eta, on the bottom (zeta = -1) and top faces
+    let ss_b = s32 + s01;
+    let sd_b = s32 - s01;
+    let ss_t = s76 + s45;
+    let sd_t = s76 - s45;
+    let ds_b = d32 + d01;
+    let dd_b = d32 - d01;
+    let ds_t = d76 + d45;
+    let dd_t = d76 - d45;
+    // along zeta
+    return HexModes(
+        0.125 * (ds_t + ds_b),
+        0.125 * (sd_t + sd_b),
+        0.125 * (ss_t - ss_b),
+        0.125 * (dd_t + dd_b),
+        0.125 * (sd_t - sd_b),
+        0.125 * (ds_t - ds_b),
+        0.125 * (dd_t - dd_b),
+    );
+}
+
+// The corner values f_k = 1/8 sum_m h_m(k) F_m of modal forces F (F_0 = 0): the stages of
+// `hex_modes` in reverse.
+fn hex_corners_of_modes(f: HexModes) -> HexCorners {
+    let ss_t = f.m3;
+    let ss_b = -f.m3;
+    let sd_t = f.m2 + f.m5;
+    let sd_b = f.m2 - f.m5;
+    let ds_t = f.m1 + f.m6;
+    let ds_b = f.m1 - f.m6;
+    let dd_t = f.m4 + f.m7;
+    let dd_b = f.m4 - f.m7;
+    let s76 = ss_t + sd_t;
+    let s45 = ss_t - sd_t;
+    let s32 = ss_b + sd_b;
+    let s01 = ss_b - sd_b;
+    let d76 = ds_t + dd_t;
+    let d45 = ds_t - dd_t;
+    let d32 = ds_b + dd_b;
+    let d01 = ds_b - dd_b;
+    return HexCorners(
+        0.125 * (s01 - d01),
+        0.125 * (s01 + d01),
+        0.125 * (s32 + d32),
+        0.125 * (s32 - d32),
+        0.125 * (s45 - d45),
+        0.125 * (s45 + d45),
+        0.125 * (s76 + d76),
+        0.125 * (s76 - d76),
+    );
+}
+
+// The derivatives of a modal field at p: column b is d/dxi_b.
+fn hex_modal_gradient(a: HexModes, p: vec3<f32>) -> mat3x3<f32> {
+    return mat3x3<f32>(
+        a.m1 + a.m4 * p.y + a.m6 * p.z + a.m7 * (p.y * p.z),
+        a.m2 + a.m4 * p.x + a.m5 * p.z + a.m7 * (p.x * p.z),
+        a.m3 + a.m5 * p.y + a.m6 * p.x + a.m7 * (p.x * p.y),
+    );
+}
+
+// Adds Gauss point p (weight 1) to the modal forces f of the map's modes a and the
+// displacement's modes b: F_m += det J sigma J^{-T} grad phi_m(p), with det J J^{-T} the
+// cofactor matrix (twin: `kernels::hex8_forces::gauss_point`).
+fn hex_modal_point(f: HexModes, a: HexModes, b: HexModes, m: Material, p: vec3<f32>) -> HexModes {
+    let j = hex_modal_gradient(a, p);
+    let d = hex_modal_gradient(b, p);
+    let c = cofactor(j);
+    let det = dot(j[0], c[0]);
+    // du/dx = D J^{-1}, J^{-1} = c^T / det
+    let h = (d * transpose(c)) * (1.0 / det);
+    let q = elastic_stress(h, m) * c;
     var out = f;
-    out.c0 += (s * g0) * det;
-    out.c1 += (s * g1) * det;
-    out.c2 += (s * g2) * det;
-    out.c3 += (s * g3) * det;
-    out.c4 += (s * g4) * det;
-    out.c5 += (s * g5) * det;
-    out.c6 += (s * g6) * det;
-    out.c7 += (s * g7) * det;
+    out.m1 += q[0];
+    out.m2 += q[1];
+    out.m3 += q[2];
+    out.m4 += q[0] * p.y + q[1] * p.x;
+    out.m5 += q[1] * p.z + q[2] * p.y;
+    out.m6 += q[0] * p.z + q[2] * p.x;
+    out.m7 += q[0] * (p.y * p.z) + q[1] * (p.x * p.z) + q[2] * (p.x * p.y);
     return out;
 }
 
