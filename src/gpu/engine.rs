@@ -470,6 +470,15 @@ impl GpuKernels {
         self.dispatch_internal_forces(&mut pass);
     }
 
+    /// Records the element kernels alone in one pass.
+    pub(super) fn record_element_kernels(&self, enc: &mut wgpu::CommandEncoder) {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("element_kernels"),
+            timestamp_writes: None,
+        });
+        self.dispatch_element_kernels(&mut pass);
+    }
+
     /// Uploads the velocities alone.
     pub(super) fn upload_velocity(&mut self, v: &[f64]) -> Result<()> {
         self.upload_nodal(true, v)

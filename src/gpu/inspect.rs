@@ -373,8 +373,14 @@ impl GpuSearch {
 pub enum Stage {
     Predict,
     PlaneContact,
+    /// The predictor in the search's bounds and the contact iteration, which drifts every
+    /// node, as a step records them where the iteration [`ResidentStep::predicts`].
+    PredictContact,
     Drift,
+    /// The element kernels and the gather.
     InternalForces,
+    /// The element kernels alone (the corner forces).
+    ElementForces,
     Correct,
     /// `gather_correct`: the gather and the corrector in one dispatch, from the corner
     /// forces the last `InternalForces` left.
@@ -409,8 +415,16 @@ impl ResidentStep {
                     c.record(enc, |c, p| c.dispatch(p, self.sweeps(), SearchMode::Build));
                 }
             }
+            Stage::PredictContact => {
+                if let Some(c) = &self.contact {
+                    c.record(enc, |c, p| {
+                        c.dispatch_predicting(p, self.sweeps(), SearchMode::Build)
+                    });
+                }
+            }
             Stage::Drift => k.drift.0.record_launch(enc, &l.drift),
             Stage::InternalForces => self.k.record_internal_forces(enc),
+            Stage::ElementForces => self.k.record_element_kernels(enc),
             Stage::Correct => k.correct.0.record_launch(enc, &l.correct),
             Stage::GatherCorrect => k.gather_correct.0.record_launch(enc, &l.gather_correct),
             Stage::Reduce => k.reduce.0.record_launch(enc, &l.reduce[0]),

@@ -711,6 +711,14 @@ impl ResidentStep {
         )
     }
 
+    /// Whether the step runs its predictor in the contact search's bounds and its contact
+    /// iteration drifts every node (no `explicit_predict` or `explicit_drift`): where the
+    /// iteration has a device search and no rigid planes' kernel runs between the
+    /// predictor and the iteration.
+    pub fn predicts(&self) -> bool {
+        self.launches.plane.is_none() && self.contact.as_ref().is_some_and(|c| c.predicts())
+    }
+
     /// Dispatches the step's stages before the contact iteration (the predictor, and the
     /// rigid planes' impulses when they are the only contacts).
     pub(super) fn dispatch_front(&self, pass: &mut wgpu::ComputePass) {
@@ -780,9 +788,7 @@ impl ResidentStep {
         for j in 0..steps {
             let mode = self.search_mode(j);
             let drifted = match &self.contact {
-                // no rigid planes' kernel runs between the predictor and the iteration; the
-                // iteration drifts every node
-                Some(c) if c.predicts() && self.launches.plane.is_none() => {
+                Some(c) if self.predicts() => {
                     c.dispatch_predicting(&mut pass, self.sweeps, mode);
                     true
                 }
