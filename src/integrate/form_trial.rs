@@ -7,7 +7,7 @@
 //! After the first submission (the pipelines' first use), a round records submissions in
 //! each form in turn, twice in the first round and in mirrored order (A B C C B A, so that a
 //! drift of the scene's cost over the round weighs on every form alike), once in later
-//! rounds. A submission's cost per step is the slower of the device's time for its compute
+//! rounds, forwards and backwards in turn. A submission's cost per step is the slower of the device's time for its compute
 //! pass and the host's time to record it (the two overlap: the host records a submission
 //! while the device runs the one before). At the round's end the run takes the cheapest
 //! form, unless the one it has is within [`MARGIN`] of it; a form more than [`KEEP_WITHIN`]
@@ -130,11 +130,15 @@ impl FormTrial {
     }
 
     /// Plans the round's submissions: each candidate twice, in mirrored order, in the first
-    /// round; once in later ones.
+    /// round; once in later ones, in the candidates' order and reversed in turn (so that a
+    /// cost that drifts over a round does not weigh on the same form in every round).
     fn start_round(&mut self) {
-        self.plan.extend(self.candidates.iter().copied());
-        if self.rounds == 0 {
-            self.plan.extend(self.candidates.iter().rev().copied());
+        let forward = self.candidates.iter().copied();
+        let reversed = self.candidates.iter().rev().copied();
+        match self.rounds {
+            0 => self.plan.extend(forward.chain(reversed)),
+            r if r % 2 == 1 => self.plan.extend(forward),
+            _ => self.plan.extend(reversed),
         }
     }
 
@@ -231,6 +235,12 @@ mod tests {
         assert_eq!(&forms[9..17], [Relax; 8]);
         assert_eq!(&forms[17..20], [ZONE, Relax, Staged]);
         assert_eq!(t.current(), Relax);
+        // the third round, after the fortieth, takes them in reverse order
+        let mut t = FormTrial::new(vec![ZONE, Relax, Staged], ZONE, true);
+        let forms = run(&mut t, 44, 10, costs(1.1, 1.0, 1.2));
+        assert_eq!(t.rounds, 3);
+        assert_eq!(&forms[20..41], [Relax; 21]);
+        assert_eq!(&forms[41..44], [Staged, Relax, ZONE]);
     }
 
     #[test]
