@@ -7,8 +7,11 @@
 #   bash scripts/device_check.sh prepare   # here: the loader packages (.gl/), the stripped
 #                                          # binaries and the project (.gpu/)
 #   bash scripts/device_check.sh device    # there, with carry [".gl", ".gpu"]
-#   bash scripts/device_check.sh pack-bench LABEL   # here: this build's explicit_step bench
-#   bash scripts/device_check.sh bench ARGS         # there: every packed bench with ARGS
+#   bash scripts/device_check.sh pack-bench LABEL   # here: this build's explicit_step and
+#                                                   # kernels benches
+#   bash scripts/device_check.sh bench ARGS         # there: every packed explicit_step
+#                                                   # bench with ARGS
+#   bash scripts/device_check.sh kernels ARGS       # there: every packed kernels bench
 #   bash scripts/device_check.sh pack-ranks         # here: OpenMPI's runtime (.gl/mpi/),
 #                                                   # impact with MPI and the ranks bench
 #   bash scripts/device_check.sh ranks ARGS         # there: the ranks bench with ARGS, e.g.
@@ -102,31 +105,35 @@ device() {
     tar czf "$final"/results.tgz -C "$out" .
 }
 
-# Packs this build's explicit_step bench as .gpu/bench/explicit_step_<label> (several labels
-# side by side: a build before a change and after it, timed in one call on one card).
+# Packs this build's explicit_step and kernels benches as .gpu/bench/<bench>_<label> (several
+# labels side by side: a build before a change and after it, timed in one call on one card).
 pack_bench() {
     cd "$here"
     label=${1:?a label}
-    cargo build --release --bench explicit_step
-    f=$(ls -t target/release/deps/explicit_step-* | grep -v '\.d$' | head -1)
+    cargo build --release --bench explicit_step --bench kernels
     mkdir -p .gpu/bench
-    strip -o .gpu/bench/explicit_step_"$label" "$f"
-    gzip -f .gpu/bench/explicit_step_"$label"
+    for b in explicit_step kernels; do
+        f=$(ls -t target/release/deps/"$b"-* | grep -v '\.d$' | head -1)
+        strip -o .gpu/bench/"$b"_"$label" "$f"
+        gzip -f .gpu/bench/"$b"_"$label"
+    done
     du -sh .gpu/bench
 }
 
-# Runs every packed explicit_step bench with the arguments given, in label order, each
-# table into $OUT/bench_<label>.md.
-bench() {
+# Runs every packed bench $1 (explicit_step or kernels) with the arguments after it, in
+# label order, each table into $OUT/<bench>_<label>.md.
+run_benches() {
     use_card
+    name=$1
+    shift
     final=${OUT:-/tmp/out}
     mkdir -p "$final"
     dir=$(mktemp -d)
-    for g in "$here"/.gpu/bench/explicit_step_*.gz; do
+    for g in "$here"/.gpu/bench/"$name"_*.gz; do
         label=$(basename "$g" .gz)
-        label=${label#explicit_step_}
+        label=${label#"$name"_}
         gunzip -c "$g" > "$dir/$label" && chmod +x "$dir/$label"
-        "$dir/$label" "$@" 2>&1 | tee "$final/bench_$label.md" | tail -5
+        "$dir/$label" "$@" 2>&1 | tee "$final/${name}_$label.md" | tail -5
     done
 }
 
@@ -190,8 +197,9 @@ case "${1:-}" in
 prepare) prepare ;;
 device) device ;;
 pack-bench) pack_bench "${2:-}" ;;
-bench) shift; bench "$@" ;;
+bench) shift; run_benches explicit_step "$@" ;;
+kernels) shift; run_benches kernels "$@" ;;
 pack-ranks) pack_ranks ;;
 ranks) shift; ranks "$@" ;;
-*) echo "usage: $0 prepare|device|pack-bench LABEL|bench ARGS|pack-ranks|ranks ARGS" >&2; exit 2 ;;
+*) echo "usage: $0 prepare|device|pack-bench LABEL|bench ARGS|kernels ARGS|pack-ranks|ranks ARGS" >&2; exit 2 ;;
 esac
