@@ -426,7 +426,8 @@ fn block_on_plate_on_gpus_is_the_same_on_2_and_4_ranks() {
 /// forces), which each rank's device adds in f32 over its owned nodes before the ranks are
 /// added in order, are within 1e-6 of the largest value of their kind. Blocks dropped on a
 /// rigid floor (hex8 as imported, and tet4: the plane their only contact), the cube on the
-/// plate (the contact iteration on the surfaces, which every rank works), a rigid ball
+/// plate (the contact iteration on the surfaces, which every rank works, each timing its
+/// forms: rank 0's trial runs its rounds where the adapter has timestamps), a rigid ball
 /// dropped on a block (its node rank 0's) and the coarse drop-weight coupon (rigid tup,
 /// support and clamps; its ply failure survey on each rank's cells, the records merged: the
 /// failure columns and `first_failure` are the single GPU's).
@@ -504,6 +505,22 @@ fn resident_ranks_on_gpus_are_one_gpu_on_2_and_4_ranks() {
                 name == "drop_weight_d7136",
                 "{tag}"
             );
+            if ranks > 0 && name == "cube_on_plate" {
+                // rank 0 times the surface iteration's forms on its steps where the adapter
+                // has timestamps (the single process then reports its device time): a round
+                // ends within the run, and the forms' steps are the run's
+                let forms = &summary["contact_forms"];
+                let steps: u64 = (forms["steps"].as_object().expect("contact_forms.steps"))
+                    .values()
+                    .map(|n| n.as_u64().unwrap())
+                    .sum();
+                assert_eq!(Some(steps), summary["steps"].as_u64(), "{tag}: {forms}");
+                if single["device_seconds"].is_number() {
+                    assert!(forms["rounds"].as_u64() >= Some(1), "{tag}: {forms}");
+                    let ran = forms["steps"].as_object().unwrap().len();
+                    assert!(ran >= 2, "{tag}: {forms}");
+                }
+            }
             if ranks > 0 {
                 assert_eq!(summary["ranks"]["ranks"], ranks, "{tag}");
                 let h = History::read(&out.join("history.csv"));

@@ -43,8 +43,8 @@ use crate::gpu::{GpuContext, ResidentSetup, ResidentStep};
 use crate::integrate::integrator::ENGINE_GPU_RESIDENT;
 use crate::integrate::resident::{self, planes_only, ResidentState, Row, RowReader};
 use crate::integrate::{
-    ContactReport, Decomposed, Decomposition, Energies, Integrator, Piece, Pipelined, ProbeValues,
-    SolverState, StepReport,
+    ContactForms, ContactReport, Decomposed, Decomposition, Energies, Integrator, Piece, Pipelined,
+    ProbeValues, SolverState, StepReport,
 };
 use crate::kernels::explicit_correct::FIELDS;
 use crate::kernels::failure_reduce::{empty, merge};
@@ -665,6 +665,12 @@ impl Integrator for RankResident<'_> {
         (self.surface.as_ref()).map(|c| c.step.runs_zone())
     }
 
+    /// The rank's trial of the surface iteration's forms (each rank's own: every form gives
+    /// the same bits).
+    fn contact_forms(&self) -> Option<ContactForms> {
+        (self.surface.as_ref()).map(|c| c.forms.summary())
+    }
+
     /// The search on the surfaces sorts the faces every step (a step is a submission).
     fn search_rebuilds(&self) -> Option<(u64, u64)> {
         (self.surface.as_ref())
@@ -693,10 +699,12 @@ impl Integrator for RankResident<'_> {
                     seconds: &self.communication,
                 };
                 surface.gather(&talk, &mine)?;
-                let (row, chosen) = self.engine.step_surface_forces(&mut surface.step)?;
-                self.contact_row = row;
+                surface.submitting();
+                let forces = self.engine.step_surface_forces(&mut surface.step)?;
+                surface.collected(forces.device);
+                self.contact_row = forces.row;
                 self.contact_seconds += clock.elapsed().as_secs_f64();
-                chosen
+                forces.corners
             }
         };
         let sends = self.sub.sends(&chosen);

@@ -17,8 +17,10 @@ use super::subdomain::{surface_nodes, Subdomain};
 use super::surface::surface_model;
 use crate::error::Result;
 use crate::gpu::rank_surface::SurfaceState;
+use crate::gpu::resident_step::SubmissionTime;
 use crate::gpu::types::Split3;
 use crate::gpu::{GpuContext, ResidentSetup, SurfaceStep};
+use crate::integrate::form_trial::FormTrial;
 use crate::integrate::resident::contact_setup;
 use crate::model::Model;
 
@@ -37,6 +39,10 @@ pub(super) struct SurfaceContact {
     nodes: usize,
     /// Each interface's pairs.
     pub(super) pairs: Vec<Range<usize>>,
+    /// The rank's trial of the iteration's forms, timed on its steps' submissions (none
+    /// without timestamps or with one form: the trial then runs no rounds). Every form
+    /// gives the same bits, so the ranks may choose apart.
+    pub(super) forms: FormTrial,
 }
 
 impl SurfaceContact {
@@ -73,8 +79,10 @@ impl SurfaceContact {
         let lumped: Vec<_> = nodes.iter().map(|&n| global.lumped[n as usize]).collect();
         let reference = &surfaces.mesh.nodes;
         let consts = (global.dt, global.tolerance, global.max_iterations);
+        let timed = (ctx.device.features()).contains(wgpu::Features::TIMESTAMP_QUERY);
         let step = SurfaceStep::new(ctx, (reference, &lumped), &setup, consts)?;
         let contact = SurfaceContact {
+            forms: FormTrial::new(step.forms(), step.form(), timed),
             step,
             owned,
             held,
@@ -117,6 +125,23 @@ impl SurfaceContact {
             state.a[s] = [f(10), f(11), f(12)];
         }
         self.step.take_state(&state)
+    }
+
+    /// Records the next step's iteration in the form the trial gives it.
+    pub(super) fn submitting(&mut self) {
+        let form = self.forms.submitting(0);
+        self.step.set_form(form);
+    }
+
+    /// Takes the device's seconds for the step's submission (none without timestamps).
+    pub(super) fn collected(&mut self, device: Option<f64>) {
+        let time = SubmissionTime {
+            steps: 1,
+            device,
+            // the rank waits for each submission: the host's recording does not overlap
+            host: 0.0,
+        };
+        self.forms.collected(0, time);
     }
 
     /// Each held surface node's place in the surface model (the order the rank's device

@@ -9,6 +9,16 @@ use super::resident_step::ResidentStep;
 use super::surface_step::SurfaceStep;
 use crate::error::{ImpactError, Result};
 
+/// What [`ResidentStep::step_surface_forces`] reads back.
+pub struct SurfaceForces {
+    /// The interfaces' history columns of the step.
+    pub row: Vec<f32>,
+    /// The exchanged corners' forces.
+    pub corners: Vec<[f32; 3]>,
+    /// The device's seconds for the submission's pass (none without timestamps).
+    pub device: Option<f64>,
+}
+
 impl ResidentStep {
     /// Makes the step a rank's of a decomposed run: [`Self::step_forces`] reads back the
     /// corners `chosen` (by corner id) and [`Self::step_correct`] takes the sums of the nodes
@@ -65,54 +75,69 @@ impl ResidentStep {
     /// surface step's [`SurfaceStep::take_state`]: the surface step's contact iteration, the
     /// held surface nodes' velocities taken from it, then the drift and the internal forces,
     /// in one submission; returns the interfaces' history columns (counted by the surface
-    /// step) and the chosen corners' forces (waits for the device).
-    pub fn step_surface_forces(
-        &mut self,
-        surface: &mut SurfaceStep,
-    ) -> Result<(Vec<f32>, Vec<[f32; 3]>)> {
+    /// step), the chosen corners' forces, and the device's seconds for the submission's
+    /// pass where the device has timestamps, which the rank's trial of the iteration's
+    /// forms compares (waits for the device).
+    pub fn step_surface_forces(&mut self, surface: &mut SurfaceStep) -> Result<SurfaceForces> {
         let Some(s) = &self.surface else {
             return Err(ImpactError::Gpu("step_surface_forces: no surface".into()));
         };
-        let enc = self.forces_encoder(|pass| {
+        let enc = self.forces_encoder(true, |pass| {
             surface.dispatch(pass);
             s.dispatch_scatter(pass);
         })?;
         let Some(x) = &self.exchange else {
             return Err(ImpactError::Gpu("step_forces: no exchange".into()));
         };
-        let (row, corners) = read_with_corners(&mut self.k, x, enc, Some(surface.row_part()))?;
-        surface.tally(&row);
-        Ok((row, corners))
+        let row = surface.row_part();
+        let stamps = self.clock.as_ref().map(|c| c.first_slot());
+        let parts: Vec<_> = [Some(row), stamps].into_iter().flatten().collect();
+        let (head, corners) = read_with_corners(&mut self.k, x, enc, &parts)?;
+        let (row, stamps) = head.split_at(row.1);
+        let words: Vec<u32> = stamps.iter().map(|w| w.to_bits()).collect();
+        let device = (self.clock.as_ref()).and_then(|c| c.seconds(&words));
+        surface.tally(row);
+        Ok(SurfaceForces {
+            row: row.to_vec(),
+            corners,
+            device,
+        })
     }
 
     /// The first part of a rank's step: the predictor, the rigid planes, the drift and the
     /// internal forces of the rank's elements; returns the chosen corners' forces as the
     /// device computed them (waits for the device).
     pub fn step_forces(&mut self) -> Result<Vec<[f32; 3]>> {
-        let enc = self.forces_encoder(|pass| self.dispatch_front(pass))?;
+        let enc = self.forces_encoder(false, |pass| self.dispatch_front(pass))?;
         let Some(x) = &self.exchange else {
             return Err(ImpactError::Gpu("step_forces: no exchange".into()));
         };
-        Ok(read_with_corners(&mut self.k, x, enc, None)?.1)
+        Ok(read_with_corners(&mut self.k, x, enc, &[])?.1)
     }
 
     /// An encoder with what `first` records, then the drift, the internal forces and the
-    /// exchanged corners' packing, in one compute pass.
+    /// exchanged corners' packing, in one compute pass; `timed`, with the step's clock's
+    /// timestamps (slot 0) at the pass's start and end, resolved after it.
     fn forces_encoder(
         &self,
+        timed: bool,
         first: impl FnOnce(&mut wgpu::ComputePass),
     ) -> Result<wgpu::CommandEncoder> {
         if self.exchange.is_none() {
             return Err(ImpactError::Gpu("step_forces: no exchange".into()));
         }
+        let clock = self.clock.as_ref().filter(|_| timed);
         let mut enc = self.k.ctx.encoder("rank_step_forces");
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("rank_step_forces"),
-                timestamp_writes: None,
+                timestamp_writes: clock.map(|c| c.writes(0)),
             });
             first(&mut pass);
             self.dispatch_forces_select(&mut pass);
+        }
+        if let Some(c) = clock {
+            c.resolve(&mut enc, 0);
         }
         Ok(enc)
     }
@@ -152,7 +177,7 @@ impl ResidentStep {
             return Err(ImpactError::Gpu("step_correct: no exchange".into()));
         };
         let row = (&self.history.rows.buffer, self.history.row_len);
-        read_with_corners(&mut self.k, x, enc, Some(row))
+        read_with_corners(&mut self.k, x, enc, &[row])
     }
 
     /// [`Self::step_correct`], then in the same submission the next step's
@@ -208,17 +233,17 @@ impl ResidentStep {
     }
 }
 
-/// Submits `enc` on `k`'s device and reads back `part` (if any), then the corners `x`
-/// exchanges (one wait for the device).
+/// Submits `enc` on `k`'s device and reads back `head` (the parts in turn), then the corners
+/// `x` exchanges (one wait for the device).
 fn read_with_corners(
     k: &mut GpuKernels,
     x: &RankExchange,
     enc: wgpu::CommandEncoder,
-    part: Option<(&wgpu::Buffer, usize)>,
+    head: &[(&wgpu::Buffer, usize)],
 ) -> Result<(Vec<f32>, Vec<[f32; 3]>)> {
     let corners = (x.selection.chosen_buffer(), 3 * x.selection.count());
-    let parts: Vec<_> = part.into_iter().chain([corners]).collect();
-    let len = part.map_or(0, |p| p.1);
+    let parts: Vec<_> = head.iter().copied().chain([corners]).collect();
+    let len = head.iter().map(|p| p.1).sum();
     let out: Vec<f32> = submit_and_read_parts(&k.ctx, &mut k.staging, enc, &parts)?;
     let (head, corners) = out.split_at(len);
     let corners = corners.chunks_exact(3).map(|c| [c[0], c[1], c[2]]);

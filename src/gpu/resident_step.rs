@@ -487,7 +487,7 @@ pub struct ResidentStep {
     readback: [Storage; 2],
     pending: [Option<Pending>; 2],
     /// The submissions' timestamps, where the adapter has them.
-    clock: Option<SubmissionClock>,
+    pub(super) clock: Option<SubmissionClock>,
     /// The time of the last collected submission.
     collected: Option<SubmissionTime>,
     /// Steps one submission can hold (the read-back buffers' size).

@@ -65,10 +65,22 @@ impl SubmissionClock {
         target: &wgpu::Buffer,
         offset: u64,
     ) {
+        let at = self.resolve(enc, slot);
+        enc.copy_buffer_to_buffer(&self.resolved.buffer, at, target, offset, STAMP_BYTES);
+    }
+
+    /// Resolves slot `slot`'s timestamps after its pass; returns their offset in the
+    /// resolve buffer (0 for slot 0: [`Self::first_slot`] reads them from there).
+    pub fn resolve(&self, enc: &mut wgpu::CommandEncoder, slot: usize) -> u64 {
         let at = slot as u64 * wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT;
         let first = 2 * slot as u32;
         enc.resolve_query_set(&self.set, first..first + 2, &self.resolved.buffer, at);
-        enc.copy_buffer_to_buffer(&self.resolved.buffer, at, target, offset, STAMP_BYTES);
+        at
+    }
+
+    /// Slot 0's resolved timestamps as a read-back part: the buffer and its four words.
+    pub fn first_slot(&self) -> (&wgpu::Buffer, usize) {
+        (&self.resolved.buffer, (STAMP_BYTES / 4) as usize)
     }
 
     /// Seconds between a pass's two timestamps (their four words as read back); `None` where

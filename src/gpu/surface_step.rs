@@ -7,6 +7,7 @@
 //! same device: the rank takes the velocities of its surface nodes from it there.
 
 use super::buffer::{read_back, Storage};
+use super::contact_form::ContactForm;
 use super::context::GpuContext;
 use super::engine::{at_least_one, bytes_of};
 use super::impulse_sweeps::{ContactSetup, ImpulseSweeps, StepBuffers};
@@ -84,8 +85,8 @@ impl SurfaceStep {
             acceleration: &a.buffer,
             lumped: &lumped.buffer,
         };
-        // a rank's surface iteration keeps its form: no trial
-        let contact = ImpulseSweeps::new(&ctx, &buffers, setup, (nodes, max_iterations), false)?;
+        // the rank's run times the forms (`ResidentStep::step_surface_forces`)
+        let contact = ImpulseSweeps::new(&ctx, &buffers, setup, (nodes, max_iterations), true)?;
         // the interfaces' columns of the history row, as the single GPU's step reduces them
         let columns = row_columns(&[], &pair_slots(&setup.interfaces), &[]);
         let row_len = columns.len();
@@ -164,6 +165,22 @@ impl SurfaceStep {
     /// Whether the iteration runs in one workgroup ([`ImpulseSweeps::set_zone`]).
     pub fn runs_zone(&self) -> bool {
         self.contact.runs_zone()
+    }
+
+    /// The form the iteration is recorded in from the next step on.
+    pub fn form(&self) -> ContactForm {
+        self.contact.form()
+    }
+
+    /// Records the iteration in `form` from the next step on, where it runs here
+    /// ([`ImpulseSweeps::set_form`]); the results do not depend on it.
+    pub fn set_form(&mut self, form: ContactForm) -> ContactForm {
+        self.contact.set_form(form)
+    }
+
+    /// The forms of the iteration worth timing here ([`ImpulseSweeps::forms`]).
+    pub fn forms(&self) -> Vec<ContactForm> {
+        self.contact.forms()
     }
 
     /// The interfaces' history columns of the last [`Self::dispatch`], for a read-back.

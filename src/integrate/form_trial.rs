@@ -18,6 +18,7 @@
 
 use std::collections::{BTreeMap, VecDeque};
 
+use super::ContactForms;
 use crate::gpu::resident_step::SubmissionTime;
 use crate::gpu::ContactForm;
 
@@ -95,6 +96,17 @@ impl FormTrial {
     /// The form the run records outside the rounds (the last round's choice).
     pub fn current(&self) -> ContactForm {
         self.current
+    }
+
+    /// The summary's account: the form chosen, the steps each form ran and the rounds.
+    pub fn summary(&self) -> ContactForms {
+        ContactForms {
+            chosen: self.current.name(),
+            steps: (self.steps.iter())
+                .map(|(form, &n)| (form.name(), n))
+                .collect(),
+            rounds: self.rounds,
+        }
     }
 
     /// The form of the next submission, which goes to read-back slot `slot`.

@@ -775,13 +775,7 @@ impl Integrator for ResidentSolver<'_> {
     }
 
     fn contact_forms(&self) -> Option<ContactForms> {
-        self.forms.as_ref().map(|f| ContactForms {
-            chosen: f.current().name(),
-            steps: (f.steps.iter())
-                .map(|(form, &n)| (form.name(), n))
-                .collect(),
-            rounds: f.rounds,
-        })
+        self.forms.as_ref().map(FormTrial::summary)
     }
 
     fn device_seconds(&self) -> Option<f64> {
