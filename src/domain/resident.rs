@@ -701,7 +701,7 @@ impl Integrator for RankResident<'_> {
                 surface.gather(&talk, &mine)?;
                 surface.submitting();
                 let forces = self.engine.step_surface_forces(&mut surface.step)?;
-                surface.collected(forces.device);
+                surface.collected(forces.device, forces.host);
                 self.contact_row = forces.row;
                 self.contact_seconds += clock.elapsed().as_secs_f64();
                 forces.corners

@@ -133,12 +133,13 @@ impl SurfaceContact {
         self.step.set_form(form);
     }
 
-    /// Takes the device's seconds for the step's submission (none without timestamps).
-    pub(super) fn collected(&mut self, device: Option<f64>) {
+    /// Takes the device's seconds for the step's submission (none without timestamps) and
+    /// the host's to record it.
+    pub(super) fn collected(&mut self, device: Option<f64>, host: f64) {
         let time = SubmissionTime {
             steps: 1,
-            device,
-            // the rank waits for each submission: the host's recording does not overlap
+            // the rank records a submission, then waits for it: the two add up
+            device: device.map(|d| d + host),
             host: 0.0,
         };
         self.forms.collected(0, time);

@@ -17,6 +17,8 @@ pub struct SurfaceForces {
     pub corners: Vec<[f32; 3]>,
     /// The device's seconds for the submission's pass (none without timestamps).
     pub device: Option<f64>,
+    /// The host's seconds to record the submission.
+    pub host: f64,
 }
 
 impl ResidentStep {
@@ -82,10 +84,12 @@ impl ResidentStep {
         let Some(s) = &self.surface else {
             return Err(ImpactError::Gpu("step_surface_forces: no surface".into()));
         };
+        let recording = std::time::Instant::now();
         let enc = self.forces_encoder(true, |pass| {
             surface.dispatch(pass);
             s.dispatch_scatter(pass);
         })?;
+        let host = recording.elapsed().as_secs_f64();
         let Some(x) = &self.exchange else {
             return Err(ImpactError::Gpu("step_forces: no exchange".into()));
         };
@@ -101,6 +105,7 @@ impl ResidentStep {
             row: row.to_vec(),
             corners,
             device,
+            host,
         })
     }
 
