@@ -39,9 +39,9 @@ pub(super) struct SurfaceContact {
     nodes: usize,
     /// Each interface's pairs.
     pub(super) pairs: Vec<Range<usize>>,
-    /// The rank's trial of the iteration's forms, timed on its steps' submissions (none
-    /// without timestamps or with one form: the trial then runs no rounds). Every form
-    /// gives the same bits, so the ranks may choose apart.
+    /// The rank's trial of the iteration's forms, timed on its steps' submissions (no
+    /// rounds without timestamps or with one form). Every form gives the same bits, so the
+    /// ranks may choose apart.
     pub(super) forms: FormTrial,
 }
 
