@@ -18,7 +18,8 @@
 //! rank on 1 and 2 ranks; `-- --gpu` with every rank on its GPU (the machine's GPUs shared
 //! out by local rank), its whole step resident there (`domain::RankResident`: the contact
 //! iteration on the whole surfaces on every rank), where P = 1 is the single process on
-//! the GPU (a column names each run's engine).
+//! the GPU (a column names each run's engine, and in brackets the form of the contact
+//! iteration its trial took last, rank 0's on ranks).
 //!
 //! With `--gpu` a third table drops a slab of `P` ranks' worth on a rigid floor: the plane
 //! is its only contact, so every rank exchanges only its shared nodes' corners, once a
@@ -192,7 +193,17 @@ fn run(ranks: usize, name: &str, text: &str, dir: &Path, device: &str) -> Figure
         communication: communication / stepping,
         contact,
         received,
-        engine: s["engine"].as_str().unwrap_or_default().to_string(),
+        engine: engine_and_form(&s),
+    }
+}
+
+/// The run's engine, and the form of the contact iteration rank 0 (or the process) took
+/// last where the run has one (`contact_forms.chosen`).
+fn engine_and_form(s: &serde_json::Value) -> String {
+    let engine = s["engine"].as_str().unwrap_or_default();
+    match s["contact_forms"]["chosen"].as_str() {
+        Some(form) => format!("{engine} ({form})"),
+        None => engine.to_string(),
     }
 }
 
