@@ -27,10 +27,10 @@
 //! zone's size; `-- --relax on` or `-- --relax off` records the staged iteration's sweeps as
 //! `contact_relax` (one dispatch a sweep) or as `contact_sweep` and `contact_apply` (either
 //! fixes the form; by default the run's trial times the forms on its first submissions and
-//! takes the fastest, a table gives its figures, and the timed steps run that form fixed); `-- --lanes N` builds
-//! `contact_zone` and `contact_finish` with N lanes (256 by default; up to 1,024 where the
-//! adapter allows, the same results); and `-- --no-large` leaves the 10^7-element rows
-//! out).
+//! takes the fastest, a table gives its figures, and the timed steps run that form fixed);
+//! `-- --lanes N` builds `contact_zone` and `contact_finish` with N lanes (256 by default;
+//! up to 1,024 where the adapter allows, the same results); and `-- --no-large` leaves the
+//! 10^7-element rows out).
 
 use std::path::Path;
 use std::time::Instant;

@@ -79,7 +79,7 @@ impl SurfaceContact {
         let lumped: Vec<_> = nodes.iter().map(|&n| global.lumped[n as usize]).collect();
         let reference = &surfaces.mesh.nodes;
         let consts = (global.dt, global.tolerance, global.max_iterations);
-        let timed = (ctx.device.features()).contains(wgpu::Features::TIMESTAMP_QUERY);
+        let timed = ctx.has_timestamps();
         let step = SurfaceStep::new(ctx, (reference, &lumped), &setup, consts)?;
         let contact = SurfaceContact {
             forms: FormTrial::new(step.forms(), step.form(), timed),

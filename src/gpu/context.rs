@@ -305,6 +305,12 @@ impl GpuContext {
             .ok_or_else(|| ImpactError::Gpu(SOFTWARE_ADAPTER_HINT.into()))
     }
 
+    /// Whether the device writes timestamps (at a compute pass's start and end): the
+    /// resident steps time their submissions with them.
+    pub fn has_timestamps(&self) -> bool {
+        (self.device.features()).contains(wgpu::Features::TIMESTAMP_QUERY)
+    }
+
     /// Blocks until the device has finished all submitted work.
     pub fn wait(&self) -> Result<()> {
         self.device

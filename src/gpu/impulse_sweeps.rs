@@ -765,11 +765,7 @@ impl ImpulseSweeps {
     ) -> Result<Self> {
         // the further widths where the run's trial times the zone (timestamps, a zone of
         // at most ZONE_TRIAL_PAIRS pairs)
-        let timed = ctx
-            .device
-            .features()
-            .contains(wgpu::Features::TIMESTAMP_QUERY);
-        let trial = trial && timed && setup.pairs.len() <= ZONE_TRIAL_PAIRS;
+        let trial = trial && ctx.has_timestamps() && setup.pairs.len() <= ZONE_TRIAL_PAIRS;
         let kernels = IterationKernels::new(ctx, trial);
         let (np, nf) = (setup.pairs.len(), setup.faces.len());
         let model = ModelBuffers::upload(ctx, setup, nodes)?;

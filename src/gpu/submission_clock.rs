@@ -21,11 +21,7 @@ pub struct SubmissionClock {
 impl SubmissionClock {
     /// The clock, or `None` where the device has no timestamp queries.
     pub fn new(ctx: &GpuContext) -> Result<Option<Self>> {
-        if !ctx
-            .device
-            .features()
-            .contains(wgpu::Features::TIMESTAMP_QUERY)
-        {
+        if !ctx.has_timestamps() {
             return Ok(None);
         }
         let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {

@@ -7,14 +7,14 @@
 //! After the first submission (the pipelines' first use), a round records submissions in
 //! each form in turn, twice in the first round and in mirrored order (A B C C B A, so that a
 //! drift of the scene's cost over the round weighs on every form alike), once in later
-//! rounds, forwards and backwards in turn. A submission's cost per step is the slower of the device's time for its compute
-//! pass and the host's time to record it (the two overlap: the host records a submission
-//! while the device runs the one before). At the round's end the run takes the cheapest
-//! form, unless the one it has is within [`MARGIN`] of it; a form more than [`KEEP_WITHIN`]
-//! times the cheapest is not tried again. The next round starts when the run has collected
-//! twice the submissions it had at this round's end, so rounds take a share of the run that
-//! shrinks as it goes. Without timestamps on the adapter, or with one form, there are no
-//! rounds.
+//! rounds, forwards and backwards in turn. A submission's cost per step is the slower of
+//! the device's time for its compute pass and the host's time to record it (the two
+//! overlap: the host records a submission while the device runs the one before). At the
+//! round's end the run takes the cheapest form, unless the one it has is within
+//! [`MARGIN`] of it; a form more than [`KEEP_WITHIN`] times the cheapest is not tried
+//! again. The next round starts when the run has collected twice the submissions it had
+//! at this round's end, so rounds take a share of the run that shrinks as it goes. Without
+//! timestamps on the adapter, or with one form, there are no rounds.
 
 use std::collections::{BTreeMap, VecDeque};
 
