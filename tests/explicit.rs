@@ -22,6 +22,49 @@ fn without_time_step(text: &str) -> String {
         .join("\n")
 }
 
+/// Issue 62: two bodies of one material meshed in one shape at two sizes got the larger
+/// elements' stable step (the survey's cache of shapes keyed on a shape scaled by its size,
+/// so the unit and half cubes shared one entry). The paper's bars with B in half cubes ran
+/// at dt = 1e-2 where B needs 5e-3 and diverged at step 6. Now the step is the half cubes'
+/// (h / c = 5e-3 exactly at nu = 0), 1e-2 is refused at `run.time_step`, and the default step
+/// gives wave theory's plateau 0.5 within 3%.
+#[test]
+fn two_sizes_of_one_shape_take_the_smaller_elements_step() {
+    let text = explicit(&two_bars_at_two_sizes());
+    let scene = impact::scene::Scene::parse(&text, std::path::Path::new("sizes.toml")).unwrap();
+    let opts = impact::run::RunOptions {
+        out: Some(out_dir("two_sizes_at_1e-2")),
+        quiet: true,
+        ..Default::default()
+    };
+    let err = impact::run::run(&scene, &opts)
+        .expect_err("1e-2 is above B's step")
+        .to_string();
+    assert!(
+        err.contains("run.time_step") && err.contains("5.0000e-3"),
+        "{err}"
+    );
+    let (s, h) = run_text(
+        "two_sizes_default",
+        &explicit_at_default_step(&two_bars_at_two_sizes()),
+    );
+    let s = s.expect("run completes");
+    assert_eq!(s.status, "completed");
+    let stable = s.stable_time_step.unwrap();
+    assert!((stable - 5e-3).abs() <= 1e-12, "stable step {stable}");
+    let m = measures(&h, "impact", 0.5, s.time_step);
+    eprintln!(
+        "two sizes: dt {} mean {:.5} row {:.4} impulse {:.5} loss {:.5}",
+        s.time_step, m.plateau_mean, m.plateau_max_dev, m.impulse, m.energy_loss
+    );
+    assert!(
+        (m.plateau_mean - 0.5).abs() <= 0.03 * 0.5,
+        "plateau {}",
+        m.plateau_mean
+    );
+    assert!(m.energy_loss.abs() <= 0.05, "energy loss {}", m.energy_loss);
+}
+
 /// The coarse two bars at the stable step itself (c dt = h, lumped mass): central difference
 /// carries the 1D wave exactly, so every plateau row is 0.5 and contact ends at 0.2 exactly.
 /// What is lost is the tip nodes' perfectly inelastic first contact: two masses m/2 (m = rho S h

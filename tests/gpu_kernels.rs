@@ -891,6 +891,67 @@ box = { min = [0.0, 0.0, 0.0], max = [1.8, 1.8, 1.8], divisions = [18, 18, 18] }
     );
 }
 
+/// Issue 62's wrong step on a mesh of many shapes: two jittered boxes of 18^3 hexes, the
+/// second the first scaled by one half (its nodes moved by half the first's jitter), have
+/// more shapes than get the exact eigenvalue. The survey's cache of shapes up to their size
+/// once gave both boxes the larger elements' step; the step is the half-size box's, half the
+/// large box's alone, on the CPU and by the `stable_step` kernel alike.
+#[test]
+fn stable_step_of_a_distorted_mesh_at_two_sizes_is_the_small_elements() {
+    let Some(ctx) = gpu_context("stable_step at two sizes") else {
+        return;
+    };
+    let body = |name: &str, min: f64, size: f64| {
+        format!(
+            "[[body]]\nname = \"{name}\"\nmaterial = \"m\"\nbox = {{ min = [{min}, 0.0, 0.0], max = [{}, {size}, {size}], divisions = [18, 18, 18] }}\n",
+            min + size
+        )
+    };
+    let head = "[run]\nmethod = \"explicit\"\nend_time = 1.0\n\n[[material]]\nname = \"m\"\ndensity = 7.8\nyoungs_modulus = 200.0\npoissons_ratio = 0.3\n\n";
+    let large = format!("{head}{}", body("large", 0.0, 1.8));
+    let both = format!("{large}{}", body("small", 3.0, 0.9));
+    let jittered = |text: &str| {
+        let scene = impact::scene::Scene::parse(text, std::path::Path::new("sizes.toml")).unwrap();
+        let mut model = impact::model::Model::from_scene(&scene).expect("model");
+        let per_box = 19 * 19 * 19;
+        let mut rng = StdRng::seed_from_u64(7);
+        let jitter: Vec<[f64; 3]> = (0..per_box)
+            .map(|_| std::array::from_fn(|_| rng.random_range(-0.02..0.02)))
+            .collect();
+        for (i, x) in model.mesh.nodes.iter_mut().enumerate() {
+            let scale = if i < per_box { 1.0 } else { 0.5 };
+            for a in 0..3 {
+                x[a] += scale * jitter[i % per_box][a];
+            }
+        }
+        model
+    };
+    use impact::integrate::stable_step::stable_step_on;
+    let alone = stable_step_on(&jittered(&large), None).unwrap();
+    let model = jittered(&both);
+    assert_eq!(model.mesh.nodes.len(), 2 * 19 * 19 * 19);
+    let cpu = stable_step_on(&model, None).unwrap();
+    let gpu = stable_step_on(&model, Some(&ctx)).unwrap();
+    eprintln!("large box alone {alone:?}; both: cpu {cpu:?}, gpu {gpu:?}");
+    assert!(
+        (cpu.0 - 0.5 * alone.0).abs() <= 1e-9 * cpu.0,
+        "CPU step {} against half the large box's {}",
+        cpu.0,
+        alone.0
+    );
+    assert!(
+        cpu.1 >= 18 * 18 * 18,
+        "element {} is the small box's",
+        cpu.1
+    );
+    assert!(
+        (gpu.0 - cpu.0).abs() <= 1e-6 * cpu.0,
+        "GPU step {} against CPU {}",
+        gpu.0,
+        cpu.0
+    );
+}
+
 /// A jittered hex8 block pressed into a jittered tet4 plate (triangles on one side of each
 /// interface, quads on the other) far from the origin, with random displacements: the
 /// device contact search against the host's broad phase with the f64 `contact_gap` (an

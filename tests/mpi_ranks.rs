@@ -702,6 +702,32 @@ fn bar_on_rigid_wall_is_the_same_on_2_and_4_ranks() {
     );
 }
 
+/// Issue 62's wrong step on ranks: the paper's bars with B in half cubes, explicit at the
+/// default step. Every rank takes the half cubes' step (0.9 x 5e-3), the histories are the
+/// single process's, and the plateau is wave theory's 0.5 within 3%.
+#[test]
+fn two_sizes_of_one_shape_take_the_smaller_elements_step_on_ranks() {
+    let text = explicit_at_default_step(&two_bars_at_two_sizes());
+    let h = same_on_ranks("mpi_two_sizes", &text);
+    for ranks in [2, 4] {
+        let path = out_path("mpi_two_sizes").join(format!("ranks{ranks}/summary.json"));
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let stable = v["stable_time_step"].as_f64().unwrap();
+        assert!(
+            (stable - 5e-3).abs() <= 1e-12,
+            "{ranks} ranks: stable step {stable}"
+        );
+    }
+    let dt = h.col("time")[1];
+    let m = measures(&h, "impact", 0.5, dt);
+    assert!(
+        (m.plateau_mean - 0.5).abs() <= 0.03 * 0.5,
+        "plateau {}",
+        m.plateau_mean
+    );
+}
+
 /// The fine two bars on 2 ranks: the bisection puts bar A on rank 0 and bar B on rank 1, so
 /// the contact face is the rank boundary; the history is the single process's and matches 1D
 /// wave theory within the fine-mesh tolerances.

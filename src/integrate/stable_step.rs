@@ -15,7 +15,10 @@
 //! Elements of the same shape and material (every element of a structured box) share one
 //! evaluation, and while there are at most `EXACT_SHAPES` shapes that evaluation is the
 //! exact element limit from the 24 x 24 eigenproblem instead of the bound: a structured box
-//! of cubes with nu = 0 then gets exactly h / c, the 1D bar's limit.
+//! of cubes with nu = 0 then gets exactly h / c, the 1D bar's limit. A shape is taken up to
+//! its size, and an element's limit is its shape's scaled by the element's extent over the
+//! shape's first element's: the stiffness of an element scaled by s goes as s and its mass
+//! as s^3, so its limit goes as s, and two bodies meshed at two sizes each get their own.
 
 use std::collections::HashMap;
 
@@ -80,11 +83,11 @@ pub(crate) fn survey(model: &Model, gpu: Option<&GpuContext>) -> Result<StepSurv
             }
         })
         .collect();
-    let (step, element) = shapes.smallest(&limit);
+    let (step, element) = shapes.smallest(model, &limit);
     Ok(StepSurvey {
         step,
         element,
-        steps: shapes.each(&limit),
+        steps: shapes.each(model, &limit),
     })
 }
 
@@ -125,8 +128,13 @@ fn shape_key(model: &Model, el: ElementRef) -> ShapeKey {
     (el.material, el.kind, key)
 }
 
-/// The distinct element shapes of a mesh (up to a translation, to 1e-9 of the element's
-/// size), numbered in the order of their first element.
+/// Element `e`'s largest extent along an axis.
+fn extent_of(model: &Model, e: usize) -> f64 {
+    element::extent(&model.mesh.corners(model.mesh.element(e).nodes))
+}
+
+/// The distinct element shapes of a mesh (up to a translation and a scaling, to 1e-9 of the
+/// element's size), numbered in the order of their first element.
 struct Shapes {
     /// The first element of each shape.
     first: Vec<usize>,
@@ -194,21 +202,32 @@ impl Shapes {
         }
     }
 
+    /// Element `e`'s limit: its shape's `limit`, scaled by its extent over the extent of the
+    /// shape's first element.
+    fn limit_of(&self, model: &Model, limit: &[f64], e: usize, l: u32) -> f64 {
+        let shape = self.global[e / SHAPE_BLOCK][l as usize];
+        let first = self.first[shape];
+        if first == e {
+            return limit[shape];
+        }
+        limit[shape] * extent_of(model, e) / extent_of(model, first)
+    }
+
     /// Each element's limit.
-    fn each(&self, limit: &[f64]) -> Vec<f32> {
+    fn each(&self, model: &Model, limit: &[f64]) -> Vec<f32> {
         self.local
             .par_iter()
             .enumerate()
-            .map(|(e, &l)| limit[self.global[e / SHAPE_BLOCK][l as usize]] as f32)
+            .map(|(e, &l)| self.limit_of(model, limit, e, l) as f32)
             .collect()
     }
 
     /// The smallest limit over the elements, and the first element that has it.
-    fn smallest(&self, limit: &[f64]) -> (f64, usize) {
+    fn smallest(&self, model: &Model, limit: &[f64]) -> (f64, usize) {
         self.local
             .par_iter()
             .enumerate()
-            .map(|(e, &l)| (limit[self.global[e / SHAPE_BLOCK][l as usize]], e))
+            .map(|(e, &l)| (self.limit_of(model, limit, e, l), e))
             .reduce(
                 || (f64::INFINITY, 0),
                 |a, b| {

@@ -144,6 +144,17 @@ pub fn tet4_two_bars(a: usize, b: usize) -> String {
     tets
 }
 
+/// The paper's two bars (`two_bars.toml`) with bar B in half cubes (`divisions = [20, 2,
+/// 2]`) and bar A in unit cubes: one material, one element shape at two sizes, so B's
+/// elements set a stable step half of A's (5e-3 against 1e-2 for c = 100).
+pub fn two_bars_at_two_sizes() -> String {
+    let text = scene_text("two_bars.toml");
+    let at = text.find("name = \"B\"").expect("bar B");
+    let b = text[at..].replacen("divisions = [10, 1, 1]", "divisions = [20, 2, 2]", 1);
+    assert_ne!(b, text[at..], "bar B's divisions");
+    text[..at].to_string() + &b
+}
+
 /// The cube on the plate (`cube_on_plate.toml`, friction 0.3) with both boxes meshed as
 /// tet4: the plate's contact face is triangles, and the cube's nodes lie exactly over the
 /// plate's vertices and edges.
