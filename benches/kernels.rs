@@ -33,6 +33,7 @@ fn problem(div: [usize; 3]) -> (ElementData, ContactQueries) {
         max: div.map(|d| d as f64),
         divisions: div,
         element: BoxElement::Hex8,
+        refine: None,
     };
     let parts = box_mesh(&spec);
     let top: Vec<[u32; 4]> = (parts.surfaces[BoxFace::ZPlus as usize].faces.iter())

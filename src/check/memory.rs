@@ -27,7 +27,7 @@ impl Counts {
         for b in &scene.bodies {
             match &b.shape {
                 BodyShape::Box(s) => {
-                    let [x, y, z] = s.divisions.map(|d| d as u64);
+                    let [x, y, z] = s.cells().map(|d| d as u64);
                     // validated: the products fit (box.divisions is checked against u32 nodes)
                     let cells = x.saturating_mul(y).saturating_mul(z);
                     let (kind, per_cell) = s.element.per_cell();

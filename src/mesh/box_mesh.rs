@@ -1,5 +1,6 @@
 //! Structured grids of boxes: hex8, or each hex cut into six tet4.
 
+use super::grading::{axis_nodes, AxisZone};
 use super::{BodyParts, Surface};
 use crate::element::{ElementKind, Elements};
 use crate::geometry::face::Face;
@@ -66,13 +67,44 @@ impl BoxElement {
     }
 }
 
-/// A structured box: its corners, the cells along each axis and the elements of a cell.
+/// A structured box: its corners, the cells along each axis and the elements of a cell,
+/// and where its cells are refined.
 #[derive(Debug, Clone)]
 pub struct BoxSpec {
     pub min: [f64; 3],
     pub max: [f64; 3],
     pub divisions: [usize; 3],
     pub element: BoxElement,
+    pub refine: Option<Refine>,
+}
+
+/// A zone of a box whose cells are at most `size` along each axis (`box.refine`); outside
+/// it the spacing grows to the one `divisions` gives ([`super::grading`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Refine {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+    pub size: [f64; 3],
+}
+
+impl BoxSpec {
+    /// The nodes' coordinates along axis `a`, from `min` to `max`.
+    pub fn axis_nodes(&self, a: usize) -> Vec<f64> {
+        let zone = self.refine.map(|r| AxisZone {
+            lo: r.min[a],
+            hi: r.max[a],
+            size: r.size[a],
+        });
+        axis_nodes(self.min[a], self.max[a], self.divisions[a], zone)
+    }
+
+    /// The cells along each axis (`divisions`, or more where the box is refined).
+    pub fn cells(&self) -> [usize; 3] {
+        match self.refine {
+            None => self.divisions,
+            Some(_) => std::array::from_fn(|a| self.axis_nodes(a).len() - 1),
+        }
+    }
 }
 
 /// The six tets of a hex cell (hex8 corner numbers), each around the diagonal 0-6 with
@@ -95,7 +127,7 @@ pub const KUHN_TETS: [[usize; 4]; 6] = [
 /// `tau_1 x tau_2` along the outward normal; a tet4 box has each quad's two triangles
 /// instead, oriented the same way. The boundary is the six faces together.
 pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
-    let grid = Grid::new(spec.divisions);
+    let grid = Grid::new(spec);
     let cells = grid.cells();
     let faces = BoxFace::ALL.map(|face| grid.face_quads(face));
     let mut elements = Elements::default();
@@ -120,7 +152,7 @@ pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
         })
         .collect();
     BodyParts {
-        nodes: grid.nodes(spec),
+        nodes: grid.nodes(),
         elements,
         boundary,
         surfaces,
@@ -129,15 +161,20 @@ pub fn box_mesh(spec: &BoxSpec) -> BodyParts {
     }
 }
 
-/// The node numbering of a structured grid of `divisions` cells: node (i, j, k) is
-/// `i + (nx + 1) (j + (ny + 1) k)`.
+/// The node numbering of a structured grid of cells: node (i, j, k) is
+/// `i + (nx + 1) (j + (ny + 1) k)`, at the axes' coordinates.
 struct Grid {
     n: [usize; 3],
+    axes: [Vec<f64>; 3],
 }
 
 impl Grid {
-    fn new(n: [usize; 3]) -> Self {
-        Grid { n }
+    fn new(spec: &BoxSpec) -> Self {
+        let axes: [Vec<f64>; 3] = std::array::from_fn(|a| spec.axis_nodes(a));
+        Grid {
+            n: std::array::from_fn(|a| axes[a].len() - 1),
+            axes,
+        }
     }
 
     fn id(&self, i: usize, j: usize, k: usize) -> u32 {
@@ -145,26 +182,15 @@ impl Grid {
         (i + px * (j + py * k)) as u32
     }
 
-    /// The nodes' coordinates, the box's far faces exactly at `max`.
-    fn nodes(&self, spec: &BoxSpec) -> Vec<[f64; 3]> {
+    /// The nodes' coordinates (the box's far faces exactly at `max`).
+    fn nodes(&self) -> Vec<[f64; 3]> {
         let [nx, ny, nz] = self.n;
+        let [x, y, z] = &self.axes;
         let mut nodes = Vec::with_capacity((nx + 1) * (ny + 1) * (nz + 1));
-        for k in 0..=nz {
-            for j in 0..=ny {
-                for i in 0..=nx {
-                    let t = [
-                        i as f64 / nx as f64,
-                        j as f64 / ny as f64,
-                        k as f64 / nz as f64,
-                    ];
-                    nodes.push(std::array::from_fn(|a| {
-                        // exact end points, so faces of touching boxes coincide bit for bit
-                        if t[a] == 1.0 {
-                            spec.max[a]
-                        } else {
-                            spec.min[a] + t[a] * (spec.max[a] - spec.min[a])
-                        }
-                    }));
+        for zk in z {
+            for yj in y {
+                for xi in x {
+                    nodes.push([*xi, *yj, *zk]);
                 }
             }
         }
@@ -264,6 +290,7 @@ mod tests {
             max: [3.0, 1.0, 2.5],
             divisions: [3, 2, 4],
             element: BoxElement::Hex8,
+            refine: None,
         };
         let parts = box_mesh(&spec);
         let nodes = &parts.nodes;
@@ -304,6 +331,7 @@ mod tests {
             max: [3.0, 1.0, 2.5],
             divisions: [3, 2, 4],
             element: BoxElement::Tet4,
+            refine: None,
         };
         let parts = box_mesh(&spec);
         let x = |n: u32| parts.nodes[n as usize];

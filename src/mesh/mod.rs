@@ -13,6 +13,7 @@ pub mod boundary;
 pub mod box_mesh;
 pub mod deck;
 pub mod gmsh;
+pub mod grading;
 pub mod import;
 pub mod lsdyna;
 pub mod orientation;

@@ -10,7 +10,7 @@ mod validate;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-pub use crate::mesh::box_mesh::{BoxElement, BoxFace, BoxSpec};
+pub use crate::mesh::box_mesh::{BoxElement, BoxFace, BoxSpec, Refine};
 use crate::mesh::BodyParts;
 pub use rigid_body::{PrimarySide, RigidBodySpec, RigidMotion};
 
@@ -372,6 +372,10 @@ pub struct FixSpec {
     pub body: usize,
     pub nodes: NodeSelection,
     pub components: [bool; 3],
+    /// The velocity of the held components from t = 0 (zero where not held).
+    pub velocity: [f64; 3],
+    /// With a name, the history gives the fix's reaction (`<name>.fx`, `.fy`, `.fz`).
+    pub name: Option<String>,
 }
 
 /// A known solution of one history column, drawn beside the computed curve: a piecewise

@@ -158,6 +158,16 @@ pub(crate) struct RawBox {
     pub max: [f64; 3],
     pub divisions: [i64; 3],
     pub element: Option<String>,
+    pub refine: Option<RawRefine>,
+}
+
+/// `box.refine = { min, max, size }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawRefine {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+    pub size: [f64; 3],
 }
 
 #[derive(Debug, Deserialize)]
@@ -278,6 +288,8 @@ pub(crate) struct RawFix {
     pub set: Option<String>,
     pub region: Option<RawRegion>,
     pub components: Vec<String>,
+    pub velocity: Option<[f64; 3]>,
+    pub name: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -31,6 +31,7 @@ pub fn jittered_box(rng: &mut impl rand::Rng, divisions: [usize; 3]) -> impact::
         max: std::array::from_fn(|a| origin[a] + h * divisions[a] as f64),
         divisions,
         element: impact::scene::BoxElement::Hex8,
+        refine: None,
     };
     let mut parts = impact::mesh::box_mesh::box_mesh(&spec);
     for x in &mut parts.nodes {

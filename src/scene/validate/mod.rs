@@ -182,11 +182,63 @@ impl Checker<'_> {
                 ("hex8i", BoxElement::Hex8i),
             ],
         )?;
+        let refine = match &b.refine {
+            Some(r) => Some(self.refine(key, r, (min, max), divisions)?),
+            None => None,
+        };
         Ok(BoxSpec {
             min,
             max,
             divisions,
             element,
+            refine,
+        })
+    }
+
+    /// `box.refine`: a zone with min below max on every axis and positive sizes, whose cells
+    /// (with the graded ones around them) keep the box within the 32-bit node numbers.
+    fn refine(
+        &self,
+        key: &dyn Fn(&str) -> String,
+        r: &RawRefine,
+        (min, max): ([f64; 3], [f64; 3]),
+        divisions: [usize; 3],
+    ) -> Result<Refine> {
+        let lo = self.finite3(&key("box.refine.min"), r.min)?;
+        let hi = self.finite3(&key("box.refine.max"), r.max)?;
+        if (0..3).any(|a| hi[a] <= lo[a]) {
+            return Err(self.err(
+                key("box.refine.max"),
+                format!("must exceed box.refine.min on every axis, got min {lo:?} max {hi:?}"),
+            ));
+        }
+        let mut size = [0.0; 3];
+        for a in 0..3 {
+            size[a] = self.positive(&key("box.refine.size"), r.size[a])?;
+        }
+        // cells per axis, bounded before any coordinate list is built: the zone's own plus
+        // at most the even ones and a graded run of log(H / h) / log(1.25) on each side
+        let estimate: f64 = (0..3)
+            .map(|a| {
+                let zone = (hi[a].min(max[a]) - lo[a].max(min[a])).max(0.0) / size[a];
+                let even = (max[a] - min[a]) / divisions[a] as f64;
+                let grade = (even / size[a]).max(1.0).ln() / crate::mesh::grading::GROWTH.ln();
+                zone + divisions[a] as f64 + 2.0 * grade + 4.0
+            })
+            .product();
+        if estimate > f64::from(u32::MAX) {
+            return Err(self.err(
+                key("box.refine.size"),
+                format!(
+                    "{size:?} over the zone {lo:?}..{hi:?} makes about {estimate:.3e} cells; a body holds at most {} nodes (node numbers are 32-bit)",
+                    u32::MAX
+                ),
+            ));
+        }
+        Ok(Refine {
+            min: lo,
+            max: hi,
+            size,
         })
     }
 
@@ -844,13 +896,43 @@ impl Checker<'_> {
                 };
                 components[a] = true;
             }
+            let velocity = self.fix_velocity(&key("velocity"), f, components)?;
+            if rigid_body.is_some() && velocity != [0.0; 3] {
+                return Err(self.err(
+                    key("velocity"),
+                    format!("`{}` is a rigid body: give it `motion = \"prescribed\"` and a `velocity` to move it", f.body),
+                ));
+            }
             fixes.push(FixSpec {
                 body,
                 nodes,
                 components,
+                velocity,
+                name: f.name.clone(),
             });
         }
         Ok(fixes)
+    }
+
+    /// A fix's `velocity`: finite, and zero on the components it does not hold.
+    fn fix_velocity(&self, key: &str, f: &RawFix, held: [bool; 3]) -> Result<[f64; 3]> {
+        let Some(v) = f.velocity else {
+            return Ok([0.0; 3]);
+        };
+        let v = self.finite3(key, v)?;
+        for a in 0..3 {
+            if v[a] != 0.0 && !held[a] {
+                return Err(self.err(
+                    key,
+                    format!(
+                        "{v:?} moves {} but the fix does not hold it: add \"{}\" to `components`, or give it 0",
+                        ["x", "y", "z"][a],
+                        ["x", "y", "z"][a]
+                    ),
+                ));
+            }
+        }
+        Ok(v)
     }
 
     /// `[[probe]]`: named points whose motion the history records.
