@@ -59,8 +59,8 @@ pub fn failure_indices(s: [f64; 6], k: &Strength) -> [f64; 5] {
         0.0
     };
     let matrix_compression = if i1 < 0.0 {
-        let r = k.yc / (2.0 * k.s23);
-        (r * r - 1.0) * i1 / k.yc + (i1 / (2.0 * k.s23)).powi(2) + trans + long
+        let (linear, quadratic) = matrix_compression_parts(s, k);
+        linear + quadratic
     } else {
         0.0
     };
@@ -82,6 +82,20 @@ pub fn failure_indices(s: [f64; 6], k: &Strength) -> [f64; 5] {
         matrix_compression,
         max_stress,
     ]
+}
+
+/// Hashin's matrix compression index of the stress `s` (order as [`failure_indices`]) in
+/// its part linear in the stress, $[(Y_C/2S_{23})^2 - 1] I_1/Y_C$, and its quadratic part.
+pub(crate) fn matrix_compression_parts(s: [f64; 6], k: &Strength) -> (f64, f64) {
+    let [_, s22, s33, s12, s23, s13] = s;
+    let long = (s12 * s12 + s13 * s13) / (k.s12 * k.s12);
+    let trans = (s23 * s23 - s22 * s33) / (k.s23 * k.s23);
+    let i1 = s22 + s33;
+    let r = k.yc / (2.0 * k.s23);
+    (
+        (r * r - 1.0) * i1 / k.yc,
+        (i1 / (2.0 * k.s23)).powi(2) + trans + long,
+    )
 }
 
 #[cfg(test)]

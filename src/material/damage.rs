@@ -1,0 +1,361 @@
+//! Ply damage: Hashin initiation, linear softening over the crack band, and the stiffness
+//! degraded in the MLT form extended to 3D (Matzenmiller, Lubliner and Taylor 1995; Lapczyk
+//! and Hurtado 2007), for an orthotropic ply in its material axes 1 (fibres), 2, 3.
+//!
+//! **Modes.** Four damage variables, fibre tension and compression, matrix tension and
+//! compression ([`MODES`]), each driven by its Hashin index $F$ of the effective stress
+//! $\hat\sigma = M \sigma$, each stress component divided by one minus its damage
+//! (Lapczyk and Hurtado; [`effective`]), with the damage of the step before: on an undamaged
+//! ply $C_0 \varepsilon$. [`super::failure_indices`] gives the matrix and fibre compression
+//! indices; fibre tension is $(\hat\sigma_{11}/X_T)^2$ alone, without Hashin's shear term,
+//! so that in-plane shear cannot soften the fibres (see `docs/method-notes.md`). The signs
+//! that choose between tension and compression are those of $C_0 \varepsilon$.
+//!
+//! **Softening.** The mode's equivalent strain, in units of its value at initiation, is
+//! $r = \sqrt F$ (the index is quadratic in the effective stress, so $r$ is linear in the
+//! strain along any path of fixed direction; in a mode's uniaxial state, $\varepsilon / (X/E)$
+//! whatever the damage); matrix compression's index has a linear part, and its $r$ is the
+//! inverse of the load factor that brings the index to 1. Its equivalent stress falls linearly from the
+//! strength at $r = 1$ to zero at $r_f$, which gives the damage
+//! $d = r_f (r - 1) / (r (r_f - 1))$, never decreasing. The band: an element dissipates
+//! $G / l^*$ per unit volume, $l^*$ its width across the crack, so that the energy per unit
+//! crack area is the fracture energy $G$ whatever the element size (Bažant and Oh 1983). In
+//! the mode's uniaxial state (stress $X$ alone, modulus $E = 1/S$ from the compliance) the
+//! area under the curve is $\tfrac12 X^2 S\, r_f$, so
+//! $r_f = 2 E G / (l^* X^2)$ ([`PlyDamage::softening_end`]); $r_f \le 1$ is the snap-back
+//! of an element wider than $2 E G / X^2$, whose drop is then vertical (and its energy too
+//! large: `impact check` warns).
+//!
+//! **Stiffness.** The compliance's fibre term divided by $1 - d_f$, its matrix and
+//! through-thickness terms by $1 - d_m$, its shear terms by $1 - d_s$, with $d_f$ the fibre
+//! tension or compression damage by the sign of $\tilde\sigma_{11}$, $d_m$ the matrix one by
+//! the sign of $\tilde\sigma_{22} + \tilde\sigma_{33}$, and
+//! $d_s = 1 - \prod_i (1 - d_i)$. Every variable is capped at [`D_MAX`].
+//!
+//! **Viscosity** (Duvaut-Lions): with a time $\eta > 0$ the variables that act lag the
+//! ones the softening gives, $\dot d_v = (d - d_v)/\eta$, integrated backwards over a step.
+//!
+//! **Dissipation.** Over a step the law dissipates $\tfrac12 \varepsilon : (C(d_{old}) -
+//! C(d_{new})) : \varepsilon$ per unit volume, both with the step's signs: the release of
+//! stored energy at fixed strain, never negative (the compliance only grows).
+
+use super::failure::{failure_indices, matrix_compression_parts, Strength};
+use super::Voigt;
+
+/// The damage modes, in the order of a point's variables.
+pub const MODES: [&str; 4] = [
+    "fibre_tension",
+    "fibre_compression",
+    "matrix_tension",
+    "matrix_compression",
+];
+
+/// The largest damage: a ply keeps 1e-4 of its stiffness in a failed mode, so that a fully
+/// damaged element keeps a positive definite stiffness (no mode of it becomes free).
+pub const D_MAX: f64 = 0.9999;
+
+/// Values of a point's state: the four variables the softening gives (their history's
+/// largest), then the four that act (equal to them without viscosity).
+pub const POINT_STATE: usize = 8;
+
+/// A ply's damage law: its undamaged compliance and stiffness in its own axes, strengths,
+/// fracture energies and viscosity.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlyDamage {
+    /// The undamaged compliance's normal block (11, 22, 33).
+    pub normal: [[f64; 3]; 3],
+    /// The undamaged shear compliances (23, 13, 12: Voigt order).
+    pub shear: [f64; 3],
+    /// The undamaged stiffness (Voigt order).
+    pub c0: Voigt,
+    pub strength: Strength,
+    /// Energy per unit crack area of each mode ([`MODES`] order).
+    pub energy: [f64; 4],
+    /// The Duvaut-Lions time (0: none).
+    pub viscosity: f64,
+}
+
+/// One point's step: its new state, its stress (Voigt order, ply axes) and the energy its
+/// law dissipated over the step per unit volume.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointStep {
+    pub state: [f64; POINT_STATE],
+    pub stress: [f64; 6],
+    pub dissipated: f64,
+}
+
+impl PlyDamage {
+    /// The law of a ply of stiffness `c0` (its own axes; orthotropic, so its normal and
+    /// shear blocks are apart).
+    pub fn new(c0: Voigt, strength: Strength, energy: [f64; 4], viscosity: f64) -> Self {
+        let n = nalgebra::Matrix3::from_fn(|i, j| c0[i][j]);
+        let s = n.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros);
+        PlyDamage {
+            normal: std::array::from_fn(|i| std::array::from_fn(|j| s[(i, j)])),
+            shear: std::array::from_fn(|k| 1.0 / c0[3 + k][3 + k]),
+            c0,
+            strength,
+            energy,
+            viscosity,
+        }
+    }
+
+    /// The uniaxial modulus and strength of mode `k`: $E_1$ with $X_T$ or $X_C$ for the
+    /// fibre modes, $E_2$ with $Y_T$ or $Y_C$ for the matrix ones.
+    pub fn mode_constants(&self, k: usize) -> (f64, f64) {
+        let s = &self.strength;
+        match k {
+            0 => (1.0 / self.normal[0][0], s.xt),
+            1 => (1.0 / self.normal[0][0], s.xc),
+            2 => (1.0 / self.normal[1][1], s.yt),
+            _ => (1.0 / self.normal[1][1], s.yc),
+        }
+    }
+
+    /// The widest band of mode `k` that softens without snapping back, $2 E G / X^2$.
+    pub fn snap_back_width(&self, k: usize) -> f64 {
+        let (e, x) = self.mode_constants(k);
+        2.0 * e * self.energy[k] / (x * x)
+    }
+
+    /// $r_f$ of mode `k` in a band of width `l`, at least just above 1 (a snap-back drops at
+    /// once).
+    pub fn softening_end(&self, k: usize, l: f64) -> f64 {
+        (self.snap_back_width(k) / l).max(1.0 + 1e-9)
+    }
+
+    /// The stiffness (Voigt, ply axes) with the fibre, matrix and shear damage `d`.
+    pub fn stiffness(&self, [df, dm, ds]: [f64; 3]) -> Voigt {
+        let scale = [1.0 / (1.0 - df), 1.0 / (1.0 - dm), 1.0 / (1.0 - dm)];
+        let s = nalgebra::Matrix3::from_fn(|i, j| {
+            self.normal[i][j] * if i == j { scale[i] } else { 1.0 }
+        });
+        let n = s.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros);
+        let mut c = [[0.0; 6]; 6];
+        for i in 0..3 {
+            for j in 0..3 {
+                c[i][j] = n[(i, j)];
+            }
+            c[3 + i][3 + i] = (1.0 - ds) / self.shear[i];
+        }
+        c
+    }
+
+    /// One point's step from strain `e` (ply axes, engineering shears, Voigt order), its old
+    /// state, its band widths across fibre and matrix cracks, and the step `dt`.
+    pub fn step(
+        &self,
+        e: &[f64; 6],
+        old: &[f64; POINT_STATE],
+        bands: [f64; 2],
+        dt: f64,
+    ) -> PointStep {
+        let eff = voigt_apply(&self.c0, e);
+        let signs = (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0);
+        let d_old = acting(old, signs);
+        let before = self.stiffness(d_old);
+        let r = self.index_ratios(&effective(&voigt_apply(&before, e), d_old));
+        let mut state = *old;
+        for k in 0..4 {
+            let rf = self.softening_end(k, bands[k / 2]);
+            let trial = if r[k] > 1.0 {
+                (rf * (r[k] - 1.0) / (r[k] * (rf - 1.0))).min(D_MAX)
+            } else {
+                0.0
+            };
+            state[k] = old[k].max(trial);
+            state[4 + k] = if self.viscosity > 0.0 {
+                let a = dt / self.viscosity;
+                ((old[4 + k] + a * state[k]) / (1.0 + a)).min(D_MAX)
+            } else {
+                state[k]
+            };
+        }
+        let after = self.stiffness(acting(&state, signs));
+        let stress = voigt_apply(&after, e);
+        let released: f64 = (0..6)
+            .map(|i| e[i] * (0..6).map(|j| (before[i][j] - after[i][j]) * e[j]).sum::<f64>())
+            .sum();
+        PointStep {
+            state,
+            stress,
+            dissipated: (0.5 * released).max(0.0),
+        }
+    }
+
+    /// $r$ of each mode at the effective stress `s` (Voigt order): $\sqrt F$, and for matrix
+    /// compression, whose index has a part linear in the stress, the inverse of the factor
+    /// on `s` that brings the index to 1 (the same where the linear part vanishes). Either is
+    /// of degree one in the stress, and 1 exactly where the index is.
+    fn index_ratios(&self, s: &[f64; 6]) -> [f64; 4] {
+        let k = &self.strength;
+        // failure_indices takes (11, 22, 33, 12, 23, 13)
+        let f = failure_indices([s[0], s[1], s[2], s[5], s[3], s[4]], k);
+        let ft = if s[0] >= 0.0 { s[0] / k.xt } else { 0.0 };
+        let mc = match s[1] + s[2] < 0.0 {
+            true => {
+                let (a, b) = matrix_compression_parts([s[0], s[1], s[2], s[5], s[3], s[4]], k);
+                // the load factor that brings this stress to the index 1, inverted:
+                // F(r^-1 s) = 1 with F = a + b, linear and quadratic parts
+                match b > 0.0 {
+                    true => 0.5 * (a + (a * a + 4.0 * b).sqrt()),
+                    false => a.max(0.0),
+                }
+            }
+            false => 0.0,
+        };
+        [ft, f[1].sqrt(), f[2].sqrt(), mc]
+    }
+}
+
+/// The fibre, matrix and shear damage that act at a point of state `s`, with the signs of
+/// the effective fibre stress and of the effective transverse stresses' sum.
+pub fn acting(s: &[f64; POINT_STATE], (fibre, matrix): (bool, bool)) -> [f64; 3] {
+    let v = &s[4..];
+    let df = if fibre { v[0] } else { v[1] };
+    let dm = if matrix { v[2] } else { v[3] };
+    let ds = 1.0 - (1.0 - v[0]) * (1.0 - v[1]) * (1.0 - v[2]) * (1.0 - v[3]);
+    [df, dm, ds.min(D_MAX)]
+}
+
+/// The effective stress of the stress `s` under the acting damage `[d_f, d_m, d_s]`: each
+/// component divided by its one minus damage (Lapczyk and Hurtado's $M\sigma$), which in a
+/// mode's uniaxial state is the undamaged modulus times the strain, Poisson's ratios and all.
+pub fn effective(s: &[f64; 6], [df, dm, ds]: [f64; 3]) -> [f64; 6] {
+    let d = [df, dm, dm, ds, ds, ds];
+    std::array::from_fn(|i| s[i] / (1.0 - d[i]))
+}
+
+/// `c` times `e`.
+pub(crate) fn voigt_apply(c: &Voigt, e: &[f64; 6]) -> [f64; 6] {
+    std::array::from_fn(|i| (0..6).map(|j| c[i][j] * e[j]).sum())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::Orthotropic;
+
+    /// IM7/8552 (NASA CompDam's constants, MPa and N/mm).
+    pub(crate) fn im7() -> PlyDamage {
+        let o = Orthotropic::transversely_isotropic(171_420.0, 9_080.0, 0.32, 0.52, 5_290.0);
+        let k = Strength {
+            xt: 2326.2,
+            xc: 1200.1,
+            yt: 62.3,
+            yc: 199.8,
+            s12: 92.3,
+            s23: 75.3,
+        };
+        PlyDamage::new(o.stiffness(), k, [133.3, 47.5, 0.277, 0.788], 0.0)
+    }
+
+    /// The uniaxial stress state of strain `eps` along axis `a` (lateral stresses free),
+    /// found with the law's current stiffness: the strain vector.
+    fn uniaxial(law: &PlyDamage, d: [f64; 3], a: usize, eps: f64) -> [f64; 6] {
+        // the lateral strains of a uniaxial stress: -S_ja / S_aa times eps, with the
+        // damaged compliance
+        let c = law.stiffness(d);
+        let n = nalgebra::Matrix3::from_fn(|i, j| c[i][j]);
+        let s = n.try_inverse().unwrap();
+        let mut e = [0.0; 6];
+        for j in 0..3 {
+            e[j] = s[(j, a)] / s[(a, a)] * eps;
+        }
+        e
+    }
+
+    /// A point pulled along the fibres (or across them) through its whole softening, in
+    /// uniaxial stress, by the strain of the band: the energy it takes per unit volume,
+    /// times the band, is the fracture energy within 0.5% (the rest is the path's
+    /// discretisation); the peak stress is the strength; the stress ends at zero.
+    #[test]
+    fn a_band_pulled_apart_dissipates_its_fracture_energy() {
+        let law = im7();
+        for (mode, axis, l) in [(0, 0, 0.5), (2, 1, 0.5), (2, 1, 1.2), (1, 0, 0.5), (3, 1, 0.25)] {
+            let sign = if mode % 2 == 1 { -1.0 } else { 1.0 };
+            let (e_mod, x) = law.mode_constants(mode);
+            let rf = law.softening_end(mode, l);
+            let end = 1.05 * rf * x / e_mod;
+            let steps = 20_000;
+            let mut state = [0.0; POINT_STATE];
+            let (mut work, mut dissipated, mut peak, mut last) = (0.0, 0.0, 0.0f64, 0.0);
+            let mut prev = (0.0, 0.0);
+            for i in 1..=steps {
+                let eps = sign * end * i as f64 / steps as f64;
+                let d = acting(&state, (sign > 0.0, sign > 0.0));
+                let e = uniaxial(&law, d, axis, eps);
+                let p = law.step(&e, &state, [l, l], 1.0);
+                state = p.state;
+                let s = sign * p.stress[axis];
+                work += 0.5 * (s + prev.1) * (sign * eps - prev.0);
+                dissipated += p.dissipated;
+                prev = (sign * eps, s);
+                peak = peak.max(s);
+                last = s;
+            }
+            let g = law.energy[mode];
+            eprintln!(
+                "mode {mode}, band {l}: work x l {:.5} (G {g}), dissipated x l {:.5}, peak {peak:.2} (X {x}), end {last:.3e}",
+                work * l,
+                dissipated * l
+            );
+            assert!((work * l - g).abs() <= 5e-3 * g, "work {}", work * l);
+            assert!((dissipated * l - g).abs() <= 5e-3 * g, "dissipated {}", dissipated * l);
+            assert!((peak - x).abs() <= 2e-3 * x, "peak {peak}");
+            // what D_MAX leaves: 1e-4 of the stiffness at 1.05 r_f
+            assert!(last.abs() <= 1.1e-4 * rf * x, "end {last}");
+        }
+    }
+
+    /// Unloading keeps the damage (secant unloading to the origin), and reloading follows the
+    /// secant up to where the softening left off; closing a fibre crack (compression) gives
+    /// the fibres their compressive stiffness back.
+    #[test]
+    fn damage_never_heals_and_a_closed_crack_bears_compression() {
+        let law = im7();
+        let (e1, xt) = law.mode_constants(0);
+        let eps0 = xt / e1;
+        let mut state = [0.0; POINT_STATE];
+        for eps in [0.5, 1.0, 1.5, 2.0] {
+            let e = uniaxial(&law, acting(&state, (true, true)), 0, eps * eps0);
+            state = law.step(&e, &state, [0.5, 0.5], 1.0).state;
+        }
+        let d = state[0];
+        assert!(d > 0.0);
+        let e = uniaxial(&law, acting(&state, (true, true)), 0, 0.5 * eps0);
+        let back = law.step(&e, &state, [0.5, 0.5], 1.0);
+        assert_eq!(back.state[0], d, "unloading keeps the damage");
+        assert_eq!(back.dissipated, 0.0);
+        let secant = back.stress[0] / (0.5 * eps0);
+        assert!((secant / e1 - (1.0 - d)).abs() < 0.02, "secant {}", secant / e1);
+        let e = uniaxial(&law, [0.0; 3], 0, -0.5 * eps0);
+        let closed = law.step(&e, &state, [0.5, 0.5], 1.0);
+        assert!((closed.stress[0] / (-0.5 * eps0) / e1 - 1.0).abs() < 1e-9);
+    }
+
+    /// With a viscosity the acting damage lags the softening's by dt / eta per step, and
+    /// reaches it when held.
+    #[test]
+    fn viscous_damage_lags_and_catches_up() {
+        let mut law = im7();
+        law.viscosity = 1e-3;
+        let (e2, yt) = law.mode_constants(2);
+        let e = uniaxial(&law, [0.0; 3], 1, 2.0 * yt / e2);
+        let mut state = [0.0; POINT_STATE];
+        state = law.step(&e, &state, [0.5, 0.5], 1e-4).state;
+        let target = state[2];
+        assert!((state[6] - target / 11.0).abs() < 1e-12, "{state:?}");
+        for _ in 0..200 {
+            state = law.step(&e, &state, [0.5, 0.5], 1e-4).state;
+        }
+        assert!((state[6] - target).abs() < 1e-6 * target);
+    }
+
+    /// The snap-back width of IM7/8552 in matrix tension, 2 E2 G / YT^2: 1.30 mm.
+    #[test]
+    fn the_matrix_snap_back_width_of_im7_8552() {
+        let w = im7().snap_back_width(2);
+        assert!((w - 1.296).abs() < 0.005, "{w}");
+    }
+}
