@@ -369,6 +369,8 @@ impl Subdomain {
             queries: Default::default(),
             probes: Vec::new(),
             fix_nodes: Vec::new(),
+            fix_motion: Vec::new(),
+            reactions: Vec::new(),
             initial_velocity: Vec::new(),
             gravity: model.gravity,
             rigid: Vec::new(),

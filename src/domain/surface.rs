@@ -63,6 +63,8 @@ pub(crate) fn surface_model(model: &Model, nodes: &[u32]) -> Model {
         queries,
         probes: Vec::new(),
         fix_nodes: Vec::new(),
+        fix_motion: Vec::new(),
+        reactions: Vec::new(),
         initial_velocity: at_nodes(nodes, &model.initial_velocity),
         gravity: model.gravity,
         rigid,

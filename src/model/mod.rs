@@ -23,6 +23,14 @@ pub struct Probe {
     pub node: u32,
 }
 
+/// A named `[[fix]]`: its held dofs, by component. Its reaction is the force it applies to
+/// them, the sum over each component's dofs of the internal force less the body force.
+#[derive(Debug, Clone)]
+pub struct Reaction {
+    pub name: String,
+    pub dofs: [Vec<u32>; 3],
+}
+
 #[derive(Debug, Clone)]
 pub struct Model {
     pub mesh: Mesh,
@@ -48,6 +56,10 @@ pub struct Model {
     pub probes: Vec<Probe>,
     /// Nodes held by each `[[fix]]`, in the scene's order.
     pub fix_nodes: Vec<usize>,
+    /// The held dofs that a `[[fix]]` moves, with their velocities, by increasing dof.
+    pub fix_motion: Vec<(usize, f64)>,
+    /// The named `[[fix]]`s, whose reactions the history gives.
+    pub reactions: Vec<Reaction>,
     /// Initial velocity, 3 per node.
     pub initial_velocity: Vec<f64>,
     pub gravity: [f64; 3],
@@ -74,7 +86,12 @@ impl Model {
             initial_velocity.extend_from_slice(&b.velocity);
         }
         let table = materials::element_materials(scene, &mut mesh);
-        let (mut fixed, fix_nodes) = fixes(scene, &mesh)?;
+        let Fixes {
+            mut fixed,
+            counts: fix_nodes,
+            moving: fix_motion,
+            reactions,
+        } = fixes(scene, &mesh)?;
         for b in rigid.iter().filter(|b| b.is_prescribed()) {
             fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
         }
@@ -99,6 +116,8 @@ impl Model {
             queries,
             probes,
             fix_nodes,
+            fix_motion,
+            reactions,
             initial_velocity,
             gravity: scene.gravity,
             rigid,
@@ -110,11 +129,13 @@ impl Model {
         self.rigid.iter().map(|b| (b.node, b.mass))
     }
 
-    /// The prescribed dofs that move, with their velocities (the prescribed rigid bodies').
+    /// The prescribed dofs that move, with their velocities: the prescribed rigid bodies',
+    /// then the `[[fix]]`es' with a velocity.
     pub fn moving_dofs(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
         (self.rigid.iter())
             .filter(|b| b.motion == crate::scene::RigidMotion::Prescribed)
             .flat_map(|b| (0..3).map(move |a| (3 * b.node as usize + a, b.velocity[a])))
+            .chain(self.fix_motion.iter().copied())
     }
 
     /// Recomputes every interface's tributary areas from the current reference coordinates
@@ -168,62 +189,110 @@ fn body_box(mesh: &Mesh, b: usize) -> ([f64; 3], [f64; 3]) {
 
 /// The fixed dofs of every `[[fix]]`, and the nodes each holds (a fix that holds none is an
 /// error naming it).
-fn fixes(scene: &Scene, mesh: &Mesh) -> Result<(Vec<bool>, Vec<usize>)> {
+/// What the `[[fix]]`s hold: every held dof, the nodes each fix holds, the held dofs that
+/// move (with their velocities) and each named fix's held dofs.
+struct Fixes {
+    fixed: Vec<bool>,
+    counts: Vec<usize>,
+    moving: Vec<(usize, f64)>,
+    reactions: Vec<Reaction>,
+}
+
+/// The nodes a fix selects (none for a rigid body's, which holds the body's node).
+fn fix_selection(mesh: &Mesh, f: &crate::scene::FixSpec) -> Vec<u32> {
+    let body = &mesh.bodies[f.body];
+    match &f.nodes {
+        NodeSelection::RigidBody => Vec::new(),
+        NodeSelection::Surface(s) => Mesh::face_nodes(&body.surfaces[*s].faces),
+        NodeSelection::Set(s) => body.node_sets[*s].nodes.clone(),
+        NodeSelection::Region { min, max } => body
+            .nodes
+            .clone()
+            .filter(|&n| {
+                let p = mesh.nodes[n];
+                (0..3).all(|a| p[a] >= min[a] - 1e-12 && p[a] <= max[a] + 1e-12)
+            })
+            .map(|n| n as u32)
+            .collect(),
+    }
+}
+
+/// A `[[fix]]` that holds no node.
+fn empty_fix(scene: &Scene, mesh: &Mesh, i: usize) -> ImpactError {
+    let f = &scene.fixes[i];
+    ImpactError::SceneValue {
+        path: scene.path.clone(),
+        key: format!("fix[{i}]"),
+        message: format!(
+            "holds no node of body `{}`{}",
+            scene.bodies[f.body].name,
+            match &f.nodes {
+                NodeSelection::Region { min, max } => format!(
+                    " (region.min {min:?}, region.max {max:?}; the body's nodes span {:?} to {:?})",
+                    body_box(mesh, f.body).0,
+                    body_box(mesh, f.body).1
+                ),
+                _ => String::new(),
+            }
+        ),
+    }
+}
+
+fn fixes(scene: &Scene, mesh: &Mesh) -> Result<Fixes> {
     let mut fixed = vec![false; 3 * mesh.node_count()];
-    let mut fix_nodes = Vec::with_capacity(scene.fixes.len());
+    // the velocity each held dof is given, and by which fix
+    let mut given: std::collections::HashMap<usize, (f64, usize)> = Default::default();
+    let mut counts = Vec::with_capacity(scene.fixes.len());
+    let mut reactions = Vec::new();
     let first_rigid = mesh.node_count() - scene.rigid_bodies.len();
     for (i, f) in scene.fixes.iter().enumerate() {
-        if let NodeSelection::RigidBody = f.nodes {
-            fix_nodes.push(1);
-            for a in (0..3).filter(|&a| f.components[a]) {
-                fixed[3 * (first_rigid + f.body) + a] = true;
-            }
-            continue;
-        }
-        let body = &mesh.bodies[f.body];
-        let nodes: Vec<u32> = match &f.nodes {
-            NodeSelection::RigidBody => Vec::new(),
-            NodeSelection::Surface(s) => Mesh::face_nodes(&body.surfaces[*s].faces),
-            NodeSelection::Set(s) => body.node_sets[*s].nodes.clone(),
-            NodeSelection::Region { min, max } => body
-                .nodes
-                .clone()
-                .filter(|&n| {
-                    let p = mesh.nodes[n];
-                    (0..3).all(|a| p[a] >= min[a] - 1e-12 && p[a] <= max[a] + 1e-12)
-                })
-                .map(|n| n as u32)
-                .collect(),
+        let nodes = match f.nodes {
+            NodeSelection::RigidBody => vec![(first_rigid + f.body) as u32],
+            _ => fix_selection(mesh, f),
         };
         if nodes.is_empty() {
-            return Err(ImpactError::SceneValue {
-                path: scene.path.clone(),
-                key: format!("fix[{i}]"),
-                message: format!(
-                    "holds no node of body `{}`{}",
-                    scene.bodies[f.body].name,
-                    match &f.nodes {
-                        NodeSelection::Region { min, max } => format!(
-                            " (region.min {min:?}, region.max {max:?}; the body's nodes span {:?} to {:?})",
-                            body_box(mesh, f.body).0,
-                            body_box(mesh, f.body).1
-                        ),
-                        _ => String::new(),
-                    }
-                ),
-            });
+            return Err(empty_fix(scene, mesh, i));
         }
-        fix_nodes.push(nodes.len());
-        for n in nodes {
-            for a in 0..3 {
-                if f.components[a] {
-                    fixed[3 * n as usize + a] = true;
+        counts.push(nodes.len());
+        let mut held: [Vec<u32>; 3] = Default::default();
+        for &n in &nodes {
+            for a in (0..3).filter(|&a| f.components[a]) {
+                let d = 3 * n as usize + a;
+                fixed[d] = true;
+                held[a].push(d as u32);
+                if let Some((w, j)) = given.insert(d, (f.velocity[a], i)) {
+                    if w != f.velocity[a] {
+                        return Err(ImpactError::SceneValue {
+                            path: scene.path.clone(),
+                            key: format!("fix[{i}].velocity"),
+                            message: format!(
+                                "fix[{j}] holds node {n}'s {} at {w} and this fix at {}: a node's component moves at one velocity",
+                                ["x", "y", "z"][a],
+                                f.velocity[a]
+                            ),
+                        });
+                    }
                 }
             }
         }
+        if let Some(name) = &f.name {
+            reactions.push(Reaction {
+                name: name.clone(),
+                dofs: held,
+            });
+        }
     }
-
-    Ok((fixed, fix_nodes))
+    let mut moving: Vec<(usize, f64)> = (given.into_iter())
+        .filter(|(_, (w, _))| *w != 0.0)
+        .map(|(d, (w, _))| (d, w))
+        .collect();
+    moving.sort_by_key(|m| m.0);
+    Ok(Fixes {
+        fixed,
+        counts,
+        moving,
+        reactions,
+    })
 }
 
 /// The contact queries of the surface interfaces, then every interface: the `[[contact]]`s

@@ -3,8 +3,7 @@
 //! A name becomes part of a history column (`bar.vx`), a CSV header, a summary entry and,
 //! for VTU frames, XML. So a name is non-empty and made of ASCII letters, digits, `_`, `-`
 //! and `.`; and the kinds that make history columns (bodies, contacts, rigid planes, rigid
-//! bodies, probes)
-//! share one set of names, so that no two columns are alike.
+//! bodies, probes, named fixes) share one set of names, so that no two columns are alike.
 
 use super::Checker;
 use crate::error::Result;
@@ -35,6 +34,10 @@ impl Checker<'_> {
                     .map(|(i, b)| ("rigid_body", i, b.name.as_str())),
             )
             .chain((raw.probe.iter().enumerate()).map(|(i, p)| ("probe", i, p.name.as_str())))
+            .chain(
+                (raw.fix.iter().enumerate())
+                    .filter_map(|(i, f)| Some(("fix", i, f.name.as_deref()?))),
+            )
             .collect();
         let mut seen = std::collections::HashMap::new();
         for &(kind, i, name) in &columns {
@@ -44,7 +47,7 @@ impl Checker<'_> {
                 return Err(self.err(
                     key,
                     format!(
-                        "`{name}` is also the name of {k}[{j}]: bodies, contacts, rigid planes, rigid bodies and probes name history columns, so their names must differ"
+                        "`{name}` is also the name of {k}[{j}]: bodies, contacts, rigid planes, rigid bodies, probes and named fixes name history columns, so their names must differ"
                     ),
                 ));
             }
