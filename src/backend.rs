@@ -4,9 +4,10 @@
 
 use crate::element::CornerLayout;
 use crate::error::Result;
+use crate::kernels::damage_data::{DamageData, DamageState, DamagedPoint};
 use crate::kernels::{
-    as_vec3, as_vec3_mut, contact_gap, element_forces, node_gather, slip_rate, ContactPoint,
-    ContactQueries, ElementData, Incidence, KeptData,
+    as_vec3, as_vec3_mut, contact_gap, damage_forces, element_forces, node_gather, slip_rate,
+    ContactPoint, ContactQueries, ElementData, Incidence, KeptData,
 };
 use crate::model::Model;
 
@@ -54,6 +55,29 @@ pub trait Kernels {
         points: &[ContactPoint],
         out: &mut [[f64; 2]],
     ) -> Result<()>;
+    /// An explicit step's internal forces: the plies' damage stepped over `dt` to `u`, then
+    /// the forces with it (the same as [`Self::internal_forces_into`] where nothing
+    /// damages). Returns the energy the damage dissipated over the step.
+    fn step_forces_into(&mut self, u: &[f64], _dt: f64, f: &mut [f64]) -> Result<f64> {
+        self.internal_forces_into(u, f)?;
+        Ok(0.0)
+    }
+    /// The damage state (a checkpoint's part): empty where nothing damages.
+    fn damage_values(&self) -> Result<Vec<f64>> {
+        Ok(Vec::new())
+    }
+    /// Continues from a checkpoint's damage state.
+    fn restore_damage(&mut self, values: &[f64]) -> std::result::Result<(), String> {
+        match values.is_empty() {
+            true => Ok(()),
+            false => Err("the checkpoint holds ply damage and this model has none".into()),
+        }
+    }
+    /// Each element's acting damage by mode, the largest over its points (frames), and the
+    /// first damaged point; `None` where nothing damages.
+    fn damage_cells(&self) -> Option<(Vec<[f64; 4]>, Option<DamagedPoint>)> {
+        None
+    }
 }
 
 /// The kernels on the CPU, in f64.
@@ -64,6 +88,8 @@ pub struct CpuKernels {
     kept: KeptData,
     incidence: Incidence,
     corner_forces: Vec<[f64; 3]>,
+    /// The plies' damage and its state, where any element damages.
+    damage: Option<(DamageData, DamageState)>,
 }
 
 impl CpuKernels {
@@ -76,7 +102,37 @@ impl CpuKernels {
             data,
             incidence,
             corner_forces,
+            damage: None,
         }
+    }
+
+    /// With the plies' damage (none where no element damages).
+    pub fn with_damage(mut self, damage: Option<DamageData>) -> Self {
+        self.damage = damage.filter(DamageData::any).map(|d| {
+            let s = DamageState::new(&d);
+            (d, s)
+        });
+        self
+    }
+
+    /// The element forces at `u` and, with damage, its pass (see
+    /// [`Kernels::step_forces_into`]), gathered into `f`.
+    fn forces(&mut self, u: &[f64], f: &mut [f64], (dt, advance): (f64, bool)) -> f64 {
+        let fixed = (&self.layout, &self.kept);
+        element_forces(&self.data, fixed, as_vec3(u), &mut self.corner_forces);
+        let dissipated = match &mut self.damage {
+            Some((d, s)) => damage_forces(
+                &self.data,
+                (d, s),
+                &self.layout,
+                as_vec3(u),
+                &mut self.corner_forces,
+                (dt, advance),
+            ),
+            None => 0.0,
+        };
+        node_gather(&self.incidence, &self.corner_forces, as_vec3_mut(f));
+        dissipated
     }
 
     pub fn data(&self) -> &ElementData {
@@ -98,10 +154,30 @@ impl Kernels for CpuKernels {
         f64::EPSILON
     }
     fn internal_forces_into(&mut self, u: &[f64], f: &mut [f64]) -> Result<()> {
-        let fixed = (&self.layout, &self.kept);
-        element_forces(&self.data, fixed, as_vec3(u), &mut self.corner_forces);
-        node_gather(&self.incidence, &self.corner_forces, as_vec3_mut(f));
+        self.forces(u, f, (0.0, false));
         Ok(())
+    }
+    fn step_forces_into(&mut self, u: &[f64], dt: f64, f: &mut [f64]) -> Result<f64> {
+        Ok(self.forces(u, f, (dt, true)))
+    }
+    fn damage_values(&self) -> Result<Vec<f64>> {
+        Ok(self
+            .damage
+            .as_ref()
+            .map(|(_, s)| s.flat())
+            .unwrap_or_default())
+    }
+    fn restore_damage(&mut self, values: &[f64]) -> std::result::Result<(), String> {
+        match &mut self.damage {
+            Some((d, s)) => s.restore(d, values),
+            None if values.is_empty() => Ok(()),
+            None => Err("the checkpoint holds ply damage and this model has none".into()),
+        }
+    }
+    fn damage_cells(&self) -> Option<(Vec<[f64; 4]>, Option<DamagedPoint>)> {
+        let (d, s) = self.damage.as_ref()?;
+        let elements = &self.data.elements;
+        Some((s.cells(d, elements), s.first_damaged(d, elements)))
     }
     fn contact_gap_into(
         &mut self,

@@ -28,7 +28,10 @@ pub fn model_report(scene: &Scene, setup: &Setup) -> Result<String> {
     if setup.method == Method::Implicit {
         let _ = writeln!(out, "implicit factors: {}", implicit_factors(scene, setup)?);
     }
-    for w in &setup.warnings {
+    let bands = (setup.damage.as_ref())
+        .map(|d| crate::check::crack_band::crack_band(scene, &setup.model, d))
+        .unwrap_or_default();
+    for w in setup.warnings.iter().chain(&bands) {
         let _ = writeln!(out, "warning: {}: {}", w.kind, w.message);
     }
     Ok(out)

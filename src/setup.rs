@@ -40,6 +40,8 @@ pub struct Setup {
     /// What the model's checks found doubtful but not wrong ([`quality`]); a run ends with
     /// them among its warnings.
     pub warnings: Vec<Warning>,
+    /// The damage kernels' inputs, where a material damages.
+    pub damage: Option<crate::kernels::damage_data::DamageData>,
 }
 
 /// Builds and checks the model and picks the device, method and step. `notice` receives
@@ -98,12 +100,16 @@ pub fn prepare(
         }
         (m, _) => (m, None),
     };
+    refuse_implicit(scene, &model, method)?;
     let (dt, steps, last_step) = time_step(scene, method, bound, method_choice.is_some())?;
     let estimate = memory::estimate(scene, method, ctx.is_some() && method == Method::Explicit);
     // the built model already left the memory available now
     let built = memory::estimate(scene, Method::Explicit, false).host;
     memory::check(scene, &estimate, built)?;
+    let damage = model.damage_data();
+    clock.lap("damage");
     Ok(Setup {
+        damage,
         model,
         ctx,
         bound,
@@ -232,6 +238,35 @@ pub fn gpu_context(
     }
 }
 
+/// Why a model runs on the explicit path alone, if it does: a material whose plies damage
+/// (softening is not solved implicitly), or a `[[fix]]` that moves.
+fn explicit_only(scene: &Scene, model: &Model) -> Option<String> {
+    if let Some(m) = scene.materials.iter().find(|m| m.damage.is_some()) {
+        return Some(format!(
+            "material `{}` damages (fracture_energy), and softening plies run on the explicit path",
+            m.name
+        ));
+    }
+    if !model.fix_motion.is_empty() {
+        return Some("a [[fix]] moves its nodes (velocity), which the explicit path runs".into());
+    }
+    None
+}
+
+/// Refuses an implicit run of a model that runs explicit only ([`explicit_only`]).
+fn refuse_implicit(scene: &Scene, model: &Model, method: Method) -> Result<()> {
+    match (method, explicit_only(scene, model)) {
+        (Method::Implicit, Some(why)) => Err(ImpactError::SceneValue {
+            path: scene.path.clone(),
+            key: "run.method".into(),
+            message: format!(
+                "\"implicit\": {why}; set method = \"explicit\" (or \"auto\", which picks it)"
+            ),
+        }),
+        _ => Ok(()),
+    }
+}
+
 /// A GPU failure under `device = "gpu"` names the scene key that asked for it.
 pub(crate) fn gpu_error(scene: &Scene, e: ImpactError) -> ImpactError {
     match e {
@@ -256,7 +291,7 @@ pub fn kernels<'m>(
     let elements = data.elements.count();
     Ok(match gpu_context(scene, elements, device, notice)? {
         Some(ctx) => Box::new(GpuKernels::new(ctx, &data).map_err(|e| gpu_error(scene, e))?),
-        None => Box::new(CpuKernels::new(data)),
+        None => Box::new(CpuKernels::new(data).with_damage(model.damage_data())),
     })
 }
 
@@ -297,6 +332,9 @@ pub(crate) fn implicit_step_cost(elements: usize) -> f64 {
 /// `stable` is the mesh's stable explicit step ([`crate::integrate::stable_step::stable_step_on`]).
 pub(crate) fn choose_method(scene: &Scene, model: &Model, stable: f64) -> (Method, String) {
     let explicit_dt = scene.explicit.safety_factor * stable;
+    if let Some(why) = explicit_only(scene, model) {
+        return (Method::Explicit, format!("explicit: {why}"));
+    }
     let cost = implicit_step_cost(model.mesh.element_count());
     match scene.run.time_step {
         None => (

@@ -5,11 +5,13 @@
 //! - [`penetration`]: secondary nodes behind their primary surface at t = 0.
 //! - [`memory`]: the memory a scene needs against what the process may use.
 //! - [`quality`]: slivers that set the explicit step, and volumetric locking (warnings).
+//! - [`crack_band`]: damaging elements wider than their softening's snap-back limit.
 //!
 //! A check that fails before the run is an error naming the scene key; what only the run
 //! can show (unconverged steps, deep penetration, an energy rise) is a [`Warning`], and a run
 //! with warnings ends as `completed_with_warnings`.
 
+pub mod crack_band;
 pub mod elements;
 pub mod facing;
 pub mod memory;
@@ -22,7 +24,7 @@ use serde::Serialize;
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct Warning {
     /// A stable name: `unconverged_steps`, `deep_penetration`, `energy_rise`,
-    /// `initial_penetration`, `element_quality`, `volumetric_locking`.
+    /// `initial_penetration`, `element_quality`, `volumetric_locking`, `crack_band`.
     pub kind: String,
     pub message: String,
 }

@@ -17,7 +17,7 @@ use super::ranks::{agree, Ranks, Timed};
 use super::subdomain::Subdomain;
 use crate::error::{ImpactError, Result};
 use crate::gpu::GpuContext;
-use crate::integrate::explicit::{correct, lumped_mass, ExplicitState, NodalStart};
+use crate::integrate::explicit::{correct, lumped_mass, ExplicitState, NodalStart, Work};
 use crate::integrate::state::check_restore;
 use crate::integrate::{
     ContactReport, Decomposed, Decomposition, Energies, Integrator, Piece, ProbeValues,
@@ -94,6 +94,10 @@ pub struct DomainSolver<'m> {
     piece: Model,
     communication: std::cell::Cell<f64>,
     contact_seconds: f64,
+    /// The moving `[[fix]]` dofs the rank owns (local dof, velocity), and the work they did
+    /// so far (this rank's part).
+    moving_fixes: Vec<(usize, f64)>,
+    fix_work: f64,
 }
 
 impl<'m> DomainSolver<'m> {
@@ -123,6 +127,12 @@ impl<'m> DomainSolver<'m> {
         let surface = SurfaceContact::new(model, &sub, &mass_all, (settings, speed_scale));
         let ndof = 3 * sub.nodes.len();
         let piece = sub.piece_model(model);
+        let moving_fixes = (model.fix_motion.iter())
+            .filter_map(|&(d, w)| {
+                let i = sub.nodes.binary_search(&((d / 3) as u32)).ok()?;
+                sub.owned[i].then_some((3 * i + d % 3, w))
+            })
+            .collect();
         Ok(DomainSolver {
             model,
             ranks,
@@ -147,7 +157,18 @@ impl<'m> DomainSolver<'m> {
             mass_all,
             communication: std::cell::Cell::new(0.0),
             contact_seconds: 0.0,
+            moving_fixes,
+            fix_work: 0.0,
         })
+    }
+
+    /// The power of the moving fixes the rank owns at its internal forces (see
+    /// [`crate::integrate::explicit::fix_power`]).
+    fn fix_power(&self) -> f64 {
+        let g = self.model.gravity;
+        (self.moving_fixes.iter())
+            .map(|&(d, w)| (self.f_int[d] - self.mass[d / 3] * g[d % 3]) * w)
+            .sum()
     }
 
     /// The rank's share and its time in communication so far.
@@ -260,6 +281,7 @@ impl Integrator for DomainSolver<'_> {
         self.v_half.copy_from_slice(&self.v);
         kernels::explicit_drift(dt, &self.v, &mut self.u);
         self.surface.drift_spins(dt);
+        self.fix_work += dt * self.fix_power();
         self.internal_forces()?;
         let forces = (&self.f_ext[..], &self.f_int[..], &self.inv_mass[..]);
         correct(dt, forces, &mut self.a, &mut self.v);
@@ -369,6 +391,7 @@ impl Integrator for DomainSolver<'_> {
             &self.v_half,
         ];
         let count = self.model.mesh.node_count();
+        let work = self.talk(|r| r.sum(&[self.fix_work]))[0];
         let gathered = checkpoint::gather_fields(&self.timed(), &self.sub, fields, count)
             .map_err(ImpactError::Ranks)?;
         let Some([u, v, a, f_int, u_prev, v_half]) = gathered else {
@@ -386,6 +409,11 @@ impl Integrator for DomainSolver<'_> {
             v_half,
             interfaces: self.surface.contact().interfaces.clone(),
             spins: self.surface.spins().saved(),
+            damage: Vec::new(),
+            work: Work {
+                fixes: work,
+                ..Default::default()
+            },
         })))
     }
 
@@ -404,6 +432,15 @@ impl Integrator for DomainSolver<'_> {
             checkpoint::restrict_fields(&self.sub, global);
         (self.dt, self.time, self.steps) = (s.dt, s.time, s.steps);
         self.surface.restore(s.interfaces, s.spins);
+        if !s.damage.is_empty() {
+            return Err("the checkpoint holds ply damage, which the ranks do not run".into());
+        }
+        // the work so far counted once, on the first rank
+        self.fix_work = if self.ranks.rank() == 0 {
+            s.work.fixes
+        } else {
+            0.0
+        };
         Ok(())
     }
 
@@ -435,6 +472,8 @@ impl Integrator for DomainSolver<'_> {
                 kinetic: 0.5 * k + self.surface.spins().kinetic(),
                 strain: 0.5 * s,
                 potential: -p,
+                damage: 0.0,
+                fix_work: 0.0,
             });
         }
         let (m, v, u0, u1, f, fe) = (
@@ -445,19 +484,48 @@ impl Integrator for DomainSolver<'_> {
             &self.f_int,
             &self.f_ext,
         );
-        let [k, s, p0, p1] = self.owned_sums([
+        // the fixes' work: on the first dof of the rank's first owned node
+        let first = self.sub.owned.iter().position(|&o| o).map(|i| 3 * i);
+        let work = self.fix_work;
+        let [k, s, p0, p1, w] = self.owned_sums([
             &|d| m[d / 3] * v[d] * v[d],
             &|d| u0[d] * f[d],
             &|d| fe[d] * u0[d],
             &|d| fe[d] * u1[d],
+            &|d| if Some(d) == first { work } else { 0.0 },
         ]);
         Ok(Energies {
             // the bodies' rotation as every rank has it, once
             kinetic: 0.5 * k - self.measure_shift + self.surface.spins().kinetic(),
             strain: 0.5 * s,
             // the prescribed rigid bodies' drivers work on the model (every rank has it whole)
-            potential: -0.5 * (p0 + p1) - self.surface.contact().driver_work(),
+            potential: -0.5 * (p0 + p1) - self.surface.contact().driver_work() - w,
+            damage: 0.0,
+            fix_work: w,
         })
+    }
+
+    /// Each named fix's reaction: the rank's owned held dofs, summed over the ranks.
+    fn reactions(&self) -> Vec<[f64; 3]> {
+        if self.model.reactions.is_empty() {
+            return Vec::new();
+        }
+        let g = self.model.gravity;
+        let mut mine = Vec::with_capacity(3 * self.model.reactions.len());
+        for r in &self.model.reactions {
+            for (a, dofs) in r.dofs.iter().enumerate() {
+                let sum: f64 = (dofs.iter())
+                    .filter_map(|&d| {
+                        let i = self.sub.nodes.binary_search(&(d / 3)).ok()?;
+                        let l = 3 * i + a;
+                        self.sub.owned[i].then(|| self.f_int[l] - self.mass[i] * g[a])
+                    })
+                    .sum();
+                mine.push(sum);
+            }
+        }
+        let all = self.talk(|r| r.sum(&mine));
+        all.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
     }
 
     fn end_at(&mut self, time: f64) {

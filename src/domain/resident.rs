@@ -414,8 +414,7 @@ impl<'m> RankResident<'m> {
             probes,
             initial: Energies {
                 kinetic,
-                strain: 0.0,
-                potential: 0.0,
+                ..Default::default()
             },
             measure_shift: 0.0,
             results,

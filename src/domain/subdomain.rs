@@ -363,6 +363,7 @@ impl Subdomain {
             material_axes: model.material_axes.clone(),
             material_source: model.material_source.clone(),
             strengths: model.strengths.clone(),
+            damage_laws: model.damage_laws.clone(),
             body_names: model.body_names.clone(),
             fixed: Vec::new(),
             interfaces: Vec::new(),

@@ -57,6 +57,7 @@ pub(crate) fn surface_model(model: &Model, nodes: &[u32]) -> Model {
         material_axes: model.material_axes.clone(),
         material_source: model.material_source.clone(),
         strengths: model.strengths.clone(),
+        damage_laws: model.damage_laws.clone(),
         body_names: model.body_names.clone(),
         fixed: at_nodes(nodes, &model.fixed),
         interfaces,

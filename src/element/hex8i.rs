@@ -35,7 +35,7 @@ pub(crate) fn packed_index(r: usize, c: usize) -> usize {
 }
 
 /// The inverse and the determinant of the Jacobian at the centre ([`hex8::jacobian`]).
-fn centre_jacobian(x: &[[f64; 3]; 8]) -> ([[f64; 3]; 3], f64) {
+pub(crate) fn centre_jacobian(x: &[[f64; 3]; 8]) -> ([[f64; 3]; 3], f64) {
     let (j, _) = hex8::jacobian(x, [0.0; 3]);
     let m = nalgebra::Matrix3::from_fn(|a, b| j[a][b]);
     let det = m.determinant();
@@ -130,6 +130,22 @@ pub(crate) fn straining(kept: &[f64], x: &[[f64; 3]; 8], u: &[[f64; 3]; 8]) -> [
         let r: [f64; 3] = std::array::from_fn(|b| x[k][b] - x[0][b]);
         std::array::from_fn(|a| d[k][a] - (0..3).map(|b| w[a][b] * r[b]).sum::<f64>())
     })
+}
+
+/// The elastic condensation of the modes, $A_0 = -K_{\alpha\alpha}^{-1} K_{\alpha u}$: the
+/// modes' amplitudes $\alpha = A_0 u$ of the corner displacements (9 x 24 row-major, mode
+/// m's component c in row 3 m + c; zero for a degenerate element).
+pub fn condensation(x: &[[f64; 3]; 8], section: Section) -> Vec<f64> {
+    let k = enriched_stiffness(x, section);
+    let kau = k.view((24, 0), (9, 24)).into_owned();
+    let a = match k.view((24, 24), (9, 9)).into_owned().cholesky() {
+        Some(c) => -c.solve(&kau),
+        None => nalgebra::DMatrix::zeros(9, 24),
+    };
+    (0..9)
+        .flat_map(|r| (0..24).map(move |j| (r, j)))
+        .map(|(r, j)| a[(r, j)])
+        .collect()
 }
 
 /// The displacement gradient at each natural point of `points` as a linear operator on the

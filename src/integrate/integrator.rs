@@ -3,7 +3,8 @@
 //! resident on the GPU. The run loop holds a `Box<dyn Integrator>` and nothing more.
 
 use super::state::{
-    ContactReport, Decomposition, Energies, InterfaceEnd, Piece, ProbeValues, StepReport,
+    ContactReport, DamageReport, Decomposition, Energies, InterfaceEnd, Piece, ProbeValues,
+    StepReport,
 };
 use super::SolverState;
 use crate::error::Result;
@@ -124,6 +125,17 @@ pub trait Integrator {
     /// (none on the engines that refuse rotating bodies).
     fn body_spins(&self) -> Vec<ProbeValues> {
         Vec::new()
+    }
+
+    /// Each named `[[fix]]`'s reaction after the last step (NaN in the history where an
+    /// engine gives none).
+    fn reactions(&self) -> Vec<[f64; 3]> {
+        Vec::new()
+    }
+
+    /// The plies' damage after the last step, where any material damages.
+    fn damage(&self) -> Option<DamageReport> {
+        None
     }
 
     /// Each interface at the end of the run (no penalties: the explicit paths).

@@ -545,8 +545,7 @@ impl<'m> ResidentSolver<'m> {
             results: vec![0.0; result_len],
             initial: Energies {
                 kinetic,
-                strain: 0.0,
-                potential: 0.0,
+                ..Default::default()
             },
         })
     }

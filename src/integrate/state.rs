@@ -30,15 +30,57 @@ pub struct InterfaceEnd {
 pub struct Energies {
     pub kinetic: f64,
     pub strain: f64,
-    /// Potential of the constant body force (gravity): $-f_{ext} \cdot u$.
+    /// Potential of the constant body force (gravity): $-f_{ext} \cdot u$, less the work of
+    /// the prescribed motions.
     pub potential: f64,
+    /// The energy the plies' damage dissipated so far.
+    pub damage: f64,
+    /// The work the moving `[[fix]]`es did on the model so far (in `potential`; the run's
+    /// energy scale grows with it).
+    pub fix_work: f64,
 }
 
 impl Energies {
-    /// Kinetic + strain + gravity potential.
+    /// Kinetic + strain + gravity potential + dissipated by damage: what the model had at
+    /// the start and what moving supports did on it since.
     pub fn total(&self) -> f64 {
-        self.kinetic + self.strain + self.potential
+        self.kinetic + self.strain + self.potential + self.damage
     }
+}
+
+/// Where and when a ply first damaged: the time, the element (global number), the ply (of
+/// its body's plies, from the lowest; none for a body without plies) and the mode.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FirstDamage {
+    pub time: f64,
+    pub cell: usize,
+    pub ply: Option<usize>,
+    pub mode: usize,
+}
+
+impl FirstDamage {
+    /// The first damage at `p`, at `time`.
+    pub fn of(
+        model: &crate::model::Model,
+        p: crate::kernels::damage_data::DamagedPoint,
+        time: f64,
+    ) -> Self {
+        FirstDamage {
+            time,
+            cell: p.element,
+            ply: model.ply_of(p.entry),
+            mode: p.mode,
+        }
+    }
+}
+
+/// The damage of the state after the last step: the energy dissipated so far, the first
+/// damage, and each element's acting damage by mode (the largest over its points).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DamageReport {
+    pub energy: f64,
+    pub first: Option<FirstDamage>,
+    pub cells: Vec<[f64; 4]>,
 }
 
 /// One interface over one step.

@@ -27,6 +27,7 @@ pub mod contact_touches;
 pub mod contact_warm;
 pub mod contact_zone;
 pub mod corner_select;
+pub mod damage_data;
 pub mod explicit_correct;
 pub mod explicit_drift;
 pub mod explicit_predict;
@@ -35,7 +36,9 @@ pub mod failure_reduce;
 pub mod failure_survey;
 pub mod fill_words;
 pub mod gather_correct;
+pub mod hex8_damage;
 pub mod hex8_forces;
+pub mod hex8i_damage;
 pub mod hex8i_forces;
 pub mod history_reduce;
 pub mod impulse;
@@ -51,6 +54,7 @@ pub mod search_grid;
 pub mod slip_rate;
 pub mod stable_step;
 pub mod sweep_control;
+pub mod tet4_damage;
 pub mod tet4_forces;
 
 pub use body_gather::body_gather;
@@ -191,6 +195,44 @@ pub(crate) fn element_forces(
             ElementKind::Hex8i => hex8i_forces(data, kept.of_kind(block.kind), u, out),
         }
     }
+}
+
+/// The damage passes over every block's damageable elements, after [`element_forces`] gave
+/// every element its elastic corner forces (`corner_forces`, in `layout`): with `advance`
+/// the state steps over `dt` to `u`, else the forces are those of the state as it is.
+/// Returns the energy dissipated over the step (element by element, in order).
+pub(crate) fn damage_forces(
+    data: &ElementData,
+    (damage, state): (&damage_data::DamageData, &mut damage_data::DamageState),
+    layout: &CornerLayout,
+    u: &[[f64; 3]],
+    corner_forces: &mut [[f64; 3]],
+    (dt, advance): (f64, bool),
+) -> f64 {
+    let mut total = 0.0;
+    for block in &data.elements.blocks {
+        let k = block.kind.index();
+        let dblock = &damage.blocks[k];
+        if dblock.is_empty() {
+            continue;
+        }
+        let start = layout.offset(block.kind);
+        let mut dissipated = vec![0.0; dblock.len()];
+        let out = damage_data::BlockPass {
+            corner_forces: &mut corner_forces[start..start + block.nodes.len()],
+            state: &mut state.points[k],
+            damaged: &mut state.damaged[k],
+            dissipated: &mut dissipated,
+        };
+        let step = (dt, advance);
+        match block.kind {
+            ElementKind::Hex8 => hex8_damage::hex8_damage(data, damage, u, out, step),
+            ElementKind::Tet4 => tet4_damage::tet4_damage(data, damage, u, out, step),
+            ElementKind::Hex8i => hex8i_damage::hex8i_damage(data, damage, u, out, step),
+        }
+        total += dissipated.iter().sum::<f64>();
+    }
+    total
 }
 
 /// Views a flat dof vector as nodal 3-vectors.

@@ -124,6 +124,61 @@ impl PlyDamage {
         (self.snap_back_width(k) / l).max(1.0 + 1e-9)
     }
 
+    /// $\beta^2$: the largest $r^2$ of any mode per unit $\sigma \cdot S \sigma$ (twice the
+    /// strain energy density) at an undamaged point, so that $r \le \beta \sqrt{2u}$ there
+    /// (the damage kernels' sieve, `kernels::damage_data`). Each quadratic index's bound is
+    /// the largest eigenvalue of its form against the compliance; matrix compression's $r$
+    /// is at most its linear part's dual norm plus the square root of its quadratic part's.
+    pub fn sieve_factor(&self) -> f64 {
+        let k = &self.strength;
+        let mut compliance = nalgebra::SMatrix::<f64, 6, 6>::zeros();
+        for i in 0..3 {
+            for j in 0..3 {
+                compliance[(i, j)] = self.normal[i][j];
+            }
+            compliance[(3 + i, 3 + i)] = self.shear[i];
+        }
+        let Some(l) = compliance.cholesky().map(|c| c.l()) else {
+            return f64::INFINITY;
+        };
+        let Some(l_inv) = l.try_inverse() else {
+            return f64::INFINITY;
+        };
+        let largest = |q: nalgebra::SMatrix<f64, 6, 6>| {
+            let m = l_inv * q * l_inv.transpose();
+            nalgebra::SymmetricEigen::new(m).eigenvalues.max().max(0.0)
+        };
+        let diagonal = |entries: &[(usize, usize, f64)]| {
+            let mut q = nalgebra::SMatrix::<f64, 6, 6>::zeros();
+            for &(i, j, v) in entries {
+                q[(i, j)] = v;
+                q[(j, i)] = v;
+            }
+            q
+        };
+        let (t2, l2) = (1.0 / (k.s23 * k.s23), 1.0 / (k.s12 * k.s12));
+        let shear = [(3, 3, t2), (4, 4, l2), (5, 5, l2)];
+        let ft = largest(diagonal(&[(0, 0, 1.0 / (k.xt * k.xt))]));
+        let fc = largest(diagonal(&[(0, 0, 1.0 / (k.xc * k.xc))]));
+        let y = 1.0 / (k.yt * k.yt);
+        let mt = largest(diagonal(
+            &[&[(1, 1, y), (2, 2, y), (1, 2, y - 0.5 * t2)][..], &shear].concat(),
+        ));
+        let h = 0.25 * t2;
+        let quadratic = largest(diagonal(
+            &[&[(1, 1, h), (2, 2, h), (1, 2, h - 0.5 * t2)][..], &shear].concat(),
+        ));
+        let r = k.yc / (2.0 * k.s23);
+        let a = (r * r - 1.0) / k.yc;
+        // the linear part a (s22 + s33): its largest value per unit norm, sqrt(c . C0 c)
+        let c0 = &self.c0;
+        let dual = (a * a * (c0[1][1] + 2.0 * c0[1][2] + c0[2][2]))
+            .max(0.0)
+            .sqrt();
+        let mc = (dual + quadratic.sqrt()).powi(2);
+        ft.max(fc).max(mt).max(mc)
+    }
+
     /// The stiffness (Voigt, ply axes) with the fibre, matrix and shear damage `d`.
     pub fn stiffness(&self, [df, dm, ds]: [f64; 3]) -> Voigt {
         let scale = [1.0 / (1.0 - df), 1.0 / (1.0 - dm), 1.0 / (1.0 - dm)];
@@ -174,7 +229,11 @@ impl PlyDamage {
         let after = self.stiffness(acting(&state, signs));
         let stress = voigt_apply(&after, e);
         let released: f64 = (0..6)
-            .map(|i| e[i] * (0..6).map(|j| (before[i][j] - after[i][j]) * e[j]).sum::<f64>())
+            .map(|i| {
+                e[i] * (0..6)
+                    .map(|j| (before[i][j] - after[i][j]) * e[j])
+                    .sum::<f64>()
+            })
             .sum();
         PointStep {
             state,
@@ -272,7 +331,13 @@ mod tests {
     #[test]
     fn a_band_pulled_apart_dissipates_its_fracture_energy() {
         let law = im7();
-        for (mode, axis, l) in [(0, 0, 0.5), (2, 1, 0.5), (2, 1, 1.2), (1, 0, 0.5), (3, 1, 0.25)] {
+        for (mode, axis, l) in [
+            (0, 0, 0.5),
+            (2, 1, 0.5),
+            (2, 1, 1.2),
+            (1, 0, 0.5),
+            (3, 1, 0.25),
+        ] {
             let sign = if mode % 2 == 1 { -1.0 } else { 1.0 };
             let (e_mod, x) = law.mode_constants(mode);
             let rf = law.softening_end(mode, l);
@@ -301,7 +366,11 @@ mod tests {
                 dissipated * l
             );
             assert!((work * l - g).abs() <= 5e-3 * g, "work {}", work * l);
-            assert!((dissipated * l - g).abs() <= 5e-3 * g, "dissipated {}", dissipated * l);
+            assert!(
+                (dissipated * l - g).abs() <= 5e-3 * g,
+                "dissipated {}",
+                dissipated * l
+            );
             assert!((peak - x).abs() <= 2e-3 * x, "peak {peak}");
             // what D_MAX leaves: 1e-4 of the stiffness at 1.05 r_f
             assert!(last.abs() <= 1.1e-4 * rf * x, "end {last}");
@@ -328,7 +397,11 @@ mod tests {
         assert_eq!(back.state[0], d, "unloading keeps the damage");
         assert_eq!(back.dissipated, 0.0);
         let secant = back.stress[0] / (0.5 * eps0);
-        assert!((secant / e1 - (1.0 - d)).abs() < 0.02, "secant {}", secant / e1);
+        assert!(
+            (secant / e1 - (1.0 - d)).abs() < 0.02,
+            "secant {}",
+            secant / e1
+        );
         let e = uniaxial(&law, [0.0; 3], 0, -0.5 * eps0);
         let closed = law.step(&e, &state, [0.5, 0.5], 1.0);
         assert!((closed.stress[0] / (-0.5 * eps0) / e1 - 1.0).abs() < 1e-9);
@@ -350,6 +423,29 @@ mod tests {
             state = law.step(&e, &state, [0.5, 0.5], 1e-4).state;
         }
         assert!((state[6] - target).abs() < 1e-6 * target);
+    }
+
+    /// The sieve's bound holds: on random strains r of every mode is at most
+    /// beta sqrt(2 u), and some strain comes within 10% of it.
+    #[test]
+    fn the_sieve_bounds_every_mode() {
+        use rand::{rngs::StdRng, Rng, SeedableRng};
+        let law = im7();
+        let beta = law.sieve_factor().sqrt();
+        let mut rng = StdRng::seed_from_u64(3);
+        let mut closest = 0.0f64;
+        for _ in 0..20_000 {
+            let e: [f64; 6] = std::array::from_fn(|_| rng.random_range(-1e-2..1e-2));
+            let s = voigt_apply(&law.c0, &e);
+            let u2: f64 = (0..6).map(|i| s[i] * e[i]).sum();
+            let r = law.index_ratios(&s);
+            let worst = r.iter().fold(0.0f64, |m, &x| m.max(x));
+            let bound = beta * u2.sqrt();
+            assert!(worst <= bound * (1.0 + 1e-12), "{worst} > {bound}");
+            closest = closest.max(worst / bound);
+        }
+        eprintln!("sieve: the closest random strain reaches {closest:.3} of the bound");
+        assert!(closest > 0.5, "{closest}");
     }
 
     /// The snap-back width of IM7/8552 in matrix tension, 2 E2 G / YT^2: 1.30 mm.

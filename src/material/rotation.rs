@@ -89,6 +89,36 @@ impl Rotation {
         })
     }
 
+    /// The strain of the displacement gradient `h` (global axes) in the material axes, in
+    /// Voigt order with engineering shears: $\varepsilon_m = Q\, \mathrm{sym}(h)\, Q^T$.
+    pub fn strain_to_material(&self, h: &[[f64; 3]; 3]) -> [f64; 6] {
+        let sym: [[f64; 3]; 3] =
+            std::array::from_fn(|a| std::array::from_fn(|b| 0.5 * (h[a][b] + h[b][a])));
+        let e = self.to_material(&sym);
+        [
+            e[0][0],
+            e[1][1],
+            e[2][2],
+            2.0 * e[1][2],
+            2.0 * e[0][2],
+            2.0 * e[0][1],
+        ]
+    }
+
+    /// A stress given in the material axes (Voigt order) in the global ones, as a tensor:
+    /// $\sigma_g = Q^T \sigma_m Q$.
+    pub fn stress_to_global(&self, s: &[f64; 6]) -> [[f64; 3]; 3] {
+        let t = [[s[0], s[5], s[4]], [s[5], s[1], s[3]], [s[4], s[3], s[2]]];
+        let q = &self.axes;
+        std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                (0..3)
+                    .map(|a| (0..3).map(|b| q[a][i] * t[a][b] * q[b][j]).sum::<f64>())
+                    .sum()
+            })
+        })
+    }
+
     /// The stiffness `c` of the material axes in the global axes:
     /// $C^g_{pqrs} = Q_{ap} Q_{bq} Q_{cr} Q_{ds} C_{abcd}$.
     pub fn rotate_voigt(&self, c: &Voigt) -> Voigt {

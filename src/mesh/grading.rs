@@ -57,7 +57,9 @@ fn graded(min: f64, max: f64, even: f64, z: AxisZone) -> Vec<f64> {
         match (left, right) {
             (None, _) => lo = min,
             (_, None) => hi = max,
-            (Some(left), Some(right)) => return assemble((min, max), (lo, hi, cells), &left, &right),
+            (Some(left), Some(right)) => {
+                return assemble((min, max), (lo, hi, cells), &left, &right)
+            }
         }
     }
 }
@@ -163,7 +165,13 @@ mod tests {
     fn a_refined_zone_grades_geometrically_to_the_even_spacing() {
         let (min, max, n) = (0.0, 76.2, 8);
         let even = (max - min) / n as f64;
-        for (lo, hi) in [(28.1, 48.1), (-5.0, 10.0), (0.0, 76.2), (60.0, 90.0), (0.3, 76.0)] {
+        for (lo, hi) in [
+            (28.1, 48.1),
+            (-5.0, 10.0),
+            (0.0, 76.2),
+            (60.0, 90.0),
+            (0.3, 76.0),
+        ] {
             let size = 0.9;
             let x = axis_nodes(min, max, n, Some(AxisZone { lo, hi, size }));
             assert_eq!((x[0], *x.last().unwrap()), (min, max));
@@ -194,10 +202,16 @@ mod tests {
             // growing away from the zone: a cell beyond it is no smaller than the one before
             for (i, p) in c.windows(2).enumerate() {
                 if x[i + 1] >= zhi - 1e-12 {
-                    assert!(p[1] >= p[0] * (1.0 - 1e-9), "shrinks right of the zone: {c:?}");
+                    assert!(
+                        p[1] >= p[0] * (1.0 - 1e-9),
+                        "shrinks right of the zone: {c:?}"
+                    );
                 }
                 if x[i + 1] <= zlo + 1e-12 {
-                    assert!(p[0] >= p[1] * (1.0 - 1e-9), "shrinks left of the zone: {c:?}");
+                    assert!(
+                        p[0] >= p[1] * (1.0 - 1e-9),
+                        "shrinks left of the zone: {c:?}"
+                    );
                 }
             }
             eprintln!("zone {lo}..{hi}: {} cells", c.len());

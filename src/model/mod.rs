@@ -1,6 +1,7 @@
 //! The discrete model built from a scene: mesh, materials, constraints, contact interfaces,
 //! probes. Reading and checking (the scene) is kept apart from the time loop (integrate).
 
+pub mod damage;
 pub mod interface;
 pub mod materials;
 pub mod rigid;
@@ -47,6 +48,8 @@ pub struct Model {
     pub material_source: Vec<usize>,
     /// The ply strengths of each scene material, where it gives them.
     pub strengths: Vec<Option<crate::material::Strength>>,
+    /// The damage law of each scene material that damages.
+    pub damage_laws: Vec<Option<crate::material::PlyDamage>>,
     pub body_names: Vec<String>,
     /// True for each prescribed (zero) degree of freedom, 3 per node.
     pub fixed: Vec<bool>,
@@ -111,6 +114,11 @@ impl Model {
             material_axes: table.axes,
             material_source: table.source,
             strengths: scene.materials.iter().map(|m| m.strength).collect(),
+            damage_laws: scene
+                .materials
+                .iter()
+                .map(damage::law_of_material)
+                .collect(),
             fixed,
             interfaces,
             queries,

@@ -18,8 +18,12 @@ pub struct History {
     rigid: Vec<usize>,
     /// Rigid bodies that rotate, whose rotation vector and angular velocity come next.
     spinning: usize,
-    /// Whether a material has ply strengths: the largest failure indices close the row.
+    /// Whether a material has ply strengths: the largest failure indices come next.
     failure: bool,
+    /// Whether a material damages: the energy damage dissipated comes next.
+    damage: bool,
+    /// The named fixes, whose reactions close the row.
+    reactions: usize,
     /// The file (none on a rank that computes the rows and leaves the file to rank 0).
     file: Option<File>,
     /// Whole rows not yet written.
@@ -46,6 +50,8 @@ impl History {
                 .collect(),
             spinning: model.rigid.iter().filter(|b| b.rotates()).count(),
             failure: model.strengths.iter().any(Option::is_some),
+            damage: model.damage_laws.iter().any(Option::is_some),
+            reactions: model.reactions.len(),
             file,
             pending: String::new(),
             whole,
@@ -126,14 +132,14 @@ impl History {
     }
 
     /// Appends one row; `spins` holds each rotating rigid body's rotation vector and angular
-    /// velocity.
+    /// velocity, `reactions` each named fix's.
     pub fn row(
         &mut self,
         time: f64,
         step: usize,
         e: &Energies,
         (bodies, contacts, probes): (&[[f64; 3]], &[ContactReport], &[ProbeValues]),
-        (spins, failure): (&[ProbeValues], Option<&[f64; 5]>),
+        (spins, failure, reactions): (&[ProbeValues], Option<&[f64; 5]>, &[[f64; 3]]),
     ) -> Result<()> {
         use std::fmt::Write as _;
         let l = &mut self.line;
@@ -184,6 +190,15 @@ impl History {
         if self.failure {
             // NaN where the engine does not survey every step (scene-format.md)
             for x in failure.copied().unwrap_or([f64::NAN; 5]) {
+                num(l, x);
+            }
+        }
+        if self.damage {
+            num(l, e.damage);
+        }
+        for k in 0..self.reactions {
+            // NaN where the engine gives no reactions (scene-format.md)
+            for x in reactions.get(k).copied().unwrap_or([f64::NAN; 3]) {
                 num(l, x);
             }
         }
@@ -344,6 +359,16 @@ pub(crate) fn column_names(model: &Model) -> Vec<String> {
             cols.push(format!("failure_index.{c}"));
         }
     }
+    // the energy the plies' damage dissipated so far
+    if model.damage_laws.iter().any(Option::is_some) {
+        cols.push("damage_energy".into());
+    }
+    // the reaction of each named fix
+    for r in &model.reactions {
+        for c in ["fx", "fy", "fz"] {
+            cols.push(format!("{}.{c}", r.name));
+        }
+    }
     cols
 }
 
@@ -431,7 +456,8 @@ mod tests {
         assert_eq!(longest, 24);
     }
 
-    /// A row's fields are these texts; integers (step, active, sliding) stay integers.
+    /// A row's fields are these texts; integers (step, active, sliding) stay integers; a
+    /// named fix the engine gives no reaction for is NaN.
     #[test]
     fn row_fields() {
         let dir = std::env::temp_dir().join(format!("impact_history_row_{}", std::process::id()));
@@ -443,6 +469,8 @@ mod tests {
             rigid: Vec::new(),
             spinning: 0,
             failure: false,
+            damage: true,
+            reactions: 1,
             file: Some(File::create(&path).unwrap()),
             pending: String::new(),
             whole: 0,
@@ -451,6 +479,7 @@ mod tests {
         let e = Energies {
             kinetic: 0.25,
             strain: 1e-300,
+            damage: 2.5,
             ..Default::default()
         };
         let c = ContactReport {
@@ -461,14 +490,14 @@ mod tests {
             ..Default::default()
         };
         let rows = (&[[1.0, -0.0, f64::INFINITY]][..], &[c][..], &[][..]);
-        h.row(1e-3, 7, &e, rows, (&[], None)).unwrap();
+        h.row(1e-3, 7, &e, rows, (&[], None, &[])).unwrap();
         h.flush().unwrap();
         let written = std::fs::read_to_string(&path).unwrap();
         let _ = std::fs::remove_dir_all(&dir);
         let total = text(e.total());
         assert_eq!(
             written,
-            format!("1e-3,7,0.25,1e-300,{total},1,-0,inf,1.5e20,0,12,0,3,NaN\n")
+            format!("1e-3,7,0.25,1e-300,{total},1,-0,inf,1.5e20,0,12,0,3,NaN,2.5,NaN,NaN,NaN\n")
         );
     }
 }

@@ -158,6 +158,12 @@ pub struct Summary {
     /// did).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub first_failure: Option<Option<crate::output::failure_survey::FirstFailure>>,
+    /// With ply damage: the energy it dissipated over the run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub damage_energy: Option<f64>,
+    /// With ply damage: where and when a ply first damaged (null if none did).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub first_damage: Option<Option<FirstDamageSummary>>,
     pub interfaces: Vec<InterfaceSummary>,
     /// What made the result doubtful (empty when `status = "completed"`).
     pub warnings: Vec<crate::check::Warning>,
@@ -169,6 +175,18 @@ pub struct Summary {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ranks: Option<crate::integrate::Decomposition>,
     pub message: Option<String>,
+}
+
+/// Where and when a ply first damaged: the time, the cell (global element number) and its
+/// body, the ply (of the body's plies, from the lowest; none without plies) and the mode
+/// (`material::damage::MODES`) with the most damage there.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct FirstDamageSummary {
+    pub time: f64,
+    pub cell: usize,
+    pub body: String,
+    pub ply: Option<usize>,
+    pub mode: String,
 }
 
 impl Summary {

@@ -54,11 +54,19 @@ pub(crate) struct VtuWriter {
 
 /// Writes one UnstructuredGrid file of `model` with the state (u, v, contact); returns the
 /// headers of its point and cell data arrays (a `.pvtu` lists them).
+/// A frame's displacements, velocities, nodes' contact and cells' damage (where any).
+type FrameState<'a> = (
+    &'a [f64],
+    &'a [f64],
+    &'a [NodeContact],
+    Option<&'a [[f64; 4]]>,
+);
+
 fn write_grid(
     path: &Path,
     (model, nodes): (&Model, &[u32]),
     time: f64,
-    (u, v, contact): (&[f64], &[f64], &[NodeContact]),
+    (u, v, contact, damage): FrameState,
 ) -> Result<(String, String)> {
     let mesh = &model.mesh;
     let (n_points, n_cells) = (mesh.node_count(), mesh.element_count());
@@ -84,6 +92,11 @@ fn write_grid(
     let point_data_xml = app.take_headers();
 
     cell_data(&mut app, model, u);
+    if let Some(d) = damage {
+        // each cell's acting damage of each mode, the largest over its plies and points
+        let values: Vec<f64> = d.iter().flatten().copied().collect();
+        app.array("damage", "Float64", 4, &f64_bytes(&values));
+    }
     let cell_data_xml = app.take_headers();
 
     let head = format!(
@@ -436,9 +449,9 @@ impl VtuWriter {
         time: f64,
         u: &[f64],
         v: &[f64],
-        contact: &[NodeContact],
+        (contact, damage): (&[NodeContact], Option<&[[f64; 4]]>),
     ) -> Result<()> {
-        let state = (u, v, contact);
+        let state = (u, v, contact, damage);
         let Some((rank, ranks)) = self.piece else {
             let name = Self::frame_name(&self.stem, step);
             let nodes: Vec<u32> = (0..model.mesh.node_count() as u32).collect();

@@ -74,6 +74,13 @@ fn build_solver<'m>(
     ranks: Option<&'m dyn Ranks>,
 ) -> Result<Box<dyn Integrator + 'm>> {
     let (model, dt) = (&setup.model, setup.dt);
+    if model.damage_laws.iter().any(Option::is_some) && (setup.ctx.is_some() || ranks.is_some()) {
+        return Err(ImpactError::Unsupported {
+            path: scene.path.clone(),
+            key: "run.device".into(),
+            message: "ply damage (a material's fracture_energy) runs on the CPU in one process: run with --device cpu and without mpirun".into(),
+        });
+    }
     if let Some(ranks) = ranks {
         let partition = Partition::bisect(model, ranks.size());
         let settings = (&scene.explicit, dt, speed_scale);
@@ -117,7 +124,9 @@ fn build_solver<'m>(
                 Some(ctx) => Box::new(
                     GpuKernels::new(ctx, &model.element_data()).map_err(|e| gpu_error(scene, e))?,
                 ),
-                None => Box::new(CpuKernels::new(model.element_data())),
+                None => Box::new(
+                    CpuKernels::new(model.element_data()).with_damage(setup.damage.clone()),
+                ),
             };
             match method {
                 Method::Explicit => Box::new(ExplicitSolver::new(
@@ -253,6 +262,8 @@ struct Running<'s> {
     summary: Summary,
     identity: RunIdentity,
     energy_scale: f64,
+    /// The largest work the moving fixes did so far (since a resumption).
+    fix_work: f64,
     start: Instant,
     /// The ranks of a decomposed run.
     ranks: Option<&'s dyn Ranks>,
@@ -310,16 +321,18 @@ impl<'s> Running<'s> {
             summary,
             identity,
             energy_scale,
+            fix_work: 0.0,
             start,
             ranks,
         })
     }
 
-    /// The energy scale now: the run's, or the work the prescribed rigid bodies' drivers
-    /// have done so far where that is larger (it is part of the energy balance).
+    /// The energy scale now: the run's, or the work the prescribed rigid bodies' drivers or
+    /// the moving fixes have done so far where that is larger (it is part of the energy
+    /// balance).
     fn scale_now(&self) -> f64 {
         let driven: f64 = (self.solver.reports().iter()).map(|r| r.driver_work).sum();
-        self.energy_scale.max(driven.abs())
+        self.energy_scale.max(driven.abs()).max(self.fix_work)
     }
 
     /// A checkpoint of the current state (the ranks agree on its write); a failed write
@@ -365,7 +378,9 @@ impl<'s> Running<'s> {
                 self.solver.shorten_step(dt);
             }
         }
-        let (r, e, failure) = self.advance(n)?;
+        let (r, energies, failure) = self.advance(n)?;
+        let e = energies.total();
+        self.fix_work = self.fix_work.max(energies.fix_work.abs());
         let at = (n + 1, self.solver.time());
         count_step(&mut self.tally, at, r, e, &self.solver.reports());
         count_failure(&mut self.tally, &self.setup.model, failure, at);
@@ -385,7 +400,14 @@ impl<'s> Running<'s> {
 
     /// The solver's step with its row and frame. The linear solver failing is the run
     /// diverging; anything else (a write, the GPU) ends it as failed, with its own error.
-    fn advance(&mut self, n: usize) -> Result<(StepReport, f64, Option<FailureMaxima>)> {
+    fn advance(
+        &mut self,
+        n: usize,
+    ) -> Result<(
+        StepReport,
+        crate::integrate::Energies,
+        Option<FailureMaxima>,
+    )> {
         let (model, end_time) = (&self.setup.model, self.summary.end_time);
         let last = n + 1 == self.setup.steps;
         let shortened = self.shortened(n);
@@ -479,6 +501,11 @@ impl<'s> Running<'s> {
             &self.setup.initial,
             self.scale_now(),
         ));
+        if let (Some(data), Some(d)) = (&self.setup.damage, self.solver.damage()) {
+            let past =
+                crate::check::crack_band::damaged_past_limit(self.scene, model, data, &d.cells);
+            self.summary.warnings.extend(past);
+        }
         self.summary.status = if self.summary.warnings.is_empty() {
             "completed"
         } else {

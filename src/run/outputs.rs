@@ -291,12 +291,12 @@ pub(super) struct RunIdentity {
     pub(super) speed_scale: f64,
 }
 
-/// Appends the current state's row; returns the total energy and the state's failure
-/// indices (where surveyed).
+/// Appends the current state's row; returns the energies and the state's failure indices
+/// (where surveyed).
 pub(super) fn write_row(
     solver: &mut dyn Integrator,
     out: &mut Outputs,
-) -> Result<(f64, Option<FailureMaxima>)> {
+) -> Result<(crate::integrate::Energies, Option<FailureMaxima>)> {
     let e = solver.energies()?;
     let contacts = solver.reports();
     let probes = solver.probes();
@@ -306,9 +306,13 @@ pub(super) fn write_row(
         solver.steps(),
         &e,
         (&solver.body_velocities(), &contacts, &probes),
-        (&solver.body_spins(), failure.as_ref().map(|f| &f.max)),
+        (
+            &solver.body_spins(),
+            failure.as_ref().map(|f| &f.max),
+            &solver.reactions(),
+        ),
     )?;
-    Ok((e.total(), failure))
+    Ok((e, failure))
 }
 
 /// The state's failure indices: the survey's on one process; on ranks each rank's piece,
@@ -388,11 +392,14 @@ pub(super) fn write_frame(
                 Some(p) => {
                     let mine: Vec<NodeContact> =
                         p.nodes.iter().map(|&n| contact[n as usize]).collect();
-                    w.frame((p.model, Some(p.nodes)), step, time, p.u, p.v, &mine)?;
+                    let frame = (p.model, Some(p.nodes));
+                    w.frame(frame, step, time, p.u, p.v, (&mine, None))?;
                 }
                 None => {
                     let (u, v) = (solver.displacement(), solver.velocity());
-                    w.frame((model, None), step, time, u, v, &contact)?;
+                    let damage = solver.damage().map(|d| d.cells);
+                    let cells = (&contact[..], damage.as_deref());
+                    w.frame((model, None), step, time, u, v, cells)?;
                 }
             }
         }

@@ -188,6 +188,20 @@ pub(super) fn fill_summary(
     solver: &dyn Integrator,
 ) {
     copy_tally(summary, tally);
+    if let Some(d) = solver.damage() {
+        summary.damage_energy = Some(d.energy);
+        summary.first_damage = Some(d.first.map(|f| {
+            crate::output::summary::FirstDamageSummary {
+                time: f.time,
+                cell: f.cell,
+                body: (model.mesh.body_of(f.cell))
+                    .map(|b| model.body_names[b].clone())
+                    .unwrap_or_default(),
+                ply: f.ply,
+                mode: crate::material::damage::MODES[f.mode].into(),
+            }
+        }));
+    }
     summary.iterations_mean = tally.iterations_total as f64 / tally.steps.max(1) as f64;
     summary.interfaces = interface_summaries(model, solver, &tally.peak_force);
     if let Some(f) = solver.implicit_figures() {

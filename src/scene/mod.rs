@@ -251,6 +251,16 @@ pub struct Material {
     pub elastic: Elastic,
     /// Ply strengths, for the failure indices (`strength`).
     pub strength: Option<crate::material::Strength>,
+    /// The plies' damage (`fracture_energy`, `damage_viscosity`), where given.
+    pub damage: Option<DamageSpec>,
+}
+
+/// A material's damage: the fracture energies of fibre tension and compression and matrix
+/// tension and compression (energy per unit crack area), and the Duvaut-Lions time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DamageSpec {
+    pub energy: [f64; 4],
+    pub viscosity: f64,
 }
 
 /// Where a body's mesh comes from.

@@ -91,6 +91,18 @@ pub(crate) struct RawMaterial {
     pub orthotropic: Option<RawOrthotropic>,
     pub transversely_isotropic: Option<RawTransverselyIsotropic>,
     pub strength: Option<RawStrength>,
+    pub fracture_energy: Option<RawFractureEnergy>,
+    pub damage_viscosity: Option<f64>,
+}
+
+/// A ply's fracture energies (`fracture_energy = { ft, fc, mt, mc }`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawFractureEnergy {
+    pub ft: f64,
+    pub fc: f64,
+    pub mt: f64,
+    pub mc: f64,
 }
 
 /// A ply's strengths (`strength = { xt, xc, yt, yc, s12, s23 }`).

@@ -47,7 +47,7 @@ use crate::search;
 use rayon::prelude::*;
 
 use super::integrator::Integrator;
-use super::state::{ContactReport, Energies, StepReport};
+use super::state::{ContactReport, DamageReport, Energies, FirstDamage, StepReport};
 use super::SolverState;
 
 /// Everything an explicit run carries from one step to the next: the checkpoint's part.
@@ -66,6 +66,21 @@ pub struct ExplicitState {
     /// The rigid bodies' rotation (none where no body rotates).
     #[serde(default)]
     pub spins: Vec<spin::BodySpin>,
+    /// The plies' damage ([`Kernels::damage_values`]; none where nothing damages).
+    #[serde(default)]
+    pub damage: Vec<f64>,
+    /// The work of the fixes that move, and what damage dissipated, so far.
+    #[serde(default)]
+    pub work: Work,
+}
+
+/// What a run's prescribed motion and damage have done so far: the work the moving
+/// `[[fix]]`es did on the model, the energy damage dissipated, and the first damage.
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
+pub struct Work {
+    pub fixes: f64,
+    pub damage: f64,
+    pub first_damage: Option<crate::integrate::state::FirstDamage>,
 }
 
 pub struct ExplicitSolver<'m> {
@@ -94,6 +109,7 @@ pub struct ExplicitSolver<'m> {
     /// The rigid bodies' rotation.
     spins: spin::Spins,
     contact: ExplicitContact,
+    work: Work,
 }
 
 /// The nodal start of an explicit run from the lumped masses: the inverse mass and the
@@ -183,6 +199,7 @@ impl<'m> ExplicitSolver<'m> {
             measure_shift: 0.0,
             spins: spin::Spins::new(model),
             contact,
+            work: Work::default(),
         })
     }
 
@@ -200,6 +217,8 @@ impl<'m> ExplicitSolver<'m> {
             v_half: self.v_half.clone(),
             interfaces: self.contact.interfaces.clone(),
             spins: self.spins.saved(),
+            damage: self.kernels.damage_values().unwrap_or_default(),
+            work: self.work.clone(),
         }
     }
 
@@ -220,7 +239,19 @@ impl<'m> ExplicitSolver<'m> {
         self.v_half = s.v_half;
         self.contact.restore(s.interfaces);
         self.spins.restore(s.spins);
+        self.kernels.restore_damage(&s.damage)?;
+        self.work = s.work;
         Ok(())
+    }
+
+    /// Adds a step's dissipation, and finds the first damaged point once there is one.
+    fn count_damage(&mut self, dissipated: f64) {
+        self.work.damage += dissipated;
+        if self.work.first_damage.is_none() && dissipated > 0.0 {
+            if let Some((_, Some(p))) = self.kernels.damage_cells() {
+                self.work.first_damage = Some(FirstDamage::of(self.model, p, self.time + self.dt));
+            }
+        }
     }
 
     /// The step's contact impulses on the predicted velocities.
@@ -263,13 +294,29 @@ impl Integrator for ExplicitSolver<'_> {
         self.v_half.copy_from_slice(&self.v);
         kernels::explicit_drift(dt, &self.v, &mut self.u);
         self.spins.drift(dt);
-        self.kernels
-            .internal_forces_into(&self.u, &mut self.f_int)?;
+        self.work.fixes += dt * fix_power(self.model, &self.mass, &self.f_int);
+        let dissipated = self
+            .kernels
+            .step_forces_into(&self.u, dt, &mut self.f_int)?;
         let forces = (&self.f_ext[..], &self.f_int[..], &self.inv_mass[..]);
         correct(dt, forces, &mut self.a, &mut self.v);
         self.time += dt;
         self.steps += 1;
+        self.count_damage(dissipated);
         Ok(report)
+    }
+
+    fn reactions(&self) -> Vec<[f64; 3]> {
+        reactions(self.model, &self.mass, &self.f_int)
+    }
+
+    fn damage(&self) -> Option<DamageReport> {
+        let (cells, _) = self.kernels.damage_cells()?;
+        Some(DamageReport {
+            energy: self.work.damage,
+            first: self.work.first_damage,
+            cells,
+        })
     }
 
     fn reports(&self) -> Vec<ContactReport> {
@@ -356,23 +403,51 @@ impl Integrator for ExplicitSolver<'_> {
                 kinetic,
                 strain: 0.5 * dot(&self.u, &self.f_int),
                 potential: -dot(&self.f_ext, &self.u),
+                damage: 0.0,
+                fix_work: 0.0,
             });
         }
         let v = &self.v_half;
         let kinetic =
             0.5 * ordered_sum(v.len(), |d| mass[d / 3] * v[d] * v[d]) + self.spins.kinetic();
         let potential = -0.5 * (dot(&self.f_ext, &self.u_prev) + dot(&self.f_ext, &self.u))
-            - self.contact.driver_work();
+            - self.contact.driver_work()
+            - self.work.fixes;
         Ok(Energies {
             kinetic: kinetic - self.measure_shift,
             strain: 0.5 * dot(&self.u_prev, &self.f_int),
             potential,
+            damage: self.work.damage,
+            fix_work: self.work.fixes,
         })
     }
 
     fn end_at(&mut self, time: f64) {
         self.time = time;
     }
+}
+
+/// The power of the moving `[[fix]]`es at internal forces `f_int`: over their dofs, the
+/// reaction $f_{int} - m g$ times the dof's velocity. Central difference's energy identity
+/// takes the step's work as this power at the step's start times the step.
+pub(crate) fn fix_power(model: &Model, mass: &[f64], f_int: &[f64]) -> f64 {
+    (model.fix_motion.iter())
+        .map(|&(d, w)| (f_int[d] - mass[d / 3] * model.gravity[d % 3]) * w)
+        .sum()
+}
+
+/// Each named `[[fix]]`'s reaction at internal forces `f_int`: over its held dofs of each
+/// component, $\sum f_{int} - m g$ (the force the support applies to hold them).
+pub(crate) fn reactions(model: &Model, mass: &[f64], f_int: &[f64]) -> Vec<[f64; 3]> {
+    (model.reactions.iter())
+        .map(|r| {
+            std::array::from_fn(|a| {
+                (r.dofs[a].iter())
+                    .map(|&d| f_int[d as usize] - mass[d as usize / 3] * model.gravity[a])
+                    .sum()
+            })
+        })
+        .collect()
 }
 
 /// The corrector, on all threads: $a = M^{-1}(f_{ext} - f_{int})$ and $v \mathrel{+}= \tfrac{\Delta t}{2} a$

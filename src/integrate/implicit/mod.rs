@@ -880,6 +880,8 @@ impl Integrator for ImplicitSolver<'_> {
             kinetic: kinetic + self.spins.kinetic(),
             strain,
             potential: -dot_slices(&self.f_ext, &self.u) - driver_work,
+            damage: 0.0,
+            fix_work: 0.0,
         })
     }
 

@@ -213,8 +213,8 @@ impl Checker<'_> {
             ));
         }
         let mut size = [0.0; 3];
-        for a in 0..3 {
-            size[a] = self.positive(&key("box.refine.size"), r.size[a])?;
+        for (s, &v) in size.iter_mut().zip(&r.size) {
+            *s = self.positive(&key("box.refine.size"), v)?;
         }
         // cells per axis, bounded before any coordinate list is built: the zone's own plus
         // at most the even ones and a graded run of log(H / h) / log(1.25) on each side
@@ -608,14 +608,57 @@ impl Checker<'_> {
                 .as_ref()
                 .map(|s| self.strength(&key, s))
                 .transpose()?;
+            let damage = self.damage(&key, m)?;
             materials.push(Material {
                 name: m.name.clone(),
                 density,
                 elastic,
                 strength,
+                damage,
             });
         }
         Ok(materials)
+    }
+
+    /// `fracture_energy` and `damage_viscosity`: four positive energies, on an orthotropic or
+    /// transversely isotropic material with strengths; a time of at least 0.
+    fn damage(&self, key: &dyn Fn(&str) -> String, m: &RawMaterial) -> Result<Option<DamageSpec>> {
+        let Some(g) = &m.fracture_energy else {
+            if m.damage_viscosity.is_some() {
+                return Err(self.err(
+                    key("damage_viscosity"),
+                    "regularises ply damage: give the material a `fracture_energy` too",
+                ));
+            }
+            return Ok(None);
+        };
+        if m.strength.is_none() {
+            return Err(self.err(
+                key("fracture_energy"),
+                "damage starts where a Hashin index reaches 1: give the material its `strength` too",
+            ));
+        }
+        if m.orthotropic.is_none() && m.transversely_isotropic.is_none() {
+            return Err(self.err(
+                key("fracture_energy"),
+                "ply damage is for an orthotropic or transversely_isotropic material (fibres along axis 1)",
+            ));
+        }
+        let p = |k: &str, v: f64| self.positive(&key(&format!("fracture_energy.{k}")), v);
+        let energy = [
+            p("ft", g.ft)?,
+            p("fc", g.fc)?,
+            p("mt", g.mt)?,
+            p("mc", g.mc)?,
+        ];
+        let viscosity = m.damage_viscosity.unwrap_or(0.0);
+        if !(viscosity.is_finite() && viscosity >= 0.0) {
+            return Err(self.err(
+                key("damage_viscosity"),
+                format!("must be a time of at least 0, got {viscosity}"),
+            ));
+        }
+        Ok(Some(DamageSpec { energy, viscosity }))
     }
 
     /// `strength`: six positive strengths.

@@ -1,0 +1,117 @@
+//! The crack band's snap-back limit: linear softening over a band of width $l^*$ dissipates
+//! the fracture energy G per unit crack area only where $l^* \le 2 E G / X^2$; a wider
+//! element's equivalent stress drops at once and dissipates its elastic energy at the
+//! strength instead, more than G ([`crate::material::damage`]). One warning per material and
+//! mode whose elements are wider, with the limit and the five widest.
+
+use super::Warning;
+use crate::element::{ElementKind, Elements};
+use crate::kernels::damage_data::DamageData;
+use crate::material::damage::MODES;
+use crate::model::Model;
+
+/// An element past a mode's limit: its global number and its band.
+type Past = (usize, f64);
+
+/// The elements of `data` whose band in a mode exceeds the mode's limit, per (law, mode),
+/// `keep` choosing which elements count.
+fn past_limits(
+    data: &DamageData,
+    elements: &Elements,
+    keep: &dyn Fn(usize, usize) -> bool,
+) -> Vec<Vec<Vec<Past>>> {
+    let mut out = vec![vec![Vec::new(); 4]; data.laws.len()];
+    for (k, b) in data.blocks.iter().enumerate() {
+        let offset = elements.offset(ElementKind::ALL[k]);
+        for i in 0..b.len() {
+            let e = offset + b.elements[i] as usize;
+            for ply in b.plies_of(i) {
+                let law = data.law_of[ply.entry as usize] as usize;
+                for (mode, past) in out[law].iter_mut().enumerate() {
+                    let band = ply.bands[mode / 2];
+                    let limit = data.laws[law].snap_back_width(mode);
+                    let known = past.last().is_some_and(|p: &Past| p.0 == e);
+                    if band > limit && keep(e, mode) && !known {
+                        past.push((e, band));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The warnings of [`past_limits`]; `names` gives each law's material name, `when` the
+/// sentence on what follows.
+fn warnings(
+    data: &DamageData,
+    past: Vec<Vec<Vec<Past>>>,
+    names: &[String],
+    when: &str,
+) -> Vec<Warning> {
+    let mut out = Vec::new();
+    for (law, modes) in past.into_iter().enumerate() {
+        for (mode, mut els) in modes.into_iter().enumerate() {
+            if els.is_empty() {
+                continue;
+            }
+            els.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+            let l = &data.laws[law];
+            let (e, x) = l.mode_constants(mode);
+            let worst: Vec<String> = (els.iter().take(5))
+                .map(|(el, band)| format!("element {el} ({band:.4} wide)"))
+                .collect();
+            out.push(Warning::new(
+                "crack_band",
+                format!(
+                    "material `{}`, {}: {} wider across the crack than the snap-back limit 2 E G / X^2 = {} (E {e:.5e}, G {}, X {x}); {when}; the widest: {}",
+                    names[law],
+                    MODES[mode],
+                    match els.len() {
+                        1 => "1 element is".to_string(),
+                        n => format!("{n} elements are"),
+                    },
+                    three_figures(l.snap_back_width(mode)),
+                    l.energy[mode],
+                    worst.join(", ")
+                ),
+            ));
+        }
+    }
+    out
+}
+
+/// `v` to three significant figures (1.30, 0.359, 21.3).
+fn three_figures(v: f64) -> String {
+    let decimals = (2 - v.abs().log10().floor() as i32).max(0) as usize;
+    format!("{v:.decimals$}")
+}
+
+/// The name of each law's material (laws in the order of the damaging scene materials).
+fn law_names(scene: &crate::scene::Scene) -> Vec<String> {
+    (scene.materials.iter())
+        .filter(|m| m.damage.is_some())
+        .map(|m| m.name.clone())
+        .collect()
+}
+
+/// Before a run: every damageable element past a limit.
+pub fn crack_band(scene: &crate::scene::Scene, model: &Model, data: &DamageData) -> Vec<Warning> {
+    let past = past_limits(data, &model.mesh.elements, &|_, _| true);
+    let when = "where they damage in that mode, their softening drops at once and the energy they dissipate is wrong (too large): refine them (box.refine) below the limit";
+    warnings(data, past, &law_names(scene), when)
+}
+
+/// After a run: the elements past a limit that damaged in that mode (`cells`: each
+/// element's acting damage by mode).
+pub fn damaged_past_limit(
+    scene: &crate::scene::Scene,
+    model: &Model,
+    data: &DamageData,
+    cells: &[[f64; 4]],
+) -> Vec<Warning> {
+    let keep = |e: usize, mode: usize| cells.get(e).is_some_and(|c| c[mode] > 0.0);
+    let past = past_limits(data, &model.mesh.elements, &keep);
+    let when = "they damaged in that mode, their softening dropped at once and the energy they dissipated is too large: refine them (box.refine) below the limit";
+    warnings(data, past, &law_names(scene), when)
+}

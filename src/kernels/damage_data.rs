@@ -1,0 +1,302 @@
+//! The flat inputs and the state of the damage kernels (`hex8_damage`, `hex8i_damage`,
+//! `tet4_damage`; [`crate::element::damage`]).
+//!
+//! Each element block has a list of its damageable elements (those of a material with
+//! `fracture_energy`), each with its plies ([`DamagePly`]), its layup axis, its sieve and,
+//! for a hex8i, its elastic condensation. The state is [`POINT_STATE`] values per point, a
+//! hex's 8 per ply and a tet's one, and a flag per element once any of its points holds
+//! damage.
+//!
+//! **The sieve.** The element kernels first give every element its elastic forces. A
+//! damageable element without damage keeps them when no point can have reached a Hashin
+//! index of 1: each mode's $r$ is at most $\beta \sqrt{2 u}$ at a point of strain energy
+//! density u ([`PlyDamage::sieve_factor`]: $\beta^2$), and a point holds at most the
+//! element's strain energy $U = \tfrac12 \sum_k f_k \cdot u_k$, so with
+//! $\kappa = 2 \beta^2 / \min_p w_p \det J_p$ an element with $\kappa U < 1$ is skipped.
+//! Only elements near initiation, or damaged, take the damage kernels' point loop.
+
+use crate::element::damage::{DamagePly, NO_LAW};
+use crate::element::ElementKind;
+use crate::material::damage::{PlyDamage, POINT_STATE};
+use crate::material::Rotation;
+
+/// Everything the damage kernels read that does not change.
+#[derive(Debug, Clone, Default)]
+pub struct DamageData {
+    /// The laws, one per damaging scene material.
+    pub laws: Vec<PlyDamage>,
+    /// Each material entry's law ([`NO_LAW`] for one that does not damage).
+    pub law_of: Vec<u32>,
+    /// Each material entry's axes.
+    pub axes: Vec<Rotation>,
+    /// One per element kind, in [`ElementKind::ALL`] order.
+    pub blocks: Vec<DamageBlock>,
+}
+
+/// A block's damageable elements.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DamageBlock {
+    /// Their numbers in the block, increasing.
+    pub elements: Vec<u32>,
+    /// Each one's first ply in `plies` (one more entry than elements).
+    pub first_ply: Vec<u32>,
+    pub plies: Vec<DamagePly>,
+    /// Each one's first point (one more entry than elements): 8 per ply of a hex, 1 of a
+    /// tet.
+    pub first_point: Vec<u32>,
+    /// Each one's layup axis (0 where it has one ply).
+    pub axis: Vec<u32>,
+    /// Each one's sieve factor kappa.
+    pub sieve: Vec<f64>,
+    /// A hex8i block: each one's elastic condensation (216 values).
+    pub condensation: Vec<f64>,
+}
+
+impl DamageBlock {
+    pub fn len(&self) -> usize {
+        self.elements.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.elements.is_empty()
+    }
+
+    /// Points of all its elements.
+    pub fn points(&self) -> usize {
+        self.first_point.last().copied().unwrap_or(0) as usize
+    }
+
+    /// The plies of damageable element `i`.
+    pub fn plies_of(&self, i: usize) -> &[DamagePly] {
+        &self.plies[self.first_ply[i] as usize..self.first_ply[i + 1] as usize]
+    }
+
+    /// The state values of damageable element `i`'s points.
+    pub fn state_range(&self, i: usize) -> std::ops::Range<usize> {
+        POINT_STATE * self.first_point[i] as usize..POINT_STATE * self.first_point[i + 1] as usize
+    }
+}
+
+impl DamageData {
+    /// Whether any element damages.
+    pub fn any(&self) -> bool {
+        self.blocks.iter().any(|b| !b.is_empty())
+    }
+
+    /// The block of a kind.
+    pub fn block(&self, kind: ElementKind) -> &DamageBlock {
+        &self.blocks[kind.index()]
+    }
+
+    /// Whether material entry `m` damages.
+    pub fn damages(&self, m: u32) -> bool {
+        self.law_of.get(m as usize).is_some_and(|&l| l != NO_LAW)
+    }
+
+    /// The laws' view for [`crate::element::damage`].
+    pub fn laws(&self) -> crate::element::damage::DamageLaws<'_> {
+        crate::element::damage::DamageLaws {
+            laws: &self.laws,
+            law_of: &self.law_of,
+            axes: &self.axes,
+        }
+    }
+}
+
+/// The damage state: each block's points' values and each damageable element's flag.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DamageState {
+    pub points: Vec<Vec<f64>>,
+    pub damaged: Vec<Vec<bool>>,
+}
+
+impl DamageState {
+    /// No damage anywhere.
+    pub fn new(data: &DamageData) -> Self {
+        DamageState {
+            points: (data.blocks.iter())
+                .map(|b| vec![0.0; POINT_STATE * b.points()])
+                .collect(),
+            damaged: data.blocks.iter().map(|b| vec![false; b.len()]).collect(),
+        }
+    }
+
+    /// Every point's values, block after block (a checkpoint's part).
+    pub fn flat(&self) -> Vec<f64> {
+        self.points.concat()
+    }
+
+    /// The state of [`Self::flat`]'s values; the flags follow from them.
+    pub fn restore(
+        &mut self,
+        data: &DamageData,
+        values: &[f64],
+    ) -> std::result::Result<(), String> {
+        let want: usize = self.points.iter().map(Vec::len).sum();
+        if values.len() != want {
+            return Err(format!(
+                "the checkpoint holds {} damage values and the model's points {want}",
+                values.len()
+            ));
+        }
+        let mut at = 0;
+        for (k, b) in data.blocks.iter().enumerate() {
+            let n = self.points[k].len();
+            self.points[k].copy_from_slice(&values[at..at + n]);
+            at += n;
+            for i in 0..b.len() {
+                let s = &self.points[k][b.state_range(i)];
+                self.damaged[k][i] = crate::element::damage::any_damage(s);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What one block's damage pass reads and writes: the block's part of the corner forces
+/// (the elastic ones on entry), its state and flags (updated in place where the step
+/// advances), and each damageable element's dissipation over the step.
+pub(crate) struct BlockPass<'a> {
+    pub corner_forces: &'a mut [[f64; 3]],
+    pub state: &'a mut [f64],
+    pub damaged: &'a mut [bool],
+    pub dissipated: &'a mut [f64],
+}
+
+/// A damageable element's step in a pass: its number among the damageable elements, its
+/// corners, corner displacements, old state and new state.
+pub(crate) type ElementStep<'a, const N: usize> = dyn Fn(
+        usize,
+        &[[f64; 3]; N],
+        &[[f64; 3]; N],
+        &[f64],
+        &mut [f64],
+    ) -> crate::element::damage::DamageStep<N>
+    + Sync
+    + 'a;
+
+/// One block's damage pass, on all threads: each damageable element that is damaged, or
+/// whose elastic strain energy passes the sieve, takes `step` (its corners `x`, corner
+/// displacements, damageable number, old state and new state) and its forces replace the
+/// elastic ones. `N` is the kind's corner count.
+pub(crate) fn damage_pass<const N: usize>(
+    block: &DamageBlock,
+    corners: &[[u32; N]],
+    (reference, u): (&[[f64; 3]], &[[f64; 3]]),
+    out: BlockPass,
+    advance: bool,
+    step: &ElementStep<'_, N>,
+) {
+    use rayon::prelude::*;
+    // each damageable element's corners, state and flag, as disjoint mutable parts
+    let mut forces: Vec<&mut [[f64; 3]]> = Vec::with_capacity(block.len());
+    let mut chunks = out.corner_forces.chunks_mut(N).enumerate();
+    for &e in &block.elements {
+        let (_, c) = chunks
+            .find(|(k, _)| *k == e as usize)
+            .expect("a damageable element of the block");
+        forces.push(c);
+    }
+    let mut states: Vec<&mut [f64]> = Vec::with_capacity(block.len());
+    let mut rest = &mut out.state[..];
+    for i in 0..block.len() {
+        let (head, tail) = rest.split_at_mut(block.state_range(i).len());
+        states.push(head);
+        rest = tail;
+    }
+    (forces.into_par_iter())
+        .zip(states)
+        .zip(out.damaged.par_iter_mut())
+        .zip(out.dissipated.par_iter_mut())
+        .enumerate()
+        .with_min_len(64)
+        .for_each(|(i, (((f, state), damaged), dissipated))| {
+            let nodes = corners[block.elements[i] as usize];
+            let x = nodes.map(|n| reference[n as usize]);
+            let ue = nodes.map(|n| u[n as usize]);
+            *dissipated = 0.0;
+            if !*damaged {
+                // the elastic strain energy, 1/2 sum f_k . (u_k - u_0)
+                let energy: f64 = 0.5
+                    * (1..N)
+                        .map(|k| (0..3).map(|a| f[k][a] * (ue[k][a] - ue[0][a])).sum::<f64>())
+                        .sum::<f64>();
+                if block.sieve[i] * energy < 1.0 || !advance {
+                    return;
+                }
+            }
+            let old = state.to_vec();
+            let s = step(i, &x, &ue, &old, state);
+            if advance && (s.damaged || *damaged) {
+                *damaged = true;
+                *dissipated = s.dissipated;
+            } else if advance {
+                // checked and still undamaged: the elastic forces stand
+                state.copy_from_slice(&old);
+                return;
+            }
+            f.copy_from_slice(&s.forces);
+        });
+}
+
+/// A damaged point: its element's global number, its ply's material entry and the mode
+/// whose acting damage is the largest there.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DamagedPoint {
+    pub element: usize,
+    pub entry: u32,
+    pub mode: usize,
+}
+
+impl DamageState {
+    /// Each element's acting damage of each mode, the largest over its points (zero for the
+    /// elements that do not damage), in global element order.
+    pub fn cells(&self, data: &DamageData, elements: &crate::element::Elements) -> Vec<[f64; 4]> {
+        let mut out = vec![[0.0f64; 4]; elements.count()];
+        for (k, b) in data.blocks.iter().enumerate() {
+            let offset = elements.offset(ElementKind::ALL[k]);
+            for (i, &e) in b.elements.iter().enumerate() {
+                let cell = &mut out[offset + e as usize];
+                for p in self.points[k][b.state_range(i)].chunks_exact(POINT_STATE) {
+                    for m in 0..4 {
+                        cell[m] = cell[m].max(p[4 + m]);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The damaged point of the lowest element number (its lowest damaged point), if any.
+    pub fn first_damaged(
+        &self,
+        data: &DamageData,
+        elements: &crate::element::Elements,
+    ) -> Option<DamagedPoint> {
+        let mut best: Option<DamagedPoint> = None;
+        for (k, b) in data.blocks.iter().enumerate() {
+            let offset = elements.offset(ElementKind::ALL[k]);
+            let Some(i) = self.damaged[k].iter().position(|&d| d) else {
+                continue;
+            };
+            let points = &self.points[k][b.state_range(i)];
+            let (p, values) = (points.chunks_exact(POINT_STATE).enumerate())
+                .find(|(_, s)| s.iter().any(|&d| d > 0.0))?;
+            let mode = (0..4).fold(0, |m, j| if values[j] > values[m] { j } else { m });
+            let per_ply = if ElementKind::ALL[k] == ElementKind::Tet4 {
+                1
+            } else {
+                8
+            };
+            let found = DamagedPoint {
+                element: offset + b.elements[i] as usize,
+                entry: b.plies_of(i)[p / per_ply].entry,
+                mode,
+            };
+            if best.is_none_or(|q| found.element < q.element) {
+                best = Some(found);
+            }
+        }
+        best
+    }
+}

@@ -1,0 +1,34 @@
+//! CPU twin of `shaders/hex8i_damage.wgsl`: the damage pass of a hex8i block
+//! ([`super::damage_data`]), each damageable element's step by
+//! [`crate::element::damage::hex_damage`] with its modes condensed elastically.
+
+use super::damage_data::{damage_pass, BlockPass, DamageData};
+use super::ElementData;
+use crate::element::damage::{hex_damage, Modes};
+use crate::element::ElementKind;
+
+/// The pass over the hex8i block's damageable elements (`out` holds the block's part of the
+/// corner forces).
+pub(crate) fn hex8i_damage(
+    data: &ElementData,
+    damage: &DamageData,
+    u: &[[f64; 3]],
+    out: BlockPass,
+    (dt, advance): (f64, bool),
+) {
+    let kind = ElementKind::Hex8i;
+    let block = damage.block(kind);
+    let laws = damage.laws();
+    damage_pass(
+        block,
+        data.elements.block(kind).corners::<8>(),
+        (&data.reference, u),
+        out,
+        advance,
+        &|i, x, ue, old, new| {
+            let modes = Modes::Elastic(&block.condensation[216 * i..216 * (i + 1)]);
+            let plies = (block.plies_of(i), block.axis[i] as usize);
+            hex_damage(x, ue, plies, &laws, (old, new), modes, (dt, advance))
+        },
+    );
+}

@@ -1,0 +1,242 @@
+//! Ply damage against the crack band's exact energy: one IM7/8552 element (NASA CompDam's
+//! constants), a cube of side 0.25, 0.5 or 1 mm, held on one face and pulled from the
+//! opposite one by a named `[[fix]]` with a velocity, the other two faces on symmetry
+//! supports (a uniaxial stress). Along the fibres or across them, the work of the pulled
+//! face's reaction is the fracture energy times the face's area (the band is the element),
+//! the peak force is the strength times the area, and the force ends at what the damage
+//! cap leaves. The energy balance, damage energy included, closes; a run stopped part way
+//! through the softening resumes to the unbroken history; `impact check` warns for an
+//! element wider than the snap-back limit.
+
+mod common;
+use common::*;
+
+/// IM7/8552 (NASA CompDam's `IM7-8552.props`; MPa, N/mm, tonne/mm^3).
+const IM7: &str = r#"
+[[material]]
+name = "im7"
+density = 1.57e-9
+transversely_isotropic = { e1 = 171420.0, e2 = 9080.0, nu12 = 0.32, nu23 = 0.52, g12 = 5290.0 }
+strength = { xt = 2326.2, xc = 1200.1, yt = 62.3, yc = 199.8, s12 = 92.3, s23 = 75.3 }
+fracture_energy = { ft = 133.3, fc = 47.5, mt = 0.277, mc = 0.788 }
+"#;
+
+/// What a pull measures the cube against.
+#[derive(Clone, Copy)]
+struct Mode {
+    /// The axis pulled (0: along the fibres, 1: across them).
+    axis: usize,
+    strength: f64,
+    energy: f64,
+    modulus: f64,
+}
+
+const FIBRES: Mode = Mode {
+    axis: 0,
+    strength: 2326.2,
+    energy: 133.3,
+    modulus: 171_420.0,
+};
+const MATRIX: Mode = Mode {
+    axis: 1,
+    strength: 62.3,
+    energy: 0.277,
+    modulus: 9_080.0,
+};
+
+/// The scene: a cube of side `side` (one `element`, with `plies` if given) pulled along
+/// `mode.axis` to 1.15 times the end of its softening, at a strain rate of 500 / s
+/// (fibres) or 100 / s (matrix).
+fn pull_scene(side: f64, mode: Mode, element: &str, plies: &str) -> (String, f64) {
+    let axis = ["x", "y", "z"][mode.axis];
+    let eps0 = mode.strength / mode.modulus;
+    let rf = 2.0 * mode.modulus * mode.energy / (side * mode.strength * mode.strength);
+    let rate = if mode.axis == 0 { 500.0 } else { 100.0 };
+    let v = rate * side;
+    let end = 1.15 * rf * eps0 * side / v;
+    let mut velocity = [0.0; 3];
+    velocity[mode.axis] = v;
+    let text = format!(
+        r#"title = "one IM7/8552 element pulled along {axis}"
+[run]
+method = "explicit"
+end_time = {end:e}
+device = "cpu"
+{IM7}
+[[body]]
+name = "cube"
+material = "im7"
+box = {{ min = [0.0, 0.0, 0.0], max = [{side}, {side}, {side}], divisions = [1, 1, 1], element = "{element}" }}
+{plies}
+[[fix]]
+body = "cube"
+face = "x-"
+components = ["x"]
+
+[[fix]]
+body = "cube"
+face = "y-"
+components = ["y"]
+
+[[fix]]
+body = "cube"
+face = "z-"
+components = ["z"]
+
+[[fix]]
+name = "pull"
+body = "cube"
+face = "{axis}+"
+components = ["{axis}"]
+velocity = {velocity:?}
+"#
+    );
+    (text, v)
+}
+
+/// A pull's measures: the work of the reaction over the pulled face's displacement, the
+/// peak and last force, the damage energy and the total energy's drift.
+struct Pulled {
+    work: f64,
+    peak: f64,
+    last: f64,
+    damage: f64,
+    drift: f64,
+}
+
+fn pull(tag: &str, text: &str, v: f64, axis: usize) -> Pulled {
+    let (s, h) = run_text(tag, text);
+    let s = s.expect("run completes");
+    assert_eq!(s.status, "completed", "{tag}: {:?}", s.warnings);
+    let t = h.col("time");
+    let f = h.col(&format!("pull.f{}", ["x", "y", "z"][axis]));
+    let work: f64 = (1..t.len())
+        .map(|i| 0.5 * (f[i] + f[i - 1]) * v * (t[i] - t[i - 1]))
+        .sum();
+    let e = h.col("total_energy");
+    Pulled {
+        work,
+        peak: f.iter().fold(0.0, |m: f64, &x| m.max(x)),
+        last: *f.last().unwrap(),
+        damage: h.last("damage_energy"),
+        drift: (e[e.len() - 1] - e[0]).abs(),
+    }
+}
+
+/// The work is G A within 3%, the peak X A within 2%, the last force under 1% of the peak,
+/// the damage energy the work within 1% and the energy balance closed within 1% of it.
+fn check_pull(tag: &str, side: f64, mode: Mode, element: &str, plies: &str) {
+    let (text, v) = pull_scene(side, mode, element, plies);
+    let p = pull(tag, &text, v, mode.axis);
+    let area = side * side;
+    let (g, x) = (mode.energy * area, mode.strength * area);
+    eprintln!(
+        "{tag}: work {:.5} (G A {g:.5}, {:+.2}%), peak {:.4} (X A {x:.4}, {:+.2}%), last {:.3e} of the peak, damage energy {:.5}, drift {:.2e}",
+        p.work,
+        100.0 * (p.work / g - 1.0),
+        p.peak,
+        100.0 * (p.peak / x - 1.0),
+        p.last / p.peak,
+        p.damage,
+        p.drift
+    );
+    assert!((p.work - g).abs() <= 0.03 * g, "{tag}: work {}", p.work);
+    assert!((p.peak - x).abs() <= 0.02 * x, "{tag}: peak {}", p.peak);
+    assert!(p.last.abs() <= 0.01 * p.peak, "{tag}: last {}", p.last);
+    assert!(
+        (p.damage - p.work).abs() <= 0.01 * p.work,
+        "{tag}: damage {}",
+        p.damage
+    );
+    assert!(p.drift <= 0.01 * p.work, "{tag}: drift {}", p.drift);
+}
+
+#[test]
+fn a_hex8i_cube_pulled_along_its_fibres_dissipates_their_fracture_energy() {
+    for side in [0.25, 0.5, 1.0] {
+        check_pull(&format!("fibres_{side}"), side, FIBRES, "hex8i", "");
+    }
+}
+
+#[test]
+fn a_hex8i_cube_pulled_across_its_fibres_dissipates_the_matrix_fracture_energy() {
+    for side in [0.25, 0.5, 1.0] {
+        check_pull(&format!("matrix_{side}"), side, MATRIX, "hex8i", "");
+    }
+}
+
+/// The same with three plies of the cube (a layered hex8i, each ply integrated over its
+/// third), and with a plain hex8.
+#[test]
+fn layered_hex8i_and_hex8_cubes_dissipate_the_fracture_energy() {
+    let plies = r#"plies = { normal = "z", layers = [
+  { angle = 0.0, thickness = 0.2 }, { angle = 0.0, thickness = 0.3 }, { angle = 0.0, thickness = 0.5 },
+] }"#;
+    check_pull("layered_fibres", 1.0, FIBRES, "hex8i", plies);
+    check_pull("layered_matrix", 1.0, MATRIX, "hex8i", plies);
+    check_pull("hex8_fibres", 0.5, FIBRES, "hex8", "");
+    check_pull("hex8_matrix", 0.5, MATRIX, "hex8", "");
+}
+
+/// The matrix pull stopped at two thirds of its end time (in the softening), then resumed:
+/// the history is the unbroken run's, byte for byte.
+#[test]
+fn a_run_stopped_in_the_softening_resumes_to_the_unbroken_history() {
+    let (text, _) = pull_scene(0.5, MATRIX, "hex8i", "");
+    let end: f64 = text
+        .lines()
+        .find_map(|l| l.strip_prefix("end_time = "))
+        .unwrap()
+        .parse()
+        .unwrap();
+    let text = text + "\n[output]\ncheckpoint_every = 50\n";
+    let early = text.replace(
+        &format!("end_time = {end:e}"),
+        &format!("end_time = {:e}", 0.66 * end),
+    );
+    let whole = run_resumable("resume_whole", "pull", &text, (false, None)).expect("whole");
+    run_resumable("resume_parts", "pull", &early, (false, None)).expect("first part");
+    let resumed = run_resumable("resume_parts", "pull", &text, (true, None)).expect("resumed");
+    let (a, b) = (history_text("resume_whole"), history_text("resume_parts"));
+    assert!(whole.status == "completed" && resumed.status == "completed");
+    assert_eq!(whole.damage_energy, resumed.damage_energy);
+    // the first part stopped in the softening
+    let h = History::read(&out_path("resume_whole").join("history.csv"));
+    let t = h.col("time");
+    let d = h.col("damage_energy");
+    let at = t.iter().position(|&x| x >= 0.66 * end).unwrap();
+    assert!(
+        d[at] > 0.0 && d[at] < 0.9 * d[d.len() - 1],
+        "{} of {}",
+        d[at],
+        d[d.len() - 1]
+    );
+    assert_eq!(a, b, "the resumed history differs");
+}
+
+/// `impact check` on a 2 mm IM7/8552 element: matrix tension's snap-back limit 1.30 mm.
+#[test]
+fn impact_check_warns_of_an_element_past_the_snap_back_limit() {
+    let (text, _) = pull_scene(2.0, MATRIX, "hex8i", "");
+    let dir = out_dir("check_wide");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("wide.toml");
+    std::fs::write(&scene, text).unwrap();
+    let o = impact(&["check", s(&scene)]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let report = String::from_utf8_lossy(&o.stdout).to_string();
+    let line = (report.lines())
+        .find(|l| l.contains("crack_band") && l.contains("matrix_tension"))
+        .unwrap_or_else(|| panic!("no matrix tension warning in\n{report}"));
+    assert!(
+        line.contains("1.30") && line.contains("element 0 (2.0000 wide)"),
+        "{line}"
+    );
+    // the 1 mm cube is within every limit but matrix compression's 0.358 mm
+    let (text, _) = pull_scene(1.0, MATRIX, "hex8i", "");
+    std::fs::write(&scene, text).unwrap();
+    let o = impact(&["check", s(&scene)]);
+    let report = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(!report.contains("matrix_tension: 1 element"), "{report}");
+    assert!(report.contains("matrix_compression: 1 element"), "{report}");
+}
