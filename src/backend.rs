@@ -55,10 +55,16 @@ pub trait Kernels {
         points: &[ContactPoint],
         out: &mut [[f64; 2]],
     ) -> Result<()>;
-    /// An explicit step's internal forces: the plies' damage stepped over `dt` to `u`, then
-    /// the forces with it (the same as [`Self::internal_forces_into`] where nothing
-    /// damages). Returns the energy the damage dissipated over the step.
-    fn step_forces_into(&mut self, u: &[f64], _dt: f64, f: &mut [f64]) -> Result<f64> {
+    /// An explicit step's internal forces: the plies' damage stepped over `dt` to `u` (from
+    /// $u - \Delta t\, v$, `v` the step's mid-step velocities), then the forces with it (the
+    /// same as [`Self::internal_forces_into`] where nothing damages). Returns the energy the
+    /// damage dissipated over the step.
+    fn step_forces_into(
+        &mut self,
+        (u, _v): (&[f64], &[f64]),
+        _dt: f64,
+        f: &mut [f64],
+    ) -> Result<f64> {
         self.internal_forces_into(u, f)?;
         Ok(0.0)
     }
@@ -117,7 +123,12 @@ impl CpuKernels {
 
     /// The element forces at `u` and, with damage, its pass (see
     /// [`Kernels::step_forces_into`]), gathered into `f`.
-    fn forces(&mut self, u: &[f64], f: &mut [f64], (dt, advance): (f64, bool)) -> f64 {
+    fn forces(
+        &mut self,
+        (u, v): (&[f64], &[f64]),
+        f: &mut [f64],
+        (dt, advance): (f64, bool),
+    ) -> f64 {
         let fixed = (&self.layout, &self.kept);
         element_forces(&self.data, fixed, as_vec3(u), &mut self.corner_forces);
         let dissipated = match &mut self.damage {
@@ -125,7 +136,7 @@ impl CpuKernels {
                 &self.data,
                 (d, s),
                 &self.layout,
-                as_vec3(u),
+                (as_vec3(u), as_vec3(v)),
                 &mut self.corner_forces,
                 (dt, advance),
             ),
@@ -154,11 +165,11 @@ impl Kernels for CpuKernels {
         f64::EPSILON
     }
     fn internal_forces_into(&mut self, u: &[f64], f: &mut [f64]) -> Result<()> {
-        self.forces(u, f, (0.0, false));
+        self.forces((u, u), f, (0.0, false));
         Ok(())
     }
-    fn step_forces_into(&mut self, u: &[f64], dt: f64, f: &mut [f64]) -> Result<f64> {
-        Ok(self.forces(u, f, (dt, true)))
+    fn step_forces_into(&mut self, uv: (&[f64], &[f64]), dt: f64, f: &mut [f64]) -> Result<f64> {
+        Ok(self.forces(uv, f, (dt, true)))
     }
     fn damage_values(&self) -> Result<Vec<f64>> {
         Ok(self

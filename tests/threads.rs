@@ -119,3 +119,49 @@ fn implicit_newton_moves_without_a_contact_space_are_the_same_on_any_thread_coun
     let text = implicit_block_drop([8, 8, 2], 12, "");
     same_on_any_thread_count("implicit_plate_moves", &text);
 }
+
+/// Ply damage: a plate of hex8i refined at its centre (14 x 14 x 2, more than a thread's share)
+/// pulled across its fibres until its plies crack, some elements first (its nodes a little
+/// off the grid, so that the damage starts unevenly).
+#[test]
+fn ply_damage_is_the_same_on_any_thread_count() {
+    let text = r#"
+[run]
+method = "explicit"
+end_time = 3.5e-5
+
+[[material]]
+name = "im7"
+density = 1.57e-9
+transversely_isotropic = { e1 = 171420.0, e2 = 9080.0, nu12 = 0.32, nu23 = 0.52, g12 = 5290.0 }
+strength = { xt = 2326.2, xc = 1200.1, yt = 62.3, yc = 199.8, s12 = 92.3, s23 = 75.3 }
+fracture_energy = { ft = 133.3, fc = 47.5, mt = 0.277, mc = 0.788 }
+
+[[body]]
+name = "plate"
+material = "im7"
+box = { min = [0.0, 0.0, 0.0], max = [4.0, 4.0, 1.0], divisions = [12, 12, 2], element = "hex8i", refine = { min = [1.5, 1.5, 0.0], max = [2.5, 2.5, 1.0], size = [0.25, 0.25, 1.0] } }
+
+[[fix]]
+body = "plate"
+face = "y-"
+components = ["y"]
+
+[[fix]]
+body = "plate"
+region = { min = [0.0, 0.0, 0.0], max = [0.0, 0.0, 1.0] }
+components = ["x", "z"]
+
+[[fix]]
+name = "pull"
+body = "plate"
+face = "y+"
+components = ["y"]
+velocity = [0.0, 1200.0, 0.0]
+"#;
+    let h = history_on("ply_damage", text, 1);
+    let last = h.lines().last().unwrap();
+    let damage: f64 = last.split(',').rev().nth(3).unwrap().parse().unwrap();
+    assert!(damage > 0.0, "the plate damaged: {last}");
+    same_on_any_thread_count("ply_damage", text);
+}

@@ -88,12 +88,12 @@ fn gradient<const N: usize>(g: &[[f64; 3]; N], u: &[[f64; 3]; N]) -> [[f64; 3]; 
     })
 }
 
-/// One point's step: the ply strain of `h`, the law's step (or, without `advance`, the
-/// stress of the old damage) and the global stress, with the point's dissipation per unit
-/// volume. `old` and `new` are the point's state.
+/// One point's step: the ply strains of `h` and of the step before's `h_prev`, the law's
+/// step (or, without `advance`, the stress of the old damage) and the global stress, with
+/// the point's dissipation per unit volume. `old` and `new` are the point's state.
 fn point_stress(
     (law, axes): (&PlyDamage, &Rotation),
-    h: &[[f64; 3]; 3],
+    (h, h_prev): (&[[f64; 3]; 3], &[[f64; 3]; 3]),
     (old, new): (&[f64], &mut [f64]),
     (bands, dt, advance): ([f64; 2], f64, bool),
 ) -> ([[f64; 3]; 3], f64) {
@@ -104,7 +104,7 @@ fn point_stress(
         let c = law.stiffness(acting(old, (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0)));
         return (axes.stress_to_global(&voigt_apply(&c, &e)), 0.0);
     }
-    let step = law.step(&e, old, bands, dt);
+    let step = law.step((&e, &axes.strain_to_material(h_prev)), old, bands, dt);
     new.copy_from_slice(&step.state);
     (axes.stress_to_global(&step.stress), step.dissipated)
 }
@@ -118,13 +118,13 @@ fn ply_law<'a>(laws: &DamageLaws<'a>, ply: &DamagePly) -> (&'a PlyDamage, &'a Ro
 /// A hex point's corner gradients, its $w \det J$ and its modes' gradients.
 type PointGeometry = ([[f64; 3]; 8], f64, [[f64; 3]; 3]);
 
-/// A hex8 or hex8i element's step ([`DamageStep`]): corners `x`, corner displacements `u`,
-/// its plies along `axis`, the old state of its points and the new (written only with
-/// `advance`), its modes, and the step `dt`.
+/// A hex8 or hex8i element's step ([`DamageStep`]): corners `x`, corner displacements `u`
+/// and the step before's `u_prev`, its plies along `axis`, the old state of its points and
+/// the new (written only with `advance`), its modes, and the step `dt`.
 #[allow(clippy::too_many_arguments)]
 pub fn hex_damage(
     x: &[[f64; 3]; 8],
-    u: &[[f64; 3]; 8],
+    (u, u_prev): (&[[f64; 3]; 8], &[[f64; 3]; 8]),
     (plies, axis): (&[DamagePly], usize),
     laws: &DamageLaws,
     (old, new): (&[f64], &mut [f64]),
@@ -141,17 +141,18 @@ pub fn hex_damage(
             (g, w * det, m)
         })
         .collect();
-    let alpha = match modes {
-        Modes::None => [0.0; 9],
-        Modes::Elastic(a0) => std::array::from_fn(|r| {
-            (0..24)
-                .map(|j| a0[24 * r + j] * (u[j / 3][j % 3] - u[0][j % 3]))
-                .sum()
-        }),
+    let amplitudes = |u: &[[f64; 3]; 8]| -> [f64; 9] {
+        match modes {
+            Modes::None => [0.0; 9],
+            Modes::Elastic(a0) => std::array::from_fn(|r| {
+                (0..24)
+                    .map(|j| a0[24 * r + j] * (u[j / 3][j % 3] - u[0][j % 3]))
+                    .sum()
+            }),
+        }
     };
-    let mut f = [[0.0; 3]; 8];
-    let mut dissipated = 0.0;
-    for (i, (g, wdet, m)) in geometry.iter().enumerate() {
+    let (alpha, alpha_prev) = (amplitudes(u), amplitudes(u_prev));
+    let point_gradient = |g: &[[f64; 3]; 8], m: &[[f64; 3]; 3], u, alpha: &[f64; 9]| {
         let mut h = gradient(g, u);
         for (mm, gm) in m.iter().enumerate() {
             for a in 0..3 {
@@ -160,11 +161,18 @@ pub fn hex_damage(
                 }
             }
         }
+        h
+    };
+    let mut f = [[0.0; 3]; 8];
+    let mut dissipated = 0.0;
+    for (i, (g, wdet, m)) in geometry.iter().enumerate() {
+        let h = point_gradient(g, m, u, &alpha);
+        let h_prev = point_gradient(g, m, u_prev, &alpha_prev);
         let ply = &plies[points[i].2];
         let at = i * POINT_STATE..(i + 1) * POINT_STATE;
         let (s, d) = point_stress(
             ply_law(laws, ply),
-            &h,
+            (&h, &h_prev),
             (&old[at.clone()], &mut new[at]),
             (ply.bands, dt, advance),
         );
@@ -186,17 +194,17 @@ pub fn hex_damage(
 /// A tet4 element's step ([`DamageStep`]), as [`hex_damage`] with its one point and ply.
 pub fn tet_damage(
     x: &[[f64; 3]; 4],
-    u: &[[f64; 3]; 4],
+    (u, u_prev): (&[[f64; 3]; 4], &[[f64; 3]; 4]),
     ply: &DamagePly,
     laws: &DamageLaws,
     (old, new): (&[f64], &mut [f64]),
     (dt, advance): (f64, bool),
 ) -> DamageStep<4> {
     let (g, vol) = tet4::gradients(x);
-    let h = gradient(&g, u);
+    let (h, h_prev) = (gradient(&g, u), gradient(&g, u_prev));
     let (s, d) = point_stress(
         ply_law(laws, ply),
-        &h,
+        (&h, &h_prev),
         (old, &mut new[..POINT_STATE]),
         (ply.bands, dt, advance),
     );

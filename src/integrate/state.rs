@@ -59,7 +59,7 @@ pub struct FirstDamage {
 }
 
 impl FirstDamage {
-    /// The first damage at `p`, at `time`.
+    /// The first damage at `p`, at `time` (its step's).
     pub fn of(
         model: &crate::model::Model,
         p: crate::kernels::damage_data::DamagedPoint,

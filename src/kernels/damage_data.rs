@@ -103,11 +103,15 @@ impl DamageData {
     }
 }
 
-/// The damage state: each block's points' values and each damageable element's flag.
+/// The damage state: each block's points' values, each damageable element's flag and first
+/// damage (the step it damaged in, 0 for none yet, and there `4 point + mode`: its lowest
+/// damaged point and the mode with the most damage there), and the steps the state took.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct DamageState {
     pub points: Vec<Vec<f64>>,
     pub damaged: Vec<Vec<bool>>,
+    pub first: Vec<Vec<[u32; 2]>>,
+    pub steps: u32,
 }
 
 impl DamageState {
@@ -118,28 +122,37 @@ impl DamageState {
                 .map(|b| vec![0.0; POINT_STATE * b.points()])
                 .collect(),
             damaged: data.blocks.iter().map(|b| vec![false; b.len()]).collect(),
+            first: data.blocks.iter().map(|b| vec![[0, 0]; b.len()]).collect(),
+            steps: 0,
         }
     }
 
-    /// Every point's values, block after block (a checkpoint's part).
+    /// The state as values (a checkpoint's part): every point's values block after block,
+    /// then each damageable element's first damage (two values), then the steps.
     pub fn flat(&self) -> Vec<f64> {
-        self.points.concat()
+        let first = self.first.iter().flatten().flat_map(|f| f.map(f64::from));
+        (self.points.concat().into_iter())
+            .chain(first)
+            .chain([f64::from(self.steps)])
+            .collect()
     }
 
-    /// The state of [`Self::flat`]'s values; the flags follow from them.
+    /// The state of [`Self::flat`]'s values; the flags follow from the points.
     pub fn restore(
         &mut self,
         data: &DamageData,
         values: &[f64],
     ) -> std::result::Result<(), String> {
-        let want: usize = self.points.iter().map(Vec::len).sum();
+        let points: usize = self.points.iter().map(Vec::len).sum();
+        let elements: usize = self.first.iter().map(Vec::len).sum();
+        let want = points + 2 * elements + 1;
         if values.len() != want {
             return Err(format!(
-                "the checkpoint holds {} damage values and the model's points {want}",
+                "the checkpoint holds {} damage values and the model's damage state {want}",
                 values.len()
             ));
         }
-        let mut at = 0;
+        let (mut at, mut first_at) = (0, points);
         for (k, b) in data.blocks.iter().enumerate() {
             let n = self.points[k].len();
             self.points[k].copy_from_slice(&values[at..at + n]);
@@ -147,10 +160,24 @@ impl DamageState {
             for i in 0..b.len() {
                 let s = &self.points[k][b.state_range(i)];
                 self.damaged[k][i] = crate::element::damage::any_damage(s);
+                let f = &values[first_at + 2 * i..first_at + 2 * i + 2];
+                self.first[k][i] = [f[0] as u32, f[1] as u32];
             }
+            first_at += 2 * b.len();
         }
+        self.steps = values[want - 1] as u32;
         Ok(())
     }
+}
+
+/// Where a point first damaged: `4 point + mode`, the element's lowest damaged point (in
+/// `state`, its points' values) and the mode with the most damage there.
+pub fn first_where(state: &[f64]) -> u32 {
+    let (p, values) = (state.chunks_exact(POINT_STATE).enumerate())
+        .find(|(_, s)| s.iter().any(|&d| d > 0.0))
+        .unwrap_or((0, &[0.0; POINT_STATE][..]));
+    let mode = (0..4).fold(0, |m, j| if values[j] > values[m] { j } else { m });
+    (4 * p + mode) as u32
 }
 
 /// What one block's damage pass reads and writes: the block's part of the corner forces
@@ -160,29 +187,35 @@ pub(crate) struct BlockPass<'a> {
     pub corner_forces: &'a mut [[f64; 3]],
     pub state: &'a mut [f64],
     pub damaged: &'a mut [bool],
+    pub first: &'a mut [[u32; 2]],
     pub dissipated: &'a mut [f64],
+    /// The number of the step the pass takes (its first damage's).
+    pub step: u32,
 }
 
 /// A damageable element's step in a pass: its number among the damageable elements, its
-/// corners, corner displacements, old state and new state.
+/// corners, corner displacements and the step before's, old state and new state.
 pub(crate) type ElementStep<'a, const N: usize> = dyn Fn(
         usize,
         &[[f64; 3]; N],
-        &[[f64; 3]; N],
+        (&[[f64; 3]; N], &[[f64; 3]; N]),
         &[f64],
         &mut [f64],
     ) -> crate::element::damage::DamageStep<N>
     + Sync
     + 'a;
 
+/// Nodal 3-vectors.
+type Nodal<'a> = &'a [[f64; 3]];
+
 /// One block's damage pass, on all threads: each damageable element that is damaged, or
-/// whose elastic strain energy passes the sieve, takes `step` (its corners `x`, corner
-/// displacements, damageable number, old state and new state) and its forces replace the
-/// elastic ones. `N` is the kind's corner count.
+/// whose elastic strain energy passes the sieve, takes `step` and its forces replace the
+/// elastic ones. The step before's displacements are $u - \Delta t\, v$ (`v` the step's
+/// mid-step velocities; unused without `advance`). `N` is the kind's corner count.
 pub(crate) fn damage_pass<const N: usize>(
     block: &DamageBlock,
     corners: &[[u32; N]],
-    (reference, u): (&[[f64; 3]], &[[f64; 3]]),
+    (reference, u, v, dt): (Nodal, Nodal, Nodal, f64),
     out: BlockPass,
     advance: bool,
     step: &ElementStep<'_, N>,
@@ -207,13 +240,19 @@ pub(crate) fn damage_pass<const N: usize>(
     (forces.into_par_iter())
         .zip(states)
         .zip(out.damaged.par_iter_mut())
+        .zip(out.first.par_iter_mut())
         .zip(out.dissipated.par_iter_mut())
         .enumerate()
         .with_min_len(64)
-        .for_each(|(i, (((f, state), damaged), dissipated))| {
+        .for_each(|(i, ((((f, state), damaged), first), dissipated))| {
             let nodes = corners[block.elements[i] as usize];
             let x = nodes.map(|n| reference[n as usize]);
             let ue = nodes.map(|n| u[n as usize]);
+            // the step before's displacement: u_n = u_{n+1} - dt v_{n+1/2}
+            let before = nodes.map(|n| {
+                let (u, v) = (u[n as usize], v[n as usize]);
+                [u[0] - dt * v[0], u[1] - dt * v[1], u[2] - dt * v[2]]
+            });
             *dissipated = 0.0;
             if !*damaged {
                 // the elastic strain energy, 1/2 sum f_k . (u_k - u_0)
@@ -226,8 +265,11 @@ pub(crate) fn damage_pass<const N: usize>(
                 }
             }
             let old = state.to_vec();
-            let s = step(i, &x, &ue, &old, state);
+            let s = step(i, &x, (&ue, &before), &old, state);
             if advance && (s.damaged || *damaged) {
+                if !*damaged {
+                    *first = [out.step, first_where(state)];
+                }
                 *damaged = true;
                 *dissipated = s.dissipated;
             } else if advance {
@@ -243,6 +285,7 @@ pub(crate) fn damage_pass<const N: usize>(
 /// whose acting damage is the largest there.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct DamagedPoint {
+    pub step: u32,
     pub element: usize,
     pub entry: u32,
     pub mode: usize,
@@ -267,7 +310,7 @@ impl DamageState {
         out
     }
 
-    /// The damaged point of the lowest element number (its lowest damaged point), if any.
+    /// The first damaged point: of the earliest step, the lowest element number's.
     pub fn first_damaged(
         &self,
         data: &DamageData,
@@ -276,25 +319,22 @@ impl DamageState {
         let mut best: Option<DamagedPoint> = None;
         for (k, b) in data.blocks.iter().enumerate() {
             let offset = elements.offset(ElementKind::ALL[k]);
-            let Some(i) = self.damaged[k].iter().position(|&d| d) else {
-                continue;
-            };
-            let points = &self.points[k][b.state_range(i)];
-            let (p, values) = (points.chunks_exact(POINT_STATE).enumerate())
-                .find(|(_, s)| s.iter().any(|&d| d > 0.0))?;
-            let mode = (0..4).fold(0, |m, j| if values[j] > values[m] { j } else { m });
             let per_ply = if ElementKind::ALL[k] == ElementKind::Tet4 {
                 1
             } else {
                 8
             };
-            let found = DamagedPoint {
-                element: offset + b.elements[i] as usize,
-                entry: b.plies_of(i)[p / per_ply].entry,
-                mode,
-            };
-            if best.is_none_or(|q| found.element < q.element) {
-                best = Some(found);
+            for (i, &[step, at]) in self.first[k].iter().enumerate() {
+                if step == 0 || best.is_some_and(|q| q.step <= step) {
+                    continue;
+                }
+                let (p, mode) = (at as usize / 4, at as usize % 4);
+                best = Some(DamagedPoint {
+                    step,
+                    element: offset + b.elements[i] as usize,
+                    entry: b.plies_of(i)[p / per_ply].entry,
+                    mode,
+                });
             }
         }
         best

@@ -12,7 +12,7 @@ use crate::element::ElementKind;
 pub(crate) fn hex8_damage(
     data: &ElementData,
     damage: &DamageData,
-    u: &[[f64; 3]],
+    (u, v): (&[[f64; 3]], &[[f64; 3]]),
     out: BlockPass,
     (dt, advance): (f64, bool),
 ) {
@@ -22,12 +22,20 @@ pub(crate) fn hex8_damage(
     damage_pass(
         block,
         data.elements.block(kind).corners::<8>(),
-        (&data.reference, u),
+        (&data.reference, u, v, dt),
         out,
         advance,
-        &|i, x, ue, old, new| {
+        &|i, x, corners, old, new| {
             let plies = (block.plies_of(i), block.axis[i] as usize);
-            hex_damage(x, ue, plies, &laws, (old, new), Modes::None, (dt, advance))
+            hex_damage(
+                x,
+                corners,
+                plies,
+                &laws,
+                (old, new),
+                Modes::None,
+                (dt, advance),
+            )
         },
     );
 }

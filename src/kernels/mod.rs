@@ -199,13 +199,14 @@ pub(crate) fn element_forces(
 
 /// The damage passes over every block's damageable elements, after [`element_forces`] gave
 /// every element its elastic corner forces (`corner_forces`, in `layout`): with `advance`
-/// the state steps over `dt` to `u`, else the forces are those of the state as it is.
+/// the state steps over `dt` to `u` (from $u - \Delta t\, v$), else the forces are those of
+/// the state as it is.
 /// Returns the energy dissipated over the step (element by element, in order).
 pub(crate) fn damage_forces(
     data: &ElementData,
     (damage, state): (&damage_data::DamageData, &mut damage_data::DamageState),
     layout: &CornerLayout,
-    u: &[[f64; 3]],
+    (u, v): (&[[f64; 3]], &[[f64; 3]]),
     corner_forces: &mut [[f64; 3]],
     (dt, advance): (f64, bool),
 ) -> f64 {
@@ -222,15 +223,20 @@ pub(crate) fn damage_forces(
             corner_forces: &mut corner_forces[start..start + block.nodes.len()],
             state: &mut state.points[k],
             damaged: &mut state.damaged[k],
+            first: &mut state.first[k],
             dissipated: &mut dissipated,
+            step: state.steps + 1,
         };
         let step = (dt, advance);
         match block.kind {
-            ElementKind::Hex8 => hex8_damage::hex8_damage(data, damage, u, out, step),
-            ElementKind::Tet4 => tet4_damage::tet4_damage(data, damage, u, out, step),
-            ElementKind::Hex8i => hex8i_damage::hex8i_damage(data, damage, u, out, step),
+            ElementKind::Hex8 => hex8_damage::hex8_damage(data, damage, (u, v), out, step),
+            ElementKind::Tet4 => tet4_damage::tet4_damage(data, damage, (u, v), out, step),
+            ElementKind::Hex8i => hex8i_damage::hex8i_damage(data, damage, (u, v), out, step),
         }
         total += dissipated.iter().sum::<f64>();
+    }
+    if advance {
+        state.steps += 1;
     }
     total
 }

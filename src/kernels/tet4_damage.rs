@@ -12,7 +12,7 @@ use crate::element::ElementKind;
 pub(crate) fn tet4_damage(
     data: &ElementData,
     damage: &DamageData,
-    u: &[[f64; 3]],
+    (u, v): (&[[f64; 3]], &[[f64; 3]]),
     out: BlockPass,
     (dt, advance): (f64, bool),
 ) {
@@ -22,13 +22,13 @@ pub(crate) fn tet4_damage(
     damage_pass(
         block,
         data.elements.block(kind).corners::<4>(),
-        (&data.reference, u),
+        (&data.reference, u, v, dt),
         out,
         advance,
-        &|i, x, ue, old, new| {
+        &|i, x, corners, old, new| {
             tet_damage(
                 x,
-                ue,
+                corners,
                 &block.plies_of(i)[0],
                 &laws,
                 (old, new),

@@ -35,9 +35,13 @@
 //! **Viscosity** (Duvaut-Lions): with a time $\eta > 0$ the variables that act lag the
 //! ones the softening gives, $\dot d_v = (d - d_v)/\eta$, integrated backwards over a step.
 //!
-//! **Dissipation.** Over a step the law dissipates $\tfrac12 \varepsilon : (C(d_{old}) -
-//! C(d_{new})) : \varepsilon$ per unit volume, both with the step's signs: the release of
-//! stored energy at fixed strain, never negative (the compliance only grows).
+//! **Dissipation.** Over a step from strain $\varepsilon_n$ to $\varepsilon_{n+1}$ the law
+//! releases $\tfrac12 \varepsilon_n : (C_n - C_{n+1}) : \varepsilon_{n+1}$ per unit volume,
+//! $C_n$ the stiffness the step before had (its damage, its strain's signs): exactly what
+//! central difference's conserved energy, $\tfrac12 u_n K_{n+1} u_{n+1}$ in its strain term,
+//! loses when the secant stiffness changes, so that the balance with it closes to rounding.
+//! At fixed strain it is the release of stored energy, never negative (the compliance only
+//! grows); along a path it is that to first order in the strain's change.
 
 use super::failure::{failure_indices, matrix_compression_parts, Strength};
 use super::Voigt;
@@ -196,11 +200,12 @@ impl PlyDamage {
         c
     }
 
-    /// One point's step from strain `e` (ply axes, engineering shears, Voigt order), its old
-    /// state, its band widths across fibre and matrix cracks, and the step `dt`.
+    /// One point's step from strain `e` (ply axes, engineering shears, Voigt order) and the
+    /// step before's `prev`, its old state, its band widths across fibre and matrix cracks,
+    /// and the step `dt`.
     pub fn step(
         &self,
-        e: &[f64; 6],
+        (e, prev): (&[f64; 6], &[f64; 6]),
         old: &[f64; POINT_STATE],
         bands: [f64; 2],
         dt: f64,
@@ -228,17 +233,21 @@ impl PlyDamage {
         }
         let after = self.stiffness(acting(&state, signs));
         let stress = voigt_apply(&after, e);
+        // the stiffness the last step's stress had: its damage, its strain's signs
+        let p = voigt_apply(&self.c0, prev);
+        let last = self.stiffness(acting(old, (p[0] >= 0.0, p[1] + p[2] >= 0.0)));
         let released: f64 = (0..6)
             .map(|i| {
-                e[i] * (0..6)
-                    .map(|j| (before[i][j] - after[i][j]) * e[j])
-                    .sum::<f64>()
+                prev[i]
+                    * (0..6)
+                        .map(|j| (last[i][j] - after[i][j]) * e[j])
+                        .sum::<f64>()
             })
             .sum();
         PointStep {
             state,
             stress,
-            dissipated: (0.5 * released).max(0.0),
+            dissipated: 0.5 * released,
         }
     }
 
@@ -346,11 +355,13 @@ mod tests {
             let mut state = [0.0; POINT_STATE];
             let (mut work, mut dissipated, mut peak, mut last) = (0.0, 0.0, 0.0f64, 0.0);
             let mut prev = (0.0, 0.0);
+            let mut e_prev = [0.0; 6];
             for i in 1..=steps {
                 let eps = sign * end * i as f64 / steps as f64;
                 let d = acting(&state, (sign > 0.0, sign > 0.0));
                 let e = uniaxial(&law, d, axis, eps);
-                let p = law.step(&e, &state, [l, l], 1.0);
+                let p = law.step((&e, &e_prev), &state, [l, l], 1.0);
+                e_prev = e;
                 state = p.state;
                 let s = sign * p.stress[axis];
                 work += 0.5 * (s + prev.1) * (sign * eps - prev.0);
@@ -388,12 +399,12 @@ mod tests {
         let mut state = [0.0; POINT_STATE];
         for eps in [0.5, 1.0, 1.5, 2.0] {
             let e = uniaxial(&law, acting(&state, (true, true)), 0, eps * eps0);
-            state = law.step(&e, &state, [0.5, 0.5], 1.0).state;
+            state = law.step((&e, &e), &state, [0.5, 0.5], 1.0).state;
         }
         let d = state[0];
         assert!(d > 0.0);
         let e = uniaxial(&law, acting(&state, (true, true)), 0, 0.5 * eps0);
-        let back = law.step(&e, &state, [0.5, 0.5], 1.0);
+        let back = law.step((&e, &e), &state, [0.5, 0.5], 1.0);
         assert_eq!(back.state[0], d, "unloading keeps the damage");
         assert_eq!(back.dissipated, 0.0);
         let secant = back.stress[0] / (0.5 * eps0);
@@ -403,7 +414,7 @@ mod tests {
             secant / e1
         );
         let e = uniaxial(&law, [0.0; 3], 0, -0.5 * eps0);
-        let closed = law.step(&e, &state, [0.5, 0.5], 1.0);
+        let closed = law.step((&e, &e), &state, [0.5, 0.5], 1.0);
         assert!((closed.stress[0] / (-0.5 * eps0) / e1 - 1.0).abs() < 1e-9);
     }
 
@@ -416,11 +427,11 @@ mod tests {
         let (e2, yt) = law.mode_constants(2);
         let e = uniaxial(&law, [0.0; 3], 1, 2.0 * yt / e2);
         let mut state = [0.0; POINT_STATE];
-        state = law.step(&e, &state, [0.5, 0.5], 1e-4).state;
+        state = law.step((&e, &e), &state, [0.5, 0.5], 1e-4).state;
         let target = state[2];
         assert!((state[6] - target / 11.0).abs() < 1e-12, "{state:?}");
         for _ in 0..200 {
-            state = law.step(&e, &state, [0.5, 0.5], 1e-4).state;
+            state = law.step((&e, &e), &state, [0.5, 0.5], 1e-4).state;
         }
         assert!((state[6] - target).abs() < 1e-6 * target);
     }

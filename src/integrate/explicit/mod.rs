@@ -249,7 +249,7 @@ impl<'m> ExplicitSolver<'m> {
         self.work.damage += dissipated;
         if self.work.first_damage.is_none() && dissipated > 0.0 {
             if let Some((_, Some(p))) = self.kernels.damage_cells() {
-                self.work.first_damage = Some(FirstDamage::of(self.model, p, self.time + self.dt));
+                self.work.first_damage = Some(FirstDamage::of(self.model, p, self.time));
             }
         }
     }
@@ -295,9 +295,8 @@ impl Integrator for ExplicitSolver<'_> {
         kernels::explicit_drift(dt, &self.v, &mut self.u);
         self.spins.drift(dt);
         self.work.fixes += dt * fix_power(self.model, &self.mass, &self.f_int);
-        let dissipated = self
-            .kernels
-            .step_forces_into(&self.u, dt, &mut self.f_int)?;
+        let uv = (&self.u[..], &self.v[..]);
+        let dissipated = self.kernels.step_forces_into(uv, dt, &mut self.f_int)?;
         let forces = (&self.f_ext[..], &self.f_int[..], &self.inv_mass[..]);
         correct(dt, forces, &mut self.a, &mut self.v);
         self.time += dt;
