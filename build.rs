@@ -12,13 +12,14 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-const SHARED: [&str; 8] = [
+const SHARED: [&str; 9] = [
     "shaders/shared/types.wgsl",
     "shaders/shared/quad.wgsl",
     "shaders/shared/triangle.wgsl",
     "shaders/shared/face.wgsl",
     "shaders/shared/rigid_shape.wgsl",
     "shaders/shared/element.wgsl",
+    "shaders/shared/ply_damage.wgsl",
     "shaders/shared/contact_law.wgsl",
     "shaders/shared/contact.wgsl",
 ];

@@ -181,7 +181,7 @@ fn time_resident(
         dt,
         1.0,
         (usize::MAX / 2, None, chunk),
-        None,
+        (None, None),
     )
     .expect("resident solver");
     let setup = model_time + start.elapsed().as_secs_f64();

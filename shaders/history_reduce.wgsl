@@ -5,7 +5,8 @@
 //   1: sum of the contact results (per plane node and plane, or per contact pair),
 //   2: largest contact result, and 0 (penetration, sweeps),
 //   3: displacement component `first` (3 n + axis; a probe),
-//   4: velocity component `first` (a probe).
+//   4: velocity component `first` (a probe),
+//   5: the corner forces at the indices corner_lists[first + k] (a support's reaction).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> columns: array<ReduceColumn>;
@@ -13,8 +14,10 @@
 @group(0) @binding(3) var<storage, read> results: array<f32>;
 @group(0) @binding(4) var<storage, read> displacement: array<Split3>;
 @group(0) @binding(5) var<storage, read> velocity: array<f32>;
+@group(0) @binding(6) var<storage, read> corner_forces: array<f32>;
+@group(0) @binding(7) var<storage, read> corner_lists: array<u32>;
 // the submission's rows; this launch writes its row at rows[params.aux..]
-@group(0) @binding(6) var<storage, read_write> rows: array<f32>;
+@group(0) @binding(8) var<storage, read_write> rows: array<f32>;
 
 // invocations per column; each keeps four running values (independent loads in flight)
 const LANES: u32 = 256u;
@@ -34,6 +37,9 @@ fn entry(col: ReduceColumn, at: u32) -> f32 {
         }
         case OP_DISPLACEMENT: {
             return split_value(displacement[at / 3u])[at % 3u];
+        }
+        case OP_CORNERS: {
+            return corner_forces[corner_lists[at]];
         }
         default: {
             return velocity[at];

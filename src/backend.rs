@@ -187,8 +187,8 @@ impl Kernels for CpuKernels {
     }
     fn damage_cells(&self) -> Option<(Vec<[f64; 4]>, Option<DamagedPoint>)> {
         let (d, s) = self.damage.as_ref()?;
-        let elements = &self.data.elements;
-        Some((s.cells(d, elements), s.first_damaged(d, elements)))
+        let blocks = crate::kernels::damage_data::block_counts(&self.data.elements);
+        Some((s.cells(d, &blocks), s.first_damaged(d, &blocks)))
     }
     fn contact_gap_into(
         &mut self,

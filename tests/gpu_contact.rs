@@ -315,7 +315,7 @@ fn resident_rows_in<'m>(
         5e-4,
         1.0,
         (steps, None, chunk),
-        None,
+        (None, None),
     )
     .expect("resident solver");
     configure(&mut s);
@@ -1632,7 +1632,7 @@ fn recorded_sweeps_follow_the_needs_of_the_steps() {
             s.time_step,
             1.0,
             (s.steps, None, 25),
-            None,
+            (None, None),
         )
         .expect("resident solver");
         assert!(!staged.fix_contact_zone(false));

@@ -121,6 +121,8 @@ fn random_inputs(rng: &mut StdRng) -> Inputs {
         acceleration: vec![0.0; 3 * n],
         contact: None,
         survey: None,
+        reactions: Vec::new(),
+        damage: None,
     };
     let data = ElementData {
         reference: nodes,
@@ -392,7 +394,7 @@ fn explicit_stages_match_their_cpu_twins() {
     let row = gpu.read_row().unwrap();
     let (u, v, results) = gpu.read_state().unwrap();
     let partials = gpu.read_partials().unwrap();
-    let cpu_row = kernels::history_reduce(gpu.columns(), &partials, &results, &u, &v);
+    let cpu_row = kernels::history_reduce(gpu.columns(), &partials, &results, (&u, &v), (&[], &[]));
     let expected = row_columns(
         &[
             (0, s.bodies[0].len().div_ceil(GROUP) as u32),

@@ -240,3 +240,75 @@ fn impact_check_warns_of_an_element_past_the_snap_back_limit() {
     assert!(!report.contains("matrix_tension: 1 element"), "{report}");
     assert!(report.contains("matrix_compression: 1 element"), "{report}");
 }
+
+/// On the GPU adapter (the resident step in f32: the damage kernels, the reaction columns):
+/// the pulled face's work within 2% of the CPU's, along the fibres and across them; the
+/// force's peak within 1%.
+#[test]
+fn the_gpu_adapter_dissipates_what_the_cpu_does() {
+    if skip_gpu("ply damage on the GPU") {
+        return;
+    }
+    for (tag, mode) in [("fibres", FIBRES), ("matrix", MATRIX)] {
+        let (text, v) = pull_scene(0.5, mode, "hex8i", "");
+        let cpu = pull(&format!("gpu_pair_cpu_{tag}"), &text, v, mode.axis);
+        let gpu_text = text.replace("device = \"cpu\"", "device = \"gpu\"");
+        let gpu = pull(&format!("gpu_pair_gpu_{tag}"), &gpu_text, v, mode.axis);
+        eprintln!(
+            "{tag}: work cpu {:.6} gpu {:.6} ({:+.3}%), peak cpu {:.4} gpu {:.4}, damage energy cpu {:.6} gpu {:.6}",
+            cpu.work,
+            gpu.work,
+            100.0 * (gpu.work / cpu.work - 1.0),
+            cpu.peak,
+            gpu.peak,
+            cpu.damage,
+            gpu.damage
+        );
+        assert!(
+            (gpu.work - cpu.work).abs() <= 0.02 * cpu.work,
+            "{tag}: work"
+        );
+        assert!(
+            (gpu.peak - cpu.peak).abs() <= 0.01 * cpu.peak,
+            "{tag}: peak"
+        );
+        assert!(
+            (gpu.damage - cpu.damage).abs() <= 0.02 * cpu.damage,
+            "{tag}: damage energy"
+        );
+    }
+}
+
+/// The GPU's run stopped in the softening and resumed: the unbroken run's history, byte for
+/// byte (the device's damage state is part of its checkpoint).
+#[test]
+fn a_gpu_run_stopped_in_the_softening_resumes_to_the_unbroken_history() {
+    if skip_gpu("ply damage resumed on the GPU") {
+        return;
+    }
+    let (text, _) = pull_scene(0.5, MATRIX, "hex8i", "");
+    let text = text.replace("device = \"cpu\"", "device = \"gpu\"")
+        + "\n[output]\ncheckpoint_every = 50\n";
+    let end: f64 = text
+        .lines()
+        .find_map(|l| l.strip_prefix("end_time = "))
+        .unwrap()
+        .parse()
+        .unwrap();
+    let early = text.replace(
+        &format!("end_time = {end:e}"),
+        &format!("end_time = {:e}", 0.66 * end),
+    );
+    let whole = run_resumable("gpu_resume_whole", "pull", &text, (false, None)).expect("whole");
+    run_resumable("gpu_resume_parts", "pull", &early, (false, None)).expect("first part");
+    let resumed = run_resumable("gpu_resume_parts", "pull", &text, (true, None)).expect("resumed");
+    assert_eq!(whole.engine, "gpu resident");
+    assert!(whole.status == "completed" && resumed.status == "completed");
+    assert_eq!(whole.damage_energy, resumed.damage_energy);
+    assert_eq!(whole.first_damage, resumed.first_damage);
+    let (a, b) = (
+        history_text("gpu_resume_whole"),
+        history_text("gpu_resume_parts"),
+    );
+    assert_eq!(a, b, "the resumed history differs");
+}

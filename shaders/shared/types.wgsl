@@ -148,6 +148,7 @@ const OP_SUM: u32 = 1u;
 const OP_MAX: u32 = 2u;
 const OP_DISPLACEMENT: u32 = 3u;
 const OP_VELOCITY: u32 = 4u;
+const OP_CORNERS: u32 = 5u;
 
 // The item index of an invocation in a 2D dispatch (see Params.row).
 fn item_index(gid: vec3<u32>, p: Params) -> u32 {
@@ -329,6 +330,92 @@ struct PlyStrength {
     yc: f32,
     s12: f32,
     s23: f32,
+}
+
+// Values of a damage point's state (twin: `material::damage::POINT_STATE`), and words of a
+// damageable element's record (flag, first step, first point, dissipation).
+const POINT_STATE: u32 = 8u;
+const DAMAGE_RECORD: u32 = 4u;
+
+// A ply's damage law in its own axes (twin: `material::PlyDamage`): the undamaged
+// stiffness's normal block and shear moduli, the compliance's normal block and shear
+// compliances (23, 13, 12), the strengths (sl, st: in-plane and transverse shear), the
+// fracture energies' snap-back widths 2 E G / X^2 of fibre tension and compression and matrix
+// tension and compression, and the Duvaut-Lions viscosity.
+struct DamageLaw {
+    c11: f32,
+    c12: f32,
+    c13: f32,
+    c22: f32,
+    c23: f32,
+    c33: f32,
+    c44: f32,
+    c55: f32,
+    c66: f32,
+    s11: f32,
+    s12: f32,
+    s13: f32,
+    s22: f32,
+    s23: f32,
+    s33: f32,
+    h23: f32,
+    h13: f32,
+    h12: f32,
+    xt: f32,
+    xc: f32,
+    yt: f32,
+    yc: f32,
+    sl: f32,
+    st: f32,
+    viscosity: f32,
+    snap_ft: f32,
+    snap_fc: f32,
+    snap_mt: f32,
+    snap_mc: f32,
+}
+
+// A damageable ply's material entry: its law and its axes 1, 2, 3 as rows.
+struct DamageEntry {
+    law: u32,
+    a11: f32,
+    a12: f32,
+    a13: f32,
+    a21: f32,
+    a22: f32,
+    a23: f32,
+    a31: f32,
+    a32: f32,
+    a33: f32,
+}
+
+// A damageable element's ply: its entry, its range of the natural coordinate along the
+// element's layup axis, and its bands across fibre and matrix cracks.
+struct DamagePlyRecord {
+    entry: u32,
+    lo: f32,
+    hi: f32,
+    band_f: f32,
+    band_m: f32,
+}
+
+// A damageable element: its number in its block, its plies, its first point, its layup axis
+// and its sieve factor.
+struct DamageElementRecord {
+    element: u32,
+    first_ply: u32,
+    plies: u32,
+    first_point: u32,
+    axis: u32,
+    sieve: f32,
+}
+
+// The damage kernels' step (one per block): the step dt, whether the state advances, the
+// block's element count (E) and its first record's word.
+struct DamageParams {
+    dt: f32,
+    advance: u32,
+    elements: u32,
+    records: u32,
 }
 
 // Columns of a failure operator (three per corner of a hex8), and the values of a failure

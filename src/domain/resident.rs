@@ -470,6 +470,8 @@ impl<'m> RankResident<'m> {
             acceleration: order.to_device(&sub.restrict(&global.acceleration), 3),
             contact: None,
             survey,
+            reactions: Vec::new(),
+            damage: None,
         };
         let data = order.element_data(&sub.data);
         let mut engine = ResidentStep::new(ctx, &data, &setup, 1)?;
@@ -717,6 +719,7 @@ impl Integrator for RankResident<'_> {
         let row = self.model_row(&row);
         self.steps += 1;
         let reader = RowReader {
+            reactions: 0,
             model: self.model,
             body_mass: &self.body_mass,
             max_iterations: self.max_iterations,
@@ -861,6 +864,8 @@ impl Integrator for RankResident<'_> {
             return Ok(None);
         }
         Ok(Some(SolverState::Resident(ResidentState {
+            work: Default::default(),
+            power: 0.0,
             dt: self.dt,
             time: self.time,
             steps: self.steps,

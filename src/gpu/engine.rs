@@ -5,6 +5,7 @@
 
 use super::buffer::{staging, submit_and_read, Storage};
 use super::context::GpuContext;
+use super::damage_stage::{DamageStage, DamageTarget};
 use super::kernel::{Kernel, Launch};
 use super::search::GpuSearch;
 use super::types::{self, to_device, ContactQuery, GpuMaterial, Quad, Split3};
@@ -12,6 +13,7 @@ use super::{ContactGap, CornerSelect, Hex8Forces, Hex8iForces, NodeGather, SlipR
 use crate::backend::Kernels;
 use crate::element::{CornerLayout, ElementKind};
 use crate::error::{ImpactError, Result};
+use crate::kernels::damage_data::{DamageData, DamageState, DamagedPoint};
 use crate::kernels::{ContactPoint, ContactQueries, ElementData, Incidence, KeptData, SearchGrid};
 use crate::model::Model;
 use crate::search;
@@ -227,6 +229,8 @@ pub struct GpuKernels {
     scratch_split: Vec<Split3>,
     /// Fill every output with NaN before each dispatch (tests: an unwritten entry fails).
     pub fill_nan: bool,
+    /// The plies' damage, where any element damages.
+    pub(super) damage: Option<(DamageStage, DamageData)>,
 }
 
 /// The reference coordinates as split pairs (on all threads).
@@ -391,8 +395,51 @@ impl GpuKernels {
             scratch: Vec::new(),
             scratch_split: Vec::new(),
             fill_nan: false,
+            damage: None,
             ctx,
         })
+    }
+
+    /// With the plies' damage (none where no element damages): its stage after the force
+    /// kernels.
+    pub fn with_damage(mut self, damage: Option<DamageData>) -> Result<Self> {
+        let Some(data) = damage.filter(DamageData::any) else {
+            return Ok(self);
+        };
+        let target = DamageTarget {
+            reference: &self.mesh.reference.buffer,
+            displacement: &self.u.buffer,
+            velocity: &self.v.buffer,
+            corner_forces: &self.corners.buffer,
+            layout: &self.layout,
+            block_nodes: (self.mesh.blocks.iter())
+                .map(|b| (b.kind, &b.nodes.buffer, b.count))
+                .collect(),
+        };
+        let stage = DamageStage::new(&self.ctx, &data, &target)?;
+        self.damage = Some((stage, data));
+        Ok(self)
+    }
+
+    /// Each block's element count, in [`ElementKind::ALL`] order.
+    pub(super) fn block_counts(&self) -> Vec<usize> {
+        ElementKind::ALL
+            .map(|k| {
+                (self.mesh.blocks.iter())
+                    .find(|b| b.kind == k)
+                    .map_or(0, |b| b.count)
+            })
+            .to_vec()
+    }
+
+    /// The damage state on the device (where any element damages).
+    pub(super) fn read_damage(&mut self) -> Result<Option<DamageState>> {
+        let Some((stage, data)) = &self.damage else {
+            return Ok(None);
+        };
+        stage
+            .read_state(&self.ctx, &mut self.staging, data)
+            .map(Some)
     }
 
     pub fn context(&self) -> &GpuContext {
@@ -402,13 +449,15 @@ impl GpuKernels {
     /// Bytes held on the device by the mesh and the per-call buffers.
     pub fn device_bytes(&self) -> u64 {
         let state = [&self.u, &self.v, &self.corners, &self.forces, &self.staging];
+        let damage = self.damage.as_ref().map_or(0, |(d, _)| d.device_bytes());
         self.mesh
             .all()
             .into_iter()
             .chain(state)
             .chain(self.contact.all())
             .map(|s| s.capacity)
-            .sum()
+            .sum::<u64>()
+            + damage
     }
 
     /// Uploads a nodal vector (3 per node): the velocities in f32, or the displacements as
@@ -457,6 +506,9 @@ impl GpuKernels {
         let (k, l) = (&self.kernels, &self.launches);
         for (kind, launch) in &l.blocks {
             k.forces(*kind).dispatch(pass, launch);
+        }
+        if let Some((d, _)) = &self.damage {
+            d.dispatch(pass);
         }
     }
 
@@ -614,6 +666,9 @@ impl Kernels for GpuKernels {
 
     fn internal_forces_into(&mut self, u: &[f64], f: &mut [f64]) -> Result<()> {
         self.upload_nodal(false, u)?;
+        if let Some((d, _)) = &mut self.damage {
+            d.set_step(&self.ctx, 0.0, false);
+        }
         if self.fill_nan {
             self.corners
                 .fill_nan(&self.ctx, bytes_of::<f32>(self.corner_floats()));
@@ -722,5 +777,76 @@ impl Kernels for GpuKernels {
             *o = x.map(f64::from);
         }
         Ok(())
+    }
+
+    fn step_forces_into(
+        &mut self,
+        (u, v): (&[f64], &[f64]),
+        dt: f64,
+        f: &mut [f64],
+    ) -> Result<f64> {
+        if self.damage.is_none() {
+            return self.internal_forces_into(u, f).map(|_| 0.0);
+        }
+        self.upload_state(u, v)?;
+        let mut enc = self.ctx.encoder("step_forces");
+        if let Some((d, _)) = &mut self.damage {
+            d.set_step(&self.ctx, dt, true);
+        }
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("step_forces"),
+                timestamp_writes: None,
+            });
+            self.dispatch_internal_forces(&mut pass);
+            if let Some((d, _)) = &self.damage {
+                d.dispatch_total(&mut pass);
+            }
+        }
+        let out: Vec<f32> = submit_and_read(
+            &self.ctx,
+            &mut self.staging,
+            enc,
+            &self.forces.buffer,
+            3 * self.nodes,
+        )?;
+        for (d, x) in f.iter_mut().zip(out) {
+            *d = x as f64;
+        }
+        let (d, _) = self.damage.as_ref().expect("damage");
+        d.read_total(&self.ctx, &mut self.staging)
+    }
+
+    fn damage_values(&self) -> Result<Vec<f64>> {
+        // a read-back needs the staging buffer: a copy of the state's path
+        let Some((stage, data)) = &self.damage else {
+            return Ok(Vec::new());
+        };
+        let mut staging = super::buffer::staging(&self.ctx)?;
+        Ok(stage.read_state(&self.ctx, &mut staging, data)?.flat())
+    }
+
+    fn restore_damage(&mut self, values: &[f64]) -> std::result::Result<(), String> {
+        let Some((stage, data)) = &self.damage else {
+            return match values.is_empty() {
+                true => Ok(()),
+                false => Err("the checkpoint holds ply damage and this model has none".into()),
+            };
+        };
+        let mut state = DamageState::new(data);
+        state.restore(data, values)?;
+        stage.write_state(&self.ctx, data, &state);
+        Ok(())
+    }
+
+    fn damage_cells(&self) -> Option<(Vec<[f64; 4]>, Option<DamagedPoint>)> {
+        let (stage, data) = self.damage.as_ref()?;
+        let mut staging = super::buffer::staging(&self.ctx).ok()?;
+        let state = stage.read_state(&self.ctx, &mut staging, data).ok()?;
+        let blocks = self.block_counts();
+        Some((
+            state.cells(data, &blocks),
+            state.first_damaged(data, &blocks),
+        ))
     }
 }

@@ -91,6 +91,7 @@ kernel_table! {
         lumped, dj, results, late, bounds,
     );
     CornerSelect = corner_select(slots, corner_forces, chosen);
+    DamageReduce = damage_reduce(records, rows);
     ExplicitCorrect = explicit_correct(
         step, displacement, forces, lumped, velocity, acceleration, partials, bodies,
     );
@@ -104,11 +105,21 @@ kernel_table! {
         step, displacement, lumped, velocity, acceleration, partials, bodies, offsets, incidence,
         corner_forces,
     );
+    Hex8Damage = hex8_damage(
+        damage, reference, displacement, velocity, block_nodes, elements, plies, entries, laws,
+        state, records, corner_forces,
+    );
+    Hex8iDamage = hex8i_damage(
+        damage, reference, displacement, velocity, block_nodes, elements, plies, entries, laws,
+        condensation, state, records, corner_forces,
+    );
     Hex8Forces = hex8_forces(
         reference, displacement, block_nodes, block_material, materials, corner_forces,
     );
     Hex8iForces = hex8i_forces(reference, displacement, block_nodes, kept, corner_forces);
-    HistoryReduce = history_reduce(columns, partials, results, displacement, velocity, rows);
+    HistoryReduce = history_reduce(
+        columns, partials, results, displacement, velocity, corner_forces, corner_lists, rows,
+    );
     NodeGather = node_gather(offsets, incidence, corner_forces, forces);
     NodeScatter = node_scatter(nodes, values, nodal);
     NodeSelect = node_select(nodes, nodal, selected);
@@ -126,6 +137,10 @@ kernel_table! {
     SearchGridKernel = search_grid(step, bounds, grid);
     SlipRate = slip_rate(reference, displacement, velocity, queries, faces, points, slip);
     StableStep = stable_step(reference, hex8_elements, tet4_elements, materials, steps);
+    Tet4Damage = tet4_damage(
+        damage, reference, displacement, velocity, block_nodes, elements, plies, entries, laws,
+        state, records, corner_forces,
+    );
     Tet4Forces = tet4_forces(
         reference, displacement, block_nodes, block_material, materials, corner_forces,
     );

@@ -10,6 +10,7 @@ pub mod captured;
 pub mod contact_form;
 pub mod context;
 pub mod corner_select;
+pub(crate) mod damage_stage;
 pub mod engine;
 mod failure_stage;
 pub mod impulse_sweeps;

@@ -45,7 +45,9 @@ use super::{
 };
 use crate::error::{ImpactError, Result};
 use crate::kernels::explicit_correct::FIELDS;
-use crate::kernels::history_reduce::{OP_DISPLACEMENT, OP_MAX, OP_PARTIALS, OP_SUM, OP_VELOCITY};
+use crate::kernels::history_reduce::{
+    OP_CORNERS, OP_DISPLACEMENT, OP_MAX, OP_PARTIALS, OP_SUM, OP_VELOCITY,
+};
 use crate::kernels::plane_contact::{slot, MAX_PLANES, SLOT};
 use crate::kernels::{
     ElementData, LumpedNode, PlaneData, PlaneNode, ReduceColumn, SearchMode, SurveySetup,
@@ -110,18 +112,27 @@ pub struct ResidentSetup {
     /// Contact between meshed bodies: the device contact iteration, which then takes the
     /// rigid planes too (as pairs); `planes` and `plane_nodes` are left empty.
     pub contact: Option<ContactSetup>,
-    /// The ply failure survey of every step (materials with strengths): its record ends each
-    /// history row.
+    /// The ply failure survey of every step (materials with strengths): its record follows
+    /// the columns in each history row.
     pub survey: Option<SurveySetup>,
+    /// The supports' reactions: per column, the corner-force indices it sums (component-major,
+    /// `a C + s`), after the probes' columns.
+    pub reactions: Vec<Vec<u32>>,
+    /// The plies' damage, where any element damages: the step's dissipation ends each row.
+    pub damage: Option<crate::kernels::damage_data::DamageData>,
 }
 
 /// Values of a history row, in order: per body [`FIELDS`] (kinetic, strain, gravity,
 /// momentum x y z), per contact interface [`SLOT`] (its contact results, summed; the gap and
-/// the sweeps as maxima), per probe 6 (displacement, velocity), then the failure survey's
-/// record where there is one ([`FAILURE_FIELDS`]).
-pub(crate) fn row_len(bodies: usize, interfaces: usize, probes: usize, survey: bool) -> usize {
+/// the sweeps as maxima), per probe 6 (displacement, velocity), the supports' reaction
+/// columns, then the failure survey's record where there is one ([`FAILURE_FIELDS`]) and
+/// the step's damage dissipation where there is damage.
+pub(crate) fn row_len(
+    (bodies, interfaces, probes, reactions): (usize, usize, usize, usize),
+    (survey, damage): (bool, bool),
+) -> usize {
     let record = if survey { FAILURE_FIELDS } else { 0 };
-    FIELDS * bodies + SLOT * interfaces + 6 * probes + record
+    FIELDS * bodies + SLOT * interfaces + 6 * probes + reactions + record + usize::from(damage)
 }
 
 /// The contact results' place of each interface in the plane kernel's layout: `plane_nodes`
@@ -255,9 +266,11 @@ impl ModelBuffers {
 
 /// The history row's columns, on the host and on the device, and the rows buffer.
 pub(super) struct HistoryRows {
-    /// The columns `history_reduce` writes (the failure record follows them).
+    /// The columns `history_reduce` writes (the failure record and the damage follow them).
     pub(super) column_list: Vec<ReduceColumn>,
     columns: Storage,
+    /// The reaction columns' corner-force indices.
+    lists: Storage,
     /// The history rows of one submission, `chunk_capacity` rows of `row_len` floats.
     pub(super) rows: Storage,
     pub(super) row_len: usize,
@@ -281,19 +294,31 @@ impl HistoryRows {
                     .map_or(m.plane_node_count, |r| r.min(m.plane_node_count)),
             ),
         };
-        let column_list = row_columns(groups, &slots, &setup.probes);
+        let mut column_list = row_columns(groups, &slots, &setup.probes);
+        let mut lists = Vec::new();
+        for r in &setup.reactions {
+            column_list.push(ReduceColumn {
+                first: lists.len() as u32,
+                count: r.len() as u32,
+                stride: 1,
+                op: OP_CORNERS,
+            });
+            lists.extend_from_slice(r);
+        }
         let survey = if setup.survey.is_some() {
             FAILURE_FIELDS
         } else {
             0
         };
-        let row_len = column_list.len() + survey;
+        let row_len = column_list.len() + survey + usize::from(setup.damage.is_some());
         let cols: Vec<types::GpuReduceColumn> = to_device(&column_list);
         let columns = Storage::with_data(ctx, "history.columns", &cols)?;
+        let lists = Storage::with_data(ctx, "history.corner_lists", &at_least_one(lists))?;
         let rows = Storage::new(ctx, "history.rows", (chunk_capacity * row_len * 4) as u64)?;
         Ok(HistoryRows {
             column_list,
             columns,
+            lists,
             rows,
             row_len,
         })
@@ -435,6 +460,8 @@ impl Launches {
                     b.results,
                     &k.u.buffer,
                     &k.v.buffer,
+                    &k.corners.buffer,
+                    &h.lists.buffer,
                     &h.rows.buffer,
                 );
                 l.set_count(ctx, columns_n, first);
@@ -507,7 +534,7 @@ impl ResidentStep {
                 setup.planes.len()
             )));
         }
-        let mut k = GpuKernels::new(ctx, data)?;
+        let mut k = GpuKernels::new(ctx, data)?.with_damage(setup.damage.clone())?;
         // the displacement starts at zero, as a new buffer is
         k.upload_velocity(&setup.velocity)?;
         let ctx = &k.ctx;
@@ -546,6 +573,12 @@ impl ResidentStep {
                 FailureStage::new(ctx, s, &target)
             })
             .transpose()?;
+        if let Some((d, _)) = &mut k.damage {
+            // the step's dissipation closes each row; the state advances every step
+            let at = (history.row_len, history.row_len - 1, chunk_capacity);
+            d.reduce_into_rows(ctx, &history.rows.buffer, at);
+            d.set_step(ctx, setup.dt, true);
+        }
         let readback = Self::readback_buffers(ctx, chunk_capacity * history.row_len)?;
         let clock = SubmissionClock::new(ctx)?;
         Ok(ResidentStep {
@@ -761,11 +794,15 @@ impl ResidentStep {
         self.dispatch_survey_row(pass, j);
     }
 
-    /// Dispatches the failure survey and the history row of the submission's step `j`.
+    /// Dispatches the failure survey, the damage's dissipation and the history row of the
+    /// submission's step `j`.
     fn dispatch_survey_row(&self, pass: &mut wgpu::ComputePass, j: usize) {
         let l = &self.launches;
         if let Some(f) = &self.failure {
             f.dispatch(pass, j);
+        }
+        if let Some((d, _)) = &self.k.damage {
+            d.dispatch_row(pass, j);
         }
         self.kernels.reduce.0.dispatch(pass, &l.reduce[j]);
     }
@@ -882,19 +919,23 @@ impl ResidentStep {
     }
 
     /// Every buffer a step starts from: u, v, a and the contact results (of the contact
-    /// iteration, or of the rigid planes). With them and the constants, the next step is
-    /// determined.
-    fn state_buffers(&self) -> [&wgpu::Buffer; 4] {
+    /// iteration, or of the rigid planes), and the damage's records and points' states.
+    /// With them and the constants, the next step is determined.
+    fn state_buffers(&self) -> Vec<&wgpu::Buffer> {
         let results = match &self.contact {
             Some(c) => c.results_buffer(),
             None => &self.m.results.buffer,
         };
+        let damage = self.k.damage.iter().flat_map(|(d, _)| d.state_buffers());
         [
             &self.k.u.buffer,
             &self.k.v.buffer,
             &self.m.a.buffer,
             results,
         ]
+        .into_iter()
+        .chain(damage)
+        .collect()
     }
 
     /// The bytes of every buffer a step starts from (`state_buffers`: u, v, a and the contact
@@ -932,7 +973,7 @@ impl ResidentStep {
         if state.len() != buffers.len()
             || state
                 .iter()
-                .zip(buffers)
+                .zip(&buffers)
                 .any(|(s, b)| (s.len() * 4) as u64 != b.size())
         {
             return Err(ImpactError::Gpu(
@@ -1058,6 +1099,20 @@ impl ResidentStep {
             .ctx
             .queue
             .write_buffer(&self.step, 0, bytemuck::bytes_of(&self.step_consts));
+        if let Some((d, _)) = &mut self.k.damage {
+            d.set_step(&self.k.ctx, dt, true);
+        }
+    }
+
+    /// The damage's inputs, where any element damages.
+    pub fn damage_data(&self) -> Option<&crate::kernels::damage_data::DamageData> {
+        self.k.damage.as_ref().map(|(_, d)| d)
+    }
+
+    /// The damage state on the device (where any element damages); nothing may be in
+    /// flight.
+    pub fn read_damage(&mut self) -> Result<Option<crate::kernels::damage_data::DamageState>> {
+        self.k.read_damage()
     }
 
     /// Whether read-back buffer `slot` holds a submission not yet collected.

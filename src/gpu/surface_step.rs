@@ -105,6 +105,8 @@ impl SurfaceStep {
             contact.results_buffer(),
             &u.buffer,
             &v.buffer,
+            &none.buffer,
+            &none.buffer,
             &row.buffer,
         );
         reduce_launch.set_count(&ctx, row_len as u32, 0);

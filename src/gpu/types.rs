@@ -597,6 +597,153 @@ impl From<&crate::material::Strength> for PlyStrength {
     }
 }
 
+device_struct! {
+    /// A ply's damage law in its own axes (twin: [`crate::material::PlyDamage`]): the
+    /// undamaged stiffness's normal block and shear moduli, the compliance's normal block
+    /// and shear compliances (23, 13, 12), the strengths, the fracture energies (fibre
+    /// tension, compression, matrix tension, compression), the viscosity, and each mode's
+    /// snap-back width $2 E G / X^2$.
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+    pub struct DamageLaw {
+        pub c11: f32,
+        pub c12: f32,
+        pub c13: f32,
+        pub c22: f32,
+        pub c23: f32,
+        pub c33: f32,
+        pub c44: f32,
+        pub c55: f32,
+        pub c66: f32,
+        pub s11: f32,
+        pub s12: f32,
+        pub s13: f32,
+        pub s22: f32,
+        pub s23: f32,
+        pub s33: f32,
+        pub h23: f32,
+        pub h13: f32,
+        pub h12: f32,
+        pub xt: f32,
+        pub xc: f32,
+        pub yt: f32,
+        pub yc: f32,
+        pub sl: f32,
+        pub st: f32,
+        pub viscosity: f32,
+        pub snap_ft: f32,
+        pub snap_fc: f32,
+        pub snap_mt: f32,
+        pub snap_mc: f32,
+    }
+}
+
+impl From<&crate::material::PlyDamage> for DamageLaw {
+    fn from(l: &crate::material::PlyDamage) -> Self {
+        let (c, n, k) = (&l.c0, &l.normal, &l.strength);
+        let f = |x: f64| x as f32;
+        DamageLaw {
+            c11: f(c[0][0]),
+            c12: f(c[0][1]),
+            c13: f(c[0][2]),
+            c22: f(c[1][1]),
+            c23: f(c[1][2]),
+            c33: f(c[2][2]),
+            c44: f(c[3][3]),
+            c55: f(c[4][4]),
+            c66: f(c[5][5]),
+            s11: f(n[0][0]),
+            s12: f(n[0][1]),
+            s13: f(n[0][2]),
+            s22: f(n[1][1]),
+            s23: f(n[1][2]),
+            s33: f(n[2][2]),
+            h23: f(l.shear[0]),
+            h13: f(l.shear[1]),
+            h12: f(l.shear[2]),
+            xt: f(k.xt),
+            xc: f(k.xc),
+            yt: f(k.yt),
+            yc: f(k.yc),
+            sl: f(k.s12),
+            st: f(k.s23),
+            viscosity: f(l.viscosity),
+            snap_ft: f(l.snap_back_width(0)),
+            snap_fc: f(l.snap_back_width(1)),
+            snap_mt: f(l.snap_back_width(2)),
+            snap_mc: f(l.snap_back_width(3)),
+        }
+    }
+}
+
+device_struct! {
+    /// A material entry of a damageable element's ply: its law (an index, `u32::MAX` for
+    /// none) and its axes 1, 2, 3 as rows in the global axes.
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+    pub struct DamageEntry {
+        pub law: u32,
+        pub a11: f32,
+        pub a12: f32,
+        pub a13: f32,
+        pub a21: f32,
+        pub a22: f32,
+        pub a23: f32,
+        pub a31: f32,
+        pub a32: f32,
+        pub a33: f32,
+    }
+}
+
+device_struct! {
+    /// A damageable element's ply (twin: [`crate::element::damage::DamagePly`]).
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+    pub struct DamagePlyRecord {
+        pub entry: u32,
+        pub lo: f32,
+        pub hi: f32,
+        pub band_f: f32,
+        pub band_m: f32,
+    }
+}
+
+impl From<&crate::element::damage::DamagePly> for DamagePlyRecord {
+    fn from(p: &crate::element::damage::DamagePly) -> Self {
+        DamagePlyRecord {
+            entry: p.entry,
+            lo: p.lo as f32,
+            hi: p.hi as f32,
+            band_f: p.bands[0] as f32,
+            band_m: p.bands[1] as f32,
+        }
+    }
+}
+
+device_struct! {
+    /// A damageable element of a block (twin: [`crate::kernels::damage_data::DamageBlock`]'s
+    /// entries): its number in the block, its first ply and ply count, its first point, its
+    /// layup axis and its sieve factor.
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+    pub struct DamageElementRecord {
+        pub element: u32,
+        pub first_ply: u32,
+        pub plies: u32,
+        pub first_point: u32,
+        pub axis: u32,
+        pub sieve: f32,
+    }
+}
+
+device_struct! {
+    /// The damage kernels' step (a uniform, one per block): the step, whether the state
+    /// advances, and the block's element count (E) and its first record's word.
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+    pub struct DamageParams {
+        pub dt: f32,
+        pub advance: u32,
+        pub elements: u32,
+        pub records: u32,
+    }
+}
+
 /// A struct's WGSL name, Rust size, and (field name, Rust offset) in declaration order.
 pub(crate) type StructLayout = (&'static str, usize, Vec<(&'static str, usize)>);
 
@@ -609,6 +756,11 @@ pub fn shared_constants() -> Vec<(&'static str, u32)> {
     use crate::kernels::sweep_control::word;
     let u = |v: usize| v as u32;
     vec![
+        ("POINT_STATE", u(crate::material::damage::POINT_STATE)),
+        (
+            "DAMAGE_RECORD",
+            u(crate::kernels::damage_data::DAMAGE_RECORD),
+        ),
         ("NO_FACE", crate::geometry::point::NO_FACE),
         ("WORKGROUP", WORKGROUP),
         ("SLOT", u(SLOT)),
@@ -638,6 +790,7 @@ pub fn shared_constants() -> Vec<(&'static str, u32)> {
         ("OP_MAX", OP_MAX),
         ("OP_DISPLACEMENT", OP_DISPLACEMENT),
         ("OP_VELOCITY", OP_VELOCITY),
+        ("OP_CORNERS", OP_CORNERS),
         ("STATE_VIOLATION", u(word::VIOLATION)),
         ("STATE_ACTIVE", u(word::ACTIVE)),
         ("STATE_SWEEPS", u(word::SWEEPS)),
@@ -672,5 +825,10 @@ pub fn layouts() -> Vec<StructLayout> {
         GpuRigidSurface::layout(),
         GpuSurveyPoint::layout(),
         PlyStrength::layout(),
+        DamageLaw::layout(),
+        DamageEntry::layout(),
+        DamagePlyRecord::layout(),
+        DamageElementRecord::layout(),
+        DamageParams::layout(),
     ]
 }

@@ -14,17 +14,20 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::explicit::lumped_mass;
+use super::explicit::Work;
 use super::form_trial::FormTrial;
 use super::integrator::{ContactForms, Integrator, Pipelined, ENGINE_GPU_RESIDENT};
 use super::kept_search::{KeptSearch, FIRST_INTERVAL};
+use super::reaction_columns::ReactionColumns;
 use super::recorded_sweeps::{RecordedSweeps, FIRST_GUESS};
-use super::state::{ContactReport, Energies, StepReport};
+use super::state::{ContactReport, DamageReport, Energies, FirstDamage, StepReport};
 use super::SolverState;
 use crate::error::{ImpactError, Result};
 use crate::geometry::rigid_shape::RigidShape;
 use crate::gpu::resident_step::row_len;
 use crate::gpu::{ContactForm, ContactSetup, GpuContext, ResidentSetup, ResidentStep};
 use crate::kernels::contact_gap::NO_FACE;
+use crate::kernels::damage_data::DamageData;
 use crate::kernels::explicit_correct::FIELDS;
 use crate::kernels::plane_contact::{slot, MAX_PLANES, SLOT};
 use crate::kernels::{
@@ -262,6 +265,8 @@ pub fn setup_without_contact(
         acceleration,
         contact: None,
         survey: None,
+        reactions: ReactionColumns::new(model, &mass).lists,
+        damage: None,
     };
     (setup, places)
 }
@@ -302,6 +307,10 @@ pub(crate) struct Row {
     pub report: StepReport,
     /// The ply failure survey's record, where the step surveys.
     pub failure: Option<[f64; FAILURE_FIELDS]>,
+    /// The supports' reaction columns ([`ReactionColumns`]).
+    pub reactions: Vec<f64>,
+    /// The energy damage dissipated over the step.
+    pub dissipated: f64,
 }
 
 /// What decoding a history row needs besides its values: the model, each body's mass, the
@@ -311,6 +320,8 @@ pub(crate) struct RowReader<'a> {
     pub body_mass: &'a [f64],
     pub max_iterations: usize,
     pub dt: f64,
+    /// The reaction columns after the probes' (none on a rank).
+    pub reactions: usize,
 }
 
 impl RowReader<'_> {
@@ -319,8 +330,11 @@ impl RowReader<'_> {
         // the meshed bodies' ranges, then the rigid bodies' (energies only)
         let nb = self.model.mesh.bodies.len() + usize::from(!self.model.rigid.is_empty());
         let np = self.model.interfaces.len();
-        let surveyed = r.len() == row_len(nb, np, self.model.probes.len(), true);
-        debug_assert_eq!(r.len(), row_len(nb, np, self.model.probes.len(), surveyed));
+        let counts = (nb, np, self.model.probes.len(), self.reactions);
+        let damage =
+            r.len() == row_len(counts, (false, true)) || r.len() == row_len(counts, (true, true));
+        let surveyed = r.len() == row_len(counts, (true, damage));
+        debug_assert_eq!(r.len(), row_len(counts, (surveyed, damage)));
         let mut e = Energies::default();
         let mut bodies = Vec::with_capacity(nb);
         for b in 0..nb {
@@ -365,10 +379,10 @@ impl RowReader<'_> {
                 ([q[0], q[1], q[2]], [q[3], q[4], q[5]])
             })
             .collect();
-        let failure = surveyed.then(|| {
-            let tail = &r[r.len() - FAILURE_FIELDS..];
-            std::array::from_fn(|k| tail[k])
-        });
+        let at = base + 6 * self.model.probes.len();
+        let reactions = r[at..at + self.reactions].to_vec();
+        let at = at + self.reactions;
+        let failure = surveyed.then(|| std::array::from_fn(|k| r[at + k]));
         Row {
             energies: e,
             bodies,
@@ -376,6 +390,8 @@ impl RowReader<'_> {
             probes,
             report,
             failure,
+            reactions,
+            dissipated: if damage { r[r.len() - 1] } else { 0.0 },
         }
     }
 }
@@ -388,6 +404,12 @@ pub struct ResidentState {
     pub time: f64,
     pub steps: usize,
     pub buffers: Vec<Vec<u32>>,
+    /// The moving fixes' work and the damage's energy so far, and the fixes' power at the
+    /// last step (the next step's work).
+    #[serde(default)]
+    pub work: Work,
+    #[serde(default)]
+    pub power: f64,
 }
 
 pub struct ResidentSolver<'m> {
@@ -437,6 +459,19 @@ pub struct ResidentSolver<'m> {
     pub v: Vec<f64>,
     results: Vec<f64>,
     initial: Energies,
+    /// The supports' reaction columns of the rows.
+    columns: ReactionColumns,
+    /// The moving fixes' work and the damage's energy so far.
+    work: Work,
+    /// The moving fixes' power at the last step (the next step's work over its length).
+    power: f64,
+    /// The step the run was set up with (the first damage's time is its step's).
+    step_length: f64,
+    /// Each cell's damage and the first damaged point, as last read back.
+    damage_cells: Option<(
+        Vec<[f64; 4]>,
+        Option<crate::kernels::damage_data::DamagedPoint>,
+    )>,
 }
 
 impl<'m> ResidentSolver<'m> {
@@ -451,7 +486,7 @@ impl<'m> ResidentSolver<'m> {
         speed_scale: f64,
         total: usize,
         frame_every: Option<usize>,
-        survey: Option<SurveySetup>,
+        (survey, damage): (Option<SurveySetup>, Option<DamageData>),
     ) -> Result<Self> {
         let chunk = chunk_steps(model.mesh.element_count());
         let mut s = Self::with_chunk(
@@ -461,7 +496,7 @@ impl<'m> ResidentSolver<'m> {
             dt,
             speed_scale,
             (total, frame_every, chunk),
-            survey,
+            (survey, damage),
         )?;
         s.chunk = chunk;
         Ok(s)
@@ -476,10 +511,11 @@ impl<'m> ResidentSolver<'m> {
         dt: f64,
         speed_scale: f64,
         (total, frame_every, chunk): (usize, Option<usize>, usize),
-        survey: Option<SurveySetup>,
+        (survey, damage): (Option<SurveySetup>, Option<DamageData>),
     ) -> Result<Self> {
         let (mut setup, places) = setup(model, settings, dt, speed_scale)?;
         setup.survey = survey;
+        setup.damage = damage.filter(DamageData::any);
         let chunk = chunk.max(1);
         let mut engine = ResidentStep::new(ctx, &model.element_data(), &setup, chunk)?;
         engine.set_sweeps(FIRST_GUESS);
@@ -504,6 +540,8 @@ impl<'m> ResidentSolver<'m> {
         let device_seconds = timed.then_some(0.0);
         let plane_count = setup.planes.len();
         let pair_ranges = setup.contact.as_ref().map(|c| c.interfaces.clone());
+        let columns = ReactionColumns::new(model, &mass);
+        let power = columns.power_at_rest();
         let result_len = match &setup.contact {
             Some(c) => SLOT * c.pairs.len(),
             None => SLOT * plane_count * setup.plane_nodes.len(),
@@ -547,6 +585,11 @@ impl<'m> ResidentSolver<'m> {
                 kinetic,
                 ..Default::default()
             },
+            columns,
+            work: Work::default(),
+            power,
+            step_length: dt,
+            damage_cells: None,
         })
     }
 
@@ -733,8 +776,35 @@ impl<'m> ResidentSolver<'m> {
             body_mass: &self.body_mass,
             max_iterations: self.max_iterations,
             dt: self.row_dt,
+            reactions: self.columns.len(),
         }
         .decode(r)
+    }
+
+    /// A step's work of the moving fixes (their power at the step before, over its
+    /// length) and the damage's, and the damage as the device holds it after the step where
+    /// the state is read.
+    fn count_work(&mut self, read: bool) -> Result<()> {
+        self.work.fixes += self.power * self.dt;
+        self.power = self.columns.power(&self.current.reactions);
+        self.work.damage += self.current.dissipated;
+        if read {
+            self.count_damage_cells()?;
+        }
+        Ok(())
+    }
+
+    /// Reads the damage back: each cell's, and the first damaged point.
+    fn count_damage_cells(&mut self) -> Result<()> {
+        if let Some(state) = self.engine.read_damage()? {
+            let data = self.engine.damage_data().expect("damage");
+            let blocks = crate::kernels::damage_data::block_counts(&self.model.mesh.elements);
+            self.damage_cells = Some((
+                state.cells(data, &blocks),
+                state.first_damaged(data, &blocks),
+            ));
+        }
+        Ok(())
     }
 
     /// Normal impulse and end-of-step gap of secondary node `local` of interface
@@ -805,20 +875,50 @@ impl Integrator for ResidentSolver<'_> {
             self.dt = last;
             self.current.energies.kinetic -= self.measure_shift;
         }
-        if self.at_frame(self.steps) || self.steps == self.total {
+        let read = self.at_frame(self.steps) || self.steps == self.total;
+        if read {
             let (u, v, results) = self.engine.read_state()?;
             self.u = u;
             self.v = v;
             self.results = results;
         }
+        self.count_work(read)?;
         Ok(self.current.report)
     }
 
     fn energies(&mut self) -> Result<Energies> {
-        Ok(if self.steps == 0 {
+        let mut e = if self.steps == 0 {
             self.initial
         } else {
             self.current.energies
+        };
+        e.potential -= self.work.fixes;
+        e.fix_work = self.work.fixes;
+        e.damage = self.work.damage;
+        Ok(e)
+    }
+
+    fn reactions(&self) -> Vec<[f64; 3]> {
+        match self.steps {
+            0 => self.columns.reactions(&vec![0.0; self.columns.len()]),
+            _ => self.columns.reactions(&self.current.reactions),
+        }
+    }
+
+    fn damage(&self) -> Option<DamageReport> {
+        self.engine.damage_data()?;
+        let (cells, first) = match &self.damage_cells {
+            Some((c, f)) => (c.clone(), *f),
+            None => (vec![[0.0; 4]; self.model.mesh.element_count()], None),
+        };
+        let first = first.map(|p| {
+            let time = (f64::from(p.step) * self.step_length).min(self.time);
+            FirstDamage::of(self.model, p, time)
+        });
+        Some(DamageReport {
+            energy: self.work.damage,
+            first,
+            cells,
         })
     }
 
@@ -865,6 +965,8 @@ impl Integrator for ResidentSolver<'_> {
             time: self.time,
             steps: self.steps,
             buffers: self.engine.read_step_state()?,
+            work: self.work.clone(),
+            power: self.power,
         })))
     }
 
@@ -887,6 +989,11 @@ impl Integrator for ResidentSolver<'_> {
         self.time = s.time;
         self.steps = s.steps;
         self.submitted = s.steps;
+        self.work = s.work;
+        self.power = s.power;
+        if self.engine.damage_data().is_some() {
+            self.count_damage_cells().map_err(|e| e.to_string())?;
+        }
         Ok(())
     }
 

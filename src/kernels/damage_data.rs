@@ -20,6 +20,15 @@ use crate::element::ElementKind;
 use crate::material::damage::{PlyDamage, POINT_STATE};
 use crate::material::Rotation;
 
+/// Each block's element count, in [`ElementKind::ALL`] order.
+pub fn block_counts(elements: &crate::element::Elements) -> Vec<usize> {
+    elements.blocks.iter().map(|b| b.len()).collect()
+}
+
+/// Words of a damageable element's record on the device (flag, first step, first point,
+/// dissipation's bits), after the step counter (`shaders/shared/types.wgsl`).
+pub const DAMAGE_RECORD: usize = 4;
+
 /// Everything the damage kernels read that does not change.
 #[derive(Debug, Clone, Default)]
 pub struct DamageData {
@@ -161,7 +170,11 @@ impl DamageState {
                 let s = &self.points[k][b.state_range(i)];
                 self.damaged[k][i] = crate::element::damage::any_damage(s);
                 let f = &values[first_at + 2 * i..first_at + 2 * i + 2];
-                self.first[k][i] = [f[0] as u32, f[1] as u32];
+                // an element without damage has no first damage
+                self.first[k][i] = match self.damaged[k][i] {
+                    true => [f[0] as u32, f[1] as u32],
+                    false => [0, 0],
+                };
             }
             first_at += 2 * b.len();
         }
@@ -293,11 +306,12 @@ pub struct DamagedPoint {
 
 impl DamageState {
     /// Each element's acting damage of each mode, the largest over its points (zero for the
-    /// elements that do not damage), in global element order.
-    pub fn cells(&self, data: &DamageData, elements: &crate::element::Elements) -> Vec<[f64; 4]> {
-        let mut out = vec![[0.0f64; 4]; elements.count()];
+    /// elements that do not damage), in global element order (`blocks`: each kind's
+    /// element count).
+    pub fn cells(&self, data: &DamageData, blocks: &[usize]) -> Vec<[f64; 4]> {
+        let mut out = vec![[0.0f64; 4]; blocks.iter().sum()];
         for (k, b) in data.blocks.iter().enumerate() {
-            let offset = elements.offset(ElementKind::ALL[k]);
+            let offset: usize = blocks[..k].iter().sum();
             for (i, &e) in b.elements.iter().enumerate() {
                 let cell = &mut out[offset + e as usize];
                 for p in self.points[k][b.state_range(i)].chunks_exact(POINT_STATE) {
@@ -310,15 +324,12 @@ impl DamageState {
         out
     }
 
-    /// The first damaged point: of the earliest step, the lowest element number's.
-    pub fn first_damaged(
-        &self,
-        data: &DamageData,
-        elements: &crate::element::Elements,
-    ) -> Option<DamagedPoint> {
+    /// The first damaged point: of the earliest step, the lowest element number's (`blocks`
+    /// as for [`Self::cells`]).
+    pub fn first_damaged(&self, data: &DamageData, blocks: &[usize]) -> Option<DamagedPoint> {
         let mut best: Option<DamagedPoint> = None;
         for (k, b) in data.blocks.iter().enumerate() {
-            let offset = elements.offset(ElementKind::ALL[k]);
+            let offset: usize = blocks[..k].iter().sum();
             let per_ply = if ElementKind::ALL[k] == ElementKind::Tet4 {
                 1
             } else {

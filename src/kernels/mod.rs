@@ -28,6 +28,7 @@ pub mod contact_warm;
 pub mod contact_zone;
 pub mod corner_select;
 pub mod damage_data;
+pub mod damage_reduce;
 pub mod explicit_correct;
 pub mod explicit_drift;
 pub mod explicit_predict;

@@ -125,7 +125,7 @@ impl PlyDamage {
     /// $r_f$ of mode `k` in a band of width `l`, at least just above 1 (a snap-back drops at
     /// once).
     pub fn softening_end(&self, k: usize, l: f64) -> f64 {
-        (self.snap_back_width(k) / l).max(1.0 + 1e-9)
+        (self.snap_back_width(k) / l).max(1.0 + 1e-6)
     }
 
     /// $\beta^2$: the largest $r^2$ of any mode per unit $\sigma \cdot S \sigma$ (twice the
@@ -272,7 +272,7 @@ impl PlyDamage {
             }
             false => 0.0,
         };
-        [ft, f[1].sqrt(), f[2].sqrt(), mc]
+        [ft, f[1].sqrt(), f[2].max(0.0).sqrt(), mc]
     }
 }
 

@@ -74,11 +74,13 @@ fn build_solver<'m>(
     ranks: Option<&'m dyn Ranks>,
 ) -> Result<Box<dyn Integrator + 'm>> {
     let (model, dt) = (&setup.model, setup.dt);
-    if model.damage_laws.iter().any(Option::is_some) && (setup.ctx.is_some() || ranks.is_some()) {
+    if model.damage_laws.iter().any(Option::is_some) && ranks.is_some() {
         return Err(ImpactError::Unsupported {
             path: scene.path.clone(),
             key: "run.device".into(),
-            message: "ply damage (a material's fracture_energy) runs on the CPU in one process: run with --device cpu and without mpirun".into(),
+            message:
+                "ply damage (a material's fracture_energy) runs in one process: run without mpirun"
+                    .into(),
         });
     }
     if let Some(ranks) = ranks {
@@ -115,14 +117,19 @@ fn build_solver<'m>(
                 speed_scale,
                 setup.steps,
                 scene.vtu_every,
-                FailureSurvey::new(model).map(|s| s.device(model)),
+                (
+                    FailureSurvey::new(model).map(|s| s.device(model)),
+                    setup.damage.clone(),
+                ),
             )
             .map_err(|e| gpu_error(scene, e))?,
         ),
         (method, ctx) => {
             let kern: Box<dyn Kernels> = match ctx {
                 Some(ctx) => Box::new(
-                    GpuKernels::new(ctx, &model.element_data()).map_err(|e| gpu_error(scene, e))?,
+                    GpuKernels::new(ctx, &model.element_data())
+                        .and_then(|k| k.with_damage(setup.damage.clone()))
+                        .map_err(|e| gpu_error(scene, e))?,
                 ),
                 None => Box::new(
                     CpuKernels::new(model.element_data()).with_damage(setup.damage.clone()),

@@ -249,7 +249,9 @@ impl<'m> ExplicitSolver<'m> {
         self.work.damage += dissipated;
         if self.work.first_damage.is_none() && dissipated > 0.0 {
             if let Some((_, Some(p))) = self.kernels.damage_cells() {
-                self.work.first_damage = Some(FirstDamage::of(self.model, p, self.time));
+                // its step's time (a step of this run's length, or the shortened last one)
+                let time = (f64::from(p.step) * self.dt).min(self.time);
+                self.work.first_damage = Some(FirstDamage::of(self.model, p, time));
             }
         }
     }

@@ -1,0 +1,175 @@
+// Ply damage (twin: `material::damage`): Hashin initiation on the effective stress, linear
+// softening over the crack band, the stiffness degraded in the MLT form in 3D, Duvaut-Lions
+// viscosity, and the step's dissipation. Written without arrays: a Voigt 6-vector is its
+// normal part (11, 22, 33) and shear part (23, 13, 12, engineering), a point's state two
+// vec4s (fibre tension, fibre compression, matrix tension, matrix compression).
+
+// The largest damage (twin: `material::damage::D_MAX`).
+const D_MAX: f32 = 0.9999;
+
+struct Voigt6 {
+    n: vec3<f32>,
+    s: vec3<f32>,
+}
+
+// A point's damage: the four variables the softening gives, then the four that act.
+struct PointState {
+    inviscid: vec4<f32>,
+    acting: vec4<f32>,
+}
+
+// An orthotropic stiffness in the ply axes: its normal block and shear moduli.
+struct OrthoStiffness {
+    normal: mat3x3<f32>,
+    shear: vec3<f32>,
+}
+
+struct PointStep {
+    state: PointState,
+    stress: Voigt6,
+    dissipated: f32,
+}
+
+fn ortho_apply(c: OrthoStiffness, e: Voigt6) -> Voigt6 {
+    return Voigt6(c.normal * e.n, c.shear * e.s);
+}
+
+fn voigt_dot(a: Voigt6, b: Voigt6) -> f32 {
+    return dot(a.n, b.n) + dot(a.s, b.s);
+}
+
+fn law_undamaged(l: DamageLaw) -> OrthoStiffness {
+    let n = mat3x3<f32>(
+        vec3<f32>(l.c11, l.c12, l.c13),
+        vec3<f32>(l.c12, l.c22, l.c23),
+        vec3<f32>(l.c13, l.c23, l.c33),
+    );
+    return OrthoStiffness(n, vec3<f32>(l.c44, l.c55, l.c66));
+}
+
+// The stiffness with fibre, matrix and shear damage d = (df, dm, ds): the compliance's fibre
+// term over 1 - df, its transverse terms over 1 - dm, inverted; the shear moduli times
+// 1 - ds.
+fn law_stiffness(l: DamageLaw, d: vec3<f32>) -> OrthoStiffness {
+    let s = mat3x3<f32>(
+        vec3<f32>(l.s11 / (1.0 - d.x), l.s12, l.s13),
+        vec3<f32>(l.s12, l.s22 / (1.0 - d.y), l.s23),
+        vec3<f32>(l.s13, l.s23, l.s33 / (1.0 - d.y)),
+    );
+    let c = cofactor(s);
+    let det = dot(s[0], c[0]);
+    // symmetric: the inverse is the cofactor matrix over the determinant
+    let shear = (1.0 - d.z) / vec3<f32>(l.h23, l.h13, l.h12);
+    return OrthoStiffness(c * (1.0 / det), shear);
+}
+
+// The fibre, matrix and shear damage that act, by the signs of the effective fibre stress
+// and of the transverse stresses' sum (twin: `material::damage::acting`).
+fn damage_acting(st: PointState, fibre: bool, matrix: bool) -> vec3<f32> {
+    let v = st.acting;
+    let df = select(v.y, v.x, fibre);
+    let dm = select(v.w, v.z, matrix);
+    let ds = 1.0 - (1.0 - v.x) * (1.0 - v.y) * (1.0 - v.z) * (1.0 - v.w);
+    return vec3<f32>(df, dm, min(ds, D_MAX));
+}
+
+// Each mode's r of the effective stress s: sqrt of the Hashin index (fibre tension without
+// its shear term), matrix compression's the inverse of the load factor to the index 1.
+fn index_ratios(l: DamageLaw, s: Voigt6) -> vec4<f32> {
+    let s11 = s.n.x;
+    let s22 = s.n.y;
+    let s33 = s.n.z;
+    let long = (s.s.z * s.s.z + s.s.y * s.s.y) / (l.sl * l.sl);
+    let trans = (s.s.x * s.s.x - s22 * s33) / (l.st * l.st);
+    let i1 = s22 + s33;
+    let ft = select(0.0, s11 / l.xt, s11 >= 0.0);
+    let fc = select(0.0, -s11 / l.xc, s11 < 0.0);
+    let fmt = (i1 / l.yt) * (i1 / l.yt) + trans + long;
+    let mt = select(0.0, sqrt(max(fmt, 0.0)), i1 >= 0.0);
+    let q = l.yc / (2.0 * l.st);
+    let a = (q * q - 1.0) * i1 / l.yc;
+    let h = i1 / (2.0 * l.st);
+    let b = h * h + trans + long;
+    let mc_quadratic = 0.5 * (a + sqrt(a * a + 4.0 * b));
+    let mc = select(0.0, select(max(a, 0.0), mc_quadratic, b > 0.0), i1 < 0.0);
+    return vec4<f32>(ft, fc, mt, mc);
+}
+
+// One mode's damage at r in a band of width `band` (snap-back width `snap`).
+fn mode_damage(r: f32, snap: f32, band: f32) -> f32 {
+    let rf = max(snap / band, 1.0 + 1e-6);
+    return select(0.0, min(rf * (r - 1.0) / (r * (rf - 1.0)), D_MAX), r > 1.0);
+}
+
+// The effective stress: each component over one minus its damage (d = (df, dm, ds)).
+fn effective_stress(s: Voigt6, d: vec3<f32>) -> Voigt6 {
+    return Voigt6(s.n / vec3<f32>(1.0 - d.x, 1.0 - d.y, 1.0 - d.y), s.s / (1.0 - d.z));
+}
+
+// One point's step from strain e and the step before's prev (ply axes), its old state, its
+// bands and dt (twin: `material::PlyDamage::step`).
+fn law_step(l: DamageLaw, e: Voigt6, prev: Voigt6, old: PointState, bands: vec2<f32>, dt: f32) -> PointStep {
+    let c0 = law_undamaged(l);
+    let eff = ortho_apply(c0, e);
+    let fibre = eff.n.x >= 0.0;
+    let matrix = eff.n.y + eff.n.z >= 0.0;
+    let d_old = damage_acting(old, fibre, matrix);
+    let before = law_stiffness(l, d_old);
+    let r = index_ratios(l, effective_stress(ortho_apply(before, e), d_old));
+    let trial = vec4<f32>(
+        mode_damage(r.x, l.snap_ft, bands.x),
+        mode_damage(r.y, l.snap_fc, bands.x),
+        mode_damage(r.z, l.snap_mt, bands.y),
+        mode_damage(r.w, l.snap_mc, bands.y),
+    );
+    var st: PointState;
+    st.inviscid = max(old.inviscid, trial);
+    if (l.viscosity > 0.0) {
+        let a = dt / l.viscosity;
+        st.acting = min((old.acting + a * st.inviscid) / (1.0 + a), vec4<f32>(D_MAX));
+    } else {
+        st.acting = st.inviscid;
+    }
+    let after = law_stiffness(l, damage_acting(st, fibre, matrix));
+    let stress = ortho_apply(after, e);
+    let p = ortho_apply(c0, prev);
+    let last = law_stiffness(l, damage_acting(old, p.n.x >= 0.0, p.n.y + p.n.z >= 0.0));
+    let change = Voigt6(
+        (last.normal - after.normal) * e.n,
+        (last.shear - after.shear) * e.s,
+    );
+    return PointStep(st, stress, 0.5 * voigt_dot(prev, change));
+}
+
+// The stress of strain e with a point's damage as it is (no step).
+fn law_stress(l: DamageLaw, e: Voigt6, st: PointState) -> Voigt6 {
+    let eff = ortho_apply(law_undamaged(l), e);
+    let c = law_stiffness(l, damage_acting(st, eff.n.x >= 0.0, eff.n.y + eff.n.z >= 0.0));
+    return ortho_apply(c, e);
+}
+
+// The ply axes of an entry as the columns of a matrix M: a tensor t of the global axes is
+// M^T t M in the ply's.
+fn entry_axes(a: DamageEntry) -> mat3x3<f32> {
+    return mat3x3<f32>(
+        vec3<f32>(a.a11, a.a12, a.a13),
+        vec3<f32>(a.a21, a.a22, a.a23),
+        vec3<f32>(a.a31, a.a32, a.a33),
+    );
+}
+
+// The ply strain (Voigt, engineering shears) of the displacement gradient h.
+fn ply_strain(m: mat3x3<f32>, h: mat3x3<f32>) -> Voigt6 {
+    let e = transpose(m) * (0.5 * (h + transpose(h))) * m;
+    return Voigt6(vec3<f32>(e[0].x, e[1].y, e[2].z), 2.0 * vec3<f32>(e[2].y, e[2].x, e[1].x));
+}
+
+// A ply stress (Voigt) as a tensor of the global axes.
+fn global_stress(m: mat3x3<f32>, s: Voigt6) -> mat3x3<f32> {
+    let t = mat3x3<f32>(
+        vec3<f32>(s.n.x, s.s.z, s.s.y),
+        vec3<f32>(s.s.z, s.n.y, s.s.x),
+        vec3<f32>(s.s.y, s.s.x, s.n.z),
+    );
+    return m * t * transpose(m);
+}
