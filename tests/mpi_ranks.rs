@@ -66,10 +66,17 @@ fn impact_command(ranks: usize, scene: &Path, out: &Path, extra: [&str; 3]) -> C
     cmd
 }
 
-/// Whether a column is a sum over the model (the energies, a body's velocity; on the resident
-/// GPU step the contact forces too, which its device adds over the plane nodes), and its
-/// kind.
+/// Whether a column is a sum over the model (the energies, a body's velocity, a named fix's
+/// reaction, `reaction:NAME` among `bodies`; on the resident GPU step the contact forces
+/// too, which its device adds over the plane nodes), and its kind.
 fn sum_kind(column: &str, bodies: &[String], resident: bool) -> Option<&'static str> {
+    let reaction = |b: &String| {
+        b.strip_prefix("reaction:")
+            .is_some_and(|n| column.starts_with(&format!("{n}.")))
+    };
+    if bodies.iter().any(reaction) {
+        return Some("reaction");
+    }
     let body_velocity = |b: &String| {
         ["vx", "vy", "vz"]
             .map(|v| format!("{b}.{v}"))
@@ -144,7 +151,11 @@ fn same_on_ranks_on(tag: &str, text: &str, device: &str) -> History {
     let dir = out_dir(tag);
     std::fs::create_dir_all(&dir).unwrap();
     let parsed = Scene::parse(text, &dir.join(format!("{tag}.toml"))).expect("valid scene");
-    let bodies: Vec<String> = parsed.bodies.iter().map(|b| b.name.clone()).collect();
+    let reactions =
+        (parsed.fixes.iter()).filter_map(|f| Some(format!("reaction:{}", f.name.as_ref()?)));
+    let bodies: Vec<String> = (parsed.bodies.iter().map(|b| b.name.clone()))
+        .chain(reactions)
+        .collect();
     let scene = dir.join(format!("{tag}.toml"));
     std::fs::write(&scene, text).unwrap();
     if device == "cpu" {
@@ -726,6 +737,113 @@ fn two_sizes_of_one_shape_take_the_smaller_elements_step_on_ranks() {
         "plateau {}",
         m.plateau_mean
     );
+}
+
+/// The plate of `tests/threads.rs` pulled across its fibres until its plies crack, on 2 and
+/// 4 ranks on the CPU and on GPUs (each rank's element forces and damage on its GPU): one
+/// process's history (the state's columns bit for bit, the sums, the damage energy and the
+/// pull's reaction among them, within 1e-12; on GPUs, one GPU rank's), and damage there.
+#[test]
+fn ply_damage_is_the_same_on_2_and_4_ranks() {
+    let text = damaging_plate();
+    let h = same_on_ranks("mpi_ply_damage", &text);
+    assert!(h.last("damage_energy") > 0.0, "the plate damaged");
+    if skip_gpu("ply damage on GPU ranks") {
+        return;
+    }
+    let h = same_on_ranks_on("mpi_ply_damage_gpu", &text, "gpu");
+    assert!(
+        h.last("damage_energy") > 0.0,
+        "the plate damaged on the GPUs"
+    );
+}
+
+/// A run of the damaging plate stopped on 2 ranks in its softening resumes on 4 ranks and
+/// on one process to the unbroken history: the damage state gathered into the single
+/// process's checkpoint.
+#[test]
+fn a_damaging_run_checkpointed_on_2_ranks_resumes_on_4_and_on_one_process() {
+    let tag = "mpi_damage_checkpoints";
+    let dir = out_dir(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = damaging_plate() + "\n[output]\ncheckpoint_every = 100\n";
+    let half = edit(&text, "end_time = 3.5e-5", "end_time = 2.6e-5");
+    let (whole_scene, half_scene) = (dir.join("whole.toml"), dir.join("half.toml"));
+    std::fs::write(&whole_scene, &text).unwrap();
+    std::fs::write(&half_scene, &half).unwrap();
+    let parsed = Scene::parse(&text, &whole_scene).unwrap();
+    let bodies: Vec<String> = vec!["plate".into(), "reaction:pull".into()];
+    impact_run(0, &whole_scene, &dir.join("unbroken"));
+    impact_run(0, &half_scene, &dir.join("process_half"));
+    let one = History::read(&dir.join("unbroken/history.csv"));
+    let read = |d: &str| impact::checkpoint::Checkpoint::read(&dir.join(d), &parsed).unwrap();
+    let damage = |c: &impact::checkpoint::Checkpoint| match &c.solver {
+        impact::integrate::SolverState::Explicit(s) => s.damage.clone(),
+        _ => panic!("an explicit checkpoint"),
+    };
+    let reference = read("process_half");
+    assert!(
+        damage(&reference).iter().any(|&d| d > 0.0),
+        "damaged at the checkpoint"
+    );
+    for (resumed_on, d) in [(4, "resumed_on_4"), (0, "resumed_on_one")] {
+        impact_run(2, &half_scene, &dir.join(d));
+        assert!(
+            damage(&read(d)) == damage(&reference),
+            "{d}: the 2-rank damage differs"
+        );
+        impact_run_with(
+            resumed_on,
+            &whole_scene,
+            &dir.join(d),
+            ["--resume", "--device", "cpu"],
+        );
+        same_history(
+            d,
+            &one,
+            &History::read(&dir.join(d).join("history.csv")),
+            &bodies,
+        );
+    }
+}
+
+/// The plate of `tests/threads.rs`'s damage test.
+fn damaging_plate() -> String {
+    r#"
+[run]
+method = "explicit"
+end_time = 3.5e-5
+
+[[material]]
+name = "im7"
+density = 1.57e-9
+transversely_isotropic = { e1 = 171420.0, e2 = 9080.0, nu12 = 0.32, nu23 = 0.52, g12 = 5290.0 }
+strength = { xt = 2326.2, xc = 1200.1, yt = 62.3, yc = 199.8, s12 = 92.3, s23 = 75.3 }
+fracture_energy = { ft = 133.3, fc = 47.5, mt = 0.277, mc = 0.788 }
+
+[[body]]
+name = "plate"
+material = "im7"
+box = { min = [0.0, 0.0, 0.0], max = [4.0, 4.0, 1.0], divisions = [12, 12, 2], element = "hex8i", refine = { min = [1.5, 1.5, 0.0], max = [2.5, 2.5, 1.0], size = [0.25, 0.25, 1.0] } }
+
+[[fix]]
+body = "plate"
+face = "y-"
+components = ["y"]
+
+[[fix]]
+body = "plate"
+region = { min = [0.0, 0.0, 0.0], max = [0.0, 0.0, 1.0] }
+components = ["x", "z"]
+
+[[fix]]
+name = "pull"
+body = "plate"
+face = "y+"
+components = ["y"]
+velocity = [0.0, 1200.0, 0.0]
+"#
+    .into()
 }
 
 /// The fine two bars on 2 ranks: the bisection puts bar A on rank 0 and bar B on rank 1, so

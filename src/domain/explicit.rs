@@ -23,6 +23,7 @@ use crate::integrate::{
     ContactReport, Decomposed, Decomposition, Energies, Integrator, Piece, ProbeValues,
     SolverState, StepReport,
 };
+use crate::kernels::damage_data::{DamageData, DamageState};
 use crate::kernels::{self, search_bounds::fastest_speed};
 use crate::model::Model;
 use crate::parallel::ordered_sum;
@@ -98,6 +99,18 @@ pub struct DomainSolver<'m> {
     /// so far (this rank's part).
     moving_fixes: Vec<(usize, f64)>,
     fix_work: f64,
+    /// The damage of the whole model and the rank's elements' numbers in it, where any
+    /// element damages, and the energy the rank's elements dissipated so far.
+    damage: Option<RankDamage>,
+    damage_energy: f64,
+}
+
+/// The whole model's damage inputs, the rank's, and the rank's damageable elements'
+/// numbers among the whole model's (per block).
+struct RankDamage {
+    global: DamageData,
+    mine: DamageData,
+    picked: Vec<Vec<u32>>,
 }
 
 impl<'m> DomainSolver<'m> {
@@ -108,11 +121,21 @@ impl<'m> DomainSolver<'m> {
         ranks: &'m dyn Ranks,
         partition: &Partition,
         (settings, dt, speed_scale): (&ExplicitSettings, f64, f64),
-        ctx: Option<GpuContext>,
+        (ctx, damage): (Option<GpuContext>, Option<&DamageData>),
     ) -> Result<Self> {
         let mut sub = Subdomain::new(model, partition, ranks.rank());
+        let damage = damage.map(|global| {
+            let counts = crate::kernels::damage_data::block_counts(&model.mesh.elements);
+            let (mine, picked) = global.select(&counts, &sub.elements);
+            RankDamage {
+                global: global.clone(),
+                mine,
+                picked,
+            }
+        });
+        let own = damage.as_ref().map(|d| d.mine.clone());
         // a rank whose kernels fail stops every rank (none waits for it)
-        let kernels = agree(ranks, RankForces::new(&mut sub, ctx))
+        let kernels = agree(ranks, RankForces::new(&mut sub, ctx, own))
             .map_err(|why| ImpactError::Gpu(format!("building the kernels: {why}")))?;
         let mass_all = lumped_mass(model);
         let mass: Vec<f64> = sub.nodes.iter().map(|&n| mass_all[n as usize]).collect();
@@ -159,6 +182,8 @@ impl<'m> DomainSolver<'m> {
             contact_seconds: 0.0,
             moving_fixes,
             fix_work: 0.0,
+            damage,
+            damage_energy: 0.0,
         })
     }
 
@@ -201,8 +226,22 @@ impl<'m> DomainSolver<'m> {
     /// corners the neighbours send.
     fn internal_forces(&mut self) -> Result<()> {
         self.kernels.internal_forces(&self.u, &mut self.f_int)?;
+        self.sum_shared();
+        Ok(())
+    }
+
+    /// [`Self::internal_forces`] of an explicit step: the damage stepped over it first.
+    fn step_forces(&mut self) -> Result<()> {
+        let uv = (&self.u[..], &self.v[..]);
+        self.damage_energy += self.kernels.step_forces(uv, self.dt, &mut self.f_int)?;
+        self.sum_shared();
+        Ok(())
+    }
+
+    /// The shared nodes' forces: the rank's corners and those the neighbours send.
+    fn sum_shared(&mut self) {
         if self.sub.neighbours.is_empty() {
-            return Ok(());
+            return;
         }
         let sends = self.kernels.sends(&self.sub);
         let talk = Timed {
@@ -211,7 +250,6 @@ impl<'m> DomainSolver<'m> {
         };
         exchange_corners(&talk, &self.sub, &sends, &mut self.received);
         (self.kernels).sum_shared(&self.sub, &self.received, &mut self.f_int);
-        Ok(())
     }
 
     /// The step's contact ([`SurfaceContact`]), its impulses on the rank's velocities.
@@ -245,6 +283,78 @@ impl<'m> DomainSolver<'m> {
             std::array::from_fn(|k| ordered_sum(n, |d| if owned[d / 3] { f[k](d) } else { 0.0 }));
         let total = self.talk(|r| r.sum(&local));
         std::array::from_fn(|k| total[k])
+    }
+}
+
+impl DomainSolver<'_> {
+    /// The whole model's damage state on rank 0 (empty elsewhere, and without damage): each
+    /// rank's damageable elements' records gathered (a collective).
+    fn gather_damage(&mut self) -> Result<Vec<f64>> {
+        let Some(d) = &self.damage else {
+            return Ok(Vec::new());
+        };
+        let (mine_data, picked) = (d.mine.clone(), d.picked.clone());
+        let values = self.kernels.kernels().damage_values()?;
+        let mut mine = DamageState::new(&mine_data);
+        mine.restore(&mine_data, &values)
+            .map_err(ImpactError::Ranks)?;
+        let (ids, records) = mine.records(&mine_data, &picked);
+        let ids = self.talk(|r| r.gather_varied_to_first(&ids));
+        let records = self.talk(|r| r.gather_varied_to_first(&records));
+        let (Some(ids), Some(records)) = (ids, records) else {
+            return Ok(Vec::new());
+        };
+        let d = self.damage.as_ref().expect("damage");
+        let mut global = DamageState::new(&d.global);
+        global.steps = mine.steps;
+        global.put_records(&d.global, &ids, &records);
+        Ok(global.flat())
+    }
+
+    /// The rank's part of the whole model's damage state (`values`, a checkpoint's).
+    fn restore_damage(&mut self, values: &[f64]) -> std::result::Result<(), String> {
+        let Some(d) = &self.damage else {
+            return match values.is_empty() {
+                true => Ok(()),
+                false => Err("the checkpoint holds ply damage and this model has none".into()),
+            };
+        };
+        let mut global = DamageState::new(&d.global);
+        global.restore(&d.global, values)?;
+        let mine = global.pick(&d.global, &d.mine, &d.picked);
+        self.kernels.kernels().restore_damage(&mine.flat())
+    }
+
+    /// [`Self::first_damage_now`] (the checkpoint's).
+    fn first_damage(&mut self) -> Option<crate::integrate::state::FirstDamage> {
+        self.first_damage_now()
+    }
+
+    /// The first damaged point over every rank (a collective; none without damage): the
+    /// earliest step's, then the lowest element's.
+    fn first_damage_now(&self) -> Option<crate::integrate::state::FirstDamage> {
+        self.damage.as_ref()?;
+        let mine = (self.kernels.damage_cells())
+            .and_then(|(_, p)| p)
+            .map(|p| {
+                let global = f64::from(self.sub.elements[p.element]);
+                [f64::from(p.step), global, f64::from(p.entry), p.mode as f64]
+            })
+            .unwrap_or([f64::INFINITY; 4]);
+        let all = self.talk(|r| r.gather_all(&mine));
+        let best = (all.iter())
+            .filter(|r| r[0].is_finite())
+            .min_by(|a, b| (a[0], a[1]).partial_cmp(&(b[0], b[1])).expect("finite"))?;
+        let p = crate::kernels::damage_data::DamagedPoint {
+            step: best[0] as u32,
+            element: best[1] as usize,
+            entry: best[2] as u32,
+            mode: best[3] as usize,
+        };
+        let time = (best[0] * self.dt).min(self.time);
+        Some(crate::integrate::state::FirstDamage::of(
+            self.model, p, time,
+        ))
     }
 }
 
@@ -282,7 +392,7 @@ impl Integrator for DomainSolver<'_> {
         kernels::explicit_drift(dt, &self.v, &mut self.u);
         self.surface.drift_spins(dt);
         self.fix_work += dt * self.fix_power();
-        self.internal_forces()?;
+        self.step_forces()?;
         let forces = (&self.f_ext[..], &self.f_int[..], &self.inv_mass[..]);
         correct(dt, forces, &mut self.a, &mut self.v);
         self.time += dt;
@@ -382,6 +492,8 @@ impl Integrator for DomainSolver<'_> {
 
     /// The single process's state at this step ([`super::checkpoint`]), on rank 0.
     fn checkpoint_state(&mut self) -> Result<Option<SolverState>> {
+        let damage = self.gather_damage()?;
+        let first_damage = self.first_damage();
         let fields = [
             &self.u[..],
             &self.v,
@@ -391,7 +503,7 @@ impl Integrator for DomainSolver<'_> {
             &self.v_half,
         ];
         let count = self.model.mesh.node_count();
-        let work = self.talk(|r| r.sum(&[self.fix_work]))[0];
+        let sums = self.talk(|r| r.sum(&[self.fix_work, self.damage_energy]));
         let gathered = checkpoint::gather_fields(&self.timed(), &self.sub, fields, count)
             .map_err(ImpactError::Ranks)?;
         let Some([u, v, a, f_int, u_prev, v_half]) = gathered else {
@@ -409,10 +521,11 @@ impl Integrator for DomainSolver<'_> {
             v_half,
             interfaces: self.surface.contact().interfaces.clone(),
             spins: self.surface.spins().saved(),
-            damage: Vec::new(),
+            damage,
             work: Work {
-                fixes: work,
-                ..Default::default()
+                fixes: sums[0],
+                damage: sums[1],
+                first_damage,
             },
         })))
     }
@@ -432,16 +545,11 @@ impl Integrator for DomainSolver<'_> {
             checkpoint::restrict_fields(&self.sub, global);
         (self.dt, self.time, self.steps) = (s.dt, s.time, s.steps);
         self.surface.restore(s.interfaces, s.spins);
-        if !s.damage.is_empty() {
-            return Err("the checkpoint holds ply damage, which the ranks do not run".into());
-        }
         // the work so far counted once, on the first rank
-        self.fix_work = if self.ranks.rank() == 0 {
-            s.work.fixes
-        } else {
-            0.0
-        };
-        Ok(())
+        let first = self.ranks.rank() == 0;
+        self.fix_work = if first { s.work.fixes } else { 0.0 };
+        self.damage_energy = if first { s.work.damage } else { 0.0 };
+        self.restore_damage(&s.damage)
     }
 
     /// See [`crate::integrate::ExplicitSolver`]'s: $a \cdot M a$ summed over the ranks.
@@ -484,15 +592,17 @@ impl Integrator for DomainSolver<'_> {
             &self.f_int,
             &self.f_ext,
         );
-        // the fixes' work: on the first dof of the rank's first owned node
+        // the fixes' work and the damage's energy: on the first dof of the rank's first
+        // owned node
         let first = self.sub.owned.iter().position(|&o| o).map(|i| 3 * i);
-        let work = self.fix_work;
-        let [k, s, p0, p1, w] = self.owned_sums([
+        let (work, damage) = (self.fix_work, self.damage_energy);
+        let [k, s, p0, p1, w, dmg] = self.owned_sums([
             &|d| m[d / 3] * v[d] * v[d],
             &|d| u0[d] * f[d],
             &|d| fe[d] * u0[d],
             &|d| fe[d] * u1[d],
             &|d| if Some(d) == first { work } else { 0.0 },
+            &|d| if Some(d) == first { damage } else { 0.0 },
         ]);
         Ok(Energies {
             // the bodies' rotation as every rank has it, once
@@ -500,7 +610,7 @@ impl Integrator for DomainSolver<'_> {
             strain: 0.5 * s,
             // the prescribed rigid bodies' drivers work on the model (every rank has it whole)
             potential: -0.5 * (p0 + p1) - self.surface.contact().driver_work() - w,
-            damage: 0.0,
+            damage: dmg,
             fix_work: w,
         })
     }
@@ -531,6 +641,33 @@ impl Integrator for DomainSolver<'_> {
     fn end_at(&mut self, time: f64) {
         self.time = time;
     }
+
+    /// The damage over every rank (a collective): the energy, the first damaged point and
+    /// every element's damage.
+    fn damage(&self) -> Option<crate::integrate::state::DamageReport> {
+        self.damage.as_ref()?;
+        let energy = self.talk(|r| r.sum(&[self.damage_energy]))[0];
+        let first = self.first_damage_now();
+        let mut mine = Vec::new();
+        if let Some((cells, _)) = self.kernels.damage_cells() {
+            for (&e, c) in self.sub.elements.iter().zip(&cells) {
+                mine.push(f64::from(e));
+                mine.extend_from_slice(c);
+            }
+        }
+        let all = self.talk(|r| r.gather_all(&mine));
+        let mut cells = vec![[0.0; 4]; self.model.mesh.element_count()];
+        for r in &all {
+            for c in r.chunks_exact(5) {
+                cells[c[0] as usize] = [c[1], c[2], c[3], c[4]];
+            }
+        }
+        Some(crate::integrate::state::DamageReport {
+            energy,
+            first,
+            cells,
+        })
+    }
 }
 
 impl Decomposed for DomainSolver<'_> {
@@ -541,6 +678,7 @@ impl Decomposed for DomainSolver<'_> {
             v: &self.v,
             nodes: &self.sub.nodes,
             elements: &self.sub.elements,
+            damage: self.kernels.damage_cells().map(|(c, _)| c),
         }
     }
 

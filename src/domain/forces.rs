@@ -9,6 +9,7 @@ use super::subdomain::Subdomain;
 use crate::backend::{CpuKernels, Kernels};
 use crate::error::Result;
 use crate::gpu::{CornerSelection, GpuContext, GpuKernels};
+use crate::kernels::damage_data::DamageData;
 
 /// The kernels of one rank.
 pub enum RankForces {
@@ -24,13 +25,19 @@ pub enum RankForces {
 
 impl RankForces {
     /// The kernels of `sub`'s elements on `ctx`, or on the CPU without one (a GPU renumbers
-    /// `sub`'s exchanged corners).
-    pub fn new(sub: &mut Subdomain, ctx: Option<GpuContext>) -> Result<Self> {
+    /// `sub`'s exchanged corners), with the damage of its elements (`damage`).
+    pub fn new(
+        sub: &mut Subdomain,
+        ctx: Option<GpuContext>,
+        damage: Option<DamageData>,
+    ) -> Result<Self> {
         let Some(ctx) = ctx else {
-            return Ok(RankForces::Cpu(CpuKernels::new(sub.data.clone())));
+            return Ok(RankForces::Cpu(
+                CpuKernels::new(sub.data.clone()).with_damage(damage),
+            ));
         };
         let chosen = sub.exchanged_corners();
-        let kernels = Box::new(GpuKernels::new(ctx, &sub.data)?);
+        let kernels = Box::new(GpuKernels::new(ctx, &sub.data)?.with_damage(damage)?);
         let selection = CornerSelection::new(&kernels, &chosen)?;
         sub.pack_corners(&chosen);
         Ok(RankForces::Gpu {
@@ -56,6 +63,41 @@ impl RankForces {
                 selection,
                 chosen,
             } => kernels.internal_forces_selecting(u, f, selection, chosen),
+        }
+    }
+
+    /// [`Self::internal_forces`] for an explicit step: the damage stepped over `dt` to `u`
+    /// (`v` the mid-step velocities); returns the energy it dissipated on the rank.
+    pub fn step_forces(&mut self, uv: (&[f64], &[f64]), dt: f64, f: &mut [f64]) -> Result<f64> {
+        match self {
+            RankForces::Cpu(k) => k.step_forces_into(uv, dt, f),
+            RankForces::Gpu {
+                kernels,
+                selection,
+                chosen,
+            } => kernels.step_forces_selecting(uv, dt, f, (selection, chosen)),
+        }
+    }
+
+    /// Each of the rank's elements' damage by mode and its first damaged point (none
+    /// without damage).
+    pub fn damage_cells(
+        &self,
+    ) -> Option<(
+        Vec<[f64; 4]>,
+        Option<crate::kernels::damage_data::DamagedPoint>,
+    )> {
+        match self {
+            RankForces::Cpu(k) => k.damage_cells(),
+            RankForces::Gpu { kernels, .. } => kernels.damage_cells(),
+        }
+    }
+
+    /// The kernels (the damage's state and cells).
+    pub fn kernels(&mut self) -> &mut dyn Kernels {
+        match self {
+            RankForces::Cpu(k) => k,
+            RankForces::Gpu { kernels, .. } => kernels.as_mut(),
         }
     }
 

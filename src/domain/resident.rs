@@ -989,6 +989,7 @@ impl Decomposed for RankResident<'_> {
             v: &self.v,
             nodes: &self.sub.nodes,
             elements: &self.sub.elements,
+            damage: None,
         }
     }
 

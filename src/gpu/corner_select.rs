@@ -93,6 +93,45 @@ impl GpuKernels {
         selection: &CornerSelection,
         chosen: &mut Vec<[f32; 3]>,
     ) -> Result<()> {
+        if let Some((d, _)) = &mut self.damage {
+            d.set_step(&self.ctx, 0.0, false);
+        }
+        self.forces_selecting(u, f, selection, chosen, false)
+    }
+
+    /// [`Self::internal_forces_selecting`] for an explicit step: the damage stepped over `dt`
+    /// to `u` (from $u - \Delta t\, v$); returns the energy it dissipated.
+    pub fn step_forces_selecting(
+        &mut self,
+        (u, v): (&[f64], &[f64]),
+        dt: f64,
+        f: &mut [f64],
+        (selection, chosen): (&CornerSelection, &mut Vec<[f32; 3]>),
+    ) -> Result<f64> {
+        if self.damage.is_none() {
+            return self
+                .forces_selecting(u, f, selection, chosen, false)
+                .map(|_| 0.0);
+        }
+        self.upload_nodal(true, v)?;
+        if let Some((d, _)) = &mut self.damage {
+            d.set_step(&self.ctx, dt, true);
+        }
+        self.forces_selecting(u, f, selection, chosen, true)?;
+        let (d, _) = self.damage.as_ref().expect("damage");
+        d.read_dissipation(&self.ctx, &mut self.staging)
+    }
+
+    /// The forces and the chosen corners at `u`, with the damage's dissipation summed where
+    /// `total`.
+    fn forces_selecting(
+        &mut self,
+        u: &[f64],
+        f: &mut [f64],
+        selection: &CornerSelection,
+        chosen: &mut Vec<[f32; 3]>,
+        total: bool,
+    ) -> Result<()> {
         self.upload_nodal(false, u)?;
         if self.fill_nan {
             let floats = [self.corner_floats(), 3 * self.nodes, 3 * selection.count];
@@ -110,6 +149,9 @@ impl GpuKernels {
             self.dispatch_internal_forces(&mut pass);
             if selection.count > 0 {
                 (self.kernels.corner_select.0).dispatch(&mut pass, &selection.launch);
+            }
+            if let (true, Some((d, _))) = (total, &self.damage) {
+                d.dispatch_total(&mut pass);
             }
         }
         let parts = [

@@ -200,8 +200,8 @@ impl DamageStage {
         }
     }
 
-    /// Dispatches the reduce of the host path (the step's dissipation into the word
-    /// [`Self::read_total`] reads).
+    /// Dispatches the reduce of the host path, which counts the step (the host reads each
+    /// element's dissipation, [`Self::read_dissipation`]).
     pub(super) fn dispatch_total(&self, pass: &mut wgpu::ComputePass) {
         (self.kernels.reduce.0).dispatch_with(pass, &self.reduce_total.bind, [1, 1]);
     }
@@ -212,10 +212,16 @@ impl DamageStage {
         (self.kernels.reduce.0).dispatch_with(pass, &l.bind, [1, 1]);
     }
 
-    /// The dissipation the last [`Self::dispatch_total`] summed.
-    pub(super) fn read_total(&self, ctx: &GpuContext, staging: &mut Storage) -> Result<f64> {
-        let v: Vec<f32> = read_back(ctx, staging, "damage.total", &self.total.buffer, 1)?;
-        Ok(f64::from(v[0]))
+    /// The last step's dissipation, each element's read back and summed in f64 in element
+    /// order (the host path's: its sum does not depend on how the elements are shared out
+    /// over ranks).
+    pub(super) fn read_dissipation(&self, ctx: &GpuContext, staging: &mut Storage) -> Result<f64> {
+        let words = 1 + DAMAGE_RECORD * self.elements;
+        let records: Vec<u32> =
+            read_back(ctx, staging, "damage.records", &self.records.buffer, words)?;
+        Ok((records[1..].chunks_exact(DAMAGE_RECORD))
+            .map(|r| f64::from(f32::from_bits(r[3])))
+            .sum())
     }
 
     /// The buffers that carry the state from one step to the next: the records, then each

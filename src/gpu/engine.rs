@@ -814,7 +814,7 @@ impl Kernels for GpuKernels {
             *d = x as f64;
         }
         let (d, _) = self.damage.as_ref().expect("damage");
-        d.read_total(&self.ctx, &mut self.staging)
+        d.read_dissipation(&self.ctx, &mut self.staging)
     }
 
     fn damage_values(&self) -> Result<Vec<f64>> {

@@ -271,6 +271,15 @@ pub fn setup_without_contact(
     (setup, places)
 }
 
+/// Whether a decomposed run on GPUs keeps its step on the hosts (the ranks' element forces
+/// on their GPUs) rather than resident: a model whose plies damage, or with named or moving
+/// fixes (the resident ranks' rows carry neither the damage nor the reactions).
+pub fn needs_host_ranks(model: &Model) -> bool {
+    model.damage_laws.iter().any(Option::is_some)
+        || !model.reactions.is_empty()
+        || !model.fix_motion.is_empty()
+}
+
 /// The smallest contact tolerance the device iteration takes, relative to the speed scale:
 /// its velocities are f32, resolved to 1.2e-7 of their size, and the sweeps' last
 /// corrections of a body's velocity (the sum over the many nodes it presses) round away

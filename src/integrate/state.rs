@@ -153,4 +153,6 @@ pub struct Piece<'a> {
     pub nodes: &'a [u32],
     /// The whole model's number of each of the piece's elements.
     pub elements: &'a [u32],
+    /// Each of the piece's elements' damage by mode, where any material damages.
+    pub damage: Option<Vec<[f64; 4]>>,
 }

@@ -87,6 +87,54 @@ impl DamageBlock {
 }
 
 impl DamageData {
+    /// The damage of the elements `kept` (global numbers, increasing) of a mesh whose
+    /// blocks hold `counts` elements, numbered as those elements are in their own blocks
+    /// (a rank's), and per block the damageable numbers in `self` of the ones kept.
+    pub fn select(&self, counts: &[usize], kept: &[u32]) -> (DamageData, Vec<Vec<u32>>) {
+        let mut blocks = Vec::with_capacity(self.blocks.len());
+        let mut picked = Vec::with_capacity(self.blocks.len());
+        let mut offset = 0;
+        for (k, b) in self.blocks.iter().enumerate() {
+            // the kept elements of this block, from the first at or past its offset
+            let first = kept.partition_point(|&g| (g as usize) < offset);
+            let mut out = DamageBlock {
+                first_ply: vec![0],
+                first_point: vec![0],
+                ..Default::default()
+            };
+            let mut mine = Vec::new();
+            for i in 0..b.len() {
+                let g = (offset + b.elements[i] as usize) as u32;
+                let Ok(at) = kept.binary_search(&g) else {
+                    continue;
+                };
+                mine.push(i as u32);
+                out.elements.push((at - first) as u32);
+                out.plies.extend_from_slice(b.plies_of(i));
+                out.first_ply.push(out.plies.len() as u32);
+                let points = b.first_point[i + 1] - b.first_point[i];
+                let last = *out.first_point.last().expect("first point");
+                out.first_point.push(last + points);
+                out.axis.push(b.axis[i]);
+                out.sieve.push(b.sieve[i]);
+                if !b.condensation.is_empty() {
+                    out.condensation
+                        .extend_from_slice(&b.condensation[216 * i..216 * (i + 1)]);
+                }
+            }
+            offset += counts[k];
+            blocks.push(out);
+            picked.push(mine);
+        }
+        let data = DamageData {
+            laws: self.laws.clone(),
+            law_of: self.law_of.clone(),
+            axes: self.axes.clone(),
+            blocks,
+        };
+        (data, picked)
+    }
+
     /// Whether any element damages.
     pub fn any(&self) -> bool {
         self.blocks.iter().any(|b| !b.is_empty())
@@ -180,6 +228,56 @@ impl DamageState {
         }
         self.steps = values[want - 1] as u32;
         Ok(())
+    }
+}
+
+impl DamageState {
+    /// Each damageable element's values in a piece's state (`self`, of `data`), as `(ids,
+    /// values)`: the id `k 2^32 + i` of block k's damageable element i of the whole model
+    /// (`picked` maps the piece's numbers to the model's), its first damage and its points'
+    /// values.
+    pub fn records(&self, data: &DamageData, picked: &[Vec<u32>]) -> (Vec<f64>, Vec<f64>) {
+        let (mut ids, mut values) = (Vec::new(), Vec::new());
+        for (k, b) in data.blocks.iter().enumerate() {
+            for i in 0..b.len() {
+                ids.push(((k as u64) << 32 | u64::from(picked[k][i])) as f64);
+                values.extend(self.first[k][i].map(f64::from));
+                values.extend_from_slice(&self.points[k][b.state_range(i)]);
+            }
+        }
+        (ids, values)
+    }
+
+    /// Writes the records of [`Self::records`] (from any number of pieces, concatenated)
+    /// into this state of the whole model (`data`).
+    pub fn put_records(&mut self, data: &DamageData, ids: &[f64], values: &[f64]) {
+        let mut at = 0;
+        for &id in ids {
+            let id = id as u64;
+            let (k, i) = ((id >> 32) as usize, (id & 0xffff_ffff) as usize);
+            let range = data.blocks[k].state_range(i);
+            self.first[k][i] = [values[at] as u32, values[at + 1] as u32];
+            let n = range.len();
+            self.points[k][range.clone()].copy_from_slice(&values[at + 2..at + 2 + n]);
+            self.damaged[k][i] = crate::element::damage::any_damage(&self.points[k][range]);
+            at += 2 + n;
+        }
+    }
+
+    /// The state of a piece (`sub`, whose elements `picked` are of this state's `data`).
+    pub fn pick(&self, data: &DamageData, sub: &DamageData, picked: &[Vec<u32>]) -> DamageState {
+        let mut out = DamageState::new(sub);
+        out.steps = self.steps;
+        for (k, b) in sub.blocks.iter().enumerate() {
+            for i in 0..b.len() {
+                let g = picked[k][i] as usize;
+                out.points[k][b.state_range(i)]
+                    .copy_from_slice(&self.points[k][data.blocks[k].state_range(g)]);
+                out.first[k][i] = self.first[k][g];
+                out.damaged[k][i] = self.damaged[k][g];
+            }
+        }
+        out
     }
 }
 

@@ -74,34 +74,37 @@ fn build_solver<'m>(
     ranks: Option<&'m dyn Ranks>,
 ) -> Result<Box<dyn Integrator + 'm>> {
     let (model, dt) = (&setup.model, setup.dt);
-    if model.damage_laws.iter().any(Option::is_some) && ranks.is_some() {
-        return Err(ImpactError::Unsupported {
-            path: scene.path.clone(),
-            key: "run.device".into(),
-            message:
-                "ply damage (a material's fracture_energy) runs in one process: run without mpirun"
-                    .into(),
-        });
-    }
     if let Some(ranks) = ranks {
         let partition = Partition::bisect(model, ranks.size());
         let settings = (&scene.explicit, dt, speed_scale);
         return Ok(match setup.ctx.clone() {
             // rigid bodies with a device form, as on one GPU: each rank's step on its GPU
-            Some(ctx) if resident::rigid_surfaces_on_device(model) => Box::new(
-                RankResident::new(
+            // (a model with damage or named or moving fixes: the rank's element forces there)
+            Some(ctx)
+                if resident::rigid_surfaces_on_device(model)
+                    && !resident::needs_host_ranks(model) =>
+            {
+                Box::new(
+                    RankResident::new(
+                        model,
+                        ranks,
+                        &partition,
+                        settings,
+                        (ctx, setup.steps, scene.vtu_every),
+                        FailureSurvey::new(model).map(|s| (s.device(model), s.point_cells())),
+                    )
+                    .map_err(|e| gpu_error(scene, e))?,
+                )
+            }
+            ctx => Box::new(
+                DomainSolver::new(
                     model,
                     ranks,
                     &partition,
                     settings,
-                    (ctx, setup.steps, scene.vtu_every),
-                    FailureSurvey::new(model).map(|s| (s.device(model), s.point_cells())),
+                    (ctx, setup.damage.as_ref()),
                 )
                 .map_err(|e| gpu_error(scene, e))?,
-            ),
-            ctx => Box::new(
-                DomainSolver::new(model, ranks, &partition, settings, ctx)
-                    .map_err(|e| gpu_error(scene, e))?,
             ),
         });
     }

@@ -193,8 +193,10 @@ pub(super) fn check_resumable(
         dir: dir.to_path_buf(),
         message,
     };
+    use crate::integrate::resident::{needs_host_ranks, rigid_surfaces_on_device};
+    let model = &setup.model;
     let resident_ranks =
-        setup.ctx.is_some() && crate::integrate::resident::rigid_surfaces_on_device(&setup.model);
+        setup.ctx.is_some() && rigid_surfaces_on_device(model) && !needs_host_ranks(model);
     if let (Some(p), SolverState::Resident(_), false) = (ranks, &c.solver, resident_ranks) {
         return Err(refuse(format!(
             "the checkpoint holds the GPU resident engine's device state, which resumes on one process, or on ranks each resident on its GPU (a model whose only contacts are rigid planes), on the same kind of adapter, not on {p} ranks on this device"
@@ -393,7 +395,7 @@ pub(super) fn write_frame(
                     let mine: Vec<NodeContact> =
                         p.nodes.iter().map(|&n| contact[n as usize]).collect();
                     let frame = (p.model, Some(p.nodes));
-                    w.frame(frame, step, time, p.u, p.v, (&mine, None))?;
+                    w.frame(frame, step, time, p.u, p.v, (&mine, p.damage.as_deref()))?;
                 }
                 None => {
                     let (u, v) = (solver.displacement(), solver.velocity());
