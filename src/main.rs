@@ -75,9 +75,11 @@ enum Command {
         name: String,
     },
     /// Accuracy against speed on a problem with an exact answer: a grid of methods, devices,
-    /// meshes and time steps; writes study.csv, study.svg/png, atlas.svg/png and atlas.md.
+    /// meshes and time steps; writes study.csv, study.svg/png, atlas.svg/png and atlas.md
+    /// (crack_band: the energy a damaging element dissipates against its size; writes
+    /// crack_band.csv and crack_band.svg/png).
     Study {
-        /// two_bars, bar_on_wall or sliding_block.
+        /// two_bars, bar_on_wall, sliding_block or crack_band.
         problem: String,
         /// Output folder (default: results/study_<problem>).
         #[arg(long)]
@@ -242,13 +244,14 @@ fn study_command(
     keep_runs: bool,
 ) -> anyhow::Result<u8> {
     use impact::study::{study, Problem};
-    let Some(p) = Problem::parse(problem) else {
+    let p = Problem::parse(problem);
+    if p.is_none() && problem != "crack_band" {
         eprintln!(
-            "error: unknown problem \"{problem}\" (the problems are: {})",
+            "error: unknown problem \"{problem}\" (the problems are: {}, crack_band)",
             Problem::NAMES
         );
         return Ok(exit::USAGE);
-    };
+    }
     let out = out.unwrap_or_else(|| PathBuf::from(format!("results/study_{problem}")));
     if let Some(bad) = devices
         .iter()
@@ -265,6 +268,9 @@ fn study_command(
         vec!["cpu".into(), "gpu".into()]
     };
     let devices: Vec<&str> = devices.iter().map(String::as_str).collect();
+    let Some(p) = p else {
+        return crack_band_command(&out, quick, &devices, keep_runs);
+    };
     let rows = study(p, &out, quick, &devices, keep_runs, &mut |r| {
         eprintln!(
             "{} {} {} el, c dt/h {}: force error {:.3e}, {:.3} s, {}",
@@ -290,6 +296,36 @@ fn study_command(
         ]
         .map(|f| out.join(f).display().to_string())
         .join(", ")
+    );
+    Ok(exit::SUCCESS)
+}
+
+/// `impact study crack_band`: the energy a damaging element dissipates against its size.
+fn crack_band_command(
+    out: &Path,
+    quick: bool,
+    devices: &[&str],
+    keep_runs: bool,
+) -> anyhow::Result<u8> {
+    let rows = impact::study::crack_band::study(out, quick, devices, keep_runs, &mut |r| {
+        eprintln!(
+            "{} {} h {} mm: dissipated {:.4e}, G A {:.4e} (ratio {:.4}), snap-back width {:.3} mm, {:.3} s",
+            r.mode,
+            r.device,
+            r.size,
+            r.dissipated,
+            r.exact,
+            r.dissipated / r.exact,
+            r.snap_back_width,
+            r.wall_seconds
+        );
+    })?;
+    println!(
+        "{} runs; {} written",
+        rows.len(),
+        ["crack_band.csv", "crack_band.svg", "crack_band.png"]
+            .map(|f| out.join(f).display().to_string())
+            .join(", ")
     );
     Ok(exit::SUCCESS)
 }

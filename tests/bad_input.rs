@@ -644,3 +644,117 @@ fn a_meshed_rigid_shape_names_a_surface_of_its_file() {
         assert!(msg.contains(part), "{msg:?} should contain {part:?}");
     }
 }
+
+/// The two bars' material as a transversely isotropic ply with strengths, `extra` after it.
+fn ply_bars(extra: &str) -> String {
+    edit(
+        &base(),
+        "youngs_modulus = 100.0\npoissons_ratio = 0.0",
+        &format!(
+            "transversely_isotropic = {{ e1 = 100.0, e2 = 10.0, nu12 = 0.3, nu23 = 0.4, g12 = 5.0 }}\nstrength = {{ xt = 1.0, xc = 1.0, yt = 0.1, yc = 0.3, s12 = 0.2, s23 = 0.15 }}\n{extra}"
+        ),
+    )
+}
+
+#[test]
+fn fracture_energy_needs_strengths_and_an_orthotropic_law() {
+    let energies = "fracture_energy = { ft = 1.0, fc = 1.0, mt = 0.1, mc = 0.2 }";
+    let no_strength = ply_bars(energies).replace(
+        "strength = { xt = 1.0, xc = 1.0, yt = 0.1, yc = 0.3, s12 = 0.2, s23 = 0.15 }\n",
+        "",
+    );
+    expect(&no_strength, &["material[0].fracture_energy", "strength"]);
+    let isotropic = edit(
+        &base(),
+        "poissons_ratio = 0.0",
+        &format!("poissons_ratio = 0.0\nstrength = {{ xt = 1.0, xc = 1.0, yt = 0.1, yc = 0.3, s12 = 0.2, s23 = 0.15 }}\n{energies}"),
+    );
+    expect(
+        &isotropic,
+        &[
+            "material[0].fracture_energy",
+            "orthotropic or transversely_isotropic",
+        ],
+    );
+    expect(
+        &ply_bars("fracture_energy = { ft = 1.0, fc = -1.0, mt = 0.1, mc = 0.2 }"),
+        &["material[0].fracture_energy.fc", "> 0"],
+    );
+    expect(
+        &ply_bars(&format!("{energies}\ndamage_viscosity = -1e-3")),
+        &["material[0].damage_viscosity", "at least 0"],
+    );
+    expect(
+        &ply_bars("damage_viscosity = 1e-3"),
+        &["material[0].damage_viscosity", "fracture_energy"],
+    );
+}
+
+/// A damaging material runs explicit: `method = "implicit"` is refused naming the method
+/// to use.
+#[test]
+fn an_implicit_run_of_a_damaging_material_is_refused() {
+    let text = ply_bars("fracture_energy = { ft = 1.0, fc = 1.0, mt = 0.1, mc = 0.2 }");
+    let scene = Scene::parse(&text, Path::new("bad.toml")).expect("valid scene");
+    let opts = impact::run::RunOptions {
+        out: Some(out_dir("implicit_damage_refused")),
+        quiet: true,
+        ..Default::default()
+    };
+    let msg = impact::run::run(&scene, &opts)
+        .expect_err("refused")
+        .to_string();
+    for part in ["run.method", "method = \"explicit\"", "fracture_energy"] {
+        assert!(msg.contains(part), "{msg:?} should contain {part:?}");
+    }
+}
+
+#[test]
+fn a_fix_velocity_moves_only_held_components_at_one_velocity() {
+    let fix = |extra: &str| {
+        base() + &format!("\n[[fix]]\nbody = \"B\"\nface = \"x+\"\ncomponents = [\"x\"]\n{extra}\n")
+    };
+    expect(
+        &fix("velocity = [0.0, 1.0, 0.0]"),
+        &["fix[0].velocity", "moves y but the fix does not hold it"],
+    );
+    expect(&fix("velocity = [1.0, 0.0]"), &["velocity"]);
+    expect(
+        &fix("name = \"A\""),
+        &["fix[0].name", "also the name of body[0]"],
+    );
+    // two fixes holding one node's x at two velocities, found when the model is built
+    let two = fix("velocity = [1.0, 0.0, 0.0]")
+        + "\n[[fix]]\nbody = \"B\"\nregion = { min = [10.0, 0.0, 0.0], max = [10.0, 1.0, 1.0] }\ncomponents = [\"x\"]\n";
+    let scene = Scene::parse(&two, Path::new("bad.toml")).expect("valid scene");
+    let msg = impact::model::Model::from_scene(&scene)
+        .expect_err("refused")
+        .to_string();
+    assert!(
+        msg.contains("fix[1].velocity") && msg.contains("fix[0] holds node"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn a_refined_zone_is_checked() {
+    let refine = |r: &str| {
+        edit(
+            &base(),
+            "divisions = [10, 1, 1] }\nvelocity",
+            &format!("divisions = [10, 1, 1], refine = {r} }}\nvelocity"),
+        )
+    };
+    expect(
+        &refine("{ min = [-5.0, 0.0, 0.0], max = [-6.0, 1.0, 1.0], size = [0.1, 1.0, 1.0] }"),
+        &["body[0].box.refine.max", "must exceed box.refine.min"],
+    );
+    expect(
+        &refine("{ min = [-5.0, 0.0, 0.0], max = [-4.0, 1.0, 1.0], size = [0.0, 1.0, 1.0] }"),
+        &["body[0].box.refine.size", "> 0"],
+    );
+    expect(
+        &refine("{ min = [-5.0, 0.0, 0.0], max = [-4.0, 1.0, 1.0], size = [1e-9, 1e-9, 1e-9] }"),
+        &["body[0].box.refine.size", "32-bit"],
+    );
+}

@@ -163,6 +163,20 @@ pub fn hex_damage(
         }
         h
     };
+    // an element without damage: a point must start to damage for its forces to change
+    if advance && !any_damage(old) {
+        let starts = (geometry.iter().enumerate()).any(|(i, (g, _, m))| {
+            let (law, axes) = ply_law(laws, &plies[points[i].2]);
+            law.initiates(&axes.strain_to_material(&point_gradient(g, m, u, &alpha)))
+        });
+        if !starts {
+            return DamageStep {
+                forces: [[0.0; 3]; 8],
+                dissipated: 0.0,
+                damaged: false,
+            };
+        }
+    }
     let mut f = [[0.0; 3]; 8];
     let mut dissipated = 0.0;
     for (i, (g, wdet, m)) in geometry.iter().enumerate() {

@@ -183,8 +183,20 @@ impl PlyDamage {
         ft.max(fc).max(mt).max(mc)
     }
 
-    /// The stiffness (Voigt, ply axes) with the fibre, matrix and shear damage `d`.
+    /// Whether a point of strain `e` (ply axes) without damage starts to damage: some mode's
+    /// index of $C_0 \varepsilon$ above 1 (what [`Self::step`] would find).
+    pub fn initiates(&self, e: &[f64; 6]) -> bool {
+        self.index_ratios(&voigt_apply(&self.c0, e))
+            .iter()
+            .any(|&r| r > 1.0)
+    }
+
+    /// The stiffness (Voigt, ply axes) with the fibre, matrix and shear damage `d` (the
+    /// undamaged one itself where `d` is zero).
     pub fn stiffness(&self, [df, dm, ds]: [f64; 3]) -> Voigt {
+        if df == 0.0 && dm == 0.0 && ds == 0.0 {
+            return self.c0;
+        }
         let scale = [1.0 / (1.0 - df), 1.0 / (1.0 - dm), 1.0 / (1.0 - dm)];
         let s = nalgebra::Matrix3::from_fn(|i, j| {
             self.normal[i][j] * if i == j { scale[i] } else { 1.0 }

@@ -5,8 +5,10 @@
 //! problem; each run's wall time and errors against the exact solution go into
 //! `study.csv`, the errors against wall time into `study.svg/png`, and the failures against
 //! the time step into `atlas.svg/png` and `atlas.md`. The measures and statuses are documented
-//! in `docs/study.md`.
+//! in `docs/study.md`. `impact study crack_band` ([`crack_band`]) charts instead the energy a
+//! damaging element dissipates against its size.
 
+pub mod crack_band;
 pub mod problems;
 
 use std::fmt::Write as _;
