@@ -33,5 +33,8 @@ fn hex8_damage(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let zero = vec3<f32>(0.0);
-    hex_damage_points(i, rec.element, rec, h, HexAmplitudes(zero, zero, zero, zero, zero, zero));
+    let out = hex_damage_points(i, rec.element, rec, h, HexAmplitudes(zero, zero, zero, zero, zero, zero));
+    if (out.store) {
+        store_hex(rec.element, out.corners);
+    }
 }

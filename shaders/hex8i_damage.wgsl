@@ -50,6 +50,23 @@ fn mode_amplitude(i: u32, m: u32, d: HexCorners) -> vec3<f32> {
     return vec3<f32>(amplitude(i, 3u * m, d), amplitude(i, 3u * m + 1u, d), amplitude(i, 3u * m + 2u, d));
 }
 
+// Corner k's (k < 8) share of the modes' forces r (one vector per mode): sum over mode m and
+// component a of A_0[3 m + a][3 k + c] r_m[a], component c.
+fn mode_force(i: u32, k: u32, r0: vec3<f32>, r1: vec3<f32>, r2: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(mode_force_component(i, 3u * k, r0, r1, r2),
+        mode_force_component(i, 3u * k + 1u, r0, r1, r2),
+        mode_force_component(i, 3u * k + 2u, r0, r1, r2));
+}
+
+// Corner displacement j's row of A_0^T r.
+fn mode_force_component(i: u32, j: u32, r0: vec3<f32>, r1: vec3<f32>, r2: vec3<f32>) -> f32 {
+    let n = params.count;
+    let at = j * n + i;
+    return dot(vec3<f32>(condensation[at], condensation[at + 24u * n], condensation[at + 48u * n]), r0)
+        + dot(vec3<f32>(condensation[at + 72u * n], condensation[at + 96u * n], condensation[at + 120u * n]), r1)
+        + dot(vec3<f32>(condensation[at + 144u * n], condensation[at + 168u * n], condensation[at + 192u * n]), r2);
+}
+
 @compute @workgroup_size(64)
 fn hex8i_damage(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = item_index(gid, params);
@@ -69,5 +86,22 @@ fn hex8i_damage(@builtin(global_invocation_id) gid: vec3<u32>) {
         mode_amplitude(i, 1u, h.before),
         mode_amplitude(i, 2u, h.before),
     );
-    hex_damage_points(i, rec.element, rec, h, amp);
+    let out = hex_damage_points(i, rec.element, rec, h, amp);
+    if (out.store) {
+        let f = out.corners;
+        let a = out.r0;
+        let b = out.r1;
+        let c = out.r2;
+        let total = HexCorners(
+            f.c0 + mode_force(i, 0u, a, b, c),
+            f.c1 + mode_force(i, 1u, a, b, c),
+            f.c2 + mode_force(i, 2u, a, b, c),
+            f.c3 + mode_force(i, 3u, a, b, c),
+            f.c4 + mode_force(i, 4u, a, b, c),
+            f.c5 + mode_force(i, 5u, a, b, c),
+            f.c6 + mode_force(i, 6u, a, b, c),
+            f.c7 + mode_force(i, 7u, a, b, c),
+        );
+        store_hex(rec.element, total);
+    }
 }

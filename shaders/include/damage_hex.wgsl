@@ -118,16 +118,29 @@ fn ply_point(k: u32, axis: u32, lo: f32, hi: f32) -> vec3<f32> {
     );
 }
 
+// What a damageable hex's points give: its corner forces from B_u^T sigma, the modes'
+// forces B_alpha^T sigma (one vector per mode; a hex8i hands them to its corners through its
+// condensation), and whether they replace the elastic forces.
+struct DamageForces {
+    corners: HexCorners,
+    r0: vec3<f32>,
+    r1: vec3<f32>,
+    r2: vec3<f32>,
+    store: bool,
+}
+
 // Damageable element i's points: their step (or, without one, their stress), the modal
-// forces, the dissipation and the element's records and corner forces (twin:
-// `element::damage::hex_damage`).
-fn hex_damage_points(i: u32, e: u32, rec: DamageElementRecord, h: DamageHex, amp: HexAmplitudes) {
+// forces, the dissipation and the element's records (twin: `element::damage::hex_damage`).
+fn hex_damage_points(i: u32, e: u32, rec: DamageElementRecord, h: DamageHex, amp: HexAmplitudes) -> DamageForces {
     let a = hex_modes(h.x);
     let b = hex_modes(h.u);
     let bp = hex_modes(h.before);
     let c0 = cofactor(mat3x3<f32>(a.m1, a.m2, a.m3));
     let zero = vec3<f32>(0.0);
     var fm = HexModes(zero, zero, zero, zero, zero, zero, zero);
+    var r0 = zero;
+    var r1 = zero;
+    var r2 = zero;
     var dissipated = 0.0;
     var first = NO_POINT;
     let advance = damage.advance != 0u;
@@ -166,7 +179,12 @@ fn hex_damage_points(i: u32, e: u32, rec: DamageElementRecord, h: DamageHex, amp
             } else {
                 sigma = law_stress(law, e_now, old);
             }
-            let qf = (global_stress(m, sigma) * cj) * half;
+            let sg = global_stress(m, sigma);
+            let wdet = half * det;
+            r0 += (sg * g0) * wdet;
+            r1 += (sg * g1) * wdet;
+            r2 += (sg * g2) * wdet;
+            let qf = (sg * cj) * half;
             fm.m1 += qf[0];
             fm.m2 += qf[1];
             fm.m3 += qf[2];
@@ -180,7 +198,7 @@ fn hex_damage_points(i: u32, e: u32, rec: DamageElementRecord, h: DamageHex, amp
     if (advance) {
         if (!was && first == NO_POINT) {
             // checked and still undamaged: the elastic forces stand
-            return;
+            return DamageForces(hex_corners_of_modes(fm), r0, r1, r2, false);
         }
         if (!was) {
             records[record_at(i, 0u)] = 1u;
@@ -189,7 +207,11 @@ fn hex_damage_points(i: u32, e: u32, rec: DamageElementRecord, h: DamageHex, amp
         }
         records[record_at(i, 3u)] = bitcast<u32>(dissipated);
     }
-    let f = hex_corners_of_modes(fm);
+    return DamageForces(hex_corners_of_modes(fm), r0, r1, r2, true);
+}
+
+// Stores a damageable element's corner forces (block element e).
+fn store_hex(e: u32, f: HexCorners) {
     let ne = damage.elements;
     store_corner(e, f.c0);
     store_corner(ne + e, f.c1);

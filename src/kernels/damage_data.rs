@@ -10,10 +10,11 @@
 //! **The sieve.** The element kernels first give every element its elastic forces. A
 //! damageable element without damage keeps them when no point can have reached a Hashin
 //! index of 1: each mode's $r$ is at most $\beta \sqrt{2 u}$ at a point of strain energy
-//! density u ([`PlyDamage::sieve_factor`]: $\beta^2$), and a point holds at most the
-//! element's strain energy $U = \tfrac12 \sum_k f_k \cdot u_k$, so with
-//! $\kappa = 2 \beta^2 / \min_p w_p \det J_p$ an element with $\kappa U < 1$ is skipped.
-//! Only elements near initiation, or damaged, take the damage kernels' point loop.
+//! density u ([`PlyDamage::sieve_factor`]: $\beta^2$), and a point's density is at most
+//! $c$ times the element's strain energy $U = \tfrac12 \sum_k f_k \cdot u_k$
+//! ([`crate::element::damage::hex_concentration`]; a tet's $1/V$), so with
+//! $\kappa = 2 \beta^2 c$ an element with $\kappa U < 1$ is skipped. Only elements near
+//! initiation, or damaged, take the damage kernels' point loop.
 
 use crate::element::damage::{DamagePly, NO_LAW};
 use crate::element::ElementKind;

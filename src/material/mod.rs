@@ -19,8 +19,7 @@ pub use rotation::Rotation;
 pub(crate) type Voigt = [[f64; 6]; 6];
 
 /// The (i, j) index pair of each Voigt row.
-pub(crate) const VOIGT_PAIRS: [(usize, usize); 6] =
-    [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)];
+pub const VOIGT_PAIRS: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)];
 
 /// The Voigt row of the index pair (i, j).
 pub(crate) fn voigt_index(i: usize, j: usize) -> usize {

@@ -5,7 +5,7 @@
 use rayon::prelude::*;
 
 use super::Model;
-use crate::element::damage::{hex_bands, hex_smallest_point, tet_bands, DamagePly, NO_LAW};
+use crate::element::damage::{hex_bands, hex_concentration, tet_bands, DamagePly, NO_LAW};
 use crate::element::{hex8i, ElementKind};
 use crate::kernels::damage_data::{DamageBlock, DamageData};
 use crate::material::PlyDamage;
@@ -100,13 +100,14 @@ impl Model {
         let beta2 = (plies.iter())
             .map(|p| data.laws[data.law_of[p.entry as usize] as usize].sieve_factor())
             .fold(0.0, f64::max);
-        let (smallest, condensation) = match kind {
+        // the largest share of the element's strain energy a point's density can hold
+        let (concentration, condensation) = match kind {
             ElementKind::Tet4 => {
                 let t: [[f64; 3]; 4] = std::array::from_fn(|k| x[k]);
                 for p in &mut plies {
                     p.bands = tet_bands(&t, &data.axes[p.entry as usize]);
                 }
-                (crate::element::tet4::gradients(&t).1, Vec::new())
+                (1.0 / crate::element::tet4::gradients(&t).1, Vec::new())
             }
             _ => {
                 let h: [[f64; 3]; 8] = std::array::from_fn(|k| x[k]);
@@ -117,13 +118,17 @@ impl Model {
                     ElementKind::Hex8i => hex8i::condensation(&h, self.section(m)),
                     _ => Vec::new(),
                 };
-                (hex_smallest_point(&h, &plies, axis), condensation)
+                let incompatible = kind == ElementKind::Hex8i;
+                (
+                    hex_concentration(&h, self.section(m), incompatible),
+                    condensation,
+                )
             }
         };
         DamageElement {
             plies,
             axis,
-            sieve: 2.0 * beta2 / smallest,
+            sieve: 2.0 * beta2 * concentration,
             condensation,
         }
     }
