@@ -5,6 +5,7 @@
 use crate::element::CornerLayout;
 use crate::error::Result;
 use crate::kernels::damage_data::{DamageData, DamageState, DamagedPoint};
+use crate::kernels::damage_sieve::SieveMemory;
 use crate::kernels::{
     as_vec3, as_vec3_mut, contact_gap, damage_forces, element_forces, node_gather, slip_rate,
     ContactPoint, ContactQueries, ElementData, Incidence, KeptData,
@@ -94,8 +95,8 @@ pub struct CpuKernels {
     kept: KeptData,
     incidence: Incidence,
     corner_forces: Vec<[f64; 3]>,
-    /// The plies' damage and its state, where any element damages.
-    damage: Option<(DamageData, DamageState)>,
+    /// The plies' damage, its state and the sieve's memory, where any element damages.
+    damage: Option<(DamageData, DamageState, SieveMemory)>,
 }
 
 impl CpuKernels {
@@ -115,8 +116,8 @@ impl CpuKernels {
     /// With the plies' damage (none where no element damages).
     pub fn with_damage(mut self, damage: Option<DamageData>) -> Self {
         self.damage = damage.filter(DamageData::any).map(|d| {
-            let s = DamageState::new(&d);
-            (d, s)
+            let (s, m) = (DamageState::new(&d), SieveMemory::new(&d));
+            (d, s, m)
         });
         self
     }
@@ -132,9 +133,9 @@ impl CpuKernels {
         let fixed = (&self.layout, &self.kept);
         element_forces(&self.data, fixed, as_vec3(u), &mut self.corner_forces);
         let dissipated = match &mut self.damage {
-            Some((d, s)) => damage_forces(
+            Some((d, s, m)) => damage_forces(
                 &self.data,
-                (d, s),
+                (d, s, m),
                 &self.layout,
                 (as_vec3(u), as_vec3(v)),
                 &mut self.corner_forces,
@@ -175,18 +176,22 @@ impl Kernels for CpuKernels {
         Ok(self
             .damage
             .as_ref()
-            .map(|(_, s)| s.flat())
+            .map(|(_, s, _)| s.flat())
             .unwrap_or_default())
     }
     fn restore_damage(&mut self, values: &[f64]) -> std::result::Result<(), String> {
         match &mut self.damage {
-            Some((d, s)) => s.restore(d, values),
+            Some((d, s, m)) => {
+                // a resumed run's sieve starts afresh (it never changes the forces)
+                *m = SieveMemory::new(d);
+                s.restore(d, values)
+            }
             None if values.is_empty() => Ok(()),
             None => Err("the checkpoint holds ply damage and this model has none".into()),
         }
     }
     fn damage_cells(&self) -> Option<(Vec<[f64; 4]>, Option<DamagedPoint>)> {
-        let (d, s) = self.damage.as_ref()?;
+        let (d, s, _) = self.damage.as_ref()?;
         let blocks = crate::kernels::damage_data::block_counts(&self.data.elements);
         Some((s.cells(d, &blocks), s.first_damaged(d, &blocks)))
     }

@@ -119,6 +119,93 @@ fn ply_law<'a>(laws: &DamageLaws<'a>, ply: &DamagePly) -> (&'a PlyDamage, &'a Ro
 /// A hex point's corner gradients, its $w \det J$ and its modes' gradients.
 type PointGeometry = ([[f64; 3]; 8], f64, [[f64; 3]; 3]);
 
+/// Each of a hex's `points`' geometry.
+fn hex_geometry(x: &[[f64; 3]; 8], points: &[([f64; 3], f64, usize)]) -> Vec<PointGeometry> {
+    let (inv0, det0) = hex8i::centre_jacobian(x);
+    (points.iter())
+        .map(|&(q, w, _)| {
+            let (g, det) = hex8::gradients(x, q);
+            let m: [[f64; 3]; 3] =
+                std::array::from_fn(|m| inv0[m].map(|v| -2.0 * q[m] * v * det0 / det));
+            (g, w * det, m)
+        })
+        .collect()
+}
+
+/// The modes' amplitudes at corner displacements `u` (zero without modes).
+fn amplitudes(modes: Modes, u: &[[f64; 3]; 8]) -> [f64; 9] {
+    match modes {
+        Modes::None => [0.0; 9],
+        Modes::Elastic(a0) => std::array::from_fn(|r| {
+            (0..24)
+                .map(|j| a0[24 * r + j] * (u[j / 3][j % 3] - u[0][j % 3]))
+                .sum()
+        }),
+    }
+}
+
+/// A hex point's displacement gradient: its corners' part and its modes' of amplitudes
+/// `alpha`.
+fn point_gradient(
+    (g, m): (&[[f64; 3]; 8], &[[f64; 3]; 3]),
+    u: &[[f64; 3]; 8],
+    alpha: &[f64; 9],
+) -> [[f64; 3]; 3] {
+    let mut h = gradient(g, u);
+    for (mm, gm) in m.iter().enumerate() {
+        for a in 0..3 {
+            for b in 0..3 {
+                h[a][b] += alpha[3 * mm + a] * gm[b];
+            }
+        }
+    }
+    h
+}
+
+/// The largest reach ([`PlyDamage::reach`]) over a hex's points at corner displacements
+/// `u`, from its corners `x`.
+pub fn hex_reach(
+    x: &[[f64; 3]; 8],
+    u: &[[f64; 3]; 8],
+    (plies, axis): (&[DamagePly], usize),
+    laws: &DamageLaws,
+    modes: Modes,
+) -> f64 {
+    let points = hex_points(plies, axis);
+    let alpha = amplitudes(modes, u);
+    (hex_geometry(x, &points).iter().zip(&points))
+        .map(|((g, _, m), p)| {
+            let (law, axes) = ply_law(laws, &plies[p.2]);
+            law.reach(&axes.strain_to_material(&point_gradient((g, m), u, &alpha)))
+        })
+        .fold(0.0, f64::max)
+}
+
+/// [`hex_reach`] through the element's [`HexOperators`].
+pub fn hex_reach_operated(
+    ops: &HexOperators,
+    u: &[[f64; 3]; 8],
+    plies: &[DamagePly],
+    laws: &DamageLaws,
+) -> f64 {
+    let per_ply = ops.volume.len() / plies.len();
+    let d = relative(u);
+    (ops.strain.iter().enumerate())
+        .map(|(i, op)| {
+            ply_law(laws, &plies[i / per_ply])
+                .0
+                .reach(&apply_operator(op, &d))
+        })
+        .fold(0.0, f64::max)
+}
+
+/// A tet4's reach at corner displacements `u`.
+pub fn tet_reach(x: &[[f64; 3]; 4], u: &[[f64; 3]; 4], ply: &DamagePly, laws: &DamageLaws) -> f64 {
+    let (g, _) = tet4::gradients(x);
+    let (law, axes) = ply_law(laws, ply);
+    law.reach(&axes.strain_to_material(&gradient(&g, u)))
+}
+
 /// A hex8 or hex8i element's step ([`DamageStep`]): corners `x`, corner displacements `u`
 /// and the step before's `u_prev`, its plies along `axis`, the old state of its points and
 /// the new (written only with `advance`), its modes, and the step `dt`.
@@ -133,42 +220,13 @@ pub fn hex_damage(
     (dt, advance): (f64, bool),
 ) -> DamageStep<8> {
     let points = hex_points(plies, axis);
-    let (inv0, det0) = hex8i::centre_jacobian(x);
-    let geometry: Vec<PointGeometry> = (points.iter())
-        .map(|&(q, w, _)| {
-            let (g, det) = hex8::gradients(x, q);
-            let m: [[f64; 3]; 3] =
-                std::array::from_fn(|m| inv0[m].map(|v| -2.0 * q[m] * v * det0 / det));
-            (g, w * det, m)
-        })
-        .collect();
-    let amplitudes = |u: &[[f64; 3]; 8]| -> [f64; 9] {
-        match modes {
-            Modes::None => [0.0; 9],
-            Modes::Elastic(a0) => std::array::from_fn(|r| {
-                (0..24)
-                    .map(|j| a0[24 * r + j] * (u[j / 3][j % 3] - u[0][j % 3]))
-                    .sum()
-            }),
-        }
-    };
-    let (alpha, alpha_prev) = (amplitudes(u), amplitudes(u_prev));
-    let point_gradient = |g: &[[f64; 3]; 8], m: &[[f64; 3]; 3], u, alpha: &[f64; 9]| {
-        let mut h = gradient(g, u);
-        for (mm, gm) in m.iter().enumerate() {
-            for a in 0..3 {
-                for b in 0..3 {
-                    h[a][b] += alpha[3 * mm + a] * gm[b];
-                }
-            }
-        }
-        h
-    };
+    let geometry = hex_geometry(x, &points);
+    let (alpha, alpha_prev) = (amplitudes(modes, u), amplitudes(modes, u_prev));
     // an element without damage: a point must start to damage for its forces to change
     if advance && !any_damage(old) {
         let starts = (geometry.iter().enumerate()).any(|(i, (g, _, m))| {
             let (law, axes) = ply_law(laws, &plies[points[i].2]);
-            law.initiates(&axes.strain_to_material(&point_gradient(g, m, u, &alpha)))
+            law.initiates(&axes.strain_to_material(&point_gradient((g, m), u, &alpha)))
         });
         if !starts {
             return DamageStep {
@@ -183,8 +241,8 @@ pub fn hex_damage(
     let mut r_alpha = [0.0; 9];
     let mut dissipated = 0.0;
     for (i, (g, wdet, m)) in geometry.iter().enumerate() {
-        let h = point_gradient(g, m, u, &alpha);
-        let h_prev = point_gradient(g, m, u_prev, &alpha_prev);
+        let h = point_gradient((g, m), u, &alpha);
+        let h_prev = point_gradient((g, m), u_prev, &alpha_prev);
         let ply = &plies[points[i].2];
         let at = i * POINT_STATE..(i + 1) * POINT_STATE;
         let (s, d) = point_stress(

@@ -16,7 +16,7 @@
 //! $\kappa = 2 \beta^2 c$ an element with $\kappa U < 1$ is skipped. Only elements near
 //! initiation, or damaged, take the damage kernels' point loop.
 
-use crate::element::damage::{DamagePly, NO_LAW};
+use crate::element::damage::{DamagePly, HexOperators, NO_LAW};
 use crate::element::ElementKind;
 use crate::material::damage::{PlyDamage, POINT_STATE};
 use crate::material::Rotation;
@@ -60,7 +60,15 @@ pub struct DamageBlock {
     pub sieve: Vec<f64>,
     /// A hex8i block: each one's elastic condensation (216 values).
     pub condensation: Vec<f64>,
+    /// A hex block: each one's point operators in `operators`, [`NO_OPERATOR`] for one that
+    /// steps from its corners.
+    pub operator: Vec<u32>,
+    /// The point operators of the block's shapes.
+    pub operators: Vec<HexOperators>,
 }
+
+/// The operator index of an element without one.
+pub const NO_OPERATOR: u32 = u32::MAX;
 
 impl DamageBlock {
     pub fn len(&self) -> usize {
@@ -79,6 +87,14 @@ impl DamageBlock {
     /// The plies of damageable element `i`.
     pub fn plies_of(&self, i: usize) -> &[DamagePly] {
         &self.plies[self.first_ply[i] as usize..self.first_ply[i + 1] as usize]
+    }
+
+    /// Damageable element `i`'s point operators, where it has them.
+    pub fn operators_of(&self, i: usize) -> Option<&HexOperators> {
+        match self.operator.get(i).copied().unwrap_or(NO_OPERATOR) {
+            NO_OPERATOR => None,
+            op => Some(&self.operators[op as usize]),
+        }
     }
 
     /// The state values of damageable element `i`'s points.
@@ -104,6 +120,7 @@ impl DamageData {
                 ..Default::default()
             };
             let mut mine = Vec::new();
+            let mut operator_of = std::collections::HashMap::new();
             for i in 0..b.len() {
                 let g = (offset + b.elements[i] as usize) as u32;
                 let Ok(at) = kept.binary_search(&g) else {
@@ -122,6 +139,14 @@ impl DamageData {
                     out.condensation
                         .extend_from_slice(&b.condensation[216 * i..216 * (i + 1)]);
                 }
+                let op = b.operator.get(i).copied().unwrap_or(NO_OPERATOR);
+                out.operator.push(match op {
+                    NO_OPERATOR => NO_OPERATOR,
+                    op => *operator_of.entry(op).or_insert_with(|| {
+                        out.operators.push(b.operators[op as usize].clone());
+                        (out.operators.len() - 1) as u32
+                    }),
+                });
             }
             offset += counts[k];
             blocks.push(out);
@@ -290,107 +315,6 @@ pub fn first_where(state: &[f64]) -> u32 {
         .unwrap_or((0, &[0.0; POINT_STATE][..]));
     let mode = (0..4).fold(0, |m, j| if values[j] > values[m] { j } else { m });
     (4 * p + mode) as u32
-}
-
-/// What one block's damage pass reads and writes: the block's part of the corner forces
-/// (the elastic ones on entry), its state and flags (updated in place where the step
-/// advances), and each damageable element's dissipation over the step.
-pub(crate) struct BlockPass<'a> {
-    pub corner_forces: &'a mut [[f64; 3]],
-    pub state: &'a mut [f64],
-    pub damaged: &'a mut [bool],
-    pub first: &'a mut [[u32; 2]],
-    pub dissipated: &'a mut [f64],
-    /// The number of the step the pass takes (its first damage's).
-    pub step: u32,
-}
-
-/// A damageable element's step in a pass: its number among the damageable elements, its
-/// corners, corner displacements and the step before's, old state and new state.
-pub(crate) type ElementStep<'a, const N: usize> = dyn Fn(
-        usize,
-        &[[f64; 3]; N],
-        (&[[f64; 3]; N], &[[f64; 3]; N]),
-        &[f64],
-        &mut [f64],
-    ) -> crate::element::damage::DamageStep<N>
-    + Sync
-    + 'a;
-
-/// Nodal 3-vectors.
-type Nodal<'a> = &'a [[f64; 3]];
-
-/// One block's damage pass, on all threads: each damageable element that is damaged, or
-/// whose elastic strain energy passes the sieve, takes `step` and its forces replace the
-/// elastic ones. The step before's displacements are $u - \Delta t\, v$ (`v` the step's
-/// mid-step velocities; unused without `advance`). `N` is the kind's corner count.
-pub(crate) fn damage_pass<const N: usize>(
-    block: &DamageBlock,
-    corners: &[[u32; N]],
-    (reference, u, v, dt): (Nodal, Nodal, Nodal, f64),
-    out: BlockPass,
-    advance: bool,
-    step: &ElementStep<'_, N>,
-) {
-    use rayon::prelude::*;
-    // each damageable element's corners, state and flag, as disjoint mutable parts
-    let mut forces: Vec<&mut [[f64; 3]]> = Vec::with_capacity(block.len());
-    let mut chunks = out.corner_forces.chunks_mut(N).enumerate();
-    for &e in &block.elements {
-        let (_, c) = chunks
-            .find(|(k, _)| *k == e as usize)
-            .expect("a damageable element of the block");
-        forces.push(c);
-    }
-    let mut states: Vec<&mut [f64]> = Vec::with_capacity(block.len());
-    let mut rest = &mut out.state[..];
-    for i in 0..block.len() {
-        let (head, tail) = rest.split_at_mut(block.state_range(i).len());
-        states.push(head);
-        rest = tail;
-    }
-    (forces.into_par_iter())
-        .zip(states)
-        .zip(out.damaged.par_iter_mut())
-        .zip(out.first.par_iter_mut())
-        .zip(out.dissipated.par_iter_mut())
-        .enumerate()
-        .with_min_len(64)
-        .for_each(|(i, ((((f, state), damaged), first), dissipated))| {
-            let nodes = corners[block.elements[i] as usize];
-            let x = nodes.map(|n| reference[n as usize]);
-            let ue = nodes.map(|n| u[n as usize]);
-            // the step before's displacement: u_n = u_{n+1} - dt v_{n+1/2}
-            let before = nodes.map(|n| {
-                let (u, v) = (u[n as usize], v[n as usize]);
-                [u[0] - dt * v[0], u[1] - dt * v[1], u[2] - dt * v[2]]
-            });
-            *dissipated = 0.0;
-            if !*damaged {
-                // the elastic strain energy, 1/2 sum f_k . (u_k - u_0)
-                let energy: f64 = 0.5
-                    * (1..N)
-                        .map(|k| (0..3).map(|a| f[k][a] * (ue[k][a] - ue[0][a])).sum::<f64>())
-                        .sum::<f64>();
-                if block.sieve[i] * energy < 1.0 || !advance {
-                    return;
-                }
-            }
-            let old = state.to_vec();
-            let s = step(i, &x, (&ue, &before), &old, state);
-            if advance && (s.damaged || *damaged) {
-                if !*damaged {
-                    *first = [out.step, first_where(state)];
-                }
-                *damaged = true;
-                *dissipated = s.dissipated;
-            } else if advance {
-                // checked and still undamaged: the elastic forces stand
-                state.copy_from_slice(&old);
-                return;
-            }
-            f.copy_from_slice(&s.forces);
-        });
 }
 
 /// A damaged point: its element's global number, its ply's material entry and the mode

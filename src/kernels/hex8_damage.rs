@@ -1,10 +1,10 @@
-//! CPU twin of `shaders/hex8_damage.wgsl`: the damage pass of a hex8 block
-//! ([`super::damage_data`]), each damageable element's step by
-//! [`crate::element::damage::hex_damage`] (no modes).
+//! CPU twin of `shaders/hex8_damage.wgsl`: the damage pass of a hex8 block, as
+//! [`super::hex8i_damage`]'s without modes.
 
-use super::damage_data::{damage_pass, BlockPass, DamageData};
+use super::damage_data::DamageData;
+use super::damage_pass::BlockPass;
+use super::hex8i_damage::hex_pass;
 use super::ElementData;
-use crate::element::damage::{hex_damage, Modes};
 use crate::element::ElementKind;
 
 /// The pass over the hex8 block's damageable elements (`out` holds the block's part of the
@@ -16,26 +16,5 @@ pub(crate) fn hex8_damage(
     out: BlockPass,
     (dt, advance): (f64, bool),
 ) {
-    let kind = ElementKind::Hex8;
-    let block = damage.block(kind);
-    let laws = damage.laws();
-    damage_pass(
-        block,
-        data.elements.block(kind).corners::<8>(),
-        (&data.reference, u, v, dt),
-        out,
-        advance,
-        &|i, x, corners, old, new| {
-            let plies = (block.plies_of(i), block.axis[i] as usize);
-            hex_damage(
-                x,
-                corners,
-                plies,
-                &laws,
-                (old, new),
-                Modes::None,
-                (dt, advance),
-            )
-        },
-    );
+    hex_pass(ElementKind::Hex8, data, damage, (u, v), out, (dt, advance));
 }

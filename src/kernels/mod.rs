@@ -28,7 +28,9 @@ pub mod contact_warm;
 pub mod contact_zone;
 pub mod corner_select;
 pub mod damage_data;
+pub(crate) mod damage_pass;
 pub mod damage_reduce;
+pub mod damage_sieve;
 pub mod explicit_correct;
 pub mod explicit_drift;
 pub mod explicit_predict;
@@ -205,7 +207,11 @@ pub(crate) fn element_forces(
 /// Returns the energy dissipated over the step (element by element, in order).
 pub(crate) fn damage_forces(
     data: &ElementData,
-    (damage, state): (&damage_data::DamageData, &mut damage_data::DamageState),
+    (damage, state, memory): (
+        &damage_data::DamageData,
+        &mut damage_data::DamageState,
+        &mut damage_sieve::SieveMemory,
+    ),
     layout: &CornerLayout,
     (u, v): (&[[f64; 3]], &[[f64; 3]]),
     corner_forces: &mut [[f64; 3]],
@@ -220,11 +226,12 @@ pub(crate) fn damage_forces(
         }
         let start = layout.offset(block.kind);
         let mut dissipated = vec![0.0; dblock.len()];
-        let out = damage_data::BlockPass {
+        let out = damage_pass::BlockPass {
             corner_forces: &mut corner_forces[start..start + block.nodes.len()],
             state: &mut state.points[k],
             damaged: &mut state.damaged[k],
             first: &mut state.first[k],
+            memory: &mut memory.blocks[k],
             dissipated: &mut dissipated,
             step: state.steps + 1,
         };

@@ -183,6 +183,33 @@ impl PlyDamage {
         ft.max(fc).max(mt).max(mc)
     }
 
+    /// The reach of an undamaged point of strain `e` (ply axes): with $\sigma = C_0
+    /// \varepsilon$, the largest of $|\sigma_{11}| / \min(X_T, X_C)$, the square root of
+    /// matrix tension's quadratic form and matrix compression's $|a (\sigma_{22} +
+    /// \sigma_{33})|$ plus the square root of its quadratic part: a seminorm of the strain
+    /// that is at least every mode's r, whatever the stress's signs, and at most
+    /// $\beta \sqrt{2u}$ ([`Self::sieve_factor`]). Being a seminorm, the reach at $u$ is at
+    /// most the reach at $u_c$ plus that of $u - u_c$ (the sieve's memory,
+    /// `kernels::damage_data`). Infinite where matrix tension's form is indefinite
+    /// ($2 S_{23} < Y_T$), which no seminorm bounds.
+    pub fn reach(&self, e: &[f64; 6]) -> f64 {
+        let k = &self.strength;
+        if 2.0 * k.s23 < k.yt {
+            return f64::INFINITY;
+        }
+        let s = voigt_apply(&self.c0, e);
+        let (t2, l2) = (1.0 / (k.s23 * k.s23), 1.0 / (k.s12 * k.s12));
+        let shear = t2 * s[3] * s[3] + l2 * (s[4] * s[4] + s[5] * s[5]);
+        let (sum, product) = (s[1] + s[2], s[1] * s[2]);
+        let mt = sum * sum / (k.yt * k.yt) - t2 * product + shear;
+        let quadratic = 0.25 * t2 * sum * sum - t2 * product + shear;
+        let r = k.yc / (2.0 * k.s23);
+        let a = (r * r - 1.0) / k.yc;
+        let mc = (a * sum).abs() + quadratic.max(0.0).sqrt();
+        let fibre = s[0].abs() / k.xt.min(k.xc);
+        fibre.max(mt.max(0.0).sqrt()).max(mc)
+    }
+
     /// Whether a point of strain `e` (ply axes) without damage starts to damage: some mode's
     /// index of $C_0 \varepsilon$ above 1 (what [`Self::step`] would find).
     pub fn initiates(&self, e: &[f64; 6]) -> bool {
@@ -469,6 +496,28 @@ mod tests {
         }
         eprintln!("sieve: the closest random strain reaches {closest:.3} of the bound");
         assert!(closest > 0.5, "{closest}");
+    }
+
+    /// On random strains the reach is at least every mode's r and at most the sieve's bound,
+    /// and is subadditive: reach(a + b) <= reach(a) + reach(b).
+    #[test]
+    fn the_reach_is_a_seminorm_between_the_modes_and_the_sieve() {
+        use rand::{rngs::StdRng, Rng, SeedableRng};
+        let law = im7();
+        let beta = law.sieve_factor().sqrt();
+        let mut rng = StdRng::seed_from_u64(5);
+        let mut strain = || -> [f64; 6] { std::array::from_fn(|_| rng.random_range(-1e-2..1e-2)) };
+        for _ in 0..20_000 {
+            let (a, b) = (strain(), strain());
+            let s = voigt_apply(&law.c0, &a);
+            let u2: f64 = (0..6).map(|i| s[i] * a[i]).sum();
+            let worst = law.index_ratios(&s).iter().fold(0.0f64, |m, &x| m.max(x));
+            let reach = law.reach(&a);
+            assert!(worst <= reach * (1.0 + 1e-12), "{worst} > {reach}");
+            assert!(reach <= beta * u2.sqrt() * (1.0 + 1e-12), "{reach}");
+            let sum: [f64; 6] = std::array::from_fn(|i| a[i] + b[i]);
+            assert!(law.reach(&sum) <= (reach + law.reach(&b)) * (1.0 + 1e-12));
+        }
     }
 
     /// The snap-back width of IM7/8552 in matrix tension, 2 E2 G / YT^2: 1.30 mm.

@@ -2,6 +2,7 @@
 //! probes. Reading and checking (the scene) is kept apart from the time loop (integrate).
 
 pub mod damage;
+mod damage_shapes;
 pub mod interface;
 pub mod materials;
 pub mod rigid;

@@ -1,0 +1,134 @@
+//! One block's damage pass on the CPU (the damage kernels' twin): each damageable element
+//! that is damaged, or that the sieve ([`super::damage_sieve`]) cannot rule out, has its
+//! points looked at, and where it steps its forces replace the elastic ones.
+
+use rayon::prelude::*;
+
+use super::damage_data::{first_where, DamageBlock};
+use super::damage_sieve::{may_reach, remember, stride};
+use crate::element::damage::DamageStep;
+
+/// What one block's damage pass reads and writes: the block's part of the corner forces
+/// (the elastic ones on entry), its state and flags (updated in place where the step
+/// advances), its sieve's memory, and each damageable element's dissipation over the step.
+pub(crate) struct BlockPass<'a> {
+    pub corner_forces: &'a mut [[f64; 3]],
+    pub state: &'a mut [f64],
+    pub damaged: &'a mut [bool],
+    pub first: &'a mut [[u32; 2]],
+    pub memory: &'a mut [f64],
+    pub dissipated: &'a mut [f64],
+    /// The number of the step the pass takes (its first damage's).
+    pub step: u32,
+}
+
+/// A kind's damageable element (`i`, its number among the block's damageable elements, at
+/// corners `x`): its step from displacement `u_prev` to `u` with its points' old state `old`
+/// (the new written to `new`), and its largest reach over its points at `u`.
+pub(crate) trait ElementDamage<const N: usize>: Sync {
+    fn step(
+        &self,
+        i: usize,
+        x: &[[f64; 3]; N],
+        u: (&[[f64; 3]; N], &[[f64; 3]; N]),
+        state: (&[f64], &mut [f64]),
+    ) -> DamageStep<N>;
+
+    fn reach(&self, i: usize, x: &[[f64; 3]; N], u: &[[f64; 3]; N]) -> f64;
+}
+
+/// Nodal 3-vectors.
+type Nodal<'a> = &'a [[f64; 3]];
+
+/// A reach this far below 1 rules out a start (the step's own r has rounding of its own).
+const REACH_MARGIN: f64 = 1e-9;
+
+/// One block's damage pass, on all threads (see the module). The step before's
+/// displacements are $u - \Delta t\, v$ (`v` the step's mid-step velocities; unused without
+/// `advance`, where only damaged elements step, their state kept). `N` is the kind's corner
+/// count.
+pub(crate) fn damage_pass<const N: usize>(
+    block: &DamageBlock,
+    corners: &[[u32; N]],
+    (reference, u, v, dt): (Nodal, Nodal, Nodal, f64),
+    out: BlockPass,
+    advance: bool,
+    kernel: &dyn ElementDamage<N>,
+) {
+    // each damageable element's corners and state, as disjoint mutable parts
+    let mut forces: Vec<&mut [[f64; 3]]> = Vec::with_capacity(block.len());
+    let mut chunks = out.corner_forces.chunks_mut(N).enumerate();
+    for &e in &block.elements {
+        let (_, c) = chunks
+            .find(|(k, _)| *k == e as usize)
+            .expect("a damageable element of the block");
+        forces.push(c);
+    }
+    let mut states: Vec<&mut [f64]> = Vec::with_capacity(block.len());
+    let mut rest = &mut out.state[..];
+    for i in 0..block.len() {
+        let (head, tail) = rest.split_at_mut(block.state_range(i).len());
+        states.push(head);
+        rest = tail;
+    }
+    let (step, memory) = (out.step, out.memory.par_chunks_mut(stride(N)));
+    (forces.into_par_iter())
+        .zip(states)
+        .zip(out.damaged.par_iter_mut())
+        .zip(out.first.par_iter_mut())
+        .zip(memory)
+        .zip(out.dissipated.par_iter_mut())
+        .enumerate()
+        .with_min_len(64)
+        .for_each(
+            |(i, (((((f, state), damaged), first), memory), dissipated))| {
+                let nodes = corners[block.elements[i] as usize];
+                let x = nodes.map(|n| reference[n as usize]);
+                let ue = nodes.map(|n| u[n as usize]);
+                *dissipated = 0.0;
+                if !*damaged {
+                    if !advance || !may_reach(memory, block.sieve[i], (f, &ue)) {
+                        return;
+                    }
+                    let reach = kernel.reach(i, &x, &ue);
+                    if reach < 1.0 - REACH_MARGIN {
+                        remember(memory, (f, &ue), reach);
+                        return;
+                    }
+                }
+                // the step before's displacement: u_n = u_{n+1} - dt v_{n+1/2}
+                let before = nodes.map(|n| {
+                    let (u, v) = (u[n as usize], v[n as usize]);
+                    [u[0] - dt * v[0], u[1] - dt * v[1], u[2] - dt * v[2]]
+                });
+                let was_damaged = *damaged;
+                let s = OLD_STATE.with_borrow_mut(|old| {
+                    old.clear();
+                    old.extend_from_slice(state);
+                    let s = kernel.step(i, &x, (&ue, &before), (old, state));
+                    if advance && !s.damaged && !was_damaged {
+                        // looked at and still undamaged: the state stands
+                        state.copy_from_slice(old);
+                    }
+                    s
+                });
+                if advance && !(s.damaged || was_damaged) {
+                    // the elastic forces stand
+                    return;
+                }
+                if advance {
+                    if !was_damaged {
+                        *first = [step, first_where(state)];
+                    }
+                    *damaged = true;
+                    *dissipated = s.dissipated;
+                }
+                f.copy_from_slice(&s.forces);
+            },
+        );
+}
+
+thread_local! {
+    /// A pass's copy of an element's old state, one per thread.
+    static OLD_STATE: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
