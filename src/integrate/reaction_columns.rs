@@ -90,7 +90,10 @@ impl ReactionColumns {
         let first = 3 * self.named;
         (self.moving.iter().enumerate())
             .map(|(g, w)| (values[first + g] - self.body_force[first + g]) * w)
-            .sum()
+            .sum::<f64>()
+            // +0 where there is nothing to sum, as on the ranks (`sum` starts at -0, and a
+            // checkpoint is compared word for word)
+            + 0.0
     }
 
     /// The power with every internal force zero (the start).
