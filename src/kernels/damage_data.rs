@@ -9,12 +9,11 @@
 //!
 //! **The sieve.** The element kernels first give every element its elastic forces. A
 //! damageable element without damage keeps them when no point can have reached a Hashin
-//! index of 1: each mode's $r$ is at most $\beta \sqrt{2 u}$ at a point of strain energy
-//! density u ([`PlyDamage::sieve_factor`]: $\beta^2$), and a point's density is at most
-//! $c$ times the element's strain energy $U = \tfrac12 \sum_k f_k \cdot u_k$
-//! ([`crate::element::damage::hex_concentration`]; a tet's $1/V$), so with
-//! $\kappa = 2 \beta^2 c$ an element with $\kappa U < 1$ is skipped. Only elements near
-//! initiation, or damaged, take the damage kernels' point loop.
+//! index of 1: every point's reach ([`PlyDamage::reach`], at least each mode's r) is at most
+//! $\sqrt{\kappa U}$, $U = \tfrac12 \sum_k f_k \cdot u_k$ the element's strain energy and
+//! $\kappa$ its sieve ([`crate::element::damage::hex_sieve`]; a tet's $2 \beta^2 / V$,
+//! [`PlyDamage::sieve_factor`]). The device's kernels skip an element with $\kappa U < 1$;
+//! the CPU's remember where they last looked ([`super::damage_sieve`]).
 
 use crate::element::damage::{DamagePly, HexOperators, NO_LAW};
 use crate::element::ElementKind;

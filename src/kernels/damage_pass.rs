@@ -79,7 +79,7 @@ pub(crate) fn damage_pass<const N: usize>(
         .zip(memory)
         .zip(out.dissipated.par_iter_mut())
         .enumerate()
-        .with_min_len(64)
+        .with_min_len(4)
         .for_each(
             |(i, (((((f, state), damaged), first), memory), dissipated))| {
                 let nodes = corners[block.elements[i] as usize];

@@ -6,8 +6,8 @@
 //! compression ([`MODES`]), each driven by its Hashin index $F$ of the effective stress
 //! $\hat\sigma = M \sigma$, each stress component divided by one minus its damage
 //! (Lapczyk and Hurtado; [`effective`]), with the damage of the step before: on an undamaged
-//! ply $C_0 \varepsilon$. [`super::failure_indices`] gives the matrix and fibre compression
-//! indices; fibre tension is $(\hat\sigma_{11}/X_T)^2$ alone, without Hashin's shear term,
+//! ply $C_0 \varepsilon$. The matrix and fibre compression indices are Hashin's
+//! ([`super::failure_indices`]); fibre tension is $(\hat\sigma_{11}/X_T)^2$ alone, without Hashin's shear term,
 //! so that in-plane shear cannot soften the fibres (see `docs/method-notes.md`). The signs
 //! that choose between tension and compression are those of $C_0 \varepsilon$.
 //!
@@ -43,7 +43,7 @@
 //! At fixed strain it is the release of stored energy, never negative (the compliance only
 //! grows); along a path it is that to first order in the strain's change.
 
-use super::failure::{failure_indices, matrix_compression_parts, Strength};
+use super::failure::{matrix_compression_parts, Strength};
 use super::Voigt;
 
 /// The damage modes, in the order of a point's variables.
@@ -210,6 +210,48 @@ impl PlyDamage {
         fibre.max(mt.max(0.0).sqrt()).max(mc)
     }
 
+    /// The reach's quadratic forms in the strain (ply axes, Voigt order): the fibre term's,
+    /// matrix tension's, and matrix compression's linear part (squared) and quadratic part,
+    /// so that the reach is the largest of $\sqrt{e \cdot F e}$, $\sqrt{e \cdot T e}$ and
+    /// $\sqrt{e \cdot L e} + \sqrt{e \cdot Q e}$ (each form $C_0 A C_0$ of its form A in the
+    /// stress). The sieve's bound of an element is their largest ratio to its strain energy.
+    pub fn reach_forms(&self) -> [Voigt; 4] {
+        let k = &self.strength;
+        let (t2, l2) = (1.0 / (k.s23 * k.s23), 1.0 / (k.s12 * k.s12));
+        let in_strain = |q: &Voigt| -> Voigt {
+            let qc: Voigt = std::array::from_fn(|i| voigt_apply(q, &self.c0[i]));
+            // C0 (Q C0): C0 is symmetric, so row i of Q C0 is Q applied to C0's column i
+            std::array::from_fn(|i| {
+                std::array::from_fn(|j| (0..6).map(|m| self.c0[i][m] * qc[j][m]).sum())
+            })
+        };
+        let matrix = |y: f64| -> Voigt {
+            let mut q = [[0.0; 6]; 6];
+            q[1][1] = y;
+            q[2][2] = y;
+            q[1][2] = y - 0.5 * t2;
+            q[2][1] = y - 0.5 * t2;
+            q[3][3] = t2;
+            q[4][4] = l2;
+            q[5][5] = l2;
+            q
+        };
+        let outer = |g: [f64; 6]| -> Voigt {
+            std::array::from_fn(|i| std::array::from_fn(|j| g[i] * g[j]))
+        };
+        let x = k.xt.min(k.xc);
+        let fibre: [f64; 6] = std::array::from_fn(|j| self.c0[0][j] / x);
+        let r = k.yc / (2.0 * k.s23);
+        let a = (r * r - 1.0) / k.yc;
+        let linear: [f64; 6] = std::array::from_fn(|j| a * (self.c0[1][j] + self.c0[2][j]));
+        [
+            outer(fibre),
+            in_strain(&matrix(1.0 / (k.yt * k.yt))),
+            outer(linear),
+            in_strain(&matrix(0.25 * t2)),
+        ]
+    }
+
     /// Whether a point of strain `e` (ply axes) without damage starts to damage: some mode's
     /// index of $C_0 \varepsilon$ above 1 (what [`Self::step`] would find).
     pub fn initiates(&self, e: &[f64; 6]) -> bool {
@@ -270,11 +312,21 @@ impl PlyDamage {
                 state[k]
             };
         }
-        let after = self.stiffness(acting(&state, signs));
+        let d_new = acting(&state, signs);
+        let after = if d_new == d_old {
+            before
+        } else {
+            self.stiffness(d_new)
+        };
         let stress = voigt_apply(&after, e);
         // the stiffness the last step's stress had: its damage, its strain's signs
         let p = voigt_apply(&self.c0, prev);
-        let last = self.stiffness(acting(old, (p[0] >= 0.0, p[1] + p[2] >= 0.0)));
+        let d_last = acting(old, (p[0] >= 0.0, p[1] + p[2] >= 0.0));
+        let last = if d_last == d_old {
+            before
+        } else {
+            self.stiffness(d_last)
+        };
         let released: f64 = (0..6)
             .map(|i| {
                 prev[i]
@@ -296,22 +348,25 @@ impl PlyDamage {
     /// of degree one in the stress, and 1 exactly where the index is.
     fn index_ratios(&self, s: &[f64; 6]) -> [f64; 4] {
         let k = &self.strength;
-        // failure_indices takes (11, 22, 33, 12, 23, 13)
-        let f = failure_indices([s[0], s[1], s[2], s[5], s[3], s[4]], k);
-        let ft = if s[0] >= 0.0 { s[0] / k.xt } else { 0.0 };
-        let mc = match s[1] + s[2] < 0.0 {
-            true => {
-                let (a, b) = matrix_compression_parts([s[0], s[1], s[2], s[5], s[3], s[4]], k);
-                // the load factor that brings this stress to the index 1, inverted:
-                // F(r^-1 s) = 1 with F = a + b, linear and quadratic parts
-                match b > 0.0 {
-                    true => 0.5 * (a + (a * a + 4.0 * b).sqrt()),
-                    false => a.max(0.0),
-                }
-            }
-            false => 0.0,
+        let (i1, fibre) = (s[1] + s[2], s[0]);
+        let ft = if fibre >= 0.0 { fibre / k.xt } else { 0.0 };
+        let fc = if fibre < 0.0 { -fibre / k.xc } else { 0.0 };
+        if i1 >= 0.0 {
+            // Hashin's matrix tension index (`failure_indices`'), its square root
+            let long = (s[5] * s[5] + s[4] * s[4]) / (k.s12 * k.s12);
+            let trans = (s[3] * s[3] - s[1] * s[2]) / (k.s23 * k.s23);
+            let mt = (i1 / k.yt).powi(2) + trans + long;
+            return [ft, fc, mt.max(0.0).sqrt(), 0.0];
+        }
+        // failure's order is (11, 22, 33, 12, 23, 13)
+        let (a, b) = matrix_compression_parts([s[0], s[1], s[2], s[5], s[3], s[4]], k);
+        // the load factor that brings this stress to the index 1, inverted:
+        // F(r^-1 s) = 1 with F = a + b, linear and quadratic parts
+        let mc = match b > 0.0 {
+            true => 0.5 * (a + (a * a + 4.0 * b).sqrt()),
+            false => a.max(0.0),
         };
-        [ft, f[1].sqrt(), f[2].max(0.0).sqrt(), mc]
+        [ft, fc, 0.0, mc]
     }
 }
 
@@ -517,6 +572,33 @@ mod tests {
             assert!(reach <= beta * u2.sqrt() * (1.0 + 1e-12), "{reach}");
             let sum: [f64; 6] = std::array::from_fn(|i| a[i] + b[i]);
             assert!(law.reach(&sum) <= (reach + law.reach(&b)) * (1.0 + 1e-12));
+        }
+    }
+
+    /// The reach is its forms' combination, to rounding.
+    #[test]
+    fn the_reach_is_its_forms() {
+        use rand::{rngs::StdRng, Rng, SeedableRng};
+        let law = im7();
+        let [f, t, l, q] = law.reach_forms();
+        let form = |a: &Voigt, e: &[f64; 6]| -> f64 {
+            (0..6)
+                .map(|i| e[i] * (0..6).map(|j| a[i][j] * e[j]).sum::<f64>())
+                .sum::<f64>()
+                .max(0.0)
+                .sqrt()
+        };
+        let mut rng = StdRng::seed_from_u64(9);
+        for _ in 0..2000 {
+            let e: [f64; 6] = std::array::from_fn(|_| rng.random_range(-1e-2..1e-2));
+            let by_forms = form(&f, &e)
+                .max(form(&t, &e))
+                .max(form(&l, &e) + form(&q, &e));
+            let reach = law.reach(&e);
+            assert!(
+                (by_forms - reach).abs() <= 1e-9 * reach,
+                "{by_forms} {reach}"
+            );
         }
     }
 

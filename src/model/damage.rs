@@ -10,9 +10,9 @@ use rayon::prelude::*;
 use super::damage_shapes::{HexShape, HexShapes};
 use super::Model;
 use crate::element::damage::{
-    hex_bands, hex_concentration, hex_operators, tet_bands, DamagePly, HexOperators, Modes, NO_LAW,
+    hex_bands, hex_operators, hex_sieve, tet_bands, DamagePly, HexOperators, Modes, NO_LAW,
 };
-use crate::element::{hex8i, ElementKind};
+use crate::element::{hex8, hex8i, ElementKind};
 use crate::kernels::damage_data::{DamageBlock, DamageData, NO_OPERATOR};
 use crate::material::PlyDamage;
 
@@ -128,7 +128,7 @@ impl Model {
                 let plies = self.layups[*m as usize]
                     .as_ref()
                     .map_or(1, |l| l.plies.len());
-                let bytes = 8 * plies * std::mem::size_of::<[[f64; 21]; 6]>();
+                let bytes = 8 * plies * std::mem::size_of::<[[f64; 6]; 21]>();
                 let fits = bytes <= budget;
                 budget -= if fits { bytes } else { 0 };
                 fits
@@ -180,22 +180,22 @@ impl Model {
             true => hex8i::condensation(x, self.section(m)),
             false => Vec::new(),
         };
-        // the largest share of the element's strain energy a point's density can hold
-        let concentration = hex_concentration(x, self.section(m), incompatible);
-        let operators = operated.then(|| {
-            let modes = match incompatible {
-                true => Modes::Elastic(&condensation),
-                false => Modes::None,
-            };
-            let axes = |p: &DamagePly| data.axes[p.entry as usize];
-            hex_operators(x, (&plies, axis), &axes, modes)
-        });
+        let modes = match incompatible {
+            true => Modes::Elastic(&condensation),
+            false => Modes::None,
+        };
+        let axes = |p: &DamagePly| data.axes[p.entry as usize];
+        let ops = hex_operators(x, (&plies, axis), &axes, modes);
+        let k = match incompatible {
+            true => hex8i::stiffness(x, self.section(m)),
+            false => hex8::stiffness(x, &self.section(m).elastic()),
+        };
         DamageElement {
-            sieve: 2.0 * self.sieve_factor(data, &plies) * concentration,
+            sieve: hex_sieve(&k, &ops, &plies, &data.laws()),
             plies,
             axis,
             condensation,
-            operators,
+            operators: operated.then_some(ops),
         }
     }
 
