@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The GPU checks and timings of a session lent a real GPU, in one call of the `device` tool
-# (the recipe is ../shared/gpu.md): the GPU twin and run tests, then the shipped drop-weight
+# The GPU checks and timings on a GPU machine without a Rust toolchain or Vulkan loader, in
+# one call (docs/performance.md, "Measuring on a GPU"): the GPU twin and run tests, then the shipped drop-weight
 # and indentation scenes on the GPU and on the device machine's CPU, their summaries and a
 # table of wall times written to $OUT.
 #
