@@ -100,6 +100,9 @@ pub enum ImpactError {
     /// The output folder holds an earlier run's files.
     #[error("{}: holds the files of an earlier run ({found}); pass --overwrite to replace them, or --resume to continue that run", dir.display())]
     OutputExists { dir: PathBuf, found: String },
+    /// A command line that names a file it must not (the message says which and why).
+    #[error("{}: {message}", path.display())]
+    Usage { path: PathBuf, message: String },
     /// Another run holds the output folder's lock.
     #[error("{}: another impact run ({holder}) is writing to this folder; wait for it to end, or choose another --out", dir.display())]
     Locked { dir: PathBuf, holder: String },
@@ -178,7 +181,7 @@ impl ImpactError {
             }
             Solver(_) | Diverged { .. } => exit::DIVERGED,
             Read { .. } | Write { .. } => exit::IO,
-            OutputExists { .. } | Resume { .. } | Locked { .. } => exit::USAGE,
+            OutputExists { .. } | Resume { .. } | Locked { .. } | Usage { .. } => exit::USAGE,
             Interrupted { .. } => exit::INTERRUPTED,
             Gpu(_) | Ranks(_) => exit::OTHER,
             Agreed(e) => e.exit_code(),

@@ -94,6 +94,9 @@ enum Command {
         /// Keep every run's own folder (history, summary, charts) under OUT/runs.
         #[arg(long)]
         keep_runs: bool,
+        /// Replace an earlier study's files in OUT.
+        #[arg(long)]
+        overwrite: bool,
     },
     /// Write the scene an Abaqus/CalculiX deck (.inp) or LS-DYNA file (.k) runs as, its mesh kept in it:
     /// running the scene gives the deck's history.
@@ -103,6 +106,9 @@ enum Command {
         /// The scene file to write (beside the deck, whose file its bodies name).
         #[arg(long)]
         to: PathBuf,
+        /// Replace the scene file if it exists.
+        #[arg(long)]
+        overwrite: bool,
     },
     /// List the GPU adapters found, the one each device setting would use, and the limits
     /// and features that matter to the kernels.
@@ -218,7 +224,8 @@ fn command(command: Command) -> anyhow::Result<u8> {
             quick,
             devices,
             keep_runs,
-        } => study_command(&problem, out, quick, devices, keep_runs),
+            overwrite,
+        } => study_command(&problem, out, quick, devices, (keep_runs, overwrite)),
         Command::Plot { dir, columns, name } => plot_command(&dir, columns, &name),
         Command::Run {
             scene,
@@ -231,7 +238,11 @@ fn command(command: Command) -> anyhow::Result<u8> {
         } => run_command(&scene, out, device, quiet, overwrite, resume, strict),
         Command::Check { scene, device } => check_command(&scene, device),
         Command::Info => info_command(),
-        Command::Convert { deck, to } => convert_command(&deck, &to),
+        Command::Convert {
+            deck,
+            to,
+            overwrite,
+        } => convert_command(&deck, &to, overwrite),
     }
 }
 
@@ -241,7 +252,7 @@ fn study_command(
     out: Option<PathBuf>,
     quick: bool,
     devices: Vec<String>,
-    keep_runs: bool,
+    (keep_runs, overwrite): (bool, bool),
 ) -> anyhow::Result<u8> {
     use impact::study::{study, Problem};
     let p = Problem::parse(problem);
@@ -268,6 +279,8 @@ fn study_command(
         vec!["cpu".into(), "gpu".into()]
     };
     let devices: Vec<&str> = devices.iter().map(String::as_str).collect();
+    // held until the study ends: a second study into the folder is refused
+    let _lock = impact::study::folder::claim(&out, overwrite)?;
     let Some(p) = p else {
         return crack_band_command(&out, quick, &devices, keep_runs);
     };
@@ -526,27 +539,50 @@ fn info_command() -> anyhow::Result<u8> {
 }
 
 /// `impact convert`: the deck's scene written to `to`, and the deck's notice.
-fn convert_command(deck: &std::path::Path, to: &std::path::Path) -> anyhow::Result<u8> {
+fn convert_command(
+    deck: &std::path::Path,
+    to: &std::path::Path,
+    overwrite: bool,
+) -> anyhow::Result<u8> {
+    let usage = |path: &std::path::Path, message: String| ImpactError::Usage {
+        path: path.to_path_buf(),
+        message,
+    };
     if !impact::scene::from_deck::is_deck(deck) {
-        anyhow::bail!(
-            "{}: not a deck: impact converts Abaqus/CalculiX decks (.inp) and LS-DYNA keyword files (.k)",
-            deck.display()
-        );
+        return Err(usage(deck, "not a deck: impact converts Abaqus/CalculiX decks (.inp) and LS-DYNA keyword files (.k)".into()).into());
     }
     let converted = impact::scene::from_deck::convert(deck)?;
-    let beside = |p: &std::path::Path| p.parent().map(|d| d.canonicalize().ok());
-    if beside(deck) != beside(to) {
-        anyhow::bail!(
-            "{}: write the scene in the deck's folder ({}), whose file its bodies name",
-            to.display(),
-            deck.parent()
-                .map_or(".".into(), |d| d.display().to_string())
+    let folder = |p: &std::path::Path| -> std::path::PathBuf {
+        let d = p.parent().filter(|d| !d.as_os_str().is_empty());
+        d.unwrap_or(std::path::Path::new(".")).to_path_buf()
+    };
+    if folder(deck).canonicalize().ok() != folder(to).canonicalize().ok() {
+        let message = format!(
+            "write the scene in the deck's folder ({}), whose file its bodies name",
+            folder(deck).display()
         );
+        return Err(usage(to, message).into());
+    }
+    // the deck and its includes are never written over, whatever name reaches them
+    let target = to.canonicalize().ok();
+    if let Some(f) =
+        (converted.files.iter()).find(|f| target.is_some() && f.canonicalize().ok() == target)
+    {
+        let message = format!(
+            "is the deck or a file it reads ({}): write the scene to another file",
+            f.display()
+        );
+        return Err(usage(to, message).into());
+    }
+    if to.exists() && !overwrite {
+        return Err(usage(to, "exists: pass --overwrite to replace it".into()).into());
     }
     // the scene must be one impact reads
     impact::scene::Scene::parse(&converted.toml, to)?;
-    std::fs::write(to, &converted.toml)
-        .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", to.display()))?;
+    std::fs::write(to, &converted.toml).map_err(|source| ImpactError::Write {
+        path: to.to_path_buf(),
+        source,
+    })?;
     if let Some(n) = converted.notice {
         eprintln!("notice: {n}");
     }

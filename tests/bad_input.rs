@@ -521,6 +521,23 @@ fn a_rigid_body_rotates_only_as_its_motion_allows() {
         "[[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]]",
     ));
     expect(&text, &["rigid_body[0].inertia", "positive definite"]);
+    // too small to invert in f64, moments 1e12 apart, or no body's (the triangle inequality)
+    for (i, words) in [
+        (
+            "[[1e-105, 0.0, 0.0], [0.0, 1e-105, 0.0], [0.0, 0.0, 1e-105]]",
+            "too small to invert",
+        ),
+        (
+            "[[1e-13, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]",
+            "1e12 apart",
+        ),
+        (
+            "[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 2.5]]",
+            "sum of the other two",
+        ),
+    ] {
+        expect(&rigid(&inertia(i)), &["rigid_body[0].inertia", words]);
+    }
     // a free body without inertia only translates; a fixed one does not spin
     let spin = "angular_velocity = [0.0, 0.0, 1.0]";
     let text = rigid(&format!("mass = 1.0\n{SPHERE}\n{spin}"));

@@ -344,6 +344,56 @@ fn a_converted_deck_runs_to_the_decks_history() {
     );
 }
 
+/// `convert` never loses a file: onto the deck itself (by its name or a symlink), onto a file
+/// the deck includes, or onto an existing file without `--overwrite`, it is refused (exit 2,
+/// naming the file) and the file is as it was; with `--overwrite` it replaces the scene.
+#[test]
+fn convert_refuses_to_write_over_the_deck_its_includes_or_a_file() {
+    let dir = out_dir("deck_convert_refusals");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(repo().join("scenes/two_bars.inp")).unwrap();
+    // the deck's *STEP moved into an included file
+    let at = text.find("*STEP").expect("a step");
+    std::fs::write(dir.join("step.inc"), &text[at..]).unwrap();
+    let deck = dir.join("two_bars.inp");
+    let main = format!("{}*INCLUDE, INPUT=step.inc\n", &text[..at]);
+    std::fs::write(&deck, &main).unwrap();
+    std::os::unix::fs::symlink("two_bars.inp", dir.join("link.inp")).unwrap();
+    for (to, words) in [
+        ("two_bars.inp", "is the deck or a file it reads"),
+        ("link.inp", "is the deck or a file it reads"),
+        ("step.inc", "step.inc"),
+    ] {
+        let o = impact(&["convert", s(&deck), "--to", s(&dir.join(to)), "--overwrite"]);
+        assert_eq!(code(&o), 2, "{to}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(words) && stderr(&o).contains(to),
+            "{}",
+            stderr(&o)
+        );
+    }
+    assert_eq!(std::fs::read_to_string(&deck).unwrap(), main);
+    assert_eq!(
+        std::fs::read_to_string(dir.join("step.inc")).unwrap(),
+        &text[at..]
+    );
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, "kept").unwrap();
+    let o = impact(&["convert", s(&deck), "--to", s(&scene)]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("--overwrite"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&scene).unwrap(), "kept");
+    let o = impact(&["convert", s(&deck), "--to", s(&scene), "--overwrite"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(std::fs::read_to_string(&scene)
+        .unwrap()
+        .contains("two_bars.inp"));
+    // a scene outside the deck's folder names it, and is usage
+    let o = impact(&["convert", s(&deck), "--to", s(&dir.join("sub/x.toml"))]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("deck's folder"), "{}", stderr(&o));
+}
+
 /// The deck `text` (written as `bad.inp`) is refused with every piece of `words`.
 fn refused(tag: &str, text: &str, words: &[&str]) {
     let deck = written(tag, "bad.inp", text);

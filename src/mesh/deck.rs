@@ -57,6 +57,11 @@ impl Deck {
         Ok(deck)
     }
 
+    /// The deck's own file, then each file it includes, as they were named.
+    pub fn files(&self) -> &[PathBuf] {
+        &self.files
+    }
+
     /// The file and line of expanded line `line` (1-based); the file is `None` for the
     /// deck's own.
     pub fn origin(&self, line: usize) -> (Option<&Path>, usize) {

@@ -9,6 +9,7 @@
 //! damaging element dissipates against its size.
 
 pub mod crack_band;
+pub mod folder;
 pub mod problems;
 
 use std::fmt::Write as _;

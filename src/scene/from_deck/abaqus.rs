@@ -474,6 +474,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         mesh: path
             .file_name()
             .map_or_else(String::new, |f| f.to_string_lossy().into_owned()),
+        files: r.src.deck.files().to_vec(),
         gravity: r.whole_gravity(&g)?,
         materials: g.materials.clone(),
         fixes: r.fixes(&g, &bodies, &on)?,

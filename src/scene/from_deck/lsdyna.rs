@@ -399,6 +399,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         mesh: path
             .file_name()
             .map_or_else(String::new, |f| f.to_string_lossy().into_owned()),
+        files: r.src.deck.files().to_vec(),
         gravity: None,
         materials: r.materials(&g),
         fixes: r.fixes(&g, &bodies)?,

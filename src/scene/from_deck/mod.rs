@@ -11,7 +11,7 @@ mod abaqus;
 mod lsdyna;
 
 use std::fmt::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::error::{ImpactError, Result};
 use crate::mesh::deck::{Deck, Dialect};
@@ -256,6 +256,8 @@ pub(crate) struct DeckScene {
     pub title: Option<String>,
     /// The deck's file name, as the bodies' `mesh` (the scene sits beside it).
     pub mesh: String,
+    /// The deck's own file and every file it includes.
+    pub files: Vec<PathBuf>,
     pub gravity: Option<[f64; 3]>,
     pub materials: Vec<DeckMaterial>,
     pub bodies: Vec<DeckBody>,
@@ -272,6 +274,9 @@ pub(crate) struct DeckScene {
 pub struct Converted {
     pub toml: String,
     pub notice: Option<String>,
+    /// The deck's own file and every file it includes (a scene must not be written onto
+    /// any of them).
+    pub files: Vec<PathBuf>,
 }
 
 /// The deck formats by file extension: Abaqus/CalculiX, then LS-DYNA.
@@ -299,6 +304,7 @@ pub fn convert(path: &Path) -> Result<Converted> {
     Ok(Converted {
         toml: scene.to_toml(),
         notice,
+        files: scene.files,
     })
 }
 

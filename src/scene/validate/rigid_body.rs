@@ -39,6 +39,32 @@ impl Checker<'_> {
                 "must be positive definite (each principal moment > 0): its eigenvalues are the body's principal moments of inertia",
             ));
         }
+        let mut p: Vec<f64> = m.symmetric_eigenvalues().iter().copied().collect();
+        p.sort_by(f64::total_cmp);
+        if p[0] < 1e-12 * p[2] {
+            return Err(self.err(
+                key,
+                format!("has principal moments {:.3e} and {:.3e}, more than 1e12 apart: the body's spin cannot be integrated in f64", p[0], p[2]),
+            ));
+        }
+        // the spin integration inverts the tensor: its determinant must be a normal number
+        let det = m.determinant();
+        if !(det.is_normal()
+            && m.try_inverse()
+                .is_some_and(|v| v.iter().all(|x| x.is_finite())))
+        {
+            return Err(self.err(
+                key,
+                format!("is too small to invert in f64 (determinant {det:.3e}): give it in the scene's units, where it is about mass x size^2"),
+            ));
+        }
+        // every body's principal moments satisfy I_3 <= I_1 + I_2
+        if p[2] > (p[0] + p[1]) * (1.0 + 1e-9) {
+            return Err(self.err(
+                key,
+                format!("has principal moments {:.6e}, {:.6e} and {:.6e}: the largest exceeds the sum of the other two, which no body's do", p[0], p[1], p[2]),
+            ));
+        }
         Ok(i)
     }
 
