@@ -134,7 +134,7 @@ pub fn bytes(n: u64) -> String {
     }
 }
 
-/// The exit status of each outcome (documented in README.md, "Exit status").
+/// The exit status of each outcome (documented in docs/scene-format.md, "Exit status").
 pub mod exit {
     pub const SUCCESS: u8 = 0;
     /// A failure that is none of the below (the GPU driver, say).

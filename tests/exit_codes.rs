@@ -1,4 +1,4 @@
-//! The binary's exit status for each outcome (README, "Exit status"), its error lines, the
+//! The binary's exit status for each outcome (docs/scene-format.md, "Exit status"), its error lines, the
 //! model report of `impact check`, and a run stopped by SIGTERM and resumed.
 
 mod common;
