@@ -247,6 +247,12 @@ fn explicit_only(scene: &Scene, model: &Model) -> Option<String> {
             m.name
         ));
     }
+    if let Some(c) = model.cohesive.first() {
+        return Some(format!(
+            "cohesive interface `{}` softens, and softening interfaces run on the explicit path",
+            c.name
+        ));
+    }
     if !model.fix_motion.is_empty() {
         return Some("a [[fix]] moves its nodes (velocity), which the explicit path runs".into());
     }

@@ -188,6 +188,46 @@ fn a_decomposed_run_refuses_the_implicit_path() {
     assert!(e.to_string().contains("run.method"), "{e}");
 }
 
+/// Cohesive interfaces are not on the decomposed solver yet: refused by key, before a step.
+#[test]
+fn a_decomposed_run_refuses_cohesive_interfaces() {
+    let text = r#"
+[run]
+end_time = 1e-3
+method = "explicit"
+[[material]]
+name = "steel"
+density = 7.8e-9
+youngs_modulus = 2e5
+poissons_ratio = 0.3
+[[body]]
+name = "top"
+material = "steel"
+box = { min = [0.0, 0.0, 1.0], max = [1.0, 1.0, 2.0], divisions = [1, 1, 1] }
+[[body]]
+name = "bottom"
+material = "steel"
+box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0], divisions = [1, 1, 1] }
+[[cohesive]]
+name = "glue"
+between = [{ body = "top", face = "z-" }, { body = "bottom", face = "z+" }]
+stiffness = 1e6
+strength = { normal = 50.0, shear = 50.0 }
+toughness = { normal = 0.3, shear = 0.6, bk = 2.0 }
+"#;
+    let scene = Scene::parse(text, &repo().join("scenes/ranks_cohesive.toml")).unwrap();
+    let opts = RunOptions {
+        out: Some(out_dir("ranks_cohesive")),
+        quiet: true,
+        ..Default::default()
+    };
+    let e = run_ranks(&scene, &opts, &Single).expect_err("refused");
+    assert!(
+        e.to_string().contains("cohesive[0]") && e.to_string().contains("one process"),
+        "{e}"
+    );
+}
+
 /// Rigid bodies on the decomposed solver: a free sphere and a prescribed one pressed into a
 /// block (each on its own node, its contacts gathered on every rank); the history of one
 /// rank is the single process's, byte for byte (the bodies' columns, the contact forces on

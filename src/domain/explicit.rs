@@ -527,6 +527,8 @@ impl Integrator for DomainSolver<'_> {
                 damage: sums[1],
                 first_damage,
             },
+            // ranks refuse cohesive interfaces (`run::build_solver`)
+            cohesive: Default::default(),
         })))
     }
 

@@ -374,6 +374,8 @@ impl Subdomain {
             reactions: Vec::new(),
             initial_velocity: Vec::new(),
             gravity: model.gravity,
+            // a decomposed run refuses cohesive interfaces (`run_ranks`)
+            cohesive: Vec::new(),
             rigid: Vec::new(),
         }
     }

@@ -68,6 +68,8 @@ pub(crate) fn surface_model(model: &Model, nodes: &[u32]) -> Model {
         reactions: Vec::new(),
         initial_velocity: at_nodes(nodes, &model.initial_velocity),
         gravity: model.gravity,
+        // a decomposed run refuses cohesive interfaces (`run_ranks`)
+        cohesive: Vec::new(),
         rigid,
     }
 }

@@ -138,6 +138,16 @@ pub trait Integrator {
         None
     }
 
+    /// Each cohesive interface after the last step (none on the engines without them).
+    fn cohesive(&self) -> Vec<crate::kernels::cohesive_forces::CohesiveReport> {
+        Vec::new()
+    }
+
+    /// The cohesive interfaces' damage and dissipation, where the model has any.
+    fn cohesive_state(&self) -> Option<crate::kernels::cohesive_forces::CohesiveState> {
+        None
+    }
+
     /// Each interface at the end of the run (no penalties: the explicit paths).
     fn interface_ends(&self) -> Vec<InterfaceEnd> {
         (self.reports().iter())

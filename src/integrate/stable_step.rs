@@ -59,8 +59,31 @@ pub(crate) struct StepSurvey {
     pub steps: Vec<f32>,
 }
 
-/// [`stable_step_on`] with each element's step ([`StepSurvey`]).
+/// [`stable_step_on`] with each element's step ([`StepSurvey`]); the step is the elements'
+/// lowered by the cohesive interfaces' penalty ([`with_cohesive`]).
 pub(crate) fn survey(model: &Model, gpu: Option<&GpuContext>) -> Result<StepSurvey> {
+    let mut s = element_survey(model, gpu)?;
+    s.step = with_cohesive(model, s.step);
+    Ok(s)
+}
+
+/// The step `dt_e` of the elements with the cohesive pairs' springs added: the largest
+/// eigenvalue of $M^{-1}(K_e + K_c)$ is at most the sum of the two matrices' largest, so
+/// $\omega^2 \le (2/\Delta t_e)^2 + \omega_c^2$ with $\omega_c^2 = \max K A (1/m_1 + 1/m_2)$
+/// over the pairs (a pair's own frequency, each node in one pair), and the step is
+/// $\Delta t_e / \sqrt{1 + (\Delta t_e \omega_c / 2)^2}$.
+pub fn with_cohesive(model: &Model, dt_e: f64) -> f64 {
+    if model.cohesive.is_empty() {
+        return dt_e;
+    }
+    let mass = crate::integrate::explicit::lumped_mass(model);
+    let pairs = crate::model::cohesive::all_pairs(&model.cohesive);
+    let w2 = crate::kernels::cohesive_forces::cohesive_omega2(pairs, &mass);
+    dt_e / (1.0 + 0.25 * dt_e * dt_e * w2).sqrt()
+}
+
+/// The elements' own step, as [`survey`] gives it without the cohesive interfaces.
+fn element_survey(model: &Model, gpu: Option<&GpuContext>) -> Result<StepSurvey> {
     let shapes = Shapes::of(model);
     let exact = shapes.cost <= 5 * EXACT_SHAPES;
     if let (false, Some(ctx)) = (exact, gpu) {

@@ -14,6 +14,7 @@ pub mod body_gather;
 pub mod bucket_count;
 pub mod bucket_fill;
 pub mod bucket_order;
+pub mod cohesive_forces;
 pub mod contact_apply;
 pub mod contact_compliance;
 pub mod contact_constraints;

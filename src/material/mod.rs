@@ -1,12 +1,14 @@
 //! Elastic laws: isotropic in Lamé form, or a general (orthotropic, rotated) stiffness in
 //! Voigt form.
 
+pub mod cohesive;
 pub mod damage;
 pub mod failure;
 pub mod layup;
 pub mod orthotropic;
 pub mod rotation;
 
+pub use cohesive::CohesiveLaw;
 pub use damage::PlyDamage;
 pub use failure::{failure_indices, Strength};
 pub use layup::{Layup, LayupPly};

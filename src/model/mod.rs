@@ -1,6 +1,7 @@
 //! The discrete model built from a scene: mesh, materials, constraints, contact interfaces,
 //! probes. Reading and checking (the scene) is kept apart from the time loop (integrate).
 
+pub mod cohesive;
 pub mod damage;
 mod damage_shapes;
 pub mod interface;
@@ -69,6 +70,8 @@ pub struct Model {
     pub gravity: [f64; 3],
     /// The rigid bodies, each carried by a node after the meshed bodies' nodes.
     pub rigid: Vec<RigidBody>,
+    /// The `[[cohesive]]` interfaces, as pairs of bonded nodes.
+    pub cohesive: Vec<cohesive::CohesiveInterface>,
 }
 
 impl Model {
@@ -100,6 +103,7 @@ impl Model {
             fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
         }
         let (queries, interfaces) = interfaces(scene, &mesh, &rigid);
+        let cohesive = cohesive::cohesive_interfaces(scene, &mesh)?;
         let mut probes = probes(scene, &mesh);
         // a rigid body's history columns are those of a probe on its node
         probes.extend(rigid.iter().map(|b| Probe {
@@ -130,6 +134,7 @@ impl Model {
             initial_velocity,
             gravity: scene.gravity,
             rigid,
+            cohesive,
         })
     }
 

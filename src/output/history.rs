@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{ImpactError, Result};
 use crate::integrate::{ContactReport, Energies};
+use crate::kernels::cohesive_forces::CohesiveReport;
 use crate::model::Model;
 
 pub struct History {
@@ -22,8 +23,10 @@ pub struct History {
     failure: bool,
     /// Whether a material damages: the energy damage dissipated comes next.
     damage: bool,
-    /// The named fixes, whose reactions close the row.
+    /// The named fixes, whose reactions come next.
     reactions: usize,
+    /// The cohesive interfaces, whose areas and energy close the row.
+    cohesive: usize,
     /// The file (none on a rank that computes the rows and leaves the file to rank 0).
     file: Option<File>,
     /// Whole rows not yet written.
@@ -34,6 +37,16 @@ pub struct History {
 }
 
 pub use crate::integrate::state::ProbeValues;
+
+/// A row's columns past the probes: each rotating rigid body's rotation and angular
+/// velocity, the largest failure indices (where surveyed), each named fix's reaction and
+/// each cohesive interface's report.
+pub type RowExtras<'a> = (
+    &'a [ProbeValues],
+    Option<&'a [f64; 5]>,
+    &'a [[f64; 3]],
+    &'a [CohesiveReport],
+);
 
 /// Rows are written in batches of about this many bytes.
 const BATCH: usize = 8 * 1024;
@@ -50,8 +63,9 @@ impl History {
                 .collect(),
             spinning: model.rigid.iter().filter(|b| b.rotates()).count(),
             failure: model.strengths.iter().any(Option::is_some),
-            damage: model.damage_laws.iter().any(Option::is_some),
+            damage: has_damage(model),
             reactions: model.reactions.len(),
+            cohesive: model.cohesive.len(),
             file,
             pending: String::new(),
             whole,
@@ -132,14 +146,14 @@ impl History {
     }
 
     /// Appends one row; `spins` holds each rotating rigid body's rotation vector and angular
-    /// velocity, `reactions` each named fix's.
+    /// velocity, `reactions` each named fix's, `cohesive` each cohesive interface's report.
     pub fn row(
         &mut self,
         time: f64,
         step: usize,
         e: &Energies,
         (bodies, contacts, probes): (&[[f64; 3]], &[ContactReport], &[ProbeValues]),
-        (spins, failure, reactions): (&[ProbeValues], Option<&[f64; 5]>, &[[f64; 3]]),
+        (spins, failure, reactions, cohesive): RowExtras,
     ) -> Result<()> {
         use std::fmt::Write as _;
         let l = &mut self.line;
@@ -199,6 +213,16 @@ impl History {
         for k in 0..self.reactions {
             // NaN where the engine gives no reactions (scene-format.md)
             for x in reactions.get(k).copied().unwrap_or([f64::NAN; 3]) {
+                num(l, x);
+            }
+        }
+        for k in 0..self.cohesive {
+            let c = cohesive.get(k).copied().unwrap_or(CohesiveReport {
+                delaminated_area: f64::NAN,
+                damaged_area: f64::NAN,
+                energy: f64::NAN,
+            });
+            for x in [c.delaminated_area, c.damaged_area, c.energy] {
                 num(l, x);
             }
         }
@@ -359,8 +383,8 @@ pub(crate) fn column_names(model: &Model) -> Vec<String> {
             cols.push(format!("failure_index.{c}"));
         }
     }
-    // the energy the plies' damage dissipated so far
-    if model.damage_laws.iter().any(Option::is_some) {
+    // the energy the plies' damage and the cohesive interfaces dissipated so far
+    if has_damage(model) {
         cols.push("damage_energy".into());
     }
     // the reaction of each named fix
@@ -369,7 +393,19 @@ pub(crate) fn column_names(model: &Model) -> Vec<String> {
             cols.push(format!("{}.{c}", r.name));
         }
     }
+    // each cohesive interface's separated and damaged areas and its dissipation
+    for c in &model.cohesive {
+        for k in ["delaminated_area", "damaged_area", "energy"] {
+            cols.push(format!("{}.{k}", c.name));
+        }
+    }
     cols
+}
+
+/// Whether the model dissipates energy by damage: a material that damages, or a cohesive
+/// interface.
+fn has_damage(model: &Model) -> bool {
+    model.damage_laws.iter().any(Option::is_some) || !model.cohesive.is_empty()
 }
 
 #[cfg(test)]
@@ -471,6 +507,7 @@ mod tests {
             failure: false,
             damage: true,
             reactions: 1,
+            cohesive: 0,
             file: Some(File::create(&path).unwrap()),
             pending: String::new(),
             whole: 0,
@@ -490,7 +527,7 @@ mod tests {
             ..Default::default()
         };
         let rows = (&[[1.0, -0.0, f64::INFINITY]][..], &[c][..], &[][..]);
-        h.row(1e-3, 7, &e, rows, (&[], None, &[])).unwrap();
+        h.row(1e-3, 7, &e, rows, (&[], None, &[], &[])).unwrap();
         h.flush().unwrap();
         let written = std::fs::read_to_string(&path).unwrap();
         let _ = std::fs::remove_dir_all(&dir);

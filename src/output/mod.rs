@@ -1,5 +1,6 @@
 //! What a run writes: `history.csv`, `summary.json` and, when asked, VTU frames.
 
+pub mod delamination;
 pub mod failure_survey;
 pub mod file;
 pub mod history;

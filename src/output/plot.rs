@@ -387,28 +387,11 @@ impl Chart {
 
     /// RGB pixels, row by row: the SVG rendered by resvg, its text in DejaVu Sans.
     pub fn pixels(&self) -> Vec<u8> {
-        use resvg::{tiny_skia, usvg};
-        let tree = usvg::Tree::from_str(&self.svg(), fonts()).expect("the chart's own SVG parses");
-        let mut pixmap =
-            tiny_skia::Pixmap::new(WIDTH as u32, HEIGHT as u32).expect("a chart has a size");
-        resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
-        // the background is opaque white, so premultiplied RGBA is plain RGBA
-        (pixmap.data().chunks_exact(4))
-            .flat_map(|p| [p[0], p[1], p[2]])
-            .collect()
+        pixels(&self.svg(), WIDTH as u32, HEIGHT as u32)
     }
 
     pub fn png(&self) -> Vec<u8> {
-        let mut out = Vec::new();
-        {
-            let mut enc = png::Encoder::new(&mut out, WIDTH as u32, HEIGHT as u32);
-            enc.set_color(png::ColorType::Rgb);
-            enc.set_depth(png::BitDepth::Eight);
-            let mut w = enc.write_header().expect("png header to memory");
-            w.write_image_data(&self.pixels())
-                .expect("png data to memory");
-        }
-        out
+        render_png(&self.svg(), WIDTH as u32, HEIGHT as u32)
     }
 
     /// Writes `dir/name.svg` and `dir/name.png`.
@@ -421,6 +404,33 @@ impl Chart {
 }
 
 use super::file::xml_escape as xml;
+
+/// RGB pixels, row by row, of `svg` (an SVG of our own, `width` x `height`, on an opaque
+/// background) rendered by resvg, its text in DejaVu Sans.
+pub(crate) fn pixels(svg: &str, width: u32, height: u32) -> Vec<u8> {
+    use resvg::{tiny_skia, usvg};
+    let tree = usvg::Tree::from_str(svg, fonts()).expect("our own SVG parses");
+    let mut pixmap = tiny_skia::Pixmap::new(width, height).expect("a picture has a size");
+    resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
+    // the background is opaque white, so premultiplied RGBA is plain RGBA
+    (pixmap.data().chunks_exact(4))
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .collect()
+}
+
+/// `svg` rendered ([`pixels`]) as an RGB PNG.
+pub(crate) fn render_png(svg: &str, width: u32, height: u32) -> Vec<u8> {
+    let mut out = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut out, width, height);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        let mut w = enc.write_header().expect("png header to memory");
+        w.write_image_data(&pixels(svg, width, height))
+            .expect("png data to memory");
+    }
+    out
+}
 
 /// The SVG renderer's options: DejaVu Sans, embedded, as every family (no system font is
 /// read, so a chart looks the same on every machine). Built once.

@@ -158,12 +158,15 @@ pub struct Summary {
     /// did).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub first_failure: Option<Option<crate::output::failure_survey::FirstFailure>>,
-    /// With ply damage: the energy it dissipated over the run.
+    /// With ply damage or cohesive interfaces: the energy they dissipated over the run.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub damage_energy: Option<f64>,
     /// With ply damage: where and when a ply first damaged (null if none did).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub first_damage: Option<Option<FirstDamageSummary>>,
+    /// With cohesive interfaces: the projected separated area and each interface's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub delamination: Option<crate::output::delamination::DelaminationSummary>,
     pub interfaces: Vec<InterfaceSummary>,
     /// What made the result doubtful (empty when `status = "completed"`).
     pub warnings: Vec<crate::check::Warning>,

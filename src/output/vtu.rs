@@ -31,6 +31,8 @@ use crate::model::Model;
 pub(crate) struct NodeContact {
     pub pressure: f64,
     pub gap: f64,
+    /// The damage of the cohesive pairs the node is in, the largest (NaN where none).
+    pub cohesive_damage: f64,
 }
 
 impl Default for NodeContact {
@@ -38,6 +40,7 @@ impl Default for NodeContact {
         NodeContact {
             pressure: 0.0,
             gap: f64::NAN,
+            cohesive_damage: f64::NAN,
         }
     }
 }
@@ -87,6 +90,10 @@ fn write_grid(
     let gap: Vec<f64> = contact.iter().map(|c| c.gap).collect();
     app.array("contact_pressure", "Float64", 1, &f64_bytes(&pressure));
     app.array("contact_gap", "Float64", 1, &f64_bytes(&gap));
+    if !model.cohesive.is_empty() {
+        let d: Vec<f64> = contact.iter().map(|c| c.cohesive_damage).collect();
+        app.array("cohesive_damage", "Float64", 1, &f64_bytes(&d));
+    }
     let numbers: Vec<i64> = nodes.iter().map(|&n| i64::from(n)).collect();
     app.array("node", "Int64", 1, &i64_bytes(&numbers));
     let point_data_xml = app.take_headers();

@@ -74,6 +74,16 @@ fn build_solver<'m>(
     ranks: Option<&'m dyn Ranks>,
 ) -> Result<Box<dyn Integrator + 'm>> {
     let (model, dt) = (&setup.model, setup.dt);
+    if let (Some(_), Some(c)) = (ranks, model.cohesive.first()) {
+        return Err(ImpactError::Unsupported {
+            path: scene.path.clone(),
+            key: "cohesive[0]".into(),
+            message: format!(
+                "cohesive interface `{}`: a run on several MPI ranks does not take cohesive interfaces yet; run it as one process",
+                c.name
+            ),
+        });
+    }
     if let Some(ranks) = ranks {
         let partition = Partition::bisect(model, ranks.size());
         let settings = (&scene.explicit, dt, speed_scale);
@@ -110,23 +120,27 @@ fn build_solver<'m>(
     }
     let mut solver: Box<dyn Integrator + 'm> = match (setup.method, setup.ctx.clone()) {
         // a meshed rigid surface has no device form: its contact runs on the host, the
-        // element forces on the device
-        (Method::Explicit, Some(ctx)) if resident::rigid_surfaces_on_device(model) => Box::new(
-            ResidentSolver::new(
-                ctx,
-                model,
-                &scene.explicit,
-                dt,
-                speed_scale,
-                setup.steps,
-                scene.vtu_every,
-                (
-                    FailureSurvey::new(model).map(|s| s.device(model)),
-                    setup.damage.clone(),
-                ),
+        // element forces on the device; so do cohesive interfaces (their pairs on the host)
+        (Method::Explicit, Some(ctx))
+            if resident::rigid_surfaces_on_device(model) && model.cohesive.is_empty() =>
+        {
+            Box::new(
+                ResidentSolver::new(
+                    ctx,
+                    model,
+                    &scene.explicit,
+                    dt,
+                    speed_scale,
+                    setup.steps,
+                    scene.vtu_every,
+                    (
+                        FailureSurvey::new(model).map(|s| s.device(model)),
+                        setup.damage.clone(),
+                    ),
+                )
+                .map_err(|e| gpu_error(scene, e))?,
             )
-            .map_err(|e| gpu_error(scene, e))?,
-        ),
+        }
         (method, ctx) => {
             let kern: Box<dyn Kernels> = match ctx {
                 Some(ctx) => Box::new(
@@ -496,6 +510,13 @@ impl<'s> Running<'s> {
             .and_then(|()| match self.out.writes {
                 true => write_charts(self.scene, model, &self.out.dir),
                 false => Ok(()),
+            })
+            .and_then(|()| match (self.out.writes, self.solver.cohesive_state()) {
+                (true, Some(state)) => {
+                    let map = crate::output::delamination::DelaminationMap::of(model, &state);
+                    map.write(&self.out.dir, &self.scene.title)
+                }
+                _ => Ok(()),
             });
         if let Err(e) = written {
             return Err(self.failed(e));

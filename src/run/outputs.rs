@@ -312,6 +312,7 @@ pub(super) fn write_row(
             &solver.body_spins(),
             failure.as_ref().map(|f| &f.max),
             &solver.reactions(),
+            &solver.cohesive(),
         ),
     )?;
     Ok((e, failure))
@@ -428,6 +429,17 @@ fn node_contact(solver: &dyn Integrator) -> Vec<NodeContact> {
             c.pressure += pressure;
             if gap.is_finite() && (c.gap.is_nan() || gap > c.gap) {
                 c.gap = gap;
+            }
+        }
+    }
+    if let Some(state) = solver.cohesive_state() {
+        for (c, d) in model.cohesive.iter().zip(&state.damage) {
+            let nodes = c.pairs.upper.iter().zip(&c.pairs.lower);
+            for ((&a, &b), &d) in nodes.zip(d) {
+                for n in [a, b] {
+                    let c = &mut out[n as usize].cohesive_damage;
+                    *c = if c.is_nan() { d } else { c.max(d) };
+                }
             }
         }
     }

@@ -202,6 +202,13 @@ pub(super) fn fill_summary(
             }
         }));
     }
+    if let Some(state) = solver.cohesive_state() {
+        use crate::output::delamination::{summary as delamination, DelaminationMap};
+        let bonded: f64 = state.energy.iter().sum();
+        summary.damage_energy = Some(summary.damage_energy.unwrap_or(0.0) + bonded);
+        let map = DelaminationMap::of(model, &state);
+        summary.delamination = Some(delamination(model, &state, &map));
+    }
     summary.iterations_mean = tally.iterations_total as f64 / tally.steps.max(1) as f64;
     summary.interfaces = interface_summaries(model, solver, &tally.peak_force);
     if let Some(f) = solver.implicit_figures() {

@@ -351,6 +351,17 @@ pub struct ContactSpec {
     pub initial_penetration: PenetrationPolicy,
 }
 
+/// A `[[cohesive]]` interface between two bodies' faces: the second side's nodes pair with
+/// the first's where they coincide.
+#[derive(Debug, Clone)]
+pub struct CohesiveSpec {
+    pub name: String,
+    pub sides: [SurfaceRef; 2],
+    /// Only the nodes inside this box are bonded (the rest is a pre-crack).
+    pub region: Option<([f64; 3], [f64; 3])>,
+    pub law: crate::material::CohesiveLaw,
+}
+
 #[derive(Debug, Clone)]
 pub struct PlaneSpec {
     pub name: String,
@@ -420,6 +431,7 @@ pub struct Scene {
     pub rigid_bodies: Vec<RigidBodySpec>,
     pub fixes: Vec<FixSpec>,
     pub probes: Vec<ProbeSpec>,
+    pub cohesive: Vec<CohesiveSpec>,
     pub output_dir: PathBuf,
     /// Write a VTU frame every this many steps (and at t = 0); `None`: no frames.
     pub vtu_every: Option<usize>,

@@ -28,6 +28,8 @@ pub(crate) struct RawScene {
     pub fix: Vec<RawFix>,
     #[serde(default)]
     pub probe: Vec<RawProbe>,
+    #[serde(default)]
+    pub cohesive: Vec<RawCohesive>,
     pub output: Option<RawOutput>,
     #[serde(default)]
     pub exact: Vec<RawExact>,
@@ -283,6 +285,37 @@ pub(crate) struct RawRigidPlate {
     pub normal: [f64; 3],
     pub size: [f64; 2],
     pub opening: Option<[f64; 2]>,
+}
+
+/// A `[[cohesive]]` interface: between two bodies' faces (`between`), or inside a laminate
+/// (`body` and `at`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCohesive {
+    pub name: String,
+    pub between: Option<Vec<RawSurfaceRef>>,
+    pub body: Option<String>,
+    pub at: Option<String>,
+    pub region: Option<RawRegion>,
+    pub stiffness: f64,
+    pub strength: RawCohesiveStrength,
+    pub toughness: RawToughness,
+    pub friction: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCohesiveStrength {
+    pub normal: f64,
+    pub shear: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawToughness {
+    pub normal: f64,
+    pub shear: f64,
+    pub bk: f64,
 }
 
 #[derive(Debug, Deserialize)]

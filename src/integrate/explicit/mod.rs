@@ -41,6 +41,8 @@ use crate::backend::Kernels;
 use crate::element::ElementBlock;
 use crate::error::Result;
 use crate::kernels;
+use crate::kernels::cohesive_forces::{cohesive_forces, CohesiveReport, CohesiveState};
+use crate::model::cohesive::all_pairs;
 use crate::model::Model;
 use crate::scene::{ExplicitSettings, Method};
 use crate::search;
@@ -72,6 +74,9 @@ pub struct ExplicitState {
     /// The work of the fixes that move, and what damage dissipated, so far.
     #[serde(default)]
     pub work: Work,
+    /// The cohesive interfaces' damage and dissipation (none where there are none).
+    #[serde(default)]
+    pub cohesive: CohesiveState,
 }
 
 /// What a run's prescribed motion and damage have done so far: the work the moving
@@ -110,6 +115,7 @@ pub struct ExplicitSolver<'m> {
     spins: spin::Spins,
     contact: ExplicitContact,
     work: Work,
+    cohesive: CohesiveState,
 }
 
 /// The nodal start of an explicit run from the lumped masses: the inverse mass and the
@@ -200,6 +206,7 @@ impl<'m> ExplicitSolver<'m> {
             spins: spin::Spins::new(model),
             contact,
             work: Work::default(),
+            cohesive: CohesiveState::new(all_pairs(&model.cohesive)),
         })
     }
 
@@ -219,6 +226,7 @@ impl<'m> ExplicitSolver<'m> {
             spins: self.spins.saved(),
             damage: self.kernels.damage_values().unwrap_or_default(),
             work: self.work.clone(),
+            cohesive: self.cohesive.clone(),
         }
     }
 
@@ -240,7 +248,11 @@ impl<'m> ExplicitSolver<'m> {
         self.contact.restore(s.interfaces);
         self.spins.restore(s.spins);
         self.kernels.restore_damage(&s.damage)?;
+        if !s.cohesive.fits(all_pairs(&self.model.cohesive)) {
+            return Err("its cohesive interfaces are not this model's".into());
+        }
         self.work = s.work;
+        self.cohesive = s.cohesive;
         Ok(())
     }
 
@@ -299,6 +311,8 @@ impl Integrator for ExplicitSolver<'_> {
         self.work.fixes += dt * fix_power(self.model, &self.mass, &self.f_int);
         let uv = (&self.u[..], &self.v[..]);
         let dissipated = self.kernels.step_forces_into(uv, dt, &mut self.f_int)?;
+        let cohesive = all_pairs(&self.model.cohesive);
+        cohesive_forces(cohesive, &self.u, &mut self.cohesive, &mut self.f_int);
         let forces = (&self.f_ext[..], &self.f_int[..], &self.inv_mass[..]);
         correct(dt, forces, &mut self.a, &mut self.v);
         self.time += dt;
@@ -322,6 +336,14 @@ impl Integrator for ExplicitSolver<'_> {
 
     fn reports(&self) -> Vec<ContactReport> {
         self.contact.interfaces.iter().map(|i| i.report).collect()
+    }
+
+    fn cohesive(&self) -> Vec<CohesiveReport> {
+        self.cohesive.reports(all_pairs(&self.model.cohesive))
+    }
+
+    fn cohesive_state(&self) -> Option<CohesiveState> {
+        (!self.model.cohesive.is_empty()).then(|| self.cohesive.clone())
     }
 
     fn body_spins(&self) -> Vec<super::state::ProbeValues> {
@@ -418,7 +440,7 @@ impl Integrator for ExplicitSolver<'_> {
             kinetic: kinetic - self.measure_shift,
             strain: 0.5 * dot(&self.u_prev, &self.f_int),
             potential,
-            damage: self.work.damage,
+            damage: self.work.damage + self.cohesive.energy.iter().sum::<f64>(),
             fix_work: self.work.fixes,
         })
     }

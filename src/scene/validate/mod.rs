@@ -7,6 +7,7 @@ use super::suggest::closest;
 use super::*;
 use crate::error::{ImpactError, Result};
 
+mod cohesive;
 mod laminate;
 mod names;
 mod rigid_body;
@@ -1077,6 +1078,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
     let planes = c.planes(&raw.rigid_plane, &raw.body, bodies.len())?;
     let fixes = c.fixes(&raw.fix, &raw.body, &bodies, &rigid_bodies)?;
     let probes = c.probes(&raw.probe, &raw.body)?;
+    let cohesive = c.cohesive(&raw.cohesive, &raw.body, &bodies)?;
     let exact = c.exact_curves(&raw.exact)?;
     let (output_dir, vtu_every, checkpoint_every) = c.output(raw.output)?;
     Ok(Scene {
@@ -1093,6 +1095,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         rigid_bodies,
         fixes,
         probes,
+        cohesive,
         output_dir,
         vtu_every,
         checkpoint_every,

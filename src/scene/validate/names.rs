@@ -38,6 +38,7 @@ impl Checker<'_> {
                 (raw.fix.iter().enumerate())
                     .filter_map(|(i, f)| Some(("fix", i, f.name.as_deref()?))),
             )
+            .chain((raw.cohesive.iter().enumerate()).map(|(i, c)| ("cohesive", i, c.name.as_str())))
             .collect();
         let mut seen = std::collections::HashMap::new();
         for &(kind, i, name) in &columns {
@@ -47,7 +48,7 @@ impl Checker<'_> {
                 return Err(self.err(
                     key,
                     format!(
-                        "`{name}` is also the name of {k}[{j}]: bodies, contacts, rigid planes, rigid bodies, probes and named fixes name history columns, so their names must differ"
+                        "`{name}` is also the name of {k}[{j}]: bodies, contacts, rigid planes, rigid bodies, probes, named fixes and cohesive interfaces name history columns, so their names must differ"
                     ),
                 ));
             }

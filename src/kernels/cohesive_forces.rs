@@ -1,0 +1,142 @@
+//! `cohesive_forces`: each bonded pair's traction from its separation
+//! ([`crate::material::CohesiveLaw`]), added to the internal forces of its two nodes (the
+//! traction times the pair's area: $+A t$ on the upper node, $-A t$ on the lower), its damage
+//! advanced and its dissipation counted.
+//!
+//! The pairs are independent and computed on all threads; their forces are then added to
+//! the nodes, and their dissipation summed, in pair order, so the result does not depend on
+//! the thread count.
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::material::CohesiveLaw;
+
+/// One cohesive interface's pairs of bonded nodes (the model's
+/// `model::cohesive::CohesiveInterface` holds them with its name).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CohesivePairs {
+    pub law: CohesiveLaw,
+    /// The pairs' nodes on the first side (`between[0]`) and the second (`between[1]`).
+    pub upper: Vec<u32>,
+    pub lower: Vec<u32>,
+    /// Each pair's tributary area (the mean of its two nodes').
+    pub area: Vec<f64>,
+    /// Each pair's unit normal, the second side's outward normal there (towards the first
+    /// side): the separation $\delta = u_{upper} - u_{lower}$ opens along it.
+    pub normal: Vec<[f64; 3]>,
+}
+
+/// The cohesive interfaces' state: each pair's damage, and each interface's energy
+/// dissipated so far.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct CohesiveState {
+    pub damage: Vec<Vec<f64>>,
+    pub energy: Vec<f64>,
+}
+
+/// What an interface reports at a step: its separated area (damage 1), its damaged area
+/// (softening or separated) and the energy it has dissipated.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct CohesiveReport {
+    pub delaminated_area: f64,
+    pub damaged_area: f64,
+    pub energy: f64,
+}
+
+impl CohesiveState {
+    /// Every pair of every interface undamaged.
+    pub fn new<'a>(interfaces: impl Iterator<Item = &'a CohesivePairs>) -> Self {
+        let damage: Vec<Vec<f64>> = interfaces.map(|c| vec![0.0; c.area.len()]).collect();
+        CohesiveState {
+            energy: vec![0.0; damage.len()],
+            damage,
+        }
+    }
+
+    /// Whether the state fits `interfaces` (a checkpoint of this model).
+    pub fn fits<'a>(
+        &self,
+        mut interfaces: impl ExactSizeIterator<Item = &'a CohesivePairs>,
+    ) -> bool {
+        self.damage.len() == interfaces.len()
+            && self.energy.len() == interfaces.len()
+            && (self.damage.iter())
+                .all(|d| interfaces.next().is_some_and(|c| d.len() == c.area.len()))
+    }
+
+    /// Each interface's report.
+    pub fn reports<'a>(
+        &self,
+        interfaces: impl Iterator<Item = &'a CohesivePairs>,
+    ) -> Vec<CohesiveReport> {
+        (interfaces.zip(&self.damage).zip(&self.energy))
+            .map(|((c, d), &energy)| {
+                let area = |keep: &dyn Fn(f64) -> bool| {
+                    // + 0: an empty sum is -0
+                    (c.area.iter().zip(d))
+                        .filter(|(_, &d)| keep(d))
+                        .map(|(a, _)| a)
+                        .sum::<f64>()
+                        + 0.0
+                };
+                CohesiveReport {
+                    delaminated_area: area(&|d| d >= 1.0),
+                    damaged_area: area(&|d| d > 0.0),
+                    energy,
+                }
+            })
+            .collect()
+    }
+}
+
+/// Adds the interfaces' forces at displacement `u` to `f_int`, advances the damage in
+/// `state`, and returns the energy the step dissipated.
+pub fn cohesive_forces<'a>(
+    interfaces: impl Iterator<Item = &'a CohesivePairs>,
+    u: &[f64],
+    state: &mut CohesiveState,
+    f_int: &mut [f64],
+) -> f64 {
+    let mut dissipated = 0.0;
+    for (k, c) in interfaces.enumerate() {
+        let steps: Vec<_> = (0..c.area.len())
+            .into_par_iter()
+            .with_min_len(crate::parallel::CHUNK)
+            .map(|p| {
+                let (a, b) = (3 * c.upper[p] as usize, 3 * c.lower[p] as usize);
+                let delta = std::array::from_fn(|i| u[a + i] - u[b + i]);
+                c.law.step(delta, c.normal[p], state.damage[k][p])
+            })
+            .collect();
+        let mut energy = 0.0;
+        for (p, s) in steps.iter().enumerate() {
+            let (a, b) = (3 * c.upper[p] as usize, 3 * c.lower[p] as usize);
+            for i in 0..3 {
+                let f = c.area[p] * s.traction[i];
+                f_int[a + i] += f;
+                f_int[b + i] -= f;
+            }
+            state.damage[k][p] = s.damage;
+            energy += c.area[p] * s.dissipated;
+        }
+        state.energy[k] += energy;
+        dissipated += energy;
+    }
+    dissipated
+}
+
+/// The largest $\omega^2$ a pair's penalty adds to its nodes' equations, $K A (1/m_u +
+/// 1/m_l)$ over the pairs, at lumped masses `mass`.
+pub fn cohesive_omega2<'a>(
+    interfaces: impl Iterator<Item = &'a CohesivePairs>,
+    mass: &[f64],
+) -> f64 {
+    let inv = |n: u32| 1.0 / mass[n as usize];
+    interfaces
+        .flat_map(|c| {
+            (0..c.area.len())
+                .map(|p| c.law.stiffness * c.area[p] * (inv(c.upper[p]) + inv(c.lower[p])))
+        })
+        .fold(0.0, f64::max)
+}

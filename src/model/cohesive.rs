@@ -1,0 +1,193 @@
+//! Cohesive interfaces as data: the pairs of coincident nodes that bond two bodies' faces,
+//! each with its tributary area and the interface's normal there.
+//!
+//! A pair is the lumped (nodal, Newton-Cotes) form of a zero-thickness cohesive element:
+//! each face's quarter of its area (a triangle's third) goes to its corners, as a contact
+//! interface's areas do, and the traction acts between the two nodes of a corner. Lumped
+//! integration keeps the pairs apart, so the tractions do not oscillate along a steep
+//! cohesive zone the way Gauss points of a stiff interface do (Schellekens and de Borst,
+//! 1993), and a pair is one kernel thread.
+
+use std::collections::HashMap;
+
+use super::interface::tributary_areas;
+use crate::error::{ImpactError, Result};
+use crate::geometry::vector::norm;
+use crate::kernels::cohesive_forces::CohesivePairs;
+use crate::mesh::{Face, Mesh};
+use crate::scene::{CohesiveSpec, Scene};
+
+/// Coincident nodes pair within this fraction of the sides' smallest face size.
+pub const PAIR_TOLERANCE: f64 = 1e-6;
+
+/// One `[[cohesive]]` of the scene.
+#[derive(Debug, Clone)]
+pub struct CohesiveInterface {
+    pub name: String,
+    pub pairs: CohesivePairs,
+    /// The second side's faces, whose corners' shares of area are the pairs' (the
+    /// delamination map draws them).
+    pub faces: Vec<Face>,
+}
+
+/// The pairs of every interface, in the scene's order.
+pub fn all_pairs(
+    interfaces: &[CohesiveInterface],
+) -> impl ExactSizeIterator<Item = &CohesivePairs> {
+    interfaces.iter().map(|c| &c.pairs)
+}
+
+/// A side's nodes with their tributary areas and area-weighted unit normals.
+struct Side {
+    nodes: Vec<u32>,
+    area: Vec<f64>,
+    normal: Vec<[f64; 3]>,
+}
+
+impl Side {
+    fn of(mesh: &Mesh, faces: &[Face]) -> Side {
+        let (nodes, area) = tributary_areas(mesh, faces);
+        let mut normal = vec![[0.0; 3]; nodes.len()];
+        for f in faces {
+            let p = f.slots().map(|n| mesh.nodes[n as usize]);
+            let n = crate::geometry::quad::normal(&p, [0.0, 0.0]);
+            let a = crate::geometry::quad::quad_area(&p) / f.corners().len() as f64;
+            for c in f.corners() {
+                let i = nodes
+                    .binary_search(c)
+                    .expect("a face's corner is its side's");
+                (0..3).for_each(|k| normal[i][k] += a * n[k]);
+            }
+        }
+        for n in &mut normal {
+            let l = norm(*n);
+            *n = n.map(|x| x / l);
+        }
+        Side {
+            nodes,
+            area,
+            normal,
+        }
+    }
+}
+
+/// Every `[[cohesive]]` of the scene as pairs; a bonded node without a partner is an error
+/// naming it.
+pub(crate) fn cohesive_interfaces(scene: &Scene, mesh: &Mesh) -> Result<Vec<CohesiveInterface>> {
+    (scene.cohesive.iter().enumerate())
+        .map(|(i, c)| pair(scene, mesh, i, c))
+        .collect()
+}
+
+fn pair(scene: &Scene, mesh: &Mesh, i: usize, c: &CohesiveSpec) -> Result<CohesiveInterface> {
+    let faces = c
+        .sides
+        .map(|s| &mesh.bodies[s.body].surfaces[s.surface].faces);
+    let [up, low] = faces.map(|f| Side::of(mesh, f));
+    let size = (faces.iter().flat_map(|f| f.iter()))
+        .map(|f| crate::geometry::quad::quad_area(&f.slots().map(|n| mesh.nodes[n as usize])))
+        .fold(f64::INFINITY, f64::min)
+        .sqrt();
+    let tol = PAIR_TOLERANCE * size;
+    let inside = |n: u32| {
+        let p = mesh.nodes[n as usize];
+        c.region.is_none_or(|(min, max)| {
+            (0..3).all(|a| p[a] >= min[a] - 1e-12 && p[a] <= max[a] + 1e-12)
+        })
+    };
+    let grid = Grid::of(mesh, &up.nodes, tol);
+    let mut out = CohesivePairs {
+        law: c.law,
+        upper: Vec::new(),
+        lower: Vec::new(),
+        area: Vec::new(),
+        normal: Vec::new(),
+    };
+    let mut partnered = vec![false; up.nodes.len()];
+    for (k, &n) in low.nodes.iter().enumerate().filter(|&(_, &n)| inside(n)) {
+        let Some(j) = grid.find(mesh, n) else {
+            return Err(unpaired(scene, mesh, i, (1, 0), n));
+        };
+        partnered[j] = true;
+        out.upper.push(up.nodes[j]);
+        out.lower.push(n);
+        out.area.push(0.5 * (low.area[k] + up.area[j]));
+        out.normal.push(low.normal[k]);
+    }
+    let lone = (up.nodes.iter().zip(&partnered)).find(|&(&n, &p)| !p && inside(n));
+    if let Some((&n, _)) = lone {
+        return Err(unpaired(scene, mesh, i, (0, 1), n));
+    }
+    if out.upper.is_empty() {
+        return Err(ImpactError::SceneValue {
+            path: scene.path.clone(),
+            key: format!("cohesive[{i}].region (cohesive `{}`)", c.name),
+            message: "holds no node of the interface's faces: nothing is bonded".into(),
+        });
+    }
+    Ok(CohesiveInterface {
+        name: c.name.clone(),
+        pairs: out,
+        faces: faces[1].clone(),
+    })
+}
+
+/// A bonded node of side `sides.0` without a node of side `sides.1` at its place.
+fn unpaired(scene: &Scene, mesh: &Mesh, i: usize, sides: (usize, usize), n: u32) -> ImpactError {
+    let c = &scene.cohesive[i];
+    let body = |s: usize| &scene.bodies[c.sides[s].body].name;
+    ImpactError::SceneValue {
+        path: scene.path.clone(),
+        key: format!("cohesive[{i}].between (cohesive `{}`)", c.name),
+        message: format!(
+            "node {n} of body `{}` at {:?} has no node of body `{}`'s side within {PAIR_TOLERANCE:e} of the face size: the two sides must be meshed alike where they are bonded (or leave the node out of `region`)",
+            body(sides.0),
+            mesh.nodes[n as usize],
+            body(sides.1),
+        ),
+    }
+}
+
+/// The nodes of one side by cells of the pairing tolerance.
+struct Grid {
+    cells: HashMap<[i64; 3], Vec<usize>>,
+    nodes: Vec<u32>,
+    tol: f64,
+}
+
+impl Grid {
+    fn of(mesh: &Mesh, nodes: &[u32], tol: f64) -> Grid {
+        let mut cells: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+        for (j, &n) in nodes.iter().enumerate() {
+            cells
+                .entry(cell(mesh.nodes[n as usize], tol))
+                .or_default()
+                .push(j);
+        }
+        Grid {
+            cells,
+            nodes: nodes.to_vec(),
+            tol,
+        }
+    }
+
+    /// The index of the node within the tolerance of node `n`'s place, if any.
+    fn find(&self, mesh: &Mesh, n: u32) -> Option<usize> {
+        let p = mesh.nodes[n as usize];
+        let c = cell(p, self.tol);
+        let near = |j: &usize| {
+            let q = mesh.nodes[self.nodes[*j] as usize];
+            (0..3).all(|a| (p[a] - q[a]).abs() <= self.tol)
+        };
+        (0..27)
+            .map(|k| [k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1])
+            .filter_map(|d| self.cells.get(&[c[0] + d[0], c[1] + d[1], c[2] + d[2]]))
+            .flat_map(|js| js.iter())
+            .find(|j| near(j))
+            .copied()
+    }
+}
+
+fn cell(p: [f64; 3], tol: f64) -> [i64; 3] {
+    p.map(|x| (x / tol).floor() as i64)
+}

@@ -1,0 +1,361 @@
+//! Cohesive interfaces (`[[cohesive]]`): a double cantilever beam follows corrected beam
+//! theory (its critical load and its propagation branch) and dissipates the toughness over
+//! the separated area; the energy balance closes with the interface's dissipation counted;
+//! a run stopped during the crack's growth resumes to the unbroken history, byte for byte;
+//! the history does not depend on the thread count; the GPU's element forces (the host
+//! loop) follow the CPU; what the keys cannot honour is refused by key.
+
+mod common;
+use common::*;
+
+use impact::scene::Scene;
+
+/// IM7/8552's moduli (NASA CompDam): E1, E2, G13.
+const E1: f64 = 171_420.0;
+const E2: f64 = 9_080.0;
+const G13: f64 = 5_290.0;
+
+/// A double cantilever beam, plane strain, one element wide: arms of thickness `h` (two
+/// hex8i through each) and length `l` in elements of `dx` along it, bonded beyond the
+/// pre-crack `a0` by an interface of toughness `g` (mode I) and normal strength `n`; the arm
+/// ends opened at `v` each to `end`.
+struct Dcb {
+    l: f64,
+    h: f64,
+    dx: f64,
+    a0: f64,
+    g: f64,
+    n: f64,
+    v: f64,
+    end: f64,
+}
+
+impl Dcb {
+    /// The beam of the checks: 2 mm arms, 25 mm pre-crack, G_Ic 0.35 N/mm; 1 mm elements
+    /// with the strength lowered to 20 MPa (Turon's rule: the cohesive zone, about E2 G /
+    /// N^2 = 8 mm, spans several elements); opened to 2.5 mm in 6.7 ms (ten periods of the
+    /// cracked arm's first mode at its end).
+    fn checks() -> Dcb {
+        Dcb {
+            l: 60.0,
+            h: 2.0,
+            dx: 1.0,
+            a0: 25.0,
+            g: 0.35,
+            n: 20.0,
+            v: 187.5,
+            end: 6.7e-3,
+        }
+    }
+
+    fn text(&self) -> String {
+        let (l, h, a0) = (self.l, self.h, self.a0);
+        let nx = (l / self.dx).round() as usize;
+        format!(
+            r#"title = "double cantilever beam"
+[run]
+end_time = {end:e}
+method = "explicit"
+[[material]]
+name = "im7"
+density = 1.57e-9
+orthotropic = {{ e1 = {E1:.1}, e2 = {E2:.1}, e3 = {E2:.1}, nu12 = 0.32, nu13 = 0.32, nu23 = 0.52, g12 = {G13:.1}, g13 = {G13:.1}, g23 = 2987.0 }}
+[[body]]
+name = "upper"
+material = "im7"
+box = {{ min = [0.0, 0.0, {h:.1}], max = [{l:.1}, 1.0, {h2:.1}], divisions = [{nx}, 1, 2], element = "hex8i" }}
+[[body]]
+name = "lower"
+material = "im7"
+box = {{ min = [0.0, 0.0, 0.0], max = [{l:.1}, 1.0, {h:.1}], divisions = [{nx}, 1, 2], element = "hex8i" }}
+[[cohesive]]
+name = "crack"
+between = [{{ body = "upper", face = "z-" }}, {{ body = "lower", face = "z+" }}]
+region = {{ min = [{a0:.1}, -1.0, -1.0], max = [{l1:.1}, 2.0, {h3:.1}] }}
+stiffness = 1e5
+strength = {{ normal = {n:.1}, shear = {s:.1} }}
+toughness = {{ normal = {g}, shear = 0.79, bk = 2.1 }}
+[[fix]]
+name = "open"
+body = "upper"
+face = "x-"
+components = ["z"]
+velocity = [0.0, 0.0, {v:.1}]
+[[fix]]
+name = "hold"
+body = "lower"
+face = "x-"
+components = ["z"]
+velocity = [0.0, 0.0, -{v:.1}]
+[[fix]]
+body = "upper"
+region = {{ min = [-1.0, -1.0, -1.0], max = [{l1:.1}, 2.0, {h3:.1}] }}
+components = ["y"]
+[[fix]]
+body = "lower"
+region = {{ min = [-1.0, -1.0, -1.0], max = [{l1:.1}, 2.0, {h3:.1}] }}
+components = ["y"]
+"#,
+            end = self.end,
+            h2 = 2.0 * h,
+            h3 = 2.0 * h + 1.0,
+            l1 = l + 1.0,
+            n = self.n,
+            s = 1.5 * self.n,
+            g = self.g,
+            v = self.v,
+        )
+    }
+
+    /// Corrected beam theory (Williams 1989): the opening's crack-length correction chi h,
+    /// and the critical load, $P_c = \sqrt{G E I} / (a_0 + \chi h)$ (unit width).
+    fn critical(&self) -> f64 {
+        let gamma = 1.18 * (E1 * E2).sqrt() / G13;
+        let chi = (E1 / (11.0 * G13)).sqrt() * (3.0 - 2.0 * (gamma / (1.0 + gamma)).powi(2));
+        (self.g * self.ei()).sqrt() / (self.a0 + chi * self.h)
+    }
+
+    /// The propagation branch at opening `delta`: $P = \sqrt{2 (G E I)^{3/2} / (3 E I
+    /// \delta)}$, whatever chi.
+    fn propagating(&self, delta: f64) -> f64 {
+        let gei = self.g * self.ei();
+        (2.0 * gei.powf(1.5) / (3.0 * self.ei() * delta)).sqrt()
+    }
+
+    fn ei(&self) -> f64 {
+        E1 * self.h.powi(3) / 12.0
+    }
+}
+
+/// The mean of `y` over the rows whose opening (2 v t) is within `w` of `delta`.
+fn mean_near(h: &History, y: &[f64], v: f64, delta: f64, w: f64) -> f64 {
+    let t = h.col("time");
+    let near: Vec<f64> = (t.iter().zip(y))
+        .filter(|(t, _)| (2.0 * v * **t - delta).abs() <= w)
+        .map(|(_, y)| *y)
+        .collect();
+    near.iter().sum::<f64>() / near.len() as f64
+}
+
+/// The beam's load against corrected beam theory: the critical load within 6% (the peak of
+/// the load averaged over 0.05 mm of opening, which the arms' ringing in an explicit run
+/// otherwise decides), the propagation branch at three openings within 7% (averaged over
+/// 0.1 mm), the dissipation between G times the separated area and G times the damaged
+/// area, and the total energy, the interface's dissipation and the fixes' work counted,
+/// within 1e-4 of that work.
+#[test]
+fn a_double_cantilever_beam_follows_corrected_beam_theory() {
+    let dcb = Dcb::checks();
+    let (s, h) = run_text("cohesive_dcb", &dcb.text());
+    let s = s.expect("the beam runs");
+    assert_eq!(s.status, "completed", "{:?}", s.warnings);
+    let p = h.col("open.fz");
+    let t = h.col("time");
+    // the load's mean over 0.05 mm of opening about each row (the step is constant)
+    let k = (0.025 / (2.0 * dcb.v * (t[1] - t[0]))).round() as usize;
+    let mut prefix = vec![0.0];
+    for x in &p {
+        prefix.push(prefix[prefix.len() - 1] + x);
+    }
+    let peak = (k..p.len() - k)
+        .map(|i| (prefix[i + k + 1] - prefix[i - k]) / (2 * k + 1) as f64)
+        .fold(0.0, f64::max);
+    let pc = dcb.critical();
+    eprintln!("critical load {peak:.4} against {pc:.4}");
+    assert!((peak / pc - 1.0).abs() < 0.06, "peak {peak} against {pc}");
+    for delta in [1.5, 2.0, 2.4] {
+        let (got, want) = (
+            mean_near(&h, &p, dcb.v, delta, 0.05),
+            dcb.propagating(delta),
+        );
+        eprintln!("opening {delta}: {got:.4} against {want:.4}");
+        assert!(
+            (got / want - 1.0).abs() < 0.07,
+            "{delta}: {got} against {want}"
+        );
+    }
+    // the opposite arm's reaction is the same force
+    assert!((h.last("hold.fz") + h.last("open.fz")).abs() < 1e-6 * dcb.critical());
+    let (energy, separated, damaged) = (
+        h.last("crack.energy"),
+        h.last("crack.delaminated_area"),
+        h.last("crack.damaged_area"),
+    );
+    assert!(separated > 10.0, "the crack grew {separated} mm^2");
+    assert!(
+        energy >= dcb.g * separated && energy <= dcb.g * damaged,
+        "{energy} against G A of {separated} and {damaged}"
+    );
+    assert_eq!(s.damage_energy, Some(energy));
+    let d = s.delamination.expect("a delamination summary");
+    assert_eq!(d.interfaces[0].area, separated);
+    // one interface, seen across: the projected area is its separated area
+    assert!((d.projected_area / separated - 1.0).abs() < 1e-9, "{d:?}");
+    let total = h.col("total_energy");
+    let work = h.last("damage_energy") + h.last("strain_energy") + h.last("kinetic_energy");
+    let drift = (total[total.len() - 1] - total[0]).abs();
+    assert!(drift < 1e-4 * work, "total energy moved {drift} of {work}");
+}
+
+/// A shorter, quicker beam: 20 mm arms of 1 mm, opened fast (the crack starts within the
+/// first millisecond).
+fn quick_beam(end: f64) -> String {
+    Dcb {
+        l: 20.0,
+        h: 1.0,
+        dx: 0.5,
+        a0: 8.0,
+        g: 0.3,
+        n: 20.0,
+        v: 500.0,
+        end,
+    }
+    .text()
+}
+
+/// Stopped while the crack grows, then resumed: the history is the unbroken run's, byte for
+/// byte, and so is the dissipation.
+#[test]
+fn a_beam_stopped_while_its_crack_grows_resumes_to_the_unbroken_history() {
+    let text = quick_beam(0.9e-3) + "\n[output]\ncheckpoint_every = 500\n";
+    let early = text.replace("end_time = 9e-4", "end_time = 6e-4");
+    let whole = run_resumable("cohesive_whole", "dcb", &text, (false, None)).expect("whole");
+    run_resumable("cohesive_parts", "dcb", &early, (false, None)).expect("first part");
+    let resumed = run_resumable("cohesive_parts", "dcb", &text, (true, None)).expect("resumed");
+    assert!(whole.status == "completed" && resumed.status == "completed");
+    let h = History::read(&out_path("cohesive_whole").join("history.csv"));
+    let (t, e) = (h.col("time"), h.col("crack.energy"));
+    let at = t.iter().position(|&x| x >= 6e-4).unwrap();
+    assert!(
+        e[at] > 0.0 && e[at] < 0.9 * e[e.len() - 1],
+        "the cut is not in the growth: {} of {}",
+        e[at],
+        e[e.len() - 1]
+    );
+    assert_eq!(whole.damage_energy, resumed.damage_energy);
+    assert_eq!(
+        history_text("cohesive_whole"),
+        history_text("cohesive_parts"),
+        "the resumed history differs"
+    );
+}
+
+/// The quick beam on 1 and 2 threads: the same history, bit for bit.
+#[test]
+fn a_cohesive_run_is_the_same_on_any_thread_count() {
+    let text = quick_beam(1.2e-3);
+    let scene = Scene::parse(&text, &repo().join("scenes/dcb.toml")).unwrap();
+    let histories: Vec<String> = [1, 2]
+        .iter()
+        .map(|&n| {
+            let tag = format!("cohesive_threads_{n}");
+            let opts = impact::run::RunOptions {
+                out: Some(out_dir(&tag)),
+                device: Some(impact::scene::DeviceChoice::Cpu),
+                quiet: true,
+                ..Default::default()
+            };
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap();
+            pool.install(|| impact::run::run(&scene, &opts))
+                .expect("runs");
+            history_text(&tag)
+        })
+        .collect();
+    assert!(
+        histories[0] == histories[1],
+        "the history on 2 threads differs"
+    );
+}
+
+/// The GPU's element forces (f32, the host loop: the pairs stay on the host in f64) against
+/// the CPU: the interface's dissipation within 2% and the load's peak within 2%.
+#[test]
+fn the_gpu_host_loop_follows_the_cpu() {
+    if skip_gpu("cohesive gpu") {
+        return;
+    }
+    let text = quick_beam(1.2e-3);
+    let (c, hc) = run_text_on(
+        "cohesive_cpu",
+        &text,
+        Some(impact::scene::DeviceChoice::Cpu),
+    );
+    let (g, hg) = run_text_on(
+        "cohesive_gpu",
+        &text,
+        Some(impact::scene::DeviceChoice::Gpu),
+    );
+    let (c, g) = (c.expect("cpu"), g.expect("gpu"));
+    assert_eq!(g.engine, "gpu kernels, host loop");
+    assert!(c.status == "completed" && g.status == "completed");
+    let (ec, eg) = (hc.last("crack.energy"), hg.last("crack.energy"));
+    assert!(
+        ec > 0.0 && (eg / ec - 1.0).abs() < 0.02,
+        "{eg} against {ec}"
+    );
+    let peak = |h: &History| h.col("open.fz").into_iter().fold(0.0, f64::max);
+    let (pc, pg) = (peak(&hc), peak(&hg));
+    assert!((pg / pc - 1.0).abs() < 0.02, "{pg} against {pc}");
+}
+
+/// What the keys cannot honour, refused by key: a stiffness at the snap-back limit, two
+/// sides on one body, a bonded node without a partner, a region that bonds nothing; an
+/// implicit run (a run on ranks is refused in `tests/ranks.rs`).
+#[test]
+fn what_a_cohesive_interface_cannot_be_is_refused_by_key() {
+    let text = quick_beam(1e-4);
+    let refused = |text: &str, words: &[&str]| {
+        let path = repo().join("scenes/dcb.toml");
+        let e = Scene::parse(text, &path)
+            .and_then(|s| impact::model::Model::from_scene(&s).map(|_| s))
+            .expect_err("refused")
+            .to_string();
+        for w in words {
+            assert!(e.contains(w), "`{w}` in: {e}");
+        }
+    };
+    // 20^2 / (2 0.3) = 666.7
+    refused(
+        &text.replace("stiffness = 1e5", "stiffness = 600.0"),
+        &["cohesive[0].stiffness", "snap-back"],
+    );
+    refused(
+        &text.replace(
+            "{ body = \"lower\", face = \"z+\" }",
+            "{ body = \"upper\", face = \"z+\" }",
+        ),
+        &["cohesive[0].between", "one body"],
+    );
+    // the lower arm one element finer along the beam: its nodes between the upper's
+    refused(
+        &text.replace(
+            "max = [20.0, 1.0, 1.0], divisions = [40, 1, 2]",
+            "max = [20.0, 1.0, 1.0], divisions = [41, 1, 2]",
+        ),
+        &["cohesive[0].between", "has no node of body", "meshed alike"],
+    );
+    refused(
+        &text.replace("region = { min = [8.0", "region = { min = [30.0"),
+        &["cohesive[0].region", "no node"],
+    );
+    let implicit = text.replace(
+        "method = \"explicit\"",
+        "method = \"implicit\"\ntime_step = 1e-6",
+    );
+    let scene = Scene::parse(&implicit, &repo().join("scenes/dcb.toml")).unwrap();
+    let opts = impact::run::RunOptions {
+        out: Some(out_dir("cohesive_implicit")),
+        quiet: true,
+        ..Default::default()
+    };
+    let e = impact::run::run(&scene, &opts)
+        .expect_err("refused")
+        .to_string();
+    assert!(
+        e.contains("cohesive interface `crack`") && e.contains("explicit"),
+        "{e}"
+    );
+}
