@@ -359,3 +359,136 @@ fn what_a_cohesive_interface_cannot_be_is_refused_by_key() {
         "{e}"
     );
 }
+
+/// A beam of two arms (one hex8i through each), the upper one's fibres across the beam (90
+/// degrees), opened at its end: as two bodies bonded `between` their faces, and as one laminate body of plies
+/// [0, 90] split `at = "ply_changes"`. The same model, numbered apart: the same load and
+/// dissipation to 1e-9 of their scales.
+#[test]
+fn a_laminate_split_at_its_ply_change_is_two_bodies_bonded() {
+    let head = |end: &str| {
+        format!(
+            r#"[run]
+end_time = {end}
+method = "explicit"
+device = "cpu"
+[[material]]
+name = "im7"
+density = 1.57e-9
+orthotropic = {{ e1 = {E1:.1}, e2 = {E2:.1}, e3 = {E2:.1}, nu12 = 0.32, nu13 = 0.32, nu23 = 0.52, g12 = {G13:.1}, g13 = {G13:.1}, g23 = 2987.0 }}
+"#
+        )
+    };
+    let law = r#"region = { min = [6.0, -1.0, -1.0], max = [21.0, 2.0, 5.0] }
+stiffness = 1e5
+strength = { normal = 20.0, shear = 30.0 }
+toughness = { normal = 0.3, shear = 0.79, bk = 2.1 }
+"#;
+    let loads = |upper: &str, lower: &str| {
+        format!(
+            r#"[[fix]]
+name = "open"
+body = "{upper}"
+region = {{ min = [-0.1, -1.0, 2.5], max = [0.1, 2.0, 4.5] }}
+components = ["z"]
+velocity = [0.0, 0.0, 400.0]
+[[fix]]
+body = "{lower}"
+region = {{ min = [-0.1, -1.0, -0.5], max = [0.1, 2.0, 1.5] }}
+components = ["z"]
+velocity = [0.0, 0.0, -400.0]
+"#
+        )
+    };
+    let bodies = head("8e-4")
+        + r#"[[body]]
+name = "upper"
+material = "im7"
+box = { min = [0.0, 0.0, 2.0], max = [20.0, 1.0, 4.0], divisions = [40, 1, 1], element = "hex8i" }
+orientation = { axis = [0.0, 0.0, 1.0], angle = 90.0 }
+[[body]]
+name = "lower"
+material = "im7"
+box = { min = [0.0, 0.0, 0.0], max = [20.0, 1.0, 2.0], divisions = [40, 1, 1], element = "hex8i" }
+[[cohesive]]
+name = "crack"
+between = [{ body = "upper", face = "z-" }, { body = "lower", face = "z+" }]
+"# + law + &loads("upper", "lower");
+    let laminate = head("8e-4")
+        + r#"[[body]]
+name = "beam"
+material = "im7"
+box = { min = [0.0, 0.0, 0.0], max = [20.0, 1.0, 4.0], divisions = [40, 1, 2], element = "hex8i" }
+plies = { normal = "z", layers = [{ angle = 0.0, thickness = 2.0 }, { angle = 90.0, thickness = 2.0 }] }
+[[cohesive]]
+name = "crack"
+body = "beam"
+at = "ply_changes"
+"# + law + &loads("beam", "beam");
+    let (a, ha) = run_text("cohesive_two_bodies", &bodies);
+    let (b, hb) = run_text("cohesive_laminate", &laminate);
+    assert_eq!(a.expect("bodies").status, "completed");
+    assert_eq!(b.expect("laminate").status, "completed");
+    let (ea, eb) = (ha.last("crack.energy"), hb.last("crack.energy"));
+    assert!(
+        ea > 0.0 && (eb - ea).abs() <= 1e-9 * ea,
+        "{eb} against {ea}"
+    );
+    assert_eq!(
+        ha.last("crack.delaminated_area"),
+        hb.last("crack.delaminated_area")
+    );
+    let (pa, pb) = (ha.col("open.fz"), hb.col("open.fz"));
+    let scale = pa.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let worst = (pa.iter().zip(&pb)).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(
+        worst <= 1e-9 * scale,
+        "the loads differ by {worst} of {scale}"
+    );
+}
+
+/// What a laminate's interface cannot be, refused by key: a layer boundary inside a ply, a
+/// body without plies, `at` without `body`.
+#[test]
+fn a_laminate_interface_needs_layers_that_end_on_plies() {
+    let text = r#"[run]
+end_time = 1e-4
+method = "explicit"
+[[material]]
+name = "im7"
+density = 1.57e-9
+transversely_isotropic = { e1 = 171420.0, e2 = 9080.0, nu12 = 0.32, nu23 = 0.52, g12 = 5290.0 }
+[[body]]
+name = "beam"
+material = "im7"
+box = { min = [0.0, 0.0, 0.0], max = [10.0, 1.0, 3.0], divisions = [10, 1, 3], element = "hex8i" }
+plies = { normal = "z", layers = [{ angle = 0.0, thickness = 1.0 }, { angle = 90.0, thickness = 2.0 }] }
+[[cohesive]]
+name = "plies"
+body = "beam"
+at = "ply_changes"
+stiffness = 1e5
+strength = { normal = 20.0, shear = 30.0 }
+toughness = { normal = 0.3, shear = 0.79, bk = 2.1 }
+"#;
+    let path = repo().join("scenes/laminate.toml");
+    let e = Scene::parse(text, &path).expect_err("refused").to_string();
+    assert!(
+        e.contains("cohesive[0].at") && e.contains("inside ply 1"),
+        "{e}"
+    );
+    let ok = text.replace(
+        "thickness = 2.0 }",
+        "thickness = 1.0 }, { angle = 90.0, thickness = 1.0 }",
+    );
+    let scene = Scene::parse(&ok, &path).expect("layers on ply boundaries");
+    // one change of angle among three plies: one plane of 11 x 2 pairs
+    let model = impact::model::Model::from_scene(&scene).unwrap();
+    assert_eq!(model.cohesive[0].pairs.area.len(), 22);
+    let area: f64 = model.cohesive[0].pairs.area.iter().sum();
+    assert!((area - 10.0).abs() < 1e-12, "{area}");
+    let e = Scene::parse(&text.replace("plies = {", "#plies = {"), &path)
+        .expect_err("refused")
+        .to_string();
+    assert!(e.contains("cohesive[0].body") && e.contains("plies"), "{e}");
+}

@@ -18,6 +18,7 @@ pub mod import;
 pub mod lsdyna;
 pub mod orientation;
 pub mod parse_error;
+pub mod split;
 
 pub use box_mesh::box_mesh;
 pub use import::import;

@@ -15,7 +15,7 @@ use crate::error::{ImpactError, Result};
 use crate::geometry::vector::norm;
 use crate::kernels::cohesive_forces::CohesivePairs;
 use crate::mesh::{Face, Mesh};
-use crate::scene::{CohesiveSpec, Scene};
+use crate::scene::{CohesiveSides, CohesiveSpec, Scene, SurfaceRef};
 
 /// Coincident nodes pair within this fraction of the sides' smallest face size.
 pub const PAIR_TOLERANCE: f64 = 1e-6;
@@ -71,30 +71,142 @@ impl Side {
     }
 }
 
-/// Every `[[cohesive]]` of the scene as pairs; a bonded node without a partner is an error
-/// naming it.
-pub(crate) fn cohesive_interfaces(scene: &Scene, mesh: &Mesh) -> Result<Vec<CohesiveInterface>> {
+/// A laminate body split at its ply changes for `[[cohesive]]` `spec`: its pairs (the twin
+/// above, the original below) and the interface's faces, in the mesh's numbers once
+/// [`LaminateSplit::offset`] by the body's first node.
+#[derive(Debug, Clone)]
+pub(crate) struct LaminateSplit {
+    spec: usize,
+    pairs: Vec<(u32, u32)>,
+    faces: Vec<Face>,
+}
+
+impl LaminateSplit {
+    pub(crate) fn offset(mut self, first: u32) -> Self {
+        self.pairs
+            .iter_mut()
+            .for_each(|p| *p = (p.0 + first, p.1 + first));
+        self.faces = self.faces.iter().map(|f| f.map(|n| n + first)).collect();
+        self
+    }
+}
+
+/// Body `b`'s parts, split at its ply changes where a `[[cohesive]]` asks for it.
+pub(crate) fn split_body(
+    scene: &Scene,
+    b: usize,
+    parts: crate::mesh::BodyParts,
+) -> (crate::mesh::BodyParts, Option<LaminateSplit>) {
+    let asked = (scene.cohesive.iter().enumerate()).find_map(|(i, c)| match &c.sides {
+        CohesiveSides::Laminate { body, axis, planes } if *body == b => Some((i, *axis, planes)),
+        _ => None,
+    });
+    let Some((spec, axis, planes)) = asked else {
+        return (parts, None);
+    };
+    let extent = (parts.nodes.iter())
+        .map(|x| x[axis])
+        .fold(f64::NEG_INFINITY, f64::max)
+        - (parts.nodes.iter())
+            .map(|x| x[axis])
+            .fold(f64::INFINITY, f64::min);
+    let s = crate::mesh::split::split_layers(parts, axis, planes, 1e-9 * extent);
+    let split = LaminateSplit {
+        spec,
+        pairs: s.pairs,
+        faces: s.faces,
+    };
+    (s.parts, Some(split))
+}
+
+/// Every `[[cohesive]]` of the scene as pairs (`splits`: the laminates' own); a bonded node
+/// without a partner is an error naming it.
+pub(crate) fn cohesive_interfaces(
+    scene: &Scene,
+    mesh: &Mesh,
+    splits: &[LaminateSplit],
+) -> Result<Vec<CohesiveInterface>> {
     (scene.cohesive.iter().enumerate())
-        .map(|(i, c)| pair(scene, mesh, i, c))
+        .map(|(i, c)| match &c.sides {
+            CohesiveSides::Between(sides) => pair(scene, mesh, (i, c), sides),
+            CohesiveSides::Laminate { .. } => {
+                let s = splits
+                    .iter()
+                    .find(|s| s.spec == i)
+                    .expect("a laminate's split");
+                laminate(scene, mesh, (i, c), s)
+            }
+        })
         .collect()
 }
 
-fn pair(scene: &Scene, mesh: &Mesh, i: usize, c: &CohesiveSpec) -> Result<CohesiveInterface> {
-    let faces = c
-        .sides
-        .map(|s| &mesh.bodies[s.body].surfaces[s.surface].faces);
+/// The pairs of a split laminate: each twin with its original, their area and normal from
+/// the interface's faces (the layer's below).
+fn laminate(
+    scene: &Scene,
+    mesh: &Mesh,
+    (i, c): (usize, &CohesiveSpec),
+    split: &LaminateSplit,
+) -> Result<CohesiveInterface> {
+    let low = Side::of(mesh, &split.faces);
+    let inside = |n: u32| in_region(mesh, c, n);
+    let mut out = CohesivePairs {
+        law: c.law,
+        upper: Vec::new(),
+        lower: Vec::new(),
+        area: Vec::new(),
+        normal: Vec::new(),
+    };
+    for &(up, n) in split.pairs.iter().filter(|p| inside(p.1)) {
+        // a node of the plane on no face below it (none: the planes are whole layers)
+        let Ok(k) = low.nodes.binary_search(&n) else {
+            continue;
+        };
+        out.upper.push(up);
+        out.lower.push(n);
+        out.area.push(low.area[k]);
+        out.normal.push(low.normal[k]);
+    }
+    if out.upper.is_empty() {
+        return Err(nothing_bonded(scene, i, c));
+    }
+    Ok(CohesiveInterface {
+        name: c.name.clone(),
+        pairs: out,
+        faces: split.faces.clone(),
+    })
+}
+
+/// Whether node `n` lies in the interface's `region` (everywhere without one).
+fn in_region(mesh: &Mesh, c: &CohesiveSpec, n: u32) -> bool {
+    let p = mesh.nodes[n as usize];
+    c.region
+        .is_none_or(|(min, max)| (0..3).all(|a| p[a] >= min[a] - 1e-12 && p[a] <= max[a] + 1e-12))
+}
+
+/// An interface whose `region` holds none of its nodes.
+fn nothing_bonded(scene: &Scene, i: usize, c: &CohesiveSpec) -> ImpactError {
+    ImpactError::SceneValue {
+        path: scene.path.clone(),
+        key: format!("cohesive[{i}].region (cohesive `{}`)", c.name),
+        message: "holds no node of the interface's faces: nothing is bonded".into(),
+    }
+}
+
+fn pair(
+    scene: &Scene,
+    mesh: &Mesh,
+    (i, c): (usize, &CohesiveSpec),
+    sides: &[SurfaceRef; 2],
+) -> Result<CohesiveInterface> {
+    let faces = sides.map(|s| &mesh.bodies[s.body].surfaces[s.surface].faces);
     let [up, low] = faces.map(|f| Side::of(mesh, f));
     let size = (faces.iter().flat_map(|f| f.iter()))
         .map(|f| crate::geometry::quad::quad_area(&f.slots().map(|n| mesh.nodes[n as usize])))
         .fold(f64::INFINITY, f64::min)
         .sqrt();
     let tol = PAIR_TOLERANCE * size;
-    let inside = |n: u32| {
-        let p = mesh.nodes[n as usize];
-        c.region.is_none_or(|(min, max)| {
-            (0..3).all(|a| p[a] >= min[a] - 1e-12 && p[a] <= max[a] + 1e-12)
-        })
-    };
+    let inside = |n: u32| in_region(mesh, c, n);
     let grid = Grid::of(mesh, &up.nodes, tol);
     let mut out = CohesivePairs {
         law: c.law,
@@ -106,7 +218,7 @@ fn pair(scene: &Scene, mesh: &Mesh, i: usize, c: &CohesiveSpec) -> Result<Cohesi
     let mut partnered = vec![false; up.nodes.len()];
     for (k, &n) in low.nodes.iter().enumerate().filter(|&(_, &n)| inside(n)) {
         let Some(j) = grid.find(mesh, n) else {
-            return Err(unpaired(scene, mesh, i, (1, 0), n));
+            return Err(unpaired(scene, mesh, (i, sides), (1, 0), n));
         };
         partnered[j] = true;
         out.upper.push(up.nodes[j]);
@@ -116,14 +228,10 @@ fn pair(scene: &Scene, mesh: &Mesh, i: usize, c: &CohesiveSpec) -> Result<Cohesi
     }
     let lone = (up.nodes.iter().zip(&partnered)).find(|&(&n, &p)| !p && inside(n));
     if let Some((&n, _)) = lone {
-        return Err(unpaired(scene, mesh, i, (0, 1), n));
+        return Err(unpaired(scene, mesh, (i, sides), (0, 1), n));
     }
     if out.upper.is_empty() {
-        return Err(ImpactError::SceneValue {
-            path: scene.path.clone(),
-            key: format!("cohesive[{i}].region (cohesive `{}`)", c.name),
-            message: "holds no node of the interface's faces: nothing is bonded".into(),
-        });
+        return Err(nothing_bonded(scene, i, c));
     }
     Ok(CohesiveInterface {
         name: c.name.clone(),
@@ -133,9 +241,15 @@ fn pair(scene: &Scene, mesh: &Mesh, i: usize, c: &CohesiveSpec) -> Result<Cohesi
 }
 
 /// A bonded node of side `sides.0` without a node of side `sides.1` at its place.
-fn unpaired(scene: &Scene, mesh: &Mesh, i: usize, sides: (usize, usize), n: u32) -> ImpactError {
+fn unpaired(
+    scene: &Scene,
+    mesh: &Mesh,
+    (i, refs): (usize, &[SurfaceRef; 2]),
+    sides: (usize, usize),
+    n: u32,
+) -> ImpactError {
     let c = &scene.cohesive[i];
-    let body = |s: usize| &scene.bodies[c.sides[s].body].name;
+    let body = |s: usize| &scene.bodies[refs[s].body].name;
     ImpactError::SceneValue {
         path: scene.path.clone(),
         key: format!("cohesive[{i}].between (cohesive `{}`)", c.name),

@@ -80,11 +80,15 @@ impl Model {
     pub fn from_scene(scene: &Scene) -> Result<Model> {
         let mut mesh = Mesh::default();
         let mut initial_velocity = Vec::new();
-        for b in &scene.bodies {
-            let parts = b.parts();
+        // the laminates split at their ply changes, with their pairs in global numbers
+        let mut splits = Vec::new();
+        for (i, b) in scene.bodies.iter().enumerate() {
+            let (parts, split) = cohesive::split_body(scene, i, b.parts());
             for _ in 0..parts.nodes.len() {
                 initial_velocity.extend_from_slice(&b.velocity);
             }
+            let offset = mesh.node_count() as u32;
+            splits.extend(split.map(|s| s.offset(offset)));
             mesh.push_body(parts, b.material);
         }
         let rigid = RigidBody::from_scene(scene, mesh.node_count());
@@ -103,7 +107,7 @@ impl Model {
             fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
         }
         let (queries, interfaces) = interfaces(scene, &mesh, &rigid);
-        let cohesive = cohesive::cohesive_interfaces(scene, &mesh)?;
+        let cohesive = cohesive::cohesive_interfaces(scene, &mesh, &splits)?;
         let mut probes = probes(scene, &mesh);
         // a rigid body's history columns are those of a probe on its node
         probes.extend(rigid.iter().map(|b| Probe {

@@ -351,15 +351,29 @@ pub struct ContactSpec {
     pub initial_penetration: PenetrationPolicy,
 }
 
-/// A `[[cohesive]]` interface between two bodies' faces: the second side's nodes pair with
-/// the first's where they coincide.
+/// A `[[cohesive]]` interface: between two bodies' faces (the second side's nodes pair with
+/// the first's where they coincide), or inside a laminate body split at its ply changes.
 #[derive(Debug, Clone)]
 pub struct CohesiveSpec {
     pub name: String,
-    pub sides: [SurfaceRef; 2],
+    pub sides: CohesiveSides,
     /// Only the nodes inside this box are bonded (the rest is a pre-crack).
     pub region: Option<([f64; 3], [f64; 3])>,
     pub law: crate::material::CohesiveLaw,
+}
+
+/// Where a cohesive interface lies.
+#[derive(Debug, Clone)]
+pub enum CohesiveSides {
+    /// Between two bodies' surfaces.
+    Between([SurfaceRef; 2]),
+    /// Inside box body `body`, at the element layer boundaries (coordinates along
+    /// `axis`, its plies' stacking axis) where the plies on either side differ in angle.
+    Laminate {
+        body: usize,
+        axis: usize,
+        planes: Vec<f64>,
+    },
 }
 
 #[derive(Debug, Clone)]

@@ -11,12 +11,26 @@ impl Checker<'_> {
         raw_bodies: &[RawBody],
         bodies: &[BodySpec],
     ) -> Result<Vec<CohesiveSpec>> {
-        (raw.iter().enumerate())
-            .map(|(i, c)| {
-                let key = |k: &str| format!("cohesive[{i}].{k} (cohesive `{}`)", c.name);
-                self.one_cohesive(&key, c, raw_bodies, bodies)
-            })
-            .collect()
+        let mut out: Vec<CohesiveSpec> = Vec::new();
+        for (i, c) in raw.iter().enumerate() {
+            let key = |k: &str| format!("cohesive[{i}].{k} (cohesive `{}`)", c.name);
+            let spec = self.one_cohesive(&key, c, raw_bodies, bodies)?;
+            let split = |s: &CohesiveSpec| match s.sides {
+                CohesiveSides::Laminate { body, .. } => Some(body),
+                _ => None,
+            };
+            if let Some(j) = (split(&spec).is_some())
+                .then(|| out.iter().position(|o| split(o) == split(&spec)))
+                .flatten()
+            {
+                return Err(self.err(
+                    key("body"),
+                    format!("is split at its ply changes by cohesive[{j}] already: one interface per laminate"),
+                ));
+            }
+            out.push(spec);
+        }
+        Ok(out)
     }
 
     fn one_cohesive(
@@ -26,41 +40,28 @@ impl Checker<'_> {
         raw_bodies: &[RawBody],
         bodies: &[BodySpec],
     ) -> Result<CohesiveSpec> {
-        if c.body.is_some() || c.at.is_some() {
-            return Err(ImpactError::Unsupported {
-                path: self.path.to_path_buf(),
-                key: key(if c.at.is_some() { "at" } else { "body" }),
-                message: "interfaces inside a laminate (`body` with `at = \"ply_changes\"`) are not available yet: mesh the plies as bodies and bond them with `between`".into(),
-            });
-        }
-        let Some(between) = &c.between else {
-            return Err(self.err(
-                key("between"),
-                "is required: the two sides, e.g. [{ body = \"top\", face = \"z-\" }, { body = \"bottom\", face = \"z+\" }]",
-            ));
-        };
-        let [a, b] = between.as_slice() else {
-            return Err(self.err(
-                key("between"),
-                format!("names {} sides: an interface has two", between.len()),
-            ));
-        };
-        let side = |k: &str, r: &RawSurfaceRef| -> Result<SurfaceRef> {
-            if r.rigid_body.is_some() {
+        let sides = match (&c.between, &c.body) {
+            (Some(_), Some(_)) => {
                 return Err(self.err(
-                    key(&format!("{k}.rigid_body")),
-                    "a cohesive side is a meshed body's face or surface: a rigid body has no nodes to bond",
-                ));
+                    key("body"),
+                    "give either `between` (two bodies' faces) or `body` with `at` (inside a laminate), not both",
+                ))
             }
-            self.surface_ref(key, k, r, raw_bodies, bodies)
+            (None, Some(b)) => self.laminate(key, c, b, raw_bodies, bodies)?,
+            (Some(_), None) if c.at.is_some() => {
+                return Err(self.err(
+                    key("at"),
+                    "goes with `body` (inside a laminate), not with `between`",
+                ))
+            }
+            (Some(between), None) => self.between(key, between, raw_bodies, bodies)?,
+            (None, None) => {
+                return Err(self.err(
+                    key("between"),
+                    "is required: the two sides, e.g. [{ body = \"top\", face = \"z-\" }, { body = \"bottom\", face = \"z+\" }], or give `body` and `at = \"ply_changes\"`",
+                ))
+            }
         };
-        let sides = [side("between[0]", a)?, side("between[1]", b)?];
-        if sides[0].body == sides[1].body {
-            return Err(self.err(
-                key("between"),
-                "both sides lie on one body: a cohesive interface joins two bodies",
-            ));
-        }
         let region = match &c.region {
             Some(r) => Some((
                 self.finite3(&key("region.min"), r.min)?,
@@ -81,6 +82,111 @@ impl Checker<'_> {
             region,
             law: self.cohesive_law(key, c)?,
         })
+    }
+
+    /// `between`: two sides on two bodies, each a face or surface of a meshed body.
+    fn between(
+        &self,
+        key: &dyn Fn(&str) -> String,
+        between: &[RawSurfaceRef],
+        raw_bodies: &[RawBody],
+        bodies: &[BodySpec],
+    ) -> Result<CohesiveSides> {
+        let [a, b] = between else {
+            return Err(self.err(
+                key("between"),
+                format!("names {} sides: an interface has two", between.len()),
+            ));
+        };
+        let side = |k: &str, r: &RawSurfaceRef| -> Result<SurfaceRef> {
+            if r.rigid_body.is_some() {
+                return Err(self.err(
+                    key(&format!("{k}.rigid_body")),
+                    "a cohesive side is a meshed body's face or surface: a rigid body has no nodes to bond",
+                ));
+            }
+            self.surface_ref(key, k, r, raw_bodies, bodies)
+        };
+        let sides = [side("between[0]", a)?, side("between[1]", b)?];
+        if sides[0].body == sides[1].body {
+            return Err(self.err(
+                key("between"),
+                "both sides lie on one body: a cohesive interface joins two bodies (inside a laminate body, give `body` and `at = \"ply_changes\"`)",
+            ));
+        }
+        Ok(CohesiveSides::Between(sides))
+    }
+
+    /// `body` and `at = "ply_changes"`: a box body of hexes with plies, split at each element
+    /// layer boundary where the plies on either side differ in angle; every layer boundary
+    /// must be a ply boundary.
+    fn laminate(
+        &self,
+        key: &dyn Fn(&str) -> String,
+        c: &RawCohesive,
+        name: &str,
+        raw_bodies: &[RawBody],
+        bodies: &[BodySpec],
+    ) -> Result<CohesiveSides> {
+        match c.at.as_deref() {
+            Some("ply_changes") => {}
+            Some(other) => {
+                return Err(self.err(
+                    key("at"),
+                    format!("\"{other}\": the one place is \"ply_changes\" (every element layer boundary where the plies' angle changes)"),
+                ))
+            }
+            None => {
+                return Err(self.err(key("at"), "is required with `body`: at = \"ply_changes\""))
+            }
+        }
+        let body = self.body_index(&key("body"), name, raw_bodies)?;
+        let b = &bodies[body];
+        let (BodyShape::Box(spec), Some(plies)) = (&b.shape, &b.plies) else {
+            return Err(self.err(
+                key("body"),
+                format!("`{name}` is not a box with `plies`: the interfaces inside a laminate are found from its plies and its element layers"),
+            ));
+        };
+        if spec.element == crate::mesh::box_mesh::BoxElement::Tet4 {
+            return Err(self.err(
+                key("body"),
+                format!("`{name}` is meshed in tet4: a laminate is split between element layers of hex8 or hex8i"),
+            ));
+        }
+        let axis = plies.axis;
+        let layers = spec.axis_nodes(axis);
+        let tol = 1e-6 * (layers[layers.len() - 1] - layers[0]);
+        // each ply's top along the axis
+        let mut tops = Vec::with_capacity(plies.layers.len());
+        let mut t = plies.start;
+        for p in &plies.layers {
+            t += p.thickness;
+            tops.push(t);
+        }
+        let mut planes = Vec::new();
+        for &z in &layers[1..layers.len() - 1] {
+            let Some(k) = tops.iter().position(|&top| (top - z).abs() <= tol) else {
+                let ply = tops
+                    .iter()
+                    .position(|&top| top > z)
+                    .unwrap_or(tops.len() - 1);
+                return Err(self.err(
+                    key("at"),
+                    format!("the element layer boundary at {z} ({}) falls inside ply {ply} (of `{name}`'s plies, from the lowest, {} to {}): a laminate is split between plies; give the box divisions whose layers end on ply boundaries", ["x", "y", "z"][axis], tops[ply] - plies.layers[ply].thickness, tops[ply]),
+                ));
+            };
+            if plies.layers[k].angle != plies.layers[k + 1].angle {
+                planes.push(z);
+            }
+        }
+        if planes.is_empty() {
+            return Err(self.err(
+                key("at"),
+                format!("`{name}`'s element layers meet nowhere between plies of different angles: there is no interface to bond"),
+            ));
+        }
+        Ok(CohesiveSides::Laminate { body, axis, planes })
     }
 
     /// The law's constants: each positive, and a stiffness above the snap-back limit.
