@@ -24,7 +24,7 @@ pub(crate) const FILE: &str = "checkpoint.bin";
 
 /// Bumped whenever the layout changes, or what the scene hash covers (a new scene key), so
 /// that an older checkpoint is refused as such, not misread or taken for another scene's.
-pub(crate) const FORMAT: u32 = 8;
+pub(crate) const FORMAT: u32 = 9;
 
 /// What the time loop accumulates for the summary and the warnings.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -60,6 +60,9 @@ pub struct Checkpoint {
     pub frames: Vec<(f64, String)>,
     pub frame_stem: String,
     pub solver: SolverState,
+    /// Where the run computed: "cpu" (f64) or the GPU adapter's name (f32). A run resumes
+    /// on the same kind, so that its history is one precision's.
+    pub device: String,
 }
 
 impl Checkpoint {

@@ -321,6 +321,46 @@ fn resident_runs_resume_to_the_unbroken_history() {
     }
 }
 
+/// A CPU (f64) run's checkpoint does not resume on the GPU (f32), nor a GPU run's on the
+/// CPU: the history would change precision part way and the summary name one device for
+/// both. Refused (a usage error naming both devices), the folder left as it was.
+#[test]
+fn a_checkpoint_resumes_only_on_the_kind_of_device_that_wrote_it() {
+    if skip_gpu("resume across devices") {
+        return;
+    }
+    let text = scene_text("two_bars.toml") + "\n[output]\ncheckpoint_every = 5\n";
+    let half = edit(&text, "end_time = 0.4", "end_time = 0.2");
+    let run_on = |tag: &str, text: &str, resume: bool, device: DeviceChoice| {
+        let scene = impact::scene::Scene::parse(text, &repo().join("scenes/two_bars.toml"))
+            .expect("valid scene");
+        let opts = impact::run::RunOptions {
+            out: Some(if resume { out_path(tag) } else { out_dir(tag) }),
+            device: Some(device),
+            quiet: true,
+            resume,
+            ..Default::default()
+        };
+        impact::run::run(&scene, &opts)
+    };
+    for (first, then) in [
+        (DeviceChoice::Cpu, DeviceChoice::Gpu),
+        (DeviceChoice::Gpu, DeviceChoice::Cpu),
+    ] {
+        let tag = format!("resume_across_{first:?}");
+        run_on(&tag, &half, false, first).expect("the first part");
+        let before = history_text(&tag);
+        let e = run_on(&tag, &text, true, then).expect_err("refused");
+        assert_eq!(e.exit_code(), 2, "{e}");
+        assert!(
+            e.to_string().contains("precision") && e.to_string().contains("--device"),
+            "{e}"
+        );
+        assert_eq!(history_text(&tag), before, "the history was changed");
+        run_on(&tag, &text, true, first).expect("resumed on the first device");
+    }
+}
+
 /// "Every GPU run prints `error: XDG_RUNTIME_DIR is invalid or not set` on a machine without
 /// a desktop session" (Mesa's Vulkan device-select layer): a GPU run without a session says
 /// nothing of it.

@@ -314,7 +314,8 @@ impl<'s> Running<'s> {
         let model = &setup.model;
         check_exact_columns(scene, model)?;
         if let Some(c) = &resumed {
-            check_resumable(dir, c, setup, ranks.map(|r| r.size()))?;
+            let device = solver.device_name();
+            check_resumable(dir, c, (setup, &device), ranks.map(|r| r.size()))?;
         }
         let rank = ranks.map(|r| (r.rank(), r.size()));
         let (out, tally) = match resumed {

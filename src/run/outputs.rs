@@ -186,13 +186,25 @@ pub(super) fn start_resumed(
 pub(super) fn check_resumable(
     dir: &Path,
     c: &Checkpoint,
-    setup: &Setup,
+    (setup, device): (&Setup, &str),
     ranks: Option<usize>,
 ) -> Result<()> {
     let refuse = |message: String| ImpactError::Resume {
         dir: dir.to_path_buf(),
         message,
     };
+    let kind = |d: &str| match d {
+        "cpu" => "the CPU (f64)",
+        _ => "a GPU (f32)",
+    };
+    if kind(&c.device) != kind(device) {
+        return Err(refuse(format!(
+            "the checkpoint was written on {} ({}) and this run computes on {} ({device}): its history would change precision part way; resume with the first run's --device",
+            kind(&c.device),
+            c.device,
+            kind(device)
+        )));
+    }
     use crate::integrate::resident::{needs_host_ranks, rigid_surfaces_on_device};
     let model = &setup.model;
     let resident_ranks =
@@ -282,6 +294,7 @@ pub(super) fn save(
             .unwrap_or_default(),
         frame_stem: out.stem.clone(),
         solver: state,
+        device: solver.device_name(),
     }
     .write(&out.dir)
 }
