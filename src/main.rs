@@ -117,16 +117,30 @@ enum Command {
 
 fn main() -> ExitCode {
     quiet_device_select();
-    match real_main() {
-        Ok(code) => ExitCode::from(code),
+    let code = match real_main() {
+        Ok(code) => code,
         Err(e) => {
             eprintln!("error: {}", chain(&e));
-            ExitCode::from(
-                e.downcast_ref::<ImpactError>()
-                    .map_or(exit::OTHER, ImpactError::exit_code),
-            )
+            e.downcast_ref::<ImpactError>()
+                .map_or(exit::OTHER, ImpactError::exit_code)
         }
-    }
+    };
+    quick_exit(code)
+}
+
+/// Ends the process with `code` once everything is written, without the C libraries' exit
+/// handlers. Those tear down the GPU drivers' state while the drivers' own threads may still
+/// run: on lavapipe one such race corrupted the heap at exit (an MPI rank then hung in Open
+/// MPI's abort handler, after its run had completed and written its files). The devices are
+/// closed and MPI is finalised before this (in `real_main`), and nothing of ours waits on an
+/// exit handler.
+fn quick_exit(code: u8) -> ! {
+    use std::io::Write;
+    let _ = std::io::stdout().flush();
+    let _ = std::io::stderr().flush();
+    // SAFETY: _exit ends the process; every file of the run is written and closed, the
+    // standard streams flushed just above
+    unsafe { libc::_exit(i32::from(code)) }
 }
 
 /// Mesa's Vulkan device-select layer looks for a desktop session to order the adapters, and
@@ -346,6 +360,10 @@ fn crack_band_command(
 /// `impact plot`: history columns as an SVG and a PNG chart.
 fn plot_command(dir: &Path, columns: Vec<String>, name: &str) -> anyhow::Result<u8> {
     use impact::output::plot::{chart, Table};
+    if let Some(why) = chart_name_refused(name) {
+        eprintln!("error: --name {name:?}: {why}");
+        return Ok(exit::USAGE);
+    }
     let table = Table::read(&dir.join("history.csv"))
         .with_context(|| format!("reading the history of {}", dir.display()))?;
     let columns = if columns.is_empty() {
@@ -536,6 +554,31 @@ fn info_command() -> anyhow::Result<u8> {
     );
     print!("{}", impact::gpu::context::info_report()?);
     Ok(exit::SUCCESS)
+}
+
+/// Why `impact plot` may not write a chart named `name`, if it may not: an empty or hidden
+/// name, a character that is not a letter, digit, `_`, `-` or `.`, or the name of a chart the
+/// run writes itself (`plot` would replace it).
+fn chart_name_refused(name: &str) -> Option<String> {
+    if name.is_empty() || name.starts_with('.') {
+        return Some(
+            "a chart's name is not empty and does not start with `.` (a hidden file)".into(),
+        );
+    }
+    if let Some(c) = name
+        .chars()
+        .find(|c| !(c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.')))
+    {
+        return Some(format!(
+            "holds {c:?}: a chart's name is made of ASCII letters, digits, `_`, `-` and `.`"
+        ));
+    }
+    let own = ["forces", "energies", "delamination"].contains(&name)
+        || name.starts_with("exact_")
+        || name.ends_with("_force_displacement");
+    own.then(|| {
+        "the run writes a chart of that name itself (forces, energies, delamination, exact_*, *_force_displacement): choose another".into()
+    })
 }
 
 /// `impact convert`: the deck's scene written to `to`, and the deck's notice.

@@ -775,3 +775,17 @@ fn a_refined_zone_is_checked() {
         &["body[0].box.refine.size", "32-bit"],
     );
 }
+
+/// A `[[fix]]` holding a component along which its rigid body was given a velocity is
+/// refused (the body would keep still along it without a word), naming the component.
+#[test]
+fn a_fix_on_a_moving_rigid_bodys_component_is_refused() {
+    let text = rigid(&format!(
+        "mass = 1.0\n{SPHERE}\nvelocity = [0.5, 0.0, -1.0]"
+    )) + "\n[[fix]]\nbody = \"tup\"\ncomponents = [\"x\", \"y\"]\n";
+    expect(&text, &["fix[0].components", "holds x", "0.5"]);
+    let held = rigid(&format!(
+        "mass = 1.0\n{SPHERE}\nvelocity = [0.0, 0.0, -1.0]"
+    )) + "\n[[fix]]\nbody = \"tup\"\ncomponents = [\"x\", \"y\"]\n";
+    Scene::parse(&held, Path::new("ok.toml")).expect("held where it does not move");
+}

@@ -97,4 +97,30 @@ fn plot_command_draws_named_columns_and_names_a_missing_one() {
         err.contains("no column \"A.vq\"") && err.contains("history.csv"),
         "{err}"
     );
+    // an empty or hidden name, and the run's own charts' names, are refused: the run's
+    // energies chart is left as it was
+    let energies = std::fs::read(dir.join("energies.svg")).expect("the run's chart");
+    for (name, words) in [
+        ("", "not empty"),
+        (".hidden", "hidden"),
+        ("a/b", "holds '/'"),
+        ("energies", "writes a chart of that name"),
+        ("impact_force_displacement", "writes a chart of that name"),
+    ] {
+        let out = Command::new(bin)
+            .args([
+                "plot",
+                dir.to_str().unwrap(),
+                "--columns",
+                "A.vx",
+                "--name",
+                name,
+            ])
+            .output()
+            .expect("impact plot runs");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{name:?}: {err}");
+        assert!(err.contains(words), "{name:?}: {err}");
+    }
+    assert_eq!(std::fs::read(dir.join("energies.svg")).unwrap(), energies);
 }

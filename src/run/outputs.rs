@@ -193,6 +193,15 @@ pub(super) fn check_resumable(
         dir: dir.to_path_buf(),
         message,
     };
+    use crate::integrate::resident::{needs_host_ranks, rigid_surfaces_on_device};
+    let model = &setup.model;
+    let resident_ranks =
+        setup.ctx.is_some() && rigid_surfaces_on_device(model) && !needs_host_ranks(model);
+    if let (Some(p), SolverState::Resident(_), false) = (ranks, &c.solver, resident_ranks) {
+        return Err(refuse(format!(
+            "the checkpoint holds the GPU resident engine's device state, which resumes on one process, or on ranks each resident on its GPU (a model whose only contacts are rigid planes), on the same kind of adapter, not on {p} ranks on this device"
+        )));
+    }
     let kind = |d: &str| match d {
         "cpu" => "the CPU (f64)",
         _ => "a GPU (f32)",
@@ -203,15 +212,6 @@ pub(super) fn check_resumable(
             kind(&c.device),
             c.device,
             kind(device)
-        )));
-    }
-    use crate::integrate::resident::{needs_host_ranks, rigid_surfaces_on_device};
-    let model = &setup.model;
-    let resident_ranks =
-        setup.ctx.is_some() && rigid_surfaces_on_device(model) && !needs_host_ranks(model);
-    if let (Some(p), SolverState::Resident(_), false) = (ranks, &c.solver, resident_ranks) {
-        return Err(refuse(format!(
-            "the checkpoint holds the GPU resident engine's device state, which resumes on one process, or on ranks each resident on its GPU (a model whose only contacts are rigid planes), on the same kind of adapter, not on {p} ranks on this device"
         )));
     }
     let (steps, time, dt) = match &c.solver {

@@ -947,6 +947,18 @@ impl Checker<'_> {
                     format!("`{}` is a rigid body: give it `motion = \"prescribed\"` and a `velocity` to move it", f.body),
                 ));
             }
+            // a held component of a rigid body would lose its initial velocity without a word
+            if let Some(b) = rigid_body.map(|b| &rigid[b]) {
+                if let Some(a) = (0..3).find(|&a| components[a] && b.velocity[a] != 0.0) {
+                    return Err(self.err(
+                        key("components"),
+                        format!(
+                            "holds {} of rigid body `{}`, whose velocity along it is {}: a held component does not move; give the body 0 there, or leave the component out",
+                            ["x", "y", "z"][a], f.body, b.velocity[a]
+                        ),
+                    ));
+                }
+            }
             fixes.push(FixSpec {
                 body,
                 nodes,
