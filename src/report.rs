@@ -22,6 +22,10 @@ pub fn model_report(scene: &Scene, setup: &Setup) -> Result<String> {
     method(&mut out, scene, setup);
     let _ = writeln!(out, "contact interfaces:");
     interfaces(&mut out, setup);
+    if !setup.model.cohesive.is_empty() {
+        let _ = writeln!(out, "cohesive interfaces:");
+        cohesive(&mut out, setup);
+    }
     let _ = writeln!(out, "fixes:");
     fixes(&mut out, scene, setup);
     let _ = writeln!(out, "memory: {}", memory::describe(&setup.estimate));
@@ -96,9 +100,13 @@ fn stable_step(out: &mut String, scene: &Scene, setup: &Setup) {
     if let Some((stable, e)) = setup.bound {
         let material = model.mesh.element(e).material;
         let body = model.mesh.body_of(e).unwrap_or(0);
+        let pairs = match model.cohesive.is_empty() {
+            true => String::new(),
+            false => " and lowered for the cohesive pairs' springs".into(),
+        };
         let _ = writeln!(
             out,
-            "stable explicit step: {stable:.6e}, set by element {e} (body `{}`, material `{}`)",
+            "stable explicit step: {stable:.6e}, set by element {e} (body `{}`, material `{}`){pairs}",
             scene.bodies[body].name, scene.materials[model.material_source[material as usize]].name
         );
     }
@@ -138,6 +146,23 @@ fn method(out: &mut String, scene: &Scene, setup: &Setup) {
                 choose_method(scene, model, stable).1
             );
         }
+    }
+}
+
+/// Each cohesive interface: its bonded pairs and area, and its law's onsets and final
+/// separations in the pure modes.
+fn cohesive(out: &mut String, setup: &Setup) {
+    for c in &setup.model.cohesive {
+        let p = &c.pairs;
+        let (n0, nf, _) = p.law.envelope(0.0);
+        let (s0, sf, _) = p.law.envelope(1.0);
+        let _ = writeln!(
+            out,
+            "  `{}`: {} bonded node pairs over {:.4e} (length^2); opening from {n0:.3e} to {nf:.3e}, sliding from {s0:.3e} to {sf:.3e}",
+            c.name,
+            p.area.len(),
+            p.area.iter().sum::<f64>()
+        );
     }
 }
 

@@ -528,3 +528,23 @@ toughness = { normal = 0.28, shear = 0.79, bk = 1.45 }
     let drift = (total[total.len() - 1] - total[0]).abs() / total[0];
     assert!(drift < 1e-3, "the total energy moved {drift} of its start");
 }
+
+/// `impact check` names each cohesive interface with its pairs and bonded area, and says the
+/// pairs lower the explicit step.
+#[test]
+fn check_reports_the_cohesive_interfaces() {
+    let dir = out_dir("cohesive_check");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("dcb.toml");
+    std::fs::write(&scene, quick_beam(1e-4)).unwrap();
+    let o = impact(&["check", s(&scene)]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    // nodes from x = 8 to 20 at 0.5 mm, two across: 50 pairs, their patches from 7.75 to 20
+    assert!(
+        out.contains("cohesive interfaces:")
+            && out.contains("`crack`: 50 bonded node pairs over 1.2250e1")
+            && out.contains("lowered for the cohesive pairs"),
+        "{out}"
+    );
+}
