@@ -144,6 +144,24 @@ fn rigid_plane_with_zero_normal() {
     expect(&text, &["rigid_plane[0].normal", "zero"]);
 }
 
+/// The same rigid plane given twice for a body is refused (the two would share its force,
+/// each reporting part of it); the same plane for other bodies, or a parallel one, is not.
+#[test]
+fn the_same_rigid_plane_twice_is_refused() {
+    let text = scene_text("bar_on_wall.toml");
+    let twice = text.clone()
+        + "\n[[rigid_plane]]\nname = \"again\"\npoint = [0.0, 5.0, 0.0]\nnormal = [-1.0, 0.0, 0.0]\n";
+    expect(
+        &twice,
+        &[
+            "rigid_plane[1].point",
+            "same plane as rigid_plane[0] (`wall`)",
+        ],
+    );
+    let parallel = twice.replace("point = [0.0, 5.0, 0.0]", "point = [1.0, 5.0, 0.0]");
+    Scene::parse(&parallel, Path::new("ok.toml")).expect("a parallel plane");
+}
+
 #[test]
 fn unknown_choice_suggests_the_closest() {
     expect(

@@ -864,6 +864,23 @@ impl Checker<'_> {
                     .map(|nm| self.body_index(&key("bodies"), nm, raw_bodies))
                     .collect::<Result<Vec<_>>>()?,
             };
+            // a plane given twice for a body: the two would share its force
+            let same = |q: &PlaneSpec| {
+                let along: f64 = (0..3).map(|a| (point[a] - q.point[a]) * q.normal[a]).sum();
+                let scale = (point.iter().chain(&q.point)).fold(1.0f64, |m, x| m.max(x.abs()));
+                (0..3).all(|a| (normal[a] - q.normal[a]).abs() <= 1e-12)
+                    && along.abs() <= 1e-9 * scale
+                    && q.bodies.iter().any(|b| bodies_idx.contains(b))
+            };
+            if let Some((j, q)) = planes.iter().enumerate().find(|(_, q)| same(q)) {
+                return Err(self.err(
+                    key("point"),
+                    format!(
+                        "the same plane as rigid_plane[{j}] (`{}`) for the same bodies: two planes on one surface share its force, so each would report part of it",
+                        q.name
+                    ),
+                ));
+            }
             planes.push(PlaneSpec {
                 name: p.name.clone(),
                 point,
