@@ -27,6 +27,27 @@ pub struct CohesivePairs {
     pub normal: Vec<[f64; 3]>,
 }
 
+impl CohesivePairs {
+    /// No pairs yet, of law `law`.
+    pub fn new(law: CohesiveLaw) -> Self {
+        CohesivePairs {
+            law,
+            upper: Vec::new(),
+            lower: Vec::new(),
+            area: Vec::new(),
+            normal: Vec::new(),
+        }
+    }
+
+    /// Adds the pair of nodes `upper` and `lower` with its area and normal.
+    pub fn push(&mut self, (upper, lower): (u32, u32), area: f64, normal: [f64; 3]) {
+        self.upper.push(upper);
+        self.lower.push(lower);
+        self.area.push(area);
+        self.normal.push(normal);
+    }
+}
+
 /// The cohesive interfaces' state: each pair's damage, and each interface's energy
 /// dissipated so far.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]

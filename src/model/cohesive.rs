@@ -150,22 +150,13 @@ fn laminate(
 ) -> Result<CohesiveInterface> {
     let low = Side::of(mesh, &split.faces);
     let inside = |n: u32| in_region(mesh, c, n);
-    let mut out = CohesivePairs {
-        law: c.law,
-        upper: Vec::new(),
-        lower: Vec::new(),
-        area: Vec::new(),
-        normal: Vec::new(),
-    };
+    let mut out = CohesivePairs::new(c.law);
     for &(up, n) in split.pairs.iter().filter(|p| inside(p.1)) {
         // a node of the plane on no face below it (none: the planes are whole layers)
         let Ok(k) = low.nodes.binary_search(&n) else {
             continue;
         };
-        out.upper.push(up);
-        out.lower.push(n);
-        out.area.push(low.area[k]);
-        out.normal.push(low.normal[k]);
+        out.push((up, n), low.area[k], low.normal[k]);
     }
     if out.upper.is_empty() {
         return Err(nothing_bonded(scene, i, c));
@@ -208,23 +199,15 @@ fn pair(
     let tol = PAIR_TOLERANCE * size;
     let inside = |n: u32| in_region(mesh, c, n);
     let grid = Grid::of(mesh, &up.nodes, tol);
-    let mut out = CohesivePairs {
-        law: c.law,
-        upper: Vec::new(),
-        lower: Vec::new(),
-        area: Vec::new(),
-        normal: Vec::new(),
-    };
+    let mut out = CohesivePairs::new(c.law);
     let mut partnered = vec![false; up.nodes.len()];
     for (k, &n) in low.nodes.iter().enumerate().filter(|&(_, &n)| inside(n)) {
         let Some(j) = grid.find(mesh, n) else {
             return Err(unpaired(scene, mesh, (i, sides), (1, 0), n));
         };
         partnered[j] = true;
-        out.upper.push(up.nodes[j]);
-        out.lower.push(n);
-        out.area.push(0.5 * (low.area[k] + up.area[j]));
-        out.normal.push(low.normal[k]);
+        let area = 0.5 * (low.area[k] + up.area[j]);
+        out.push((up.nodes[j], n), area, low.normal[k]);
     }
     let lone = (up.nodes.iter().zip(&partnered)).find(|&(&n, &p)| !p && inside(n));
     if let Some((&n, _)) = lone {
