@@ -473,6 +473,79 @@ fn what_a_deck_asks_that_impact_cannot_honour_is_refused_by_keyword_and_line() {
     );
 }
 
+/// What a deck gets wrong is told at its own line, in its own words, never by the scene
+/// keys the reader writes: a material without `*DENSITY`, a density of 0, a contact pair
+/// given twice or without its data line, an element in two sections. The names the reader
+/// makes (contacts, walls) never take a name the deck gives.
+#[test]
+fn a_decks_mistakes_are_told_at_its_lines_and_its_names_never_clash() {
+    let deck = std::fs::read_to_string(repo().join("scenes/two_bars.inp")).unwrap();
+    let line = |text: &str, what: &str| {
+        let at = text.find(what).unwrap_or_else(|| panic!("{what}"));
+        format!("bad.inp:{}", text[..at].lines().count() + 1)
+    };
+    let dry = edit(&deck, "*DENSITY\n0.01\n", "");
+    let at = line(&dry, "*MATERIAL");
+    refused(
+        "deck_no_density",
+        &dry,
+        &[&at, "NAME=ELASTIC", "no *DENSITY"],
+    );
+    let light = edit(&deck, "*DENSITY\n0.01\n", "*DENSITY\n0.0\n");
+    let at = line(&light, "*MATERIAL");
+    refused(
+        "deck_zero_density",
+        &light,
+        &[&at, "NAME=ELASTIC, its density"],
+    );
+    let twice = edit(&deck, "TIPA, ENDB\n", "TIPA, ENDB\nTIPA, ENDB\n");
+    let at = format!(
+        "bad.inp:{}",
+        twice[..twice.find("TIPA, ENDB").unwrap()].lines().count() + 2
+    );
+    refused("deck_pair_twice", &twice, &[&at, "given twice"]);
+    let empty = edit(
+        &deck,
+        "TYPE=SURFACE TO SURFACE\nTIPA, ENDB\n",
+        "TYPE=SURFACE TO SURFACE\n",
+    );
+    let at = line(&empty, "*CONTACT PAIR");
+    refused("deck_pair_empty", &empty, &[&at, "needs a data line"]);
+    let sections = edit(
+        &deck,
+        "*SOLID SECTION, ELSET=B,",
+        "*ELSET, ELSET=C\n10, 101\n*SOLID SECTION, ELSET=C, MATERIAL=ELASTIC\n*SOLID SECTION, ELSET=B,",
+    );
+    let at = line(&sections, "*SOLID SECTION, ELSET=C");
+    refused(
+        "deck_two_sections",
+        &sections,
+        &[&at, "element 10 is in two *SOLID SECTIONs"],
+    );
+    // an LS-DYNA part titled as the reader names a wall or a contact keeps its title
+    let k = std::fs::read_to_string(repo().join("scenes/block_drop.k")).unwrap();
+    let titled = edit(&k, "$# title\nblock\n", "$# title\nwall1\n");
+    let path = written("k_wall1_files", "wall1.k", &titled);
+    let scene = Scene::load(&path).expect("a part titled wall1 reads");
+    assert_eq!(scene.bodies[0].name, "wall1");
+    assert_eq!(scene.planes[0].name, "wall1_2");
+    let light = edit(
+        &k,
+        "         1      0.01     100.0       0.3",
+        "         1       0.0     100.0       0.3",
+    );
+    let path = written("k_light_files", "light.k", &light);
+    let e = Scene::load(&path).expect_err("no mass").to_string();
+    let at = format!(
+        "light.k:{}",
+        light[..light.find("         1       0.0").unwrap()]
+            .lines()
+            .count()
+            + 1
+    );
+    assert!(e.contains(&at) && e.contains("*MAT 1, its density"), "{e}");
+}
+
 /// The paper's second example (`scenes/cube_on_plate.toml`) as a CalculiX deck: the cube
 /// strikes the plate obliquely (friction 0.3), the plate held on its two bottom edges
 /// (pinned on one, on rollers along x on the other), the cube's bottom centre printed.
@@ -627,7 +700,8 @@ fn the_lsdyna_block_drop_runs_as_it_stands_and_matches_its_scene() {
 
 /// `*INCLUDE` in a keyword file: `scenes/block_drop.k` with its nodes and elements moved
 /// into an included file (in a subfolder, named on two cards joined by ` +`) runs to the
-/// single file's history, byte for byte; a keyword the included file asks that impact cannot
+/// single file's history, byte for byte (the included file's own `*END` ends it, the
+/// lines after it unread); a keyword the included file asks that impact cannot
 /// honour is refused naming that file and its line, and an include without its file's name
 /// is refused at its line.
 #[test]
@@ -640,7 +714,8 @@ fn an_lsdyna_include_reads_as_the_one_file_does() {
     let (head, mesh) = (&text[..at], &text[at..end]);
     let dir = out_dir("deck_include");
     std::fs::create_dir_all(dir.join("mesh")).unwrap();
-    let included = format!("$ the block's nodes and elements\n{mesh}");
+    let included =
+        format!("$ the block's nodes and elements\n{mesh}*END\n*NODE\n1, 0.0, 0.0, 9.0\n");
     std::fs::write(dir.join("mesh/block_mesh.k"), &included).unwrap();
     let main = format!("{head}*INCLUDE\n$ the mesh\nmesh/block_ +\nmesh.k\n*END\n");
     let path = dir.join("block_drop_include.k");
@@ -652,7 +727,8 @@ fn an_lsdyna_include_reads_as_the_one_file_does() {
         "the included mesh"
     );
     // a keyword in the included file is refused at its file and line
-    let bad = format!("{included}*MAT_PLASTIC_KINEMATIC\n         1\n");
+    let bad =
+        format!("$ the block's nodes and elements\n{mesh}*MAT_PLASTIC_KINEMATIC\n         1\n");
     std::fs::write(dir.join("mesh/block_mesh.k"), &bad).unwrap();
     let e = Scene::load(&path).expect_err("refused").to_string();
     let line = bad.lines().count() - 1;
@@ -930,6 +1006,108 @@ fn rigid_tup_deck() -> String {
     t += "*BOUNDARY_SPC_SET\n1, 0, 1, 1, 1, 0, 0, 0\n";
     t += "*CONTACT_AUTOMATIC_NODES_TO_SURFACE\n1, 2, 0, 0\n0.0, 0.0\n*END\n";
     t
+}
+
+/// LS-DYNA reads a blank card as a card of its defaults (a blank contact card 2 is FS = FD
+/// = 0, so card 3's SFS is not the friction), stops at `*END`, and takes `*KEYWORD` with
+/// its memory; so does impact.
+#[test]
+fn an_lsdyna_file_reads_blank_cards_as_defaults_and_stops_at_its_end() {
+    let deck = rigid_tup_deck();
+    let load = |tag: &str, text: &str| {
+        Scene::load(&written(tag, "tup.k", text)).unwrap_or_else(|e| panic!("{tag}: {e}"))
+    };
+    let friction = |text: &str| load("k_friction", text).contacts[0].friction;
+    let card2 = "1, 2, 0, 0\n0.0, 0.0\n";
+    assert_eq!(friction(&edit(&deck, card2, "1, 2, 0, 0\n0.3, 0.0\n")), 0.3);
+    assert_eq!(
+        friction(&edit(&deck, card2, "1, 2, 0, 0\n\n1.0, 1.0\n")),
+        0.0
+    );
+    let fixed = edit(
+        &deck,
+        card2,
+        "1, 2, 0, 0\n          \n       1.0       1.0\n",
+    );
+    assert_eq!(friction(&fixed), 0.0);
+    // the cards after *END are not read
+    let after = format!("{deck}*INITIAL_VELOCITY_GENERATION\n1, 2, 0.0, 0.0, 0.0, -5.0, 0, 0\n0, 0, 0, 0, 0, 0, 0, 0\n*LOAD_BODY_Z\n1\n");
+    let s = load("k_after_end", &after);
+    let block = s
+        .bodies
+        .iter()
+        .find(|b| b.name == "block")
+        .expect("the block");
+    assert_eq!(block.velocity, [0.0; 3]);
+    let s = load(
+        "k_memory",
+        &edit(&deck, "*KEYWORD\n", "*KEYWORD 100000000\n"),
+    );
+    assert_eq!(s.bodies.len(), 1);
+}
+
+/// What LS-DYNA refuses in a keyword file, impact refuses by file, line and what is wrong:
+/// an element, part, set or material id given twice, an element of a part no `*PART`
+/// defines, a keyword that does not start in column 1, a card before the first keyword.
+#[test]
+fn an_lsdyna_file_with_an_id_given_twice_or_a_card_out_of_place_is_refused_at_its_line() {
+    let deck = rigid_tup_deck();
+    let line_of = |text: &str, what: &str| text[..text.find(what).unwrap()].lines().count() + 1;
+    let check = |tag: &str, text: &str, at: &str, words: &[&str]| {
+        let e = Scene::load(&written(tag, "bad.k", text))
+            .expect_err(tag)
+            .to_string();
+        let line = format!("bad.k:{}", line_of(text, at));
+        assert!(e.contains(&line), "{tag}: {line} in {e}");
+        for w in words {
+            assert!(e.contains(w), "{tag}: `{w}` in {e}");
+        }
+    };
+    let twice = edit(&deck, "101, 2, 101,", "8, 2, 101,");
+    check(
+        "k_element_twice",
+        &twice,
+        "8, 2, 101,",
+        &["element 8 is defined twice"],
+    );
+    let part = edit(&deck, "*PART\ntup\n2, 1, 2\n", "*PART\ntup\n1, 1, 2\n");
+    check(
+        "k_part_twice",
+        &part,
+        "1, 1, 2\n",
+        &["*PART 1 is defined twice"],
+    );
+    let orphan = edit(&deck, "101, 2, 101,", "101, 3, 101,");
+    check(
+        "k_orphan",
+        &orphan,
+        "101, 3, 101,",
+        &["element 101", "no *PART 3"],
+    );
+    let set = edit(&deck, "*SET_SEGMENT\n2\n", "*SET_SEGMENT\n1\n");
+    let at = "1\n101, 104";
+    check(
+        "k_set_twice",
+        &set,
+        at,
+        &["*SET_SEGMENT 1 is defined twice"],
+    );
+    let mat = edit(&deck, "*MAT_RIGID\n2,", "*MAT_RIGID\n1,");
+    check(
+        "k_material_twice",
+        &mat,
+        "1, 0.08",
+        &["material 1 is defined twice"],
+    );
+    let blank = edit(&deck, "*NODE\n", " *NODE\n");
+    check("k_blank_keyword", &blank, " *NODE", &["column 1"]);
+    let before = format!("0.05\n{deck}");
+    check(
+        "k_card_first",
+        &before,
+        "0.05",
+        &["before the first keyword"],
+    );
 }
 
 #[test]

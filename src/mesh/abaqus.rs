@@ -101,6 +101,8 @@ struct Reader {
     orientations: Vec<AbaqusOrientation>,
     /// `*SOLID SECTION`s with an orientation: (elset, orientation name, line).
     sections: Vec<(String, String, usize)>,
+    /// Every `*SOLID SECTION`'s element set and line.
+    section_sets: Vec<(String, usize)>,
     /// Keywords passed over, with their lines.
     skipped: Vec<(String, usize)>,
     /// At most this many nodes and elements are defined (see [`defined_bounds`]).
@@ -246,6 +248,7 @@ impl Parser {
                 node_surfaces: Vec::new(),
                 orientations: Vec::new(),
                 sections: Vec::new(),
+                section_sets: Vec::new(),
                 skipped: Vec::new(),
                 max_nodes,
                 max_elements,
@@ -299,6 +302,9 @@ impl Parser {
                 if let Some(m) = k.params.get("MATERIAL").filter(|m| !m.is_empty()) {
                     // the body's `material` is used, not the deck's
                     self.r.skipped.push((format!("SOLID SECTION MATERIAL={m}"), line_no));
+                }
+                if let Some(elset) = k.params.get("ELSET").filter(|e| !e.is_empty()) {
+                    self.r.section_sets.push((elset.clone(), k.line));
                 }
                 if let Some(o) = k.params.get("ORIENTATION").filter(|o| !o.is_empty()) {
                     let elset = k.need("ELSET")?;
@@ -760,6 +766,7 @@ impl Reader {
             nodes: self.nodes.clone(),
             ..Default::default()
         };
+        self.one_section_each()?;
         let keeps = |k: usize| kept.is_none_or(|s| s.contains(&k));
         let corners = self.add_elements(&mut mesh, &keeps)?;
         for surface in &self.surfaces {
@@ -788,6 +795,27 @@ impl Reader {
         mesh.axes = self.element_axes(&keeps)?;
         mesh.skipped = self.skipped.clone();
         Ok(mesh)
+    }
+
+    /// Refuses an element that two `*SOLID SECTION`s name (it would be two overlapping
+    /// bodies' element).
+    fn one_section_each(&self) -> Res<()> {
+        let mut section: HashMap<u64, usize> = HashMap::new();
+        for (k, (elset, line)) in self.section_sets.iter().enumerate() {
+            let Some(set) = find_set(&self.elsets, elset) else {
+                continue;
+            };
+            for &id in &set.ids {
+                if let Some(first) = section.insert(id, k).filter(|&f| f != k) {
+                    let other = &self.section_sets[first].0;
+                    return Err(ParseError::at(
+                        *line,
+                        format!("element {id} is in two *SOLID SECTIONs (ELSET={other}, and ELSET={elset} here): an element is one section's"),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The axes of each element in a `*SOLID SECTION` with an orientation, by block as

@@ -1,6 +1,7 @@
 //! A deck's lines with its includes expanded in place: an Abaqus/CalculiX deck's
 //! `*INCLUDE, INPUT=file`, or an LS-DYNA keyword file's `*INCLUDE` with the file's name on
-//! the card after it (a name ending in ` +` goes on on the next card).
+//! the card after it (a name ending in ` +` goes on on the next card). A keyword file and
+//! each file it includes end at their `*END`: the lines after it are not read.
 //!
 //! An included file is found relative to the folder of the file that includes it, may
 //! include others in turn (at most [`MAX_DEPTH`] deep, which also stops a file that includes
@@ -95,6 +96,17 @@ impl Deck {
         let mut lines = text.lines().enumerate();
         while let Some((i, raw)) = lines.next() {
             let line = i + 1;
+            // a keyword file ends at *END, an included one too (its *END ends it alone)
+            if dialect == Dialect::Keyword
+                && raw.starts_with('*')
+                && super::lsdyna::keyword(raw) == "END"
+            {
+                if file == 0 {
+                    self.text.push_str("*END\n");
+                    self.lines.push((file, line));
+                }
+                break;
+            }
             let include = match dialect {
                 Dialect::Abaqus => include_target(raw),
                 Dialect::Keyword => keyword_include(raw, &mut lines),

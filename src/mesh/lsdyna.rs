@@ -2,8 +2,11 @@
 //! whose last five nodes are one node is a tetrahedron), `*SET_NODE_LIST` (node sets named
 //! by their id) and `*SET_SEGMENT` (surfaces named by their id), each with its `_TITLE`
 //! variant. Cards are fixed width (`*NODE`: 8 + 3 x 16 columns; elements: 8-column fields;
-//! sets: 10-column fields) or free format (comma-separated). `$` starts a comment line.
-//! Other keywords are the scene's ([`crate::scene::from_deck`]) and are listed as skipped.
+//! sets: 10-column fields) or free format (comma-separated). `$` starts a comment line; a
+//! blank line is a card of defaults where a set's title or header is due (elsewhere it
+//! holds nothing to read); `*END` ends the file. An element or set id given twice is
+//! refused. Other keywords are the scene's ([`crate::scene::from_deck`]) and are listed as
+//! skipped.
 
 use std::collections::HashMap;
 
@@ -33,9 +36,19 @@ pub(crate) fn card(line: &str, widths: &[usize]) -> Vec<String> {
     out
 }
 
-/// The keyword of a line starting with `*`, upper case.
+/// The keyword of a line starting with `*`, upper case: its first word (`*KEYWORD
+/// 100000000` gives the memory after it).
 pub(crate) fn keyword(line: &str) -> String {
-    line[1..].trim().to_ascii_uppercase()
+    let word = line[1..].split_whitespace().next().unwrap_or("");
+    word.to_ascii_uppercase()
+}
+
+/// The refusal of a keyword that does not start in column 1.
+pub(crate) fn misplaced_keyword(line: &str) -> String {
+    format!(
+        "`{}`: a keyword starts in column 1 (this line has blanks before its `*`)",
+        line.trim()
+    )
 }
 
 /// What a block's data cards are.
@@ -54,11 +67,25 @@ enum Block {
     Skip,
 }
 
+impl Block {
+    /// Whether the block's next card is a set's title or header, which a blank line fills.
+    fn due(&self) -> bool {
+        match self {
+            Block::NodeSet { titled, header } | Block::Segments { titled, header } => {
+                *titled || *header
+            }
+            _ => false,
+        }
+    }
+}
+
 struct Reader {
     nodes: Vec<[f64; 3]>,
     node_ids: HashMap<u64, u32>,
     /// (element id, part id, node ids, line).
     elements: Vec<(u64, u64, Vec<u64>, usize)>,
+    /// Each element id's line.
+    element_ids: HashMap<u64, usize>,
     node_sets: Vec<(String, Vec<u64>, usize)>,
     segments: Vec<(String, Vec<Vec<u64>>, usize)>,
     skipped: Vec<(String, usize)>,
@@ -103,6 +130,12 @@ impl Reader {
                 let nodes = (2..10)
                     .map(|i| integer(&f, i, n, "element node"))
                     .collect::<Res<Vec<u64>>>()?;
+                if let Some(first) = self.element_ids.insert(id, n) {
+                    return Err(ParseError::at(
+                        n,
+                        format!("element {id} is defined twice (first on line {first})"),
+                    ));
+                }
                 self.elements.push((id, part, nodes, n));
             }
             Block::NodeSet { titled, header } | Block::Segments { titled, header } => {
@@ -114,6 +147,24 @@ impl Reader {
                 if *header {
                     *header = false;
                     let sid = integer(&f, 0, n, "set id")?.to_string();
+                    let first = match block {
+                        Block::NodeSet { .. } => self
+                            .node_sets
+                            .iter()
+                            .find(|s| s.0 == sid)
+                            .map(|s| ("*SET_NODE_LIST", s.2)),
+                        _ => self
+                            .segments
+                            .iter()
+                            .find(|s| s.0 == sid)
+                            .map(|s| ("*SET_SEGMENT", s.2)),
+                    };
+                    if let Some((kind, first)) = first {
+                        return Err(ParseError::at(
+                            n,
+                            format!("{kind} {sid} is defined twice (first on line {first})"),
+                        ));
+                    }
                     match block {
                         Block::NodeSet { .. } => self.node_sets.push((sid, Vec::new(), n)),
                         _ => self.segments.push((sid, Vec::new(), n)),
@@ -233,6 +284,7 @@ pub fn read(text: &str, part: Option<&str>) -> Res<FileMesh> {
         nodes: Vec::new(),
         node_ids: HashMap::new(),
         elements: Vec::new(),
+        element_ids: HashMap::new(),
         node_sets: Vec::new(),
         segments: Vec::new(),
         skipped: Vec::new(),
@@ -240,11 +292,17 @@ pub fn read(text: &str, part: Option<&str>) -> Res<FileMesh> {
     let mut block = Block::Skip;
     for (i, raw) in text.lines().enumerate() {
         let n = i + 1;
-        if raw.trim().is_empty() || raw.starts_with('$') {
+        if raw.starts_with('$') || (raw.trim().is_empty() && !block.due()) {
             continue;
+        }
+        if !raw.starts_with('*') && raw.trim_start().starts_with('*') {
+            return Err(ParseError::at(n, misplaced_keyword(raw)));
         }
         if raw.starts_with('*') {
             let k = keyword(raw);
+            if k == "END" {
+                break;
+            }
             block = match k.as_str() {
                 "NODE" => Block::Node,
                 "ELEMENT_SOLID" => Block::Solid,
@@ -262,7 +320,7 @@ pub fn read(text: &str, part: Option<&str>) -> Res<FileMesh> {
                         "*INCLUDE in a keyword file is not read: give the model in one file",
                     ))
                 }
-                "KEYWORD" | "END" => Block::Skip,
+                "KEYWORD" => Block::Skip,
                 _ => {
                     r.skipped.push((k, n));
                     Block::Skip

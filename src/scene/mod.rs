@@ -477,7 +477,7 @@ impl Scene {
     /// in place of the mesh reader's (which lists the keywords the conversion read).
     fn from_deck(path: &Path) -> Result<Scene> {
         let converted = from_deck::convert(path)?;
-        let mut scene = Self::parse(&converted.toml, path)?;
+        let mut scene = Self::parse(&converted.toml, path).map_err(|e| converted.locate(e))?;
         let mesh_notice = format!("{}: keywords not read", path.display());
         scene.notices.retain(|n| !n.starts_with(&mesh_notice));
         scene.notices.extend(converted.notice);

@@ -14,7 +14,7 @@ use std::path::Path;
 
 use super::{
     fixes_of, holders, DeckBody, DeckContact, DeckFile, DeckFix, DeckMaterial, DeckProbe,
-    DeckRigid, DeckScene, DeckStep, Elastic, Holder, PrimarySide, Select,
+    DeckRigid, DeckScene, DeckStep, Elastic, Holder, Origin, PrimarySide, Select,
 };
 use crate::error::Result;
 use crate::mesh::abaqus::params;
@@ -174,6 +174,8 @@ impl Reader<'_> {
                     name: name.to_string(),
                     density: None,
                     elastic: None,
+                    line: b.line,
+                    what: format!("*MATERIAL, NAME={name}"),
                 });
             }
             "ELASTIC" => {
@@ -362,11 +364,30 @@ impl Reader<'_> {
                 return Err(self.src.err(b.line, format!("*CONTACT PAIR, TYPE={ty}: impact reads NODE TO SURFACE and SURFACE TO SURFACE (both become its node-to-surface contact)")));
             }
         }
+        if b.data.is_empty() {
+            return Err(self.src.err(
+                b.line,
+                "*CONTACT PAIR needs a data line naming the slave, then the master surface",
+            ));
+        }
         for (f, l) in &b.data {
             if f.len() < 2 || f[1].is_empty() {
                 return Err(self.src.err(
                     *l,
                     "a contact pair line names the slave, then the master surface",
+                ));
+            }
+            let same = |(s, m, _, _): &&(String, String, String, usize)| {
+                s.eq_ignore_ascii_case(&f[0]) && m.eq_ignore_ascii_case(&f[1])
+            };
+            if let Some((.., first)) = g.pairs.iter().find(same) {
+                let first = self.src.line(*first);
+                return Err(self.src.err(
+                    *l,
+                    format!(
+                        "the contact pair {}, {} is given twice (first on line {first})",
+                        f[0], f[1]
+                    ),
                 ));
             }
             g.pairs.push((
@@ -469,7 +490,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
     let bodies = r.bodies(&g)?;
     let (probes, unprobed) = r.probes(&g, &bodies, &on)?;
     let (contacts, rigid_bodies) = r.contacts(&g, &bodies, &rigid)?;
-    let scene = DeckScene {
+    let mut scene = DeckScene {
         title: g.title.clone(),
         mesh: path
             .file_name()
@@ -484,6 +505,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         rigid: rigid_bodies,
         bodies: r.velocities(&g, &bodies, &on)?,
         step,
+        origins: Vec::new(),
     };
     let mut unprobed = unprobed;
     for (d, (r, _)) in g.rigid.iter().zip(&rigid.bodies) {
@@ -495,8 +517,41 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
             unprobed.push((what, d.line));
         }
     }
+    scene.materials_complete(&r.src)?;
+    scene.origins = r.origins(&g, &scene);
     let notice = notice(&r, &g, &unprobed);
     Ok((scene, notice))
+}
+
+impl Reader<'_> {
+    /// The deck's lines of the scene's materials, bodies, contacts and rigid bodies.
+    fn origins(&self, g: &Gathered, scene: &DeckScene) -> Vec<Origin> {
+        let mut out = Vec::new();
+        for (i, m) in scene.materials.iter().enumerate() {
+            out.push(
+                self.src
+                    .origin(format!("material[{i}]"), m.line, m.what.clone()),
+            );
+        }
+        for (i, b) in scene.bodies.iter().enumerate() {
+            let section = (g.sections.iter()).find(|s| Select::Elset(s.0.clone()) == b.select);
+            if let Some((elset, _, line)) = section {
+                let what = format!("*SOLID SECTION, ELSET={elset}");
+                out.push(self.src.origin(format!("body[{i}]"), *line, what));
+            }
+        }
+        for (i, (slave, master, _, line)) in g.pairs.iter().enumerate() {
+            let what = format!("*CONTACT PAIR {slave}, {master}");
+            out.push(self.src.origin(format!("contact[{i}]"), *line, what));
+        }
+        for (i, r) in scene.rigid.iter().enumerate() {
+            if let Some(d) = g.rigid.iter().find(|d| d.elset == r.name) {
+                let what = format!("*RIGID BODY, ELSET={}", d.elset);
+                out.push(self.src.origin(format!("rigid_body[{i}]"), d.line, what));
+            }
+        }
+        out
+    }
 }
 
 /// What names a rigid body's nodes: the deck's nodes and its rigid bodies.

@@ -10,7 +10,7 @@ use std::path::Path;
 
 use super::{
     fixes_of, holders, DeckBody, DeckContact, DeckFile, DeckFix, DeckMaterial, DeckPlane,
-    DeckRigid, DeckScene, DeckStep, Elastic, Holder, PrimarySide, Select, Spin,
+    DeckRigid, DeckScene, DeckStep, Elastic, Holder, Origin, PrimarySide, Select, Spin,
 };
 use crate::error::Result;
 use crate::mesh::deck::Dialect;
@@ -36,30 +36,54 @@ const CONTACTS: [&str; 4] = [
     "CONTACT_NODES_TO_SURFACE",
 ];
 
-/// A keyword and its data cards (comment cards left out), with their lines.
+/// A keyword and its data cards (comment cards left out, blank cards kept: LS-DYNA reads a
+/// blank card as one of defaults), with their lines.
 struct Block {
     name: String,
     line: usize,
     cards: Vec<(String, usize)>,
 }
 
-fn blocks(text: &str) -> Vec<Block> {
+impl Block {
+    /// The cards of a keyword that repeats its cards, without the blank ones at its end.
+    fn repeated(&self) -> &[(String, usize)] {
+        let n = (self.cards.iter())
+            .rposition(|(t, _)| !t.trim().is_empty())
+            .map_or(0, |i| i + 1);
+        &self.cards[..n]
+    }
+}
+
+/// The file's keywords up to `*END` (the cards after it are not read), or the line of a
+/// card that is not in a keyword's block and what is wrong with it.
+fn blocks(text: &str) -> std::result::Result<Vec<Block>, (usize, String)> {
     let mut out: Vec<Block> = Vec::new();
     for (i, raw) in text.lines().enumerate() {
-        if raw.trim().is_empty() || raw.starts_with('$') {
+        if raw.starts_with('$') {
             continue;
         }
         if raw.starts_with('*') {
+            let name = keyword(raw);
+            if name == "END" {
+                break;
+            }
             out.push(Block {
-                name: keyword(raw),
+                name,
                 line: i + 1,
                 cards: Vec::new(),
             });
+        } else if raw.trim_start().starts_with('*') {
+            return Err((i + 1, crate::mesh::lsdyna::misplaced_keyword(raw)));
         } else if let Some(b) = out.last_mut() {
             b.cards.push((raw.to_string(), i + 1));
+        } else if !raw.trim().is_empty() {
+            return Err((
+                i + 1,
+                format!("`{}`: a data card before the first keyword", raw.trim()),
+            ));
         }
     }
-    out
+    Ok(out)
 }
 
 /// A planar rigid wall: the node set it stops (0: every node), its point (the tail),
@@ -79,6 +103,7 @@ struct ElasticMaterial {
     ro: f64,
     elastic: Elastic,
     axes: Option<[[f64; 3]; 2]>,
+    line: usize,
 }
 
 /// A `*MAT_RIGID`: its id, density, and its constraints (CMO, CON1, CON2), with the line of
@@ -88,6 +113,8 @@ struct RigidMaterial {
     ro: f64,
     constraints: [f64; 3],
     line: usize,
+    /// The line of its first card (its id).
+    id_line: usize,
 }
 
 /// What the reader gathers before the bodies are known.
@@ -149,7 +176,7 @@ impl Reader<'_> {
             n if MESH.contains(&n) || n == "END" => {}
             "TITLE" => g.title = b.cards.first().map(|(t, _)| t.trim().to_string()),
             "PART" => {
-                for pair in b.cards.chunks(2) {
+                for pair in b.repeated().chunks(2) {
                     let title = pair[0].0.trim().to_string();
                     let (text, l) = pair.get(1).ok_or_else(|| {
                         self.src.err(b.line, "*PART: a title card, then pid, secid, mid")
@@ -175,13 +202,14 @@ impl Reader<'_> {
                     ro: ro?,
                     elastic,
                     axes: None,
+                    line: l,
                 });
             }
             "MAT_ORTHOTROPIC_ELASTIC" | "MAT_002" => self.orthotropic(b, g)?,
             "MAT_RIGID" | "MAT_020" => {
                 let (f, l) = self.card(b, 0)?;
                 // without its second card a rigid part is unconstrained (CMO = 0)
-                let (c, l2) = match b.cards.len() {
+                let (c, l2) = match b.repeated().len() {
                     1 => (Vec::new(), l),
                     _ => self.card(b, 1)?,
                 };
@@ -192,6 +220,7 @@ impl Reader<'_> {
                     ro: self.real(&f, 1, l, "*MAT_RIGID ro")?,
                     constraints: [cmo?, con1?, con2?],
                     line: l2,
+                    id_line: l,
                 });
             }
             "BOUNDARY_SPC_SET" => self.spc(b, g)?,
@@ -222,8 +251,48 @@ impl Reader<'_> {
         Ok(())
     }
 
+    /// Ids given twice (a part, a material) and elements of parts no `*PART` defines.
+    fn check_blocks(&self, blocks: &[Block], g: &Gathered) -> Result<()> {
+        for (k, (pid, _, _, _, line)) in g.parts.iter().enumerate() {
+            if let Some(first) = g.parts[..k].iter().find(|p| p.0 == *pid) {
+                let first = self.src.line(first.4);
+                return Err(self.src.err(
+                    *line,
+                    format!("*PART {pid} is defined twice (first on line {first})"),
+                ));
+            }
+        }
+        let mids = (g.materials.iter().map(|m| (m.mid, m.line)))
+            .chain(g.rigid_materials.iter().map(|m| (m.mid, m.id_line)));
+        let mut seen: Vec<(u64, usize)> = Vec::new();
+        for (mid, line) in mids {
+            if let Some((_, first)) = seen.iter().find(|(m, _)| *m == mid) {
+                let first = self.src.line(*first);
+                return Err(self.src.err(
+                    line,
+                    format!("material {mid} is defined twice (first on line {first}): a material id names one *MAT card"),
+                ));
+            }
+            seen.push((mid, line));
+        }
+        let solids = blocks.iter().filter(|b| b.name == "ELEMENT_SOLID");
+        for (text, line) in solids.flat_map(|b| b.cards.iter()) {
+            let f = card(text, &[8]);
+            let part = self.id(&f, 1, *line, "*ELEMENT_SOLID pid")?;
+            if text.trim().is_empty() || g.parts.iter().any(|p| p.0 == part) {
+                continue;
+            }
+            let eid = f.first().map_or("", String::as_str);
+            return Err(self.src.err(
+                *line,
+                format!("element {eid}: no *PART {part} defines its part"),
+            ));
+        }
+        Ok(())
+    }
+
     fn spc(&self, b: &Block, g: &mut Gathered) -> Result<()> {
-        for k in 0..b.cards.len() {
+        for k in 0..b.repeated().len() {
             let (f, l) = self.card(b, k)?;
             if self.id(&f, 1, l, "*BOUNDARY_SPC_SET cid")? != 0 {
                 return Err(self.src.err(l, "*BOUNDARY_SPC_SET with a coordinate system (cid): impact holds global components"));
@@ -320,13 +389,23 @@ impl Reader<'_> {
             g.passed
                 .push(("CONTACT FD (Coulomb friction at FS)".into(), l2));
         }
-        if b.cards.len() > 2 {
+        if b.repeated().len() > 2 {
             g.passed
                 .push((format!("{} card 3 (penalty scales)", b.name), b.cards[2].1));
         }
         let ids = [0, 1].map(|i| self.id(&f, i, l, "segment set id"));
         let [s, m] = ids;
-        g.contacts.push((s?.to_string(), m?.to_string(), fs, l));
+        let (s, m) = (s?.to_string(), m?.to_string());
+        if let Some((.., first)) = g.contacts.iter().find(|c| c.0 == s && c.1 == m) {
+            let first = self.src.line(*first);
+            return Err(self.src.err(
+                l,
+                format!(
+                    "a contact of segment sets {s} and {m} is given twice (first on line {first})"
+                ),
+            ));
+        }
+        g.contacts.push((s, m, fs, l));
         Ok(())
     }
 
@@ -361,16 +440,26 @@ fn rigid_part(g: &Gathered, pid: u64) -> Option<&RigidMaterial> {
     g.rigid_materials.iter().find(|m| m.mid == *mid)
 }
 
-/// A part's body name: its title where that is a name (letters, digits, `_`, `-`), else
-/// `part<id>`.
-fn body_name(pid: u64, title: &str) -> String {
-    let ok = !title.is_empty()
-        && (title.chars()).all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
-    if ok {
-        title.to_string()
-    } else {
-        format!("part{pid}")
+/// A part's body name: its title where that is a name (letters, digits, `_`, `-`) that no
+/// earlier part took, else `part<id>`.
+fn body_name(g: &Gathered, pid: u64) -> String {
+    let mut taken: Vec<String> = Vec::new();
+    for (p, title, ..) in &g.parts {
+        let ok = !title.is_empty()
+            && (title.chars()).all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+            && !taken.iter().any(|t| t.eq_ignore_ascii_case(title));
+        let base = if ok {
+            title.clone()
+        } else {
+            format!("part{p}")
+        };
+        let name = super::fresh(base, &taken);
+        if *p == pid {
+            return name;
+        }
+        taken.push(name);
     }
+    format!("part{pid}")
 }
 
 /// The keyword file at `path` as a scene, and the notice of what it passed over.
@@ -379,9 +468,11 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         src: DeckFile::read(path, Dialect::Keyword)?,
     };
     let mut g = Gathered::default();
-    for b in blocks(&r.src.deck.text) {
-        r.take(&b, &mut g)?;
+    let blocks = blocks(&r.src.deck.text).map_err(|(line, e)| r.src.err(line, e))?;
+    for b in &blocks {
+        r.take(b, &mut g)?;
     }
+    r.check_blocks(&blocks, &g)?;
     let end_time = g.end_time.ok_or_else(|| {
         r.src
             .whole("no *CONTROL_TERMINATION: impact runs to its ENDTIM")
@@ -394,7 +485,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
     let bodies = r.bodies(&g)?;
     let rigid = r.rigid_parts(&g)?;
     let (contacts, surfaces) = r.contacts(&g, &bodies, &rigid)?;
-    let scene = DeckScene {
+    let mut scene = DeckScene {
         title: g.title.clone(),
         mesh: path
             .file_name()
@@ -422,7 +513,10 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
             end_time,
             time_step: g.implicit_step,
         },
+        origins: Vec::new(),
     };
+    scene.materials_complete(&r.src)?;
+    scene.origins = r.origins(&g, &scene);
     let untouched: Vec<String> = (rigid.iter())
         .filter(|(d, _)| !scene.rigid.iter().any(|r| r.name == d.name))
         .map(|(d, _)| d.name.clone())
@@ -439,6 +533,45 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         });
     }
     Ok((scene, notice))
+}
+
+impl Reader<'_> {
+    /// The deck's lines of the scene's materials, bodies, contacts, planes and rigid bodies.
+    fn origins(&self, g: &Gathered, scene: &DeckScene) -> Vec<Origin> {
+        let mut out = Vec::new();
+        for (i, m) in scene.materials.iter().enumerate() {
+            out.push(
+                self.src
+                    .origin(format!("material[{i}]"), m.line, m.what.clone()),
+            );
+        }
+        let part = |pid: u64| g.parts.iter().find(|p| p.0 == pid);
+        for (i, b) in scene.bodies.iter().enumerate() {
+            if let Select::Part(pid) = b.select {
+                if let Some(p) = part(pid) {
+                    out.push(
+                        self.src
+                            .origin(format!("body[{i}]"), p.4, format!("*PART {pid}")),
+                    );
+                }
+            }
+        }
+        for (i, c) in g.contacts.iter().enumerate() {
+            let what = format!("the contact of segment sets {} and {}", c.0, c.1);
+            out.push(self.src.origin(format!("contact[{i}]"), c.3, what));
+        }
+        for (i, w) in g.walls.iter().enumerate() {
+            let what = "*RIGIDWALL_PLANAR".to_string();
+            out.push(self.src.origin(format!("rigid_plane[{i}]"), w.line, what));
+        }
+        for (i, r) in scene.rigid.iter().enumerate() {
+            if let Some(p) = g.parts.iter().find(|p| body_name(g, p.0) == r.name) {
+                let what = format!("*PART {} (rigid)", p.0);
+                out.push(self.src.origin(format!("rigid_body[{i}]"), p.4, what));
+            }
+        }
+        out
+    }
 }
 
 fn notice(r: &Reader, g: &Gathered) -> Option<String> {
@@ -461,6 +594,8 @@ impl Reader<'_> {
                 name: format!("mat{}", m.mid),
                 density: Some(m.ro),
                 elastic: Some(m.elastic.clone()),
+                line: m.line,
+                what: format!("*MAT {}", m.mid),
             })
             .collect()
     }
@@ -515,13 +650,14 @@ impl Reader<'_> {
             ro,
             elastic,
             axes: Some([a, d]),
+            line: l,
         });
         Ok(())
     }
 
     fn bodies(&self, g: &Gathered) -> Result<Vec<(DeckBody, BodyParts)>> {
         let mut out = Vec::new();
-        for (pid, title, sec, mid, line) in &g.parts {
+        for (pid, _, sec, mid, line) in &g.parts {
             if !g.sections.contains(sec) {
                 return Err(self
                     .src
@@ -542,7 +678,7 @@ impl Reader<'_> {
                 .find(|m| m.mid == *mid)
                 .and_then(|m| m.axes);
             let body = DeckBody {
-                name: body_name(*pid, title),
+                name: body_name(g, *pid),
                 material: format!("mat{mid}"),
                 velocity: [0.0; 3],
                 select: Select::Part(*pid),
@@ -632,14 +768,14 @@ impl Reader<'_> {
     /// each with its mesh.
     fn rigid_parts(&self, g: &Gathered) -> Result<Vec<(DeckRigid, BodyParts)>> {
         let mut out = Vec::new();
-        for (pid, title, _, _, line) in &g.parts {
+        for (pid, _, _, _, line) in &g.parts {
             let Some(m) = rigid_part(g, *pid) else {
                 continue;
             };
             let (turns, held) = self.rigid_constraints(m)?;
             let part = pid.to_string();
             let (parts, _) = crate::mesh::import(self.src.path, 1.0, [0.0; 3], Some(&part))?;
-            let mut rigid = DeckRigid::of_elements(body_name(*pid, title), &parts, m.ro, turns)
+            let mut rigid = DeckRigid::of_elements(body_name(g, *pid), &parts, m.ro, turns)
                 .map_err(|e| self.src.err(*line, format!("rigid part {pid}: {e}")))?;
             match held.len() {
                 3 if !turns => rigid.motion = "fixed",

@@ -22,6 +22,9 @@ pub(crate) struct DeckMaterial {
     pub name: String,
     pub density: Option<f64>,
     pub elastic: Option<Elastic>,
+    /// The deck's line that defines it, and what the deck calls it (`*MATERIAL, NAME=STEEL`).
+    pub line: usize,
+    pub what: String,
 }
 
 /// A material's elastic constants.
@@ -267,6 +270,76 @@ pub(crate) struct DeckScene {
     pub planes: Vec<DeckPlane>,
     pub rigid: Vec<DeckRigid>,
     pub step: DeckStep,
+    /// Where each piece came from, for the scene checker's messages.
+    pub origins: Vec<Origin>,
+}
+
+/// Where a piece of a deck's scene comes from: its scene key (`material[0]`), the file and
+/// line that give it, and what the deck calls it (`*MAT_ELASTIC 1`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Origin {
+    pub key: String,
+    pub path: PathBuf,
+    pub line: usize,
+    pub what: String,
+}
+
+/// `base`, or `base_2`, `base_3`, ... where `base` is taken: a name the reader makes never
+/// takes one the deck gives.
+pub(crate) fn fresh(base: String, taken: &[String]) -> String {
+    let free = |n: &String| !taken.iter().any(|t| t.eq_ignore_ascii_case(n));
+    if free(&base) {
+        return base;
+    }
+    (2..)
+        .map(|k| format!("{base}_{k}"))
+        .find(free)
+        .expect("a free name")
+}
+
+impl DeckScene {
+    /// The names the reader made (contacts, planes, probes) renamed where they take a body's,
+    /// a rigid body's or an earlier one's.
+    fn distinct_names(&mut self) {
+        let mut taken: Vec<String> = (self.bodies.iter().map(|b| b.name.clone()))
+            .chain(self.rigid.iter().map(|r| r.name.clone()))
+            .collect();
+        let made = (self.contacts.iter_mut().map(|c| &mut c.name))
+            .chain(self.planes.iter_mut().map(|p| &mut p.name))
+            .chain(self.probes.iter_mut().map(|p| &mut p.name));
+        for name in made {
+            *name = fresh(std::mem::take(name), &taken);
+            taken.push(name.clone());
+        }
+    }
+
+    /// Refuses a body's material without a density or elastic constants, at the deck's line.
+    fn materials_complete(&self, src: &DeckFile) -> Result<()> {
+        for m in &self.materials {
+            if !self.bodies.iter().any(|b| b.material == m.name) {
+                continue;
+            }
+            if m.density.is_none() {
+                return Err(src.err(
+                    m.line,
+                    format!(
+                        "{}: no *DENSITY (a body's material needs its density)",
+                        m.what
+                    ),
+                ));
+            }
+            if m.elastic.is_none() {
+                return Err(src.err(
+                    m.line,
+                    format!(
+                        "{}: no *ELASTIC (a body's material needs its elastic constants)",
+                        m.what
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// A deck's scene as TOML text, and the notice of what it passed over.
@@ -277,6 +350,37 @@ pub struct Converted {
     /// The deck's own file and every file it includes (a scene must not be written onto
     /// any of them).
     pub files: Vec<PathBuf>,
+    /// Where each piece of the scene came from.
+    pub origins: Vec<Origin>,
+}
+
+impl Converted {
+    /// The scene checker's error on a key of this scene, told at the deck's line that gave
+    /// the key's piece (`material[0].density` at the `*MATERIAL`).
+    pub fn locate(&self, e: ImpactError) -> ImpactError {
+        let (ImpactError::SceneValue { key, message, .. }
+        | ImpactError::Unsupported { key, message, .. }) = &e
+        else {
+            return e;
+        };
+        let piece = |o: &&Origin| {
+            key.strip_prefix(o.key.as_str())
+                .is_some_and(|rest| rest.is_empty() || rest.starts_with('.'))
+        };
+        let Some(o) = self.origins.iter().find(piece) else {
+            return e;
+        };
+        let field = key[o.key.len()..].trim_start_matches('.');
+        let message = match field {
+            "" => format!("{}: {message}", o.what),
+            f => format!("{}, its {f}: {message}", o.what),
+        };
+        ImpactError::Mesh {
+            path: o.path.clone(),
+            line: Some(o.line),
+            message,
+        }
+    }
 }
 
 /// The deck formats by file extension: Abaqus/CalculiX, then LS-DYNA.
@@ -297,14 +401,16 @@ pub fn is_deck(path: &Path) -> bool {
 
 /// Reads the deck at `path` as a scene.
 pub fn convert(path: &Path) -> Result<Converted> {
-    let (scene, notice) = match LSDYNA.contains(&extension(path).as_str()) {
+    let (mut scene, notice) = match LSDYNA.contains(&extension(path).as_str()) {
         true => lsdyna::read_scene(path)?,
         false => abaqus::read_scene(path)?,
     };
+    scene.distinct_names();
     Ok(Converted {
         toml: scene.to_toml(),
         notice,
         files: scene.files,
+        origins: scene.origins,
     })
 }
 
@@ -376,7 +482,9 @@ impl DeckScene {
             let _ = writeln!(t, "gravity = {}", vector(g));
         }
         self.write_run(&mut t);
-        for m in &self.materials {
+        // a material no body uses is the deck's business: it may lack what a body's needs
+        let used = |m: &&DeckMaterial| self.bodies.iter().any(|b| b.material == m.name);
+        for m in self.materials.iter().filter(used) {
             let _ = writeln!(t, "\n[[material]]\nname = {}", quoted(&m.name));
             if let Some(rho) = m.density {
                 let _ = writeln!(t, "density = {}", float(rho));
@@ -548,6 +656,18 @@ impl<'a> DeckFile<'a> {
             message: e.message,
         })?;
         Ok(DeckFile { path, deck })
+    }
+
+    /// Where the piece at scene key `key` comes from: expanded line `line`, which the deck
+    /// calls `what`.
+    fn origin(&self, key: String, line: usize, what: String) -> Origin {
+        let (file, line) = self.deck.origin(line);
+        Origin {
+            key,
+            path: file.unwrap_or(self.path).to_path_buf(),
+            line,
+            what,
+        }
     }
 
     /// An error about the whole deck.
