@@ -4,8 +4,9 @@
 //!
 //! Each case edits one input a few times: a number replaced by an extreme value (0, -1,
 //! 1e308, 1e-320, NaN-ish text, 2147483648, 9223372036854775807, a huge integer, ...), two
-//! numbers swapped, a line deleted or duplicated, or (in meshes) 4 or 8 bytes overwritten by
-//! an extreme binary value. A scene is parsed as if it were the shipped file (its meshes
+//! numbers swapped, a line deleted or duplicated, or (in meshes and decks) 4 or 8 bytes
+//! overwritten by an extreme binary value, a blank card, an `*END` with cards after it, a
+//! data card (an id) copied elsewhere, or a keyword's block given twice. A scene is parsed as if it were the shipped file (its meshes
 //! resolve against `scenes/`); a mesh is written to a temporary folder beside a copy of a
 //! scene that uses it, and that scene is loaded. No simulation runs.
 //!
@@ -271,8 +272,9 @@ fn show(b: &[u8]) -> String {
 
 /// Applies one random mutation to `b`; returns what it did.
 fn mutate(rng: &mut Rng, b: &mut Vec<u8>, mesh: bool) -> String {
-    let kinds = if mesh { 5 } else { 4 };
+    let kinds = if mesh { 9 } else { 4 };
     match rng.below(kinds) {
+        5..=8 => deck_mutation(rng, b),
         0 | 1 => {
             let nums = numbers(b);
             if nums.is_empty() {
@@ -350,6 +352,57 @@ fn mutate(rng: &mut Rng, b: &mut Vec<u8>, mesh: bool) -> String {
             format!(
                 "byte {at} (line {}): {width} bytes <- {value:#x}",
                 line_of(b, at)
+            )
+        }
+    }
+}
+
+/// A deck's own mistakes: a blank card, an `*END` with cards after it, a data card (an id)
+/// copied elsewhere, or a keyword's block (a section, a part, a set) given twice.
+fn deck_mutation(rng: &mut Rng, b: &mut Vec<u8>) -> String {
+    let ls = lines(b);
+    if ls.is_empty() {
+        return "nothing (no line)".into();
+    }
+    let (at, _) = ls[rng.below(ls.len())];
+    let line = line_of(b, at);
+    let starts = |s: usize, c: u8| b.get(s) == Some(&c);
+    match rng.below(4) {
+        0 => {
+            b.splice(at..at, *b"\n");
+            format!("line {line}: a blank card")
+        }
+        1 => {
+            b.splice(at..at, *b"*END\n");
+            format!("line {line}: *END, the rest after it")
+        }
+        2 => {
+            let data: Vec<_> = ls
+                .iter()
+                .filter(|(s, _)| b[*s].is_ascii_digit() || b[*s] == b' ')
+                .collect();
+            if data.is_empty() {
+                return "nothing (no data card)".into();
+            }
+            let (s, e) = *data[rng.below(data.len())];
+            let copy = b[s..e].to_vec();
+            b.splice(at..at, copy.iter().copied());
+            format!("line {line}: a copy of the card {}", show(&copy))
+        }
+        _ => {
+            let keys: Vec<usize> = (0..ls.len()).filter(|&k| starts(ls[k].0, b'*')).collect();
+            if keys.is_empty() {
+                return "nothing (no keyword)".into();
+            }
+            let k = keys[rng.below(keys.len())];
+            let end = (k + 1..ls.len())
+                .find(|&j| starts(ls[j].0, b'*'))
+                .map_or(b.len(), |j| ls[j].0);
+            let block = b[ls[k].0..end].to_vec();
+            b.splice(at..at, block.iter().copied());
+            format!(
+                "line {line}: a copy of the block {}",
+                show(&block[..block.len().min(60)])
             )
         }
     }
