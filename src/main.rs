@@ -621,7 +621,7 @@ fn convert_command(
         return Err(usage(to, "exists: pass --overwrite to replace it".into()).into());
     }
     // the scene must be one impact reads
-    impact::scene::Scene::parse(&converted.toml, to)?;
+    impact::scene::Scene::parse(&converted.toml, to).map_err(|e| converted.locate(e))?;
     std::fs::write(to, &converted.toml).map_err(|source| ImpactError::Write {
         path: to.to_path_buf(),
         source,

@@ -546,6 +546,102 @@ fn a_decks_mistakes_are_told_at_its_lines_and_its_names_never_clash() {
     assert!(e.contains(&at) && e.contains("*MAT 1, its density"), "{e}");
 }
 
+/// Odd lines a deck may hold, each refused at its line with what is wrong (node 0, dofs
+/// from last to first, gravity without a direction, a set that names itself, a data line
+/// before the first keyword, a third surface on a pair line, a rigid body or a velocity
+/// given twice, coordinates whose volume overflows, IMFLAG 2); a heading keeps its spaces.
+#[test]
+fn odd_deck_lines_are_refused_at_their_lines() {
+    let deck = std::fs::read_to_string(repo().join("scenes/two_bars.inp")).unwrap();
+    let at = |text: &str, what: &str| {
+        let k = text.find(what).unwrap_or_else(|| panic!("{what}"));
+        format!("bad.inp:{}", text[..k].lines().count() + 1)
+    };
+    let cases = [
+        (
+            "*NODE, NSET=NA\n",
+            "*NODE, NSET=NA\n0, 0, 0, 0\n",
+            "0, 0, 0, 0",
+            "node numbers start at 1",
+        ),
+        (
+            "*INITIAL CONDITIONS",
+            "*BOUNDARY\nTIP, 3, 1\n*INITIAL CONDITIONS",
+            "TIP, 3, 1",
+            "the last dof comes before the first",
+        ),
+        (
+            "0.01, 0.4\n",
+            "0.01, 0.4\n*DLOAD\nA, GRAV, 9.81, 0, 0, 0\n",
+            "A, GRAV",
+            "direction is zero",
+        ),
+        (
+            "*SURFACE, NAME=TIPA",
+            "*ELSET, ELSET=D\nD\n*SURFACE, NAME=TIPA",
+            "D\n*SURFACE",
+            "*ELSET D names itself",
+        ),
+        (
+            "TIPA, ENDB\n",
+            "TIPA, ENDB, TIPA\n",
+            "TIPA, ENDB, TIPA",
+            "two surfaces",
+        ),
+        (
+            "NA, 1, 1.0\n",
+            "NA, 1, 1.0\nNA, 1, 2.0\n",
+            "NA, 1, 2.0",
+            "given twice",
+        ),
+        (
+            "1, -10, 0, 0\n",
+            "1, -1e300, 0, 0\n",
+            "",
+            "overflows a double",
+        ),
+    ];
+    for (k, (from, to, line, words)) in cases.into_iter().enumerate() {
+        let text = edit(&deck, from, to);
+        let mut expected = vec![words.to_string()];
+        if !line.is_empty() {
+            expected.push(at(&text, line));
+        }
+        let words: Vec<&str> = expected.iter().map(String::as_str).collect();
+        refused(&format!("deck_odd_{k}"), &text, &words);
+    }
+    let first = format!("1, 2, 3\n{deck}");
+    refused(
+        "deck_odd_first",
+        &first,
+        &["bad.inp:1", "before the first keyword"],
+    );
+    let rigid = abaqus_tup_deck((0.25, 0.75), "", "REF, 3, -1.0\n");
+    let twice = edit(
+        &rigid,
+        "*BOUNDARY\n",
+        "*RIGID BODY, ELSET=TUP, REF NODE=REF\n*BOUNDARY\n",
+    );
+    let line = at(&twice, "*RIGID BODY, ELSET=TUP, REF NODE=REF\n*BOUNDARY");
+    refused("deck_rigid_twice", &twice, &[&line, "given twice"]);
+    let heading = edit(
+        &deck,
+        "Two elastic bars, longitudinal",
+        "Two elastic bars,  longitudinal",
+    );
+    let path = written("deck_heading", "heading.inp", &heading);
+    let title = Scene::load(&path).expect("reads").title;
+    assert!(
+        title.starts_with("Two elastic bars,  longitudinal impact"),
+        "{title}"
+    );
+    let k = std::fs::read_to_string(repo().join("scenes/block_drop.k")).unwrap();
+    let springback = edit(&k, "*PART\n", "*CONTROL_IMPLICIT_GENERAL\n2, 0.01\n*PART\n");
+    let path = written("k_imflag", "imflag.k", &springback);
+    let e = Scene::load(&path).expect_err("IMFLAG 2").to_string();
+    assert!(e.contains("IMFLAG 2") && e.contains("imflag.k:"), "{e}");
+}
+
 /// The paper's second example (`scenes/cube_on_plate.toml`) as a CalculiX deck: the cube
 /// strikes the plate obliquely (friction 0.3), the plate held on its two bottom edges
 /// (pinned on one, on rollers along x on the other), the cube's bottom centre printed.

@@ -478,6 +478,9 @@ impl Parser {
             ));
         }
         let id = integer(fields[0], line_no, "a node number")?;
+        if id == 0 {
+            return Err(ParseError::at(line_no, "node 0: node numbers start at 1"));
+        }
         let mut p = [0.0; 3];
         for a in 0..3 {
             p[a] = fields[1 + a]
@@ -719,6 +722,12 @@ fn list_line(
                             ),
                         )
                     })?;
+                if from == t {
+                    return Err(ParseError::at(
+                        line,
+                        format!("{set_keyword} {f} names itself"),
+                    ));
+                }
                 for k in 0..sets[from].ids.len() {
                     let id = sets[from].ids[k];
                     sets[t].add(id);

@@ -25,6 +25,8 @@ pub struct Degenerate {
     /// Index in the kind's block.
     pub index: usize,
     pub volume: f64,
+    /// Its largest extent along an axis.
+    pub extent: f64,
 }
 
 /// Reorders the corners of every element whose volume is negative (a mirrored corner
@@ -42,6 +44,7 @@ pub fn orient(nodes: &[[f64; 3]], elements: &mut Elements) -> Result<(), Degener
                     kind,
                     index,
                     volume: v,
+                    extent: d,
                 });
             }
             if v < 0.0 {

@@ -164,12 +164,17 @@ pub(crate) fn finish(
         b.nodes.iter_mut().for_each(|n| *n = new_index[*n as usize]);
     }
     orient(&nodes, &mut elements).map_err(|d| {
-        ParseError::whole(format!(
-            "{} number {} (in file order) has zero volume ({:.3e}); it cannot be oriented",
-            d.kind,
-            d.index + 1,
-            d.volume
-        ))
+        let (kind, number) = (d.kind, d.index + 1);
+        ParseError::whole(match (d.extent.powi(3) * 1e12).is_finite() {
+            true => format!(
+                "{kind} number {number} (in file order) has zero volume ({:.3e}); it cannot be oriented",
+                d.volume
+            ),
+            false => format!(
+                "{kind} number {number} (in file order) spans {:.3e}: its volume overflows a double (coordinates this large cannot be computed with; scale the model)",
+                d.extent
+            ),
+        })
     })?;
     let boundary = boundary_faces(&elements);
     let index = BoundaryIndex::new(&boundary);

@@ -248,6 +248,12 @@ impl Reader {
             used[n as usize] = true;
         }
         for (name, segments, line) in &self.segments {
+            if segments.is_empty() {
+                return Err(ParseError::at(
+                    *line,
+                    format!("*SET_SEGMENT {name} has no segments"),
+                ));
+            }
             let mut faces = Vec::new();
             for s in segments {
                 let mut f = (s.iter())

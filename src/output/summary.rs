@@ -152,7 +152,12 @@ pub struct Summary {
     /// With ply strengths: the largest of each failure index over the run, by name
     /// (`material::failure::INDICES`); absent where the engine does not survey every step
     /// (the resident GPU step, MPI ranks).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    /// An index that overflows a double is written `"inf"`, as the history writes it (JSON
+    /// has no infinity).
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "indices_as_written"
+    )]
     pub failure_index_max: Option<std::collections::BTreeMap<String, f64>>,
     /// With ply strengths: where and when a failure index first reached 1 (null if none
     /// did).
@@ -197,5 +202,37 @@ impl Summary {
         let path = dir.join("summary.json");
         let text = serde_json::to_string_pretty(self).expect("summary serialises");
         super::file::write_whole(&path, (text + "\n").as_bytes())
+    }
+}
+
+/// Failure indices as numbers, those that are not finite as the history's text (`inf`).
+fn indices_as_written<S: serde::Serializer>(
+    indices: &Option<std::collections::BTreeMap<String, f64>>,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    let as_written = |x: f64| match x.is_finite() {
+        true => serde_json::json!(x),
+        false => serde_json::json!(x.to_string()),
+    };
+    let map: Option<std::collections::BTreeMap<&String, serde_json::Value>> =
+        (indices.as_ref()).map(|m| m.iter().map(|(k, v)| (k, as_written(*v))).collect());
+    serde::Serialize::serialize(&map, s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_failure_index_that_overflows_is_written_as_the_history_writes_it() {
+        let indices = [("fibre_tension", f64::INFINITY), ("matrix_tension", 0.5)];
+        let summary = Summary {
+            failure_index_max: Some(indices.map(|(k, v)| (k.to_string(), v)).into()),
+            ..Default::default()
+        };
+        let json: serde_json::Value = serde_json::to_value(&summary).unwrap();
+        let m = &json["failure_index_max"];
+        assert_eq!(m["fibre_tension"], serde_json::json!("inf"));
+        assert_eq!(m["matrix_tension"], serde_json::json!(0.5));
     }
 }

@@ -67,8 +67,9 @@ impl Block {
     }
 }
 
-/// The deck's blocks in order (comments and blank lines left out).
-fn blocks(text: &str) -> Vec<Block> {
+/// The deck's blocks in order (comments and blank lines left out), or the line of a data
+/// line before the first keyword.
+fn blocks(text: &str) -> std::result::Result<Vec<Block>, usize> {
     let mut out: Vec<Block> = Vec::new();
     for (i, raw) in text.lines().enumerate() {
         let line = raw.trim();
@@ -86,9 +87,11 @@ fn blocks(text: &str) -> Vec<Block> {
         } else if let Some(b) = out.last_mut() {
             let fields = line.split(',').map(|f| f.trim().to_string()).collect();
             b.data.push((fields, i + 1));
+        } else {
+            return Err(i + 1);
         }
     }
-    out
+    Ok(out)
 }
 
 /// What the reader gathers before the bodies are known.
@@ -115,6 +118,8 @@ struct Gathered {
     printed: Vec<(String, usize)>,
     /// Keywords passed over, with their lines.
     passed: Vec<(String, usize)>,
+    /// The names of the node-based surfaces (`*SURFACE, TYPE=NODE`).
+    node_surfaces: Vec<String>,
 }
 
 /// A `*BOUNDARY` line: its node set, the dofs it holds (1-3 translations, 4-6 a rigid
@@ -167,7 +172,13 @@ impl Reader<'_> {
     fn take(&self, b: &Block, g: &mut Gathered) -> Result<()> {
         match b.name.as_str() {
             n if MESH.contains(&n) || n == "END STEP" => {}
-            "HEADING" => g.title = b.data.first().map(|(f, _)| f.join(",")),
+            // the heading's line as written (its fields are split at the commas)
+            "HEADING" => {
+                let text = &self.src.deck.text;
+                g.title = (b.data.first())
+                    .and_then(|(_, l)| text.lines().nth(l - 1))
+                    .map(|t| t.trim().to_string());
+            }
             "MATERIAL" => {
                 let name = b.get("NAME").ok_or_else(|| self.src.err(b.line, "*MATERIAL needs NAME="))?;
                 g.materials.push(DeckMaterial {
@@ -310,6 +321,9 @@ impl Reader<'_> {
                 Some(_) => self.dof(f, 2, *l)?,
                 None => first,
             };
+            if last < first {
+                return Err(self.src.err(*l, format!("*BOUNDARY {set}, {first}, {last}: the last dof comes before the first (a line holds dofs first to last)")));
+            }
             if f.get(3).is_some_and(|x| !x.is_empty())
                 && self.number(f, 3, *l, "*BOUNDARY value")? != 0.0
             {
@@ -336,6 +350,18 @@ impl Reader<'_> {
         for (f, l) in &b.data {
             let dof = self.dof(f, 1, *l)?;
             let value = self.number(f, 2, *l, "*INITIAL CONDITIONS velocity")?;
+            let same =
+                |v: &&(String, usize, f64, usize)| v.0.eq_ignore_ascii_case(&f[0]) && v.1 == dof;
+            if let Some((.., first)) = g.velocities.iter().find(same) {
+                let first = self.src.line(*first);
+                return Err(self.src.err(
+                    *l,
+                    format!(
+                        "the velocity of {}, dof {dof}, is given twice (first on line {first})",
+                        f[0]
+                    ),
+                ));
+            }
             g.velocities.push((f[0].clone(), dof, value, *l));
         }
         Ok(())
@@ -371,10 +397,10 @@ impl Reader<'_> {
             ));
         }
         for (f, l) in &b.data {
-            if f.len() < 2 || f[1].is_empty() {
+            if f.len() < 2 || f[1].is_empty() || f.iter().skip(2).any(|x| !x.is_empty()) {
                 return Err(self.src.err(
                     *l,
-                    "a contact pair line names the slave, then the master surface",
+                    "a contact pair line names the slave, then the master surface (two surfaces)",
                 ));
             }
             let same = |(s, m, _, _): &&(String, String, String, usize)| {
@@ -424,7 +450,14 @@ impl Reader<'_> {
             let m = self.number(f, 2, *l, "*DLOAD GRAV magnitude")?;
             let d = [3, 4, 5].map(|i| self.number(f, i, *l, "*DLOAD GRAV direction"));
             let [x, y, z] = d;
-            g.gravity.push((f[0].clone(), [m * x?, m * y?, m * z?], *l));
+            let direction = [x?, y?, z?];
+            if m != 0.0 && direction == [0.0; 3] {
+                return Err(self.src.err(
+                    *l,
+                    "*DLOAD GRAV: the direction is zero (give the unit vector gravity acts along)",
+                ));
+            }
+            g.gravity.push((f[0].clone(), direction.map(|c| m * c), *l));
         }
         Ok(())
     }
@@ -469,9 +502,16 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         src: DeckFile::read(path, Dialect::Abaqus)?,
     };
     let mut g = Gathered::default();
-    let all = blocks(&r.src.deck.text);
+    let all = blocks(&r.src.deck.text)
+        .map_err(|l| r.src.err(l, "a data line before the first keyword"))?;
     for b in &all {
         r.take(b, &mut g)?;
+        let node_based = b
+            .get("TYPE")
+            .is_some_and(|t| t.eq_ignore_ascii_case("NODE"));
+        if let Some(name) = b.get("NAME").filter(|_| b.name == "SURFACE" && node_based) {
+            g.node_surfaces.push(name.to_string());
+        }
     }
     let step = g.step.clone().ok_or_else(|| {
         r.src.whole("no *STEP with *DYNAMIC: impact runs a dynamic step, implicit (*DYNAMIC) or explicit (*DYNAMIC, EXPLICIT)")
@@ -794,8 +834,11 @@ impl Reader<'_> {
                     .map(|s| (b.name.clone(), s.name.clone()))
             });
             let first = found.next().ok_or_else(|| {
-                self.src
-                    .err(line, format!("no body's elements hold surface `{surface}`"))
+                let message = match g.node_surfaces.iter().any(|s| s.eq_ignore_ascii_case(surface)) {
+                    true => format!("surface `{surface}` is a node-based surface (*SURFACE, TYPE=NODE): impact's contact pairs take element-face surfaces (TYPE=ELEMENT)"),
+                    false => format!("no body's elements hold surface `{surface}`"),
+                };
+                self.src.err(line, message)
             })?;
             if found.next().is_some() {
                 return Err(self.src.err(

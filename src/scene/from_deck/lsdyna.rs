@@ -234,8 +234,13 @@ impl Reader<'_> {
             }
             "CONTROL_IMPLICIT_GENERAL" => {
                 let (f, l) = self.card(b, 0)?;
-                if self.real(&f, 0, l, "imflag")? == 1.0 {
-                    g.implicit_step = Some(self.real(&f, 1, l, "*CONTROL_IMPLICIT_GENERAL dt0")?);
+                match self.real(&f, 0, l, "imflag")? {
+                    0.0 => {}
+                    1.0 => {
+                        let dt0 = self.real(&f, 1, l, "*CONTROL_IMPLICIT_GENERAL dt0")?;
+                        g.implicit_step = Some(dt0);
+                    }
+                    x => return Err(self.src.err(l, format!("*CONTROL_IMPLICIT_GENERAL IMFLAG {x}: impact reads 0 (explicit) and 1 (implicit); an explicit run followed by an implicit step, or a switching curve, is not one method"))),
                 }
             }
             n if n.starts_with("DATABASE_") || n.starts_with("CONTROL_") || n == "HOURGLASS" => {
@@ -815,8 +820,7 @@ impl Reader<'_> {
                     .map(|s| (b.name.clone(), s.name.clone()))
             });
             let first = found.next().ok_or_else(|| {
-                self.src
-                    .err(line, format!("no part's elements hold segment set {set}"))
+                self.src.err(line, format!("no one part's elements hold all of segment set {set} (a contact surface is one part's: are its segments defined, and all on one part?)"))
             })?;
             if found.next().is_some() {
                 return Err(self.src.err(

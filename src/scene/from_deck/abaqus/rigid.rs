@@ -194,6 +194,13 @@ impl Reader<'_> {
                 return Err(self.src.err(b.line, format!("*RIGID BODY, POSITION={p}: impact reads CENTER OF MASS, or the reference node where the deck puts it")))
             }
         };
+        if let Some(d) = g.rigid.iter().find(|d| d.elset.eq_ignore_ascii_case(elset)) {
+            let first = self.src.line(d.line);
+            return Err(self.src.err(
+                b.line,
+                format!("*RIGID BODY, ELSET={elset} is given twice (first on line {first})"),
+            ));
+        }
         g.rigid.push(RigidDecl {
             elset: elset.to_string(),
             ref_node: ref_node.to_string(),
