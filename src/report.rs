@@ -196,6 +196,13 @@ fn interfaces(out: &mut String, setup: &Setup) {
         } else {
             String::new()
         };
+        let pen = match r.primary_inside {
+            0 => pen,
+            n => format!(
+                "{pen}; {n} points of the primary surface lie inside the secondary body (one at {:?})",
+                r.primary_inside_at.unwrap_or_default()
+            ),
+        };
         let _ = writeln!(
             out,
             "  {}: {} secondary nodes against {}, {}; {gaps}{pen}",

@@ -128,6 +128,17 @@ pub fn prepare(
 fn refuse_penetration(scene: &Scene, initial: &[InitialContact]) -> Result<()> {
     let policies = scene.penetration_policies();
     for (k, r) in initial.iter().enumerate() {
+        if r.primary_inside > 0 && policies[k] != PenetrationPolicy::Ignore {
+            return Err(ImpactError::SceneValue {
+                path: scene.path.clone(),
+                key: format!("{}.initial_penetration", scene.interface_key(k)),
+                message: format!(
+                    "the primary surface lies inside the secondary body at t = 0: {} of its points, one at {:?} (no secondary node is behind it, so the contact would let the bodies pass through each other). Move the bodies apart (\"adjust\" moves secondary nodes, it cannot move a surface out of a body), or set initial_penetration = \"ignore\"",
+                    r.primary_inside,
+                    r.primary_inside_at.unwrap_or_default(),
+                ),
+            });
+        }
         if r.penetrating > 0 && policies[k] == PenetrationPolicy::Error {
             return Err(ImpactError::SceneValue {
                 path: scene.path.clone(),

@@ -1111,7 +1111,7 @@ fn rigid_tup_deck() -> String {
 fn an_lsdyna_file_reads_blank_cards_as_defaults_and_stops_at_its_end() {
     let deck = rigid_tup_deck();
     let load = |tag: &str, text: &str| {
-        Scene::load(&written(tag, "tup.k", text)).unwrap_or_else(|e| panic!("{tag}: {e}"))
+        Scene::load(written(tag, "tup.k", text)).unwrap_or_else(|e| panic!("{tag}: {e}"))
     };
     let friction = |text: &str| load("k_friction", text).contacts[0].friction;
     let card2 = "1, 2, 0, 0\n0.0, 0.0\n";
@@ -1150,7 +1150,7 @@ fn an_lsdyna_file_with_an_id_given_twice_or_a_card_out_of_place_is_refused_at_it
     let deck = rigid_tup_deck();
     let line_of = |text: &str, what: &str| text[..text.find(what).unwrap()].lines().count() + 1;
     let check = |tag: &str, text: &str, at: &str, words: &[&str]| {
-        let e = Scene::load(&written(tag, "bad.k", text))
+        let e = Scene::load(written(tag, "bad.k", text))
             .expect_err(tag)
             .to_string();
         let line = format!("bad.k:{}", line_of(text, at));

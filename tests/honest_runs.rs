@@ -609,3 +609,68 @@ fn a_probe_inside_a_coarse_element_is_accepted() {
     let s = run(&parse(&text, "probe_coarse"), &opts("probe_coarse")).expect("runs");
     assert!(s.status.starts_with("completed"), "{}", s.status);
 }
+
+/// A rigid ball of radius 0.1 started at the centre of a 3 x 3 x 3 block: no node of the
+/// block's top is behind the ball's surface, but the ball is inside the block.
+fn ball_in_block(centre: [f64; 3], policy: &str) -> String {
+    format!(
+        r#"[run]
+end_time = 0.05
+method = "explicit"
+
+[[material]]
+name = "m"
+density = 1.0
+youngs_modulus = 100.0
+poissons_ratio = 0.3
+
+[[body]]
+name = "block"
+material = "m"
+box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0], divisions = [3, 3, 3] }}
+
+[[rigid_body]]
+name = "ball"
+mass = 1.0
+position = {centre:?}
+velocity = [0.0, 0.0, -1.0]
+shape = {{ sphere = {{ radius = 0.1 }} }}
+
+[[contact]]
+name = "strike"
+secondary = {{ body = "block", face = "z+" }}
+primary = {{ rigid_body = "ball" }}
+initial_penetration = "{policy}"
+"#
+    )
+}
+
+#[test]
+fn a_rigid_ball_started_inside_a_block_is_seen() {
+    for policy in ["error", "adjust"] {
+        refused(
+            "ball_inside",
+            &ball_in_block([0.5, 0.5, 0.5], policy),
+            &[
+                "contact[0] (contact `strike`).initial_penetration",
+                "the primary surface lies inside the secondary body",
+                "[0.5, 0.5, 0.5]",
+            ],
+        );
+    }
+    let tag = "ball_inside_ignored";
+    let text = ball_in_block([0.5, 0.5, 0.5], "ignore");
+    let s = run(&parse(&text, tag), &opts(tag)).expect("runs as given");
+    assert_eq!(s.status, "completed_with_warnings");
+    assert_eq!(s.initial_contact[0].primary_inside, 1);
+    // above the block, and touching its top, it is not inside
+    for z in [1.2, 1.1] {
+        let tag = "ball_above";
+        let s = run(
+            &parse(&ball_in_block([0.5, 0.5, z], "error"), tag),
+            &opts(tag),
+        )
+        .expect("runs");
+        assert_eq!(s.initial_contact[0].primary_inside, 0);
+    }
+}

@@ -2,7 +2,8 @@
 //!
 //! - [`elements`]: inverted, degenerate and repeated-node elements.
 //! - [`facing`]: contact surfaces that face the same way.
-//! - [`penetration`]: secondary nodes behind their primary surface at t = 0.
+//! - [`penetration`]: secondary nodes behind their primary surface at t = 0, and a primary
+//!   surface inside its secondary body ([`inside`]).
 //! - [`memory`]: the memory a scene needs against what the process may use.
 //! - [`quality`]: slivers that set the explicit step, and volumetric locking (warnings).
 //! - [`crack_band`]: damaging elements wider than their softening's snap-back limit.
@@ -14,6 +15,7 @@
 pub mod crack_band;
 pub mod elements;
 pub mod facing;
+pub mod inside;
 pub mod memory;
 pub mod penetration;
 pub mod quality;

@@ -46,6 +46,11 @@ pub struct InitialContact {
     pub policy: String,
     /// Under "adjust": nodes moved onto the surface.
     pub moved: usize,
+    /// Points of the primary surface (its nodes; a rigid shape's centre, axis ends or
+    /// corners) inside the secondary body where no secondary node is behind the surface to
+    /// show it ([`super::inside`]), and one of them.
+    pub primary_inside: usize,
+    pub primary_inside_at: Option<[f64; 3]>,
 }
 
 /// A node with no primary face within reach.
@@ -73,6 +78,13 @@ pub fn resolve(model: &mut Model, policies: &[PenetrationPolicy]) -> Vec<Initial
     for (k, itf) in model.interfaces.iter().enumerate() {
         let samples = samples(model, itf);
         let (mut record, moves) = summarise(model, itf, &samples, policies[k]);
+        // where secondary nodes are behind the surface, they tell the overlap already
+        let inside = match record.penetrating {
+            0 => primary_inside(model, itf),
+            _ => Vec::new(),
+        };
+        record.primary_inside = inside.len();
+        record.primary_inside_at = inside.first().copied();
         if policies[k] == PenetrationPolicy::Adjust {
             for (n, delta) in &moves {
                 let p = &mut model.mesh.nodes[*n as usize];
@@ -123,6 +135,52 @@ fn summarise(
         }
     }
     (r, moves)
+}
+
+/// The points of `itf`'s primary surface that lie inside its secondary body by more than a
+/// thousandth of the secondary faces' size (touching surfaces do not count).
+fn primary_inside(model: &Model, itf: &Interface) -> Vec<V3> {
+    let x = &model.mesh.nodes;
+    let Some(&first) = itf.nodes.first() else {
+        return Vec::new();
+    };
+    let Some(body) = (model.mesh.bodies.iter()).find(|b| b.nodes.contains(&(first as usize)))
+    else {
+        return Vec::new();
+    };
+    let points: Vec<V3> = match &itf.primary {
+        Primary::Plane { .. } => return Vec::new(),
+        Primary::Surface { faces, .. } => {
+            let mut nodes: Vec<u32> = model.queries.faces[faces.clone()]
+                .iter()
+                .flatten()
+                .copied()
+                .collect();
+            nodes.sort_unstable();
+            nodes.dedup();
+            nodes.iter().map(|&n| x[n as usize]).collect()
+        }
+        Primary::Rigid { node, shape, .. } => {
+            let at = x[*node as usize];
+            let moved = |r: V3| std::array::from_fn(|a| at[a] + r[a]);
+            use crate::geometry::rigid_shape::RigidShape;
+            match shape {
+                RigidShape::Sphere { .. } => vec![at],
+                RigidShape::Cylinder { axis, length, .. } => [-0.5, 0.0, 0.5]
+                    .map(|s| moved(axis.map(|c| s * length * c)))
+                    .to_vec(),
+                RigidShape::Mesh(m) => m.corners().map(moved).collect(),
+                RigidShape::Plane { .. } | RigidShape::Plate { .. } => return Vec::new(),
+            }
+        }
+    };
+    let Some(enclosure) = super::inside::Enclosure::new(x, &body.boundary) else {
+        return Vec::new();
+    };
+    let size = (itf.area.iter().sum::<f64>() / itf.area.len().max(1) as f64).sqrt();
+    (points.into_par_iter())
+        .filter(|p| enclosure.holds(*p, 1e-3 * size))
+        .collect()
 }
 
 /// The closest point of every secondary node of `itf`.

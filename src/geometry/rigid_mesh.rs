@@ -46,6 +46,11 @@ pub struct RigidMesh {
 }
 
 impl RigidMesh {
+    /// The triangles' corners (in the body's frame).
+    pub fn corners(&self) -> impl Iterator<Item = V3> + '_ {
+        self.triangles.iter().flatten().copied()
+    }
+
     /// The surface of `triangles` (corners counter-clockwise seen from outside); None if it
     /// has no triangle of positive area.
     pub fn new(triangles: Vec<[V3; 3]>) -> Option<RigidMesh> {

@@ -130,6 +130,15 @@ pub(super) fn warnings(
         scene.run.energy_tolerance,
     ));
     for r in initial {
+        if r.primary_inside > 0 && r.policy == "ignore" {
+            w.push(Warning::new(
+                "initial_penetration",
+                format!(
+                    "interface `{}`: {} points of the primary surface started inside the secondary body (one at {:?}) and initial_penetration = \"ignore\" ran them as given",
+                    r.interface, r.primary_inside, r.primary_inside_at.unwrap_or_default()
+                ),
+            ));
+        }
         if r.penetrating > 0 && r.policy == "ignore" {
             w.push(Warning::new(
                 "initial_penetration",
