@@ -24,7 +24,7 @@ pub(crate) const FILE: &str = "checkpoint.bin";
 
 /// Bumped whenever the layout changes, or what the scene hash covers (a new scene key), so
 /// that an older checkpoint is refused as such, not misread or taken for another scene's.
-pub(crate) const FORMAT: u32 = 9;
+pub(crate) const FORMAT: u32 = 10;
 
 /// What the time loop accumulates for the summary and the warnings.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -42,6 +42,9 @@ pub struct Tally {
     pub peak_force: Vec<f64>,
     /// Each interface's deepest penetration so far, with its step and time.
     pub deepest: Vec<(f64, usize, f64)>,
+    /// Each rigid body interface's largest step of relative motion so far, over half the
+    /// rigid shape's thickness, with its step and time (`run::summary::count_motion`).
+    pub fastest: Vec<(f64, usize, f64)>,
     /// The largest of each ply failure index so far (materials with strengths, engines that
     /// survey every step).
     pub failure_max: Option<[f64; 5]>,

@@ -674,3 +674,35 @@ fn a_rigid_ball_started_inside_a_block_is_seen() {
         assert_eq!(s.initial_contact[0].primary_inside, 0);
     }
 }
+
+/// A rigid ball fast enough to cross the block between two steps ends the run with a
+/// `fast_contact` warning, explicit (v = 100 against the block's stable step) and implicit
+/// (v = 1,000 at dt = 1e-3); at v = 1 it does not.
+#[test]
+fn a_rigid_ball_that_can_cross_a_block_between_steps_is_a_warning() {
+    let ball = |speed: f64, implicit: bool| {
+        let mut text = ball_in_block([0.5, 0.5, 1.2], "error").replace(
+            "velocity = [0.0, 0.0, -1.0]",
+            &format!("velocity = [0.0, 0.0, {}]", -speed),
+        );
+        if implicit {
+            text = text.replace(
+                "method = \"explicit\"",
+                "method = \"implicit\"\ntime_step = 1e-3\n",
+            );
+        }
+        text
+    };
+    for (tag, speed, implicit, fast) in [
+        ("fast_ball_explicit", 100.0, false, true),
+        ("fast_ball_implicit", 1000.0, true, true),
+        ("slow_ball_implicit", 1.0, true, false),
+    ] {
+        let s = run(&parse(&ball(speed, implicit), tag), &opts(tag)).expect("runs");
+        let warned = s.warnings.iter().any(|w| w.kind == "fast_contact");
+        assert_eq!(warned, fast, "{tag}: {:?}", s.warnings);
+        if fast {
+            assert_eq!(s.status, "completed_with_warnings", "{tag}");
+        }
+    }
+}

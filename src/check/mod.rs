@@ -26,7 +26,8 @@ use serde::Serialize;
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct Warning {
     /// A stable name: `unconverged_steps`, `deep_penetration`, `energy_rise`,
-    /// `initial_penetration`, `element_quality`, `volumetric_locking`, `crack_band`.
+    /// `initial_penetration`, `fast_contact`, `element_quality`, `volumetric_locking`,
+    /// `crack_band`.
     pub kind: String,
     pub message: String,
 }

@@ -46,6 +46,11 @@ pub struct RigidMesh {
 }
 
 impl RigidMesh {
+    /// The corners' bounding box (in the body's frame).
+    pub fn bounds(&self) -> (V3, V3) {
+        (self.nodes[0].lo, self.nodes[0].hi)
+    }
+
     /// The triangles' corners (in the body's frame).
     pub fn corners(&self) -> impl Iterator<Item = V3> + '_ {
         self.triangles.iter().flatten().copied()

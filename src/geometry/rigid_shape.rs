@@ -44,6 +44,20 @@ pub enum RigidShape {
 }
 
 impl RigidShape {
+    /// Half the solid's thinnest width (a ball's or a cylinder's radius, half a meshed
+    /// shape's smallest extent); `None` for the flat shapes, whose solid fills a half-space
+    /// behind them.
+    pub fn half_thickness(&self) -> Option<f64> {
+        match self {
+            RigidShape::Sphere { radius } | RigidShape::Cylinder { radius, .. } => Some(*radius),
+            RigidShape::Mesh(m) => {
+                let (lo, hi) = m.bounds();
+                Some((0..3).map(|a| hi[a] - lo[a]).fold(f64::INFINITY, f64::min) / 2.0)
+            }
+            RigidShape::Plane { .. } | RigidShape::Plate { .. } => None,
+        }
+    }
+
     /// The plate's in-plane axes for a unit `normal`: the first of x, y, z that is not
     /// parallel to the normal, projected into the plane, then normal x that axis.
     pub fn plate_axes(normal: V3) -> [V3; 2] {

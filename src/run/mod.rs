@@ -21,7 +21,8 @@ use outputs::{
     write_row, Outputs, RunIdentity,
 };
 use summary::{
-    count_step, energy_scale, fail, fill_summary, initial_summary, interrupted, warnings,
+    count_motion, count_step, energy_scale, fail, fill_summary, initial_summary, interrupted,
+    warnings,
 };
 
 use crate::backend::{CpuKernels, Kernels};
@@ -403,11 +404,18 @@ impl<'s> Running<'s> {
                 self.solver.shorten_step(dt);
             }
         }
+        let t0 = self.solver.time();
         let (r, energies, failure) = self.advance(n)?;
         let e = energies.total();
         self.fix_work = self.fix_work.max(energies.fix_work.abs());
         let at = (n + 1, self.solver.time());
         count_step(&mut self.tally, at, r, e, &self.solver.reports());
+        // the engines that hold every node's velocity after each step
+        use crate::integrate::integrator::{ENGINE_CPU, ENGINE_GPU_KERNELS};
+        if matches!(self.solver.engine(), ENGINE_CPU | ENGINE_GPU_KERNELS) {
+            let (model, v) = (&self.setup.model, self.solver.velocity());
+            count_motion(&mut self.tally, model, v, at.1 - t0, at);
+        }
         count_failure(&mut self.tally, &self.setup.model, failure, at);
         if !e.is_finite() || e.abs() > DIVERGENCE_FACTOR * self.scale_now() {
             let reason = format!(

@@ -138,6 +138,7 @@ pub(super) fn start_fresh(
         energy_max: e0.total(),
         peak_force: vec![0.0; n],
         deepest: vec![(0.0, 0, 0.0); n],
+        fastest: vec![(0.0, 0, 0.0); n],
         ..Default::default()
     };
     let mut tally = tally;

@@ -10,7 +10,7 @@ use crate::check::{self, Warning};
 use crate::checkpoint::Tally;
 use crate::error::ImpactError;
 use crate::integrate::{ContactReport, Integrator, StepReport};
-use crate::model::Model;
+use crate::model::{Model, Primary};
 use crate::output::summary::InterfaceSummary;
 use crate::output::Summary;
 use crate::scene::{Method, Scene};
@@ -86,6 +86,32 @@ pub(super) fn count_step(
     }
 }
 
+/// Adds a step's relative motion on each rigid body interface to the tally: the fastest
+/// secondary node's speed relative to the rigid body's reference node, times the step
+/// `dt`, over half the shape's thickness. Past 1, a node may have crossed the body between
+/// two steps without the contact seeing it. The caller measures where the engine holds
+/// every node's velocity after each step (the CPU, the GPU kernels with the host loop).
+pub(super) fn count_motion(tally: &mut Tally, model: &Model, v: &[f64], dt: f64, at: (usize, f64)) {
+    tally.fastest.resize(model.interfaces.len(), (0.0, 0, 0.0));
+    let velocity = |n: u32| -> [f64; 3] { std::array::from_fn(|a| v[3 * n as usize + a]) };
+    for (k, itf) in model.interfaces.iter().enumerate() {
+        let Primary::Rigid { node, shape, .. } = &itf.primary else {
+            continue;
+        };
+        let Some(half) = shape.half_thickness() else {
+            continue;
+        };
+        let vr = velocity(*node);
+        let fastest = (itf.nodes.iter())
+            .map(|&n| crate::geometry::vector::norm(crate::geometry::vector::sub(velocity(n), vr)))
+            .fold(0.0, f64::max);
+        let ratio = fastest * dt / half;
+        if ratio > tally.fastest[k].0 {
+            tally.fastest[k] = (ratio, at.0, at.1);
+        }
+    }
+}
+
 /// The warnings of a finished run.
 pub(super) fn warnings(
     scene: &Scene,
@@ -129,6 +155,23 @@ pub(super) fn warnings(
         energy_scale,
         scene.run.energy_tolerance,
     ));
+    for ((itf, &(ratio, step, time)), k) in model.interfaces.iter().zip(&tally.fastest).zip(0..) {
+        if ratio > 1.0 {
+            let half = match &itf.primary {
+                Primary::Rigid { shape, .. } => shape.half_thickness().unwrap_or_default(),
+                _ => continue,
+            };
+            w.push(Warning::new(
+                "fast_contact",
+                format!(
+                    "interface `{}` ({}): at step {step} (t = {time:.6e}) a secondary node moved {:.4e} relative to the rigid body in one step, {ratio:.2} times half its thickness {half:.4e}: a node can cross the body between two steps without the contact seeing it; take a shorter time step",
+                    itf.name,
+                    scene.interface_key(k),
+                    ratio * half
+                ),
+            ));
+        }
+    }
     for r in initial {
         if r.primary_inside > 0 && r.policy == "ignore" {
             w.push(Warning::new(
