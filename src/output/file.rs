@@ -2,7 +2,9 @@
 //!
 //! A run's summary, collections, charts and checkpoints are each written to a temporary file
 //! beside their place and renamed over it, so that a crash, a full disk or a second reader
-//! never sees half a file: the old file stays until the new one is complete.
+//! never sees half a file: the old file stays until the new one is complete. A run's summary
+//! may also be written over the room its first one reserved ([`write_over`]), so that a
+//! full disk still gets the run's ending.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -37,6 +39,20 @@ pub(crate) fn write_whole_with(
             source,
         }
     })
+}
+
+/// Writes `bytes` over the start of the existing file at `path`, the rest of its length
+/// blanks, without growing it (the file's own blocks, where a full disk has none for a
+/// new file). Refused where `bytes` is longer than the file.
+pub(crate) fn write_over(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut f = std::fs::OpenOptions::new().write(true).open(path)?;
+    let room = f.metadata()?.len() as usize;
+    if bytes.len() > room {
+        return Err(std::io::Error::other("longer than the room the file holds"));
+    }
+    f.write_all(bytes)?;
+    f.write_all(&vec![b' '; room - bytes.len()])?;
+    f.sync_all()
 }
 
 /// `dir/.name.tmp` for `dir/name`.

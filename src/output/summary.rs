@@ -197,11 +197,33 @@ pub struct FirstDamageSummary {
     pub mode: String,
 }
 
+/// The room the first summary of a run reserves in its file (four times its own length
+/// where that is more), so that the last one can be written over it on a full disk.
+const RESERVE: usize = 64 * 1024;
+
 impl Summary {
+    fn text(&self) -> String {
+        serde_json::to_string_pretty(self).expect("summary serialises") + "\n"
+    }
+
+    /// Writes `summary.json` whole (through a temporary file). Where that fails (a full
+    /// disk), the summary is written over the file's own room instead, which the run's first
+    /// summary reserved ([`Self::write_reserving`]); the error is the first failure's where
+    /// that fails too.
     pub fn write(&self, dir: &Path) -> Result<()> {
         let path = dir.join("summary.json");
-        let text = serde_json::to_string_pretty(self).expect("summary serialises");
-        super::file::write_whole(&path, (text + "\n").as_bytes())
+        let text = self.text();
+        super::file::write_whole(&path, text.as_bytes())
+            .or_else(|e| super::file::write_over(&path, text.as_bytes()).map_err(|_| e))
+    }
+
+    /// [`Self::write`] with trailing blanks that reserve the file's room for the summaries
+    /// after it (JSON reads past them).
+    pub fn write_reserving(&self, dir: &Path) -> Result<()> {
+        let mut text = self.text();
+        let room = RESERVE.max(4 * text.len());
+        text.extend(std::iter::repeat_n(' ', room - text.len()));
+        super::file::write_whole(&dir.join("summary.json"), text.as_bytes())
     }
 }
 
@@ -234,5 +256,31 @@ mod tests {
         let m = &json["failure_index_max"];
         assert_eq!(m["fibre_tension"], serde_json::json!("inf"));
         assert_eq!(m["matrix_tension"], serde_json::json!(0.5));
+    }
+
+    /// Where the whole write fails (here a folder where its temporary file must go; on a
+    /// full disk, no room for it), the last summary goes over the room the first reserved.
+    #[test]
+    fn the_last_summary_fits_the_room_the_first_reserved() {
+        let dir = std::env::temp_dir().join(format!("impact-summary-room-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let running = Summary {
+            status: "running".into(),
+            ..Default::default()
+        };
+        running.write_reserving(&dir).unwrap();
+        std::fs::create_dir_all(dir.join(".summary.json.tmp")).unwrap();
+        let failed = Summary {
+            status: "failed".into(),
+            steps: 1234,
+            message: Some("after step 1234: no space left on device".into()),
+            ..Default::default()
+        };
+        failed.write(&dir).unwrap();
+        let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+        let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(json["status"], "failed");
+        assert_eq!(json["steps"], 1234);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -333,7 +333,7 @@ impl<'s> Running<'s> {
         summary.setup_seconds = clock.total();
         summary.setup_stages = clock.stages();
         // `running` until the run ends: a process killed on the way leaves no stale ending
-        ranks::agreed(ranks, out.summary(&summary))?;
+        ranks::agreed(ranks, out.first_summary(&summary))?;
         let identity = RunIdentity {
             scene_hash: crate::checkpoint::scene_hash(scene),
             speed_scale,

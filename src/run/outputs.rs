@@ -87,6 +87,14 @@ impl Outputs {
             false => Ok(()),
         }
     }
+
+    /// Writes the run's first summary, reserving the room its last one needs on a full disk.
+    pub(super) fn first_summary(&self, summary: &crate::output::Summary) -> Result<()> {
+        match self.writes {
+            true => summary.write_reserving(&self.dir),
+            false => Ok(()),
+        }
+    }
 }
 
 /// Starts a new run's outputs (the t = 0 row and frame) and its tally.
