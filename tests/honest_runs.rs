@@ -706,3 +706,32 @@ fn a_rigid_ball_that_can_cross_a_block_between_steps_is_a_warning() {
         }
     }
 }
+
+/// A material whose modulus overflows the matrices (E = 1e300), or whose density leaves
+/// them no mass (1e-300), stops the run before its first step with the likely cause named
+/// and a `failed` summary saying it.
+#[test]
+fn an_unfactorisable_model_names_its_likely_cause_in_a_failed_summary() {
+    for (tag, from, to) in [
+        (
+            "stiff_e300",
+            "youngs_modulus = 100.0",
+            "youngs_modulus = 1e300",
+        ),
+        ("light_d300", "density = 0.01", "density = 1e-300"),
+    ] {
+        let text = edit(&scene_text("two_bars.toml"), from, to);
+        let o = opts(tag);
+        let e = run(&parse(&text, tag), &o).expect_err(tag).to_string();
+        assert!(
+            e.contains("likely cause: material[0] (material `elastic`)"),
+            "{e}"
+        );
+        assert!(e.contains(&format!("{tag}.toml")), "names the scene: {e}");
+        let dir = o.out.expect("a folder");
+        let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+        let json: serde_json::Value = serde_json::from_str(&summary).unwrap();
+        assert_eq!(json["status"], "failed");
+        assert!(json["message"].as_str().unwrap().contains("likely cause"));
+    }
+}

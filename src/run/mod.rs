@@ -222,7 +222,14 @@ fn run_on(scene: &Scene, opts: &RunOptions, ranks: Option<&dyn Ranks>) -> Result
     let resumed = ranks::agreed(ranks, resumed)?;
     let mut clock = SetupClock::start();
     let setup = set_up(scene, opts, ranks, &mut clock)?;
-    let mut running = Running::begin(scene, &setup, &dir, (resumed, ranks), &mut clock, start)?;
+    let begun = Running::begin(scene, &setup, &dir, (resumed, ranks), &mut clock, start);
+    let mut running = match begun {
+        Err(ImpactError::Solver(m)) => {
+            let writes = ranks.is_none_or(|r| r.rank() == 0);
+            return Err(summary::unfactorised(scene, &setup, &dir, m, writes, start));
+        }
+        begun => begun?,
+    };
     let mut progress = Progress::new(setup.steps, opts.quiet);
     for n in running.tally.steps..setup.steps {
         let iterations = running.step(n)?;

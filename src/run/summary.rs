@@ -372,3 +372,66 @@ pub(super) fn fail(
         dir: out.dir.clone(),
     }
 }
+
+/// Ends a run whose effective matrix did not factorise before its first step: the error,
+/// and a summary (`failed`, where `writes`) with the likely cause ([`likely_cause`]).
+pub(super) fn unfactorised(
+    scene: &Scene,
+    setup: &Setup,
+    dir: &std::path::Path,
+    message: String,
+    writes: bool,
+    start: Instant,
+) -> ImpactError {
+    let message = format!(
+        "{}: {message}; likely cause: {}",
+        scene.path.display(),
+        likely_cause(scene, setup)
+    );
+    if writes {
+        let summary = Summary {
+            status: "failed".into(),
+            scene: scene.path.display().to_string(),
+            title: scene.title.clone(),
+            method: setup.method.name().into(),
+            time_step: setup.dt,
+            message: Some(message.clone()),
+            wall_seconds: start.elapsed().as_secs_f64(),
+            ..Default::default()
+        };
+        let _ = summary.write(dir);
+    }
+    ImpactError::Solver(message)
+}
+
+/// Why the effective matrix K + M / (beta dt^2) may not factorise: a material whose
+/// modulus or density is beyond what a double's products hold; one whose mass term is lost
+/// against its stiffness in rounding (a free body then has nothing against rigid motion);
+/// else a body neither held nor given mass.
+fn likely_cause(scene: &Scene, setup: &Setup) -> String {
+    let model = &setup.model;
+    let size = model.mesh.min_edge();
+    let key = |i: usize| format!("material[{i}] (material `{}`)", scene.materials[i].name);
+    for (i, m) in model.materials.iter().enumerate() {
+        let i = model.material_source.get(i).copied().unwrap_or(i);
+        let modulus = m.density * m.wave_speed().powi(2);
+        let range = 1e-150..1e150;
+        if !range.contains(&modulus) || !range.contains(&m.density) {
+            return format!(
+                "{}: its modulus {modulus:.3e} or density {:.3e} lies outside 1e-150 to 1e150, where the matrices' products overflow or vanish in a double (check its units)",
+                key(i),
+                m.density
+            );
+        }
+        let transit = size / m.wave_speed();
+        let mass_term = (transit / setup.dt).powi(2) / scene.implicit.beta;
+        if mass_term < 1e-12 {
+            return format!(
+                "{}: its mass term is {mass_term:.3e} of its stiffness (the elements' transit time {transit:.3e} against the step {:.3e}): a body free to move rests on its mass alone, which rounding loses; check the density's units or take a shorter time step",
+                key(i),
+                setup.dt
+            );
+        }
+    }
+    "a body neither held nor given mass (every body must be held or free to move with positive mass)".into()
+}
