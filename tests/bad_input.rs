@@ -807,3 +807,30 @@ fn a_fix_on_a_moving_rigid_bodys_component_is_refused() {
     )) + "\n[[fix]]\nbody = \"tup\"\ncomponents = [\"x\", \"y\"]\n";
     Scene::parse(&held, Path::new("ok.toml")).expect("held where it does not move");
 }
+
+/// An array with more components than its key takes (the TOML reader takes the first ones
+/// and passed over the rest) is refused by its key.
+#[test]
+fn an_array_with_extra_components_is_refused() {
+    let text = edit(
+        &base(),
+        "divisions = [10, 1, 1]",
+        "divisions = [10, 1, 1, 4]",
+    );
+    expect(
+        &text,
+        &[
+            "key `body[0].box.divisions`",
+            "has 4 components; it takes 3",
+        ],
+    );
+    let text = base()
+        + "\n[[rigid_body]]\nname = \"plate\"\nmass = 1.0\nposition = [0.0, 0.0, -2.0]\nmotion = \"fixed\"\nshape = { plate = { normal = [0.0, 0.0, 1.0], size = [2.0, 2.0, 3.0] } }\n";
+    expect(
+        &text,
+        &[
+            "key `rigid_body[0].shape.plate.size`",
+            "has 3 components; it takes 2",
+        ],
+    );
+}

@@ -39,7 +39,7 @@ use std::ops::Range;
 
 use super::bucket_sort::BucketSort;
 use super::buffer::Storage;
-use super::contact_form::{ContactForm, ZONE_TRIAL_PAIRS};
+use super::contact_form::{ContactForm, ZONE_PAIRS, ZONE_TRIAL_PAIRS};
 use super::context::{GpuContext, ZONE_BINDINGS};
 use super::engine::at_least_one;
 use super::kernel::{Kernel, Launch};
@@ -59,11 +59,6 @@ use crate::kernels::plane_contact::SLOT;
 use crate::kernels::sweep_control::word;
 use crate::kernels::{ContactNode, ContactPair, RigidSurface};
 use crate::kernels::{Relax, SearchMode};
-
-/// Pairs up to which a step's iteration runs in one workgroup (`contact_zone`) by default:
-/// there one dispatch's latency replaces about twenty, and the workgroup's sweeps are as
-/// fast as recorded ones (H100: 2.3 us a sweep at 361 pairs in one workgroup).
-pub const ZONE_PAIRS: usize = 2048;
 
 /// Sweeps a step records at most as `contact_relax` dispatches (its launches, one per sweep
 /// number, are built once); `contact_finish` runs any after them.

@@ -720,7 +720,7 @@ impl<'m> ResidentSolver<'m> {
     /// Runs each step's contact iteration in one workgroup (`contact_zone`) or staged, from
     /// the next submission on, where the adapter runs it; returns whether it runs in one
     /// workgroup. By default it does on zones of at most
-    /// [`crate::gpu::impulse_sweeps::ZONE_PAIRS`] pairs. The results do not depend on it.
+    /// [`crate::gpu::contact_form::ZONE_PAIRS`] pairs. The results do not depend on it.
     pub fn fix_contact_zone(&mut self, zone: bool) -> bool {
         let zone = self.engine.set_zone(zone);
         self.fix_form();

@@ -13,7 +13,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use super::import::{FileMesh, FileSurface};
+use super::file_mesh::{FileMesh, FileSurface};
 use super::orientation::{AbaqusOrientation, ElementAxes};
 use super::parse_error::ParseError;
 use super::NodeSet;

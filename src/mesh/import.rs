@@ -1,5 +1,6 @@
 //! Reading a body's mesh from a file: the format readers ([`super::gmsh`],
-//! [`super::abaqus`]) produce a [`FileMesh`] in the file's terms; this module turns it into
+//! [`super::abaqus`], [`super::lsdyna`]) produce a [`FileMesh`] in the file's terms
+//! ([`super::file_mesh`]); this module turns it into
 //! [`BodyParts`]: nodes that no element uses dropped, scale and translation applied, elements
 //! oriented, the boundary found, and every surface face matched to an outward boundary face.
 
@@ -7,34 +8,10 @@ use std::path::Path;
 
 use super::boundary::{boundary_faces, orient, BoundaryIndex};
 use super::deck::{Deck, Dialect};
-use super::orientation::ElementAxes;
+pub use super::file_mesh::{FileMesh, FileSurface};
 pub use super::parse_error::ParseError;
 use super::{BodyParts, Face, NodeSet, Surface};
-use crate::element::Elements;
 use crate::error::{ImpactError, Result};
-
-/// A named list of faces as the file gives them: 3 or 4 node indices each, in any order.
-#[derive(Debug, Clone, PartialEq)]
-pub struct FileSurface {
-    pub name: String,
-    pub faces: Vec<Vec<u32>>,
-    /// Where the surface is defined, for messages.
-    pub line: usize,
-}
-
-/// A mesh as a file reader produces it (node indices into `nodes`).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct FileMesh {
-    pub nodes: Vec<[f64; 3]>,
-    /// The elements in file order within each kind's block (file node indices).
-    pub elements: Elements,
-    pub surfaces: Vec<FileSurface>,
-    pub node_sets: Vec<NodeSet>,
-    /// Material axes per element (Abaqus `*ORIENTATION`), in `elements` order.
-    pub axes: ElementAxes,
-    /// Keywords the reader passed over, with their lines (an Abaqus deck's materials, steps).
-    pub skipped: Vec<(String, usize)>,
-}
 
 /// Reads a `.msh` (Gmsh 4.1, ASCII or binary), `.inp` (Abaqus/CalculiX, with its
 /// `*INCLUDE`s) or `.k` (LS-DYNA keywords) file, scales the coordinates by `scale` about the

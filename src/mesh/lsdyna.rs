@@ -10,7 +10,7 @@
 
 use std::collections::HashMap;
 
-use super::import::{FileMesh, FileSurface};
+use super::file_mesh::{FileMesh, FileSurface};
 use super::parse_error::ParseError;
 use super::NodeSet;
 use crate::element::ElementKind;

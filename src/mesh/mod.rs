@@ -12,6 +12,7 @@ pub mod abaqus;
 pub mod boundary;
 pub mod box_mesh;
 pub mod deck;
+pub mod file_mesh;
 pub mod gmsh;
 pub mod grading;
 pub mod import;

@@ -490,6 +490,19 @@ impl Scene {
             path: path.to_path_buf(),
             message: suggest::with_suggestion(&e.to_string()),
         })?;
+        // the reader takes an array's first components and passes over the rest
+        let file: Option<toml::Value> = toml::from_str(text).ok();
+        let read = toml::Value::try_from(&raw).ok();
+        if let Some((key, given, taken)) = file
+            .zip(read)
+            .and_then(|(f, r)| raw::extra_components(&f, &r, ""))
+        {
+            return Err(ImpactError::SceneValue {
+                path: path.to_path_buf(),
+                key,
+                message: format!("has {given} components; it takes {taken}"),
+            });
+        }
         validate::validate(raw, path)
     }
 

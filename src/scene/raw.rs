@@ -2,11 +2,13 @@
 //!
 //! Every struct denies unknown keys, so a misspelt key is an error (with the line, from the
 //! TOML reader) and [`super::suggest`] adds the closest known key to the message. Values are
-//! checked afterwards in [`super::validate`].
+//! checked afterwards in [`super::validate`]. The structs also serialise, so that an array
+//! given more components than its key takes (which the TOML reader passes over) is found by
+//! comparing the file with what was read ([`extra_components`]).
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawScene {
     pub title: Option<String>,
@@ -35,7 +37,7 @@ pub(crate) struct RawScene {
     pub exact: Vec<RawExact>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawRun {
     pub end_time: Option<f64>,
@@ -45,7 +47,7 @@ pub(crate) struct RawRun {
     pub energy_tolerance: Option<f64>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawImplicit {
     pub beta: Option<f64>,
@@ -66,7 +68,7 @@ pub(crate) struct RawImplicit {
     pub contact_space: Option<String>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawExact {
     pub column: String,
@@ -74,7 +76,7 @@ pub(crate) struct RawExact {
     pub label: Option<String>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawExplicit {
     pub safety_factor: Option<f64>,
@@ -83,7 +85,7 @@ pub(crate) struct RawExplicit {
     pub tolerance: Option<f64>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawMaterial {
     pub name: String,
@@ -98,7 +100,7 @@ pub(crate) struct RawMaterial {
 }
 
 /// A ply's fracture energies (`fracture_energy = { ft, fc, mt, mc }`).
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawFractureEnergy {
     pub ft: f64,
@@ -108,7 +110,7 @@ pub(crate) struct RawFractureEnergy {
 }
 
 /// A ply's strengths (`strength = { xt, xc, yt, yc, s12, s23 }`).
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawStrength {
     pub xt: f64,
@@ -119,7 +121,7 @@ pub(crate) struct RawStrength {
     pub s23: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawOrthotropic {
     pub e1: f64,
@@ -133,7 +135,7 @@ pub(crate) struct RawOrthotropic {
     pub g23: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawTransverselyIsotropic {
     pub e1: f64,
@@ -143,7 +145,7 @@ pub(crate) struct RawTransverselyIsotropic {
     pub g12: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawOrientation {
     pub axes: Option<[[f64; 3]; 2]>,
@@ -151,21 +153,21 @@ pub(crate) struct RawOrientation {
     pub angle: Option<f64>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawPlies {
     pub normal: String,
     pub layers: Vec<RawPly>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawPly {
     pub angle: f64,
     pub thickness: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawBox {
     pub min: [f64; 3],
@@ -176,7 +178,7 @@ pub(crate) struct RawBox {
 }
 
 /// `box.refine = { min, max, size }`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawRefine {
     pub min: [f64; 3],
@@ -184,7 +186,7 @@ pub(crate) struct RawRefine {
     pub size: [f64; 3],
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawBody {
     pub name: String,
@@ -201,7 +203,7 @@ pub(crate) struct RawBody {
     pub plies: Option<RawPlies>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawSurfaceRef {
     pub body: Option<String>,
@@ -210,7 +212,7 @@ pub(crate) struct RawSurfaceRef {
     pub surface: Option<String>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawContact {
     pub name: String,
@@ -220,7 +222,7 @@ pub(crate) struct RawContact {
     pub initial_penetration: Option<String>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawPlane {
     pub name: String,
@@ -232,7 +234,7 @@ pub(crate) struct RawPlane {
 }
 
 /// A `[[rigid_body]]`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawRigidBody {
     pub name: String,
@@ -246,7 +248,7 @@ pub(crate) struct RawRigidBody {
 }
 
 /// A rigid body's `shape`: exactly one of the analytic shapes, or `mesh` with `surface`.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawRigidShape {
     pub sphere: Option<RawSphere>,
@@ -258,13 +260,13 @@ pub(crate) struct RawRigidShape {
     pub origin: Option<[f64; 3]>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawSphere {
     pub radius: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawCylinder {
     pub radius: f64,
@@ -273,13 +275,13 @@ pub(crate) struct RawCylinder {
     pub ends: Option<String>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawRigidPlane {
     pub normal: [f64; 3],
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawRigidPlate {
     pub normal: [f64; 3],
@@ -289,7 +291,7 @@ pub(crate) struct RawRigidPlate {
 
 /// A `[[cohesive]]` interface: between two bodies' faces (`between`), or inside a laminate
 /// (`body` and `at`).
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawCohesive {
     pub name: String,
@@ -303,14 +305,14 @@ pub(crate) struct RawCohesive {
     pub friction: Option<f64>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawCohesiveStrength {
     pub normal: f64,
     pub shear: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawToughness {
     pub normal: f64,
@@ -318,14 +320,14 @@ pub(crate) struct RawToughness {
     pub bk: f64,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawRegion {
     pub min: [f64; 3],
     pub max: [f64; 3],
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawFix {
     pub body: String,
@@ -337,7 +339,7 @@ pub(crate) struct RawFix {
     pub name: Option<String>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawProbe {
     pub name: String,
@@ -345,10 +347,37 @@ pub(crate) struct RawProbe {
     pub point: [f64; 3],
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawOutput {
     pub dir: Option<String>,
     pub vtu_every: Option<i64>,
     pub checkpoint_every: Option<i64>,
+}
+
+/// The first array of the scene `file` that holds more entries than `read` (the scene as
+/// deserialised, serialised back) kept: its key path (`rigid_body[0].shape.plate.size`),
+/// and both lengths.
+pub(crate) fn extra_components(
+    file: &toml::Value,
+    read: &toml::Value,
+    path: &str,
+) -> Option<(String, usize, usize)> {
+    let key = |k: &str| match path {
+        "" => k.to_string(),
+        p => format!("{p}.{k}"),
+    };
+    match (file, read) {
+        (toml::Value::Table(f), toml::Value::Table(r)) => (f.iter())
+            .filter_map(|(k, v)| Some((k, v, r.get(k)?)))
+            .find_map(|(k, v, w)| extra_components(v, w, &key(k))),
+        (toml::Value::Array(f), toml::Value::Array(r)) => {
+            if f.len() > r.len() {
+                return Some((path.to_string(), f.len(), r.len()));
+            }
+            (f.iter().zip(r).enumerate())
+                .find_map(|(i, (v, w))| extra_components(v, w, &format!("{path}[{i}]")))
+        }
+        _ => None,
+    }
 }
