@@ -46,6 +46,11 @@ pub struct RigidMesh {
 }
 
 impl RigidMesh {
+    /// Whether the surface is closed (no triangle has an edge that is no other's).
+    pub fn is_closed(&self) -> bool {
+        self.rims.iter().all(|&r| r == 0)
+    }
+
     /// The corners' bounding box (in the body's frame).
     pub fn bounds(&self) -> (V3, V3) {
         (self.nodes[0].lo, self.nodes[0].hi)

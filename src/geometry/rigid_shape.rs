@@ -44,12 +44,13 @@ pub enum RigidShape {
 }
 
 impl RigidShape {
-    /// Half the solid's thinnest width (a ball's or a cylinder's radius, half a meshed
-    /// shape's smallest extent); `None` for the flat shapes, whose solid fills a half-space
-    /// behind them.
+    /// Half the solid's thinnest width (a ball's or a cylinder's radius, half a closed meshed
+    /// shape's smallest extent); `None` for the flat shapes and open meshed surfaces, whose
+    /// solid fills the space behind them.
     pub fn half_thickness(&self) -> Option<f64> {
         match self {
             RigidShape::Sphere { radius } | RigidShape::Cylinder { radius, .. } => Some(*radius),
+            RigidShape::Mesh(m) if !m.is_closed() => None,
             RigidShape::Mesh(m) => {
                 let (lo, hi) = m.bounds();
                 Some((0..3).map(|a| hi[a] - lo[a]).fold(f64::INFINITY, f64::min) / 2.0)

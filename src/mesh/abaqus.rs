@@ -1149,13 +1149,13 @@ CUBE, S1
     }
 
     #[test]
-    fn a_set_naming_itself_keeps_each_number_once() {
-        // each line would triple the set if numbers were kept as often as named
+    fn a_set_naming_itself_is_refused_at_its_line() {
+        // once kept, each such line would have tripled the set
         let lines = "TWICE, TWICE, TWICE\n".repeat(64);
         let t = format!("{CUBE}*NSET, NSET=TWICE\n1, 2\n{lines}");
-        let m = read(&t, None).unwrap();
-        let set = m.node_sets.iter().find(|s| s.name == "TWICE").unwrap();
-        assert_eq!(set.nodes, vec![0, 1]);
+        let e = read(&t, None).unwrap_err();
+        assert_eq!(e.line, Some(CUBE.lines().count() + 3));
+        assert!(e.message.contains("*NSET TWICE names itself"), "{e:?}");
     }
 
     #[test]
