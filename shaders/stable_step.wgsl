@@ -1,16 +1,23 @@
 // Each element's stable explicit step, 2 / sqrt(max_i sum_j |K_ij| / m_i): Gershgorin's bound
 // on the largest eigenvalue of M_e^-1 K_e with the row-sum lumped mass (twin:
 // `kernels::stable_step`, the same bound as `integrate::stable_step::element_stable_step`).
-// One invocation per element: hex8s 0..params.aux (2x2x2 Gauss, as the force kernel), then
-// tet4s. The smallest over the mesh bounds the step of central difference (Irons' element
-// eigenvalue inequality).
+// One invocation per element of one block, its connectivity column by column as the force
+// kernels read it (corner k of element e at `k params.count + e`): hex8s where params.aux is
+// 0 (2x2x2 Gauss, as the force kernel), tet4s where it is 1; element e's step goes to
+// `params.aux2 + e`. The smallest over the mesh bounds the step of central difference
+// (Irons' element eigenvalue inequality).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> reference: array<Split3>;
-@group(0) @binding(2) var<storage, read> hex8_elements: array<Hex8>;
-@group(0) @binding(3) var<storage, read> tet4_elements: array<Tet4>;
+@group(0) @binding(2) var<storage, read> block_nodes: array<u32>;
+@group(0) @binding(3) var<storage, read> block_material: array<u32>;
 @group(0) @binding(4) var<storage, read> materials: array<Material>;
 @group(0) @binding(5) var<storage, read_write> steps: array<f32>;
+
+// Corner k of element e of the block.
+fn corner(e: u32, k: u32) -> u32 {
+    return block_nodes[k * params.count + e];
+}
 
 // This kernel runs once, at setup, and keeps the plain per-corner arrays of the textbook
 // form (the per-step kernels use the array-free forms of `shared/element.wgsl`).
@@ -94,12 +101,11 @@ fn row_bound(k: array<mat3x3<f32>, 8>, mass: f32) -> f32 {
 }
 
 fn hex_step(e: u32) -> f32 {
-    let hex = hex8_elements[e];
-    let m = materials[hex.material];
-    let r0 = reference[hex.nodes[0]];
+    let m = materials[block_material[e]];
+    let r0 = reference[corner(e, 0u)];
     var x: array<vec3<f32>, 8>;
     for (var k = 0u; k < 8u; k++) {
-        x[k] = split_difference(reference[hex.nodes[k]], r0);
+        x[k] = split_difference(reference[corner(e, k)], r0);
     }
     // gradients and weights (det J) at the eight Gauss points
     var grads: array<vec3<f32>, 64>;
@@ -135,12 +141,11 @@ fn hex_step(e: u32) -> f32 {
 }
 
 fn tet_step(t: u32) -> f32 {
-    let tet = tet4_elements[t];
-    let m = materials[tet.material];
-    let r0 = reference[tet.nodes[0]];
-    let a = split_difference(reference[tet.nodes[1]], r0);
-    let b = split_difference(reference[tet.nodes[2]], r0);
-    let c = split_difference(reference[tet.nodes[3]], r0);
+    let m = materials[block_material[t]];
+    let r0 = reference[corner(t, 0u)];
+    let a = split_difference(reference[corner(t, 1u)], r0);
+    let b = split_difference(reference[corner(t, 2u)], r0);
+    let c = split_difference(reference[corner(t, 3u)], r0);
     let tg = tet_gradients(a, b, c);
     let grads = array<vec3<f32>, 4>(tg.g0, tg.g1, tg.g2, tg.g3);
     let vol = tg.volume;
@@ -165,9 +170,9 @@ fn stable_step(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (e >= params.count) {
         return;
     }
-    if (e < params.aux) {
-        steps[e] = hex_step(e);
+    if (params.aux == 0u) {
+        steps[params.aux2 + e] = hex_step(e);
     } else {
-        steps[e] = tet_step(e - params.aux);
+        steps[params.aux2 + e] = tet_step(e);
     }
 }

@@ -42,18 +42,6 @@ struct Split3 {
     lo: Float3,
 }
 
-// A hex8 and a tet4 with their material (the setup kernel `stable_step`; the per-step
-// element kernels read the connectivity column by column, see `hex8_forces.wgsl`).
-struct Hex8 {
-    nodes: array<u32, 8>,
-    material: u32,
-}
-
-struct Tet4 {
-    nodes: array<u32, 4>,
-    material: u32,
-}
-
 // Lame parameters and density; for an anisotropic material (anisotropic = 1) the
 // stiffness's upper triangle in Voigt order (xx, yy, zz, yz, xz, xy), global axes, in place
 // of lambda and mu (twin: `material::Elastic`).

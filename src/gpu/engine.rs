@@ -283,15 +283,12 @@ impl ElementColumns {
         let kept = KeptData::of(data);
         let blocks = (data.elements.blocks.iter())
             .map(|b| {
-                let (e, n) = (b.len(), b.kind.corners());
+                let e = b.len();
                 let (k, values) = (b.kind.kept_per_element(), kept.of_kind(b.kind));
                 BlockColumns {
                     kind: b.kind,
                     count: e,
-                    nodes: (0..n * e)
-                        .into_par_iter()
-                        .map(|i| b.nodes[n * (i % e) + i / e])
-                        .collect(),
+                    nodes: column_nodes(b),
                     material: b.material.clone(),
                     kept: (0..k * e)
                         .into_par_iter()
@@ -308,6 +305,16 @@ impl ElementColumns {
             .for_each(|c| *c = layout.to_device(*c as usize) as u32);
         ElementColumns { blocks, incidence }
     }
+}
+
+/// A block's connectivity column by column: corner k of element e at `k E + e` (E elements).
+pub(crate) fn column_nodes(b: &crate::element::ElementBlock) -> Vec<u32> {
+    use rayon::prelude::*;
+    let (e, n) = (b.len(), b.kind.corners());
+    (0..n * e)
+        .into_par_iter()
+        .map(|i| b.nodes[n * (i % e) + i / e])
+        .collect()
 }
 
 pub(super) fn bytes_of<T>(n: usize) -> u64 {

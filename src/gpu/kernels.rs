@@ -136,7 +136,7 @@ kernel_table! {
     SearchBounds = search_bounds(reference, displacement, velocity, faces, centres, bounds, boxes);
     SearchGridKernel = search_grid(step, bounds, grid);
     SlipRate = slip_rate(reference, displacement, velocity, queries, faces, points, slip);
-    StableStep = stable_step(reference, hex8_elements, tet4_elements, materials, steps);
+    StableStep = stable_step(reference, block_nodes, block_material, materials, steps);
     Tet4Damage = tet4_damage(
         damage, reference, displacement, velocity, block_nodes, elements, plies, entries, laws,
         state, records, corner_forces,

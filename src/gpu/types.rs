@@ -89,22 +89,6 @@ impl Split3 {
 }
 
 device_struct! {
-    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-    pub struct Hex8 {
-        pub nodes: [u32; 8],
-        pub material: u32,
-    }
-}
-
-device_struct! {
-    #[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
-    pub struct Tet4 {
-        pub nodes: [u32; 4],
-        pub material: u32,
-    }
-}
-
-device_struct! {
     /// Lamé parameters and density; for an anisotropic material (`anisotropic` = 1) the
     /// stiffness's upper triangle in Voigt order (xx, yy, zz, yz, xz, xy), global axes, row by
     /// row, in place of lambda and mu.
@@ -806,8 +790,6 @@ pub fn layouts() -> Vec<StructLayout> {
     vec![
         Params::layout(),
         Split3::layout(),
-        Hex8::layout(),
-        Tet4::layout(),
         GpuMaterial::layout(),
         ContactQuery::layout(),
         Quad::layout(),
