@@ -1197,6 +1197,26 @@ fn an_lsdyna_file_with_an_id_given_twice_or_a_card_out_of_place_is_refused_at_it
     );
     let blank = edit(&deck, "*NODE\n", " *NODE\n");
     check("k_blank_keyword", &blank, " *NODE", &["column 1"]);
+    let velocity =
+        "*INITIAL_VELOCITY_GENERATION\n2, 2, 0.0, 0.0, 0.0, -1.0, 0, 0\n0, 0, 0, 0, 0, 0, 0, 0\n";
+    let again = edit(
+        &deck,
+        velocity,
+        &format!("{velocity}{}", velocity.replace("-1.0", "-2.0")),
+    );
+    check(
+        "k_velocity_twice",
+        &again,
+        "2, 2, 0.0, 0.0, 0.0, -2.0",
+        &["part 2 is given twice"],
+    );
+    let zero = edit(&deck, "101, 2, 101,", "0, 2, 101,");
+    check(
+        "k_element_0",
+        &zero,
+        "0, 2, 101,",
+        &["element ids start at 1"],
+    );
     let before = format!("0.05\n{deck}");
     check(
         "k_card_first",

@@ -115,6 +115,9 @@ impl Reader {
             Block::Node => {
                 let f = card(line, &[8, 16, 16, 16, 8, 8]);
                 let id = integer(&f, 0, n, "node id")?;
+                if id == 0 {
+                    return Err(ParseError::at(n, "node 0: node ids start at 1"));
+                }
                 let x = [1, 2, 3].map(|i| real(&f, i, n, "node coordinate"));
                 let [a, b, c] = x;
                 let index = self.nodes.len() as u32;
@@ -126,6 +129,9 @@ impl Reader {
             Block::Solid => {
                 let f = card(line, &[8]);
                 let id = integer(&f, 0, n, "element id")?;
+                if id == 0 {
+                    return Err(ParseError::at(n, "element 0: element ids start at 1"));
+                }
                 let part = integer(&f, 1, n, "part id")?;
                 let nodes = (2..10)
                     .map(|i| integer(&f, i, n, "element node"))

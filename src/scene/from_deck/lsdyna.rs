@@ -333,8 +333,17 @@ impl Reader<'_> {
         };
         let v = [3, 4, 5].map(|i| self.real(&f, i, l, "velocity"));
         let [x, y, z] = v;
-        g.part_velocities
-            .push((self.id(&f, 0, l, "part id")?, [x?, y?, z?], spin, l));
+        let pid = self.id(&f, 0, l, "part id")?;
+        if let Some((.., first)) = g.part_velocities.iter().find(|p| p.0 == pid) {
+            let first = self.src.line(*first);
+            return Err(self.src.err(
+                l,
+                format!(
+                    "the initial velocity of part {pid} is given twice (first on line {first})"
+                ),
+            ));
+        }
+        g.part_velocities.push((pid, [x?, y?, z?], spin, l));
         Ok(())
     }
 
@@ -372,6 +381,15 @@ impl Reader<'_> {
         }
         let w = [0, 1, 2].map(|i| self.real(&v, i, l2, "velocity"));
         let [x, y, z] = w;
+        if let Some((.., first)) = g.set_velocities.iter().find(|s| s.0 == set) {
+            let first = self.src.line(*first);
+            return Err(self.src.err(
+                l2,
+                format!(
+                    "the initial velocity of node set {set} is given twice (first on line {first})"
+                ),
+            ));
+        }
         g.set_velocities.push((set, [x?, y?, z?], l2));
         Ok(())
     }
