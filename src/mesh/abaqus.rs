@@ -110,9 +110,67 @@ struct Reader {
     max_elements: usize,
 }
 
+/// The keywords of more than one word that the readers know, as they name them. CalculiX
+/// reads a keyword with its blanks dropped (`*SOLIDSECTION` is `*SOLID SECTION`), and so
+/// do the readers.
+const SPACED: [&str; 22] = [
+    "SOLID SECTION",
+    "END STEP",
+    "CONTACT PAIR",
+    "INITIAL CONDITIONS",
+    "NODE PRINT",
+    "NODE OUTPUT",
+    "NODE FILE",
+    "EL PRINT",
+    "EL FILE",
+    "CONTACT PRINT",
+    "CONTACT FILE",
+    "CONTACT OUTPUT",
+    "ELEMENT OUTPUT",
+    "ENERGY PRINT",
+    "SURFACE INTERACTION",
+    "SURFACE BEHAVIOR",
+    "RIGID BODY",
+    "TIME POINTS",
+    "CHANGE FRICTION",
+    "SHELL SECTION",
+    "BEAM SECTION",
+    "MEMBRANE SECTION",
+];
+
+/// `s` upper case with its blanks dropped, as CalculiX compares keywords, parameters and
+/// their words (`TYPE=SURFACE TO SURFACE` is `SURFACETOSURFACE`).
+pub(crate) fn word(s: &str) -> String {
+    s.chars()
+        .filter(|c| !c.is_whitespace())
+        .map(|c| c.to_ascii_uppercase())
+        .collect()
+}
+
+/// A number as a deck writes it, Fortran's `D` exponent too (`2.1D5`); `None` where it is
+/// not one or not finite.
+pub(crate) fn real(s: &str) -> Option<f64> {
+    let parsed = s.parse::<f64>().ok().or_else(|| {
+        let at = s.find(['d', 'D'])?;
+        format!("{}e{}", &s[..at], &s[at + 1..]).parse::<f64>().ok()
+    });
+    parsed.filter(|x| x.is_finite())
+}
+
+/// A keyword line's keyword (upper case, in the readers' spelling where it is one they
+/// know, however its blanks fall) and its parameters (keys as [`word`] gives them).
 pub(crate) fn params(line: &str) -> (String, HashMap<String, String>) {
     let mut parts = line[1..].split(',');
-    let keyword = parts.next().unwrap_or("").trim().to_ascii_uppercase();
+    let given = parts.next().unwrap_or("").trim();
+    let squeezed = word(given);
+    let keyword = match SPACED.iter().find(|k| word(k) == squeezed) {
+        Some(k) => k.to_string(),
+        None => given
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ")
+            .to_ascii_uppercase(),
+    };
     let mut map = HashMap::new();
     for p in parts {
         let (k, v) = match p.split_once('=') {
@@ -120,7 +178,7 @@ pub(crate) fn params(line: &str) -> (String, HashMap<String, String>) {
             None => (p.trim(), ""),
         };
         if !k.is_empty() {
-            map.insert(k.to_ascii_uppercase(), v.to_string());
+            map.insert(word(k), v.to_string());
         }
     }
     (keyword, map)
@@ -207,7 +265,7 @@ impl Keyword {
     /// The value of the parameter `key`, refused when it is missing or empty.
     fn need(&self, key: &str) -> Res<String> {
         self.params
-            .get(key)
+            .get(&word(key))
             .filter(|v| !v.is_empty())
             .cloned()
             .ok_or_else(|| ParseError::at(self.line, format!("*{} needs {key}=", self.name)))
@@ -215,7 +273,7 @@ impl Keyword {
 
     /// The value of the parameter `key`, empty when it is missing.
     fn get(&self, key: &str) -> String {
-        self.params.get(key).cloned().unwrap_or_default()
+        self.params.get(&word(key)).cloned().unwrap_or_default()
     }
 }
 
@@ -433,7 +491,7 @@ impl Parser {
             Mode::Orientation => {
                 let numbers = fields
                     .iter()
-                    .map(|f| f.parse::<f64>().ok().filter(|v| v.is_finite()))
+                    .map(|f| real(f))
                     .collect::<Option<Vec<f64>>>()
                     .ok_or_else(|| {
                         ParseError::at(
@@ -483,16 +541,12 @@ impl Parser {
         }
         let mut p = [0.0; 3];
         for a in 0..3 {
-            p[a] = fields[1 + a]
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| {
-                    ParseError::at(
-                        line_no,
-                        format!("expected a coordinate, found `{}`", fields[1 + a]),
-                    )
-                })?;
+            p[a] = real(fields[1 + a]).ok_or_else(|| {
+                ParseError::at(
+                    line_no,
+                    format!("expected a coordinate, found `{}`", fields[1 + a]),
+                )
+            })?;
         }
         let r = &mut self.r;
         if r.node_ids.insert(id, r.nodes.len() as u32).is_some() {

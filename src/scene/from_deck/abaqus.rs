@@ -17,7 +17,7 @@ use super::{
     DeckRigid, DeckScene, DeckStep, Elastic, Holder, Origin, PrimarySide, Select,
 };
 use crate::error::Result;
-use crate::mesh::abaqus::params;
+use crate::mesh::abaqus::{params, word};
 use crate::mesh::deck::Dialect;
 use crate::mesh::BodyParts;
 use rigid::{DeckNodes, RigidDecl, Rigids};
@@ -25,15 +25,14 @@ use rigid::{DeckNodes, RigidDecl, Rigids};
 /// The probes of the printed node sets, and the (set, line) of those too large for probes.
 type Probes = (Vec<DeckProbe>, Vec<(String, usize)>);
 
-/// The most probes one printed node set makes.
-const MAX_PROBES: usize = 32;
-
 /// Keywords the mesh reader takes.
 const MESH: [&str; 6] = ["NODE", "ELEMENT", "NSET", "ELSET", "SURFACE", "ORIENTATION"];
 
 /// Keywords passed over with a notice: output requests and solver controls, and the deck's
 /// contact penalty (the augmented Lagrange iteration replaces it).
-const PASSED_OVER: [&str; 14] = [
+const PASSED_OVER: [&str; 16] = [
+    "TIME POINTS",
+    "RESTART",
     "NODE PRINT",
     "NODE OUTPUT",
     "EL PRINT",
@@ -59,9 +58,11 @@ struct Block {
 }
 
 impl Block {
+    /// The value of parameter `key` (its blanks as the deck has them or not: CalculiX
+    /// drops them), `None` where it is missing or empty.
     fn get(&self, key: &str) -> Option<&str> {
         self.params
-            .get(key)
+            .get(&word(key))
             .map(String::as_str)
             .filter(|v| !v.is_empty())
     }
@@ -140,13 +141,10 @@ struct Reader<'a> {
 impl Reader<'_> {
     fn number(&self, fields: &[String], i: usize, line: usize, what: &str) -> Result<f64> {
         let f = fields.get(i).map(String::as_str).unwrap_or("");
-        f.parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| {
-                self.src
-                    .err(line, format!("{what}: `{f}` is not a finite number"))
-            })
+        crate::mesh::abaqus::real(f).ok_or_else(|| {
+            self.src
+                .err(line, format!("{what}: `{f}` is not a finite number"))
+        })
     }
 
     fn dof(&self, fields: &[String], i: usize, line: usize) -> Result<usize> {
@@ -252,7 +250,14 @@ impl Reader<'_> {
     }
 
     fn elastic(&self, b: &Block) -> Result<Elastic> {
-        let ty = b.get("TYPE").unwrap_or("ISOTROPIC").to_ascii_uppercase();
+        // CalculiX's own spellings (ISO, ORTHO), blanks or none
+        let given = b.get("TYPE").unwrap_or("ISOTROPIC").to_ascii_uppercase();
+        let ty = match word(&given).as_str() {
+            "ISO" | "ISOTROPIC" => "ISOTROPIC".to_string(),
+            "ORTHO" | "ORTHOTROPIC" => "ORTHOTROPIC".to_string(),
+            "ENGINEERINGCONSTANTS" => "ENGINEERING CONSTANTS".to_string(),
+            _ => given,
+        };
         let values: Vec<(String, usize)> = (b.data.iter())
             .flat_map(|(f, l)| f.iter().filter(|x| !x.is_empty()).map(|x| (x.clone(), *l)))
             .collect();
@@ -341,7 +346,7 @@ impl Reader<'_> {
 
     fn initial_velocity(&self, b: &Block, g: &mut Gathered) -> Result<()> {
         let ty = b.get("TYPE").unwrap_or("").to_ascii_uppercase();
-        if ty != "VELOCITY" {
+        if word(&ty) != "VELOCITY" {
             return Err(self.src.err(
                 b.line,
                 format!("*INITIAL CONDITIONS, TYPE={ty}: impact reads TYPE=VELOCITY"),
@@ -386,7 +391,7 @@ impl Reader<'_> {
             .ok_or_else(|| self.src.err(b.line, "*CONTACT PAIR needs INTERACTION="))?;
         if let Some(ty) = b.get("TYPE") {
             let ty = ty.to_ascii_uppercase();
-            if ty != "NODE TO SURFACE" && ty != "SURFACE TO SURFACE" {
+            if !["NODETOSURFACE", "SURFACETOSURFACE"].contains(&word(&ty).as_str()) {
                 return Err(self.src.err(b.line, format!("*CONTACT PAIR, TYPE={ty}: impact reads NODE TO SURFACE and SURFACE TO SURFACE (both become its node-to-surface contact)")));
             }
         }
@@ -699,13 +704,19 @@ impl Reader<'_> {
         Ok(found)
     }
 
-    /// A probe at each node of each printed node set: `SET` for a set of one node, `SET_1`,
-    /// `SET_2`, ... for more; a set of more than [`MAX_PROBES`] nodes makes none (the
-    /// notice names it: the frames hold every node).
+    /// A probe at each node of each printed node set (once, however often it is printed):
+    /// `SET` for a set of one node, `SET_1`, `SET_2`, ... for more.
     fn probes(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)], on: &On) -> Result<Probes> {
         let mut out: Vec<DeckProbe> = Vec::new();
         let mut unprobed = Vec::new();
-        for (set, line) in &g.printed {
+        for (k, (set, line)) in g.printed.iter().enumerate() {
+            // a set printed again (its displacements, then its velocities) has its probes
+            if g.printed[..k]
+                .iter()
+                .any(|(s, _)| s.eq_ignore_ascii_case(set))
+            {
+                continue;
+            }
             let mut points = Vec::new();
             for (b, p) in bodies {
                 let Some(s) = p
@@ -731,11 +742,6 @@ impl Reader<'_> {
                     *line,
                     format!("no body's elements hold the nodes of node set `{set}`"),
                 ));
-            }
-            if points.len() > MAX_PROBES {
-                let what = format!("NODE PRINT NSET={set}, more nodes than the {MAX_PROBES} history probes a set makes (the frames hold every node)");
-                unprobed.push((what, *line));
-                continue;
             }
             let one = points.len() == 1;
             for (i, (body, point)) in points.into_iter().enumerate() {

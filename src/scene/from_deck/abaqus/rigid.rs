@@ -35,7 +35,7 @@ impl DeckNodes<'_> {
         let nodes = self.blocks.iter().filter(|b| b.name == "NODE");
         let mut lines = nodes.flat_map(|b| b.data.iter());
         let (f, _) = lines.find(|(f, _)| f[0].parse::<u64>() == Ok(id))?;
-        let x = [1, 2, 3].map(|i| f.get(i).and_then(|v| v.parse::<f64>().ok()));
+        let x = [1, 2, 3].map(|i| f.get(i).and_then(|v| crate::mesh::abaqus::real(v)));
         let [Some(a), Some(b), Some(c)] = x else {
             return None;
         };
@@ -179,7 +179,8 @@ struct RefDofs {
 impl Reader<'_> {
     /// Reads a `*RIGID BODY` keyword line.
     pub(super) fn rigid_body_keyword(&self, b: &Block, g: &mut Gathered) -> Result<()> {
-        if let Some(p) = b.params.keys().find(|k| !READ.contains(&k.as_str())) {
+        let read = |k: &String| READ.iter().any(|r| crate::mesh::abaqus::word(r) == *k);
+        if let Some(p) = b.params.keys().find(|k| !read(k)) {
             return Err(self.src.err(b.line, format!("*RIGID BODY, {p}=: impact's rigid body is a section's element set about its reference node (ELSET=, REF NODE=, ROT NODE=, POSITION=)")));
         }
         let elset = b.get("ELSET").ok_or_else(|| {
@@ -189,7 +190,7 @@ impl Reader<'_> {
             .ok_or_else(|| self.src.err(b.line, "*RIGID BODY needs REF NODE="))?;
         let at_centre = match b.get("POSITION").map(|p| p.to_ascii_uppercase()) {
             None => false,
-            Some(p) if p == "CENTER OF MASS" => true,
+            Some(p) if crate::mesh::abaqus::word(&p) == "CENTEROFMASS" => true,
             Some(p) => {
                 return Err(self.src.err(b.line, format!("*RIGID BODY, POSITION={p}: impact reads CENTER OF MASS, or the reference node where the deck puts it")))
             }
