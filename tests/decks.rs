@@ -552,7 +552,7 @@ fn a_decks_mistakes_are_told_at_its_lines_and_its_names_never_clash() {
 /// CalculiX's spellings run as the spelled-out deck does, to its history byte for byte:
 /// keywords without their blanks (`*SOLIDSECTION`, `*CONTACTPAIR`, `*INITIALCONDITIONS`,
 /// `*NODEPRINT`, `*ENDSTEP`), `TYPE=SURFACETOSURFACE`, `*ELASTIC, TYPE=ISO`, Fortran's `D`
-/// exponents, and a node set printed twice.
+/// exponents, a node set printed twice, and a node-based slave surface (`TYPE=NODE`).
 #[test]
 fn calculix_spellings_run_as_the_spelled_out_deck() {
     let deck = std::fs::read_to_string(repo().join("scenes/two_bars.inp")).unwrap();
@@ -575,6 +575,12 @@ fn calculix_spellings_run_as_the_spelled_out_deck() {
         assert!(ccx.contains(from), "{from}");
         ccx = ccx.replace(from, to);
     }
+    // the struck end as a node-based slave surface: the faces its nodes cover
+    ccx = edit(
+        &ccx,
+        "*SURFACE, NAME=TIPA, TYPE=ELEMENT\n10, S4\n",
+        "*NSET, NSET=TIPN\n41, 42, 43, 44\n*SURFACE, NAME=TIPA, TYPE=NODE\nTIPN\n",
+    );
     let path = written("deck_ccx_spelling_files", "ccx.inp", &ccx);
     let (_, a) = run_file("deck_ccx_spelling", &path);
     let (_, b) = run_file("deck_spelled_out", &repo().join("scenes/two_bars.inp"));

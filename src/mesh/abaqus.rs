@@ -844,6 +844,7 @@ impl Reader {
         }
         for surface in &self.node_surfaces {
             node_sets.push(self.node_surface(surface)?);
+            mesh.node_surfaces.push(surface.0.clone());
         }
         for s in &self.elsets {
             if node_sets

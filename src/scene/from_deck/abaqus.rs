@@ -841,7 +841,7 @@ impl Reader<'_> {
             });
             let first = found.next().ok_or_else(|| {
                 let message = match g.node_surfaces.iter().any(|s| s.eq_ignore_ascii_case(surface)) {
-                    true => format!("surface `{surface}` is a node-based surface (*SURFACE, TYPE=NODE): impact's contact pairs take element-face surfaces (TYPE=ELEMENT)"),
+                    true => format!("surface `{surface}` is a node-based surface (*SURFACE, TYPE=NODE) whose nodes cover no boundary face of one body: its contact takes the faces the nodes cover, with their areas"),
                     false => format!("no body's elements hold surface `{surface}`"),
                 };
                 self.src.err(line, message)
