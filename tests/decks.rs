@@ -591,6 +591,64 @@ fn calculix_spellings_run_as_the_spelled_out_deck() {
     );
 }
 
+/// Both bars in one `*SOLID SECTION` (as CalculiX's contact tests write their parts): the
+/// section's two connected pieces are two bodies, the pair between them ordinary contact,
+/// and the velocity on one bar's node set that bar's. The run is the two-section deck's,
+/// byte for byte, and wave theory's plateau within 2%.
+#[test]
+fn one_section_of_two_bars_is_two_bodies() {
+    let deck = std::fs::read_to_string(repo().join("scenes/two_bars.inp")).unwrap();
+    let mut one = deck.clone();
+    for (from, to) in [
+        ("TYPE=C3D8, ELSET=A\n", "TYPE=C3D8, ELSET=BARS\n"),
+        ("TYPE=C3D8, ELSET=B\n", "TYPE=C3D8, ELSET=BARS\n"),
+        (
+            "*SOLID SECTION, ELSET=A, MATERIAL=ELASTIC\n*SOLID SECTION, ELSET=B, MATERIAL=ELASTIC\n",
+            "*SOLID SECTION, ELSET=BARS, MATERIAL=ELASTIC\n",
+        ),
+    ] {
+        one = edit(&one, from, to);
+    }
+    let path = written("deck_one_section_files", "one.inp", &one);
+    let scene = Scene::load(&path).expect("one section reads");
+    let names: Vec<&str> = scene.bodies.iter().map(|b| b.name.as_str()).collect();
+    assert_eq!(names, ["BARS_1", "BARS_2"]);
+    assert_eq!(scene.bodies[0].velocity, [1.0, 0.0, 0.0]);
+    let (_, h) = run_file("deck_one_section", &path);
+    let (_, two) = run_file("deck_two_sections", &repo().join("scenes/two_bars.inp"));
+    for (a, b) in [
+        ("TIPA-ENDB.normal_force", "TIPA-ENDB.normal_force"),
+        ("BARS_1.vx", "A.vx"),
+        ("BARS_2.vx", "B.vx"),
+        ("total_energy", "total_energy"),
+    ] {
+        assert!(h.col(a) == two.col(b), "{a} against {b}");
+    }
+    let m = measures(&h, "TIPA-ENDB", TWO_BARS_FORCE, 0.01);
+    assert!((m.plateau_mean - TWO_BARS_FORCE).abs() <= 0.02 * TWO_BARS_FORCE);
+    // the scene's `piece`: a piece that is not there, or on a box, is refused by its key
+    let body = |select: &str| {
+        format!("[run]\nend_time = 0.1\nmethod = \"explicit\"\n[[material]]\nname = \"m\"\ndensity = 1.0\nyoungs_modulus = 1.0\npoissons_ratio = 0.0\n[[body]]\nname = \"b\"\nmaterial = \"m\"\n{select}\n")
+    };
+    let parse = |text: &str| Scene::parse(text, &repo().join("scenes/keys.toml"));
+    let e = parse(&body("mesh = \"two_bars.inp\"\npiece = 3"))
+        .expect_err("no third")
+        .to_string();
+    assert!(
+        e.contains("body[0].piece") && e.contains("2 connected piece(s)"),
+        "{e}"
+    );
+    let e = parse(&body("mesh = \"two_bars.inp\"\npiece = 0"))
+        .expect_err("from 1")
+        .to_string();
+    assert!(e.contains("body[0].piece"), "{e}");
+    let boxed =
+        "box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0], divisions = [1, 1, 1] }\npiece = 1";
+    let e = parse(&body(boxed)).expect_err("a box").to_string();
+    assert!(e.contains("body[0].piece"), "{e}");
+    parse(&body("mesh = \"two_bars.inp\"\npiece = 2")).expect("bar B");
+}
+
 /// Odd lines a deck may hold, each refused at its line with what is wrong (node 0, dofs
 /// from last to first, gravity without a direction, a set that names itself, a data line
 /// before the first keyword, a third surface on a pair line, a rigid body or a velocity

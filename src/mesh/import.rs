@@ -25,6 +25,18 @@ pub fn import(
     translate: [f64; 3],
     elset: Option<&str>,
 ) -> Result<(BodyParts, Vec<String>)> {
+    import_piece(path, scale, translate, elset, None)
+}
+
+/// [`import`] of one connected piece (1-based, [`super::pieces`]) of the selected elements,
+/// or of them all.
+pub fn import_piece(
+    path: &Path,
+    scale: f64,
+    translate: [f64; 3],
+    elset: Option<&str>,
+    piece: Option<usize>,
+) -> Result<(BodyParts, Vec<String>)> {
     let located = |e: ParseError| ImpactError::Mesh {
         path: e.file.unwrap_or_else(|| path.to_path_buf()),
         line: e.line,
@@ -76,6 +88,10 @@ pub fn import(
     let in_file = |e: ParseError| match &deck {
         Some(d) => d.locate(e),
         None => e,
+    };
+    let file = match piece {
+        Some(k) => super::pieces::keep_piece(file, k).map_err(|m| located(ParseError::whole(m)))?,
+        None => file,
     };
     let parts = finish(file, scale, translate).map_err(|e| located(in_file(e)))?;
     Ok((parts, notices))

@@ -19,6 +19,7 @@ pub mod import;
 pub mod lsdyna;
 pub mod orientation;
 pub mod parse_error;
+pub mod pieces;
 pub mod split;
 
 pub use box_mesh::box_mesh;

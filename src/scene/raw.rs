@@ -196,6 +196,7 @@ pub(crate) struct RawBody {
     pub mesh: Option<String>,
     pub elset: Option<String>,
     pub part: Option<i64>,
+    pub piece: Option<i64>,
     pub scale: Option<f64>,
     pub translate: Option<[f64; 3]>,
     pub velocity: Option<[f64; 3]>,

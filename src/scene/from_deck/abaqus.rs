@@ -599,6 +599,14 @@ impl Reader<'_> {
     }
 }
 
+/// The names the bodies take so far and the sections' element sets (a piece's body takes
+/// neither).
+fn taken(sections: &[(String, String, usize)], bodies: &[(DeckBody, BodyParts)]) -> Vec<String> {
+    (sections.iter().map(|s| s.0.clone()))
+        .chain(bodies.iter().map(|(b, _)| b.name.clone()))
+        .collect()
+}
+
 /// What names a rigid body's nodes: the deck's nodes and its rigid bodies.
 struct On<'a, 'b> {
     deck: &'a DeckNodes<'b>,
@@ -666,17 +674,40 @@ impl Reader<'_> {
                 .map(|m| m.name.clone())
                 .unwrap_or_default();
             let (parts, _) = crate::mesh::import(self.src.path, 1.0, [0.0; 3], Some(elset))?;
-            out.push((
-                DeckBody {
-                    name: elset.clone(),
-                    material: m,
+            let (_, count) = crate::mesh::pieces::pieces(&parts.elements, parts.nodes.len());
+            // a section of separate parts is a body per part (CalculiX's contact decks)
+            let pieces: Vec<(Option<usize>, BodyParts)> = match count {
+                1 => vec![(None, parts)],
+                n => (1..=n)
+                    .map(|k| {
+                        let at = (self.src.path, 1.0, [0.0; 3]);
+                        let (p, _) = crate::mesh::import::import_piece(
+                            at.0,
+                            at.1,
+                            at.2,
+                            Some(elset),
+                            Some(k),
+                        )?;
+                        Ok((Some(k), p))
+                    })
+                    .collect::<Result<_>>()?,
+            };
+            for (piece, parts) in pieces {
+                let name = match piece {
+                    Some(k) => super::fresh(format!("{elset}_{k}"), &taken(&g.sections, &out)),
+                    None => elset.clone(),
+                };
+                let body = DeckBody {
+                    name,
+                    material: m.clone(),
                     velocity: [0.0; 3],
                     select: Select::Elset(elset.clone()),
+                    piece,
                     // a section's ORIENTATION reaches the elements through the mesh
                     axes: None,
-                },
-                parts,
-            ));
+                };
+                out.push((body, parts));
+            }
         }
         Ok(out)
     }

@@ -705,6 +705,7 @@ impl Reader<'_> {
                 material: format!("mat{mid}"),
                 velocity: [0.0; 3],
                 select: Select::Part(*pid),
+                piece: None,
                 axes,
             };
             out.push((body, parts));

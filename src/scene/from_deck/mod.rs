@@ -103,6 +103,8 @@ pub(crate) struct DeckBody {
     pub material: String,
     pub velocity: [f64; 3],
     pub select: Select,
+    /// The connected piece of the selected elements (1-based), where they make several.
+    pub piece: Option<usize>,
     /// The material axes: axis 1 along the first vector, axis 2 the second's part normal
     /// to it (the scene's `orientation = { axes = [...] }`); the global axes where `None`.
     pub axes: Option<[[f64; 3]; 2]>,
@@ -522,6 +524,9 @@ impl DeckScene {
                 quoted(&b.material),
                 quoted(&self.mesh),
             );
+            if let Some(k) = b.piece {
+                let _ = writeln!(t, "piece = {k}");
+            }
             if b.velocity != [0.0; 3] {
                 let _ = writeln!(t, "velocity = {}", vector(b.velocity));
             }

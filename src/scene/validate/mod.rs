@@ -709,12 +709,14 @@ impl Checker<'_> {
                         || b.translate.is_some()
                         || b.elset.is_some()
                         || b.part.is_some()
+                        || b.piece.is_some()
                     {
-                        let k = match (b.scale, b.translate, &b.elset) {
-                            (Some(_), _, _) => "scale",
-                            (_, Some(_), _) => "translate",
-                            (_, _, Some(_)) => "elset",
-                            _ => "part",
+                        let k = match (b.scale, b.translate, &b.elset, b.part) {
+                            (Some(_), _, _, _) => "scale",
+                            (_, Some(_), _, _) => "translate",
+                            (_, _, Some(_), _) => "elset",
+                            (_, _, _, Some(_)) => "part",
+                            _ => "piece",
                         };
                         return Err(self.err(
                             key(k),
@@ -739,8 +741,23 @@ impl Checker<'_> {
                         });
                     }
                     let selection = self.selection(&key, b, &file_path)?;
-                    let (parts, notices) =
-                        crate::mesh::import(&file_path, scale, translate, selection.as_deref())?;
+                    let piece = match b.piece {
+                        Some(p) if p < 1 => return Err(self.err(key("piece"), format!("{p}: the pieces are numbered from 1"))),
+                        p => p.map(|p| p as usize),
+                    };
+                    let (parts, notices) = crate::mesh::import::import_piece(
+                        &file_path,
+                        scale,
+                        translate,
+                        selection.as_deref(),
+                        piece,
+                    )
+                    .map_err(|e| match e {
+                        ImpactError::Mesh { line: None, message, .. } if message.starts_with("piece ") => {
+                            self.err(key("piece"), message)
+                        }
+                        e => e,
+                    })?;
                     let mut known = self.notices.borrow_mut();
                     // bodies of one deck share its notice
                     let notices: Vec<String> =
