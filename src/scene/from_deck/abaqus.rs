@@ -571,13 +571,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
 impl Reader<'_> {
     /// The deck's lines of the scene's materials, bodies, contacts and rigid bodies.
     fn origins(&self, g: &Gathered, scene: &DeckScene) -> Vec<Origin> {
-        let mut out = Vec::new();
-        for (i, m) in scene.materials.iter().enumerate() {
-            out.push(
-                self.src
-                    .origin(format!("material[{i}]"), m.line, m.what.clone()),
-            );
-        }
+        let mut out = scene.material_origins(&self.src);
         for (i, b) in scene.bodies.iter().enumerate() {
             let section = (g.sections.iter()).find(|s| Select::Elset(s.0.clone()) == b.select);
             if let Some((elset, _, line)) = section {

@@ -561,13 +561,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
 impl Reader<'_> {
     /// The deck's lines of the scene's materials, bodies, contacts, planes and rigid bodies.
     fn origins(&self, g: &Gathered, scene: &DeckScene) -> Vec<Origin> {
-        let mut out = Vec::new();
-        for (i, m) in scene.materials.iter().enumerate() {
-            out.push(
-                self.src
-                    .origin(format!("material[{i}]"), m.line, m.what.clone()),
-            );
-        }
+        let mut out = scene.material_origins(&self.src);
         let part = |pid: u64| g.parts.iter().find(|p| p.0 == pid);
         for (i, b) in scene.bodies.iter().enumerate() {
             if let Select::Part(pid) = b.select {

@@ -315,12 +315,22 @@ impl DeckScene {
         }
     }
 
+    /// The materials the scene writes: those a body uses (a material no body uses is the
+    /// deck's business: it may lack what a body's needs).
+    fn used_materials(&self) -> impl Iterator<Item = &DeckMaterial> + '_ {
+        (self.materials.iter()).filter(|m| self.bodies.iter().any(|b| b.material == m.name))
+    }
+
+    /// The deck's line of each material the scene writes, by its scene key.
+    fn material_origins(&self, src: &DeckFile) -> Vec<Origin> {
+        (self.used_materials().enumerate())
+            .map(|(i, m)| src.origin(format!("material[{i}]"), m.line, m.what.clone()))
+            .collect()
+    }
+
     /// Refuses a body's material without a density or elastic constants, at the deck's line.
     fn materials_complete(&self, src: &DeckFile) -> Result<()> {
-        for m in &self.materials {
-            if !self.bodies.iter().any(|b| b.material == m.name) {
-                continue;
-            }
+        for m in self.used_materials() {
             if m.density.is_none() {
                 return Err(src.err(
                     m.line,
@@ -484,9 +494,7 @@ impl DeckScene {
             let _ = writeln!(t, "gravity = {}", vector(g));
         }
         self.write_run(&mut t);
-        // a material no body uses is the deck's business: it may lack what a body's needs
-        let used = |m: &&DeckMaterial| self.bodies.iter().any(|b| b.material == m.name);
-        for m in self.materials.iter().filter(used) {
+        for m in self.used_materials() {
             let _ = writeln!(t, "\n[[material]]\nname = {}", quoted(&m.name));
             if let Some(rho) = m.density {
                 let _ = writeln!(t, "density = {}", float(rho));
