@@ -723,6 +723,14 @@ fn fracture_energy_needs_strengths_and_an_orthotropic_law() {
         &ply_bars("damage_viscosity = 1e-3"),
         &["material[0].damage_viscosity", "fracture_energy"],
     );
+    expect(
+        &ply_bars(&format!("{energies}\ndamage_stresses = \"planar\"")),
+        &["material[0].damage_stresses", "\"in_plane\"", "planar"],
+    );
+    expect(
+        &ply_bars("damage_stresses = \"in_plane\""),
+        &["material[0].damage_stresses", "fracture_energy"],
+    );
 }
 
 /// A damaging material runs explicit: `method = "implicit"` is refused naming the method

@@ -1,7 +1,8 @@
 //! The damage kernels (`hex8_damage`, `hex8i_damage`, `tet4_damage`, `damage_reduce`) on the
 //! device in f32 against their CPU twins in f64, on random distorted inputs: jittered boxes
 //! of IM7/8552 far from the origin (a layered hex8i body of three plies at 0, 45 and 90
-//! degrees, a hex8 body and a tet4 body, each turned), random strains around the matrix's
+//! degrees, a hex8 body whose plies damage by their in-plane stresses alone, and a tet4
+//! body, each turned), random strains around the matrix's
 //! initiation (some points start to damage, some do not, the sieve passes some elements and
 //! skips others), random mid-step velocities, and a random old state (some elements already
 //! damaged, in every mode). The step's forces, new state, first damages and dissipation
@@ -31,6 +32,14 @@ strength = { xt = 2326.2, xc = 1200.1, yt = 62.3, yc = 199.8, s12 = 92.3, s23 = 
 fracture_energy = { ft = 133.3, fc = 47.5, mt = 0.277, mc = 0.788 }
 damage_viscosity = 2e-8
 
+[[material]]
+name = "im7_in_plane"
+density = 1.57e-9
+transversely_isotropic = { e1 = 171420.0, e2 = 9080.0, nu12 = 0.32, nu23 = 0.52, g12 = 5290.0 }
+strength = { xt = 2326.2, xc = 1200.1, yt = 62.3, yc = 199.8, s12 = 92.3, s23 = 75.3 }
+fracture_energy = { ft = 133.3, fc = 47.5, mt = 0.277, mc = 0.788 }
+damage_stresses = "in_plane"
+
 [[body]]
 name = "layered"
 material = "im7"
@@ -41,7 +50,7 @@ plies = { normal = "z", layers = [
 
 [[body]]
 name = "bricks"
-material = "im7"
+material = "im7_in_plane"
 box = { min = [125.0, -64.0, 30.0], max = [128.0, -61.0, 31.5], divisions = [6, 6, 3], element = "hex8" }
 orientation = { axis = [0.3, 0.2, 1.0], angle = 30.0 }
 

@@ -178,6 +178,47 @@ fn layered_hex8i_and_hex8_cubes_dissipate_the_fracture_energy() {
     check_pull("hex8_matrix", 0.5, MATRIX, "hex8", "");
 }
 
+/// Plies that damage by their in-plane stresses alone (`damage_stresses = "in_plane"`):
+/// pulled across their fibres in their plane they dissipate the matrix fracture energy as
+/// before; pulled through their thickness they stay elastic, their force growing with the
+/// strain past the strength, no energy dissipated, the balance closed.
+#[test]
+fn in_plane_plies_soften_in_their_plane_and_not_through_their_thickness() {
+    let flat = |text: String| {
+        edit(
+            &text,
+            "mc = 0.788 }",
+            "mc = 0.788 }\ndamage_stresses = \"in_plane\"",
+        )
+    };
+    let (text, v) = pull_scene(0.5, MATRIX, "hex8i", "");
+    let p = pull("in_plane_matrix", &flat(text), v, 1);
+    let g = MATRIX.energy * 0.25;
+    assert!((p.work - g).abs() <= 0.03 * g, "work {} (G A {g})", p.work);
+    assert!(
+        (p.damage - p.work).abs() <= 0.01 * p.work,
+        "damage {}",
+        p.damage
+    );
+    let through = Mode { axis: 2, ..MATRIX };
+    let (text, v) = pull_scene(0.5, through, "hex8i", "");
+    let p = pull("in_plane_through", &flat(text), v, 2);
+    let x = MATRIX.strength * 0.25;
+    eprintln!(
+        "through the thickness: peak {:.3} (Y_T A {x:.3}), damage energy {:e}, drift {:.2e}",
+        p.peak, p.damage, p.drift
+    );
+    assert_eq!(p.damage, 0.0);
+    assert!(
+        p.peak > 2.0 * x && p.last >= 0.99 * p.peak,
+        "peak {}, last {}",
+        p.peak,
+        p.last
+    );
+    // central difference's balance of a driven elastic cube: to 1e-4 of the work
+    assert!(p.drift <= 1e-3 * p.work, "drift {}", p.drift);
+}
+
 /// The matrix pull stopped at two thirds of its end time (in the softening), then resumed:
 /// the history is the unbroken run's, byte for byte.
 #[test]

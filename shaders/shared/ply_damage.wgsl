@@ -47,35 +47,47 @@ fn law_undamaged(l: DamageLaw) -> OrthoStiffness {
     return OrthoStiffness(n, vec3<f32>(l.c44, l.c55, l.c66));
 }
 
-// The stiffness with fibre, matrix and shear damage d = (df, dm, ds): the compliance's fibre
-// term over 1 - df, its transverse terms over 1 - dm, inverted; the shear moduli times
-// 1 - ds.
-fn law_stiffness(l: DamageLaw, d: vec3<f32>) -> OrthoStiffness {
+// The stiffness with the damage d = (df, dmt, ds, dmc) that acts: the compliance's fibre
+// term over 1 - df, its transverse terms over 1 - dmt, plus the crushed matrix's deviatoric
+// c v v^T (v = (0, 1, -1), c = s22 dmc / (1 - dmc)), inverted; the shear moduli times 1 - ds.
+// In plane: s22 alone over 1 - dmt - dmc, and the 12 modulus alone times 1 - ds.
+fn law_stiffness(l: DamageLaw, d: vec4<f32>) -> OrthoStiffness {
+    let ip = l.in_plane > 0.5;
+    let crush = select(l.s22 * d.w / (1.0 - d.w), 0.0, ip);
+    let s22 = select(l.s22 / (1.0 - d.y) + crush, l.s22 / (1.0 - d.y - d.w), ip);
+    let s33 = select(l.s33 / (1.0 - d.y) + crush, l.s33, ip);
     let s = mat3x3<f32>(
         vec3<f32>(l.s11 / (1.0 - d.x), l.s12, l.s13),
-        vec3<f32>(l.s12, l.s22 / (1.0 - d.y), l.s23),
-        vec3<f32>(l.s13, l.s23, l.s33 / (1.0 - d.y)),
+        vec3<f32>(l.s12, s22, l.s23 - crush),
+        vec3<f32>(l.s13, l.s23 - crush, s33),
     );
     let c = cofactor(s);
     let det = dot(s[0], c[0]);
     // symmetric: the inverse is the cofactor matrix over the determinant
-    let shear = (1.0 - d.z) / vec3<f32>(l.h23, l.h13, l.h12);
+    let keep = select(vec3<f32>(1.0 - d.z), vec3<f32>(1.0, 1.0, 1.0 - d.z), ip);
+    let shear = keep / vec3<f32>(l.h23, l.h13, l.h12);
     return OrthoStiffness(c * (1.0 / det), shear);
 }
 
-// The fibre, matrix and shear damage that act, by the signs of the effective fibre stress
-// and of the transverse stresses' sum (twin: `material::damage::acting`).
-fn damage_acting(st: PointState, fibre: bool, matrix: bool) -> vec3<f32> {
+// The damage that acts, by the signs of the effective fibre stress and of the transverse
+// stresses' sum: fibre, matrix tension, shear, matrix compression (twin:
+// `material::damage::acting`).
+fn damage_acting(st: PointState, fibre: bool, matrix: bool) -> vec4<f32> {
     let v = st.acting;
     let df = select(v.y, v.x, fibre);
-    let dm = select(v.w, v.z, matrix);
     let ds = 1.0 - (1.0 - v.x) * (1.0 - v.y) * (1.0 - v.z) * (1.0 - v.w);
-    return vec3<f32>(df, dm, min(ds, D_MAX));
+    return vec4<f32>(df, select(0.0, v.z, matrix), min(ds, D_MAX), select(v.w, 0.0, matrix));
 }
 
 // Each mode's r of the effective stress s: sqrt of the Hashin index (fibre tension without
 // its shear term), matrix compression's the inverse of the load factor to the index 1.
-fn index_ratios(l: DamageLaw, s: Voigt6) -> vec4<f32> {
+fn index_ratios(l: DamageLaw, s_all: Voigt6) -> vec4<f32> {
+    // in plane: 33, 23 and 13 left out
+    let ip = l.in_plane > 0.5;
+    let s = Voigt6(
+        select(s_all.n, vec3<f32>(s_all.n.xy, 0.0), ip),
+        select(s_all.s, vec3<f32>(0.0, 0.0, s_all.s.z), ip),
+    );
     let s11 = s.n.x;
     let s22 = s.n.y;
     let s33 = s.n.z;
@@ -101,9 +113,10 @@ fn mode_damage(r: f32, snap: f32, band: f32) -> f32 {
     return select(0.0, min(rf * (r - 1.0) / (r * (rf - 1.0)), D_MAX), r > 1.0);
 }
 
-// The effective stress: each component over one minus its damage (d = (df, dm, ds)).
-fn effective_stress(s: Voigt6, d: vec3<f32>) -> Voigt6 {
-    return Voigt6(s.n / vec3<f32>(1.0 - d.x, 1.0 - d.y, 1.0 - d.y), s.s / (1.0 - d.z));
+// The effective stress: each component over one minus its damage (d as damage_acting's).
+fn effective_stress(s: Voigt6, d: vec4<f32>) -> Voigt6 {
+    let dm = d.y + d.w;
+    return Voigt6(s.n / vec3<f32>(1.0 - d.x, 1.0 - dm, 1.0 - dm), s.s / (1.0 - d.z));
 }
 
 // One point's step from strain e and the step before's prev (ply axes), its old state, its

@@ -329,7 +329,8 @@ const DAMAGE_RECORD: u32 = 4u;
 // stiffness's normal block and shear moduli, the compliance's normal block and shear
 // compliances (23, 13, 12), the strengths (sl, st: in-plane and transverse shear), the
 // fracture energies' snap-back widths 2 E G / X^2 of fibre tension and compression and matrix
-// tension and compression, and the Duvaut-Lions viscosity.
+// tension and compression, the Duvaut-Lions viscosity, and 1 where the ply damages by its
+// in-plane stresses alone (11, 22, 12), softening only its in-plane stiffness.
 struct DamageLaw {
     c11: f32,
     c12: f32,
@@ -360,6 +361,7 @@ struct DamageLaw {
     snap_fc: f32,
     snap_mt: f32,
     snap_mc: f32,
+    in_plane: f32,
 }
 
 // A damageable ply's material entry: its law and its axes 1, 2, 3 as rows.

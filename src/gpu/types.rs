@@ -585,8 +585,8 @@ device_struct! {
     /// A ply's damage law in its own axes (twin: [`crate::material::PlyDamage`]): the
     /// undamaged stiffness's normal block and shear moduli, the compliance's normal block
     /// and shear compliances (23, 13, 12), the strengths, the fracture energies (fibre
-    /// tension, compression, matrix tension, compression), the viscosity, and each mode's
-    /// snap-back width $2 E G / X^2$.
+    /// tension, compression, matrix tension, compression), the viscosity, each mode's
+    /// snap-back width $2 E G / X^2$, and whether it damages by its in-plane stresses alone.
     #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
     pub struct DamageLaw {
         pub c11: f32,
@@ -618,6 +618,8 @@ device_struct! {
         pub snap_fc: f32,
         pub snap_mt: f32,
         pub snap_mc: f32,
+        /// 1 where the ply damages by its in-plane stresses alone, else 0.
+        pub in_plane: f32,
     }
 }
 
@@ -655,6 +657,7 @@ impl From<&crate::material::PlyDamage> for DamageLaw {
             snap_fc: f(l.snap_back_width(1)),
             snap_mt: f(l.snap_back_width(2)),
             snap_mc: f(l.snap_back_width(3)),
+            in_plane: if l.in_plane { 1.0 } else { 0.0 },
         }
     }
 }

@@ -26,11 +26,17 @@
 //! of an element wider than $2 E G / X^2$, whose drop is then vertical (and its energy too
 //! large: `impact check` warns).
 //!
-//! **Stiffness.** The compliance's fibre term divided by $1 - d_f$, its matrix and
-//! through-thickness terms by $1 - d_m$, its shear terms by $1 - d_s$, with $d_f$ the fibre
-//! tension or compression damage by the sign of $\tilde\sigma_{11}$, $d_m$ the matrix one by
-//! the sign of $\tilde\sigma_{22} + \tilde\sigma_{33}$, and
-//! $d_s = 1 - \prod_i (1 - d_i)$. Every variable is capped at [`D_MAX`].
+//! **Stiffness.** The compliance's fibre term divided by $1 - d_f$, its shear terms by
+//! $1 - d_s$, with $d_f$ the fibre tension or compression damage by the sign of
+//! $\tilde\sigma_{11}$ and $d_s = 1 - \prod_i (1 - d_i)$. The matrix damage acts by the sign
+//! of $\tilde\sigma_{22} + \tilde\sigma_{33}$: in tension (an open crack) the matrix and
+//! through-thickness terms are divided by $1 - d_{mt}$; in compression (a crushed matrix,
+//! a shear fracture across the ply) only the transverse deviatoric part softens: the
+//! compliance gains $c\, v v^T$ with $v = (0, 1, -1)$ and $c = S_{22} d_{mc} / (1 - d_{mc})$,
+//! which divides $S_{22}$ by $1 - d_{mc}$ (the uniaxial crush and its energy are as in
+//! tension) and keeps the compliance to a transverse pressure, $\sigma_{22} = \sigma_{33}$: a
+//! crushed ply still bears the tup's pressure where it is confined. Every variable is
+//! capped at [`D_MAX`].
 //!
 //! **Viscosity** (Duvaut-Lions): with a time $\eta > 0$ the variables that act lag the
 //! ones the softening gives, $\dot d_v = (d - d_v)/\eta$, integrated backwards over a step.
@@ -77,6 +83,10 @@ pub struct PlyDamage {
     pub energy: [f64; 4],
     /// The Duvaut-Lions time (0: none).
     pub viscosity: f64,
+    /// The ply damages by its in-plane stresses alone (11, 22, 12), and its damage softens
+    /// only its in-plane stiffness: the through-thickness stresses are left to the
+    /// laminate's interfaces (`damage_stresses = "in_plane"`).
+    pub in_plane: bool,
 }
 
 /// One point's step: its new state, its stress (Voigt order, ply axes) and the energy its
@@ -101,6 +111,7 @@ impl PlyDamage {
             strength,
             energy,
             viscosity,
+            in_plane: false,
         }
     }
 
@@ -154,7 +165,7 @@ impl PlyDamage {
         };
         let diagonal = |entries: &[(usize, usize, f64)]| {
             let mut q = nalgebra::SMatrix::<f64, 6, 6>::zeros();
-            for &(i, j, v) in entries {
+            for &(i, j, v) in entries.iter().filter(|(i, j, _)| self.counts(*i, *j)) {
                 q[(i, j)] = v;
                 q[(j, i)] = v;
             }
@@ -176,7 +187,8 @@ impl PlyDamage {
         let a = (r * r - 1.0) / k.yc;
         // the linear part a (s22 + s33): its largest value per unit norm, sqrt(c . C0 c)
         let c0 = &self.c0;
-        let dual = (a * a * (c0[1][1] + 2.0 * c0[1][2] + c0[2][2]))
+        let through = if self.in_plane { 0.0 } else { 1.0 };
+        let dual = (a * a * (c0[1][1] + through * (2.0 * c0[1][2] + c0[2][2])))
             .max(0.0)
             .sqrt();
         let mc = (dual + quadratic.sqrt()).powi(2);
@@ -197,7 +209,7 @@ impl PlyDamage {
         if 2.0 * k.s23 < k.yt {
             return f64::INFINITY;
         }
-        let s = voigt_apply(&self.c0, e);
+        let s = self.counted(voigt_apply(&self.c0, e));
         let (t2, l2) = (1.0 / (k.s23 * k.s23), 1.0 / (k.s12 * k.s12));
         let shear = t2 * s[3] * s[3] + l2 * (s[4] * s[4] + s[5] * s[5]);
         let (sum, product) = (s[1] + s[2], s[1] * s[2]);
@@ -219,6 +231,12 @@ impl PlyDamage {
         let k = &self.strength;
         let (t2, l2) = (1.0 / (k.s23 * k.s23), 1.0 / (k.s12 * k.s12));
         let in_strain = |q: &Voigt| -> Voigt {
+            let q: &Voigt = &std::array::from_fn(|i| {
+                std::array::from_fn(|j| match self.counts(i, j) {
+                    true => q[i][j],
+                    false => 0.0,
+                })
+            });
             let qc: Voigt = std::array::from_fn(|i| voigt_apply(q, &self.c0[i]));
             // C0 (Q C0): C0 is symmetric, so row i of Q C0 is Q applied to C0's column i
             std::array::from_fn(|i| {
@@ -243,7 +261,9 @@ impl PlyDamage {
         let fibre: [f64; 6] = std::array::from_fn(|j| self.c0[0][j] / x);
         let r = k.yc / (2.0 * k.s23);
         let a = (r * r - 1.0) / k.yc;
-        let linear: [f64; 6] = std::array::from_fn(|j| a * (self.c0[1][j] + self.c0[2][j]));
+        let through = if self.in_plane { 0.0 } else { 1.0 };
+        let linear: [f64; 6] =
+            std::array::from_fn(|j| a * (self.c0[1][j] + through * self.c0[2][j]));
         [
             outer(fibre),
             in_strain(&matrix(1.0 / (k.yt * k.yt))),
@@ -260,15 +280,25 @@ impl PlyDamage {
             .any(|&r| r > 1.0)
     }
 
-    /// The stiffness (Voigt, ply axes) with the fibre, matrix and shear damage `d` (the
-    /// undamaged one itself where `d` is zero).
-    pub fn stiffness(&self, [df, dm, ds]: [f64; 3]) -> Voigt {
-        if df == 0.0 && dm == 0.0 && ds == 0.0 {
+    /// The stiffness (Voigt, ply axes) with the fibre, matrix tension, shear and matrix
+    /// compression damage `d` that act ([`acting`]; the undamaged one itself where `d` is
+    /// zero).
+    pub fn stiffness(&self, [df, dt, ds, dc]: [f64; 4]) -> Voigt {
+        if df == 0.0 && dt == 0.0 && ds == 0.0 && dc == 0.0 {
             return self.c0;
         }
-        let scale = [1.0 / (1.0 - df), 1.0 / (1.0 - dm), 1.0 / (1.0 - dm)];
+        let (scale, crush) = if self.in_plane {
+            // the in-plane terms alone: S_22 over one minus the matrix damage
+            let dm = 1.0 / (1.0 - dt - dc);
+            ([1.0 / (1.0 - df), dm, 1.0], [[0.0; 3]; 3])
+        } else {
+            // the crushed matrix's deviatoric compliance c v v^T, v = (0, 1, -1)
+            let c = self.normal[1][1] * dc / (1.0 - dc);
+            let scale = [1.0 / (1.0 - df), 1.0 / (1.0 - dt), 1.0 / (1.0 - dt)];
+            (scale, [[0.0, 0.0, 0.0], [0.0, c, -c], [0.0, -c, c]])
+        };
         let s = nalgebra::Matrix3::from_fn(|i, j| {
-            self.normal[i][j] * if i == j { scale[i] } else { 1.0 }
+            self.normal[i][j] * if i == j { scale[i] } else { 1.0 } + crush[i][j]
         });
         let n = s.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros);
         let mut c = [[0.0; 6]; 6];
@@ -276,7 +306,13 @@ impl PlyDamage {
             for j in 0..3 {
                 c[i][j] = n[(i, j)];
             }
-            c[3 + i][3 + i] = (1.0 - ds) / self.shear[i];
+            // in plane, the 12 term alone softens
+            let keep = if self.in_plane && i < 2 {
+                1.0
+            } else {
+                1.0 - ds
+            };
+            c[3 + i][3 + i] = keep / self.shear[i];
         }
         c
     }
@@ -342,12 +378,26 @@ impl PlyDamage {
         }
     }
 
+    /// Whether the stress components `i` and `j` (Voigt order) enter the indices: every one,
+    /// or in plane 11, 22 and 12 alone.
+    fn counts(&self, i: usize, j: usize) -> bool {
+        let through = |k: usize| (2..5).contains(&k);
+        !(self.in_plane && (through(i) || through(j)))
+    }
+
+    /// The stress `s` (Voigt order) as the indices see it: in plane, its 33, 23 and 13
+    /// components left out.
+    fn counted(&self, s: [f64; 6]) -> [f64; 6] {
+        std::array::from_fn(|i| if self.counts(i, i) { s[i] } else { 0.0 })
+    }
+
     /// $r$ of each mode at the effective stress `s` (Voigt order): $\sqrt F$, and for matrix
     /// compression, whose index has a part linear in the stress, the inverse of the factor
     /// on `s` that brings the index to 1 (the same where the linear part vanishes). Either is
     /// of degree one in the stress, and 1 exactly where the index is.
     fn index_ratios(&self, s: &[f64; 6]) -> [f64; 4] {
         let k = &self.strength;
+        let s = &self.counted(*s);
         let (i1, fibre) = (s[1] + s[2], s[0]);
         let ft = if fibre >= 0.0 { fibre / k.xt } else { 0.0 };
         let fc = if fibre < 0.0 { -fibre / k.xc } else { 0.0 };
@@ -370,20 +420,22 @@ impl PlyDamage {
     }
 }
 
-/// The fibre, matrix and shear damage that act at a point of state `s`, with the signs of
-/// the effective fibre stress and of the effective transverse stresses' sum.
-pub fn acting(s: &[f64; POINT_STATE], (fibre, matrix): (bool, bool)) -> [f64; 3] {
+/// The damage that acts at a point of state `s`, with the signs of the effective fibre
+/// stress and of the effective transverse stresses' sum: fibre (tension or compression),
+/// matrix tension (zero in compression), shear, and matrix compression (zero in tension).
+pub fn acting(s: &[f64; POINT_STATE], (fibre, matrix): (bool, bool)) -> [f64; 4] {
     let v = &s[4..];
     let df = if fibre { v[0] } else { v[1] };
-    let dm = if matrix { v[2] } else { v[3] };
+    let (dt, dc) = if matrix { (v[2], 0.0) } else { (0.0, v[3]) };
     let ds = 1.0 - (1.0 - v[0]) * (1.0 - v[1]) * (1.0 - v[2]) * (1.0 - v[3]);
-    [df, dm, ds.min(D_MAX)]
+    [df, dt, ds.min(D_MAX), dc]
 }
 
-/// The effective stress of the stress `s` under the acting damage `[d_f, d_m, d_s]`: each
+/// The effective stress of the stress `s` under the acting damage ([`acting`]): each
 /// component divided by its one minus damage (Lapczyk and Hurtado's $M\sigma$), which in a
 /// mode's uniaxial state is the undamaged modulus times the strain, Poisson's ratios and all.
-pub fn effective(s: &[f64; 6], [df, dm, ds]: [f64; 3]) -> [f64; 6] {
+pub fn effective(s: &[f64; 6], [df, dt, ds, dc]: [f64; 4]) -> [f64; 6] {
+    let dm = dt + dc;
     let d = [df, dm, dm, ds, ds, ds];
     std::array::from_fn(|i| s[i] / (1.0 - d[i]))
 }
@@ -412,9 +464,73 @@ mod tests {
         PlyDamage::new(o.stiffness(), k, [133.3, 47.5, 0.277, 0.788], 0.0)
     }
 
+    fn in_plane(law: PlyDamage) -> PlyDamage {
+        PlyDamage {
+            in_plane: true,
+            ..law
+        }
+    }
+
+    /// The compliance (normal block) of the stiffness with damage `d` acting.
+    fn compliance(law: &PlyDamage, d: [f64; 4]) -> nalgebra::Matrix3<f64> {
+        let c = law.stiffness(d);
+        nalgebra::Matrix3::from_fn(|i, j| c[i][j])
+            .try_inverse()
+            .unwrap()
+    }
+
+    /// A crushed matrix (matrix compression damage at its cap) is soft to a uniaxial
+    /// transverse stress, by 1 / (1 - d) as an open crack is, and keeps its compliance to a
+    /// transverse pressure (sigma_22 = sigma_33) to rounding: a crushed ply still bears the
+    /// pressure of what confines it. In plane, only S_22 and the 12 modulus soften, and the
+    /// through-thickness terms are the undamaged ones.
+    #[test]
+    fn a_crushed_matrix_keeps_its_transverse_bulk_stiffness() {
+        let law = im7();
+        let s0 = compliance(&law, [0.0; 4]);
+        let s = compliance(&law, [0.0, 0.0, 0.0, D_MAX]);
+        let uniaxial = s[(1, 1)] * (1.0 - D_MAX) / s0[(1, 1)];
+        assert!((uniaxial - 1.0).abs() < 1e-6, "uniaxial {uniaxial}");
+        let pressure = |s: &nalgebra::Matrix3<f64>| s[(1, 1)] + s[(1, 2)] + s[(2, 1)] + s[(2, 2)];
+        let ratio = pressure(&s) / pressure(&s0);
+        assert!((ratio - 1.0).abs() < 1e-6, "pressure compliance x {ratio}");
+        assert!((s[(0, 0)] / s0[(0, 0)] - 1.0).abs() < 1e-6);
+        // in plane: S_22 alone, either matrix damage; 33, 23 and 13 untouched
+        let flat = in_plane(im7());
+        for d in [[0.0, 0.5, 0.75, 0.0], [0.0, 0.0, 0.75, 0.5]] {
+            let s = compliance(&flat, d);
+            assert!((s[(1, 1)] * 0.5 / s0[(1, 1)] - 1.0).abs() < 1e-9);
+            assert!((s[(2, 2)] / s0[(2, 2)] - 1.0).abs() < 1e-9);
+            let c = flat.stiffness(d);
+            assert_eq!((c[3][3], c[4][4]), (law.c0[3][3], law.c0[4][4]));
+            assert!((c[5][5] / law.c0[5][5] - 0.25).abs() < 1e-12);
+        }
+    }
+
+    /// Through-thickness compression far past Y_C damages a ply whose indices count every
+    /// stress, and not one that counts its in-plane stresses alone; in-plane shear past S_12
+    /// damages both.
+    #[test]
+    fn in_plane_plies_damage_by_their_in_plane_stresses_alone() {
+        let (full, flat) = (im7(), in_plane(im7()));
+        let (e2, yc) = full.mode_constants(3);
+        let e = uniaxial(&full, [0.0; 4], 2, -2.0 * yc / e2);
+        assert!(full.initiates(&e));
+        assert!(!flat.initiates(&e));
+        let step = flat.step((&e, &e), &[0.0; POINT_STATE], [0.5, 0.5], 1.0);
+        assert_eq!(step.state, [0.0; POINT_STATE]);
+        let shear = 2.0 * full.strength.s12 * full.shear[2];
+        let mut e = [0.0; 6];
+        e[5] = shear;
+        assert!(full.initiates(&e) && flat.initiates(&e));
+        e = [0.0; 6];
+        e[4] = shear;
+        assert!(full.initiates(&e) && !flat.initiates(&e));
+    }
+
     /// The uniaxial stress state of strain `eps` along axis `a` (lateral stresses free),
     /// found with the law's current stiffness: the strain vector.
-    fn uniaxial(law: &PlyDamage, d: [f64; 3], a: usize, eps: f64) -> [f64; 6] {
+    fn uniaxial(law: &PlyDamage, d: [f64; 4], a: usize, eps: f64) -> [f64; 6] {
         // the lateral strains of a uniaxial stress: -S_ja / S_aa times eps, with the
         // damaged compliance
         let c = law.stiffness(d);
@@ -507,7 +623,7 @@ mod tests {
             "secant {}",
             secant / e1
         );
-        let e = uniaxial(&law, [0.0; 3], 0, -0.5 * eps0);
+        let e = uniaxial(&law, [0.0; 4], 0, -0.5 * eps0);
         let closed = law.step((&e, &e), &state, [0.5, 0.5], 1.0);
         assert!((closed.stress[0] / (-0.5 * eps0) / e1 - 1.0).abs() < 1e-9);
     }
@@ -519,7 +635,7 @@ mod tests {
         let mut law = im7();
         law.viscosity = 1e-3;
         let (e2, yt) = law.mode_constants(2);
-        let e = uniaxial(&law, [0.0; 3], 1, 2.0 * yt / e2);
+        let e = uniaxial(&law, [0.0; 4], 1, 2.0 * yt / e2);
         let mut state = [0.0; POINT_STATE];
         state = law.step((&e, &e), &state, [0.5, 0.5], 1e-4).state;
         let target = state[2];
@@ -534,8 +650,13 @@ mod tests {
     /// beta sqrt(2 u), and some strain comes within 10% of it.
     #[test]
     fn the_sieve_bounds_every_mode() {
+        for law in [im7(), in_plane(im7())] {
+            sieve_bounds_every_mode(&law);
+        }
+    }
+
+    fn sieve_bounds_every_mode(law: &PlyDamage) {
         use rand::{rngs::StdRng, Rng, SeedableRng};
-        let law = im7();
         let beta = law.sieve_factor().sqrt();
         let mut rng = StdRng::seed_from_u64(3);
         let mut closest = 0.0f64;
@@ -557,8 +678,13 @@ mod tests {
     /// and is subadditive: reach(a + b) <= reach(a) + reach(b).
     #[test]
     fn the_reach_is_a_seminorm_between_the_modes_and_the_sieve() {
+        for law in [im7(), in_plane(im7())] {
+            reach_is_a_seminorm(&law);
+        }
+    }
+
+    fn reach_is_a_seminorm(law: &PlyDamage) {
         use rand::{rngs::StdRng, Rng, SeedableRng};
-        let law = im7();
         let beta = law.sieve_factor().sqrt();
         let mut rng = StdRng::seed_from_u64(5);
         let mut strain = || -> [f64; 6] { std::array::from_fn(|_| rng.random_range(-1e-2..1e-2)) };
@@ -578,8 +704,13 @@ mod tests {
     /// The reach is its forms' combination, to rounding.
     #[test]
     fn the_reach_is_its_forms() {
+        for law in [im7(), in_plane(im7())] {
+            reach_is_its_forms(&law);
+        }
+    }
+
+    fn reach_is_its_forms(law: &PlyDamage) {
         use rand::{rngs::StdRng, Rng, SeedableRng};
-        let law = im7();
         let [f, t, l, q] = law.reach_forms();
         let form = |a: &Voigt, e: &[f64; 6]| -> f64 {
             (0..6)

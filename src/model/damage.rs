@@ -20,12 +20,11 @@ use crate::material::PlyDamage;
 pub(crate) fn law_of_material(m: &crate::scene::Material) -> Option<PlyDamage> {
     let d = m.damage?;
     let strength = m.strength?;
-    Some(PlyDamage::new(
-        m.elastic.voigt(),
-        strength,
-        d.energy,
-        d.viscosity,
-    ))
+    let law = PlyDamage::new(m.elastic.voigt(), strength, d.energy, d.viscosity);
+    Some(PlyDamage {
+        in_plane: d.in_plane,
+        ..law
+    })
 }
 
 impl Model {

@@ -261,6 +261,8 @@ pub struct Material {
 pub struct DamageSpec {
     pub energy: [f64; 4],
     pub viscosity: f64,
+    /// `damage_stresses = "in_plane"`: the plies damage by their in-plane stresses alone.
+    pub in_plane: bool,
 }
 
 /// Where a body's mesh comes from.

@@ -97,6 +97,7 @@ pub(crate) struct RawMaterial {
     pub strength: Option<RawStrength>,
     pub fracture_energy: Option<RawFractureEnergy>,
     pub damage_viscosity: Option<f64>,
+    pub damage_stresses: Option<String>,
 }
 
 /// A ply's fracture energies (`fracture_energy = { ft, fc, mt, mc }`).

@@ -631,6 +631,12 @@ impl Checker<'_> {
                     "regularises ply damage: give the material a `fracture_energy` too",
                 ));
             }
+            if m.damage_stresses.is_some() {
+                return Err(self.err(
+                    key("damage_stresses"),
+                    "chooses the stresses that damage the plies: give the material a `fracture_energy` too",
+                ));
+            }
             return Ok(None);
         };
         if m.strength.is_none() {
@@ -659,7 +665,21 @@ impl Checker<'_> {
                 format!("must be a time of at least 0, got {viscosity}"),
             ));
         }
-        Ok(Some(DamageSpec { energy, viscosity }))
+        let in_plane = match m.damage_stresses.as_deref() {
+            None | Some("all") => false,
+            Some("in_plane") => true,
+            Some(other) => {
+                return Err(self.err(
+                    key("damage_stresses"),
+                    format!("must be \"all\" or \"in_plane\", got {other:?}"),
+                ))
+            }
+        };
+        Ok(Some(DamageSpec {
+            energy,
+            viscosity,
+            in_plane,
+        }))
     }
 
     /// `strength`: six positive strengths.
