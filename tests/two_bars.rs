@@ -216,3 +216,38 @@ fn tet4_two_bars_match_wave_theory_on_gpu() {
     let s = s.expect("run completes");
     check_two_bars_history("tet4 2 on 3 implicit gpu", &h, &s, 0.0025, &FINE);
 }
+
+/// A contact's `region` keeps the secondary faces with every node inside it: one that holds
+/// the struck end's whole face gives the history of the contact without it, to the last bit;
+/// one that holds no whole face is refused by its key.
+#[test]
+fn a_contact_region_keeps_the_faces_inside_it() {
+    let text = scene_text("two_bars.toml");
+    let with = |region: &str| {
+        edit(
+            &text,
+            "friction = 0.0",
+            &format!("friction = 0.0\nregion = {region}"),
+        )
+    };
+    let (plain, hp) = run_text("region_plain", &text);
+    let (kept, hk) = run_text(
+        "region_kept",
+        &with("{ min = [-0.5, -1.0, -1.0], max = [0.5, 2.0, 2.0] }"),
+    );
+    assert_eq!(plain.expect("plain run").status, "completed");
+    assert_eq!(kept.expect("region run").status, "completed");
+    assert_eq!(hp.columns, hk.columns);
+    assert_eq!(hp.rows, hk.rows);
+    let none = with("{ min = [-0.5, -1.0, -1.0], max = [0.5, 0.5, 2.0] }");
+    let scene = impact::scene::Scene::parse(&none, std::path::Path::new("region.toml"))
+        .expect("the scene reads");
+    let err = match impact::model::Model::from_scene(&scene) {
+        Ok(_) => panic!("a region without a whole face is refused"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        err.contains("contact[0].region") && err.contains("holds no whole face"),
+        "{err}"
+    );
+}

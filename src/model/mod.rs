@@ -18,7 +18,7 @@ use crate::geometry::vector::{bbox_diagonal, norm, sub};
 use crate::kernels::{ContactQueries, ElementData};
 use crate::material::Elastic;
 use crate::mesh::{Face, Mesh};
-use crate::scene::{NodeSelection, PrimarySide, Scene};
+use crate::scene::{ContactSpec, NodeSelection, PrimarySide, Scene};
 
 #[derive(Debug, Clone)]
 pub struct Probe {
@@ -106,7 +106,7 @@ impl Model {
         for b in rigid.iter().filter(|b| b.is_prescribed()) {
             fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
         }
-        let (queries, interfaces) = interfaces(scene, &mesh, &rigid);
+        let (queries, interfaces) = interfaces(scene, &mesh, &rigid)?;
         let cohesive = cohesive::cohesive_interfaces(scene, &mesh, &splits)?;
         let mut probes = probes(scene, &mesh);
         // a rigid body's history columns are those of a probe on its node
@@ -316,11 +316,15 @@ fn fixes(scene: &Scene, mesh: &Mesh) -> Result<Fixes> {
 /// The contact queries of the surface interfaces, then every interface: the `[[contact]]`s
 /// (secondary nodes against primary faces or a rigid body's surface), then the
 /// `[[rigid_plane]]`s.
-fn interfaces(scene: &Scene, mesh: &Mesh, rigid: &[RigidBody]) -> (ContactQueries, Vec<Interface>) {
+fn interfaces(
+    scene: &Scene,
+    mesh: &Mesh,
+    rigid: &[RigidBody],
+) -> Result<(ContactQueries, Vec<Interface>)> {
     let mut queries = ContactQueries::default();
     let mut interfaces = Vec::new();
-    for c in &scene.contacts {
-        let sec = &mesh.bodies[c.secondary.body].surfaces[c.secondary.surface].faces;
+    for (i, c) in scene.contacts.iter().enumerate() {
+        let sec = &secondary_faces(scene, mesh, (i, c))?;
         let (nodes, area) = tributary_areas(mesh, sec);
         let primary = match c.primary {
             PrimarySide::RigidBody(b) => Primary::Rigid {
@@ -371,7 +375,32 @@ fn interfaces(scene: &Scene, mesh: &Mesh, rigid: &[RigidBody]) -> (ContactQuerie
         });
     }
 
-    (queries, interfaces)
+    Ok((queries, interfaces))
+}
+
+/// A contact's secondary faces: its surface's, those with every node inside its `region`
+/// where it has one (a region that holds none is an error naming it).
+fn secondary_faces(scene: &Scene, mesh: &Mesh, (i, c): (usize, &ContactSpec)) -> Result<Vec<Face>> {
+    let faces = &mesh.bodies[c.secondary.body].surfaces[c.secondary.surface].faces;
+    let Some((min, max)) = c.region else {
+        return Ok(faces.clone());
+    };
+    let inside = |n: &u32| {
+        let p = mesh.nodes[*n as usize];
+        (0..3).all(|a| p[a] >= min[a] - 1e-12 && p[a] <= max[a] + 1e-12)
+    };
+    let kept: Vec<Face> = (faces.iter())
+        .filter(|f| f.corners().iter().all(inside))
+        .copied()
+        .collect();
+    if kept.is_empty() {
+        return Err(ImpactError::SceneValue {
+            path: scene.path.clone(),
+            key: format!("contact[{i}].region (contact `{}`)", c.name),
+            message: "holds no whole face of the secondary surface: nothing would touch".into(),
+        });
+    }
+    Ok(kept)
 }
 
 /// A probe's point may lie at most this fraction of its body's bounding-box diagonal from

@@ -351,6 +351,8 @@ pub struct ContactSpec {
     pub primary: PrimarySide,
     pub friction: f64,
     pub initial_penetration: PenetrationPolicy,
+    /// `region`: only the secondary faces with every node inside this box take part.
+    pub region: Option<([f64; 3], [f64; 3])>,
 }
 
 /// A `[[cohesive]]` interface: between two bodies' faces (the second side's nodes pair with

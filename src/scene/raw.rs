@@ -222,6 +222,7 @@ pub(crate) struct RawContact {
     pub primary: RawSurfaceRef,
     pub friction: Option<f64>,
     pub initial_penetration: Option<String>,
+    pub region: Option<RawRegion>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

@@ -875,6 +875,13 @@ impl Checker<'_> {
                     PenetrationPolicy::Error,
                     PenetrationPolicy::CHOICES,
                 )?,
+                region: match &ct.region {
+                    Some(r) => Some((
+                        self.finite3(&key("region.min"), r.min)?,
+                        self.finite3(&key("region.max"), r.max)?,
+                    )),
+                    None => None,
+                },
             });
         }
         Ok(contacts)
