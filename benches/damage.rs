@@ -8,13 +8,20 @@
 //!    and every element damaged (the points' loop: the damaging element's own cost). On the
 //!    GPU through the host path (upload, dispatch, read back), so the rows compare the device's
 //!    work plus the same transfers.
-//! 2. **Whole runs.** The drop-weight coupon of `scenes/drop_weight_d7136.toml` on a coarser
+//! 2. **Whole runs.** The drop-weight coupon of `scenes/drop_weight_d7136_elastic.toml` on a coarser
 //!    mesh, its first 1.1 ms (the tup's load climbs and the plies under it start to crack),
 //!    with and without the plies' fracture energies: each engine's ns per element-step (the
 //!    CPU's wall time; the GPU resident engine's device time where the adapter has
 //!    timestamps, else wall time) and their ratio, the issue's target being 1.5 at most.
 //!
-//! `cargo bench --bench damage` (`-- --quick`: a smaller plate and a shorter run).
+//! 3. **Cohesive interfaces.** The [0/90]s plate of four element layers split at its two ply
+//!    changes (`[[cohesive]] at = "ply_changes"`): the interfaces' pair forces of a step
+//!    (`cohesive_forces`, on the host's threads on every engine), bonded and in the
+//!    softening, in ns per pair and per interface face (a zero-thickness cohesive element),
+//!    beside the plate's hex8i element-step on the CPU.
+//!
+//! `cargo bench --bench damage` (`-- --quick`: a smaller plate and a shorter run;
+//! `-- --cohesive`: the third table alone).
 
 use std::time::Instant;
 
@@ -36,6 +43,11 @@ const ENERGIES: &str = "fracture_energy = { ft = 133.3, fc = 47.5, mt = 0.277, m
 
 /// A [0/90]s plate of `n x n` hex8i in the plane and `layers` element layers (1 mm).
 fn plate(n: usize, layers: usize, damage: bool) -> Model {
+    plate_with(n, layers, damage, "")
+}
+
+/// The plate with `extra` scene text after it.
+fn plate_with(n: usize, layers: usize, damage: bool, extra: &str) -> Model {
     let energies = if damage { ENERGIES } else { "" };
     let text = format!(
         r#"[run]
@@ -50,7 +62,7 @@ plies = {{ normal = "z", layers = [
   {{ angle = 0.0, thickness = 0.25 }}, {{ angle = 90.0, thickness = 0.25 }},
   {{ angle = 90.0, thickness = 0.25 }}, {{ angle = 0.0, thickness = 0.25 }},
 ] }}
-"#
+{extra}"#
     );
     let scene = Scene::parse(&text, std::path::Path::new("damage_bench.toml")).expect("scene");
     Model::from_scene(&scene).expect("model")
@@ -165,8 +177,8 @@ fn kernels_table(ctx: &Option<GpuContext>, quick: bool) {
 
 /// The coarse drop weight's text, its first `end` seconds, with or without fracture energies.
 fn drop_weight(end: f64, damage: bool) -> String {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/drop_weight_d7136.toml");
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes/drop_weight_d7136_elastic.toml");
     let text = std::fs::read_to_string(path).expect("the shipped scene");
     let text = text
         .replace("divisions = [50, 34, 4]", "divisions = [30, 20, 2]")
@@ -226,8 +238,60 @@ fn runs_table(gpu: bool, quick: bool) {
     }
 }
 
+/// IM7/8552's interface (CompDam's strengths and toughnesses), at the plate's ply changes.
+const INTERFACES: &str = r#"
+[[cohesive]]
+name = "plies"
+body = "plate"
+at = "ply_changes"
+stiffness = 1e5
+strength = { normal = 62.3, shear = 92.3 }
+toughness = { normal = 0.277, shear = 0.788, bk = 1.634 }
+"#;
+
+fn cohesive_table(quick: bool) {
+    use impact::kernels::cohesive_forces::{cohesive_forces, CohesiveState};
+    let n = if quick { 16 } else { 48 };
+    let model = plate_with(n, 4, false, INTERFACES);
+    let pairs = || model.cohesive.iter().map(|c| &c.pairs);
+    let count: usize = pairs().map(|p| p.area.len()).sum();
+    let faces: usize = model.cohesive.iter().map(|c| c.faces.len()).sum();
+    let ne = model.mesh.element_count() as f64;
+    let mut hex = CpuKernels::new(model.element_data());
+    let mut f = vec![0.0; model.dofs()];
+    let (u, _) = motion(&model, 1e-5);
+    let element = time(|| hex.internal_forces_into(&u, &mut f).expect("forces")) / ne;
+    // the pairs' separations: the bending field's (bonded), and a slide of 0.01 mm of the
+    // upper nodes (past the shear strength: every pair in its softening, advancing)
+    let mut slid = u.clone();
+    for c in pairs() {
+        for &a in &c.upper {
+            slid[3 * a as usize] += 0.01;
+        }
+    }
+    println!("| interfaces of the {n} x {n} x 4 plate | pairs | faces | ns/pair | ns/face | hex8i ns/el (CPU) | face / hex8i |");
+    println!("|---|---:|---:|---:|---:|---:|---:|");
+    for (label, u) in [("bonded", &u), ("softening", &slid)] {
+        let t = time(|| {
+            let mut state = CohesiveState::new(pairs());
+            cohesive_forces(pairs(), u, &mut state, &mut f);
+        });
+        println!(
+            "| {label} | {count} | {faces} | {:.1} | {:.1} | {:.1} | {:.2} |",
+            1e9 * t / count as f64,
+            1e9 * t / faces as f64,
+            1e9 * element,
+            t / faces as f64 / element
+        );
+    }
+}
+
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
+    if std::env::args().any(|a| a == "--cohesive") {
+        cohesive_table(quick);
+        return;
+    }
     let ctx = GpuContext::new().ok();
     match &ctx {
         Some(c) => println!("adapter: {}", c.adapter.describe()),
@@ -235,6 +299,8 @@ fn main() {
     }
     println!();
     kernels_table(&ctx, quick);
+    println!();
+    cohesive_table(quick);
     println!();
     runs_table(ctx.is_some(), quick);
 }

@@ -90,7 +90,7 @@ device() {
         "$B"/"$t" 2>&1 | tail -40 > "$out"/test_"$t".txt || echo "$t: FAILED" >> "$out"/failures.txt
     done
     printf '| scene | device | engine | steps | wall s |\n|---|---|---|---:|---:|\n' > "$out"/times.md
-    for s in drop_weight_d7136 indentation_d6264; do
+    for s in drop_weight_d7136_elastic drop_weight_d7136 indentation_d6264; do
         for d in gpu cpu; do
             dir=$(mktemp -d)
             "$B"/impact run scenes/$s.toml --device $d --out "$dir" > "$out"/run_${s}_$d.txt 2>&1 || true

@@ -500,7 +500,7 @@ toughness = { normal = 0.3, shear = 0.79, bk = 2.1 }
 /// their compressive and damaged stiffness gained 7% by then.
 #[test]
 fn damaging_interfaces_that_set_the_step_keep_the_energy() {
-    let text = scene_text("drop_weight_d7136.toml")
+    let text = scene_text("drop_weight_d7136_elastic.toml")
         .replace("divisions = [50, 34, 4]", "divisions = [30, 20, 4]")
         .replace("end_time = 4.5e-3", "end_time = 0.5e-3")
         .replace("[output]\nvtu_every = 500\n", "")

@@ -269,7 +269,7 @@ fn resident_runs_resume_to_the_unbroken_history() {
     );
     let drop = edit(
         &edit(
-            &scene_text("drop_weight_d7136.toml"),
+            &scene_text("drop_weight_d7136_elastic.toml"),
             "divisions = [50, 34, 4]",
             "divisions = [12, 8, 2]",
         ),

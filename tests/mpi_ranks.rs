@@ -452,7 +452,7 @@ fn resident_ranks_on_gpus_are_one_gpu_on_2_and_4_ranks() {
         "block_tet_drop",
         "cube_on_plate",
         "rigid_ball",
-        "drop_weight_d7136",
+        "drop_weight_d7136_elastic",
     ] {
         let tag = format!("mpi_resident_{name}");
         let dir = out_dir(&tag);
@@ -463,7 +463,7 @@ fn resident_ranks_on_gpus_are_one_gpu_on_2_and_4_ranks() {
         };
         let text = match name {
             "rigid_ball" => text,
-            "drop_weight_d7136" => coarse_drop_weight(&text),
+            "drop_weight_d7136_elastic" => coarse_drop_weight(&text),
             "cube_on_plate" => explicit_at_default_step(&text),
             "block_hex_drop" => edit(
                 &text,
@@ -513,7 +513,7 @@ fn resident_ranks_on_gpus_are_one_gpu_on_2_and_4_ranks() {
             assert_eq!(summary["first_failure"], single["first_failure"], "{tag}");
             assert_eq!(
                 summary["first_failure"].is_object(),
-                name == "drop_weight_d7136",
+                name == "drop_weight_d7136_elastic",
                 "{tag}"
             );
             if ranks > 0 && name == "cube_on_plate" {
@@ -640,7 +640,7 @@ fn imported_tet4_block_dropped_on_a_floor_is_the_same_on_2_and_4_ranks() {
 /// into the graded block by a prescribed motion.
 #[test]
 fn rigid_bodies_are_the_same_on_2_and_4_ranks() {
-    let drop = coarse_drop_weight(&scene_text("drop_weight_d7136.toml"));
+    let drop = coarse_drop_weight(&scene_text("drop_weight_d7136_elastic.toml"));
     let h = same_on_ranks("mpi_drop_weight", &drop);
     let f = h.col("impact.fz");
     assert!(f.iter().any(|&x| x > 0.0), "the tup strikes the coupon");
@@ -675,7 +675,7 @@ fn rigid_bodies_are_the_same_on_2_and_4_ranks() {
     same_on_ranks("mpi_rigid_sphere", &sphere);
 }
 
-/// The drop-weight coupon `text` (`scenes/drop_weight_d7136.toml`) coarsened to 20 x 14 x 2
+/// The drop-weight coupon `text` (`scenes/drop_weight_d7136_elastic.toml`) coarsened to 20 x 14 x 2
 /// and run through the impact's onset (a ply reaches failure), without frames.
 fn coarse_drop_weight(text: &str) -> String {
     let drop = edit(text, "divisions = [50, 34, 4]", "divisions = [20, 14, 2]");

@@ -77,7 +77,7 @@ fn implicit_contact_with_friction_is_the_same_on_any_thread_count() {
 #[test]
 fn rigid_bodies_and_layered_plies_are_the_same_on_any_thread_count() {
     let text = edit(
-        &scene_text("drop_weight_d7136.toml"),
+        &scene_text("drop_weight_d7136_elastic.toml"),
         "divisions = [50, 34, 4]",
         "divisions = [30, 20, 2]",
     );

@@ -311,7 +311,7 @@ fn the_history_carries_the_largest_failure_indices_of_the_frames() {
         return;
     }
     let text = edit(
-        &scene_text("drop_weight_d7136.toml"),
+        &scene_text("drop_weight_d7136_elastic.toml"),
         "divisions = [50, 34, 4]",
         "divisions = [30, 20, 2]",
     );
