@@ -243,6 +243,17 @@ fn the_damaged_coupon_delaminates_and_keeps_its_balance() {
     assert_eq!(delamination.interfaces[0].name, "plies");
     assert!((delamination.interfaces[0].area - area).abs() <= 1e-9 * area);
     assert!(delamination.projected_area <= area);
+    // the picture's depths are measured from the coupon's top face, not from the tup above
+    // it: the deepest separation is an interface's, 1.14 or 3.42 mm below that face
+    let svg = std::fs::read_to_string(out_path("drop_weight_damaged").join("delamination.svg"))
+        .expect("the delamination picture");
+    let deepest = (svg.split("\">").skip(1))
+        .filter_map(|t| t.split('<').next()?.parse::<f64>().ok())
+        .fold(0.0, f64::max);
+    assert!(
+        [1.14, 3.42].iter().any(|d| (deepest - d).abs() < 1e-3),
+        "deepest {deepest}"
+    );
     let (t, fz, vz) = (h.col("time"), h.col("impact.fz"), h.col("tup.vz"));
     let impulse: f64 = (1..t.len()).map(|i| fz[i] * (t[i] - t[i - 1])).sum();
     let change = MASS * (vz[vz.len() - 1] + V0);

@@ -59,7 +59,9 @@ impl DelaminationMap {
         let e1 = plane_axis(n);
         let e2 = cross(n, e1);
         let x = |node: u32| model.mesh.nodes[node as usize];
-        let top = (model.mesh.nodes.iter())
+        // the meshed bodies' top (rigid bodies' nodes, a tup above the coupon, left out)
+        let top = (model.mesh.bodies.iter())
+            .flat_map(|b| &model.mesh.nodes[b.nodes.clone()])
             .map(|x| dot(*x, n))
             .fold(f64::MIN, f64::max);
         let plane = |p: [f64; 3]| [dot(p, e1), dot(p, e2)];
