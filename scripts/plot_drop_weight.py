@@ -80,10 +80,15 @@ def main(argv):
     for name, h, folder in (("damaged", damaged, argv[1]), ("elastic", elastic, argv[2])):
         print(name, figures(h, folder))
     drop = first_drop(damaged)
+    def touching(h, x):
+        """The rows up to the contact's end (against displacement: the tup flies off)."""
+        end = max(k for k, f in enumerate(h["f"]) if f > 0.0) + 1 if x == "u" else len(h["f"])
+        return h[x][:end], h["f"][:end]
+
     for x, name in (("t", "time"), ("u", "displacement")):
         fig, ax = plt.subplots(figsize=(7.2, 4.0), dpi=100)
-        ax.plot(elastic[x], elastic["f"], color="0.6", label="elastic coupon")
-        ax.plot(damaged[x], damaged["f"], color="C3", label="ply damage and delamination")
+        ax.plot(*touching(elastic, x), color="0.6", label="elastic coupon")
+        ax.plot(*touching(damaged, x), color="C3", label="ply damage and delamination")
         if drop:
             k = damaged["t"].index(drop[0])
             ax.plot([damaged[x][k]], [drop[1]], "ko", ms=5)
