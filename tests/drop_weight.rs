@@ -13,8 +13,11 @@ const MASS: f64 = 5.5e-3;
 const V0: f64 = 3303.0;
 
 fn coarse(scene: &str) -> String {
-    let text = edit(&scene_text(scene), COARSE.0, COARSE.1);
-    // no frames: the test reads the history
+    without_frames(&edit(&scene_text(scene), COARSE.0, COARSE.1))
+}
+
+/// `text` without its VTU frames: the tests read the history.
+fn without_frames(text: &str) -> String {
     let lines = text.lines().filter(|l| !l.starts_with("vtu_every"));
     lines.collect::<Vec<_>>().join("\n")
 }
@@ -196,9 +199,11 @@ fn damaged_coarse(end: f64) -> String {
         "divisions = [38, 25, 4], element = \"hex8i\", refine = { min = [-10.0, -10.0, 0.0], max = [10.0, 10.0, 4.56], size = [1.0, 1.0, 1.14] } }",
         "divisions = [30, 20, 4], element = \"hex8i\" }",
     );
-    let text = edit(&text, "end_time = 6e-3", &format!("end_time = {end:e}"));
-    let lines = text.lines().filter(|l| !l.starts_with("vtu_every"));
-    lines.collect::<Vec<_>>().join("\n")
+    without_frames(&edit(
+        &text,
+        "end_time = 6e-3",
+        &format!("end_time = {end:e}"),
+    ))
 }
 
 /// The largest contact force of a history, and its last row's delaminated area.

@@ -170,9 +170,7 @@ fn laminate(
 
 /// Whether node `n` lies in the interface's `region` (everywhere without one).
 fn in_region(mesh: &Mesh, c: &CohesiveSpec, n: u32) -> bool {
-    let p = mesh.nodes[n as usize];
-    c.region
-        .is_none_or(|(min, max)| (0..3).all(|a| p[a] >= min[a] - 1e-12 && p[a] <= max[a] + 1e-12))
+    (c.region).is_none_or(|r| super::in_region(mesh.nodes[n as usize], r))
 }
 
 /// An interface whose `region` holds none of its nodes.

@@ -226,10 +226,7 @@ fn fix_selection(mesh: &Mesh, f: &crate::scene::FixSpec) -> Vec<u32> {
         NodeSelection::Region { min, max } => body
             .nodes
             .clone()
-            .filter(|&n| {
-                let p = mesh.nodes[n];
-                (0..3).all(|a| p[a] >= min[a] - 1e-12 && p[a] <= max[a] + 1e-12)
-            })
+            .filter(|&n| in_region(mesh.nodes[n], (*min, *max)))
             .map(|n| n as u32)
             .collect(),
     }
@@ -378,6 +375,11 @@ fn interfaces(
     Ok((queries, interfaces))
 }
 
+/// Whether the point `p` lies in the box `(min, max)` of a scene's `region` (to 1e-12).
+pub(crate) fn in_region(p: [f64; 3], (min, max): ([f64; 3], [f64; 3])) -> bool {
+    (0..3).all(|a| p[a] >= min[a] - 1e-12 && p[a] <= max[a] + 1e-12)
+}
+
 /// A contact's secondary faces: its surface's, those with every node inside its `region`
 /// where it has one (a region that holds none is an error naming it).
 fn secondary_faces(scene: &Scene, mesh: &Mesh, (i, c): (usize, &ContactSpec)) -> Result<Vec<Face>> {
@@ -385,12 +387,8 @@ fn secondary_faces(scene: &Scene, mesh: &Mesh, (i, c): (usize, &ContactSpec)) ->
     let Some((min, max)) = c.region else {
         return Ok(faces.clone());
     };
-    let inside = |n: &u32| {
-        let p = mesh.nodes[*n as usize];
-        (0..3).all(|a| p[a] >= min[a] - 1e-12 && p[a] <= max[a] + 1e-12)
-    };
     let kept: Vec<Face> = (faces.iter())
-        .filter(|f| f.corners().iter().all(inside))
+        .filter(|f| (f.corners().iter()).all(|&n| in_region(mesh.nodes[n as usize], (min, max))))
         .copied()
         .collect();
     if kept.is_empty() {

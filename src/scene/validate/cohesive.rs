@@ -62,13 +62,7 @@ impl Checker<'_> {
                 ))
             }
         };
-        let region = match &c.region {
-            Some(r) => Some((
-                self.finite3(&key("region.min"), r.min)?,
-                self.finite3(&key("region.max"), r.max)?,
-            )),
-            None => None,
-        };
+        let region = self.region(key, c.region.as_ref())?;
         if let Some(mu) = c.friction.filter(|&mu| mu != 0.0) {
             return Err(ImpactError::Unsupported {
                 path: self.path.to_path_buf(),

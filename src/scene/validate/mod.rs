@@ -43,6 +43,21 @@ impl Checker<'_> {
         }
     }
 
+    /// An optional `region = { min, max }` at `key`: its corners, finite.
+    fn region(
+        &self,
+        key: &dyn Fn(&str) -> String,
+        r: Option<&RawRegion>,
+    ) -> Result<Option<([f64; 3], [f64; 3])>> {
+        r.map(|r| {
+            Ok((
+                self.finite3(&key("region.min"), r.min)?,
+                self.finite3(&key("region.max"), r.max)?,
+            ))
+        })
+        .transpose()
+    }
+
     fn friction(&self, key: &str, mu: Option<f64>) -> Result<f64> {
         let mu = mu.unwrap_or(0.0);
         if mu.is_finite() && mu >= 0.0 {
@@ -875,13 +890,7 @@ impl Checker<'_> {
                     PenetrationPolicy::Error,
                     PenetrationPolicy::CHOICES,
                 )?,
-                region: match &ct.region {
-                    Some(r) => Some((
-                        self.finite3(&key("region.min"), r.min)?,
-                        self.finite3(&key("region.max"), r.max)?,
-                    )),
-                    None => None,
-                },
+                region: self.region(&key, ct.region.as_ref())?,
             });
         }
         Ok(contacts)
