@@ -21,7 +21,7 @@
 # project there.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-tests=(gpu_contact gpu_kernels gpu_runs gpu_explicit rigid_bodies drop_weight)
+tests=(gpu_contact gpu_kernels gpu_damage gpu_runs gpu_explicit rigid_bodies drop_weight)
 
 # Downloads Debian packages (amd64) into folder $1 of .gl/, which git ignores.
 download() {
@@ -63,7 +63,9 @@ prepare() {
         strip -o .gpu/bin/"$t" "$f"
     done
     strip -o .gpu/bin/impact target/release/impact
-    tar czf .gpu/bin.tgz -C .gpu bin && rm -rf .gpu/bin
+    # xz over the whole folder: the binaries share most of their code, and gzip's window
+    # cannot see it (56 MB against 12, where the device takes 64 MiB in all)
+    tar cf - -C .gpu bin | xz -9 -T0 > .gpu/bin.txz && rm -rf .gpu/bin
     git archive --format=tar.gz HEAD > .gpu/project.tgz
     du -sh .gl .gpu
 }
@@ -71,7 +73,9 @@ prepare() {
 device() {
     use_card
     bin=$(mktemp -d)
-    tar xzf "$here"/.gpu/bin.tgz -C "$bin"
+    tar xJf "$here"/.gpu/bin.txz -C "$bin" 2>/dev/null ||
+        python3 -c 'import sys, tarfile; tarfile.open(sys.argv[1]).extractall(sys.argv[2])' \
+            "$here"/.gpu/bin.txz "$bin"
     B=$bin/bin
     mkdir -p "$here"
     tar xzf "$here"/.gpu/project.tgz -C "$here"
@@ -90,7 +94,11 @@ device() {
         "$B"/"$t" 2>&1 | tail -40 > "$out"/test_"$t".txt || echo "$t: FAILED" >> "$out"/failures.txt
     done
     printf '| scene | device | engine | steps | wall s |\n|---|---|---|---:|---:|\n' > "$out"/times.md
-    for s in drop_weight_d7136_elastic drop_weight_d7136 indentation_d6264; do
+    # the damaged drop weight's first 0.3 ms: its plies and cohesive pairs run on the host on
+    # either device, and its whole run takes about ten minutes on sixteen cores
+    sed 's/^end_time = .*/end_time = 3e-4/' scenes/drop_weight_d7136.toml \
+        > scenes/drop_weight_d7136_first_0.3ms.toml
+    for s in drop_weight_d7136_elastic drop_weight_d7136_first_0.3ms indentation_d6264; do
         for d in gpu cpu; do
             dir=$(mktemp -d)
             "$B"/impact run scenes/$s.toml --device $d --out "$dir" > "$out"/run_${s}_$d.txt 2>&1 || true
