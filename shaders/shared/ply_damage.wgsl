@@ -145,11 +145,10 @@ fn law_step(l: DamageLaw, e: Voigt6, prev: Voigt6, old: PointState, bands: vec2<
     }
     let after = law_stiffness(l, damage_acting(st, fibre, matrix));
     let stress = ortho_apply(after, e);
-    let p = ortho_apply(c0, prev);
-    let last = law_stiffness(l, damage_acting(old, p.n.x >= 0.0, p.n.y + p.n.z >= 0.0));
+    // the damage's growth alone, both stiffnesses at this step's signs
     let change = Voigt6(
-        (last.normal - after.normal) * e.n,
-        (last.shear - after.shear) * e.s,
+        (before.normal - after.normal) * e.n,
+        (before.shear - after.shear) * e.s,
     );
     return PointStep(st, stress, 0.5 * voigt_dot(prev, change));
 }

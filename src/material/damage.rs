@@ -355,19 +355,14 @@ impl PlyDamage {
             self.stiffness(d_new)
         };
         let stress = voigt_apply(&after, e);
-        // the stiffness the last step's stress had: its damage, its strain's signs
-        let p = voigt_apply(&self.c0, prev);
-        let d_last = acting(old, (p[0] >= 0.0, p[1] + p[2] >= 0.0));
-        let last = if d_last == d_old {
-            before
-        } else {
-            self.stiffness(d_last)
-        };
+        // the energy the damage's growth released, both stiffnesses at this step's signs:
+        // a crack that closes (the acting damage switching from a tension mode to a
+        // compression one) releases nothing, and it stores nothing back
         let released: f64 = (0..6)
             .map(|i| {
                 prev[i]
                     * (0..6)
-                        .map(|j| (last[i][j] - after[i][j]) * e[j])
+                        .map(|j| (before[i][j] - after[i][j]) * e[j])
                         .sum::<f64>()
             })
             .sum();
@@ -626,6 +621,39 @@ mod tests {
         let e = uniaxial(&law, [0.0; 4], 0, -0.5 * eps0);
         let closed = law.step((&e, &e), &state, [0.5, 0.5], 1.0);
         assert!((closed.stress[0] / (-0.5 * eps0) / e1 - 1.0).abs() < 1e-9);
+    }
+
+    /// A matrix crack opened, then closed by a pressure across the other transverse axis
+    /// (the crack's opening strain still positive, the transverse stresses' sum turned
+    /// negative) and opened again, step by step through the closure: every step's
+    /// dissipation is at least zero, none where the damage does not grow (the closure's and
+    /// the reopening's steps among them).
+    #[test]
+    fn a_crack_closing_and_opening_again_stores_no_energy_back() {
+        let law = im7();
+        let (e2, yt) = law.mode_constants(2);
+        let eps0 = yt / e2;
+        let at = |a: f64, b: f64| [0.0, a * eps0, b * eps0, 0.0, 0.0, 0.0];
+        let open = (0..=40).map(|i| at(1.6 * i as f64 / 40.0, 0.0));
+        let unload = (1..=20).map(|i| at(1.6 - 1.3 * i as f64 / 20.0, 0.0));
+        let press = (1..=40).map(|i| at(0.3, -0.8 * i as f64 / 40.0));
+        let release = (1..=40).map(|i| at(0.3, -0.8 + 0.8 * i as f64 / 40.0));
+        let mut state = [0.0; POINT_STATE];
+        let (mut prev, mut opened, mut closed) = ([0.0; 6], 0.0, 0);
+        for (k, e) in open.chain(unload).chain(press).chain(release).enumerate() {
+            let step = law.step((&e, &prev), &state, [0.5, 0.5], 1.0);
+            let grew = (0..8).any(|m| step.state[m] > state[m]);
+            assert!(step.dissipated >= 0.0, "step {k}: {}", step.dissipated);
+            match k <= 40 {
+                true => opened += step.dissipated,
+                false => assert!(!grew && step.dissipated == 0.0, "step {k}: {step:?}"),
+            }
+            let eff = voigt_apply(&law.c0, &e);
+            closed += usize::from(eff[1] + eff[2] < 0.0);
+            (state, prev) = (step.state, e);
+        }
+        assert!(state[2] > 0.3 && opened > 0.0, "{state:?}");
+        assert!(closed > 10, "the crack closed on {closed} steps");
     }
 
     /// With a viscosity the acting damage lags the softening's by dt / eta per step, and
