@@ -429,17 +429,6 @@ fn what_a_deck_asks_that_impact_cannot_honour_is_refused_by_keyword_and_line() {
         "*BOUNDARY\nNA, 1, 1, 0.5\n*INITIAL CONDITIONS",
     );
     refused("deck_moved", &moved, &["*BOUNDARY", "other than 0"]);
-    let part = edit(&deck, "NA, 1, 1.0", "TIPA_NODES, 1, 1.0");
-    let part = edit(
-        &part,
-        "*SURFACE, NAME=TIPA",
-        "*NSET, NSET=TIPA_NODES\n41, 42, 43, 44\n*SURFACE, NAME=TIPA",
-    );
-    refused(
-        "deck_part_velocity",
-        &part,
-        &["TIPA_NODES", "4 of body `A`'s 44 nodes"],
-    );
     let static_step = edit(&deck, "*DYNAMIC\n", "*STATIC\n");
     refused("deck_static", &static_step, &["*STATIC", "cannot honour"]);
     let no_step: String = deck
@@ -1695,4 +1684,52 @@ fn a_rigid_bodys_reference_node_may_be_given_by_number() {
         "{a}"
     );
     assert!(!a.contains("inertia"), "its rotations are held: {a}");
+}
+
+/// Node numbers where a node set may stand (`*BOUNDARY`, `*INITIAL CONDITIONS`), and a
+/// velocity on a node set that holds part of a body: bar A's velocity given on nodes 1-40
+/// by a set and on its struck end's four nodes by number, bar B's far end held across by
+/// number, run as the deck with a set for each, byte for byte.
+#[test]
+fn node_numbers_and_a_part_of_a_body_run_as_their_node_sets() {
+    let deck = std::fs::read_to_string(repo().join("scenes/two_bars.inp")).unwrap();
+    let model_data = "*MATERIAL, NAME=ELASTIC\n";
+    let sets = edit(
+        &deck,
+        model_data,
+        &format!("*NSET, NSET=FAR\n141, 142, 143, 144\n*BOUNDARY\nFAR, 2, 3\n{model_data}"),
+    );
+    let ahead: Vec<String> = (1..=40).map(|n| n.to_string()).collect();
+    let numbers = edit(
+        &deck,
+        model_data,
+        &format!(
+            "*NSET, NSET=AHEAD\n{}\n*BOUNDARY\n141, 2, 3\n142, 2, 3\n143, 2\n143, 3\n144, 2, 3\n{model_data}",
+            ahead.join(", ")
+        ),
+    );
+    let numbers = edit(
+        &numbers,
+        "NA, 1, 1.0\n",
+        "AHEAD, 1, 1.0\n41, 1, 1.0\n42, 1, 1.0\n43, 1, 1.0\n44, 1, 1.0\n",
+    );
+    let a = written("deck_by_sets_files", "sets.inp", &sets);
+    let b = written("deck_by_numbers_files", "numbers.inp", &numbers);
+    let scene = Scene::load(&b).expect("node numbers read");
+    assert_eq!(scene.initial_velocities.len(), 5, "a set and four nodes");
+    assert_eq!(scene.bodies[0].velocity, [0.0; 3]);
+    assert_eq!(scene.fixes.len(), 5, "a fix a node number line");
+    let (sa, ha) = run_file("deck_by_sets", &a);
+    let (sb, hb) = run_file("deck_by_numbers", &b);
+    assert_eq!(
+        (sa.status.as_str(), sb.status.as_str()),
+        ("completed", "completed")
+    );
+    let read = |h: &History| format!("{:?}{:?}", h.columns, h.rows);
+    assert!(read(&ha) == read(&hb), "the node numbers' history differs");
+    refused(
+        "deck_node_absent",
+        &edit(&deck, "NA, 1, 1.0\n", "NA, 1, 1.0\n999, 1, 1.0\n"),
+        &["node 999: no *NODE line gives it"],
+    );
 }

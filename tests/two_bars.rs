@@ -251,3 +251,37 @@ fn a_contact_region_keeps_the_faces_inside_it() {
         "{err}"
     );
 }
+
+/// `[[initial_velocity]]` sets the velocity of the nodes it selects over the body's own, the
+/// later of two over the earlier: bar A at rest with its nodes given v0 by a region, after a
+/// set of 2 v0 on them, gives the history of bar A moving at v0, to the last bit; one that
+/// selects no node is refused by its key.
+#[test]
+fn initial_velocities_on_a_region_give_the_moving_body() {
+    let text = scene_text("two_bars.toml");
+    let rest = edit(&text, "velocity = [1.0, 0.0, 0.0]\n", "");
+    let given = |region: &str| {
+        format!(
+            "{rest}\n[[initial_velocity]]\nbody = \"A\"\nface = \"x-\"\nvelocity = [2.0, 0.0, 0.0]\n\n\
+             [[initial_velocity]]\nbody = \"A\"\nregion = {region}\nvelocity = [1.0, 0.0, 0.0]\n"
+        )
+    };
+    let (plain, hp) = run_text("velocity_plain", &text);
+    let whole = "{ min = [-10.0, 0.0, 0.0], max = [0.0, 1.0, 1.0] }";
+    let (set, hs) = run_text("velocity_region", &given(whole));
+    assert_eq!(plain.expect("plain run").status, "completed");
+    assert_eq!(set.expect("region run").status, "completed");
+    assert_eq!(hp.columns, hs.columns);
+    assert_eq!(hp.rows, hs.rows);
+    let none = given("{ min = [5.0, 0.0, 0.0], max = [6.0, 1.0, 1.0] }");
+    let scene = impact::scene::Scene::parse(&none, std::path::Path::new("velocity.toml"))
+        .expect("the scene reads");
+    let err = match impact::model::Model::from_scene(&scene) {
+        Ok(_) => panic!("a velocity on no node is refused"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        err.contains("initial_velocity[1]") && err.contains("selects no node of body `A`"),
+        "{err}"
+    );
+}

@@ -52,12 +52,21 @@ fn type_of(kind: ElementKind) -> (&'static str, &'static [&'static [usize]]) {
 enum Mode {
     Skip,
     Node,
-    Element { kind: ElementKind },
-    NSet { generate: bool },
-    ElSet { generate: bool },
+    Element {
+        kind: ElementKind,
+    },
+    NSet {
+        generate: bool,
+    },
+    ElSet {
+        generate: bool,
+    },
     SurfaceElement,
     SurfaceNode,
     Orientation,
+    /// A keyword whose lines may name a node by its number where a node set may stand
+    /// (`*BOUNDARY`, `*INITIAL CONDITIONS`): passed over, its node numbers kept.
+    NodeNumbers,
 }
 
 struct Element {
@@ -105,6 +114,9 @@ struct Reader {
     section_sets: Vec<(String, usize)>,
     /// Keywords passed over, with their lines.
     skipped: Vec<(String, usize)>,
+    /// The node numbers that `*BOUNDARY` and `*INITIAL CONDITIONS` lines give in place of a
+    /// node set: each becomes a set of that one node, named by the number.
+    numbered: Vec<u64>,
     /// At most this many nodes and elements are defined (see [`defined_bounds`]).
     max_nodes: usize,
     max_elements: usize,
@@ -308,6 +320,7 @@ impl Parser {
                 sections: Vec::new(),
                 section_sets: Vec::new(),
                 skipped: Vec::new(),
+                numbered: Vec::new(),
                 max_nodes,
                 max_elements,
             },
@@ -375,6 +388,10 @@ impl Parser {
                     line_no,
                     format!("*{}: decks with parts and instances are not supported; write a flat deck (nodes and elements at the top level)", k.name),
                 ))
+            }
+            "BOUNDARY" | "INITIAL CONDITIONS" => {
+                self.r.skipped.push((k.name.clone(), line_no));
+                Mode::NodeNumbers
             }
             "INCLUDE" => {
                 return Err(ParseError::at(
@@ -469,6 +486,12 @@ impl Parser {
             .collect();
         match self.mode {
             Mode::Skip => Ok(()),
+            Mode::NodeNumbers => {
+                if let Some(id) = fields.first().and_then(|f| f.parse::<u64>().ok()) {
+                    self.r.numbered.push(id);
+                }
+                Ok(())
+            }
             Mode::Node => self.node_line(&fields, line, line_no),
             Mode::Element { kind } => self.element_line(kind, &fields, line, line_no),
             Mode::NSet { generate } => set_line(
@@ -845,6 +868,21 @@ impl Reader {
         for surface in &self.node_surfaces {
             node_sets.push(self.node_surface(surface)?);
             mesh.node_surfaces.push(surface.0.clone());
+        }
+        // a node number where a set may stand: the set of that node (a number no *NODE
+        // gives is left to the scene, which names its line)
+        for &id in &self.numbered {
+            let name = id.to_string();
+            if let (Some(&n), false) = (
+                self.node_ids.get(&id),
+                find_set(&self.nsets, &name).is_some()
+                    || node_sets.iter().any(|s: &NodeSet| s.name == name),
+            ) {
+                node_sets.push(NodeSet {
+                    name,
+                    nodes: vec![n],
+                });
+            }
         }
         for s in &self.elsets {
             if node_sets

@@ -96,6 +96,7 @@ impl Model {
             mesh.nodes.push(b.position);
             initial_velocity.extend_from_slice(&b.velocity);
         }
+        initial_velocities(scene, &mesh, &mut initial_velocity)?;
         let table = materials::element_materials(scene, &mut mesh);
         let Fixes {
             mut fixed,
@@ -218,8 +219,13 @@ struct Fixes {
 
 /// The nodes a fix selects (none for a rigid body's, which holds the body's node).
 fn fix_selection(mesh: &Mesh, f: &crate::scene::FixSpec) -> Vec<u32> {
-    let body = &mesh.bodies[f.body];
-    match &f.nodes {
+    selection(mesh, f.body, &f.nodes)
+}
+
+/// The nodes of meshed body `body` that `nodes` selects (none for a rigid body's).
+fn selection(mesh: &Mesh, body: usize, nodes: &NodeSelection) -> Vec<u32> {
+    let body = &mesh.bodies[body];
+    match nodes {
         NodeSelection::RigidBody => Vec::new(),
         NodeSelection::Surface(s) => Mesh::face_nodes(&body.surfaces[*s].faces),
         NodeSelection::Set(s) => body.node_sets[*s].nodes.clone(),
@@ -230,6 +236,25 @@ fn fix_selection(mesh: &Mesh, f: &crate::scene::FixSpec) -> Vec<u32> {
             .map(|n| n as u32)
             .collect(),
     }
+}
+
+/// Each `[[initial_velocity]]`'s velocity on the nodes it selects, over the bodies' own, in
+/// the scene's order; one that selects no node is an error naming it.
+fn initial_velocities(scene: &Scene, mesh: &Mesh, v: &mut [f64]) -> Result<()> {
+    for (i, s) in scene.initial_velocities.iter().enumerate() {
+        let nodes = selection(mesh, s.body, &s.nodes);
+        if nodes.is_empty() {
+            return Err(ImpactError::SceneValue {
+                path: scene.path.clone(),
+                key: format!("initial_velocity[{i}]"),
+                message: format!("selects no node of body `{}`", scene.bodies[s.body].name),
+            });
+        }
+        for n in nodes {
+            v[3 * n as usize..3 * n as usize + 3].copy_from_slice(&s.velocity);
+        }
+    }
+    Ok(())
 }
 
 /// A `[[fix]]` that holds no node.

@@ -417,6 +417,16 @@ pub struct FixSpec {
     pub name: Option<String>,
 }
 
+/// `[[initial_velocity]]`: the velocity at t = 0 of some of a meshed body's nodes, in place of
+/// the body's own `velocity` there.
+#[derive(Debug, Clone)]
+pub struct InitialVelocitySpec {
+    pub body: usize,
+    /// A face, a node set or a region (never [`NodeSelection::RigidBody`]).
+    pub nodes: NodeSelection,
+    pub velocity: [f64; 3],
+}
+
 /// A known solution of one history column, drawn beside the computed curve: a piecewise
 /// linear curve through (time, value) points.
 #[derive(Debug, Clone)]
@@ -448,6 +458,8 @@ pub struct Scene {
     pub planes: Vec<PlaneSpec>,
     pub rigid_bodies: Vec<RigidBodySpec>,
     pub fixes: Vec<FixSpec>,
+    /// In the scene's order: where two select a node, the later one's velocity is its.
+    pub initial_velocities: Vec<InitialVelocitySpec>,
     pub probes: Vec<ProbeSpec>,
     pub cohesive: Vec<CohesiveSpec>,
     pub output_dir: PathBuf,
@@ -534,6 +546,7 @@ impl Scene {
     /// run, whichever is larger (used for default tolerances).
     pub fn speed_scale(&self) -> f64 {
         let v0 = (self.bodies.iter().map(|b| norm3(b.velocity)))
+            .chain(self.initial_velocities.iter().map(|v| norm3(v.velocity)))
             .chain(self.rigid_bodies.iter().map(|b| norm3(b.velocity)))
             .fold(0.0, f64::max);
         let vg = norm3(self.gravity) * self.run.end_time;

@@ -29,6 +29,8 @@ pub(crate) struct RawScene {
     #[serde(default)]
     pub fix: Vec<RawFix>,
     #[serde(default)]
+    pub initial_velocity: Vec<RawInitialVelocity>,
+    #[serde(default)]
     pub probe: Vec<RawProbe>,
     #[serde(default)]
     pub cohesive: Vec<RawCohesive>,
@@ -340,6 +342,16 @@ pub(crate) struct RawFix {
     pub components: Vec<String>,
     pub velocity: Option<[f64; 3]>,
     pub name: Option<String>,
+}
+
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawInitialVelocity {
+    pub body: String,
+    pub face: Option<String>,
+    pub set: Option<String>,
+    pub region: Option<RawRegion>,
+    pub velocity: [f64; 3],
 }
 
 #[derive(Debug, Deserialize, Serialize)]

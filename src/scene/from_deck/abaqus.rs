@@ -14,7 +14,7 @@ use std::path::Path;
 
 use super::{
     fixes_of, holders, DeckBody, DeckContact, DeckFile, DeckFix, DeckMaterial, DeckProbe,
-    DeckRigid, DeckScene, DeckStep, Elastic, Holder, Origin, PrimarySide, Select,
+    DeckRigid, DeckScene, DeckStep, DeckVelocity, Elastic, Holder, Origin, PrimarySide, Select,
 };
 use crate::error::Result;
 use crate::mesh::abaqus::{params, word};
@@ -535,6 +535,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
     let bodies = r.bodies(&g)?;
     let (probes, unprobed) = r.probes(&g, &bodies, &on)?;
     let (contacts, rigid_bodies) = r.contacts(&g, &bodies, &rigid)?;
+    let (moving, velocities) = r.velocities(&g, &bodies, &on)?;
     let mut scene = DeckScene {
         title: g.title.clone(),
         mesh: path
@@ -544,11 +545,12 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         gravity: r.whole_gravity(&g)?,
         materials: g.materials.clone(),
         fixes: r.fixes(&g, &bodies, &on)?,
+        velocities,
         contacts,
         probes,
         planes: Vec::new(),
         rigid: rigid_bodies,
-        bodies: r.velocities(&g, &bodies, &on)?,
+        bodies: moving,
         step,
         origins: Vec::new(),
     };
@@ -713,13 +715,13 @@ impl Reader<'_> {
         set: &str,
         line: usize,
     ) -> Result<Vec<Holder<'b>>> {
-        if set.parse::<u64>().is_ok() {
+        let found = holders(bodies, set);
+        if found.is_empty() && set.parse::<u64>().is_ok() {
             return Err(self.src.err(
                 line,
-                format!("node {set}: name a node set (*NSET) instead of a node number"),
+                format!("node {set}: no *NODE line gives it, or no body's elements hold it"),
             ));
         }
-        let found = holders(bodies, set);
         if found.is_empty() {
             return Err(self.src.err(
                 line,
@@ -820,15 +822,19 @@ impl Reader<'_> {
         self.holders(bodies, set, line).map(Some)
     }
 
-    /// The bodies with the initial velocities of the deck: a node set's velocity must be a
-    /// whole body's.
+    /// The bodies with the initial velocities of the deck: a node set that holds a whole
+    /// body's nodes gives the body's velocity, one that holds part of them (or a node
+    /// number) an initial velocity of its own over the body's, its components that no line
+    /// gives the body's.
     fn velocities(
         &self,
         g: &Gathered,
         bodies: &[(DeckBody, BodyParts)],
         on: &On,
-    ) -> Result<Vec<DeckBody>> {
+    ) -> Result<(Vec<DeckBody>, Vec<DeckVelocity>)> {
         let mut out: Vec<DeckBody> = bodies.iter().map(|(b, _)| b.clone()).collect();
+        // the parts' velocities, with the components their lines give
+        let mut parts: Vec<(DeckVelocity, [bool; 3])> = Vec::new();
         for (set, dof, value, line) in &g.velocities {
             let Some(found) = self.solids(bodies, set, *line, on)? else {
                 continue;
@@ -837,16 +843,46 @@ impl Reader<'_> {
                 return Err(self.src.err(*line, format!("*INITIAL CONDITIONS on `{set}`: dofs 4-6 are rotations, which a solid's nodes do not have (a rigid body's reference node does)")));
             }
             for h in found {
-                let (count, total, name) = (h.count, h.total, &h.body.name);
-                if count != total {
-                    return Err(self.src.err(*line, format!("node set `{set}` holds {count} of body `{name}`'s {total} nodes: impact gives a body one initial velocity, so the set must hold all of its nodes or none")));
+                if h.count == h.total {
+                    if let Some(o) = out.iter_mut().find(|o| o.name == h.body.name) {
+                        o.velocity[dof - 1] = *value;
+                    }
+                    continue;
                 }
-                if let Some(o) = out.iter_mut().find(|o| &o.name == name) {
-                    o.velocity[dof - 1] = *value;
-                }
+                let same = |p: &&mut (DeckVelocity, [bool; 3])| {
+                    p.0.body == h.body.name && p.0.set == h.set
+                };
+                let part = match parts.iter_mut().find(same) {
+                    Some(p) => p,
+                    None => {
+                        parts.push((
+                            DeckVelocity {
+                                body: h.body.name.clone(),
+                                set: h.set.clone(),
+                                velocity: [0.0; 3],
+                            },
+                            [false; 3],
+                        ));
+                        parts.last_mut().expect("pushed")
+                    }
+                };
+                part.0.velocity[dof - 1] = *value;
+                part.1[dof - 1] = true;
             }
         }
-        Ok(out)
+        let parts = (parts.into_iter())
+            .map(|(mut v, given)| {
+                let body = out
+                    .iter()
+                    .find(|b| b.name == v.body)
+                    .expect("a body's part");
+                for a in (0..3).filter(|&a| !given[a]) {
+                    v.velocity[a] = body.velocity[a];
+                }
+                v
+            })
+            .collect();
+        Ok((out, parts))
     }
 
     /// The contact pairs, and the rigid bodies whose surfaces they name as masters (each

@@ -517,6 +517,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         gravity: None,
         materials: r.materials(&g),
         fixes: r.fixes(&g, &bodies)?,
+        velocities: Vec::new(),
         contacts,
         rigid: (rigid.iter())
             .filter_map(|(d, _)| {

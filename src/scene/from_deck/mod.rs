@@ -122,12 +122,20 @@ pub(crate) struct DeckPlane {
 }
 
 /// Held components of a node set of a body (of a rigid body as a whole where `set` is
-/// empty).
+/// empty). A node number where a deck allows a set is the mesh's set of that one node.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct DeckFix {
     pub body: String,
     pub set: String,
     pub components: Vec<&'static str>,
+}
+
+/// The initial velocity of a node set that is part of a body.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct DeckVelocity {
+    pub body: String,
+    pub set: String,
+    pub velocity: [f64; 3],
 }
 
 /// A contact's primary side: a body's surface, or a rigid body.
@@ -267,6 +275,8 @@ pub(crate) struct DeckScene {
     pub materials: Vec<DeckMaterial>,
     pub bodies: Vec<DeckBody>,
     pub fixes: Vec<DeckFix>,
+    /// Initial velocities of parts of bodies, after the bodies' own.
+    pub velocities: Vec<DeckVelocity>,
     pub contacts: Vec<DeckContact>,
     pub probes: Vec<DeckProbe>,
     pub planes: Vec<DeckPlane>,
@@ -622,6 +632,11 @@ impl DeckScene {
                 let _ = writeln!(t, "set = {}", quoted(&f.set));
             }
             let _ = writeln!(t, "components = [{}]", components.join(", "));
+        }
+        for v in &self.velocities {
+            let _ = writeln!(t, "\n[[initial_velocity]]\nbody = {}", quoted(&v.body));
+            let _ = writeln!(t, "set = {}", quoted(&v.set));
+            let _ = writeln!(t, "velocity = {}", vector(v.velocity));
         }
         for p in &self.planes {
             let _ = writeln!(

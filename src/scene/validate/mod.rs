@@ -975,18 +975,8 @@ impl Checker<'_> {
                         format!("`{}` is a rigid body, held as a whole: leave out `face`, `set` and `region`", f.body),
                     ))
                 }
-                (Some(face), None, None) => {
-                    NodeSelection::Surface(self.face_of(&key("face"), face, &bodies[body])?)
-                }
-                (None, Some(set), None) => self.node_set(&key("set"), set, &bodies[body])?,
-                (None, None, Some(r)) => NodeSelection::Region {
-                    min: self.finite3(&key("region.min"), r.min)?,
-                    max: self.finite3(&key("region.max"), r.max)?,
-                },
-                _ => {
-                    return Err(
-                        self.err(key("face"), "give exactly one of `face`, `set` or `region`")
-                    )
+                (face, set, region) => {
+                    self.nodes_of(&key, (face, set, region.as_ref()), &bodies[body])?
                 }
             };
             let mut components = [false; 3];
@@ -1038,6 +1028,58 @@ impl Checker<'_> {
             });
         }
         Ok(fixes)
+    }
+
+    /// A meshed body's nodes named by exactly one of `face`, `set` or `region` (the keys
+    /// `key` makes).
+    fn nodes_of(
+        &self,
+        key: &dyn Fn(&str) -> String,
+        (face, set, region): (&Option<String>, &Option<String>, Option<&RawRegion>),
+        body: &BodySpec,
+    ) -> Result<NodeSelection> {
+        Ok(match (face, set, region) {
+            (Some(face), None, None) => {
+                NodeSelection::Surface(self.face_of(&key("face"), face, body)?)
+            }
+            (None, Some(set), None) => self.node_set(&key("set"), set, body)?,
+            (None, None, Some(r)) => NodeSelection::Region {
+                min: self.finite3(&key("region.min"), r.min)?,
+                max: self.finite3(&key("region.max"), r.max)?,
+            },
+            _ => return Err(self.err(key("face"), "give exactly one of `face`, `set` or `region`")),
+        })
+    }
+
+    /// `[[initial_velocity]]`: the velocity at t = 0 of a face's, a node set's or a region's
+    /// nodes of a meshed body.
+    fn initial_velocities(
+        &self,
+        raw: &[RawInitialVelocity],
+        raw_bodies: &[RawBody],
+        bodies: &[BodySpec],
+        rigid: &[RigidBodySpec],
+    ) -> Result<Vec<InitialVelocitySpec>> {
+        let mut out = Vec::new();
+        for (i, v) in raw.iter().enumerate() {
+            let key = |k: &str| format!("initial_velocity[{i}].{k}");
+            if rigid.iter().any(|b| b.name == v.body) {
+                return Err(self.err(
+                    key("body"),
+                    format!(
+                        "`{}` is a rigid body: its velocity is its own `velocity`",
+                        v.body
+                    ),
+                ));
+            }
+            let body = self.body_index(&key("body"), &v.body, raw_bodies)?;
+            out.push(InitialVelocitySpec {
+                body,
+                nodes: self.nodes_of(&key, (&v.face, &v.set, v.region.as_ref()), &bodies[body])?,
+                velocity: self.finite3(&key("velocity"), v.velocity)?,
+            });
+        }
+        Ok(out)
     }
 
     /// A fix's `velocity`: finite, and zero on the components it does not hold.
@@ -1159,6 +1201,8 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
     let contacts = c.contacts(&raw.contact, &raw.body, &bodies, &rigid_bodies)?;
     let planes = c.planes(&raw.rigid_plane, &raw.body, bodies.len())?;
     let fixes = c.fixes(&raw.fix, &raw.body, &bodies, &rigid_bodies)?;
+    let initial_velocities =
+        c.initial_velocities(&raw.initial_velocity, &raw.body, &bodies, &rigid_bodies)?;
     let probes = c.probes(&raw.probe, &raw.body)?;
     let cohesive = c.cohesive(&raw.cohesive, &raw.body, &bodies)?;
     let exact = c.exact_curves(&raw.exact)?;
@@ -1176,6 +1220,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         planes,
         rigid_bodies,
         fixes,
+        initial_velocities,
         probes,
         cohesive,
         output_dir,
