@@ -72,7 +72,11 @@ pub fn prepare(
     clock.lap("model");
     elements::check(scene, &model.mesh)?;
     facing::check(scene, &model)?;
-    let initial = penetration::resolve(&mut model, &scene.penetration_policies());
+    let initial = penetration::resolve(
+        &mut model,
+        &scene.penetration_policies(),
+        &scene.adjust_distances(),
+    );
     refuse_penetration(scene, &initial)?;
     if initial.iter().any(|r| r.moved > 0) {
         // nodes moved onto a surface can fold an element

@@ -1733,3 +1733,64 @@ fn node_numbers_and_a_part_of_a_body_run_as_their_node_sets() {
         &["node 999: no *NODE line gives it"],
     );
 }
+
+/// `*CONTACT PAIR, ADJUST=`: bar B moved 0.05 ahead of bar A's struck end, and the pair's
+/// `ADJUST=0.1` moves A's end nodes onto B's face before t = 0, so the force starts at once
+/// (without it the first 0.05 of time passes with no contact); an `ADJUST=` naming a node set
+/// is refused at its line.
+#[test]
+fn a_contact_pairs_adjust_closes_the_gap_before_the_start() {
+    let deck = std::fs::read_to_string(repo().join("scenes/two_bars.inp")).unwrap();
+    let apart: String = deck
+        .lines()
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').map(str::trim).collect();
+            match f[0].parse::<u64>() {
+                Ok(id) if (101..=144).contains(&id) && f.len() == 4 => {
+                    let x: f64 = f[1].parse().unwrap();
+                    format!("{id}, {}, {}, {}", x + 0.05, f[2], f[3])
+                }
+                _ => l.to_string(),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let pair = "*CONTACT PAIR, INTERACTION=BARS";
+    let adjusted = edit(&apart, pair, &format!("{pair}, ADJUST=0.1"));
+    let (sa, ha) = run_file(
+        "deck_adjusted",
+        &written("deck_adjusted_files", "a.inp", &adjusted),
+    );
+    let (sg, hg) = run_file("deck_apart", &written("deck_apart_files", "g.inp", &apart));
+    assert_eq!(
+        (sa.status.as_str(), sg.status.as_str()),
+        ("completed", "completed")
+    );
+    assert_eq!(
+        sa.initial_contact[0].moved, 4,
+        "the struck end's four nodes"
+    );
+    let (t, f, fg) = (
+        ha.col("time"),
+        ha.col("TIPA-ENDB.normal_force"),
+        hg.col("TIPA-ENDB.normal_force"),
+    );
+    let early: Vec<usize> = (0..t.len())
+        .filter(|&i| t[i] > 0.0 && t[i] < 0.04)
+        .collect();
+    assert!(!early.is_empty());
+    for &i in &early {
+        assert!(
+            fg[i] == 0.0 && f[i] > 0.3,
+            "t = {}: {} apart, {} adjusted",
+            t[i],
+            fg[i],
+            f[i]
+        );
+    }
+    refused(
+        "deck_adjust_set",
+        &edit(&deck, pair, &format!("{pair}, ADJUST=NA")),
+        &["ADJUST=NA", "a distance"],
+    );
+}

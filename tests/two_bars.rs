@@ -285,3 +285,50 @@ fn initial_velocities_on_a_region_give_the_moving_body() {
         "{err}"
     );
 }
+
+/// A contact's `adjust` (Abaqus's `ADJUST=`): bar B 0.05 ahead of bar A's struck end, and
+/// A's end nodes within the 0.1 moved onto B's face before t = 0 (strain free), so the bars
+/// touch at once and the force holds wave theory's plateau from the first step, where
+/// without it the first 0.05 of time passes with no contact. A negative distance is refused
+/// by its key.
+#[test]
+fn adjust_closes_a_small_gap_before_the_start() {
+    let text = scene_text("two_bars.toml");
+    let apart = edit(
+        &text,
+        "box = { min = [0.0, 0.0, 0.0], max = [10.0, 1.0, 1.0]",
+        "box = { min = [0.05, 0.0, 0.0], max = [10.05, 1.0, 1.0]",
+    );
+    let adjusted = edit(&apart, "friction = 0.0", "friction = 0.0\nadjust = 0.1");
+    let (s, h) = run_text("adjust_closed", &adjusted);
+    let s = s.expect("adjusted run");
+    assert_eq!(s.status, "completed");
+    assert_eq!(s.initial_contact[0].moved, 4, "the struck end's four nodes");
+    let (g, hg) = run_text("adjust_apart", &apart);
+    assert_eq!(g.expect("gap run").status, "completed");
+    let (t, f, fg) = (
+        h.col("time"),
+        h.col("impact.normal_force"),
+        hg.col("impact.normal_force"),
+    );
+    // 1D wave theory: rho c S v0 / 2 = 0.5 while the waves cross the bars (0.2)
+    let early: Vec<usize> = (0..t.len())
+        .filter(|&i| t[i] > 0.0 && t[i] < 0.04)
+        .collect();
+    assert!(!early.is_empty());
+    for &i in &early {
+        assert_eq!(fg[i], 0.0, "apart at t = {}", t[i]);
+        assert!(f[i] > 0.3, "touching at t = {}: {}", t[i], f[i]);
+    }
+    let plateau: Vec<f64> = (0..t.len())
+        .filter(|&i| t[i] > 0.02 && t[i] < 0.18)
+        .map(|i| f[i])
+        .collect();
+    let mean = plateau.iter().sum::<f64>() / plateau.len() as f64;
+    assert!((mean - 0.5).abs() < 0.02 * 0.5, "plateau {mean}");
+    let bad = edit(&apart, "friction = 0.0", "friction = 0.0\nadjust = -0.1");
+    let e = impact::scene::Scene::parse(&bad, std::path::Path::new("adjust.toml"))
+        .expect_err("a negative adjust")
+        .to_string();
+    assert!(e.contains("contact[0].adjust"), "{e}");
+}

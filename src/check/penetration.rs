@@ -44,7 +44,8 @@ pub struct InitialContact {
     pub depth: f64,
     /// "error", "adjust" or "ignore".
     pub policy: String,
-    /// Under "adjust": nodes moved onto the surface.
+    /// Nodes moved onto the surface: the penetrating ones under "adjust", and those in front
+    /// of it by at most the contact's `adjust` distance.
     pub moved: usize,
     /// Points of the primary surface (its nodes; a rigid shape's centre, axis ends or
     /// corners) inside the secondary body where no secondary node is behind the surface to
@@ -70,14 +71,23 @@ struct Sample {
 }
 
 /// Measures every interface at the reference configuration and, where the policy is
-/// "adjust", moves the penetrating nodes onto the surface (in `model.mesh.nodes`; the
-/// interfaces' tributary areas are recomputed). Returns one record per interface.
-pub fn resolve(model: &mut Model, policies: &[PenetrationPolicy]) -> Vec<InitialContact> {
+/// "adjust", moves the penetrating nodes onto the surface, and with an `adjust` distance the
+/// nodes in front of it by at most that (in `model.mesh.nodes`; the interfaces' tributary
+/// areas are recomputed). Returns one record per interface.
+pub fn resolve(
+    model: &mut Model,
+    policies: &[PenetrationPolicy],
+    adjust: &[f64],
+) -> Vec<InitialContact> {
     let mut out = Vec::with_capacity(model.interfaces.len());
     let mut moved_any = false;
     for (k, itf) in model.interfaces.iter().enumerate() {
         let samples = samples(model, itf);
-        let (mut record, moves) = summarise(model, itf, &samples, policies[k]);
+        let (mut record, mut moves) = summarise(model, itf, &samples, policies[k]);
+        if policies[k] != PenetrationPolicy::Adjust {
+            moves.clear();
+        }
+        moves.extend(closing(itf, &samples, adjust[k]));
         // where secondary nodes are behind the surface, they tell the overlap already
         let inside = match record.penetrating {
             0 => primary_inside(model, itf),
@@ -85,22 +95,32 @@ pub fn resolve(model: &mut Model, policies: &[PenetrationPolicy]) -> Vec<Initial
         };
         record.primary_inside = inside.len();
         record.primary_inside_at = inside.first().copied();
-        if policies[k] == PenetrationPolicy::Adjust {
-            for (n, delta) in &moves {
-                let p = &mut model.mesh.nodes[*n as usize];
-                for a in 0..3 {
-                    p[a] += delta[a];
-                }
+        for (n, delta) in &moves {
+            let p = &mut model.mesh.nodes[*n as usize];
+            for a in 0..3 {
+                p[a] += delta[a];
             }
-            record.moved = moves.len();
-            moved_any |= !moves.is_empty();
         }
+        record.moved = moves.len();
+        moved_any |= !moves.is_empty();
         out.push(record);
     }
     if moved_any {
         model.refresh_areas();
     }
     out
+}
+
+/// The moves that close the gaps of the nodes in front of the surface by at most `adjust`
+/// (Abaqus's `ADJUST=`): each onto its closest point.
+fn closing(itf: &Interface, samples: &[Sample], adjust: f64) -> Vec<(u32, V3)> {
+    if adjust <= 0.0 {
+        return Vec::new();
+    }
+    (samples.iter().zip(&itf.nodes))
+        .filter(|(s, _)| s.on_face && s.gap > 0.0 && s.gap <= adjust)
+        .map(|(s, &n)| (n, s.normal.map(|c| -c * s.gap)))
+        .collect()
 }
 
 fn summarise(

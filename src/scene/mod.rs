@@ -353,6 +353,9 @@ pub struct ContactSpec {
     pub initial_penetration: PenetrationPolicy,
     /// `region`: only the secondary faces with every node inside this box take part.
     pub region: Option<([f64; 3], [f64; 3])>,
+    /// `adjust`: secondary nodes in front of the primary surface by at most this at t = 0
+    /// are moved onto it (0: none).
+    pub adjust: f64,
 }
 
 /// A `[[cohesive]]` interface: between two bodies' faces (the second side's nodes pair with
@@ -529,6 +532,14 @@ impl Scene {
             .iter()
             .map(|c| c.initial_penetration)
             .chain(self.planes.iter().map(|p| p.initial_penetration))
+            .collect()
+    }
+
+    /// Each interface's `adjust` distance, in the model's order (contacts, then rigid planes,
+    /// which have none).
+    pub fn adjust_distances(&self) -> Vec<f64> {
+        (self.contacts.iter().map(|c| c.adjust))
+            .chain(self.planes.iter().map(|_| 0.0))
             .collect()
     }
 

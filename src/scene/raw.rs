@@ -225,6 +225,7 @@ pub(crate) struct RawContact {
     pub friction: Option<f64>,
     pub initial_penetration: Option<String>,
     pub region: Option<RawRegion>,
+    pub adjust: Option<f64>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

@@ -113,6 +113,8 @@ struct Gathered {
     interaction: Option<String>,
     /// (secondary surface, primary surface, interaction, line).
     pairs: Vec<(String, String, String, usize)>,
+    /// The `ADJUST=` distance of the pairs on each line that gives one.
+    adjust: HashMap<usize, f64>,
     step: Option<DeckStep>,
     steps: usize,
     /// (node set, line) of each `*NODE PRINT` or `*NODE OUTPUT` with `NSET=`.
@@ -401,6 +403,13 @@ impl Reader<'_> {
                 "*CONTACT PAIR needs a data line naming the slave, then the master surface",
             ));
         }
+        let adjust = match b.get("ADJUST") {
+            None => None,
+            Some(d) => match crate::mesh::abaqus::real(d).filter(|d| d.is_finite() && *d >= 0.0) {
+                Some(d) => Some(d),
+                None => return Err(self.src.err(b.line, format!("*CONTACT PAIR, ADJUST={d}: impact reads a distance >= 0 (the slave nodes within it are moved onto the master surface), not a node set"))),
+            },
+        };
         for (f, l) in &b.data {
             if f.len() < 2 || f[1].is_empty() || f.iter().skip(2).any(|x| !x.is_empty()) {
                 return Err(self.src.err(
@@ -427,6 +436,9 @@ impl Reader<'_> {
                 interaction.to_ascii_uppercase(),
                 *l,
             ));
+            if let Some(d) = adjust {
+                g.adjust.insert(*l, d);
+            }
         }
         Ok(())
     }
@@ -947,6 +959,7 @@ impl Reader<'_> {
             out.push(DeckContact {
                 name: format!("{slave}-{master}"),
                 secondary: owner(slave, *line)?,
+                adjust: g.adjust.get(line).copied(),
                 primary,
                 friction,
             });

@@ -874,6 +874,7 @@ impl Reader<'_> {
             out.push(DeckContact {
                 name: format!("contact{}", k + 1),
                 secondary: owner(s, *line)?,
+                adjust: None,
                 primary,
                 friction: *fs,
             });

@@ -245,6 +245,9 @@ pub(crate) struct DeckContact {
     pub secondary: (String, String),
     pub primary: PrimarySide,
     pub friction: f64,
+    /// Abaqus's `ADJUST=`: the slave nodes within it (in front, or behind) are moved onto
+    /// the master surface before t = 0.
+    pub adjust: Option<f64>,
 }
 
 /// A probe: a node of a printed node set, at its position.
@@ -617,6 +620,9 @@ impl DeckScene {
                 quoted(&c.secondary.1),
                 float(c.friction)
             );
+            if let Some(d) = c.adjust {
+                let _ = writeln!(t, "adjust = {}\ninitial_penetration = \"adjust\"", float(d));
+            }
         }
         let held = (self.rigid.iter())
             .filter(|r| !r.held.is_empty())

@@ -891,6 +891,15 @@ impl Checker<'_> {
                     PenetrationPolicy::CHOICES,
                 )?,
                 region: self.region(&key, ct.region.as_ref())?,
+                adjust: match ct.adjust {
+                    Some(d) if !(d.is_finite() && d >= 0.0) => {
+                        return Err(self.err(
+                            key("adjust"),
+                            format!("must be a finite distance >= 0, got {d}"),
+                        ))
+                    }
+                    d => d.unwrap_or(0.0),
+                },
             });
         }
         Ok(contacts)
