@@ -1794,3 +1794,28 @@ fn a_contact_pairs_adjust_closes_the_gap_before_the_start() {
         &["ADJUST=NA", "a distance"],
     );
 }
+
+/// Every keyword a deck is refused for is told at once, each at its line: a plastic
+/// material, a static step and a concentrated load in one deck give three lines.
+#[test]
+fn a_decks_refusals_are_told_together() {
+    let deck = std::fs::read_to_string(repo().join("scenes/two_bars.inp")).unwrap();
+    let three = edit(&deck, "*DENSITY\n", "*PLASTIC\n1.0, 0.0\n*DENSITY\n");
+    let three = edit(&three, "*DYNAMIC\n", "*STATIC\n");
+    let three = edit(
+        &three,
+        "*NODE PRINT, NSET=NB",
+        "*CLOAD\nNB, 1, 1.0\n*NODE PRINT, NSET=NB",
+    );
+    let path = written("deck_three_refusals", "bad.inp", &three);
+    let e = Scene::load(&path).expect_err("refused").to_string();
+    let lines: Vec<&str> = e.lines().filter(|l| l.contains("bad.inp:")).collect();
+    assert_eq!(lines.len(), 3, "{e}");
+    for (line, word) in lines.iter().zip(["*PLASTIC", "*STATIC", "*CLOAD"]) {
+        assert!(
+            line.contains(word) && line.contains("cannot honour"),
+            "{line}"
+        );
+    }
+    assert!(e.contains("3 refusals in all"), "{e}");
+}

@@ -521,14 +521,21 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
     let mut g = Gathered::default();
     let all = blocks(&r.src.deck.text)
         .map_err(|l| r.src.err(l, "a data line before the first keyword"))?;
+    // every keyword's refusal at once, each at its line
+    let mut refusals = Vec::new();
     for b in &all {
-        r.take(b, &mut g)?;
+        if let Err(e) = r.take(b, &mut g) {
+            refusals.push(e);
+        }
         let node_based = b
             .get("TYPE")
             .is_some_and(|t| t.eq_ignore_ascii_case("NODE"));
         if let Some(name) = b.get("NAME").filter(|_| b.name == "SURFACE" && node_based) {
             g.node_surfaces.push(name.to_string());
         }
+    }
+    if let Some(e) = super::together(refusals) {
+        return Err(e);
     }
     let step = g.step.clone().ok_or_else(|| {
         r.src.whole("no *STEP with *DYNAMIC: impact runs a dynamic step, implicit (*DYNAMIC) or explicit (*DYNAMIC, EXPLICIT)")

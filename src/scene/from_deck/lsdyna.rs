@@ -492,8 +492,12 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
     };
     let mut g = Gathered::default();
     let blocks = blocks(&r.src.deck.text).map_err(|(line, e)| r.src.err(line, e))?;
-    for b in &blocks {
-        r.take(b, &mut g)?;
+    // every keyword's refusal at once, each at its line
+    let refusals = (blocks.iter())
+        .filter_map(|b| r.take(b, &mut g).err())
+        .collect();
+    if let Some(e) = super::together(refusals) {
+        return Err(e);
     }
     r.check_blocks(&blocks, &g)?;
     let end_time = g.end_time.ok_or_else(|| {

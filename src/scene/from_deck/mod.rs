@@ -478,6 +478,30 @@ pub(crate) fn fixes_of<'a>(
     })
 }
 
+/// A deck's refusals as one error: the first, with each of the others on a line of its own
+/// (its file and line first, as the first's); `None` where there is none.
+pub(crate) fn together(refusals: Vec<ImpactError>) -> Option<ImpactError> {
+    let mut all = refusals.into_iter();
+    let first = all.next()?;
+    let rest: Vec<String> = all.map(|e| e.to_string()).collect();
+    if rest.is_empty() {
+        return Some(first);
+    }
+    let count = rest.len() + 1;
+    Some(match first {
+        ImpactError::Mesh {
+            path,
+            line,
+            message,
+        } => ImpactError::Mesh {
+            path,
+            line,
+            message: format!("{message}\n{}\n({count} refusals in all)", rest.join("\n")),
+        },
+        other => other,
+    })
+}
+
 /// A TOML string (quoted, escaped).
 fn quoted(s: &str) -> String {
     toml::Value::String(s.to_string()).to_string()
