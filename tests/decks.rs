@@ -1485,6 +1485,35 @@ fn abaqus_tup_deck((x0, x1): (f64, f64), boundary: &str, velocity: &str) -> Stri
     t
 }
 
+/// The turning tup's deck in CalculiX's own form, as `scenes/rigid_tup.inp` ships it for
+/// ccx 2.20: the rotations on a `ROT NODE` (ccx's reference node has no dofs 4-6), the
+/// reference nodes by number, a pressure-overclosure in place of a zero friction (ccx
+/// refuses both a zero coefficient and an interaction without one) and room for ccx's
+/// increments. impact reads the two forms as one model.
+fn ccx_form(deck: &str) -> String {
+    let mut t = deck.to_string();
+    for (from, to) in [
+        (
+            "*NODE, NSET=REF\n1000, 0.5, 0.5, 0.0\n",
+            "*NODE, NSET=REF\n1000, 0.5, 0.5, 0.0\n1001, 0.5, 0.5, 0.0\n",
+        ),
+        ("REF NODE=REF\n", "REF NODE=1000, ROT NODE=1001\n"),
+        (
+            "REF, 3, -1.0\nREF, 6, 3.0\n",
+            "1000, 3, -1.0\n1001, 3, 3.0\n",
+        ),
+        (
+            "*FRICTION\n0.0\n",
+            "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n1.0e3\n",
+        ),
+        ("*STEP\n", "*STEP, INC=1000000\n"),
+    ] {
+        assert!(t.contains(from), "{from}");
+        t = t.replace(from, to);
+    }
+    t
+}
+
 /// The largest difference of the CalculiX tup's history from the LS-DYNA tup's in the
 /// contact force, the tup's motion (and turning where `turning`) and the energy,
 /// relative to each column's largest magnitude.
@@ -1540,7 +1569,11 @@ fn an_abaqus_rigid_body_strikes_as_the_lsdyna_rigid_part_does() {
     // the shipped deck is this tup free to turn, over the block's edge, run to 0.3
     let inp = repo().join("scenes/rigid_tup.inp");
     let shipped = std::fs::read_to_string(&inp).unwrap();
-    let generated = abaqus_tup_deck((0.6, 1.1), "", "REF, 3, -1.0\nREF, 6, 3.0\n");
+    let generated = ccx_form(&abaqus_tup_deck(
+        (0.6, 1.1),
+        "",
+        "REF, 3, -1.0\nREF, 6, 3.0\n",
+    ));
     let data = |t: &str| -> String {
         let t = t.replace("0.05\n*NODE PRINT", "0.3\n*NODE PRINT");
         let kept = t
