@@ -1721,8 +1721,9 @@ fn a_rigid_bodys_reference_node_may_be_given_by_number() {
 
 /// Node numbers where a node set may stand (`*BOUNDARY`, `*INITIAL CONDITIONS`), and a
 /// velocity on a node set that holds part of a body: bar A's velocity given on nodes 1-40
-/// by a set and on its struck end's four nodes by number, bar B's far end held across by
-/// number, run as the deck with a set for each, byte for byte.
+/// by a set and on its struck end's four nodes by number (then zero on other components, by
+/// number and by the whole bar's set: each line sets its own component), bar B's far end
+/// held across by number, run as the deck with a set for each, byte for byte.
 #[test]
 fn node_numbers_and_a_part_of_a_body_run_as_their_node_sets() {
     let deck = std::fs::read_to_string(repo().join("scenes/two_bars.inp")).unwrap();
@@ -1744,12 +1745,14 @@ fn node_numbers_and_a_part_of_a_body_run_as_their_node_sets() {
     let numbers = edit(
         &numbers,
         "NA, 1, 1.0\n",
-        "AHEAD, 1, 1.0\n41, 1, 1.0\n42, 1, 1.0\n43, 1, 1.0\n44, 1, 1.0\n",
+        // a leading zero, and later lines on the same nodes' other components (a part's, then
+        // the whole bar's), which leave x as it is
+        "AHEAD, 1, 1.0\n041, 1, 1.0\n42, 1, 1.0\n43, 1, 1.0\n44, 1, 1.0\n41, 2, 0.0\nNA, 3, 0.0\n",
     );
     let a = written("deck_by_sets_files", "sets.inp", &sets);
     let b = written("deck_by_numbers_files", "numbers.inp", &numbers);
     let scene = Scene::load(&b).expect("node numbers read");
-    assert_eq!(scene.initial_velocities.len(), 5, "a set and four nodes");
+    assert_eq!(scene.initial_velocities.len(), 7, "a line each");
     assert_eq!(scene.bodies[0].velocity, [0.0; 3]);
     assert_eq!(scene.fixes.len(), 5, "a fix a node number line");
     let (sa, ha) = run_file("deck_by_sets", &a);

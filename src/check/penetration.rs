@@ -82,7 +82,7 @@ pub fn resolve(
     let mut out = Vec::with_capacity(model.interfaces.len());
     let mut moved_any = false;
     for (k, itf) in model.interfaces.iter().enumerate() {
-        let samples = samples(model, itf);
+        let samples = samples(model, itf, adjust[k]);
         let (mut record, mut moves) = summarise(model, itf, &samples, policies[k]);
         if policies[k] != PenetrationPolicy::Adjust {
             moves.clear();
@@ -203,8 +203,9 @@ fn primary_inside(model: &Model, itf: &Interface) -> Vec<V3> {
         .collect()
 }
 
-/// The closest point of every secondary node of `itf`.
-fn samples(model: &Model, itf: &Interface) -> Vec<Sample> {
+/// The closest point of every secondary node of `itf` (on a meshed surface, those within
+/// its largest face side or within `adjust`, whichever is further).
+fn samples(model: &Model, itf: &Interface, adjust: f64) -> Vec<Sample> {
     let x = &model.mesh.nodes;
     match &itf.primary {
         Primary::Plane { point, normal } => itf
@@ -218,7 +219,7 @@ fn samples(model: &Model, itf: &Interface) -> Vec<Sample> {
             .collect(),
         Primary::Surface { body, faces, .. } => {
             let faces = &model.queries.faces[faces.clone()];
-            surface_samples(model, *body, faces, &itf.nodes)
+            surface_samples(model, *body, faces, &itf.nodes, adjust)
         }
         Primary::Rigid { body, node, .. } => {
             let (b, at) = (&model.rigid[*body], x[*node as usize]);
@@ -236,9 +237,16 @@ fn samples(model: &Model, itf: &Interface) -> Vec<Sample> {
     }
 }
 
-fn surface_samples(model: &Model, body: usize, faces: &[[u32; 4]], nodes: &[u32]) -> Vec<Sample> {
+fn surface_samples(
+    model: &Model,
+    body: usize,
+    faces: &[[u32; 4]],
+    nodes: &[u32],
+    adjust: f64,
+) -> Vec<Sample> {
     let x = &model.mesh.nodes;
-    let reach = crate::kernels::search_bounds::largest_face_side(x, &vec![0.0; 3 * x.len()], faces);
+    let side = crate::kernels::search_bounds::largest_face_side(x, &vec![0.0; 3 * x.len()], faces);
+    let reach = side.max(adjust);
     let mut q = ContactQueries {
         secondary: nodes.to_vec(),
         faces: faces.to_vec(),

@@ -152,6 +152,12 @@ const SPACED: [&str; 22] = [
 
 /// `s` upper case with its blanks dropped, as CalculiX compares keywords, parameters and
 /// their words (`TYPE=SURFACE TO SURFACE` is `SURFACETOSURFACE`).
+/// The name of the set of node `id`, where a deck gives a node number in place of a node set
+/// (a blank in it: a deck's own set names have none, as CalculiX drops them).
+pub(crate) fn numbered_set(id: u64) -> String {
+    format!("node {id}")
+}
+
 pub(crate) fn word(s: &str) -> String {
     s.chars()
         .filter(|c| !c.is_whitespace())
@@ -869,17 +875,14 @@ impl Reader {
             node_sets.push(self.node_surface(surface)?);
             mesh.node_surfaces.push(surface.0.clone());
         }
-        // a node number where a set may stand: the set of that node (a number no *NODE
-        // gives is left to the scene, which names its line)
+        // a node number where a set may stand: the set of that node, named so that no deck's
+        // set can take the name (a number no *NODE gives is left to the scene, which names
+        // its line)
+        let mut seen = HashSet::new();
         for &id in &self.numbered {
-            let name = id.to_string();
-            if let (Some(&n), false) = (
-                self.node_ids.get(&id),
-                find_set(&self.nsets, &name).is_some()
-                    || node_sets.iter().any(|s: &NodeSet| s.name == name),
-            ) {
+            if let (Some(&n), true) = (self.node_ids.get(&id), seen.insert(id)) {
                 node_sets.push(NodeSet {
-                    name,
+                    name: numbered_set(id),
                     nodes: vec![n],
                 });
             }

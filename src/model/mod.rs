@@ -251,7 +251,9 @@ fn initial_velocities(scene: &Scene, mesh: &Mesh, v: &mut [f64]) -> Result<()> {
             });
         }
         for n in nodes {
-            v[3 * n as usize..3 * n as usize + 3].copy_from_slice(&s.velocity);
+            for a in (0..3).filter(|&a| s.components[a]) {
+                v[3 * n as usize + a] = s.velocity[a];
+            }
         }
     }
     Ok(())

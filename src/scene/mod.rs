@@ -428,6 +428,8 @@ pub struct InitialVelocitySpec {
     /// A face, a node set or a region (never [`NodeSelection::RigidBody`]).
     pub nodes: NodeSelection,
     pub velocity: [f64; 3],
+    /// The components it sets (`components`; every one by default).
+    pub components: [bool; 3],
 }
 
 /// A known solution of one history column, drawn beside the computed curve: a piecewise

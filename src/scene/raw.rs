@@ -353,6 +353,7 @@ pub(crate) struct RawInitialVelocity {
     pub set: Option<String>,
     pub region: Option<RawRegion>,
     pub velocity: [f64; 3],
+    pub components: Option<Vec<String>>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

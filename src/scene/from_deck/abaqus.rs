@@ -735,10 +735,10 @@ impl Reader<'_> {
         line: usize,
     ) -> Result<Vec<Holder<'b>>> {
         let found = holders(bodies, set);
-        if found.is_empty() && set.parse::<u64>().is_ok() {
+        if let (true, Some(id)) = (found.is_empty(), set.strip_prefix("node ")) {
             return Err(self.src.err(
                 line,
-                format!("node {set}: no *NODE line gives it, or no body's elements hold it"),
+                format!("node {id}: no *NODE line gives it, or no body's elements hold it"),
             ));
         }
         if found.is_empty() {
@@ -838,13 +838,18 @@ impl Reader<'_> {
         if on.rigid(set) && (set.parse::<u64>().is_ok() || holders(bodies, set).is_empty()) {
             return Ok(None);
         }
-        self.holders(bodies, set, line).map(Some)
+        // a node number: the mesh's set of that one node
+        let named = match set.parse::<u64>() {
+            Ok(id) => crate::mesh::abaqus::numbered_set(id),
+            Err(_) => set.to_string(),
+        };
+        self.holders(bodies, &named, line).map(Some)
     }
 
-    /// The bodies with the initial velocities of the deck: a node set that holds a whole
-    /// body's nodes gives the body's velocity, one that holds part of them (or a node
-    /// number) an initial velocity of its own over the body's, its components that no line
-    /// gives the body's.
+    /// The bodies with the initial velocities of the deck, line by line in its order: a node
+    /// set that holds a whole body's nodes gives the body's velocity, one that holds part of
+    /// them (or a node number) the component of its line over the body's; once a body has
+    /// such a part, its whole-body lines that follow are components of their own too.
     fn velocities(
         &self,
         g: &Gathered,
@@ -852,8 +857,7 @@ impl Reader<'_> {
         on: &On,
     ) -> Result<(Vec<DeckBody>, Vec<DeckVelocity>)> {
         let mut out: Vec<DeckBody> = bodies.iter().map(|(b, _)| b.clone()).collect();
-        // the parts' velocities, with the components their lines give
-        let mut parts: Vec<(DeckVelocity, [bool; 3])> = Vec::new();
+        let mut parts: Vec<DeckVelocity> = Vec::new();
         for (set, dof, value, line) in &g.velocities {
             let Some(found) = self.solids(bodies, set, *line, on)? else {
                 continue;
@@ -862,45 +866,21 @@ impl Reader<'_> {
                 return Err(self.src.err(*line, format!("*INITIAL CONDITIONS on `{set}`: dofs 4-6 are rotations, which a solid's nodes do not have (a rigid body's reference node does)")));
             }
             for h in found {
-                if h.count == h.total {
+                let parted = parts.iter().any(|p| p.body == h.body.name);
+                if h.count == h.total && !parted {
                     if let Some(o) = out.iter_mut().find(|o| o.name == h.body.name) {
                         o.velocity[dof - 1] = *value;
                     }
                     continue;
                 }
-                let same = |p: &&mut (DeckVelocity, [bool; 3])| {
-                    p.0.body == h.body.name && p.0.set == h.set
-                };
-                let part = match parts.iter_mut().find(same) {
-                    Some(p) => p,
-                    None => {
-                        parts.push((
-                            DeckVelocity {
-                                body: h.body.name.clone(),
-                                set: h.set.clone(),
-                                velocity: [0.0; 3],
-                            },
-                            [false; 3],
-                        ));
-                        parts.last_mut().expect("pushed")
-                    }
-                };
-                part.0.velocity[dof - 1] = *value;
-                part.1[dof - 1] = true;
+                parts.push(DeckVelocity {
+                    body: h.body.name.clone(),
+                    set: h.set.clone(),
+                    component: dof - 1,
+                    value: *value,
+                });
             }
         }
-        let parts = (parts.into_iter())
-            .map(|(mut v, given)| {
-                let body = out
-                    .iter()
-                    .find(|b| b.name == v.body)
-                    .expect("a body's part");
-                for a in (0..3).filter(|&a| !given[a]) {
-                    v.velocity[a] = body.velocity[a];
-                }
-                v
-            })
-            .collect();
         Ok((out, parts))
     }
 

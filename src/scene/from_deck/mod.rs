@@ -130,12 +130,15 @@ pub(crate) struct DeckFix {
     pub components: Vec<&'static str>,
 }
 
-/// The initial velocity of a node set that is part of a body.
+/// One component of the initial velocity of a node set that is part of a body (or of a whole
+/// body's set after such a part's, so that the deck's order holds).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct DeckVelocity {
     pub body: String,
     pub set: String,
-    pub velocity: [f64; 3],
+    /// 0, 1 or 2.
+    pub component: usize,
+    pub value: f64,
 }
 
 /// A contact's primary side: a body's surface, or a rigid body.
@@ -498,6 +501,7 @@ pub(crate) fn together(refusals: Vec<ImpactError>) -> Option<ImpactError> {
             line,
             message: format!("{message}\n{}\n({count} refusals in all)", rest.join("\n")),
         },
+        // a keyword's refusal is its deck line's (`DeckFile::err`): none is of another kind
         other => other,
     })
 }
@@ -665,8 +669,15 @@ impl DeckScene {
         }
         for v in &self.velocities {
             let _ = writeln!(t, "\n[[initial_velocity]]\nbody = {}", quoted(&v.body));
-            let _ = writeln!(t, "set = {}", quoted(&v.set));
-            let _ = writeln!(t, "velocity = {}", vector(v.velocity));
+            let mut velocity = [0.0; 3];
+            velocity[v.component] = v.value;
+            let _ = writeln!(
+                t,
+                "set = {}\nvelocity = {}\ncomponents = [\"{}\"]",
+                quoted(&v.set),
+                vector(velocity),
+                ["x", "y", "z"][v.component]
+            );
         }
         for p in &self.planes {
             let _ = writeln!(

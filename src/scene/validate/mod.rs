@@ -898,6 +898,9 @@ impl Checker<'_> {
                             format!("must be a finite distance >= 0, got {d}"),
                         ))
                     }
+                    Some(d) if d > 0.0 && matches!(primary, PrimarySide::RigidBody(_)) => {
+                        return Err(self.err(key("adjust"), "moves secondary nodes onto a meshed primary surface; a rigid body's shape has edges and ends that would pull nodes sideways: move the body instead"))
+                    }
                     d => d.unwrap_or(0.0),
                 },
             });
@@ -988,27 +991,7 @@ impl Checker<'_> {
                     self.nodes_of(&key, (face, set, region.as_ref()), &bodies[body])?
                 }
             };
-            let mut components = [false; 3];
-            if f.components.is_empty() {
-                return Err(self.err(
-                    key("components"),
-                    "must name at least one of \"x\" \"y\" \"z\"",
-                ));
-            }
-            for comp in &f.components {
-                let a = match comp.as_str() {
-                    "x" => 0,
-                    "y" => 1,
-                    "z" => 2,
-                    other => {
-                        return Err(self.err(
-                            key("components"),
-                            format!("unknown component `{other}`, expected \"x\", \"y\" or \"z\""),
-                        ))
-                    }
-                };
-                components[a] = true;
-            }
+            let components = self.components(&key("components"), &f.components)?;
             let velocity = self.fix_velocity(&key("velocity"), f, components)?;
             if rigid_body.is_some() && velocity != [0.0; 3] {
                 return Err(self.err(
@@ -1082,13 +1065,41 @@ impl Checker<'_> {
                 ));
             }
             let body = self.body_index(&key("body"), &v.body, raw_bodies)?;
+            let components = match &v.components {
+                None => [true; 3],
+                Some(names) => self.components(&key("components"), names)?,
+            };
             out.push(InitialVelocitySpec {
                 body,
                 nodes: self.nodes_of(&key, (&v.face, &v.set, v.region.as_ref()), &bodies[body])?,
                 velocity: self.finite3(&key("velocity"), v.velocity)?,
+                components,
             });
         }
         Ok(out)
+    }
+
+    /// A `components` list: at least one of "x", "y", "z".
+    fn components(&self, key: &str, names: &[String]) -> Result<[bool; 3]> {
+        let mut components = [false; 3];
+        if names.is_empty() {
+            return Err(self.err(key, "must name at least one of \"x\" \"y\" \"z\""));
+        }
+        for comp in names {
+            let a = match comp.as_str() {
+                "x" => 0,
+                "y" => 1,
+                "z" => 2,
+                other => {
+                    return Err(self.err(
+                        key,
+                        format!("unknown component `{other}`, expected \"x\", \"y\" or \"z\""),
+                    ))
+                }
+            };
+            components[a] = true;
+        }
+        Ok(components)
     }
 
     /// A fix's `velocity`: finite, and zero on the components it does not hold.
