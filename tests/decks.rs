@@ -1855,3 +1855,56 @@ fn a_decks_refusals_are_told_together() {
     }
     assert!(e.contains("3 refusals in all"), "{e}");
 }
+
+/// An LS-DYNA `*INITIAL_VELOCITY` on node sets that each hold part of a part: the block's
+/// nodes split into two `*SET_NODE_LIST`s, each given the part's -1 along z, run as the part's
+/// `*INITIAL_VELOCITY_GENERATION`, byte for byte.
+#[test]
+fn an_lsdyna_velocity_on_parts_of_a_part_runs_as_the_parts() {
+    let deck = std::fs::read_to_string(repo().join("scenes/block_drop.k")).unwrap();
+    let lines: Vec<&str> = deck.lines().collect();
+    let at = lines
+        .iter()
+        .position(|l| l.starts_with("*INITIAL_VELOCITY_GENERATION"))
+        .unwrap();
+    let ids: Vec<u64> = (lines.iter())
+        .skip_while(|l| !l.starts_with("*NODE"))
+        .skip(1)
+        .take_while(|l| !l.starts_with('*'))
+        .filter_map(|l| l.split_whitespace().next()?.parse().ok())
+        .collect();
+    let (a, b) = ids.split_at(ids.len() / 2);
+    let set = |sid: usize, ids: &[u64]| {
+        let rows: Vec<String> = (ids.chunks(8))
+            .map(|c| c.iter().map(u64::to_string).collect::<Vec<_>>().join(", "))
+            .collect();
+        format!("*SET_NODE_LIST\n{sid}\n{}\n", rows.join("\n"))
+    };
+    let velocity =
+        |sid: usize| format!("*INITIAL_VELOCITY\n{sid}, 0, 0\n0.0, 0.0, -1.0, 0.0, 0.0, 0.0\n");
+    let mut split: Vec<String> = lines[..at].iter().map(|l| l.to_string()).collect();
+    split.push(set(1, a) + &set(2, b) + &velocity(1) + &velocity(2));
+    split.extend(lines[at + 5..].iter().map(|l| l.to_string()));
+    let path = written(
+        "deck_lsdyna_split_velocity",
+        "split.k",
+        &(split.join("\n") + "\n"),
+    );
+    let scene = Scene::load(&path).expect("the split velocities read");
+    assert_eq!(
+        scene.initial_velocities.len(),
+        6,
+        "two sets, three components each"
+    );
+    let (s, h) = run_file("deck_lsdyna_split_velocity", &path);
+    let (_, whole) = run_file(
+        "deck_lsdyna_whole_velocity",
+        &repo().join("scenes/block_drop.k"),
+    );
+    assert_eq!(s.status, "completed");
+    let read = |h: &History| format!("{:?}{:?}", h.columns, h.rows);
+    assert!(
+        read(&h) == read(&whole),
+        "the split velocity's history differs"
+    );
+}

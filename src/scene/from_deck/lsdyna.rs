@@ -10,7 +10,8 @@ use std::path::Path;
 
 use super::{
     fixes_of, holders, DeckBody, DeckContact, DeckFile, DeckFix, DeckMaterial, DeckPlane,
-    DeckRigid, DeckScene, DeckStep, Elastic, Holder, Origin, PrimarySide, Select, Spin,
+    DeckRigid, DeckScene, DeckStep, DeckVelocity, Elastic, Holder, Origin, PrimarySide, Select,
+    Spin,
 };
 use crate::error::Result;
 use crate::mesh::deck::Dialect;
@@ -512,6 +513,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
     let bodies = r.bodies(&g)?;
     let rigid = r.rigid_parts(&g)?;
     let (contacts, surfaces) = r.contacts(&g, &bodies, &rigid)?;
+    let (moving, velocities) = r.velocities(&g, &bodies)?;
     let mut scene = DeckScene {
         title: g.title.clone(),
         mesh: path
@@ -521,7 +523,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         gravity: None,
         materials: r.materials(&g),
         fixes: r.fixes(&g, &bodies)?,
-        velocities: Vec::new(),
+        velocities,
         contacts,
         rigid: (rigid.iter())
             .filter_map(|(d, _)| {
@@ -534,7 +536,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
             })
             .collect(),
         planes: r.walls(&g, &bodies)?,
-        bodies: r.velocities(&g, &bodies)?,
+        bodies: moving,
         probes: Vec::new(),
         step: DeckStep {
             explicit: g.implicit_step.is_none(),
@@ -736,8 +738,15 @@ impl Reader<'_> {
         Ok(out)
     }
 
-    fn velocities(&self, g: &Gathered, bodies: &[(DeckBody, BodyParts)]) -> Result<Vec<DeckBody>> {
+    /// The bodies with their initial velocities, and those of node sets that hold part of a
+    /// body (and, after one, of its whole sets: the file's order holds), by component.
+    fn velocities(
+        &self,
+        g: &Gathered,
+        bodies: &[(DeckBody, BodyParts)],
+    ) -> Result<(Vec<DeckBody>, Vec<DeckVelocity>)> {
         let mut out: Vec<DeckBody> = bodies.iter().map(|(b, _)| b.clone()).collect();
+        let mut parts: Vec<DeckVelocity> = Vec::new();
         for (pid, v, spin, line) in &g.part_velocities {
             if rigid_part(g, *pid).is_some() {
                 continue;
@@ -752,15 +761,22 @@ impl Reader<'_> {
         }
         for (set, v, line) in &g.set_velocities {
             for h in self.held(bodies, set, *line)? {
-                if h.count != h.total {
-                    return Err(self.src.err(*line, format!("node set {set} holds {} of body `{}`'s {} nodes: impact gives a body one initial velocity", h.count, h.body.name, h.total)));
+                let parted = parts.iter().any(|p| p.body == h.body.name);
+                if h.count == h.total && !parted {
+                    if let Some(o) = out.iter_mut().find(|o| o.name == h.body.name) {
+                        o.velocity = *v;
+                    }
+                    continue;
                 }
-                if let Some(o) = out.iter_mut().find(|o| o.name == h.body.name) {
-                    o.velocity = *v;
-                }
+                parts.extend((0..3).map(|a| DeckVelocity {
+                    body: h.body.name.clone(),
+                    set: h.set.clone(),
+                    component: a,
+                    value: v[a],
+                }));
             }
         }
-        Ok(out)
+        Ok((out, parts))
     }
 
     /// The constraints of a `*MAT_RIGID` (CMO, CON1, CON2): whether the part turns, and the
