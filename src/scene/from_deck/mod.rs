@@ -486,7 +486,20 @@ pub(crate) fn fixes_of<'a>(
 pub(crate) fn together(refusals: Vec<ImpactError>) -> Option<ImpactError> {
     let mut all = refusals.into_iter();
     let first = all.next()?;
-    let rest: Vec<String> = all.map(|e| e.to_string()).collect();
+    // an explanation in parentheses that an earlier line gave is not given again
+    let mut given = vec![parenthesis(&first.to_string()).to_string()];
+    let rest: Vec<String> = (all.map(|e| e.to_string()))
+        .map(|m| {
+            let p = parenthesis(&m).to_string();
+            match p.is_empty() || !given.contains(&p) {
+                true => {
+                    given.push(p);
+                    m
+                }
+                false => m[..m.len() - p.len()].trim_end().to_string(),
+            }
+        })
+        .collect();
     if rest.is_empty() {
         return Some(first);
     }
@@ -504,6 +517,14 @@ pub(crate) fn together(refusals: Vec<ImpactError>) -> Option<ImpactError> {
         // a keyword's refusal is its deck line's (`DeckFile::err`): none is of another kind
         other => other,
     })
+}
+
+/// The parenthesis that ends `message` (with its opening blank), or nothing.
+fn parenthesis(message: &str) -> &str {
+    match (message.ends_with(')'), message.rfind(" (")) {
+        (true, Some(at)) if !message[at + 2..].contains('(') => &message[at..],
+        _ => "",
+    }
 }
 
 /// A TOML string (quoted, escaped).
