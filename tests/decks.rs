@@ -1806,24 +1806,7 @@ fn a_contact_pairs_adjust_closes_the_gap_before_the_start() {
         sa.initial_contact[0].moved, 4,
         "the struck end's four nodes"
     );
-    let (t, f, fg) = (
-        ha.col("time"),
-        ha.col("TIPA-ENDB.normal_force"),
-        hg.col("TIPA-ENDB.normal_force"),
-    );
-    let early: Vec<usize> = (0..t.len())
-        .filter(|&i| t[i] > 0.0 && t[i] < 0.04)
-        .collect();
-    assert!(!early.is_empty());
-    for &i in &early {
-        assert!(
-            fg[i] == 0.0 && f[i] > 0.3,
-            "t = {}: {} apart, {} adjusted",
-            t[i],
-            fg[i],
-            f[i]
-        );
-    }
+    touching_from_the_start(&ha, &hg, "TIPA-ENDB.normal_force");
     refused(
         "deck_adjust_set",
         &edit(&deck, pair, &format!("{pair}, ADJUST=NA")),

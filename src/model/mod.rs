@@ -217,12 +217,8 @@ struct Fixes {
     reactions: Vec<Reaction>,
 }
 
-/// The nodes a fix selects (none for a rigid body's, which holds the body's node).
-fn fix_selection(mesh: &Mesh, f: &crate::scene::FixSpec) -> Vec<u32> {
-    selection(mesh, f.body, &f.nodes)
-}
-
-/// The nodes of meshed body `body` that `nodes` selects (none for a rigid body's).
+/// The nodes of meshed body `body` that `nodes` selects (a fix's or an initial velocity's;
+/// none for a rigid body's, whose fix holds the body's node).
 fn selection(mesh: &Mesh, body: usize, nodes: &NodeSelection) -> Vec<u32> {
     let body = &mesh.bodies[body];
     match nodes {
@@ -290,7 +286,7 @@ fn fixes(scene: &Scene, mesh: &Mesh) -> Result<Fixes> {
     for (i, f) in scene.fixes.iter().enumerate() {
         let nodes = match f.nodes {
             NodeSelection::RigidBody => vec![(first_rigid + f.body) as u32],
-            _ => fix_selection(mesh, f),
+            _ => selection(mesh, f.body, &f.nodes),
         };
         if nodes.is_empty() {
             return Err(empty_fix(scene, mesh, i));

@@ -128,3 +128,22 @@ pub const FINE: Tolerances = Tolerances {
     speed_b: 0.03,
     loss: 0.015,
 };
+
+/// The two bars 0.05 apart: with `adjust` closing the gap (`adjusted`) their contact force
+/// `column` is above 0.3 (of wave theory's 0.5) on every step before t = 0.04, and without it
+/// (`apart`) zero there, the gap still open.
+pub fn touching_from_the_start(adjusted: &History, apart: &History, column: &str) {
+    let (t, f, fg) = (
+        adjusted.col("time"),
+        adjusted.col(column),
+        apart.col(column),
+    );
+    let early: Vec<usize> = (0..t.len())
+        .filter(|&i| t[i] > 0.0 && t[i] < 0.04)
+        .collect();
+    assert!(!early.is_empty());
+    for &i in &early {
+        assert_eq!(fg[i], 0.0, "apart at t = {}", t[i]);
+        assert!(f[i] > 0.3, "touching at t = {}: {}", t[i], f[i]);
+    }
+}

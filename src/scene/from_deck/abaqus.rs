@@ -13,8 +13,9 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::{
-    fixes_of, holders, DeckBody, DeckContact, DeckFile, DeckFix, DeckMaterial, DeckProbe,
-    DeckRigid, DeckScene, DeckStep, DeckVelocity, Elastic, Holder, Origin, PrimarySide, Select,
+    fixes_of, give_velocity, holders, DeckBody, DeckContact, DeckFile, DeckFix, DeckMaterial,
+    DeckProbe, DeckRigid, DeckScene, DeckStep, DeckVelocity, Elastic, Holder, Origin, PrimarySide,
+    Select,
 };
 use crate::error::Result;
 use crate::mesh::abaqus::{params, word};
@@ -865,20 +866,8 @@ impl Reader<'_> {
             if *dof > 3 {
                 return Err(self.src.err(*line, format!("*INITIAL CONDITIONS on `{set}`: dofs 4-6 are rotations, which a solid's nodes do not have (a rigid body's reference node does)")));
             }
-            for h in found {
-                let parted = parts.iter().any(|p| p.body == h.body.name);
-                if h.count == h.total && !parted {
-                    if let Some(o) = out.iter_mut().find(|o| o.name == h.body.name) {
-                        o.velocity[dof - 1] = *value;
-                    }
-                    continue;
-                }
-                parts.push(DeckVelocity {
-                    body: h.body.name.clone(),
-                    set: h.set.clone(),
-                    component: dof - 1,
-                    value: *value,
-                });
+            for h in &found {
+                give_velocity((&mut out, &mut parts), h, dof - 1, *value);
             }
         }
         Ok((out, parts))

@@ -9,9 +9,9 @@
 use std::path::Path;
 
 use super::{
-    fixes_of, holders, DeckBody, DeckContact, DeckFile, DeckFix, DeckMaterial, DeckPlane,
-    DeckRigid, DeckScene, DeckStep, DeckVelocity, Elastic, Holder, Origin, PrimarySide, Select,
-    Spin,
+    fixes_of, give_velocity, holders, DeckBody, DeckContact, DeckFile, DeckFix, DeckMaterial,
+    DeckPlane, DeckRigid, DeckScene, DeckStep, DeckVelocity, Elastic, Holder, Origin, PrimarySide,
+    Select, Spin,
 };
 use crate::error::Result;
 use crate::mesh::deck::Dialect;
@@ -760,20 +760,10 @@ impl Reader<'_> {
             b.velocity = *v;
         }
         for (set, v, line) in &g.set_velocities {
-            for h in self.held(bodies, set, *line)? {
-                let parted = parts.iter().any(|p| p.body == h.body.name);
-                if h.count == h.total && !parted {
-                    if let Some(o) = out.iter_mut().find(|o| o.name == h.body.name) {
-                        o.velocity = *v;
-                    }
-                    continue;
+            for h in &self.held(bodies, set, *line)? {
+                for (a, &value) in v.iter().enumerate() {
+                    give_velocity((&mut out, &mut parts), h, a, value);
                 }
-                parts.extend((0..3).map(|a| DeckVelocity {
-                    body: h.body.name.clone(),
-                    set: h.set.clone(),
-                    component: a,
-                    value: v[a],
-                }));
             }
         }
         Ok((out, parts))

@@ -481,6 +481,30 @@ pub(crate) fn fixes_of<'a>(
     })
 }
 
+/// Gives component `a` of the initial velocity `value` to the nodes of holder `h`: a set that
+/// holds the whole body sets the body's own, unless the body already has a part's (then, as
+/// one that holds part of it, an entry of its own after the others, so the deck's order holds).
+pub(crate) fn give_velocity(
+    (bodies, parts): (&mut [DeckBody], &mut Vec<DeckVelocity>),
+    h: &Holder,
+    a: usize,
+    value: f64,
+) {
+    let parted = parts.iter().any(|p| p.body == h.body.name);
+    if h.count == h.total && !parted {
+        if let Some(b) = bodies.iter_mut().find(|b| b.name == h.body.name) {
+            b.velocity[a] = value;
+        }
+        return;
+    }
+    parts.push(DeckVelocity {
+        body: h.body.name.clone(),
+        set: h.set.clone(),
+        component: a,
+        value,
+    });
+}
+
 /// A deck's refusals as one error: the first, with each of the others on a line of its own
 /// (its file and line first, as the first's); `None` where there is none.
 pub(crate) fn together(refusals: Vec<ImpactError>) -> Option<ImpactError> {
@@ -491,13 +515,11 @@ pub(crate) fn together(refusals: Vec<ImpactError>) -> Option<ImpactError> {
     let rest: Vec<String> = (all.map(|e| e.to_string()))
         .map(|m| {
             let p = parenthesis(&m).to_string();
-            match p.is_empty() || !given.contains(&p) {
-                true => {
-                    given.push(p);
-                    m
-                }
-                false => m[..m.len() - p.len()].trim_end().to_string(),
+            if !p.is_empty() && given.contains(&p) {
+                return m[..m.len() - p.len()].trim_end().to_string();
             }
+            given.push(p);
+            m
         })
         .collect();
     if rest.is_empty() {

@@ -58,6 +58,18 @@ impl Checker<'_> {
         .transpose()
     }
 
+    /// A contact's `adjust`: a finite distance >= 0 (0 where absent), and none against a
+    /// rigid body's shape.
+    fn adjust(&self, key: &str, d: Option<f64>, primary: &PrimarySide) -> Result<f64> {
+        match d {
+            Some(d) if !(d.is_finite() && d >= 0.0) => {
+                Err(self.err(key, format!("must be a finite distance >= 0, got {d}")))
+            }
+            Some(d) if d > 0.0 && matches!(primary, PrimarySide::RigidBody(_)) => Err(self.err(key, "moves secondary nodes onto a meshed primary surface; a rigid body's shape has edges and ends that would pull nodes sideways: move the body instead")),
+            d => Ok(d.unwrap_or(0.0)),
+        }
+    }
+
     fn friction(&self, key: &str, mu: Option<f64>) -> Result<f64> {
         let mu = mu.unwrap_or(0.0);
         if mu.is_finite() && mu >= 0.0 {
@@ -891,18 +903,7 @@ impl Checker<'_> {
                     PenetrationPolicy::CHOICES,
                 )?,
                 region: self.region(&key, ct.region.as_ref())?,
-                adjust: match ct.adjust {
-                    Some(d) if !(d.is_finite() && d >= 0.0) => {
-                        return Err(self.err(
-                            key("adjust"),
-                            format!("must be a finite distance >= 0, got {d}"),
-                        ))
-                    }
-                    Some(d) if d > 0.0 && matches!(primary, PrimarySide::RigidBody(_)) => {
-                        return Err(self.err(key("adjust"), "moves secondary nodes onto a meshed primary surface; a rigid body's shape has edges and ends that would pull nodes sideways: move the body instead"))
-                    }
-                    d => d.unwrap_or(0.0),
-                },
+                adjust: self.adjust(&key("adjust"), ct.adjust, &primary)?,
             });
         }
         Ok(contacts)
