@@ -66,7 +66,7 @@ fn impact_command(ranks: usize, scene: &Path, out: &Path, extra: [&str; 3]) -> C
     cmd
 }
 
-/// Whether a column is a sum over the model (the energies, a body's velocity, a named fix's
+/// Whether a column is a sum over the model (the energies and the loads' work, a body's velocity, a named fix's
 /// reaction, `reaction:NAME` among `bodies`; on the resident GPU step the contact forces
 /// too, which its device adds over the plane nodes), and its kind.
 fn sum_kind(column: &str, bodies: &[String], resident: bool) -> Option<&'static str> {
@@ -82,7 +82,7 @@ fn sum_kind(column: &str, bodies: &[String], resident: bool) -> Option<&'static 
             .map(|v| format!("{b}.{v}"))
             .contains(&column.to_string())
     };
-    if column.ends_with("_energy") {
+    if column.ends_with("_energy") || column == "external_work" {
         Some("energy")
     } else if bodies.iter().any(body_velocity) {
         Some("body velocity")
@@ -402,6 +402,14 @@ fn block_on_plate_with_friction_is_the_same_on_2_and_4_ranks() {
         "mpi_cube_on_plate",
         &explicit_at_default_step(&scene_text("cube_on_plate.toml")),
     );
+}
+
+/// A pressure and nodal forces with amplitudes: the ranks' shared nodes take each load
+/// whole, and the work is summed once.
+#[test]
+fn a_loaded_bar_is_the_same_on_2_and_4_ranks() {
+    let h = same_on_ranks("mpi_loaded_bar", &loaded_bar("explicit", 0.002, 0.4));
+    assert!(h.last("external_work") > 0.0);
 }
 
 /// Tet4 on both sides: the faces that cross rank boundaries are triangles.

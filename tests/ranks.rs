@@ -163,6 +163,7 @@ fn one_rank_runs_the_single_process_history_byte_for_byte() {
         ("ranks_two_bars", scene_text("two_bars_fine.toml")),
         ("ranks_bar_on_wall", scene_text("bar_on_wall.toml")),
         ("ranks_tet4_cube_on_plate", tet4_cube_on_plate()),
+        ("ranks_loaded_bar", loaded_bar("explicit", 0.002, 0.4)),
     ] {
         let (one, ranked) = both_ways(tag, &explicit_at_default_step(&text));
         assert!(

@@ -18,6 +18,7 @@ use super::subdomain::Subdomain;
 use crate::error::{ImpactError, Result};
 use crate::gpu::GpuContext;
 use crate::integrate::explicit::{correct, lumped_mass, ExplicitState, NodalStart, Work};
+use crate::integrate::loads::LoadForces;
 use crate::integrate::state::check_restore;
 use crate::integrate::{
     ContactReport, Decomposed, Decomposition, Energies, Integrator, Piece, ProbeValues,
@@ -103,6 +104,9 @@ pub struct DomainSolver<'m> {
     /// element damages, and the energy the rank's elements dissipated so far.
     damage: Option<RankDamage>,
     damage_energy: f64,
+    /// The `[[load]]`s on the rank's nodes, and the work of those on its owned nodes so far.
+    loads: LoadForces,
+    load_work: f64,
 }
 
 /// The whole model's damage inputs, the rank's, and the rank's damageable elements'
@@ -147,6 +151,8 @@ impl<'m> DomainSolver<'m> {
             &sub.restrict(&model.initial_velocity),
         )
         .moving_on(model, &sub.nodes);
+        let loads = LoadForces::new(model, Some(&sub.nodes), Some(&sub.owned), &start.f_ext);
+        let start = start.loaded(model, &loads);
         let surface = SurfaceContact::new(model, &sub, &mass_all, (settings, speed_scale));
         let ndof = 3 * sub.nodes.len();
         let piece = sub.piece_model(model);
@@ -184,6 +190,8 @@ impl<'m> DomainSolver<'m> {
             fix_work: 0.0,
             damage,
             damage_energy: 0.0,
+            loads,
+            load_work: 0.0,
         })
     }
 
@@ -194,6 +202,33 @@ impl<'m> DomainSolver<'m> {
         (self.moving_fixes.iter())
             .map(|&(d, w)| (self.f_int[d] - self.mass[d / 3] * g[d % 3]) * w)
             .sum()
+    }
+
+    /// The loads' work over the step just drifted (the rank's owned nodes'), and their force
+    /// at its end (see [`crate::integrate::ExplicitSolver`]'s).
+    fn load_step(&mut self, dt: f64) {
+        if self.loads.is_empty() {
+            return;
+        }
+        let d0 = self.loads.dots(self.model, &self.u_prev);
+        let d1 = self.loads.dots(self.model, &self.u);
+        let times = (self.time, self.time + dt);
+        self.load_work += LoadForces::step_work(self.model, times, (&d0, &d1));
+        self.loads.set(self.model, times.1, &mut self.f_ext);
+    }
+
+    /// The loads' part of the time-centred potential on the rank's owned nodes: their share
+    /// of $-f_{ext} \cdot (u_n + u_{n+1})/2$ taken back, less their conserved work.
+    fn load_potential(&self) -> f64 {
+        if self.loads.is_empty() {
+            return 0.0;
+        }
+        let (m, t) = (self.model, self.time);
+        let (d0, d1) = (
+            self.loads.dots(m, &self.u_prev),
+            self.loads.dots(m, &self.u),
+        );
+        LoadForces::centred_share(m, self.load_work, t, (&d0, &d1))
     }
 
     /// The rank's share and its time in communication so far.
@@ -392,6 +427,7 @@ impl Integrator for DomainSolver<'_> {
         kernels::explicit_drift(dt, &self.v, &mut self.u);
         self.surface.drift_spins(dt);
         self.fix_work += dt * self.fix_power();
+        self.load_step(dt);
         self.step_forces()?;
         let forces = (&self.f_ext[..], &self.f_int[..], &self.inv_mass[..]);
         correct(dt, forces, &mut self.a, &mut self.v);
@@ -503,7 +539,7 @@ impl Integrator for DomainSolver<'_> {
             &self.v_half,
         ];
         let count = self.model.mesh.node_count();
-        let sums = self.talk(|r| r.sum(&[self.fix_work, self.damage_energy]));
+        let sums = self.talk(|r| r.sum(&[self.fix_work, self.damage_energy, self.load_work]));
         let gathered = checkpoint::gather_fields(&self.timed(), &self.sub, fields, count)
             .map_err(ImpactError::Ranks)?;
         let Some([u, v, a, f_int, u_prev, v_half]) = gathered else {
@@ -525,6 +561,7 @@ impl Integrator for DomainSolver<'_> {
             work: Work {
                 fixes: sums[0],
                 damage: sums[1],
+                loads: sums[2],
                 first_damage,
             },
             // ranks refuse cohesive interfaces (`run::build_solver`)
@@ -551,6 +588,8 @@ impl Integrator for DomainSolver<'_> {
         let first = self.ranks.rank() == 0;
         self.fix_work = if first { s.work.fixes } else { 0.0 };
         self.damage_energy = if first { s.work.damage } else { 0.0 };
+        self.load_work = if first { s.work.loads } else { 0.0 };
+        self.loads.set(self.model, self.time, &mut self.f_ext);
         self.restore_damage(&s.damage)
     }
 
@@ -581,9 +620,11 @@ impl Integrator for DomainSolver<'_> {
             return Ok(Energies {
                 kinetic: 0.5 * k + self.surface.spins().kinetic(),
                 strain: 0.5 * s,
+                // u = 0: the loads have no part in it yet
                 potential: -p,
                 damage: 0.0,
                 fix_work: 0.0,
+                load_work: 0.0,
             });
         }
         let (m, v, u0, u1, f, fe) = (
@@ -598,22 +639,26 @@ impl Integrator for DomainSolver<'_> {
         // owned node
         let first = self.sub.owned.iter().position(|&o| o).map(|i| 3 * i);
         let (work, damage) = (self.fix_work, self.damage_energy);
-        let [k, s, p0, p1, w, dmg] = self.owned_sums([
+        let (loads, load_work) = (self.load_potential(), self.load_work);
+        let [k, s, p0, p1, w, dmg, lp, lw] = self.owned_sums([
             &|d| m[d / 3] * v[d] * v[d],
             &|d| u0[d] * f[d],
             &|d| fe[d] * u0[d],
             &|d| fe[d] * u1[d],
             &|d| if Some(d) == first { work } else { 0.0 },
             &|d| if Some(d) == first { damage } else { 0.0 },
+            &|d| if Some(d) == first { loads } else { 0.0 },
+            &|d| if Some(d) == first { load_work } else { 0.0 },
         ]);
         Ok(Energies {
             // the bodies' rotation as every rank has it, once
             kinetic: 0.5 * k - self.measure_shift + self.surface.spins().kinetic(),
             strain: 0.5 * s,
             // the prescribed rigid bodies' drivers work on the model (every rank has it whole)
-            potential: -0.5 * (p0 + p1) - self.surface.contact().driver_work() - w,
+            potential: -0.5 * (p0 + p1) + lp - self.surface.contact().driver_work() - w,
             damage: dmg,
             fix_work: w,
+            load_work: lw,
         })
     }
 

@@ -376,6 +376,8 @@ impl Subdomain {
             gravity: model.gravity,
             // a decomposed run refuses cohesive interfaces (`run_ranks`)
             cohesive: Vec::new(),
+            // the rank's loads are its solver's (`LoadForces`)
+            loads: Vec::new(),
             rigid: Vec::new(),
         }
     }

@@ -70,6 +70,8 @@ pub(crate) fn surface_model(model: &Model, nodes: &[u32]) -> Model {
         gravity: model.gravity,
         // a decomposed run refuses cohesive interfaces (`run_ranks`)
         cohesive: Vec::new(),
+        // the rank's loads are its solver's (`LoadForces`)
+        loads: Vec::new(),
         rigid,
     }
 }

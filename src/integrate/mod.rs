@@ -5,6 +5,7 @@ pub mod form_trial;
 pub mod implicit;
 pub mod integrator;
 pub mod kept_search;
+pub(crate) mod loads;
 pub(crate) mod reaction_columns;
 pub mod recorded_sweeps;
 pub mod resident;

@@ -31,13 +31,16 @@ pub struct Energies {
     pub kinetic: f64,
     pub strain: f64,
     /// Potential of the constant body force (gravity): $-f_{ext} \cdot u$, less the work of
-    /// the prescribed motions.
+    /// the prescribed motions and of the loads.
     pub potential: f64,
     /// The energy the plies' damage dissipated so far.
     pub damage: f64,
     /// The work the moving `[[fix]]`es did on the model so far (in `potential`; the run's
     /// energy scale grows with it).
     pub fix_work: f64,
+    /// The work the `[[load]]`s did on the model so far (in `potential`; the run's energy
+    /// scale grows with it too).
+    pub load_work: f64,
 }
 
 impl Energies {

@@ -5,6 +5,7 @@ pub mod cohesive;
 pub mod damage;
 mod damage_shapes;
 pub mod interface;
+pub mod loads;
 pub mod materials;
 pub mod rigid;
 
@@ -72,6 +73,8 @@ pub struct Model {
     pub rigid: Vec<RigidBody>,
     /// The `[[cohesive]]` interfaces, as pairs of bonded nodes.
     pub cohesive: Vec<cohesive::CohesiveInterface>,
+    /// The `[[load]]`s, as nodal forces with their amplitudes.
+    pub loads: Vec<loads::Load>,
 }
 
 impl Model {
@@ -107,6 +110,7 @@ impl Model {
         for b in rigid.iter().filter(|b| b.is_prescribed()) {
             fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
         }
+        let loads = loads::loads(scene, &mesh, &fixed)?;
         let (queries, interfaces) = interfaces(scene, &mesh, &rigid)?;
         let cohesive = cohesive::cohesive_interfaces(scene, &mesh, &splits)?;
         let mut probes = probes(scene, &mesh);
@@ -140,7 +144,18 @@ impl Model {
             gravity: scene.gravity,
             rigid,
             cohesive,
+            loads,
         })
+    }
+
+    /// Adds the loads' nodal forces at time `t` to `f` (3 per node).
+    pub fn add_loads(&self, t: f64, f: &mut [f64]) {
+        for l in &self.loads {
+            let a = l.amplitude.at(t);
+            for (&d, &p) in l.dofs.iter().zip(&l.force) {
+                f[d as usize] += a * p;
+            }
+        }
     }
 
     /// Each rigid body's node and mass.

@@ -23,6 +23,8 @@ pub struct History {
     failure: bool,
     /// Whether a material damages: the energy damage dissipated comes next.
     damage: bool,
+    /// Whether the model has loads (then the `external_work` column).
+    loads: bool,
     /// The named fixes, whose reactions come next.
     reactions: usize,
     /// The cohesive interfaces, whose areas and energy close the row.
@@ -64,6 +66,7 @@ impl History {
             spinning: model.rigid.iter().filter(|b| b.rotates()).count(),
             failure: model.strengths.iter().any(Option::is_some),
             damage: has_damage(model),
+            loads: !model.loads.is_empty(),
             reactions: model.reactions.len(),
             cohesive: model.cohesive.len(),
             file,
@@ -225,6 +228,9 @@ impl History {
             for x in [c.delaminated_area, c.damaged_area, c.energy] {
                 num(l, x);
             }
+        }
+        if self.loads {
+            num(l, e.load_work);
         }
         self.flush_line()
     }
@@ -399,6 +405,10 @@ pub(crate) fn column_names(model: &Model) -> Vec<String> {
             cols.push(format!("{}.{k}", c.name));
         }
     }
+    // the work the loads did so far (in the total energy's potential)
+    if !model.loads.is_empty() {
+        cols.push("external_work".into());
+    }
     cols
 }
 
@@ -506,6 +516,7 @@ mod tests {
             spinning: 0,
             failure: false,
             damage: true,
+            loads: false,
             reactions: 1,
             cohesive: 0,
             file: Some(File::create(&path).unwrap()),

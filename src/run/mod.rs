@@ -122,8 +122,11 @@ fn build_solver<'m>(
     let mut solver: Box<dyn Integrator + 'm> = match (setup.method, setup.ctx.clone()) {
         // a meshed rigid surface has no device form: its contact runs on the host, the
         // element forces on the device; so do cohesive interfaces (their pairs on the host)
+        // and loads (their forces change over time on the host)
         (Method::Explicit, Some(ctx))
-            if resident::rigid_surfaces_on_device(model) && model.cohesive.is_empty() =>
+            if resident::rigid_surfaces_on_device(model)
+                && model.cohesive.is_empty()
+                && model.loads.is_empty() =>
         {
             Box::new(
                 ResidentSolver::new(
@@ -294,7 +297,7 @@ struct Running<'s> {
     summary: Summary,
     identity: RunIdentity,
     energy_scale: f64,
-    /// The largest work the moving fixes did so far (since a resumption).
+    /// The largest work the moving fixes or the loads did so far (since a resumption).
     fix_work: f64,
     start: Instant,
     /// The ranks of a decomposed run.
@@ -360,9 +363,9 @@ impl<'s> Running<'s> {
         })
     }
 
-    /// The energy scale now: the run's, or the work the prescribed rigid bodies' drivers or
-    /// the moving fixes have done so far where that is larger (it is part of the energy
-    /// balance).
+    /// The energy scale now: the run's, or the work the prescribed rigid bodies' drivers, the
+    /// moving fixes or the loads have done so far where that is larger (it is part of the
+    /// energy balance).
     fn scale_now(&self) -> f64 {
         let driven: f64 = (self.solver.reports().iter()).map(|r| r.driver_work).sum();
         self.energy_scale.max(driven.abs()).max(self.fix_work)
@@ -414,7 +417,9 @@ impl<'s> Running<'s> {
         let t0 = self.solver.time();
         let (r, energies, failure) = self.advance(n)?;
         let e = energies.total();
-        self.fix_work = self.fix_work.max(energies.fix_work.abs());
+        self.fix_work = (self.fix_work)
+            .max(energies.fix_work.abs())
+            .max(energies.load_work.abs());
         let at = (n + 1, self.solver.time());
         count_step(&mut self.tally, at, r, e, &self.solver.reports());
         // the engines that hold every node's velocity after each step

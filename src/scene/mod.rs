@@ -432,6 +432,26 @@ pub struct InitialVelocitySpec {
     pub components: [bool; 3],
 }
 
+/// What a `[[load]]` applies at full amplitude.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LoadKind {
+    /// `force`: the same force on each selected node.
+    Force([f64; 3]),
+    /// `pressure`: a pressure on a face, against its outward normal.
+    Pressure(f64),
+}
+
+/// `[[load]]`: a force on each node of a meshed body's face, node set or region, or a
+/// pressure on its face, scaled by a piecewise linear amplitude of time (1 without one).
+#[derive(Debug, Clone)]
+pub struct LoadSpec {
+    pub body: usize,
+    pub nodes: NodeSelection,
+    pub kind: LoadKind,
+    /// (time, value) points, times increasing; empty: the constant 1.
+    pub amplitude: Vec<[f64; 2]>,
+}
+
 /// A known solution of one history column, drawn beside the computed curve: a piecewise
 /// linear curve through (time, value) points.
 #[derive(Debug, Clone)]
@@ -465,6 +485,8 @@ pub struct Scene {
     pub fixes: Vec<FixSpec>,
     /// In the scene's order: where two select a node, the later one's velocity is its.
     pub initial_velocities: Vec<InitialVelocitySpec>,
+    /// The `[[load]]`s, in the scene's order.
+    pub loads: Vec<LoadSpec>,
     pub probes: Vec<ProbeSpec>,
     pub cohesive: Vec<CohesiveSpec>,
     pub output_dir: PathBuf,

@@ -31,6 +31,8 @@ pub(crate) struct RawScene {
     #[serde(default)]
     pub initial_velocity: Vec<RawInitialVelocity>,
     #[serde(default)]
+    pub load: Vec<RawLoad>,
+    #[serde(default)]
     pub probe: Vec<RawProbe>,
     #[serde(default)]
     pub cohesive: Vec<RawCohesive>,
@@ -354,6 +356,18 @@ pub(crate) struct RawInitialVelocity {
     pub region: Option<RawRegion>,
     pub velocity: [f64; 3],
     pub components: Option<Vec<String>>,
+}
+
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawLoad {
+    pub body: String,
+    pub face: Option<String>,
+    pub set: Option<String>,
+    pub region: Option<RawRegion>,
+    pub force: Option<[f64; 3]>,
+    pub pressure: Option<f64>,
+    pub amplitude: Option<Vec<[f64; 2]>>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

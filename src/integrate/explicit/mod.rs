@@ -49,6 +49,7 @@ use crate::search;
 use rayon::prelude::*;
 
 use super::integrator::Integrator;
+use super::loads::LoadForces;
 use super::state::{ContactReport, DamageReport, Energies, FirstDamage, StepReport};
 use super::SolverState;
 
@@ -85,6 +86,9 @@ pub struct ExplicitState {
 pub struct Work {
     pub fixes: f64,
     pub damage: f64,
+    /// The trapezoid sum of the `[[load]]`s' work ([`crate::integrate::loads`]).
+    #[serde(default)]
+    pub loads: f64,
     pub first_damage: Option<crate::integrate::state::FirstDamage>,
 }
 
@@ -116,6 +120,7 @@ pub struct ExplicitSolver<'m> {
     contact: ExplicitContact,
     work: Work,
     cohesive: CohesiveState,
+    loads: LoadForces,
 }
 
 /// The nodal start of an explicit run from the lumped masses: the inverse mass and the
@@ -151,6 +156,15 @@ impl NodalStart {
 }
 
 impl NodalStart {
+    /// With the loads at t = 0 in the external force and the acceleration.
+    pub fn loaded(mut self, model: &Model, loads: &LoadForces) -> Self {
+        loads.set(model, 0.0, &mut self.f_ext);
+        for (d, a) in self.a.iter_mut().enumerate() {
+            *a = self.f_ext[d] * self.inv_mass[d];
+        }
+        self
+    }
+
     /// With the prescribed rigid bodies' dofs at their velocities (they keep them: their
     /// inverse mass is zero).
     pub fn moving(mut self, model: &Model) -> Self {
@@ -184,6 +198,8 @@ impl<'m> ExplicitSolver<'m> {
         let mass = lumped_mass(model);
         let start = NodalStart::new(&mass, &model.fixed, model.gravity, &model.initial_velocity)
             .moving(model);
+        let loads = LoadForces::new(model, None, None, &start.f_ext);
+        let start = start.loaded(model, &loads);
         let face_size = search::largest_face_size(model);
         let contact = ExplicitContact::new(model, &settings, speed_scale, face_size);
         Ok(ExplicitSolver {
@@ -207,6 +223,7 @@ impl<'m> ExplicitSolver<'m> {
             contact,
             work: Work::default(),
             cohesive: CohesiveState::new(all_pairs(&model.cohesive)),
+            loads,
         })
     }
 
@@ -253,6 +270,7 @@ impl<'m> ExplicitSolver<'m> {
         }
         self.work = s.work;
         self.cohesive = s.cohesive;
+        self.loads.set(self.model, self.time, &mut self.f_ext);
         Ok(())
     }
 
@@ -266,6 +284,35 @@ impl<'m> ExplicitSolver<'m> {
                 self.work.first_damage = Some(FirstDamage::of(self.model, p, time));
             }
         }
+    }
+
+    /// The loads' work over the step just drifted, and their force at its end.
+    fn load_step(&mut self, dt: f64) {
+        if self.loads.is_empty() {
+            return;
+        }
+        let d0 = self.loads.dots(self.model, &self.u_prev);
+        let d1 = self.loads.dots(self.model, &self.u);
+        let times = (self.time, self.time + dt);
+        self.work.loads += LoadForces::step_work(self.model, times, (&d0, &d1));
+        self.loads.set(self.model, times.1, &mut self.f_ext);
+    }
+
+    /// The potential of the external forces in the time-centred form: gravity's
+    /// $-f_g \cdot (u_n + u_{n+1})/2$ less the loads' conserved work (see
+    /// [`crate::integrate::loads`]).
+    fn external_potential(&self) -> f64 {
+        use crate::parallel::dot;
+        let whole = -0.5 * (dot(&self.f_ext, &self.u_prev) + dot(&self.f_ext, &self.u));
+        if self.loads.is_empty() {
+            return whole;
+        }
+        let (m, t) = (self.model, self.time);
+        let (d0, d1) = (
+            self.loads.dots(m, &self.u_prev),
+            self.loads.dots(m, &self.u),
+        );
+        whole + LoadForces::centred_share(m, self.work.loads, t, (&d0, &d1))
     }
 
     /// The step's contact impulses on the predicted velocities.
@@ -309,6 +356,7 @@ impl Integrator for ExplicitSolver<'_> {
         kernels::explicit_drift(dt, &self.v, &mut self.u);
         self.spins.drift(dt);
         self.work.fixes += dt * fix_power(self.model, &self.mass, &self.f_int);
+        self.load_step(dt);
         let uv = (&self.u[..], &self.v[..]);
         let dissipated = self.kernels.step_forces_into(uv, dt, &mut self.f_int)?;
         let cohesive = all_pairs(&self.model.cohesive);
@@ -425,23 +473,24 @@ impl Integrator for ExplicitSolver<'_> {
             return Ok(Energies {
                 kinetic,
                 strain: 0.5 * dot(&self.u, &self.f_int),
-                potential: -dot(&self.f_ext, &self.u),
+                potential: -dot(&self.f_ext, &self.u)
+                    + self.loads.in_dot(self.model, self.time, &self.u),
                 damage: 0.0,
                 fix_work: 0.0,
+                load_work: 0.0,
             });
         }
         let v = &self.v_half;
         let kinetic =
             0.5 * ordered_sum(v.len(), |d| mass[d / 3] * v[d] * v[d]) + self.spins.kinetic();
-        let potential = -0.5 * (dot(&self.f_ext, &self.u_prev) + dot(&self.f_ext, &self.u))
-            - self.contact.driver_work()
-            - self.work.fixes;
+        let potential = self.external_potential() - self.contact.driver_work() - self.work.fixes;
         Ok(Energies {
             kinetic: kinetic - self.measure_shift,
             strain: 0.5 * dot(&self.u_prev, &self.f_int),
             potential,
             damage: self.work.damage + self.cohesive.energy.iter().sum::<f64>(),
             fix_work: self.work.fixes,
+            load_work: self.work.loads,
         })
     }
 

@@ -58,6 +58,7 @@ use crate::scene::{Acceleration, ConstraintMeasure, ContactSpace, ImplicitSettin
 
 use super::explicit::spin::{BodySpin, Spins};
 use super::integrator::{ImplicitFigures, Integrator, NewtonFigures};
+use super::loads::LoadForces;
 use super::state::{ContactReport, Energies, InterfaceEnd, StepReport};
 use super::SolverState;
 use contact::MultiplierIteration;
@@ -82,6 +83,7 @@ struct Snapshot {
     a: Vec<f64>,
     interfaces: Vec<InterfaceState>,
     spins: Spins,
+    load_work: f64,
 }
 
 /// Everything an implicit run carries from one step to the next: the checkpoint's part.
@@ -100,6 +102,9 @@ pub struct ImplicitState {
     /// order they joined (`acceleration = "newton"`).
     #[serde(default)]
     pub flexibility_nodes: [Vec<u32>; 2],
+    /// The `[[load]]`s' work so far.
+    #[serde(default)]
+    pub load_work: f64,
 }
 
 pub struct ImplicitSolver<'m> {
@@ -128,6 +133,11 @@ pub struct ImplicitSolver<'m> {
     pub v: Vec<f64>,
     pub a: Vec<f64>,
     f_ext: Vec<f64>,
+    /// The `[[load]]`s in `f_ext`, their work so far, and the time the (sub-)step being
+    /// taken starts at.
+    loads: LoadForces,
+    load_work: f64,
+    clock: f64,
     contact: MultiplierIteration,
     /// The rigid bodies' rotation at the end of the last step, and at the iterate's.
     spins: Spins,
@@ -186,7 +196,9 @@ impl<'m> ImplicitSolver<'m> {
             _ => None,
         };
         let ndof = model.dofs();
-        let f_ext = gravity_force(model, &asm);
+        let mut f_ext = gravity_force(model, &asm);
+        let loads = LoadForces::new(model, None, None, &f_ext);
+        loads.set(model, 0.0, &mut f_ext);
         let mut v = model.initial_velocity.clone();
         for (vd, &fixed) in v.iter_mut().zip(&model.fixed) {
             if fixed {
@@ -215,6 +227,9 @@ impl<'m> ImplicitSolver<'m> {
             v,
             a: vec![0.0; ndof],
             f_ext,
+            loads,
+            load_work: 0.0,
+            clock: 0.0,
             contact: MultiplierIteration::new(model, interfaces),
             spins: Spins::new(model),
             spins_new: Spins::new(model),
@@ -247,6 +262,7 @@ impl<'m> ImplicitSolver<'m> {
             interfaces: self.contact.interfaces.clone(),
             spins: self.spins.saved(),
             flexibility_nodes: self.flexibility.each_ref().map(Flexibility::nodes),
+            load_work: self.load_work,
         }
     }
 
@@ -265,6 +281,9 @@ impl<'m> ImplicitSolver<'m> {
         self.contact.interfaces = s.interfaces;
         self.spins.restore(s.spins);
         self.flexibility = s.flexibility_nodes.map(Flexibility::resume);
+        self.load_work = s.load_work;
+        self.clock = s.time;
+        self.loads.set(self.model, s.time, &mut self.f_ext);
         Ok(())
     }
 
@@ -319,6 +338,9 @@ impl<'m> ImplicitSolver<'m> {
     /// One Newmark step of size `h` from the current state, with the run's effective matrix
     /// (`sub` false, h = dt) or the sub-step's (`sub` true, h = dt / event_substeps).
     fn advance(&mut self, h: f64, sub: bool) -> Result<StepReport> {
+        let times = (self.clock, self.clock + h);
+        self.loads.set(self.model, times.1, &mut self.f_ext);
+        let d0 = self.loads.dots(self.model, &self.u);
         let k = self.step_constants(h);
         self.predict(&k);
         self.start_contact()?;
@@ -411,6 +433,11 @@ impl<'m> ImplicitSolver<'m> {
             self.correct(&k)?;
         }
         self.accept(&k)?;
+        if !self.loads.is_empty() {
+            let d1 = self.loads.dots(self.model, &self.u);
+            self.load_work += LoadForces::step_work(self.model, times, (&d0, &d1));
+        }
+        self.clock = times.1;
         Ok(report)
     }
 
@@ -821,7 +848,9 @@ impl Integrator for ImplicitSolver<'_> {
             a: self.a.clone(),
             interfaces: self.contact.interfaces.clone(),
             spins: self.spins.clone(),
+            load_work: self.load_work,
         });
+        self.clock = self.time;
         let mut report = self.advance(self.dt, false)?;
         if let Some(saved) = saved {
             // what the event test needs of the next step: this step's change and the peak
@@ -879,9 +908,13 @@ impl Integrator for ImplicitSolver<'_> {
         Ok(Energies {
             kinetic: kinetic + self.spins.kinetic(),
             strain,
-            potential: -dot_slices(&self.f_ext, &self.u) - driver_work,
+            potential: -dot_slices(&self.f_ext, &self.u)
+                + self.loads.in_dot(self.model, self.clock, &self.u)
+                - self.load_work
+                - driver_work,
             damage: 0.0,
             fix_work: 0.0,
+            load_work: self.load_work,
         })
     }
 

@@ -74,6 +74,8 @@ impl ImplicitSolver<'_> {
         self.a = saved.a;
         self.contact.interfaces = saved.interfaces;
         self.spins = saved.spins;
+        self.load_work = saved.load_work;
+        self.clock = self.time;
         for st in &mut self.contact.interfaces {
             if let Some(p) = st.sub_penalties {
                 st.set_penalties(p);

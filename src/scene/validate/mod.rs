@@ -9,6 +9,7 @@ use crate::error::{ImpactError, Result};
 
 mod cohesive;
 mod laminate;
+mod loads;
 mod names;
 mod rigid_body;
 
@@ -1224,6 +1225,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
     let fixes = c.fixes(&raw.fix, &raw.body, &bodies, &rigid_bodies)?;
     let initial_velocities =
         c.initial_velocities(&raw.initial_velocity, &raw.body, &bodies, &rigid_bodies)?;
+    let loads = c.loads(&raw.load, &raw.body, &bodies, &rigid_bodies)?;
     let probes = c.probes(&raw.probe, &raw.body)?;
     let cohesive = c.cohesive(&raw.cohesive, &raw.body, &bodies)?;
     let exact = c.exact_curves(&raw.exact)?;
@@ -1242,6 +1244,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         rigid_bodies,
         fixes,
         initial_velocities,
+        loads,
         probes,
         cohesive,
         output_dir,

@@ -1,0 +1,49 @@
+//! Scenes with `[[load]]`s: a bar held at one end, loaded at the other.
+
+/// A bar along x, 10 long, c = 100, held at x = 0 (x only; Poisson 0, so it stays 1D), with
+/// `load` appended; `method` and `dt` given.
+pub fn held_bar(method: &str, dt: f64, cells: usize, load: &str) -> String {
+    format!(
+        r#"title = "held bar under an end load"
+[run]
+end_time = 0.4
+time_step = {dt}
+method = "{method}"
+device = "auto"
+
+[[material]]
+name = "elastic"
+density = 0.01
+youngs_modulus = 100.0
+poissons_ratio = 0.0
+
+[[body]]
+name = "bar"
+material = "elastic"
+box = {{ min = [0.0, 0.0, 0.0], max = [10.0, 1.0, 1.0], divisions = [{cells}, 1, 1] }}
+
+[[fix]]
+body = "bar"
+face = "x-"
+components = ["x"]
+
+[[probe]]
+name = "tip"
+body = "bar"
+point = [10.0, 0.5, 0.5]
+
+{load}"#
+    )
+}
+
+/// A step pressure of 2 on the bar's free end.
+pub const PRESSURE: &str = "[[load]]\nbody = \"bar\"\nface = \"x+\"\npressure = 2.0\n";
+
+/// A ramped pressure and a sine-like table of nodal forces on the held bar (both
+/// amplitudes change within the run, so a resumed run must take them up at its time).
+pub fn loaded_bar(method: &str, dt: f64, end: f64) -> String {
+    held_bar(method, dt, 40, &format!(
+        "{PRESSURE}amplitude = [[0.0, 0.0], [0.05, 1.0], [0.3, 0.5]]\n\n[[load]]\nbody = \"bar\"\nregion = {{ min = [4.0, -1.0, -1.0], max = [6.0, 2.0, 2.0] }}\nforce = [0.01, 0.02, 0.0]\namplitude = [[0.0, 0.0], [0.1, 1.0], [0.2, -1.0], [0.3, 0.0]]\n\n[output]\ncheckpoint_every = 100\n"
+    ))
+    .replace("end_time = 0.4", &format!("end_time = {end}"))
+}
