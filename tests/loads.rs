@@ -167,3 +167,76 @@ fn a_loaded_run_on_the_gpu_follows_the_cpu() {
         "the loads' work {wg} against {wc}"
     );
 }
+
+/// The error of `text` as the scene `bad_load.toml`, where it is refused when read or when
+/// its model is built; every part must be in it.
+fn refused(text: &str, parts: &[&str]) {
+    use impact::run::{run, RunOptions};
+    let path = repo().join("scenes").join("bad_load.toml");
+    let msg = match impact::scene::Scene::parse(text, &path) {
+        Err(e) => e.to_string(),
+        Ok(scene) => {
+            let opts = RunOptions {
+                out: Some(out_dir("bad_load")),
+                quiet: true,
+                ..Default::default()
+            };
+            run(&scene, &opts).expect_err("must be refused").to_string()
+        }
+    };
+    assert!(msg.contains("bad_load.toml"), "names the file: {msg}");
+    for p in parts {
+        assert!(msg.contains(p), "{msg:?} should contain {p:?}");
+    }
+}
+
+#[test]
+fn a_load_that_cannot_be_applied_is_refused_by_its_key() {
+    let bar = |load: &str| held_bar("explicit", 0.0008, 10, load);
+    let head = "[[load]]\nbody = \"bar\"\n";
+    refused(
+        &bar(&format!(
+            "{head}face = \"x+\"\npressure = 1.0\nforce = [1.0, 0.0, 0.0]\n"
+        )),
+        &["load[0].force", "exactly one of `force`"],
+    );
+    refused(
+        &bar(&format!("{head}face = \"x+\"\n")),
+        &["load[0].force", "exactly one of `force`"],
+    );
+    refused(
+        &bar(&format!("{head}region = {{ min = [9.0, -1.0, -1.0], max = [11.0, 2.0, 2.0] }}\npressure = 1.0\n")),
+        &["load[0].pressure", "acts on a face"],
+    );
+    refused(
+        &bar(&format!("{head}face = \"x+\"\npressure = 1.0\namplitude = [[0.0, 0.0], [0.2, 1.0], [0.1, 0.5]]\n")),
+        &["load[0].amplitude", "point 2's time 0.1", "times must increase"],
+    );
+    refused(
+        &bar(&format!(
+            "{head}face = \"x+\"\npressure = 1.0\namplitude = []\n"
+        )),
+        &["load[0].amplitude", "has no point"],
+    );
+    refused(
+        &bar(&format!("{head}face = \"x+\"\npressure = inf\n")),
+        &["load[0].pressure", "must be finite"],
+    );
+    refused(
+        &bar(&format!("{head}face = \"x-\"\nforce = [1.0, 0.0, 0.0]\n")),
+        &[
+            "load[0]",
+            "pushes node 0's x component, which a `[[fix]]` holds",
+        ],
+    );
+    refused(
+        &bar(&format!("{head}region = {{ min = [20.0, 0.0, 0.0], max = [30.0, 1.0, 1.0] }}\nforce = [1.0, 0.0, 0.0]\n")),
+        &["load[0]", "selects no node of body `bar`"],
+    );
+    refused(
+        &bar(&format!(
+            "[[load]]\nbody = \"rod\"\nface = \"x+\"\npressure = 1.0\n"
+        )),
+        &["load[0].body", "rod"],
+    );
+}
