@@ -1891,3 +1891,109 @@ fn an_lsdyna_velocity_on_parts_of_a_part_runs_as_the_parts() {
         "the split velocity's history differs"
     );
 }
+
+/// The held bar of `tests/loads.rs` as a CalculiX deck: a pressure `*DLOAD` on its end's
+/// side with an `*AMPLITUDE`, and a `*CLOAD` on one node given by its number.
+fn loaded_bar_deck() -> String {
+    let mut t = String::from("*HEADING\nA held bar under an end pressure\n");
+    t += &brick(
+        ([0.0, 0.0, 0.0], [10.0, 1.0, 1.0], [100, 1, 1]),
+        (1, 1),
+        ("BAR", "NBAR"),
+    );
+    // the nodes at x = 0 and at the tip, of a brick numbered x first (101 a row)
+    t += "*NSET, NSET=NFIX\n1, 102, 203, 304\n*NSET, NSET=NTIP\n101\n";
+    t += "*MATERIAL, NAME=EL\n*ELASTIC\n100.0, 0.0\n*DENSITY\n0.01\n";
+    t += "*SOLID SECTION, ELSET=BAR, MATERIAL=EL\n*ELSET, ELSET=END\n100\n";
+    t += "*AMPLITUDE, NAME=UP\n0.0, 0.0, 0.05, 1.0, 0.3, 0.5\n";
+    t += "*BOUNDARY\nNFIX, 1, 1\n*STEP\n*DYNAMIC, EXPLICIT\n0.0008, 0.4\n";
+    t += "*DLOAD, AMPLITUDE=UP\nEND, P4, 2.0\n*CLOAD\n51, 2, 0.02\n";
+    t += "*NODE PRINT, NSET=NTIP\nU\n*END STEP\n";
+    t
+}
+
+/// A deck's loads give the history of their `[[load]]` twin: the tip's motion, the loads'
+/// work and the total energy.
+#[test]
+fn a_decks_cload_dload_and_amplitude_run_as_their_scene_twin() {
+    let deck = written("deck_loads", "loaded_bar.inp", &loaded_bar_deck());
+    let (s, h) = run_file("deck_loads", &deck);
+    assert!(s.steps > 400, "{} steps", s.steps);
+    let twin = held_bar(
+        "explicit",
+        0.0008,
+        100,
+        &format!("{PRESSURE}amplitude = [[0.0, 0.0], [0.05, 1.0], [0.3, 0.5]]\n\n[[load]]\nbody = \"bar\"\nregion = {{ min = [4.99, -0.01, -0.01], max = [5.01, 0.01, 0.01] }}\nforce = [0.0, 0.02, 0.0]\n"),
+    )
+    .replace("time_step = 0.0008\n", "");
+    let (st, ht) = run_text("deck_loads_twin", &twin);
+    assert_eq!(st.expect("twin runs").status, "completed");
+    for (a, b, floor) in [
+        ("NTIP.ux", "tip.ux", 1e-9),
+        ("NTIP.uy", "tip.uy", 1e-9),
+        ("external_work", "external_work", 1e-9),
+        ("total_energy", "total_energy", 0.1),
+    ] {
+        let d = difference(&h, a, &ht, b, floor);
+        assert!(d < 1e-9, "{a} differs from the twin's {b} by {d}");
+    }
+    let most = h.col("external_work").into_iter().fold(0.0, f64::max);
+    assert!(most > 0.1, "the loads did {most} at most");
+}
+
+#[test]
+fn a_decks_loads_that_cannot_be_applied_are_refused_at_their_lines() {
+    let deck = loaded_bar_deck();
+    refused(
+        "deck_moment",
+        &edit(&deck, "51, 2, 0.02", "51, 5, 0.02"),
+        &["*CLOAD 51, 5: a moment"],
+    );
+    refused(
+        "deck_no_amplitude",
+        &edit(&deck, "AMPLITUDE=UP\nEND", "AMPLITUDE=DOWN\nEND"),
+        &["AMPLITUDE=DOWN: no *AMPLITUDE of that name"],
+    );
+    refused(
+        "deck_odd_amplitude",
+        &edit(&deck, "0.3, 0.5\n", "0.3\n"),
+        &["*AMPLITUDE UP: 5 numbers"],
+    );
+    refused(
+        "deck_back_amplitude",
+        &edit(&deck, "0.3, 0.5\n", "0.01, 0.5\n"),
+        &["*AMPLITUDE UP: time 0.01 does not follow 0.05"],
+    );
+    refused(
+        "deck_smooth_amplitude",
+        &edit(&deck, "NAME=UP", "NAME=UP, DEFINITION=SMOOTH STEP"),
+        &["DEFINITION=TABULAR"],
+    );
+    refused(
+        "deck_twice",
+        &edit(&deck, "51, 2, 0.02", "51, 2, 0.02\n51, 2, 0.03"),
+        &["the load on 51, dof 2, is given twice"],
+    );
+    refused(
+        "deck_body_force",
+        &edit(&deck, "END, P4, 2.0", "END, BX, 2.0"),
+        &["*DLOAD BX: impact reads GRAV (gravity) and Pn"],
+    );
+    // a load on a held component is refused when the model is built
+    let held = written(
+        "deck_held_load",
+        "bad.inp",
+        &edit(&deck, "51, 2, 0.02", "1, 1, 0.02"),
+    );
+    let scene = Scene::load(&held).expect("the deck reads");
+    let opts = RunOptions {
+        out: Some(out_dir("deck_held_load_run")),
+        quiet: true,
+        ..Default::default()
+    };
+    let e = run(&scene, &opts).expect_err("refused").to_string();
+    assert!(
+        e.contains("load[0]") && e.contains("which a `[[fix]]` holds"),
+        "{e}"
+    );
+}

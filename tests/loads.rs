@@ -234,9 +234,11 @@ fn a_load_that_cannot_be_applied_is_refused_by_its_key() {
         &["load[0]", "selects no node of body `bar`"],
     );
     refused(
-        &bar(&format!(
-            "[[load]]\nbody = \"rod\"\nface = \"x+\"\npressure = 1.0\n"
-        )),
+        &bar("[[load]]
+body = \"rod\"
+face = \"x+\"
+pressure = 1.0
+"),
         &["load[0].body", "rod"],
     );
 }

@@ -65,8 +65,11 @@ enum Mode {
     SurfaceNode,
     Orientation,
     /// A keyword whose lines may name a node by its number where a node set may stand
-    /// (`*BOUNDARY`, `*INITIAL CONDITIONS`): passed over, its node numbers kept.
+    /// (`*BOUNDARY`, `*INITIAL CONDITIONS`, `*CLOAD`): passed over, its node numbers kept.
     NodeNumbers,
+    /// `*DLOAD`: each pressure line's element sides kept as a surface
+    /// ([`pressure_surface`]).
+    PressureSides,
 }
 
 struct Element {
@@ -156,6 +159,21 @@ const SPACED: [&str; 22] = [
 /// (a blank in it: a deck's own set names have none, as CalculiX drops them).
 pub(crate) fn numbered_set(id: u64) -> String {
     format!("node {id}")
+}
+
+/// The side n of a `*DLOAD` pressure label `Pn` (n from 1).
+pub(crate) fn pressure_side(label: &str) -> Option<usize> {
+    let l = label.to_ascii_uppercase();
+    l.strip_prefix('P')?
+        .parse::<usize>()
+        .ok()
+        .filter(|&n| n >= 1)
+}
+
+/// The name of the surface of side n of an element or element set that a `*DLOAD` line
+/// presses (a blank in it, so that no deck's surface can take the name).
+pub(crate) fn pressure_surface(target: &str, side: usize) -> String {
+    format!("{} P{side}", target.to_ascii_uppercase())
 }
 
 pub(crate) fn word(s: &str) -> String {
@@ -395,9 +413,13 @@ impl Parser {
                     format!("*{}: decks with parts and instances are not supported; write a flat deck (nodes and elements at the top level)", k.name),
                 ))
             }
-            "BOUNDARY" | "INITIAL CONDITIONS" => {
+            "BOUNDARY" | "INITIAL CONDITIONS" | "CLOAD" => {
                 self.r.skipped.push((k.name.clone(), line_no));
                 Mode::NodeNumbers
+            }
+            "DLOAD" => {
+                self.r.skipped.push((k.name.clone(), line_no));
+                Mode::PressureSides
             }
             "INCLUDE" => {
                 return Err(ParseError::at(
@@ -492,6 +514,10 @@ impl Parser {
             .collect();
         match self.mode {
             Mode::Skip => Ok(()),
+            Mode::PressureSides => {
+                self.pressure_line(&fields, line_no);
+                Ok(())
+            }
             Mode::NodeNumbers => {
                 if let Some(id) = fields.first().and_then(|f| f.parse::<u64>().ok()) {
                     self.r.numbered.push(id);
@@ -654,6 +680,23 @@ impl Parser {
         }
         self.pending.clear();
         Ok(())
+    }
+
+    /// Keeps the sides of a `*DLOAD` line `element-or-elset, Pn, value` as the surface
+    /// [`pressure_surface`] (once, however many lines name it); other lines (`GRAV`, ...)
+    /// are the scene reader's.
+    fn pressure_line(&mut self, fields: &[&str], line_no: usize) {
+        let (Some(target), Some(label)) = (fields.first(), fields.get(1)) else {
+            return;
+        };
+        let Some(side) = pressure_side(label) else {
+            return;
+        };
+        let name = pressure_surface(target, side);
+        if !self.r.surfaces.iter().any(|s| s.0 == name) {
+            let entry = (target.to_string(), side, line_no);
+            self.r.surfaces.push((name, vec![entry], line_no));
+        }
     }
 
     /// Reads a `*SURFACE, TYPE=ELEMENT` data line, `element-or-elset, Sn`.

@@ -105,8 +105,8 @@ impl Load {
                 let Some(&n) = f.corners().get(k) else {
                     continue;
                 };
-                for a in 0..3 {
-                    *forces.entry(3 * n + a as u32).or_insert(0.0) -= p * w[a];
+                for (a, wa) in (0u32..).zip(w) {
+                    *forces.entry(3 * n + a).or_insert(0.0) -= p * wa;
                 }
             }
         }
@@ -181,13 +181,15 @@ mod tests {
 
     #[test]
     fn a_pressure_on_a_warped_quad_sums_to_p_times_its_vector_area() {
-        let mut mesh = Mesh::default();
-        mesh.nodes = vec![
-            [0.0, 0.0, 0.0],
-            [2.0, 0.1, 0.3],
-            [2.2, 1.5, -0.2],
-            [-0.1, 1.2, 0.1],
-        ];
+        let mut mesh = Mesh {
+            nodes: vec![
+                [0.0, 0.0, 0.0],
+                [2.0, 0.1, 0.3],
+                [2.2, 1.5, -0.2],
+                [-0.1, 1.2, 0.1],
+            ],
+            ..Mesh::default()
+        };
         let face = Face::Quad([0, 1, 2, 3]);
         let load = Load::pressure(&mesh, &[face], 3.0, Amplitude::default());
         // the vector area of a quad is half the cross product of its diagonals

@@ -363,6 +363,7 @@ pub(crate) struct RawInitialVelocity {
 pub(crate) struct RawLoad {
     pub body: String,
     pub face: Option<String>,
+    pub surface: Option<String>,
     pub set: Option<String>,
     pub region: Option<RawRegion>,
     pub force: Option<[f64; 3]>,

@@ -4,9 +4,11 @@
 //! engineering constants) and `*DENSITY`, `*SOLID SECTION` (each section's element set is a
 //! body), `*RIGID BODY` (a section's element set moving as one, [`rigid`]), `*BOUNDARY`
 //! (zero values on node sets), `*INITIAL CONDITIONS, TYPE=VELOCITY` (a velocity per body),
-//! `*SURFACE INTERACTION` with `*FRICTION`, `*CONTACT PAIR`, `*DLOAD` gravity and one
-//! `*STEP` with `*DYNAMIC` (implicit) or `*DYNAMIC, EXPLICIT`.
+//! `*SURFACE INTERACTION` with `*FRICTION`, `*CONTACT PAIR`, `*DLOAD` gravity, the loads
+//! ([`loads`]: `*CLOAD`, pressure `*DLOAD`, `*AMPLITUDE`) and one `*STEP` with `*DYNAMIC`
+//! (implicit) or `*DYNAMIC, EXPLICIT`.
 
+mod loads;
 mod rigid;
 
 use std::collections::HashMap;
@@ -122,6 +124,12 @@ struct Gathered {
     printed: Vec<(String, usize)>,
     /// Keywords passed over, with their lines.
     passed: Vec<(String, usize)>,
+    /// The `*AMPLITUDE` tables by name (upper case), the `*CLOAD` and pressure `*DLOAD`
+    /// lines, and whether `*STEP, AMPLITUDE=RAMP` ramps the loads without one.
+    amplitudes: HashMap<String, Vec<[f64; 2]>>,
+    cloads: Vec<loads::NodalLoad>,
+    pressures: Vec<loads::PressureLoad>,
+    ramp: bool,
     /// The names of the node-based surfaces (`*SURFACE, TYPE=NODE`).
     node_surfaces: Vec<String>,
 }
@@ -222,13 +230,16 @@ impl Reader<'_> {
             "FRICTION" => self.friction(b, g)?,
             "CONTACT PAIR" => self.contact_pair(b, g)?,
             "STEP" => {
+                g.ramp = b.get("AMPLITUDE").is_some_and(|a| a.eq_ignore_ascii_case("RAMP"));
                 g.steps += 1;
                 if g.steps > 1 {
                     return Err(self.src.err(b.line, "a second *STEP: impact runs one dynamic step; split the analysis into decks of one step each"));
                 }
             }
             "DYNAMIC" => g.step = Some(self.dynamic(b)?),
-            "DLOAD" => self.gravity(b, g)?,
+            "DLOAD" => self.dload(b, g)?,
+            "CLOAD" => self.cload(b, g)?,
+            "AMPLITUDE" => self.amplitude(b, g)?,
             "NODE PRINT" | "NODE OUTPUT" if b.get("NSET").is_some() => {
                 let set = b.get("NSET").unwrap_or_default().to_string();
                 g.printed.push((set, b.line));
@@ -237,7 +248,7 @@ impl Reader<'_> {
             n => {
                 return Err(self.src.err(
                     b.line,
-                    format!("*{n}: impact cannot honour this keyword (it reads elastic solids, rigid bodies of solid elements, their supports, initial velocities, contact pairs with friction, gravity and one *DYNAMIC step; docs/decks.md lists them)"),
+                    format!("*{n}: impact cannot honour this keyword (it reads elastic solids, rigid bodies of solid elements, their supports, initial velocities, contact pairs with friction, gravity, loads (*CLOAD, pressure *DLOAD, *AMPLITUDE) and one *DYNAMIC step; docs/decks.md lists them)"),
                 ))
             }
         }
@@ -460,24 +471,19 @@ impl Reader<'_> {
         })
     }
 
-    fn gravity(&self, b: &Block, g: &mut Gathered) -> Result<()> {
-        for (f, l) in &b.data {
-            if !f.get(1).is_some_and(|t| t.eq_ignore_ascii_case("GRAV")) {
-                return Err(self.src.err(*l, "*DLOAD: impact reads GRAV (gravity); other distributed loads are not supported"));
-            }
-            let m = self.number(f, 2, *l, "*DLOAD GRAV magnitude")?;
-            let d = [3, 4, 5].map(|i| self.number(f, i, *l, "*DLOAD GRAV direction"));
-            let [x, y, z] = d;
-            let direction = [x?, y?, z?];
-            if m != 0.0 && direction == [0.0; 3] {
-                return Err(self.src.err(
-                    *l,
-                    "*DLOAD GRAV: the direction is zero (give the unit vector gravity acts along)",
-                ));
-            }
-            g.gravity.push((f[0].clone(), direction.map(|c| m * c), *l));
+    /// A `*DLOAD` GRAV line: (element set, g times direction, line).
+    fn gravity_line(&self, f: &[String], l: usize) -> Result<(String, [f64; 3], usize)> {
+        let m = self.number(f, 2, l, "*DLOAD GRAV magnitude")?;
+        let d = [3, 4, 5].map(|i| self.number(f, i, l, "*DLOAD GRAV direction"));
+        let [x, y, z] = d;
+        let direction = [x?, y?, z?];
+        if m != 0.0 && direction == [0.0; 3] {
+            return Err(self.src.err(
+                l,
+                "*DLOAD GRAV: the direction is zero (give the unit vector gravity acts along)",
+            ));
         }
-        Ok(())
+        Ok((f[0].clone(), direction.map(|c| m * c), l))
     }
 
     /// The model's gravity: the GRAV lines must give one vector to every section's elements
@@ -565,6 +571,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         gravity: r.whole_gravity(&g)?,
         materials: g.materials.clone(),
         fixes: r.fixes(&g, &bodies, &on)?,
+        loads: r.loads(&g, &bodies, &on)?,
         velocities,
         contacts,
         probes,
@@ -604,6 +611,13 @@ impl Reader<'_> {
         for (i, (slave, master, _, line)) in g.pairs.iter().enumerate() {
             let what = format!("*CONTACT PAIR {slave}, {master}");
             out.push(self.src.origin(format!("contact[{i}]"), *line, what));
+        }
+        for (i, l) in scene.loads.iter().enumerate() {
+            let what = match l.on {
+                super::LoadOn::Set(_) => "*CLOAD",
+                super::LoadOn::Surface(_) => "*DLOAD",
+            };
+            out.push(self.src.origin(format!("load[{i}]"), l.line, what.into()));
         }
         for (i, r) in scene.rigid.iter().enumerate() {
             if let Some(d) = g.rigid.iter().find(|d| d.elset == r.name) {

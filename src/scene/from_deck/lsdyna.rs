@@ -523,6 +523,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         gravity: None,
         materials: r.materials(&g),
         fixes: r.fixes(&g, &bodies)?,
+        loads: Vec::new(),
         velocities,
         contacts,
         rigid: (rigid.iter())

@@ -141,6 +141,26 @@ pub(crate) struct DeckVelocity {
     pub value: f64,
 }
 
+/// What a deck's load acts on: a node set of a body (a force on each node), or a surface
+/// (a pressure).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum LoadOn {
+    Set(String),
+    Surface(String),
+}
+
+/// A load of a deck on one body: a force on each node of a set or a pressure on a surface,
+/// with its amplitude table (none: constant), and the line that gives it.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct DeckLoad {
+    pub body: String,
+    pub on: LoadOn,
+    pub force: Option<[f64; 3]>,
+    pub pressure: Option<f64>,
+    pub amplitude: Vec<[f64; 2]>,
+    pub line: usize,
+}
+
 /// A contact's primary side: a body's surface, or a rigid body.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) enum PrimarySide {
@@ -283,6 +303,7 @@ pub(crate) struct DeckScene {
     pub fixes: Vec<DeckFix>,
     /// Initial velocities of parts of bodies, after the bodies' own.
     pub velocities: Vec<DeckVelocity>,
+    pub loads: Vec<DeckLoad>,
     pub contacts: Vec<DeckContact>,
     pub probes: Vec<DeckProbe>,
     pub planes: Vec<DeckPlane>,
@@ -721,6 +742,25 @@ impl DeckScene {
                 vector(velocity),
                 ["x", "y", "z"][v.component]
             );
+        }
+        for l in &self.loads {
+            let _ = writeln!(t, "\n[[load]]\nbody = {}", quoted(&l.body));
+            let _ = match &l.on {
+                LoadOn::Set(s) => writeln!(t, "set = {}", quoted(s)),
+                LoadOn::Surface(s) => writeln!(t, "surface = {}", quoted(s)),
+            };
+            if let Some(f) = l.force {
+                let _ = writeln!(t, "force = {}", vector(f));
+            }
+            if let Some(p) = l.pressure {
+                let _ = writeln!(t, "pressure = {}", float(p));
+            }
+            if !l.amplitude.is_empty() {
+                let points: Vec<String> = (l.amplitude.iter())
+                    .map(|[a, b]| format!("[{}, {}]", float(*a), float(*b)))
+                    .collect();
+                let _ = writeln!(t, "amplitude = [{}]", points.join(", "));
+            }
         }
         for p in &self.planes {
             let _ = writeln!(

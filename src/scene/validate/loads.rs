@@ -3,8 +3,8 @@
 use super::*;
 
 impl Checker<'_> {
-    /// Every `[[load]]` of the scene: on a meshed body, `force` on a face's, a node set's or
-    /// a region's nodes, or `pressure` on a face.
+    /// Every `[[load]]` of the scene: on a meshed body, `force` on the nodes of a face (a box
+    /// body's), a surface, a node set or a region, or `pressure` on a face or a surface.
     pub(super) fn loads(
         &self,
         raw: &[RawLoad],
@@ -33,13 +33,24 @@ impl Checker<'_> {
                     "give exactly one of `force` (on each selected node) or `pressure` (on a face)",
                 )),
             };
-            if matches!(kind, LoadKind::Pressure(_)) && l.face.is_none() {
-                return Err(self.err(
-                    key("pressure"),
-                    "acts on a face: give `face` (a box face or a surface of the mesh), not `set` or `region`",
-                ));
-            }
-            let nodes = self.nodes_of(&key, (&l.face, &l.set, l.region.as_ref()), &bodies[body])?;
+            let nodes = match &l.surface {
+                Some(name) if l.face.is_none() && l.set.is_none() && l.region.is_none() => {
+                    NodeSelection::Surface(self.surface_of(&key("surface"), name, &bodies[body])?)
+                }
+                Some(_) => {
+                    return Err(self.err(
+                        key("surface"),
+                        "give exactly one of `face`, `surface`, `set` or `region`",
+                    ))
+                }
+                None if matches!(kind, LoadKind::Pressure(_)) && l.face.is_none() => {
+                    return Err(self.err(
+                        key("pressure"),
+                        "acts on a face: give `face` (a box body's) or `surface` (a mesh's), not `set` or `region`",
+                    ))
+                }
+                None => self.nodes_of(&key, (&l.face, &l.set, l.region.as_ref()), &bodies[body])?,
+            };
             out.push(LoadSpec {
                 body,
                 nodes,
