@@ -268,8 +268,11 @@ fn explicit_only(scene: &Scene, model: &Model) -> Option<String> {
             c.name
         ));
     }
-    if !model.fix_motion.is_empty() {
-        return Some("a [[fix]] moves its nodes (velocity), which the explicit path runs".into());
+    if !model.fix_motion.is_empty() || !model.fix_paths.is_empty() {
+        return Some(
+            "a [[fix]] moves its nodes (velocity or displacement), which the explicit path runs"
+                .into(),
+        );
     }
     None
 }

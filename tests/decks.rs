@@ -428,7 +428,7 @@ fn what_a_deck_asks_that_impact_cannot_honour_is_refused_by_keyword_and_line() {
         "*INITIAL CONDITIONS",
         "*BOUNDARY\nNA, 1, 1, 0.5\n*INITIAL CONDITIONS",
     );
-    refused("deck_moved", &moved, &["*BOUNDARY", "other than 0"]);
+    refused("deck_moved", &moved, &["*BOUNDARY NA", "a jump at t = 0"]);
     let static_step = edit(&deck, "*DYNAMIC\n", "*STATIC\n");
     refused("deck_static", &static_step, &["*STATIC", "cannot honour"]);
     let no_step: String = deck
@@ -1815,7 +1815,7 @@ fn a_contact_pairs_adjust_closes_the_gap_before_the_start() {
 }
 
 /// Every keyword a deck is refused for is told at once, each at its line: a plastic
-/// material, a static step and a concentrated load in one deck give three lines.
+/// material, a static step and a linear constraint in one deck give three lines.
 #[test]
 fn a_decks_refusals_are_told_together() {
     let deck = std::fs::read_to_string(repo().join("scenes/two_bars.inp")).unwrap();
@@ -1824,13 +1824,13 @@ fn a_decks_refusals_are_told_together() {
     let three = edit(
         &three,
         "*NODE PRINT, NSET=NB",
-        "*CLOAD\nNB, 1, 1.0\n*NODE PRINT, NSET=NB",
+        "*EQUATION\n2\n1, 1, 1.0, 2, 1, -1.0\n*NODE PRINT, NSET=NB",
     );
     let path = written("deck_three_refusals", "bad.inp", &three);
     let e = Scene::load(&path).expect_err("refused").to_string();
     let lines: Vec<&str> = e.lines().filter(|l| l.contains("bad.inp:")).collect();
     assert_eq!(lines.len(), 3, "{e}");
-    for (line, word) in lines.iter().zip(["*PLASTIC", "*STATIC", "*CLOAD"]) {
+    for (line, word) in lines.iter().zip(["*PLASTIC", "*STATIC", "*EQUATION"]) {
         assert!(
             line.contains(word) && line.contains("cannot honour"),
             "{line}"
@@ -1995,5 +1995,64 @@ fn a_decks_loads_that_cannot_be_applied_are_refused_at_their_lines() {
     assert!(
         e.contains("load[0]") && e.contains("which a `[[fix]]` holds"),
         "{e}"
+    );
+}
+
+/// The pushed bar of `tests/prescribed.rs` as a deck: a `*BOUNDARY` with a value along an
+/// `*AMPLITUDE` (or the step's ramp) gives its `[[fix]] displacement` twin's history; without
+/// either, a dynamic step's value would be a jump at t = 0, and it is refused.
+#[test]
+fn a_decks_boundary_displacement_runs_as_its_scene_twin() {
+    let deck = loaded_bar_deck()
+        .replace(
+            "*DLOAD, AMPLITUDE=UP\nEND, P4, 2.0\n*CLOAD\n51, 2, 0.02\n",
+            "",
+        )
+        .replace(
+            "*NSET, NSET=NTIP\n101\n",
+            "*NSET, NSET=NTIP\n101\n*NSET, NSET=NEND\n101, 202, 303, 404\n",
+        )
+        .replace(
+            "*BOUNDARY\nNFIX, 1, 1\n",
+            "*BOUNDARY\nNFIX, 1, 1\n*BOUNDARY, AMPLITUDE=UP\nNEND, 1, 1, -0.05\n",
+        )
+        .replace(
+            "0.0, 0.0, 0.05, 1.0, 0.3, 0.5",
+            "0.0, 0.0, 0.1, 1.0, 0.3, 0.0",
+        );
+    let path = written("deck_push", "pushed.inp", &deck);
+    let (_, h) = run_file("deck_push", &path);
+    let twin = pushed_bar(
+        0.4,
+        "displacement = [-0.05, 0.0, 0.0]\namplitude = [[0.0, 0.0], [0.1, 1.0], [0.3, 0.0]]\n",
+    )
+    .replace("divisions = [10, 1, 1]", "divisions = [100, 1, 1]")
+    .replace("time_step = 0.0009\n", "");
+    let (st, ht) = run_text("deck_push_twin", &twin);
+    assert_eq!(st.expect("twin runs").status, "completed");
+    for (a, b, floor) in [
+        ("NTIP.ux", "tip.ux", 1e-9),
+        ("strain_energy", "strain_energy", 1e-9),
+        ("total_energy", "total_energy", 1e-3),
+    ] {
+        let d = difference(&h, a, &ht, b, floor);
+        assert!(d < 1e-9, "{a} differs from the twin's {b} by {d}");
+    }
+    // the step's ramp in place of the amplitude
+    let ramp = deck
+        .replace("*BOUNDARY, AMPLITUDE=UP\n", "*BOUNDARY\n")
+        .replace("*STEP\n", "*STEP, AMPLITUDE=RAMP\n");
+    let path = written("deck_push_ramp", "pushed.inp", &ramp);
+    let (_, h) = run_file("deck_push_ramp", &path);
+    for (&t, u) in h.col("time").iter().zip(h.col("NTIP.ux")) {
+        assert!(
+            (u + 0.05 * t / 0.4).abs() < 1e-12,
+            "the ramp's tip at {u} at {t}"
+        );
+    }
+    refused(
+        "deck_push_jump",
+        &deck.replace("*BOUNDARY, AMPLITUDE=UP\n", "*BOUNDARY\n"),
+        &["*BOUNDARY NEND", "a jump at t = 0", "AMPLITUDE=RAMP"],
     );
 }

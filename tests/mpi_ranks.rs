@@ -412,6 +412,16 @@ fn a_loaded_bar_is_the_same_on_2_and_4_ranks() {
     assert!(h.last("external_work") > 0.0);
 }
 
+/// A fix moving the bar's end along an amplitude table: each rank drives the nodes it holds
+/// and counts the work on those it owns.
+#[test]
+fn a_pushed_bar_is_the_same_on_2_and_4_ranks() {
+    let motion =
+        "displacement = [-0.05, 0.0, 0.0]\namplitude = [[0.0, 0.0], [0.1, 1.0], [0.3, 0.0]]\n";
+    let h = same_on_ranks("mpi_pushed_bar", &pushed_bar(0.4, motion));
+    assert!(h.col("strain_energy").into_iter().fold(0.0, f64::max) > 0.0);
+}
+
 /// Tet4 on both sides: the faces that cross rank boundaries are triangles.
 #[test]
 fn tet4_cube_on_tet4_plate_is_the_same_on_2_and_4_ranks() {

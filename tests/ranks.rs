@@ -164,6 +164,10 @@ fn one_rank_runs_the_single_process_history_byte_for_byte() {
         ("ranks_bar_on_wall", scene_text("bar_on_wall.toml")),
         ("ranks_tet4_cube_on_plate", tet4_cube_on_plate()),
         ("ranks_loaded_bar", loaded_bar("explicit", 0.002, 0.4)),
+        (
+            "ranks_pushed_bar",
+            pushed_bar(0.4, "displacement = [-0.05, 0.0, 0.0]\namplitude = [[0.0, 0.0], [0.1, 1.0], [0.3, 0.0]]\n"),
+        ),
     ] {
         let (one, ranked) = both_ways(tag, &explicit_at_default_step(&text));
         assert!(

@@ -17,7 +17,9 @@ use super::ranks::{agree, Ranks, Timed};
 use super::subdomain::Subdomain;
 use crate::error::{ImpactError, Result};
 use crate::gpu::GpuContext;
-use crate::integrate::explicit::{correct, lumped_mass, ExplicitState, NodalStart, Work};
+use crate::integrate::explicit::{
+    correct, lumped_mass, path_work, ExplicitState, NodalStart, Work,
+};
 use crate::integrate::loads::LoadForces;
 use crate::integrate::state::check_restore;
 use crate::integrate::{
@@ -202,6 +204,12 @@ impl<'m> DomainSolver<'m> {
         (self.moving_fixes.iter())
             .map(|&(d, w)| (self.f_int[d] - self.mass[d / 3] * g[d % 3]) * w)
             .sum()
+    }
+
+    /// The rank's dof of model dof `d`, where the rank holds its node.
+    fn local_dof(&self, d: usize) -> Option<usize> {
+        let i = self.sub.nodes.binary_search(&((d / 3) as u32)).ok()?;
+        Some(3 * i + d % 3)
     }
 
     /// The loads' work over the step just drifted (the rank's owned nodes'), and their force
@@ -419,6 +427,28 @@ impl Integrator for DomainSolver<'_> {
     fn step(&mut self) -> Result<StepReport> {
         let dt = self.dt;
         kernels::explicit_predict(dt, &self.a, &mut self.v);
+        // the work of the fixes along displacements, on the rank's owned nodes
+        let mut v = std::mem::take(&mut self.v);
+        let mut work = 0.0;
+        let g = self.model.gravity;
+        for p in &self.model.fix_paths {
+            let each = |l: usize, old: f64, new: f64| {
+                if self.sub.owned[l / 3] {
+                    let (m, f) = (self.mass[l / 3], self.f_int[l]);
+                    let steps = (self.u[l] - self.u_prev[l], dt * new);
+                    work += path_work(f - m * g[l % 3], m, (old, new), steps);
+                }
+            };
+            p.drive(
+                (self.time, dt),
+                &self.u,
+                &mut v,
+                |d| self.local_dof(d),
+                each,
+            );
+        }
+        self.v = v;
+        self.fix_work += work;
         let clock = std::time::Instant::now();
         let report = self.contact()?;
         self.contact_seconds += clock.elapsed().as_secs_f64();

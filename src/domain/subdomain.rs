@@ -371,6 +371,7 @@ impl Subdomain {
             probes: Vec::new(),
             fix_nodes: Vec::new(),
             fix_motion: Vec::new(),
+            fix_paths: Vec::new(),
             reactions: Vec::new(),
             initial_velocity: Vec::new(),
             gravity: model.gravity,

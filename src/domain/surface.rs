@@ -65,6 +65,7 @@ pub(crate) fn surface_model(model: &Model, nodes: &[u32]) -> Model {
         probes: Vec::new(),
         fix_nodes: Vec::new(),
         fix_motion: Vec::new(),
+        fix_paths: Vec::new(),
         reactions: Vec::new(),
         initial_velocity: at_nodes(nodes, &model.initial_velocity),
         gravity: model.gravity,

@@ -274,12 +274,14 @@ pub fn setup_without_contact(
 /// Whether a decomposed run on GPUs keeps its step on the hosts (the ranks' element forces
 /// on their GPUs) rather than resident: a model whose plies damage, or with named or moving
 /// fixes (the resident ranks' rows carry neither the damage nor the reactions), or with
-/// loads (their forces change over time on the host).
+/// loads or fixes moved along a displacement (their forces and velocities change over time
+/// on the host).
 pub fn needs_host_ranks(model: &Model) -> bool {
     model.damage_laws.iter().any(Option::is_some)
         || !model.reactions.is_empty()
         || !model.fix_motion.is_empty()
         || !model.loads.is_empty()
+        || !model.fix_paths.is_empty()
 }
 
 /// The smallest contact tolerance the device iteration takes, relative to the speed scale:

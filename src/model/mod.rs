@@ -7,10 +7,12 @@ mod damage_shapes;
 pub mod interface;
 pub mod loads;
 pub mod materials;
+pub mod prescribed;
 pub mod rigid;
 
 pub use interface::{tributary_areas, Interface, Primary};
 pub use materials::MaterialTable;
+pub use prescribed::FixPath;
 pub use rigid::RigidBody;
 
 use crate::contact::law::ContactLaw;
@@ -64,6 +66,8 @@ pub struct Model {
     pub fix_nodes: Vec<usize>,
     /// The held dofs that a `[[fix]]` moves, with their velocities, by increasing dof.
     pub fix_motion: Vec<(usize, f64)>,
+    /// The `[[fix]]`es that move their nodes by a displacement over time.
+    pub fix_paths: Vec<FixPath>,
     /// The named `[[fix]]`s, whose reactions the history gives.
     pub reactions: Vec<Reaction>,
     /// Initial velocity, 3 per node.
@@ -105,6 +109,7 @@ impl Model {
             mut fixed,
             counts: fix_nodes,
             moving: fix_motion,
+            paths: fix_paths,
             reactions,
         } = fixes(scene, &mesh)?;
         for b in rigid.iter().filter(|b| b.is_prescribed()) {
@@ -139,6 +144,7 @@ impl Model {
             probes,
             fix_nodes,
             fix_motion,
+            fix_paths,
             reactions,
             initial_velocity,
             gravity: scene.gravity,
@@ -229,6 +235,7 @@ struct Fixes {
     fixed: Vec<bool>,
     counts: Vec<usize>,
     moving: Vec<(usize, f64)>,
+    paths: Vec<FixPath>,
     reactions: Vec<Reaction>,
 }
 
@@ -297,6 +304,7 @@ fn fixes(scene: &Scene, mesh: &Mesh) -> Result<Fixes> {
     let mut given: std::collections::HashMap<usize, (f64, usize)> = Default::default();
     let mut counts = Vec::with_capacity(scene.fixes.len());
     let mut reactions = Vec::new();
+    let mut paths = Vec::new();
     let first_rigid = mesh.node_count() - scene.rigid_bodies.len();
     for (i, f) in scene.fixes.iter().enumerate() {
         let nodes = match f.nodes {
@@ -313,20 +321,26 @@ fn fixes(scene: &Scene, mesh: &Mesh) -> Result<Fixes> {
                 let d = 3 * n as usize + a;
                 fixed[d] = true;
                 held[a].push(d as u32);
-                if let Some((w, j)) = given.insert(d, (f.velocity[a], i)) {
-                    if w != f.velocity[a] {
-                        return Err(ImpactError::SceneValue {
-                            path: scene.path.clone(),
-                            key: format!("fix[{i}].velocity"),
-                            message: format!(
-                                "fix[{j}] holds node {n}'s {} at {w} and this fix at {}: a node's component moves at one velocity",
-                                ["x", "y", "z"][a],
-                                f.velocity[a]
-                            ),
-                        });
+                // a displacement's velocity changes over time: NaN meets no other
+                let w = match f.displacement {
+                    Some(_) => f64::NAN,
+                    None => f.velocity[a],
+                };
+                if let Some((w0, j)) = given.insert(d, (w, i)) {
+                    if w0 != w || w.is_nan() {
+                        return Err(two_motions(scene, (i, j), n, a));
                     }
                 }
             }
+        }
+        if let Some((value, amplitude)) = &f.displacement {
+            paths.push(FixPath::new(
+                &nodes,
+                f.components,
+                *value,
+                amplitude,
+                scene.run.end_time,
+            ));
         }
         if let Some(name) = &f.name {
             reactions.push(Reaction {
@@ -336,7 +350,7 @@ fn fixes(scene: &Scene, mesh: &Mesh) -> Result<Fixes> {
         }
     }
     let mut moving: Vec<(usize, f64)> = (given.into_iter())
-        .filter(|(_, (w, _))| *w != 0.0)
+        .filter(|(_, (w, _))| *w != 0.0 && !w.is_nan())
         .map(|(d, (w, _))| (d, w))
         .collect();
     moving.sort_by_key(|m| m.0);
@@ -344,8 +358,33 @@ fn fixes(scene: &Scene, mesh: &Mesh) -> Result<Fixes> {
         fixed,
         counts,
         moving,
+        paths,
         reactions,
     })
+}
+
+/// Two fixes that move one node's component differently.
+fn two_motions(scene: &Scene, (i, j): (usize, usize), n: u32, a: usize) -> ImpactError {
+    let (fi, fj) = (&scene.fixes[i], &scene.fixes[j]);
+    let axis = ["x", "y", "z"][a];
+    let (key, message) = match (&fi.displacement, &fj.displacement) {
+        (None, None) => (
+            format!("fix[{i}].velocity"),
+            format!(
+                "fix[{j}] holds node {n}'s {axis} at {} and this fix at {}: a node's component moves at one velocity",
+                fj.velocity[a], fi.velocity[a]
+            ),
+        ),
+        _ => (
+            format!("fix[{i}].displacement"),
+            format!("fix[{j}] holds node {n}'s {axis} too: a component a fix moves by a displacement is that fix's alone"),
+        ),
+    };
+    ImpactError::SceneValue {
+        path: scene.path.clone(),
+        key,
+        message,
+    }
 }
 
 /// The contact queries of the surface interfaces, then every interface: the `[[contact]]`s

@@ -408,6 +408,10 @@ pub enum NodeSelection {
     RigidBody,
 }
 
+/// A prescribed displacement at full amplitude, and the amplitude table that scales it over
+/// time (empty: a ramp over the run).
+pub type Displacement = ([f64; 3], Vec<[f64; 2]>);
+
 #[derive(Debug, Clone)]
 pub struct FixSpec {
     /// A meshed body, or a rigid body where `nodes` is [`NodeSelection::RigidBody`].
@@ -416,6 +420,10 @@ pub struct FixSpec {
     pub components: [bool; 3],
     /// The velocity of the held components from t = 0 (zero where not held).
     pub velocity: [f64; 3],
+    /// The displacement the held components are moved to, and the amplitude that scales it
+    /// over time (empty: a ramp from 0 at t = 0 to 1 at the run's end); `None` for a fix
+    /// that holds its nodes still or moves them at `velocity`.
+    pub displacement: Option<Displacement>,
     /// With a name, the history gives the fix's reaction (`<name>.fx`, `.fy`, `.fz`).
     pub name: Option<String>,
 }

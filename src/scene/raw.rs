@@ -344,6 +344,8 @@ pub(crate) struct RawFix {
     pub region: Option<RawRegion>,
     pub components: Vec<String>,
     pub velocity: Option<[f64; 3]>,
+    pub displacement: Option<[f64; 3]>,
+    pub amplitude: Option<Vec<[f64; 2]>>,
     pub name: Option<String>,
 }
 

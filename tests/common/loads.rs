@@ -47,3 +47,15 @@ pub fn loaded_bar(method: &str, dt: f64, end: f64) -> String {
     ))
     .replace("end_time = 0.4", &format!("end_time = {end}"))
 }
+
+/// The held bar of `tests/loads.rs` (10 long, E = 100, A = 1, c = 100), its free end pushed
+/// by a named fix `push` with `motion` appended (the `displacement` and its amplitude).
+pub fn pushed_bar(end: f64, motion: &str) -> String {
+    held_bar(
+        "explicit",
+        0.0009,
+        10,
+        &format!("[[fix]]\nname = \"push\"\nbody = \"bar\"\nface = \"x+\"\ncomponents = [\"x\"]\n{motion}"),
+    )
+    .replace("end_time = 0.4", &format!("end_time = {end}"))
+}

@@ -350,6 +350,18 @@ impl Integrator for ExplicitSolver<'_> {
     fn step(&mut self) -> Result<StepReport> {
         let dt = self.dt;
         kernels::explicit_predict(dt, &self.a, &mut self.v);
+        let (model, mass, f_int) = (self.model, &self.mass, &self.f_int);
+        let (u, u_prev) = (&self.u, &self.u_prev);
+        let mut work = 0.0;
+        for p in &model.fix_paths {
+            let each = |d: usize, old: f64, new: f64| {
+                let r = f_int[d] - mass[d / 3] * model.gravity[d % 3];
+                let steps = (u[d] - u_prev[d], dt * new);
+                work += path_work(r, mass[d / 3], (old, new), steps);
+            };
+            p.drive((self.time, dt), u, &mut self.v, Some, each);
+        }
+        self.work.fixes += work;
         let report = self.contact()?;
         self.u_prev.copy_from_slice(&self.u);
         self.v_half.copy_from_slice(&self.v);
@@ -506,6 +518,16 @@ pub(crate) fn fix_power(model: &Model, mass: &[f64], f_int: &[f64]) -> f64 {
     (model.fix_motion.iter())
         .map(|&(d, w)| (f_int[d] - mass[d / 3] * model.gravity[d % 3]) * w)
         .sum()
+}
+
+/// The work a fix that moves a dof of mass `m` along a displacement's path does on the model
+/// over a step that takes its velocity from `old` ($v_{n-1/2}$) to `new` ($v_{n+1/2}$), at the
+/// reaction $r = f_{int}(u_n) - m g$: central difference's identity takes
+/// $r\, (u_{n+1} - u_{n-1})/2$, from the last step's move $u_n - u_{n-1}$ and this one's
+/// $u_{n+1} - u_n$ (`steps`; the two differ in length at a shortened last step), and the
+/// support gives the dof its change of kinetic energy, $\tfrac12 m (v_{n+1/2}^2 - v_{n-1/2}^2)$.
+pub(crate) fn path_work(reaction: f64, m: f64, (old, new): (f64, f64), steps: (f64, f64)) -> f64 {
+    0.5 * reaction * (steps.0 + steps.1) + 0.5 * m * (new * new - old * old)
 }
 
 /// Each named `[[fix]]`'s reaction at internal forces `f_int`: over its held dofs of each

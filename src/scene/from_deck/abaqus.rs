@@ -141,6 +141,10 @@ struct Boundary {
     set: String,
     dofs: Vec<usize>,
     named: bool,
+    /// The displacement the dofs are moved to (0: held still) and the `AMPLITUDE=` it
+    /// follows.
+    value: f64,
+    amplitude: Option<String>,
     line: usize,
 }
 
@@ -179,6 +183,9 @@ impl Reader<'_> {
 
     /// Takes one block into `g`.
     fn take(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        // a static step's loads and displacements ramp over it (refused below, but its
+        // displacements are not told they jump)
+        g.ramp |= b.name == "STATIC";
         match b.name.as_str() {
             n if MESH.contains(&n) || n == "END STEP" => {}
             // the heading's line as written (its fields are split at the commas)
@@ -331,6 +338,8 @@ impl Reader<'_> {
                     set,
                     dofs: dofs.to_vec(),
                     named: true,
+                    value: 0.0,
+                    amplitude: None,
                     line: *l,
                 });
                 continue;
@@ -343,15 +352,16 @@ impl Reader<'_> {
             if last < first {
                 return Err(self.src.err(*l, format!("*BOUNDARY {set}, {first}, {last}: the last dof comes before the first (a line holds dofs first to last)")));
             }
-            if f.get(3).is_some_and(|x| !x.is_empty())
-                && self.number(f, 3, *l, "*BOUNDARY value")? != 0.0
-            {
-                return Err(self.src.err(*l, "*BOUNDARY with a value other than 0: impact holds dofs, it does not move them (a prescribed motion is a rigid body's)"));
-            }
+            let value = match f.get(3).filter(|x| !x.is_empty()) {
+                Some(_) => self.number(f, 3, *l, "*BOUNDARY value")?,
+                None => 0.0,
+            };
             g.boundaries.push(Boundary {
                 set,
                 dofs: (first..=last.max(first)).collect(),
                 named: false,
+                value,
+                amplitude: b.get("AMPLITUDE").map(str::to_ascii_uppercase),
                 line: *l,
             });
         }
@@ -837,9 +847,38 @@ impl Reader<'_> {
                 .filter(|&&d| d <= 3)
                 .map(|&d| ["x", "y", "z"][d - 1])
                 .collect();
-            out.extend(fixes_of(found, &components));
+            let displacement = self.displacement(g, b)?;
+            out.extend(fixes_of(found, &components).map(|f| DeckFix {
+                displacement: displacement.clone(),
+                ..f
+            }));
         }
         Ok(out)
+    }
+
+    /// A `*BOUNDARY` line's displacement (none for a value of 0): its value on each of its
+    /// dofs, along its `AMPLITUDE=` or the step's ramp. A dynamic step's value without
+    /// either would be a jump at t = 0, which no time step follows: refused.
+    fn displacement(
+        &self,
+        g: &Gathered,
+        b: &Boundary,
+    ) -> Result<Option<crate::scene::Displacement>> {
+        if b.value == 0.0 {
+            return Ok(None);
+        }
+        if b.amplitude.is_none() && !g.ramp {
+            return Err(self.src.err(b.line, format!("*BOUNDARY {}: a displacement of {} without an amplitude, which a dynamic step applies at once: a jump at t = 0 that no time step follows; give the *BOUNDARY an AMPLITUDE= or the *STEP AMPLITUDE=RAMP", b.set, b.value)));
+        }
+        let mut d = [0.0; 3];
+        for &k in b.dofs.iter().filter(|&&k| k <= 3) {
+            d[k - 1] = b.value;
+        }
+        let table = match &b.amplitude {
+            Some(name) => self.named_amplitude(g, name, b.line)?,
+            None => Vec::new(),
+        };
+        Ok(Some((d, table)))
     }
 
     /// The solids holding nodes of `set`; `None` where it names only a rigid body's node.

@@ -128,6 +128,9 @@ pub(crate) struct DeckFix {
     pub body: String,
     pub set: String,
     pub components: Vec<&'static str>,
+    /// The displacement the components are moved to, and its amplitude table (empty: a
+    /// ramp over the run); `None` for a fix that holds them still.
+    pub displacement: Option<crate::scene::Displacement>,
 }
 
 /// One component of the initial velocity of a node set that is part of a body (or of a whole
@@ -499,6 +502,7 @@ pub(crate) fn fixes_of<'a>(
         body: h.body.name.clone(),
         set: h.set,
         components: components.to_vec(),
+        displacement: None,
     })
 }
 
@@ -578,6 +582,16 @@ fn quoted(s: &str) -> String {
 /// A TOML float.
 fn float(x: f64) -> String {
     format!("{x:?}")
+}
+
+/// `amplitude = [[t, a], ...]`, where the table has points.
+fn write_amplitude(t: &mut String, amplitude: &[[f64; 2]]) {
+    if !amplitude.is_empty() {
+        let points: Vec<String> = (amplitude.iter())
+            .map(|[a, b]| format!("[{}, {}]", float(*a), float(*b)))
+            .collect();
+        let _ = writeln!(t, "amplitude = [{}]", points.join(", "));
+    }
 }
 
 fn vector(v: [f64; 3]) -> String {
@@ -722,6 +736,7 @@ impl DeckScene {
                 body: r.name.clone(),
                 set: String::new(),
                 components: r.held.clone(),
+                displacement: None,
             });
         for f in self.fixes.iter().cloned().chain(held) {
             let components: Vec<String> = f.components.iter().map(|c| quoted(c)).collect();
@@ -730,6 +745,10 @@ impl DeckScene {
                 let _ = writeln!(t, "set = {}", quoted(&f.set));
             }
             let _ = writeln!(t, "components = [{}]", components.join(", "));
+            if let Some((d, amplitude)) = &f.displacement {
+                let _ = writeln!(t, "displacement = {}", vector(*d));
+                write_amplitude(t, amplitude);
+            }
         }
         for v in &self.velocities {
             let _ = writeln!(t, "\n[[initial_velocity]]\nbody = {}", quoted(&v.body));
@@ -755,12 +774,7 @@ impl DeckScene {
             if let Some(p) = l.pressure {
                 let _ = writeln!(t, "pressure = {}", float(p));
             }
-            if !l.amplitude.is_empty() {
-                let points: Vec<String> = (l.amplitude.iter())
-                    .map(|[a, b]| format!("[{}, {}]", float(*a), float(*b)))
-                    .collect();
-                let _ = writeln!(t, "amplitude = [{}]", points.join(", "));
-            }
+            write_amplitude(t, &l.amplitude);
         }
         for p in &self.planes {
             let _ = writeln!(

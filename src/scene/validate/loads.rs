@@ -62,14 +62,18 @@ impl Checker<'_> {
     }
 
     /// An amplitude table: (time, value) points, finite, times increasing.
-    fn amplitude(&self, key: &str, points: Option<&[[f64; 2]]>) -> Result<Vec<[f64; 2]>> {
+    pub(super) fn amplitude(
+        &self,
+        key: &str,
+        points: Option<&[[f64; 2]]>,
+    ) -> Result<Vec<[f64; 2]>> {
         let Some(points) = points else {
             return Ok(Vec::new());
         };
         if points.is_empty() {
             return Err(self.err(
                 key,
-                "has no point: give [time, value] pairs, or leave it out for a constant load",
+                "has no point: give [time, value] pairs, or leave it out",
             ));
         }
         for (j, p) in points.iter().enumerate() {

@@ -994,8 +994,9 @@ impl Checker<'_> {
                 }
             };
             let components = self.components(&key("components"), &f.components)?;
-            let velocity = self.fix_velocity(&key("velocity"), f, components)?;
-            if rigid_body.is_some() && velocity != [0.0; 3] {
+            let velocity = self.held_vector(&key("velocity"), f.velocity, components)?;
+            let displacement = self.fix_displacement(&key, f, components)?;
+            if rigid_body.is_some() && (velocity != [0.0; 3] || displacement.is_some()) {
                 return Err(self.err(
                     key("velocity"),
                     format!("`{}` is a rigid body: give it `motion = \"prescribed\"` and a `velocity` to move it", f.body),
@@ -1018,6 +1019,7 @@ impl Checker<'_> {
                 nodes,
                 components,
                 velocity,
+                displacement,
                 name: f.name.clone(),
             });
         }
@@ -1105,8 +1107,34 @@ impl Checker<'_> {
     }
 
     /// A fix's `velocity`: finite, and zero on the components it does not hold.
-    fn fix_velocity(&self, key: &str, f: &RawFix, held: [bool; 3]) -> Result<[f64; 3]> {
-        let Some(v) = f.velocity else {
+    /// A fix's `displacement` with its `amplitude` (neither with `velocity`).
+    fn fix_displacement(
+        &self,
+        key: &dyn Fn(&str) -> String,
+        f: &RawFix,
+        held: [bool; 3],
+    ) -> Result<Option<crate::scene::Displacement>> {
+        match (f.displacement, &f.amplitude) {
+            (None, None) => Ok(None),
+            (None, Some(_)) => Err(self.err(
+                key("amplitude"),
+                "scales a `displacement`: give the fix one (a `velocity` is constant)",
+            )),
+            (Some(_), _) if f.velocity.is_some() => Err(self.err(
+                key("displacement"),
+                "give a fix a `velocity` or a `displacement`, not both",
+            )),
+            (Some(d), a) => {
+                let d = self.held_vector(&key("displacement"), Some(d), held)?;
+                let a = self.amplitude(&key("amplitude"), a.as_deref())?;
+                Ok(Some((d, a)))
+            }
+        }
+    }
+
+    /// A fix's `velocity` or `displacement`: finite, zero on the components it does not hold.
+    fn held_vector(&self, key: &str, v: Option<[f64; 3]>, held: [bool; 3]) -> Result<[f64; 3]> {
+        let Some(v) = v else {
             return Ok([0.0; 3]);
         };
         let v = self.finite3(key, v)?;

@@ -233,6 +233,22 @@ impl Reader<'_> {
         Ok(out)
     }
 
+    /// The table of the `*AMPLITUDE` named `name` (upper case), refused at `line` where
+    /// there is none.
+    pub(super) fn named_amplitude(
+        &self,
+        g: &Gathered,
+        name: &str,
+        line: usize,
+    ) -> Result<Vec<[f64; 2]>> {
+        g.amplitudes.get(name).cloned().ok_or_else(|| {
+            self.src.err(
+                line,
+                format!("AMPLITUDE={name}: no *AMPLITUDE of that name"),
+            )
+        })
+    }
+
     /// The table of the amplitude a load names, or the step's: none (the load acts at once
     /// and holds), or a ramp over the step where `*STEP, AMPLITUDE=RAMP` asks for one.
     fn amplitude_of(&self, g: &Gathered, name: Option<&str>, line: usize) -> Result<Vec<[f64; 2]>> {
