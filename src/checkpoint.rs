@@ -50,6 +50,9 @@ pub struct Tally {
     pub failure_max: Option<[f64; 5]>,
     /// Where and when a ply failure index first reached 1.
     pub first_failure: Option<crate::output::failure_survey::FirstFailure>,
+    /// The work the `[[load]]`s have done so far.
+    #[serde(default)]
+    pub external_work: f64,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]

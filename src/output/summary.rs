@@ -166,6 +166,9 @@ pub struct Summary {
     /// With ply damage or cohesive interfaces: the energy they dissipated over the run.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub damage_energy: Option<f64>,
+    /// With `[[load]]`s: the work they did over the run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub external_work: Option<f64>,
     /// With ply damage: where and when a ply first damaged (null if none did).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub first_damage: Option<Option<FirstDamageSummary>>,

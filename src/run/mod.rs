@@ -424,6 +424,7 @@ impl<'s> Running<'s> {
             .max(energies.load_work.abs());
         let at = (n + 1, self.solver.time());
         count_step(&mut self.tally, at, r, e, &self.solver.reports());
+        self.tally.external_work = energies.load_work;
         // the engines that hold every node's velocity after each step
         use crate::integrate::integrator::{ENGINE_CPU, ENGINE_GPU_KERNELS};
         if matches!(self.solver.engine(), ENGINE_CPU | ENGINE_GPU_KERNELS) {

@@ -240,6 +240,7 @@ pub(super) fn fill_summary(
     solver: &dyn Integrator,
 ) {
     copy_tally(summary, tally);
+    summary.external_work = (!model.loads.is_empty()).then_some(tally.external_work);
     if let Some(d) = solver.damage() {
         summary.damage_energy = Some(d.energy);
         summary.first_damage = Some(d.first.map(|f| {

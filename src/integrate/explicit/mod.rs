@@ -531,14 +531,15 @@ pub(crate) fn path_work(reaction: f64, m: f64, (old, new): (f64, f64), steps: (f
 }
 
 /// Each named `[[fix]]`'s reaction at internal forces `f_int`: over its held dofs of each
-/// component, $\sum f_{int} - m g$ (the force the support applies to hold them).
+/// component, $\sum f_{int} - m g$ (the force the support applies to hold them); 0, not -0,
+/// along a component it does not hold, as the ranks' sums give it.
 pub(crate) fn reactions(model: &Model, mass: &[f64], f_int: &[f64]) -> Vec<[f64; 3]> {
     (model.reactions.iter())
         .map(|r| {
             std::array::from_fn(|a| {
                 (r.dofs[a].iter())
                     .map(|&d| f_int[d as usize] - mass[d as usize / 3] * model.gravity[a])
-                    .sum()
+                    .fold(0.0, |s, x| s + x)
             })
         })
         .collect()
