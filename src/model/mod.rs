@@ -154,16 +154,6 @@ impl Model {
         })
     }
 
-    /// Adds the loads' nodal forces at time `t` to `f` (3 per node).
-    pub fn add_loads(&self, t: f64, f: &mut [f64]) {
-        for l in &self.loads {
-            let a = l.amplitude.at(t);
-            for (&d, &p) in l.dofs.iter().zip(&l.force) {
-                f[d as usize] += a * p;
-            }
-        }
-    }
-
     /// Each rigid body's node and mass.
     pub fn point_masses(&self) -> impl Iterator<Item = (u32, f64)> + '_ {
         self.rigid.iter().map(|b| (b.node, b.mass))
