@@ -171,19 +171,7 @@ fn a_loaded_run_on_the_gpu_follows_the_cpu() {
 /// The error of `text` as the scene `bad_load.toml`, where it is refused when read or when
 /// its model is built; every part must be in it.
 fn refused(text: &str, parts: &[&str]) {
-    use impact::run::{run, RunOptions};
-    let path = repo().join("scenes").join("bad_load.toml");
-    let msg = match impact::scene::Scene::parse(text, &path) {
-        Err(e) => e.to_string(),
-        Ok(scene) => {
-            let opts = RunOptions {
-                out: Some(out_dir("bad_load")),
-                quiet: true,
-                ..Default::default()
-            };
-            run(&scene, &opts).expect_err("must be refused").to_string()
-        }
-    };
+    let msg = refusal("bad_load", text);
     assert!(msg.contains("bad_load.toml"), "names the file: {msg}");
     for p in parts {
         assert!(msg.contains(p), "{msg:?} should contain {p:?}");

@@ -78,21 +78,7 @@ fn a_displacement_follows_its_amplitude_table() {
 #[test]
 fn a_displacement_that_cannot_be_followed_is_refused_by_its_key() {
     let bad = |motion: &str, parts: &[&str]| {
-        let text = pushed_bar(0.4, motion);
-        let path = repo().join("scenes").join("bad_push.toml");
-        let msg = match impact::scene::Scene::parse(&text, &path) {
-            Err(e) => e.to_string(),
-            Ok(scene) => {
-                let opts = impact::run::RunOptions {
-                    out: Some(out_dir("bad_push")),
-                    quiet: true,
-                    ..Default::default()
-                };
-                impact::run::run(&scene, &opts)
-                    .expect_err("refused")
-                    .to_string()
-            }
-        };
+        let msg = refusal("bad_push", &pushed_bar(0.4, motion));
         for p in parts {
             assert!(msg.contains(p), "{msg:?} should contain {p:?}");
         }
@@ -122,16 +108,7 @@ fn a_displacement_that_cannot_be_followed_is_refused_by_its_key() {
     );
     let implicit = pushed_bar(0.4, "displacement = [-0.1, 0.0, 0.0]\n")
         .replace("method = \"explicit\"", "method = \"implicit\"");
-    let scene =
-        impact::scene::Scene::parse(&implicit, &repo().join("scenes/bad_push.toml")).unwrap();
-    let opts = impact::run::RunOptions {
-        out: Some(out_dir("bad_push_implicit")),
-        quiet: true,
-        ..Default::default()
-    };
-    let e = impact::run::run(&scene, &opts)
-        .expect_err("refused")
-        .to_string();
+    let e = refusal("bad_push_implicit", &implicit);
     assert!(
         e.contains("run.method") && e.contains("velocity or displacement"),
         "{e}"

@@ -18,7 +18,7 @@ use super::subdomain::Subdomain;
 use crate::error::{ImpactError, Result};
 use crate::gpu::GpuContext;
 use crate::integrate::explicit::{
-    correct, lumped_mass, path_work, ExplicitState, NodalStart, Work,
+    correct, drive_paths, lumped_mass, ExplicitState, NodalStart, Work,
 };
 use crate::integrate::loads::LoadForces;
 use crate::integrate::state::check_restore;
@@ -212,33 +212,6 @@ impl<'m> DomainSolver<'m> {
         Some(3 * i + d % 3)
     }
 
-    /// The loads' work over the step just drifted (the rank's owned nodes'), and their force
-    /// at its end (see [`crate::integrate::ExplicitSolver`]'s).
-    fn load_step(&mut self, dt: f64) {
-        if self.loads.is_empty() {
-            return;
-        }
-        let d0 = self.loads.dots(self.model, &self.u_prev);
-        let d1 = self.loads.dots(self.model, &self.u);
-        let times = (self.time, self.time + dt);
-        self.load_work += LoadForces::step_work(self.model, times, (&d0, &d1));
-        self.loads.set(self.model, times.1, &mut self.f_ext);
-    }
-
-    /// The loads' part of the time-centred potential on the rank's owned nodes: their share
-    /// of $-f_{ext} \cdot (u_n + u_{n+1})/2$ taken back, less their conserved work.
-    fn load_potential(&self) -> f64 {
-        if self.loads.is_empty() {
-            return 0.0;
-        }
-        let (m, t) = (self.model, self.time);
-        let (d0, d1) = (
-            self.loads.dots(m, &self.u_prev),
-            self.loads.dots(m, &self.u),
-        );
-        LoadForces::centred_share(m, self.load_work, t, (&d0, &d1))
-    }
-
     /// The rank's share and its time in communication so far.
     pub fn figures(&self) -> RankFigures {
         RankFigures {
@@ -429,24 +402,15 @@ impl Integrator for DomainSolver<'_> {
         kernels::explicit_predict(dt, &self.a, &mut self.v);
         // the work of the fixes along displacements, on the rank's owned nodes
         let mut v = std::mem::take(&mut self.v);
-        let mut work = 0.0;
-        let g = self.model.gravity;
-        for p in &self.model.fix_paths {
-            let each = |l: usize, old: f64, new: f64| {
-                if self.sub.owned[l / 3] {
-                    let (m, f) = (self.mass[l / 3], self.f_int[l]);
-                    let steps = (self.u[l] - self.u_prev[l], dt * new);
-                    work += path_work(f - m * g[l % 3], m, (old, new), steps);
-                }
-            };
-            p.drive(
-                (self.time, dt),
-                &self.u,
-                &mut v,
-                |d| self.local_dof(d),
-                each,
-            );
-        }
+        let state = (
+            &self.mass[..],
+            &self.f_int[..],
+            &self.u[..],
+            &self.u_prev[..],
+        );
+        let owned = |l: usize| self.sub.owned[l / 3];
+        let dofs = (|d| self.local_dof(d), owned);
+        let work = drive_paths(self.model, (self.time, dt), state, &mut v, dofs);
         self.v = v;
         self.fix_work += work;
         let clock = std::time::Instant::now();
@@ -457,7 +421,9 @@ impl Integrator for DomainSolver<'_> {
         kernels::explicit_drift(dt, &self.v, &mut self.u);
         self.surface.drift_spins(dt);
         self.fix_work += dt * self.fix_power();
-        self.load_step(dt);
+        let u = (&self.u_prev[..], &self.u[..]);
+        let times = (self.time, dt);
+        self.load_work += (self.loads).explicit_step(self.model, times, u, &mut self.f_ext);
         self.step_forces()?;
         let forces = (&self.f_ext[..], &self.f_int[..], &self.inv_mass[..]);
         correct(dt, forces, &mut self.a, &mut self.v);
@@ -669,7 +635,9 @@ impl Integrator for DomainSolver<'_> {
         // owned node
         let first = self.sub.owned.iter().position(|&o| o).map(|i| 3 * i);
         let (work, damage) = (self.fix_work, self.damage_energy);
-        let (loads, load_work) = (self.load_potential(), self.load_work);
+        let u = (&self.u_prev[..], &self.u[..]);
+        let loads = (self.loads).centred_potential(self.model, self.time, self.load_work, u);
+        let load_work = self.load_work;
         let [k, s, p0, p1, w, dmg, lp, lw] = self.owned_sums([
             &|d| m[d / 3] * v[d] * v[d],
             &|d| u0[d] * f[d],

@@ -84,6 +84,42 @@ impl LoadForces {
         d
     }
 
+    /// An explicit step from `t` of `dt`, just drifted from `u_prev` to `u`: puts the loads'
+    /// force at its end into `f_ext` and returns their work over it (the trapezoid; 0
+    /// without loads). Work counts on the counted entries.
+    pub fn explicit_step(
+        &self,
+        model: &Model,
+        (t, dt): (f64, f64),
+        (u_prev, u): (&[f64], &[f64]),
+        f_ext: &mut [f64],
+    ) -> f64 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        let (d0, d1) = (self.dots(model, u_prev), self.dots(model, u));
+        let work = Self::step_work(model, (t, t + dt), (&d0, &d1));
+        self.set(model, t + dt, f_ext);
+        work
+    }
+
+    /// The loads' part of central difference's time-centred potential at time `t`, after a
+    /// step from `u_prev` to `u`, with the trapezoid sum `work` ([`Self::centred_share`]; 0
+    /// without loads).
+    pub fn centred_potential(
+        &self,
+        model: &Model,
+        t: f64,
+        work: f64,
+        (u_prev, u): (&[f64], &[f64]),
+    ) -> f64 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        let (d0, d1) = (self.dots(model, u_prev), self.dots(model, u));
+        Self::centred_share(model, work, t, (&d0, &d1))
+    }
+
     /// The loads' force at time `t` dotted with the `dots` ([`Self::dots`]) of a vector.
     pub fn at(model: &Model, t: f64, dots: &[f64]) -> f64 {
         (model.loads.iter().zip(dots))
@@ -102,7 +138,7 @@ impl LoadForces {
     /// ends at `t1`, from the trapezoid sum `work` and the step's [`Self::dots`]: their share
     /// of $-f_{ext} \cdot (u_n + u_{n+1})/2$ taken back, less their conserved work
     /// `work` $- \tfrac12 f_{n+1} \cdot (u_{n+1} - u_n)$ (see the module's notes).
-    pub fn centred_share(model: &Model, work: f64, t1: f64, (d0, d1): (&[f64], &[f64])) -> f64 {
+    fn centred_share(model: &Model, work: f64, t1: f64, (d0, d1): (&[f64], &[f64])) -> f64 {
         let step: Vec<f64> = d1.iter().zip(d0).map(|(a, b)| a - b).collect();
         let conserved = work - 0.5 * Self::at(model, t1, &step);
         0.5 * (Self::at(model, t1, d0) + Self::at(model, t1, d1)) - conserved

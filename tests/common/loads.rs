@@ -1,4 +1,5 @@
-//! Scenes with `[[load]]`s: a bar held at one end, loaded at the other.
+//! Scenes with `[[load]]`s: a bar held at one end, loaded at the other; and what a scene is
+//! refused for.
 
 /// A bar along x, 10 long, c = 100, held at x = 0 (x only; Poisson 0, so it stays 1D), with
 /// `load` appended; `method` and `dt` given.
@@ -58,4 +59,22 @@ pub fn pushed_bar(end: f64, motion: &str) -> String {
         &format!("[[fix]]\nname = \"push\"\nbody = \"bar\"\nface = \"x+\"\ncomponents = [\"x\"]\n{motion}"),
     )
     .replace("end_time = 0.4", &format!("end_time = {end}"))
+}
+
+/// The refusal of `text` as the scene `scenes/<stem>.toml`: when it is read, or else when
+/// its model is built (a run into `stem`'s folder, which must fail).
+pub fn refusal(stem: &str, text: &str) -> String {
+    use impact::run::{run, RunOptions};
+    let path = super::repo().join("scenes").join(format!("{stem}.toml"));
+    match impact::scene::Scene::parse(text, &path) {
+        Err(e) => e.to_string(),
+        Ok(scene) => {
+            let opts = RunOptions {
+                out: Some(super::out_dir(stem)),
+                quiet: true,
+                ..Default::default()
+            };
+            run(&scene, &opts).expect_err("must be refused").to_string()
+        }
+    }
 }

@@ -286,18 +286,6 @@ impl<'m> ExplicitSolver<'m> {
         }
     }
 
-    /// The loads' work over the step just drifted, and their force at its end.
-    fn load_step(&mut self, dt: f64) {
-        if self.loads.is_empty() {
-            return;
-        }
-        let d0 = self.loads.dots(self.model, &self.u_prev);
-        let d1 = self.loads.dots(self.model, &self.u);
-        let times = (self.time, self.time + dt);
-        self.work.loads += LoadForces::step_work(self.model, times, (&d0, &d1));
-        self.loads.set(self.model, times.1, &mut self.f_ext);
-    }
-
     /// The potential of the external forces in the time-centred form: gravity's
     /// $-f_g \cdot (u_n + u_{n+1})/2$ less the loads' conserved work (see
     /// [`crate::integrate::loads`]).
@@ -307,12 +295,8 @@ impl<'m> ExplicitSolver<'m> {
         if self.loads.is_empty() {
             return whole;
         }
-        let (m, t) = (self.model, self.time);
-        let (d0, d1) = (
-            self.loads.dots(m, &self.u_prev),
-            self.loads.dots(m, &self.u),
-        );
-        whole + LoadForces::centred_share(m, self.work.loads, t, (&d0, &d1))
+        let u = (&self.u_prev[..], &self.u[..]);
+        whole + (self.loads).centred_potential(self.model, self.time, self.work.loads, u)
     }
 
     /// The step's contact impulses on the predicted velocities.
@@ -350,17 +334,14 @@ impl Integrator for ExplicitSolver<'_> {
     fn step(&mut self) -> Result<StepReport> {
         let dt = self.dt;
         kernels::explicit_predict(dt, &self.a, &mut self.v);
-        let (model, mass, f_int) = (self.model, &self.mass, &self.f_int);
-        let (u, u_prev) = (&self.u, &self.u_prev);
-        let mut work = 0.0;
-        for p in &model.fix_paths {
-            let each = |d: usize, old: f64, new: f64| {
-                let r = f_int[d] - mass[d / 3] * model.gravity[d % 3];
-                let steps = (u[d] - u_prev[d], dt * new);
-                work += path_work(r, mass[d / 3], (old, new), steps);
-            };
-            p.drive((self.time, dt), u, &mut self.v, Some, each);
-        }
+        let state = (
+            &self.mass[..],
+            &self.f_int[..],
+            &self.u[..],
+            &self.u_prev[..],
+        );
+        let times = (self.time, dt);
+        let work = drive_paths(self.model, times, state, &mut self.v, (Some, |_| true));
         self.work.fixes += work;
         let report = self.contact()?;
         self.u_prev.copy_from_slice(&self.u);
@@ -368,7 +349,9 @@ impl Integrator for ExplicitSolver<'_> {
         kernels::explicit_drift(dt, &self.v, &mut self.u);
         self.spins.drift(dt);
         self.work.fixes += dt * fix_power(self.model, &self.mass, &self.f_int);
-        self.load_step(dt);
+        let u = (&self.u_prev[..], &self.u[..]);
+        let times = (self.time, dt);
+        self.work.loads += (self.loads).explicit_step(self.model, times, u, &mut self.f_ext);
         let uv = (&self.u[..], &self.v[..]);
         let dissipated = self.kernels.step_forces_into(uv, dt, &mut self.f_int)?;
         let cohesive = all_pairs(&self.model.cohesive);
@@ -520,13 +503,39 @@ pub(crate) fn fix_power(model: &Model, mass: &[f64], f_int: &[f64]) -> f64 {
         .sum()
 }
 
+/// Sets the velocity in `v` of every dof a `[[fix]]` moves along a displacement, for the step
+/// from `t` of `dt` ([`crate::model::FixPath::drive`]), and returns the work the fixes do over
+/// it ([`path_work`]) on the dofs `counted`. `state` is the lumped mass, the internal forces
+/// at $u_n$, $u_n$ and $u_{n-1}$, 3 per node in the holder's numbering, which `local` gives
+/// for a model dof (the whole model's, or a rank's).
+pub(crate) fn drive_paths(
+    model: &Model,
+    (t, dt): (f64, f64),
+    (mass, f_int, u, u_prev): (&[f64], &[f64], &[f64], &[f64]),
+    v: &mut [f64],
+    (local, counted): (impl Fn(usize) -> Option<usize>, impl Fn(usize) -> bool),
+) -> f64 {
+    let mut work = 0.0;
+    for p in &model.fix_paths {
+        let each = |l: usize, old: f64, new: f64| {
+            if counted(l) {
+                let r = f_int[l] - mass[l / 3] * model.gravity[l % 3];
+                let steps = (u[l] - u_prev[l], dt * new);
+                work += path_work(r, mass[l / 3], (old, new), steps);
+            }
+        };
+        p.drive((t, dt), u, v, &local, each);
+    }
+    work
+}
+
 /// The work a fix that moves a dof of mass `m` along a displacement's path does on the model
 /// over a step that takes its velocity from `old` ($v_{n-1/2}$) to `new` ($v_{n+1/2}$), at the
 /// reaction $r = f_{int}(u_n) - m g$: central difference's identity takes
 /// $r\, (u_{n+1} - u_{n-1})/2$, from the last step's move $u_n - u_{n-1}$ and this one's
 /// $u_{n+1} - u_n$ (`steps`; the two differ in length at a shortened last step), and the
 /// support gives the dof its change of kinetic energy, $\tfrac12 m (v_{n+1/2}^2 - v_{n-1/2}^2)$.
-pub(crate) fn path_work(reaction: f64, m: f64, (old, new): (f64, f64), steps: (f64, f64)) -> f64 {
+fn path_work(reaction: f64, m: f64, (old, new): (f64, f64), steps: (f64, f64)) -> f64 {
     0.5 * reaction * (steps.0 + steps.1) + 0.5 * m * (new * new - old * old)
 }
 
