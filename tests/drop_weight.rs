@@ -16,12 +16,6 @@ fn coarse(scene: &str) -> String {
     without_frames(&edit(&scene_text(scene), COARSE.0, COARSE.1))
 }
 
-/// `text` without its VTU frames: the tests read the history.
-fn without_frames(text: &str) -> String {
-    let lines = text.lines().filter(|l| !l.starts_with("vtu_every"));
-    lines.collect::<Vec<_>>().join("\n")
-}
-
 /// (displacement along the tup's motion, contact force) of each row.
 fn curve(h: &History) -> Vec<(f64, f64)> {
     let (uz, f) = (h.col("tup.uz"), h.col("impact.normal_force"));
@@ -189,33 +183,6 @@ fn the_drop_on_the_gpu_adapter_follows_the_cpu() {
     );
 }
 
-/// The shipped damaged drop weight (`drop_weight_d7136.toml`: the plies damaging in their
-/// plane, the two ply-change interfaces delaminating) on 5 mm cells without the refinement,
-/// through its first `end` seconds: the load's climb, the first delaminations and the load
-/// drop.
-fn damaged_coarse(end: f64) -> String {
-    let text = edit(
-        &scene_text("drop_weight_d7136.toml"),
-        "divisions = [38, 25, 4], element = \"hex8i\", refine = { min = [-10.0, -10.0, 0.0], max = [10.0, 10.0, 4.56], size = [1.0, 1.0, 1.14] } }",
-        "divisions = [30, 20, 4], element = \"hex8i\" }",
-    );
-    without_frames(&edit(
-        &text,
-        "end_time = 6e-3",
-        &format!("end_time = {end:e}"),
-    ))
-}
-
-/// The largest contact force of a history, and its last row's delaminated area.
-fn peak_and_area(h: &History) -> (f64, f64) {
-    let peak = h
-        .col("impact.normal_force")
-        .iter()
-        .copied()
-        .fold(0.0, f64::max);
-    (peak, h.last("plies.delaminated_area"))
-}
-
 /// The coarse damaged coupon on the CPU: the plies damage and the interfaces separate, the
 /// summary's damage energy and delamination are the history's, the tup's impulse is its
 /// change of momentum to 1e-9, and the energy balance, damage energy included, closes
@@ -270,4 +237,54 @@ fn the_damaged_coupon_delaminates_and_keeps_its_balance() {
     let drift = e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max);
     eprintln!("energy balance: {:.2e} of the 30 J", drift / e[0]);
     assert!(drift <= 0.03 * e[0], "the balance drifts by {drift} mJ");
+}
+
+/// The largest mean contact force over a window of `w` seconds centred on a row (as the
+/// tests filter the load cell's signal): the arms of the force's ringing averaged out.
+fn filtered_peak(h: &History, w: f64) -> f64 {
+    let (t, f) = (h.col("time"), h.col("impact.normal_force"));
+    (0..t.len())
+        .map(|k| {
+            let near: Vec<f64> = (0..t.len())
+                .filter(|&j| (t[j] - t[k]).abs() <= 0.5 * w)
+                .map(|j| f[j])
+                .collect();
+            near.iter().sum::<f64>() / near.len() as f64
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The coarse damaged coupon on the GPU adapter (the element forces and the plies' damage in
+/// f32 on the device, the cohesive pairs and the contacts on the host) against the CPU.
+/// The two forces follow each other within 1e-4 of the peak through the first 0.55 ms,
+/// the plies' first damage included (1.2e-6 measured on lavapipe); after it the f32
+/// rounding seeds a different crack pattern in the 5 mm cells, which are four times the
+/// snap-back size and lose their stiffness at once. The force filtered over 0.05 ms peaks within 2% of
+/// the CPU's, and the delaminated area, counted in whole 5 x 5 mm pairs, within one pair.
+#[test]
+fn the_damaged_coupon_on_the_gpu_adapter_follows_the_cpu() {
+    if skip_gpu("drop_weight_damaged_gpu") {
+        return;
+    }
+    let text = damaged_coarse(1.2e-3);
+    let (cpu, hc) = run_text_on("drop_weight_damaged_cpu", &text, Some(DeviceChoice::Cpu));
+    let (gpu, hg) = run_text_on("drop_weight_damaged_gpu", &text, Some(DeviceChoice::Gpu));
+    let (cpu, gpu) = (cpu.expect("cpu run"), gpu.expect("gpu run"));
+    assert_eq!(gpu.status, cpu.status);
+    assert!(gpu.engine.starts_with("gpu"), "{}", gpu.engine);
+    let (pc, pg) = (filtered_peak(&hc, 5e-5), filtered_peak(&hg, 5e-5));
+    let (ac, ag) = (peak_and_area(&hc).1, peak_and_area(&hg).1);
+    eprintln!("filtered peak {pg:.1} N on the GPU, {pc:.1} on the CPU; delaminated {ag:.1} and {ac:.1} mm^2");
+    assert!(ac > 0.0, "the CPU's coupon delaminated");
+    assert!((pg - pc).abs() <= 0.02 * pc, "peak {pg} against {pc}");
+    assert!(
+        (ag - ac).abs() <= 25.0 + 1e-9,
+        "delaminated {ag} against {ac}"
+    );
+    let early = hc.col("time").iter().filter(|&&t| t <= 5.5e-4).count();
+    let (fc, fg) = (hc.col("impact.normal_force"), hg.col("impact.normal_force"));
+    let worst = (0..early)
+        .map(|k| (fc[k] - fg[k]).abs())
+        .fold(0.0, f64::max);
+    assert!(worst <= 1e-4 * pc, "before the softening: {worst} N apart");
 }

@@ -82,8 +82,10 @@ fn sum_kind(column: &str, bodies: &[String], resident: bool) -> Option<&'static 
             .map(|v| format!("{b}.{v}"))
             .contains(&column.to_string())
     };
-    if column.ends_with("_energy") || column == "external_work" {
+    if column.ends_with("_energy") || column == "external_work" || column.ends_with(".energy") {
         Some("energy")
+    } else if column.ends_with(".delaminated_area") || column.ends_with(".damaged_area") {
+        Some("area")
     } else if bodies.iter().any(body_velocity) {
         Some("body velocity")
     } else if resident
@@ -148,6 +150,11 @@ fn same_on_ranks(tag: &str, text: &str) -> History {
 /// GPU (the decomposed solver in this process): a single process on a GPU takes the
 /// resident step, another engine.
 fn same_on_ranks_on(tag: &str, text: &str, device: &str) -> History {
+    same_on_these_ranks(tag, text, device, &[2, 4])
+}
+
+/// [`same_on_ranks_on`] on each number of `ranks` (2 among them); returns the 2-rank history.
+fn same_on_these_ranks(tag: &str, text: &str, device: &str, ranks: &[usize]) -> History {
     let dir = out_dir(tag);
     std::fs::create_dir_all(&dir).unwrap();
     let parsed = Scene::parse(text, &dir.join(format!("{tag}.toml"))).expect("valid scene");
@@ -173,15 +180,22 @@ fn same_on_ranks_on(tag: &str, text: &str, device: &str) -> History {
         assert_eq!(s.engine, "gpu kernels, decomposed over mpi ranks");
     }
     let one = History::read(&dir.join("process/history.csv"));
+    let read_summary = |d: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap()
+    };
+    // completed, or with the warnings the single process gives
+    let status = read_summary(&dir.join("process"))["status"].clone();
+    assert!(
+        status.as_str().unwrap().starts_with("completed"),
+        "{tag}: {status}"
+    );
     let mut two = None;
-    for ranks in [2, 4] {
+    for &ranks in ranks {
         let out = dir.join(format!("ranks{ranks}"));
         impact_run_on(ranks, &scene, &out, device);
         let h = History::read(&out.join("history.csv"));
-        let summary: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
-                .unwrap();
-        assert_eq!(summary["status"], "completed", "{tag} on {ranks} ranks");
+        let summary = read_summary(&out);
+        assert_eq!(summary["status"], status, "{tag} on {ranks} ranks");
         let engine = summary["engine"].as_str().unwrap_or_default();
         assert_eq!(
             engine.starts_with("gpu"),
@@ -823,6 +837,149 @@ fn a_damaging_run_checkpointed_on_2_ranks_resumes_on_4_and_on_one_process() {
             &bodies,
         );
     }
+}
+
+/// A double cantilever beam (`tests/cohesive.rs`'s quick one, 21 elements long), opened
+/// until its crack grows. Its bisections fall inside a column of elements: a rank holds an
+/// arm's node at the cut and, through the pair, the other arm's node there too.
+fn opened_beam(end: &str) -> String {
+    format!(
+        r#"[run]
+end_time = {end}
+method = "explicit"
+[[material]]
+name = "im7"
+density = 1.57e-9
+orthotropic = {{ e1 = 171420.0, e2 = 9080.0, e3 = 9080.0, nu12 = 0.32, nu13 = 0.32, nu23 = 0.52, g12 = 5290.0, g13 = 5290.0, g23 = 2987.0 }}
+[[body]]
+name = "upper"
+material = "im7"
+box = {{ min = [0.0, 0.0, 1.0], max = [21.0, 1.0, 2.0], divisions = [21, 1, 2], element = "hex8i" }}
+[[body]]
+name = "lower"
+material = "im7"
+box = {{ min = [0.0, 0.0, 0.0], max = [21.0, 1.0, 1.0], divisions = [21, 1, 2], element = "hex8i" }}
+[[cohesive]]
+name = "crack"
+between = [{{ body = "upper", face = "z-" }}, {{ body = "lower", face = "z+" }}]
+region = {{ min = [8.0, -1.0, -1.0], max = [22.0, 2.0, 3.0] }}
+stiffness = 1e5
+strength = {{ normal = 20.0, shear = 30.0 }}
+toughness = {{ normal = 0.3, shear = 0.79, bk = 2.1 }}
+[[fix]]
+name = "open"
+body = "upper"
+face = "x-"
+components = ["z"]
+velocity = [0.0, 0.0, 500.0]
+[[fix]]
+name = "hold"
+body = "lower"
+face = "x-"
+components = ["z"]
+velocity = [0.0, 0.0, -500.0]
+[[fix]]
+body = "upper"
+region = {{ min = [-1.0, -1.0, -1.0], max = [22.0, 2.0, 3.0] }}
+components = ["y"]
+[[fix]]
+body = "lower"
+region = {{ min = [-1.0, -1.0, -1.0], max = [22.0, 2.0, 3.0] }}
+components = ["y"]
+[output]
+checkpoint_every = 400
+"#
+    )
+}
+
+/// The opened beam on 2 and 4 ranks: one process's history (the state's columns bit for
+/// bit; the sums, the interface's areas and dissipation among them, within 1e-12) and its
+/// delamination; stopped on 2 ranks while the crack grows, it resumes on 4 ranks and on one
+/// process to the unbroken history, the pairs' damage gathered into the single process's
+/// checkpoint.
+#[test]
+fn a_beam_delaminates_the_same_on_2_and_4_ranks_and_resumes_across_them() {
+    let tag = "mpi_cohesive";
+    let text = opened_beam("9e-4");
+    // some rank holds a node that none of its elements touches: its partner's
+    let scene = Scene::parse(&text, &repo().join("scenes/opened_beam.toml")).unwrap();
+    let model = Model::from_scene(&scene).unwrap();
+    for ranks in [2, 4] {
+        let partition = Partition::bisect(&model, ranks);
+        let bonded_only = (0..ranks).any(|r| {
+            let sub = Subdomain::new(&model, &partition, r);
+            let mut touched = vec![false; sub.nodes.len()];
+            for n in sub.data.elements.corner_nodes() {
+                touched[n as usize] = true;
+            }
+            touched.contains(&false)
+        });
+        assert!(
+            bonded_only,
+            "{ranks} ranks: no rank holds a node by its pair alone"
+        );
+    }
+    let h = same_on_ranks(tag, &text);
+    let dir = out_path(tag);
+    let delaminated = |d: &str| {
+        let v: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(dir.join(d).join("summary.json")).unwrap(),
+        )
+        .unwrap();
+        v["delamination"]["projected_area"].as_f64().unwrap()
+    };
+    let area = delaminated("process");
+    assert!(
+        h.last("crack.delaminated_area") > 0.0 && area > 0.0,
+        "the crack grew"
+    );
+    for d in ["ranks2", "ranks4"] {
+        assert_eq!(delaminated(d), area, "{d}: the projected delamination");
+    }
+    let half = dir.join("half.toml");
+    std::fs::write(&half, opened_beam("6e-4")).unwrap();
+    let whole = dir.join(format!("{tag}.toml"));
+    let bodies: Vec<String> = ["upper", "lower", "reaction:open", "reaction:hold"]
+        .map(String::from)
+        .to_vec();
+    let one = History::read(&dir.join("process/history.csv"));
+    for (resumed_on, d) in [(4, "resumed_on_4"), (0, "resumed_on_one")] {
+        impact_run(2, &half, &dir.join(d));
+        let e = History::read(&dir.join(d).join("history.csv")).last("crack.energy");
+        assert!(
+            e > 0.0 && e < 0.9 * one.last("crack.energy"),
+            "the cut is not in the growth"
+        );
+        impact_run_with(
+            resumed_on,
+            &whole,
+            &dir.join(d),
+            ["--resume", "--device", "cpu"],
+        );
+        same_history(
+            d,
+            &one,
+            &History::read(&dir.join(d).join("history.csv")),
+            &bodies,
+        );
+    }
+}
+
+/// The coarse damaged drop weight of `tests/drop_weight.rs` on 2 ranks: one process's
+/// history (the state's columns bit for bit, the sums within 1e-12), so the peak force and
+/// the delaminated area within 2% and more.
+#[test]
+fn the_damaged_coupon_is_the_same_on_2_ranks() {
+    let text = damaged_coarse(1.2e-3);
+    let h = same_on_these_ranks("mpi_damaged_coupon", &text, "cpu", &[2]);
+    let one = History::read(&out_path("mpi_damaged_coupon").join("process/history.csv"));
+    let ((p1, a1), (p2, a2)) = (peak_and_area(&one), peak_and_area(&h));
+    assert!(a1 > 0.0, "the coupon delaminated");
+    assert!((p2 - p1).abs() <= 0.02 * p1, "peak {p2} against {p1}");
+    assert!(
+        (a2 - a1).abs() <= 0.02 * a1,
+        "delaminated {a2} against {a1}"
+    );
 }
 
 /// The plate of `tests/threads.rs`'s damage test.

@@ -10,6 +10,7 @@
 //! rounding (1e-12 relative to the column) on several.
 
 use super::checkpoint;
+use super::cohesive::RankCohesive;
 use super::contact::{LocalState, SurfaceContact};
 use super::forces::RankForces;
 use super::partition::Partition;
@@ -109,6 +110,8 @@ pub struct DomainSolver<'m> {
     /// The `[[load]]`s on the rank's nodes, and the work of those on its owned nodes so far.
     loads: LoadForces,
     load_work: f64,
+    /// The cohesive pairs at the rank's nodes, where the model has any.
+    cohesive: Option<RankCohesive>,
 }
 
 /// The whole model's damage inputs, the rank's, and the rank's damageable elements'
@@ -158,6 +161,7 @@ impl<'m> DomainSolver<'m> {
         let surface = SurfaceContact::new(model, &sub, &mass_all, (settings, speed_scale));
         let ndof = 3 * sub.nodes.len();
         let piece = sub.piece_model(model);
+        let cohesive = RankCohesive::new(model, &sub);
         let moving_fixes = (model.fix_motion.iter())
             .filter_map(|&(d, w)| {
                 let i = sub.nodes.binary_search(&((d / 3) as u32)).ok()?;
@@ -194,6 +198,7 @@ impl<'m> DomainSolver<'m> {
             damage_energy: 0.0,
             loads,
             load_work: 0.0,
+            cohesive,
         })
     }
 
@@ -246,11 +251,16 @@ impl<'m> DomainSolver<'m> {
         Ok(())
     }
 
-    /// [`Self::internal_forces`] of an explicit step: the damage stepped over it first.
+    /// [`Self::internal_forces`] of an explicit step: the damage stepped over it first, the
+    /// cohesive pairs after the shared nodes' sums (as the single process adds them after
+    /// its gather).
     fn step_forces(&mut self) -> Result<()> {
         let uv = (&self.u[..], &self.v[..]);
         self.damage_energy += self.kernels.step_forces(uv, self.dt, &mut self.f_int)?;
         self.sum_shared();
+        if let Some(c) = &mut self.cohesive {
+            c.forces(&self.u, &mut self.f_int);
+        }
         Ok(())
     }
 
@@ -526,6 +536,9 @@ impl Integrator for DomainSolver<'_> {
     fn checkpoint_state(&mut self) -> Result<Option<SolverState>> {
         let damage = self.gather_damage()?;
         let first_damage = self.first_damage();
+        let cohesive = (self.cohesive.as_ref())
+            .map(|c| c.gather(self.model, &self.timed()))
+            .unwrap_or_default();
         let fields = [
             &self.u[..],
             &self.v,
@@ -560,8 +573,7 @@ impl Integrator for DomainSolver<'_> {
                 loads: sums[2],
                 first_damage,
             },
-            // ranks refuse cohesive interfaces (`run::build_solver`)
-            cohesive: Default::default(),
+            cohesive,
         })))
     }
 
@@ -586,6 +598,13 @@ impl Integrator for DomainSolver<'_> {
         self.damage_energy = if first { s.work.damage } else { 0.0 };
         self.load_work = if first { s.work.loads } else { 0.0 };
         self.loads.set(self.model, self.time, &mut self.f_ext);
+        if let Some(c) = &mut self.cohesive {
+            let pairs = crate::model::cohesive::all_pairs(&self.model.cohesive);
+            if !s.cohesive.fits(pairs) {
+                return Err("its cohesive interfaces are not this model's".into());
+            }
+            c.restore(&s.cohesive, first);
+        }
         self.restore_damage(&s.damage)
     }
 
@@ -634,7 +653,8 @@ impl Integrator for DomainSolver<'_> {
         // the fixes' work and the damage's energy: on the first dof of the rank's first
         // owned node
         let first = self.sub.owned.iter().position(|&o| o).map(|i| 3 * i);
-        let (work, damage) = (self.fix_work, self.damage_energy);
+        let bonded = self.cohesive.as_ref().map_or(0.0, RankCohesive::energy);
+        let (work, damage) = (self.fix_work, self.damage_energy + bonded);
         let u = (&self.u_prev[..], &self.u[..]);
         let loads = (self.loads).centred_potential(self.model, self.time, self.load_work, u);
         let load_work = self.load_work;
@@ -685,6 +705,16 @@ impl Integrator for DomainSolver<'_> {
 
     fn end_at(&mut self, time: f64) {
         self.time = time;
+    }
+
+    /// Each cohesive interface over every rank (a collective).
+    fn cohesive(&self) -> Vec<crate::kernels::cohesive_forces::CohesiveReport> {
+        (self.cohesive.as_ref()).map_or_else(Vec::new, |c| c.reports(&self.timed()))
+    }
+
+    /// The whole model's cohesive state, on every rank (a collective).
+    fn cohesive_state(&self) -> Option<crate::kernels::cohesive_forces::CohesiveState> {
+        (self.cohesive.as_ref()).map(|c| c.gather(self.model, &self.timed()))
     }
 
     /// The damage over every rank (a collective): the energy, the first damaged point and

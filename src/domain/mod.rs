@@ -6,6 +6,7 @@
 //! - [`partition`]: recursive coordinate bisection of the elements;
 //! - [`subdomain`]: a rank's elements, nodes, neighbours and shared-node sums;
 //! - [`forces`]: a rank's element forces, on the CPU or on its own GPU;
+//! - [`cohesive`]: a rank's cohesive pairs;
 //! - [`surface`]: the contact surfaces as a model of their own;
 //! - [`ranks`]: what the decomposition asks of its ranks ([`ranks::Single`], and MPI with
 //!   the `mpi` feature);
@@ -18,6 +19,7 @@
 //! - [`launch`]: what an MPI launcher tells a process.
 
 pub mod checkpoint;
+mod cohesive;
 pub mod contact;
 pub mod explicit;
 pub mod forces;

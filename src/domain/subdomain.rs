@@ -133,13 +133,20 @@ impl Subdomain {
         for n in 0..n_all {
             held[n] |= !touched[n] && rank == 0;
         }
+        // a cohesive pair's nodes are held together
+        let groups = pair_groups(model);
+        for g in &groups {
+            if g.iter().any(|&n| held[n as usize]) {
+                g.iter().for_each(|&n| held[n as usize] = true);
+            }
+        }
         let nodes: Vec<u32> = (0..n_all as u32).filter(|&n| held[n as usize]).collect();
         let mut local = vec![u32::MAX; n_all];
         for (i, &n) in nodes.iter().enumerate() {
             local[n as usize] = i as u32;
         }
         let (data, corner_local, elements) = local_elements(model, partition, rank, &local);
-        let holders = holders(model, partition, &held);
+        let holders = holders(model, partition, &held, &groups);
         let mut sub = Subdomain {
             rank,
             ranks: partition.parts,
@@ -375,7 +382,7 @@ impl Subdomain {
             reactions: Vec::new(),
             initial_velocity: Vec::new(),
             gravity: model.gravity,
-            // a decomposed run refuses cohesive interfaces (`run_ranks`)
+            // the rank's pairs are its solver's (`RankCohesive`)
             cohesive: Vec::new(),
             // the rank's loads are its solver's (`LoadForces`)
             loads: Vec::new(),
@@ -435,11 +442,13 @@ fn local_elements(
 }
 
 /// The ranks holding each node this rank holds with others (global node number to ranks,
-/// increasing).
+/// increasing): those of its elements, and of the elements of every node it is bonded to
+/// (`groups`, [`pair_groups`]).
 fn holders(
     model: &Model,
     partition: &Partition,
     held: &[bool],
+    groups: &[Vec<u32>],
 ) -> std::collections::BTreeMap<u32, Vec<u32>> {
     let mut all: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
     for (_, e, n) in corners(model) {
@@ -451,11 +460,54 @@ fn holders(
             }
         }
     }
+    for g in groups.iter().filter(|g| held[g[0] as usize]) {
+        let mut union: Vec<u32> = (g.iter())
+            .flat_map(|n| all.get(n).into_iter().flatten().copied())
+            .collect();
+        union.sort_unstable();
+        union.dedup();
+        for &n in g {
+            all.insert(n, union.clone());
+        }
+    }
     all.retain(|_, l| l.len() > 1);
     for l in all.values_mut() {
         l.sort_unstable();
     }
     all
+}
+
+/// The nodes the cohesive interfaces bond, in groups that every rank holds whole or not at
+/// all: the connected parts of the graph of their pairs (a pair's two nodes, or more where
+/// a node is in pairs of several interfaces), each increasing. A rank steps a pair where it
+/// holds its nodes, so it must hold both, and the ranks holding one hold the other: a rank
+/// with elements at one node of a group holds the rest too, and sums their forces from the
+/// corners the others send, as for any shared node.
+pub fn pair_groups(model: &Model) -> Vec<Vec<u32>> {
+    let mut parent: std::collections::BTreeMap<u32, u32> = Default::default();
+    fn root(parent: &mut std::collections::BTreeMap<u32, u32>, n: u32) -> u32 {
+        let mut r = n;
+        while let Some(&p) = parent.get(&r).filter(|&&p| p != r) {
+            r = p;
+        }
+        parent.insert(n, r);
+        r
+    }
+    for c in &model.cohesive {
+        for (&a, &b) in c.pairs.upper.iter().zip(&c.pairs.lower) {
+            parent.entry(a).or_insert(a);
+            parent.entry(b).or_insert(b);
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+            parent.insert(ra.max(rb), ra.min(rb));
+        }
+    }
+    let nodes: Vec<u32> = parent.keys().copied().collect();
+    let mut groups: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+    for n in nodes {
+        let r = root(&mut parent, n);
+        groups.entry(r).or_default().push(n);
+    }
+    groups.into_values().collect()
 }
 
 /// The contact surfaces' nodes and each rank's share of them.

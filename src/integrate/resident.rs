@@ -282,6 +282,7 @@ pub fn needs_host_ranks(model: &Model) -> bool {
         || !model.fix_motion.is_empty()
         || !model.loads.is_empty()
         || !model.fix_paths.is_empty()
+        || !model.cohesive.is_empty()
 }
 
 /// The smallest contact tolerance the device iteration takes, relative to the speed scale:

@@ -119,6 +119,18 @@ pub fn cohesive_forces<'a>(
     state: &mut CohesiveState,
     f_int: &mut [f64],
 ) -> f64 {
+    cohesive_forces_counting(interfaces, u, (state, f_int), &|_, _| true)
+}
+
+/// [`cohesive_forces`] where only the pairs `counts(interface, pair)` accepts add their
+/// dissipation to `state.energy` and to the energy returned (a rank of a decomposed run
+/// steps every pair at its nodes and counts those it owns).
+pub fn cohesive_forces_counting<'a>(
+    interfaces: impl Iterator<Item = &'a CohesivePairs>,
+    u: &[f64],
+    (state, f_int): (&mut CohesiveState, &mut [f64]),
+    counts: &dyn Fn(usize, usize) -> bool,
+) -> f64 {
     let mut dissipated = 0.0;
     for (k, c) in interfaces.enumerate() {
         let steps: Vec<_> = (0..c.area.len())
@@ -139,7 +151,9 @@ pub fn cohesive_forces<'a>(
                 f_int[b + i] -= f;
             }
             state.damage[k][p] = s.damage;
-            energy += c.area[p] * s.dissipated;
+            if counts(k, p) {
+                energy += c.area[p] * s.dissipated;
+            }
         }
         state.energy[k] += energy;
         dissipated += energy;

@@ -75,16 +75,6 @@ fn build_solver<'m>(
     ranks: Option<&'m dyn Ranks>,
 ) -> Result<Box<dyn Integrator + 'm>> {
     let (model, dt) = (&setup.model, setup.dt);
-    if let (Some(_), Some(c)) = (ranks, model.cohesive.first()) {
-        return Err(ImpactError::Unsupported {
-            path: scene.path.clone(),
-            key: "cohesive[0]".into(),
-            message: format!(
-                "cohesive interface `{}`: a run on several MPI ranks does not take cohesive interfaces yet; run it as one process",
-                c.name
-            ),
-        });
-    }
     if let Some(ranks) = ranks {
         let partition = Partition::bisect(model, ranks.size());
         let settings = (&scene.explicit, dt, speed_scale);

@@ -11,7 +11,11 @@ pub struct History {
 
 impl History {
     pub fn read(path: &Path) -> History {
-        let text = std::fs::read_to_string(path).expect("history.csv exists");
+        History::parse(&std::fs::read_to_string(path).expect("history.csv exists"))
+    }
+
+    /// A history's text, as [`History::read`] reads it from its file.
+    pub fn parse(text: &str) -> History {
         let mut lines = text.lines();
         let columns: Vec<String> = lines
             .next()

@@ -246,3 +246,36 @@ point = [0.0, 0.0, 1.0]
 "#
     .to_string()
 }
+
+/// `text` without its VTU frames: the tests read the history.
+pub fn without_frames(text: &str) -> String {
+    let lines = text.lines().filter(|l| !l.starts_with("vtu_every"));
+    lines.collect::<Vec<_>>().join("\n")
+}
+
+/// The shipped damaged drop weight (`drop_weight_d7136.toml`: the plies damaging in their
+/// plane, the two ply-change interfaces delaminating) on 5 mm cells without the refinement,
+/// through its first `end` seconds: the load's climb, the first delaminations and the load
+/// drop.
+pub fn damaged_coarse(end: f64) -> String {
+    let text = edit(
+        &scene_text("drop_weight_d7136.toml"),
+        "divisions = [38, 25, 4], element = \"hex8i\", refine = { min = [-10.0, -10.0, 0.0], max = [10.0, 10.0, 4.56], size = [1.0, 1.0, 1.14] } }",
+        "divisions = [30, 20, 4], element = \"hex8i\" }",
+    );
+    without_frames(&edit(
+        &text,
+        "end_time = 6e-3",
+        &format!("end_time = {end:e}"),
+    ))
+}
+
+/// The largest contact force of a history, and its last row's delaminated area.
+pub fn peak_and_area(h: &History) -> (f64, f64) {
+    let peak = h
+        .col("impact.normal_force")
+        .iter()
+        .copied()
+        .fold(0.0, f64::max);
+    (peak, h.last("plies.delaminated_area"))
+}
