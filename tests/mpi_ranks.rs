@@ -982,6 +982,18 @@ fn the_damaged_coupon_is_the_same_on_2_ranks() {
     );
 }
 
+/// The opened beam with every rank's element forces on its GPU (the pairs on the host), to
+/// the crack's start: on 2 and 4 ranks, one rank on the GPU's history (the state's columns
+/// bit for bit, the sums within 1e-12).
+#[test]
+fn a_beam_delaminates_the_same_on_gpu_ranks() {
+    if skip_gpu("cohesive interfaces on GPU ranks") {
+        return;
+    }
+    let h = same_on_ranks_on("mpi_cohesive_gpu", &opened_beam("6e-4"), "gpu");
+    assert!(h.last("crack.energy") > 0.0, "the crack started on the GPUs");
+}
+
 /// The plate of `tests/threads.rs`'s damage test.
 fn damaging_plate() -> String {
     r#"
