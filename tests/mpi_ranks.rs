@@ -991,7 +991,10 @@ fn a_beam_delaminates_the_same_on_gpu_ranks() {
         return;
     }
     let h = same_on_ranks_on("mpi_cohesive_gpu", &opened_beam("6e-4"), "gpu");
-    assert!(h.last("crack.energy") > 0.0, "the crack started on the GPUs");
+    assert!(
+        h.last("crack.energy") > 0.0,
+        "the crack started on the GPUs"
+    );
 }
 
 /// The plate of `tests/threads.rs`'s damage test.
