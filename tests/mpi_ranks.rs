@@ -235,27 +235,14 @@ fn a_run_checkpointed_on_2_ranks_resumes_on_4_and_on_one_process() {
     let read = |d: &str| impact::checkpoint::Checkpoint::read(&dir.join(d), &parsed).unwrap();
     let state = |c: &impact::checkpoint::Checkpoint| bincode::serialize(&c.solver).unwrap();
     let reference = read("process_half");
-    for (resumed_on, d) in [(4, "resumed_on_4"), (0, "resumed_on_one")] {
-        impact_run(2, &half_scene, &dir.join(d));
+    resume_across(&dir, (&half_scene, &whole_scene), (&one, &bodies), |d| {
         let c = read(d);
         assert_eq!(c.tally.steps, reference.tally.steps, "{d}");
         assert!(
             state(&c) == state(&reference),
             "{d}: the 2-rank state differs"
         );
-        impact_run_with(
-            resumed_on,
-            &whole_scene,
-            &dir.join(d),
-            ["--resume", "--device", "cpu"],
-        );
-        same_history(
-            d,
-            &one,
-            &History::read(&dir.join(d).join("history.csv")),
-            &bodies,
-        );
-    }
+    });
     // a resumed run keeps the first part's file names (its stem, `half`)
     let pvd = std::fs::read_to_string(dir.join("resumed_on_4/half.pvd")).unwrap();
     let unbroken = std::fs::read_to_string(dir.join("unbroken/whole.pvd")).unwrap();
@@ -818,24 +805,35 @@ fn a_damaging_run_checkpointed_on_2_ranks_resumes_on_4_and_on_one_process() {
         damage(&reference).iter().any(|&d| d > 0.0),
         "damaged at the checkpoint"
     );
-    for (resumed_on, d) in [(4, "resumed_on_4"), (0, "resumed_on_one")] {
-        impact_run(2, &half_scene, &dir.join(d));
+    resume_across(&dir, (&half_scene, &whole_scene), (&one, &bodies), |d| {
         assert!(
             damage(&read(d)) == damage(&reference),
             "{d}: the 2-rank damage differs"
         );
+    });
+}
+
+/// Runs `half` (the scene stopped before its end) on 2 ranks into the folders
+/// `resumed_on_4` and `resumed_on_one` of `dir`, checks each with `check` (given its
+/// name), then resumes them with `whole` on 4 ranks and on one process: the unbroken
+/// history `one`, as [`same_history`] holds it.
+fn resume_across(
+    dir: &Path,
+    (half, whole): (&Path, &Path),
+    (one, bodies): (&History, &[String]),
+    check: impl Fn(&str),
+) {
+    for (resumed_on, d) in [(4, "resumed_on_4"), (0, "resumed_on_one")] {
+        impact_run(2, half, &dir.join(d));
+        check(d);
         impact_run_with(
             resumed_on,
-            &whole_scene,
+            whole,
             &dir.join(d),
             ["--resume", "--device", "cpu"],
         );
-        same_history(
-            d,
-            &one,
-            &History::read(&dir.join(d).join("history.csv")),
-            &bodies,
-        );
+        let h = History::read(&dir.join(d).join("history.csv"));
+        same_history(d, one, &h, bodies);
     }
 }
 
@@ -943,26 +941,13 @@ fn a_beam_delaminates_the_same_on_2_and_4_ranks_and_resumes_across_them() {
         .map(String::from)
         .to_vec();
     let one = History::read(&dir.join("process/history.csv"));
-    for (resumed_on, d) in [(4, "resumed_on_4"), (0, "resumed_on_one")] {
-        impact_run(2, &half, &dir.join(d));
+    resume_across(&dir, (&half, &whole), (&one, &bodies), |d| {
         let e = History::read(&dir.join(d).join("history.csv")).last("crack.energy");
         assert!(
             e > 0.0 && e < 0.9 * one.last("crack.energy"),
             "the cut is not in the growth"
         );
-        impact_run_with(
-            resumed_on,
-            &whole,
-            &dir.join(d),
-            ["--resume", "--device", "cpu"],
-        );
-        same_history(
-            d,
-            &one,
-            &History::read(&dir.join(d).join("history.csv")),
-            &bodies,
-        );
-    }
+    });
 }
 
 /// The coarse damaged drop weight of `tests/drop_weight.rs` on 2 ranks: one process's
