@@ -55,12 +55,12 @@ impl RankCohesive {
         })
     }
 
-    /// Adds the pairs' forces at the rank's displacement `u` to `f_int` and advances their
-    /// damage; returns the energy the counted pairs dissipated.
-    pub fn forces(&mut self, u: &[f64], f_int: &mut [f64]) -> f64 {
+    /// Adds the pairs' forces at the rank's displacement `u` to `f_int`, advances their
+    /// damage, and adds the counted pairs' dissipation to their interfaces' energy.
+    pub fn forces(&mut self, u: &[f64], f_int: &mut [f64]) {
         let counted = &self.counted;
         let counts = |k: usize, p: usize| counted[k][p];
-        cohesive_forces_counting(self.pairs.iter(), u, (&mut self.state, f_int), &counts)
+        cohesive_forces_counting(self.pairs.iter(), u, (&mut self.state, f_int), &counts);
     }
 
     /// The energy the rank's counted pairs dissipated so far.
@@ -71,17 +71,11 @@ impl RankCohesive {
     /// Each interface's report over every rank (a collective): the counted pairs' areas and
     /// dissipation summed.
     pub fn reports(&self, talk: &Timed) -> Vec<CohesiveReport> {
-        let local: Vec<f64> = (self.state.energy.iter().zip(&self.counted).zip(&self.pairs))
-            .zip(&self.state.damage)
-            .flat_map(|(((&energy, counted), c), d)| {
-                let area = |keep: &dyn Fn(f64) -> bool| -> f64 {
-                    (c.area.iter().zip(d).zip(counted))
-                        .filter(|((_, &d), &n)| n && keep(d))
-                        .map(|((a, _), _)| a)
-                        .sum()
-                };
-                [area(&|d| d >= 1.0), area(&|d| d > 0.0), energy]
-            })
+        let counted = &self.counted;
+        let counts = |k: usize, p: usize| counted[k][p];
+        let local: Vec<f64> = (self.state.reports_counting(self.pairs.iter(), &counts))
+            .iter()
+            .flat_map(|r| [r.delaminated_area, r.damaged_area, r.energy])
             .collect();
         let all = talk.talk(|r| r.sum(&local));
         (all.chunks_exact(3))

@@ -91,13 +91,23 @@ impl CohesiveState {
         &self,
         interfaces: impl Iterator<Item = &'a CohesivePairs>,
     ) -> Vec<CohesiveReport> {
-        (interfaces.zip(&self.damage).zip(&self.energy))
-            .map(|((c, d), &energy)| {
+        self.reports_counting(interfaces, &|_, _| true)
+    }
+
+    /// [`Self::reports`] with the areas of the pairs `counts(interface, pair)` accepts alone
+    /// (a rank of a decomposed run counts those it owns; its energy is theirs already).
+    pub fn reports_counting<'a>(
+        &self,
+        interfaces: impl Iterator<Item = &'a CohesivePairs>,
+        counts: &dyn Fn(usize, usize) -> bool,
+    ) -> Vec<CohesiveReport> {
+        (interfaces.zip(&self.damage).zip(&self.energy).enumerate())
+            .map(|(k, ((c, d), &energy))| {
                 let area = |keep: &dyn Fn(f64) -> bool| {
                     // + 0: an empty sum is -0
-                    (c.area.iter().zip(d))
-                        .filter(|(_, &d)| keep(d))
-                        .map(|(a, _)| a)
+                    (c.area.iter().zip(d).enumerate())
+                        .filter(|&(p, (_, &d))| keep(d) && counts(k, p))
+                        .map(|(_, (a, _))| a)
                         .sum::<f64>()
                         + 0.0
                 };
