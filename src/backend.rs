@@ -7,8 +7,8 @@ use crate::error::Result;
 use crate::kernels::damage_data::{DamageData, DamageState, DamagedPoint};
 use crate::kernels::damage_sieve::SieveMemory;
 use crate::kernels::{
-    as_vec3, as_vec3_mut, contact_gap, damage_forces, element_forces, node_gather, slip_rate,
-    ContactPoint, ContactQueries, ElementData, Incidence, KeptData,
+    as_vec3, as_vec3_mut, contact_gap, damage_forces, element_forces, mark_damaged, node_gather,
+    slip_rate, ContactPoint, ContactQueries, ElementData, Incidence, KeptData,
 };
 use crate::model::Model;
 
@@ -97,6 +97,8 @@ pub struct CpuKernels {
     corner_forces: Vec<[f64; 3]>,
     /// The plies' damage, its state and the sieve's memory, where any element damages.
     damage: Option<(DamageData, DamageState, SieveMemory)>,
+    /// The damaged elements, per block: the damage pass gives their forces.
+    damaged: Vec<Vec<bool>>,
 }
 
 impl CpuKernels {
@@ -110,6 +112,7 @@ impl CpuKernels {
             incidence,
             corner_forces,
             damage: None,
+            damaged: Vec::new(),
         }
     }
 
@@ -131,7 +134,11 @@ impl CpuKernels {
         (dt, advance): (f64, bool),
     ) -> f64 {
         let fixed = (&self.layout, &self.kept);
-        element_forces(&self.data, fixed, as_vec3(u), &mut self.corner_forces);
+        if let Some((d, s, _)) = &self.damage {
+            mark_damaged(&self.data, (d, s), &mut self.damaged);
+        }
+        let (u3, skip) = (as_vec3(u), self.damaged.as_slice());
+        element_forces(&self.data, fixed, u3, &mut self.corner_forces, skip);
         let dissipated = match &mut self.damage {
             Some((d, s, m)) => damage_forces(
                 &self.data,

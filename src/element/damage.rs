@@ -383,7 +383,8 @@ pub fn hex_damage_operated(
         let stress = match advance {
             true => {
                 let ply = &plies[i / per_ply];
-                let step = law.step((&e, &apply_operator(op, &d_prev)), state, ply.bands, dt);
+                let prev = || apply_operator(op, &d_prev);
+                let step = law.step_lazily(&e, prev, state, ply.bands, dt);
                 new[at].copy_from_slice(&step.state);
                 dissipated += step.dissipated * ops.volume[i];
                 step.stress

@@ -139,12 +139,27 @@ fn gauss_point(
 /// Elements run on all threads; each writes its own corners, so the result does not depend
 /// on the thread count.
 pub fn hex8_forces(data: &ElementData, u: &[[f64; 3]], corner_forces: &mut [[f64; 3]]) {
+    hex8_forces_but(data, u, corner_forces, &[]);
+}
+
+/// [`hex8_forces`] but for the elements `skip` marks (their corners left as they were; an
+/// empty `skip` marks none).
+pub(crate) fn hex8_forces_but(
+    data: &ElementData,
+    u: &[[f64; 3]],
+    corner_forces: &mut [[f64; 3]],
+    skip: &[bool],
+) {
     let block = data.elements.block(ElementKind::Hex8);
     corner_forces[..block.nodes.len()]
         .par_chunks_mut(8)
         .with_min_len(ELEMENTS_PER_TASK)
         .zip(block.corners::<8>().par_iter().zip(&block.material))
-        .for_each(|(out, (hex, &mat))| {
+        .enumerate()
+        .for_each(|(e, (out, (hex, &mat)))| {
+            if skip.get(e) == Some(&true) {
+                return;
+            }
             let m = data.materials[mat as usize];
             let x = hex.map(|n| data.reference[n as usize]);
             let ue = hex.map(|n| u[n as usize]);

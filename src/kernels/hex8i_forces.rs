@@ -18,6 +18,18 @@ pub fn hex8i_forces(
     u: &[[f64; 3]],
     corner_forces: &mut [[f64; 3]],
 ) {
+    hex8i_forces_but(data, kept, u, corner_forces, &[]);
+}
+
+/// [`hex8i_forces`] but for the elements `skip` marks (their corners left as they were;
+/// an empty `skip` marks none).
+pub(crate) fn hex8i_forces_but(
+    data: &ElementData,
+    kept: &[f64],
+    u: &[[f64; 3]],
+    corner_forces: &mut [[f64; 3]],
+    skip: &[bool],
+) {
     let block = data.elements.block(ElementKind::Hex8i);
     corner_forces[..block.nodes.len()]
         .par_chunks_mut(8)
@@ -28,7 +40,11 @@ pub fn hex8i_forces(
                 .par_iter()
                 .zip(kept.par_chunks(hex8i::KEPT)),
         )
-        .for_each(|(out, (hex, k))| {
+        .enumerate()
+        .for_each(|(e, (out, (hex, k)))| {
+            if skip.get(e) == Some(&true) {
+                return;
+            }
             let x = hex.map(|n| data.reference[n as usize]);
             out.copy_from_slice(&hex8i::forces(k, &x, &hex.map(|n| u[n as usize])));
         });

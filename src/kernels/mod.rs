@@ -183,20 +183,49 @@ impl KeptData {
 
 /// Corner forces of every element at displacement `u`, in `layout` (the data's
 /// [`CornerLayout`]; overwrites `corner_forces`): the per-kind force kernels, each on its
-/// block's part.
+/// block's part. The elements `skip` marks (per block, by kind index; an empty mask marks
+/// none) are left as they were: the damaged ones, whose forces the damage pass replaces.
 pub(crate) fn element_forces(
     data: &ElementData,
     (layout, kept): (&CornerLayout, &KeptData),
     u: &[[f64; 3]],
     corner_forces: &mut [[f64; 3]],
+    skip: &[Vec<bool>],
 ) {
     for block in &data.elements.blocks {
         let start = layout.offset(block.kind);
         let out = &mut corner_forces[start..start + block.nodes.len()];
+        let skip = skip.get(block.kind.index()).map_or(&[][..], Vec::as_slice);
         match block.kind {
-            ElementKind::Hex8 => hex8_forces(data, u, out),
-            ElementKind::Tet4 => tet4_forces(data, u, out),
-            ElementKind::Hex8i => hex8i_forces(data, kept.of_kind(block.kind), u, out),
+            ElementKind::Hex8 => hex8_forces::hex8_forces_but(data, u, out, skip),
+            ElementKind::Tet4 => tet4_forces::tet4_forces_but(data, u, out, skip),
+            ElementKind::Hex8i => {
+                hex8i_forces::hex8i_forces_but(data, kept.of_kind(block.kind), u, out, skip)
+            }
+        }
+    }
+}
+
+/// Marks, per block (by kind index), the elements the damage state holds as damaged: the
+/// damage pass steps each of them and replaces its elastic forces.
+pub(crate) fn mark_damaged(
+    data: &ElementData,
+    (damage, state): (&damage_data::DamageData, &damage_data::DamageState),
+    marks: &mut Vec<Vec<bool>>,
+) {
+    // the element and damage blocks are both in kind order
+    marks.resize(data.elements.blocks.len(), Vec::new());
+    for (((mask, block), dblock), damaged) in (marks.iter_mut())
+        .zip(&data.elements.blocks)
+        .zip(&damage.blocks)
+        .zip(&state.damaged)
+    {
+        mask.clear();
+        if damaged.iter().any(|&d| d) {
+            mask.resize(block.len(), false);
+            for (&e, &d) in dblock.elements.iter().zip(damaged) {
+                mask[e as usize] = d;
+            }
         }
     }
 }

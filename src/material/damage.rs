@@ -327,11 +327,26 @@ impl PlyDamage {
         bands: [f64; 2],
         dt: f64,
     ) -> PointStep {
+        self.step_lazily(e, || *prev, old, bands, dt)
+    }
+
+    /// [`Self::step`] with the step before's strain `prev` formed only where the damage
+    /// grows (the released energy needs it; elsewhere it is zero), and the stress of the
+    /// standing damage reused: the same bits as [`Self::step`].
+    pub fn step_lazily(
+        &self,
+        e: &[f64; 6],
+        prev: impl FnOnce() -> [f64; 6],
+        old: &[f64; POINT_STATE],
+        bands: [f64; 2],
+        dt: f64,
+    ) -> PointStep {
         let eff = voigt_apply(&self.c0, e);
         let signs = (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0);
         let d_old = acting(old, signs);
         let before = self.stiffness(d_old);
-        let r = self.index_ratios(&effective(&voigt_apply(&before, e), d_old));
+        let stress_before = voigt_apply(&before, e);
+        let r = self.index_ratios(&effective(&stress_before, d_old));
         let mut state = *old;
         for k in 0..4 {
             let rf = self.softening_end(k, bands[k / 2]);
@@ -349,12 +364,16 @@ impl PlyDamage {
             };
         }
         let d_new = acting(&state, signs);
-        let after = if d_new == d_old {
-            before
-        } else {
-            self.stiffness(d_new)
-        };
+        if d_new == d_old {
+            return PointStep {
+                state,
+                stress: stress_before,
+                dissipated: 0.0,
+            };
+        }
+        let after = self.stiffness(d_new);
         let stress = voigt_apply(&after, e);
+        let prev = prev();
         // the energy the damage's growth released, both stiffnesses at this step's signs:
         // a crack that closes (the acting damage switching from a tension mode to a
         // compression one) releases nothing, and it stores nothing back
