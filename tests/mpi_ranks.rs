@@ -967,6 +967,37 @@ fn the_damaged_coupon_is_the_same_on_2_ranks() {
     );
 }
 
+/// Blocks broken in shear under pressure, then slid with friction, on 2 and 4 ranks: one
+/// process's history (the state's columns bit for bit, the sums within 1e-12); stopped on
+/// 2 ranks while they slide, resumed on 4 ranks and on one process to the unbroken history,
+/// the pairs' slips gathered into the single process's checkpoint.
+#[test]
+fn sheared_blocks_slide_the_same_on_2_and_4_ranks_and_resume_across_them() {
+    let tag = "mpi_friction";
+    let checkpoints = "[output]\ncheckpoint_every = 2000\n";
+    let text = sheared_blocks(0.2, 50.0, 9e-4) + checkpoints;
+    let one = same_on_ranks(tag, &text);
+    assert!(
+        one.last("crack.delaminated_area") > 0.0,
+        "the blocks broke apart"
+    );
+    let dir = out_path(tag);
+    let half = dir.join("half.toml");
+    std::fs::write(&half, sheared_blocks(0.2, 50.0, 6e-4) + checkpoints).unwrap();
+    let whole = dir.join(format!("{tag}.toml"));
+    let bodies: Vec<String> = ["upper", "lower", "reaction:push"]
+        .map(String::from)
+        .to_vec();
+    resume_across(&dir, (&half, &whole), (&one, &bodies), |d| {
+        let h = History::read(&dir.join(d).join("history.csv"));
+        assert_eq!(
+            h.last("crack.delaminated_area"),
+            64.0,
+            "{d}: sliding at the cut"
+        );
+    });
+}
+
 /// The opened beam with every rank's element forces on its GPU (the pairs on the host), to
 /// the crack's start: on 2 and 4 ranks, one rank on the GPU's history (the state's columns
 /// bit for bit, the sums within 1e-12).

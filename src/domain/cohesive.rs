@@ -68,6 +68,11 @@ impl RankCohesive {
         self.state.energy.iter().sum()
     }
 
+    /// The rank's counted pairs' stored-energy offset at the last step.
+    pub fn stored_offset(&self) -> f64 {
+        self.state.stored_offset()
+    }
+
     /// Each interface's report over every rank (a collective): the counted pairs' areas and
     /// dissipation summed.
     pub fn reports(&self, talk: &Timed) -> Vec<CohesiveReport> {
@@ -97,35 +102,36 @@ impl RankCohesive {
                 Some(at)
             })
             .collect();
+        // each counted pair's damage and slip (zero without friction)
         let mut places = Vec::new();
         let mut values = Vec::new();
-        for (k, ((numbers, counted), d)) in (self
-            .global
-            .iter()
-            .zip(&self.counted)
-            .zip(&self.state.damage))
-        .enumerate()
-        {
-            for ((&p, &n), &d) in numbers.iter().zip(counted).zip(d) {
+        for (k, (numbers, counted)) in self.global.iter().zip(&self.counted).enumerate() {
+            for (i, (&p, &n)) in numbers.iter().zip(counted).enumerate() {
                 if n {
                     places.push((offsets[k] + p as usize) as f64);
-                    values.push(d);
+                    let slip = self.state.slip[k].get(i).copied().unwrap_or_default();
+                    values.extend([self.state.damage[k][i], slip[0], slip[1], slip[2]]);
                 }
             }
         }
         let (_, places) = talk.talk(|r| r.gather_varied(&places));
         let (_, values) = talk.talk(|r| r.gather_varied(&values));
         let energy = talk.talk(|r| r.sum(&self.state.energy));
+        let stored_offset = talk.talk(|r| r.sum(&self.state.stored_offset));
         let mut state = CohesiveState::new(model.cohesive.iter().map(|c| &c.pairs));
         let at = |flat: usize| {
             let k = offsets.partition_point(|&o| o <= flat) - 1;
             (k, flat - offsets[k])
         };
-        for (&place, &d) in places.iter().zip(&values) {
+        for (&place, v) in places.iter().zip(values.chunks_exact(4)) {
             let (k, p) = at(place as usize);
-            state.damage[k][p] = d;
+            state.damage[k][p] = v[0];
+            if let Some(slip) = state.slip[k].get_mut(p) {
+                *slip = [v[1], v[2], v[3]];
+            }
         }
         state.energy = energy;
+        state.stored_offset = stored_offset;
         state
     }
 
@@ -135,10 +141,23 @@ impl RankCohesive {
         for (k, numbers) in self.global.iter().enumerate() {
             for (i, &p) in numbers.iter().enumerate() {
                 self.state.damage[k][i] = state.damage[k][p as usize];
+                if let Some(slip) = self.state.slip[k].get_mut(i) {
+                    *slip = state.slip[k][p as usize];
+                }
             }
         }
         for (e, &all) in self.state.energy.iter_mut().zip(&state.energy) {
             *e = if first { all } else { 0.0 };
+        }
+        // the offset is the counted pairs' own: the next step forms it afresh; until then
+        // the first rank carries it whole
+        for (o, &all) in self
+            .state
+            .stored_offset
+            .iter_mut()
+            .zip(&state.stored_offset)
+        {
+            *o = if first { all } else { 0.0 };
         }
     }
 }

@@ -654,13 +654,17 @@ impl Integrator for DomainSolver<'_> {
         // owned node
         let first = self.sub.owned.iter().position(|&o| o).map(|i| 3 * i);
         let bonded = self.cohesive.as_ref().map_or(0.0, RankCohesive::energy);
+        let offset = self
+            .cohesive
+            .as_ref()
+            .map_or(0.0, RankCohesive::stored_offset);
         let (work, damage) = (self.fix_work, self.damage_energy + bonded);
         let u = (&self.u_prev[..], &self.u[..]);
         let loads = (self.loads).centred_potential(self.model, self.time, self.load_work, u);
         let load_work = self.load_work;
         let [k, s, p0, p1, w, dmg, lp, lw] = self.owned_sums([
             &|d| m[d / 3] * v[d] * v[d],
-            &|d| u0[d] * f[d],
+            &|d| u0[d] * f[d] + if Some(d) == first { 2.0 * offset } else { 0.0 },
             &|d| fe[d] * u0[d],
             &|d| fe[d] * u1[d],
             &|d| if Some(d) == first { work } else { 0.0 },

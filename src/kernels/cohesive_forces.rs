@@ -10,7 +10,7 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::material::CohesiveLaw;
+use crate::material::{CohesiveLaw, SlidingStep};
 
 /// One cohesive interface's pairs of bonded nodes (the model's
 /// `model::cohesive::CohesiveInterface` holds them with its name).
@@ -48,12 +48,24 @@ impl CohesivePairs {
     }
 }
 
-/// The cohesive interfaces' state: each pair's damage, and each interface's energy
-/// dissipated so far.
+/// The cohesive interfaces' state: each pair's damage, each interface's energy dissipated
+/// so far (by damage and by friction), and where an interface has friction each pair's
+/// slip (none otherwise) and the interface's stored-energy offset at the last step (the
+/// counted pairs' area times [`crate::material::SlidingStep`]'s `stored_offset`).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct CohesiveState {
     pub damage: Vec<Vec<f64>>,
     pub energy: Vec<f64>,
+    pub slip: Vec<Vec<[f64; 3]>>,
+    pub stored_offset: Vec<f64>,
+}
+
+/// The slips an interface's state holds: one per pair where it has friction.
+fn slips(c: &CohesivePairs) -> usize {
+    match c.law.friction > 0.0 {
+        true => c.area.len(),
+        false => 0,
+    }
 }
 
 /// What an interface reports at a step: its separated area (damage 1), its damaged area
@@ -68,11 +80,21 @@ pub struct CohesiveReport {
 impl CohesiveState {
     /// Every pair of every interface undamaged.
     pub fn new<'a>(interfaces: impl Iterator<Item = &'a CohesivePairs>) -> Self {
-        let damage: Vec<Vec<f64>> = interfaces.map(|c| vec![0.0; c.area.len()]).collect();
+        let (damage, slip): (Vec<Vec<f64>>, Vec<Vec<[f64; 3]>>) = interfaces
+            .map(|c| (vec![0.0; c.area.len()], vec![[0.0; 3]; slips(c)]))
+            .unzip();
         CohesiveState {
             energy: vec![0.0; damage.len()],
+            stored_offset: vec![0.0; damage.len()],
             damage,
+            slip,
         }
+    }
+
+    /// The stored-energy offset of every interface (added to $\tfrac12 u \cdot f$ it gives
+    /// the energy the pairs store).
+    pub fn stored_offset(&self) -> f64 {
+        self.stored_offset.iter().sum()
     }
 
     /// Whether the state fits `interfaces` (a checkpoint of this model).
@@ -80,10 +102,11 @@ impl CohesiveState {
         &self,
         mut interfaces: impl ExactSizeIterator<Item = &'a CohesivePairs>,
     ) -> bool {
-        self.damage.len() == interfaces.len()
-            && self.energy.len() == interfaces.len()
-            && (self.damage.iter())
-                .all(|d| interfaces.next().is_some_and(|c| d.len() == c.area.len()))
+        let n = interfaces.len();
+        (self.energy.len(), self.slip.len(), self.stored_offset.len()) == (n, n, n)
+            && (self.damage.iter().zip(&self.slip)).all(|(d, s)| {
+                (interfaces.next()).is_some_and(|c| d.len() == c.area.len() && s.len() == slips(c))
+            })
     }
 
     /// Each interface's report.
@@ -143,29 +166,40 @@ pub fn cohesive_forces_counting<'a>(
 ) -> f64 {
     let mut dissipated = 0.0;
     for (k, c) in interfaces.enumerate() {
-        let steps: Vec<_> = (0..c.area.len())
+        let (damage, slip) = (&state.damage[k], &state.slip[k]);
+        let steps: Vec<SlidingStep> = (0..c.area.len())
             .into_par_iter()
             .with_min_len(crate::parallel::CHUNK)
             .map(|p| {
                 let (a, b) = (3 * c.upper[p] as usize, 3 * c.lower[p] as usize);
                 let delta = std::array::from_fn(|i| u[a + i] - u[b + i]);
-                c.law.step(delta, c.normal[p], state.damage[k][p])
+                match slip.get(p) {
+                    Some(&s) => c.law.step_sliding(delta, c.normal[p], (damage[p], s)),
+                    None => {
+                        SlidingStep::without_friction(c.law.step(delta, c.normal[p], damage[p]))
+                    }
+                }
             })
             .collect();
-        let mut energy = 0.0;
+        let (mut energy, mut offset) = (0.0, 0.0);
         for (p, s) in steps.iter().enumerate() {
             let (a, b) = (3 * c.upper[p] as usize, 3 * c.lower[p] as usize);
             for i in 0..3 {
-                let f = c.area[p] * s.traction[i];
+                let f = c.area[p] * s.step.traction[i];
                 f_int[a + i] += f;
                 f_int[b + i] -= f;
             }
-            state.damage[k][p] = s.damage;
+            state.damage[k][p] = s.step.damage;
+            if let Some(slip) = state.slip[k].get_mut(p) {
+                *slip = s.slip;
+            }
             if counts(k, p) {
-                energy += c.area[p] * s.dissipated;
+                energy += c.area[p] * (s.step.dissipated + s.friction);
+                offset += c.area[p] * s.stored_offset;
             }
         }
         state.energy[k] += energy;
+        state.stored_offset[k] = offset;
         dissipated += energy;
     }
     dissipated

@@ -8,7 +8,7 @@ pub mod layup;
 pub mod orthotropic;
 pub mod rotation;
 
-pub use cohesive::CohesiveLaw;
+pub use cohesive::{CohesiveLaw, SlidingStep};
 pub use damage::PlyDamage;
 pub use failure::{failure_indices, Strength};
 pub use layup::{Layup, LayupPly};

@@ -279,3 +279,54 @@ pub fn peak_and_area(h: &History) -> (f64, f64) {
         .fold(0.0, f64::max);
     (peak, h.last("plies.delaminated_area"))
 }
+
+/// Two 8 x 8 x 1 mm blocks (4 x 4 hex8i each) bonded by a mode II interface with friction
+/// `mu` (`crack`, G_IIc 0.788 N/mm, shear strength 90 MPa, K 1e5 N/mm^3): the lower block's
+/// base held, the upper pressed by `p` on its top (ramped over the first 0.1 ms) and its top
+/// moved along x by the named fix `push`, still to 0.2 ms, then 0.1 mm by 1.2 ms: the
+/// interface breaks in shear under the pressure and then slides. Runs to `end`.
+pub fn sheared_blocks(mu: f64, p: f64, end: f64) -> String {
+    format!(
+        r#"title = "sheared blocks"
+[run]
+end_time = {end:e}
+method = "explicit"
+[[material]]
+name = "steel"
+density = 7.8e-9
+youngs_modulus = 2.1e5
+poissons_ratio = 0.3
+[[body]]
+name = "upper"
+material = "steel"
+box = {{ min = [0.0, 0.0, 1.0], max = [8.0, 8.0, 2.0], divisions = [4, 4, 1], element = "hex8i" }}
+[[body]]
+name = "lower"
+material = "steel"
+box = {{ min = [0.0, 0.0, 0.0], max = [8.0, 8.0, 1.0], divisions = [4, 4, 1], element = "hex8i" }}
+[[cohesive]]
+name = "crack"
+between = [{{ body = "upper", face = "z-" }}, {{ body = "lower", face = "z+" }}]
+stiffness = 1e5
+strength = {{ normal = 60.0, shear = 90.0 }}
+toughness = {{ normal = 0.277, shear = 0.788, bk = 2.1 }}
+friction = {mu}
+[[fix]]
+body = "lower"
+face = "z-"
+components = ["x", "y", "z"]
+[[fix]]
+name = "push"
+body = "upper"
+face = "z+"
+components = ["x"]
+displacement = [0.1, 0.0, 0.0]
+amplitude = [[0.0, 0.0], [2e-4, 0.0], [1.2e-3, 1.0]]
+[[load]]
+body = "upper"
+face = "z+"
+pressure = {p}
+amplitude = [[0.0, 0.0], [1e-4, 1.0]]
+"#
+    )
+}

@@ -481,7 +481,8 @@ impl Integrator for ExplicitSolver<'_> {
         let potential = self.external_potential() - self.contact.driver_work() - self.work.fixes;
         Ok(Energies {
             kinetic: kinetic - self.measure_shift,
-            strain: 0.5 * dot(&self.u_prev, &self.f_int),
+            // the pairs' friction springs store less than half their traction's work
+            strain: 0.5 * dot(&self.u_prev, &self.f_int) + self.cohesive.stored_offset(),
             potential,
             damage: self.work.damage + self.cohesive.energy.iter().sum::<f64>(),
             fix_work: self.work.fixes,

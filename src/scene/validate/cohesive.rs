@@ -63,13 +63,6 @@ impl Checker<'_> {
             }
         };
         let region = self.region(key, c.region.as_ref())?;
-        if let Some(mu) = c.friction.filter(|&mu| mu != 0.0) {
-            return Err(ImpactError::Unsupported {
-                path: self.path.to_path_buf(),
-                key: key("friction"),
-                message: format!("{mu}: friction between separated faces is not available yet (they meet without it: give 0 or leave it out)"),
-            });
-        }
         Ok(CohesiveSpec {
             name: c.name.clone(),
             sides,
@@ -196,6 +189,7 @@ impl Checker<'_> {
                 self.positive(&key("toughness.shear"), c.toughness.shear)?,
             ],
             bk: self.positive(&key("toughness.bk"), c.toughness.bk)?,
+            friction: self.friction(&key("friction"), c.friction)?,
         };
         let limit = law.snap_back_stiffness();
         if law.stiffness <= limit {
