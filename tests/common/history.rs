@@ -47,6 +47,16 @@ impl History {
     }
 }
 
+/// The mean of `y` over the rows whose `x` is within `w` of `at` (a load averaged over a
+/// window of opening or travel, where an explicit run rings).
+pub fn mean_near(x: &[f64], y: &[f64], at: f64, w: f64) -> f64 {
+    let near: Vec<f64> = (x.iter().zip(y))
+        .filter(|(x, _)| (**x - at).abs() <= w)
+        .map(|(_, y)| *y)
+        .collect();
+    near.iter().sum::<f64>() / near.len() as f64
+}
+
 /// The largest difference between two histories' columns, relative to each column's largest
 /// magnitude (columns named in `pairs`: (column of a, column of b, sign)).
 pub fn history_difference(a: &History, b: &History, pairs: &[(&str, &str, f64)]) -> f64 {
