@@ -8,12 +8,8 @@
 mod common;
 use common::*;
 
+use common::im7::{williams_chi, E1, MATERIAL};
 use impact::scene::Scene;
-
-/// IM7/8552's moduli (NASA CompDam): E1, E2, G13.
-const E1: f64 = 171_420.0;
-const E2: f64 = 9_080.0;
-const G13: f64 = 5_290.0;
 
 /// A double cantilever beam, plane strain, one element wide: arms of thickness `h` (two
 /// hex8i through each) and length `l` in elements of `dx` along it, bonded beyond the
@@ -56,11 +52,7 @@ impl Dcb {
 [run]
 end_time = {end:e}
 method = "explicit"
-[[material]]
-name = "im7"
-density = 1.57e-9
-orthotropic = {{ e1 = {E1:.1}, e2 = {E2:.1}, e3 = {E2:.1}, nu12 = 0.32, nu13 = 0.32, nu23 = 0.52, g12 = {G13:.1}, g13 = {G13:.1}, g23 = 2987.0 }}
-[[body]]
+{MATERIAL}[[body]]
 name = "upper"
 material = "im7"
 box = {{ min = [0.0, 0.0, {h:.1}], max = [{l:.1}, 1.0, {h2:.1}], divisions = [{nx}, 1, 2], element = "hex8i" }}
@@ -110,9 +102,7 @@ components = ["y"]
     /// Corrected beam theory (Williams 1989): the opening's crack-length correction chi h,
     /// and the critical load, $P_c = \sqrt{G E I} / (a_0 + \chi h)$ (unit width).
     fn critical(&self) -> f64 {
-        let gamma = 1.18 * (E1 * E2).sqrt() / G13;
-        let chi = (E1 / (11.0 * G13)).sqrt() * (3.0 - 2.0 * (gamma / (1.0 + gamma)).powi(2));
-        (self.g * self.ei()).sqrt() / (self.a0 + chi * self.h)
+        (self.g * self.ei()).sqrt() / (self.a0 + williams_chi() * self.h)
     }
 
     /// The propagation branch at opening `delta`: $P = \sqrt{2 (G E I)^{3/2} / (3 E I
@@ -360,11 +350,7 @@ fn a_laminate_split_at_its_ply_change_is_two_bodies_bonded() {
 end_time = {end}
 method = "explicit"
 device = "cpu"
-[[material]]
-name = "im7"
-density = 1.57e-9
-orthotropic = {{ e1 = {E1:.1}, e2 = {E2:.1}, e3 = {E2:.1}, nu12 = 0.32, nu13 = 0.32, nu23 = 0.52, g12 = {G13:.1}, g13 = {G13:.1}, g23 = 2987.0 }}
-"#
+{MATERIAL}"#
         )
     };
     let law = r#"region = { min = [6.0, -1.0, -1.0], max = [21.0, 2.0, 5.0] }

@@ -7,10 +7,9 @@
 mod common;
 use common::*;
 
-/// IM7/8552's moduli (NASA CompDam): E1, E2, G13, and the mode II toughness.
-const E1: f64 = 171_420.0;
-const E2: f64 = 9_080.0;
-const G13: f64 = 5_290.0;
+use common::im7::{williams_chi, E1, G13, MATERIAL};
+
+/// IM7/8552's mode II toughness (NASA CompDam).
 const G_IIC: f64 = 0.788;
 
 /// An end-notched flexure, plane strain, one element wide: arms of thickness `h` (two hex8i
@@ -76,11 +75,7 @@ impl Enf {
 [run]
 end_time = {end:e}
 method = "explicit"
-[[material]]
-name = "im7"
-density = 1.57e-9
-orthotropic = {{ e1 = {E1:.1}, e2 = {E2:.1}, e3 = {E2:.1}, nu12 = 0.32, nu13 = 0.32, nu23 = 0.52, g12 = {G13:.1}, g13 = {G13:.1}, g23 = 2987.0 }}
-[[body]]
+{MATERIAL}[[body]]
 name = "upper"
 material = "im7"
 box = {{ min = [{x0:.1}, 0.0, {h}], max = [{x1:.1}, 1.0, {top}], divisions = [{nx}, 1, 2], element = "hex8i" }}
@@ -128,9 +123,7 @@ primary = {{ rigid_body = "nose_roller" }}
     /// The crack length corrected for the arms' shear and root rotation (Wang and Williams
     /// 1992): $a + 0.42 \chi h$, chi the double cantilever beam's (2.381 here).
     fn corrected(&self, a: f64) -> f64 {
-        let gamma = 1.18 * (E1 * E2).sqrt() / G13;
-        let chi = (E1 / (11.0 * G13)).sqrt() * (3.0 - 2.0 * (gamma / (1.0 + gamma)).powi(2));
-        a + 0.42 * chi * self.h
+        a + 0.42 * williams_chi() * self.h
     }
 
     /// The compliance at crack length `a` (unit width): bending, $(3 a_e^3 + 2 L^3) / (8 E_1

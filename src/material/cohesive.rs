@@ -154,13 +154,10 @@ impl CohesiveLaw {
         let limit = self.friction * k * (-dn).max(0.0);
         if limit <= 0.0 || d <= 0.0 {
             // apart (or bonded): the faces stick afresh wherever they next press
-            let still = SlidingStep {
-                step,
+            return SlidingStep {
                 slip: ds,
-                friction: 0.0,
-                stored_offset: 0.0,
+                ..SlidingStep::without_friction(step)
             };
-            return still;
         }
         let trial: [f64; 3] = std::array::from_fn(|a| k * (ds[a] - slip[a]));
         let size = vector_norm(trial);

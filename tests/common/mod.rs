@@ -5,6 +5,7 @@ pub mod bench_scenes;
 pub mod cli;
 pub mod gpu;
 pub mod history;
+pub mod im7;
 pub mod loads;
 pub mod random;
 pub mod scenes;
