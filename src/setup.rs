@@ -69,6 +69,11 @@ pub fn prepare(
     }
     memory::check(scene, &memory::estimate(scene, Method::Explicit, false), 0)?;
     let mut model = Model::from_scene(scene)?;
+    for (i, &n) in model.held_loads.iter().enumerate().filter(|(_, &n)| n > 0) {
+        notice(&format!(
+            "notice: load[{i}]: {n} of its nodal forces push components a [[fix]] holds; the supports take them (their reactions show them)"
+        ));
+    }
     clock.lap("model");
     elements::check(scene, &model.mesh)?;
     facing::check(scene, &model)?;
@@ -93,7 +98,7 @@ pub fn prepare(
             warnings.extend(quality::slivers(scene, &model.mesh, &s.steps));
             Some(check_stable(scene, &model, (s.step, s.element))?)
         }
-        Method::Implicit => None,
+        Method::Implicit | Method::Static => None,
     };
     clock.lap("stable step");
     let (method, method_choice) = match (scene.run.method, bound) {
@@ -277,8 +282,53 @@ fn explicit_only(scene: &Scene, model: &Model) -> Option<String> {
     None
 }
 
-/// Refuses an implicit run of a model that runs explicit only ([`explicit_only`]).
+/// Why a static step cannot run a model, if it cannot, and the scene key to name.
+fn not_static(scene: &Scene, model: &Model) -> Option<(String, String)> {
+    if let Some(m) = scene.materials.iter().position(|m| m.damage.is_some()) {
+        let why = "damages (fracture_energy): softening plies run on the explicit path";
+        return Some((format!("material[{m}]"), why.into()));
+    }
+    if !model.cohesive.is_empty() {
+        let why = "softening interfaces run on the explicit path";
+        return Some(("cohesive[0]".into(), why.into()));
+    }
+    if let Some(k) = model.interfaces.iter().position(|i| i.law.is_frictional()) {
+        let why = "a static step's contact is frictionless (incremental Coulomb slip is not built yet): set friction = 0, or run the step dynamically";
+        return Some((format!("{}.friction", scene.interface_key(k)), why.into()));
+    }
+    if let Some(b) =
+        (scene.rigid_bodies.iter()).position(|b| b.motion == crate::scene::RigidMotion::Free)
+    {
+        let why = "a free rigid body has no stiffness to hold it in a static step: make its motion \"prescribed\" or \"fixed\"";
+        return Some((format!("rigid_body[{b}].motion"), why.into()));
+    }
+    None
+}
+
+/// Refuses an implicit run of a model that runs explicit only ([`explicit_only`]), a static
+/// run of one it cannot solve ([`not_static`]), and a penalty `stiffness` outside a static
+/// step.
 fn refuse_implicit(scene: &Scene, model: &Model, method: Method) -> Result<()> {
+    if method == Method::Static {
+        return match not_static(scene, model) {
+            Some((key, why)) => Err(ImpactError::SceneValue {
+                path: scene.path.clone(),
+                key,
+                message: format!("method = \"static\": {why}"),
+            }),
+            None => Ok(()),
+        };
+    }
+    if let Some(k) = scene.contacts.iter().position(|c| c.stiffness.is_some()) {
+        return Err(ImpactError::Unsupported {
+            path: scene.path.clone(),
+            key: format!("contact[{k}].stiffness"),
+            message: format!(
+                "a penalty law is honoured by static steps (method = \"static\"); the {} path's contact is the augmented Lagrange iteration, which leaves no penetration: remove the key",
+                method.name()
+            ),
+        });
+    }
     match (method, explicit_only(scene, model)) {
         (Method::Implicit, Some(why)) => Err(ImpactError::SceneValue {
             path: scene.path.clone(),

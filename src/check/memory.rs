@@ -94,7 +94,7 @@ pub(crate) fn estimate(scene: &Scene, method: Method, gpu: bool) -> Estimate {
     let c = Counts::of(scene);
     let base = (c.nodes.saturating_mul(HOST_PER_NODE)).saturating_add(c.sum(host_per_element));
     let (host, what) = match method {
-        Method::Implicit => {
+        Method::Implicit | Method::Static => {
             let mass = u64::from(scene.implicit.mass == MassKind::Consistent);
             let triplets = c.sum(|k| {
                 let n = k.corners() as u64;

@@ -386,6 +386,7 @@ impl Subdomain {
             cohesive: Vec::new(),
             // the rank's loads are its solver's (`LoadForces`)
             loads: Vec::new(),
+            held_loads: Vec::new(),
             rigid: Vec::new(),
         }
     }

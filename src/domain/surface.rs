@@ -73,6 +73,7 @@ pub(crate) fn surface_model(model: &Model, nodes: &[u32]) -> Model {
         cohesive: Vec::new(),
         // the rank's loads are its solver's (`LoadForces`)
         loads: Vec::new(),
+        held_loads: Vec::new(),
         rigid,
     }
 }

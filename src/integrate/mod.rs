@@ -11,6 +11,7 @@ pub mod recorded_sweeps;
 pub mod resident;
 pub mod stable_step;
 pub mod state;
+pub mod statics;
 
 pub use explicit::ExplicitSolver;
 pub use implicit::ImplicitSolver;
@@ -21,6 +22,7 @@ pub use resident::ResidentSolver;
 pub use state::{
     ContactReport, Decomposition, Energies, InterfaceEnd, Piece, ProbeValues, StepReport,
 };
+pub use statics::StaticSolver;
 
 use serde::{Deserialize, Serialize};
 
@@ -34,6 +36,8 @@ pub enum SolverState {
     Implicit(implicit::ImplicitState),
     /// The explicit step resident on the GPU (the device's f32 state, exactly).
     Resident(resident::ResidentState),
+    /// A static run's displacement, multipliers and work.
+    Static(statics::StaticState),
 }
 
 /// Centre-of-mass velocity of each body from the nodal masses and velocities.

@@ -41,6 +41,8 @@ pub struct Interface {
     /// The secondary faces the nodes and areas come from.
     pub secondary_faces: Vec<Face>,
     pub primary: Primary,
+    /// A penalty law's pressure per unit penetration (none: hard contact).
+    pub stiffness: Option<f64>,
 }
 
 impl Interface {

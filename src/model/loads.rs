@@ -12,11 +12,13 @@ use crate::geometry::vector::{cross, V3};
 use crate::mesh::Mesh;
 use crate::scene::{LoadKind, NodeSelection, Scene};
 
-/// The scene's `[[load]]`s on the model's mesh. One that selects no node, or that pushes a
-/// component a `[[fix]]` holds, is an error naming it (the support would take the load
-/// unseen).
-pub(super) fn loads(scene: &Scene, mesh: &Mesh, fixed: &[bool]) -> Result<Vec<Load>> {
+/// The scene's `[[load]]`s on the model's mesh, and how many of each load's nodal forces
+/// fell on components a `[[fix]]` holds: those go to the support (its reaction takes them,
+/// as in CalculiX and Abaqus) and are left out here. One that selects no node is an error
+/// naming it.
+pub(super) fn loads(scene: &Scene, mesh: &Mesh, fixed: &[bool]) -> Result<(Vec<Load>, Vec<usize>)> {
     let mut out = Vec::with_capacity(scene.loads.len());
+    let mut held = Vec::with_capacity(scene.loads.len());
     for (i, l) in scene.loads.iter().enumerate() {
         let err = |message: String| ImpactError::SceneValue {
             path: scene.path.clone(),
@@ -26,7 +28,7 @@ pub(super) fn loads(scene: &Scene, mesh: &Mesh, fixed: &[bool]) -> Result<Vec<Lo
         let amplitude = Amplitude {
             points: l.amplitude.clone(),
         };
-        let load = match (l.kind, &l.nodes) {
+        let mut load = match (l.kind, &l.nodes) {
             (LoadKind::Pressure(p), NodeSelection::Surface(s)) => {
                 let faces = &mesh.bodies[l.body].surfaces[*s].faces;
                 Load::pressure(mesh, faces, p, amplitude)
@@ -40,16 +42,16 @@ pub(super) fn loads(scene: &Scene, mesh: &Mesh, fixed: &[bool]) -> Result<Vec<Lo
         if super::selection(mesh, l.body, &l.nodes).is_empty() {
             return Err(err(format!("selects no node of body `{body}`")));
         }
-        if let Some(&d) = load.dofs.iter().find(|&&d| fixed[d as usize]) {
-            return Err(err(format!(
-                "pushes node {}'s {} component, which a `[[fix]]` holds: a held component takes no load (leave it free, or leave it out of the load)",
-                d / 3,
-                ["x", "y", "z"][d as usize % 3]
-            )));
-        }
+        let before = load.dofs.len();
+        let kept: Vec<(u32, f64)> = (load.dofs.iter().zip(&load.force))
+            .filter(|(&d, _)| !fixed[d as usize])
+            .map(|(&d, &f)| (d, f))
+            .collect();
+        (load.dofs, load.force) = kept.into_iter().unzip();
+        held.push(before - load.dofs.len());
         out.push(load);
     }
-    Ok(out)
+    Ok((out, held))
 }
 
 /// A piecewise linear amplitude through (time, value) points, held at its first and last

@@ -79,6 +79,8 @@ pub struct Model {
     pub cohesive: Vec<cohesive::CohesiveInterface>,
     /// The `[[load]]`s, as nodal forces with their amplitudes.
     pub loads: Vec<loads::Load>,
+    /// Each load's nodal forces on held components, left to the supports.
+    pub held_loads: Vec<usize>,
 }
 
 impl Model {
@@ -115,7 +117,7 @@ impl Model {
         for b in rigid.iter().filter(|b| b.is_prescribed()) {
             fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
         }
-        let loads = loads::loads(scene, &mesh, &fixed)?;
+        let (loads, held_loads) = loads::loads(scene, &mesh, &fixed)?;
         let (queries, interfaces) = interfaces(scene, &mesh, &rigid)?;
         let cohesive = cohesive::cohesive_interfaces(scene, &mesh, &splits)?;
         let mut probes = probes(scene, &mesh);
@@ -151,6 +153,7 @@ impl Model {
             rigid,
             cohesive,
             loads,
+            held_loads,
         })
     }
 
@@ -416,6 +419,7 @@ fn interfaces(
             area,
             secondary_faces: sec.clone(),
             primary,
+            stiffness: c.stiffness,
         });
     }
     queries.offsets = vec![0; queries.secondary.len() + 1];
@@ -436,6 +440,7 @@ fn interfaces(
                 point: p.point,
                 normal: p.normal,
             },
+            stiffness: None,
         });
     }
 

@@ -31,7 +31,7 @@ use crate::domain::{DomainSolver, Partition, RankResident, Ranks};
 use crate::error::{ImpactError, Result};
 use crate::gpu::GpuKernels;
 use crate::integrate::{
-    resident, ExplicitSolver, ImplicitSolver, Integrator, ResidentSolver, StepReport,
+    resident, ExplicitSolver, ImplicitSolver, Integrator, ResidentSolver, StaticSolver, StepReport,
 };
 use crate::model::Model;
 use crate::output::failure_survey::{FailureMaxima, FailureSurvey};
@@ -137,6 +137,13 @@ fn build_solver<'m>(
                 .map_err(|e| gpu_error(scene, e))?,
             )
         }
+        // a static step's solves are the host's, its residual in f64
+        (Method::Static, _) => Box::new(StaticSolver::new(
+            model,
+            scene.statics,
+            dt,
+            Box::new(CpuKernels::new(model.element_data())),
+        )?),
         (method, ctx) => {
             let kern: Box<dyn Kernels> = match ctx {
                 Some(ctx) => Box::new(
@@ -270,7 +277,7 @@ fn set_up(
         return Err(ImpactError::Unsupported {
             path: scene.path.clone(),
             key: "run.method".into(),
-            message: "the implicit path runs on one process (a distributed sparse solver is not built): run it without mpirun".into(),
+            message: format!("the {} path runs on one process (a distributed sparse solver is not built): run it without mpirun", setup.method.name()),
         });
     }
     let elements = setup.model.mesh.element_count();
@@ -542,7 +549,7 @@ impl<'s> Running<'s> {
             self.scene,
             model,
             &self.tally,
-            self.summary.method == Method::Implicit.name(),
+            self.summary.method != Method::Explicit.name(),
             &self.setup.initial,
             self.scale_now(),
         ));

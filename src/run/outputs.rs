@@ -226,6 +226,7 @@ pub(super) fn check_resumable(
     let (steps, time, dt) = match &c.solver {
         SolverState::Explicit(s) => (s.steps, s.time, Some(s.dt)),
         SolverState::Implicit(s) => (s.steps, s.time, None),
+        SolverState::Static(s) => (s.steps, s.time, None),
         SolverState::Resident(s) => (s.steps, s.time, Some(s.dt)),
     };
     if steps >= setup.steps {

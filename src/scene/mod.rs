@@ -35,7 +35,7 @@ macro_rules! option_names {
 
 pub mod rigid_body;
 
-option_names!(Method { Implicit = "implicit", Explicit = "explicit", Auto = "auto" });
+option_names!(Method { Implicit = "implicit", Explicit = "explicit", Auto = "auto", Static = "static" });
 option_names!(DeviceChoice { Auto = "auto", Gpu = "gpu", Cpu = "cpu" });
 option_names!(ConstraintMeasure { GapRate = "gap_rate", Gap = "gap" });
 option_names!(PenaltyLaw { Adaptive = "adaptive", Fixed = "fixed" });
@@ -58,6 +58,18 @@ pub enum Method {
     Implicit,
     Explicit,
     Auto,
+    /// Equilibrium without inertia at each step's load level ([`StaticSettings`]).
+    Static,
+}
+
+/// `[static]`: the increments of a static step (`method = "static"`) are `run.time_step`
+/// long, halved where one does not converge down to `minimum_step`; `stabilisation` is the
+/// spring on every dof, relative to its own stiffness, that holds a body nothing else holds
+/// (`integrate::statics`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StaticSettings {
+    pub minimum_step: f64,
+    pub stabilisation: f64,
 }
 
 /// Where the element and contact kernels run.
@@ -356,6 +368,9 @@ pub struct ContactSpec {
     /// `adjust`: secondary nodes in front of the primary surface by at most this at t = 0
     /// are moved onto it (0: none).
     pub adjust: f64,
+    /// `stiffness`: a penalty law, the pressure per unit penetration (CalculiX's linear
+    /// pressure-overclosure); none for hard contact. Static steps honour it.
+    pub stiffness: Option<f64>,
 }
 
 /// A `[[cohesive]]` interface: between two bodies' faces (the second side's nodes pair with
@@ -485,6 +500,7 @@ pub struct Scene {
     pub run: RunSettings,
     pub implicit: ImplicitSettings,
     pub explicit: ExplicitSettings,
+    pub statics: StaticSettings,
     pub materials: Vec<Material>,
     pub bodies: Vec<BodySpec>,
     pub contacts: Vec<ContactSpec>,

@@ -16,6 +16,8 @@ pub(crate) struct RawScene {
     pub run: Option<RawRun>,
     pub implicit: Option<RawImplicit>,
     pub explicit: Option<RawExplicit>,
+    #[serde(rename = "static")]
+    pub statics: Option<RawStatic>,
     #[serde(default)]
     pub material: Vec<RawMaterial>,
     #[serde(default)]
@@ -49,6 +51,14 @@ pub(crate) struct RawRun {
     pub method: Option<String>,
     pub device: Option<String>,
     pub energy_tolerance: Option<f64>,
+}
+
+/// `[static]`: a static step's increment control and stabilisation.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawStatic {
+    pub minimum_step: Option<f64>,
+    pub stabilisation: Option<f64>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]
@@ -93,7 +103,7 @@ pub(crate) struct RawExplicit {
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawMaterial {
     pub name: String,
-    pub density: f64,
+    pub density: Option<f64>,
     pub youngs_modulus: Option<f64>,
     pub poissons_ratio: Option<f64>,
     pub orthotropic: Option<RawOrthotropic>,
@@ -228,6 +238,7 @@ pub(crate) struct RawContact {
     pub initial_penetration: Option<String>,
     pub region: Option<RawRegion>,
     pub adjust: Option<f64>,
+    pub stiffness: Option<f64>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

@@ -33,7 +33,7 @@ const MESH: [&str; 6] = ["NODE", "ELEMENT", "NSET", "ELSET", "SURFACE", "ORIENTA
 
 /// Keywords passed over with a notice: output requests and solver controls, and the deck's
 /// contact penalty (the augmented Lagrange iteration replaces it).
-const PASSED_OVER: [&str; 16] = [
+const PASSED_OVER: [&str; 15] = [
     "TIME POINTS",
     "RESTART",
     "NODE PRINT",
@@ -49,7 +49,6 @@ const PASSED_OVER: [&str; 16] = [
     "ENERGY PRINT",
     "CONTROLS",
     "PREPRINT",
-    "SURFACE BEHAVIOR",
 ];
 
 /// A keyword line and its data lines (fields trimmed), each with its expanded line number.
@@ -114,6 +113,9 @@ struct Gathered {
     /// Each interaction's friction coefficient, and the interaction last opened.
     friction: HashMap<String, f64>,
     interaction: Option<String>,
+    /// Each interaction's linear pressure-overclosure slope (`*SURFACE BEHAVIOR,
+    /// PRESSURE-OVERCLOSURE=LINEAR`), with its line.
+    stiffness: HashMap<String, (f64, usize)>,
     /// (secondary surface, primary surface, interaction, line).
     pairs: Vec<(String, String, String, usize)>,
     /// The `ADJUST=` distance of the pairs on each line that gives one.
@@ -235,6 +237,8 @@ impl Reader<'_> {
                 g.interaction = Some(name.to_ascii_uppercase());
             }
             "FRICTION" => self.friction(b, g)?,
+            "SURFACE BEHAVIOR" => self.surface_behavior(b, g)?,
+            "STATIC" => g.step = Some(self.statics(b)?),
             "CONTACT PAIR" => self.contact_pair(b, g)?,
             "STEP" => {
                 g.ramp = b.get("AMPLITUDE").is_some_and(|a| a.eq_ignore_ascii_case("RAMP"));
@@ -465,6 +469,60 @@ impl Reader<'_> {
         Ok(())
     }
 
+    /// `*SURFACE BEHAVIOR`: a linear pressure-overclosure's slope is the contact's
+    /// penalty stiffness (a static step honours it); the other laws are passed over.
+    fn surface_behavior(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        let law = b.get("PRESSURE-OVERCLOSURE").unwrap_or("HARD");
+        if !law.eq_ignore_ascii_case("LINEAR") {
+            if !law.eq_ignore_ascii_case("HARD") {
+                g.passed.push((
+                    format!("SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE={law}"),
+                    b.line,
+                ));
+            }
+            return Ok(());
+        }
+        let (f, l) = self.first(b)?;
+        let slope = self.number(f, 0, *l, "*SURFACE BEHAVIOR slope")?;
+        if slope <= 0.0 {
+            return Err(self.src.err(*l, format!("*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR: the slope {slope} must be positive")));
+        }
+        let last = (g.interaction.clone()).ok_or_else(|| {
+            self.src
+                .err(b.line, "*SURFACE BEHAVIOR outside a *SURFACE INTERACTION")
+        })?;
+        g.stiffness.insert(last, (slope, b.line));
+        Ok(())
+    }
+
+    /// `*STATIC`: initial increment, period, minimum (and maximum) increment; CalculiX's
+    /// defaults 1, 1 and 1e-5 of the period.
+    fn statics(&self, b: &Block) -> Result<DeckStep> {
+        let field = |i: usize| -> Result<Option<f64>> {
+            match b.data.first() {
+                Some((f, l)) if f.get(i).is_some_and(|x| !x.is_empty()) => {
+                    self.number(f, i, *l, "*STATIC increment control").map(Some)
+                }
+                _ => Ok(None),
+            }
+        };
+        let period = field(1)?.unwrap_or(1.0);
+        let initial = field(0)?.unwrap_or(period).min(period);
+        let minimum = field(2)?.unwrap_or(1e-5 * period).min(initial);
+        if period <= 0.0 || initial <= 0.0 || minimum <= 0.0 {
+            return Err(self.src.err(
+                b.line,
+                "*STATIC: the increments and the period must be positive",
+            ));
+        }
+        Ok(DeckStep {
+            explicit: false,
+            end_time: period,
+            time_step: Some(initial),
+            minimum_step: Some(minimum),
+        })
+    }
+
     fn dynamic(&self, b: &Block) -> Result<DeckStep> {
         let explicit = b.params.contains_key("EXPLICIT");
         let (f, l) = self.first(b)?;
@@ -478,6 +536,7 @@ impl Reader<'_> {
             explicit,
             end_time,
             time_step,
+            minimum_step: None,
         })
     }
 
@@ -555,8 +614,19 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         return Err(e);
     }
     let step = g.step.clone().ok_or_else(|| {
-        r.src.whole("no *STEP with *DYNAMIC: impact runs a dynamic step, implicit (*DYNAMIC) or explicit (*DYNAMIC, EXPLICIT)")
+        r.src.whole("no *STEP with *DYNAMIC or *STATIC: impact runs one step, implicit (*DYNAMIC), explicit (*DYNAMIC, EXPLICIT) or static (*STATIC)")
     })?;
+    // a dynamic step's contact is the augmented Lagrange iteration's: a linear law's slope
+    // is passed over
+    if step.minimum_step.is_none() {
+        let mut lines: Vec<usize> = g.stiffness.values().map(|s| s.1).collect();
+        lines.sort_unstable();
+        g.passed.extend(
+            lines
+                .into_iter()
+                .map(|l| ("SURFACE BEHAVIOR".to_string(), l)),
+        );
+    }
     if g.sections.is_empty() {
         return Err(r
             .src
@@ -683,7 +753,8 @@ fn notice(r: &Reader, g: &Gathered, unprobed: &[(String, usize)]) -> Option<Stri
     if g.step.as_ref().is_some_and(|s| s.explicit) {
         parts.push("the *DYNAMIC, EXPLICIT time increment (the explicit path takes the mesh's stable step)".into());
     }
-    if !g.pairs.is_empty() {
+    let static_step = g.step.as_ref().is_some_and(|s| s.minimum_step.is_some());
+    if !g.pairs.is_empty() && !static_step {
         parts.push("the contact pairs' penalty (the augmented Lagrange iteration on the gap rate enforces the contact)".into());
     }
     (!parts.is_empty()).then(|| {
@@ -985,7 +1056,10 @@ impl Reader<'_> {
                     PrimarySide::Surface(body, surface)
                 }
             };
+            let static_step = g.step.as_ref().is_some_and(|s| s.minimum_step.is_some());
+            let stiffness = g.stiffness.get(interaction).filter(|_| static_step);
             out.push(DeckContact {
+                stiffness: stiffness.map(|s| s.0),
                 name: format!("{slave}-{master}"),
                 secondary: owner(slave, *line)?,
                 adjust: g.adjust.get(line).copied(),

@@ -543,6 +543,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
             explicit: g.implicit_step.is_none(),
             end_time,
             time_step: g.implicit_step,
+            minimum_step: None,
         },
         origins: Vec::new(),
     };
@@ -886,6 +887,7 @@ impl Reader<'_> {
                 name: format!("contact{}", k + 1),
                 secondary: owner(s, *line)?,
                 adjust: None,
+                stiffness: None,
                 primary,
                 friction: *fs,
             });

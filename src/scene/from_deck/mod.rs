@@ -274,6 +274,8 @@ pub(crate) struct DeckContact {
     /// Abaqus's `ADJUST=`: the slave nodes within it (in front, or behind) are moved onto
     /// the master surface before t = 0.
     pub adjust: Option<f64>,
+    /// A linear pressure-overclosure's slope (static steps).
+    pub stiffness: Option<f64>,
 }
 
 /// A probe: a node of a printed node set, at its position.
@@ -290,6 +292,8 @@ pub(crate) struct DeckStep {
     pub explicit: bool,
     pub end_time: f64,
     pub time_step: Option<f64>,
+    /// A static step's smallest increment (`None`: a dynamic step).
+    pub minimum_step: Option<f64>,
 }
 
 /// Everything a scene file would say, read from a deck.
@@ -370,8 +374,9 @@ impl DeckScene {
 
     /// Refuses a body's material without a density or elastic constants, at the deck's line.
     fn materials_complete(&self, src: &DeckFile) -> Result<()> {
+        let statics = self.step.minimum_step.is_some();
         for m in self.used_materials() {
-            if m.density.is_none() {
+            if m.density.is_none() && !statics {
                 return Err(src.err(
                     m.line,
                     format!(
@@ -672,7 +677,11 @@ impl DeckScene {
 
     fn write_run(&self, t: &mut String) {
         let s = &self.step;
-        let method = if s.explicit { "explicit" } else { "implicit" };
+        let method = match (s.explicit, s.minimum_step) {
+            (true, _) => "explicit",
+            (false, None) => "implicit",
+            (false, Some(_)) => "static",
+        };
         let _ = writeln!(
             t,
             "\n[run]\nend_time = {}\nmethod = \"{method}\"",
@@ -680,6 +689,9 @@ impl DeckScene {
         );
         if let Some(dt) = s.time_step {
             let _ = writeln!(t, "time_step = {}", float(dt));
+        }
+        if let Some(m) = s.minimum_step {
+            let _ = writeln!(t, "\n[static]\nminimum_step = {}", float(m));
         }
     }
 
@@ -728,6 +740,9 @@ impl DeckScene {
             );
             if let Some(d) = c.adjust {
                 let _ = writeln!(t, "adjust = {}\ninitial_penetration = \"adjust\"", float(d));
+            }
+            if let Some(k) = c.stiffness {
+                let _ = writeln!(t, "stiffness = {}", float(k));
             }
         }
         let held = (self.rigid.iter())

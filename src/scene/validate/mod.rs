@@ -467,10 +467,13 @@ impl Checker<'_> {
             "run.energy_tolerance",
             run.energy_tolerance.unwrap_or(ENERGY_TOLERANCE),
         )?;
-        if time_step.is_none() && method == Method::Implicit {
+        if time_step.is_none() && matches!(method, Method::Implicit | Method::Static) {
             return Err(self.err(
                 "run.time_step",
-                "is required for method = \"implicit\" (the implicit step is not chosen automatically)",
+                format!(
+                    "is required for method = \"{}\" (its step is not chosen automatically)",
+                    method.name()
+                ),
             ));
         }
         if let Some(dt) = time_step {
@@ -487,6 +490,40 @@ impl Checker<'_> {
             method,
             device,
             energy_tolerance,
+        })
+    }
+
+    /// `[static]`: the smallest increment (1e-5 of the step by default) and the
+    /// stabilisation (1e-6).
+    fn statics(&self, raw: Option<RawStatic>, run: &RunSettings) -> Result<StaticSettings> {
+        let raw = raw.unwrap_or(RawStatic {
+            minimum_step: None,
+            stabilisation: None,
+        });
+        let step = run.time_step.unwrap_or(run.end_time);
+        let minimum_step = match raw.minimum_step {
+            Some(m) => self.positive("static.minimum_step", m)?,
+            None => 1e-5 * step,
+        };
+        if minimum_step > step {
+            return Err(self.err(
+                "static.minimum_step",
+                format!("{minimum_step} is longer than run.time_step = {step}"),
+            ));
+        }
+        let stabilisation =
+            self.positive("static.stabilisation", raw.stabilisation.unwrap_or(1e-6))?;
+        if stabilisation >= 1.0 {
+            return Err(self.err(
+                "static.stabilisation",
+                format!(
+                    "{stabilisation} must be below 1 (it is relative to each dof's own stiffness)"
+                ),
+            ));
+        }
+        Ok(StaticSettings {
+            minimum_step,
+            stabilisation,
         })
     }
 
@@ -622,15 +659,24 @@ impl Checker<'_> {
         Ok(explicit)
     }
 
-    /// `[[material]]`: names, densities and elastic laws.
-    fn materials(&self, raw: &[RawMaterial]) -> Result<Vec<Material>> {
+    /// `[[material]]`: names, densities and elastic laws. A static step's materials may go
+    /// without a density (no inertia; massless, so gravity then does nothing on them).
+    fn materials(&self, raw: &[RawMaterial], statics: bool) -> Result<Vec<Material>> {
         let mut materials = Vec::with_capacity(raw.len());
         for (i, m) in raw.iter().enumerate() {
             let key = |k: &str| format!("material[{i}].{k} (material `{}`)", m.name);
             if raw[..i].iter().any(|o| o.name == m.name) {
                 return Err(self.err(key("name"), "is used by an earlier material"));
             }
-            let density = self.positive(&key("density"), m.density)?;
+            let density =
+                match (m.density, statics) {
+                    (Some(d), _) => self.positive(&key("density"), d)?,
+                    (None, true) => 0.0,
+                    (None, false) => return Err(self.err(
+                        key("density"),
+                        "is required (only a static step, method = \"static\", runs without one)",
+                    )),
+                };
             let elastic = self.elastic(&key, m, density)?;
             let strength = m
                 .strength
@@ -905,6 +951,10 @@ impl Checker<'_> {
                 )?,
                 region: self.region(&key, ct.region.as_ref())?,
                 adjust: self.adjust(&key("adjust"), ct.adjust, &primary)?,
+                stiffness: match ct.stiffness {
+                    Some(k) => Some(self.positive(&key("stiffness"), k)?),
+                    None => None,
+                },
             });
         }
         Ok(contacts)
@@ -1245,7 +1295,8 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
     let run = c.run(raw.run)?;
     let implicit = c.implicit(raw.implicit)?;
     let explicit = c.explicit(raw.explicit)?;
-    let materials = c.materials(&raw.material)?;
+    let statics = c.statics(raw.statics, &run)?;
+    let materials = c.materials(&raw.material, run.method == Method::Static)?;
     let bodies = c.bodies(&raw.body, &materials)?;
     let rigid_bodies = c.rigid_bodies(&raw.rigid_body)?;
     let contacts = c.contacts(&raw.contact, &raw.body, &bodies, &rigid_bodies)?;
@@ -1265,6 +1316,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         run,
         implicit,
         explicit,
+        statics,
         materials,
         bodies,
         contacts,

@@ -1,0 +1,469 @@
+//! Static steps (`method = "static"`, a deck's `*STATIC`): the model's equilibrium without
+//! inertia at a sequence of load levels, the scene's time being the load's pseudo-time.
+//!
+//! **Increments.** Each step of `time_step` moves the loads, gravity's share of them and the
+//! prescribed displacements to their values at the step's end and solves
+//! $K u + f_c(u) + S (u - u_n) = f_{ext}$ by Newton's method on the free dofs, the contact
+//! rows' stiffness in the matrix ([`contact`]). A step whose iteration does not settle is
+//! taken again in halves, down to `minimum_step`; below it the run fails, with the time.
+//!
+//! **Stabilisation.** A body held only by contact (an impactor resting on a plate, a coupon
+//! on its support) has rigid motions K does not resist before the contact closes, and
+//! sideways ones no frictionless contact resists. $S = s\, \mathrm{diag}(K)$ holds every dof
+//! to where the step started with a spring of `stabilisation` (1e-6 by default) times the
+//! dof's own stiffness: a body in equilibrium feels only $S \Delta u$ of the step, a relative
+//! error of s. Its work is counted as dissipated in the energy balance (as Abaqus counts its
+//! stabilisation energy), so a balance that closes shows the springs did no more than that.
+//!
+//! **Energy.** External work (the loads' trapezoid, the prescribed dofs' reactions times
+//! their motion) equals the strain energy plus the contact springs' and the stabilisation's
+//! share: [`Energies::potential`] holds the last two less the external work.
+
+mod contact;
+
+use crate::backend::Kernels;
+use crate::error::{ImpactError, Result};
+use crate::integrate::integrator::{ImplicitFigures, Integrator};
+use crate::integrate::loads::LoadForces;
+use crate::integrate::state::{ContactReport, Energies, InterfaceEnd, StepReport};
+use crate::integrate::SolverState;
+use crate::linalg::{assemble, Assembled, Csc, FactorStats, SpdSolver};
+use crate::model::Model;
+use crate::scene::{MassKind, Method, Ordering, StaticSettings};
+use contact::{ActiveSet, StaticContact};
+
+/// The hard contact's penalty: this many times the secondary node's own stiffness over its
+/// area. Each multiplier update then leaves about 1/(1 + factor) of the penetration.
+const PENALTY_FACTOR: f64 = 100.0;
+/// Newton iterations at one set of multipliers, and multiplier updates, per increment.
+const MAX_NEWTON: usize = 30;
+const MAX_UPDATES: usize = 40;
+/// The residual's tolerance, relative to the largest nodal force.
+const FORCE_TOLERANCE: f64 = 1e-9;
+/// A hard contact's penetration tolerance, relative to the largest displacement (and at
+/// least this times 1e-6 of the largest face).
+const GAP_TOLERANCE: f64 = 1e-6;
+
+/// What a static run carries from one step to the next: the checkpoint's part.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct StaticState {
+    pub time: f64,
+    pub steps: usize,
+    pub u: Vec<f64>,
+    pub lambda: Vec<Vec<f64>>,
+    pub load_work: f64,
+    pub fix_work: f64,
+    pub stabilised: f64,
+    pub cutbacks: usize,
+}
+
+pub struct StaticSolver<'m> {
+    model: &'m Model,
+    kernels: Box<dyn Kernels + 'm>,
+    settings: StaticSettings,
+    asm: Assembled,
+    dt: f64,
+    state: StaticState,
+    /// The displacement at the start of the increment being solved (the stabilisation's).
+    u_start: Vec<f64>,
+    zero: Vec<f64>,
+    f_ext: Vec<f64>,
+    f_int: Vec<f64>,
+    /// The force the prescribed dofs' supports apply (zero on the free dofs).
+    support: Vec<f64>,
+    loads: LoadForces,
+    /// The stabilisation's spring on each free equation.
+    spring: Vec<f64>,
+    contact: StaticContact,
+    /// The factor of the last active set, and that set.
+    factor: Option<(ActiveSet, SpdSolver)>,
+    stats: FactorStats,
+    clock: f64,
+}
+
+impl<'m> StaticSolver<'m> {
+    pub fn new(
+        model: &'m Model,
+        settings: StaticSettings,
+        dt: f64,
+        kernels: Box<dyn Kernels + 'm>,
+    ) -> Result<Self> {
+        let asm = assemble(model, MassKind::Lumped, 0.0);
+        let ndof = model.dofs();
+        let diagonal = diagonal_of(&asm.effective);
+        let spring = diagonal
+            .iter()
+            .map(|d| settings.stabilisation * d)
+            .collect();
+        let contact = StaticContact::new(model, &node_stiffness(&asm, &diagonal), PENALTY_FACTOR);
+        let mut f_ext = vec![0.0; ndof];
+        for (n, &m) in asm.nodal_mass.iter().enumerate() {
+            for a in 0..3 {
+                if !model.fixed[3 * n + a] {
+                    f_ext[3 * n + a] = m * model.gravity[a];
+                }
+            }
+        }
+        let loads = LoadForces::new(model, None, None, &f_ext);
+        let lambda = contact.lambda.clone();
+        Ok(StaticSolver {
+            model,
+            kernels,
+            settings,
+            asm,
+            dt,
+            state: StaticState {
+                time: 0.0,
+                steps: 0,
+                u: vec![0.0; ndof],
+                lambda,
+                load_work: 0.0,
+                fix_work: 0.0,
+                stabilised: 0.0,
+                cutbacks: 0,
+            },
+            u_start: vec![0.0; ndof],
+            zero: vec![0.0; ndof],
+            f_ext,
+            f_int: vec![0.0; ndof],
+            support: vec![0.0; ndof],
+            loads,
+            spring,
+            contact,
+            factor: None,
+            stats: FactorStats::default(),
+            clock: 0.0,
+        })
+    }
+
+    /// The prescribed dofs' displacements at time `t`: the moving fixes' and prescribed
+    /// rigid bodies' velocity times t, the displaced fixes' paths.
+    fn prescribe(&mut self, t: f64) {
+        for (d, w) in self.model.moving_dofs() {
+            self.state.u[d] = w * t;
+        }
+        for p in &self.model.fix_paths {
+            let a = p.amplitude.at(t);
+            for (&d, &value) in p.dofs.iter().zip(&p.value) {
+                self.state.u[d as usize] = value * a;
+            }
+        }
+    }
+
+    /// One increment to `t1` from the current state. Returns the Newton iterations, or
+    /// `None` where the iteration did not settle (the state is then the caller's to restore).
+    fn increment(&mut self, t1: f64) -> Result<Option<usize>> {
+        self.loads.set(self.model, t1, &mut self.f_ext);
+        self.u_start.clone_from(&self.state.u);
+        self.prescribe(t1);
+        let moved = max_abs_difference(&self.state.u, &self.u_start);
+        let margin = self.contact.face_size + 2.0 * moved;
+        self.contact.broad_phase(self.model, &self.u_start, margin);
+        let (model, u0) = (self.model, &self.u_start);
+        (self.contact).kinematics(model, self.kernels.as_mut(), u0, &self.zero)?;
+        let mut iterations = 0;
+        for _ in 0..MAX_UPDATES {
+            let Some(n) = self.settle()? else {
+                return Ok(None);
+            };
+            iterations += n;
+            let size = self.state.u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let tolerance = GAP_TOLERANCE * size.max(1e-6 * self.contact.face_size);
+            if self.contact.hard_penetration() <= tolerance {
+                return Ok(Some(iterations));
+            }
+            self.contact.update_multipliers();
+        }
+        Ok(None)
+    }
+
+    /// Newton's iteration at the current multipliers: the number of solves, or `None` where
+    /// it did not settle.
+    fn settle(&mut self) -> Result<Option<usize>> {
+        // the pressed nodes the last solve had (a node on a face's edge may change face
+        // between iterations with the last bits, which changes nothing)
+        let pressed = |set: &[(u32, u32, [u32; 4])]| -> Vec<(u32, u32)> {
+            set.iter().map(|&(i, p, _)| (i, p)).collect()
+        };
+        let mut solved_with: Option<Vec<(u32, u32)>> = None;
+        for k in 0..MAX_NEWTON {
+            let mut r = self.residual()?;
+            let set = self.contact.active_set();
+            let scale = self.force_scale();
+            let largest = r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            if solved_with == Some(pressed(&set)) && largest <= FORCE_TOLERANCE * scale {
+                return Ok(Some(k));
+            }
+            self.factorise(&set)?;
+            let (_, solver) = self.factor.as_ref().expect("factorised just now");
+            solver.solve_in_place(&mut r);
+            self.stats.solves += 1;
+            for (e, &d) in self.asm.dof_of.iter().enumerate() {
+                self.state.u[d as usize] += r[e];
+            }
+            solved_with = Some(pressed(&set));
+        }
+        Ok(None)
+    }
+
+    /// The residual $f_{ext} - f_{int} - f_c - S(u - u_n)$ on the free equations, with the
+    /// rows' gaps at the current state; keeps the supports' forces.
+    fn residual(&mut self) -> Result<Vec<f64>> {
+        let u = &self.state.u;
+        self.kernels.internal_forces_into(u, &mut self.f_int)?;
+        self.contact.linear_gaps(u, &self.u_start);
+        let mut f = self.f_ext.clone();
+        for (fi, x) in f.iter_mut().zip(&self.f_int) {
+            *fi -= x;
+        }
+        self.contact.add_forces(&mut f);
+        for (d, s) in self.support.iter_mut().enumerate() {
+            *s = if self.model.fixed[d] { -f[d] } else { 0.0 };
+        }
+        Ok((self.asm.dof_of.iter().enumerate())
+            .map(|(e, &d)| {
+                let d = d as usize;
+                f[d] - self.spring[e] * (u[d] - self.u_start[d])
+            })
+            .collect())
+    }
+
+    /// The largest nodal force of the state: external, internal or support.
+    fn force_scale(&self) -> f64 {
+        let big = |x: &[f64]| x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        big(&self.f_ext)
+            .max(big(&self.f_int))
+            .max(f64::MIN_POSITIVE)
+    }
+
+    /// Factorises $K + S + \sum \epsilon A b b^T$ for the active set `set`, unless the last
+    /// factor was of this set (and of the geometry it was made at: the rows' normals and
+    /// weights move little within an increment, and the residual corrects them).
+    fn factorise(&mut self, set: &[(u32, u32, [u32; 4])]) -> Result<()> {
+        if self.factor.as_ref().is_some_and(|(s, _)| s == set) {
+            return Ok(());
+        }
+        let k = &self.asm.effective;
+        let mut t = Vec::with_capacity(k.nnz() + 81 * set.len());
+        for j in 0..k.n {
+            for p in k.col_ptr[j]..k.col_ptr[j + 1] {
+                t.push((k.row_idx[p] as u32, j as u32, k.values[p]));
+            }
+            t.push((j as u32, j as u32, self.spring[j]));
+        }
+        self.contact.triplets(&self.asm.equation, &mut t);
+        let a = Csc::from_triplets(k.n, t);
+        let start = std::time::Instant::now();
+        let solver = SpdSolver::new(&a, Ordering::default()).map_err(|e| {
+            ImpactError::Solver(format!(
+                "the static stiffness at t = {:.6e} is not positive definite ({e}): a body is free to move where nothing holds it; raise [static] stabilisation or hold it with a [[fix]]",
+                self.clock
+            ))
+        })?;
+        self.stats.factorizations += 1;
+        self.stats.factorization_seconds += start.elapsed().as_secs_f64();
+        self.factor = Some((set.to_vec(), solver));
+        Ok(())
+    }
+
+    /// The work of the increment just solved: the loads', the supports' and the
+    /// stabilisation's (`before`: the supports' forces at its start).
+    fn count_work(&mut self, (t0, t1): (f64, f64), before: &[f64], d0: &[f64]) {
+        let (u, u0) = (&self.state.u, &self.u_start);
+        let d1 = self.loads.dots(self.model, u);
+        self.state.load_work += LoadForces::step_work(self.model, (t0, t1), (d0, &d1));
+        let mut fix = 0.0;
+        for (d, (&s0, &s1)) in before.iter().zip(&self.support).enumerate() {
+            fix += 0.5 * (s0 + s1) * (u[d] - u0[d]);
+        }
+        self.state.fix_work += fix;
+        self.state.stabilised += (self.asm.dof_of.iter().zip(&self.spring))
+            .map(|(&d, &s)| 0.5 * s * (u[d as usize] - u0[d as usize]).powi(2))
+            .sum::<f64>();
+    }
+}
+
+impl Integrator for StaticSolver<'_> {
+    fn model(&self) -> &Model {
+        self.model
+    }
+
+    fn method(&self) -> Method {
+        Method::Static
+    }
+
+    fn device_name(&self) -> String {
+        self.kernels.device_name()
+    }
+
+    /// One step of `time_step`, in halves where an increment does not settle.
+    fn step(&mut self) -> Result<StepReport> {
+        let target = (self.state.steps + 1) as f64 * self.dt;
+        let mut h = self.dt;
+        let mut report = StepReport::default();
+        while self.clock < target * (1.0 - 1e-12) {
+            h = h.min(target - self.clock);
+            let saved = (
+                self.state.clone(),
+                self.support.clone(),
+                self.contact.lambda.clone(),
+            );
+            let d0 = self.loads.dots(self.model, &self.state.u);
+            let t1 = self.clock + h;
+            match self.increment(t1)? {
+                Some(n) => {
+                    report.iterations += n;
+                    self.count_work((self.clock, t1), &saved.1, &d0);
+                    self.clock = t1;
+                }
+                None => {
+                    (self.state, self.support, self.contact.lambda) = saved;
+                    self.state.cutbacks += 1;
+                    h *= 0.5;
+                    if h < self.settings.minimum_step {
+                        return Err(ImpactError::Solver(format!(
+                            "the static increment from t = {:.6e} did not converge down to [static] minimum_step = {:.3e}",
+                            self.clock, self.settings.minimum_step
+                        )));
+                    }
+                }
+            }
+        }
+        self.clock = target;
+        self.state.steps += 1;
+        self.state.time = target;
+        report.converged = true;
+        Ok(report)
+    }
+
+    fn energies(&mut self) -> Result<Energies> {
+        let u = &self.state.u;
+        self.kernels.internal_forces_into(u, &mut self.f_int)?;
+        let strain = 0.5 * dot(u, &self.f_int);
+        let external = self.state.load_work + self.state.fix_work;
+        Ok(Energies {
+            kinetic: 0.0,
+            strain,
+            potential: -dot(&self.f_ext, u)
+                + self.loads.in_dot(self.model, self.clock, u)
+                + self.contact.stored_energy()
+                + self.state.stabilised
+                - external,
+            damage: 0.0,
+            fix_work: self.state.fix_work,
+            load_work: self.state.load_work,
+        })
+    }
+
+    fn reports(&self) -> Vec<ContactReport> {
+        self.contact.reports(self.model)
+    }
+
+    fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {
+        self.contact.node_contact(interface, point)
+    }
+
+    fn time(&self) -> f64 {
+        self.state.time
+    }
+
+    fn steps(&self) -> usize {
+        self.state.steps
+    }
+
+    fn displacement(&self) -> &[f64] {
+        &self.state.u
+    }
+
+    fn velocity(&self) -> &[f64] {
+        &self.zero
+    }
+
+    fn nodal_mass(&self) -> &[f64] {
+        &self.asm.nodal_mass
+    }
+
+    fn checkpoint_state(&mut self) -> Result<Option<SolverState>> {
+        let mut s = self.state.clone();
+        s.lambda.clone_from(&self.contact.lambda);
+        Ok(Some(SolverState::Static(s)))
+    }
+
+    fn restore(&mut self, state: SolverState) -> std::result::Result<(), String> {
+        let SolverState::Static(s) = state else {
+            return Err(super::integrator::other_integrator());
+        };
+        super::state::check_restore(
+            (s.u.len(), self.state.u.len()),
+            (s.lambda.len(), self.contact.lambda.len()),
+        )?;
+        self.contact.lambda.clone_from(&s.lambda);
+        self.clock = s.time;
+        self.state = s;
+        self.loads.set(self.model, self.clock, &mut self.f_ext);
+        self.u_start.clone_from(&self.state.u);
+        let u = self.state.u.clone();
+        self.contact
+            .broad_phase(self.model, &u, self.contact.face_size);
+        (self.contact)
+            .kinematics(self.model, self.kernels.as_mut(), &u, &self.zero)
+            .and_then(|_| self.residual())
+            .map_err(|e| e.to_string())?;
+        Ok(())
+    }
+
+    fn reactions(&self) -> Vec<[f64; 3]> {
+        (self.model.reactions.iter())
+            .map(|r| {
+                std::array::from_fn(|a| r.dofs[a].iter().map(|&d| self.support[d as usize]).sum())
+            })
+            .collect()
+    }
+
+    fn interface_ends(&self) -> Vec<InterfaceEnd> {
+        vec![InterfaceEnd::default(); self.model.interfaces.len()]
+    }
+
+    fn implicit_figures(&self) -> Option<ImplicitFigures> {
+        Some(ImplicitFigures {
+            factorizations: self.stats.factorizations,
+            linear_solver: self.stats.clone(),
+            mass_factor: None,
+            event_steps: self.state.cutbacks,
+            newton: None,
+        })
+    }
+}
+
+/// The diagonal of a matrix.
+fn diagonal_of(a: &Csc) -> Vec<f64> {
+    (0..a.n)
+        .map(|j| {
+            (a.col_ptr[j]..a.col_ptr[j + 1])
+                .find(|&p| a.row_idx[p] == j)
+                .map_or(0.0, |p| a.values[p])
+        })
+        .collect()
+}
+
+/// Each node's stiffness: the largest diagonal of its free dofs (the mean over the nodes
+/// that have one, for a node held in every direction).
+fn node_stiffness(asm: &Assembled, diagonal: &[f64]) -> Vec<f64> {
+    let nodes = asm.equation.len() / 3;
+    let mut k = vec![0.0f64; nodes];
+    for (e, &d) in asm.dof_of.iter().enumerate() {
+        let n = d as usize / 3;
+        k[n] = k[n].max(diagonal[e]);
+    }
+    let held: Vec<f64> = k.iter().copied().filter(|&x| x > 0.0).collect();
+    let mean = held.iter().sum::<f64>() / held.len().max(1) as f64;
+    k.iter().map(|&x| if x > 0.0 { x } else { mean }).collect()
+}
+
+fn max_abs_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).fold(0.0, |m, (x, y)| m.max((x - y).abs()))
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}

@@ -1,0 +1,351 @@
+//! Static steps (`method = "static"`): two stacked blocks pressed together, with hard
+//! contact and with a penalty law, against the exact uniaxial answer; pressed by a
+//! prescribed displacement, the named fix's reaction against it and the energy balance; and
+//! CalculiX's own static contact decks against their reference output, where the Debian
+//! package `calculix-ccx-test` is installed.
+
+mod common;
+use common::*;
+
+use impact::run::{run, RunOptions};
+use impact::scene::{DeviceChoice, Scene};
+use std::path::{Path, PathBuf};
+
+const E: f64 = 1000.0;
+const P: f64 = 2.0;
+
+/// A 1 x 1 x 1 base on z = 0 (its bottom held along z) and a block on it, Poisson 0, no
+/// density (a static step needs none); `top` appended (the block's load or fix), `contact`
+/// the contact's extra keys.
+fn stacked_blocks(contact: &str, top: &str) -> String {
+    format!(
+        r#"title = "two stacked blocks pressed together"
+[run]
+method = "static"
+end_time = 1.0
+time_step = 0.25
+
+[[material]]
+name = "soft"
+youngs_modulus = {E}
+poissons_ratio = 0.0
+
+[[body]]
+name = "base"
+material = "soft"
+box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0], divisions = [2, 2, 2] }}
+
+[[body]]
+name = "block"
+material = "soft"
+box = {{ min = [0.0, 0.0, 1.0], max = [1.0, 1.0, 2.0], divisions = [2, 2, 2] }}
+
+[[fix]]
+name = "floor"
+body = "base"
+face = "z-"
+components = ["z"]
+
+[[contact]]
+name = "joint"
+secondary = {{ body = "block", face = "z-" }}
+primary = {{ body = "base", face = "z+" }}
+{contact}
+
+[[probe]]
+name = "base_top"
+body = "base"
+point = [0.5, 0.5, 1.0]
+
+[[probe]]
+name = "block_bottom"
+body = "block"
+point = [0.5, 0.5, 1.0]
+
+[[probe]]
+name = "block_top"
+body = "block"
+point = [0.5, 0.5, 2.0]
+
+{top}"#
+    )
+}
+
+/// A ramped pressure P on the block's top.
+const PRESSED: &str = "[[load]]\nbody = \"block\"\nface = \"z+\"\npressure = 2.0\namplitude = [[0.0, 0.0], [1.0, 1.0]]\n";
+
+fn run_text(tag: &str, text: &str) -> (impact::output::Summary, History) {
+    let dir = out_dir(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    run_path(tag, &path)
+}
+
+fn run_path(tag: &str, path: &Path) -> (impact::output::Summary, History) {
+    let scene = Scene::load(path).unwrap_or_else(|e| panic!("{tag}: {e}"));
+    let out = out_dir(&format!("{tag}_run"));
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        quiet: true,
+        device: Some(DeviceChoice::Cpu),
+        ..Default::default()
+    };
+    let s = run(&scene, &opts).unwrap_or_else(|e| panic!("{tag}: {e}"));
+    assert_eq!(s.status, "completed", "{tag}: {:?}", s.warnings);
+    (s, History::read(&out.join("history.csv")))
+}
+
+/// The energy balance: what the loads and supports did is the strain energy (and the
+/// springs' share), to `tol` of the strain energy.
+fn balanced(tag: &str, h: &History, tol: f64) {
+    let (total, strain) = (h.last("total_energy"), h.last("strain_energy"));
+    assert!(
+        strain > 0.0 && total.abs() <= tol * strain,
+        "{tag}: total energy {total:e} against strain energy {strain:e}"
+    );
+}
+
+#[test]
+fn hard_contact_passes_the_load_with_no_overlap() {
+    let (_, h) = run_text("static_hard", &stacked_blocks("", PRESSED));
+    // each block shortens by P L / E under the ramped pressure, at every step
+    for (k, &t) in h.col("time").iter().enumerate().skip(1) {
+        let strain = t * P / E;
+        let at = |c: &str| h.col(c)[k];
+        assert!((at("base_top.uz") + strain).abs() <= 2e-5 * strain, "t {t}");
+        assert!(
+            (at("block_top.uz") + 2.0 * strain).abs() <= 2e-5 * strain,
+            "t {t}"
+        );
+        let overlap = at("block_bottom.uz") - at("base_top.uz");
+        assert!(overlap.abs() <= 1e-4 * strain, "t {t}: overlap {overlap:e}");
+    }
+    assert!((h.last("joint.normal_force") - P).abs() <= 2e-5 * P);
+    balanced("static_hard", &h, 1e-5);
+}
+
+#[test]
+fn a_penalty_law_overlaps_by_the_pressure_over_its_stiffness() {
+    let k = 500.0;
+    let (_, h) = run_text(
+        "static_penalty",
+        &stacked_blocks(&format!("stiffness = {k}"), PRESSED),
+    );
+    let strain = P / E;
+    let overlap = h.last("block_bottom.uz") - h.last("base_top.uz");
+    assert!((h.last("base_top.uz") + strain).abs() <= 2e-5 * strain);
+    assert!(
+        (overlap + P / k).abs() <= 2e-5 * P / k,
+        "overlap {overlap:e} against {:e}",
+        -P / k
+    );
+    assert!((h.last("block_top.uz") + 2.0 * strain + P / k).abs() <= 2e-5 * (2.0 * strain + P / k));
+    balanced("static_penalty", &h, 1e-5);
+}
+
+#[test]
+fn a_prescribed_displacement_is_resisted_by_the_exact_reaction() {
+    let d = 0.01;
+    let top = format!(
+        "[[fix]]\nname = \"press\"\nbody = \"block\"\nface = \"z+\"\ncomponents = [\"z\"]\ndisplacement = [0.0, 0.0, {}]\n",
+        -d
+    );
+    let (_, h) = run_text("static_pressed", &stacked_blocks("", &top));
+    // two unit blocks in series shortened by d: stress E d / 2, through the contact
+    let force = E * d / 2.0;
+    // the supports push back: down on the block's top, up on the base's bottom (to the
+    // stabilisation's 1e-6 of the stiffness)
+    assert!(
+        (h.last("press.fz") + force).abs() <= 2e-5 * force,
+        "{}",
+        h.last("press.fz")
+    );
+    assert!((h.last("floor.fz") - force).abs() <= 2e-5 * force);
+    assert!((h.last("joint.normal_force") - force).abs() <= 2e-5 * force);
+    assert!((h.last("base_top.uz") + d / 2.0).abs() <= 2e-5 * d);
+    balanced("static_pressed", &h, 1e-5);
+    let work = 0.5 * force * d;
+    let strain = h.last("strain_energy");
+    assert!((strain - work).abs() <= 2e-5 * work, "{strain}");
+}
+
+#[test]
+fn a_static_step_refuses_what_it_cannot_solve() {
+    let text = stacked_blocks("friction = 0.3", PRESSED);
+    let dir = out_dir("static_refused");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, &text).unwrap();
+    let scene = Scene::load(&path).unwrap();
+    let e = run(
+        &scene,
+        &RunOptions {
+            out: Some(dir.join("out")),
+            quiet: true,
+            ..Default::default()
+        },
+    )
+    .expect_err("friction is refused")
+    .to_string();
+    assert!(e.contains("friction") && e.contains("static"), "{e}");
+    // a penalty stiffness outside a static step
+    let dynamic = text
+        .replace("friction = 0.3", "stiffness = 100.0")
+        .replace("method = \"static\"", "method = \"implicit\"")
+        .replace(
+            "[[material]]\nname = \"soft\"",
+            "[[material]]\nname = \"soft\"\ndensity = 1.0",
+        );
+    std::fs::write(&path, dynamic).unwrap();
+    let scene = Scene::load(&path).unwrap();
+    let e = run(
+        &scene,
+        &RunOptions {
+            out: Some(dir.join("out")),
+            quiet: true,
+            ..Default::default()
+        },
+    )
+    .expect_err("a penalty law is refused on the implicit path")
+    .to_string();
+    assert!(e.contains("contact[0].stiffness"), "{e}");
+}
+
+/// CalculiX's test decks (Debian `calculix-ccx-test`), where installed.
+fn ccx_decks() -> Option<PathBuf> {
+    let dir = PathBuf::from("/usr/share/doc/calculix-ccx-test/examples/test");
+    if dir.is_dir() {
+        return Some(dir);
+    }
+    assert!(
+        std::env::var_os("IMPACT_REQUIRE_CCX").is_none(),
+        "IMPACT_REQUIRE_CCX is set and {} is missing",
+        dir.display()
+    );
+    eprintln!(
+        "skipped: CalculiX's test decks are not installed (apt-get install calculix-ccx-test)"
+    );
+    None
+}
+
+/// A deck's file, unpacked where the package gzipped it.
+fn deck_text(dir: &Path, name: &str) -> String {
+    let plain = dir.join(name);
+    if plain.exists() {
+        return std::fs::read_to_string(plain).unwrap();
+    }
+    let out = std::process::Command::new("gzip")
+        .arg("-dc")
+        .arg(dir.join(format!("{name}.gz")))
+        .output()
+        .expect("gzip runs");
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// The last displacement block of a `.dat.ref`: node number -> (ux, uy, uz).
+fn reference_displacements(text: &str) -> Vec<(u64, [f64; 3])> {
+    let start = text
+        .rfind("displacements (vx,vy,vz)")
+        .expect("a displacement block");
+    let mut out = Vec::new();
+    for line in text[start..].lines().skip(2) {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        if f.len() != 4 {
+            break;
+        }
+        let v = [1, 2, 3].map(|i| f[i].parse::<f64>().unwrap());
+        out.push((f[0].parse().unwrap(), v));
+    }
+    out
+}
+
+/// The deck's node coordinates.
+fn deck_nodes(text: &str) -> std::collections::HashMap<u64, [f64; 3]> {
+    let mut out = std::collections::HashMap::new();
+    let mut on = false;
+    for line in text.lines() {
+        let u = line.trim().to_ascii_uppercase();
+        if u.starts_with('*') {
+            on = u.starts_with("*NODE")
+                && !u.starts_with("*NODE PRINT")
+                && !u.starts_with("*NODE FILE");
+            continue;
+        }
+        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        if on && f.len() >= 4 {
+            let x = [1, 2, 3].map(|i| f[i].parse::<f64>().unwrap());
+            out.insert(f[0].parse().unwrap(), x);
+        }
+    }
+    out
+}
+
+/// Runs CalculiX's deck `name` as it stands and returns the largest difference of its
+/// printed displacements from the reference output's, relative to the largest of them. The
+/// probes are matched to the printed nodes by position (where two bodies' nodes coincide,
+/// on a contact face, the closer of their two displacements counts).
+fn ccx_difference(dir: &Path, name: &str) -> f64 {
+    let text = deck_text(dir, &format!("{name}.inp"));
+    let deck = written_deck(name, &text);
+    let scene = Scene::load(&deck).unwrap();
+    let probes: Vec<(String, [f64; 3])> = (scene.probes.iter())
+        .map(|p| (p.name.clone(), p.point))
+        .collect();
+    let (_, h) = run_path(name, &deck);
+    let reference = reference_displacements(&deck_text(dir, &format!("{name}.dat.ref")));
+    let nodes = deck_nodes(&text);
+    let largest = reference
+        .iter()
+        .flat_map(|(_, v)| v.iter())
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    let mut worst = 0.0f64;
+    let mut matched = 0;
+    for (n, v) in &reference {
+        let x = nodes[n];
+        let near = |p: &[f64; 3]| (0..3).all(|a| (p[a] - x[a]).abs() <= 1e-9 * (1.0 + x[a].abs()));
+        let diffs = (probes.iter().filter(|(_, p)| near(p))).map(|(name, _)| {
+            (0..3)
+                .map(|a| (h.last(&format!("{name}.u{}", ["x", "y", "z"][a])) - v[a]).abs())
+                .fold(0.0, f64::max)
+        });
+        if let Some(d) = diffs.reduce(f64::min) {
+            worst = worst.max(d / largest);
+            matched += 1;
+        }
+    }
+    assert!(
+        matched * 10 >= reference.len() * 9,
+        "{name}: {matched} of {} matched",
+        reference.len()
+    );
+    worst
+}
+
+fn written_deck(name: &str, text: &str) -> PathBuf {
+    let dir = out_dir(&format!("ccx_{name}"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{name}.inp"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn calculix_static_contact_decks_match_their_reference_output() {
+    let Some(dir) = ccx_decks() else {
+        return;
+    };
+    // two cubes stacked with a linear pressure-overclosure; a cube pressed on a spring
+    // support; a Hertz-like patch of two materials (Hüeber's benchmark)
+    for (name, bound) in [
+        ("contactenergy", 1e-5),
+        ("cubespring", 0.01),
+        ("hueeber3", 0.01),
+    ] {
+        let d = ccx_difference(&dir, name);
+        assert!(
+            d <= bound,
+            "{name}: {d:e} of the largest printed displacement"
+        );
+    }
+}
