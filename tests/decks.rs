@@ -429,8 +429,20 @@ fn what_a_deck_asks_that_impact_cannot_honour_is_refused_by_keyword_and_line() {
         "*BOUNDARY\nNA, 1, 1, 0.5\n*INITIAL CONDITIONS",
     );
     refused("deck_moved", &moved, &["*BOUNDARY NA", "a jump at t = 0"]);
+    // a static step reads as one: its increments, and the linear pressure-overclosure as
+    // the contact's penalty
     let static_step = edit(&deck, "*DYNAMIC\n", "*STATIC\n");
-    refused("deck_static", &static_step, &["*STATIC", "cannot honour"]);
+    let scene =
+        Scene::load(written("deck_static", "bad.inp", &static_step)).expect("a static step reads");
+    assert_eq!(scene.run.method, impact::scene::Method::Static);
+    assert_eq!((scene.run.time_step, scene.run.end_time), (Some(0.01), 0.4));
+    assert!((scene.statics.minimum_step - 4e-6).abs() <= 1e-18);
+    assert_eq!(scene.contacts[0].stiffness, Some(1.0e4));
+    refused(
+        "deck_frequency",
+        &edit(&deck, "*DYNAMIC\n", "*FREQUENCY\n"),
+        &["*FREQUENCY", "cannot honour"],
+    );
     let no_step: String = deck
         .lines()
         .take_while(|l| !l.starts_with("*STEP"))
@@ -1815,12 +1827,12 @@ fn a_contact_pairs_adjust_closes_the_gap_before_the_start() {
 }
 
 /// Every keyword a deck is refused for is told at once, each at its line: a plastic
-/// material, a static step and a linear constraint in one deck give three lines.
+/// material, a frequency step and a linear constraint in one deck give three lines.
 #[test]
 fn a_decks_refusals_are_told_together() {
     let deck = std::fs::read_to_string(repo().join("scenes/two_bars.inp")).unwrap();
     let three = edit(&deck, "*DENSITY\n", "*PLASTIC\n1.0, 0.0\n*DENSITY\n");
-    let three = edit(&three, "*DYNAMIC\n", "*STATIC\n");
+    let three = edit(&three, "*DYNAMIC\n", "*FREQUENCY\n");
     let three = edit(
         &three,
         "*NODE PRINT, NSET=NB",
@@ -1830,7 +1842,7 @@ fn a_decks_refusals_are_told_together() {
     let e = Scene::load(&path).expect_err("refused").to_string();
     let lines: Vec<&str> = e.lines().filter(|l| l.contains("bad.inp:")).collect();
     assert_eq!(lines.len(), 3, "{e}");
-    for (line, word) in lines.iter().zip(["*PLASTIC", "*STATIC", "*EQUATION"]) {
+    for (line, word) in lines.iter().zip(["*PLASTIC", "*FREQUENCY", "*EQUATION"]) {
         assert!(
             line.contains(word) && line.contains("cannot honour"),
             "{line}"

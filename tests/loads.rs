@@ -210,13 +210,24 @@ fn a_load_that_cannot_be_applied_is_refused_by_its_key() {
         &bar(&format!("{head}face = \"x+\"\npressure = inf\n")),
         &["load[0].pressure", "must be finite"],
     );
-    refused(
-        &bar(&format!("{head}face = \"x-\"\nforce = [1.0, 0.0, 0.0]\n")),
-        &[
-            "load[0]",
-            "pushes node 0's x component, which a `[[fix]]` holds",
-        ],
+    // a load on held components goes to the supports (as in CalculiX): the model leaves
+    // those forces out and says how many
+    let held = impact::scene::Scene::parse(
+        &bar(&format!("{head}face = \"x-\"\nforce = [1.0, 1.0, 0.0]\n")),
+        std::path::Path::new("held_load.toml"),
+    )
+    .expect("the scene reads");
+    let model = impact::model::Model::from_scene(&held).expect("the model builds");
+    assert_eq!(
+        model.held_loads,
+        vec![4],
+        "the x forces of the held face's four nodes"
     );
+    assert_eq!(
+        model.loads[0].dofs.iter().filter(|&&d| d % 3 == 1).count(),
+        4
+    );
+    assert!(model.loads[0].dofs.iter().all(|&d| d % 3 == 1));
     refused(
         &bar(&format!("{head}region = {{ min = [20.0, 0.0, 0.0], max = [30.0, 1.0, 1.0] }}\nforce = [1.0, 0.0, 0.0]\n")),
         &["load[0]", "selects no node of body `bar`"],

@@ -500,12 +500,14 @@ impl Checker<'_> {
             minimum_step: None,
             stabilisation: None,
         });
-        let step = run.time_step.unwrap_or(run.end_time);
-        let minimum_step = match raw.minimum_step {
-            Some(m) => self.positive("static.minimum_step", m)?,
-            None => 1e-5 * step,
+        // (no default without a time step: a scene that is not static has none, and its
+        // checkpoints must not depend on its end time)
+        let minimum_step = match (raw.minimum_step, run.time_step) {
+            (Some(m), _) => self.positive("static.minimum_step", m)?,
+            (None, Some(step)) => 1e-5 * step,
+            (None, None) => 0.0,
         };
-        if minimum_step > step {
+        if let Some(step) = run.time_step.filter(|&s| minimum_step > s) {
             return Err(self.err(
                 "static.minimum_step",
                 format!("{minimum_step} is longer than run.time_step = {step}"),
