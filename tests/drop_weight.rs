@@ -1,7 +1,8 @@
 //! The shipped drop-weight and indentation scenes on a coarser mesh (30 x 20 in the plane,
 //! two element layers of twelve plies each): the tup's impact and rebound with momentum
-//! and energy accounted for, the support's and clamps' reactions, and the indentation's
-//! force-displacement curve against the drop's loading branch.
+//! and energy accounted for, the support's and clamps' reactions, the indentation's
+//! force-displacement curve against the drop's loading branch, and the static indentation's
+//! against the dynamic one's.
 
 mod common;
 use common::*;
@@ -116,6 +117,44 @@ fn a_tup_strikes_the_coupon_and_rebounds_and_indentation_follows_its_loading_bra
         mean
     );
     assert!(mean <= 0.08, "mean difference {mean}");
+    static_indentation_follows_the_dynamic_one(&pressed);
+}
+
+/// The static indentation (`indentation_d6264_static.toml`) against the dynamic one's
+/// curve `pressed`: at each increment past 0.5 mm (the dynamic run's start is a transient),
+/// the force within 2% of the dynamic force averaged over 0.05 mm about the same depth;
+/// the energy balance (the tup's work is the strain energy) within 1e-3 of the work.
+fn static_indentation_follows_the_dynamic_one(pressed: &[(f64, f64)]) {
+    let (s, st) = run_text_on(
+        "indentation_static",
+        &coarse("indentation_d6264_static.toml"),
+        Some(DeviceChoice::Cpu),
+    );
+    let s = s.expect("the static indentation runs");
+    assert_eq!(
+        (s.status.as_str(), s.method.as_str()),
+        ("completed", "static")
+    );
+    let mut worst: f64 = 0.0;
+    for (d, f) in curve(&st).into_iter().filter(|p| p.0 >= 0.5) {
+        let near: Vec<f64> = (pressed.iter())
+            .filter(|p| (p.0 - d).abs() <= 0.05)
+            .map(|p| p.1)
+            .collect();
+        let dynamic = near.iter().sum::<f64>() / near.len() as f64;
+        worst = worst.max((f / dynamic - 1.0).abs());
+    }
+    let (total, strain) = (st.last("total_energy"), st.last("strain_energy"));
+    eprintln!(
+        "static indentation: {} increments, largest difference from the dynamic curve {worst:.4}, energy balance {:.2e} of the strain energy",
+        s.steps,
+        total / strain
+    );
+    assert!(worst <= 0.02, "largest difference {worst}");
+    assert!(
+        total.abs() <= 1e-3 * strain,
+        "balance {total} against {strain}"
+    );
 }
 
 /// The coarse drop on the GPU adapter's resident step (the tup, support and clamps on the

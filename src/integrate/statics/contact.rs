@@ -239,11 +239,13 @@ impl StaticContact {
         }
     }
 
-    /// The largest penetration of a hard interface's pressed node.
-    pub fn hard_penetration(&self) -> f64 {
+    /// The largest gap, open or closed, of a hard interface's pressed node: zero where the
+    /// multipliers hold the contact exactly (a pressed node whose gap opened carries a
+    /// multiplier that the next update lowers).
+    pub fn hard_violation(&self) -> f64 {
         (self.rows.iter())
             .filter(|r| self.hard[r.interface] && self.pressure(r) > 0.0)
-            .fold(0.0, |m, r| m.max(r.gap))
+            .fold(0.0, |m, r| m.max(r.gap.abs()))
     }
 
     /// The multipliers' update $\lambda \leftarrow T$ on the hard interfaces; a node that

@@ -169,7 +169,7 @@ impl<'m> StaticSolver<'m> {
             iterations += n;
             let size = self.state.u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             let tolerance = GAP_TOLERANCE * size.max(1e-6 * self.contact.face_size);
-            if self.contact.hard_penetration() <= tolerance {
+            if self.contact.hard_violation() <= tolerance {
                 return Ok(Some(iterations));
             }
             self.contact.update_multipliers();
