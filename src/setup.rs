@@ -319,6 +319,16 @@ fn refuse_implicit(scene: &Scene, model: &Model, method: Method) -> Result<()> {
             None => Ok(()),
         };
     }
+    if !model.equations.is_empty() {
+        return Err(ImpactError::Unsupported {
+            path: scene.path.clone(),
+            key: "equation[0]".into(),
+            message: format!(
+                "linear constraints are honoured by static steps (method = \"static\"); the {} path does not take them",
+                method.name()
+            ),
+        });
+    }
     if let Some(k) = scene.contacts.iter().position(|c| c.stiffness.is_some()) {
         return Err(ImpactError::Unsupported {
             path: scene.path.clone(),

@@ -438,6 +438,17 @@ fn what_a_deck_asks_that_impact_cannot_honour_is_refused_by_keyword_and_line() {
     assert_eq!((scene.run.time_step, scene.run.end_time), (Some(0.01), 0.4));
     assert!((scene.statics.minimum_step - 4e-6).abs() <= 1e-18);
     assert_eq!(scene.contacts[0].stiffness, Some(1.0e4));
+    // an *EQUATION's terms on node numbers, over two lines
+    let tied = edit(
+        &static_step,
+        "*NODE PRINT, NSET=NB",
+        "*EQUATION\n3\n1, 1, 1.0, 2, 1, -0.5\n3, 2, -0.5\n*NODE PRINT, NSET=NB",
+    );
+    let scene = Scene::load(written("deck_equation", "bad.inp", &tied)).expect("reads");
+    let terms: Vec<(usize, usize, f64)> = (scene.equations[0].terms.iter())
+        .map(|t| (t.body, t.component, t.coefficient))
+        .collect();
+    assert_eq!(terms, vec![(0, 0, 1.0), (0, 0, -0.5), (0, 1, -0.5)]);
     refused(
         "deck_frequency",
         &edit(&deck, "*DYNAMIC\n", "*FREQUENCY\n"),
@@ -1827,7 +1838,7 @@ fn a_contact_pairs_adjust_closes_the_gap_before_the_start() {
 }
 
 /// Every keyword a deck is refused for is told at once, each at its line: a plastic
-/// material, a frequency step and a linear constraint in one deck give three lines.
+/// material, a frequency step and tied surfaces in one deck give three lines.
 #[test]
 fn a_decks_refusals_are_told_together() {
     let deck = std::fs::read_to_string(repo().join("scenes/two_bars.inp")).unwrap();
@@ -1836,13 +1847,13 @@ fn a_decks_refusals_are_told_together() {
     let three = edit(
         &three,
         "*NODE PRINT, NSET=NB",
-        "*EQUATION\n2\n1, 1, 1.0, 2, 1, -1.0\n*NODE PRINT, NSET=NB",
+        "*TIE, NAME=GLUE\nTIPA, ENDB\n*NODE PRINT, NSET=NB",
     );
     let path = written("deck_three_refusals", "bad.inp", &three);
     let e = Scene::load(&path).expect_err("refused").to_string();
     let lines: Vec<&str> = e.lines().filter(|l| l.contains("bad.inp:")).collect();
     assert_eq!(lines.len(), 3, "{e}");
-    for (line, word) in lines.iter().zip(["*PLASTIC", "*FREQUENCY", "*EQUATION"]) {
+    for (line, word) in lines.iter().zip(["*PLASTIC", "*FREQUENCY", "*TIE"]) {
         assert!(
             line.contains(word) && line.contains("cannot honour"),
             "{line}"

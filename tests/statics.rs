@@ -350,3 +350,86 @@ fn calculix_static_contact_decks_match_their_reference_output() {
         );
     }
 }
+
+/// Two unit blocks side by side, their bottoms held along z; the first pressed on its top,
+/// the second's top nodes tied to the first's by `[[equation]]`s (u_z of B = u_z of A): the
+/// two carry the load together, each top lowered by P L / (2 E).
+#[test]
+fn equations_tie_a_second_block_to_the_pressed_one() {
+    let mut text = String::from(
+        r#"title = "two blocks tied by equations"
+[run]
+method = "static"
+end_time = 1.0
+time_step = 0.5
+
+[[material]]
+name = "soft"
+youngs_modulus = 1000.0
+poissons_ratio = 0.0
+"#,
+    );
+    for (name, x) in [("a", 0.0), ("b", 2.0)] {
+        text += &format!(
+            "\n[[body]]\nname = \"{name}\"\nmaterial = \"soft\"\nbox = {{ min = [{x}, 0.0, 0.0], max = [{}, 1.0, 1.0], divisions = [2, 2, 2] }}\n\n[[fix]]\nbody = \"{name}\"\nface = \"z-\"\ncomponents = [\"z\"]\n\n[[probe]]\nname = \"{name}_top\"\nbody = \"{name}\"\npoint = [{}, 0.5, 1.0]\n",
+            x + 1.0,
+            x + 0.5
+        );
+    }
+    text += "\n[[load]]\nbody = \"a\"\nface = \"z+\"\npressure = 2.0\namplitude = [[0.0, 0.0], [1.0, 1.0]]\n";
+    let near = |x: f64, y: f64| {
+        format!(
+            "region = {{ min = [{}, {}, 0.99], max = [{}, {}, 1.01] }}",
+            x - 0.01,
+            y - 0.01,
+            x + 0.01,
+            y + 0.01
+        )
+    };
+    for i in 0..3 {
+        for j in 0..3 {
+            let (x, y) = (0.5 * i as f64, 0.5 * j as f64);
+            text += &format!(
+                "\n[[equation]]\nterms = [{{ body = \"b\", {}, component = \"z\", coefficient = 1.0 }}, {{ body = \"a\", {}, component = \"z\", coefficient = -1.0 }}]\n",
+                near(x + 2.0, y),
+                near(x, y)
+            );
+        }
+    }
+    let (_, h) = run_text("static_equations", &text);
+    let exact = -P / (2.0 * E);
+    for probe in ["a_top", "b_top"] {
+        let uz = h.last(&format!("{probe}.uz"));
+        assert!(
+            (uz - exact).abs() <= 2e-5 * exact.abs(),
+            "{probe}: {uz} against {exact}"
+        );
+    }
+    assert!(
+        (h.last("a_top.uz") - h.last("b_top.uz")).abs() <= 1e-12,
+        "tied exactly"
+    );
+    balanced("static_equations", &h, 1e-5);
+    // an equation outside a static step is refused
+    let dynamic = text
+        .replace("method = \"static\"", "method = \"implicit\"")
+        .replace(
+            "poissons_ratio = 0.0",
+            "poissons_ratio = 0.0\ndensity = 1.0",
+        );
+    let dir = out_dir("static_equations_implicit");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, dynamic).unwrap();
+    let e = run(
+        &Scene::load(&path).unwrap(),
+        &RunOptions {
+            out: Some(dir.join("out")),
+            quiet: true,
+            ..Default::default()
+        },
+    )
+    .expect_err("refused")
+    .to_string();
+    assert!(e.contains("equation[0]") && e.contains("static"), "{e}");
+}

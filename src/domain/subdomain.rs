@@ -387,6 +387,7 @@ impl Subdomain {
             // the rank's loads are its solver's (`LoadForces`)
             loads: Vec::new(),
             held_loads: Vec::new(),
+            equations: Vec::new(),
             rigid: Vec::new(),
         }
     }

@@ -74,6 +74,7 @@ pub(crate) fn surface_model(model: &Model, nodes: &[u32]) -> Model {
         // the rank's loads are its solver's (`LoadForces`)
         loads: Vec::new(),
         held_loads: Vec::new(),
+        equations: Vec::new(),
         rigid,
     }
 }

@@ -67,6 +67,8 @@ enum Mode {
     /// A keyword whose lines may name a node by its number where a node set may stand
     /// (`*BOUNDARY`, `*INITIAL CONDITIONS`, `*CLOAD`): passed over, its node numbers kept.
     NodeNumbers,
+    /// `*EQUATION` data: the node numbers of its terms.
+    EquationNodes,
     /// `*DLOAD`: each pressure line's element sides kept as a surface
     /// ([`pressure_surface`]).
     PressureSides,
@@ -417,6 +419,10 @@ impl Parser {
                 self.r.skipped.push((k.name.clone(), line_no));
                 Mode::NodeNumbers
             }
+            "EQUATION" => {
+                self.r.skipped.push((k.name.clone(), line_no));
+                Mode::EquationNodes
+            }
             "DLOAD" => {
                 self.r.skipped.push((k.name.clone(), line_no));
                 Mode::PressureSides
@@ -521,6 +527,22 @@ impl Parser {
             Mode::NodeNumbers => {
                 if let Some(id) = fields.first().and_then(|f| f.parse::<u64>().ok()) {
                     self.r.numbered.push(id);
+                }
+                Ok(())
+            }
+            // a term count alone, or (node, dof, coefficient) triples
+            Mode::EquationNodes => {
+                let given: Vec<&str> = fields
+                    .iter()
+                    .map(|f| f.trim())
+                    .filter(|f| !f.is_empty())
+                    .collect();
+                if given.len() >= 3 {
+                    let ids = given
+                        .iter()
+                        .step_by(3)
+                        .filter_map(|f| f.parse::<u64>().ok());
+                    self.r.numbered.extend(ids);
                 }
                 Ok(())
             }

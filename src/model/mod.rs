@@ -4,6 +4,7 @@
 pub mod cohesive;
 pub mod damage;
 mod damage_shapes;
+pub mod equations;
 pub mod interface;
 pub mod loads;
 pub mod materials;
@@ -81,6 +82,8 @@ pub struct Model {
     pub loads: Vec<loads::Load>,
     /// Each load's nodal forces on held components, left to the supports.
     pub held_loads: Vec<usize>,
+    /// The `[[equation]]`s: dofs set by others (static steps).
+    pub equations: Vec<equations::Equation>,
 }
 
 impl Model {
@@ -118,6 +121,7 @@ impl Model {
             fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
         }
         let (loads, held_loads) = loads::loads(scene, &mesh, &fixed)?;
+        let equations = equations::equations(scene, &mesh, &fixed)?;
         let (queries, interfaces) = interfaces(scene, &mesh, &rigid)?;
         let cohesive = cohesive::cohesive_interfaces(scene, &mesh, &splits)?;
         let mut probes = probes(scene, &mesh);
@@ -154,6 +158,7 @@ impl Model {
             cohesive,
             loads,
             held_loads,
+            equations,
         })
     }
 

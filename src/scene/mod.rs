@@ -427,6 +427,23 @@ pub enum NodeSelection {
 /// time (empty: a ramp over the run).
 pub type Displacement = ([f64; 3], Vec<[f64; 2]>);
 
+/// An `[[equation]]`: sum of coefficient x the component of one node = 0; the first term's
+/// dof is the one the others set (a static step's constraint).
+#[derive(Debug, Clone)]
+pub struct EquationSpec {
+    pub terms: Vec<TermSpec>,
+}
+
+/// One term of an equation: the one node `nodes` selects on `body`, its component (0-2)
+/// and its coefficient.
+#[derive(Debug, Clone)]
+pub struct TermSpec {
+    pub body: usize,
+    pub nodes: NodeSelection,
+    pub component: usize,
+    pub coefficient: f64,
+}
+
 #[derive(Debug, Clone)]
 pub struct FixSpec {
     /// A meshed body, or a rigid body where `nodes` is [`NodeSelection::RigidBody`].
@@ -507,6 +524,7 @@ pub struct Scene {
     pub planes: Vec<PlaneSpec>,
     pub rigid_bodies: Vec<RigidBodySpec>,
     pub fixes: Vec<FixSpec>,
+    pub equations: Vec<EquationSpec>,
     /// In the scene's order: where two select a node, the later one's velocity is its.
     pub initial_velocities: Vec<InitialVelocitySpec>,
     /// The `[[load]]`s, in the scene's order.

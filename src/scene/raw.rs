@@ -38,6 +38,8 @@ pub(crate) struct RawScene {
     pub probe: Vec<RawProbe>,
     #[serde(default)]
     pub cohesive: Vec<RawCohesive>,
+    #[serde(default)]
+    pub equation: Vec<RawEquation>,
     pub output: Option<RawOutput>,
     #[serde(default)]
     pub exact: Vec<RawExact>,
@@ -358,6 +360,23 @@ pub(crate) struct RawFix {
     pub displacement: Option<[f64; 3]>,
     pub amplitude: Option<Vec<[f64; 2]>>,
     pub name: Option<String>,
+}
+
+/// `[[equation]]`: a linear constraint sum of coefficient x displacement = 0.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawEquation {
+    pub terms: Vec<RawTerm>,
+}
+
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawTerm {
+    pub body: String,
+    pub set: Option<String>,
+    pub region: Option<RawRegion>,
+    pub component: String,
+    pub coefficient: f64,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

@@ -19,6 +19,7 @@
 //! their motion) equals the strain energy plus the contact springs' and the stabilisation's
 //! share: [`Energies::potential`] holds the last two less the external work.
 
+mod constraints;
 mod contact;
 
 use crate::backend::Kernels;
@@ -30,6 +31,7 @@ use crate::integrate::SolverState;
 use crate::linalg::{assemble, Assembled, Csc, FactorStats, SpdSolver};
 use crate::model::Model;
 use crate::scene::{MassKind, Method, Ordering, StaticSettings};
+use constraints::Constraints;
 use contact::{ActiveSet, StaticContact};
 
 /// The hard contact's penalty: this many times the secondary node's own stiffness over its
@@ -75,6 +77,8 @@ pub struct StaticSolver<'m> {
     /// The stabilisation's spring on each free equation.
     spring: Vec<f64>,
     contact: StaticContact,
+    /// The `[[equation]]`s on the free equations.
+    constraints: Constraints,
     /// The factor of the last active set, and that set.
     factor: Option<(ActiveSet, SpdSolver)>,
     stats: FactorStats,
@@ -106,6 +110,7 @@ impl<'m> StaticSolver<'m> {
         }
         let loads = LoadForces::new(model, None, None, &f_ext);
         let lambda = contact.lambda.clone();
+        let constraints = Constraints::new(&model.equations, &asm.equation, asm.dof_of.len());
         Ok(StaticSolver {
             model,
             kernels,
@@ -130,6 +135,7 @@ impl<'m> StaticSolver<'m> {
             loads,
             spring,
             contact,
+            constraints,
             factor: None,
             stats: FactorStats::default(),
             clock: 0.0,
@@ -148,6 +154,7 @@ impl<'m> StaticSolver<'m> {
                 self.state.u[d as usize] = value * a;
             }
         }
+        self.constraints.apply(&mut self.state.u);
     }
 
     /// One increment to `t1` from the current state. Returns the Newton iterations, or
@@ -201,6 +208,7 @@ impl<'m> StaticSolver<'m> {
             for (e, &d) in self.asm.dof_of.iter().enumerate() {
                 self.state.u[d as usize] += r[e];
             }
+            self.constraints.apply(&mut self.state.u);
             solved_with = Some(pressed(&set));
         }
         Ok(None)
@@ -220,12 +228,14 @@ impl<'m> StaticSolver<'m> {
         for (d, s) in self.support.iter_mut().enumerate() {
             *s = if self.model.fixed[d] { -f[d] } else { 0.0 };
         }
-        Ok((self.asm.dof_of.iter().enumerate())
+        let mut r: Vec<f64> = (self.asm.dof_of.iter().enumerate())
             .map(|(e, &d)| {
                 let d = d as usize;
                 f[d] - self.spring[e] * (u[d] - self.u_start[d])
             })
-            .collect())
+            .collect();
+        self.constraints.condense_residual(&mut r);
+        Ok(r)
     }
 
     /// The largest nodal force of the state: external, internal or support.
@@ -252,7 +262,7 @@ impl<'m> StaticSolver<'m> {
             t.push((j as u32, j as u32, self.spring[j]));
         }
         self.contact.triplets(&self.asm.equation, &mut t);
-        let a = Csc::from_triplets(k.n, t);
+        let a = Csc::from_triplets(k.n, self.constraints.condense(t));
         let start = std::time::Instant::now();
         let solver = SpdSolver::new(&a, Ordering::default()).map_err(|e| {
             ImpactError::Solver(format!(

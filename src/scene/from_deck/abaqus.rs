@@ -113,6 +113,8 @@ struct Gathered {
     /// Each interaction's friction coefficient, and the interaction last opened.
     friction: HashMap<String, f64>,
     interaction: Option<String>,
+    /// Each `*EQUATION`'s terms (node or node set, dof 0-2, coefficient) and line.
+    equations: Vec<(Vec<EquationTerm>, usize)>,
     /// Each interaction's linear pressure-overclosure slope (`*SURFACE BEHAVIOR,
     /// PRESSURE-OVERCLOSURE=LINEAR`), with its line.
     stiffness: HashMap<String, (f64, usize)>,
@@ -135,6 +137,9 @@ struct Gathered {
     /// The names of the node-based surfaces (`*SURFACE, TYPE=NODE`).
     node_surfaces: Vec<String>,
 }
+
+/// An `*EQUATION` term as written: node (or node set), dof 0-2, coefficient.
+type EquationTerm = (String, usize, f64);
 
 /// A `*BOUNDARY` line: its node set, the dofs it holds (1-3 translations, 4-6 a rigid
 /// body's reference node's rotations), whether a named condition (`ENCASTRE`, ...) gave
@@ -239,6 +244,7 @@ impl Reader<'_> {
             "FRICTION" => self.friction(b, g)?,
             "SURFACE BEHAVIOR" => self.surface_behavior(b, g)?,
             "STATIC" => g.step = Some(self.statics(b)?),
+            "EQUATION" => self.equation(b, g)?,
             "CONTACT PAIR" => self.contact_pair(b, g)?,
             "STEP" => {
                 g.ramp = b.get("AMPLITUDE").is_some_and(|a| a.eq_ignore_ascii_case("RAMP"));
@@ -495,6 +501,56 @@ impl Reader<'_> {
         Ok(())
     }
 
+    /// `*EQUATION`: blocks of a term count, then that many (node, dof, coefficient)
+    /// triples over one or more lines.
+    fn equation(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        let fields: Vec<(String, usize)> = (b.data.iter())
+            .flat_map(|(f, l)| {
+                f.iter()
+                    .filter(|x| !x.is_empty())
+                    .map(move |x| (x.clone(), *l))
+            })
+            .collect();
+        let mut k = 0;
+        while k < fields.len() {
+            let (count, l) = &fields[k];
+            let n = match count.parse::<usize>() {
+                Ok(n) if n >= 1 => n,
+                _ => {
+                    return Err(self
+                        .src
+                        .err(*l, format!("*EQUATION: `{count}` is not a count of terms")))
+                }
+            };
+            let terms = fields.get(k + 1..k + 1 + 3 * n).ok_or_else(|| {
+                self.src.err(
+                    *l,
+                    format!(
+                        "*EQUATION: {n} terms need {} numbers after the count",
+                        3 * n
+                    ),
+                )
+            })?;
+            let mut out = Vec::with_capacity(n);
+            for t in terms.chunks(3) {
+                let line = t[0].1;
+                let values: Vec<String> = t.iter().map(|x| x.0.clone()).collect();
+                let dof = self.dof(&values, 1, line)?;
+                if dof > 3 {
+                    return Err(self.src.err(
+                        line,
+                        "*EQUATION: impact's constraints act on translations (dofs 1 to 3)",
+                    ));
+                }
+                let c = self.number(&values, 2, line, "*EQUATION coefficient")?;
+                out.push((values[0].clone(), dof - 1, c));
+            }
+            g.equations.push((out, *l));
+            k += 1 + 3 * n;
+        }
+        Ok(())
+    }
+
     /// `*STATIC`: initial increment, period, minimum (and maximum) increment; CalculiX's
     /// defaults 1, 1 and 1e-5 of the period.
     fn statics(&self, b: &Block) -> Result<DeckStep> {
@@ -657,6 +713,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         probes,
         planes: Vec::new(),
         rigid: rigid_bodies,
+        equations: r.equations(&g, &bodies, &on)?,
         bodies: moving,
         step,
         origins: Vec::new(),
@@ -999,6 +1056,36 @@ impl Reader<'_> {
 
     /// The contact pairs, and the rigid bodies whose surfaces they name as masters (each
     /// with that surface).
+    /// Each `*EQUATION`'s terms on the bodies: a node number as the body's `node N` set.
+    fn equations(
+        &self,
+        g: &Gathered,
+        bodies: &[(DeckBody, BodyParts)],
+        on: &On,
+    ) -> Result<Vec<Vec<super::DeckTerm>>> {
+        let mut out = Vec::with_capacity(g.equations.len());
+        for (terms, line) in &g.equations {
+            let mut e = Vec::with_capacity(terms.len());
+            for (set, dof, c) in terms {
+                let Some(found) = self.solids(bodies, set, *line, on)? else {
+                    return Err(self.src.err(*line, format!("*EQUATION on `{set}`, a rigid body's node: impact's constraints act on solids")));
+                };
+                let [h] = &found[..] else {
+                    return Err(self.src.err(
+                        *line,
+                        format!(
+                            "*EQUATION: `{set}` lies on {} bodies; a term is one node's",
+                            found.len()
+                        ),
+                    ));
+                };
+                e.push((h.body.name.clone(), h.set.clone(), *dof, *c));
+            }
+            out.push(e);
+        }
+        Ok(out)
+    }
+
     fn contacts(
         &self,
         g: &Gathered,

@@ -539,6 +539,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         planes: r.walls(&g, &bodies)?,
         bodies: moving,
         probes: Vec::new(),
+        equations: Vec::new(),
         step: DeckStep {
             explicit: g.implicit_step.is_none(),
             end_time,

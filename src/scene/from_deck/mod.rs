@@ -296,6 +296,9 @@ pub(crate) struct DeckStep {
     pub minimum_step: Option<f64>,
 }
 
+/// One term of an `*EQUATION`: body, node set, dof 0-2, coefficient.
+pub(crate) type DeckTerm = (String, String, usize, f64);
+
 /// Everything a scene file would say, read from a deck.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct DeckScene {
@@ -315,6 +318,9 @@ pub(crate) struct DeckScene {
     pub probes: Vec<DeckProbe>,
     pub planes: Vec<DeckPlane>,
     pub rigid: Vec<DeckRigid>,
+    /// `*EQUATION`s: each term's body, node set (`node N` for a node number), dof 0-2 and
+    /// coefficient.
+    pub equations: Vec<Vec<DeckTerm>>,
     pub step: DeckStep,
     /// Where each piece came from, for the scene checker's messages.
     pub origins: Vec<Origin>,
@@ -696,7 +702,25 @@ impl DeckScene {
     }
 
     /// The contacts, the fixes and the probes.
+    fn write_equations(&self, t: &mut String) {
+        for e in &self.equations {
+            let terms: Vec<String> = (e.iter())
+                .map(|(body, set, dof, c)| {
+                    format!(
+                        "{{ body = {}, set = {}, component = \"{}\", coefficient = {} }}",
+                        quoted(body),
+                        quoted(set),
+                        ["x", "y", "z"][*dof],
+                        float(*c)
+                    )
+                })
+                .collect();
+            let _ = writeln!(t, "\n[[equation]]\nterms = [{}]", terms.join(", "));
+        }
+    }
+
     fn write_pieces(&self, t: &mut String) {
+        self.write_equations(t);
         for r in &self.rigid {
             let _ = writeln!(
                 t,

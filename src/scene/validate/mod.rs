@@ -1018,6 +1018,58 @@ impl Checker<'_> {
     }
 
     /// `[[fix]]`: held components of a face, a node set or a region.
+    /// `[[equation]]`: at least one term, each on one node of a body (a `set` or `region`
+    /// that the model checks holds one node), a component and a finite coefficient; the
+    /// first coefficient not 0.
+    fn equations(
+        &self,
+        raw: &[RawEquation],
+        raw_bodies: &[RawBody],
+        bodies: &[BodySpec],
+    ) -> Result<Vec<EquationSpec>> {
+        let mut out = Vec::with_capacity(raw.len());
+        for (i, e) in raw.iter().enumerate() {
+            if e.terms.is_empty() {
+                return Err(self.err(format!("equation[{i}].terms"), "needs at least one term"));
+            }
+            let mut terms = Vec::with_capacity(e.terms.len());
+            for (j, t) in e.terms.iter().enumerate() {
+                let key = |k: &str| format!("equation[{i}].terms[{j}].{k}");
+                let body = self.body_index(&key("body"), &t.body, raw_bodies)?;
+                if t.set.is_none() && t.region.is_none() {
+                    return Err(self.err(key("set"), "give the node by `set` or `region`"));
+                }
+                let nodes =
+                    self.nodes_of(&key, (&None, &t.set, t.region.as_ref()), &bodies[body])?;
+                let component = match t.component.as_str() {
+                    "x" => 0,
+                    "y" => 1,
+                    "z" => 2,
+                    c => {
+                        return Err(
+                            self.err(key("component"), format!("`{c}`: one of \"x\" \"y\" \"z\""))
+                        )
+                    }
+                };
+                let first = j == 0 && t.coefficient == 0.0;
+                if !t.coefficient.is_finite() || first {
+                    return Err(self.err(
+                        key("coefficient"),
+                        format!("{}: a finite number, and not 0 on the first term (the dof the others set)", t.coefficient),
+                    ));
+                }
+                terms.push(TermSpec {
+                    body,
+                    nodes,
+                    component,
+                    coefficient: t.coefficient,
+                });
+            }
+            out.push(EquationSpec { terms });
+        }
+        Ok(out)
+    }
+
     fn fixes(
         &self,
         raw: &[RawFix],
@@ -1304,6 +1356,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
     let contacts = c.contacts(&raw.contact, &raw.body, &bodies, &rigid_bodies)?;
     let planes = c.planes(&raw.rigid_plane, &raw.body, bodies.len())?;
     let fixes = c.fixes(&raw.fix, &raw.body, &bodies, &rigid_bodies)?;
+    let equations = c.equations(&raw.equation, &raw.body, &bodies)?;
     let initial_velocities =
         c.initial_velocities(&raw.initial_velocity, &raw.body, &bodies, &rigid_bodies)?;
     let loads = c.loads(&raw.load, &raw.body, &bodies, &rigid_bodies)?;
@@ -1325,6 +1378,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         planes,
         rigid_bodies,
         fixes,
+        equations,
         initial_velocities,
         loads,
         probes,
