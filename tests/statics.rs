@@ -170,24 +170,25 @@ fn a_prescribed_displacement_is_resisted_by_the_exact_reaction() {
     assert!((strain - work).abs() <= 2e-5 * work, "{strain}");
 }
 
+/// The refusal of the scene `text`, run from `tag`'s folder.
+fn refusal(tag: &str, text: &str) -> String {
+    let dir = out_dir(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    let scene = Scene::load(&path).unwrap();
+    let opts = RunOptions {
+        out: Some(dir.join("out")),
+        quiet: true,
+        ..Default::default()
+    };
+    run(&scene, &opts).expect_err("refused").to_string()
+}
+
 #[test]
 fn a_static_step_refuses_what_it_cannot_solve() {
     let text = stacked_blocks("friction = 0.3", PRESSED);
-    let dir = out_dir("static_refused");
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, &text).unwrap();
-    let scene = Scene::load(&path).unwrap();
-    let e = run(
-        &scene,
-        &RunOptions {
-            out: Some(dir.join("out")),
-            quiet: true,
-            ..Default::default()
-        },
-    )
-    .expect_err("friction is refused")
-    .to_string();
+    let e = refusal("static_refused", &text);
     assert!(e.contains("friction") && e.contains("static"), "{e}");
     // a penalty stiffness outside a static step
     let dynamic = text
@@ -197,18 +198,7 @@ fn a_static_step_refuses_what_it_cannot_solve() {
             "[[material]]\nname = \"soft\"",
             "[[material]]\nname = \"soft\"\ndensity = 1.0",
         );
-    std::fs::write(&path, dynamic).unwrap();
-    let scene = Scene::load(&path).unwrap();
-    let e = run(
-        &scene,
-        &RunOptions {
-            out: Some(dir.join("out")),
-            quiet: true,
-            ..Default::default()
-        },
-    )
-    .expect_err("a penalty law is refused on the implicit path")
-    .to_string();
+    let e = refusal("static_refused_penalty", &dynamic);
     assert!(e.contains("contact[0].stiffness"), "{e}");
 }
 
@@ -417,19 +407,6 @@ poissons_ratio = 0.0
             "poissons_ratio = 0.0",
             "poissons_ratio = 0.0\ndensity = 1.0",
         );
-    let dir = out_dir("static_equations_implicit");
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, dynamic).unwrap();
-    let e = run(
-        &Scene::load(&path).unwrap(),
-        &RunOptions {
-            out: Some(dir.join("out")),
-            quiet: true,
-            ..Default::default()
-        },
-    )
-    .expect_err("refused")
-    .to_string();
+    let e = refusal("static_equations_implicit", &dynamic);
     assert!(e.contains("equation[0]") && e.contains("static"), "{e}");
 }

@@ -272,6 +272,11 @@ impl<'m> StaticSolver<'m> {
         })?;
         self.stats.factorizations += 1;
         self.stats.factorization_seconds += start.elapsed().as_secs_f64();
+        if let Some((_, old)) = &self.factor {
+            let st = old.stats();
+            self.stats.solve_seconds += st.solve_seconds;
+            self.stats.analysis_seconds += st.analysis_seconds;
+        }
         self.factor = Some((set.to_vec(), solver));
         Ok(())
     }
@@ -434,10 +439,19 @@ impl Integrator for StaticSolver<'_> {
         vec![InterfaceEnd::default(); self.model.interfaces.len()]
     }
 
+    /// The last factor's ordering and size, with every factorisation's and solve's count
+    /// and time over the run; `event_steps` counts the increments cut back.
     fn implicit_figures(&self) -> Option<ImplicitFigures> {
+        let mut linear_solver =
+            (self.factor.as_ref()).map_or_else(FactorStats::default, |(_, f)| f.stats());
+        linear_solver.factorizations = self.stats.factorizations;
+        linear_solver.factorization_seconds = self.stats.factorization_seconds;
+        linear_solver.solves = self.stats.solves;
+        linear_solver.solve_seconds += self.stats.solve_seconds;
+        linear_solver.analysis_seconds += self.stats.analysis_seconds;
         Some(ImplicitFigures {
             factorizations: self.stats.factorizations,
-            linear_solver: self.stats.clone(),
+            linear_solver,
             mass_factor: None,
             event_steps: self.state.cutbacks,
             newton: None,
