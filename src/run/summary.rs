@@ -19,7 +19,19 @@ use crate::setup::Setup;
 /// The summary's fields known before the first step.
 pub(super) fn initial_summary(scene: &Scene, setup: &Setup, solver: &dyn Integrator) -> Summary {
     let explicit = solver.method() == Method::Explicit;
+    let statics = solver.method() == Method::Static;
     let model = &setup.model;
+    // a static step's contact: augmented Lagrange on the gap increment (or a penalty law),
+    // without mass
+    let (constraint, penalty, mass) = match (explicit, statics) {
+        (true, _) => ("gap_rate_impulse", "none", "lumped"),
+        (_, true) => ("gap_increment", "stiffness", "none"),
+        _ => (
+            scene.implicit.constraint.name(),
+            scene.implicit.penalty.name(),
+            scene.implicit.mass.name(),
+        ),
+    };
     Summary {
         status: "running".into(),
         scene: scene.path.display().to_string(),
@@ -34,24 +46,9 @@ pub(super) fn initial_summary(scene: &Scene, setup: &Setup, solver: &dyn Integra
             Some(last) => (setup.steps - 1) as f64 * setup.dt + last,
             None => setup.steps as f64 * setup.dt,
         },
-        constraint: if explicit {
-            "gap_rate_impulse"
-        } else {
-            scene.implicit.constraint.name()
-        }
-        .into(),
-        penalty: if explicit {
-            "none"
-        } else {
-            scene.implicit.penalty.name()
-        }
-        .into(),
-        mass: if explicit {
-            "lumped"
-        } else {
-            scene.implicit.mass.name()
-        }
-        .into(),
+        constraint: constraint.into(),
+        penalty: penalty.into(),
+        mass: mass.into(),
         elements: model.mesh.element_count(),
         nodes: model.mesh.node_count(),
         free_dofs: model.fixed.iter().filter(|f| !**f).count(),
