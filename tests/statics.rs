@@ -8,7 +8,7 @@ mod common;
 use common::*;
 
 use impact::run::{run, RunOptions};
-use impact::scene::{DeviceChoice, Scene};
+use impact::scene::Scene;
 use std::path::{Path, PathBuf};
 
 const E: f64 = 1000.0;
@@ -83,17 +83,10 @@ fn run_text(tag: &str, text: &str) -> (impact::output::Summary, History) {
 }
 
 fn run_path(tag: &str, path: &Path) -> (impact::output::Summary, History) {
-    let scene = Scene::load(path).unwrap_or_else(|e| panic!("{tag}: {e}"));
-    let out = out_dir(&format!("{tag}_run"));
-    let opts = RunOptions {
-        out: Some(out.clone()),
-        quiet: true,
-        device: Some(DeviceChoice::Cpu),
-        ..Default::default()
-    };
-    let s = run(&scene, &opts).unwrap_or_else(|e| panic!("{tag}: {e}"));
+    let (s, h) = run_scene_at(path, &out_dir(&format!("{tag}_run")));
+    let s = s.unwrap_or_else(|e| panic!("{tag}: {e}"));
     assert_eq!(s.status, "completed", "{tag}: {:?}", s.warnings);
-    (s, History::read(&out.join("history.csv")))
+    (s, h)
 }
 
 /// The energy balance: what the loads and supports did is the strain energy (and the

@@ -149,3 +149,17 @@ impl LoadForces {
         Self::at(model, t, &self.dots(model, x))
     }
 }
+
+/// The body force m g on the free dofs, from the lumped nodal masses `nodal_mass` (the
+/// implicit and static solvers' external force without the loads).
+pub(crate) fn gravity_force(model: &Model, nodal_mass: &[f64]) -> Vec<f64> {
+    let mut f_ext = vec![0.0; model.dofs()];
+    for (n, &m) in nodal_mass.iter().enumerate() {
+        for a in 0..3 {
+            if !model.fixed[3 * n + a] {
+                f_ext[3 * n + a] = m * model.gravity[a];
+            }
+        }
+    }
+    f_ext
+}

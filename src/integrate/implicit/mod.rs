@@ -58,7 +58,7 @@ use crate::scene::{Acceleration, ConstraintMeasure, ContactSpace, ImplicitSettin
 
 use super::explicit::spin::{BodySpin, Spins};
 use super::integrator::{ImplicitFigures, Integrator, NewtonFigures};
-use super::loads::LoadForces;
+use super::loads::{gravity_force, LoadForces};
 use super::state::{ContactReport, Energies, InterfaceEnd, StepReport};
 use super::SolverState;
 use contact::MultiplierIteration;
@@ -196,7 +196,7 @@ impl<'m> ImplicitSolver<'m> {
             _ => None,
         };
         let ndof = model.dofs();
-        let mut f_ext = gravity_force(model, &asm);
+        let mut f_ext = gravity_force(model, &asm.nodal_mass);
         let loads = LoadForces::new(model, None, None, &f_ext);
         loads.set(model, 0.0, &mut f_ext);
         let mut v = model.initial_velocity.clone();
@@ -1032,17 +1032,4 @@ fn move_dofs(
 
 fn dot_slices(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-/// The body force m g on the free dofs, from the lumped nodal masses.
-fn gravity_force(model: &Model, asm: &Assembled) -> Vec<f64> {
-    let mut f_ext = vec![0.0; model.dofs()];
-    for (n, &m) in asm.nodal_mass.iter().enumerate() {
-        for a in 0..3 {
-            if !model.fixed[3 * n + a] {
-                f_ext[3 * n + a] = m * model.gravity[a];
-            }
-        }
-    }
-    f_ext
 }

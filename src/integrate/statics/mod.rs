@@ -25,7 +25,7 @@ mod contact;
 use crate::backend::Kernels;
 use crate::error::{ImpactError, Result};
 use crate::integrate::integrator::{ImplicitFigures, Integrator};
-use crate::integrate::loads::LoadForces;
+use crate::integrate::loads::{gravity_force, LoadForces};
 use crate::integrate::state::{ContactReport, Energies, InterfaceEnd, StepReport};
 use crate::integrate::SolverState;
 use crate::linalg::{assemble, Assembled, Csc, FactorStats, SpdSolver};
@@ -100,14 +100,7 @@ impl<'m> StaticSolver<'m> {
             .map(|d| settings.stabilisation * d)
             .collect();
         let contact = StaticContact::new(model, &node_stiffness(&asm, &diagonal), PENALTY_FACTOR);
-        let mut f_ext = vec![0.0; ndof];
-        for (n, &m) in asm.nodal_mass.iter().enumerate() {
-            for a in 0..3 {
-                if !model.fixed[3 * n + a] {
-                    f_ext[3 * n + a] = m * model.gravity[a];
-                }
-            }
-        }
+        let f_ext = gravity_force(model, &asm.nodal_mass);
         let loads = LoadForces::new(model, None, None, &f_ext);
         let lambda = contact.lambda.clone();
         let constraints = Constraints::new(&model.equations, &asm.equation, asm.dof_of.len());
@@ -187,18 +180,14 @@ impl<'m> StaticSolver<'m> {
     /// Newton's iteration at the current multipliers: the number of solves, or `None` where
     /// it did not settle.
     fn settle(&mut self) -> Result<Option<usize>> {
-        // the pressed nodes the last solve had (a node on a face's edge may change face
-        // between iterations with the last bits, which changes nothing)
-        let pressed = |set: &[(u32, u32, [u32; 4])]| -> Vec<(u32, u32)> {
-            set.iter().map(|&(i, p, _)| (i, p)).collect()
-        };
-        let mut solved_with: Option<Vec<(u32, u32)>> = None;
+        // the pressed rows the last solve had (each row keeps its face over the increment)
+        let mut solved_with: Option<ActiveSet> = None;
         for k in 0..MAX_NEWTON {
             let mut r = self.residual()?;
             let set = self.contact.active_set();
             let scale = self.force_scale();
             let largest = r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            if solved_with == Some(pressed(&set)) && largest <= FORCE_TOLERANCE * scale {
+            if solved_with.as_ref() == Some(&set) && largest <= FORCE_TOLERANCE * scale {
                 return Ok(Some(k));
             }
             self.factorise(&set)?;
@@ -209,7 +198,7 @@ impl<'m> StaticSolver<'m> {
                 self.state.u[d as usize] += r[e];
             }
             self.constraints.apply(&mut self.state.u);
-            solved_with = Some(pressed(&set));
+            solved_with = Some(set);
         }
         Ok(None)
     }
