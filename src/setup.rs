@@ -137,7 +137,18 @@ pub fn prepare(
 fn refuse_penetration(scene: &Scene, initial: &[InitialContact]) -> Result<()> {
     let policies = scene.penetration_policies();
     for (k, r) in initial.iter().enumerate() {
-        if r.primary_inside > 0 && policies[k] != PenetrationPolicy::Ignore {
+        if policies[k] == PenetrationPolicy::Resolve && scene.run.method != Method::Static {
+            return Err(ImpactError::SceneValue {
+                path: scene.path.clone(),
+                key: format!("{}.initial_penetration", scene.interface_key(k)),
+                message: format!("\"resolve\" pushes overlapping bodies apart in a static step's first increment; the {} path would throw them apart: use \"adjust\" (or method = \"static\")", scene.run.method.name()),
+            });
+        }
+        let accepted = matches!(
+            policies[k],
+            PenetrationPolicy::Ignore | PenetrationPolicy::Resolve
+        );
+        if r.primary_inside > 0 && !accepted {
             return Err(ImpactError::SceneValue {
                 path: scene.path.clone(),
                 key: format!("{}.initial_penetration", scene.interface_key(k)),

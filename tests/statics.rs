@@ -193,6 +193,98 @@ fn a_static_step_refuses_what_it_cannot_solve() {
         );
     let e = refusal("static_refused_penalty", &dynamic);
     assert!(e.contains("contact[0].stiffness"), "{e}");
+    // an interference fit pushed apart outside a static step
+    let resolve = dynamic.replace("stiffness = 100.0", "initial_penetration = \"resolve\"");
+    let e = refusal("static_refused_resolve", &resolve);
+    assert!(e.contains("contact[0]") && e.contains("resolve"), "{e}");
+}
+
+/// A unit cube on z in [0, 1] (its bottom held, its top's z tied together) and a second
+/// cube of side `S` standing on it, turned 45 degrees about z and overlapping it by `G0`;
+/// the second's bottom corner node 10 is the node-based slave surface (`*SURFACE,
+/// TYPE=NODE`), its other bottom corners' z tied to it, its four top corners loaded by 1
+/// each, in a static step with a linear pressure-overclosure of slope `K` (CalculiX's
+/// contact3, written out).
+fn corner_on_cube_deck() -> String {
+    let (c, h, z0) = (0.5, S / 2f64.sqrt(), 1.0 - G0);
+    let mut t = String::from("*NODE, NSET=NALL\n");
+    let base = [[1., 1., 0.], [1., 0., 0.], [1., 0., 1.], [1., 1., 1.]];
+    let base = base
+        .iter()
+        .chain(&[[0., 1., 0.], [0., 0., 0.], [0., 0., 1.], [0., 1., 1.]]);
+    for (i, p) in base.enumerate() {
+        t += &format!("{}, {}, {}, {}\n", i + 1, p[0], p[1], p[2]);
+    }
+    let turned = [
+        [c, c + h, z0],
+        [c + h, c, z0],
+        [c + h, c, z0 + S],
+        [c, c + h, z0 + S],
+        [c - h, c, z0],
+        [c, c - h, z0],
+        [c, c - h, z0 + S],
+        [c - h, c, z0 + S],
+    ];
+    for (i, p) in turned.iter().enumerate() {
+        t += &format!("{}, {}, {}, {}\n", i + 9, p[0], p[1], p[2]);
+    }
+    t += "*ELEMENT, TYPE=C3D8, ELSET=EALL\n1, 1, 2, 3, 4, 5, 6, 7, 8\n2, 9, 10, 11, 12, 13, 14, 15, 16\n";
+    t += "*NSET, NSET=NFIX\n1, 2, 5, 6\n*NSET, NSET=NFIXXY\n3, 4, 7, 8, 9, 10, 13, 14\n";
+    t += "*BOUNDARY\nNFIX, 1, 3\nNFIXXY, 1, 2\n";
+    for (n, m) in [(4, 3), (7, 3), (8, 3), (9, 10), (13, 10), (14, 10)] {
+        t += &format!("*EQUATION\n2\n{n}, 3, 1., {m}, 3, -1.\n");
+    }
+    t += "*MATERIAL, NAME=EL\n*ELASTIC\n210000., .3\n*SOLID SECTION, ELSET=EALL, MATERIAL=EL\n";
+    t += "*ELSET, ELSET=EMAST\n1\n*NSET, NSET=NSLAV\n10\n*SURFACE, NAME=SMAST\nEMAST, S5\n";
+    t += "*SURFACE, NAME=SSLAV, TYPE=NODE\nNSLAV\n";
+    t += "*CONTACT PAIR, INTERACTION=SI1, TYPE=NODE TO SURFACE\nSSLAV, SMAST\n";
+    t += &format!("*SURFACE INTERACTION, NAME=SI1\n*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n{K:e}, 3.\n");
+    t += "*STEP\n*STATIC\n*CLOAD\n11, 3, -1.\n12, 3, -1.\n15, 3, -1.\n16, 3, -1.\n";
+    t += "*NODE PRINT, NSET=NALL\nU\n*END STEP\n";
+    t
+}
+
+const S: f64 = 0.2;
+const G0: f64 = 0.02;
+const K: f64 = 1e7;
+
+/// The slave node of a node-based surface that covers no face takes a quarter of each of
+/// its three boundary faces as its area, 3 S^2 / 4: the overlap left under the load of 4 is
+/// 4 / (K 3 S^2 / 4). The first increment pushes the 0.02 overlap apart (an interference
+/// fit, initial_penetration = "resolve"), its springs' energy 1/2 K A G0^2 held at t = 0.
+#[test]
+fn a_node_based_slave_node_carries_the_load_through_its_three_faces() {
+    let deck = written_deck("corner_on_cube", &corner_on_cube_deck());
+    let (_, h) = run_path("corner_on_cube", &deck);
+    let area = 3.0 * S * S / 4.0;
+    let overlap = G0 - (h.last("NALL_10.uz") - h.last("NALL_3.uz"));
+    let expected = 4.0 / (K * area);
+    // the stabilisation's springs take 1e-6 of the stiffness times the 0.02 lift
+    assert!(
+        (overlap - expected).abs() <= 1e-3 * expected,
+        "overlap {overlap:e} against {expected:e}"
+    );
+    let stored = 0.5 * K * area * G0 * G0;
+    let e0 = h.col("total_energy")[0];
+    assert!(
+        (e0 - stored).abs() <= 1e-9 * stored,
+        "{e0} against {stored}"
+    );
+    // the same deck in a dynamic step: "resolve" is a static step's
+    let dynamic = corner_on_cube_deck()
+        .replace("*STEP\n*STATIC\n", "*STEP\n*DYNAMIC\n1e-7, 1e-6\n")
+        .replace(".3\n*SOLID", ".3\n*DENSITY\n7.8e-9\n*SOLID");
+    let scene = written_deck("corner_on_cube_dynamic", &dynamic);
+    let e = impact::run::run(
+        &Scene::load(&scene).unwrap(),
+        &RunOptions {
+            out: Some(out_dir("corner_on_cube_dynamic_run")),
+            quiet: true,
+            ..Default::default()
+        },
+    );
+    let e = e.expect_err("refused").to_string();
+    assert!(e.contains("initial_penetration"), "{e}");
 }
 
 /// CalculiX's test decks (Debian `calculix-ccx-test`), where installed.
@@ -325,6 +417,9 @@ fn calculix_static_contact_decks_match_their_reference_output() {
         ("cubespring", 0.01),
         ("hueeber1", 0.01),
         ("hueeber3", 0.01),
+        // a node-based slave surface of one node, overlapping by 0.02 and by 1e-4
+        ("contact3", 1e-3),
+        ("contact6", 0.01),
     ] {
         let d = ccx_difference(&dir, name);
         assert!(

@@ -535,6 +535,11 @@ pub fn surface_nodes(model: &Model) -> Vec<u32> {
     });
     let mut nodes: Vec<u32> = (model.interfaces.iter())
         .flat_map(|itf| itf.nodes.iter().copied())
+        // a node set's areas come from faces with corners outside it
+        .chain(
+            (model.interfaces.iter())
+                .flat_map(|itf| itf.secondary_faces.iter().flat_map(|f| f.slots())),
+        )
         .chain(model.queries.faces.iter().flatten().copied())
         .chain(bodies)
         .collect();

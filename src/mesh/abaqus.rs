@@ -938,7 +938,6 @@ impl Reader {
         }
         for surface in &self.node_surfaces {
             node_sets.push(self.node_surface(surface)?);
-            mesh.node_surfaces.push(surface.0.clone());
         }
         // a node number where a set may stand: the set of that node, named so that no deck's
         // set can take the name (a number no *NODE gives is left to the scene, which names

@@ -27,7 +27,4 @@ pub struct FileMesh {
     pub axes: ElementAxes,
     /// Keywords the reader passed over, with their lines (an Abaqus deck's materials, steps).
     pub skipped: Vec<(String, usize)>,
-    /// The node-based surfaces (`*SURFACE, TYPE=NODE`), each also a node set of its name:
-    /// a contact takes the boundary faces their nodes cover.
-    pub node_surfaces: Vec<String>,
 }

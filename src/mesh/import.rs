@@ -171,7 +171,7 @@ pub(crate) fn finish(
     })?;
     let boundary = boundary_faces(&elements);
     let index = BoundaryIndex::new(&boundary);
-    let mut surfaces: Vec<Surface> = file
+    let surfaces: Vec<Surface> = file
         .surfaces
         .into_iter()
         .map(|s| boundary_surface(s, &new_index, &index))
@@ -181,12 +181,6 @@ pub(crate) fn finish(
         .into_iter()
         .map(|s| renumber_node_set(s, &new_index))
         .collect();
-    for name in &file.node_surfaces {
-        let set = node_sets.iter().find(|s| s.name.eq_ignore_ascii_case(name));
-        if let Some(s) = set.and_then(|s| covered_faces(s, &boundary, nodes.len())) {
-            surfaces.push(s);
-        }
-    }
     Ok(BodyParts {
         nodes,
         elements,
@@ -194,25 +188,6 @@ pub(crate) fn finish(
         surfaces,
         node_sets,
         axes: file.axes,
-    })
-}
-
-/// The surface of a node-based surface's set: the boundary faces whose corners it holds
-/// all, as a contact's secondary side takes them (their nodes and tributary areas); `None`
-/// where it covers no face.
-fn covered_faces(set: &NodeSet, boundary: &[Face], node_count: usize) -> Option<Surface> {
-    let mut held = vec![false; node_count];
-    for &n in &set.nodes {
-        held[n as usize] = true;
-    }
-    let mut faces: Vec<Face> = (boundary.iter())
-        .filter(|f| f.slots().iter().all(|&n| held[n as usize]))
-        .copied()
-        .collect();
-    faces.sort_unstable_by_key(Face::slots);
-    (!faces.is_empty()).then(|| Surface {
-        name: set.name.clone(),
-        faces,
     })
 }
 

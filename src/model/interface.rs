@@ -40,6 +40,9 @@ pub struct Interface {
     pub area: Vec<f64>,
     /// The secondary faces the nodes and areas come from.
     pub secondary_faces: Vec<Face>,
+    /// The secondary side is a node set: `nodes` are its nodes alone, and their areas come
+    /// from `secondary_faces` by [`node_set_areas`].
+    pub node_based: bool,
     pub primary: Primary,
     /// A penalty law's pressure per unit penetration (none: hard contact).
     pub stiffness: Option<f64>,
@@ -73,4 +76,30 @@ pub fn tributary_areas(mesh: &Mesh, faces: &[Face]) -> (Vec<u32>, Vec<f64>) {
         }
     }
     (nodes, area)
+}
+
+/// The tributary areas of a node set's nodes as a contact's secondary side: a node takes a
+/// quarter of each of `faces` at it whose corners the set holds all (a third of a triangle);
+/// a node on no such face takes that share of every one of `faces` at it.
+pub fn node_set_areas(mesh: &Mesh, nodes: &[u32], faces: &[Face]) -> Vec<f64> {
+    let held = |n: &u32| nodes.binary_search(n).is_ok();
+    let mut covered = vec![0.0; nodes.len()];
+    let mut any = vec![0.0; nodes.len()];
+    for f in faces {
+        let a = quad_area(&f.slots().map(|n| mesh.nodes[n as usize]));
+        let corners = f.corners();
+        let share = a / corners.len() as f64;
+        let whole = corners.iter().all(held);
+        for n in corners {
+            if let Ok(i) = nodes.binary_search(n) {
+                any[i] += share;
+                if whole {
+                    covered[i] += share;
+                }
+            }
+        }
+    }
+    (covered.into_iter().zip(any))
+        .map(|(c, a)| if c > 0.0 { c } else { a })
+        .collect()
 }

@@ -22,7 +22,7 @@ use crate::geometry::vector::{bbox_diagonal, norm, sub};
 use crate::kernels::{ContactQueries, ElementData};
 use crate::material::Elastic;
 use crate::mesh::{Face, Mesh};
-use crate::scene::{ContactSpec, NodeSelection, PrimarySide, Scene};
+use crate::scene::{ContactSpec, NodeSelection, PrimarySide, Scene, SecondarySide};
 
 #[derive(Debug, Clone)]
 pub struct Probe {
@@ -180,7 +180,10 @@ impl Model {
     /// (after nodes were moved onto a surface at t = 0).
     pub fn refresh_areas(&mut self) {
         for itf in &mut self.interfaces {
-            itf.area = tributary_areas(&self.mesh, &itf.secondary_faces).1;
+            itf.area = match itf.node_based {
+                true => interface::node_set_areas(&self.mesh, &itf.nodes, &itf.secondary_faces),
+                false => tributary_areas(&self.mesh, &itf.secondary_faces).1,
+            };
         }
     }
 
@@ -396,8 +399,7 @@ fn interfaces(
     let mut queries = ContactQueries::default();
     let mut interfaces = Vec::new();
     for (i, c) in scene.contacts.iter().enumerate() {
-        let sec = &secondary_faces(scene, mesh, (i, c))?;
-        let (nodes, area) = tributary_areas(mesh, sec);
+        let (nodes, area, sec) = &secondary_side(scene, mesh, (i, c))?;
         let primary = match c.primary {
             PrimarySide::RigidBody(b) => Primary::Rigid {
                 body: b,
@@ -409,7 +411,7 @@ fn interfaces(
                 let faces = &mesh.bodies[p.body].surfaces[p.surface].faces;
                 queries.faces.extend(faces.iter().map(Face::slots));
                 let q0 = queries.secondary.len();
-                queries.secondary.extend_from_slice(&nodes);
+                queries.secondary.extend_from_slice(nodes);
                 Primary::Surface {
                     body: p.body,
                     faces: f0..queries.faces.len(),
@@ -420,9 +422,10 @@ fn interfaces(
         interfaces.push(Interface {
             name: c.name.clone(),
             law: ContactLaw::of_friction(c.friction),
-            nodes,
-            area,
+            nodes: nodes.clone(),
+            area: area.clone(),
             secondary_faces: sec.clone(),
+            node_based: matches!(c.secondary, SecondarySide::Nodes { .. }),
             primary,
             stiffness: c.stiffness,
         });
@@ -441,6 +444,7 @@ fn interfaces(
             nodes,
             area,
             secondary_faces: quads,
+            node_based: false,
             primary: Primary::Plane {
                 point: p.point,
                 normal: p.normal,
@@ -457,25 +461,74 @@ pub(crate) fn in_region(p: [f64; 3], (min, max): ([f64; 3], [f64; 3])) -> bool {
     (0..3).all(|a| p[a] >= min[a] - 1e-12 && p[a] <= max[a] + 1e-12)
 }
 
-/// A contact's secondary faces: its surface's, those with every node inside its `region`
-/// where it has one (a region that holds none is an error naming it).
-fn secondary_faces(scene: &Scene, mesh: &Mesh, (i, c): (usize, &ContactSpec)) -> Result<Vec<Face>> {
-    let faces = &mesh.bodies[c.secondary.body].surfaces[c.secondary.surface].faces;
+/// A contact's secondary nodes, their tributary areas and the faces those come from.
+fn secondary_side(
+    scene: &Scene,
+    mesh: &Mesh,
+    (i, c): (usize, &ContactSpec),
+) -> Result<(Vec<u32>, Vec<f64>, Vec<Face>)> {
+    let err = |k: &str, message: String| ImpactError::SceneValue {
+        path: scene.path.clone(),
+        key: format!("contact[{i}].{k} (contact `{}`)", c.name),
+        message,
+    };
+    let SecondarySide::Nodes { body, set } = c.secondary else {
+        let faces = secondary_faces(mesh, c).ok_or_else(|| {
+            err(
+                "region",
+                "holds no whole face of the secondary surface: nothing would touch".into(),
+            )
+        })?;
+        let (nodes, area) = tributary_areas(mesh, &faces);
+        return Ok((nodes, area, faces));
+    };
+    let b = &mesh.bodies[body];
+    let mut nodes: Vec<u32> = (b.node_sets[set].nodes.iter().copied())
+        .filter(|&n| {
+            c.region
+                .is_none_or(|r| in_region(mesh.nodes[n as usize], r))
+        })
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    let faces: Vec<Face> = (b.boundary.iter())
+        .filter(|f| f.corners().iter().any(|n| nodes.binary_search(n).is_ok()))
+        .copied()
+        .collect();
+    let on_boundary = Mesh::face_nodes(&faces);
+    let inside = nodes
+        .iter()
+        .filter(|n| on_boundary.binary_search(n).is_err())
+        .count();
+    if nodes.is_empty() || inside > 0 {
+        let what = match nodes.len() {
+            0 => "holds no node (inside the region, where one is given)".to_string(),
+            _ => format!("holds {inside} node(s) inside the body, off its boundary: a secondary node lies on the surface"),
+        };
+        return Err(err(
+            "secondary.set",
+            format!("node set `{}` {what}", b.node_sets[set].name),
+        ));
+    }
+    let area = interface::node_set_areas(mesh, &nodes, &faces);
+    Ok((nodes, area, faces))
+}
+
+/// A surface secondary side's faces: its surface's, those with every node inside its
+/// `region` where it has one (`None` where the region holds none).
+fn secondary_faces(mesh: &Mesh, c: &ContactSpec) -> Option<Vec<Face>> {
+    let SecondarySide::Faces(s) = c.secondary else {
+        return None;
+    };
+    let faces = &mesh.bodies[s.body].surfaces[s.surface].faces;
     let Some((min, max)) = c.region else {
-        return Ok(faces.clone());
+        return Some(faces.clone());
     };
     let kept: Vec<Face> = (faces.iter())
         .filter(|f| (f.corners().iter()).all(|&n| in_region(mesh.nodes[n as usize], (min, max))))
         .copied()
         .collect();
-    if kept.is_empty() {
-        return Err(ImpactError::SceneValue {
-            path: scene.path.clone(),
-            key: format!("contact[{i}].region (contact `{}`)", c.name),
-            message: "holds no whole face of the secondary surface: nothing would touch".into(),
-        });
-    }
-    Ok(kept)
+    (!kept.is_empty()).then_some(kept)
 }
 
 /// A probe's point may lie at most this fraction of its body's bounding-box diagonal from

@@ -42,7 +42,7 @@ option_names!(PenaltyLaw { Adaptive = "adaptive", Fixed = "fixed" });
 option_names!(Acceleration { Anderson = "anderson", Newton = "newton", None = "none" });
 option_names!(ContactSpace { Auto = "auto", Off = "off" });
 option_names!(MassKind { Lumped = "lumped", Consistent = "consistent" });
-option_names!(PenetrationPolicy { Error = "error", Adjust = "adjust", Ignore = "ignore" });
+option_names!(PenetrationPolicy { Error = "error", Adjust = "adjust", Ignore = "ignore", Resolve = "resolve" });
 option_names!(Ordering { NestedDissection = "nested_dissection", Amd = "amd" });
 
 /// Summaries name the ordering.
@@ -164,6 +164,9 @@ pub enum PenetrationPolicy {
     Adjust,
     /// Run as given; the run ends with a warning.
     Ignore,
+    /// A static step's first increment pushes the bodies apart (an interference fit), as
+    /// CalculiX resolves a deck's overclosure; static steps only.
+    Resolve,
 }
 
 /// Settings of the explicit central-difference path (`[explicit]`).
@@ -350,20 +353,38 @@ impl BodySpec {
 
 /// A surface of a body: for a box, `surface` is a [`BoxFace`] as `usize`; for an imported
 /// mesh, an index into its named surfaces.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SurfaceRef {
     pub body: usize,
     pub surface: usize,
 }
 
+/// The secondary side of a `[[contact]]`: a body's faces, or a node set of it (`set`, a
+/// deck's node-based surface), whose nodes alone take part.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SecondarySide {
+    Faces(SurfaceRef),
+    Nodes { body: usize, set: usize },
+}
+
+impl SecondarySide {
+    pub fn body(&self) -> usize {
+        match *self {
+            Self::Faces(s) => s.body,
+            Self::Nodes { body, .. } => body,
+        }
+    }
+}
+
 #[derive(Debug, Clone)]
 pub struct ContactSpec {
     pub name: String,
-    pub secondary: SurfaceRef,
+    pub secondary: SecondarySide,
     pub primary: PrimarySide,
     pub friction: f64,
     pub initial_penetration: PenetrationPolicy,
-    /// `region`: only the secondary faces with every node inside this box take part.
+    /// `region`: only the secondary faces with every node inside this box take part (of a
+    /// node set, the nodes inside it).
     pub region: Option<([f64; 3], [f64; 3])>,
     /// `adjust`: secondary nodes in front of the primary surface by at most this at t = 0
     /// are moved onto it (0: none).

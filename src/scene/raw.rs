@@ -221,13 +221,15 @@ pub(crate) struct RawBody {
     pub plies: Option<RawPlies>,
 }
 
-#[derive(Debug, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawSurfaceRef {
     pub body: Option<String>,
     pub rigid_body: Option<String>,
     pub face: Option<String>,
     pub surface: Option<String>,
+    /// A node set: a contact's secondary side of nodes alone.
+    pub set: Option<String>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

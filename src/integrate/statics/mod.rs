@@ -104,7 +104,7 @@ impl<'m> StaticSolver<'m> {
         let loads = LoadForces::new(model, None, None, &f_ext);
         let lambda = contact.lambda.clone();
         let constraints = Constraints::new(&model.equations, &asm.equation, asm.dof_of.len());
-        Ok(StaticSolver {
+        let mut solver = StaticSolver {
             model,
             kernels,
             settings,
@@ -132,7 +132,13 @@ impl<'m> StaticSolver<'m> {
             factor: None,
             stats: FactorStats::default(),
             clock: 0.0,
-        })
+        };
+        // the rows at t = 0: an overlap there (an interference fit) holds the energy of
+        // its penalty springs from the start
+        let margin = solver.contact.face_size;
+        (solver.contact).broad_phase(model, &solver.u_start, margin);
+        (solver.contact).kinematics(model, solver.kernels.as_mut(), &solver.zero, &solver.zero)?;
+        Ok(solver)
     }
 
     /// The prescribed dofs' displacements at time `t`: the moving fixes' and prescribed

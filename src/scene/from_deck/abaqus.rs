@@ -1101,7 +1101,7 @@ impl Reader<'_> {
             });
             let first = found.next().ok_or_else(|| {
                 let message = match g.node_surfaces.iter().any(|s| s.eq_ignore_ascii_case(surface)) {
-                    true => format!("surface `{surface}` is a node-based surface (*SURFACE, TYPE=NODE) whose nodes cover no boundary face of one body: its contact takes the faces the nodes cover, with their areas"),
+                    true => format!("surface `{surface}` is a node-based surface (*SURFACE, TYPE=NODE): a contact's master side is element faces"),
                     false => format!("no body's elements hold surface `{surface}`"),
                 };
                 self.src.err(line, message)
@@ -1145,16 +1145,46 @@ impl Reader<'_> {
             };
             let static_step = g.step.as_ref().is_some_and(|s| s.minimum_step.is_some());
             let stiffness = g.stiffness.get(interaction).filter(|_| static_step);
+            let secondary_nodes = (g.node_surfaces.iter()).any(|s| s.eq_ignore_ascii_case(slave));
             out.push(DeckContact {
                 stiffness: stiffness.map(|s| s.0),
                 name: format!("{slave}-{master}"),
-                secondary: owner(slave, *line)?,
+                secondary: match secondary_nodes {
+                    true => self.node_surface_owner(bodies, slave, *line)?,
+                    false => owner(slave, *line)?,
+                },
+                secondary_nodes,
                 adjust: g.adjust.get(line).copied(),
                 primary,
                 friction,
             });
         }
         Ok((out, used))
+    }
+
+    /// The body whose nodes a node-based surface's set holds: one body's (its nodes on
+    /// several bodies are refused).
+    fn node_surface_owner(
+        &self,
+        bodies: &[(DeckBody, BodyParts)],
+        surface: &str,
+        line: usize,
+    ) -> Result<(String, String)> {
+        let mut found = (bodies.iter()).filter_map(|(b, p)| {
+            (p.node_sets.iter())
+                .find(|s| s.name.eq_ignore_ascii_case(surface) && !s.nodes.is_empty())
+                .map(|s| (b.name.clone(), s.name.clone()))
+        });
+        let first = found.next().ok_or_else(|| {
+            self.src.err(
+                line,
+                format!("node-based surface `{surface}` holds no node of a deformable body"),
+            )
+        })?;
+        match found.next() {
+            Some((other, _)) => Err(self.src.err(line, format!("node-based surface `{surface}` holds nodes of bodies `{}` and `{other}`: a contact's slave side is one body's", first.0))),
+            None => Ok(first),
+        }
     }
 
     /// A rigid body as a contact's master through `surface`, added to `used` the first

@@ -887,6 +887,7 @@ impl Reader<'_> {
             out.push(DeckContact {
                 name: format!("contact{}", k + 1),
                 secondary: owner(s, *line)?,
+                secondary_nodes: false,
                 adjust: None,
                 stiffness: None,
                 primary,

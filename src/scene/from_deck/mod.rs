@@ -269,6 +269,8 @@ impl DeckRigid {
 pub(crate) struct DeckContact {
     pub name: String,
     pub secondary: (String, String),
+    /// The secondary side is a node-based surface: the body's node set of that name.
+    pub secondary_nodes: bool,
     pub primary: PrimarySide,
     pub friction: f64,
     /// Abaqus's `ADJUST=`: the slave nodes within it (in front, or behind) are moved onto
@@ -754,16 +756,24 @@ impl DeckScene {
                 }
                 PrimarySide::Rigid(r) => format!("{{ rigid_body = {} }}", quoted(r)),
             };
+            let kind = if c.secondary_nodes { "set" } else { "surface" };
             let _ = writeln!(
                 t,
-                "\n[[contact]]\nname = {}\nsecondary = {{ body = {}, surface = {} }}\nprimary = {primary}\nfriction = {}",
+                "\n[[contact]]\nname = {}\nsecondary = {{ body = {}, {kind} = {} }}\nprimary = {primary}\nfriction = {}",
                 quoted(&c.name),
                 quoted(&c.secondary.0),
                 quoted(&c.secondary.1),
                 float(c.friction)
             );
-            if let Some(d) = c.adjust {
-                let _ = writeln!(t, "adjust = {}\ninitial_penetration = \"adjust\"", float(d));
+            match c.adjust {
+                Some(d) => {
+                    let _ = writeln!(t, "adjust = {}\ninitial_penetration = \"adjust\"", float(d));
+                }
+                // CalculiX's static step pushes an overclosure apart in its first increment
+                None if self.step.minimum_step.is_some() => {
+                    let _ = writeln!(t, "initial_penetration = \"resolve\"");
+                }
+                None => {}
             }
             if let Some(k) = c.stiffness {
                 let _ = writeln!(t, "stiffness = {}", float(k));

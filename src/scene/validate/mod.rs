@@ -377,6 +377,12 @@ impl Checker<'_> {
                 },
             ));
         }
+        if r.set.is_some() {
+            return Err(self.err(
+                key(&format!("{side}.set")),
+                "names a node set: only a contact's secondary side may be nodes alone; give `face` or `surface`",
+            ));
+        }
         let body = self.body_index(&key(&format!("{side}.body")), name, raw_bodies)?;
         let surface = match (&r.face, &r.surface) {
             (Some(f), None) => self.face_of(&key(&format!("{side}.face")), f, &bodies[body])?,
@@ -391,6 +397,44 @@ impl Checker<'_> {
             }
         };
         Ok(SurfaceRef { body, surface })
+    }
+
+    /// The `secondary` of a `[[contact]]`: a body's `face` or `surface`, or its node set
+    /// `set` (the nodes alone, as a deck's node-based surface).
+    fn secondary_side(
+        &self,
+        key: &dyn Fn(&str) -> String,
+        r: &RawSurfaceRef,
+        raw_bodies: &[RawBody],
+        bodies: &[BodySpec],
+    ) -> Result<SecondarySide> {
+        let (Some(set), Some(name)) = (&r.set, &r.body) else {
+            let s = RawSurfaceRef {
+                set: None,
+                ..r.clone()
+            };
+            return Ok(SecondarySide::Faces(self.surface_ref(
+                key,
+                "secondary",
+                &s,
+                raw_bodies,
+                bodies,
+            )?));
+        };
+        if r.face.is_some() || r.surface.is_some() || r.rigid_body.is_some() {
+            return Err(self.err(
+                key("secondary.set"),
+                "give one of `face`, `surface` or `set` with `body`",
+            ));
+        }
+        let body = self.body_index(&key("secondary.body"), name, raw_bodies)?;
+        match self.node_set(&key("secondary.set"), set, &bodies[body])? {
+            NodeSelection::Set(set) => Ok(SecondarySide::Nodes { body, set }),
+            _ => Err(self.err(
+                key("secondary.set"),
+                format!("`{set}` is a surface, not a node set: give it as `surface`"),
+            )),
+        }
     }
 
     /// The `primary` of a `[[contact]]`: a meshed body's surface or a rigid body.
@@ -914,10 +958,9 @@ impl Checker<'_> {
         let mut contacts: Vec<ContactSpec> = Vec::new();
         for (i, ct) in raw.iter().enumerate() {
             let key = |k: &str| format!("contact[{i}].{k} (contact `{}`)", ct.name);
-            let secondary =
-                self.surface_ref(&key, "secondary", &ct.secondary, raw_bodies, bodies)?;
+            let secondary = self.secondary_side(&key, &ct.secondary, raw_bodies, bodies)?;
             let primary = self.primary_side(&key, &ct.primary, (raw_bodies, bodies), rigid)?;
-            if matches!(primary, PrimarySide::Surface(p) if p.body == secondary.body) {
+            if matches!(primary, PrimarySide::Surface(p) if p.body == secondary.body()) {
                 return Err(self.err(
                     key("primary.body"),
                     "self-contact (secondary and primary on the same body) is not supported",
@@ -927,10 +970,8 @@ impl Checker<'_> {
                 PrimarySide::Surface(s) => (s.body, s.surface, false),
                 PrimarySide::RigidBody(b) => (b, 0, true),
             };
-            let same = |c: &ContactSpec| {
-                (c.secondary.body, c.secondary.surface, side(&c.primary))
-                    == (secondary.body, secondary.surface, side(&primary))
-            };
+            let same =
+                |c: &ContactSpec| (c.secondary, side(&c.primary)) == (secondary, side(&primary));
             if let Some((j, c)) = contacts.iter().enumerate().find(|(_, c)| same(c)) {
                 return Err(self.err(
                     key("secondary"),
