@@ -42,6 +42,8 @@ pub struct Setup {
     pub warnings: Vec<Warning>,
     /// The damage kernels' inputs, where a material damages.
     pub damage: Option<crate::kernels::damage_data::DamageData>,
+    /// Each `[[step]]` after the first: the run's step from which it holds, and its model.
+    pub stages: Vec<(usize, Model)>,
 }
 
 /// Builds and checks the model and picks the device, method and step. `notice` receives
@@ -117,7 +119,18 @@ pub fn prepare(
     memory::check(scene, &estimate, built)?;
     let damage = model.damage_data();
     clock.lap("damage");
+    if !scene.steps.is_empty() && scene.run.time_step != Some(dt) {
+        return Err(ImpactError::SceneValue {
+            path: scene.path.clone(),
+            key: "step[0].start".into(),
+            message: format!("the run's steps are {dt:e} long, not run.time_step: the steps could not land on the [[step]] starts"),
+        });
+    }
+    let stages = (scene.steps.iter().map(|s| (s.start / dt).round() as usize))
+        .zip(model.for_steps(scene)?)
+        .collect();
     Ok(Setup {
+        stages,
         damage,
         model,
         ctx,
@@ -330,13 +343,17 @@ fn refuse_implicit(scene: &Scene, model: &Model, method: Method) -> Result<()> {
             None => Ok(()),
         };
     }
-    if !model.equations.is_empty() {
+    let contact = !model.interfaces.is_empty() || !model.cohesive.is_empty();
+    if !model.equations.is_empty() && (method != Method::Implicit || contact) {
+        let why = match method {
+            Method::Implicit => "the implicit path takes them without contact (its contact iteration works on the unconstrained factor)".to_string(),
+            m => format!("the {} path does not take them", m.name()),
+        };
         return Err(ImpactError::Unsupported {
             path: scene.path.clone(),
             key: "equation[0]".into(),
             message: format!(
-                "linear constraints are honoured by static steps (method = \"static\"); the {} path does not take them",
-                method.name()
+                "linear constraints are honoured by static steps (method = \"static\") and implicit ones without contact; {why}"
             ),
         });
     }

@@ -417,11 +417,25 @@ fn what_a_deck_asks_that_impact_cannot_honour_is_refused_by_keyword_and_line() {
         &plastic,
         &["bad.inp:128", "*PLASTIC", "cannot honour"],
     );
+    // a second step goes on from the first: its procedure and increment the first's, and
+    // between the two only equations may change
     let second = deck.clone() + "*STEP\n*DYNAMIC\n0.01, 0.4\n*END STEP\n";
+    let scene =
+        Scene::load(written("deck_second_step", "bad.inp", &second)).expect("a second step reads");
+    assert_eq!(scene.run.end_time, 0.8);
+    assert_eq!(scene.steps.len(), 1);
+    assert_eq!(scene.steps[0].start, 0.4);
+    let loaded = deck.clone() + "*STEP\n*DYNAMIC\n0.01, 0.4\n*CLOAD\n1, 1, 1.0\n*END STEP\n";
     refused(
-        "deck_second_step",
-        &second,
-        &["bad.inp:149", "second *STEP"],
+        "deck_second_step_load",
+        &loaded,
+        &["bad.inp:152", "*CLOAD in a later *STEP"],
+    );
+    let other = deck.clone() + "*STEP\n*DYNAMIC\n0.02, 0.4\n*END STEP\n";
+    refused(
+        "deck_second_step_increment",
+        &other,
+        &["bad.inp:150", "*DYNAMIC in a later *STEP", "increment"],
     );
     let moved = edit(
         &deck,

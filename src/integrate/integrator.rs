@@ -204,6 +204,12 @@ pub trait Integrator {
     /// Makes the next step `dt` long (the shortened last step).
     fn shorten_step(&mut self, _dt: f64) {}
 
+    /// At the start of a `[[step]]` that changed the model: the state's acceleration made
+    /// the one the new model gives (the explicit and static paths keep none between steps).
+    fn begin_step(&mut self) -> Result<()> {
+        Ok(())
+    }
+
     /// Puts the clock exactly on `time` after the shortened last step.
     fn end_at(&mut self, _time: f64) {}
 

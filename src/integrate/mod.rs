@@ -1,5 +1,6 @@
 //! Time integration.
 
+pub(crate) mod constraints;
 pub mod explicit;
 pub mod form_trial;
 pub mod implicit;

@@ -421,7 +421,11 @@ impl Parser {
             }
             "EQUATION" => {
                 self.r.skipped.push((k.name.clone(), line_no));
-                Mode::EquationNodes
+                // a later step's `*EQUATION, REMOVE` lists (node, dof) lines
+                match k.params.contains_key("REMOVE") {
+                    true => Mode::NodeNumbers,
+                    false => Mode::EquationNodes,
+                }
             }
             "DLOAD" => {
                 self.r.skipped.push((k.name.clone(), line_no));

@@ -4,7 +4,7 @@
 
 use crate::error::{ImpactError, Result};
 use crate::mesh::Mesh;
-use crate::scene::Scene;
+use crate::scene::{Removal, Scene};
 
 /// One linear constraint: `dependent` = sum of factor x dof over `terms`.
 #[derive(Debug, Clone, PartialEq)]
@@ -17,6 +17,45 @@ pub struct Equation {
 /// dependent dof a `[[fix]]` holds or another equation sets too, and a cycle of equations
 /// are errors naming the equation.
 pub(super) fn equations(scene: &Scene, mesh: &Mesh, fixed: &[bool]) -> Result<Vec<Equation>> {
+    equations_kept(scene, mesh, fixed, &vec![false; scene.equations.len()])
+}
+
+/// Which of the scene's equations the steps up to step `k` (of `scene.steps`) have removed:
+/// all, or those whose first term's dof is a removed one.
+pub(super) fn removed_by(scene: &Scene, mesh: &Mesh, k: usize) -> Vec<bool> {
+    let dependent = |e: &crate::scene::EquationSpec| {
+        let t = &e.terms[0];
+        (super::selection(mesh, t.body, &t.nodes).first()).map(|&n| 3 * n as usize + t.component)
+    };
+    let mut removed = vec![false; scene.equations.len()];
+    for step in &scene.steps[..=k] {
+        let dofs: Vec<usize> = match &step.remove_equations {
+            Removal::None => continue,
+            Removal::All => {
+                removed.fill(true);
+                continue;
+            }
+            Removal::Dofs(d) => (d.iter())
+                .flat_map(|(b, nodes, c)| {
+                    let nodes = super::selection(mesh, *b, nodes);
+                    nodes.into_iter().map(move |n| 3 * n as usize + c)
+                })
+                .collect(),
+        };
+        for (r, e) in removed.iter_mut().zip(&scene.equations) {
+            *r |= dependent(e).is_some_and(|d| dofs.contains(&d));
+        }
+    }
+    removed
+}
+
+/// [`equations`] without those `removed` marks.
+pub(super) fn equations_kept(
+    scene: &Scene,
+    mesh: &Mesh,
+    fixed: &[bool],
+    removed: &[bool],
+) -> Result<Vec<Equation>> {
     let err = |i: usize, message: String| ImpactError::SceneValue {
         path: scene.path.clone(),
         key: format!("equation[{i}]"),
@@ -24,6 +63,9 @@ pub(super) fn equations(scene: &Scene, mesh: &Mesh, fixed: &[bool]) -> Result<Ve
     };
     let mut out: Vec<Equation> = Vec::with_capacity(scene.equations.len());
     for (i, e) in scene.equations.iter().enumerate() {
+        if removed[i] {
+            continue;
+        }
         let mut dofs = Vec::with_capacity(e.terms.len());
         for (j, t) in e.terms.iter().enumerate() {
             let nodes = super::selection(mesh, t.body, &t.nodes);

@@ -176,6 +176,22 @@ impl Model {
             .chain(self.fix_motion.iter().copied())
     }
 
+    /// The model of each of the scene's `[[step]]`s: this one without the equations the
+    /// steps up to it removed.
+    pub fn for_steps(&self, scene: &Scene) -> Result<Vec<Model>> {
+        (0..scene.steps.len())
+            .map(|k| {
+                let removed = equations::removed_by(scene, &self.mesh, k);
+                let equations =
+                    equations::equations_kept(scene, &self.mesh, &self.fixed, &removed)?;
+                Ok(Model {
+                    equations,
+                    ..self.clone()
+                })
+            })
+            .collect()
+    }
+
     /// Recomputes every interface's tributary areas from the current reference coordinates
     /// (after nodes were moved onto a surface at t = 0).
     pub fn refresh_areas(&mut self) {

@@ -70,11 +70,11 @@ pub fn output_dir(scene: &Scene, opts: &RunOptions) -> PathBuf {
 /// checkpoint interval.
 fn build_solver<'m>(
     scene: &Scene,
-    setup: &'m Setup,
+    (setup, model): (&'m Setup, &'m Model),
     speed_scale: f64,
     ranks: Option<&'m dyn Ranks>,
 ) -> Result<Box<dyn Integrator + 'm>> {
-    let (model, dt) = (&setup.model, setup.dt);
+    let dt = setup.dt;
     if let Some(ranks) = ranks {
         let partition = Partition::bisect(model, ranks.size());
         let settings = (&scene.explicit, dt, speed_scale);
@@ -234,6 +234,7 @@ fn run_on(scene: &Scene, opts: &RunOptions, ranks: Option<&dyn Ranks>) -> Result
     };
     let mut progress = Progress::new(setup.steps, opts.quiet);
     for n in running.tally.steps..setup.steps {
+        running.enter_stage(n)?;
         let iterations = running.step(n)?;
         if let Some(err) = running.interrupt(n, opts.interrupt.as_deref()) {
             return Err(err);
@@ -301,6 +302,8 @@ struct Running<'s> {
     start: Instant,
     /// The ranks of a decomposed run.
     ranks: Option<&'s dyn Ranks>,
+    /// The `[[step]]` the solver runs (0: the first, `[run]`'s).
+    stage: usize,
 }
 
 impl<'s> Running<'s> {
@@ -316,7 +319,7 @@ impl<'s> Running<'s> {
         let speed_scale = resumed
             .as_ref()
             .map_or_else(|| scene.speed_scale(), |c| c.speed_scale);
-        let mut solver = build_solver(scene, setup, speed_scale, ranks)?;
+        let mut solver = build_solver(scene, (setup, &setup.model), speed_scale, ranks)?;
         if let Some(p) = solver.pipelined() {
             p.schedule(setup.last_step, scene.checkpoint_every);
         }
@@ -348,6 +351,7 @@ impl<'s> Running<'s> {
             speed_scale,
         };
         Ok(Running {
+            stage: 0,
             scene,
             setup,
             solver,
@@ -393,6 +397,44 @@ impl<'s> Running<'s> {
         self.summary.wall_seconds = self.start.elapsed().as_secs_f64();
         let _ = self.out.summary(&self.summary);
         err
+    }
+
+    /// Before the run's step `n`: where a `[[step]]` holds from then on (or, resumed, from
+    /// earlier), the solver is rebuilt on its model and goes on from the last one's state.
+    fn enter_stage(&mut self, n: usize) -> Result<()> {
+        let stage = (self.setup.stages.iter())
+            .filter(|(from, _)| *from <= n)
+            .count();
+        if stage == self.stage {
+            return Ok(());
+        }
+        let model = &self.setup.stages[stage - 1].1;
+        let Some(state) = self.solver.checkpoint_state()? else {
+            return Err(ImpactError::Unsupported {
+                path: self.scene.path.clone(),
+                key: format!("step[{}]", stage - 1),
+                message: format!(
+                    "the {} engine cannot hand its state to a next step",
+                    self.solver.engine()
+                ),
+            });
+        };
+        let mut solver = build_solver(
+            self.scene,
+            (self.setup, model),
+            self.identity.speed_scale,
+            self.ranks,
+        )?;
+        solver
+            .restore(state)
+            .map_err(|m| self.failed(ImpactError::Solver(m)))?;
+        // entered at its start (not resumed inside it): the acceleration is the new model's
+        if self.setup.stages[stage - 1].0 == n {
+            solver.begin_step()?;
+        }
+        self.solver = solver;
+        self.stage = stage;
+        Ok(())
     }
 
     /// Whether step `n` is the run's last, shortened to end at `end_time`.

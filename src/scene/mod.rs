@@ -455,6 +455,23 @@ pub struct EquationSpec {
     pub terms: Vec<TermSpec>,
 }
 
+/// A `[[step]]` after the first (the `[run]`'s): at `start` the run goes on from the last
+/// step's state without the equations it removes.
+#[derive(Debug, Clone)]
+pub struct StepSpec {
+    pub start: f64,
+    pub remove_equations: Removal,
+}
+
+/// The `[[equation]]`s a step removes: none, all, or those whose dependent dof (their first
+/// term's) is one of these components (body, nodes, component 0-2).
+#[derive(Debug, Clone)]
+pub enum Removal {
+    None,
+    All,
+    Dofs(Vec<(usize, NodeSelection, usize)>),
+}
+
 /// One term of an equation: the one node `nodes` selects on `body`, its component (0-2)
 /// and its coefficient.
 #[derive(Debug, Clone)]
@@ -546,6 +563,8 @@ pub struct Scene {
     pub rigid_bodies: Vec<RigidBodySpec>,
     pub fixes: Vec<FixSpec>,
     pub equations: Vec<EquationSpec>,
+    /// The steps after the first, in time order.
+    pub steps: Vec<StepSpec>,
     /// In the scene's order: where two select a node, the later one's velocity is its.
     pub initial_velocities: Vec<InitialVelocitySpec>,
     /// The `[[load]]`s, in the scene's order.

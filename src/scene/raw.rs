@@ -40,6 +40,8 @@ pub(crate) struct RawScene {
     pub cohesive: Vec<RawCohesive>,
     #[serde(default)]
     pub equation: Vec<RawEquation>,
+    #[serde(default)]
+    pub step: Vec<RawStep>,
     pub output: Option<RawOutput>,
     #[serde(default)]
     pub exact: Vec<RawExact>,
@@ -369,6 +371,32 @@ pub(crate) struct RawFix {
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawEquation {
     pub terms: Vec<RawTerm>,
+}
+
+/// A `[[step]]`: from `start` on, the run goes on with what it changes.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawStep {
+    pub start: f64,
+    pub remove_equations: Option<RawRemoval>,
+}
+
+/// `remove_equations`: `"all"`, or the dependent dofs whose equations end.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(untagged)]
+pub(crate) enum RawRemoval {
+    All(String),
+    Dofs(Vec<RawDof>),
+}
+
+/// One node's component (or each node's of a set or region).
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawDof {
+    pub body: String,
+    pub set: Option<String>,
+    pub region: Option<RawRegion>,
+    pub component: String,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

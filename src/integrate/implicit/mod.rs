@@ -52,10 +52,11 @@ use crate::backend::Kernels;
 use crate::error::{ImpactError, Result};
 use crate::geometry::vector;
 use crate::kernels::contact_gap::NO_FACE;
-use crate::linalg::{assemble, Assembled, FactorStats, SpdSolver};
+use crate::linalg::{assemble, Assembled, Csc, FactorStats, SpdSolver};
 use crate::model::{Model, Primary};
 use crate::scene::{Acceleration, ConstraintMeasure, ContactSpace, ImplicitSettings, Method};
 
+use super::constraints::Constraints;
 use super::explicit::spin::{BodySpin, Spins};
 use super::integrator::{ImplicitFigures, Integrator, NewtonFigures};
 use super::loads::{gravity_force, LoadForces};
@@ -147,6 +148,9 @@ pub struct ImplicitSolver<'m> {
     /// (`acceleration = "newton"`), and the Newton steps' counts.
     flexibility: [Flexibility; 2],
     newton: NewtonFigures,
+    /// The `[[equation]]`s: the effective matrix is condensed by them, each solve's
+    /// residual too, and the dependent dofs follow the others.
+    constraints: Constraints,
 }
 
 /// What one step of length `dt` holds fixed: Newmark's parameters, the effective mass
@@ -179,7 +183,11 @@ impl<'m> ImplicitSolver<'m> {
         kernels: Box<dyn Kernels + 'm>,
     ) -> Result<Self> {
         let c_m = 1.0 / (settings.beta * dt * dt);
-        let asm = assemble(model, settings.mass, c_m);
+        let mut asm = assemble(model, settings.mass, c_m);
+        let constraints = Constraints::new(&model.equations, &asm.equation, asm.dof_of.len());
+        if !constraints.is_empty() {
+            asm.effective = constraints.condense_matrix(&asm.effective);
+        }
         let exact = kernels.unit_roundoff() < 1e-12;
         let plan = FactorPlan::new(model, &settings, &asm, exact)?;
         plan.check()?;
@@ -237,11 +245,15 @@ impl<'m> ImplicitSolver<'m> {
             asm,
             flexibility: Default::default(),
             newton: NewtonFigures::default(),
+            constraints,
         };
         // a_0 = M^-1 f_ext (u_0 = 0, no contact force at t = 0)
         let f = s.f_ext.clone();
         let mut a0 = vec![0.0; ndof];
-        s.apply_mass_inverse(&f, &mut a0);
+        match s.constraints.is_empty() {
+            true => s.apply_mass_inverse(&f, &mut a0),
+            false => s.constrained_acceleration(&f, &mut a0)?,
+        }
         s.a = a0;
         // initial contact kinematics, for the history's first row
         s.contact.broad_phase(s.model, &s.u, &s.v, s.dt);
@@ -333,6 +345,31 @@ impl<'m> ImplicitSolver<'m> {
                 }
             }
         }
+    }
+
+    /// out = T (T^T M T)^-1 T^T f: the acceleration the `[[equation]]`s allow (the lumped
+    /// or consistent mass condensed and factorised for this one solve).
+    fn constrained_acceleration(&mut self, f: &[f64], out: &mut [f64]) -> Result<()> {
+        let n = self.asm.dof_of.len();
+        let m = match &self.asm.consistent_mass {
+            Some(m) => self.constraints.condense_matrix(m),
+            None => {
+                let diagonal = (self.asm.dof_of.iter().enumerate())
+                    .map(|(e, &d)| (e as u32, e as u32, self.asm.nodal_mass[d as usize / 3]))
+                    .collect();
+                Csc::from_triplets(n, self.constraints.condense(diagonal))
+            }
+        };
+        let solver = SpdSolver::new(&m, self.settings.ordering)?;
+        let mut rhs: Vec<f64> = (self.asm.dof_of.iter()).map(|&d| f[d as usize]).collect();
+        self.constraints.condense_residual(&mut rhs);
+        solver.solve_in_place(&mut rhs);
+        out.fill(0.0);
+        for (&x, &d) in rhs.iter().zip(&self.asm.dof_of) {
+            out[d as usize] = x;
+        }
+        self.constraints.apply(out);
+        Ok(())
     }
 
     /// One Newmark step of size `h` from the current state, with the run's effective matrix
@@ -581,8 +618,10 @@ impl<'m> ImplicitSolver<'m> {
         self.work.u_new = u_new;
         self.work.f_c = f_c;
         let mut delta = std::mem::take(&mut self.work.rhs);
+        self.constraints.condense_residual(&mut delta);
         self.effective(sub).solve_in_place(&mut delta);
         let moved = self.move_iterate(&delta);
+        self.constraints.apply(&mut self.work.u_new);
         self.work.rhs = delta;
         self.accept_forces(k);
         self.work.u_base.copy_from_slice(&self.work.u_new);
@@ -951,6 +990,23 @@ impl Integrator for ImplicitSolver<'_> {
 
     fn nodal_mass(&self) -> &[f64] {
         &self.asm.nodal_mass
+    }
+
+    fn begin_step(&mut self) -> Result<()> {
+        // M a = f_ext + f_c - f_int at the state the last step left
+        self.kernels
+            .internal_forces_into(&self.u, &mut self.work.f_int)?;
+        self.contact.forces_into(self.model, &mut self.work.f_c);
+        let f: Vec<f64> = (self.f_ext.iter().zip(&self.work.f_c).zip(&self.work.f_int))
+            .map(|((e, c), i)| e + c - i)
+            .collect();
+        let mut a = vec![0.0; f.len()];
+        match self.constraints.is_empty() {
+            true => self.apply_mass_inverse(&f, &mut a),
+            false => self.constrained_acceleration(&f, &mut a)?,
+        }
+        self.a = a;
+        Ok(())
     }
 
     fn checkpoint_state(&mut self) -> Result<Option<SolverState>> {

@@ -19,9 +19,9 @@
 //! their motion) equals the strain energy plus the contact springs' and the stabilisation's
 //! share: [`Energies::potential`] holds the last two less the external work.
 
-mod constraints;
 mod contact;
 
+use super::constraints::Constraints;
 use crate::backend::Kernels;
 use crate::error::{ImpactError, Result};
 use crate::integrate::integrator::{ImplicitFigures, Integrator};
@@ -31,7 +31,6 @@ use crate::integrate::SolverState;
 use crate::linalg::{assemble, Assembled, Csc, FactorStats, SpdSolver};
 use crate::model::Model;
 use crate::scene::{MassKind, Method, Ordering, StaticSettings};
-use constraints::Constraints;
 use contact::{ActiveSet, StaticContact};
 
 /// The hard contact's penalty: this many times the secondary node's own stiffness over its

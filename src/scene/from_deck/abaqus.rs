@@ -136,6 +136,22 @@ struct Gathered {
     ramp: bool,
     /// The names of the node-based surfaces (`*SURFACE, TYPE=NODE`).
     node_surfaces: Vec<String>,
+    /// The steps after the first.
+    later: Vec<LaterStep>,
+}
+
+/// A `*STEP` after the first: its line, its period, and the equations it removes.
+struct LaterStep {
+    line: usize,
+    period: Option<f64>,
+    remove: Option<DeckRemoval>,
+}
+
+/// `*EQUATION, REMOVE ALL`, or `*EQUATION, REMOVE` with (node or node set, dof 0-2, line)
+/// lines: the equations whose dependent term is that dof end.
+enum DeckRemoval {
+    All,
+    Dofs(Vec<(String, usize, usize)>),
 }
 
 /// An `*EQUATION` term as written: node (or node set), dof 0-2, coefficient.
@@ -193,6 +209,9 @@ impl Reader<'_> {
         // a static step's loads and displacements ramp over it (refused below, but its
         // displacements are not told they jump)
         g.ramp |= b.name == "STATIC";
+        if g.steps > 1 && b.name != "STEP" {
+            return self.later_step(b, g);
+        }
         match b.name.as_str() {
             n if MESH.contains(&n) || n == "END STEP" => {}
             // the heading's line as written (its fields are split at the commas)
@@ -250,7 +269,11 @@ impl Reader<'_> {
                 g.ramp = b.get("AMPLITUDE").is_some_and(|a| a.eq_ignore_ascii_case("RAMP"));
                 g.steps += 1;
                 if g.steps > 1 {
-                    return Err(self.src.err(b.line, "a second *STEP: impact runs one dynamic step; split the analysis into decks of one step each"));
+                    g.later.push(LaterStep {
+                        line: b.line,
+                        period: None,
+                        remove: None,
+                    });
                 }
             }
             "DYNAMIC" => g.step = Some(self.dynamic(b)?),
@@ -268,6 +291,66 @@ impl Reader<'_> {
                     format!("*{n}: impact cannot honour this keyword (it reads elastic solids, rigid bodies of solid elements, their supports, initial velocities, contact pairs with friction, gravity, loads (*CLOAD, pressure *DLOAD, *AMPLITUDE) and one *DYNAMIC step; docs/decks.md lists them)"),
                 ))
             }
+        }
+        Ok(())
+    }
+
+    /// A block of a step after the first: its procedure (the first step's kind and
+    /// increment, a period of its own), `*EQUATION, REMOVE`, and output requests.
+    fn later_step(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        let refuse = |why: &str| {
+            Err(self
+                .src
+                .err(b.line, format!("*{} in a later *STEP: {why}", b.name)))
+        };
+        match b.name.as_str() {
+            "END STEP" => {}
+            "DYNAMIC" | "STATIC" => {
+                let step = match b.name.as_str() {
+                    "DYNAMIC" => self.dynamic(b)?,
+                    _ => self.statics(b)?,
+                };
+                let first = g.step.as_ref();
+                let same = first.is_some_and(|f| {
+                    (f.explicit, f.minimum_step.is_some(), f.time_step)
+                        == (step.explicit, step.minimum_step.is_some(), step.time_step)
+                });
+                if !same {
+                    return refuse("the steps in sequence share the first step's procedure and increment (a preload before an impact is not built yet)");
+                }
+                if let Some(later) = g.later.last_mut() {
+                    later.period = Some(step.end_time);
+                }
+            }
+            "EQUATION" => {
+                let remove = match (b.params.contains_key("REMOVEALL"), b.params.contains_key("REMOVE")) {
+                    (true, _) => DeckRemoval::All,
+                    (false, true) => {
+                        let mut dofs = Vec::with_capacity(b.data.len());
+                        for (f, l) in &b.data {
+                            let set = f.first().cloned().unwrap_or_default();
+                            let dof = self.dof(f, 1, *l)?;
+                            if dof > 3 {
+                                return Err(self.src.err(*l, "*EQUATION, REMOVE: impact's constraints act on translations (dofs 1 to 3)"));
+                            }
+                            dofs.push((set, dof - 1, *l));
+                        }
+                        DeckRemoval::Dofs(dofs)
+                    }
+                    _ => return refuse("a later step removes equations (`REMOVE`, `REMOVE ALL`); new ones are the first step's"),
+                };
+                if let Some(later) = g.later.last_mut() {
+                    later.remove = Some(remove);
+                }
+            }
+            "NODE PRINT" | "NODE OUTPUT" if b.get("NSET").is_some() => {
+                let set = b.get("NSET").unwrap_or_default().to_string();
+                if !g.printed.iter().any(|(s, _)| s.eq_ignore_ascii_case(&set)) {
+                    g.printed.push((set, b.line));
+                }
+            }
+            n if PASSED_OVER.contains(&n) => g.passed.push((n.to_string(), b.line)),
+            _ => return refuse("between steps impact changes the equations alone (`*EQUATION, REMOVE`); the loads, supports and contact go on as the first step set them"),
         }
         Ok(())
     }
@@ -669,9 +752,11 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
     if let Some(e) = super::together(refusals) {
         return Err(e);
     }
-    let step = g.step.clone().ok_or_else(|| {
+    let mut step = g.step.clone().ok_or_else(|| {
         r.src.whole("no *STEP with *DYNAMIC or *STATIC: impact runs one step, implicit (*DYNAMIC), explicit (*DYNAMIC, EXPLICIT) or static (*STATIC)")
     })?;
+    // the run goes on to the last step's end
+    step.end_time += g.later.iter().filter_map(|l| l.period).sum::<f64>();
     // a dynamic step's contact is the augmented Lagrange iteration's: a linear law's slope
     // is passed over
     if step.minimum_step.is_none() {
@@ -714,6 +799,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         planes: Vec::new(),
         rigid: rigid_bodies,
         equations: r.equations(&g, &bodies, &on)?,
+        later_steps: r.later_steps(&g, &bodies, &on)?,
         bodies: moving,
         step,
         origins: Vec::new(),
@@ -1052,6 +1138,47 @@ impl Reader<'_> {
             }
         }
         Ok((out, parts))
+    }
+
+    /// Each later step's start (the steps before it end to end) and the dependent dofs
+    /// whose equations it removes; a later step without a procedure is refused.
+    fn later_steps(
+        &self,
+        g: &Gathered,
+        bodies: &[(DeckBody, BodyParts)],
+        on: &On,
+    ) -> Result<Vec<super::DeckLaterStep>> {
+        let mut start = g.step.as_ref().map_or(0.0, |s| s.end_time);
+        let mut out = Vec::with_capacity(g.later.len());
+        for l in &g.later {
+            let period = l.period.ok_or_else(|| {
+                self.src.err(
+                    l.line,
+                    "a later *STEP without *DYNAMIC or *STATIC: give it the first step's procedure",
+                )
+            })?;
+            let remove = match &l.remove {
+                None => None,
+                Some(DeckRemoval::All) => Some(Vec::new()),
+                Some(DeckRemoval::Dofs(dofs)) => {
+                    let mut each = Vec::with_capacity(dofs.len());
+                    for (set, dof, line) in dofs {
+                        let Some(found) = self.solids(bodies, set, *line, on)? else {
+                            return Err(self.src.err(*line, format!("*EQUATION, REMOVE on `{set}`, a rigid body's node: impact's constraints act on solids")));
+                        };
+                        each.extend(
+                            found
+                                .iter()
+                                .map(|h| (h.body.name.clone(), h.set.clone(), *dof)),
+                        );
+                    }
+                    Some(each)
+                }
+            };
+            out.push(super::DeckLaterStep { start, remove });
+            start += period;
+        }
+        Ok(out)
     }
 
     /// The contact pairs, and the rigid bodies whose surfaces they name as masters (each

@@ -540,6 +540,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         bodies: moving,
         probes: Vec::new(),
         equations: Vec::new(),
+        later_steps: Vec::new(),
         step: DeckStep {
             explicit: g.implicit_step.is_none(),
             end_time,

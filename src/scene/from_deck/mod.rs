@@ -298,6 +298,14 @@ pub(crate) struct DeckStep {
     pub minimum_step: Option<f64>,
 }
 
+/// A step after the first: where it starts, and `None` (no equation removed), all of
+/// them (an empty list), or the dependent dofs (body, node set, dof 0-2) whose end.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct DeckLaterStep {
+    pub start: f64,
+    pub remove: Option<Vec<(String, String, usize)>>,
+}
+
 /// One term of an `*EQUATION`: body, node set, dof 0-2, coefficient.
 pub(crate) type DeckTerm = (String, String, usize, f64);
 
@@ -324,6 +332,8 @@ pub(crate) struct DeckScene {
     /// coefficient.
     pub equations: Vec<Vec<DeckTerm>>,
     pub step: DeckStep,
+    /// The steps after the first: each one's start and the equations it removes.
+    pub later_steps: Vec<DeckLaterStep>,
     /// Where each piece came from, for the scene checker's messages.
     pub origins: Vec<Origin>,
 }
@@ -700,6 +710,28 @@ impl DeckScene {
         }
         if let Some(m) = s.minimum_step {
             let _ = writeln!(t, "\n[static]\nminimum_step = {}", float(m));
+        }
+        for l in &self.later_steps {
+            let _ = writeln!(t, "\n[[step]]\nstart = {}", float(l.start));
+            match &l.remove {
+                None => {}
+                Some(dofs) if dofs.is_empty() => {
+                    let _ = writeln!(t, "remove_equations = \"all\"");
+                }
+                Some(dofs) => {
+                    let each: Vec<String> = (dofs.iter())
+                        .map(|(b, set, c)| {
+                            format!(
+                                "{{ body = {}, set = {}, component = \"{}\" }}",
+                                quoted(b),
+                                quoted(set),
+                                ["x", "y", "z"][*c]
+                            )
+                        })
+                        .collect();
+                    let _ = writeln!(t, "remove_equations = [{}]", each.join(", "));
+                }
+            }
         }
     }
 

@@ -12,6 +12,7 @@ mod laminate;
 mod loads;
 mod names;
 mod rigid_body;
+mod steps;
 
 struct Checker<'a> {
     path: &'a Path,
@@ -1398,6 +1399,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
     let planes = c.planes(&raw.rigid_plane, &raw.body, bodies.len())?;
     let fixes = c.fixes(&raw.fix, &raw.body, &bodies, &rigid_bodies)?;
     let equations = c.equations(&raw.equation, &raw.body, &bodies)?;
+    let steps = c.steps(&raw.step, &run, &raw.body, &bodies)?;
     let initial_velocities =
         c.initial_velocities(&raw.initial_velocity, &raw.body, &bodies, &rigid_bodies)?;
     let loads = c.loads(&raw.load, &raw.body, &bodies, &rigid_bodies)?;
@@ -1420,6 +1422,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         rigid_bodies,
         fixes,
         equations,
+        steps,
         initial_velocities,
         loads,
         probes,

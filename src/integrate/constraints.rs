@@ -1,11 +1,13 @@
-//! A static step's `[[equation]]`s on its equations: each dependent dof's free equation is
-//! replaced by the independent ones it follows ($u = T q$), so the matrix solved is
-//! $T^T A T$ with a unit diagonal on the dependent equations, the residual $T^T r$, and the
-//! dependent dofs are set from the others after each solve.
+//! The `[[equation]]`s on the free equations of a static step or an implicit dynamic one:
+//! each dependent dof's free equation is replaced by the independent ones it follows
+//! ($u = T q$), so the matrix solved is $T^T A T$ with a unit diagonal on the dependent
+//! equations, the residual $T^T r$, and the dependent dofs are set from the others after
+//! each solve.
 
+use crate::linalg::Csc;
 use crate::model::equations::Equation;
 
-pub(super) struct Constraints {
+pub(crate) struct Constraints {
     equations: Vec<Equation>,
     /// The dependent equations, each with the free equations it follows and their factors.
     on_equations: Vec<(u32, Vec<(u32, f64)>)>,
@@ -74,6 +76,17 @@ impl Constraints {
         }
         out.extend(self.on_equations.iter().map(|(d, _)| (*d, *d, 1.0)));
         out
+    }
+
+    /// $T^T A T$ of a matrix on the free equations.
+    pub fn condense_matrix(&self, a: &Csc) -> Csc {
+        let mut t = Vec::with_capacity(a.nnz());
+        for j in 0..a.n {
+            for p in a.col_ptr[j]..a.col_ptr[j + 1] {
+                t.push((a.row_idx[p] as u32, j as u32, a.values[p]));
+            }
+        }
+        Csc::from_triplets(a.n, self.condense(t))
     }
 
     /// $T^T r$ on the free equations: each dependent equation's residual moved to the
