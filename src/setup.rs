@@ -357,10 +357,14 @@ fn refuse_implicit(scene: &Scene, model: &Model, method: Method) -> Result<()> {
             ),
         });
     }
-    if let Some(k) = scene.contacts.iter().position(|c| c.stiffness.is_some()) {
+    if let Some(k) = scene.contacts.iter().position(|c| c.pressure_law.is_some()) {
+        let law = match scene.contacts[k].pressure_law {
+            Some(crate::scene::PressureLaw::Exponential { .. }) => "exponential",
+            _ => "stiffness",
+        };
         return Err(ImpactError::Unsupported {
             path: scene.path.clone(),
-            key: format!("contact[{k}].stiffness"),
+            key: format!("contact[{k}].{law}"),
             message: format!(
                 "a penalty law is honoured by static steps (method = \"static\"); the {} path's contact is the augmented Lagrange iteration, which leaves no penetration: remove the key",
                 method.name()

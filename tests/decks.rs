@@ -451,7 +451,10 @@ fn what_a_deck_asks_that_impact_cannot_honour_is_refused_by_keyword_and_line() {
     assert_eq!(scene.run.method, impact::scene::Method::Static);
     assert_eq!((scene.run.time_step, scene.run.end_time), (Some(0.01), 0.4));
     assert!((scene.statics.minimum_step - 4e-6).abs() <= 1e-18);
-    assert_eq!(scene.contacts[0].stiffness, Some(1.0e4));
+    assert_eq!(
+        scene.contacts[0].pressure_law,
+        Some(impact::scene::PressureLaw::Linear { stiffness: 1.0e4 })
+    );
     // an *EQUATION's terms on node numbers, over two lines
     let tied = edit(
         &static_step,

@@ -206,7 +206,13 @@ fn a_static_step_refuses_what_it_cannot_solve() {
 /// each, in a static step with a linear pressure-overclosure of slope `K` (CalculiX's
 /// contact3, written out).
 fn corner_on_cube_deck() -> String {
-    let (c, h, z0) = (0.5, S / 2f64.sqrt(), 1.0 - G0);
+    corner_on_cube_with(&format!("LINEAR\n{K:e}, 3."), G0)
+}
+
+/// [`corner_on_cube_deck`] with the pressure-overclosure `law` (its parameter, then its
+/// data line) and the overlap `g0`.
+fn corner_on_cube_with(law: &str, g0: f64) -> String {
+    let (c, h, z0) = (0.5, S / 2f64.sqrt(), 1.0 - g0);
     let mut t = String::from("*NODE, NSET=NALL\n");
     let base = [[1., 1., 0.], [1., 0., 0.], [1., 0., 1.], [1., 1., 1.]];
     let base = base
@@ -238,7 +244,8 @@ fn corner_on_cube_deck() -> String {
     t += "*ELSET, ELSET=EMAST\n1\n*NSET, NSET=NSLAV\n10\n*SURFACE, NAME=SMAST\nEMAST, S5\n";
     t += "*SURFACE, NAME=SSLAV, TYPE=NODE\nNSLAV\n";
     t += "*CONTACT PAIR, INTERACTION=SI1, TYPE=NODE TO SURFACE\nSSLAV, SMAST\n";
-    t += &format!("*SURFACE INTERACTION, NAME=SI1\n*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n{K:e}, 3.\n");
+    t +=
+        &format!("*SURFACE INTERACTION, NAME=SI1\n*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE={law}\n");
     t += "*STEP\n*STATIC\n*CLOAD\n11, 3, -1.\n12, 3, -1.\n15, 3, -1.\n16, 3, -1.\n";
     t += "*NODE PRINT, NSET=NALL\nU\n*END STEP\n";
     t
@@ -285,6 +292,27 @@ fn a_node_based_slave_node_carries_the_load_through_its_three_faces() {
     );
     let e = e.expect_err("refused").to_string();
     assert!(e.contains("initial_penetration"), "{e}");
+}
+
+/// The same corner, touching at the start, under CalculiX's exponential
+/// pressure-overclosure, p = p0 exp(beta g) with beta = ln 100 / c0: the overclosure under
+/// the load of 4 on the area 3 S^2 / 4 is ln(4 / (A p0)) / beta.
+#[test]
+fn an_exponential_pressure_overclosure_leaves_the_overclosure_of_its_law() {
+    let (c0, p0) = (1e-4, 10.0);
+    let deck = corner_on_cube_with(&format!("EXPONENTIAL\n{c0:e}, {p0}"), 0.0);
+    let (_, h) = run_path(
+        "corner_exponential",
+        &written_deck("corner_exponential", &deck),
+    );
+    let area = 3.0 * S * S / 4.0;
+    let beta = 100f64.ln() / c0;
+    let expected = (4.0 / (area * p0)).ln() / beta;
+    let overclosure = h.last("NALL_3.uz") - h.last("NALL_10.uz");
+    assert!(
+        (overclosure - expected).abs() <= 2e-3 * expected,
+        "overclosure {overclosure:e} against {expected:e}"
+    );
 }
 
 /// CalculiX's test decks (Debian `calculix-ccx-test`), where installed.
@@ -471,9 +499,11 @@ fn calculix_static_contact_decks_match_their_reference_output() {
         ("cubespring", 0.01),
         ("hueeber1", 0.01),
         ("hueeber3", 0.01),
-        // a node-based slave surface of one node, overlapping by 0.02 and by 1e-4
+        // a node-based slave surface of one node, overlapping by 0.02 and by 1e-4, and
+        // touching under an exponential pressure-overclosure
         ("contact3", 1e-3),
         ("contact6", 0.01),
+        ("contact1", 1e-4),
     ] {
         let d = ccx_difference(&dir, name);
         assert!(

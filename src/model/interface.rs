@@ -44,8 +44,8 @@ pub struct Interface {
     /// from `secondary_faces` by [`node_set_areas`].
     pub node_based: bool,
     pub primary: Primary,
-    /// A penalty law's pressure per unit penetration (none: hard contact).
-    pub stiffness: Option<f64>,
+    /// A soft pressure-overclosure law (none: hard contact).
+    pub pressure_law: Option<crate::scene::PressureLaw>,
 }
 
 impl Interface {

@@ -443,7 +443,7 @@ fn interfaces(
             secondary_faces: sec.clone(),
             node_based: matches!(c.secondary, SecondarySide::Nodes { .. }),
             primary,
-            stiffness: c.stiffness,
+            pressure_law: c.pressure_law,
         });
     }
     queries.offsets = vec![0; queries.secondary.len() + 1];
@@ -465,7 +465,7 @@ fn interfaces(
                 point: p.point,
                 normal: p.normal,
             },
-            stiffness: None,
+            pressure_law: None,
         });
     }
 

@@ -389,9 +389,55 @@ pub struct ContactSpec {
     /// `adjust`: secondary nodes in front of the primary surface by at most this at t = 0
     /// are moved onto it (0: none).
     pub adjust: f64,
-    /// `stiffness`: a penalty law, the pressure per unit penetration (CalculiX's linear
-    /// pressure-overclosure); none for hard contact. Static steps honour it.
-    pub stiffness: Option<f64>,
+    /// `stiffness` or `exponential`: a soft pressure-overclosure law; none for hard
+    /// contact. Static steps honour it.
+    pub pressure_law: Option<PressureLaw>,
+}
+
+/// A soft contact's pressure against the overclosure g (g > 0 a penetration).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PressureLaw {
+    /// `stiffness`: p = k g for g > 0 (CalculiX's linear pressure-overclosure).
+    Linear { stiffness: f64 },
+    /// `exponential = { clearance, pressure }`: p = p0 exp(beta g) for g > -c0, with
+    /// beta = ln 100 / c0 (p is 1% of p0 at the clearance c0), 0 beyond (CalculiX's
+    /// exponential pressure-overclosure).
+    Exponential { clearance: f64, pressure: f64 },
+}
+
+impl PressureLaw {
+    /// The pressure at overclosure `g`, and its slope dp/dg.
+    pub fn at(&self, g: f64) -> (f64, f64) {
+        match *self {
+            PressureLaw::Linear { stiffness } if g > 0.0 => (stiffness * g, stiffness),
+            PressureLaw::Linear { .. } => (0.0, 0.0),
+            PressureLaw::Exponential {
+                clearance,
+                pressure,
+            } if g > -clearance => {
+                let beta = 100f64.ln() / clearance;
+                let p = pressure * (beta * g).exp();
+                (p, beta * p)
+            }
+            PressureLaw::Exponential { .. } => (0.0, 0.0),
+        }
+    }
+
+    /// The energy the law holds at overclosure `g` per unit area: the integral of p from
+    /// where it starts.
+    pub fn energy(&self, g: f64) -> f64 {
+        match *self {
+            PressureLaw::Linear { stiffness } => 0.5 * stiffness * g.max(0.0).powi(2),
+            PressureLaw::Exponential {
+                clearance,
+                pressure,
+            } if g > -clearance => {
+                let beta = 100f64.ln() / clearance;
+                (self.at(g).0 - 0.01 * pressure) / beta
+            }
+            PressureLaw::Exponential { .. } => 0.0,
+        }
+    }
 }
 
 /// A `[[cohesive]]` interface: between two bodies' faces (the second side's nodes pair with

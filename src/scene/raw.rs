@@ -245,6 +245,15 @@ pub(crate) struct RawContact {
     pub region: Option<RawRegion>,
     pub adjust: Option<f64>,
     pub stiffness: Option<f64>,
+    pub exponential: Option<RawExponential>,
+}
+
+/// `exponential = { clearance, pressure }` of a `[[contact]]`.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawExponential {
+    pub clearance: f64,
+    pub pressure: f64,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

@@ -3,9 +3,9 @@
 //! and stiffness of its pressure.
 //!
 //! A node's pressure is $T = \langle \lambda + \epsilon g \rangle$ (g > 0 a penetration):
-//! - with a `stiffness` on the contact (a penalty law, CalculiX's linear
-//!   pressure-overclosure), $\lambda = 0$ and $\epsilon$ is that stiffness: the bodies
-//!   overlap by $T / \epsilon$;
+//! - with a soft law on the contact ([`PressureLaw`]: `stiffness`, CalculiX's linear
+//!   pressure-overclosure, or `exponential`), T is the law's p(g), and $\epsilon$ its slope
+//!   at the iterate: the bodies overlap by $T / \epsilon$ under a linear law;
 //! - without one (hard contact), $\epsilon$ is a penalty made from the node's stiffness and
 //!   $\lambda$ the augmented Lagrange multiplier, updated as $\lambda \leftarrow T$ until the
 //!   penetration is below the tolerance: the paper's iteration on the gap increment (the gap
@@ -24,6 +24,7 @@ use crate::integrate::state::ContactReport;
 use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::{ContactPoint, ContactQueries};
 use crate::model::{Model, Primary};
+use crate::scene::PressureLaw;
 use crate::search;
 
 /// No corner: a row's unused slot (a plane's, or a rigid body's after its node).
@@ -70,6 +71,8 @@ pub(super) struct StaticContact {
     pub eps: Vec<Vec<f64>>,
     /// Whether each interface is hard (its multipliers iterate) or a penalty law.
     pub hard: Vec<bool>,
+    /// Each interface's soft law (none: hard).
+    laws: Vec<Option<PressureLaw>>,
     pub rows: Vec<Row>,
     points: Vec<ContactPoint>,
 }
@@ -82,13 +85,10 @@ impl StaticContact {
         let (mut lambda, mut eps, mut hard) = (Vec::new(), Vec::new(), Vec::new());
         for itf in &model.interfaces {
             lambda.push(vec![0.0; itf.nodes.len()]);
-            hard.push(itf.stiffness.is_none());
+            hard.push(itf.pressure_law.is_none());
             eps.push(
                 (itf.nodes.iter().zip(&itf.area))
-                    .map(|(&n, &a)| match itf.stiffness {
-                        Some(k) => k,
-                        None => factor * node_stiffness[n as usize] / a.max(f64::MIN_POSITIVE),
-                    })
+                    .map(|(&n, &a)| factor * node_stiffness[n as usize] / a.max(f64::MIN_POSITIVE))
                     .collect(),
             );
         }
@@ -100,6 +100,7 @@ impl StaticContact {
             lambda,
             eps,
             hard,
+            laws: model.interfaces.iter().map(|i| i.pressure_law).collect(),
             rows: Vec::new(),
             points: vec![ContactPoint::default(); nq],
         }
@@ -189,7 +190,32 @@ impl StaticContact {
 
     /// The pressure of a row at its gap.
     pub fn pressure(&self, r: &Row) -> f64 {
-        (self.lambda[r.interface][r.point] + self.eps[r.interface][r.point] * r.gap).max(0.0)
+        self.pressure_slope(r).0
+    }
+
+    /// The pressure of a row at its gap and its slope dT/dg.
+    fn pressure_slope(&self, r: &Row) -> (f64, f64) {
+        if let Some(law) = &self.laws[r.interface] {
+            return law.at(r.gap);
+        }
+        let e = self.eps[r.interface][r.point];
+        let t = self.lambda[r.interface][r.point] + e * r.gap;
+        if t > 0.0 {
+            (t, e)
+        } else {
+            (0.0, 0.0)
+        }
+    }
+
+    /// Whether every pressed row's slope is constant over the increment (no exponential
+    /// law pressed), so that a factor of the same active set is the exact tangent.
+    pub fn slopes_fixed(&self) -> bool {
+        !(self.rows.iter()).any(|r| {
+            matches!(
+                self.laws[r.interface],
+                Some(PressureLaw::Exponential { .. })
+            ) && self.pressure(r) > 0.0
+        })
     }
 
     /// The rows carrying pressure, as (interface, point) pairs: the active set.
@@ -218,7 +244,7 @@ impl StaticContact {
     /// equations `equation` gives (fixed dofs left out).
     pub fn triplets(&self, equation: &[u32], out: &mut Vec<(u32, u32, f64)>) {
         for r in self.rows.iter().filter(|r| self.pressure(r) > 0.0) {
-            let k = self.eps[r.interface][r.point] * r.area;
+            let k = self.pressure_slope(r).1 * r.area;
             for (m, cm) in r.entries() {
                 for (n, cn) in r.entries() {
                     for a in 0..3 {
@@ -264,12 +290,15 @@ impl StaticContact {
         }
     }
 
-    /// The energy the pressed rows hold: $\sum A (\lambda g + \tfrac12 \epsilon g^2)$ (the
-    /// penalty springs' for a penalty law; about zero for a converged hard contact).
+    /// The energy the pressed rows hold: a soft law's integral of its pressure, and
+    /// $A (\lambda g + \tfrac12 \epsilon g^2)$ on a hard contact (about zero converged).
     pub fn stored_energy(&self) -> f64 {
         (self.rows.iter())
             .filter(|r| self.pressure(r) > 0.0)
             .map(|r| {
+                if let Some(law) = &self.laws[r.interface] {
+                    return r.area * law.energy(r.gap);
+                }
                 let (l, e) = (
                     self.lambda[r.interface][r.point],
                     self.eps[r.interface][r.point],

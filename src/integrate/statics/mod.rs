@@ -244,7 +244,8 @@ impl<'m> StaticSolver<'m> {
     /// factor was of this set (and of the geometry it was made at: the rows' normals and
     /// weights move little within an increment, and the residual corrects them).
     fn factorise(&mut self, set: &[(u32, u32, [u32; 4])]) -> Result<()> {
-        if self.factor.as_ref().is_some_and(|(s, _)| s == set) {
+        let same = self.factor.as_ref().is_some_and(|(s, _)| s == set);
+        if same && self.contact.slopes_fixed() {
             return Ok(());
         }
         let k = &self.asm.effective;

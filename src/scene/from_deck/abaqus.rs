@@ -117,7 +117,7 @@ struct Gathered {
     equations: Vec<(Vec<EquationTerm>, usize)>,
     /// Each interaction's linear pressure-overclosure slope (`*SURFACE BEHAVIOR,
     /// PRESSURE-OVERCLOSURE=LINEAR`), with its line.
-    stiffness: HashMap<String, (f64, usize)>,
+    stiffness: HashMap<String, (crate::scene::PressureLaw, usize)>,
     /// (secondary surface, primary surface, interaction, line).
     pairs: Vec<(String, String, String, usize)>,
     /// The `ADJUST=` distance of the pairs on each line that gives one.
@@ -561,9 +561,13 @@ impl Reader<'_> {
     /// `*SURFACE BEHAVIOR`: a linear pressure-overclosure's slope is the contact's
     /// penalty stiffness (a static step honours it); the other laws are passed over.
     fn surface_behavior(&self, b: &Block, g: &mut Gathered) -> Result<()> {
-        let law = b.get("PRESSURE-OVERCLOSURE").unwrap_or("HARD");
-        if !law.eq_ignore_ascii_case("LINEAR") {
-            if !law.eq_ignore_ascii_case("HARD") {
+        use crate::scene::PressureLaw;
+        let law = b
+            .get("PRESSURE-OVERCLOSURE")
+            .unwrap_or("HARD")
+            .to_ascii_uppercase();
+        if law != "LINEAR" && law != "EXPONENTIAL" {
+            if law != "HARD" {
                 g.passed.push((
                     format!("SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE={law}"),
                     b.line,
@@ -572,15 +576,30 @@ impl Reader<'_> {
             return Ok(());
         }
         let (f, l) = self.first(b)?;
-        let slope = self.number(f, 0, *l, "*SURFACE BEHAVIOR slope")?;
-        if slope <= 0.0 {
-            return Err(self.src.err(*l, format!("*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR: the slope {slope} must be positive")));
-        }
+        let what = format!("*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE={law}");
+        let positive = |i: usize, name: &str| -> Result<f64> {
+            let v = self.number(f, i, *l, &format!("{what} {name}"))?;
+            match v > 0.0 {
+                true => Ok(v),
+                false => Err(self
+                    .src
+                    .err(*l, format!("{what}: the {name} {v} must be positive"))),
+            }
+        };
+        let pressure_law = match law.as_str() {
+            "LINEAR" => PressureLaw::Linear {
+                stiffness: positive(0, "slope")?,
+            },
+            _ => PressureLaw::Exponential {
+                clearance: positive(0, "clearance c0")?,
+                pressure: positive(1, "pressure p0")?,
+            },
+        };
         let last = (g.interaction.clone()).ok_or_else(|| {
             self.src
                 .err(b.line, "*SURFACE BEHAVIOR outside a *SURFACE INTERACTION")
         })?;
-        g.stiffness.insert(last, (slope, b.line));
+        g.stiffness.insert(last, (pressure_law, b.line));
         Ok(())
     }
 
@@ -1274,7 +1293,7 @@ impl Reader<'_> {
             let stiffness = g.stiffness.get(interaction).filter(|_| static_step);
             let secondary_nodes = (g.node_surfaces.iter()).any(|s| s.eq_ignore_ascii_case(slave));
             out.push(DeckContact {
-                stiffness: stiffness.map(|s| s.0),
+                pressure_law: stiffness.map(|s| s.0),
                 name: format!("{slave}-{master}"),
                 secondary: match secondary_nodes {
                     true => self.node_surface_owner(bodies, slave, *line)?,

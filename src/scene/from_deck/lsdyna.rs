@@ -890,7 +890,7 @@ impl Reader<'_> {
                 secondary: owner(s, *line)?,
                 secondary_nodes: false,
                 adjust: None,
-                stiffness: None,
+                pressure_law: None,
                 primary,
                 friction: *fs,
             });

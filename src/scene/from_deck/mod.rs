@@ -276,8 +276,8 @@ pub(crate) struct DeckContact {
     /// Abaqus's `ADJUST=`: the slave nodes within it (in front, or behind) are moved onto
     /// the master surface before t = 0.
     pub adjust: Option<f64>,
-    /// A linear pressure-overclosure's slope (static steps).
-    pub stiffness: Option<f64>,
+    /// A linear or exponential pressure-overclosure (static steps).
+    pub pressure_law: Option<crate::scene::PressureLaw>,
 }
 
 /// A probe: a node of a printed node set, at its position.
@@ -807,8 +807,22 @@ impl DeckScene {
                 }
                 None => {}
             }
-            if let Some(k) = c.stiffness {
-                let _ = writeln!(t, "stiffness = {}", float(k));
+            match c.pressure_law {
+                Some(crate::scene::PressureLaw::Linear { stiffness }) => {
+                    let _ = writeln!(t, "stiffness = {}", float(stiffness));
+                }
+                Some(crate::scene::PressureLaw::Exponential {
+                    clearance,
+                    pressure,
+                }) => {
+                    let _ = writeln!(
+                        t,
+                        "exponential = {{ clearance = {}, pressure = {} }}",
+                        float(clearance),
+                        float(pressure)
+                    );
+                }
+                None => {}
             }
         }
         let held = (self.rigid.iter())

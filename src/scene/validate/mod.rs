@@ -995,9 +995,18 @@ impl Checker<'_> {
                 )?,
                 region: self.region(&key, ct.region.as_ref())?,
                 adjust: self.adjust(&key("adjust"), ct.adjust, &primary)?,
-                stiffness: match ct.stiffness {
-                    Some(k) => Some(self.positive(&key("stiffness"), k)?),
-                    None => None,
+                pressure_law: match (ct.stiffness, &ct.exponential) {
+                    (Some(k), None) => Some(PressureLaw::Linear {
+                        stiffness: self.positive(&key("stiffness"), k)?,
+                    }),
+                    (None, Some(e)) => Some(PressureLaw::Exponential {
+                        clearance: self.positive(&key("exponential.clearance"), e.clearance)?,
+                        pressure: self.positive(&key("exponential.pressure"), e.pressure)?,
+                    }),
+                    (None, None) => None,
+                    (Some(_), Some(_)) => {
+                        return Err(self.err(key("exponential"), "give one pressure-overclosure law: `stiffness` (linear) or `exponential`"));
+                    }
                 },
             });
         }
