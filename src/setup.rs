@@ -316,10 +316,6 @@ fn not_static(scene: &Scene, model: &Model) -> Option<(String, String)> {
         let why = "softening interfaces run on the explicit path";
         return Some(("cohesive[0]".into(), why.into()));
     }
-    if let Some(k) = model.interfaces.iter().position(|i| i.law.is_frictional()) {
-        let why = "a static step's contact is frictionless (incremental Coulomb slip is not built yet): set friction = 0, or run the step dynamically";
-        return Some((format!("{}.friction", scene.interface_key(k)), why.into()));
-    }
     if let Some(b) =
         (scene.rigid_bodies.iter()).position(|b| b.motion == crate::scene::RigidMotion::Free)
     {
@@ -355,6 +351,13 @@ fn refuse_implicit(scene: &Scene, model: &Model, method: Method) -> Result<()> {
             message: format!(
                 "linear constraints are honoured by static steps (method = \"static\") and implicit ones without contact; {why}"
             ),
+        });
+    }
+    if let Some(k) = scene.contacts.iter().position(|c| c.stick_slope.is_some()) {
+        return Err(ImpactError::Unsupported {
+            path: scene.path.clone(),
+            key: format!("contact[{k}].stick_slope"),
+            message: format!("a stick slope is honoured by static steps (method = \"static\"); the {} path's friction sticks exactly: remove the key", method.name()),
         });
     }
     if let Some(k) = scene.contacts.iter().position(|c| c.pressure_law.is_some()) {

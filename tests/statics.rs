@@ -181,8 +181,21 @@ fn refusal(tag: &str, text: &str) -> String {
 #[test]
 fn a_static_step_refuses_what_it_cannot_solve() {
     let text = stacked_blocks("friction = 0.3", PRESSED);
-    let e = refusal("static_refused", &text);
-    assert!(e.contains("friction") && e.contains("static"), "{e}");
+    // a free rigid body, which nothing holds without inertia
+    let free = text.clone()
+        + "\n[[rigid_body]]\nname = \"wall\"\nmass = 1.0\nposition = [5.0, 0.5, 0.5]\nshape = { plane = { normal = [1.0, 0.0, 0.0] } }\n";
+    let e = refusal("static_refused", &free);
+    assert!(e.contains("rigid_body[0]") && e.contains("static"), "{e}");
+    // a stick slope outside a static step
+    let stick = text
+        .replace("friction = 0.3", "friction = 0.3\nstick_slope = 100.0")
+        .replace("method = \"static\"", "method = \"implicit\"")
+        .replace(
+            "[[material]]\nname = \"soft\"",
+            "[[material]]\nname = \"soft\"\ndensity = 1.0",
+        );
+    let e = refusal("static_refused_stick", &stick);
+    assert!(e.contains("contact[0].stick_slope"), "{e}");
     // a penalty stiffness outside a static step
     let dynamic = text
         .replace("friction = 0.3", "stiffness = 100.0")
@@ -601,4 +614,44 @@ poissons_ratio = 0.0
         );
     let e = refusal("static_equations_explicit", &dynamic);
     assert!(e.contains("equation[0]") && e.contains("static"), "{e}");
+}
+
+/// Friction in a static step: the block pressed by P (over the first half), then its top
+/// dragged sideways by 0.2, far more than the blocks shear: every pressed node slides, its
+/// traction on the Coulomb cone, so the friction force is mu times the normal force; the
+/// balance closes on the friction's dissipation.
+#[test]
+fn a_block_dragged_over_its_base_slides_on_the_coulomb_cone() {
+    let mu = 0.3;
+    let top = "[[load]]\nbody = \"block\"\nface = \"z+\"\npressure = 2.0\namplitude = [[0.0, 0.0], [0.5, 1.0], [1.0, 1.0]]\n\n[[fix]]\nname = \"drag\"\nbody = \"block\"\nface = \"z+\"\ncomponents = [\"x\", \"y\"]\ndisplacement = [0.2, 0.0, 0.0]\namplitude = [[0.0, 0.0], [0.5, 0.0], [1.0, 1.0]]\n\n[[fix]]\nname = \"base_held\"\nbody = \"base\"\nface = \"z-\"\ncomponents = [\"x\", \"y\"]\n";
+    let text = stacked_blocks(&format!("friction = {mu}"), top);
+    let (s, h) = run_text("static_dragged", &text);
+    assert_eq!(s.status, "completed");
+    let (tangential, normal) = (
+        h.last("joint.tangential_force"),
+        h.last("joint.normal_force"),
+    );
+    assert!((normal - P).abs() <= 0.01 * P, "{normal}");
+    assert!(
+        (tangential - mu * normal).abs() <= 1e-6 * mu * normal,
+        "friction {tangential} against mu N = {}",
+        mu * normal
+    );
+    assert_eq!(h.last("joint.sliding"), h.last("joint.active"));
+    // the supports hold the friction, less the normal force's share on the base's top,
+    // which the friction's couple tilts
+    let drag = h.last("drag.fx");
+    assert!(
+        (drag.abs() - tangential).abs() <= 0.05 * tangential,
+        "{drag}"
+    );
+    // (to the stabilisation's share)
+    assert!((drag + h.last("base_held.fx")).abs() <= 1e-3 * drag.abs());
+    // before the drag: no friction
+    let t = h.col("time");
+    let half = t.iter().position(|&x| (x - 0.5).abs() < 1e-9).unwrap();
+    assert!(h.col("joint.tangential_force")[half].abs() <= 1e-9);
+    assert!(h.last("joint.friction_work") > 0.0);
+    // the trapezoid over two dragging increments, where nodes pass from stick to slip
+    balanced("static_dragged", &h, 0.05);
 }

@@ -46,6 +46,8 @@ pub struct Interface {
     pub primary: Primary,
     /// A soft pressure-overclosure law (none: hard contact).
     pub pressure_law: Option<crate::scene::PressureLaw>,
+    /// A static step's friction stick slope (none: the node's own penalty).
+    pub stick_slope: Option<f64>,
 }
 
 impl Interface {

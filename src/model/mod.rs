@@ -444,6 +444,7 @@ fn interfaces(
             node_based: matches!(c.secondary, SecondarySide::Nodes { .. }),
             primary,
             pressure_law: c.pressure_law,
+            stick_slope: c.stick_slope,
         });
     }
     queries.offsets = vec![0; queries.secondary.len() + 1];
@@ -466,6 +467,7 @@ fn interfaces(
                 normal: p.normal,
             },
             pressure_law: None,
+            stick_slope: None,
         });
     }
 

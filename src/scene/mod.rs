@@ -392,6 +392,9 @@ pub struct ContactSpec {
     /// `stiffness` or `exponential`: a soft pressure-overclosure law; none for hard
     /// contact. Static steps honour it.
     pub pressure_law: Option<PressureLaw>,
+    /// `stick_slope`: a static step's friction, the shear stress per unit slip while a node
+    /// sticks (none: the hard contact's own penalty).
+    pub stick_slope: Option<f64>,
 }
 
 /// A soft contact's pressure against the overclosure g (g > 0 a penetration).

@@ -246,6 +246,7 @@ pub(crate) struct RawContact {
     pub adjust: Option<f64>,
     pub stiffness: Option<f64>,
     pub exponential: Option<RawExponential>,
+    pub stick_slope: Option<f64>,
 }
 
 /// `exponential = { clearance, pressure }` of a `[[contact]]`.

@@ -25,6 +25,8 @@ use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::{ContactPoint, ContactQueries};
 use crate::model::{Model, Primary};
 use crate::scene::PressureLaw;
+
+use super::friction::{Friction, Traction};
 use crate::search;
 
 /// No corner: a row's unused slot (a plane's, or a rigid body's after its node).
@@ -47,6 +49,8 @@ pub(super) struct Row {
     pub start_gap: f64,
     pub gap: f64,
     pub area: f64,
+    /// The node's motion against its face over the increment, $-\sum_j c_j \Delta u_j$.
+    pub dx: [f64; 3],
 }
 
 impl Row {
@@ -73,6 +77,7 @@ pub(super) struct StaticContact {
     pub hard: Vec<bool>,
     /// Each interface's soft law (none: hard).
     laws: Vec<Option<PressureLaw>>,
+    pub friction: Friction,
     pub rows: Vec<Row>,
     points: Vec<ContactPoint>,
 }
@@ -83,7 +88,14 @@ impl StaticContact {
     /// the interface's own stiffness.
     pub fn new(model: &Model, node_stiffness: &[f64], factor: f64) -> Self {
         let (mut lambda, mut eps, mut hard) = (Vec::new(), Vec::new(), Vec::new());
+        let mut friction = Friction {
+            mu: Vec::new(),
+            slope: Vec::new(),
+            tau: Vec::new(),
+        };
         for itf in &model.interfaces {
+            friction.mu.push(itf.law.coefficient());
+            friction.tau.push(vec![[0.0; 3]; itf.nodes.len()]);
             lambda.push(vec![0.0; itf.nodes.len()]);
             hard.push(itf.pressure_law.is_none());
             eps.push(
@@ -91,6 +103,14 @@ impl StaticContact {
                     .map(|(&n, &a)| factor * node_stiffness[n as usize] / a.max(f64::MIN_POSITIVE))
                     .collect(),
             );
+            // the stick slope given, or the node's own stiffness over its area (the hard
+            // contact's penalty over its factor: CalculiX's advice, a hundredth of the
+            // normal penalty)
+            let own: &Vec<f64> = eps.last().expect("pushed just now");
+            friction.slope.push(match itf.stick_slope {
+                Some(k) => vec![k; itf.nodes.len()],
+                None => own.iter().map(|e| e / factor).collect(),
+            });
         }
         let nq = model.queries.len();
         StaticContact {
@@ -101,6 +121,7 @@ impl StaticContact {
             eps,
             hard,
             laws: model.interfaces.iter().map(|i| i.pressure_law).collect(),
+            friction,
             rows: Vec::new(),
             points: vec![ContactPoint::default(); nq],
         }
@@ -135,6 +156,7 @@ impl StaticContact {
                     start_gap: p.gap,
                     gap: p.gap,
                     area: itf.area[i],
+                    dx: [0.0; 3],
                 };
                 match &itf.primary {
                     Primary::Surface { queries, .. } => {
@@ -177,14 +199,16 @@ impl StaticContact {
     /// with the row's normal and face held over it).
     pub fn linear_gaps(&mut self, u: &[f64], u0: &[f64]) {
         for r in &mut self.rows {
-            let mut g = r.start_gap;
+            let (mut g, mut dx) = (r.start_gap, [0.0; 3]);
             for (n, c) in r.entries() {
                 let d = 3 * n as usize;
                 for a in 0..3 {
                     g += c * r.normal[a] * (u[d + a] - u0[d + a]);
+                    dx[a] -= c * (u[d + a] - u0[d + a]);
                 }
             }
             r.gap = g;
+            r.dx = dx;
         }
     }
 
@@ -211,11 +235,59 @@ impl StaticContact {
     /// law pressed), so that a factor of the same active set is the exact tangent.
     pub fn slopes_fixed(&self) -> bool {
         !(self.rows.iter()).any(|r| {
-            matches!(
+            let curved = matches!(
                 self.laws[r.interface],
                 Some(PressureLaw::Exponential { .. })
-            ) && self.pressure(r) > 0.0
+            );
+            (curved || self.friction.is_frictional(r.interface)) && self.pressure(r) > 0.0
         })
+    }
+
+    /// The friction traction of a pressed row of a frictional interface.
+    pub fn traction(&self, r: &Row) -> Option<Traction> {
+        let t = self.pressure(r);
+        (t > 0.0 && self.friction.is_frictional(r.interface))
+            .then(|| self.friction.traction(r, t, r.dx))
+    }
+
+    /// Ends an accepted increment: each node keeps its traction for the next (none where
+    /// it is not pressed). Returns the friction's work on the bodies over the increment,
+    /// $\sum A \tfrac12 (\tau_n + \tau) \cdot \Delta x$.
+    pub fn commit_friction(&mut self) -> Vec<f64> {
+        let mut next: Vec<Vec<[f64; 3]>> = (self.friction.tau.iter())
+            .map(|t| vec![[0.0; 3]; t.len()])
+            .collect();
+        let mut work = vec![0.0; next.len()];
+        for r in &self.rows {
+            if let Some(f) = self.traction(r) {
+                let old = self.friction.tau[r.interface][r.point];
+                work[r.interface] += r.area
+                    * (0..3)
+                        .map(|a| 0.5 * (old[a] + f.tau[a]) * r.dx[a])
+                        .sum::<f64>();
+                next[r.interface][r.point] = f.tau;
+            }
+        }
+        self.friction.tau = next;
+        // the next increment's motion starts here
+        for r in &mut self.rows {
+            r.dx = [0.0; 3];
+        }
+        work
+    }
+
+    /// The energy interface `k`'s stick slopes hold: $\sum A |\tau|^2 / (2 k_t)$.
+    pub fn stick_energy(&self, k: usize) -> f64 {
+        (self.rows.iter().filter(|r| r.interface == k))
+            .map(|r| {
+                let t = self.friction.tau[r.interface][r.point];
+                let kt = self.friction.slope[r.interface][r.point];
+                match kt > 0.0 {
+                    true => r.area * vector::dot(t, t) / (2.0 * kt),
+                    false => 0.0,
+                }
+            })
+            .sum()
     }
 
     /// The rows carrying pressure, as (interface, point) pairs: the active set.
@@ -231,9 +303,10 @@ impl StaticContact {
         for r in &self.rows {
             let t = self.pressure(r);
             if t > 0.0 {
+                let tau = self.traction(r).map_or([0.0; 3], |x| x.tau);
                 for (n, c) in r.entries() {
                     for a in 0..3 {
-                        f[3 * n as usize + a] -= t * r.area * c * r.normal[a];
+                        f[3 * n as usize + a] -= r.area * c * (t * r.normal[a] + tau[a]);
                     }
                 }
             }
@@ -245,6 +318,7 @@ impl StaticContact {
     pub fn triplets(&self, equation: &[u32], out: &mut Vec<(u32, u32, f64)>) {
         for r in self.rows.iter().filter(|r| self.pressure(r) > 0.0) {
             let k = self.pressure_slope(r).1 * r.area;
+            let friction = self.traction(r);
             for (m, cm) in r.entries() {
                 for (n, cn) in r.entries() {
                     for a in 0..3 {
@@ -255,7 +329,11 @@ impl StaticContact {
                         for b in 0..3 {
                             let col = equation[3 * n as usize + b];
                             if col != u32::MAX {
-                                let v = k * cm * cn * r.normal[a] * r.normal[b];
+                                let mut v = k * cm * cn * r.normal[a] * r.normal[b];
+                                if let Some(f) = &friction {
+                                    let block = Friction::block(r, f.sliding, a, b);
+                                    v += f.stiffness * r.area * cm * cn * block;
+                                }
                                 out.push((row, col, v));
                             }
                         }
@@ -312,17 +390,28 @@ impl StaticContact {
     /// the largest penetration and the force on the primary side.
     pub fn reports(&self, model: &Model) -> Vec<ContactReport> {
         let mut out = vec![ContactReport::default(); model.interfaces.len()];
+        let mut tangential = vec![[0.0; 3]; model.interfaces.len()];
         for r in &self.rows {
             let t = self.pressure(r);
             if t > 0.0 {
+                let friction = self.traction(r);
+                let tau = friction.as_ref().map_or([0.0; 3], |f| f.tau);
                 let rep = &mut out[r.interface];
                 rep.normal_force += t * r.area;
                 rep.active += 1;
+                // on the cone (an accepted increment's traction returns as its own trial)
+                let limit = self.friction.mu[r.interface] * t;
+                rep.sliding +=
+                    usize::from(limit > 0.0 && vector::norm(tau) >= (1.0 - 1e-9) * limit);
                 rep.max_penetration = rep.max_penetration.max(r.gap);
                 for a in 0..3 {
-                    rep.force[a] -= t * r.area * r.normal[a];
+                    rep.force[a] -= r.area * (t * r.normal[a] + tau[a]);
+                    tangential[r.interface][a] += r.area * tau[a];
                 }
             }
+        }
+        for (rep, t) in out.iter_mut().zip(tangential) {
+            rep.tangential_force = vector::norm(t);
         }
         out
     }

@@ -20,6 +20,7 @@
 //! share: [`Energies::potential`] holds the last two less the external work.
 
 mod contact;
+mod friction;
 
 use super::constraints::Constraints;
 use crate::backend::Kernels;
@@ -56,6 +57,10 @@ pub struct StaticState {
     pub fix_work: f64,
     pub stabilised: f64,
     pub cutbacks: usize,
+    /// Each interface's friction tractions at the last accepted increment, and the energy
+    /// its friction took from the bodies (held by the stick slopes, or dissipated).
+    pub tau: Vec<Vec<[f64; 3]>>,
+    pub friction_loss: Vec<f64>,
 }
 
 pub struct StaticSolver<'m> {
@@ -118,6 +123,8 @@ impl<'m> StaticSolver<'m> {
                 fix_work: 0.0,
                 stabilised: 0.0,
                 cutbacks: 0,
+                tau: contact.friction.tau.clone(),
+                friction_loss: vec![0.0; model.interfaces.len()],
             },
             u_start: vec![0.0; ndof],
             zero: vec![0.0; ndof],
@@ -317,6 +324,7 @@ impl Integrator for StaticSolver<'_> {
                 self.state.clone(),
                 self.support.clone(),
                 self.contact.lambda.clone(),
+                self.contact.friction.tau.clone(),
             );
             let d0 = self.loads.dots(self.model, &self.state.u);
             let t1 = self.clock + h;
@@ -324,10 +332,15 @@ impl Integrator for StaticSolver<'_> {
                 Some(n) => {
                     report.iterations += n;
                     self.count_work((self.clock, t1), &saved.1, &d0);
+                    let work = self.contact.commit_friction();
+                    for (loss, w) in self.state.friction_loss.iter_mut().zip(work) {
+                        *loss -= w;
+                    }
                     self.clock = t1;
                 }
                 None => {
-                    (self.state, self.support, self.contact.lambda) = saved;
+                    (self.state, self.support, self.contact.lambda) = (saved.0, saved.1, saved.2);
+                    self.contact.friction.tau = saved.3;
                     self.state.cutbacks += 1;
                     h *= 0.5;
                     if h < self.settings.minimum_step {
@@ -357,6 +370,7 @@ impl Integrator for StaticSolver<'_> {
             potential: -dot(&self.f_ext, u)
                 + self.loads.in_dot(self.model, self.clock, u)
                 + self.contact.stored_energy()
+                + self.state.friction_loss.iter().sum::<f64>()
                 + self.state.stabilised
                 - external,
             damage: 0.0,
@@ -366,7 +380,12 @@ impl Integrator for StaticSolver<'_> {
     }
 
     fn reports(&self) -> Vec<ContactReport> {
-        self.contact.reports(self.model)
+        let mut reports = self.contact.reports(self.model);
+        for (k, r) in reports.iter_mut().enumerate() {
+            // what the friction took and the stick slopes do not hold
+            r.friction_work = self.state.friction_loss[k] - self.contact.stick_energy(k);
+        }
+        reports
     }
 
     fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {
@@ -396,6 +415,7 @@ impl Integrator for StaticSolver<'_> {
     fn checkpoint_state(&mut self) -> Result<Option<SolverState>> {
         let mut s = self.state.clone();
         s.lambda.clone_from(&self.contact.lambda);
+        s.tau.clone_from(&self.contact.friction.tau);
         Ok(Some(SolverState::Static(s)))
     }
 
@@ -407,7 +427,11 @@ impl Integrator for StaticSolver<'_> {
             (s.u.len(), self.state.u.len()),
             (s.lambda.len(), self.contact.lambda.len()),
         )?;
+        if s.tau.len() != self.contact.friction.tau.len() {
+            return Err("the checkpoint's friction is of other interfaces".into());
+        }
         self.contact.lambda.clone_from(&s.lambda);
+        self.contact.friction.tau.clone_from(&s.tau);
         self.clock = s.time;
         self.state = s;
         self.loads.set(self.model, self.clock, &mut self.f_ext);

@@ -112,6 +112,8 @@ struct Gathered {
     velocities: Vec<(String, usize, f64, usize)>,
     /// Each interaction's friction coefficient, and the interaction last opened.
     friction: HashMap<String, f64>,
+    /// Each interaction's stick slope (`*FRICTION`'s second value), with its line.
+    stick: HashMap<String, (f64, usize)>,
     interaction: Option<String>,
     /// Each `*EQUATION`'s terms (node or node set, dof 0-2, coefficient) and line.
     equations: Vec<(Vec<EquationTerm>, usize)>,
@@ -492,13 +494,20 @@ impl Reader<'_> {
     fn friction(&self, b: &Block, g: &mut Gathered) -> Result<()> {
         let (f, l) = self.first(b)?;
         let mu = self.number(f, 0, *l, "*FRICTION coefficient")?;
-        if f.get(1).is_some_and(|x| !x.is_empty()) {
-            g.passed.push(("FRICTION stick slope".into(), *l));
-        }
         let last = (g.interaction.clone()).ok_or_else(|| {
             self.src
                 .err(b.line, "*FRICTION outside a *SURFACE INTERACTION")
         })?;
+        if f.get(1).is_some_and(|x| !x.is_empty()) {
+            let slope = self.number(f, 1, *l, "*FRICTION stick slope")?;
+            if slope <= 0.0 {
+                return Err(self.src.err(
+                    *l,
+                    format!("*FRICTION: the stick slope {slope} must be positive"),
+                ));
+            }
+            g.stick.insert(last.clone(), (slope, *l));
+        }
         g.friction.insert(last, mu);
         Ok(())
     }
@@ -785,6 +794,13 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
             lines
                 .into_iter()
                 .map(|l| ("SURFACE BEHAVIOR".to_string(), l)),
+        );
+        let mut lines: Vec<usize> = g.stick.values().map(|s| s.1).collect();
+        lines.sort_unstable();
+        g.passed.extend(
+            lines
+                .into_iter()
+                .map(|l| ("FRICTION stick slope".to_string(), l)),
         );
     }
     if g.sections.is_empty() {
@@ -1294,6 +1310,11 @@ impl Reader<'_> {
             let secondary_nodes = (g.node_surfaces.iter()).any(|s| s.eq_ignore_ascii_case(slave));
             out.push(DeckContact {
                 pressure_law: stiffness.map(|s| s.0),
+                stick_slope: g
+                    .stick
+                    .get(interaction)
+                    .filter(|_| static_step)
+                    .map(|s| s.0),
                 name: format!("{slave}-{master}"),
                 secondary: match secondary_nodes {
                     true => self.node_surface_owner(bodies, slave, *line)?,

@@ -891,6 +891,7 @@ impl Reader<'_> {
                 secondary_nodes: false,
                 adjust: None,
                 pressure_law: None,
+                stick_slope: None,
                 primary,
                 friction: *fs,
             });

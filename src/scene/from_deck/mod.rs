@@ -278,6 +278,8 @@ pub(crate) struct DeckContact {
     pub adjust: Option<f64>,
     /// A linear or exponential pressure-overclosure (static steps).
     pub pressure_law: Option<crate::scene::PressureLaw>,
+    /// A static step's friction stick slope (`*FRICTION`'s second value).
+    pub stick_slope: Option<f64>,
 }
 
 /// A probe: a node of a printed node set, at its position.
@@ -823,6 +825,9 @@ impl DeckScene {
                     );
                 }
                 None => {}
+            }
+            if let Some(k) = c.stick_slope {
+                let _ = writeln!(t, "stick_slope = {}", float(k));
             }
         }
         let held = (self.rigid.iter())

@@ -995,6 +995,10 @@ impl Checker<'_> {
                 )?,
                 region: self.region(&key, ct.region.as_ref())?,
                 adjust: self.adjust(&key("adjust"), ct.adjust, &primary)?,
+                stick_slope: match ct.stick_slope {
+                    Some(k) => Some(self.positive(&key("stick_slope"), k)?),
+                    None => None,
+                },
                 pressure_law: match (ct.stiffness, &ct.exponential) {
                     (Some(k), None) => Some(PressureLaw::Linear {
                         stiffness: self.positive(&key("stiffness"), k)?,
