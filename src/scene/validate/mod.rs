@@ -105,6 +105,16 @@ impl Checker<'_> {
         ))
     }
 
+    /// A displacement component, `"x"`, `"y"` or `"z"`, as 0 to 2.
+    fn component(&self, key: &str, c: &str) -> Result<usize> {
+        match c {
+            "x" => Ok(0),
+            "y" => Ok(1),
+            "z" => Ok(2),
+            c => Err(self.err(key, format!("`{c}`: one of \"x\" \"y\" \"z\""))),
+        }
+    }
+
     fn body_index(&self, key: &str, name: &str, bodies: &[RawBody]) -> Result<usize> {
         bodies.iter().position(|b| b.name == name).ok_or_else(|| {
             let hint = closest(name, bodies.iter().map(|b| b.name.as_str()))
@@ -1096,16 +1106,7 @@ impl Checker<'_> {
                 }
                 let nodes =
                     self.nodes_of(&key, (&None, &t.set, t.region.as_ref()), &bodies[body])?;
-                let component = match t.component.as_str() {
-                    "x" => 0,
-                    "y" => 1,
-                    "z" => 2,
-                    c => {
-                        return Err(
-                            self.err(key("component"), format!("`{c}`: one of \"x\" \"y\" \"z\""))
-                        )
-                    }
-                };
+                let component = self.component(&key("component"), &t.component)?;
                 let first = j == 0 && t.coefficient == 0.0;
                 if !t.coefficient.is_finite() || first {
                     return Err(self.err(

@@ -77,16 +77,7 @@ impl Checker<'_> {
                 return Err(self.err(key("set"), "give the nodes by `set` or `region`"));
             }
             let nodes = self.nodes_of(&key, (&None, &d.set, d.region.as_ref()), &bodies[body])?;
-            let component = match d.component.as_str() {
-                "x" => 0,
-                "y" => 1,
-                "z" => 2,
-                c => {
-                    return Err(
-                        self.err(key("component"), format!("`{c}`: one of \"x\" \"y\" \"z\""))
-                    )
-                }
-            };
+            let component = self.component(&key("component"), &d.component)?;
             out.push((body, nodes, component));
         }
         Ok(out)
