@@ -402,35 +402,41 @@ impl<'s> Running<'s> {
     /// Before the run's step `n`: where a `[[step]]` holds from then on (or, resumed, from
     /// earlier), the solver is rebuilt on its model and goes on from the last one's state.
     fn enter_stage(&mut self, n: usize) -> Result<()> {
-        let stage = (self.setup.stages.iter())
-            .filter(|(from, _)| *from <= n)
-            .count();
+        let setup = self.setup;
+        let stage = (setup.stages.iter()).filter(|(from, _)| *from <= n).count();
         if stage == self.stage {
             return Ok(());
         }
-        let model = &self.setup.stages[stage - 1].1;
-        let Some(state) = self.solver.checkpoint_state()? else {
-            return Err(ImpactError::Unsupported {
-                path: self.scene.path.clone(),
-                key: format!("step[{}]", stage - 1),
-                message: format!(
-                    "the {} engine cannot hand its state to a next step",
-                    self.solver.engine()
-                ),
-            });
+        // a failure here ends the run as failed, its summary saying why
+        let (from, model) = &setup.stages[stage - 1];
+        let state = match self.solver.checkpoint_state() {
+            Ok(Some(state)) => state,
+            Ok(None) => {
+                let e = ImpactError::Unsupported {
+                    path: self.scene.path.clone(),
+                    key: format!("step[{}]", stage - 1),
+                    message: format!(
+                        "the {} engine cannot hand its state to a next step",
+                        self.solver.engine()
+                    ),
+                };
+                return Err(self.failed(e));
+            }
+            Err(e) => return Err(self.failed(e)),
         };
-        let mut solver = build_solver(
-            self.scene,
-            (self.setup, model),
-            self.identity.speed_scale,
-            self.ranks,
-        )?;
-        solver
-            .restore(state)
-            .map_err(|m| self.failed(ImpactError::Solver(m)))?;
+        let speed_scale = self.identity.speed_scale;
+        let mut solver = match build_solver(self.scene, (setup, model), speed_scale, self.ranks) {
+            Ok(solver) => solver,
+            Err(e) => return Err(self.failed(e)),
+        };
+        let restored = solver.restore(state).map_err(ImpactError::Solver);
         // entered at its start (not resumed inside it): the acceleration is the new model's
-        if self.setup.stages[stage - 1].0 == n {
-            solver.begin_step()?;
+        let begun = restored.and_then(|_| match *from == n {
+            true => solver.begin_step(),
+            false => Ok(()),
+        });
+        if let Err(e) = begun {
+            return Err(self.failed(e));
         }
         self.solver = solver;
         self.stage = stage;
