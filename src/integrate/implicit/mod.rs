@@ -250,10 +250,7 @@ impl<'m> ImplicitSolver<'m> {
         // a_0 = M^-1 f_ext (u_0 = 0, no contact force at t = 0)
         let f = s.f_ext.clone();
         let mut a0 = vec![0.0; ndof];
-        match s.constraints.is_empty() {
-            true => s.apply_mass_inverse(&f, &mut a0),
-            false => s.constrained_acceleration(&f, &mut a0)?,
-        }
+        s.acceleration_into(&f, &mut a0)?;
         s.a = a0;
         // initial contact kinematics, for the history's first row
         s.contact.broad_phase(s.model, &s.u, &s.v, s.dt);
@@ -345,6 +342,16 @@ impl<'m> ImplicitSolver<'m> {
                 }
             }
         }
+    }
+
+    /// out = M^-1 f, the acceleration of the forces `f`, within the `[[equation]]`s where
+    /// there are any.
+    fn acceleration_into(&mut self, f: &[f64], out: &mut [f64]) -> Result<()> {
+        match self.constraints.is_empty() {
+            true => self.apply_mass_inverse(f, out),
+            false => self.constrained_acceleration(f, out)?,
+        }
+        Ok(())
     }
 
     /// out = T (T^T M T)^-1 T^T f: the acceleration the `[[equation]]`s allow (the lumped
@@ -1001,10 +1008,7 @@ impl Integrator for ImplicitSolver<'_> {
             .map(|((e, c), i)| e + c - i)
             .collect();
         let mut a = vec![0.0; f.len()];
-        match self.constraints.is_empty() {
-            true => self.apply_mass_inverse(&f, &mut a),
-            false => self.constrained_acceleration(&f, &mut a)?,
-        }
+        self.acceleration_into(&f, &mut a)?;
         self.a = a;
         Ok(())
     }

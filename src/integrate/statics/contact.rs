@@ -73,9 +73,7 @@ pub(super) struct StaticContact {
     /// Per interface and secondary node: the multiplier (pressure) and the penalty.
     pub lambda: Vec<Vec<f64>>,
     pub eps: Vec<Vec<f64>>,
-    /// Whether each interface is hard (its multipliers iterate) or a penalty law.
-    pub hard: Vec<bool>,
-    /// Each interface's soft law (none: hard).
+    /// Each interface's soft law (none: hard contact, its multipliers iterating).
     laws: Vec<Option<PressureLaw>>,
     pub friction: Friction,
     pub rows: Vec<Row>,
@@ -87,7 +85,7 @@ impl StaticContact {
     /// stiffness per node, force per length): `factor` times it over the node's area, or
     /// the interface's own stiffness.
     pub fn new(model: &Model, node_stiffness: &[f64], factor: f64) -> Self {
-        let (mut lambda, mut eps, mut hard) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut lambda, mut eps) = (Vec::new(), Vec::new());
         let mut friction = Friction {
             mu: Vec::new(),
             slope: Vec::new(),
@@ -97,7 +95,6 @@ impl StaticContact {
             friction.mu.push(itf.law.coefficient());
             friction.tau.push(vec![[0.0; 3]; itf.nodes.len()]);
             lambda.push(vec![0.0; itf.nodes.len()]);
-            hard.push(itf.pressure_law.is_none());
             eps.push(
                 (itf.nodes.iter().zip(&itf.area))
                     .map(|(&n, &a)| factor * node_stiffness[n as usize] / a.max(f64::MIN_POSITIVE))
@@ -119,7 +116,6 @@ impl StaticContact {
             face_size: search::largest_face_size(model),
             lambda,
             eps,
-            hard,
             laws: model.interfaces.iter().map(|i| i.pressure_law).collect(),
             friction,
             rows: Vec::new(),
@@ -348,7 +344,7 @@ impl StaticContact {
     /// multiplier that the next update lowers).
     pub fn hard_violation(&self) -> f64 {
         (self.rows.iter())
-            .filter(|r| self.hard[r.interface] && self.pressure(r) > 0.0)
+            .filter(|r| self.laws[r.interface].is_none() && self.pressure(r) > 0.0)
             .fold(0.0, |m, r| m.max(r.gap.abs()))
     }
 
@@ -357,12 +353,12 @@ impl StaticContact {
     pub fn update_multipliers(&mut self) {
         let mut next: Vec<Vec<f64>> = (self.lambda.iter()).map(|l| vec![0.0; l.len()]).collect();
         for r in &self.rows {
-            if self.hard[r.interface] {
+            if self.laws[r.interface].is_none() {
                 next[r.interface][r.point] = self.pressure(r);
             }
         }
         for (k, l) in next.into_iter().enumerate() {
-            if self.hard[k] {
+            if self.laws[k].is_none() {
                 self.lambda[k] = l;
             }
         }
