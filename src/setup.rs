@@ -126,9 +126,12 @@ pub fn prepare(
             message: format!("the run's steps are {dt:e} long, not run.time_step: the steps could not land on the [[step]] starts"),
         });
     }
-    let stages = (scene.steps.iter().map(|s| (s.start / dt).round() as usize))
+    let stages: Vec<(usize, Model)> = (scene.steps.iter().map(|s| (s.start / dt).round() as usize))
         .zip(model.for_steps(scene)?)
         .collect();
+    for (_, m) in &stages {
+        refuse_implicit(scene, m, method)?;
+    }
     Ok(Setup {
         stages,
         damage,
@@ -351,6 +354,17 @@ fn refuse_implicit(scene: &Scene, model: &Model, method: Method) -> Result<()> {
             message: format!(
                 "linear constraints are honoured by static steps (method = \"static\") and implicit ones without contact; {why}"
             ),
+        });
+    }
+    let step_slope = (scene.steps.iter().enumerate()).find_map(|(i, s)| {
+        let j = s.contacts.iter().position(|c| c.stick_slope.is_some())?;
+        Some(format!("step[{i}].contact[{j}].stick_slope"))
+    });
+    if let Some(key) = step_slope {
+        return Err(ImpactError::Unsupported {
+            path: scene.path.clone(),
+            key,
+            message: format!("a stick slope is honoured by static steps (method = \"static\"); the {} path's friction sticks exactly: remove the key", method.name()),
         });
     }
     if let Some(k) = scene.contacts.iter().position(|c| c.stick_slope.is_some()) {

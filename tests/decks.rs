@@ -431,11 +431,42 @@ fn what_a_deck_asks_that_impact_cannot_honour_is_refused_by_keyword_and_line() {
         &loaded,
         &["bad.inp:152", "*CLOAD in a later *STEP"],
     );
+    // another increment: every step runs at the smallest, on which each step must end
     let other = deck.clone() + "*STEP\n*DYNAMIC\n0.02, 0.4\n*END STEP\n";
+    let scene = Scene::load(written("deck_second_step_increment", "bad.inp", &other))
+        .expect("another increment reads");
+    assert_eq!(scene.run.time_step, Some(0.01));
+    let between = deck.clone() + "*STEP\n*DYNAMIC\n0.004, 0.01\n*END STEP\n";
     refused(
-        "deck_second_step_increment",
-        &other,
-        &["bad.inp:150", "*DYNAMIC in a later *STEP", "increment"],
+        "deck_second_step_between",
+        &between,
+        &["bad.inp:150", "not a whole number of increments of 0.004"],
+    );
+    let procedure = deck.clone() + "*STEP\n*STATIC\n0.01, 0.4\n*END STEP\n";
+    refused(
+        "deck_second_step_procedure",
+        &procedure,
+        &["bad.inp:150", "*STATIC in a later *STEP", "procedure"],
+    );
+    // a later step's supports (OP=NEW ends those before) and friction
+    let changed = deck.clone()
+        + "*STEP\n*DYNAMIC\n0.01, 0.4\n*BOUNDARY, OP=NEW\nNB, 1, 1\n*CHANGE FRICTION, INTERACTION=BARS\n*FRICTION\n0.3\n*END STEP\n";
+    let scene = Scene::load(written("deck_second_step_changes", "bad.inp", &changed))
+        .expect("a later step's supports and friction read");
+    let step = &scene.steps[0];
+    assert_eq!(step.release_fixes, impact::scene::Release::All);
+    assert_eq!(step.fixes.len(), 1);
+    assert_eq!(step.fixes[0].components, [true, false, false]);
+    // a dynamic step's 0 holds the nodes where they are
+    assert!(step.fixes[0].displacement.is_none());
+    assert_eq!(step.contacts.len(), 1);
+    assert_eq!(step.contacts[0].friction, Some(0.3));
+    let moved_later =
+        deck.clone() + "*STEP\n*DYNAMIC\n0.01, 0.4\n*BOUNDARY\nNB, 1, 1, 0.1\n*END STEP\n";
+    refused(
+        "deck_second_step_jump",
+        &moved_later,
+        &["bad.inp:153", "a jump"],
     );
     let moved = edit(
         &deck,

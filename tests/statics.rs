@@ -9,7 +9,7 @@ use common::*;
 
 use impact::run::{run, RunOptions};
 use impact::scene::Scene;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 const E: f64 = 1000.0;
 const P: f64 = 2.0;
@@ -328,75 +328,6 @@ fn an_exponential_pressure_overclosure_leaves_the_overclosure_of_its_law() {
     );
 }
 
-/// CalculiX's test decks (Debian `calculix-ccx-test`), where installed.
-fn ccx_decks() -> Option<PathBuf> {
-    let dir = PathBuf::from("/usr/share/doc/calculix-ccx-test/examples/test");
-    if dir.is_dir() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var_os("IMPACT_REQUIRE_CCX").is_none(),
-        "IMPACT_REQUIRE_CCX is set and {} is missing",
-        dir.display()
-    );
-    eprintln!(
-        "skipped: CalculiX's test decks are not installed (apt-get install calculix-ccx-test)"
-    );
-    None
-}
-
-/// A deck's file, unpacked where the package gzipped it.
-fn deck_text(dir: &Path, name: &str) -> String {
-    let plain = dir.join(name);
-    if plain.exists() {
-        return std::fs::read_to_string(plain).unwrap();
-    }
-    let out = std::process::Command::new("gzip")
-        .arg("-dc")
-        .arg(dir.join(format!("{name}.gz")))
-        .output()
-        .expect("gzip runs");
-    String::from_utf8(out.stdout).unwrap()
-}
-
-/// The last displacement block of a `.dat.ref`: node number -> (ux, uy, uz).
-fn reference_displacements(text: &str) -> Vec<(u64, [f64; 3])> {
-    let start = text
-        .rfind("displacements (vx,vy,vz)")
-        .expect("a displacement block");
-    let mut out = Vec::new();
-    for line in text[start..].lines().skip(2) {
-        let f: Vec<&str> = line.split_whitespace().collect();
-        if f.len() != 4 {
-            break;
-        }
-        let v = [1, 2, 3].map(|i| f[i].parse::<f64>().unwrap());
-        out.push((f[0].parse().unwrap(), v));
-    }
-    out
-}
-
-/// The deck's node coordinates.
-fn deck_nodes(text: &str) -> std::collections::HashMap<u64, [f64; 3]> {
-    let mut out = std::collections::HashMap::new();
-    let mut on = false;
-    for line in text.lines() {
-        let u = line.trim().to_ascii_uppercase();
-        if u.starts_with('*') {
-            on = u.starts_with("*NODE")
-                && !u.starts_with("*NODE PRINT")
-                && !u.starts_with("*NODE FILE");
-            continue;
-        }
-        let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        if on && f.len() >= 4 {
-            let x = [1, 2, 3].map(|i| f[i].parse::<f64>().unwrap());
-            out.insert(f[0].parse().unwrap(), x);
-        }
-    }
-    out
-}
-
 /// Runs CalculiX's deck `name` as it stands and returns the largest difference of its
 /// printed displacements from the reference output's, relative to the largest of them. The
 /// probes are matched to the printed nodes by position (where two bodies' nodes coincide,
@@ -438,25 +369,6 @@ fn ccx_difference(dir: &Path, name: &str) -> f64 {
     worst
 }
 
-/// A printed block: node number -> (ux, uy, uz).
-type Printed = Vec<(u64, [f64; 3])>;
-
-/// Every displacement block of a `.dat.ref`, with its time.
-fn reference_blocks(text: &str) -> Vec<(f64, Printed)> {
-    let starts: Vec<usize> = (text.match_indices("displacements (vx,vy,vz) for set "))
-        .map(|(at, _)| at)
-        .collect();
-    let ends = starts.iter().skip(1).copied().chain([text.len()]);
-    (starts.iter().zip(ends))
-        .map(|(&at, end)| {
-            let line = text[at..].lines().next().unwrap();
-            let time: f64 = line.split_whitespace().last().unwrap().parse().unwrap();
-            // the block is the last one of the text up to the next
-            (time, reference_displacements(&text[..end]))
-        })
-        .collect()
-}
-
 /// Runs CalculiX's deck `name` and returns the largest difference of every printed
 /// displacement, at every printed time, from the reference output's, relative to the
 /// largest of them (probes matched by position, as [`ccx_difference`]).
@@ -490,14 +402,6 @@ fn ccx_history_difference(dir: &Path, name: &str) -> f64 {
         }
     }
     worst
-}
-
-fn written_deck(name: &str, text: &str) -> PathBuf {
-    let dir = out_dir(&format!("ccx_{name}"));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(format!("{name}.inp"));
-    std::fs::write(&path, text).unwrap();
-    path
 }
 
 #[test]

@@ -5,6 +5,7 @@ pub mod cohesive;
 pub mod damage;
 mod damage_shapes;
 pub mod equations;
+pub mod fixes;
 pub mod interface;
 pub mod loads;
 pub mod materials;
@@ -13,7 +14,7 @@ pub mod rigid;
 
 pub use interface::{tributary_areas, Interface, Primary};
 pub use materials::MaterialTable;
-pub use prescribed::FixPath;
+pub use prescribed::{FixPath, PathShape};
 pub use rigid::RigidBody;
 
 use crate::contact::law::ContactLaw;
@@ -110,13 +111,13 @@ impl Model {
         }
         initial_velocities(scene, &mesh, &mut initial_velocity)?;
         let table = materials::element_materials(scene, &mut mesh);
-        let Fixes {
+        let fixes::Fixes {
             mut fixed,
             counts: fix_nodes,
             moving: fix_motion,
             paths: fix_paths,
             reactions,
-        } = fixes(scene, &mesh)?;
+        } = fixes::fixes(scene, &mesh, &fixes::in_force(scene, None))?;
         for b in rigid.iter().filter(|b| b.is_prescribed()) {
             fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
         }
@@ -181,11 +182,32 @@ impl Model {
     pub fn for_steps(&self, scene: &Scene) -> Result<Vec<Model>> {
         (0..scene.steps.len())
             .map(|k| {
+                let f = fixes::fixes(scene, &self.mesh, &fixes::in_force(scene, Some(k)))?;
+                let mut fixed = f.fixed;
+                for b in self.rigid.iter().filter(|b| b.is_prescribed()) {
+                    fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
+                }
+                let (loads, held_loads) = loads::loads(scene, &self.mesh, &fixed)?;
                 let removed = equations::removed_by(scene, &self.mesh, k);
-                let equations =
-                    equations::equations_kept(scene, &self.mesh, &self.fixed, &removed)?;
+                let equations = equations::equations_kept(scene, &self.mesh, &fixed, &removed)?;
+                let mut interfaces = self.interfaces.clone();
+                for change in scene.steps[..=k].iter().flat_map(|s| &s.contacts) {
+                    let itf = &mut interfaces[change.contact];
+                    if let Some(mu) = change.friction {
+                        itf.law = ContactLaw::of_friction(mu);
+                    }
+                    if let Some(slope) = change.stick_slope {
+                        itf.stick_slope = Some(slope);
+                    }
+                }
                 Ok(Model {
+                    fixed,
+                    fix_motion: f.moving,
+                    fix_paths: f.paths,
+                    loads,
+                    held_loads,
                     equations,
+                    interfaces,
                     ..self.clone()
                 })
             })
@@ -232,7 +254,7 @@ impl Model {
     }
 }
 
-fn body_box(mesh: &Mesh, b: usize) -> ([f64; 3], [f64; 3]) {
+pub(super) fn body_box(mesh: &Mesh, b: usize) -> ([f64; 3], [f64; 3]) {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in &mesh.nodes[mesh.bodies[b].nodes.clone()] {
@@ -244,21 +266,9 @@ fn body_box(mesh: &Mesh, b: usize) -> ([f64; 3], [f64; 3]) {
     (lo, hi)
 }
 
-/// The fixed dofs of every `[[fix]]`, and the nodes each holds (a fix that holds none is an
-/// error naming it).
-/// What the `[[fix]]`s hold: every held dof, the nodes each fix holds, the held dofs that
-/// move (with their velocities) and each named fix's held dofs.
-struct Fixes {
-    fixed: Vec<bool>,
-    counts: Vec<usize>,
-    moving: Vec<(usize, f64)>,
-    paths: Vec<FixPath>,
-    reactions: Vec<Reaction>,
-}
-
 /// The nodes of meshed body `body` that `nodes` selects (a fix's or an initial velocity's;
 /// none for a rigid body's, whose fix holds the body's node).
-fn selection(mesh: &Mesh, body: usize, nodes: &NodeSelection) -> Vec<u32> {
+pub(super) fn selection(mesh: &Mesh, body: usize, nodes: &NodeSelection) -> Vec<u32> {
     let body = &mesh.bodies[body];
     match nodes {
         NodeSelection::RigidBody => Vec::new(),
@@ -292,116 +302,6 @@ fn initial_velocities(scene: &Scene, mesh: &Mesh, v: &mut [f64]) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// A `[[fix]]` that holds no node.
-fn empty_fix(scene: &Scene, mesh: &Mesh, i: usize) -> ImpactError {
-    let f = &scene.fixes[i];
-    ImpactError::SceneValue {
-        path: scene.path.clone(),
-        key: format!("fix[{i}]"),
-        message: format!(
-            "holds no node of body `{}`{}",
-            scene.bodies[f.body].name,
-            match &f.nodes {
-                NodeSelection::Region { min, max } => format!(
-                    " (region.min {min:?}, region.max {max:?}; the body's nodes span {:?} to {:?})",
-                    body_box(mesh, f.body).0,
-                    body_box(mesh, f.body).1
-                ),
-                _ => String::new(),
-            }
-        ),
-    }
-}
-
-fn fixes(scene: &Scene, mesh: &Mesh) -> Result<Fixes> {
-    let mut fixed = vec![false; 3 * mesh.node_count()];
-    // the velocity each held dof is given, and by which fix
-    let mut given: std::collections::HashMap<usize, (f64, usize)> = Default::default();
-    let mut counts = Vec::with_capacity(scene.fixes.len());
-    let mut reactions = Vec::new();
-    let mut paths = Vec::new();
-    let first_rigid = mesh.node_count() - scene.rigid_bodies.len();
-    for (i, f) in scene.fixes.iter().enumerate() {
-        let nodes = match f.nodes {
-            NodeSelection::RigidBody => vec![(first_rigid + f.body) as u32],
-            _ => selection(mesh, f.body, &f.nodes),
-        };
-        if nodes.is_empty() {
-            return Err(empty_fix(scene, mesh, i));
-        }
-        counts.push(nodes.len());
-        let mut held: [Vec<u32>; 3] = Default::default();
-        for &n in &nodes {
-            for a in (0..3).filter(|&a| f.components[a]) {
-                let d = 3 * n as usize + a;
-                fixed[d] = true;
-                held[a].push(d as u32);
-                // a displacement's velocity changes over time: NaN meets no other
-                let w = match f.displacement {
-                    Some(_) => f64::NAN,
-                    None => f.velocity[a],
-                };
-                if let Some((w0, j)) = given.insert(d, (w, i)) {
-                    if w0 != w || w.is_nan() {
-                        return Err(two_motions(scene, (i, j), n, a));
-                    }
-                }
-            }
-        }
-        if let Some((value, amplitude)) = &f.displacement {
-            paths.push(FixPath::new(
-                &nodes,
-                f.components,
-                *value,
-                amplitude,
-                scene.run.end_time,
-            ));
-        }
-        if let Some(name) = &f.name {
-            reactions.push(Reaction {
-                name: name.clone(),
-                dofs: held,
-            });
-        }
-    }
-    let mut moving: Vec<(usize, f64)> = (given.into_iter())
-        .filter(|(_, (w, _))| *w != 0.0 && !w.is_nan())
-        .map(|(d, (w, _))| (d, w))
-        .collect();
-    moving.sort_by_key(|m| m.0);
-    Ok(Fixes {
-        fixed,
-        counts,
-        moving,
-        paths,
-        reactions,
-    })
-}
-
-/// Two fixes that move one node's component differently.
-fn two_motions(scene: &Scene, (i, j): (usize, usize), n: u32, a: usize) -> ImpactError {
-    let (fi, fj) = (&scene.fixes[i], &scene.fixes[j]);
-    let axis = ["x", "y", "z"][a];
-    let (key, message) = match (&fi.displacement, &fj.displacement) {
-        (None, None) => (
-            format!("fix[{i}].velocity"),
-            format!(
-                "fix[{j}] holds node {n}'s {axis} at {} and this fix at {}: a node's component moves at one velocity",
-                fj.velocity[a], fi.velocity[a]
-            ),
-        ),
-        _ => (
-            format!("fix[{i}].displacement"),
-            format!("fix[{j}] holds node {n}'s {axis} too: a component a fix moves by a displacement is that fix's alone"),
-        ),
-    };
-    ImpactError::SceneValue {
-        path: scene.path.clone(),
-        key,
-        message,
-    }
 }
 
 /// The contact queries of the surface interfaces, then every interface: the `[[contact]]`s

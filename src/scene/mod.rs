@@ -510,6 +510,32 @@ pub struct EquationSpec {
 pub struct StepSpec {
     pub start: f64,
     pub remove_equations: Removal,
+    /// The fixes before this step that end at its start: none, every one, or these
+    /// `[[fix]]`es (their indices).
+    pub release_fixes: Release,
+    /// The step's own fixes, from its start on. Where one holds a dof an earlier fix holds,
+    /// it takes the dof over. A `displacement` without an `amplitude` is reached at the
+    /// step's end, straight from where the nodes are at its start.
+    pub fixes: Vec<FixSpec>,
+    /// The contacts whose friction changes from the step on.
+    pub contacts: Vec<FrictionChange>,
+}
+
+/// The fixes a step ends.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Release {
+    None,
+    All,
+    Fixes(Vec<usize>),
+}
+
+/// A step's `[[step.contact]]`: contact `contact`'s friction coefficient and (static steps)
+/// stick slope from the step on, each kept as it was where `None`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrictionChange {
+    pub contact: usize,
+    pub friction: Option<f64>,
+    pub stick_slope: Option<f64>,
 }
 
 /// The `[[equation]]`s a step removes: none, all, or those whose dependent dof (their first

@@ -389,6 +389,28 @@ pub(crate) struct RawEquation {
 pub(crate) struct RawStep {
     pub start: f64,
     pub remove_equations: Option<RawRemoval>,
+    pub release_fixes: Option<RawRelease>,
+    #[serde(default)]
+    pub fix: Vec<RawFix>,
+    #[serde(default)]
+    pub contact: Vec<RawStepContact>,
+}
+
+/// `release_fixes`: `"all"`, or the names of the `[[fix]]`es that end.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(untagged)]
+pub(crate) enum RawRelease {
+    All(String),
+    Names(Vec<String>),
+}
+
+/// A step's `[[step.contact]]`: a contact's friction from the step on.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawStepContact {
+    pub name: String,
+    pub friction: Option<f64>,
+    pub stick_slope: Option<f64>,
 }
 
 /// `remove_equations`: `"all"`, or the dependent dofs whose equations end.

@@ -2,6 +2,7 @@
 #![allow(dead_code, unused_imports)]
 
 pub mod bench_scenes;
+pub mod ccx;
 pub mod cli;
 pub mod gpu;
 pub mod history;
@@ -13,6 +14,7 @@ pub mod source;
 pub mod waves;
 
 pub use bench_scenes::*;
+pub use ccx::*;
 pub use cli::*;
 pub use gpu::*;
 pub use history::*;

@@ -272,6 +272,21 @@ impl StaticContact {
         work
     }
 
+    /// Brings each node's traction inside its interface's cone at its pressure, as a step
+    /// that lowers the friction finds them: the stick slopes let go of the difference
+    /// (dissipated; no node moves, so no work is done).
+    pub fn fit_to_cones(&mut self) {
+        for r in &self.rows {
+            let limit = self.friction.mu[r.interface] * self.pressure(r);
+            let tau = &mut self.friction.tau[r.interface][r.point];
+            let size = vector::norm(*tau);
+            if size > limit {
+                let s = limit / size;
+                *tau = [tau[0] * s, tau[1] * s, tau[2] * s];
+            }
+        }
+    }
+
     /// The energy interface `k`'s stick slopes hold: $\sum A |\tau|^2 / (2 k_t)$.
     pub fn stick_energy(&self, k: usize) -> f64 {
         (self.rows.iter().filter(|r| r.interface == k))

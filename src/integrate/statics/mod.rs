@@ -147,16 +147,16 @@ impl<'m> StaticSolver<'m> {
         Ok(solver)
     }
 
-    /// The prescribed dofs' displacements at time `t`: the moving fixes' and prescribed
-    /// rigid bodies' velocity times t, the displaced fixes' paths.
-    fn prescribe(&mut self, t: f64) {
+    /// The prescribed dofs' displacements at time `t1`, from `u_start` at `t0`: the moving
+    /// fixes' and prescribed rigid bodies' velocity times t1, the displaced fixes' paths.
+    fn prescribe(&mut self, (t0, t1): (f64, f64)) {
         for (d, w) in self.model.moving_dofs() {
-            self.state.u[d] = w * t;
+            self.state.u[d] = w * t1;
         }
         for p in &self.model.fix_paths {
-            let a = p.amplitude.at(t);
             for (&d, &value) in p.dofs.iter().zip(&p.value) {
-                self.state.u[d as usize] = value * a;
+                let d = d as usize;
+                self.state.u[d] = p.at(value, (t0, t1), self.u_start[d]);
             }
         }
         self.constraints.apply(&mut self.state.u);
@@ -167,7 +167,7 @@ impl<'m> StaticSolver<'m> {
     fn increment(&mut self, t1: f64) -> Result<Option<usize>> {
         self.loads.set(self.model, t1, &mut self.f_ext);
         self.u_start.clone_from(&self.state.u);
-        self.prescribe(t1);
+        self.prescribe((self.clock, t1));
         let moved = max_abs_difference(&self.state.u, &self.u_start);
         let margin = self.contact.face_size + 2.0 * moved;
         self.contact.broad_phase(self.model, &self.u_start, margin);
@@ -178,6 +178,7 @@ impl<'m> StaticSolver<'m> {
             let Some(n) = self.settle()? else {
                 return Ok(None);
             };
+
             iterations += n;
             let size = self.state.u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             let tolerance = GAP_TOLERANCE * size.max(1e-6 * self.contact.face_size);
@@ -443,6 +444,12 @@ impl Integrator for StaticSolver<'_> {
             .kinematics(self.model, self.kernels.as_mut(), &u, &self.zero)
             .and_then(|_| self.residual())
             .map_err(|e| e.to_string())?;
+        Ok(())
+    }
+
+    /// A step entered at its start may lower the friction: the tractions start on its cones.
+    fn begin_step(&mut self) -> Result<()> {
+        self.contact.fit_to_cones();
         Ok(())
     }
 

@@ -125,6 +125,8 @@ struct Gathered {
     /// The `ADJUST=` distance of the pairs on each line that gives one.
     adjust: HashMap<usize, f64>,
     step: Option<DeckStep>,
+    /// The line of the first step's procedure.
+    step_line: usize,
     steps: usize,
     /// (node set, line) of each `*NODE PRINT` or `*NODE OUTPUT` with `NSET=`.
     printed: Vec<(String, usize)>,
@@ -136,17 +138,44 @@ struct Gathered {
     cloads: Vec<loads::NodalLoad>,
     pressures: Vec<loads::PressureLoad>,
     ramp: bool,
+    /// Whether the first step ramps a value without an amplitude.
+    first_ramp: bool,
     /// The names of the node-based surfaces (`*SURFACE, TYPE=NODE`).
     node_surfaces: Vec<String>,
     /// The steps after the first.
     later: Vec<LaterStep>,
 }
 
-/// A `*STEP` after the first: its line, its period, and the equations it removes.
+impl Gathered {
+    /// Keeps whether the step read so far ramps its values without an amplitude.
+    fn close_step(&mut self) {
+        match (self.steps, self.later.last_mut()) {
+            (1, _) => self.first_ramp = self.ramp,
+            (_, Some(l)) => l.ramp = self.ramp,
+            _ => {}
+        }
+    }
+}
+
+/// A `*STEP` after the first: its line (its procedure's, once read), its period and
+/// increments, the equations it
+/// removes, its `*BOUNDARY` lines (and whether one of them, `OP=NEW`, ends those before)
+/// and its `*CHANGE FRICTION`s (interaction, coefficient, stick slope, line).
+#[derive(Default)]
 struct LaterStep {
     line: usize,
     period: Option<f64>,
+    increment: Option<f64>,
+    minimum: Option<f64>,
     remove: Option<DeckRemoval>,
+    boundaries: Vec<Boundary>,
+    renew: bool,
+    /// Whether the step ramps a value without an amplitude (a static step, or
+    /// `*STEP, AMPLITUDE=RAMP`).
+    ramp: bool,
+    friction: Vec<(String, f64, Option<f64>, usize)>,
+    /// The interaction `*CHANGE FRICTION` opened, whose `*FRICTION` follows.
+    changing: Option<String>,
 }
 
 /// `*EQUATION, REMOVE ALL`, or `*EQUATION, REMOVE` with (node or node set, dof 0-2, line)
@@ -253,7 +282,10 @@ impl Reader<'_> {
                 };
                 g.sections.push((need("ELSET")?, need("MATERIAL")?, b.line));
             }
-            "BOUNDARY" => self.boundary(b, g)?,
+            "BOUNDARY" => {
+                let lines = self.boundary(b)?;
+                g.boundaries.extend(lines);
+            }
             "RIGID BODY" => self.rigid_body_keyword(b, g)?,
             "INITIAL CONDITIONS" => self.initial_velocity(b, g)?,
             "SURFACE INTERACTION" => {
@@ -264,21 +296,27 @@ impl Reader<'_> {
             }
             "FRICTION" => self.friction(b, g)?,
             "SURFACE BEHAVIOR" => self.surface_behavior(b, g)?,
-            "STATIC" => g.step = Some(self.statics(b)?),
+            "STATIC" => {
+                g.step = Some(self.statics(b)?);
+                g.step_line = b.line;
+            }
             "EQUATION" => self.equation(b, g)?,
             "CONTACT PAIR" => self.contact_pair(b, g)?,
             "STEP" => {
+                g.close_step();
                 g.ramp = b.get("AMPLITUDE").is_some_and(|a| a.eq_ignore_ascii_case("RAMP"));
                 g.steps += 1;
                 if g.steps > 1 {
                     g.later.push(LaterStep {
                         line: b.line,
-                        period: None,
-                        remove: None,
+                        ..Default::default()
                     });
                 }
             }
-            "DYNAMIC" => g.step = Some(self.dynamic(b)?),
+            "DYNAMIC" => {
+                g.step = Some(self.dynamic(b)?);
+                g.step_line = b.line;
+            }
             "DLOAD" => self.dload(b, g)?,
             "CLOAD" => self.cload(b, g)?,
             "AMPLITUDE" => self.amplitude(b, g)?,
@@ -297,14 +335,21 @@ impl Reader<'_> {
         Ok(())
     }
 
-    /// A block of a step after the first: its procedure (the first step's kind and
-    /// increment, a period of its own), `*EQUATION, REMOVE`, and output requests.
+    /// A block of a step after the first: its procedure (the first step's kind, with an
+    /// increment and a period of its own), `*EQUATION, REMOVE`, `*BOUNDARY` (`OP=MOD` or
+    /// `NEW`), `*CHANGE FRICTION` with its `*FRICTION`, and output requests.
     fn later_step(&self, b: &Block, g: &mut Gathered) -> Result<()> {
         let refuse = |why: &str| {
             Err(self
                 .src
                 .err(b.line, format!("*{} in a later *STEP: {why}", b.name)))
         };
+        let Some(later) = g.later.last_mut() else {
+            return Ok(());
+        };
+        if b.name != "FRICTION" {
+            later.changing = None;
+        }
         match b.name.as_str() {
             "END STEP" => {}
             "DYNAMIC" | "STATIC" => {
@@ -314,15 +359,17 @@ impl Reader<'_> {
                 };
                 let first = g.step.as_ref();
                 let same = first.is_some_and(|f| {
-                    (f.explicit, f.minimum_step.is_some(), f.time_step)
-                        == (step.explicit, step.minimum_step.is_some(), step.time_step)
+                    (f.explicit, f.minimum_step.is_some())
+                        == (step.explicit, step.minimum_step.is_some())
                 });
                 if !same {
-                    return refuse("the steps in sequence share the first step's procedure and increment (a preload before an impact is not built yet)");
+                    return refuse("the steps in sequence share the first step's procedure (a preload before an impact is not built yet)");
                 }
-                if let Some(later) = g.later.last_mut() {
-                    later.period = Some(step.end_time);
-                }
+                // the step's line from here on is its procedure's, which gives the increment
+                later.line = b.line;
+                later.period = Some(step.end_time);
+                later.increment = step.time_step;
+                later.minimum = step.minimum_step;
             }
             "EQUATION" => {
                 let remove = match (b.params.contains_key("REMOVEALL"), b.params.contains_key("REMOVE")) {
@@ -341,9 +388,41 @@ impl Reader<'_> {
                     }
                     _ => return refuse("a later step removes equations (`REMOVE`, `REMOVE ALL`); new ones are the first step's"),
                 };
-                if let Some(later) = g.later.last_mut() {
-                    later.remove = Some(remove);
+                later.remove = Some(remove);
+            }
+            "BOUNDARY" => {
+                match b.get("OP").map(str::to_ascii_uppercase).as_deref() {
+                    None | Some("MOD") => {}
+                    Some("NEW") => {
+                        later.renew = true;
+                        later.boundaries.clear();
+                    }
+                    Some(op) => return refuse(&format!("OP={op}: a *BOUNDARY is OP=MOD (changes and adds) or OP=NEW (ends those before)")),
                 }
+                let lines = self.boundary(b)?;
+                later.boundaries.extend(lines);
+            }
+            "CHANGE FRICTION" => {
+                let Some(name) = b.get("INTERACTION") else {
+                    return refuse("*CHANGE FRICTION needs INTERACTION=");
+                };
+                let name = name.to_ascii_uppercase();
+                if !g.friction.contains_key(&name) {
+                    return refuse(&format!("INTERACTION={name}: no *SURFACE INTERACTION of that name"));
+                }
+                later.changing = Some(name);
+            }
+            "FRICTION" => {
+                let Some(interaction) = later.changing.clone() else {
+                    return refuse("a later step's *FRICTION follows *CHANGE FRICTION, INTERACTION=");
+                };
+                let (f, l) = self.first(b)?;
+                let mu = self.number(f, 0, *l, "*FRICTION coefficient")?;
+                let slope = match f.get(1).filter(|x| !x.is_empty()) {
+                    Some(_) => Some(self.number(f, 1, *l, "*FRICTION stick slope")?),
+                    None => None,
+                };
+                later.friction.push((interaction, mu, slope, *l));
             }
             "NODE PRINT" | "NODE OUTPUT" if b.get("NSET").is_some() => {
                 let set = b.get("NSET").unwrap_or_default().to_string();
@@ -352,7 +431,7 @@ impl Reader<'_> {
                 }
             }
             n if PASSED_OVER.contains(&n) => g.passed.push((n.to_string(), b.line)),
-            _ => return refuse("between steps impact changes the equations alone (`*EQUATION, REMOVE`); the loads, supports and contact go on as the first step set them"),
+            _ => return refuse("between steps impact changes the equations (`*EQUATION, REMOVE`), the supports (`*BOUNDARY`) and the friction (`*CHANGE FRICTION`); the loads and the contact go on as the first step set them"),
         }
         Ok(())
     }
@@ -415,7 +494,9 @@ impl Reader<'_> {
         }
     }
 
-    fn boundary(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+    /// A `*BOUNDARY`'s lines.
+    fn boundary(&self, b: &Block) -> Result<Vec<Boundary>> {
+        let mut out = Vec::with_capacity(b.data.len());
         for (f, l) in &b.data {
             let set = f[0].clone();
             // Abaqus's named conditions, as they hold a solid's translations
@@ -429,7 +510,7 @@ impl Reader<'_> {
                 _ => None,
             };
             if let Some(dofs) = named {
-                g.boundaries.push(Boundary {
+                out.push(Boundary {
                     set,
                     dofs: dofs.to_vec(),
                     named: true,
@@ -451,7 +532,7 @@ impl Reader<'_> {
                 Some(_) => self.number(f, 3, *l, "*BOUNDARY value")?,
                 None => 0.0,
             };
-            g.boundaries.push(Boundary {
+            out.push(Boundary {
                 set,
                 dofs: (first..=last.max(first)).collect(),
                 named: false,
@@ -460,7 +541,7 @@ impl Reader<'_> {
                 line: *l,
             });
         }
-        Ok(())
+        Ok(out)
     }
 
     fn initial_velocity(&self, b: &Block, g: &mut Gathered) -> Result<()> {
@@ -777,14 +858,16 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
             g.node_surfaces.push(name.to_string());
         }
     }
+    g.close_step();
     if let Some(e) = super::together(refusals) {
         return Err(e);
     }
     let mut step = g.step.clone().ok_or_else(|| {
         r.src.whole("no *STEP with *DYNAMIC or *STATIC: impact runs one step, implicit (*DYNAMIC), explicit (*DYNAMIC, EXPLICIT) or static (*STATIC)")
     })?;
-    // the run goes on to the last step's end
+    // the run goes on to the last step's end, in the smallest of the steps' increments
     step.end_time += g.later.iter().filter_map(|l| l.period).sum::<f64>();
+    let notes = r.common_increment(&g, &mut step)?;
     // a dynamic step's contact is the augmented Lagrange iteration's: a linear law's slope
     // is passed over
     if step.minimum_step.is_none() {
@@ -826,7 +909,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         files: r.src.deck.files().to_vec(),
         gravity: r.whole_gravity(&g)?,
         materials: g.materials.clone(),
-        fixes: r.fixes(&g, &bodies, &on)?,
+        fixes: r.fixes((&g, &g.boundaries, None), &bodies, &on)?,
         loads: r.loads(&g, &bodies, &on)?,
         velocities,
         contacts,
@@ -840,6 +923,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         origins: Vec::new(),
     };
     let mut unprobed = unprobed;
+    unprobed.extend(notes);
     for (d, (r, _)) in g.rigid.iter().zip(&rigid.bodies) {
         if !scene.rigid.iter().any(|s| s.name == r.name) {
             let what = format!(
@@ -1080,13 +1164,16 @@ impl Reader<'_> {
     /// set's nodes (a line on a rigid body's reference node is the rigid body's).
     fn fixes(
         &self,
-        g: &Gathered,
+        (g, boundaries, later): (&Gathered, &[Boundary], Option<&LaterStep>),
         bodies: &[(DeckBody, BodyParts)],
         on: &On,
     ) -> Result<Vec<DeckFix>> {
         let mut out = Vec::new();
-        for b in &g.boundaries {
+        for b in boundaries {
             let Some(found) = self.solids(bodies, &b.set, b.line, on)? else {
+                if later.is_some() {
+                    return Err(self.src.err(b.line, format!("*BOUNDARY on `{}`, a rigid body's reference node, in a later step: a rigid body keeps the motion the first step gives it", b.set)));
+                }
                 continue;
             };
             if !b.named && b.dofs.iter().any(|&d| d > 3) {
@@ -1096,7 +1183,7 @@ impl Reader<'_> {
                 .filter(|&&d| d <= 3)
                 .map(|&d| ["x", "y", "z"][d - 1])
                 .collect();
-            let displacement = self.displacement(g, b)?;
+            let displacement = self.displacement(g, b, later)?;
             out.extend(fixes_of(found, &components).map(|f| DeckFix {
                 displacement: displacement.clone(),
                 ..f
@@ -1105,19 +1192,34 @@ impl Reader<'_> {
         Ok(out)
     }
 
-    /// A `*BOUNDARY` line's displacement (none for a value of 0): its value on each of its
-    /// dofs, along its `AMPLITUDE=` or the step's ramp. A dynamic step's value without
-    /// either would be a jump at t = 0, which no time step follows: refused.
+    /// A `*BOUNDARY` line's displacement: its value on each of its dofs, along its
+    /// `AMPLITUDE=` or the step's ramp (none for a value of 0 in the first step, or in a
+    /// later dynamic one without a ramp: held still). A dynamic step's value without either would be a jump, which no time step
+    /// follows: refused. A `later` step's line ramps from where its nodes are to its value
+    /// over the step, 0 too, and takes no amplitude (whose times would be the step's).
     fn displacement(
         &self,
         g: &Gathered,
         b: &Boundary,
+        later: Option<&LaterStep>,
     ) -> Result<Option<crate::scene::Displacement>> {
-        if b.value == 0.0 {
+        let ramp = later.map_or(g.first_ramp, |l| l.ramp);
+        let later = later.is_some();
+        if later && b.amplitude.is_some() {
+            return Err(self.src.err(b.line, format!("*BOUNDARY {}, AMPLITUDE= in a later step: impact ramps a later step's displacement over the step; leave the amplitude out", b.set)));
+        }
+        // a 0 in the first step, or in a later dynamic one without a ramp: held where the
+        // nodes are (CalculiX would move them back to 0 at once, a jump no step follows)
+        if b.value == 0.0 && (!later || (b.amplitude.is_none() && !ramp)) {
             return Ok(None);
         }
-        if b.amplitude.is_none() && !g.ramp {
-            return Err(self.src.err(b.line, format!("*BOUNDARY {}: a displacement of {} without an amplitude, which a dynamic step applies at once: a jump at t = 0 that no time step follows; give the *BOUNDARY an AMPLITUDE= or the *STEP AMPLITUDE=RAMP", b.set, b.value)));
+        if b.amplitude.is_none() && !ramp {
+            let at = if later {
+                "at the step's start"
+            } else {
+                "at t = 0"
+            };
+            return Err(self.src.err(b.line, format!("*BOUNDARY {}: a displacement of {} without an amplitude, which a dynamic step applies at once: a jump {at} that no time step follows; give the *STEP AMPLITUDE=RAMP{}", b.set, b.value, if later { "" } else { " or the *BOUNDARY an AMPLITUDE=" })));
         }
         let mut d = [0.0; 3];
         for &k in b.dofs.iter().filter(|&&k| k <= 3) {
@@ -1210,10 +1312,72 @@ impl Reader<'_> {
                     Some(each)
                 }
             };
-            out.push(super::DeckLaterStep { start, remove });
+            let fixes = self.fixes((g, &l.boundaries, Some(l)), bodies, on)?;
+            out.push(super::DeckLaterStep {
+                start,
+                remove,
+                release_fixes: l.renew,
+                fixes,
+                friction: self.friction_changes(g, l),
+            });
             start += period;
         }
         Ok(out)
+    }
+
+    /// The increment every step runs at: the smallest of theirs, of which each step's
+    /// period must be a whole number (a step's start lands on an increment); the smallest
+    /// minimum increment. Returns a note for each step whose increment changes.
+    fn common_increment(&self, g: &Gathered, step: &mut DeckStep) -> Result<Vec<(String, usize)>> {
+        let Some(first) = g.step.as_ref() else {
+            return Ok(Vec::new());
+        };
+        let Some(dt) = (g.later.iter().filter_map(|l| l.increment))
+            .chain(first.time_step)
+            .min_by(f64::total_cmp)
+        else {
+            return Ok(Vec::new());
+        };
+        step.time_step = Some(dt);
+        step.minimum_step = (g.later.iter().filter_map(|l| l.minimum))
+            .chain(first.minimum_step)
+            .min_by(f64::total_cmp);
+        let steps = std::iter::once((first.end_time, first.time_step, g.step_line)).chain(
+            g.later
+                .iter()
+                .map(|l| (l.period.unwrap_or(0.0), l.increment, l.line)),
+        );
+        let mut notes = Vec::new();
+        for (period, increment, line) in steps {
+            let whole = period / dt;
+            if (whole - whole.round()).abs() > 1e-9 * whole.max(1.0) {
+                return Err(self.src.err(line, format!("a step of {period} is not a whole number of increments of {dt}, the smallest of the steps': its end would fall between two of them")));
+            }
+            if let Some(h) = increment.filter(|&h| h != dt) {
+                notes.push((
+                    format!("STEP increment {h} (run at {dt}, the smallest of the deck's steps')"),
+                    line,
+                ));
+            }
+        }
+        Ok(notes)
+    }
+
+    /// A later step's `*CHANGE FRICTION`s as (contact, coefficient, stick slope): every
+    /// pair of the interaction changes.
+    fn friction_changes(&self, g: &Gathered, l: &LaterStep) -> Vec<(String, f64, Option<f64>)> {
+        let static_step = g.step.as_ref().is_some_and(|s| s.minimum_step.is_some());
+        let mut out = Vec::new();
+        for (interaction, mu, slope, _) in &l.friction {
+            for (slave, master, _, _) in g.pairs.iter().filter(|p| &p.2 == interaction) {
+                out.push((
+                    format!("{slave}-{master}"),
+                    *mu,
+                    slope.filter(|_| static_step),
+                ));
+            }
+        }
+        out
     }
 
     /// The contact pairs, and the rigid bodies whose surfaces they name as masters (each

@@ -306,6 +306,12 @@ pub(crate) struct DeckStep {
 pub(crate) struct DeckLaterStep {
     pub start: f64,
     pub remove: Option<Vec<(String, String, usize)>>,
+    /// `*BOUNDARY, OP=NEW`: the fixes before the step end at its start.
+    pub release_fixes: bool,
+    /// The step's `*BOUNDARY` lines, each ramped over the step.
+    pub fixes: Vec<DeckFix>,
+    /// `*CHANGE FRICTION`: (contact, coefficient, stick slope).
+    pub friction: Vec<(String, f64, Option<f64>)>,
 }
 
 /// One term of an `*EQUATION`: body, node set, dof 0-2, coefficient.
@@ -609,6 +615,20 @@ fn float(x: f64) -> String {
     format!("{x:?}")
 }
 
+/// A fix as the table `[[table]]` (`fix`, or a step's `step.fix`).
+fn write_fix(t: &mut String, table: &str, f: &DeckFix) {
+    let components: Vec<String> = f.components.iter().map(|c| quoted(c)).collect();
+    let _ = writeln!(t, "\n[[{table}]]\nbody = {}", quoted(&f.body));
+    if !f.set.is_empty() {
+        let _ = writeln!(t, "set = {}", quoted(&f.set));
+    }
+    let _ = writeln!(t, "components = [{}]", components.join(", "));
+    if let Some((d, amplitude)) = &f.displacement {
+        let _ = writeln!(t, "displacement = {}", vector(*d));
+        write_amplitude(t, amplitude);
+    }
+}
+
 /// `amplitude = [[t, a], ...]`, where the table has points.
 fn write_amplitude(t: &mut String, amplitude: &[[f64; 2]]) {
     if !amplitude.is_empty() {
@@ -734,6 +754,23 @@ impl DeckScene {
                     let _ = writeln!(t, "remove_equations = [{}]", each.join(", "));
                 }
             }
+            if l.release_fixes {
+                let _ = writeln!(t, "release_fixes = \"all\"");
+            }
+            for f in &l.fixes {
+                write_fix(t, "step.fix", f);
+            }
+            for (name, mu, slope) in &l.friction {
+                let _ = writeln!(
+                    t,
+                    "\n[[step.contact]]\nname = {}\nfriction = {}",
+                    quoted(name),
+                    float(*mu)
+                );
+                if let Some(k) = slope {
+                    let _ = writeln!(t, "stick_slope = {}", float(*k));
+                }
+            }
         }
     }
 
@@ -839,16 +876,7 @@ impl DeckScene {
                 displacement: None,
             });
         for f in self.fixes.iter().cloned().chain(held) {
-            let components: Vec<String> = f.components.iter().map(|c| quoted(c)).collect();
-            let _ = writeln!(t, "\n[[fix]]\nbody = {}", quoted(&f.body));
-            if !f.set.is_empty() {
-                let _ = writeln!(t, "set = {}", quoted(&f.set));
-            }
-            let _ = writeln!(t, "components = [{}]", components.join(", "));
-            if let Some((d, amplitude)) = &f.displacement {
-                let _ = writeln!(t, "displacement = {}", vector(*d));
-                write_amplitude(t, amplitude);
-            }
+            write_fix(t, "fix", &f);
         }
         for v in &self.velocities {
             let _ = writeln!(t, "\n[[initial_velocity]]\nbody = {}", quoted(&v.body));

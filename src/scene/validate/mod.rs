@@ -1126,16 +1126,17 @@ impl Checker<'_> {
         Ok(out)
     }
 
-    fn fixes(
+    /// The fixes `raw`, whose keys are `prefix[i].key` (`fix`, or a step's `step[k].fix`).
+    pub(super) fn fixes(
         &self,
+        prefix: &str,
         raw: &[RawFix],
-        raw_bodies: &[RawBody],
-        bodies: &[BodySpec],
+        (raw_bodies, bodies): (&[RawBody], &[BodySpec]),
         rigid: &[RigidBodySpec],
     ) -> Result<Vec<FixSpec>> {
         let mut fixes = Vec::new();
         for (i, f) in raw.iter().enumerate() {
-            let key = |k: &str| format!("fix[{i}].{k}");
+            let key = |k: &str| format!("{prefix}[{i}].{k}");
             let rigid_body = rigid.iter().position(|b| b.name == f.body);
             let body = match rigid_body {
                 Some(b) => b,
@@ -1411,9 +1412,16 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
     let rigid_bodies = c.rigid_bodies(&raw.rigid_body)?;
     let contacts = c.contacts(&raw.contact, &raw.body, &bodies, &rigid_bodies)?;
     let planes = c.planes(&raw.rigid_plane, &raw.body, bodies.len())?;
-    let fixes = c.fixes(&raw.fix, &raw.body, &bodies, &rigid_bodies)?;
+    let fixes = c.fixes("fix", &raw.fix, (&raw.body, &bodies), &rigid_bodies)?;
     let equations = c.equations(&raw.equation, &raw.body, &bodies)?;
-    let steps = c.steps(&raw.step, &run, &raw.body, &bodies)?;
+    let held = steps::Held {
+        raw_bodies: &raw.body,
+        bodies: &bodies,
+        rigid: &rigid_bodies,
+        fixes: &raw.fix,
+        contacts: &contacts,
+    };
+    let steps = c.steps(&raw.step, &run, &held)?;
     let initial_velocities =
         c.initial_velocities(&raw.initial_velocity, &raw.body, &bodies, &rigid_bodies)?;
     let loads = c.loads(&raw.load, &raw.body, &bodies, &rigid_bodies)?;

@@ -2,6 +2,16 @@
 
 use super::*;
 
+/// What a step may change: the bodies its fixes hold, the run's own `[[fix]]`es (by name)
+/// and the contacts (by name).
+pub(super) struct Held<'a> {
+    pub raw_bodies: &'a [RawBody],
+    pub bodies: &'a [BodySpec],
+    pub rigid: &'a [RigidBodySpec],
+    pub fixes: &'a [RawFix],
+    pub contacts: &'a [ContactSpec],
+}
+
 impl Checker<'_> {
     /// Each step's start: after the last one's, and on a whole
     /// number of `run.time_step`s (so that the run's steps land on it); and what it removes.
@@ -9,9 +19,9 @@ impl Checker<'_> {
         &self,
         raw: &[RawStep],
         run: &RunSettings,
-        raw_bodies: &[RawBody],
-        bodies: &[BodySpec],
+        held: &Held,
     ) -> Result<Vec<StepSpec>> {
+        let (raw_bodies, bodies) = (held.raw_bodies, held.bodies);
         let mut out: Vec<StepSpec> = Vec::with_capacity(raw.len());
         for (i, s) in raw.iter().enumerate() {
             let key = |k: &str| format!("step[{i}].{k}");
@@ -53,9 +63,19 @@ impl Checker<'_> {
                     Removal::Dofs(self.removed_dofs(i, dofs, raw_bodies, bodies)?)
                 }
             };
+            let fixes = self.fixes(&key("fix"), &s.fix, (raw_bodies, bodies), held.rigid)?;
+            if let Some(j) = s.fix.iter().position(|f| f.name.is_some()) {
+                return Err(self.err(
+                    key(&format!("fix[{j}].name")),
+                    "a step's fix gives no reaction column of its own (the history's columns are the run's from its start): name a [[fix]] that holds the nodes from t = 0",
+                ));
+            }
             out.push(StepSpec {
                 start,
                 remove_equations,
+                release_fixes: self.release(&key("release_fixes"), &s.release_fixes, held.fixes)?,
+                fixes,
+                contacts: self.friction_changes(i, &s.contact, held.contacts)?,
             });
         }
         Ok(out)
@@ -79,6 +99,86 @@ impl Checker<'_> {
             let nodes = self.nodes_of(&key, (&None, &d.set, d.region.as_ref()), &bodies[body])?;
             let component = self.component(&key("component"), &d.component)?;
             out.push((body, nodes, component));
+        }
+        Ok(out)
+    }
+}
+
+impl Checker<'_> {
+    /// A step's `release_fixes`: "all", or names of `[[fix]]`es.
+    fn release(&self, key: &str, raw: &Option<RawRelease>, fixes: &[RawFix]) -> Result<Release> {
+        match raw {
+            None => Ok(Release::None),
+            Some(RawRelease::All(a)) if a == "all" => Ok(Release::All),
+            Some(RawRelease::All(a)) => Err(self.err(
+                key,
+                format!("`{a}`: give \"all\" or a list of [[fix]] names"),
+            )),
+            Some(RawRelease::Names(names)) => {
+                let mut out = Vec::with_capacity(names.len());
+                for n in names {
+                    let Some(i) = fixes.iter().position(|f| f.name.as_deref() == Some(n)) else {
+                        let named: Vec<&str> =
+                            fixes.iter().filter_map(|f| f.name.as_deref()).collect();
+                        return Err(self.err(
+                            key,
+                            format!(
+                                "no [[fix]] is named `{n}` (the named ones: {})",
+                                match named.is_empty() {
+                                    true => "none".to_string(),
+                                    false => named.join(", "),
+                                }
+                            ),
+                        ));
+                    };
+                    out.push(i);
+                }
+                Ok(Release::Fixes(out))
+            }
+        }
+    }
+
+    /// A step's `[[step.contact]]`s: each a contact by name, with a new friction or stick
+    /// slope.
+    fn friction_changes(
+        &self,
+        i: usize,
+        raw: &[RawStepContact],
+        contacts: &[ContactSpec],
+    ) -> Result<Vec<FrictionChange>> {
+        let mut out = Vec::with_capacity(raw.len());
+        for (j, c) in raw.iter().enumerate() {
+            let key = |k: &str| format!("step[{i}].contact[{j}].{k}");
+            let Some(contact) = contacts.iter().position(|x| x.name == c.name) else {
+                let names: Vec<&str> = contacts.iter().map(|x| x.name.as_str()).collect();
+                return Err(self.err(
+                    key("name"),
+                    format!(
+                        "no [[contact]] is named `{}` (the contacts: {})",
+                        c.name,
+                        names.join(", ")
+                    ),
+                ));
+            };
+            if c.friction.is_none() && c.stick_slope.is_none() {
+                return Err(self.err(
+                    key("friction"),
+                    "give the contact's new `friction`, `stick_slope` or both",
+                ));
+            }
+            let friction = match c.friction {
+                Some(mu) => Some(self.friction(&key("friction"), Some(mu))?),
+                None => None,
+            };
+            let stick_slope = match c.stick_slope {
+                Some(k) => Some(self.positive(&key("stick_slope"), k)?),
+                None => None,
+            };
+            out.push(FrictionChange {
+                contact,
+                friction,
+                stick_slope,
+            });
         }
         Ok(out)
     }

@@ -257,7 +257,7 @@ impl Reader<'_> {
                 self.src
                     .err(line, format!("AMPLITUDE={n}: no *AMPLITUDE of that name"))
             }),
-            None if g.ramp => {
+            None if g.first_ramp => {
                 let end = g.step.as_ref().map_or(1.0, |s| s.end_time);
                 Ok(vec![[0.0, 0.0], [end, 1.0]])
             }
