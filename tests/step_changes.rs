@@ -138,12 +138,8 @@ fn a_released_support_lets_the_block_spring_back() {
 }
 
 /// A block pressed on its base by 2 and dragged 0.2 over the first step at mu = 0.3; a
-/// step lowers the friction to 0.1 and drags it back: the friction force is mu N on
-/// each step's cone, at once after the change too, to 1e-5 (the normal force is reported
-/// after the pressure's last update; the cone was met before it).
-#[test]
-fn a_step_lowers_the_friction_to_its_new_cone() {
-    let text = r#"title = "a block dragged over its base, its friction lowered by a step"
+/// step lowers the friction to 0.1 and drags it back to 0.
+const DRAGGED: &str = r#"title = "a block dragged over its base, its friction lowered by a step"
 [run]
 method = "static"
 end_time = 2.0
@@ -190,6 +186,7 @@ amplitude = [[0.0, 0.0], [0.5, 0.0], [1.0, 1.0]]
 
 [[step]]
 start = 1.0
+end = 2.0
 
 [[step.fix]]
 body = "block"
@@ -201,6 +198,14 @@ displacement = [0.0, 0.0, 0.0]
 name = "joint"
 friction = 0.1
 "#;
+
+/// A block pressed on its base by 2 and dragged 0.2 over the first step at mu = 0.3; a
+/// step lowers the friction to 0.1 and drags it back: the friction force is mu N on
+/// each step's cone, at once after the change too, to 1e-5 (the normal force is reported
+/// after the pressure's last update; the cone was met before it).
+#[test]
+fn a_step_lowers_the_friction_to_its_new_cone() {
+    let text = DRAGGED;
     let h = run_text("step_friction", text);
     for (t, mu) in [(1.0, 0.3), (1.125, 0.1), (2.0, 0.1)] {
         let (tangential, normal) = (
@@ -386,4 +391,29 @@ fn contact_stress_blocks(text: &str) -> Vec<(f64, Vec<[f64; 3]>)> {
         out.push((t, rows));
     }
     out
+}
+
+/// The dragged block stopped before its second step and inside it, and resumed: the
+/// unbroken history, byte for byte (the step's ramp goes on from where the nodes are to
+/// its `end`, so a resumed run follows it too, whatever end time the stopped run had).
+#[test]
+fn a_run_whose_steps_change_supports_and_friction_resumes_to_the_unbroken_history() {
+    let whole = format!("{DRAGGED}\n[output]\ncheckpoint_every = 2\n");
+    let s = run_resumable("step_changes_whole", "dragged", &whole, (false, None)).unwrap();
+    assert_eq!(s.status, "completed");
+    for (tag, stop) in [
+        ("step_changes_before", "0.75"),
+        ("step_changes_inside", "1.25"),
+    ] {
+        let early = whole.replace("end_time = 2.0", &format!("end_time = {stop}"));
+        let s = run_resumable(tag, "dragged", &early, (false, None)).unwrap();
+        assert_eq!(s.status, "completed");
+        let r = run_resumable(tag, "dragged", &whole, (true, None)).expect("resumed");
+        assert_eq!(r.status, "completed");
+        assert_eq!(
+            history_text("step_changes_whole"),
+            history_text(tag),
+            "{tag}"
+        );
+    }
 }

@@ -44,11 +44,12 @@ pub(super) fn in_force(scene: &Scene, step: Option<usize>) -> Vec<InForce<'_>> {
                 out.retain(|f| f.layer > 0 || !ids.iter().any(|i| f.key == format!("fix[{i}]")))
             }
         }
+        let ramp_end = s.end.unwrap_or_else(|| end_of(k + 1));
         out.extend(s.fixes.iter().enumerate().map(|(i, spec)| InForce {
             key: format!("step[{k}].fix[{i}]"),
             spec,
             layer: k + 1,
-            ramp_end: end_of(k + 1),
+            ramp_end,
         }));
     }
     out

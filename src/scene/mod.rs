@@ -509,6 +509,9 @@ pub struct EquationSpec {
 #[derive(Debug, Clone)]
 pub struct StepSpec {
     pub start: f64,
+    /// Where the step's fixes' ramps end (`None`: at the next step's start, or at
+    /// `run.end_time`).
+    pub end: Option<f64>,
     pub remove_equations: Removal,
     /// The fixes before this step that end at its start: none, every one, or these
     /// `[[fix]]`es (their indices).

@@ -388,6 +388,7 @@ pub(crate) struct RawEquation {
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawStep {
     pub start: f64,
+    pub end: Option<f64>,
     pub remove_equations: Option<RawRemoval>,
     pub release_fixes: Option<RawRelease>,
     #[serde(default)]

@@ -1315,6 +1315,7 @@ impl Reader<'_> {
             let fixes = self.fixes((g, &l.boundaries, Some(l)), bodies, on)?;
             out.push(super::DeckLaterStep {
                 start,
+                end: start + period,
                 remove,
                 release_fixes: l.renew,
                 fixes,

@@ -305,6 +305,8 @@ pub(crate) struct DeckStep {
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct DeckLaterStep {
     pub start: f64,
+    /// Its end: its start and period.
+    pub end: f64,
     pub remove: Option<Vec<(String, String, usize)>>,
     /// `*BOUNDARY, OP=NEW`: the fixes before the step end at its start.
     pub release_fixes: bool,
@@ -734,7 +736,12 @@ impl DeckScene {
             let _ = writeln!(t, "\n[static]\nminimum_step = {}", float(m));
         }
         for l in &self.later_steps {
-            let _ = writeln!(t, "\n[[step]]\nstart = {}", float(l.start));
+            let _ = writeln!(
+                t,
+                "\n[[step]]\nstart = {}\nend = {}",
+                float(l.start),
+                float(l.end)
+            );
             match &l.remove {
                 None => {}
                 Some(dofs) if dofs.is_empty() => {

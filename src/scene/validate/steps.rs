@@ -70,8 +70,19 @@ impl Checker<'_> {
                     "a step's fix gives no reaction column of its own (the history's columns are the run's from its start): name a [[fix]] that holds the nodes from t = 0",
                 ));
             }
+            let end = match s.end {
+                Some(e) if e.is_finite() && e > start => Some(e),
+                Some(e) => {
+                    return Err(self.err(
+                        key("end"),
+                        format!("{e}: a step ends after its start ({start})"),
+                    ))
+                }
+                None => None,
+            };
             out.push(StepSpec {
                 start,
+                end,
                 remove_equations,
                 release_fixes: self.release(&key("release_fixes"), &s.release_fixes, held.fixes)?,
                 fixes,
