@@ -146,6 +146,27 @@ struct Gathered {
     later: Vec<LaterStep>,
 }
 
+/// Parameters impact reads past, each listed in the notice with its line: `*STEP, NLGEOM`
+/// (impact's strain is small), `*DYNAMIC, ALPHA=` (impact's implicit step is the
+/// trapezoidal rule, alpha = 0) and `*CONTACT PAIR, SMALL SLIDING` (impact's contact
+/// follows finite sliding).
+fn noted_parameters(b: &Block, g: &mut Gathered) {
+    let given = |k: &str| b.get(k).map(str::to_ascii_uppercase);
+    let note = match b.name.as_str() {
+        "STEP" if b.params.contains_key("NLGEOM") && given("NLGEOM").as_deref() != Some("NO") => {
+            "STEP NLGEOM (impact's strain is small: the strain and the material are linear)"
+        }
+        "DYNAMIC" if given("ALPHA").is_some_and(|a| crate::mesh::abaqus::real(&a) != Some(0.0)) => {
+            "DYNAMIC ALPHA= (impact's implicit step is the trapezoidal rule, alpha = 0)"
+        }
+        "CONTACT PAIR" if b.params.contains_key("SMALLSLIDING") => {
+            "CONTACT PAIR SMALL SLIDING (impact's contact follows finite sliding)"
+        }
+        _ => return,
+    };
+    g.passed.push((note.to_string(), b.line));
+}
+
 impl Gathered {
     /// Keeps whether the step read so far ramps its values without an amplitude.
     fn close_step(&mut self) {
@@ -240,6 +261,7 @@ impl Reader<'_> {
         // a static step's loads and displacements ramp over it (refused below, but its
         // displacements are not told they jump)
         g.ramp |= b.name == "STATIC";
+        noted_parameters(b, g);
         if g.steps > 1 && b.name != "STEP" {
             return self.later_step(b, g);
         }
