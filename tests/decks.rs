@@ -1559,8 +1559,9 @@ fn abaqus_tup_deck((x0, x1): (f64, f64), boundary: &str, velocity: &str) -> Stri
 /// The turning tup's deck in CalculiX's own form, as `scenes/rigid_tup.inp` ships it for
 /// ccx 2.20: the rotations on a `ROT NODE` (ccx's reference node has no dofs 4-6), the
 /// reference nodes by number, a pressure-overclosure in place of a zero friction (ccx
-/// refuses both a zero coefficient and an interaction without one) and room for ccx's
-/// increments. impact reads the two forms as one model.
+/// refuses both a zero coefficient and an interaction without one), room for ccx's
+/// increments and `NLGEOM` (ccx's rigid body turns by exact rotations with it). impact reads
+/// the two forms as one model.
 fn ccx_form(deck: &str) -> String {
     let mut t = deck.to_string();
     for (from, to) in [
@@ -1577,7 +1578,7 @@ fn ccx_form(deck: &str) -> String {
             "*FRICTION\n0.0\n",
             "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n1.0e3\n",
         ),
-        ("*STEP\n", "*STEP, INC=1000000\n"),
+        ("*STEP\n", "*STEP, INC=1000000, NLGEOM\n"),
     ] {
         assert!(t.contains(from), "{from}");
         t = t.replace(from, to);
