@@ -14,6 +14,8 @@ use crate::scene::{FixSpec, NodeSelection, Release, Scene};
 /// belongs to (0: the run's own) and the end of its first ramp (the end of its step).
 pub(super) struct InForce<'a> {
     key: String,
+    /// Its index among the run's own `[[fix]]`es (`None`: a step's).
+    own: Option<usize>,
     spec: &'a FixSpec,
     layer: usize,
     ramp_end: f64,
@@ -26,6 +28,7 @@ pub(super) fn in_force(scene: &Scene, step: Option<usize>) -> Vec<InForce<'_>> {
     let mut out: Vec<InForce> = (scene.fixes.iter().enumerate())
         .map(|(i, spec)| InForce {
             key: format!("fix[{i}]"),
+            own: Some(i),
             spec,
             layer: 0,
             ramp_end: end_of(0),
@@ -40,13 +43,12 @@ pub(super) fn in_force(scene: &Scene, step: Option<usize>) -> Vec<InForce<'_>> {
         match &s.release_fixes {
             Release::None => {}
             Release::All => out.clear(),
-            Release::Fixes(ids) => {
-                out.retain(|f| f.layer > 0 || !ids.iter().any(|i| f.key == format!("fix[{i}]")))
-            }
+            Release::Fixes(ids) => out.retain(|f| f.own.is_none_or(|i| !ids.contains(&i))),
         }
         let ramp_end = s.end.unwrap_or_else(|| end_of(k + 1));
         out.extend(s.fixes.iter().enumerate().map(|(i, spec)| InForce {
             key: format!("step[{k}].fix[{i}]"),
+            own: None,
             spec,
             layer: k + 1,
             ramp_end,
