@@ -191,29 +191,61 @@ impl<'m> StaticSolver<'m> {
     }
 
     /// Newton's iteration at the current multipliers: the number of solves, or `None` where
-    /// it did not settle.
+    /// it did not settle. Once the active set comes back to one it left (a cycle between
+    /// sets, where a row's pressure sits near zero), each update is damped: halved until the
+    /// residual is no larger than before it.
     fn settle(&mut self) -> Result<Option<usize>> {
-        // the pressed rows the last solve had (each row keeps its face over the increment)
+        // the pressed rows the last solve had (each row keeps its face over an increment)
         let mut solved_with: Option<ActiveSet> = None;
+        let mut seen: Vec<ActiveSet> = Vec::new();
+        let mut cycling = false;
         for k in 0..MAX_NEWTON {
             let mut r = self.residual()?;
             let set = self.contact.active_set();
             let scale = self.force_scale();
-            let largest = r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let largest = max_abs(&r);
             if solved_with.as_ref() == Some(&set) && largest <= FORCE_TOLERANCE * scale {
                 return Ok(Some(k));
             }
+            cycling |= solved_with.as_ref() != Some(&set) && seen.contains(&set);
+            seen.push(set.clone());
             self.factorise(&set)?;
             let (_, solver) = self.factor.as_ref().expect("factorised just now");
             solver.solve_in_place(&mut r);
             self.stats.solves += 1;
-            for (e, &d) in self.asm.dof_of.iter().enumerate() {
-                self.state.u[d as usize] += r[e];
+            match cycling {
+                true => self.damped_update(&r, largest)?,
+                false => self.update(&r, 1.0),
             }
-            self.constraints.apply(&mut self.state.u);
             solved_with = Some(set);
         }
         Ok(None)
+    }
+
+    /// `u` moved by `step` times the solved correction `du` (on the free equations), the
+    /// dependent dofs set from the others.
+    fn update(&mut self, du: &[f64], step: f64) {
+        for (e, &d) in self.asm.dof_of.iter().enumerate() {
+            self.state.u[d as usize] += step * du[e];
+        }
+        self.constraints.apply(&mut self.state.u);
+    }
+
+    /// The correction `du` taken whole where the residual (largest entry `before`) does not
+    /// grow, else halved up to five times.
+    fn damped_update(&mut self, du: &[f64], before: f64) -> Result<()> {
+        let start = self.state.u.clone();
+        let mut step = 1.0;
+        for _ in 0..5 {
+            self.update(du, step);
+            if max_abs(&self.residual()?) <= before {
+                return Ok(());
+            }
+            self.state.u.clone_from(&start);
+            step *= 0.5;
+        }
+        self.update(du, step);
+        Ok(())
     }
 
     /// The residual $f_{ext} - f_{int} - f_c - S(u - u_n)$ on the free equations, with the
@@ -284,6 +316,18 @@ impl<'m> StaticSolver<'m> {
         Ok(())
     }
 
+    /// The increment from `t0` to `t1` just solved, accepted: its work ([`Self::count_work`];
+    /// `before`: the supports' forces at its start, `d0` the loads' dot products there), the
+    /// friction's tractions committed and their work taken, the clock at `t1`.
+    fn accept(&mut self, (t0, t1): (f64, f64), before: &[f64], d0: &[f64]) {
+        self.count_work((t0, t1), before, d0);
+        let work = self.contact.commit_friction();
+        for (loss, w) in self.state.friction_loss.iter_mut().zip(work) {
+            *loss -= w;
+        }
+        self.clock = t1;
+    }
+
     /// The work of the increment just solved: the loads', the supports' and the
     /// stabilisation's (`before`: the supports' forces at its start).
     fn count_work(&mut self, (t0, t1): (f64, f64), before: &[f64], d0: &[f64]) {
@@ -332,12 +376,7 @@ impl Integrator for StaticSolver<'_> {
             match self.increment(t1)? {
                 Some(n) => {
                     report.iterations += n;
-                    self.count_work((self.clock, t1), &saved.1, &d0);
-                    let work = self.contact.commit_friction();
-                    for (loss, w) in self.state.friction_loss.iter_mut().zip(work) {
-                        *loss -= w;
-                    }
-                    self.clock = t1;
+                    self.accept((self.clock, t1), &saved.1, &d0);
                 }
                 None => {
                     (self.state, self.support, self.contact.lambda) = (saved.0, saved.1, saved.2);
@@ -508,6 +547,10 @@ fn node_stiffness(asm: &Assembled, diagonal: &[f64]) -> Vec<f64> {
     let held: Vec<f64> = k.iter().copied().filter(|&x| x > 0.0).collect();
     let mean = held.iter().sum::<f64>() / held.len().max(1) as f64;
     k.iter().map(|&x| if x > 0.0 { x } else { mean }).collect()
+}
+
+fn max_abs(a: &[f64]) -> f64 {
+    a.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
 
 fn max_abs_difference(a: &[f64], b: &[f64]) -> f64 {
