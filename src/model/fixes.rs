@@ -140,6 +140,13 @@ pub(super) fn fixes(scene: &Scene, mesh: &Mesh, list: &[InForce]) -> Result<Fixe
     })
 }
 
+/// Marks the dofs of every prescribed (or fixed) rigid body held in `fixed`.
+pub(super) fn hold_prescribed(fixed: &mut [bool], rigid: &[super::RigidBody]) {
+    for b in rigid.iter().filter(|b| b.is_prescribed()) {
+        fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
+    }
+}
+
 /// How a displaced fix reaches its displacement: along its amplitude table; without one,
 /// the run's own fixes ramp from 0 at t = 0 over the first step, a step's straight from where
 /// its nodes are at the step's start over the step.

@@ -118,9 +118,7 @@ impl Model {
             paths: fix_paths,
             reactions,
         } = fixes::fixes(scene, &mesh, &fixes::in_force(scene, None))?;
-        for b in rigid.iter().filter(|b| b.is_prescribed()) {
-            fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
-        }
+        fixes::hold_prescribed(&mut fixed, &rigid);
         let (loads, held_loads) = loads::loads(scene, &mesh, &fixed)?;
         let equations = equations::equations(scene, &mesh, &fixed)?;
         let (queries, interfaces) = interfaces(scene, &mesh, &rigid)?;
@@ -184,9 +182,7 @@ impl Model {
             .map(|k| {
                 let f = fixes::fixes(scene, &self.mesh, &fixes::in_force(scene, Some(k)))?;
                 let mut fixed = f.fixed;
-                for b in self.rigid.iter().filter(|b| b.is_prescribed()) {
-                    fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
-                }
+                fixes::hold_prescribed(&mut fixed, &self.rigid);
                 let (loads, held_loads) = loads::loads(scene, &self.mesh, &fixed)?;
                 let removed = equations::removed_by(scene, &self.mesh, k);
                 let equations = equations::equations_kept(scene, &self.mesh, &fixed, &removed)?;

@@ -179,9 +179,9 @@ impl Gathered {
 }
 
 /// A `*STEP` after the first: its line (its procedure's, once read), its period and
-/// increments, the equations it
-/// removes, its `*BOUNDARY` lines (and whether one of them, `OP=NEW`, ends those before)
-/// and its `*CHANGE FRICTION`s (interaction, coefficient, stick slope, line).
+/// increments, the equations it removes, its `*BOUNDARY` lines (and whether one of them,
+/// `OP=NEW`, ends those before) and its `*CHANGE FRICTION`s (interaction, coefficient,
+/// stick slope).
 #[derive(Default)]
 struct LaterStep {
     line: usize,
@@ -194,7 +194,7 @@ struct LaterStep {
     /// Whether the step ramps a value without an amplitude (a static step, or
     /// `*STEP, AMPLITUDE=RAMP`).
     ramp: bool,
-    friction: Vec<(String, f64, Option<f64>, usize)>,
+    friction: Vec<(String, f64, Option<f64>)>,
     /// The interaction `*CHANGE FRICTION` opened, whose `*FRICTION` follows.
     changing: Option<String>,
 }
@@ -438,13 +438,8 @@ impl Reader<'_> {
                 let Some(interaction) = later.changing.clone() else {
                     return refuse("a later step's *FRICTION follows *CHANGE FRICTION, INTERACTION=");
                 };
-                let (f, l) = self.first(b)?;
-                let mu = self.number(f, 0, *l, "*FRICTION coefficient")?;
-                let slope = match f.get(1).filter(|x| !x.is_empty()) {
-                    Some(_) => Some(self.number(f, 1, *l, "*FRICTION stick slope")?),
-                    None => None,
-                };
-                later.friction.push((interaction, mu, slope, *l));
+                let (mu, slope, _) = self.friction_values(b)?;
+                later.friction.push((interaction, mu, slope));
             }
             "NODE PRINT" | "NODE OUTPUT" if b.get("NSET").is_some() => {
                 let set = b.get("NSET").unwrap_or_default().to_string();
@@ -595,24 +590,33 @@ impl Reader<'_> {
     }
 
     fn friction(&self, b: &Block, g: &mut Gathered) -> Result<()> {
-        let (f, l) = self.first(b)?;
-        let mu = self.number(f, 0, *l, "*FRICTION coefficient")?;
+        let (mu, slope, l) = self.friction_values(b)?;
         let last = (g.interaction.clone()).ok_or_else(|| {
             self.src
                 .err(b.line, "*FRICTION outside a *SURFACE INTERACTION")
         })?;
-        if f.get(1).is_some_and(|x| !x.is_empty()) {
-            let slope = self.number(f, 1, *l, "*FRICTION stick slope")?;
-            if slope <= 0.0 {
-                return Err(self.src.err(
-                    *l,
-                    format!("*FRICTION: the stick slope {slope} must be positive"),
-                ));
-            }
-            g.stick.insert(last.clone(), (slope, *l));
+        if let Some(slope) = slope {
+            g.stick.insert(last.clone(), (slope, l));
         }
         g.friction.insert(last, mu);
         Ok(())
+    }
+
+    /// A `*FRICTION`'s coefficient, its stick slope where given (positive), and its line.
+    fn friction_values(&self, b: &Block) -> Result<(f64, Option<f64>, usize)> {
+        let (f, l) = self.first(b)?;
+        let mu = self.number(f, 0, *l, "*FRICTION coefficient")?;
+        if f.get(1).is_none_or(|x| x.is_empty()) {
+            return Ok((mu, None, *l));
+        }
+        let slope = self.number(f, 1, *l, "*FRICTION stick slope")?;
+        if slope <= 0.0 {
+            return Err(self.src.err(
+                *l,
+                format!("*FRICTION: the stick slope {slope} must be positive"),
+            ));
+        }
+        Ok((mu, Some(slope), *l))
     }
 
     fn contact_pair(&self, b: &Block, g: &mut Gathered) -> Result<()> {
@@ -1391,7 +1395,7 @@ impl Reader<'_> {
     fn friction_changes(&self, g: &Gathered, l: &LaterStep) -> Vec<(String, f64, Option<f64>)> {
         let static_step = g.step.as_ref().is_some_and(|s| s.minimum_step.is_some());
         let mut out = Vec::new();
-        for (interaction, mu, slope, _) in &l.friction {
+        for (interaction, mu, slope) in &l.friction {
             for (slave, master, _, _) in g.pairs.iter().filter(|p| &p.2 == interaction) {
                 out.push((
                     format!("{slave}-{master}"),
