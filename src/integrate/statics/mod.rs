@@ -11,9 +11,15 @@
 //! on its support) has rigid motions K does not resist before the contact closes, and
 //! sideways ones no frictionless contact resists. $S = s\, \mathrm{diag}(K)$ holds every dof
 //! to where the step started with a spring of `stabilisation` (1e-6 by default) times the
-//! dof's own stiffness: a body in equilibrium feels only $S \Delta u$ of the step, a relative
-//! error of s. Its work is counted as dissipated in the energy balance (as Abaqus counts its
-//! stabilisation energy), so a balance that closes shows the springs did no more than that.
+//! dof's own stiffness. Those springs are not small beside a bending load: a slender
+//! cantilever's tip load is a small fraction of $\mathrm{diag}(K)\, u$, and the springs of
+//! a single increment held 6% of it. So once the iteration settles, the springs are relaxed:
+//! their anchors move to the solution and it settles again, until they pull no more than the
+//! residual's tolerance ([`StaticSolver::settle_relaxed`]). An increment then ends in the
+//! model's own equilibrium wherever it has one; the springs only steady the solves on the
+//! way, and hold the modes nothing else holds. Where they cannot be relaxed (a body they
+//! alone hold against a force), the energy they hold is counted as dissipated in the energy
+//! balance (as Abaqus counts its stabilisation energy).
 //!
 //! **Energy.** External work (the loads' trapezoid, the prescribed dofs' reactions times
 //! their motion) equals the strain energy plus the contact springs' and the stabilisation's
@@ -42,6 +48,10 @@ const MAX_NEWTON: usize = 30;
 const MAX_UPDATES: usize = 40;
 /// The residual's tolerance, relative to the largest nodal force.
 const FORCE_TOLERANCE: f64 = 1e-9;
+/// The stabilisation's springs are relaxed at most this many times in an increment, and
+/// only while each relaxation leaves them pulling less than this fraction of the last.
+const MAX_RELAXATIONS: usize = 100;
+const RELAXED_SHRINK: f64 = 0.95;
 /// A hard contact's penetration tolerance, relative to the largest displacement (and at
 /// least this times 1e-6 of the largest face).
 const GAP_TOLERANCE: f64 = 1e-6;
@@ -70,8 +80,11 @@ pub struct StaticSolver<'m> {
     asm: Assembled,
     dt: f64,
     state: StaticState,
-    /// The displacement at the start of the increment being solved (the stabilisation's).
+    /// The displacement at the start of the increment being solved.
     u_start: Vec<f64>,
+    /// Where the stabilisation's springs are anchored: the increment's start, moved to the
+    /// solution each time the springs are relaxed ([`StaticSolver::settle_relaxed`]).
+    anchor: Vec<f64>,
     zero: Vec<f64>,
     f_ext: Vec<f64>,
     f_int: Vec<f64>,
@@ -127,6 +140,7 @@ impl<'m> StaticSolver<'m> {
                 friction_loss: vec![0.0; model.interfaces.len()],
             },
             u_start: vec![0.0; ndof],
+            anchor: vec![0.0; ndof],
             zero: vec![0.0; ndof],
             f_ext,
             f_int: vec![0.0; ndof],
@@ -167,6 +181,7 @@ impl<'m> StaticSolver<'m> {
     fn increment(&mut self, t1: f64) -> Result<Option<usize>> {
         self.loads.set(self.model, t1, &mut self.f_ext);
         self.u_start.clone_from(&self.state.u);
+        self.anchor.clone_from(&self.state.u);
         self.prescribe((self.clock, t1));
         let moved = max_abs_difference(&self.state.u, &self.u_start);
         let margin = self.contact.face_size + 2.0 * moved;
@@ -175,7 +190,7 @@ impl<'m> StaticSolver<'m> {
         (self.contact).kinematics(model, self.kernels.as_mut(), u0, &self.zero)?;
         let mut iterations = 0;
         for _ in 0..MAX_UPDATES {
-            let Some(n) = self.settle()? else {
+            let Some(n) = self.settle_relaxed()? else {
                 return Ok(None);
             };
 
@@ -265,7 +280,7 @@ impl<'m> StaticSolver<'m> {
         let mut r: Vec<f64> = (self.asm.dof_of.iter().enumerate())
             .map(|(e, &d)| {
                 let d = d as usize;
-                f[d] - self.spring[e] * (u[d] - self.u_start[d])
+                f[d] - self.spring[e] * (u[d] - self.anchor[d])
             })
             .collect();
         self.constraints.condense_residual(&mut r);
@@ -333,15 +348,58 @@ impl<'m> StaticSolver<'m> {
     fn count_work(&mut self, (t0, t1): (f64, f64), before: &[f64], d0: &[f64]) {
         let (u, u0) = (&self.state.u, &self.u_start);
         let d1 = self.loads.dots(self.model, u);
+        let stabilised = self.spring_energy();
         self.state.load_work += LoadForces::step_work(self.model, (t0, t1), (d0, &d1));
         let mut fix = 0.0;
         for (d, (&s0, &s1)) in before.iter().zip(&self.support).enumerate() {
             fix += 0.5 * (s0 + s1) * (u[d] - u0[d]);
         }
         self.state.fix_work += fix;
-        self.state.stabilised += (self.asm.dof_of.iter().zip(&self.spring))
-            .map(|(&d, &s)| 0.5 * s * (u[d as usize] - u0[d as usize]).powi(2))
-            .sum::<f64>();
+        self.state.stabilised += stabilised;
+    }
+
+    /// The energy the stabilisation's springs hold: $\tfrac12 s (u - a)^2$ over the free
+    /// dofs, `a` their anchor.
+    fn spring_energy(&self) -> f64 {
+        let (u, a) = (&self.state.u, &self.anchor);
+        (self.asm.dof_of.iter().zip(&self.spring))
+            .map(|(&d, &s)| 0.5 * s * (u[d as usize] - a[d as usize]).powi(2))
+            .sum()
+    }
+
+    /// The largest force of a stabilisation spring.
+    fn spring_pull(&self) -> f64 {
+        let (u, a) = (&self.state.u, &self.anchor);
+        (self.asm.dof_of.iter().zip(&self.spring))
+            .map(|(&d, &s)| (s * (u[d as usize] - a[d as usize])).abs())
+            .fold(0.0, f64::max)
+    }
+
+    /// [`Self::settle`], then the stabilisation's springs relaxed. Where the iteration
+    /// settles with springs that still pull harder than the residual's tolerance, their
+    /// anchors move to the solution and it settles again without their force, until they no
+    /// longer pull: the increment ends in the equilibrium of the model alone, where it has
+    /// one, and the springs hold no energy. They stop being relaxed where their pull no
+    /// longer shrinks (a body they alone hold against a force), or after
+    /// [`MAX_RELAXATIONS`]; what they hold then is the stabilisation's energy.
+    fn settle_relaxed(&mut self) -> Result<Option<usize>> {
+        let Some(mut solves) = self.settle()? else {
+            return Ok(None);
+        };
+        let mut last = f64::INFINITY;
+        for _ in 0..MAX_RELAXATIONS {
+            let pull = self.spring_pull();
+            if pull <= FORCE_TOLERANCE * self.force_scale() || pull > RELAXED_SHRINK * last {
+                break;
+            }
+            last = pull;
+            self.anchor.clone_from(&self.state.u);
+            let Some(n) = self.settle()? else {
+                return Ok(None);
+            };
+            solves += n;
+        }
+        Ok(Some(solves))
     }
 }
 
@@ -476,6 +534,7 @@ impl Integrator for StaticSolver<'_> {
         self.state = s;
         self.loads.set(self.model, self.clock, &mut self.f_ext);
         self.u_start.clone_from(&self.state.u);
+        self.anchor.clone_from(&self.state.u);
         let u = self.state.u.clone();
         self.contact
             .broad_phase(self.model, &u, self.contact.face_size);
