@@ -76,6 +76,9 @@ pub fn prepare(
             "notice: load[{i}]: {n} of its nodal forces push components a [[fix]] holds; the supports take them (their reactions show them)"
         ));
     }
+    for line in tie_notices(&model) {
+        notice(&line);
+    }
     clock.lap("model");
     elements::check(scene, &model.mesh)?;
     facing::check(scene, &model)?;
@@ -147,6 +150,29 @@ pub fn prepare(
         estimate,
         warnings,
     })
+}
+
+/// A line for each `[[tie]]`: the nodes it tied, how far they were from the surface, and
+/// those it left free (out of reach, or held by a fix).
+fn tie_notices(model: &Model) -> Vec<String> {
+    (model.ties.iter())
+        .map(|t| {
+            let held = (t.equations.iter())
+                .filter(|e| model.fixed[e.dependent as usize])
+                .count();
+            let mut line = format!(
+                "notice: tie `{}`: {} secondary nodes tied (the largest {:.3e} from the primary surface; tolerance {:.3e})",
+                t.name, t.tied, t.largest_gap, t.tolerance
+            );
+            if t.untied > 0 {
+                line += &format!(", {} farther left free", t.untied);
+            }
+            if held > 0 {
+                line += &format!(", {held} of their components held by a [[fix]] instead");
+            }
+            line
+        })
+        .collect()
 }
 
 /// The error for interfaces with `initial_penetration = "error"` that penetrate at t = 0.
@@ -348,11 +374,18 @@ fn refuse_implicit(scene: &Scene, model: &Model, method: Method) -> Result<()> {
             Method::Implicit => "the implicit path takes them without contact (its contact iteration works on the unconstrained factor)".to_string(),
             m => format!("the {} path does not take them", m.name()),
         };
+        let (key, what) = match scene.equations.is_empty() {
+            true => (
+                format!("tie[0] (tie `{}`)", model.ties[0].name),
+                "tied surfaces (linear constraints)",
+            ),
+            false => ("equation[0]".to_string(), "linear constraints"),
+        };
         return Err(ImpactError::Unsupported {
             path: scene.path.clone(),
-            key: "equation[0]".into(),
+            key,
             message: format!(
-                "linear constraints are honoured by static steps (method = \"static\") and implicit ones without contact; {why}"
+                "{what} are honoured by static steps (method = \"static\") and implicit ones without contact; {why}"
             ),
         });
     }

@@ -1887,7 +1887,7 @@ fn a_contact_pairs_adjust_closes_the_gap_before_the_start() {
 }
 
 /// Every keyword a deck is refused for is told at once, each at its line: a plastic
-/// material, a frequency step and tied surfaces in one deck give three lines.
+/// material, a frequency step and a cyclic symmetry tie in one deck give three lines.
 #[test]
 fn a_decks_refusals_are_told_together() {
     let deck = std::fs::read_to_string(repo().join("scenes/two_bars.inp")).unwrap();
@@ -1896,7 +1896,7 @@ fn a_decks_refusals_are_told_together() {
     let three = edit(
         &three,
         "*NODE PRINT, NSET=NB",
-        "*TIE, NAME=GLUE\nTIPA, ENDB\n*NODE PRINT, NSET=NB",
+        "*TIE, CYCLIC SYMMETRY, NAME=GLUE\nTIPA, ENDB\n*NODE PRINT, NSET=NB",
     );
     let path = written("deck_three_refusals", "bad.inp", &three);
     let e = Scene::load(&path).expect_err("refused").to_string();

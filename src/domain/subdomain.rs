@@ -388,6 +388,7 @@ impl Subdomain {
             loads: Vec::new(),
             held_loads: Vec::new(),
             equations: Vec::new(),
+            ties: Vec::new(),
             rigid: Vec::new(),
         }
     }

@@ -75,6 +75,7 @@ pub(crate) fn surface_model(model: &Model, nodes: &[u32]) -> Model {
         loads: Vec::new(),
         held_loads: Vec::new(),
         equations: Vec::new(),
+        ties: Vec::new(),
         rigid,
     }
 }

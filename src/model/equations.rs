@@ -2,6 +2,7 @@
 //! it, $u_d = \sum_j c_j u_j$, chains of equations substituted so that no dof that sets
 //! another is itself set by one.
 
+use super::ties::Tie;
 use crate::error::{ImpactError, Result};
 use crate::mesh::Mesh;
 use crate::scene::{Removal, Scene};
@@ -13,11 +14,18 @@ pub struct Equation {
     pub terms: Vec<(u32, f64)>,
 }
 
-/// The scene's equations on the model's mesh. A term whose selection is not one node, a
+/// The scene's equations on the model's mesh, then the ties' constraints on the dofs no
+/// `[[fix]]` holds (a support wins over a tie). A term whose selection is not one node, a
 /// dependent dof a `[[fix]]` holds or another equation sets too, and a cycle of equations
-/// are errors naming the equation.
-pub(super) fn equations(scene: &Scene, mesh: &Mesh, fixed: &[bool]) -> Result<Vec<Equation>> {
-    equations_kept(scene, mesh, fixed, &vec![false; scene.equations.len()])
+/// are errors naming the equation or the tie.
+pub(super) fn equations(
+    scene: &Scene,
+    mesh: &Mesh,
+    fixed: &[bool],
+    ties: &[Tie],
+) -> Result<Vec<Equation>> {
+    let kept = vec![false; scene.equations.len()];
+    equations_kept(scene, mesh, (fixed, ties), &kept)
 }
 
 /// Which of the scene's equations the steps up to step `k` (of `scene.steps`) have removed:
@@ -49,11 +57,11 @@ pub(super) fn removed_by(scene: &Scene, mesh: &Mesh, k: usize) -> Vec<bool> {
     removed
 }
 
-/// [`equations`] without those `removed` marks.
+/// [`equations`] without the scene's equations `removed` marks.
 pub(super) fn equations_kept(
     scene: &Scene,
     mesh: &Mesh,
-    fixed: &[bool],
+    (fixed, ties): (&[bool], &[Tie]),
     removed: &[bool],
 ) -> Result<Vec<Equation>> {
     let err = |i: usize, message: String| ImpactError::SceneValue {
@@ -62,6 +70,8 @@ pub(super) fn equations_kept(
         message,
     };
     let mut out: Vec<Equation> = Vec::with_capacity(scene.equations.len());
+    // the scene equation each of `out`'s came from (the ties' come after)
+    let mut origin: Vec<usize> = Vec::with_capacity(scene.equations.len());
     for (i, e) in scene.equations.iter().enumerate() {
         if removed[i] {
             continue;
@@ -96,12 +106,39 @@ pub(super) fn equations_kept(
         }
         let terms = dofs[1..].iter().map(|&(d, c)| (d, -c / a)).collect();
         out.push(Equation { dependent, terms });
+        origin.push(i);
     }
-    substitute(&mut out).map_err(|k| {
-        err(
-            k,
-            "its dofs set each other through a cycle of equations".into(),
-        )
+    for (k, tie) in ties.iter().enumerate() {
+        let tie_err = |message: String| ImpactError::SceneValue {
+            path: scene.path.clone(),
+            key: format!("tie[{k}] (tie `{}`)", tie.name),
+            message,
+        };
+        for e in tie
+            .equations
+            .iter()
+            .filter(|e| !fixed[e.dependent as usize])
+        {
+            if let Some(j) = out.iter().position(|o| o.dependent == e.dependent) {
+                let node = e.dependent / 3;
+                return Err(tie_err(match origin.get(j) {
+                    Some(i) => format!("its secondary node {node} is the dependent of equation[{i}] too: a node follows one constraint"),
+                    None => format!("its secondary node {node} is tied by an earlier tie too: a node follows one surface"),
+                }));
+            }
+            out.push(e.clone());
+        }
+    }
+    substitute(&mut out).map_err(|k| match origin.get(k) {
+        Some(&i) => err(i, "its dofs set each other through a cycle of equations".into()),
+        None => ImpactError::SceneValue {
+            path: scene.path.clone(),
+            key: "tie".into(),
+            message: format!(
+                "node {}'s constraints run in a cycle through the ties (a node tied to a surface whose nodes are tied back to it): make one side of each pair of ties the secondary",
+                out[k].dependent / 3
+            ),
+        },
     })?;
     Ok(out)
 }

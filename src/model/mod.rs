@@ -11,6 +11,7 @@ pub mod loads;
 pub mod materials;
 pub mod prescribed;
 pub mod rigid;
+pub mod ties;
 
 pub use interface::{tributary_areas, Interface, Primary};
 pub use materials::MaterialTable;
@@ -83,8 +84,12 @@ pub struct Model {
     pub loads: Vec<loads::Load>,
     /// Each load's nodal forces on held components, left to the supports.
     pub held_loads: Vec<usize>,
-    /// The `[[equation]]`s: dofs set by others (static steps).
+    /// The `[[equation]]`s, then the `[[tie]]`s' constraints: dofs set by others (static
+    /// steps, implicit ones without contact).
     pub equations: Vec<equations::Equation>,
+    /// The `[[tie]]`s, each with its constraints (the model's `equations` hold those whose
+    /// dof no fix holds).
+    pub ties: Vec<ties::Tie>,
 }
 
 impl Model {
@@ -110,6 +115,8 @@ impl Model {
             initial_velocity.extend_from_slice(&b.velocity);
         }
         initial_velocities(scene, &mesh, &mut initial_velocity)?;
+        // tied nodes moved onto their surfaces before anything measures the mesh
+        let ties = ties::ties(scene, &mut mesh)?;
         let table = materials::element_materials(scene, &mut mesh);
         let fixes::Fixes {
             mut fixed,
@@ -120,7 +127,7 @@ impl Model {
         } = fixes::fixes(scene, &mesh, &fixes::in_force(scene, None))?;
         fixes::hold_prescribed(&mut fixed, &rigid);
         let (loads, held_loads) = loads::loads(scene, &mesh, &fixed)?;
-        let equations = equations::equations(scene, &mesh, &fixed)?;
+        let equations = equations::equations(scene, &mesh, &fixed, &ties)?;
         let (queries, interfaces) = interfaces(scene, &mesh, &rigid)?;
         let cohesive = cohesive::cohesive_interfaces(scene, &mesh, &splits)?;
         let mut probes = probes(scene, &mesh);
@@ -158,6 +165,7 @@ impl Model {
             loads,
             held_loads,
             equations,
+            ties,
         })
     }
 
@@ -185,7 +193,8 @@ impl Model {
                 fixes::hold_prescribed(&mut fixed, &self.rigid);
                 let (loads, held_loads) = loads::loads(scene, &self.mesh, &fixed)?;
                 let removed = equations::removed_by(scene, &self.mesh, k);
-                let equations = equations::equations_kept(scene, &self.mesh, &fixed, &removed)?;
+                let equations =
+                    equations::equations_kept(scene, &self.mesh, (&fixed, &self.ties), &removed)?;
                 let mut interfaces = self.interfaces.clone();
                 for change in scene.steps[..=k].iter().flat_map(|s| &s.contacts) {
                     let itf = &mut interfaces[change.contact];

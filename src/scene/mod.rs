@@ -443,6 +443,20 @@ impl PressureLaw {
     }
 }
 
+/// A `[[tie]]`: each secondary node within `tolerance` of the primary surface follows the
+/// point of it nearest to the node (a linear constraint per component, as a deck's `*TIE`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TieSpec {
+    pub name: String,
+    pub secondary: SecondarySide,
+    pub primary: SurfaceRef,
+    /// The largest distance from the primary surface at which a secondary node is tied
+    /// (`None`: 2.5% of the primary faces' mean size, CalculiX's default).
+    pub tolerance: Option<f64>,
+    /// Each tied node is moved onto its point of the primary surface before the run.
+    pub adjust: bool,
+}
+
 /// A `[[cohesive]]` interface: between two bodies' faces (the second side's nodes pair with
 /// the first's where they coincide), or inside a laminate body split at its ply changes.
 #[derive(Debug, Clone)]
@@ -641,6 +655,7 @@ pub struct Scene {
     pub rigid_bodies: Vec<RigidBodySpec>,
     pub fixes: Vec<FixSpec>,
     pub equations: Vec<EquationSpec>,
+    pub ties: Vec<TieSpec>,
     /// The steps after the first, in time order.
     pub steps: Vec<StepSpec>,
     /// In the scene's order: where two select a node, the later one's velocity is its.

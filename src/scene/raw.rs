@@ -41,6 +41,8 @@ pub(crate) struct RawScene {
     #[serde(default)]
     pub equation: Vec<RawEquation>,
     #[serde(default)]
+    pub tie: Vec<RawTie>,
+    #[serde(default)]
     pub step: Vec<RawStep>,
     pub output: Option<RawOutput>,
     #[serde(default)]
@@ -247,6 +249,17 @@ pub(crate) struct RawContact {
     pub stiffness: Option<f64>,
     pub exponential: Option<RawExponential>,
     pub stick_slope: Option<f64>,
+}
+
+/// `[[tie]]`: a secondary surface (or node set) bonded to a primary surface.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawTie {
+    pub name: String,
+    pub secondary: RawSurfaceRef,
+    pub primary: RawSurfaceRef,
+    pub tolerance: Option<f64>,
+    pub adjust: Option<bool>,
 }
 
 /// `exponential = { clearance, pressure }` of a `[[contact]]`.

@@ -16,8 +16,8 @@ use std::path::Path;
 
 use super::{
     fixes_of, give_velocity, holders, DeckBody, DeckContact, DeckFile, DeckFix, DeckMaterial,
-    DeckProbe, DeckRigid, DeckScene, DeckStep, DeckVelocity, Elastic, Holder, Origin, PrimarySide,
-    Select,
+    DeckProbe, DeckRigid, DeckScene, DeckStep, DeckTie, DeckVelocity, Elastic, Holder, Origin,
+    PrimarySide, Select,
 };
 use crate::error::Result;
 use crate::mesh::abaqus::{params, word};
@@ -144,6 +144,8 @@ struct Gathered {
     node_surfaces: Vec<String>,
     /// The steps after the first.
     later: Vec<LaterStep>,
+    /// Each `*TIE`: (name, slave surface, master surface, tolerance, adjust, line).
+    ties: Vec<(String, String, String, Option<f64>, bool, usize)>,
 }
 
 /// Parameters impact reads past, each listed in the notice with its line: `*STEP, NLGEOM`
@@ -324,6 +326,7 @@ impl Reader<'_> {
             }
             "EQUATION" => self.equation(b, g)?,
             "CONTACT PAIR" => self.contact_pair(b, g)?,
+            "TIE" => self.tie(b, g)?,
             "STEP" => {
                 g.close_step();
                 g.ramp = b.get("AMPLITUDE").is_some_and(|a| a.eq_ignore_ascii_case("RAMP"));
@@ -674,6 +677,55 @@ impl Reader<'_> {
         Ok(())
     }
 
+    /// `*TIE`: one line, the slave surface then the master one; `POSITION TOLERANCE=` and
+    /// `ADJUST=NO` read. The cyclic, multistage and fluid ties are refused.
+    fn tie(&self, b: &Block, g: &mut Gathered) -> Result<()> {
+        let kinds = [
+            "CYCLIC SYMMETRY",
+            "MULTISTAGE",
+            "FLUID PERIODIC",
+            "FLUID CYCLIC",
+        ];
+        if let Some(k) = kinds.iter().find(|k| b.params.contains_key(&word(k))) {
+            return Err(self.src.err(b.line, format!("*TIE, {k}: impact cannot honour this tie (it ties two adjacent surfaces, a tied contact, and has no sector or fluid models)")));
+        }
+        let tolerance = match b.get("POSITION TOLERANCE") {
+            None => None,
+            Some(d) => match crate::mesh::abaqus::real(d).filter(|d| d.is_finite() && *d > 0.0) {
+                Some(d) => Some(d),
+                None => {
+                    return Err(self.src.err(
+                        b.line,
+                        format!("*TIE, POSITION TOLERANCE={d}: a distance > 0"),
+                    ))
+                }
+            },
+        };
+        let adjust = match b.get("ADJUST").map(str::to_ascii_uppercase).as_deref() {
+            None | Some("YES") => true,
+            Some("NO") => false,
+            Some(a) => return Err(self.src.err(b.line, format!("*TIE, ADJUST={a}: YES or NO"))),
+        };
+        let [(f, l)] = &b.data[..] else {
+            return Err(self.src.err(
+                b.line,
+                "*TIE takes one data line: the slave surface, then the master surface",
+            ));
+        };
+        if f.len() < 2 || f[1].is_empty() || f.iter().skip(2).any(|x| !x.is_empty()) {
+            return Err(self.src.err(
+                *l,
+                "a *TIE line names the slave, then the master surface (two surfaces)",
+            ));
+        }
+        let name = b
+            .get("NAME")
+            .map_or_else(|| format!("tie{}", g.ties.len() + 1), str::to_string);
+        g.ties
+            .push((name, f[0].clone(), f[1].clone(), tolerance, adjust, *l));
+        Ok(())
+    }
+
     /// `*SURFACE BEHAVIOR`: a linear pressure-overclosure's slope is the contact's
     /// penalty stiffness (a static step honours it); the other laws are passed over.
     fn surface_behavior(&self, b: &Block, g: &mut Gathered) -> Result<()> {
@@ -926,6 +978,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
     let bodies = r.bodies(&g)?;
     let (probes, unprobed) = r.probes(&g, &bodies, &on)?;
     let (contacts, rigid_bodies) = r.contacts(&g, &bodies, &rigid)?;
+    let ties = r.ties(&g, &bodies, &rigid)?;
     let (moving, velocities) = r.velocities(&g, &bodies, &on)?;
     let mut scene = DeckScene {
         title: g.title.clone(),
@@ -939,6 +992,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         loads: r.loads(&g, &bodies, &on)?,
         velocities,
         contacts,
+        ties,
         probes,
         planes: Vec::new(),
         rigid: rigid_bodies,
@@ -979,6 +1033,10 @@ impl Reader<'_> {
         for (i, (slave, master, _, line)) in g.pairs.iter().enumerate() {
             let what = format!("*CONTACT PAIR {slave}, {master}");
             out.push(self.src.origin(format!("contact[{i}]"), *line, what));
+        }
+        for (i, (name, slave, master, .., line)) in g.ties.iter().enumerate() {
+            let what = format!("*TIE, NAME={name} {slave}, {master}");
+            out.push(self.src.origin(format!("tie[{i}]"), *line, what));
         }
         for (i, l) in scene.loads.iter().enumerate() {
             let what = match l.on {
@@ -1445,30 +1503,7 @@ impl Reader<'_> {
         bodies: &[(DeckBody, BodyParts)],
         rigid: &Rigids,
     ) -> Result<(Vec<DeckContact>, Vec<DeckRigid>)> {
-        let owner = |surface: &str, line: usize| -> Result<(String, String)> {
-            let mut found = (bodies.iter()).filter_map(|(b, p)| {
-                p.surfaces
-                    .iter()
-                    .find(|s| s.name.eq_ignore_ascii_case(surface))
-                    .map(|s| (b.name.clone(), s.name.clone()))
-            });
-            let first = found.next().ok_or_else(|| {
-                let message = match g.node_surfaces.iter().any(|s| s.eq_ignore_ascii_case(surface)) {
-                    true => format!("surface `{surface}` is a node-based surface (*SURFACE, TYPE=NODE): a contact's master side is element faces"),
-                    false => format!("no body's elements hold surface `{surface}`"),
-                };
-                self.src.err(line, message)
-            })?;
-            if found.next().is_some() {
-                return Err(self.src.err(
-                    line,
-                    format!(
-                        "surface `{surface}` lies on two bodies: a contact surface is one body's"
-                    ),
-                ));
-            }
-            Ok(first)
-        };
+        let owner = |surface: &str, line: usize| self.surface_owner(g, bodies, surface, line);
         let mut out = Vec::new();
         let mut used: Vec<DeckRigid> = Vec::new();
         for (slave, master, interaction, line) in &g.pairs {
@@ -1518,6 +1553,67 @@ impl Reader<'_> {
             });
         }
         Ok((out, used))
+    }
+
+    /// The deformable body whose elements hold element surface `surface`.
+    fn surface_owner(
+        &self,
+        g: &Gathered,
+        bodies: &[(DeckBody, BodyParts)],
+        surface: &str,
+        line: usize,
+    ) -> Result<(String, String)> {
+        let mut found = (bodies.iter()).filter_map(|(b, p)| {
+            p.surfaces
+                .iter()
+                .find(|s| s.name.eq_ignore_ascii_case(surface))
+                .map(|s| (b.name.clone(), s.name.clone()))
+        });
+        let first = found.next().ok_or_else(|| {
+            let message = match g.node_surfaces.iter().any(|s| s.eq_ignore_ascii_case(surface)) {
+                true => format!("surface `{surface}` is a node-based surface (*SURFACE, TYPE=NODE): a master side is element faces"),
+                false => format!("no body's elements hold surface `{surface}`"),
+            };
+            self.src.err(line, message)
+        })?;
+        if found.next().is_some() {
+            return Err(self.src.err(
+                line,
+                format!("surface `{surface}` lies on two bodies: a contact or tie surface is one body's"),
+            ));
+        }
+        Ok(first)
+    }
+
+    /// The `*TIE`s: the slave side a body's element or node-based surface, the master side
+    /// a deformable body's element surface.
+    fn ties(
+        &self,
+        g: &Gathered,
+        bodies: &[(DeckBody, BodyParts)],
+        rigid: &Rigids,
+    ) -> Result<Vec<DeckTie>> {
+        let mut out = Vec::with_capacity(g.ties.len());
+        for (name, slave, master, tolerance, adjust, line) in &g.ties {
+            for side in [slave, master] {
+                if rigid.with_surface(side).is_some() {
+                    return Err(self.src.err(*line, format!("surface `{side}` lies on a rigid body: impact ties two deformable bodies' surfaces")));
+                }
+            }
+            let secondary_nodes = (g.node_surfaces.iter()).any(|s| s.eq_ignore_ascii_case(slave));
+            out.push(DeckTie {
+                name: name.clone(),
+                secondary: match secondary_nodes {
+                    true => self.node_surface_owner(bodies, slave, *line)?,
+                    false => self.surface_owner(g, bodies, slave, *line)?,
+                },
+                secondary_nodes,
+                primary: self.surface_owner(g, bodies, master, *line)?,
+                tolerance: *tolerance,
+                adjust: *adjust,
+            });
+        }
+        Ok(out)
     }
 
     /// The body whose nodes a node-based surface's set holds: one body's (its nodes on

@@ -526,6 +526,7 @@ pub(super) fn read_scene(path: &Path) -> Result<(DeckScene, Option<String>)> {
         loads: Vec::new(),
         velocities,
         contacts,
+        ties: Vec::new(),
         rigid: (rigid.iter())
             .filter_map(|(d, _)| {
                 // a rigid part that no contact names has no surface to act through

@@ -282,6 +282,20 @@ pub(crate) struct DeckContact {
     pub stick_slope: Option<f64>,
 }
 
+/// A tie: the secondary (slave) side, a body's surface or node set, bonded to the primary
+/// (master) body's surface.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct DeckTie {
+    pub name: String,
+    pub secondary: (String, String),
+    /// The secondary side is a node-based surface: the body's node set of that name.
+    pub secondary_nodes: bool,
+    pub primary: (String, String),
+    /// `POSITION TOLERANCE=` (`None`: the scene's default).
+    pub tolerance: Option<f64>,
+    pub adjust: bool,
+}
+
 /// A probe: a node of a printed node set, at its position.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct DeckProbe {
@@ -335,6 +349,7 @@ pub(crate) struct DeckScene {
     pub velocities: Vec<DeckVelocity>,
     pub loads: Vec<DeckLoad>,
     pub contacts: Vec<DeckContact>,
+    pub ties: Vec<DeckTie>,
     pub probes: Vec<DeckProbe>,
     pub planes: Vec<DeckPlane>,
     pub rigid: Vec<DeckRigid>,
@@ -872,6 +887,24 @@ impl DeckScene {
             }
             if let Some(k) = c.stick_slope {
                 let _ = writeln!(t, "stick_slope = {}", float(k));
+            }
+        }
+        for c in &self.ties {
+            let kind = if c.secondary_nodes { "set" } else { "surface" };
+            let _ = writeln!(
+                t,
+                "\n[[tie]]\nname = {}\nsecondary = {{ body = {}, {kind} = {} }}\nprimary = {{ body = {}, surface = {} }}",
+                quoted(&c.name),
+                quoted(&c.secondary.0),
+                quoted(&c.secondary.1),
+                quoted(&c.primary.0),
+                quoted(&c.primary.1),
+            );
+            if let Some(d) = c.tolerance {
+                let _ = writeln!(t, "tolerance = {}", float(d));
+            }
+            if !c.adjust {
+                let _ = writeln!(t, "adjust = false");
             }
         }
         let held = (self.rigid.iter())

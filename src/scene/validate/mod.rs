@@ -13,6 +13,7 @@ mod loads;
 mod names;
 mod rigid_body;
 mod steps;
+mod ties;
 
 struct Checker<'a> {
     path: &'a Path,
@@ -1414,6 +1415,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
     let planes = c.planes(&raw.rigid_plane, &raw.body, bodies.len())?;
     let fixes = c.fixes("fix", &raw.fix, (&raw.body, &bodies), &rigid_bodies)?;
     let equations = c.equations(&raw.equation, &raw.body, &bodies)?;
+    let ties = c.ties(&raw.tie, &raw.body, &bodies)?;
     let held = steps::Held {
         raw_bodies: &raw.body,
         bodies: &bodies,
@@ -1444,6 +1446,7 @@ pub(super) fn validate(raw: RawScene, path: &Path) -> Result<Scene> {
         rigid_bodies,
         fixes,
         equations,
+        ties,
         steps,
         initial_velocities,
         loads,

@@ -56,7 +56,7 @@ impl Checker<'_> {
         Ok(())
     }
 
-    fn name_well_formed(&self, key: &str, name: &str) -> Result<()> {
+    pub(super) fn name_well_formed(&self, key: &str, name: &str) -> Result<()> {
         if name.is_empty() {
             return Err(self.err(key, "must not be empty"));
         }
