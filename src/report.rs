@@ -128,10 +128,7 @@ fn method(out: &mut String, scene: &Scene, setup: &Setup) {
             }),
         setup.dt,
         setup.steps,
-        match setup.last_step {
-            Some(last) => (setup.steps - 1) as f64 * setup.dt + last,
-            None => setup.steps as f64 * setup.dt,
-        }
+        setup.end_time()
     );
     if setup.method_choice.is_none() {
         // what "auto" would choose, from the stable step on the CPU

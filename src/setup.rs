@@ -19,6 +19,9 @@ pub use crate::gpu::context::AUTO_GPU_MIN_ELEMENTS;
 /// material typo far more often than from a real model.
 pub(crate) const MAX_STEPS: f64 = 1e10;
 
+mod timeline;
+pub use timeline::Stage;
+
 /// A model ready to run.
 pub struct Setup {
     pub model: Model,
@@ -42,8 +45,41 @@ pub struct Setup {
     pub warnings: Vec<Warning>,
     /// The damage kernels' inputs, where a material damages.
     pub damage: Option<crate::kernels::damage_data::DamageData>,
-    /// Each `[[step]]` after the first: the run's step from which it holds, and its model.
-    pub stages: Vec<(usize, Model)>,
+    /// Each `[[step]]` after the first: the run's step from which it holds, its start, model,
+    /// method and time step.
+    pub stages: Vec<Stage>,
+}
+
+impl Setup {
+    /// The method and time step of the run's step `n` (0-based): its stage's.
+    pub fn stepping_at(&self, n: usize) -> (Method, f64) {
+        match self.stages.iter().rev().find(|s| s.from <= n) {
+            Some(s) => (s.method, s.dt),
+            None => (self.method, self.dt),
+        }
+    }
+
+    /// The time after the run's first `n` steps (whole steps: the shortened last step
+    /// aside).
+    pub fn time_after(&self, n: usize) -> f64 {
+        match self.stages.iter().rev().find(|s| s.from <= n) {
+            Some(s) => s.start + (n - s.from) as f64 * s.dt,
+            None => n as f64 * self.dt,
+        }
+    }
+
+    /// The run's end: its last whole step's time, and the shortened last step.
+    pub fn end_time(&self) -> f64 {
+        match self.last_step {
+            Some(last) => self.time_after(self.steps - 1) + last,
+            None => self.time_after(self.steps),
+        }
+    }
+
+    /// Whether a `[[step]]` changes the method or the time step ([`Scene::mixed_steps`]).
+    pub fn mixed(&self) -> bool {
+        (self.stages.iter()).any(|s| s.method != self.method || s.dt != self.dt)
+    }
 }
 
 /// Builds and checks the model and picks the device, method and step. `notice` receives
@@ -97,7 +133,13 @@ pub fn prepare(
     let ctx = gpu_context(scene, model.mesh.element_count(), device, notice)?;
     clock.lap("device");
     let mut warnings = quality::locking(scene);
+    let explicit_step = (scene.steps.iter()).any(|s| s.method == Some(Method::Explicit));
     let bound = match scene.run.method {
+        _ if explicit_step => {
+            let s = survey(&model, ctx.as_ref()).map_err(|e| gpu_error(scene, e))?;
+            warnings.extend(quality::slivers(scene, &model.mesh, &s.steps));
+            Some(check_stable(scene, &model, (s.step, s.element))?)
+        }
         Method::Explicit | Method::Auto => {
             let s = survey(&model, ctx.as_ref()).map_err(|e| gpu_error(scene, e))?;
             warnings.extend(quality::slivers(scene, &model.mesh, &s.steps));
@@ -114,6 +156,11 @@ pub fn prepare(
         }
         (m, _) => (m, None),
     };
+    let dynamic = |m: Method| m != Method::Static;
+    let waits = (scene.steps.iter()).any(|s| dynamic(s.method.unwrap_or(method)));
+    if method == Method::Static && waits {
+        hold_free_rigid_bodies(&mut model);
+    }
     refuse_implicit(scene, &model, method)?;
     let (dt, steps, last_step) = time_step(scene, method, bound, method_choice.is_some())?;
     let estimate = memory::estimate(scene, method, ctx.is_some() && method == Method::Explicit);
@@ -122,18 +169,25 @@ pub fn prepare(
     memory::check(scene, &estimate, built)?;
     let damage = model.damage_data();
     clock.lap("damage");
-    if !scene.steps.is_empty() && scene.run.time_step != Some(dt) {
+    if !scene.steps.is_empty() && !scene.mixed_steps() && scene.run.time_step != Some(dt) {
         return Err(ImpactError::SceneValue {
             path: scene.path.clone(),
             key: "step[0].start".into(),
             message: format!("the run's steps are {dt:e} long, not run.time_step: the steps could not land on the [[step]] starts"),
         });
     }
-    let stages: Vec<(usize, Model)> = (scene.steps.iter().map(|s| (s.start / dt).round() as usize))
-        .zip(model.for_steps(scene)?)
-        .collect();
-    for (_, m) in &stages {
-        refuse_implicit(scene, m, method)?;
+    let (mut stages, mixed) =
+        timeline::stages(scene, (method, dt), bound, model.for_steps(scene)?)?;
+    let (dt, steps, last_step) = match mixed {
+        Some(m) => (m.dt, m.steps, m.last_step),
+        None => (dt, steps, last_step),
+    };
+    if dynamic(method) || waits {
+        let held = stages.iter_mut().filter(|s| s.method == Method::Static);
+        held.for_each(|s| hold_free_rigid_bodies(&mut s.model));
+    }
+    for s in &stages {
+        refuse_implicit(scene, &s.model, s.method)?;
     }
     Ok(Setup {
         stages,
@@ -173,6 +227,17 @@ fn tie_notices(model: &Model) -> Vec<String> {
             line
         })
         .collect()
+}
+
+/// Holds the free rigid bodies where they are: in the static steps of a run that has
+/// dynamic ones, they wait there (nothing else holds them in a static step) and move in the
+/// dynamic steps.
+fn hold_free_rigid_bodies(model: &mut Model) {
+    for b in &model.rigid {
+        if b.motion == crate::scene::RigidMotion::Free {
+            model.fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
+        }
+    }
 }
 
 /// The error for interfaces with `initial_penetration = "error"` that penetrate at t = 0.
@@ -345,10 +410,12 @@ fn not_static(scene: &Scene, model: &Model) -> Option<(String, String)> {
         let why = "softening interfaces run on the explicit path";
         return Some(("cohesive[0]".into(), why.into()));
     }
-    if let Some(b) =
-        (scene.rigid_bodies.iter()).position(|b| b.motion == crate::scene::RigidMotion::Free)
-    {
-        let why = "a free rigid body has no stiffness to hold it in a static step: make its motion \"prescribed\" or \"fixed\"";
+    // (a run's static steps before its dynamic ones hold its free rigid bodies where they are)
+    let free = |b: &&crate::model::rigid::RigidBody| {
+        b.motion == crate::scene::RigidMotion::Free && !model.fixed[3 * b.node as usize]
+    };
+    if let Some(b) = model.rigid.iter().position(|b| free(&b)) {
+        let why = "a free rigid body has no stiffness to hold it in a static step: make its motion \"prescribed\" or \"fixed\" (in a run whose dynamic steps follow its static ones, it waits where it is until the first dynamic step)";
         return Some((format!("rigid_body[{b}].motion"), why.into()));
     }
     None

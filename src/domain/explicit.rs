@@ -572,6 +572,8 @@ impl Integrator for DomainSolver<'_> {
                 damage: sums[1],
                 loads: sums[2],
                 first_damage,
+                // ranks run one method throughout
+                carried: 0.0,
             },
             cohesive,
         })))

@@ -210,6 +210,20 @@ pub trait Integrator {
         Ok(())
     }
 
+    /// The stage this integrator steps starts after the run's step `steps`, at `time`:
+    /// its clock counts its steps from there (the static and implicit paths time a step by
+    /// the steps taken).
+    fn start_stage_at(&mut self, _steps: usize, _time: f64) {}
+
+    /// At the start of a `[[step]]` of another method: goes on from the state `from` hands
+    /// on, its total energy kept ([`Handover`]).
+    fn take_over(&mut self, _from: &Handover) -> Result<()> {
+        Err(crate::error::ImpactError::Solver(format!(
+            "the {} engine cannot go on from a step of another method",
+            self.engine()
+        )))
+    }
+
     /// Puts the clock exactly on `time` after the shortened last step.
     fn end_at(&mut self, _time: f64) {}
 
@@ -226,6 +240,39 @@ pub trait Integrator {
     /// [`Self::decomposed`], mutably.
     fn decomposed_mut(&mut self) -> Option<&mut dyn Decomposed> {
         None
+    }
+}
+
+/// What a stage of one method hands to the next stage's of another (a preload, then an
+/// impact): its clock and step count, the displacement, the velocity a dynamic stage goes on
+/// with, the work the fixes and loads did, and the total energy of the history.
+#[derive(Debug, Clone)]
+pub struct Handover {
+    pub time: f64,
+    pub steps: usize,
+    pub u: Vec<f64>,
+    /// The velocity to go on with: a dynamic stage's; none after static stages where no
+    /// dynamic stage came before (the new stage starts with the run's initial velocities,
+    /// their kinetic energy counted as work done on the model).
+    pub v: Option<Vec<f64>>,
+    pub fix_work: f64,
+    pub load_work: f64,
+    pub energy: f64,
+}
+
+impl Handover {
+    /// The state `from` has after its last step, with the velocity `v`.
+    pub fn of(from: &mut dyn Integrator, v: Option<Vec<f64>>) -> Result<Handover> {
+        let e = from.energies()?;
+        Ok(Handover {
+            time: from.time(),
+            steps: from.steps(),
+            u: from.displacement().to_vec(),
+            v,
+            fix_work: e.fix_work,
+            load_work: e.load_work,
+            energy: e.total(),
+        })
     }
 }
 

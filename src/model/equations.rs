@@ -2,10 +2,12 @@
 //! it, $u_d = \sum_j c_j u_j$, chains of equations substituted so that no dof that sets
 //! another is itself set by one.
 
-use super::ties::Tie;
 use crate::error::{ImpactError, Result};
 use crate::mesh::Mesh;
 use crate::scene::{Removal, Scene};
+
+/// A `[[tie]]`'s name and constraints.
+pub(super) type TieEquations<'a> = (&'a str, &'a [Equation]);
 
 /// One linear constraint: `dependent` = sum of factor x dof over `terms`.
 #[derive(Debug, Clone, PartialEq)]
@@ -22,7 +24,7 @@ pub(super) fn equations(
     scene: &Scene,
     mesh: &Mesh,
     fixed: &[bool],
-    ties: &[Tie],
+    ties: &[TieEquations],
 ) -> Result<Vec<Equation>> {
     let kept = vec![false; scene.equations.len()];
     equations_kept(scene, mesh, (fixed, ties), &kept)
@@ -61,7 +63,7 @@ pub(super) fn removed_by(scene: &Scene, mesh: &Mesh, k: usize) -> Vec<bool> {
 pub(super) fn equations_kept(
     scene: &Scene,
     mesh: &Mesh,
-    (fixed, ties): (&[bool], &[Tie]),
+    (fixed, ties): (&[bool], &[TieEquations]),
     removed: &[bool],
 ) -> Result<Vec<Equation>> {
     let err = |i: usize, message: String| ImpactError::SceneValue {
@@ -108,17 +110,13 @@ pub(super) fn equations_kept(
         out.push(Equation { dependent, terms });
         origin.push(i);
     }
-    for (k, tie) in ties.iter().enumerate() {
+    for (k, (name, tied)) in ties.iter().enumerate() {
         let tie_err = |message: String| ImpactError::SceneValue {
             path: scene.path.clone(),
-            key: format!("tie[{k}] (tie `{}`)", tie.name),
+            key: format!("tie[{k}] (tie `{name}`)"),
             message,
         };
-        for e in tie
-            .equations
-            .iter()
-            .filter(|e| !fixed[e.dependent as usize])
-        {
+        for e in tied.iter().filter(|e| !fixed[e.dependent as usize]) {
             if let Some(j) = out.iter().position(|o| o.dependent == e.dependent) {
                 let node = e.dependent / 3;
                 return Err(tie_err(match origin.get(j) {

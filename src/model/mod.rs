@@ -127,7 +127,7 @@ impl Model {
         } = fixes::fixes(scene, &mesh, &fixes::in_force(scene, None))?;
         fixes::hold_prescribed(&mut fixed, &rigid);
         let (loads, held_loads) = loads::loads(scene, &mesh, &fixed)?;
-        let equations = equations::equations(scene, &mesh, &fixed, &ties)?;
+        let equations = equations::equations(scene, &mesh, &fixed, &ties::views(&ties))?;
         let (queries, interfaces) = interfaces(scene, &mesh, &rigid)?;
         let cohesive = cohesive::cohesive_interfaces(scene, &mesh, &splits)?;
         let mut probes = probes(scene, &mesh);
@@ -193,8 +193,12 @@ impl Model {
                 fixes::hold_prescribed(&mut fixed, &self.rigid);
                 let (loads, held_loads) = loads::loads(scene, &self.mesh, &fixed)?;
                 let removed = equations::removed_by(scene, &self.mesh, k);
-                let equations =
-                    equations::equations_kept(scene, &self.mesh, (&fixed, &self.ties), &removed)?;
+                let equations = equations::equations_kept(
+                    scene,
+                    &self.mesh,
+                    (&fixed, &ties::views(&self.ties)),
+                    &removed,
+                )?;
                 let mut interfaces = self.interfaces.clone();
                 for change in scene.steps[..=k].iter().flat_map(|s| &s.contacts) {
                     let itf = &mut interfaces[change.contact];

@@ -52,6 +52,13 @@ pub(super) fn ties(scene: &Scene, mesh: &mut Mesh) -> Result<Vec<Tie>> {
     Ok(out)
 }
 
+/// Each tie's name and constraints, as [`super::equations`] takes them.
+pub(super) fn views(ties: &[Tie]) -> Vec<super::equations::TieEquations<'_>> {
+    (ties.iter())
+        .map(|t| (t.name.as_str(), &t.equations[..]))
+        .collect()
+}
+
 /// The secondary nodes of a tie, in increasing order.
 fn secondary_nodes(mesh: &Mesh, side: SecondarySide) -> Vec<u32> {
     match side {

@@ -30,6 +30,7 @@ use crate::checkpoint::{Checkpoint, Tally};
 use crate::domain::{DomainSolver, Partition, RankResident, Ranks};
 use crate::error::{ImpactError, Result};
 use crate::gpu::GpuKernels;
+use crate::integrate::integrator::Handover;
 use crate::integrate::{
     resident, ExplicitSolver, ImplicitSolver, Integrator, ResidentSolver, StaticSolver, StepReport,
 };
@@ -66,15 +67,16 @@ pub fn output_dir(scene: &Scene, opts: &RunOptions) -> PathBuf {
     opts.out.clone().unwrap_or_else(|| scene.output_dir.clone())
 }
 
-/// Builds the integrator the setup chose, with the run's shortened last step and
-/// checkpoint interval.
+/// Builds the integrator the setup chose for a stage of model `model`, method and time step
+/// `(method, dt)`, starting after the run's step `origin.0` at time `origin.1`, with the
+/// run's shortened last step and checkpoint interval.
 fn build_solver<'m>(
     scene: &Scene,
     (setup, model): (&'m Setup, &'m Model),
+    (method, dt, origin): (Method, f64, (usize, f64)),
     speed_scale: f64,
     ranks: Option<&'m dyn Ranks>,
 ) -> Result<Box<dyn Integrator + 'm>> {
-    let dt = setup.dt;
     if let Some(ranks) = ranks {
         let partition = Partition::bisect(model, ranks.size());
         let settings = (&scene.explicit, dt, speed_scale);
@@ -109,13 +111,15 @@ fn build_solver<'m>(
             ),
         });
     }
-    let mut solver: Box<dyn Integrator + 'm> = match (setup.method, setup.ctx.clone()) {
+    let mut solver: Box<dyn Integrator + 'm> = match (method, setup.ctx.clone()) {
         // a meshed rigid surface has no device form: its contact runs on the host, the
         // element forces on the device; so do cohesive interfaces (their pairs on the host)
         // and loads and displaced fixes (their forces and velocities change over time on
-        // the host)
+        // the host), and the stages of a run whose steps change the method (their state
+        // handed on on the host)
         (Method::Explicit, Some(ctx))
             if resident::rigid_surfaces_on_device(model)
+                && !setup.mixed()
                 && model.cohesive.is_empty()
                 && model.loads.is_empty()
                 && model.fix_paths.is_empty() =>
@@ -173,6 +177,7 @@ fn build_solver<'m>(
     if let Some(p) = solver.pipelined() {
         p.schedule(setup.last_step, scene.checkpoint_every);
     }
+    solver.start_stage_at(origin.0, origin.1);
     Ok(solver)
 }
 
@@ -274,6 +279,13 @@ fn set_up(
     let Some(r) = ranks else {
         return Ok(setup);
     };
+    if let Some(k) = (setup.stages.iter()).position(|s| s.method != Method::Explicit) {
+        return Err(ImpactError::Unsupported {
+            path: scene.path.clone(),
+            key: format!("step[{k}].method"),
+            message: format!("the {} path runs on one process (a distributed sparse solver is not built): run it without mpirun", setup.stages[k].method.name()),
+        });
+    }
     if setup.method != Method::Explicit {
         return Err(ImpactError::Unsupported {
             path: scene.path.clone(),
@@ -319,7 +331,21 @@ impl<'s> Running<'s> {
         let speed_scale = resumed
             .as_ref()
             .map_or_else(|| scene.speed_scale(), |c| c.speed_scale);
-        let mut solver = build_solver(scene, (setup, &setup.model), speed_scale, ranks)?;
+        // a resumed run goes on in the stage its checkpoint was written in (one written as a
+        // stage ended is that stage's; the next is entered at its first step)
+        let stage = resumed.as_ref().map_or(0, |c| {
+            (setup.stages.iter())
+                .filter(|s| s.from < c.tally.steps)
+                .count()
+        });
+        let (stepping, model) = match stage {
+            0 => ((setup.method, setup.dt, (0, 0.0)), &setup.model),
+            k => {
+                let s = &setup.stages[k - 1];
+                ((s.method, s.dt, (s.from, s.start)), &s.model)
+            }
+        };
+        let mut solver = build_solver(scene, (setup, model), stepping, speed_scale, ranks)?;
         if let Some(p) = solver.pipelined() {
             p.schedule(setup.last_step, scene.checkpoint_every);
         }
@@ -351,7 +377,7 @@ impl<'s> Running<'s> {
             speed_scale,
         };
         Ok(Running {
-            stage: 0,
+            stage,
             scene,
             setup,
             solver,
@@ -403,12 +429,16 @@ impl<'s> Running<'s> {
     /// earlier), the solver is rebuilt on its model and goes on from the last one's state.
     fn enter_stage(&mut self, n: usize) -> Result<()> {
         let setup = self.setup;
-        let stage = (setup.stages.iter()).filter(|(from, _)| *from <= n).count();
+        let stage = (setup.stages.iter()).filter(|s| s.from <= n).count();
         if stage == self.stage {
             return Ok(());
         }
         // a failure here ends the run as failed, its summary saying why
-        let (from, model) = &setup.stages[stage - 1];
+        let s = &setup.stages[stage - 1];
+        if s.method != self.solver.method() {
+            return self.change_method(stage, n);
+        }
+        let (from, model) = (&s.from, &s.model);
         let state = match self.solver.checkpoint_state() {
             Ok(Some(state)) => state,
             Ok(None) => {
@@ -425,7 +455,15 @@ impl<'s> Running<'s> {
             Err(e) => return Err(self.failed(e)),
         };
         let speed_scale = self.identity.speed_scale;
-        let mut solver = match build_solver(self.scene, (setup, model), speed_scale, self.ranks) {
+        let stepping = (s.method, s.dt, (s.from, s.start));
+        let built = build_solver(
+            self.scene,
+            (setup, model),
+            stepping,
+            speed_scale,
+            self.ranks,
+        );
+        let mut solver = match built {
             Ok(solver) => solver,
             Err(e) => return Err(self.failed(e)),
         };
@@ -441,6 +479,53 @@ impl<'s> Running<'s> {
         self.solver = solver;
         self.stage = stage;
         Ok(())
+    }
+
+    /// Enters stage `stage` (at the run's step `n`) of another method than the solver's: a
+    /// solver of its method built on its model takes the last one's state over
+    /// ([`Integrator::take_over`]). A dynamic stage goes on with a dynamic one's velocity;
+    /// after static stages it starts at rest, but for the run's initial velocities where no
+    /// dynamic stage came before. A run resumed inside a stage was saved by that stage's
+    /// method, and is restored by it.
+    fn change_method(&mut self, stage: usize, n: usize) -> Result<()> {
+        let (setup, s) = (self.setup, &self.setup.stages[stage - 1]);
+        let dynamic = |m: Method| m != Method::Static;
+        let old = self.solver.method();
+        let v = match dynamic(old) {
+            true => Some(self.solver.velocity().to_vec()),
+            false => {
+                let before = std::iter::once(setup.method)
+                    .chain(setup.stages[..stage - 1].iter().map(|s| s.method));
+                let first = !before.into_iter().any(dynamic);
+                (!first).then(|| vec![0.0; setup.model.dofs()])
+            }
+        };
+        let handed = Handover::of(self.solver.as_mut(), v);
+        let speed_scale = self.identity.speed_scale;
+        let built = build_solver(
+            self.scene,
+            (setup, &s.model),
+            (s.method, s.dt, (s.from, s.start)),
+            speed_scale,
+            self.ranks,
+        );
+        let taken = handed.and_then(|h| {
+            let mut solver = built?;
+            solver.take_over(&h)?;
+            Ok(solver)
+        });
+        match taken {
+            Ok(solver) => {
+                self.solver = solver;
+                self.stage = stage;
+                debug_assert!(
+                    s.from == n,
+                    "a run resumes inside a stage by its own method"
+                );
+                Ok(())
+            }
+            Err(e) => Err(self.failed(e)),
+        }
     }
 
     /// Whether step `n` is the run's last, shortened to end at `end_time`.
@@ -517,7 +602,7 @@ impl<'s> Running<'s> {
         match outcome {
             Ok(x) => Ok(x),
             Err(err @ ImpactError::Solver(_)) => {
-                let time = (n + 1) as f64 * self.setup.dt;
+                let time = self.setup.time_after(n + 1);
                 Err(self.fail((n + 1, time), err.to_string()))
             }
             Err(err) => Err(self.failed(err)),

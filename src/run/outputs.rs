@@ -235,10 +235,11 @@ pub(super) fn check_resumable(
             setup.steps
         )));
     }
-    if let Some(dt) = dt.filter(|dt| (dt - setup.dt).abs() > 1e-12 * setup.dt) {
+    // the step the checkpoint's stage takes (its last step's)
+    let own = setup.stepping_at(steps.saturating_sub(1)).1;
+    if let Some(dt) = dt.filter(|dt| (dt - own).abs() > 1e-12 * own) {
         return Err(refuse(format!(
-            "the checkpoint's step is {dt:e} and this run's {:e} (the stable step was found on another device): resume with the first run's --device",
-            setup.dt
+            "the checkpoint's step is {dt:e} and this run's {own:e} (the stable step was found on another device): resume with the first run's --device"
         )));
     }
     check_tally(c, (steps, time), setup).map_err(refuse)
@@ -259,11 +260,10 @@ fn check_tally(
             t.steps
         ));
     }
-    let expected = steps as f64 * setup.dt;
+    let expected = setup.time_after(steps);
     if !time.is_finite() || (time - expected).abs() > 1e-6 * expected.max(setup.dt) {
         return Err(format!(
-            "its time {time:e} is not {steps} steps of {:e} ({expected:e})",
-            setup.dt
+            "its time {time:e} is not the run's time after {steps} steps ({expected:e})"
         ));
     }
     let n = setup.model.interfaces.len();

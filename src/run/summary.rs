@@ -42,10 +42,7 @@ pub(super) fn initial_summary(scene: &Scene, setup: &Setup, solver: &dyn Integra
         engine: solver.engine().into(),
         time_step: setup.dt,
         stable_time_step: setup.bound.filter(|_| explicit).map(|b| b.0),
-        end_time: match setup.last_step {
-            Some(last) => (setup.steps - 1) as f64 * setup.dt + last,
-            None => setup.steps as f64 * setup.dt,
-        },
+        end_time: setup.end_time(),
         constraint: constraint.into(),
         penalty: penalty.into(),
         mass: mass.into(),

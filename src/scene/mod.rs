@@ -523,6 +523,14 @@ pub struct EquationSpec {
 #[derive(Debug, Clone)]
 pub struct StepSpec {
     pub start: f64,
+    /// The step's method where it is not the run's: static, explicit or implicit (a
+    /// preload, then an impact). The state carries over; a dynamic step after static ones
+    /// starts at rest, but for the run's initial velocities where no dynamic step came
+    /// before.
+    pub method: Option<Method>,
+    /// The step's own time step (`None`: the run's where the method is the run's; the stable
+    /// step's for an explicit step after another method).
+    pub time_step: Option<f64>,
     /// Where the step's fixes' ramps end (`None`: at the next step's start, or at
     /// `run.end_time`).
     pub end: Option<f64>,
@@ -676,6 +684,13 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// Whether a `[[step]]` changes the method or the time step: its steps then run each at
+    /// its own (a preload, then an impact).
+    pub fn mixed_steps(&self) -> bool {
+        (self.steps.iter())
+            .any(|s| s.method.is_some_and(|m| m != self.run.method) || s.time_step.is_some())
+    }
+
     /// Reads and checks a scene file, or an Abaqus/CalculiX deck (`.inp`) as the scene it
     /// converts to ([`from_deck`]).
     pub fn load(path: impl AsRef<Path>) -> Result<Scene> {

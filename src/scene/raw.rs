@@ -402,6 +402,8 @@ pub(crate) struct RawEquation {
 pub(crate) struct RawStep {
     pub start: f64,
     pub end: Option<f64>,
+    pub method: Option<String>,
+    pub time_step: Option<f64>,
     pub remove_equations: Option<RawRemoval>,
     pub release_fixes: Option<RawRelease>,
     #[serde(default)]

@@ -48,7 +48,7 @@ use crate::scene::{ExplicitSettings, Method};
 use crate::search;
 use rayon::prelude::*;
 
-use super::integrator::Integrator;
+use super::integrator::{Handover, Integrator};
 use super::loads::LoadForces;
 use super::state::{ContactReport, DamageReport, Energies, FirstDamage, StepReport};
 use super::SolverState;
@@ -89,6 +89,11 @@ pub struct Work {
     /// The trapezoid sum of the `[[load]]`s' work ([`crate::integrate::loads`]).
     #[serde(default)]
     pub loads: f64,
+    /// The energy the steps of another method before this one left in forms this one does
+    /// not hold (their stabilisation's, their contact springs'), so that the history's total
+    /// goes on where theirs ended ([`Integrator::take_over`]).
+    #[serde(default)]
+    pub carried: f64,
     pub first_damage: Option<crate::integrate::state::FirstDamage>,
 }
 
@@ -430,6 +435,41 @@ impl Integrator for ExplicitSolver<'_> {
         }
     }
 
+    /// Goes on from a static or implicit stage: its displacement, the velocity it hands on
+    /// (on the free dofs) or the run's initial one (its kinetic energy counted as the loads'
+    /// work), the internal forces and acceleration there, and the total energy it ended at.
+    fn take_over(&mut self, h: &Handover) -> Result<()> {
+        self.time = h.time;
+        self.steps = h.steps;
+        self.u.copy_from_slice(&h.u);
+        self.u_prev.copy_from_slice(&h.u);
+        let given = match &h.v {
+            Some(v) => {
+                for (d, x) in self.v.iter_mut().enumerate() {
+                    if !self.model.fixed[d] {
+                        *x = v[d];
+                    }
+                }
+                0.0
+            }
+            None => (self.v.iter().enumerate())
+                .map(|(d, v)| 0.5 * self.mass[d / 3] * v * v)
+                .sum(),
+        };
+        self.v_half.copy_from_slice(&self.v);
+        self.work.fixes = h.fix_work;
+        self.work.loads = h.load_work + given;
+        self.loads.set(self.model, self.time, &mut self.f_ext);
+        self.kernels
+            .internal_forces_into(&self.u, &mut self.f_int)?;
+        for (d, a) in self.a.iter_mut().enumerate() {
+            *a = (self.f_ext[d] - self.f_int[d]) * self.inv_mass[d];
+        }
+        self.work.carried = 0.0;
+        self.work.carried = h.energy - self.energies()?.total();
+        Ok(())
+    }
+
     /// Makes the next step `dt` long (the shortened last step of a run that ends between
     /// whole steps).
     ///
@@ -478,7 +518,8 @@ impl Integrator for ExplicitSolver<'_> {
         let v = &self.v_half;
         let kinetic =
             0.5 * ordered_sum(v.len(), |d| mass[d / 3] * v[d] * v[d]) + self.spins.kinetic();
-        let potential = self.external_potential() - self.contact.driver_work() - self.work.fixes;
+        let potential = self.external_potential() - self.contact.driver_work() - self.work.fixes
+            + self.work.carried;
         Ok(Energies {
             kinetic: kinetic - self.measure_shift,
             // the pairs' friction springs store less than half their traction's work

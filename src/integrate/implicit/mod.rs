@@ -58,7 +58,7 @@ use crate::scene::{Acceleration, ConstraintMeasure, ContactSpace, ImplicitSettin
 
 use super::constraints::Constraints;
 use super::explicit::spin::{BodySpin, Spins};
-use super::integrator::{ImplicitFigures, Integrator, NewtonFigures};
+use super::integrator::{Handover, ImplicitFigures, Integrator, NewtonFigures};
 use super::loads::{gravity_force, LoadForces};
 use super::state::{ContactReport, Energies, InterfaceEnd, StepReport};
 use super::SolverState;
@@ -106,6 +106,10 @@ pub struct ImplicitState {
     /// The `[[load]]`s' work so far.
     #[serde(default)]
     pub load_work: f64,
+    /// The energy steps of another method before this one left in forms it does not hold
+    /// ([`Integrator::take_over`]).
+    #[serde(default)]
+    pub carried: f64,
 }
 
 pub struct ImplicitSolver<'m> {
@@ -138,6 +142,10 @@ pub struct ImplicitSolver<'m> {
     /// taken starts at.
     loads: LoadForces,
     load_work: f64,
+    /// [`ImplicitState::carried`].
+    carried: f64,
+    /// The run's step count and time where this solver's stage starts.
+    origin: (usize, f64),
     clock: f64,
     contact: MultiplierIteration,
     /// The rigid bodies' rotation at the end of the last step, and at the iterate's.
@@ -237,6 +245,8 @@ impl<'m> ImplicitSolver<'m> {
             f_ext,
             loads,
             load_work: 0.0,
+            carried: 0.0,
+            origin: (0, 0.0),
             clock: 0.0,
             contact: MultiplierIteration::new(model, interfaces),
             spins: Spins::new(model),
@@ -272,6 +282,7 @@ impl<'m> ImplicitSolver<'m> {
             spins: self.spins.saved(),
             flexibility_nodes: self.flexibility.each_ref().map(Flexibility::nodes),
             load_work: self.load_work,
+            carried: self.carried,
         }
     }
 
@@ -291,6 +302,7 @@ impl<'m> ImplicitSolver<'m> {
         self.spins.restore(s.spins);
         self.flexibility = s.flexibility_nodes.map(Flexibility::resume);
         self.load_work = s.load_work;
+        self.carried = s.carried;
         self.clock = s.time;
         self.loads.set(self.model, s.time, &mut self.f_ext);
         Ok(())
@@ -916,7 +928,7 @@ impl Integrator for ImplicitSolver<'_> {
             }
         }
         self.steps += 1;
-        self.time = self.steps as f64 * self.dt;
+        self.time = self.origin.1 + (self.steps - self.origin.0) as f64 * self.dt;
         Ok(report)
     }
 
@@ -957,7 +969,8 @@ impl Integrator for ImplicitSolver<'_> {
             potential: -dot_slices(&self.f_ext, &self.u)
                 + self.loads.in_dot(self.model, self.clock, &self.u)
                 - self.load_work
-                - driver_work,
+                - driver_work
+                + self.carried,
             damage: 0.0,
             fix_work: 0.0,
             load_work: self.load_work,
@@ -1015,6 +1028,37 @@ impl Integrator for ImplicitSolver<'_> {
 
     fn checkpoint_state(&mut self) -> Result<Option<SolverState>> {
         Ok(Some(SolverState::Implicit(self.state())))
+    }
+
+    fn start_stage_at(&mut self, steps: usize, time: f64) {
+        self.origin = (steps, time);
+    }
+
+    /// Goes on from a static or explicit stage: its displacement, the velocity it hands on
+    /// (on the free dofs) or the run's initial one (its kinetic energy counted as the loads'
+    /// work), the acceleration the model gives there, and the total energy it ended at.
+    fn take_over(&mut self, h: &Handover) -> Result<()> {
+        (self.time, self.clock, self.steps) = (h.time, h.time, h.steps);
+        self.u.copy_from_slice(&h.u);
+        let given = match &h.v {
+            Some(v) => {
+                for (d, x) in self.v.iter_mut().enumerate() {
+                    if !self.model.fixed[d] {
+                        *x = v[d];
+                    }
+                }
+                0.0
+            }
+            None => (self.v.iter().enumerate())
+                .map(|(d, v)| 0.5 * self.asm.nodal_mass[d / 3] * v * v)
+                .sum(),
+        };
+        self.load_work = h.load_work + given;
+        self.loads.set(self.model, self.time, &mut self.f_ext);
+        self.begin_step()?;
+        self.carried = 0.0;
+        self.carried = h.energy - self.energies()?.total();
+        Ok(())
     }
 
     fn restore(&mut self, state: SolverState) -> std::result::Result<(), String> {

@@ -31,7 +31,7 @@ mod friction;
 use super::constraints::Constraints;
 use crate::backend::Kernels;
 use crate::error::{ImpactError, Result};
-use crate::integrate::integrator::{ImplicitFigures, Integrator};
+use crate::integrate::integrator::{Handover, ImplicitFigures, Integrator};
 use crate::integrate::loads::{gravity_force, LoadForces};
 use crate::integrate::state::{ContactReport, Energies, InterfaceEnd, StepReport};
 use crate::integrate::SolverState;
@@ -71,6 +71,10 @@ pub struct StaticState {
     /// its friction took from the bodies (held by the stick slopes, or dissipated).
     pub tau: Vec<Vec<[f64; 3]>>,
     pub friction_loss: Vec<f64>,
+    /// The energy dynamic steps before this one left in forms it does not hold (their
+    /// kinetic energy, dropped where a static step begins; [`Integrator::take_over`]).
+    #[serde(default)]
+    pub carried: f64,
 }
 
 pub struct StaticSolver<'m> {
@@ -82,6 +86,8 @@ pub struct StaticSolver<'m> {
     state: StaticState,
     /// The displacement at the start of the increment being solved.
     u_start: Vec<f64>,
+    /// The run's step count and time where this solver's stage starts.
+    origin: (usize, f64),
     /// Where the stabilisation's springs are anchored: the increment's start, moved to the
     /// solution each time the springs are relaxed ([`StaticSolver::settle_relaxed`]).
     anchor: Vec<f64>,
@@ -138,8 +144,10 @@ impl<'m> StaticSolver<'m> {
                 cutbacks: 0,
                 tau: contact.friction.tau.clone(),
                 friction_loss: vec![0.0; model.interfaces.len()],
+                carried: 0.0,
             },
             u_start: vec![0.0; ndof],
+            origin: (0, 0.0),
             anchor: vec![0.0; ndof],
             zero: vec![0.0; ndof],
             f_ext,
@@ -418,7 +426,7 @@ impl Integrator for StaticSolver<'_> {
 
     /// One step of `time_step`, in halves where an increment does not settle.
     fn step(&mut self) -> Result<StepReport> {
-        let target = (self.state.steps + 1) as f64 * self.dt;
+        let target = self.origin.1 + (self.state.steps + 1 - self.origin.0) as f64 * self.dt;
         let mut h = self.dt;
         let mut report = StepReport::default();
         while self.clock < target * (1.0 - 1e-12) {
@@ -470,6 +478,7 @@ impl Integrator for StaticSolver<'_> {
                 + self.contact.stored_energy()
                 + self.state.friction_loss.iter().sum::<f64>()
                 + self.state.stabilised
+                + self.state.carried
                 - external,
             damage: 0.0,
             fix_work: self.state.fix_work,
@@ -542,6 +551,31 @@ impl Integrator for StaticSolver<'_> {
             .kinematics(self.model, self.kernels.as_mut(), &u, &self.zero)
             .and_then(|_| self.residual())
             .map_err(|e| e.to_string())?;
+        Ok(())
+    }
+
+    fn start_stage_at(&mut self, steps: usize, time: f64) {
+        self.origin = (steps, time);
+    }
+
+    /// Goes on from a dynamic stage: its displacement (its velocity dropped: a static step
+    /// starts at rest, the kinetic energy kept in the balance as carried), the work its fixes
+    /// and loads did, and the total energy it ended at.
+    fn take_over(&mut self, h: &Handover) -> Result<()> {
+        (self.state.time, self.clock, self.state.steps) = (h.time, h.time, h.steps);
+        self.state.u.copy_from_slice(&h.u);
+        self.state.load_work = h.load_work;
+        self.state.fix_work = h.fix_work;
+        self.loads.set(self.model, self.clock, &mut self.f_ext);
+        self.u_start.clone_from(&self.state.u);
+        self.anchor.clone_from(&self.state.u);
+        let u = self.state.u.clone();
+        self.contact
+            .broad_phase(self.model, &u, self.contact.face_size);
+        (self.contact).kinematics(self.model, self.kernels.as_mut(), &u, &self.zero)?;
+        self.residual()?;
+        self.state.carried = 0.0;
+        self.state.carried = h.energy - self.energies()?.total();
         Ok(())
     }
 

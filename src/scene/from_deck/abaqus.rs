@@ -188,6 +188,9 @@ impl Gathered {
 struct LaterStep {
     line: usize,
     period: Option<f64>,
+    /// The step's procedure where it is not the first step's: "static", "implicit" or
+    /// "explicit" (a preload, then an impact).
+    method: Option<&'static str>,
     increment: Option<f64>,
     minimum: Option<f64>,
     remove: Option<DeckRemoval>,
@@ -199,6 +202,15 @@ struct LaterStep {
     friction: Vec<(String, f64, Option<f64>)>,
     /// The interaction `*CHANGE FRICTION` opened, whose `*FRICTION` follows.
     changing: Option<String>,
+}
+
+/// The method a step's procedure becomes.
+fn method_of(s: &DeckStep) -> &'static str {
+    match (s.explicit, s.minimum_step) {
+        (true, _) => "explicit",
+        (false, None) => "implicit",
+        (false, Some(_)) => "static",
+    }
 }
 
 /// `*EQUATION, REMOVE ALL`, or `*EQUATION, REMOVE` with (node or node set, dof 0-2, line)
@@ -383,13 +395,10 @@ impl Reader<'_> {
                     _ => self.statics(b)?,
                 };
                 let first = g.step.as_ref();
-                let same = first.is_some_and(|f| {
-                    (f.explicit, f.minimum_step.is_some())
-                        == (step.explicit, step.minimum_step.is_some())
-                });
-                if !same {
-                    return refuse("the steps in sequence share the first step's procedure (a preload before an impact is not built yet)");
-                }
+                let same = first.is_some_and(|f| method_of(f) == method_of(&step));
+                // a step of another procedure keeps its own increment (an explicit one
+                // steps at the stable step)
+                later.method = (!same).then(|| method_of(&step));
                 // the step's line from here on is its procedure's, which gives the increment
                 later.line = b.line;
                 later.period = Some(step.end_time);
@@ -1399,6 +1408,8 @@ impl Reader<'_> {
             let fixes = self.fixes((g, &l.boundaries, Some(l)), bodies, on)?;
             out.push(super::DeckLaterStep {
                 start,
+                method: l.method,
+                time_step: l.method.and(l.increment),
                 end: start + period,
                 remove,
                 release_fixes: l.renew,
@@ -1417,21 +1428,20 @@ impl Reader<'_> {
         let Some(first) = g.step.as_ref() else {
             return Ok(Vec::new());
         };
-        let Some(dt) = (g.later.iter().filter_map(|l| l.increment))
+        // the steps of the first step's procedure run at one increment
+        let alike = || g.later.iter().filter(|l| l.method.is_none());
+        let Some(dt) = (alike().filter_map(|l| l.increment))
             .chain(first.time_step)
             .min_by(f64::total_cmp)
         else {
             return Ok(Vec::new());
         };
         step.time_step = Some(dt);
-        step.minimum_step = (g.later.iter().filter_map(|l| l.minimum))
+        step.minimum_step = (alike().filter_map(|l| l.minimum))
             .chain(first.minimum_step)
             .min_by(f64::total_cmp);
-        let steps = std::iter::once((first.end_time, first.time_step, g.step_line)).chain(
-            g.later
-                .iter()
-                .map(|l| (l.period.unwrap_or(0.0), l.increment, l.line)),
-        );
+        let steps = std::iter::once((first.end_time, first.time_step, g.step_line))
+            .chain(alike().map(|l| (l.period.unwrap_or(0.0), l.increment, l.line)));
         let mut notes = Vec::new();
         for (period, increment, line) in steps {
             let whole = period / dt;

@@ -319,6 +319,10 @@ pub(crate) struct DeckStep {
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct DeckLaterStep {
     pub start: f64,
+    /// The step's method where its procedure is not the first step's, and its increment
+    /// (an explicit step's none: the stable step).
+    pub method: Option<&'static str>,
+    pub time_step: Option<f64>,
     /// Its end: its start and period.
     pub end: f64,
     pub remove: Option<Vec<(String, String, usize)>>,
@@ -757,6 +761,12 @@ impl DeckScene {
                 float(l.start),
                 float(l.end)
             );
+            if let Some(m) = l.method {
+                let _ = writeln!(t, "method = \"{m}\"");
+            }
+            if let Some(dt) = l.time_step {
+                let _ = writeln!(t, "time_step = {}", float(dt));
+            }
             match &l.remove {
                 None => {}
                 Some(dofs) if dofs.is_empty() => {

@@ -23,9 +23,13 @@ impl Checker<'_> {
     ) -> Result<Vec<StepSpec>> {
         let (raw_bodies, bodies) = (held.raw_bodies, held.bodies);
         let mut out: Vec<StepSpec> = Vec::with_capacity(raw.len());
+        // a step of its own method or time step: each step's starts are checked against the
+        // steps before it in the setup, where the explicit step is known
+        let mixed = (raw.iter()).any(|s| s.time_step.is_some() || s.method.is_some());
         for (i, s) in raw.iter().enumerate() {
             let key = |k: &str| format!("step[{i}].{k}");
             let start = self.positive(&key("start"), s.start)?;
+            let (method, time_step) = self.step_method(i, s, run)?;
             let last = out.last().map_or(0.0, |p| p.start);
             // a step at or after the end time never starts (a run stopped early and then
             // resumed with a later end time reaches it)
@@ -35,14 +39,17 @@ impl Checker<'_> {
                     format!("{start}: a step starts after the one before it (at {last})"),
                 ));
             }
-            let Some(dt) = run.time_step else {
-                return Err(self.err(
-                    key("start"),
-                    "a run of steps needs run.time_step, on whose multiples the steps start",
-                ));
-            };
+            let dt =
+                match run.time_step {
+                    Some(dt) => dt,
+                    None if mixed => f64::NAN,
+                    None => return Err(self.err(
+                        key("start"),
+                        "a run of steps needs run.time_step, on whose multiples the steps start",
+                    )),
+                };
             let whole = start / dt;
-            if (whole - whole.round()).abs() > 1e-9 * whole.max(1.0) {
+            if !mixed && (whole - whole.round()).abs() > 1e-9 * whole.max(1.0) {
                 return Err(self.err(
                     key("start"),
                     format!("{start} is not a whole number of run.time_step = {dt}: the run's steps must land on it"),
@@ -82,6 +89,8 @@ impl Checker<'_> {
             };
             out.push(StepSpec {
                 start,
+                method,
+                time_step,
                 end,
                 remove_equations,
                 release_fixes: self.release(&key("release_fixes"), &s.release_fixes, held.fixes)?,
@@ -90,6 +99,43 @@ impl Checker<'_> {
             });
         }
         Ok(out)
+    }
+
+    /// A step's `method` (static, explicit or implicit; kept as `None` where it is the
+    /// run's) and `time_step` (positive; required where a static or implicit step follows
+    /// another method and the run gives no `time_step`).
+    fn step_method(
+        &self,
+        i: usize,
+        s: &RawStep,
+        run: &RunSettings,
+    ) -> Result<(Option<Method>, Option<f64>)> {
+        let key = |k: &str| format!("step[{i}].{k}");
+        let method = match s.method.as_deref() {
+            None => None,
+            Some(m) => {
+                let m = self.choice(&key("method"), Some(m), run.method, Method::CHOICES)?;
+                if m == Method::Auto || run.method == Method::Auto {
+                    return Err(self.err(
+                        key("method"),
+                        "a step's method is \"static\", \"explicit\" or \"implicit\", in a run whose own method is one of them (not \"auto\")",
+                    ));
+                }
+                (m != run.method).then_some(m)
+            }
+        };
+        let time_step = match s.time_step {
+            Some(dt) => Some(self.positive(&key("time_step"), dt)?),
+            None => None,
+        };
+        let needs = method.is_some_and(|m| m != Method::Explicit) && run.time_step.is_none();
+        if needs && time_step.is_none() {
+            return Err(self.err(
+                key("time_step"),
+                "is required for a static or implicit step in a run without run.time_step (its step is not chosen automatically)",
+            ));
+        }
+        Ok((method, time_step))
     }
 
     /// The dependent dofs a step's `remove_equations` names.
