@@ -48,17 +48,6 @@ point = [10.0, 0.5, 0.5]
     )
 }
 
-fn run_text(tag: &str, text: &str) -> (impact::output::Summary, History) {
-    let dir = out_dir(tag);
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).unwrap();
-    let (s, h) = run_scene_at(&path, &out_dir(&format!("{tag}_run")));
-    let s = s.unwrap_or_else(|e| panic!("{tag}: {e}"));
-    assert_eq!(s.status, "completed", "{tag}: {:?}", s.warnings);
-    (s, h)
-}
-
 /// The largest change of the total energy from one row to the next.
 fn largest_jump(h: &History) -> f64 {
     let e = h.col("total_energy");
@@ -79,7 +68,7 @@ fn a_preloaded_bar_stays_at_rest_on_either_dynamic_path() {
         let step = format!("\n[[step]]\nstart = 1.0\nmethod = \"{method}\"\n{dt}");
         let run = "method = \"static\"\nend_time = 3.0\ntime_step = 0.25";
         let tag = format!("mixed_rest_{method}");
-        let (s, h) = run_text(&tag, &pulled_bar(run, 10.0, amplitude, &step));
+        let (s, h) = run_completed(&tag, &pulled_bar(run, 10.0, amplitude, &step));
         let (t, u) = (h.col("time"), h.col("tip.ux"));
         let strain = h.last("strain_energy");
         assert!(
@@ -112,7 +101,7 @@ fn a_preloaded_bar_stays_at_rest_on_either_dynamic_path() {
 fn a_ringing_bar_settles_in_a_static_step() {
     let step = "\n[[step]]\nstart = 2.5\nmethod = \"static\"\ntime_step = 0.25\n";
     let run = "method = \"explicit\"\nend_time = 3.0";
-    let (_, h) = run_text("mixed_settle", &pulled_bar(run, 10.0, "", step));
+    let (_, h) = run_completed("mixed_settle", &pulled_bar(run, 10.0, "", step));
     let (t, u) = (h.col("time"), h.col("tip.ux"));
     let ringing = (t.iter().zip(&u))
         .filter(|(x, _)| **x < 2.5)
@@ -189,7 +178,7 @@ start = 0.05
 method = "explicit"
 time_step = 0.0025
 "#;
-    let (_, h) = run_text("mixed_st_venant", text);
+    let (_, h) = run_completed("mixed_st_venant", text);
     let (t, f, v) = (h.col("time"), h.col("strike.normal_force"), h.col("tup.vx"));
     let t1 = 0.05;
     let at = t
@@ -238,7 +227,7 @@ fn a_run_stopped_inside_its_dynamic_stage_resumes_to_the_unbroken_history() {
         let run = format!("method = \"static\"\nend_time = {end:?}\ntime_step = 0.25");
         pulled_bar(&run, 10.0, amplitude, step)
     };
-    let (_, whole) = run_text("mixed_whole", &text(3.0));
+    let (_, whole) = run_completed("mixed_whole", &text(3.0));
     let dir = out_dir("mixed_resumed");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("scene.toml");

@@ -52,37 +52,6 @@ point = [0.5, 0.5, 1.0]
     )
 }
 
-fn run_text(tag: &str, text: &str) -> History {
-    let dir = out_dir(tag);
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).unwrap();
-    let (s, h) = run_scene_at(&path, &out_dir(&format!("{tag}_run")));
-    let s = s.unwrap_or_else(|e| panic!("{tag}: {e}"));
-    assert_eq!(s.status, "completed", "{tag}: {:?}", s.warnings);
-    h
-}
-
-/// The refusal of the scene `text` (by its reading, or by its run), as text.
-fn refusal(tag: &str, text: &str) -> String {
-    let dir = out_dir(tag);
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).unwrap();
-    let scene = match impact::scene::Scene::load(&path) {
-        Ok(scene) => scene,
-        Err(e) => return e.to_string(),
-    };
-    let opts = impact::run::RunOptions {
-        out: Some(dir.join("out")),
-        quiet: true,
-        ..Default::default()
-    };
-    impact::run::run(&scene, &opts)
-        .expect_err("refused")
-        .to_string()
-}
-
 /// The value of column `name` at time `t`.
 fn at(h: &History, name: &str, t: f64) -> f64 {
     let row = (h.col("time").iter())
@@ -97,7 +66,7 @@ fn at(h: &History, name: &str, t: f64) -> f64 {
 #[test]
 fn a_steps_displacement_ramps_on_from_where_the_nodes_are() {
     let step = "\n[[step]]\nstart = 1.0\n\n[[step.fix]]\nbody = \"block\"\nface = \"z+\"\ncomponents = [\"z\"]\ndisplacement = [0.0, 0.0, -0.03]\n";
-    let h = run_text("step_ramp", &pressed_block(-0.01, step));
+    let (_, h) = run_completed("step_ramp", &pressed_block(-0.01, step));
     for (t, u) in [
         (0.5, -0.005),
         (1.0, -0.01),
@@ -125,7 +94,7 @@ fn a_steps_displacement_ramps_on_from_where_the_nodes_are() {
 #[test]
 fn a_released_support_lets_the_block_spring_back() {
     let step = "\n[[step]]\nstart = 1.0\nrelease_fixes = [\"press\"]\n";
-    let h = run_text("step_release", &pressed_block(-0.01, step));
+    let (_, h) = run_completed("step_release", &pressed_block(-0.01, step));
     let held = at(&h, "strain_energy", 1.0);
     let exact = 0.5 * E * 0.01 * 0.01;
     assert!(
@@ -206,7 +175,7 @@ friction = 0.1
 #[test]
 fn a_step_lowers_the_friction_to_its_new_cone() {
     let text = DRAGGED;
-    let h = run_text("step_friction", text);
+    let (_, h) = run_completed("step_friction", text);
     for (t, mu) in [(1.0, 0.3), (1.125, 0.1), (2.0, 0.1)] {
         let (tangential, normal) = (
             at(&h, "joint.tangential_force", t),
@@ -237,7 +206,7 @@ fn a_block_dragged_on_at_a_lowered_friction_settles_on_its_cone() {
         "displacement = [0.4, 0.0, 0.0]\n\n[[step.contact]]",
     );
     assert_ne!(forward, DRAGGED);
-    let h = run_text("step_friction_forward", &forward);
+    let (_, h) = run_completed("step_friction_forward", &forward);
     for t in [1.25, 2.0] {
         let (tangential, normal) = (
             at(&h, "joint.tangential_force", t),
@@ -256,16 +225,16 @@ fn a_block_dragged_on_at_a_lowered_friction_settles_on_its_cone() {
 #[test]
 fn step_changes_refuse_what_they_cannot_mean() {
     let named = "\n[[step]]\nstart = 1.0\n\n[[step.fix]]\nname = \"again\"\nbody = \"block\"\nface = \"z+\"\ncomponents = [\"z\"]\n";
-    let e = refusal("step_fix_named", &pressed_block(-0.01, named));
+    let e = refusal_of("step_fix_named", &pressed_block(-0.01, named));
     assert!(e.contains("step[0].fix[0].name"), "{e}");
     let unknown = "\n[[step]]\nstart = 1.0\nrelease_fixes = [\"clamp\"]\n";
-    let e = refusal("step_release_unknown", &pressed_block(-0.01, unknown));
+    let e = refusal_of("step_release_unknown", &pressed_block(-0.01, unknown));
     assert!(
         e.contains("step[0].release_fixes") && e.contains("press"),
         "{e}"
     );
     let contact = "\n[[step]]\nstart = 1.0\n\n[[step.contact]]\nname = \"joint\"\nfriction = 0.1\n";
-    let e = refusal("step_contact_unknown", &pressed_block(-0.01, contact));
+    let e = refusal_of("step_contact_unknown", &pressed_block(-0.01, contact));
     assert!(e.contains("step[0].contact[0].name"), "{e}");
     // a step's moving support on the implicit path, whose first step has none
     let step = "\n[[step]]\nstart = 1.0\n\n[[step.fix]]\nbody = \"block\"\nface = \"z+\"\ncomponents = [\"z\"]\ndisplacement = [0.0, 0.0, -0.03]\n";
@@ -276,7 +245,7 @@ fn step_changes_refuse_what_they_cannot_mean() {
             "poissons_ratio = 0.0",
             "poissons_ratio = 0.0\ndensity = 1.0",
         );
-    let e = refusal("step_fix_implicit", &moved);
+    let e = refusal_of("step_fix_implicit", &moved);
     assert!(e.contains("explicit"), "{e}");
 }
 

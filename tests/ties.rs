@@ -91,17 +91,6 @@ box = {{ min = [0.0, 0.0, 0.0], max = {}, divisions = {}, element = "hex8" }}
     }
 }
 
-fn run_text(tag: &str, text: &str) -> History {
-    let dir = out_dir(tag);
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).unwrap();
-    let (s, h) = run_scene_at(&path, &out_dir(&format!("{tag}_run")));
-    let s = s.unwrap_or_else(|e| panic!("{tag}: {e}"));
-    assert_eq!(s.status, "completed", "{tag}: {:?}", s.warnings);
-    h
-}
-
 /// The probe lines of `points` on body `body`, named after it and their number from `first`.
 fn probes(body: &str, points: &[[f64; 3]], first: usize) -> String {
     let mut t = String::new();
@@ -143,8 +132,8 @@ fn a_tie_of_matching_meshes_is_one_body() {
         }
         t
     };
-    let one = run_text("tie_one_beam", &beam.scene(false, &clamp_and_load(false)));
-    let tied = run_text("tie_two_beams", &beam.scene(true, &clamp_and_load(true)));
+    let (_, one) = run_completed("tie_one_beam", &beam.scene(false, &clamp_and_load(false)));
+    let (_, tied) = run_completed("tie_two_beams", &beam.scene(true, &clamp_and_load(true)));
     let tip = one.last("a10.uz");
     assert!(tip < -1.6, "tip {tip}");
     for (k, p) in points.iter().enumerate() {
@@ -195,7 +184,7 @@ fn a_tie_of_nested_meshes_passes_the_patch_test() {
         .collect();
     let (upper, lower) = (&points[..25], &points[25..26]);
     supports += &(probes("b", upper, 0) + &probes("a", lower, 0) + &probes("b", &points[26..], 25));
-    let h = run_text("tie_patch", &cubes.scene(true, &supports));
+    let (_, h) = run_completed("tie_patch", &cubes.scene(true, &supports));
     let name = |k: usize| match k {
         25 => "a0".to_string(),
         k if k > 25 => format!("b{}", k - 1),
@@ -379,26 +368,6 @@ fn tied_decks_of_unlike_meshes_match_calculix() {
     }
 }
 
-/// The refusal of the scene `text`, by its reading or by its run, as text.
-fn refusal(tag: &str, text: &str) -> String {
-    let dir = out_dir(tag);
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).unwrap();
-    let scene = match impact::scene::Scene::load(&path) {
-        Ok(scene) => scene,
-        Err(e) => return e.to_string(),
-    };
-    let opts = impact::run::RunOptions {
-        out: Some(dir.join("out")),
-        quiet: true,
-        ..Default::default()
-    };
-    impact::run::run(&scene, &opts)
-        .expect_err("refused")
-        .to_string()
-}
-
 /// A tie on the explicit path, a tie whose sides are apart by more than its tolerance, one
 /// on a rigid body and one whose node another tie sets too are refused, each naming the tie.
 #[test]
@@ -416,10 +385,10 @@ fn a_tie_is_refused_where_it_cannot_hold() {
     let explicit = text
         .replace("method = \"static\"", "method = \"explicit\"")
         .replace("time_step = 1.0\n", "");
-    let e = refusal("tie_explicit", &explicit);
+    let e = refusal_of("tie_explicit", &explicit);
     assert!(e.contains("tie[0]") && e.contains("explicit"), "{e}");
     let apart = text.replace("min = [0.0, 0.0, 1.0]", "min = [0.0, 0.0, 1.1]");
-    let e = refusal("tie_apart", &apart);
+    let e = refusal_of("tie_apart", &apart);
     assert!(
         e.contains("tie[0]") && e.contains("no secondary node lies within"),
         "{e}"
@@ -428,10 +397,10 @@ fn a_tie_is_refused_where_it_cannot_hold() {
         "primary = { body = \"a\", face = \"z+\" }",
         "primary = { rigid_body = \"a\" }",
     );
-    let e = refusal("tie_rigid", &rigid);
+    let e = refusal_of("tie_rigid", &rigid);
     assert!(e.contains("tie[0].primary.rigid_body"), "{e}");
     let twice = text.clone() + "\n[[tie]]\nname = \"again\"\nsecondary = { body = \"b\", face = \"z-\" }\nprimary = { body = \"a\", face = \"z+\" }\n";
-    let e = refusal("tie_twice", &twice);
+    let e = refusal_of("tie_twice", &twice);
     assert!(
         e.contains("tie[1]") && e.contains("tied by an earlier tie"),
         "{e}"

@@ -261,6 +261,23 @@ pub struct Handover {
 }
 
 impl Handover {
+    /// Puts the handed velocity into `v` on the dofs `fixed` leaves free (a held dof keeps
+    /// its own); where none is handed on, `v` keeps the run's initial velocities, and their
+    /// kinetic energy with the nodal masses `mass` is returned: the work of giving them.
+    pub fn velocity_into(&self, fixed: &[bool], mass: &[f64], v: &mut [f64]) -> f64 {
+        let Some(handed) = &self.v else {
+            return (v.iter().enumerate())
+                .map(|(d, x)| 0.5 * mass[d / 3] * x * x)
+                .sum();
+        };
+        for (d, x) in v.iter_mut().enumerate() {
+            if !fixed[d] {
+                *x = handed[d];
+            }
+        }
+        0.0
+    }
+
     /// The state `from` has after its last step, with the velocity `v`.
     pub fn of(from: &mut dyn Integrator, v: Option<Vec<f64>>) -> Result<Handover> {
         let e = from.energies()?;

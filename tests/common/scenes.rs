@@ -121,6 +121,38 @@ pub fn run_scene_at(
     (s, History::read(&out.join("history.csv")))
 }
 
+/// Writes `text` as the scene file of `tag`'s folder, runs it into `<tag>_run` and asserts
+/// that it completed without warnings; returns its summary and history.
+pub fn run_completed(tag: &str, text: &str) -> (Summary, History) {
+    let dir = out_dir(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    let (s, h) = run_scene_at(&path, &out_dir(&format!("{tag}_run")));
+    let s = s.unwrap_or_else(|e| panic!("{tag}: {e}"));
+    assert_eq!(s.status, "completed", "{tag}: {:?}", s.warnings);
+    (s, h)
+}
+
+/// The refusal of the scene `text` (the scene file of `tag`'s folder), by its reading or by
+/// its run, as text.
+pub fn refusal_of(tag: &str, text: &str) -> String {
+    let dir = out_dir(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    let scene = match Scene::load(&path) {
+        Ok(scene) => scene,
+        Err(e) => return e.to_string(),
+    };
+    let opts = RunOptions {
+        out: Some(dir.join("out")),
+        quiet: true,
+        ..Default::default()
+    };
+    run(&scene, &opts).expect_err("refused").to_string()
+}
+
 /// [`run_text`]; the name says that the text's mesh paths resolve against `scenes/`.
 pub fn run_scene_text(tag: &str, text: &str) -> (impact::Result<Summary>, History) {
     run_text(tag, text)

@@ -443,19 +443,7 @@ impl Integrator for ExplicitSolver<'_> {
         self.steps = h.steps;
         self.u.copy_from_slice(&h.u);
         self.u_prev.copy_from_slice(&h.u);
-        let given = match &h.v {
-            Some(v) => {
-                for (d, x) in self.v.iter_mut().enumerate() {
-                    if !self.model.fixed[d] {
-                        *x = v[d];
-                    }
-                }
-                0.0
-            }
-            None => (self.v.iter().enumerate())
-                .map(|(d, v)| 0.5 * self.mass[d / 3] * v * v)
-                .sum(),
-        };
+        let given = h.velocity_into(&self.model.fixed, &self.mass, &mut self.v);
         self.v_half.copy_from_slice(&self.v);
         self.work.fixes = h.fix_work;
         self.work.loads = h.load_work + given;

@@ -1040,19 +1040,7 @@ impl Integrator for ImplicitSolver<'_> {
     fn take_over(&mut self, h: &Handover) -> Result<()> {
         (self.time, self.clock, self.steps) = (h.time, h.time, h.steps);
         self.u.copy_from_slice(&h.u);
-        let given = match &h.v {
-            Some(v) => {
-                for (d, x) in self.v.iter_mut().enumerate() {
-                    if !self.model.fixed[d] {
-                        *x = v[d];
-                    }
-                }
-                0.0
-            }
-            None => (self.v.iter().enumerate())
-                .map(|(d, v)| 0.5 * self.asm.nodal_mass[d / 3] * v * v)
-                .sum(),
-        };
+        let given = h.velocity_into(&self.model.fixed, &self.asm.nodal_mass, &mut self.v);
         self.load_work = h.load_work + given;
         self.loads.set(self.model, self.time, &mut self.f_ext);
         self.begin_step()?;

@@ -366,6 +366,21 @@ impl<'m> StaticSolver<'m> {
         self.state.stabilised += stabilised;
     }
 
+    /// At a state put in from outside (a checkpoint's, another method's): the loads at its
+    /// time, the increment's start and the springs' anchor there, and the contact rows and
+    /// residual formed at it.
+    fn settle_in(&mut self) -> Result<()> {
+        self.loads.set(self.model, self.clock, &mut self.f_ext);
+        self.u_start.clone_from(&self.state.u);
+        self.anchor.clone_from(&self.state.u);
+        let u = self.state.u.clone();
+        self.contact
+            .broad_phase(self.model, &u, self.contact.face_size);
+        (self.contact).kinematics(self.model, self.kernels.as_mut(), &u, &self.zero)?;
+        self.residual()?;
+        Ok(())
+    }
+
     /// The energy the stabilisation's springs hold: $\tfrac12 s (u - a)^2$ over the free
     /// dofs, `a` their anchor.
     fn spring_energy(&self) -> f64 {
@@ -541,17 +556,7 @@ impl Integrator for StaticSolver<'_> {
         self.contact.friction.tau.clone_from(&s.tau);
         self.clock = s.time;
         self.state = s;
-        self.loads.set(self.model, self.clock, &mut self.f_ext);
-        self.u_start.clone_from(&self.state.u);
-        self.anchor.clone_from(&self.state.u);
-        let u = self.state.u.clone();
-        self.contact
-            .broad_phase(self.model, &u, self.contact.face_size);
-        (self.contact)
-            .kinematics(self.model, self.kernels.as_mut(), &u, &self.zero)
-            .and_then(|_| self.residual())
-            .map_err(|e| e.to_string())?;
-        Ok(())
+        self.settle_in().map_err(|e| e.to_string())
     }
 
     fn start_stage_at(&mut self, steps: usize, time: f64) {
@@ -566,14 +571,7 @@ impl Integrator for StaticSolver<'_> {
         self.state.u.copy_from_slice(&h.u);
         self.state.load_work = h.load_work;
         self.state.fix_work = h.fix_work;
-        self.loads.set(self.model, self.clock, &mut self.f_ext);
-        self.u_start.clone_from(&self.state.u);
-        self.anchor.clone_from(&self.state.u);
-        let u = self.state.u.clone();
-        self.contact
-            .broad_phase(self.model, &u, self.contact.face_size);
-        (self.contact).kinematics(self.model, self.kernels.as_mut(), &u, &self.zero)?;
-        self.residual()?;
+        self.settle_in()?;
         self.state.carried = 0.0;
         self.state.carried = h.energy - self.energies()?.total();
         Ok(())
