@@ -365,7 +365,7 @@ impl Reader<'_> {
             n => {
                 return Err(self.src.err(
                     b.line,
-                    format!("*{n}: impact cannot honour this keyword (it reads elastic solids, rigid bodies of solid elements, their supports, initial velocities, contact pairs with friction, gravity, loads (*CLOAD, pressure *DLOAD, *AMPLITUDE) and one *DYNAMIC step; docs/decks.md lists them)"),
+                    format!("*{n}: impact cannot honour this keyword (it reads elastic solids, rigid bodies of solid elements, their supports, initial velocities, contact pairs with friction, gravity, loads (*CLOAD, pressure *DLOAD, *AMPLITUDE), equations, ties, and *STATIC and *DYNAMIC steps in sequence; docs/decks.md lists them)"),
                 ))
             }
         }
@@ -1384,7 +1384,7 @@ impl Reader<'_> {
             let period = l.period.ok_or_else(|| {
                 self.src.err(
                     l.line,
-                    "a later *STEP without *DYNAMIC or *STATIC: give it the first step's procedure",
+                    "a later *STEP without *DYNAMIC or *STATIC: give it its procedure",
                 )
             })?;
             let remove = match &l.remove {
