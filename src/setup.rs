@@ -51,18 +51,21 @@ pub struct Setup {
 }
 
 impl Setup {
-    /// The method and time step of the run's step `n` (0-based): its stage's.
-    pub fn stepping_at(&self, n: usize) -> (Method, f64) {
-        match self.stages.iter().rev().find(|s| s.from <= n) {
-            Some(s) => (s.method, s.dt),
-            None => (self.method, self.dt),
-        }
+    /// The `[[step]]` in force from the run's step `n` (0-based) on; `None` before the
+    /// first.
+    fn stage_at(&self, n: usize) -> Option<&Stage> {
+        self.stages.iter().rev().find(|s| s.from <= n)
+    }
+
+    /// The time step of the run's step `n` (0-based): its stage's.
+    pub fn step_at(&self, n: usize) -> f64 {
+        self.stage_at(n).map_or(self.dt, |s| s.dt)
     }
 
     /// The time after the run's first `n` steps (whole steps: the shortened last step
     /// aside).
     pub fn time_after(&self, n: usize) -> f64 {
-        match self.stages.iter().rev().find(|s| s.from <= n) {
+        match self.stage_at(n) {
             Some(s) => s.start + (n - s.from) as f64 * s.dt,
             None => n as f64 * self.dt,
         }
@@ -74,11 +77,6 @@ impl Setup {
             Some(last) => self.time_after(self.steps - 1) + last,
             None => self.time_after(self.steps),
         }
-    }
-
-    /// Whether a `[[step]]` changes the method or the time step ([`Scene::mixed_steps`]).
-    pub fn mixed(&self) -> bool {
-        (self.stages.iter()).any(|s| s.method != self.method || s.dt != self.dt)
     }
 }
 
@@ -135,17 +133,12 @@ pub fn prepare(
     let mut warnings = quality::locking(scene);
     let explicit_step = (scene.steps.iter()).any(|s| s.method == Some(Method::Explicit));
     let bound = match scene.run.method {
-        _ if explicit_step => {
+        Method::Implicit | Method::Static if !explicit_step => None,
+        _ => {
             let s = survey(&model, ctx.as_ref()).map_err(|e| gpu_error(scene, e))?;
             warnings.extend(quality::slivers(scene, &model.mesh, &s.steps));
             Some(check_stable(scene, &model, (s.step, s.element))?)
         }
-        Method::Explicit | Method::Auto => {
-            let s = survey(&model, ctx.as_ref()).map_err(|e| gpu_error(scene, e))?;
-            warnings.extend(quality::slivers(scene, &model.mesh, &s.steps));
-            Some(check_stable(scene, &model, (s.step, s.element))?)
-        }
-        Method::Implicit | Method::Static => None,
     };
     clock.lap("stable step");
     let (method, method_choice) = match (scene.run.method, bound) {
@@ -233,11 +226,8 @@ fn tie_notices(model: &Model) -> Vec<String> {
 /// dynamic ones, they wait there (nothing else holds them in a static step) and move in the
 /// dynamic steps.
 fn hold_free_rigid_bodies(model: &mut Model) {
-    for b in &model.rigid {
-        if b.motion == crate::scene::RigidMotion::Free {
-            model.fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
-        }
-    }
+    let free = |b: &crate::model::rigid::RigidBody| !b.is_prescribed();
+    crate::model::fixes::hold_rigid(&mut model.fixed, &model.rigid, free);
 }
 
 /// The error for interfaces with `initial_penetration = "error"` that penetrate at t = 0.

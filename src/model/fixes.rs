@@ -142,7 +142,16 @@ pub(super) fn fixes(scene: &Scene, mesh: &Mesh, list: &[InForce]) -> Result<Fixe
 
 /// Marks the dofs of every prescribed (or fixed) rigid body held in `fixed`.
 pub(super) fn hold_prescribed(fixed: &mut [bool], rigid: &[super::RigidBody]) {
-    for b in rigid.iter().filter(|b| b.is_prescribed()) {
+    hold_rigid(fixed, rigid, super::RigidBody::is_prescribed);
+}
+
+/// Marks the dofs of the rigid bodies `which` picks held in `fixed`.
+pub(crate) fn hold_rigid(
+    fixed: &mut [bool],
+    rigid: &[super::RigidBody],
+    which: impl Fn(&super::RigidBody) -> bool,
+) {
+    for b in rigid.iter().filter(|b| which(b)) {
         fixed[3 * b.node as usize..3 * b.node as usize + 3].fill(true);
     }
 }

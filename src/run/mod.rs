@@ -119,7 +119,7 @@ fn build_solver<'m>(
         // handed on on the host)
         (Method::Explicit, Some(ctx))
             if resident::rigid_surfaces_on_device(model)
-                && !setup.mixed()
+                && !scene.mixed_steps()
                 && model.cohesive.is_empty()
                 && model.loads.is_empty()
                 && model.fix_paths.is_empty() =>

@@ -236,7 +236,7 @@ pub(super) fn check_resumable(
         )));
     }
     // the step the checkpoint's stage takes (its last step's)
-    let own = setup.stepping_at(steps.saturating_sub(1)).1;
+    let own = setup.step_at(steps.saturating_sub(1));
     if let Some(dt) = dt.filter(|dt| (dt - own).abs() > 1e-12 * own) {
         return Err(refuse(format!(
             "the checkpoint's step is {dt:e} and this run's {own:e} (the stable step was found on another device): resume with the first run's --device"

@@ -23,9 +23,6 @@ impl Checker<'_> {
     ) -> Result<Vec<StepSpec>> {
         let (raw_bodies, bodies) = (held.raw_bodies, held.bodies);
         let mut out: Vec<StepSpec> = Vec::with_capacity(raw.len());
-        // a step of its own method or time step: each step's starts are checked against the
-        // steps before it in the setup, where the explicit step is known
-        let mixed = (raw.iter()).any(|s| s.time_step.is_some() || s.method.is_some());
         for (i, s) in raw.iter().enumerate() {
             let key = |k: &str| format!("step[{i}].{k}");
             let start = self.positive(&key("start"), s.start)?;
@@ -37,22 +34,6 @@ impl Checker<'_> {
                 return Err(self.err(
                     key("start"),
                     format!("{start}: a step starts after the one before it (at {last})"),
-                ));
-            }
-            let dt =
-                match run.time_step {
-                    Some(dt) => dt,
-                    None if mixed => f64::NAN,
-                    None => return Err(self.err(
-                        key("start"),
-                        "a run of steps needs run.time_step, on whose multiples the steps start",
-                    )),
-                };
-            let whole = start / dt;
-            if !mixed && (whole - whole.round()).abs() > 1e-9 * whole.max(1.0) {
-                return Err(self.err(
-                    key("start"),
-                    format!("{start} is not a whole number of run.time_step = {dt}: the run's steps must land on it"),
                 ));
             }
             let remove_equations = match &s.remove_equations {
@@ -98,7 +79,35 @@ impl Checker<'_> {
                 contacts: self.friction_changes(i, &s.contact, held.contacts)?,
             });
         }
+        // a step of its own method or time step: each step's start is checked against the
+        // steps before it in the setup, where the explicit step is known
+        let mixed = (out.iter()).any(|s| s.method.is_some() || s.time_step.is_some());
+        if !mixed {
+            self.on_run_steps(&out, run)?;
+        }
         Ok(out)
+    }
+
+    /// Each step's start a whole number of `run.time_step`s, which a run of steps of one
+    /// method needs (so that its steps land on the starts).
+    fn on_run_steps(&self, steps: &[StepSpec], run: &RunSettings) -> Result<()> {
+        for (i, s) in steps.iter().enumerate() {
+            let key = format!("step[{i}].start");
+            let Some(dt) = run.time_step else {
+                return Err(self.err(
+                    key,
+                    "a run of steps needs run.time_step, on whose multiples the steps start",
+                ));
+            };
+            let whole = s.start / dt;
+            if (whole - whole.round()).abs() > 1e-9 * whole.max(1.0) {
+                return Err(self.err(
+                    key,
+                    format!("{} is not a whole number of run.time_step = {dt}: the run's steps must land on it", s.start),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// A step's `method` (static, explicit or implicit; kept as `None` where it is the
