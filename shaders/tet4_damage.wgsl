@@ -47,7 +47,7 @@ fn tet4_damage(@builtin(global_invocation_id) gid: vec3<u32>) {
     let advance = damage.advance != 0u;
     let was = records[record_at(i, 0u)] != 0u;
     if (advance) {
-        records[record_at(i, 3u)] = 0u;
+        store_dissipation(i, 0.0, 0.0);
     }
     if (!was) {
         if (!advance) {
@@ -93,7 +93,7 @@ fn tet4_damage(@builtin(global_invocation_id) gid: vec3<u32>) {
             records[record_at(i, 1u)] = records[0] + 1u;
             records[record_at(i, 2u)] = largest_mode(st.state.inviscid);
         }
-        records[record_at(i, 3u)] = bitcast<u32>(st.dissipated * t.volume);
+        store_dissipation(i, st.dissipated * t.volume, st.fibre * t.volume);
     } else {
         sigma = law_stress(law, e_now, old);
     }

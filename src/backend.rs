@@ -10,6 +10,7 @@ use crate::kernels::{
     as_vec3, as_vec3_mut, contact_gap, damage_forces, element_forces, mark_damaged, node_gather,
     slip_rate, ContactPoint, ContactQueries, ElementData, Incidence, KeptData,
 };
+use crate::material::damage::Dissipation;
 use crate::model::Model;
 
 /// What an integrator needs from the element and contact kernels.
@@ -59,15 +60,15 @@ pub trait Kernels {
     /// An explicit step's internal forces: the plies' damage stepped over `dt` to `u` (from
     /// $u - \Delta t\, v$, `v` the step's mid-step velocities), then the forces with it (the
     /// same as [`Self::internal_forces_into`] where nothing damages). Returns the energy the
-    /// damage dissipated over the step.
+    /// damage dissipated over the step, with the fibre modes' share.
     fn step_forces_into(
         &mut self,
         (u, _v): (&[f64], &[f64]),
         _dt: f64,
         f: &mut [f64],
-    ) -> Result<f64> {
+    ) -> Result<Dissipation> {
         self.internal_forces_into(u, f)?;
-        Ok(0.0)
+        Ok(Dissipation::default())
     }
     /// The damage state (a checkpoint's part): empty where nothing damages.
     fn damage_values(&self) -> Result<Vec<f64>> {
@@ -132,7 +133,7 @@ impl CpuKernels {
         (u, v): (&[f64], &[f64]),
         f: &mut [f64],
         (dt, advance): (f64, bool),
-    ) -> f64 {
+    ) -> Dissipation {
         let fixed = (&self.layout, &self.kept);
         if let Some((d, s, _)) = &self.damage {
             mark_damaged(&self.data, (d, s), &mut self.damaged);
@@ -148,7 +149,7 @@ impl CpuKernels {
                 &mut self.corner_forces,
                 (dt, advance),
             ),
-            None => 0.0,
+            None => Dissipation::default(),
         };
         node_gather(&self.incidence, &self.corner_forces, as_vec3_mut(f));
         dissipated
@@ -176,7 +177,12 @@ impl Kernels for CpuKernels {
         self.forces((u, u), f, (0.0, false));
         Ok(())
     }
-    fn step_forces_into(&mut self, uv: (&[f64], &[f64]), dt: f64, f: &mut [f64]) -> Result<f64> {
+    fn step_forces_into(
+        &mut self,
+        uv: (&[f64], &[f64]),
+        dt: f64,
+        f: &mut [f64],
+    ) -> Result<Dissipation> {
         Ok(self.forces(uv, f, (dt, true)))
     }
     fn damage_values(&self) -> Result<Vec<f64>> {

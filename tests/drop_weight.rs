@@ -251,6 +251,7 @@ fn the_damaged_coupon_delaminates_and_keeps_its_balance() {
     );
     assert!(area > 0.0 && h.last("plies.energy") > 0.0 && damage > h.last("plies.energy"));
     assert_eq!(s.damage_energy, Some(damage));
+    check_damage_by_kind(&s, &h);
     assert_eq!(delamination.interfaces[0].name, "plies");
     assert!((delamination.interfaces[0].area - area).abs() <= 1e-9 * area);
     assert!(delamination.projected_area <= area);
@@ -276,6 +277,30 @@ fn the_damaged_coupon_delaminates_and_keeps_its_balance() {
     let drift = e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max);
     eprintln!("energy balance: {:.2e} of the 30 J", drift / e[0]);
     assert!(drift <= 0.03 * e[0], "the balance drifts by {drift} mJ");
+}
+
+/// The damage energy by kind: the summary's plies' fibre and matrix shares are the
+/// history's, its interfaces' the interface's energy, each kind is positive and the three
+/// sum to the whole (to rounding).
+fn check_damage_by_kind(s: &impact::output::summary::Summary, h: &History) {
+    let k = s.damage_energy_by_kind.expect("the damage energy by kind");
+    let whole = h.last("damage_energy");
+    eprintln!(
+        "damage energy {whole:.1} mJ: fibre {:.1}, matrix {:.1}, interfaces {:.1}",
+        k.fibre, k.matrix, k.interfaces
+    );
+    assert_eq!(k.fibre, h.last("damage_energy.fibre"));
+    assert_eq!(k.matrix, h.last("damage_energy.matrix"));
+    assert!((k.interfaces - h.last("plies.energy")).abs() <= 1e-12 * whole);
+    assert!(
+        k.fibre > 0.0 && k.matrix > 0.0 && k.interfaces > 0.0,
+        "{k:?}"
+    );
+    let sum = k.fibre + k.matrix + k.interfaces;
+    assert!(
+        (sum - whole).abs() <= 1e-12 * whole,
+        "{sum} against {whole}"
+    );
 }
 
 /// The largest mean contact force over a window of `w` seconds centred on a row (as the
@@ -314,6 +339,7 @@ fn the_damaged_coupon_on_the_gpu_adapter_follows_the_cpu() {
     let (cpu, gpu) = (cpu.expect("cpu run"), gpu.expect("gpu run"));
     assert_eq!(gpu.status, cpu.status);
     assert!(gpu.engine.starts_with("gpu"), "{}", gpu.engine);
+    check_damage_by_kind(&gpu, &hg);
     let (pc, pg) = (filtered_peak(&hc, 5e-5), filtered_peak(&hg, 5e-5));
     let (ac, ag) = (peak_and_area(&hc).1, peak_and_area(&hg).1);
     eprintln!("filtered peak {pg:.1} N on the GPU, {pc:.1} on the CPU; delaminated {ag:.1} and {ac:.1} mm^2");

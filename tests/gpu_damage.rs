@@ -6,7 +6,8 @@
 //! initiation (some points start to damage, some do not, the sieve passes some elements and
 //! skips others), random mid-step velocities, and a random old state (some elements already
 //! damaged, in every mode). The step's forces, new state, first damages and dissipation
-//! agree within f32's reach; so do the forces of the state as it is (no step).
+//! (and its fibre modes' share) agree within f32's reach; so do the forces of the state as
+//! it is (no step).
 
 mod common;
 use common::*;
@@ -128,7 +129,7 @@ fn damage_kernels_match_their_cpu_twins() {
     let model = model(&mut rng);
     let data = model.damage_data().expect("damage");
     let dt = 2e-8;
-    let mut damaged_now = 0;
+    let (mut damaged_now, mut fibre_seen) = (0, false);
     for round in 0..4 {
         let old = old_state(&mut rng, &data);
         let (u, v) = motion(&mut rng, &model, dt);
@@ -167,7 +168,11 @@ fn damage_kernels_match_their_cpu_twins() {
         }
         damaged_now += flags(&cs) - flags(&old);
         eprintln!(
-            "round {round}: forces (no step) {still:.2e}, step forces {step:.2e}, state {worst_state:.2e}, dissipation cpu {dc:.6e} gpu {dg:.6e}, newly damaged {}, first damages differing {firsts}",
+            "round {round}: forces (no step) {still:.2e}, step forces {step:.2e}, state {worst_state:.2e}, dissipation cpu {:.6e} gpu {:.6e} (fibre {:.6e} {:.6e}), newly damaged {}, first damages differing {firsts}",
+            dc.total,
+            dg.total,
+            dc.fibre,
+            dg.fibre,
             flags(&cs) - flags(&old)
         );
         assert!(
@@ -176,13 +181,21 @@ fn damage_kernels_match_their_cpu_twins() {
         );
         assert!(step <= 2e-5, "seed {seed}: step forces {step:.3e}");
         assert!(worst_state <= 1e-4, "seed {seed}: state {worst_state:.3e}");
+        let tolerance = 1e-3 * dc.total.abs().max(1e-12);
         assert!(
-            (dg - dc).abs() <= 1e-3 * dc.abs().max(1e-12),
+            (dg.total - dc.total).abs() <= tolerance,
             "seed {seed}: dissipation"
         );
+        assert!(
+            (dg.fibre - dc.fibre).abs() <= tolerance,
+            "seed {seed}: the fibre modes' share"
+        );
+        assert!((0.0..=dc.total).contains(&dc.fibre) || dc.total == 0.0);
+        fibre_seen |= dc.fibre > 0.0 && dc.fibre < dc.total;
         assert_eq!(flags(&cs), flags(&gs), "seed {seed}: damaged elements");
         assert_eq!(firsts, 0, "seed {seed}: first damages");
         assert_eq!((cs.steps, gs.steps), (old.steps + 1, old.steps + 1));
     }
     assert!(damaged_now > 0, "some elements start to damage");
+    assert!(fibre_seen, "both kinds grow on some step");
 }

@@ -101,7 +101,21 @@ struct Pulled {
     peak: f64,
     last: f64,
     damage: f64,
+    /// The plies' fibre and matrix modes' shares of `damage`.
+    fibre: f64,
+    matrix: f64,
     drift: f64,
+}
+
+impl Pulled {
+    /// The share of the kind a pull along `mode.axis` softens (the fibres' along them, the
+    /// matrix's across), and the other kind's.
+    fn shares(&self, mode: Mode) -> (f64, f64) {
+        match mode.axis {
+            0 => (self.fibre, self.matrix),
+            _ => (self.matrix, self.fibre),
+        }
+    }
 }
 
 fn pull(tag: &str, text: &str, v: f64, axis: usize) -> Pulled {
@@ -119,12 +133,15 @@ fn pull(tag: &str, text: &str, v: f64, axis: usize) -> Pulled {
         peak: f.iter().fold(0.0, |m: f64, &x| m.max(x)),
         last: *f.last().unwrap(),
         damage: h.last("damage_energy"),
+        fibre: h.last("damage_energy.fibre"),
+        matrix: h.last("damage_energy.matrix"),
         drift: (e[e.len() - 1] - e[0]).abs(),
     }
 }
 
 /// The work is G A within 3%, the peak X A within 2%, the last force under 1% of the peak,
-/// the damage energy the work within 1% and the energy balance closed within 1e-6 of it.
+/// the damage energy the work within 1%, all of it the pulled kind's (fibre or matrix), and
+/// the energy balance closed within 1e-6 of it.
 fn check_pull(tag: &str, side: f64, mode: Mode, element: &str, plies: &str) {
     let (text, v) = pull_scene(side, mode, element, plies);
     let p = pull(tag, &text, v, mode.axis);
@@ -149,6 +166,8 @@ fn check_pull(tag: &str, side: f64, mode: Mode, element: &str, plies: &str) {
         p.damage
     );
     assert!(p.drift <= 1e-6 * p.work, "{tag}: drift {}", p.drift);
+    let (pulled, other) = p.shares(mode);
+    assert_eq!((pulled, other), (p.damage, 0.0), "{tag}: by kind");
 }
 
 #[test]
@@ -316,6 +335,13 @@ fn the_gpu_adapter_dissipates_what_the_cpu_does() {
         assert!(
             (gpu.damage - cpu.damage).abs() <= 0.02 * cpu.damage,
             "{tag}: damage energy"
+        );
+        // the device's fibre share, summed by its reduce into the history rows
+        let (pulled, other) = gpu.shares(mode);
+        assert!(
+            (pulled - gpu.damage).abs() <= 1e-6 * gpu.damage && other.abs() <= 1e-6 * gpu.damage,
+            "{tag}: by kind on the GPU: {pulled} and {other} of {}",
+            gpu.damage
         );
     }
 }

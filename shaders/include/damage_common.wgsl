@@ -5,9 +5,16 @@
 // No damaged point yet.
 const NO_POINT: u32 = 0xffffffffu;
 
-// Word f of damageable element i's record (flag, first step, first point, dissipation).
+// Word f of damageable element i's record (flag, first step, first point, dissipation,
+// the fibre modes' share of it).
 fn record_at(i: u32, f: u32) -> u32 {
     return damage.records + DAMAGE_RECORD * i + f;
+}
+
+// Damageable element i's dissipation over the step and the fibre modes' share of it.
+fn store_dissipation(i: u32, total: f32, fibre: f32) {
+    records[record_at(i, 3u)] = bitcast<u32>(total);
+    records[record_at(i, 4u)] = bitcast<u32>(fibre);
 }
 
 fn node_velocity(n: u32) -> vec3<f32> {

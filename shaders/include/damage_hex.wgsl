@@ -88,14 +88,14 @@ fn damage_hex(e: u32) -> DamageHex {
 fn damage_passes(i: u32, e: u32, rec: DamageElementRecord, u: HexCorners) -> bool {
     if (records[record_at(i, 0u)] != 0u) {
         if (damage.advance != 0u) {
-            records[record_at(i, 3u)] = 0u;
+            store_dissipation(i, 0.0, 0.0);
         }
         return true;
     }
     if (damage.advance == 0u) {
         return false;
     }
-    records[record_at(i, 3u)] = 0u;
+    store_dissipation(i, 0.0, 0.0);
     let ne = damage.elements;
     let work = dot(load_corner(ne + e), u.c1) + dot(load_corner(2u * ne + e), u.c2)
         + dot(load_corner(3u * ne + e), u.c3) + dot(load_corner(4u * ne + e), u.c4)
@@ -142,6 +142,7 @@ fn hex_damage_points(i: u32, e: u32, rec: DamageElementRecord, h: DamageHex, amp
     var r1 = zero;
     var r2 = zero;
     var dissipated = 0.0;
+    var fibre = 0.0;
     var first = NO_POINT;
     let advance = damage.advance != 0u;
     for (var p = 0u; p < rec.plies; p++) {
@@ -173,6 +174,7 @@ fn hex_damage_points(i: u32, e: u32, rec: DamageElementRecord, h: DamageHex, amp
                 store_point(point, st.state);
                 sigma = st.stress;
                 dissipated += st.dissipated * half * det;
+                fibre += st.fibre * half * det;
                 if (first == NO_POINT && point_damaged(st.state)) {
                     first = 4u * (8u * p + k) + largest_mode(st.state.inviscid);
                 }
@@ -205,7 +207,7 @@ fn hex_damage_points(i: u32, e: u32, rec: DamageElementRecord, h: DamageHex, amp
             records[record_at(i, 1u)] = records[0] + 1u;
             records[record_at(i, 2u)] = first;
         }
-        records[record_at(i, 3u)] = bitcast<u32>(dissipated);
+        store_dissipation(i, dissipated, fibre);
     }
     return DamageForces(hex_corners_of_modes(fm), r0, r1, r2, true);
 }

@@ -24,10 +24,13 @@ struct OrthoStiffness {
     shear: vec3<f32>,
 }
 
+// A point's step: its state and stress, its dissipation per unit volume and the fibre
+// modes' share of it.
 struct PointStep {
     state: PointState,
     stress: Voigt6,
     dissipated: f32,
+    fibre: f32,
 }
 
 fn ortho_apply(c: OrthoStiffness, e: Voigt6) -> Voigt6 {
@@ -146,11 +149,25 @@ fn law_step(l: DamageLaw, e: Voigt6, prev: Voigt6, old: PointState, bands: vec2<
     let after = law_stiffness(l, damage_acting(st, fibre, matrix));
     let stress = ortho_apply(after, e);
     // the damage's growth alone, both stiffnesses at this step's signs
-    let change = Voigt6(
-        (before.normal - after.normal) * e.n,
-        (before.shear - after.shear) * e.s,
-    );
-    return PointStep(st, stress, 0.5 * voigt_dot(prev, change));
+    let dissipated = released(before, after, e, prev);
+    // the fibre modes' share: through the stiffness of the new fibre and old matrix damage
+    // where both kinds grew
+    var fibre_part = 0.0;
+    if (any(st.acting.xy != old.acting.xy)) {
+        fibre_part = dissipated;
+        if (any(st.acting.zw != old.acting.zw)) {
+            let mid = PointState(st.inviscid, vec4<f32>(st.acting.xy, old.acting.zw));
+            fibre_part = released(before, law_stiffness(l, damage_acting(mid, fibre, matrix)), e, prev);
+        }
+    }
+    return PointStep(st, stress, dissipated, fibre_part);
+}
+
+// What a stiffness falling from a to b at strain e releases from the step before's prev:
+// (prev . (a - b) e) / 2.
+fn released(a: OrthoStiffness, b: OrthoStiffness, e: Voigt6, prev: Voigt6) -> f32 {
+    let change = Voigt6((a.normal - b.normal) * e.n, (a.shear - b.shear) * e.s);
+    return 0.5 * voigt_dot(prev, change);
 }
 
 // The stress of strain e with a point's damage as it is (no step).

@@ -321,9 +321,10 @@ struct PlyStrength {
 }
 
 // Values of a damage point's state (twin: `material::damage::POINT_STATE`), and words of a
-// damageable element's record (flag, first step, first point, dissipation).
+// damageable element's record (flag, first step, first point, dissipation, its fibre
+// share).
 const POINT_STATE: u32 = 8u;
-const DAMAGE_RECORD: u32 = 4u;
+const DAMAGE_RECORD: u32 = 5u;
 
 // A ply's damage law in its own axes (twin: `material::PlyDamage`): the undamaged
 // stiffness's normal block and shear moduli, the compliance's normal block and shear

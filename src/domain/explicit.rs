@@ -29,6 +29,7 @@ use crate::integrate::{
 };
 use crate::kernels::damage_data::{DamageData, DamageState};
 use crate::kernels::{self, search_bounds::fastest_speed};
+use crate::material::damage::Dissipation;
 use crate::model::Model;
 use crate::parallel::ordered_sum;
 use crate::scene::{ExplicitSettings, Method};
@@ -106,7 +107,7 @@ pub struct DomainSolver<'m> {
     /// The damage of the whole model and the rank's elements' numbers in it, where any
     /// element damages, and the energy the rank's elements dissipated so far.
     damage: Option<RankDamage>,
-    damage_energy: f64,
+    damage_energy: Dissipation,
     /// The `[[load]]`s on the rank's nodes, and the work of those on its owned nodes so far.
     loads: LoadForces,
     load_work: f64,
@@ -195,7 +196,7 @@ impl<'m> DomainSolver<'m> {
             moving_fixes,
             fix_work: 0.0,
             damage,
-            damage_energy: 0.0,
+            damage_energy: Dissipation::default(),
             loads,
             load_work: 0.0,
             cohesive,
@@ -548,13 +549,14 @@ impl Integrator for DomainSolver<'_> {
             &self.v_half,
         ];
         let count = self.model.mesh.node_count();
-        let sums = self.talk(|r| r.sum(&[self.fix_work, self.damage_energy, self.load_work]));
+        let d = self.damage_energy;
+        let sums = self.talk(|r| r.sum(&[self.fix_work, d.total, d.fibre, self.load_work]));
         let gathered = checkpoint::gather_fields(&self.timed(), &self.sub, fields, count)
             .map_err(ImpactError::Ranks)?;
         let Some([u, v, a, f_int, u_prev, v_half]) = gathered else {
             return Ok(None);
         };
-        Ok(Some(SolverState::Explicit(ExplicitState {
+        Ok(Some(SolverState::Explicit(Box::new(ExplicitState {
             dt: self.dt,
             time: self.time,
             steps: self.steps,
@@ -570,13 +572,14 @@ impl Integrator for DomainSolver<'_> {
             work: Work {
                 fixes: sums[0],
                 damage: sums[1],
-                loads: sums[2],
+                damage_fibre: sums[2],
+                loads: sums[3],
                 first_damage,
                 // ranks run one method throughout
                 carried: 0.0,
             },
             cohesive,
-        })))
+        }))))
     }
 
     /// Continues from a single process's state (written on any number of ranks).
@@ -597,7 +600,10 @@ impl Integrator for DomainSolver<'_> {
         // the work so far counted once, on the first rank
         let first = self.ranks.rank() == 0;
         self.fix_work = if first { s.work.fixes } else { 0.0 };
-        self.damage_energy = if first { s.work.damage } else { 0.0 };
+        self.damage_energy = match first {
+            true => s.work.plies(),
+            false => Dissipation::default(),
+        };
         self.load_work = if first { s.work.loads } else { 0.0 };
         self.loads.set(self.model, self.time, &mut self.f_ext);
         if let Some(c) = &mut self.cohesive {
@@ -640,6 +646,7 @@ impl Integrator for DomainSolver<'_> {
                 // u = 0: the loads have no part in it yet
                 potential: -p,
                 damage: 0.0,
+                plies: Dissipation::default(),
                 fix_work: 0.0,
                 load_work: 0.0,
             });
@@ -660,17 +667,20 @@ impl Integrator for DomainSolver<'_> {
             .cohesive
             .as_ref()
             .map_or(0.0, RankCohesive::stored_offset);
-        let (work, damage) = (self.fix_work, self.damage_energy + bonded);
+        let plies = self.damage_energy;
+        let (work, damage) = (self.fix_work, plies.total + bonded);
         let u = (&self.u_prev[..], &self.u[..]);
         let loads = (self.loads).centred_potential(self.model, self.time, self.load_work, u);
         let load_work = self.load_work;
-        let [k, s, p0, p1, w, dmg, lp, lw] = self.owned_sums([
+        let [k, s, p0, p1, w, dmg, pt, pf, lp, lw] = self.owned_sums([
             &|d| m[d / 3] * v[d] * v[d],
             &|d| u0[d] * f[d] + if Some(d) == first { 2.0 * offset } else { 0.0 },
             &|d| fe[d] * u0[d],
             &|d| fe[d] * u1[d],
             &|d| if Some(d) == first { work } else { 0.0 },
             &|d| if Some(d) == first { damage } else { 0.0 },
+            &|d| if Some(d) == first { plies.total } else { 0.0 },
+            &|d| if Some(d) == first { plies.fibre } else { 0.0 },
             &|d| if Some(d) == first { loads } else { 0.0 },
             &|d| if Some(d) == first { load_work } else { 0.0 },
         ]);
@@ -681,6 +691,10 @@ impl Integrator for DomainSolver<'_> {
             // the prescribed rigid bodies' drivers work on the model (every rank has it whole)
             potential: -0.5 * (p0 + p1) + lp - self.surface.contact().driver_work() - w,
             damage: dmg,
+            plies: Dissipation {
+                total: pt,
+                fibre: pf,
+            },
             fix_work: w,
             load_work: lw,
         })
@@ -727,7 +741,8 @@ impl Integrator for DomainSolver<'_> {
     /// every element's damage.
     fn damage(&self) -> Option<crate::integrate::state::DamageReport> {
         self.damage.as_ref()?;
-        let energy = self.talk(|r| r.sum(&[self.damage_energy]))[0];
+        let d = self.damage_energy;
+        let sums = self.talk(|r| r.sum(&[d.total, d.fibre]));
         let first = self.first_damage_now();
         let mut mine = Vec::new();
         if let Some((cells, _)) = self.kernels.damage_cells() {
@@ -744,7 +759,8 @@ impl Integrator for DomainSolver<'_> {
             }
         }
         Some(crate::integrate::state::DamageReport {
-            energy,
+            energy: sums[0],
+            fibre: sums[1],
             first,
             cells,
         })

@@ -67,8 +67,14 @@ impl RankForces {
     }
 
     /// [`Self::internal_forces`] for an explicit step: the damage stepped over `dt` to `u`
-    /// (`v` the mid-step velocities); returns the energy it dissipated on the rank.
-    pub fn step_forces(&mut self, uv: (&[f64], &[f64]), dt: f64, f: &mut [f64]) -> Result<f64> {
+    /// (`v` the mid-step velocities); returns the energy it dissipated on the rank, with the
+    /// fibre modes' share.
+    pub fn step_forces(
+        &mut self,
+        uv: (&[f64], &[f64]),
+        dt: f64,
+        f: &mut [f64],
+    ) -> Result<crate::material::damage::Dissipation> {
         match self {
             RankForces::Cpu(k) => k.step_forces_into(uv, dt, f),
             RankForces::Gpu {

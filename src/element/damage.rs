@@ -21,7 +21,7 @@
 //! crack normal to that axis cuts out of the element ([`hex_bands`], [`tet_bands`]).
 
 use super::{hex8, hex8i, tet4};
-use crate::material::damage::{acting, voigt_apply, PlyDamage, POINT_STATE};
+use crate::material::damage::{acting, voigt_apply, Dissipation, PlyDamage, POINT_STATE};
 use crate::material::Rotation;
 
 /// The damage laws of a model's material entries: each entry's law (an index of `laws`,
@@ -55,12 +55,12 @@ pub enum Modes<'a> {
     Elastic(&'a [f64]),
 }
 
-/// What a damageable element's step gives: its corner forces, the energy it dissipated,
-/// and whether any of its points holds damage.
+/// What a damageable element's step gives: its corner forces, the energy it dissipated
+/// (with the fibre modes' share), and whether any of its points holds damage.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DamageStep<const N: usize> {
     pub forces: [[f64; 3]; N],
-    pub dissipated: f64,
+    pub dissipated: Dissipation,
     pub damaged: bool,
 }
 
@@ -97,17 +97,31 @@ fn point_stress(
     (h, h_prev): (&[[f64; 3]; 3], &[[f64; 3]; 3]),
     (old, new): (&[f64], &mut [f64]),
     (bands, dt, advance): ([f64; 2], f64, bool),
-) -> ([[f64; 3]; 3], f64) {
+) -> ([[f64; 3]; 3], Dissipation) {
     let e = axes.strain_to_material(h);
     let old: &[f64; POINT_STATE] = old.try_into().expect("a point's state");
     if !advance {
         let eff = voigt_apply(&law.c0, &e);
         let c = law.stiffness(acting(old, (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0)));
-        return (axes.stress_to_global(&voigt_apply(&c, &e)), 0.0);
+        return (
+            axes.stress_to_global(&voigt_apply(&c, &e)),
+            Dissipation::default(),
+        );
     }
     let step = law.step((&e, &axes.strain_to_material(h_prev)), old, bands, dt);
     new.copy_from_slice(&step.state);
-    (axes.stress_to_global(&step.stress), step.dissipated)
+    (
+        axes.stress_to_global(&step.stress),
+        point_dissipation(&step),
+    )
+}
+
+/// A point step's dissipation, whole and the fibre modes' share.
+fn point_dissipation(step: &crate::material::damage::PointStep) -> Dissipation {
+    Dissipation {
+        total: step.dissipated,
+        fibre: step.fibre,
+    }
 }
 
 /// The law and axes of a ply.
@@ -231,7 +245,7 @@ pub fn hex_damage(
         if !starts {
             return DamageStep {
                 forces: [[0.0; 3]; 8],
-                dissipated: 0.0,
+                dissipated: Dissipation::default(),
                 damaged: false,
             };
         }
@@ -239,7 +253,7 @@ pub fn hex_damage(
     let mut f = [[0.0; 3]; 8];
     // the modes' forces, B_alpha^T sigma, which the condensation hands to the corners
     let mut r_alpha = [0.0; 9];
-    let mut dissipated = 0.0;
+    let mut dissipated = Dissipation::default();
     for (i, (g, wdet, m)) in geometry.iter().enumerate() {
         let h = point_gradient((g, m), u, &alpha);
         let h_prev = point_gradient((g, m), u_prev, &alpha_prev);
@@ -251,7 +265,7 @@ pub fn hex_damage(
             (&old[at.clone()], &mut new[at]),
             (ply.bands, dt, advance),
         );
-        dissipated += d * wdet;
+        dissipated += d.scaled(*wdet);
         for (fk, gk) in f.iter_mut().zip(g) {
             for a in 0..3 {
                 fk[a] += wdet * (s[a][0] * gk[0] + s[a][1] * gk[1] + s[a][2] * gk[2]);
@@ -366,14 +380,14 @@ pub fn hex_damage_operated(
         if !starts {
             return DamageStep {
                 forces: [[0.0; 3]; 8],
-                dissipated: 0.0,
+                dissipated: Dissipation::default(),
                 damaged: false,
             };
         }
     }
     let d_prev = relative(u_prev);
     let mut f = [0.0; 21];
-    let mut dissipated = 0.0;
+    let mut dissipated = Dissipation::default();
     for i in 0..points {
         let (law, _) = law_of(i);
         let op = &ops.strain[i];
@@ -386,7 +400,7 @@ pub fn hex_damage_operated(
                 let prev = || apply_operator(op, &d_prev);
                 let step = law.step_lazily(&e, prev, state, ply.bands, dt);
                 new[at].copy_from_slice(&step.state);
-                dissipated += step.dissipated * ops.volume[i];
+                dissipated += point_dissipation(&step).scaled(ops.volume[i]);
                 step.stress
             }
             false => {
@@ -435,7 +449,7 @@ pub fn tet_damage(
     let state = if advance { &new[..POINT_STATE] } else { old };
     DamageStep {
         forces,
-        dissipated: d * vol,
+        dissipated: d.scaled(vol),
         damaged: any_damage(state),
     }
 }
@@ -660,10 +674,9 @@ mod tests {
             for (p, q) in a.iter().zip(&b) {
                 assert!((p - q).abs() <= 1e-10, "{advance}: state {p} {q}");
             }
-            assert!(
-                (direct.dissipated - operated.dissipated).abs()
-                    <= 1e-10 * direct.dissipated.abs().max(1e-30)
-            );
+            let (p, q) = (direct.dissipated, operated.dissipated);
+            let scale = 1e-10 * p.total.abs().max(1e-30);
+            assert!((p.total - q.total).abs() <= scale && (p.fibre - q.fibre).abs() <= scale);
             assert_eq!(direct.damaged, operated.damaged);
         }
     }

@@ -7,6 +7,7 @@ use super::buffer::{submit_and_read_parts, Storage};
 use super::engine::{at_least_one, bytes_of, GpuKernels};
 use super::kernel::Launch;
 use crate::error::{ImpactError, Result};
+use crate::material::damage::Dissipation;
 
 /// A fixed list of corners of a [`GpuKernels`]' mesh and the launch that packs their forces.
 pub struct CornerSelection {
@@ -100,18 +101,18 @@ impl GpuKernels {
     }
 
     /// [`Self::internal_forces_selecting`] for an explicit step: the damage stepped over `dt`
-    /// to `u` (from $u - \Delta t\, v$); returns the energy it dissipated.
+    /// to `u` (from $u - \Delta t\, v$); returns the energy it dissipated, with the fibre
+    /// modes' share.
     pub fn step_forces_selecting(
         &mut self,
         (u, v): (&[f64], &[f64]),
         dt: f64,
         f: &mut [f64],
         (selection, chosen): (&CornerSelection, &mut Vec<[f32; 3]>),
-    ) -> Result<f64> {
+    ) -> Result<Dissipation> {
         if self.damage.is_none() {
-            return self
-                .forces_selecting(u, f, selection, chosen, false)
-                .map(|_| 0.0);
+            return (self.forces_selecting(u, f, selection, chosen, false))
+                .map(|_| Dissipation::default());
         }
         self.upload_nodal(true, v)?;
         if let Some((d, _)) = &mut self.damage {

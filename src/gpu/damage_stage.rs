@@ -17,7 +17,7 @@ use super::types::{self, to_device, DamageElementRecord, DamageParams};
 use crate::element::{CornerLayout, ElementKind};
 use crate::error::Result;
 use crate::kernels::damage_data::{DamageBlock, DamageData, DamageState, DAMAGE_RECORD};
-use crate::material::damage::POINT_STATE;
+use crate::material::damage::{Dissipation, POINT_STATE};
 
 /// One block's damage on the device.
 struct BlockStage {
@@ -146,7 +146,8 @@ impl DamageStage {
             first_record += DAMAGE_RECORD * b.len();
             blocks.push(stage);
         }
-        let total = Storage::new(ctx, "damage.total", 4)?;
+        // the step's dissipation and its fibre share
+        let total = Storage::new(ctx, "damage.total", 8)?;
         let reduce_total =
             (kernels.reduce).launch(ctx, elements as u32, 0, 0, &records.buffer, &total.buffer);
         Ok(DamageStage {
@@ -161,8 +162,9 @@ impl DamageStage {
         })
     }
 
-    /// The reduces of the resident path: the step's dissipation into column `column` of
-    /// each of `chunk_capacity` rows of `row_len` in `rows`.
+    /// The reduces of the resident path: the step's dissipation and its fibre share into
+    /// columns `column` and `column + 1` of each of `chunk_capacity` rows of `row_len` in
+    /// `rows`.
     pub(super) fn reduce_into_rows(
         &mut self,
         ctx: &GpuContext,
@@ -212,15 +214,23 @@ impl DamageStage {
         (self.kernels.reduce.0).dispatch_with(pass, &l.bind, [1, 1]);
     }
 
-    /// The last step's dissipation, each element's read back and summed in f64 in element
-    /// order (the host path's: its sum does not depend on how the elements are shared out
-    /// over ranks).
-    pub(super) fn read_dissipation(&self, ctx: &GpuContext, staging: &mut Storage) -> Result<f64> {
+    /// The last step's dissipation and its fibre share, each element's read back and summed
+    /// in f64 in element order (the host path's: its sum does not depend on how the elements
+    /// are shared out over ranks).
+    pub(super) fn read_dissipation(
+        &self,
+        ctx: &GpuContext,
+        staging: &mut Storage,
+    ) -> Result<Dissipation> {
         let words = 1 + DAMAGE_RECORD * self.elements;
         let records: Vec<u32> =
             read_back(ctx, staging, "damage.records", &self.records.buffer, words)?;
+        let value = |w: u32| f64::from(f32::from_bits(w));
         Ok((records[1..].chunks_exact(DAMAGE_RECORD))
-            .map(|r| f64::from(f32::from_bits(r[3])))
+            .map(|r| Dissipation {
+                total: value(r[3]),
+                fibre: value(r[4]),
+            })
             .sum())
     }
 
@@ -284,7 +294,7 @@ impl DamageStage {
             let stage = stages.next().expect("a stage per non-empty block");
             for i in 0..b.len() {
                 let [step, at] = state.first[k][i];
-                records.extend([u32::from(state.damaged[k][i]), step, at, 0]);
+                records.extend([u32::from(state.damaged[k][i]), step, at, 0, 0]);
             }
             let points: Vec<f32> = state.points[k].iter().map(|&x| x as f32).collect();
             let buffer = &stage.buffers[stage.buffers.len() - 1].buffer;

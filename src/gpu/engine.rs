@@ -15,6 +15,7 @@ use crate::element::{CornerLayout, ElementKind};
 use crate::error::{ImpactError, Result};
 use crate::kernels::damage_data::{DamageData, DamageState, DamagedPoint};
 use crate::kernels::{ContactPoint, ContactQueries, ElementData, Incidence, KeptData, SearchGrid};
+use crate::material::damage::Dissipation;
 use crate::model::Model;
 use crate::search;
 
@@ -791,9 +792,9 @@ impl Kernels for GpuKernels {
         (u, v): (&[f64], &[f64]),
         dt: f64,
         f: &mut [f64],
-    ) -> Result<f64> {
+    ) -> Result<Dissipation> {
         if self.damage.is_none() {
-            return self.internal_forces_into(u, f).map(|_| 0.0);
+            return (self.internal_forces_into(u, f)).map(|_| Dissipation::default());
         }
         self.upload_state(u, v)?;
         let mut enc = self.ctx.encoder("step_forces");

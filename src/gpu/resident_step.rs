@@ -118,7 +118,8 @@ pub struct ResidentSetup {
     /// The supports' reactions: per column, the corner-force indices it sums (component-major,
     /// `a C + s`), after the probes' columns.
     pub reactions: Vec<Vec<u32>>,
-    /// The plies' damage, where any element damages: the step's dissipation ends each row.
+    /// The plies' damage, where any element damages: the step's dissipation and its fibre
+    /// share end each row.
     pub damage: Option<crate::kernels::damage_data::DamageData>,
 }
 
@@ -126,13 +127,13 @@ pub struct ResidentSetup {
 /// momentum x y z), per contact interface [`SLOT`] (its contact results, summed; the gap and
 /// the sweeps as maxima), per probe 6 (displacement, velocity), the supports' reaction
 /// columns, then the failure survey's record where there is one ([`FAILURE_FIELDS`]) and
-/// the step's damage dissipation where there is damage.
+/// the step's damage dissipation and its fibre share where there is damage.
 pub(crate) fn row_len(
     (bodies, interfaces, probes, reactions): (usize, usize, usize, usize),
     (survey, damage): (bool, bool),
 ) -> usize {
     let record = if survey { FAILURE_FIELDS } else { 0 };
-    FIELDS * bodies + SLOT * interfaces + 6 * probes + reactions + record + usize::from(damage)
+    FIELDS * bodies + SLOT * interfaces + 6 * probes + reactions + record + 2 * usize::from(damage)
 }
 
 /// The contact results' place of each interface in the plane kernel's layout: `plane_nodes`
@@ -310,7 +311,7 @@ impl HistoryRows {
         } else {
             0
         };
-        let row_len = column_list.len() + survey + usize::from(setup.damage.is_some());
+        let row_len = column_list.len() + survey + 2 * usize::from(setup.damage.is_some());
         let cols: Vec<types::GpuReduceColumn> = to_device(&column_list);
         let columns = Storage::with_data(ctx, "history.columns", &cols)?;
         let lists = Storage::with_data(ctx, "history.corner_lists", &at_least_one(lists))?;
@@ -574,8 +575,9 @@ impl ResidentStep {
             })
             .transpose()?;
         if let Some((d, _)) = &mut k.damage {
-            // the step's dissipation closes each row; the state advances every step
-            let at = (history.row_len, history.row_len - 1, chunk_capacity);
+            // the step's dissipation and its fibre share close each row; the state advances
+            // every step
+            let at = (history.row_len, history.row_len - 2, chunk_capacity);
             d.reduce_into_rows(ctx, &history.rows.buffer, at);
             d.set_step(ctx, setup.dt, true);
         }

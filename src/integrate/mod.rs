@@ -33,7 +33,8 @@ use crate::model::Model;
 /// root holds as it holds the integrators.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub enum SolverState {
-    Explicit(explicit::ExplicitState),
+    /// The explicit step's state (boxed: it is the largest by far).
+    Explicit(Box<explicit::ExplicitState>),
     Implicit(implicit::ImplicitState),
     /// The explicit step resident on the GPU (the device's f32 state, exactly).
     Resident(resident::ResidentState),

@@ -34,6 +34,7 @@ use crate::kernels::{
     ContactNode, ContactPair, LumpedNode, PlaneData, PlaneNode, RigidSurface, SurveySetup,
     FAILURE_FIELDS,
 };
+use crate::material::damage::Dissipation;
 use crate::model::Model;
 use crate::model::Primary;
 use crate::scene::{ExplicitSettings, Method, RigidMotion};
@@ -323,8 +324,8 @@ pub(crate) struct Row {
     pub failure: Option<[f64; FAILURE_FIELDS]>,
     /// The supports' reaction columns ([`ReactionColumns`]).
     pub reactions: Vec<f64>,
-    /// The energy damage dissipated over the step.
-    pub dissipated: f64,
+    /// The energy damage dissipated over the step, with the fibre modes' share.
+    pub dissipated: Dissipation,
 }
 
 /// What decoding a history row needs besides its values: the model, each body's mass, the
@@ -405,7 +406,13 @@ impl RowReader<'_> {
             report,
             failure,
             reactions,
-            dissipated: if damage { r[r.len() - 1] } else { 0.0 },
+            dissipated: match damage {
+                true => Dissipation {
+                    total: r[r.len() - 2],
+                    fibre: r[r.len() - 1],
+                },
+                false => Dissipation::default(),
+            },
         }
     }
 }
@@ -801,7 +808,8 @@ impl<'m> ResidentSolver<'m> {
     fn count_work(&mut self, read: bool) -> Result<()> {
         self.work.fixes += self.power * self.dt;
         self.power = self.columns.power(&self.current.reactions);
-        self.work.damage += self.current.dissipated;
+        self.work.damage += self.current.dissipated.total;
+        self.work.damage_fibre += self.current.dissipated.fibre;
         if read {
             self.count_damage_cells()?;
         }
@@ -909,6 +917,7 @@ impl Integrator for ResidentSolver<'_> {
         e.potential -= self.work.fixes;
         e.fix_work = self.work.fixes;
         e.damage = self.work.damage;
+        e.plies = self.work.plies();
         Ok(e)
     }
 
@@ -931,6 +940,7 @@ impl Integrator for ResidentSolver<'_> {
         });
         Some(DamageReport {
             energy: self.work.damage,
+            fibre: self.work.damage_fibre,
             first,
             cells,
         })

@@ -33,8 +33,11 @@ pub struct Energies {
     /// Potential of the constant body force (gravity): $-f_{ext} \cdot u$, less the work of
     /// the prescribed motions and of the loads.
     pub potential: f64,
-    /// The energy the plies' damage dissipated so far.
+    /// The energy the plies' damage and the cohesive interfaces dissipated so far.
     pub damage: f64,
+    /// Of `damage`, the plies' part, with its fibre modes' share (the rest of `damage` is the
+    /// cohesive interfaces').
+    pub plies: crate::material::damage::Dissipation,
     /// The work the moving `[[fix]]`es did on the model so far (in `potential`; the run's
     /// energy scale grows with it).
     pub fix_work: f64,
@@ -82,6 +85,8 @@ impl FirstDamage {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct DamageReport {
     pub energy: f64,
+    /// Of `energy`, the fibre modes' share (the rest is the matrix modes').
+    pub fibre: f64,
     pub first: Option<FirstDamage>,
     pub cells: Vec<[f64; 4]>,
 }

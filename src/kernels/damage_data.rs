@@ -26,8 +26,9 @@ pub fn block_counts(elements: &crate::element::Elements) -> Vec<usize> {
 }
 
 /// Words of a damageable element's record on the device (flag, first step, first point,
-/// dissipation's bits), after the step counter (`shaders/shared/types.wgsl`).
-pub const DAMAGE_RECORD: usize = 4;
+/// dissipation's bits, its fibre share's bits), after the step counter
+/// (`shaders/shared/types.wgsl`).
+pub const DAMAGE_RECORD: usize = 5;
 
 /// Everything the damage kernels read that does not change.
 #[derive(Debug, Clone, Default)]

@@ -7,17 +7,19 @@ use rayon::prelude::*;
 use super::damage_data::{first_where, DamageBlock};
 use super::damage_sieve::{may_reach, remember, stride};
 use crate::element::damage::DamageStep;
+use crate::material::damage::Dissipation;
 
 /// What one block's damage pass reads and writes: the block's part of the corner forces
 /// (the elastic ones on entry), its state and flags (updated in place where the step
-/// advances), its sieve's memory, and each damageable element's dissipation over the step.
+/// advances), its sieve's memory, and each damageable element's dissipation over the step
+/// (with its fibre share).
 pub(crate) struct BlockPass<'a> {
     pub corner_forces: &'a mut [[f64; 3]],
     pub state: &'a mut [f64],
     pub damaged: &'a mut [bool],
     pub first: &'a mut [[u32; 2]],
     pub memory: &'a mut [f64],
-    pub dissipated: &'a mut [f64],
+    pub dissipated: &'a mut [Dissipation],
     /// The number of the step the pass takes (its first damage's).
     pub step: u32,
 }
@@ -85,7 +87,7 @@ pub(crate) fn damage_pass<const N: usize>(
                 let nodes = corners[block.elements[i] as usize];
                 let x = nodes.map(|n| reference[n as usize]);
                 let ue = nodes.map(|n| u[n as usize]);
-                *dissipated = 0.0;
+                *dissipated = Dissipation::default();
                 if !*damaged {
                     if !advance || !may_reach(memory, block.sieve[i], (f, &ue)) {
                         return;

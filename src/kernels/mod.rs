@@ -104,6 +104,7 @@ pub use sweep_control::{sweep_control, SweepState};
 pub use tet4_forces::tet4_forces;
 
 use crate::element::{CornerLayout, ElementKind, Elements, Section};
+use crate::material::damage::Dissipation;
 use crate::material::{Elastic, Layup};
 
 /// Element data every kernel backend is built from.
@@ -234,7 +235,8 @@ pub(crate) fn mark_damaged(
 /// every element its elastic corner forces (`corner_forces`, in `layout`): with `advance`
 /// the state steps over `dt` to `u` (from $u - \Delta t\, v$), else the forces are those of
 /// the state as it is.
-/// Returns the energy dissipated over the step (element by element, in order).
+/// Returns the energy dissipated over the step, with the fibre modes' share (element by
+/// element, in order).
 pub(crate) fn damage_forces(
     data: &ElementData,
     (damage, state, memory): (
@@ -246,8 +248,8 @@ pub(crate) fn damage_forces(
     (u, v): (&[[f64; 3]], &[[f64; 3]]),
     corner_forces: &mut [[f64; 3]],
     (dt, advance): (f64, bool),
-) -> f64 {
-    let mut total = 0.0;
+) -> Dissipation {
+    let mut total = Dissipation::default();
     for block in &data.elements.blocks {
         let k = block.kind.index();
         let dblock = &damage.blocks[k];
@@ -255,7 +257,7 @@ pub(crate) fn damage_forces(
             continue;
         }
         let start = layout.offset(block.kind);
-        let mut dissipated = vec![0.0; dblock.len()];
+        let mut dissipated = vec![Dissipation::default(); dblock.len()];
         let out = damage_pass::BlockPass {
             corner_forces: &mut corner_forces[start..start + block.nodes.len()],
             state: &mut state.points[k],
@@ -271,7 +273,7 @@ pub(crate) fn damage_forces(
             ElementKind::Tet4 => tet4_damage::tet4_damage(data, damage, (u, v), out, step),
             ElementKind::Hex8i => hex8i_damage::hex8i_damage(data, damage, (u, v), out, step),
         }
-        total += dissipated.iter().sum::<f64>();
+        total += dissipated.iter().copied().sum::<Dissipation>();
     }
     if advance {
         state.steps += 1;

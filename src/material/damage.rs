@@ -48,6 +48,13 @@
 //! loses when the secant stiffness changes, so that the balance with it closes to rounding.
 //! At fixed strain it is the release of stored energy, never negative (the compliance only
 //! grows); along a path it is that to first order in the strain's change.
+//!
+//! **By kind.** The release is split in two by a stiffness between the two: $C_m$, with
+//! the fibre variables of the step's end and the matrix variables of its start (the shear
+//! damage $d_s$ formed from those). The fibre modes released
+//! $\tfrac12 \varepsilon_n : (C_n - C_m) : \varepsilon_{n+1}$, the matrix modes
+//! $\tfrac12 \varepsilon_n : (C_m - C_{n+1}) : \varepsilon_{n+1}$: the two sum to the
+//! whole, and where only one kind grows over the step the whole is that kind's.
 
 use super::failure::{matrix_compression_parts, Strength};
 use super::Voigt;
@@ -90,12 +97,52 @@ pub struct PlyDamage {
 }
 
 /// One point's step: its new state, its stress (Voigt order, ply axes) and the energy its
-/// law dissipated over the step per unit volume.
+/// law dissipated over the step per unit volume, with the fibre modes' share of it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PointStep {
     pub state: [f64; POINT_STATE],
     pub stress: [f64; 6],
     pub dissipated: f64,
+    pub fibre: f64,
+}
+
+/// Energy the plies' damage dissipated: the whole, and the share of the fibre modes (the
+/// matrix modes' is the rest, [`Dissipation::matrix`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Dissipation {
+    pub total: f64,
+    pub fibre: f64,
+}
+
+impl Dissipation {
+    /// The matrix modes' share.
+    pub fn matrix(&self) -> f64 {
+        self.total - self.fibre
+    }
+
+    /// Both parts times `w`.
+    pub fn scaled(self, w: f64) -> Dissipation {
+        Dissipation {
+            total: self.total * w,
+            fibre: self.fibre * w,
+        }
+    }
+}
+
+impl std::ops::AddAssign for Dissipation {
+    fn add_assign(&mut self, o: Dissipation) {
+        self.total += o.total;
+        self.fibre += o.fibre;
+    }
+}
+
+impl std::iter::Sum for Dissipation {
+    fn sum<I: Iterator<Item = Dissipation>>(it: I) -> Dissipation {
+        it.fold(Dissipation::default(), |mut a, b| {
+            a += b;
+            a
+        })
+    }
 }
 
 impl PlyDamage {
@@ -369,6 +416,7 @@ impl PlyDamage {
                 state,
                 stress: stress_before,
                 dissipated: 0.0,
+                fibre: 0.0,
             };
         }
         let after = self.stiffness(d_new);
@@ -377,18 +425,30 @@ impl PlyDamage {
         // the energy the damage's growth released, both stiffnesses at this step's signs:
         // a crack that closes (the acting damage switching from a tension mode to a
         // compression one) releases nothing, and it stores nothing back
-        let released: f64 = (0..6)
-            .map(|i| {
-                prev[i]
-                    * (0..6)
-                        .map(|j| (before[i][j] - after[i][j]) * e[j])
-                        .sum::<f64>()
-            })
-            .sum();
+        let released = |a: &Voigt, b: &Voigt| -> f64 {
+            let r: f64 = (0..6)
+                .map(|i| prev[i] * (0..6).map(|j| (a[i][j] - b[i][j]) * e[j]).sum::<f64>())
+                .sum();
+            0.5 * r
+        };
+        let dissipated = released(&before, &after);
+        // the fibre modes' share, through the stiffness between (module docs, "By kind")
+        let fibre = match (fibre_grew(old, &state), matrix_grew(old, &state)) {
+            (false, _) => 0.0,
+            (true, false) => dissipated,
+            (true, true) => {
+                let mut mid = *old;
+                for k in [0, 1, 4, 5] {
+                    mid[k] = state[k];
+                }
+                released(&before, &self.stiffness(acting(&mid, signs)))
+            }
+        };
         PointStep {
             state,
             stress,
-            dissipated: 0.5 * released,
+            dissipated,
+            fibre,
         }
     }
 
@@ -432,6 +492,16 @@ impl PlyDamage {
         };
         [ft, fc, 0.0, mc]
     }
+}
+
+/// Whether a fibre mode's acting damage grew from state `old` to `new`.
+fn fibre_grew(old: &[f64; POINT_STATE], new: &[f64; POINT_STATE]) -> bool {
+    new[4] != old[4] || new[5] != old[5]
+}
+
+/// Whether a matrix mode's acting damage grew from state `old` to `new`.
+fn matrix_grew(old: &[f64; POINT_STATE], new: &[f64; POINT_STATE]) -> bool {
+    new[6] != old[6] || new[7] != old[7]
 }
 
 /// The damage that acts at a point of state `s`, with the signs of the effective fibre
@@ -578,6 +648,7 @@ mod tests {
             let steps = 20_000;
             let mut state = [0.0; POINT_STATE];
             let (mut work, mut dissipated, mut peak, mut last) = (0.0, 0.0, 0.0f64, 0.0);
+            let mut fibre = 0.0;
             let mut prev = (0.0, 0.0);
             let mut e_prev = [0.0; 6];
             for i in 1..=steps {
@@ -590,6 +661,7 @@ mod tests {
                 let s = sign * p.stress[axis];
                 work += 0.5 * (s + prev.1) * (sign * eps - prev.0);
                 dissipated += p.dissipated;
+                fibre += p.fibre;
                 prev = (sign * eps, s);
                 peak = peak.max(s);
                 last = s;
@@ -607,9 +679,69 @@ mod tests {
                 dissipated * l
             );
             assert!((peak - x).abs() <= 2e-3 * x, "peak {peak}");
+            // one kind grows: the whole is its share
+            let share = if mode < 2 { dissipated } else { 0.0 };
+            assert_eq!(fibre, share, "mode {mode}: the fibre modes' share");
             // what D_MAX leaves: 1e-4 of the stiffness at 1.05 r_f
             assert!(last.abs() <= 1.1e-4 * rf * x, "end {last}");
         }
+    }
+
+    /// A point crushed along its fibres while pulled across them, both kinds softening over
+    /// the same steps: each step's fibre and matrix shares are at least zero and sum to the
+    /// whole (by construction), and each kind's share is what the same step releases with the
+    /// other kind's damage held at its start (to rounding), whichever is taken first.
+    #[test]
+    fn both_kinds_growing_share_the_release() {
+        let law = im7();
+        let (e1, xc) = law.mode_constants(1);
+        let (e2, yt) = law.mode_constants(2);
+        let path = |t: f64| [-1.5 * t * xc / e1, 1.5 * t * yt / e2, 0.0, 0.0, 0.0, 0.0];
+        let mut state = [0.0; POINT_STATE];
+        let mut prev = [0.0; 6];
+        let (mut both, mut fibre, mut matrix) = (0, 0.0, 0.0);
+        for i in 1..=400 {
+            let e = path(i as f64 / 400.0);
+            let step = law.step((&e, &prev), &state, [0.5, 0.5], 1.0);
+            let grew = |k: usize| step.state[4 + k] > state[4 + k];
+            if (grew(0) || grew(1)) && (grew(2) || grew(3)) {
+                both += 1;
+                // the matrix's share taken first: its growth alone, then the fibres'
+                let mut mid = state;
+                for k in [2, 3, 6, 7] {
+                    mid[k] = step.state[k];
+                }
+                let eff = voigt_apply(&law.c0, &e);
+                let signs = (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0);
+                let c = |s: &[f64; POINT_STATE]| law.stiffness(acting(s, signs));
+                let release = |a: &Voigt, b: &Voigt| -> f64 {
+                    let r: f64 = (0..6)
+                        .map(|i| prev[i] * (0..6).map(|j| (a[i][j] - b[i][j]) * e[j]).sum::<f64>())
+                        .sum();
+                    0.5 * r
+                };
+                let matrix_first = release(&c(&state), &c(&mid));
+                let scale = step.dissipated.abs();
+                assert!(
+                    step.fibre >= 0.0 && step.dissipated - step.fibre >= 0.0,
+                    "{step:?}"
+                );
+                // the order matters only to second order in the step's growth
+                assert!(
+                    (step.dissipated - step.fibre - matrix_first).abs() <= 0.05 * scale,
+                    "step {i}: matrix {} against {matrix_first}",
+                    step.dissipated - step.fibre
+                );
+            }
+            fibre += step.fibre;
+            matrix += step.dissipated - step.fibre;
+            (state, prev) = (step.state, e);
+        }
+        eprintln!("{both} steps grew both kinds: fibre {fibre:.4e}, matrix {matrix:.4e}");
+        assert!(
+            both > 10 && fibre > 0.0 && matrix > 0.0,
+            "{both} {fibre} {matrix}"
+        );
     }
 
     /// Unloading keeps the damage (secant unloading to the origin), and reloading follows the

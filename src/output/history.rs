@@ -21,8 +21,11 @@ pub struct History {
     spinning: usize,
     /// Whether a material has ply strengths: the largest failure indices come next.
     failure: bool,
-    /// Whether a material damages: the energy damage dissipated comes next.
+    /// Whether a material damages or a cohesive interface: the energy damage dissipated
+    /// comes next.
     damage: bool,
+    /// Whether a material damages: the plies' fibre and matrix modes' shares come next.
+    plies: bool,
     /// Whether the model has loads (then the `external_work` column).
     loads: bool,
     /// The named fixes, whose reactions come next.
@@ -66,6 +69,7 @@ impl History {
             spinning: model.rigid.iter().filter(|b| b.rotates()).count(),
             failure: model.strengths.iter().any(Option::is_some),
             damage: has_damage(model),
+            plies: model.damage_laws.iter().any(Option::is_some),
             loads: !model.loads.is_empty(),
             reactions: model.reactions.len(),
             cohesive: model.cohesive.len(),
@@ -212,6 +216,10 @@ impl History {
         }
         if self.damage {
             num(l, e.damage);
+        }
+        if self.plies {
+            num(l, e.plies.fibre);
+            num(l, e.plies.matrix());
         }
         for k in 0..self.reactions {
             // NaN where the engine gives no reactions (scene-format.md)
@@ -393,6 +401,11 @@ pub(crate) fn column_names(model: &Model) -> Vec<String> {
     if has_damage(model) {
         cols.push("damage_energy".into());
     }
+    // of it, what the plies' fibre and matrix modes dissipated
+    if model.damage_laws.iter().any(Option::is_some) {
+        cols.push("damage_energy.fibre".into());
+        cols.push("damage_energy.matrix".into());
+    }
     // the reaction of each named fix
     for r in &model.reactions {
         for c in ["fx", "fy", "fz"] {
@@ -502,8 +515,9 @@ mod tests {
         assert_eq!(longest, 24);
     }
 
-    /// A row's fields are these texts; integers (step, active, sliding) stay integers; a
-    /// named fix the engine gives no reaction for is NaN.
+    /// A row's fields are these texts; integers (step, active, sliding) stay integers; the
+    /// plies' fibre and matrix shares follow the damage energy; a named fix the engine gives
+    /// no reaction for is NaN.
     #[test]
     fn row_fields() {
         let dir = std::env::temp_dir().join(format!("impact_history_row_{}", std::process::id()));
@@ -516,6 +530,7 @@ mod tests {
             spinning: 0,
             failure: false,
             damage: true,
+            plies: true,
             loads: false,
             reactions: 1,
             cohesive: 0,
@@ -528,6 +543,10 @@ mod tests {
             kinetic: 0.25,
             strain: 1e-300,
             damage: 2.5,
+            plies: crate::material::damage::Dissipation {
+                total: 2.0,
+                fibre: 0.5,
+            },
             ..Default::default()
         };
         let c = ContactReport {
@@ -545,7 +564,9 @@ mod tests {
         let total = text(e.total());
         assert_eq!(
             written,
-            format!("1e-3,7,0.25,1e-300,{total},1,-0,inf,1.5e20,0,12,0,3,NaN,2.5,NaN,NaN,NaN\n")
+            format!(
+                "1e-3,7,0.25,1e-300,{total},1,-0,inf,1.5e20,0,12,0,3,NaN,2.5,0.5,1.5,NaN,NaN,NaN\n"
+            )
         );
     }
 }

@@ -166,6 +166,9 @@ pub struct Summary {
     /// With ply damage or cohesive interfaces: the energy they dissipated over the run.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub damage_energy: Option<f64>,
+    /// With ply damage or cohesive interfaces: `damage_energy` by kind.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub damage_energy_by_kind: Option<DamageByKind>,
     /// With `[[load]]`s: the work they did over the run.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub external_work: Option<f64>,
@@ -186,6 +189,16 @@ pub struct Summary {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ranks: Option<crate::integrate::Decomposition>,
     pub message: Option<String>,
+}
+
+/// The energy damage dissipated by kind: the plies' fibre modes (tension and compression),
+/// their matrix modes, and the cohesive interfaces (by damage and by the friction of their
+/// separated faces).
+#[derive(Debug, Clone, Copy, Default, Serialize, PartialEq)]
+pub struct DamageByKind {
+    pub fibre: f64,
+    pub matrix: f64,
+    pub interfaces: f64,
 }
 
 /// Where and when a ply first damaged: the time, the cell (global element number) and its

@@ -235,8 +235,14 @@ pub(super) fn fill_summary(
 ) {
     copy_tally(summary, tally);
     summary.external_work = (!model.loads.is_empty()).then_some(tally.external_work);
+    let mut by_kind = None;
     if let Some(d) = solver.damage() {
         summary.damage_energy = Some(d.energy);
+        by_kind = Some(crate::output::summary::DamageByKind {
+            fibre: d.fibre,
+            matrix: d.energy - d.fibre,
+            interfaces: 0.0,
+        });
         summary.first_damage = Some(d.first.map(|f| {
             crate::output::summary::FirstDamageSummary {
                 time: f.time,
@@ -253,9 +259,11 @@ pub(super) fn fill_summary(
         use crate::output::delamination::{summary as delamination, DelaminationMap};
         let bonded: f64 = state.energy.iter().sum();
         summary.damage_energy = Some(summary.damage_energy.unwrap_or(0.0) + bonded);
+        by_kind.get_or_insert_with(Default::default).interfaces = bonded;
         let map = DelaminationMap::of(model, &state);
         summary.delamination = Some(delamination(model, &state, &map));
     }
+    summary.damage_energy_by_kind = by_kind;
     summary.iterations_mean = tally.iterations_total as f64 / tally.steps.max(1) as f64;
     summary.interfaces = interface_summaries(model, solver, &tally.peak_force);
     if let Some(f) = solver.implicit_figures() {

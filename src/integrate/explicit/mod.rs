@@ -42,6 +42,7 @@ use crate::element::ElementBlock;
 use crate::error::Result;
 use crate::kernels;
 use crate::kernels::cohesive_forces::{cohesive_forces, CohesiveReport, CohesiveState};
+use crate::material::damage::Dissipation;
 use crate::model::cohesive::all_pairs;
 use crate::model::Model;
 use crate::scene::{ExplicitSettings, Method};
@@ -86,6 +87,9 @@ pub struct ExplicitState {
 pub struct Work {
     pub fixes: f64,
     pub damage: f64,
+    /// Of `damage`, the fibre modes' share.
+    #[serde(default)]
+    pub damage_fibre: f64,
     /// The trapezoid sum of the `[[load]]`s' work ([`crate::integrate::loads`]).
     #[serde(default)]
     pub loads: f64,
@@ -95,6 +99,16 @@ pub struct Work {
     #[serde(default)]
     pub carried: f64,
     pub first_damage: Option<crate::integrate::state::FirstDamage>,
+}
+
+impl Work {
+    /// What the plies' damage dissipated so far, with the fibre modes' share.
+    pub fn plies(&self) -> Dissipation {
+        Dissipation {
+            total: self.damage,
+            fibre: self.damage_fibre,
+        }
+    }
 }
 
 pub struct ExplicitSolver<'m> {
@@ -280,9 +294,10 @@ impl<'m> ExplicitSolver<'m> {
     }
 
     /// Adds a step's dissipation, and finds the first damaged point once there is one.
-    fn count_damage(&mut self, dissipated: f64) {
-        self.work.damage += dissipated;
-        if self.work.first_damage.is_none() && dissipated > 0.0 {
+    fn count_damage(&mut self, dissipated: Dissipation) {
+        self.work.damage += dissipated.total;
+        self.work.damage_fibre += dissipated.fibre;
+        if self.work.first_damage.is_none() && dissipated.total > 0.0 {
             if let Some((_, Some(p))) = self.kernels.damage_cells() {
                 // its step's time (a step of this run's length, or the shortened last one)
                 let time = (f64::from(p.step) * self.dt).min(self.time);
@@ -377,6 +392,7 @@ impl Integrator for ExplicitSolver<'_> {
         let (cells, _) = self.kernels.damage_cells()?;
         Some(DamageReport {
             energy: self.work.damage,
+            fibre: self.work.damage_fibre,
             first: self.work.first_damage,
             cells,
         })
@@ -425,12 +441,12 @@ impl Integrator for ExplicitSolver<'_> {
     }
 
     fn checkpoint_state(&mut self) -> Result<Option<SolverState>> {
-        Ok(Some(SolverState::Explicit(self.state())))
+        Ok(Some(SolverState::Explicit(Box::new(self.state()))))
     }
 
     fn restore(&mut self, state: SolverState) -> std::result::Result<(), String> {
         match state {
-            SolverState::Explicit(s) => self.restore_state(s),
+            SolverState::Explicit(s) => self.restore_state(*s),
             _ => Err(super::integrator::other_integrator()),
         }
     }
@@ -499,6 +515,7 @@ impl Integrator for ExplicitSolver<'_> {
                 potential: -dot(&self.f_ext, &self.u)
                     + self.loads.in_dot(self.model, self.time, &self.u),
                 damage: 0.0,
+                plies: Dissipation::default(),
                 fix_work: 0.0,
                 load_work: 0.0,
             });
@@ -514,6 +531,7 @@ impl Integrator for ExplicitSolver<'_> {
             strain: 0.5 * dot(&self.u_prev, &self.f_int) + self.cohesive.stored_offset(),
             potential,
             damage: self.work.damage + self.cohesive.energy.iter().sum::<f64>(),
+            plies: self.work.plies(),
             fix_work: self.work.fixes,
             load_work: self.work.loads,
         })

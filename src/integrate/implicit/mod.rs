@@ -972,6 +972,7 @@ impl Integrator for ImplicitSolver<'_> {
                 - driver_work
                 + self.carried,
             damage: 0.0,
+            plies: Default::default(),
             fix_work: 0.0,
             load_work: self.load_work,
         })

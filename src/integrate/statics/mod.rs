@@ -496,6 +496,7 @@ impl Integrator for StaticSolver<'_> {
                 + self.state.carried
                 - external,
             damage: 0.0,
+            plies: Default::default(),
             fix_work: self.state.fix_work,
             load_work: self.state.load_work,
         })
