@@ -102,11 +102,8 @@ fn point_stress(
     let old: &[f64; POINT_STATE] = old.try_into().expect("a point's state");
     if !advance {
         let eff = voigt_apply(&law.c0, &e);
-        let c = law.stiffness(acting(old, (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0)));
-        return (
-            axes.stress_to_global(&voigt_apply(&c, &e)),
-            Dissipation::default(),
-        );
+        let c = law.ortho(acting(old, (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0)));
+        return (axes.stress_to_global(&c.apply(&e)), Dissipation::default());
     }
     let step = law.step((&e, &axes.strain_to_material(h_prev)), old, bands, dt);
     new.copy_from_slice(&step.state);
@@ -405,8 +402,8 @@ pub fn hex_damage_operated(
             }
             false => {
                 let eff = voigt_apply(&law.c0, &e);
-                let c = law.stiffness(acting(state, (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0)));
-                voigt_apply(&c, &e)
+                let c = law.ortho(acting(state, (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0)));
+                c.apply(&e)
             }
         };
         let v = ops.volume[i];

@@ -330,9 +330,15 @@ impl PlyDamage {
     /// The stiffness (Voigt, ply axes) with the fibre, matrix tension, shear and matrix
     /// compression damage `d` that act ([`acting`]; the undamaged one itself where `d` is
     /// zero).
-    pub fn stiffness(&self, [df, dt, ds, dc]: [f64; 4]) -> Voigt {
+    pub fn stiffness(&self, d: [f64; 4]) -> Voigt {
+        self.ortho(d).voigt()
+    }
+
+    /// [`Self::stiffness`] in its orthotropic form: the normal block and the shear moduli
+    /// (the rest of the Voigt matrix is zero), the form a point's step works with.
+    pub fn ortho(&self, [df, dt, ds, dc]: [f64; 4]) -> Ortho {
         if df == 0.0 && dt == 0.0 && ds == 0.0 && dc == 0.0 {
-            return self.c0;
+            return Ortho::of(&self.c0);
         }
         let (scale, crush) = if self.in_plane {
             // the in-plane terms alone: S_22 over one minus the matrix damage
@@ -348,20 +354,18 @@ impl PlyDamage {
             self.normal[i][j] * if i == j { scale[i] } else { 1.0 } + crush[i][j]
         });
         let n = s.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros);
-        let mut c = [[0.0; 6]; 6];
-        for i in 0..3 {
-            for j in 0..3 {
-                c[i][j] = n[(i, j)];
-            }
+        Ortho {
+            normal: std::array::from_fn(|i| std::array::from_fn(|j| n[(i, j)])),
             // in plane, the 12 term alone softens
-            let keep = if self.in_plane && i < 2 {
-                1.0
-            } else {
-                1.0 - ds
-            };
-            c[3 + i][3 + i] = keep / self.shear[i];
+            shear: std::array::from_fn(|i| {
+                let keep = if self.in_plane && i < 2 {
+                    1.0
+                } else {
+                    1.0 - ds
+                };
+                keep / self.shear[i]
+            }),
         }
-        c
     }
 
     /// One point's step from strain `e` (ply axes, engineering shears, Voigt order) and the
@@ -388,16 +392,16 @@ impl PlyDamage {
         bands: [f64; 2],
         dt: f64,
     ) -> PointStep {
-        let eff = voigt_apply(&self.c0, e);
+        let eff = Ortho::of(&self.c0).apply(e);
         let signs = (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0);
         let d_old = acting(old, signs);
-        let before = self.stiffness(d_old);
-        let stress_before = voigt_apply(&before, e);
+        let before = self.ortho(d_old);
+        let stress_before = before.apply(e);
         let r = self.index_ratios(&effective(&stress_before, d_old));
         let mut state = *old;
         for k in 0..4 {
-            let rf = self.softening_end(k, bands[k / 2]);
             let trial = if r[k] > 1.0 {
+                let rf = self.softening_end(k, bands[k / 2]);
                 (rf * (r[k] - 1.0) / (r[k] * (rf - 1.0))).min(D_MAX)
             } else {
                 0.0
@@ -419,16 +423,15 @@ impl PlyDamage {
                 fibre: 0.0,
             };
         }
-        let after = self.stiffness(d_new);
-        let stress = voigt_apply(&after, e);
+        let after = self.ortho(d_new);
+        let stress = after.apply(e);
         let prev = prev();
         // the energy the damage's growth released, both stiffnesses at this step's signs:
         // a crack that closes (the acting damage switching from a tension mode to a
         // compression one) releases nothing, and it stores nothing back
-        let released = |a: &Voigt, b: &Voigt| -> f64 {
-            let r: f64 = (0..6)
-                .map(|i| prev[i] * (0..6).map(|j| (a[i][j] - b[i][j]) * e[j]).sum::<f64>())
-                .sum();
+        let released = |a: &Ortho, b: &Ortho| -> f64 {
+            let change = a.less(b).apply(e);
+            let r: f64 = (0..6).map(|i| prev[i] * change[i]).sum();
             0.5 * r
         };
         let dissipated = released(&before, &after);
@@ -441,7 +444,7 @@ impl PlyDamage {
                 for k in [0, 1, 4, 5] {
                     mid[k] = state[k];
                 }
-                released(&before, &self.stiffness(acting(&mid, signs)))
+                released(&before, &self.ortho(acting(&mid, signs)))
             }
         };
         PointStep {
@@ -491,6 +494,53 @@ impl PlyDamage {
             false => a.max(0.0),
         };
         [ft, fc, 0.0, mc]
+    }
+}
+
+/// An orthotropic stiffness in the ply axes: its normal block (11, 22, 33) and its shear
+/// moduli (23, 13, 12); the other terms of its Voigt matrix are zero.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ortho {
+    pub normal: [[f64; 3]; 3],
+    pub shear: [f64; 3],
+}
+
+impl Ortho {
+    /// The orthotropic part of the Voigt matrix `c`.
+    pub fn of(c: &Voigt) -> Ortho {
+        Ortho {
+            normal: std::array::from_fn(|i| std::array::from_fn(|j| c[i][j])),
+            shear: std::array::from_fn(|i| c[3 + i][3 + i]),
+        }
+    }
+
+    /// The Voigt matrix.
+    pub fn voigt(&self) -> Voigt {
+        let mut c = [[0.0; 6]; 6];
+        for i in 0..3 {
+            c[i][..3].copy_from_slice(&self.normal[i]);
+            c[3 + i][3 + i] = self.shear[i];
+        }
+        c
+    }
+
+    /// The stress of strain `e` (Voigt order): the Voigt matrix's product, whose zero terms
+    /// add nothing.
+    pub fn apply(&self, e: &[f64; 6]) -> [f64; 6] {
+        std::array::from_fn(|i| match i < 3 {
+            true => (0..3).map(|j| self.normal[i][j] * e[j]).sum(),
+            false => self.shear[i - 3] * e[i],
+        })
+    }
+
+    /// This stiffness less `b`, term by term.
+    fn less(&self, b: &Ortho) -> Ortho {
+        Ortho {
+            normal: std::array::from_fn(|i| {
+                std::array::from_fn(|j| self.normal[i][j] - b.normal[i][j])
+            }),
+            shear: std::array::from_fn(|i| self.shear[i] - b.shear[i]),
+        }
     }
 }
 
