@@ -82,7 +82,13 @@ fn sum_kind(column: &str, bodies: &[String], resident: bool) -> Option<&'static 
             .map(|v| format!("{b}.{v}"))
             .contains(&column.to_string())
     };
-    if column.ends_with("_energy") || column == "external_work" || column.ends_with(".energy") {
+    // the damage energy's parts by kind are sums over the model like it
+    let energy_part = column.starts_with("damage_energy.");
+    if column.ends_with("_energy")
+        || energy_part
+        || column == "external_work"
+        || column.ends_with(".energy")
+    {
         Some("energy")
     } else if column.ends_with(".delaminated_area") || column.ends_with(".damaged_area") {
         Some("area")
