@@ -808,8 +808,7 @@ impl<'m> ResidentSolver<'m> {
     fn count_work(&mut self, read: bool) -> Result<()> {
         self.work.fixes += self.power * self.dt;
         self.power = self.columns.power(&self.current.reactions);
-        self.work.damage += self.current.dissipated.total;
-        self.work.damage_fibre += self.current.dissipated.fibre;
+        self.work.count_plies(self.current.dissipated);
         if read {
             self.count_damage_cells()?;
         }

@@ -109,6 +109,12 @@ impl Work {
             fibre: self.damage_fibre,
         }
     }
+
+    /// Counts a step's dissipation by the plies' damage.
+    pub fn count_plies(&mut self, d: Dissipation) {
+        self.damage += d.total;
+        self.damage_fibre += d.fibre;
+    }
 }
 
 pub struct ExplicitSolver<'m> {
@@ -295,8 +301,7 @@ impl<'m> ExplicitSolver<'m> {
 
     /// Adds a step's dissipation, and finds the first damaged point once there is one.
     fn count_damage(&mut self, dissipated: Dissipation) {
-        self.work.damage += dissipated.total;
-        self.work.damage_fibre += dissipated.fibre;
+        self.work.count_plies(dissipated);
         if self.work.first_damage.is_none() && dissipated.total > 0.0 {
             if let Some((_, Some(p))) = self.kernels.damage_cells() {
                 // its step's time (a step of this run's length, or the shortened last one)
