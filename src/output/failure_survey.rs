@@ -145,8 +145,9 @@ pub struct FailureSurvey {
     points: Vec<Point>,
     /// The first point of each cell (a cell's points are consecutive).
     cells: Vec<u32>,
-    /// Per operator: 6 x (3 corners) values, row-major, stress (11, 22, 33, 12, 23, 13) in the
-    /// material axes per corner displacement.
+    /// Per operator: (3 corners) x 6 values, column by column: the stress (11, 22, 33, 12,
+    /// 23, 13) in the material axes of each corner displacement. A point's six stresses are
+    /// then six independent sums over the columns (each in the columns' order).
     operators: Vec<Vec<f64>>,
     strengths: Vec<Strength>,
 }
@@ -255,10 +256,12 @@ impl FailureSurvey {
                     break;
                 }
                 let op = &self.operators[p.operator as usize];
-                let s: [f64; 6] = std::array::from_fn(|r| {
-                    let row = &op[r * ue.len()..(r + 1) * ue.len()];
-                    row.iter().zip(ue).map(|(a, b)| a * b).sum()
-                });
+                let mut s = [0.0f64; 6];
+                for (column, u) in op.chunks_exact(6).zip(ue) {
+                    for (s, a) in s.iter_mut().zip(column) {
+                        *s += a * u;
+                    }
+                }
                 let f = failure_indices(s, &self.strengths[p.strength as usize]);
                 let (k, v) = (0..5).fold((0, f[0]), |b, k| if f[k] > b.1 { (k, f[k]) } else { b });
                 best = merge(best, (f, Some((first + i, v, k))));
@@ -292,8 +295,8 @@ impl FailureSurvey {
         let mut operators = Vec::with_capacity(6 * SURVEY_COLUMNS * self.operators.len());
         for op in &self.operators {
             let n = op.len() / 6;
-            for row in op.chunks_exact(n) {
-                operators.extend_from_slice(row);
+            for r in 0..6 {
+                operators.extend((0..n).map(|j| op[6 * j + r]));
                 operators.extend(std::iter::repeat_n(0.0, SURVEY_COLUMNS - n));
             }
         }
@@ -364,10 +367,7 @@ fn cell_operators(
         [s[0][0], s[1][1], s[2][2], s[0][1], s[1][2], s[0][2]]
     };
     let columns = |gradient: &dyn Fn(usize) -> [[f64; 3]; 3], m: u32, law| -> Vec<f64> {
-        let cols: Vec<[f64; 6]> = (0..n).map(|j| stress(&gradient(j), m, law)).collect();
-        (0..6)
-            .flat_map(|r| cols.iter().map(move |c| c[r]))
-            .collect()
+        (0..n).flat_map(|j| stress(&gradient(j), m, law)).collect()
     };
     match (&model.layups[material as usize], kind) {
         (Some(layup), ElementKind::Hex8i) => {
