@@ -91,22 +91,23 @@ fn gradient<const N: usize>(g: &[[f64; 3]; N], u: &[[f64; 3]; N]) -> [[f64; 3]; 
 
 /// One point's step: the ply strains of `h` and of the step before's `h_prev`, the law's
 /// step (or, without `advance`, the stress of the old damage) and the global stress, with
-/// the point's dissipation per unit volume. `old` and `new` are the point's state.
+/// the point's dissipation per unit volume. `state` is the point's state, old on entry and
+/// new on return (with `advance`).
 fn point_stress(
     (law, axes): (&PlyDamage, &Rotation),
     (h, h_prev): (&[[f64; 3]; 3], &[[f64; 3]; 3]),
-    (old, new): (&[f64], &mut [f64]),
+    state: &mut [f64],
     (bands, dt, advance): ([f64; 2], f64, bool),
 ) -> ([[f64; 3]; 3], Dissipation) {
     let e = axes.strain_to_material(h);
-    let old: &[f64; POINT_STATE] = old.try_into().expect("a point's state");
+    let old: &[f64; POINT_STATE] = (&*state).try_into().expect("a point's state");
     if !advance {
         let eff = voigt_apply(&law.c0, &e);
         let c = law.ortho(acting(old, (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0)));
         return (axes.stress_to_global(&c.apply(&e)), Dissipation::default());
     }
     let step = law.step((&e, &axes.strain_to_material(h_prev)), old, bands, dt);
-    new.copy_from_slice(&step.state);
+    state.copy_from_slice(&step.state);
     (
         axes.stress_to_global(&step.stress),
         point_dissipation(&step),
@@ -218,15 +219,15 @@ pub fn tet_reach(x: &[[f64; 3]; 4], u: &[[f64; 3]; 4], ply: &DamagePly, laws: &D
 }
 
 /// A hex8 or hex8i element's step ([`DamageStep`]): corners `x`, corner displacements `u`
-/// and the step before's `u_prev`, its plies along `axis`, the old state of its points and
-/// the new (written only with `advance`), its modes, and the step `dt`.
+/// and the step before's `u_prev`, its plies along `axis`, the state of its points (old on
+/// entry, new on return: written only with `advance`), its modes, and the step `dt`.
 #[allow(clippy::too_many_arguments)]
 pub fn hex_damage(
     x: &[[f64; 3]; 8],
     (u, u_prev): (&[[f64; 3]; 8], &[[f64; 3]; 8]),
     (plies, axis): (&[DamagePly], usize),
     laws: &DamageLaws,
-    (old, new): (&[f64], &mut [f64]),
+    state: &mut [f64],
     modes: Modes,
     (dt, advance): (f64, bool),
 ) -> DamageStep<8> {
@@ -234,7 +235,7 @@ pub fn hex_damage(
     let geometry = hex_geometry(x, &points);
     let (alpha, alpha_prev) = (amplitudes(modes, u), amplitudes(modes, u_prev));
     // an element without damage: a point must start to damage for its forces to change
-    if advance && !any_damage(old) {
+    if advance && !any_damage(state) {
         let starts = (geometry.iter().enumerate()).any(|(i, (g, _, m))| {
             let (law, axes) = ply_law(laws, &plies[points[i].2]);
             law.initiates(&axes.strain_to_material(&point_gradient((g, m), u, &alpha)))
@@ -259,7 +260,7 @@ pub fn hex_damage(
         let (s, d) = point_stress(
             ply_law(laws, ply),
             (&h, &h_prev),
-            (&old[at.clone()], &mut new[at]),
+            &mut state[at],
             (ply.bands, dt, advance),
         );
         dissipated += d.scaled(*wdet);
@@ -280,7 +281,6 @@ pub fn hex_damage(
             f[j / 3][j % 3] += (0..9).map(|r| a0[24 * r + j] * r_alpha[r]).sum::<f64>();
         }
     }
-    let state = if advance { &*new } else { old };
     DamageStep {
         forces: f,
         dissipated,
@@ -364,14 +364,14 @@ pub fn hex_damage_operated(
     (u, u_prev): (&[[f64; 3]; 8], &[[f64; 3]; 8]),
     plies: &[DamagePly],
     laws: &DamageLaws,
-    (old, new): (&[f64], &mut [f64]),
+    state: &mut [f64],
     (dt, advance): (f64, bool),
 ) -> DamageStep<8> {
     let points = ops.volume.len();
     let per_ply = points / plies.len();
     let d = relative(u);
     let law_of = |i: usize| ply_law(laws, &plies[i / per_ply]);
-    if advance && !any_damage(old) {
+    if advance && !any_damage(state) {
         let starts =
             (0..points).any(|i| law_of(i).0.initiates(&apply_operator(&ops.strain[i], &d)));
         if !starts {
@@ -390,19 +390,19 @@ pub fn hex_damage_operated(
         let op = &ops.strain[i];
         let e = apply_operator(op, &d);
         let at = i * POINT_STATE..(i + 1) * POINT_STATE;
-        let state: &[f64; POINT_STATE] = old[at.clone()].try_into().expect("a point's state");
+        let old: [f64; POINT_STATE] = state[at.clone()].try_into().expect("a point's state");
         let stress = match advance {
             true => {
                 let ply = &plies[i / per_ply];
                 let prev = || apply_operator(op, &d_prev);
-                let step = law.step_lazily(&e, prev, state, ply.bands, dt);
-                new[at].copy_from_slice(&step.state);
+                let step = law.step_lazily(&e, prev, &old, ply.bands, dt);
+                state[at].copy_from_slice(&step.state);
                 dissipated += point_dissipation(&step).scaled(ops.volume[i]);
                 step.stress
             }
             false => {
                 let eff = voigt_apply(&law.c0, &e);
-                let c = law.ortho(acting(state, (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0)));
+                let c = law.ortho(acting(&old, (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0)));
                 c.apply(&e)
             }
         };
@@ -416,7 +416,6 @@ pub fn hex_damage_operated(
         forces[1 + j / 3][j % 3] = f[j];
         forces[0][j % 3] -= f[j];
     }
-    let state = if advance { &*new } else { old };
     DamageStep {
         forces,
         dissipated,
@@ -430,20 +429,20 @@ pub fn tet_damage(
     (u, u_prev): (&[[f64; 3]; 4], &[[f64; 3]; 4]),
     ply: &DamagePly,
     laws: &DamageLaws,
-    (old, new): (&[f64], &mut [f64]),
+    state: &mut [f64],
     (dt, advance): (f64, bool),
 ) -> DamageStep<4> {
     let (g, vol) = tet4::gradients(x);
     let (h, h_prev) = (gradient(&g, u), gradient(&g, u_prev));
+    let state = &mut state[..POINT_STATE];
     let (s, d) = point_stress(
         ply_law(laws, ply),
         (&h, &h_prev),
-        (old, &mut new[..POINT_STATE]),
+        state,
         (ply.bands, dt, advance),
     );
     let forces =
         g.map(|gk| [0, 1, 2].map(|a| vol * (s[a][0] * gk[0] + s[a][1] * gk[1] + s[a][2] * gk[2])));
-    let state = if advance { &new[..POINT_STATE] } else { old };
     DamageStep {
         forces,
         dissipated: d.scaled(vol),
@@ -637,24 +636,18 @@ mod tests {
         let n = 24 * POINT_STATE;
         let old: Vec<f64> = (0..n).map(|i| if i % 5 == 0 { 0.1 } else { 0.0 }).collect();
         for advance in [true, false] {
-            let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
+            let (mut a, mut b) = (old.clone(), old.clone());
             let direct = hex_damage(
                 &x,
                 (&u, &u_prev),
                 (&plies, 2),
                 &laws,
-                (&old, &mut a),
+                &mut a,
                 Modes::Elastic(&a0),
                 (1e-9, advance),
             );
-            let operated = hex_damage_operated(
-                &ops,
-                (&u, &u_prev),
-                &plies,
-                &laws,
-                (&old, &mut b),
-                (1e-9, advance),
-            );
+            let operated =
+                hex_damage_operated(&ops, (&u, &u_prev), &plies, &laws, &mut b, (1e-9, advance));
             let scale = direct
                 .forces
                 .iter()

@@ -25,15 +25,15 @@ pub(crate) struct BlockPass<'a> {
 }
 
 /// A kind's damageable element (`i`, its number among the block's damageable elements, at
-/// corners `x`): its step from displacement `u_prev` to `u` with its points' old state `old`
-/// (the new written to `new`), and its largest reach over its points at `u`.
+/// corners `x`): its step from displacement `u_prev` to `u` with its points' state (old on
+/// entry, new on return), and its largest reach over its points at `u`.
 pub(crate) trait ElementDamage<const N: usize>: Sync {
     fn step(
         &self,
         i: usize,
         x: &[[f64; 3]; N],
         u: (&[[f64; 3]; N], &[[f64; 3]; N]),
-        state: (&[f64], &mut [f64]),
+        state: &mut [f64],
     ) -> DamageStep<N>;
 
     fn reach(&self, i: usize, x: &[[f64; 3]; N], u: &[[f64; 3]; N]) -> f64;
@@ -104,16 +104,9 @@ pub(crate) fn damage_pass<const N: usize>(
                     [u[0] - dt * v[0], u[1] - dt * v[1], u[2] - dt * v[2]]
                 });
                 let was_damaged = *damaged;
-                let s = OLD_STATE.with_borrow_mut(|old| {
-                    old.clear();
-                    old.extend_from_slice(state);
-                    let s = kernel.step(i, &x, (&ue, &before), (old, state));
-                    if advance && !s.damaged && !was_damaged {
-                        // looked at and still undamaged: the state stands
-                        state.copy_from_slice(old);
-                    }
-                    s
-                });
+                // in place: each point reads its old state before it writes its new (an
+                // element looked at that stays undamaged keeps its zeros)
+                let s = kernel.step(i, &x, (&ue, &before), state);
                 if advance && !(s.damaged || was_damaged) {
                     // the elastic forces stand
                     return;
@@ -128,9 +121,4 @@ pub(crate) fn damage_pass<const N: usize>(
                 f.copy_from_slice(&s.forces);
             },
         );
-}
-
-thread_local! {
-    /// A pass's copy of an element's old state, one per thread.
-    static OLD_STATE: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
 }

@@ -73,7 +73,7 @@ impl ElementDamage<8> for HexDamage<'_> {
         i: usize,
         x: &[[f64; 3]; 8],
         u: (&[[f64; 3]; 8], &[[f64; 3]; 8]),
-        state: (&[f64], &mut [f64]),
+        state: &mut [f64],
     ) -> DamageStep<8> {
         let (block, laws) = (self.block, &self.laws);
         match block.operators_of(i) {

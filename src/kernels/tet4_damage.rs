@@ -47,7 +47,7 @@ impl ElementDamage<4> for TetDamage<'_> {
         i: usize,
         x: &[[f64; 3]; 4],
         u: (&[[f64; 3]; 4], &[[f64; 3]; 4]),
-        state: (&[f64], &mut [f64]),
+        state: &mut [f64],
     ) -> DamageStep<4> {
         tet_damage(
             x,
