@@ -5,8 +5,10 @@
 // at v_{n-1/2} and at v_{n+1/2}), the iteration's sweeps (max_iterations + 1 where it
 // stopped unconverged at the limit, max_iterations + 2 where it was still sweeping when the
 // recorded sweeps ran out: the host then runs the submission again with more), the impulse
-// on the secondary node (3: J_N n + J_T) and the work of a driven rigid body's driver since
-// the start (the impulse against the body's velocity). Invocation i < params.aux2 also
+// on the secondary node (3: J_N n + J_T), the work of a driven rigid body's driver since
+// the start (the impulse against the body's velocity) and the energy the normal impulse took
+// since the start (the impact loss: J_N against the mean of the normal velocity at
+// v_{n-1/2} and at v_{n+1/2}). Invocation i < params.aux2 also
 // drifts contact node i where it `is_late` (its v* is final after the sweeps), as
 // `explicit_drift` would. params.aux: the pairs; params.aux2: the contact nodes.
 

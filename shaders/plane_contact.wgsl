@@ -11,7 +11,8 @@
 // Results, SLOT floats per (plane node, plane): normal impulse, friction impulse (3), active
 // (0/1), sliding (0/1), linearised end-of-step gap, friction work since the start, and the
 // node's sweeps (max_iterations + 1 where it did not converge), the impulse J_N n + J_T (3)
-// and a driver's work (zero: a plane does not move).
+// a driver's work (zero: a plane does not move) and the impact loss since the start (the
+// normal impulse against the mean of the normal velocity before and after the step).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<uniform> step: Step;
@@ -52,7 +53,8 @@ fn plane_contact(@builtin(global_invocation_id) gid: vec3<u32>) {
     let inv = vec3_of(lumped[n].inv_mass);
     var vel = vec3<f32>(velocity[3u * n], velocity[3u * n + 1u], velocity[3u * n + 2u]);
     let acc = vec3<f32>(acceleration[3u * n], acceleration[3u * n + 1u], acceleration[3u * n + 2u]);
-    // v_{n-1/2} = v* - dt a_n: the slip before the step, for the friction work
+    // v_{n-1/2} = v* - dt a_n: the velocity before the step, for the friction work and the
+    // impact loss
     let before = vel - dt * acc;
     let un = split_value(displacement[n]);
     // the planes in reach: those the node could meet within four steps of its motion
@@ -143,9 +145,11 @@ fn plane_contact(@builtin(global_invocation_id) gid: vec3<u32>) {
         let sliding = law_sliding(law, planes[p].mu, jt, jn);
         results[o + SLOT_SLIDING] = select(0.0, 1.0, sliding);
         results[o + SLOT_GAP] -= dt * rn;
+        let bn = dot(before, nrm);
+        results[o + SLOT_IMPACT_LOSS] -= jn * 0.5 * (bn + rn);
         if (law_is_frictional(law)) {
             let slip = vel - rn * nrm;
-            let slip_before = before - dot(before, nrm) * nrm;
+            let slip_before = before - bn * nrm;
             results[o + SLOT_FRICTION_WORK] -= dot(jt, 0.5 * (slip_before + slip));
         }
         results[o + SLOT_SWEEPS] = reported;

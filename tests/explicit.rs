@@ -396,9 +396,14 @@ fn explicit_block_sliding_on_a_floor_stops_at_v0_over_mu_g() {
     let e = h.col("total_energy");
     let rise = e.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max) / e[0];
     let balance = (e[0] - e[e.len() - 1] - h.last("floor.friction_work")) / e[0];
+    // with what the normal impulses took, the balance closes on every row
+    let (work, loss) = (h.col("floor.friction_work"), h.col("floor.impact_loss"));
+    let closed = (0..e.len())
+        .map(|k| (e[k] + work[k] + loss[k] - e[0]).abs() / e[0])
+        .fold(0.0, f64::max);
     eprintln!(
-        "explicit slide: dt {dt:.3e}, {} steps, stop {t_stop:.4} (exact {t_exact:.4}), distance {distance:.5} (exact {d_exact:.5}), energy rise {rise:.2e}, balance {balance:.2e}, {:.2} sweeps/step",
-        s.steps, s.iterations_mean
+        "explicit slide: dt {dt:.3e}, {} steps, stop {t_stop:.4} (exact {t_exact:.4}), distance {distance:.5} (exact {d_exact:.5}), energy rise {rise:.2e}, balance {balance:.2e}, impact loss {:.2e}, closed {closed:.2e}, {:.2} sweeps/step",
+        s.steps, h.last("floor.impact_loss") / e[0], s.iterations_mean
     );
     assert!((t_stop / t_exact - 1.0).abs() <= 0.02, "stop time {t_stop}");
     assert!(
@@ -409,6 +414,10 @@ fn explicit_block_sliding_on_a_floor_stops_at_v0_over_mu_g() {
     assert!(
         balance <= 1e-3,
         "friction work against energy lost {balance}"
+    );
+    assert!(
+        closed <= 1e-6,
+        "the closed balance is off by {closed:.2e} of E0"
     );
     assert_eq!(s.unconverged_steps, 0);
 }

@@ -467,7 +467,7 @@ fn constraint_fields(c: &[Constraint]) -> Vec<f64> {
             f.push(c.gap);
             f.push(c.jn);
             f.extend(c.jt);
-            f.extend(c.slip);
+            f.extend(c.before);
             f
         })
         .collect()

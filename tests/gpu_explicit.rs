@@ -499,7 +499,7 @@ fn resident_frames_do_not_change_the_history() {
     let (b, hb) = run_text_on("resident_frames", &slide_scene(0.2, true), gpu);
     a.expect("run");
     b.expect("run with frames");
-    assert_eq!(ha.rows, hb.rows, "frames changed the history");
+    assert_eq!(ha.bits(), hb.bits(), "frames changed the history");
     let frames = std::fs::read_dir(out_path("resident_frames"))
         .unwrap()
         .filter(|e| {

@@ -222,7 +222,7 @@ fn scenes_on_several_threads_share_the_device() {
                         let (s, h) = run_text_on(&format!("{tag}_{round}_{t}"), text, gpu);
                         let s = s.unwrap_or_else(|e| panic!("{tag} round {round} thread {t}: {e}"));
                         assert_eq!(s.status, "completed", "{tag}");
-                        assert_eq!(h.rows, alone[k].rows, "{tag} round {round} thread {t}");
+                        assert_eq!(h.bits(), alone[k].bits(), "{tag} round {round} thread {t}");
                     }
                 });
             }

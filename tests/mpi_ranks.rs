@@ -68,7 +68,7 @@ fn impact_command(ranks: usize, scene: &Path, out: &Path, extra: [&str; 3]) -> C
 
 /// Whether a column is a sum over the model (the energies and the loads' work, a body's velocity, a named fix's
 /// reaction, `reaction:NAME` among `bodies`; on the resident GPU step the contact forces
-/// too, which its device adds over the plane nodes), and its kind.
+/// and impact losses too, which its device adds over the plane nodes), and its kind.
 fn sum_kind(column: &str, bodies: &[String], resident: bool) -> Option<&'static str> {
     let reaction = |b: &String| {
         b.strip_prefix("reaction:")
@@ -98,6 +98,8 @@ fn sum_kind(column: &str, bodies: &[String], resident: bool) -> Option<&'static 
         && (column.ends_with(".normal_force") || column.ends_with(".tangential_force"))
     {
         Some("contact force")
+    } else if resident && column.ends_with(".impact_loss") {
+        Some("impact loss")
     } else {
         None
     }

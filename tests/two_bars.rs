@@ -238,7 +238,7 @@ fn a_contact_region_keeps_the_faces_inside_it() {
     assert_eq!(plain.expect("plain run").status, "completed");
     assert_eq!(kept.expect("region run").status, "completed");
     assert_eq!(hp.columns, hk.columns);
-    assert_eq!(hp.rows, hk.rows);
+    assert_eq!(hp.bits(), hk.bits());
     let none = with("{ min = [-0.5, -1.0, -1.0], max = [0.5, 0.5, 2.0] }");
     let scene = impact::scene::Scene::parse(&none, std::path::Path::new("region.toml"))
         .expect("the scene reads");
@@ -272,7 +272,7 @@ fn initial_velocities_on_a_region_give_the_moving_body() {
     assert_eq!(plain.expect("plain run").status, "completed");
     assert_eq!(set.expect("region run").status, "completed");
     assert_eq!(hp.columns, hs.columns);
-    assert_eq!(hp.rows, hs.rows);
+    assert_eq!(hp.bits(), hs.bits());
     let none = given("{ min = [5.0, 0.0, 0.0], max = [6.0, 1.0, 1.0] }");
     let scene = impact::scene::Scene::parse(&none, std::path::Path::new("velocity.toml"))
         .expect("the scene reads");

@@ -75,7 +75,6 @@ fn constrain_pair(p: u32, other: u32) {
         gap = -dot(x, nrm);
         reach = gap >= -4.0 * step.dt * length(vn);
     }
-    let slip = rel_before - dot(rel_before, nrm) * nrm;
     var warm = vec4<f32>(0.0);
     if (reach && face.x != NO_FACE) {
         warm = warm_impulses(p, nrm);
@@ -88,7 +87,7 @@ fn constrain_pair(p: u32, other: u32) {
         0.0,
         warm.w,
         float3(warm.xyz),
-        float3(slip),
+        float3(rel_before),
         select(0u, 1u, reach),
     );
     keys[p] = key;

@@ -45,10 +45,13 @@ fn report_pair(p: u32, reported: u32) {
     let sliding = law_sliding(law, pairs[p].mu, jt, c.jn);
     results[o + SLOT_SLIDING] = select(0.0, 1.0, sliding);
     results[o + SLOT_GAP] = c.gap - step.dt * rn;
+    let before = vec3_of(c.before);
+    let bn = dot(before, nrm);
+    results[o + SLOT_IMPACT_LOSS] -= c.jn * 0.5 * (bn + rn);
     if (law_is_frictional(law)) {
         let slip = rel - rn * nrm;
-        let before = vec3_of(c.slip);
-        results[o + SLOT_FRICTION_WORK] -= dot(jt, 0.5 * (before + slip));
+        let slip_before = before - bn * nrm;
+        results[o + SLOT_FRICTION_WORK] -= dot(jt, 0.5 * (slip_before + slip));
     }
     let j = c.jn * nrm + jt;
     results[o + SLOT_IMPULSE] = j.x;

@@ -110,7 +110,7 @@ const WORKGROUP: u32 = 64u;
 // The result slot of a (secondary node, plane) or (node, face) pair of `plane_contact` and
 // `contact_report`: SLOT floats, the fields at these offsets (friction impulse and impulse:
 // 3 floats).
-const SLOT: u32 = 13u;
+const SLOT: u32 = 14u;
 const SLOT_NORMAL_IMPULSE: u32 = 0u;
 const SLOT_FRICTION_IMPULSE: u32 = 1u;
 const SLOT_ACTIVE: u32 = 4u;
@@ -120,6 +120,7 @@ const SLOT_FRICTION_WORK: u32 = 7u;
 const SLOT_SWEEPS: u32 = 8u;
 const SLOT_IMPULSE: u32 = 9u;
 const SLOT_DRIVER_WORK: u32 = 12u;
+const SLOT_IMPACT_LOSS: u32 = 13u;
 // The kinds of a rigid body's analytic surface (`RigidSurface.kind`).
 const RIGID_SPHERE: u32 = 0u;
 const RIGID_CAPSULE: u32 = 1u;
@@ -282,7 +283,7 @@ struct Constraint {
     compliance: f32,
     jn: f32,
     jt: Float3,
-    slip: Float3,
+    before: Float3,
     in_reach: u32,
 }
 

@@ -627,6 +627,7 @@ impl Integrator for DomainSolver<'_> {
             .sum();
         let ama = self.talk(|r| r.sum(&[mine]))[0];
         self.measure_shift = 0.125 * (self.dt * self.dt - dt * dt) * ama;
+        crate::integrate::explicit::shift_half_step(&mut self.v_half, &self.a, (self.dt, dt));
         self.dt = dt;
     }
 

@@ -468,7 +468,7 @@ device_struct! {
         pub compliance: f32,
         pub jn: f32,
         pub jt: [f32; 3],
-        pub slip: [f32; 3],
+        pub before: [f32; 3],
         pub in_reach: u32,
     }
 }
@@ -483,7 +483,7 @@ impl From<GpuConstraint> for kernels::Constraint {
             compliance: c.compliance as f64,
             jn: c.jn as f64,
             jt: c.jt.map(f64::from),
-            slip: c.slip.map(f64::from),
+            before: c.before.map(f64::from),
             in_reach: c.in_reach != 0,
         }
     }
@@ -499,7 +499,7 @@ impl From<&kernels::Constraint> for GpuConstraint {
             compliance: c.compliance as f32,
             jn: c.jn as f32,
             jt: c.jt.map(|x| x as f32),
-            slip: c.slip.map(|x| x as f32),
+            before: c.before.map(|x| x as f32),
             in_reach: c.in_reach as u32,
         }
     }
@@ -760,6 +760,7 @@ pub fn shared_constants() -> Vec<(&'static str, u32)> {
         ("SLOT_SWEEPS", u(slot::SWEEPS)),
         ("SLOT_IMPULSE", u(slot::IMPULSE)),
         ("SLOT_DRIVER_WORK", u(slot::DRIVER_WORK)),
+        ("SLOT_IMPACT_LOSS", u(slot::IMPACT_LOSS)),
         (
             "SURVEY_COLUMNS",
             u(crate::kernels::failure_survey::SURVEY_COLUMNS),

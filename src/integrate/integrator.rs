@@ -153,6 +153,7 @@ pub trait Integrator {
         (self.reports().iter())
             .map(|r| InterfaceEnd {
                 friction_work: r.friction_work,
+                impact_loss: Some(r.impact_loss).filter(|x| !x.is_nan()),
                 ..Default::default()
             })
             .collect()

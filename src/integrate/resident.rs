@@ -380,6 +380,7 @@ impl RowReader<'_> {
                 max_penetration: q[6],
                 sliding: q[5].round() as usize,
                 friction_work: q[7],
+                impact_loss: q[slot::IMPACT_LOSS],
                 driver_work: q[slot::DRIVER_WORK],
                 // on the primary side: minus the impulses on the secondary nodes
                 force: std::array::from_fn(|a| -j[a] / self.dt),

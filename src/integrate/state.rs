@@ -21,6 +21,8 @@ pub struct InterfaceEnd {
     pub penalty_tangential: Option<f64>,
     /// Energy dissipated by friction over the run.
     pub friction_work: f64,
+    /// Energy the normal impulses took over the run (the explicit paths).
+    pub impact_loss: Option<f64>,
     pub penalty_increases: usize,
     pub penalty_decreases: usize,
 }
@@ -106,6 +108,11 @@ pub struct ContactReport {
     pub sliding: usize,
     /// Energy dissipated by friction since the start of the run.
     pub friction_work: f64,
+    /// Energy the normal impulses took since the start of the run: their share of the
+    /// change of the time-centred energy, $-\sum J_N (v_N(v_{n-1/2}) + v_N(v_{n+1/2}))/2$
+    /// per step, as `friction_work` is the tangential impulses' (explicit steps; NaN where
+    /// the engine does not measure it).
+    pub impact_loss: f64,
     /// Work done on the model since the start of the run by the driver of a prescribed rigid
     /// body (the interface's contact impulses times the body's velocity); the energy
     /// balance counts it as external work.

@@ -5,7 +5,8 @@
 //! and is in reach if $g \ge -4 \Delta t |v^*|$; a rigid body's pair takes the gap and normal
 //! of the body's surface ([`RigidShape::distance`], `shaders/shared/rigid_shape.wgsl`) and a
 //! face of one node, the body's, and is in reach if $g \ge -4 \Delta t |v^* - v^*_b|$. The
-//! slip at $v_{n-1/2} = v^* - \Delta t\, a_n$ is kept for the friction work. Against a face or
+//! relative velocity at $v_{n-1/2} = v^* - \Delta t\, a_n$ is kept for the friction work and
+//! the impact loss. Against a face or
 //! a rigid body the impulses start from the last step's (the warm start; the report's
 //! `results`), the tangential one without its part along the new normal and returned onto
 //! the law's set ([`ContactLaw::projected`]); against a plane from zero.
@@ -65,8 +66,8 @@ pub struct Constraint {
     pub compliance: f64,
     pub jn: f64,
     pub jt: [f64; 3],
-    /// Relative tangential velocity at $v_{n-1/2}$.
-    pub slip: [f64; 3],
+    /// The relative velocity at $v_{n-1/2}$ (for the friction work and the impact loss).
+    pub before: [f64; 3],
     pub in_reach: bool,
 }
 
@@ -80,7 +81,7 @@ impl Default for Constraint {
             compliance: 0.0,
             jn: 0.0,
             jt: [0.0; 3],
-            slip: [0.0; 3],
+            before: [0.0; 3],
             in_reach: false,
         }
     }
@@ -178,9 +179,7 @@ pub fn contact_constraints(
             let speed = norm([v[3 * n], v[3 * n + 1], v[3 * n + 2]]);
             c.in_reach = c.gap >= -4.0 * dt * speed;
         }
-        let rel = relative(&c, pair.node, &before);
-        let rn = dot(rel, c.normal);
-        c.slip = std::array::from_fn(|ax| rel[ax] - rn * c.normal[ax]);
+        c.before = relative(&c, pair.node, &before);
         if c.in_reach && c.face[0] != NO_FACE {
             (c.jn, c.jt) = warm_impulses(results, p, pair, c.normal);
         }

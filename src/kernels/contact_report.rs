@@ -1,8 +1,9 @@
 //! The contact results of the step (CPU twin of `shaders/contact_report.wgsl`), in the plane
 //! kernel's layout ([`super::plane_contact::SLOT`] per pair): normal impulse, friction
 //! impulse (3), active, sliding, linearised end-of-step gap ($-\infty$ out of reach), friction
-//! work since the start, the iteration's sweeps, the impulse on the secondary node (3) and
-//! the work of a driven rigid body's driver since the start. (Where the step's predictor ran
+//! work since the start, the iteration's sweeps, the impulse on the secondary node (3), the
+//! work of a driven rigid body's driver since the start and the energy the normal impulse
+//! took since the start (the impact loss). (Where the step's predictor ran
 //! in the search's bounds, the kernel also drifts the contact nodes: that is
 //! [`super::explicit_drift`], whose bits `tests/gpu_contact.rs` holds the device's to.)
 
@@ -12,7 +13,8 @@ use super::plane_contact::{slot, SLOT};
 use crate::geometry::vector::dot;
 
 /// `sweeps`: the count to report ([`super::sweep_control::SweepState::reported`]); the
-/// friction work and driver work entries of `results` carry over from the last step.
+/// friction work, driver work and impact loss entries of `results` carry over from the last
+/// step.
 pub fn contact_report(
     dt: f64,
     sweeps: u32,
@@ -38,10 +40,13 @@ pub fn contact_report(
         let sliding = pair.law.is_sliding(c.jt, c.jn, 1e-6);
         r[slot::SLIDING] = if sliding { 1.0 } else { 0.0 };
         r[slot::GAP] = c.gap - dt * rn;
+        let bn = dot(c.before, c.normal);
+        r[slot::IMPACT_LOSS] -= c.jn * 0.5 * (bn + rn);
         if pair.law.is_frictional() {
             let slip: [f64; 3] = std::array::from_fn(|a| rel[a] - rn * c.normal[a]);
+            let before: [f64; 3] = std::array::from_fn(|a| c.before[a] - bn * c.normal[a]);
             r[slot::FRICTION_WORK] -= (0..3)
-                .map(|a| c.jt[a] * 0.5 * (c.slip[a] + slip[a]))
+                .map(|a| c.jt[a] * 0.5 * (before[a] + slip[a]))
                 .sum::<f64>();
         }
         let j: [f64; 3] = std::array::from_fn(|a| c.jn * c.normal[a] + c.jt[a]);

@@ -16,7 +16,7 @@ use crate::kernels::impulse::impulse_update;
 
 /// Results per (plane node, plane), and per (node, face) pair of `contact_report`: the fields
 /// at the offsets of [`slot`].
-pub const SLOT: usize = 13;
+pub const SLOT: usize = 14;
 
 /// The fields of a result slot (`SLOT_*` in `shaders/shared/types.wgsl`).
 pub mod slot {
@@ -37,6 +37,8 @@ pub mod slot {
     pub const IMPULSE: usize = 9;
     /// The work of a driven rigid body's driver since the start (zero against a plane).
     pub const DRIVER_WORK: usize = 12;
+    /// The energy the normal impulses took since the start.
+    pub const IMPACT_LOSS: usize = 13;
 
     /// Whether the history reduces field `f` over the nodes by its largest value (the
     /// deepest gap, the most sweeps) rather than by its sum.
@@ -97,7 +99,8 @@ pub fn plane_contact(
     for (i, pn) in nodes.iter().enumerate() {
         let n = pn.node as usize;
         let vel = [v[3 * n], v[3 * n + 1], v[3 * n + 2]];
-        // v_{n-1/2} = v* - dt a_n: the slip before the step, for the friction work
+        // v_{n-1/2} = v* - dt a_n: the velocity before the step, for the friction work and
+        // the impact loss
         let before: [f64; 3] = std::array::from_fn(|ax| vel[ax] - dt * a[3 * n + ax]);
         let x: [f64; 3] = std::array::from_fn(|ax| reference[n][ax] + u[3 * n + ax]);
         let (gap, mask) = planes_in_reach(planes, pn.planes, x, -4.0 * dt * norm(vel));
@@ -204,7 +207,8 @@ fn sweep(
 
 /// Writes the node's results, [`SLOT`] floats per plane, into `r`: zeros and no gap for the
 /// planes it is not secondary to (`own`); the impulses, whether it is active and sliding,
-/// the linearised end-of-step gap, the friction work added and the sweeps for the others.
+/// the linearised end-of-step gap, the friction work and impact loss added and the sweeps
+/// for the others.
 fn report(
     dt: f64,
     planes: &[PlaneData],
@@ -229,9 +233,10 @@ fn report(
         let sliding = law.is_sliding(jt, jn, 1e-6);
         r[slot::SLIDING] = f64::from(u8::from(sliding));
         r[slot::GAP] = gap[p] - dt * rn;
+        let bn = dot(before, nrm);
+        r[slot::IMPACT_LOSS] -= jn * 0.5 * (bn + rn);
         if law.is_frictional() {
             let slip: [f64; 3] = std::array::from_fn(|ax| vel[ax] - rn * nrm[ax]);
-            let bn = dot(before, nrm);
             let slip_before: [f64; 3] = std::array::from_fn(|ax| before[ax] - bn * nrm[ax]);
             r[slot::FRICTION_WORK] -= (0..3)
                 .map(|ax| jt[ax] * 0.5 * (slip_before[ax] + slip[ax]))

@@ -193,6 +193,9 @@ impl History {
             let _ = write!(l, ",{}", contacts[i].sliding);
             num(l, contacts[i].friction_work);
         }
+        for c in contacts {
+            num(l, c.impact_loss);
+        }
         for &i in &self.rigid {
             for x in contacts[i].force {
                 num(l, x);
@@ -379,6 +382,10 @@ pub(crate) fn column_names(model: &Model) -> Vec<String> {
             cols.push(format!("{}.{c}", itf.name));
         }
     }
+    // the energy each contact's normal impulses took (NaN where not measured)
+    for itf in &model.interfaces {
+        cols.push(format!("{}.impact_loss", itf.name));
+    }
     // the force on each rigid body by each of its contacts
     for itf in model.interfaces.iter().filter(|i| i.is_rigid()) {
         for c in ["fx", "fy", "fz"] {
@@ -554,6 +561,7 @@ mod tests {
             active: 12,
             sliding: 3,
             friction_work: f64::NAN,
+            impact_loss: 0.125,
             ..Default::default()
         };
         let rows = (&[[1.0, -0.0, f64::INFINITY]][..], &[c][..], &[][..]);
@@ -565,7 +573,7 @@ mod tests {
         assert_eq!(
             written,
             format!(
-                "1e-3,7,0.25,1e-300,{total},1,-0,inf,1.5e20,0,12,0,3,NaN,2.5,0.5,1.5,NaN,NaN,NaN\n"
+                "1e-3,7,0.25,1e-300,{total},1,-0,inf,1.5e20,0,12,0,3,NaN,0.125,2.5,0.5,1.5,NaN,NaN,NaN\n"
             )
         );
     }

@@ -16,6 +16,9 @@ pub struct InterfaceSummary {
     pub penalty_tangential_final: Option<f64>,
     /// Energy dissipated by friction over the run.
     pub friction_work: f64,
+    /// Energy the normal impulses took over the run (explicit runs).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub impact_loss: Option<f64>,
     pub penalty_increases: usize,
     pub penalty_decreases: usize,
     pub peak_normal_force: f64,

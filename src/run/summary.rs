@@ -339,6 +339,7 @@ fn interface_summaries(
             penalty_normal_final: end.penalty_normal,
             penalty_tangential_final: end.penalty_tangential,
             friction_work: end.friction_work,
+            impact_loss: end.impact_loss,
             penalty_increases: end.penalty_increases,
             penalty_decreases: end.penalty_decreases,
             peak_normal_force: p,

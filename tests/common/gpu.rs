@@ -35,7 +35,7 @@ pub fn skip_gpu(test: &str) -> bool {
 pub fn compare_histories(hc: &History, hg: &History, h: f64, bound: f64) {
     assert_eq!(hc.rows.len(), hg.rows.len());
     assert_eq!(hc.columns, hg.columns);
-    let energy = family_scale(hc, &["_energy", "friction_work"]);
+    let energy = family_scale(hc, &["_energy", "friction_work", "impact_loss"]);
     let speed = family_scale(hc, &[".vx", ".vy", ".vz"]);
     let disp = family_scale(hc, &[".ux", ".uy", ".uz"]);
     let force = family_scale(
@@ -43,7 +43,8 @@ pub fn compare_histories(hc: &History, hg: &History, h: f64, bound: f64) {
         &["normal_force", "tangential_force", ".fx", ".fy", ".fz"],
     );
     for (j, c) in hc.columns.iter().enumerate() {
-        let scale = if c.ends_with("_energy") || c.ends_with("friction_work") {
+        let energy_like = ["_energy", "friction_work", "impact_loss"];
+        let scale = if energy_like.iter().any(|f| c.ends_with(f)) {
             energy
         } else if c.ends_with(".vx") || c.ends_with(".vy") || c.ends_with(".vz") {
             speed

@@ -10,6 +10,14 @@ pub struct History {
 }
 
 impl History {
+    /// The rows bit for bit, to compare two runs' histories exactly (a column an engine
+    /// does not measure is NaN in both).
+    pub fn bits(&self) -> Vec<Vec<u64>> {
+        (self.rows.iter())
+            .map(|r| r.iter().map(|x| x.to_bits()).collect())
+            .collect()
+    }
+
     pub fn read(path: &Path) -> History {
         History::parse(&std::fs::read_to_string(path).expect("history.csv exists"))
     }

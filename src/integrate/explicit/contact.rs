@@ -75,7 +75,10 @@ pub struct ExplicitContact {
     /// Sum of the weights of the step's constraints on each node.
     touches: Vec<f64>,
     delta: Vec<[f64; 3]>,
-    slip_before: Vec<[f64; 3]>,
+    /// Each constraint's relative velocity at v_{n-1/2} (before the impulses): with it the
+    /// friction work and the impact loss are the tangential and normal impulses' shares of
+    /// the change of the time-centred energy (docs/method-notes.md).
+    before: Vec<[f64; 3]>,
     /// Whether the interfaces' entries came from a checkpoint, not from this contact's last
     /// constraints: the next step clears them all.
     restored: bool,
@@ -180,7 +183,7 @@ impl ExplicitContact {
             constraints: Vec::new(),
             touches: vec![0.0; model.mesh.node_count()],
             delta: vec![[0.0; 3]; model.mesh.node_count()],
-            slip_before: Vec::new(),
+            before: Vec::new(),
             restored: false,
         }
     }
@@ -266,15 +269,11 @@ impl ExplicitContact {
                 self.restored = false;
             }
         }
-        // the slip at v_{n-1/2}: with it the friction work is the tangential share of the
-        // impulses' change of the time-centred energy (docs/method-notes.md)
-        self.slip_before.clear();
+        // the relative velocities at v_{n-1/2}, for the friction work and the impact loss
+        self.before.clear();
         let omega = omegas(spins.as_deref());
         for c in &self.constraints {
-            let rel = relative_velocity(c, f.v_half, &omega);
-            let rn = dot(rel, c.normal);
-            self.slip_before
-                .push(std::array::from_fn(|a| rel[a] - rn * c.normal[a]));
+            self.before.push(relative_velocity(c, f.v_half, &omega));
         }
         let mut report = StepReport {
             iterations: 0,
@@ -649,6 +648,7 @@ impl ExplicitContact {
         for st in &mut self.interfaces {
             st.report = ContactReport {
                 friction_work: st.report.friction_work,
+                impact_loss: st.report.impact_loss,
                 driver_work: st.report.driver_work,
                 ..Default::default()
             };
@@ -675,11 +675,14 @@ impl ExplicitContact {
             }
             // the linearised end-of-step gap
             r.max_penetration = r.max_penetration.max(c.gap - dt * rn);
+            let before = self.before[i];
+            let bn = dot(before, c.normal);
+            r.impact_loss -= jn[i] * 0.5 * (bn + rn);
             if c.law.is_frictional() {
                 let slip: [f64; 3] = std::array::from_fn(|a| rel[a] - rn * c.normal[a]);
-                let before = self.slip_before[i];
+                let slip_before: [f64; 3] = std::array::from_fn(|a| before[a] - bn * c.normal[a]);
                 r.friction_work -= (0..3)
-                    .map(|a| jt[i][a] * 0.5 * (before[a] + slip[a]))
+                    .map(|a| jt[i][a] * 0.5 * (slip_before[a] + slip[a]))
                     .sum::<f64>();
             }
         }

@@ -496,6 +496,7 @@ impl Integrator for ExplicitSolver<'_> {
             .map(|(d, a)| self.mass[d / 3] * a * a)
             .sum();
         self.measure_shift = 0.125 * (self.dt * self.dt - dt * dt) * ama;
+        shift_half_step(&mut self.v_half, &self.a, (self.dt, dt));
         self.dt = dt;
     }
 
@@ -665,5 +666,14 @@ fn scatter_block(
                 out[e[k] as usize] += v[k];
             }
         }
+    }
+}
+
+/// The velocities before the contact's impulses as a step shortened from `h` to h' (`h2`) sees
+/// them: $v_n - \tfrac12 h' a_n = v_{n-1/2} + \tfrac12 (h - h') a_n$ (the device's
+/// $v^* - h' a_n$), against which the impulses' share of the energy is measured.
+pub(crate) fn shift_half_step(v_half: &mut [f64], a: &[f64], (h, h2): (f64, f64)) {
+    for (v, a) in v_half.iter_mut().zip(a) {
+        *v += 0.5 * (h - h2) * a;
     }
 }

@@ -979,7 +979,13 @@ impl Integrator for ImplicitSolver<'_> {
     }
 
     fn reports(&self) -> Vec<ContactReport> {
-        self.contact.interfaces.iter().map(|i| i.report).collect()
+        (self.contact.interfaces.iter())
+            .map(|i| ContactReport {
+                // not measured by the implicit steps (scene-format.md)
+                impact_loss: f64::NAN,
+                ..i.report
+            })
+            .collect()
     }
 
     fn body_spins(&self) -> Vec<super::state::ProbeValues> {
@@ -1063,6 +1069,7 @@ impl Integrator for ImplicitSolver<'_> {
                 penalty_normal: Some(st.penalty.eps),
                 penalty_tangential: st.friction.as_ref().map(|f| f.penalty.eps),
                 friction_work: st.friction.as_ref().map_or(0.0, |f| f.work),
+                impact_loss: None,
                 penalty_increases: st.penalty.increases,
                 penalty_decreases: st.penalty.decreases,
             })

@@ -507,6 +507,8 @@ impl Integrator for StaticSolver<'_> {
         for (k, r) in reports.iter_mut().enumerate() {
             // what the friction took and the stick slopes do not hold
             r.friction_work = self.state.friction_loss[k] - self.contact.stick_energy(k);
+            // no inertia, no impacts (scene-format.md)
+            r.impact_loss = f64::NAN;
         }
         reports
     }
