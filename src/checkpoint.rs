@@ -36,6 +36,10 @@ pub struct Tally {
     pub energy_initial: f64,
     pub energy_final: f64,
     pub energy_max: f64,
+    /// The largest departure of the closed balance, total energy + friction work + impact
+    /// loss of every contact, from the initial energy (the runs whose contacts measure their
+    /// impact loss: explicit ones).
+    pub balance_departure: Option<f64>,
     /// The first step whose contact iteration did not converge, and its time.
     pub first_unconverged: Option<(usize, f64)>,
     /// Each interface's largest normal force so far.

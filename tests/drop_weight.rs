@@ -294,6 +294,12 @@ fn the_damaged_coupon_delaminates_and_keeps_its_balance() {
         closed <= 1e-3 * e[0],
         "the closed balance is off by {closed} mJ"
     );
+    // the summary's is the history's
+    let reported = s.energy_balance.expect("an explicit run's energy balance");
+    assert!(
+        (reported - closed).abs() <= 1e-9 * e[0],
+        "{reported} against {closed}"
+    );
 }
 
 /// The damage energy by kind: the summary's plies' fibre and matrix shares are the

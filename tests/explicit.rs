@@ -419,5 +419,10 @@ fn explicit_block_sliding_on_a_floor_stops_at_v0_over_mu_g() {
         closed <= 1e-6,
         "the closed balance is off by {closed:.2e} of E0"
     );
+    let reported = s.energy_balance.expect("an explicit run's energy balance") / e[0];
+    assert!(
+        (reported - closed).abs() <= 1e-9,
+        "{reported} against {closed}"
+    );
     assert_eq!(s.unconverged_steps, 0);
 }

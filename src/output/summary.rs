@@ -152,6 +152,10 @@ pub struct Summary {
     pub energy_initial: f64,
     pub energy_final: f64,
     pub energy_max: f64,
+    /// Explicit runs: the largest departure over the run of total energy + friction work +
+    /// impact loss (every contact's) from `energy_initial`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub energy_balance: Option<f64>,
     /// With ply strengths: the largest of each failure index over the run, by name
     /// (`material::failure::INDICES`); absent where the engine does not survey every step
     /// (the resident GPU step, MPI ranks).

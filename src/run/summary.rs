@@ -69,6 +69,13 @@ pub(super) fn count_step(
     tally.unconverged_steps += usize::from(!r.converged);
     tally.energy_final = e;
     tally.energy_max = tally.energy_max.max(e);
+    let taken: f64 = (reports.iter())
+        .map(|c| c.friction_work + c.impact_loss)
+        .sum();
+    if !taken.is_nan() {
+        let departure = (e + taken - tally.energy_initial).abs();
+        tally.balance_departure = Some(tally.balance_departure.unwrap_or(0.0).max(departure));
+    }
     if !r.converged && tally.first_unconverged.is_none() {
         tally.first_unconverged = Some(step);
     }
@@ -235,6 +242,9 @@ pub(super) fn fill_summary(
 ) {
     copy_tally(summary, tally);
     summary.external_work = (!model.loads.is_empty()).then_some(tally.external_work);
+    // the explicit engines measure every contact's impact loss
+    let explicit = solver.method() == crate::scene::Method::Explicit;
+    summary.energy_balance = tally.balance_departure.filter(|_| explicit);
     let mut by_kind = None;
     if let Some(d) = solver.damage() {
         summary.damage_energy = Some(d.energy);
