@@ -429,7 +429,7 @@ fn run_command(
         return Ok(exit::SUCCESS);
     }
     println!(
-        "{}: {} steps in {:.2} s{} on {} ({} contact iterations, at most {} in a step); energy {:.6e} -> {:.6e}; {}; results in {}",
+        "{}: {} steps in {:.2} s{} on {} ({} contact iterations, at most {} in a step); energy {:.6e} -> {:.6e}{}; {}; results in {}",
         scene.display(),
         s.steps,
         s.wall_seconds,
@@ -440,6 +440,7 @@ fn run_command(
         s.iterations_max,
         s.energy_initial,
         s.energy_final,
+        balance_text(&s),
         s.status,
         dir.display()
     );
@@ -521,6 +522,17 @@ fn same_on_every_rank(e: &ImpactError) -> bool {
 fn world_abort(universe: &mpi::environment::Universe, code: u8) -> ! {
     use mpi::traits::Communicator;
     universe.world().abort(i32::from(code))
+}
+
+/// The run line's balance, where the summary has one: its largest departure, the contacts'
+/// losses counted, as a share of the initial energy.
+fn balance_text(s: &impact::output::Summary) -> String {
+    match s.energy_balance {
+        Some(b) if s.energy_initial > 0.0 => {
+            format!(" (balance within {:.2}%)", 100.0 * b / s.energy_initial)
+        }
+        _ => String::new(),
+    }
 }
 
 /// Runs the scene on this process; started by an MPI launcher with more than one process,
