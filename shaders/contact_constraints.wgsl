@@ -6,10 +6,9 @@
 // rigid body's pair takes the gap and normal of the body's surface (`rigid_distance`) and a
 // face of one node, the body's, and is in reach if g >= -4 dt |v* - v*_b|.
 // The relative velocity at v_{n-1/2} = v* - dt a_n is kept for the friction work and the
-// impact loss. The compliance starts
-// at zero, and the impulses at the last step's (`results`, the report's) against a face or
-// a rigid body, zero against a plane (the warm start; `contact_compliance` keeps them only
-// where the constraint can be enforced). keys[p]: the pair's face for the bucket sort by face (an
+// impact loss. The compliance starts at zero, and the impulses at the last step's
+// (`results`, the report's) against a face or a rigid body, zero against a plane (the warm
+// start; `contact_compliance` keeps them only where the constraint can be enforced). keys[p]: the pair's face for the bucket sort by face (an
 // in-reach surface pair), otherwise params.aux (one bucket past the faces).
 
 @group(0) @binding(0) var<uniform> params: Params;
