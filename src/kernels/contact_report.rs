@@ -11,6 +11,7 @@ use super::contact_constraints::{relative, Constraint, ContactPair, RigidSurface
 use super::contact_gap::NO_FACE;
 use super::plane_contact::{slot, SLOT};
 use crate::geometry::vector::dot;
+use crate::kernels::impulse::impulse_energy;
 
 /// `sweeps`: the count to report ([`super::sweep_control::SweepState::reported`]); the
 /// friction work, driver work and impact loss entries of `results` carry over from the last
@@ -40,14 +41,10 @@ pub fn contact_report(
         let sliding = pair.law.is_sliding(c.jt, c.jn, 1e-6);
         r[slot::SLIDING] = if sliding { 1.0 } else { 0.0 };
         r[slot::GAP] = c.gap - dt * rn;
-        let bn = dot(c.before, c.normal);
-        r[slot::IMPACT_LOSS] -= c.jn * 0.5 * (bn + rn);
+        let (impact, friction) = impulse_energy((c.jn, c.jt), c.normal, (c.before, rel));
+        r[slot::IMPACT_LOSS] -= impact;
         if pair.law.is_frictional() {
-            let slip: [f64; 3] = std::array::from_fn(|a| rel[a] - rn * c.normal[a]);
-            let before: [f64; 3] = std::array::from_fn(|a| c.before[a] - bn * c.normal[a]);
-            r[slot::FRICTION_WORK] -= (0..3)
-                .map(|a| c.jt[a] * 0.5 * (before[a] + slip[a]))
-                .sum::<f64>();
+            r[slot::FRICTION_WORK] -= friction;
         }
         let j: [f64; 3] = std::array::from_fn(|a| c.jn * c.normal[a] + c.jt[a]);
         r[slot::IMPULSE..slot::IMPULSE + 3].copy_from_slice(&j);

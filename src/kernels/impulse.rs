@@ -1,7 +1,8 @@
-//! One projected Jacobi update of an explicit contact constraint, shared by the host path
-//! (`integrate::explicit`) and the CPU twins of the device's contact kernels
-//! (`kernels::plane_contact`, `kernels::contact_sweep`); `shaders/shared/contact.wgsl` is its
-//! WGSL copy.
+//! One projected Jacobi update of an explicit contact constraint, and the energy its
+//! impulses take ([`impulse_energy`]), shared by the host path (`integrate::explicit`) and
+//! the CPU twins of the device's contact kernels (`kernels::plane_contact`,
+//! `kernels::contact_sweep`, `kernels::contact_report`); `shaders/shared/contact.wgsl` is the
+//! update's WGSL copy.
 //!
 //! The constraint is the step's gap rate in forward-increment form,
 //! $g_n + \Delta t\, \dot g \le 0$ with $\dot g = -v_{rel} \cdot n$: the normal impulse moves
@@ -11,6 +12,25 @@
 
 use crate::contact::law::ContactLaw;
 use crate::geometry::vector::{dot, norm};
+
+/// The energy a constraint's impulses `jn`, `jt` took over the step, as (impact loss,
+/// friction work): the normal and the tangential impulse each against the mean of the
+/// relative velocity's part along it before the impulses (`before`, at $v_{n-1/2}$) and after
+/// them (`after`, at $v_{n+1/2}$), their shares of the change of the time-centred energy
+/// (`docs/method-notes.md`).
+pub(crate) fn impulse_energy(
+    (jn, jt): (f64, [f64; 3]),
+    normal: [f64; 3],
+    (before, after): ([f64; 3], [f64; 3]),
+) -> (f64, f64) {
+    let (bn, rn) = (dot(before, normal), dot(after, normal));
+    let slip_before: [f64; 3] = std::array::from_fn(|a| before[a] - bn * normal[a]);
+    let slip: [f64; 3] = std::array::from_fn(|a| after[a] - rn * normal[a]);
+    let friction = (0..3)
+        .map(|a| jt[a] * 0.5 * (slip_before[a] + slip[a]))
+        .sum::<f64>();
+    (jn * 0.5 * (bn + rn), friction)
+}
 
 /// The relative velocity of secondary node `node` against its primary point in the velocity
 /// field `v` (3 per node): the face's nodes weighted by their shape functions, or nothing (a

@@ -12,7 +12,7 @@
 use super::explicit_correct::LumpedNode;
 use crate::contact::law::ContactLaw;
 use crate::geometry::vector::{dot, norm};
-use crate::kernels::impulse::impulse_update;
+use crate::kernels::impulse::{impulse_energy, impulse_update};
 
 /// Results per (plane node, plane), and per (node, face) pair of `contact_report`: the fields
 /// at the offsets of [`slot`].
@@ -233,14 +233,10 @@ fn report(
         let sliding = law.is_sliding(jt, jn, 1e-6);
         r[slot::SLIDING] = f64::from(u8::from(sliding));
         r[slot::GAP] = gap[p] - dt * rn;
-        let bn = dot(before, nrm);
-        r[slot::IMPACT_LOSS] -= jn * 0.5 * (bn + rn);
+        let (impact, friction) = impulse_energy((jn, jt), nrm, (before, vel));
+        r[slot::IMPACT_LOSS] -= impact;
         if law.is_frictional() {
-            let slip: [f64; 3] = std::array::from_fn(|ax| vel[ax] - rn * nrm[ax]);
-            let slip_before: [f64; 3] = std::array::from_fn(|ax| before[ax] - bn * nrm[ax]);
-            r[slot::FRICTION_WORK] -= (0..3)
-                .map(|ax| jt[ax] * 0.5 * (slip_before[ax] + slip[ax]))
-                .sum::<f64>();
+            r[slot::FRICTION_WORK] -= friction;
         }
         r[slot::SWEEPS] = node.reported;
         let j: [f64; 3] = std::array::from_fn(|ax| jn * nrm[ax] + jt[ax]);

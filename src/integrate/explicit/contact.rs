@@ -675,15 +675,11 @@ impl ExplicitContact {
             }
             // the linearised end-of-step gap
             r.max_penetration = r.max_penetration.max(c.gap - dt * rn);
-            let before = self.before[i];
-            let bn = dot(before, c.normal);
-            r.impact_loss -= jn[i] * 0.5 * (bn + rn);
+            let (impact, friction) =
+                impulse::impulse_energy((jn[i], jt[i]), c.normal, (self.before[i], rel));
+            r.impact_loss -= impact;
             if c.law.is_frictional() {
-                let slip: [f64; 3] = std::array::from_fn(|a| rel[a] - rn * c.normal[a]);
-                let slip_before: [f64; 3] = std::array::from_fn(|a| before[a] - bn * c.normal[a]);
-                r.friction_work -= (0..3)
-                    .map(|a| jt[i][a] * 0.5 * (slip_before[a] + slip[a]))
-                    .sum::<f64>();
+                r.friction_work -= friction;
             }
         }
         for (st, f) in self.interfaces.iter_mut().zip(&force) {
