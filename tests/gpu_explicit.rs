@@ -123,6 +123,7 @@ fn random_inputs(rng: &mut StdRng) -> Inputs {
         survey: None,
         reactions: Vec::new(),
         damage: None,
+        cohesive: None,
     };
     let data = ElementData {
         reference: nodes,

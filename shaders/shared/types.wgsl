@@ -410,6 +410,60 @@ struct DamageParams {
     records: u32,
 }
 
+// A cohesive interface's law (twin: `material::CohesiveLaw`): the penalty stiffness K, the
+// onset tractions (normal N, shear S), the toughnesses G_Ic and G_IIc, the BK exponent and
+// Coulomb's coefficient of the damaged share's faces (0: none).
+struct CohesiveLaw {
+    stiffness: f32,
+    strength_n: f32,
+    strength_s: f32,
+    toughness_i: f32,
+    toughness_ii: f32,
+    bk: f32,
+    friction: f32,
+    pad: f32,
+}
+
+// A bonded pair (twin: `kernels::cohesive_pairs::PairRecord`): its upper and lower nodes,
+// its law, its area and the unit normal its separation opens along.
+struct CohesivePair {
+    upper: u32,
+    lower: u32,
+    law: u32,
+    area: f32,
+    normal: Float3,
+    pad: u32,
+}
+
+// A bonded pair's state between steps: its damage and its slip.
+struct PairState {
+    damage: f32,
+    slip: Float3,
+}
+
+// What a pair's step gives (twin: `kernels::cohesive_pairs::PairOutput`): its force on the
+// upper node, and its area times the step's dissipation and times its stored-energy offset.
+struct PairOutput {
+    force: Float3,
+    dissipated: f32,
+    offset: f32,
+}
+
+// A bonded node (twin: `kernels::cohesive_scatter::BondedNode`): the corner slot its pairs'
+// forces are added to, and its links links[first..end].
+struct BondedNode {
+    node: u32,
+    corner: u32,
+    first: u32,
+    end: u32,
+}
+
+// A link's flag: the node is its pair's lower node.
+const LOWER: u32 = 0x80000000u;
+
+// Values of each cohesive interface in a history row.
+const COHESIVE_COLUMNS: u32 = 4u;
+
 // Columns of a failure operator (three per corner of a hex8), and the values of a failure
 // record: the five indices' maxima, the worst point's value, number and index.
 const SURVEY_COLUMNS: u32 = 24u;

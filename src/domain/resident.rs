@@ -472,6 +472,7 @@ impl<'m> RankResident<'m> {
             survey,
             reactions: Vec::new(),
             damage: None,
+            cohesive: None,
         };
         let data = order.element_data(&sub.data);
         let mut engine = ResidentStep::new(ctx, &data, &setup, 1)?;
@@ -720,6 +721,7 @@ impl Integrator for RankResident<'_> {
         self.steps += 1;
         let reader = RowReader {
             reactions: 0,
+            cohesive: 0,
             model: self.model,
             body_mass: &self.body_mass,
             max_iterations: self.max_iterations,
@@ -866,6 +868,7 @@ impl Integrator for RankResident<'_> {
         Ok(Some(SolverState::Resident(ResidentState {
             work: Default::default(),
             power: 0.0,
+            cohesive_energy: Vec::new(),
             dt: self.dt,
             time: self.time,
             steps: self.steps,

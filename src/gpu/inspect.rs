@@ -102,6 +102,71 @@ pub fn run_failure_survey(
     Ok((partials.to_vec(), record.to_vec()))
 }
 
+/// What [`run_cohesive`] reads back: each pair's output and state, the corner forces (one
+/// per slot) and each interface's reduced values.
+pub type CohesiveRun = (
+    Vec<crate::kernels::cohesive_pairs::PairOutput>,
+    Vec<crate::kernels::cohesive_pairs::PairState>,
+    Vec<[f64; 3]>,
+    Vec<[f64; crate::kernels::cohesive_reduce::COHESIVE_COLUMNS]>,
+);
+
+/// Runs the cohesive stage alone (`cohesive_pairs`, `cohesive_scatter` and
+/// `cohesive_reduce` into a row of its own) at displacement `u` (3 per node) from the pairs'
+/// states `state`, on corner forces `corners` (their slots the bonded nodes' corners).
+pub fn run_cohesive(
+    ctx: &GpuContext,
+    setup: &crate::kernels::cohesive_pairs::CohesiveSetup,
+    bonded: &crate::kernels::cohesive_scatter::BondedNodes,
+    (u, state, corners): (
+        &[f64],
+        &[crate::kernels::cohesive_pairs::PairState],
+        &[[f64; 3]],
+    ),
+) -> Result<CohesiveRun> {
+    use super::cohesive_stage::{CohesiveStage, CohesiveTarget};
+    use crate::kernels::cohesive_reduce::COHESIVE_COLUMNS;
+    let split: Vec<types::Split3> = (u.chunks_exact(3))
+        .map(|d| types::Split3::split([d[0], d[1], d[2]]))
+        .collect();
+    let displacement = Storage::with_data(ctx, "cohesive.u", &split)?;
+    let c = corners.len();
+    let columns: Vec<f32> = (0..3 * c).map(|i| corners[i % c][i / c] as f32).collect();
+    let corner_forces = Storage::with_data(ctx, "cohesive.corners", &columns)?;
+    let values = COHESIVE_COLUMNS * setup.interfaces.len();
+    let rows = Storage::new(ctx, "cohesive.row", (values * 4) as u64)?;
+    let target = CohesiveTarget {
+        displacement: &displacement.buffer,
+        corner_forces: &corner_forces.buffer,
+        slots: c as u32,
+    };
+    let mut stage = CohesiveStage::new(ctx, setup, bonded, &target)?;
+    stage.write_state(ctx, state);
+    stage.reduce_into_rows(ctx, &rows.buffer, (values, 0, 1));
+    let mut enc = ctx.encoder("cohesive");
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("cohesive"),
+            timestamp_writes: None,
+        });
+        stage.dispatch(&mut pass);
+        stage.dispatch_row(&mut pass, 0);
+    }
+    let parts = [(&corner_forces.buffer, 3 * c), (&rows.buffer, values)];
+    let mut staging = staging(ctx)?;
+    let got: Vec<f32> = submit_and_read_parts(ctx, &mut staging, enc, &parts)?;
+    let (forces, row) = got.split_at(3 * c);
+    let forces = (0..c)
+        .map(|s| std::array::from_fn(|a| f64::from(forces[a * c + s])))
+        .collect();
+    let row = (row.chunks_exact(COHESIVE_COLUMNS))
+        .map(|v| std::array::from_fn(|k| f64::from(v[k])))
+        .collect();
+    let outputs = stage.read_outputs(ctx, &mut staging)?;
+    let state = stage.read_state(ctx, &mut staging)?;
+    Ok((outputs, state, forces, row))
+}
+
 /// Runs the device's prefix sum ([`Scan`]: `scan_totals`, then `prefix_sum`) alone on
 /// `values` and reads the starts back (one more than the values), with the block totals.
 pub fn run_prefix_sum(ctx: &GpuContext, values: &[u32]) -> Result<(Vec<u32>, Vec<u32>)> {

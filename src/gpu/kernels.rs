@@ -57,6 +57,9 @@ kernel_table! {
     BucketCount = bucket_count(keys, counts, ranks);
     BucketFill = bucket_fill(keys, ranks, starts, sorted);
     BucketOrder = bucket_order(starts, sorted, counts, state, bounds);
+    CohesivePairs = cohesive_pairs(displacement, laws, pairs, state, outputs);
+    CohesiveReduce = cohesive_reduce(ranges, pairs, state, outputs, rows);
+    CohesiveScatter = cohesive_scatter(nodes, links, outputs, corner_forces);
     ContactApply = contact_apply(
         step, nodes, links, constraints, starts, sorted, dj, lumped, velocity, state,
     );

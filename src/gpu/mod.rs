@@ -7,6 +7,7 @@
 mod bucket_sort;
 pub mod buffer;
 pub mod captured;
+pub(crate) mod cohesive_stage;
 pub mod contact_form;
 pub mod context;
 pub mod corner_select;

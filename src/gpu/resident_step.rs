@@ -29,6 +29,7 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::buffer::{map_read, read_back, read_floats, take_mapped, Mapping, Storage};
+use super::cohesive_stage::{CohesiveStage, CohesiveTarget};
 use super::contact_form::ContactForm;
 use super::context::GpuContext;
 use super::engine::{at_least_one, GpuKernels};
@@ -44,6 +45,9 @@ use super::{
     ExplicitCorrect, ExplicitDrift, ExplicitPredict, GatherCorrect, HistoryReduce, PlaneContact,
 };
 use crate::error::{ImpactError, Result};
+use crate::kernels::cohesive_pairs::{CohesiveSetup, PairState};
+use crate::kernels::cohesive_reduce::COHESIVE_COLUMNS;
+use crate::kernels::cohesive_scatter::BondedNodes;
 use crate::kernels::explicit_correct::FIELDS;
 use crate::kernels::history_reduce::{
     OP_CORNERS, OP_DISPLACEMENT, OP_MAX, OP_PARTIALS, OP_SUM, OP_VELOCITY,
@@ -119,21 +123,32 @@ pub struct ResidentSetup {
     /// `a C + s`), after the probes' columns.
     pub reactions: Vec<Vec<u32>>,
     /// The plies' damage, where any element damages: the step's dissipation and its fibre
-    /// share end each row.
+    /// share follow the failure record in each row.
     pub damage: Option<crate::kernels::damage_data::DamageData>,
+    /// The cohesive interfaces, where the model has any: each interface's
+    /// [`COHESIVE_COLUMNS`] values end each row.
+    pub cohesive: Option<CohesiveSetup>,
 }
 
 /// Values of a history row, in order: per body [`FIELDS`] (kinetic, strain, gravity,
 /// momentum x y z), per contact interface [`SLOT`] (its contact results, summed; the gap and
 /// the sweeps as maxima), per probe 6 (displacement, velocity), the supports' reaction
 /// columns, then the failure survey's record where there is one ([`FAILURE_FIELDS`]) and
-/// the step's damage dissipation and its fibre share where there is damage.
+/// the step's damage dissipation and its fibre share where there is damage, then each
+/// cohesive interface's [`COHESIVE_COLUMNS`] values (none where `cohesive` is 0).
 pub(crate) fn row_len(
     (bodies, interfaces, probes, reactions): (usize, usize, usize, usize),
     (survey, damage): (bool, bool),
+    cohesive: usize,
 ) -> usize {
     let record = if survey { FAILURE_FIELDS } else { 0 };
-    FIELDS * bodies + SLOT * interfaces + 6 * probes + reactions + record + 2 * usize::from(damage)
+    FIELDS * bodies
+        + SLOT * interfaces
+        + 6 * probes
+        + reactions
+        + record
+        + 2 * usize::from(damage)
+        + COHESIVE_COLUMNS * cohesive
 }
 
 /// The contact results' place of each interface in the plane kernel's layout: `plane_nodes`
@@ -275,6 +290,9 @@ pub(super) struct HistoryRows {
     /// The history rows of one submission, `chunk_capacity` rows of `row_len` floats.
     pub(super) rows: Storage,
     pub(super) row_len: usize,
+    /// Where the damage's two columns and the cohesive interfaces' start in a row.
+    pub(super) damage_at: usize,
+    pub(super) cohesive_at: usize,
 }
 
 impl HistoryRows {
@@ -311,7 +329,10 @@ impl HistoryRows {
         } else {
             0
         };
-        let row_len = column_list.len() + survey + 2 * usize::from(setup.damage.is_some());
+        let damage_at = column_list.len() + survey;
+        let cohesive_at = damage_at + 2 * usize::from(setup.damage.is_some());
+        let row_len = cohesive_at
+            + COHESIVE_COLUMNS * setup.cohesive.as_ref().map_or(0, |c| c.interfaces.len());
         let cols: Vec<types::GpuReduceColumn> = to_device(&column_list);
         let columns = Storage::with_data(ctx, "history.columns", &cols)?;
         let lists = Storage::with_data(ctx, "history.corner_lists", &at_least_one(lists))?;
@@ -322,6 +343,8 @@ impl HistoryRows {
             lists,
             rows,
             row_len,
+            damage_at,
+            cohesive_at,
         })
     }
 }
@@ -500,6 +523,8 @@ pub struct ResidentStep {
     pub(super) contact: Option<ImpulseSweeps>,
     /// The ply failure survey of every step, where materials have strengths.
     failure: Option<FailureStage>,
+    /// The cohesive interfaces, where the model has any.
+    cohesive: Option<CohesiveStage>,
     /// A rank's exchange of the forces of the nodes it shares (a decomposed run).
     pub(super) exchange: Option<RankExchange>,
     /// A rank's part in the contact iteration on the surfaces (a decomposed run).
@@ -577,10 +602,13 @@ impl ResidentStep {
         if let Some((d, _)) = &mut k.damage {
             // the step's dissipation and its fibre share close each row; the state advances
             // every step
-            let at = (history.row_len, history.row_len - 2, chunk_capacity);
+            let at = (history.row_len, history.damage_at, chunk_capacity);
             d.reduce_into_rows(ctx, &history.rows.buffer, at);
             d.set_step(ctx, setup.dt, true);
         }
+        let cohesive = (setup.cohesive.as_ref())
+            .map(|c| Self::cohesive_stage(&k, data, c, (&history, chunk_capacity)))
+            .transpose()?;
         let readback = Self::readback_buffers(ctx, chunk_capacity * history.row_len)?;
         let clock = SubmissionClock::new(ctx)?;
         Ok(ResidentStep {
@@ -594,6 +622,7 @@ impl ResidentStep {
             launches,
             contact,
             failure,
+            cohesive,
             exchange: None,
             surface: None,
             sweeps: setup.max_iterations,
@@ -607,6 +636,31 @@ impl ResidentStep {
             chunk_capacity,
             k,
         })
+    }
+
+    /// The cohesive interfaces' stage on the engine's buffers, its reduces writing into the
+    /// rows of `history`.
+    fn cohesive_stage(
+        k: &GpuKernels,
+        data: &ElementData,
+        setup: &CohesiveSetup,
+        (history, chunk_capacity): (&HistoryRows, usize),
+    ) -> Result<CohesiveStage> {
+        let layout = data.layout();
+        let incidence = crate::kernels::node_gather::Incidence::new(&data.elements, k.nodes);
+        let mut bonded = BondedNodes::new(setup, &incidence);
+        for b in &mut bonded.nodes {
+            b.corner = layout.to_device(b.corner as usize) as u32;
+        }
+        let target = CohesiveTarget {
+            displacement: &k.u.buffer,
+            corner_forces: &k.corners.buffer,
+            slots: layout.count() as u32,
+        };
+        let mut stage = CohesiveStage::new(&k.ctx, setup, &bonded, &target)?;
+        let at = (history.row_len, history.cohesive_at, chunk_capacity);
+        stage.reduce_into_rows(&k.ctx, &history.rows.buffer, at);
+        Ok(stage)
     }
 
     /// The step's constants and their uniform buffer, written.
@@ -732,6 +786,7 @@ impl ResidentStep {
             .sum::<u64>()
             + self.contact.as_ref().map_or(0, |c| c.device_bytes())
             + self.failure.as_ref().map_or(0, |f| f.device_bytes())
+            + self.cohesive.as_ref().map_or(0, |c| c.device_bytes())
     }
 
     /// The acceleration (3 per node).
@@ -773,6 +828,9 @@ impl ResidentStep {
             self.kernels.drift.0.dispatch(pass, &l.drift);
         }
         self.k.dispatch_element_kernels(pass);
+        if let Some(c) = &self.cohesive {
+            c.dispatch(pass);
+        }
         self.kernels
             .gather_correct
             .0
@@ -805,6 +863,9 @@ impl ResidentStep {
         }
         if let Some((d, _)) = &self.k.damage {
             d.dispatch_row(pass, j);
+        }
+        if let Some(c) = &self.cohesive {
+            c.dispatch_row(pass, j);
         }
         self.kernels.reduce.0.dispatch(pass, &l.reduce[j]);
     }
@@ -929,6 +990,7 @@ impl ResidentStep {
             None => &self.m.results.buffer,
         };
         let damage = self.k.damage.iter().flat_map(|(d, _)| d.state_buffers());
+        let cohesive = self.cohesive.iter().map(CohesiveStage::state_buffer);
         [
             &self.k.u.buffer,
             &self.k.v.buffer,
@@ -937,6 +999,7 @@ impl ResidentStep {
         ]
         .into_iter()
         .chain(damage)
+        .chain(cohesive)
         .collect()
     }
 
@@ -1115,6 +1178,15 @@ impl ResidentStep {
     /// flight.
     pub fn read_damage(&mut self) -> Result<Option<crate::kernels::damage_data::DamageState>> {
         self.k.read_damage()
+    }
+
+    /// Every cohesive pair's state on the device (where the model has cohesive interfaces);
+    /// nothing may be in flight.
+    pub fn read_cohesive(&mut self) -> Result<Option<Vec<PairState>>> {
+        let k = &mut self.k;
+        (self.cohesive.as_ref())
+            .map(|c| c.read_state(&k.ctx, &mut k.staging))
+            .transpose()
     }
 
     /// Whether read-back buffer `slot` holds a submission not yet collected.

@@ -731,6 +731,102 @@ device_struct! {
     }
 }
 
+device_struct! {
+    /// A cohesive interface's law (twin: [`crate::material::CohesiveLaw`]).
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+    pub struct CohesiveLaw {
+        pub stiffness: f32,
+        pub strength_n: f32,
+        pub strength_s: f32,
+        pub toughness_i: f32,
+        pub toughness_ii: f32,
+        pub bk: f32,
+        pub friction: f32,
+        pub pad: f32,
+    }
+}
+
+impl From<&crate::material::CohesiveLaw> for CohesiveLaw {
+    fn from(l: &crate::material::CohesiveLaw) -> Self {
+        CohesiveLaw {
+            stiffness: l.stiffness as f32,
+            strength_n: l.strength[0] as f32,
+            strength_s: l.strength[1] as f32,
+            toughness_i: l.toughness[0] as f32,
+            toughness_ii: l.toughness[1] as f32,
+            bk: l.bk as f32,
+            friction: l.friction as f32,
+            pad: 0.0,
+        }
+    }
+}
+
+device_struct! {
+    /// A bonded pair (twin: [`kernels::cohesive_pairs::PairRecord`]).
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+    pub struct CohesivePair {
+        pub upper: u32,
+        pub lower: u32,
+        pub law: u32,
+        pub area: f32,
+        pub normal: [f32; 3],
+        pub pad: u32,
+    }
+}
+
+impl From<&kernels::cohesive_pairs::PairRecord> for CohesivePair {
+    fn from(p: &kernels::cohesive_pairs::PairRecord) -> Self {
+        CohesivePair {
+            upper: p.upper,
+            lower: p.lower,
+            law: p.law,
+            area: p.area as f32,
+            normal: p.normal.map(|x| x as f32),
+            pad: 0,
+        }
+    }
+}
+
+device_struct! {
+    /// A bonded pair's state (twin: [`kernels::cohesive_pairs::PairState`]).
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+    pub struct PairState {
+        pub damage: f32,
+        pub slip: [f32; 3],
+    }
+}
+
+impl From<&kernels::cohesive_pairs::PairState> for PairState {
+    fn from(s: &kernels::cohesive_pairs::PairState) -> Self {
+        PairState {
+            damage: s.damage as f32,
+            slip: s.slip.map(|x| x as f32),
+        }
+    }
+}
+
+device_struct! {
+    /// A pair's step (twin: [`kernels::cohesive_pairs::PairOutput`]).
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+    pub struct PairOutput {
+        pub force: [f32; 3],
+        pub dissipated: f32,
+        pub offset: f32,
+    }
+}
+
+device_struct! {
+    /// A bonded node (twin: [`kernels::cohesive_scatter::BondedNode`]), its corner a
+    /// device's slot.
+    #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+    pub struct BondedNode {
+        pub node: u32,
+        pub corner: u32,
+        pub first: u32,
+        pub end: u32,
+    }
+}
+
 /// A struct's WGSL name, Rust size, and (field name, Rust offset) in declaration order.
 pub(crate) type StructLayout = (&'static str, usize, Vec<(&'static str, usize)>);
 
@@ -779,6 +875,11 @@ pub fn shared_constants() -> Vec<(&'static str, u32)> {
         ("OP_DISPLACEMENT", OP_DISPLACEMENT),
         ("OP_VELOCITY", OP_VELOCITY),
         ("OP_CORNERS", OP_CORNERS),
+        ("LOWER", crate::kernels::cohesive_scatter::LOWER),
+        (
+            "COHESIVE_COLUMNS",
+            u(crate::kernels::cohesive_reduce::COHESIVE_COLUMNS),
+        ),
         ("STATE_VIOLATION", u(word::VIOLATION)),
         ("STATE_ACTIVE", u(word::ACTIVE)),
         ("STATE_SWEEPS", u(word::SWEEPS)),
@@ -816,5 +917,10 @@ pub fn layouts() -> Vec<StructLayout> {
         DamagePlyRecord::layout(),
         DamageElementRecord::layout(),
         DamageParams::layout(),
+        CohesiveLaw::layout(),
+        CohesivePair::layout(),
+        PairState::layout(),
+        PairOutput::layout(),
+        BondedNode::layout(),
     ]
 }

@@ -26,6 +26,9 @@ use crate::error::{ImpactError, Result};
 use crate::geometry::rigid_shape::RigidShape;
 use crate::gpu::resident_step::row_len;
 use crate::gpu::{ContactForm, ContactSetup, GpuContext, ResidentSetup, ResidentStep};
+use crate::kernels::cohesive_forces::{CohesiveReport, CohesiveState};
+use crate::kernels::cohesive_pairs::{CohesiveSetup, PairState};
+use crate::kernels::cohesive_reduce::COHESIVE_COLUMNS;
 use crate::kernels::contact_gap::NO_FACE;
 use crate::kernels::damage_data::DamageData;
 use crate::kernels::explicit_correct::FIELDS;
@@ -268,6 +271,7 @@ pub fn setup_without_contact(
         survey: None,
         reactions: ReactionColumns::new(model, &mass).lists,
         damage: None,
+        cohesive: None,
     };
     (setup, places)
 }
@@ -326,6 +330,9 @@ pub(crate) struct Row {
     pub reactions: Vec<f64>,
     /// The energy damage dissipated over the step, with the fibre modes' share.
     pub dissipated: Dissipation,
+    /// Each cohesive interface's separated and damaged areas, and its dissipation and
+    /// stored-energy offset over the step ([`crate::kernels::cohesive_reduce`]).
+    pub cohesive: Vec<[f64; COHESIVE_COLUMNS]>,
 }
 
 /// What decoding a history row needs besides its values: the model, each body's mass, the
@@ -337,19 +344,22 @@ pub(crate) struct RowReader<'a> {
     pub dt: f64,
     /// The reaction columns after the probes' (none on a rank).
     pub reactions: usize,
+    /// The cohesive interfaces whose values end the row (none on a rank).
+    pub cohesive: usize,
 }
 
 impl RowReader<'_> {
     /// The row `r` (of [`row_len`] values) decoded.
-    pub fn decode(&self, r: &[f64]) -> Row {
+    pub fn decode(&self, row: &[f64]) -> Row {
         // the meshed bodies' ranges, then the rigid bodies' (energies only)
         let nb = self.model.mesh.bodies.len() + usize::from(!self.model.rigid.is_empty());
         let np = self.model.interfaces.len();
         let counts = (nb, np, self.model.probes.len(), self.reactions);
-        let damage =
-            r.len() == row_len(counts, (false, true)) || r.len() == row_len(counts, (true, true));
-        let surveyed = r.len() == row_len(counts, (true, damage));
-        debug_assert_eq!(r.len(), row_len(counts, (surveyed, damage)));
+        let (r, cohesive) = row.split_at(row.len() - COHESIVE_COLUMNS * self.cohesive);
+        let damage = r.len() == row_len(counts, (false, true), 0)
+            || r.len() == row_len(counts, (true, true), 0);
+        let surveyed = r.len() == row_len(counts, (true, damage), 0);
+        debug_assert_eq!(r.len(), row_len(counts, (surveyed, damage), 0));
         let mut e = Energies::default();
         let mut bodies = Vec::with_capacity(nb);
         for b in 0..nb {
@@ -414,6 +424,9 @@ impl RowReader<'_> {
                 },
                 false => Dissipation::default(),
             },
+            cohesive: (cohesive.chunks_exact(COHESIVE_COLUMNS))
+                .map(|c| std::array::from_fn(|k| c[k]))
+                .collect(),
         }
     }
 }
@@ -432,6 +445,9 @@ pub struct ResidentState {
     pub work: Work,
     #[serde(default)]
     pub power: f64,
+    /// Each cohesive interface's energy dissipated so far.
+    #[serde(default)]
+    pub cohesive_energy: Vec<f64>,
 }
 
 pub struct ResidentSolver<'m> {
@@ -494,6 +510,10 @@ pub struct ResidentSolver<'m> {
         Vec<[f64; 4]>,
         Option<crate::kernels::damage_data::DamagedPoint>,
     )>,
+    /// Each cohesive interface's energy dissipated so far (the rows' sums).
+    cohesive_energy: Vec<f64>,
+    /// Every cohesive pair's state as last read back (none without cohesive interfaces).
+    pairs: Option<Vec<PairState>>,
 }
 
 impl<'m> ResidentSolver<'m> {
@@ -538,6 +558,8 @@ impl<'m> ResidentSolver<'m> {
         let (mut setup, places) = setup(model, settings, dt, speed_scale)?;
         setup.survey = survey;
         setup.damage = damage.filter(DamageData::any);
+        setup.cohesive = (!model.cohesive.is_empty())
+            .then(|| CohesiveSetup::of(crate::model::cohesive::all_pairs(&model.cohesive)));
         let chunk = chunk.max(1);
         let mut engine = ResidentStep::new(ctx, &model.element_data(), &setup, chunk)?;
         engine.set_sweeps(FIRST_GUESS);
@@ -612,6 +634,8 @@ impl<'m> ResidentSolver<'m> {
             power,
             step_length: dt,
             damage_cells: None,
+            cohesive_energy: vec![0.0; model.cohesive.len()],
+            pairs: (setup.cohesive.as_ref()).map(|c| vec![PairState::default(); c.pairs.len()]),
         })
     }
 
@@ -799,6 +823,7 @@ impl<'m> ResidentSolver<'m> {
             max_iterations: self.max_iterations,
             dt: self.row_dt,
             reactions: self.columns.len(),
+            cohesive: self.model.cohesive.len(),
         }
         .decode(r)
     }
@@ -810,8 +835,20 @@ impl<'m> ResidentSolver<'m> {
         self.work.fixes += self.power * self.dt;
         self.power = self.columns.power(&self.current.reactions);
         self.work.count_plies(self.current.dissipated);
+        for (e, c) in self.cohesive_energy.iter_mut().zip(&self.current.cohesive) {
+            *e += c[2];
+        }
         if read {
             self.count_damage_cells()?;
+            self.read_pairs()?;
+        }
+        Ok(())
+    }
+
+    /// Reads the cohesive pairs' state back (where the model has cohesive interfaces).
+    fn read_pairs(&mut self) -> Result<()> {
+        if let Some(p) = self.engine.read_cohesive()? {
+            self.pairs = Some(p);
         }
         Ok(())
     }
@@ -916,7 +953,9 @@ impl Integrator for ResidentSolver<'_> {
         };
         e.potential -= self.work.fixes;
         e.fix_work = self.work.fixes;
-        e.damage = self.work.damage;
+        // the pairs' friction springs store less than half their traction's work
+        e.strain += self.current.cohesive.iter().map(|c| c[3]).sum::<f64>();
+        e.damage = self.work.damage + self.cohesive_energy.iter().sum::<f64>();
         e.plies = self.work.plies();
         Ok(e)
     }
@@ -948,6 +987,43 @@ impl Integrator for ResidentSolver<'_> {
 
     fn reports(&self) -> Vec<ContactReport> {
         self.current.reports.clone()
+    }
+
+    fn cohesive(&self) -> Vec<CohesiveReport> {
+        (self.cohesive_energy.iter().enumerate())
+            .map(|(k, &energy)| {
+                let c = self.current.cohesive.get(k).copied().unwrap_or_default();
+                CohesiveReport {
+                    delaminated_area: c[0],
+                    damaged_area: c[1],
+                    energy,
+                }
+            })
+            .collect()
+    }
+
+    /// The pairs' damage and slip as last read back (at frames and at the end).
+    fn cohesive_state(&self) -> Option<CohesiveState> {
+        let pairs = self.pairs.as_ref()?;
+        let interfaces = crate::model::cohesive::all_pairs(&self.model.cohesive);
+        let mut at = 0;
+        let (damage, slip) = interfaces
+            .map(|c| {
+                let own = &pairs[at..at + c.area.len()];
+                at += c.area.len();
+                let slip = match c.law.friction > 0.0 {
+                    true => own.iter().map(|s| s.slip).collect(),
+                    false => Vec::new(),
+                };
+                (own.iter().map(|s| s.damage).collect(), slip)
+            })
+            .unzip();
+        Some(CohesiveState {
+            damage,
+            energy: self.cohesive_energy.clone(),
+            slip,
+            stored_offset: self.current.cohesive.iter().map(|c| c[3]).collect(),
+        })
     }
 
     fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {
@@ -991,6 +1067,7 @@ impl Integrator for ResidentSolver<'_> {
             buffers: self.engine.read_step_state()?,
             work: self.work.clone(),
             power: self.power,
+            cohesive_energy: self.cohesive_energy.clone(),
         })))
     }
 
@@ -1015,9 +1092,14 @@ impl Integrator for ResidentSolver<'_> {
         self.submitted = s.steps;
         self.work = s.work;
         self.power = s.power;
+        if s.cohesive_energy.len() != self.cohesive_energy.len() {
+            return Err("its cohesive interfaces are not this model's".into());
+        }
+        self.cohesive_energy = s.cohesive_energy;
         if self.engine.damage_data().is_some() {
             self.count_damage_cells().map_err(|e| e.to_string())?;
         }
+        self.read_pairs().map_err(|e| e.to_string())?;
         Ok(())
     }
 

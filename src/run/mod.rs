@@ -113,14 +113,12 @@ fn build_solver<'m>(
     }
     let mut solver: Box<dyn Integrator + 'm> = match (method, setup.ctx.clone()) {
         // a meshed rigid surface has no device form: its contact runs on the host, the
-        // element forces on the device; so do cohesive interfaces (their pairs on the host)
-        // and loads and displaced fixes (their forces and velocities change over time on
-        // the host), and the stages of a run whose steps change the method (their state
-        // handed on on the host)
+        // element forces on the device; so do loads and displaced fixes (their forces and
+        // velocities change over time on the host), and the stages of a run whose steps
+        // change the method (their state handed on on the host)
         (Method::Explicit, Some(ctx))
             if resident::rigid_surfaces_on_device(model)
                 && !scene.mixed_steps()
-                && model.cohesive.is_empty()
                 && model.loads.is_empty()
                 && model.fix_paths.is_empty() =>
         {
