@@ -15,10 +15,12 @@
 //!    timestamps, else wall time) and their ratio, the issue's target being 1.5 at most.
 //!
 //! 3. **Cohesive interfaces.** The [0/90]s plate of four element layers split at its two ply
-//!    changes (`[[cohesive]] at = "ply_changes"`): the interfaces' pair forces of a step
-//!    (`cohesive_forces`, on the host's threads on every engine), bonded and in the
-//!    softening, in ns per pair and per interface face (a zero-thickness cohesive element),
-//!    beside the plate's hex8i element-step on the CPU.
+//!    changes (`[[cohesive]] at = "ply_changes"`): the interfaces' pair forces of a step,
+//!    bonded and in the softening, in ns per pair and per interface face (a zero-thickness
+//!    cohesive element), beside the plate's hex8i element-step: on the CPU
+//!    (`cohesive_forces` on the host's threads, the host paths' form) and on the GPU adapter
+//!    (the resident step's `cohesive_pairs` and `cohesive_scatter`, device work alone, beside
+//!    the `hex8i_forces` kernel alone).
 //!
 //! `cargo bench --bench damage` (`-- --quick`: a smaller plate and a shorter run;
 //! `-- --cohesive`: the third table alone).
@@ -249,7 +251,7 @@ strength = { normal = 62.3, shear = 92.3 }
 toughness = { normal = 0.277, shear = 0.788, bk = 1.634 }
 "#;
 
-fn cohesive_table(quick: bool) {
+fn cohesive_table(ctx: &Option<GpuContext>, quick: bool) {
     use impact::kernels::cohesive_forces::{cohesive_forces, CohesiveState};
     let n = if quick { 16 } else { 48 };
     let model = plate_with(n, 4, false, INTERFACES);
@@ -269,38 +271,90 @@ fn cohesive_table(quick: bool) {
             slid[3 * a as usize] += 0.01;
         }
     }
-    println!("| interfaces of the {n} x {n} x 4 plate | pairs | faces | ns/pair | ns/face | hex8i ns/el (CPU) | face / hex8i |");
-    println!("|---|---:|---:|---:|---:|---:|---:|");
+    println!("| interfaces of the {n} x {n} x 4 plate | engine | pairs | faces | ns/pair | ns/face | hex8i ns/el | face / hex8i |");
+    println!("|---|---|---:|---:|---:|---:|---:|---:|");
     for (label, u) in [("bonded", &u), ("softening", &slid)] {
         let t = time(|| {
             let mut state = CohesiveState::new(pairs());
             cohesive_forces(pairs(), u, &mut state, &mut f);
         });
         println!(
-            "| {label} | {count} | {faces} | {:.1} | {:.1} | {:.1} | {:.2} |",
+            "| {label} | cpu | {count} | {faces} | {:.1} | {:.1} | {:.1} | {:.2} |",
             1e9 * t / count as f64,
             1e9 * t / faces as f64,
             1e9 * element,
             t / faces as f64 / element
         );
     }
+    if let Some(ctx) = ctx {
+        device_cohesive_rows(ctx, &model, (&u, &slid), (count, faces));
+    }
+}
+
+/// The cohesive table's device rows: the resident step's pair kernels alone against the
+/// `hex8i_forces` kernel alone, on the same displacements.
+fn device_cohesive_rows(
+    ctx: &GpuContext,
+    model: &Model,
+    (u, slid): (&[f64], &[f64]),
+    (count, faces): (usize, usize),
+) {
+    use impact::gpu::inspect::{time_cohesive, KernelId};
+    use impact::kernels::cohesive_pairs::{CohesiveSetup, PairState};
+    use impact::kernels::cohesive_scatter::BondedNodes;
+    use impact::kernels::node_gather::Incidence;
+    const REPS: usize = 200;
+    let data = model.element_data();
+    let mut gpu = GpuKernels::new(ctx.clone(), &data).expect("the GPU engine");
+    let mut f = vec![0.0; model.dofs()];
+    gpu.internal_forces_into(u, &mut f).expect("forces");
+    let kind = impact::element::ElementKind::Hex8i;
+    let hex = (gpu.time_kernel(KernelId::Forces(kind), REPS))
+        .expect("timed")
+        .as_secs_f64()
+        / (REPS * model.mesh.element_count()) as f64;
+    let setup = CohesiveSetup::of(model.cohesive.iter().map(|c| &c.pairs));
+    let layout = data.layout();
+    let mut bonded = BondedNodes::new(
+        &setup,
+        &Incidence::new(&data.elements, model.mesh.node_count()),
+    );
+    for b in &mut bonded.nodes {
+        b.corner = layout.to_device(b.corner as usize) as u32;
+    }
+    let corners = vec![[0.0; 3]; layout.count()];
+    let state = vec![PairState::default(); setup.pairs.len()];
+    for (label, u) in [("bonded", u), ("softening", slid)] {
+        let t = time_cohesive(ctx, &setup, &bonded, (u, &state, &corners), REPS)
+            .expect("timed")
+            .as_secs_f64()
+            / REPS as f64;
+        println!(
+            "| {label} | {} | {count} | {faces} | {:.1} | {:.1} | {:.1} | {:.2} |",
+            ctx.adapter.name,
+            1e9 * t / count as f64,
+            1e9 * t / faces as f64,
+            1e9 * hex,
+            t / faces as f64 / hex
+        );
+    }
 }
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
-    if std::env::args().any(|a| a == "--cohesive") {
-        cohesive_table(quick);
-        return;
-    }
     let ctx = GpuContext::new().ok();
     match &ctx {
         Some(c) => println!("adapter: {}", c.adapter.describe()),
         None => println!("adapter: none (CPU rows only)"),
     }
     println!();
+    if std::env::args().any(|a| a == "--cohesive") {
+        cohesive_table(&ctx, quick);
+        return;
+    }
     kernels_table(&ctx, quick);
     println!();
-    cohesive_table(quick);
+    cohesive_table(&ctx, quick);
     println!();
     runs_table(ctx.is_some(), quick);
 }

@@ -111,21 +111,16 @@ pub type CohesiveRun = (
     Vec<[f64; crate::kernels::cohesive_reduce::COHESIVE_COLUMNS]>,
 );
 
-/// Runs the cohesive stage alone (`cohesive_pairs`, `cohesive_scatter` and
-/// `cohesive_reduce` into a row of its own) at displacement `u` (3 per node) from the pairs'
-/// states `state`, on corner forces `corners` (their slots the bonded nodes' corners).
-pub fn run_cohesive(
+/// The cohesive stage alone, on its own displacement (`u`, 3 per node) and corner forces
+/// (`corners`, one per slot), with the pairs' states `state`: the stage and its two
+/// buffers.
+fn cohesive_alone(
     ctx: &GpuContext,
     setup: &crate::kernels::cohesive_pairs::CohesiveSetup,
     bonded: &crate::kernels::cohesive_scatter::BondedNodes,
-    (u, state, corners): (
-        &[f64],
-        &[crate::kernels::cohesive_pairs::PairState],
-        &[[f64; 3]],
-    ),
-) -> Result<CohesiveRun> {
+    (u, state, corners): CohesiveInputs,
+) -> Result<(super::cohesive_stage::CohesiveStage, [Storage; 2])> {
     use super::cohesive_stage::{CohesiveStage, CohesiveTarget};
-    use crate::kernels::cohesive_reduce::COHESIVE_COLUMNS;
     let split: Vec<types::Split3> = (u.chunks_exact(3))
         .map(|d| types::Split3::split([d[0], d[1], d[2]]))
         .collect();
@@ -133,15 +128,37 @@ pub fn run_cohesive(
     let c = corners.len();
     let columns: Vec<f32> = (0..3 * c).map(|i| corners[i % c][i / c] as f32).collect();
     let corner_forces = Storage::with_data(ctx, "cohesive.corners", &columns)?;
-    let values = COHESIVE_COLUMNS * setup.interfaces.len();
-    let rows = Storage::new(ctx, "cohesive.row", (values * 4) as u64)?;
     let target = CohesiveTarget {
         displacement: &displacement.buffer,
         corner_forces: &corner_forces.buffer,
         slots: c as u32,
     };
-    let mut stage = CohesiveStage::new(ctx, setup, bonded, &target)?;
+    let stage = CohesiveStage::new(ctx, setup, bonded, &target)?;
     stage.write_state(ctx, state);
+    Ok((stage, [displacement, corner_forces]))
+}
+
+/// The inputs of [`run_cohesive`] and [`time_cohesive`]: the displacement (3 per node), the
+/// pairs' states and the corner forces (one per slot, the bonded nodes' corners among them).
+pub type CohesiveInputs<'a> = (
+    &'a [f64],
+    &'a [crate::kernels::cohesive_pairs::PairState],
+    &'a [[f64; 3]],
+);
+
+/// Runs the cohesive stage alone (`cohesive_pairs`, `cohesive_scatter` and
+/// `cohesive_reduce` into a row of its own) on `inputs`.
+pub fn run_cohesive(
+    ctx: &GpuContext,
+    setup: &crate::kernels::cohesive_pairs::CohesiveSetup,
+    bonded: &crate::kernels::cohesive_scatter::BondedNodes,
+    inputs: CohesiveInputs,
+) -> Result<CohesiveRun> {
+    use crate::kernels::cohesive_reduce::COHESIVE_COLUMNS;
+    let (mut stage, [_u, corner_forces]) = cohesive_alone(ctx, setup, bonded, inputs)?;
+    let c = inputs.2.len();
+    let values = COHESIVE_COLUMNS * setup.interfaces.len();
+    let rows = Storage::new(ctx, "cohesive.row", (values * 4) as u64)?;
     stage.reduce_into_rows(ctx, &rows.buffer, (values, 0, 1));
     let mut enc = ctx.encoder("cohesive");
     {
@@ -165,6 +182,29 @@ pub fn run_cohesive(
     let outputs = stage.read_outputs(ctx, &mut staging)?;
     let state = stage.read_state(ctx, &mut staging)?;
     Ok((outputs, state, forces, row))
+}
+
+/// Wall time of `reps` steps of the cohesive stage alone (`cohesive_pairs` and
+/// `cohesive_scatter`, the state advancing) on `inputs`, in one submission.
+pub fn time_cohesive(
+    ctx: &GpuContext,
+    setup: &crate::kernels::cohesive_pairs::CohesiveSetup,
+    bonded: &crate::kernels::cohesive_scatter::BondedNodes,
+    inputs: CohesiveInputs,
+    reps: usize,
+) -> Result<Duration> {
+    let (stage, _buffers) = cohesive_alone(ctx, setup, bonded, inputs)?;
+    let mut enc = ctx.encoder("timing");
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("timing"),
+            timestamp_writes: None,
+        });
+        for _ in 0..reps {
+            stage.dispatch(&mut pass);
+        }
+    }
+    time_submission(ctx, enc)
 }
 
 /// Runs the device's prefix sum ([`Scan`]: `scan_totals`, then `prefix_sum`) alone on
