@@ -192,17 +192,21 @@ fn quick_beam(end: f64) -> String {
     .text()
 }
 
-/// Stopped while the crack grows, then resumed: the history is the unbroken run's, byte for
-/// byte, and so is the dissipation.
-#[test]
-fn a_beam_stopped_while_its_crack_grows_resumes_to_the_unbroken_history() {
+/// The quick beam run whole (tag `{tag}_whole`) and in two parts, stopped at 0.6 ms while
+/// the crack grows and resumed (`{tag}_parts`), on `device`: the two histories are the same
+/// bytes, and so are the dissipation and the delamination; returns the whole run's summary.
+fn stopped_and_resumed(
+    tag: &str,
+    device: Option<impact::scene::DeviceChoice>,
+) -> impact::output::summary::Summary {
     let text = quick_beam(0.9e-3) + "\n[output]\ncheckpoint_every = 500\n";
     let early = text.replace("end_time = 9e-4", "end_time = 6e-4");
-    let whole = run_resumable("cohesive_whole", "dcb", &text, (false, None)).expect("whole");
-    run_resumable("cohesive_parts", "dcb", &early, (false, None)).expect("first part");
-    let resumed = run_resumable("cohesive_parts", "dcb", &text, (true, None)).expect("resumed");
+    let (whole_tag, parts) = (format!("{tag}_whole"), format!("{tag}_parts"));
+    let whole = run_resumable(&whole_tag, "dcb", &text, (false, device)).expect("whole");
+    run_resumable(&parts, "dcb", &early, (false, device)).expect("first part");
+    let resumed = run_resumable(&parts, "dcb", &text, (true, device)).expect("resumed");
     assert!(whole.status == "completed" && resumed.status == "completed");
-    let h = History::read(&out_path("cohesive_whole").join("history.csv"));
+    let h = History::read(&out_path(&whole_tag).join("history.csv"));
     let (t, e) = (h.col("time"), h.col("crack.energy"));
     let at = t.iter().position(|&x| x >= 6e-4).unwrap();
     assert!(
@@ -212,45 +216,31 @@ fn a_beam_stopped_while_its_crack_grows_resumes_to_the_unbroken_history() {
         e[e.len() - 1]
     );
     assert_eq!(whole.damage_energy, resumed.damage_energy);
+    assert_eq!(whole.delamination, resumed.delamination);
     assert_eq!(
-        history_text("cohesive_whole"),
-        history_text("cohesive_parts"),
+        history_text(&whole_tag),
+        history_text(&parts),
         "the resumed history differs"
     );
+    whole
 }
 
-/// The same on the GPU resident step: stopped while the crack grows and resumed, the
-/// history and the dissipation are the unbroken run's, byte for byte (the pairs' damage and
-/// slip are in the device state the checkpoint keeps).
+/// Stopped while the crack grows, then resumed: the history is the unbroken run's, byte for
+/// byte, and so is the dissipation.
+#[test]
+fn a_beam_stopped_while_its_crack_grows_resumes_to_the_unbroken_history() {
+    stopped_and_resumed("cohesive", None);
+}
+
+/// The same on the GPU resident step (the pairs' damage and slip are in the device state the
+/// checkpoint keeps).
 #[test]
 fn a_beam_stopped_on_the_gpu_resumes_to_the_unbroken_history() {
     if skip_gpu("cohesive gpu resumed") {
         return;
     }
-    let gpu = Some(impact::scene::DeviceChoice::Gpu);
-    let text = quick_beam(0.9e-3) + "\n[output]\ncheckpoint_every = 500\n";
-    let early = text.replace("end_time = 9e-4", "end_time = 6e-4");
-    let whole = run_resumable("cohesive_gpu_whole", "dcb", &text, (false, gpu)).expect("whole");
-    run_resumable("cohesive_gpu_parts", "dcb", &early, (false, gpu)).expect("first part");
-    let resumed = run_resumable("cohesive_gpu_parts", "dcb", &text, (true, gpu)).expect("resumed");
-    assert!(whole.status == "completed" && resumed.status == "completed");
+    let whole = stopped_and_resumed("cohesive_gpu", Some(impact::scene::DeviceChoice::Gpu));
     assert_eq!(whole.engine, "gpu resident");
-    let h = History::read(&out_path("cohesive_gpu_whole").join("history.csv"));
-    let (t, e) = (h.col("time"), h.col("crack.energy"));
-    let at = t.iter().position(|&x| x >= 6e-4).unwrap();
-    assert!(
-        e[at] > 0.0 && e[at] < 0.9 * e[e.len() - 1],
-        "{} of {}",
-        e[at],
-        e[e.len() - 1]
-    );
-    assert_eq!(whole.damage_energy, resumed.damage_energy);
-    assert_eq!(whole.delamination, resumed.delamination);
-    assert_eq!(
-        history_text("cohesive_gpu_whole"),
-        history_text("cohesive_gpu_parts"),
-        "the resumed history differs"
-    );
 }
 
 /// The quick beam on 1 and 2 threads: the same history, bit for bit.
