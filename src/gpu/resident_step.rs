@@ -7,7 +7,7 @@
 //! (`plane_contact` where all contacts are rigid planes, at most 8; otherwise the contact
 //! iteration, [`super::ImpulseSweeps`], which takes rigid bodies' surfaces too),
 //! `explicit_drift` (u += dt v; where `predict_bounds` runs, it drifts the nodes the
-//! iteration does not move and the iteration drifts the rest), the element kernels (corner forces), `gather_correct` over
+//! iteration does not move and the iteration drifts the rest), the element kernels (corner forces; after them the plies' damage and the cohesive pairs, [`CohesiveStage`], whose forces join the corners'), `gather_correct` over
 //! every body's nodes and the rigid bodies' nodes in one dispatch (the nodal forces gathered
 //! as `node_gather` sums them, a, v and the energy and momentum sums per workgroup, each
 //! body's apart; a rank runs `node_gather` and `explicit_correct` apart, its shared nodes'
