@@ -348,16 +348,7 @@ fn same_frame_damage(dc: &[f64], dg: &[f64]) {
 /// require it).
 fn frame_damage(tag: &str, time: f64) -> Option<Vec<f64>> {
     use std::process::Command;
-    let found = Command::new("python3")
-        .args(["-c", "import meshio"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !found {
-        assert!(
-            std::env::var_os("IMPACT_REQUIRE_MESHIO").is_none(),
-            "meshio is missing and IMPACT_REQUIRE_MESHIO is set: python3 -m pip install meshio"
-        );
-        eprintln!("{tag}: the frames are not read: python3 cannot import meshio");
+    if !meshio_available(tag) {
         return None;
     }
     const FRAME: &str = r#"
