@@ -4,6 +4,7 @@
 
 use crate::element::CornerLayout;
 use crate::error::Result;
+use crate::kernels::corotated_forces::{corotated_forces, turn_energy, Frames};
 use crate::kernels::damage_data::{DamageData, DamageState, DamagedPoint};
 use crate::kernels::damage_sieve::SieveMemory;
 use crate::kernels::{
@@ -74,6 +75,12 @@ pub trait Kernels {
     fn damage_values(&self) -> Result<Vec<f64>> {
         Ok(Vec::new())
     }
+    /// Where the elements' forces are corotated, what $\tfrac12 u^n \cdot f$ holds beyond
+    /// their strain energy at the last forces ([`crate::element::corotation::turn_energy`]
+    /// summed); zero for linear kinematics.
+    fn turn_energy(&self) -> f64 {
+        0.0
+    }
     /// Continues from a checkpoint's damage state.
     fn restore_damage(&mut self, values: &[f64]) -> std::result::Result<(), String> {
         match values.is_empty() {
@@ -100,6 +107,9 @@ pub struct CpuKernels {
     damage: Option<(DamageData, DamageState, SieveMemory)>,
     /// The damaged elements, per block: the damage pass gives their forces.
     damaged: Vec<Vec<bool>>,
+    /// The elements' frames, where the kinematics is corotational
+    /// ([`crate::kernels::corotated_forces`]), and the last forces' turn energy.
+    frames: Option<Box<(Frames, f64)>>,
 }
 
 impl CpuKernels {
@@ -114,7 +124,14 @@ impl CpuKernels {
             corner_forces,
             damage: None,
             damaged: Vec::new(),
+            frames: None,
         }
+    }
+
+    /// With each element's forces in its own frame (`run.kinematics = "corotational"`).
+    pub fn corotational(mut self, on: bool) -> Self {
+        self.frames = on.then(|| Box::new((Frames::new(&self.data), 0.0)));
+        self
     }
 
     /// With the plies' damage (none where no element damages).
@@ -139,18 +156,31 @@ impl CpuKernels {
             mark_damaged(&self.data, (d, s), &mut self.damaged);
         }
         let (u3, skip) = (as_vec3(u), self.damaged.as_slice());
-        element_forces(&self.data, fixed, u3, &mut self.corner_forces, skip);
+        match self.frames.as_deref_mut() {
+            Some((frames, _)) => corotated_forces(
+                &self.data,
+                fixed,
+                u3,
+                &mut self.corner_forces,
+                (skip, frames),
+            ),
+            None => element_forces(&self.data, fixed, u3, &mut self.corner_forces, skip),
+        }
+        let frames = self.frames.as_deref().map(|(f, _)| f);
         let dissipated = match &mut self.damage {
             Some((d, s, m)) => damage_forces(
                 &self.data,
                 (d, s, m),
-                &self.layout,
+                (&self.layout, frames),
                 (as_vec3(u), as_vec3(v)),
                 &mut self.corner_forces,
                 (dt, advance),
             ),
             None => Dissipation::default(),
         };
+        if let Some((frames, energy)) = self.frames.as_deref_mut() {
+            *energy = turn_energy(&self.data, &self.layout, &self.corner_forces, frames);
+        }
         node_gather(&self.incidence, &self.corner_forces, as_vec3_mut(f));
         dissipated
     }
@@ -184,6 +214,9 @@ impl Kernels for CpuKernels {
         f: &mut [f64],
     ) -> Result<Dissipation> {
         Ok(self.forces(uv, f, (dt, true)))
+    }
+    fn turn_energy(&self) -> f64 {
+        self.frames.as_deref().map_or(0.0, |(_, e)| *e)
     }
     fn damage_values(&self) -> Result<Vec<f64>> {
         Ok(self

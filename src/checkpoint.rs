@@ -24,7 +24,7 @@ pub(crate) const FILE: &str = "checkpoint.bin";
 
 /// Bumped whenever the layout changes, or what the scene hash covers (a new scene key), so
 /// that an older checkpoint is refused as such, not misread or taken for another scene's.
-pub(crate) const FORMAT: u32 = 16;
+pub(crate) const FORMAT: u32 = 17;
 
 /// What the time loop accumulates for the summary and the warnings.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]

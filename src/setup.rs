@@ -10,7 +10,7 @@ use crate::gpu::{AdapterPolicy, GpuContext, GpuKernels};
 use crate::integrate::stable_step::survey;
 use crate::model::Model;
 use crate::output::summary::SetupClock;
-use crate::scene::{DeviceChoice, Method, PenetrationPolicy, Scene};
+use crate::scene::{DeviceChoice, Kinematics, Method, PenetrationPolicy, Scene};
 
 pub use crate::gpu::context::AUTO_GPU_MIN_ELEMENTS;
 
@@ -347,6 +347,20 @@ pub fn gpu_context(
     device: DeviceChoice,
     notice: &mut dyn FnMut(&str),
 ) -> Result<Option<GpuContext>> {
+    if scene.run.kinematics == Kinematics::Corotational {
+        return match device {
+            DeviceChoice::Gpu => Err(ImpactError::Unsupported {
+                path: scene.path.clone(),
+                key: "run.kinematics".into(),
+                message: "\"corotational\" runs its element kernels on the CPU (the GPU's are linear): set run.device = \"cpu\" or \"auto\", or kinematics = \"linear\"".into(),
+            }),
+            DeviceChoice::Auto => {
+                notice("device auto: run.kinematics = \"corotational\": kernels on the CPU in f64");
+                Ok(None)
+            }
+            DeviceChoice::Cpu => Ok(None),
+        };
+    }
     match device {
         DeviceChoice::Cpu => Ok(None),
         DeviceChoice::Gpu => GpuContext::new().map(Some).map_err(|e| gpu_error(scene, e)),
@@ -369,6 +383,11 @@ pub fn gpu_context(
 /// Why a model runs on the explicit path alone, if it does: a material whose plies damage
 /// (softening is not solved implicitly), or a `[[fix]]` that moves.
 fn explicit_only(scene: &Scene, model: &Model) -> Option<String> {
+    if scene.run.kinematics == Kinematics::Corotational {
+        return Some(
+            "run.kinematics = \"corotational\" turns each element's forces with it, which the explicit path runs".into(),
+        );
+    }
     if let Some(m) = scene.materials.iter().find(|m| m.damage.is_some()) {
         return Some(format!(
             "material `{}` damages (fracture_energy), and softening plies run on the explicit path",
@@ -478,6 +497,17 @@ fn refuse_implicit(scene: &Scene, model: &Model, method: Method) -> Result<()> {
             ),
         });
     }
+    let not_explicit =
+        |s: &crate::scene::StepSpec| matches!(s.method, Some(Method::Implicit | Method::Static));
+    if scene.run.kinematics == Kinematics::Corotational {
+        if let Some(i) = scene.steps.iter().position(not_explicit) {
+            return Err(ImpactError::Unsupported {
+                path: scene.path.clone(),
+                key: format!("step[{i}].method"),
+                message: "run.kinematics = \"corotational\" runs explicit steps only (the implicit and static paths factorise a linear stiffness)".into(),
+            });
+        }
+    }
     match (method, explicit_only(scene, model)) {
         (Method::Implicit, Some(why)) => Err(ImpactError::SceneValue {
             path: scene.path.clone(),
@@ -514,7 +544,11 @@ pub fn kernels<'m>(
     let elements = data.elements.count();
     Ok(match gpu_context(scene, elements, device, notice)? {
         Some(ctx) => Box::new(GpuKernels::new(ctx, &data).map_err(|e| gpu_error(scene, e))?),
-        None => Box::new(CpuKernels::new(data).with_damage(model.damage_data())),
+        None => Box::new(
+            CpuKernels::new(data)
+                .with_damage(model.damage_data())
+                .corotational(scene.run.kinematics == Kinematics::Corotational),
+        ),
     })
 }
 

@@ -579,6 +579,8 @@ impl Integrator for DomainSolver<'_> {
                 carried: 0.0,
             },
             cohesive,
+            // ranks run linear kinematics (`run.kinematics` is refused there)
+            turn_energy: 0.0,
         }))))
     }
 

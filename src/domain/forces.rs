@@ -12,6 +12,8 @@ use crate::gpu::{CornerSelection, GpuContext, GpuKernels};
 use crate::kernels::damage_data::DamageData;
 
 /// The kernels of one rank.
+// one per rank, held for the run: the CPU variant's inline size costs nothing
+#[allow(clippy::large_enum_variant)]
 pub enum RankForces {
     Cpu(CpuKernels),
     /// The GPU reads back, with the nodal forces, the corners the exchange needs

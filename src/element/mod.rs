@@ -8,6 +8,7 @@ pub mod block;
 #[cfg(test)]
 pub(crate) mod checks;
 pub mod corners;
+pub mod corotation;
 pub mod damage;
 pub mod hex8;
 pub mod hex8i;

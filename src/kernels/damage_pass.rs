@@ -6,6 +6,7 @@ use rayon::prelude::*;
 
 use super::damage_data::{first_where, DamageBlock};
 use super::damage_sieve::{may_reach, remember, stride};
+use crate::element::corotation::{self, Mat3};
 use crate::element::damage::DamageStep;
 use crate::material::damage::Dissipation;
 
@@ -22,6 +23,9 @@ pub(crate) struct BlockPass<'a> {
     pub dissipated: &'a mut [Dissipation],
     /// The number of the step the pass takes (its first damage's).
     pub step: u32,
+    /// The block's elements' frames, by element, where the kinematics is corotational
+    /// ([`super::corotated_forces`]): the pass then works in each element's frame.
+    pub frames: Option<&'a [Mat3]>,
 }
 
 /// A kind's damageable element (`i`, its number among the block's damageable elements, at
@@ -74,6 +78,7 @@ pub(crate) fn damage_pass<const N: usize>(
         rest = tail;
     }
     let (step, memory) = (out.step, out.memory.par_chunks_mut(stride(N)));
+    let frames = out.frames;
     (forces.into_par_iter())
         .zip(states)
         .zip(out.damaged.par_iter_mut())
@@ -84,25 +89,36 @@ pub(crate) fn damage_pass<const N: usize>(
         .with_min_len(4)
         .for_each(
             |(i, (((((f, state), damaged), first), memory), dissipated))| {
-                let nodes = corners[block.elements[i] as usize];
+                let e = block.elements[i] as usize;
+                let nodes = corners[e];
                 let x = nodes.map(|n| reference[n as usize]);
+                let frame = frames.map(|r| &r[e]);
+                // in the element's frame, where it has one: its local displacements and
+                // forces
                 let ue = nodes.map(|n| u[n as usize]);
+                let ue = frame.map_or(ue, |r| corotation::local(r, &x, &ue));
+                let fe: [[f64; 3]; N] = match frame {
+                    Some(r) => corotation::turn_back(r, f),
+                    None => std::array::from_fn(|k| f[k]),
+                };
                 *dissipated = Dissipation::default();
                 if !*damaged {
-                    if !advance || !may_reach(memory, block.sieve[i], (f, &ue)) {
+                    if !advance || !may_reach(memory, block.sieve[i], (&fe, &ue)) {
                         return;
                     }
                     let reach = kernel.reach(i, &x, &ue);
                     if reach < 1.0 - REACH_MARGIN {
-                        remember(memory, (f, &ue), reach);
+                        remember(memory, (&fe, &ue), reach);
                         return;
                     }
                 }
-                // the step before's displacement: u_n = u_{n+1} - dt v_{n+1/2}
+                // the step before's displacement: u_n = u_{n+1} - dt v_{n+1/2} (in the
+                // same frame)
                 let before = nodes.map(|n| {
                     let (u, v) = (u[n as usize], v[n as usize]);
                     [u[0] - dt * v[0], u[1] - dt * v[1], u[2] - dt * v[2]]
                 });
+                let before = frame.map_or(before, |r| corotation::local(r, &x, &before));
                 let was_damaged = *damaged;
                 // in place: each point reads its old state before it writes its new (an
                 // element looked at that stays undamaged keeps its zeros)
@@ -118,7 +134,13 @@ pub(crate) fn damage_pass<const N: usize>(
                     *damaged = true;
                     *dissipated = s.dissipated;
                 }
-                f.copy_from_slice(&s.forces);
+                match frame {
+                    Some(r) => {
+                        let g = corotation::centre_gradients(&x);
+                        f.copy_from_slice(&corotation::turned_forces(r, &g, &ue, &s.forces))
+                    }
+                    None => f.copy_from_slice(&s.forces),
+                }
             },
         );
 }

@@ -31,6 +31,7 @@ pub mod contact_touches;
 pub mod contact_warm;
 pub mod contact_zone;
 pub mod corner_select;
+pub mod corotated_forces;
 pub mod damage_data;
 pub(crate) mod damage_pass;
 pub mod damage_reduce;
@@ -247,7 +248,7 @@ pub(crate) fn damage_forces(
         &mut damage_data::DamageState,
         &mut damage_sieve::SieveMemory,
     ),
-    layout: &CornerLayout,
+    (layout, frames): (&CornerLayout, Option<&corotated_forces::Frames>),
     (u, v): (&[[f64; 3]], &[[f64; 3]]),
     corner_forces: &mut [[f64; 3]],
     (dt, advance): (f64, bool),
@@ -269,6 +270,7 @@ pub(crate) fn damage_forces(
             memory: &mut memory.blocks[k],
             dissipated: &mut dissipated,
             step: state.steps + 1,
+            frames: frames.map(|f| f.of_kind(block.kind)),
         };
         let step = (dt, advance);
         match block.kind {

@@ -91,6 +91,9 @@ pub struct Summary {
     /// contact kernels on the GPU, the rest on the host each step: implicit runs) or "gpu
     /// resident" (every stage of the explicit step on the GPU, contact included).
     pub engine: String,
+    /// `run.kinematics`: "linear" or "corotational".
+    #[serde(default)]
+    pub kinematics: String,
     pub time_step: f64,
     /// Explicit runs: the stable step bound of the mesh (the step is at most this).
     pub stable_time_step: Option<f64>,

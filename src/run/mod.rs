@@ -39,7 +39,7 @@ use crate::output::failure_survey::{FailureMaxima, FailureSurvey};
 use crate::output::progress::Progress;
 use crate::output::summary::SetupClock;
 use crate::output::Summary;
-use crate::scene::{DeviceChoice, Method, Scene};
+use crate::scene::{DeviceChoice, Kinematics, Method, Scene};
 use crate::setup::{self, gpu_error, Setup};
 
 /// A run whose total energy exceeds this multiple of its scale (the initial energy, or the
@@ -78,6 +78,16 @@ fn build_solver<'m>(
     ranks: Option<&'m dyn Ranks>,
 ) -> Result<Box<dyn Integrator + 'm>> {
     if let Some(ranks) = ranks {
+        if scene.run.kinematics == Kinematics::Corotational {
+            return Err(ImpactError::Unsupported {
+                path: scene.path.clone(),
+                key: "run.kinematics".into(),
+                message: format!(
+                    "\"corotational\" runs in one process ({} ranks asked): set kinematics = \"linear\" or run without mpirun",
+                    ranks.size()
+                ),
+            });
+        }
         let partition = Partition::bisect(model, ranks.size());
         let settings = (&scene.explicit, dt, speed_scale);
         return Ok(match setup.ctx.clone() {
@@ -154,7 +164,9 @@ fn build_solver<'m>(
                         .map_err(|e| gpu_error(scene, e))?,
                 ),
                 None => Box::new(
-                    CpuKernels::new(model.element_data()).with_damage(setup.damage.clone()),
+                    CpuKernels::new(model.element_data())
+                        .with_damage(setup.damage.clone())
+                        .corotational(scene.run.kinematics == Kinematics::Corotational),
                 ),
             };
             match method {

@@ -40,6 +40,7 @@ pub(super) fn initial_summary(scene: &Scene, setup: &Setup, solver: &dyn Integra
         method_choice: setup.method_choice.clone(),
         device: solver.device_name(),
         engine: solver.engine().into(),
+        kinematics: scene.run.kinematics.name().into(),
         time_step: setup.dt,
         stable_time_step: setup.bound.filter(|_| explicit).map(|b| b.0),
         end_time: setup.end_time(),

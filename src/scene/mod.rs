@@ -37,6 +37,7 @@ pub mod rigid_body;
 
 option_names!(Method { Implicit = "implicit", Explicit = "explicit", Auto = "auto", Static = "static" });
 option_names!(DeviceChoice { Auto = "auto", Gpu = "gpu", Cpu = "cpu" });
+option_names!(Kinematics { Linear = "linear", Corotational = "corotational" });
 option_names!(ConstraintMeasure { GapRate = "gap_rate", Gap = "gap" });
 option_names!(PenaltyLaw { Adaptive = "adaptive", Fixed = "fixed" });
 option_names!(Acceleration { Anderson = "anderson", Newton = "newton", None = "none" });
@@ -70,6 +71,17 @@ pub enum Method {
 pub struct StaticSettings {
     pub minimum_step: f64,
     pub stabilisation: f64,
+}
+
+/// How the elements' strains follow their corners (`run.kinematics`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Kinematics {
+    /// The linear strain of the displacement: small displacements and rotations.
+    #[default]
+    Linear,
+    /// Each element's linear strain in a frame that turns with it
+    /// ([`crate::element::corotation`]): large rotations, small strains (explicit, CPU).
+    Corotational,
 }
 
 /// Where the element and contact kernels run.
@@ -145,6 +157,8 @@ pub struct RunSettings {
     pub time_step: Option<f64>,
     pub method: Method,
     pub device: DeviceChoice,
+    /// How the elements' strains follow their corners.
+    pub kinematics: Kinematics,
     /// A rise of the total energy above its start by more than this fraction of the run's
     /// energy scale is a warning (elastic contact can only lose energy).
     pub energy_tolerance: f64,

@@ -57,6 +57,7 @@ pub(crate) struct RawRun {
     pub method: Option<String>,
     pub device: Option<String>,
     pub energy_tolerance: Option<f64>,
+    pub kinematics: Option<String>,
 }
 
 /// `[static]`: a static step's increment control and stabilisation.

@@ -79,6 +79,10 @@ pub struct ExplicitState {
     /// The cohesive interfaces' damage and dissipation (none where there are none).
     #[serde(default)]
     pub cohesive: CohesiveState,
+    /// What the elements' turns add to $\tfrac12 u_n \cdot f_{int}$ (corotational
+    /// kinematics; [`Kernels::turn_energy`]).
+    #[serde(default)]
+    pub turn_energy: f64,
 }
 
 /// What a run's prescribed motion and damage have done so far: the work the moving
@@ -137,6 +141,8 @@ pub struct ExplicitSolver<'m> {
     /// u_n and v_{n+1/2} of the last step (the time-centred energy).
     u_prev: Vec<f64>,
     v_half: Vec<f64>,
+    /// The kernels' turn energy at `f_int` ([`Kernels::turn_energy`]).
+    turn_energy: f64,
     /// What the time-centred energy measure shifts by over a shortened step (see
     /// [`Integrator::shorten_step`]); removed from the kinetic energy reported after it.
     measure_shift: f64,
@@ -243,6 +249,7 @@ impl<'m> ExplicitSolver<'m> {
             a: start.a,
             f_int: vec![0.0; ndof],
             u_prev: vec![0.0; ndof],
+            turn_energy: 0.0,
             measure_shift: 0.0,
             spins: spin::Spins::new(model),
             contact,
@@ -269,6 +276,7 @@ impl<'m> ExplicitSolver<'m> {
             damage: self.kernels.damage_values().unwrap_or_default(),
             work: self.work.clone(),
             cohesive: self.cohesive.clone(),
+            turn_energy: self.turn_energy,
         }
     }
 
@@ -285,6 +293,7 @@ impl<'m> ExplicitSolver<'m> {
         self.v = s.v;
         self.a = s.a;
         self.f_int = s.f_int;
+        self.turn_energy = s.turn_energy;
         self.u_prev = s.u_prev;
         self.v_half = s.v_half;
         self.contact.restore(s.interfaces);
@@ -379,6 +388,7 @@ impl Integrator for ExplicitSolver<'_> {
         self.work.loads += (self.loads).explicit_step(self.model, times, u, &mut self.f_ext);
         let uv = (&self.u[..], &self.v[..]);
         let dissipated = self.kernels.step_forces_into(uv, dt, &mut self.f_int)?;
+        self.turn_energy = self.kernels.turn_energy();
         let cohesive = all_pairs(&self.model.cohesive);
         cohesive_forces(cohesive, &self.u, &mut self.cohesive, &mut self.f_int);
         let forces = (&self.f_ext[..], &self.f_int[..], &self.inv_mass[..]);
@@ -471,6 +481,7 @@ impl Integrator for ExplicitSolver<'_> {
         self.loads.set(self.model, self.time, &mut self.f_ext);
         self.kernels
             .internal_forces_into(&self.u, &mut self.f_int)?;
+        self.turn_energy = self.kernels.turn_energy();
         for (d, a) in self.a.iter_mut().enumerate() {
             *a = (self.f_ext[d] - self.f_int[d]) * self.inv_mass[d];
         }
@@ -512,12 +523,13 @@ impl Integrator for ExplicitSolver<'_> {
         if self.steps == 0 {
             self.kernels
                 .internal_forces_into(&self.u, &mut self.f_int)?;
+            self.turn_energy = self.kernels.turn_energy();
             let v = &self.v;
             let kinetic =
                 0.5 * ordered_sum(v.len(), |d| mass[d / 3] * v[d] * v[d]) + self.spins.kinetic();
             return Ok(Energies {
                 kinetic,
-                strain: 0.5 * dot(&self.u, &self.f_int),
+                strain: 0.5 * dot(&self.u, &self.f_int) - self.turn_energy,
                 potential: -dot(&self.f_ext, &self.u)
                     + self.loads.in_dot(self.model, self.time, &self.u),
                 damage: 0.0,
@@ -534,7 +546,8 @@ impl Integrator for ExplicitSolver<'_> {
         Ok(Energies {
             kinetic: kinetic - self.measure_shift,
             // the pairs' friction springs store less than half their traction's work
-            strain: 0.5 * dot(&self.u_prev, &self.f_int) + self.cohesive.stored_offset(),
+            strain: 0.5 * dot(&self.u_prev, &self.f_int) - self.turn_energy
+                + self.cohesive.stored_offset(),
             potential,
             damage: self.work.damage + self.cohesive.energy.iter().sum::<f64>(),
             plies: self.work.plies(),

@@ -515,6 +515,23 @@ impl Checker<'_> {
             DeviceChoice::Auto,
             DeviceChoice::CHOICES,
         )?;
+        let kinematics = self.choice(
+            "run.kinematics",
+            run.kinematics.as_deref(),
+            Kinematics::Linear,
+            Kinematics::CHOICES,
+        )?;
+        if kinematics == Kinematics::Corotational
+            && matches!(method, Method::Implicit | Method::Static)
+        {
+            return Err(self.err(
+                "run.kinematics",
+                format!(
+                    "\"corotational\" runs with method = \"explicit\" (or \"auto\"), not \"{}\": the implicit and static paths factorise a linear stiffness",
+                    method.name()
+                ),
+            ));
+        }
         let time_step = match run.time_step {
             Some(dt) => Some(self.positive("run.time_step", dt)?),
             None => None,
@@ -545,6 +562,7 @@ impl Checker<'_> {
             time_step,
             method,
             device,
+            kinematics,
             energy_tolerance,
         })
     }
