@@ -6,7 +6,8 @@
 //!    explicit step: elastic (no `fracture_energy`), damaging but far from initiation (every
 //!    element's elastic forces and the sieve: what most of a damaging run's elements cost),
 //!    and every element damaged (the points' loop: the damaging element's own cost). On the
-//!    GPU through the host path (upload, dispatch, read back), so the rows compare the device's
+//!    CPU also with corotational kinematics (each element in its turning frame). On the GPU
+//!    through the host path (upload, dispatch, read back), so the rows compare the device's
 //!    work plus the same transfers.
 //! 2. **Whole runs.** The drop-weight coupon of `scenes/drop_weight_d7136_elastic.toml` on a coarser
 //!    mesh, its first 1.1 ms (the tup's load climbs and the plies under it start to crack),
@@ -153,6 +154,13 @@ fn kernels_table(ctx: &Option<GpuContext>, quick: bool) {
         let mut cpu_d =
             CpuKernels::new(damaging.element_data()).with_damage(damaging.damage_data());
         rows.push(("cpu", kernel_row(&mut cpu_e, &mut cpu_d, &damaging, &all)));
+        // each element in its turning frame (`run.kinematics = "corotational"`)
+        let mut cor_e = CpuKernels::new(elastic.element_data()).corotational(true);
+        let mut cor_d = CpuKernels::new(damaging.element_data())
+            .with_damage(damaging.damage_data())
+            .corotational(true);
+        let row = kernel_row(&mut cor_e, &mut cor_d, &damaging, &all);
+        rows.push(("cpu, corotational", row));
         if let Some(ctx) = ctx {
             let mut gpu_e = GpuKernels::new(ctx.clone(), &elastic.element_data()).expect("engine");
             let mut gpu_d = GpuKernels::new(ctx.clone(), &damaging.element_data())
