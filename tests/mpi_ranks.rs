@@ -288,6 +288,29 @@ fn a_missing_checkpoint_stops_every_rank_with_one_message() {
     assert!(!stderr.contains("MPI_ABORT"), "{stderr}");
 }
 
+/// Corotational kinematics runs in one process: on 2 ranks the run stops with one message
+/// naming `run.kinematics`, not an abort of the job.
+#[test]
+fn corotational_kinematics_on_ranks_is_refused_by_its_key() {
+    let dir = out_dir("mpi_corotational");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("scene.toml");
+    let text = explicit_at_default_step(&scene_text("cube_on_plate.toml"));
+    let text = edit(
+        &text,
+        "method = \"explicit\"",
+        "method = \"explicit\"\nkinematics = \"corotational\"",
+    );
+    std::fs::write(&scene, text).unwrap();
+    let o = impact_command(2, &scene, &dir, ["--device", "cpu", "--overwrite"])
+        .output()
+        .expect("mpirun (Open MPI) on the PATH");
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{stderr}");
+    assert_eq!(stderr.matches("run.kinematics").count(), 1, "{stderr}");
+    assert!(!stderr.contains("MPI_ABORT"), "{stderr}");
+}
+
 /// The process of `job`'s MPI rank `rank` (Open MPI's `mpirun` starts its ranks as its
 /// children, each told its rank in `OMPI_COMM_WORLD_RANK`).
 fn rank_process(job: u32, rank: usize) -> Option<u32> {
