@@ -266,24 +266,7 @@ fn the_damaged_coupon_delaminates_and_keeps_its_balance() {
         [1.14, 3.42].iter().any(|d| (deepest - d).abs() < 1e-3),
         "deepest {deepest}"
     );
-    let (t, fz, vz) = (h.col("time"), h.col("impact.fz"), h.col("tup.vz"));
-    let impulse: f64 = (1..t.len()).map(|i| fz[i] * (t[i] - t[i - 1])).sum();
-    let change = MASS * (vz[vz.len() - 1] + V0);
-    assert!(
-        (impulse - change).abs() <= 1e-9 * MASS * V0,
-        "impulse {impulse}, change of momentum {change}"
-    );
-    let e = h.col("total_energy");
-    let drift = e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max);
-    // with what the contacts' normal impulses took, it closes
-    let losses: Vec<Vec<f64>> = (h.columns.iter())
-        .filter(|c| c.ends_with(".impact_loss"))
-        .map(|c| h.col(c))
-        .collect();
-    assert_eq!(losses.len(), 6);
-    let closed = (0..e.len())
-        .map(|k| (e[k] + losses.iter().map(|l| l[k]).sum::<f64>() - e[0]).abs())
-        .fold(0.0, f64::max);
+    let (e, drift, closed) = impulse_and_balance(&h);
     eprintln!(
         "energy balance: {:.2e} of the 30 J, {:.2e} with the impact losses",
         drift / e[0],
@@ -323,22 +306,7 @@ fn the_damaged_coupon_turning_with_its_elements_keeps_its_balance() {
         "{:?}",
         s.warnings
     );
-    let (t, fz, vz) = (h.col("time"), h.col("impact.fz"), h.col("tup.vz"));
-    let impulse: f64 = (1..t.len()).map(|i| fz[i] * (t[i] - t[i - 1])).sum();
-    let change = MASS * (vz[vz.len() - 1] + V0);
-    assert!(
-        (impulse - change).abs() <= 1e-9 * MASS * V0,
-        "{impulse} {change}"
-    );
-    let e = h.col("total_energy");
-    let drift = e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max);
-    let losses: Vec<Vec<f64>> = (h.columns.iter())
-        .filter(|c| c.ends_with(".impact_loss"))
-        .map(|c| h.col(c))
-        .collect();
-    let closed = (0..e.len())
-        .map(|k| (e[k] + losses.iter().map(|l| l[k]).sum::<f64>() - e[0]).abs())
-        .fold(0.0, f64::max);
+    let (e, drift, closed) = impulse_and_balance(&h);
     eprintln!(
         "corotational: balance {:.2e} of the 30 J, {:.2e} with the impact losses; damage {:.0} mJ",
         drift / e[0],
@@ -374,6 +342,30 @@ fn the_damaged_coupon_turning_with_its_elements_keeps_its_balance() {
     let (turning, straight) = (at(&h, 3.0), at(&linear, 3.0));
     eprintln!("at 3 mm: {turning:.0} N turning, {straight:.0} N linear");
     assert!(turning > 1.1 * straight, "{turning} against {straight}");
+}
+
+/// The tup's impulse is its change of momentum to 1e-9 (asserted); returns the total energy
+/// column, its largest departure from the start, and that departure with the six contacts'
+/// impact losses counted (what their normal impulses took).
+fn impulse_and_balance(h: &History) -> (Vec<f64>, f64, f64) {
+    let (t, fz, vz) = (h.col("time"), h.col("impact.fz"), h.col("tup.vz"));
+    let impulse: f64 = (1..t.len()).map(|i| fz[i] * (t[i] - t[i - 1])).sum();
+    let change = MASS * (vz[vz.len() - 1] + V0);
+    assert!(
+        (impulse - change).abs() <= 1e-9 * MASS * V0,
+        "impulse {impulse}, change of momentum {change}"
+    );
+    let e = h.col("total_energy");
+    let drift = e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max);
+    let losses: Vec<Vec<f64>> = (h.columns.iter())
+        .filter(|c| c.ends_with(".impact_loss"))
+        .map(|c| h.col(c))
+        .collect();
+    assert_eq!(losses.len(), 6);
+    let closed = (0..e.len())
+        .map(|k| (e[k] + losses.iter().map(|l| l[k]).sum::<f64>() - e[0]).abs())
+        .fold(0.0, f64::max);
+    (e, drift, closed)
 }
 
 /// The damage energy by kind: the summary's plies' fibre and matrix shares are the
