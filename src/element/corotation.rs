@@ -4,8 +4,9 @@
 //! Each element computes its forces in a frame that turns with it: $R$, the rotation of the
 //! polar decomposition $F = R U$ of the deformation gradient at its centre, takes the current
 //! corners back to the reference orientation, the element's own (linear) forces act on what
-//! is left, $d_k = R^T (x_k - x_0) - (X_k - X_0)$ with $x = X + u$, and $R$ turns them back,
-//! $f_k = R\, f^{loc}_k(d)$. A rigid rotation of any size then strains nothing, and a plate
+//! is left, $d_k = R^T (x_k - x_0) - (X_k - X_0)$ with $x = X + u$, and $R$ turns them back
+//! with the frame's own turn ([`turned_forces`]: the forces are the gradient of the energy
+//! $\tfrac12 d \cdot f^{loc}$). A rigid rotation of any size then strains nothing, and a plate
 //! that deflects by about its thickness stretches as it bends (its membrane stiffening),
 //! which the linear strain of the displacement misses.
 
