@@ -97,18 +97,20 @@ pub(crate) fn damage_pass<const N: usize>(
                 // forces
                 let ue = nodes.map(|n| u[n as usize]);
                 let ue = frame.map_or(ue, |r| corotation::local(r, &x, &ue));
-                let fe: [[f64; 3]; N] = match frame {
-                    Some(r) => corotation::turn_back(r, f),
-                    None => std::array::from_fn(|k| f[k]),
-                };
                 *dissipated = Dissipation::default();
                 if !*damaged {
-                    if !advance || !may_reach(memory, block.sieve[i], (&fe, &ue)) {
+                    if !advance {
+                        return;
+                    }
+                    // the sieve's elastic forces, in the frame where there is one
+                    let turned: Option<[[f64; 3]; N]> = frame.map(|r| corotation::turn_back(r, f));
+                    let fe: &[[f64; 3]] = turned.as_ref().map_or(&f[..], |t| &t[..]);
+                    if !may_reach(memory, block.sieve[i], (fe, &ue)) {
                         return;
                     }
                     let reach = kernel.reach(i, &x, &ue);
                     if reach < 1.0 - REACH_MARGIN {
-                        remember(memory, (&fe, &ue), reach);
+                        remember(memory, (fe, &ue), reach);
                         return;
                     }
                 }
