@@ -50,34 +50,58 @@ pub(crate) fn corotated_forces(
         let frames = &mut frames.blocks[block.kind.index()];
         let material = |e: usize| &data.materials[block.material[e] as usize];
         match block.kind {
-            ElementKind::Hex8 => {
-                block_forces::<8>(data, block, u, (out, skip, frames), |e, x, d| {
-                    hex8_forces::element_forces(x, d, material(e))
-                })
-            }
-            ElementKind::Tet4 => {
-                block_forces::<4>(data, block, u, (out, skip, frames), |e, x, d| {
-                    tet4::forces(x, d, material(e))
-                })
-            }
+            ElementKind::Hex8 => block_forces::<8>(
+                data,
+                block,
+                u,
+                (out, skip, frames),
+                (
+                    |_, x| corotation::centre_gradients(x),
+                    |e, x, d| hex8_forces::element_forces(x, d, material(e)),
+                ),
+            ),
+            ElementKind::Tet4 => block_forces::<4>(
+                data,
+                block,
+                u,
+                (out, skip, frames),
+                (
+                    |_, x| corotation::centre_gradients(x),
+                    |e, x, d| tet4::forces(x, d, material(e)),
+                ),
+            ),
             ElementKind::Hex8i => {
                 let kept = kept.of_kind(ElementKind::Hex8i);
-                block_forces::<8>(data, block, u, (out, skip, frames), |e, x, d| {
-                    hex8i::forces(&kept[e * hex8i::KEPT..(e + 1) * hex8i::KEPT], x, d)
-                })
+                let of = |e: usize| &kept[e * hex8i::KEPT..(e + 1) * hex8i::KEPT];
+                // the centre gradients the element keeps (the same bits as found anew)
+                let gradients = |e: usize, _: &[[f64; 3]; 8]| {
+                    let g = &of(e)[hex8i::PACKED..];
+                    std::array::from_fn(|k| [g[3 * k], g[3 * k + 1], g[3 * k + 2]])
+                };
+                block_forces::<8>(
+                    data,
+                    block,
+                    u,
+                    (out, skip, frames),
+                    (gradients, |e, x, d| hex8i::forces(of(e), x, d)),
+                )
             }
         }
     }
 }
 
 /// One block's frames and, where `skip` does not mark the element, its turned forces from
-/// `local` (element number, reference corners, local displacements).
+/// `local` (element number, reference corners, local displacements); `gradients` gives an
+/// element's centre gradients (element number, reference corners).
 fn block_forces<const N: usize>(
     data: &ElementData,
     block: &crate::element::ElementBlock,
     u: &[[f64; 3]],
     (out, skip, frames): (&mut [[f64; 3]], &[bool], &mut [Mat3]),
-    local: impl Fn(usize, &[[f64; 3]; N], &[[f64; 3]; N]) -> [[f64; 3]; N] + Sync,
+    (gradients, local): (
+        impl Fn(usize, &[[f64; 3]; N]) -> [[f64; 3]; N] + Sync,
+        impl Fn(usize, &[[f64; 3]; N], &[[f64; 3]; N]) -> [[f64; 3]; N] + Sync,
+    ),
 ) {
     out[..block.nodes.len()]
         .par_chunks_mut(N)
@@ -87,7 +111,7 @@ fn block_forces<const N: usize>(
         .for_each(|(e, (out, (corners, frame)))| {
             let x = corners.map(|n| data.reference[n as usize]);
             let ue = corners.map(|n| u[n as usize]);
-            let g = corotation::centre_gradients(&x);
+            let g = gradients(e, &x);
             let r = corotation::rotation(&g, &ue);
             *frame = r;
             if skip.get(e) == Some(&true) {
