@@ -171,45 +171,6 @@ fn a_turn_strains_nothing_and_a_turned_stretch_keeps_its_energy_and_its_gradient
     );
 }
 
-/// A strip clamped at one end, 40 x 8 x 1 mm of aluminium in 20 x 2 x 1 hex8i, set swinging
-/// by 32 m/s so that its tip travels about 16 mm (two fifths of its length; its end turns
-/// by about 0.5 rad).
-fn swinging_strip(kinematics: &str, end: f64) -> String {
-    format!(
-        r#"
-title = "a swinging strip"
-
-[run]
-method = "explicit"
-end_time = {end:e}
-kinematics = "{kinematics}"
-
-[[material]]
-name = "aluminium"
-density = 2.7e-9
-youngs_modulus = 70000.0
-poissons_ratio = 0.33
-
-[[body]]
-name = "strip"
-material = "aluminium"
-box = {{ min = [0.0, 0.0, 0.0], max = [40.0, 8.0, 1.0], divisions = [20, 2, 1], element = "hex8i" }}
-velocity = [0.0, 0.0, 32000.0]
-
-[[fix]]
-name = "root"
-body = "strip"
-face = "x-"
-components = ["x", "y", "z"]
-
-[[probe]]
-name = "tip"
-body = "strip"
-point = [40.0, 4.0, 0.5]
-"#
-    )
-}
-
 /// The swinging strip keeps its energy to 1e-4 of it over its first swing out and back (1.2
 /// ms, with its tip 16 mm out) and its tip's travel, the same as the linear strip's while
 /// small, is shortened where it is large (the strip stretches as it bends).

@@ -59,7 +59,7 @@ fn shared_node_sums_match_one_device(ctx: Option<GpuContext>) {
             .map(|r| Subdomain::new(&model, &partition, r))
             .collect();
         let mut kernels: Vec<RankForces> = (subs.iter_mut())
-            .map(|s| RankForces::new(s, ctx.clone(), None).unwrap())
+            .map(|s| RankForces::new(s, ctx.clone(), (None, false)).unwrap())
             .collect();
         let mut local_f: Vec<Vec<f64>> = Vec::new();
         for (s, k) in subs.iter().zip(&mut kernels) {

@@ -113,6 +113,9 @@ pub struct DomainSolver<'m> {
     load_work: f64,
     /// The cohesive pairs at the rank's nodes, where the model has any.
     cohesive: Option<RankCohesive>,
+    /// The rank's elements' turn energy at `f_int` (corotational kinematics; on every rank
+    /// but the first 0 until the first forces after a restore, which counts it once).
+    turn_energy: f64,
 }
 
 /// The whole model's damage inputs, the rank's, and the rank's damageable elements'
@@ -125,13 +128,13 @@ struct RankDamage {
 
 impl<'m> DomainSolver<'m> {
     /// Rank `ranks.rank()`'s part of `model` under `partition`, its element forces on `ctx`
-    /// (the rank's GPU) or on the CPU.
+    /// (the rank's GPU) or on the CPU, turned with the elements where `corotational`.
     pub fn new(
         model: &'m Model,
         ranks: &'m dyn Ranks,
         partition: &Partition,
         (settings, dt, speed_scale): (&ExplicitSettings, f64, f64),
-        (ctx, damage): (Option<GpuContext>, Option<&DamageData>),
+        (ctx, damage, corotational): (Option<GpuContext>, Option<&DamageData>, bool),
     ) -> Result<Self> {
         let mut sub = Subdomain::new(model, partition, ranks.rank());
         let damage = damage.map(|global| {
@@ -145,7 +148,7 @@ impl<'m> DomainSolver<'m> {
         });
         let own = damage.as_ref().map(|d| d.mine.clone());
         // a rank whose kernels fail stops every rank (none waits for it)
-        let kernels = agree(ranks, RankForces::new(&mut sub, ctx, own))
+        let kernels = agree(ranks, RankForces::new(&mut sub, ctx, (own, corotational)))
             .map_err(|why| ImpactError::Gpu(format!("building the kernels: {why}")))?;
         let mass_all = lumped_mass(model);
         let mass: Vec<f64> = sub.nodes.iter().map(|&n| mass_all[n as usize]).collect();
@@ -199,6 +202,7 @@ impl<'m> DomainSolver<'m> {
             damage_energy: Dissipation::default(),
             loads,
             load_work: 0.0,
+            turn_energy: 0.0,
             cohesive,
         })
     }
@@ -248,6 +252,7 @@ impl<'m> DomainSolver<'m> {
     /// corners the neighbours send.
     fn internal_forces(&mut self) -> Result<()> {
         self.kernels.internal_forces(&self.u, &mut self.f_int)?;
+        self.turn_energy = self.kernels.turn_energy();
         self.sum_shared();
         Ok(())
     }
@@ -258,6 +263,7 @@ impl<'m> DomainSolver<'m> {
     fn step_forces(&mut self) -> Result<()> {
         let uv = (&self.u[..], &self.v[..]);
         self.damage_energy += self.kernels.step_forces(uv, self.dt, &mut self.f_int)?;
+        self.turn_energy = self.kernels.turn_energy();
         self.sum_shared();
         if let Some(c) = &mut self.cohesive {
             c.forces(&self.u, &mut self.f_int);
@@ -550,7 +556,15 @@ impl Integrator for DomainSolver<'_> {
         ];
         let count = self.model.mesh.node_count();
         let d = self.damage_energy;
-        let sums = self.talk(|r| r.sum(&[self.fix_work, d.total, d.fibre, self.load_work]));
+        let sums = self.talk(|r| {
+            r.sum(&[
+                self.fix_work,
+                d.total,
+                d.fibre,
+                self.load_work,
+                self.turn_energy,
+            ])
+        });
         let gathered = checkpoint::gather_fields(&self.timed(), &self.sub, fields, count)
             .map_err(ImpactError::Ranks)?;
         let Some([u, v, a, f_int, u_prev, v_half]) = gathered else {
@@ -579,8 +593,7 @@ impl Integrator for DomainSolver<'_> {
                 carried: 0.0,
             },
             cohesive,
-            // ranks run linear kinematics (`run.kinematics` is refused there)
-            turn_energy: 0.0,
+            turn_energy: sums[4],
         }))))
     }
 
@@ -607,6 +620,7 @@ impl Integrator for DomainSolver<'_> {
             false => Dissipation::default(),
         };
         self.load_work = if first { s.work.loads } else { 0.0 };
+        self.turn_energy = if first { s.turn_energy } else { 0.0 };
         self.loads.set(self.model, self.time, &mut self.f_ext);
         if let Some(c) = &mut self.cohesive {
             let pairs = crate::model::cohesive::all_pairs(&self.model.cohesive);
@@ -636,13 +650,17 @@ impl Integrator for DomainSolver<'_> {
     /// The time-centred energies of [`crate::integrate::ExplicitSolver`], each rank's owned
     /// dofs summed, then the ranks in order.
     fn energies(&mut self) -> Result<Energies> {
+        // the rank's turn energy, on the first dof of its first owned node
+        let first = self.sub.owned.iter().position(|&o| o).map(|i| 3 * i);
         if self.steps == 0 {
             self.internal_forces()?;
             let (m, v, u, f, fe) = (&self.mass, &self.v, &self.u, &self.f_int, &self.f_ext);
-            let [k, s, p] =
-                self.owned_sums([&|d| m[d / 3] * v[d] * v[d], &|d| u[d] * f[d], &|d| {
-                    fe[d] * u[d]
-                }]);
+            let turn = self.turn_energy;
+            let [k, s, p] = self.owned_sums([
+                &|d| m[d / 3] * v[d] * v[d],
+                &|d| u[d] * f[d] - if Some(d) == first { 2.0 * turn } else { 0.0 },
+                &|d| fe[d] * u[d],
+            ]);
             return Ok(Energies {
                 kinetic: 0.5 * k + self.surface.spins().kinetic(),
                 strain: 0.5 * s,
@@ -662,14 +680,14 @@ impl Integrator for DomainSolver<'_> {
             &self.f_int,
             &self.f_ext,
         );
-        // the fixes' work and the damage's energy: on the first dof of the rank's first
-        // owned node
-        let first = self.sub.owned.iter().position(|&o| o).map(|i| 3 * i);
+        // the fixes' work and the damage's energy there too
         let bonded = self.cohesive.as_ref().map_or(0.0, RankCohesive::energy);
+        // the strain energy's terms beside 1/2 u f: the pairs' and the elements' turn
         let offset = self
             .cohesive
             .as_ref()
-            .map_or(0.0, RankCohesive::stored_offset);
+            .map_or(0.0, RankCohesive::stored_offset)
+            - self.turn_energy;
         let plies = self.damage_energy;
         let (work, damage) = (self.fix_work, plies.total + bonded);
         let u = (&self.u_prev[..], &self.u[..]);

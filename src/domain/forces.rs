@@ -27,15 +27,18 @@ pub enum RankForces {
 
 impl RankForces {
     /// The kernels of `sub`'s elements on `ctx`, or on the CPU without one (a GPU renumbers
-    /// `sub`'s exchanged corners), with the damage of its elements (`damage`).
+    /// `sub`'s exchanged corners), with the damage of its elements (`damage`), their forces
+    /// turned with them where `corotational` (on the CPU: the setup gives no GPU then).
     pub fn new(
         sub: &mut Subdomain,
         ctx: Option<GpuContext>,
-        damage: Option<DamageData>,
+        (damage, corotational): (Option<DamageData>, bool),
     ) -> Result<Self> {
         let Some(ctx) = ctx else {
             return Ok(RankForces::Cpu(
-                CpuKernels::new(sub.data.clone()).with_damage(damage),
+                CpuKernels::new(sub.data.clone())
+                    .with_damage(damage)
+                    .corotational(corotational),
             ));
         };
         let chosen = sub.exchanged_corners();
@@ -98,6 +101,14 @@ impl RankForces {
         match self {
             RankForces::Cpu(k) => k.damage_cells(),
             RankForces::Gpu { kernels, .. } => kernels.damage_cells(),
+        }
+    }
+
+    /// The rank's elements' turn energy at their last forces ([`Kernels::turn_energy`]).
+    pub fn turn_energy(&self) -> f64 {
+        match self {
+            RankForces::Cpu(k) => k.turn_energy(),
+            RankForces::Gpu { kernels, .. } => kernels.turn_energy(),
         }
     }
 

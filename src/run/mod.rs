@@ -78,16 +78,6 @@ fn build_solver<'m>(
     ranks: Option<&'m dyn Ranks>,
 ) -> Result<Box<dyn Integrator + 'm>> {
     if let Some(ranks) = ranks {
-        if scene.run.kinematics == Kinematics::Corotational {
-            return Err(ImpactError::Unsupported {
-                path: scene.path.clone(),
-                key: "run.kinematics".into(),
-                message: format!(
-                    "\"corotational\" runs in one process ({} ranks asked): set kinematics = \"linear\" or run without mpirun",
-                    ranks.size()
-                ),
-            });
-        }
         let partition = Partition::bisect(model, ranks.size());
         let settings = (&scene.explicit, dt, speed_scale);
         return Ok(match setup.ctx.clone() {
@@ -115,7 +105,11 @@ fn build_solver<'m>(
                     ranks,
                     &partition,
                     settings,
-                    (ctx, setup.damage.as_ref()),
+                    (
+                        ctx,
+                        setup.damage.as_ref(),
+                        scene.run.kinematics == Kinematics::Corotational,
+                    ),
                 )
                 .map_err(|e| gpu_error(scene, e))?,
             ),
