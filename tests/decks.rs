@@ -1398,7 +1398,7 @@ fn an_lsdyna_rigid_part_strikes_as_a_rigid_body_of_its_mass() {
     assert!(fz.iter().any(|&f| f > 0.0), "the tup strikes the block");
     // the contact's impulse on the tup is its change of momentum, with its mass RO x V
     let mass = 0.08 * 0.125;
-    let impulse: f64 = (1..t.len()).map(|i| fz[i] * (t[i] - t[i - 1])).sum();
+    let impulse = common::impulse(&t, &fz);
     let n = t.len() - 1;
     let change = mass * (vz[n] - vz[0]);
     eprintln!(
@@ -1506,7 +1506,7 @@ fn an_lsdyna_rigid_part_free_to_turn_takes_its_inertia_from_its_elements() {
             w[n]
         );
     }
-    let impulse: f64 = (1..t.len()).map(|i| fz[i] * (t[i] - t[i - 1])).sum();
+    let impulse = common::impulse(&t, &fz);
     let change = mass * (vz[n] - vz[0]);
     assert!(
         (impulse - change).abs() <= 1e-9 * mass,

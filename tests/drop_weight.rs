@@ -42,7 +42,7 @@ fn a_tup_strikes_the_coupon_and_rebounds_and_indentation_follows_its_loading_bra
     let rebound = vz[vz.len() - 1];
     assert!(rebound > 0.9 * V0, "rebound {rebound}");
     // momentum: the impulse of the coupon on the guided tup is its change of momentum
-    let impulse: f64 = (1..t.len()).map(|i| fz[i] * (t[i] - t[i - 1])).sum();
+    let impulse = common::impulse(&t, &fz);
     let change = MASS * (rebound + V0);
     assert!(
         (impulse - change).abs() <= 1e-9 * change,
@@ -349,7 +349,7 @@ fn the_damaged_coupon_turning_with_its_elements_keeps_its_balance() {
 /// impact losses counted (what their normal impulses took).
 fn impulse_and_balance(h: &History) -> (Vec<f64>, f64, f64) {
     let (t, fz, vz) = (h.col("time"), h.col("impact.fz"), h.col("tup.vz"));
-    let impulse: f64 = (1..t.len()).map(|i| fz[i] * (t[i] - t[i - 1])).sum();
+    let impulse = common::impulse(&t, &fz);
     let change = MASS * (vz[vz.len() - 1] + V0);
     assert!(
         (impulse - change).abs() <= 1e-9 * MASS * V0,

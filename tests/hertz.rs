@@ -62,7 +62,7 @@ fn sphere_on_plane_matches_hertz() {
     // initial kinetic energy), to 1e-9
     let m = 2.0 * h.col("kinetic_energy")[0] / (0.2 * 0.2);
     let dp = m * (h.last("ball.vz") + 0.2);
-    let p: f64 = (1..t.len()).map(|i| quarter[i] * (t[i] - t[i - 1])).sum();
+    let p = common::impulse(&t, &quarter);
     assert!(
         (p - dp).abs() <= 1e-9 * dp,
         "impulse {p} vs momentum change {dp}"

@@ -13,11 +13,11 @@ fn meshes() -> std::path::PathBuf {
     repo().join("scenes").join("meshes")
 }
 
-/// Sum of force x dt over the rows of a history (the rows' impulse).
+/// The impulse of a force column over the rows of a history ([`common::impulse`]).
 fn impulse(h: &History, column: &str) -> f64 {
     let t = h.col("time");
     let f = h.col(column);
-    (1..t.len()).map(|i| f[i] * (t[i] - t[i - 1])).sum()
+    common::impulse(&t, &f)
 }
 
 /// The same unit cube as 8 x 8 x 8 hex8 (`.inp`) and as 2740 tet4 (`.msh`) strikes a rigid

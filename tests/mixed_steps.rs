@@ -199,7 +199,7 @@ time_step = 0.0025
     }
     eprintln!("St Venant after a static step: force error {worst:.4} Z v0");
     assert!(worst <= 0.02, "force error {worst} Z v0");
-    let impulse: f64 = (at + 1..t.len()).map(|i| f[i] * (t[i] - t[i - 1])).sum();
+    let impulse = impulse_from(&t, &f, at + 1);
     let lost = m * (1.0 - v[v.len() - 1]);
     assert!(
         (impulse - lost).abs() <= 1e-9 * m,

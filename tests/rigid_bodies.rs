@@ -173,6 +173,57 @@ fn a_prescribed_body_drives_a_bar_at_its_impedance() {
     }
 }
 
+/// A run that ends between whole steps, while the prescribed body drives the bar: its
+/// last, shortened step reports the force Z v0 as every step before (the impulse over the
+/// time it acts, the mean of the two steps' lengths; over the shortened step alone it
+/// would be (1 + 0.3) / 0.6 = 2.17 Z v0), on the CPU and on the GPU adapter.
+#[test]
+fn a_run_ending_between_steps_reports_its_last_force_over_the_time_it_acts() {
+    let text = st_venant("explicit", "motion = \"prescribed\"", true);
+    // 40 steps and 0.3 of one, before the reflected wave returns
+    let text = text.replace("end_time = 0.25", "end_time = 0.10075");
+    for device in [DeviceChoice::Cpu, DeviceChoice::Gpu] {
+        let tag = format!("prescribed_short_end_{device:?}").to_lowercase();
+        if device == DeviceChoice::Gpu && skip_gpu(&tag) {
+            continue;
+        }
+        let (s, h) = run_text_on(&tag, &text, Some(device));
+        let s = s.expect("run completes");
+        assert_eq!(s.status, "completed");
+        if device == DeviceChoice::Gpu {
+            assert_eq!(
+                s.engine, "gpu resident",
+                "{tag}: the whole step on the device"
+            );
+        }
+        let (t, f) = (h.col("time"), h.col("strike.normal_force"));
+        let n = t.len() - 1;
+        assert!(
+            (t[n] - 0.10075).abs() <= 1e-12 && n == 41,
+            "{tag}: {n} rows to {}",
+            t[n]
+        );
+        assert!(
+            (t[n] - t[n - 1] - 0.3 * DT).abs() <= 1e-12,
+            "{tag}: a shortened step"
+        );
+        // f32 on the device
+        let tol = if device == DeviceChoice::Gpu {
+            1e-5
+        } else {
+            1e-9
+        };
+        for i in 2..=n {
+            assert!(
+                (f[i] - 1.0).abs() <= tol,
+                "{tag}: force {} at {}",
+                f[i],
+                t[i]
+            );
+        }
+    }
+}
+
 #[test]
 fn a_prescribed_body_puts_its_impulse_into_a_free_bar() {
     let text = st_venant("explicit", "motion = \"prescribed\"", false);
@@ -235,7 +286,7 @@ fn hertz(tag: &str, text: &str) -> [f64; 3] {
     let m = 85.333_333_333_333_33 / 4.0;
     let dp = m * (h.last("ball.vz") + 0.2);
     let fz = h.col("hertz.fz");
-    let p: f64 = (1..t.len()).map(|i| fz[i] * (t[i] - t[i - 1])).sum();
+    let p = common::impulse(&t, &fz);
     assert!((p - dp).abs() <= 1e-9 * dp, "{tag}: impulse {p} vs {dp}");
     // the rigid body's kinetic energy is in the balance, which never rises
     let e = h.col("total_energy");
@@ -441,8 +492,7 @@ fn roller_drives_block(method: &str, text: &str) {
     let n = t.len() - 1;
     // the block's mass: density x volume
     let mass = 0.01 * 0.5;
-    let dts: Vec<f64> = (1..t.len()).map(|i| t[i] - t[i - 1]).collect();
-    let impulse: f64 = -(1..t.len()).map(|i| fx[i] * dts[i - 1]).sum::<f64>();
+    let impulse = -common::impulse(&t, &fx);
     eprintln!(
         "block vx {:.4e}, impulse / mass {:.4e}",
         vx[n],

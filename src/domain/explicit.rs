@@ -94,6 +94,9 @@ pub struct DomainSolver<'m> {
     u_prev: Vec<f64>,
     v_half: Vec<f64>,
     measure_shift: f64,
+    /// The time the step's contact impulses act over
+    /// ([`crate::integrate::explicit::impulse_interval`]).
+    interval: f64,
     surface: SurfaceContact,
     received: Vec<f64>,
     /// The rank's part of the model, for its pieces of the frames.
@@ -179,6 +182,7 @@ impl<'m> DomainSolver<'m> {
             received: vec![0.0; 3 * sub.received],
             sub,
             dt,
+            interval: dt,
             time: 0.0,
             steps: 0,
             mass,
@@ -450,15 +454,16 @@ impl Integrator for DomainSolver<'_> {
     }
 
     fn reports(&self) -> Vec<ContactReport> {
+        let (dt, interval) = (self.dt, self.interval);
         (self.surface.contact().interfaces.iter())
-            .map(|i| i.report)
+            .map(|i| i.report.over_interval(dt, interval))
             .collect()
     }
 
     fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {
         let st = &self.surface.contact().interfaces[interface];
         let area = self.model.interfaces[interface].area[point];
-        (st.impulse[point] / (self.dt * area), st.gap[point])
+        (st.impulse[point] / (self.interval * area), st.gap[point])
     }
 
     fn time(&self) -> f64 {
@@ -611,6 +616,8 @@ impl Integrator for DomainSolver<'_> {
         [self.u, self.v, self.a, self.f_int, self.u_prev, self.v_half] =
             checkpoint::restrict_fields(&self.sub, global);
         (self.dt, self.time, self.steps) = (s.dt, s.time, s.steps);
+        // checkpoints are taken at whole steps
+        self.interval = s.dt;
         self.surface.restore(s.interfaces, s.spins);
         // the work so far counted once, on the first rank
         let first = self.ranks.rank() == 0;
@@ -644,6 +651,7 @@ impl Integrator for DomainSolver<'_> {
         let ama = self.talk(|r| r.sum(&[mine]))[0];
         self.measure_shift = 0.125 * (self.dt * self.dt - dt * dt) * ama;
         crate::integrate::explicit::shift_half_step(&mut self.v_half, &self.a, (self.dt, dt));
+        self.interval = crate::integrate::explicit::impulse_interval(self.dt, Some(dt));
         self.dt = dt;
     }
 

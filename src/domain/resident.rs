@@ -725,7 +725,7 @@ impl Integrator for RankResident<'_> {
             model: self.model,
             body_mass: &self.body_mass,
             max_iterations: self.max_iterations,
-            dt: self.last_dt.unwrap_or(self.dt),
+            interval: crate::integrate::explicit::impulse_interval(self.dt, self.last_dt),
         };
         self.current = reader.decode(&row);
         self.current.energies.kinetic -= self.measure_shift;
@@ -763,9 +763,9 @@ impl Integrator for RankResident<'_> {
             },
         };
         let area = self.model.interfaces[interface].area[point];
-        let dt = self.last_dt.unwrap_or(self.dt);
+        let interval = crate::integrate::explicit::impulse_interval(self.dt, self.last_dt);
         (
-            self.results[o + slot::NORMAL_IMPULSE] / (dt * area),
+            self.results[o + slot::NORMAL_IMPULSE] / (interval * area),
             self.results[o + slot::GAP],
         )
     }

@@ -341,7 +341,9 @@ pub(crate) struct RowReader<'a> {
     pub model: &'a Model,
     pub body_mass: &'a [f64],
     pub max_iterations: usize,
-    pub dt: f64,
+    /// The time the row's contact impulses act over
+    /// ([`crate::integrate::explicit::impulse_interval`]).
+    pub interval: f64,
     /// The reaction columns after the probes' (none on a rank).
     pub reactions: usize,
     /// The cohesive interfaces whose values end the row (none on a rank).
@@ -384,8 +386,8 @@ impl RowReader<'_> {
             let jt = [q[1], q[2], q[3]];
             let j = &q[slot::IMPULSE..slot::IMPULSE + 3];
             reports.push(ContactReport {
-                normal_force: q[0] / self.dt,
-                tangential_force: crate::geometry::vector::norm(jt) / self.dt,
+                normal_force: q[0] / self.interval,
+                tangential_force: crate::geometry::vector::norm(jt) / self.interval,
                 active: q[4].round() as usize,
                 max_penetration: q[6],
                 sliding: q[5].round() as usize,
@@ -393,7 +395,7 @@ impl RowReader<'_> {
                 impact_loss: q[slot::IMPACT_LOSS],
                 driver_work: q[slot::DRIVER_WORK],
                 // on the primary side: minus the impulses on the secondary nodes
-                force: std::array::from_fn(|a| -j[a] / self.dt),
+                force: std::array::from_fn(|a| -j[a] / self.interval),
             });
             // the drivers' work is the model's energy input (the host path's balance)
             e.potential -= q[slot::DRIVER_WORK];
@@ -486,8 +488,9 @@ pub struct ResidentSolver<'m> {
     device_seconds: Option<f64>,
     /// The shortened last step, if the run has one (see [`Pipelined::schedule`]).
     last_dt: Option<f64>,
-    /// The step length the rows being decoded were computed with.
-    row_dt: f64,
+    /// The time the contact impulses of the rows being decoded act over
+    /// ([`crate::integrate::explicit::impulse_interval`]).
+    row_interval: f64,
     /// The energy measure's shift over the shortened last step
     /// ([`Integrator::shorten_step`] of the explicit solver).
     measure_shift: f64,
@@ -620,7 +623,7 @@ impl<'m> ResidentSolver<'m> {
             device_seconds,
             forms,
             last_dt: None,
-            row_dt: dt,
+            row_interval: dt,
             measure_shift: 0.0,
             u: vec![0.0; 3 * model.mesh.node_count()],
             v: setup.velocity.clone(),
@@ -690,7 +693,7 @@ impl<'m> ResidentSolver<'m> {
                     .sum();
                 self.measure_shift = 0.125 * (self.dt * self.dt - dt * dt) * ama;
                 self.engine.set_dt(dt);
-                self.row_dt = dt;
+                self.row_interval = crate::integrate::explicit::impulse_interval(self.dt, Some(dt));
             }
             let n = self.plan(self.submitted).max(1);
             self.submit(self.slot, n)?;
@@ -821,7 +824,7 @@ impl<'m> ResidentSolver<'m> {
             model: self.model,
             body_mass: &self.body_mass,
             max_iterations: self.max_iterations,
-            dt: self.row_dt,
+            interval: self.row_interval,
             reactions: self.columns.len(),
             cohesive: self.model.cohesive.len(),
         }
@@ -1029,7 +1032,8 @@ impl Integrator for ResidentSolver<'_> {
     fn node_contact(&self, interface: usize, point: usize) -> (f64, f64) {
         let (impulse, gap) = self.node_impulse(interface, point);
         let area = self.model.interfaces[interface].area[point];
-        (impulse / (self.dt * area), gap)
+        // the state is read where the rows are decoded: the interval is theirs
+        (impulse / (self.row_interval * area), gap)
     }
 
     fn time(&self) -> f64 {
@@ -1086,7 +1090,7 @@ impl Integrator for ResidentSolver<'_> {
             .write_step_state(&s.buffers)
             .map_err(|e| e.to_string())?;
         self.dt = s.dt;
-        self.row_dt = s.dt;
+        self.row_interval = s.dt;
         self.time = s.time;
         self.steps = s.steps;
         self.submitted = s.steps;

@@ -96,9 +96,10 @@ pub struct DamageReport {
 /// One interface over one step.
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ContactReport {
-    /// Total compressive force, impulse over the step / time step.
+    /// Total compressive force: the step's normal impulses over the time they act
+    /// ([`impulse_interval`](crate::integrate::explicit::impulse_interval) on explicit steps).
     pub normal_force: f64,
-    /// Magnitude of the total friction force (impulse / time step).
+    /// Magnitude of the total friction force (impulse over the same time).
     pub tangential_force: f64,
     /// Secondary nodes carrying pressure.
     pub active: usize,
@@ -117,9 +118,25 @@ pub struct ContactReport {
     /// body (the interface's contact impulses times the body's velocity); the energy
     /// balance counts it as external work.
     pub driver_work: f64,
-    /// The contact force on the primary side over the last step (impulse / time step), a
-    /// vector: the force on a rigid body.
+    /// The contact force on the primary side over the last step (impulse over the same
+    /// time), a vector: the force on a rigid body.
     pub force: [f64; 3],
+}
+
+impl ContactReport {
+    /// The report with its forces, found as impulses over `dt`, over `interval` instead.
+    pub fn over_interval(self, dt: f64, interval: f64) -> Self {
+        if interval == dt {
+            return self;
+        }
+        let k = dt / interval;
+        ContactReport {
+            normal_force: k * self.normal_force,
+            tangential_force: k * self.tangential_force,
+            force: self.force.map(|f| k * f),
+            ..self
+        }
+    }
 }
 
 /// Whether a checkpoint's state fits this model: its dof and interface counts against the

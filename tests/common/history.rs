@@ -55,6 +55,25 @@ impl History {
     }
 }
 
+/// The impulse of an explicit run's force column `f` over its rows from `from` on (at
+/// times `t`): each row's force times the time its step's impulses act over, the step
+/// before's length but for the first row's, the step's own, and for a shortened last step
+/// the mean of it and the step before (`impulse_interval`). So it is the impulses' sum.
+pub fn impulse_from(t: &[f64], f: &[f64], from: usize) -> f64 {
+    (from..t.len())
+        .map(|i| match i {
+            i if i == from => f[i] * (t[i] - t[i - 1]),
+            i if i + 1 == t.len() => f[i] * 0.5 * (t[i] - t[i - 2]),
+            i => f[i] * (t[i] - t[i - 1]),
+        })
+        .sum()
+}
+
+/// [`impulse_from`] over every row after the first (the start).
+pub fn impulse(t: &[f64], f: &[f64]) -> f64 {
+    impulse_from(t, f, 1)
+}
+
 /// The mean of `y` over the rows whose `x` is within `w` of `at` (a load averaged over a
 /// window of opening or travel, where an explicit run rings).
 pub fn mean_near(x: &[f64], y: &[f64], at: f64, w: f64) -> f64 {
