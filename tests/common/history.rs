@@ -56,9 +56,10 @@ impl History {
 }
 
 /// The impulse of an explicit run's force column `f` over its rows from `from` on (at
-/// times `t`): each row's force times the time its step's impulses act over, the step
-/// before's length but for the first row's, the step's own, and for a shortened last step
-/// the mean of it and the step before (`impulse_interval`). So it is the impulses' sum.
+/// times `t`): each row's force times the time its step's impulses act over
+/// (`impulse_interval`): the row's own step, but for the last row the mean of its step and
+/// the one before (a shortened last step's; the same where the last step is whole). So it is
+/// the impulses' sum.
 pub fn impulse_from(t: &[f64], f: &[f64], from: usize) -> f64 {
     (from..t.len())
         .map(|i| match i {
