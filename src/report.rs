@@ -32,6 +32,15 @@ pub fn model_report(scene: &Scene, setup: &Setup) -> Result<String> {
     if setup.method == Method::Implicit {
         let _ = writeln!(out, "implicit factors: {}", implicit_factors(scene, setup)?);
     }
+    let lowered = (setup.damage.as_ref())
+        .map(|d| crate::check::crack_band::lowered(scene, &setup.model, d))
+        .unwrap_or_default();
+    if !lowered.is_empty() {
+        let _ = writeln!(out, "ply damage:");
+        for line in &lowered {
+            let _ = writeln!(out, "  {line}");
+        }
+    }
     let bands = (setup.damage.as_ref())
         .map(|d| crate::check::crack_band::crack_band(scene, &setup.model, d))
         .unwrap_or_default();

@@ -731,6 +731,14 @@ fn fracture_energy_needs_strengths_and_an_orthotropic_law() {
         &ply_bars("damage_stresses = \"in_plane\""),
         &["material[0].damage_stresses", "fracture_energy"],
     );
+    expect(
+        &ply_bars(&format!("{energies}\nsnap_back = \"lower\"")),
+        &["material[0].snap_back", "\"lower_strength\"", "lower"],
+    );
+    expect(
+        &ply_bars("snap_back = \"lower_strength\""),
+        &["material[0].snap_back", "fracture_energy"],
+    );
 }
 
 /// A damaging material runs explicit: `method = "implicit"` is refused naming the method

@@ -6,7 +6,8 @@
 //! the peak force is the strength times the area, and the force ends at what the damage
 //! cap leaves. The energy balance, damage energy included, closes; a run stopped part way
 //! through the softening resumes to the unbroken history; `impact check` warns for an
-//! element wider than the snap-back limit.
+//! element wider than the snap-back limit, and a material that lowers such an element's
+//! strength (`snap_back = "lower_strength"`) dissipates G A with it.
 
 mod common;
 use common::*;
@@ -144,7 +145,12 @@ fn pull(tag: &str, text: &str, v: f64, axis: usize) -> Pulled {
 /// the energy balance closed within 1e-6 of it.
 fn check_pull(tag: &str, side: f64, mode: Mode, element: &str, plies: &str) {
     let (text, v) = pull_scene(side, mode, element, plies);
-    let p = pull(tag, &text, v, mode.axis);
+    check_pulled(tag, side, mode, (&text, v));
+}
+
+/// [`check_pull`]'s checks of the scene `text` pulled at `v`.
+fn check_pulled(tag: &str, side: f64, mode: Mode, (text, v): (&str, f64)) -> Pulled {
+    let p = pull(tag, text, v, mode.axis);
     let area = side * side;
     let (g, x) = (mode.energy * area, mode.strength * area);
     eprintln!(
@@ -168,6 +174,48 @@ fn check_pull(tag: &str, side: f64, mode: Mode, element: &str, plies: &str) {
     assert!(p.drift <= 1e-6 * p.work, "{tag}: drift {}", p.drift);
     let (pulled, other) = p.shares(mode);
     assert_eq!((pulled, other), (p.damage, 0.0), "{tag}: by kind");
+    p
+}
+
+/// Past the snap-back width with `snap_back = "lower_strength"`: a 2 mm cube pulled across
+/// its fibres (matrix tension's width 1.30 mm) peaks at the lowered strength
+/// sqrt(2 E G / l) = 50.1 MPa, not Y_T = 62.3, and dissipates G A, with [`check_pull`]'s
+/// tolerances; `impact check` does not warn of it and says how far it lowers; the GPU
+/// adapter's work is the CPU's within 2%.
+#[test]
+fn a_cube_past_the_snap_back_width_with_its_strength_lowered_dissipates_g_a() {
+    let side = 2.0;
+    let lowered = Mode {
+        strength: (2.0 * MATRIX.modulus * MATRIX.energy / side).sqrt(),
+        ..MATRIX
+    };
+    let (text, v) = pull_scene(side, lowered, "hex8i", "");
+    let text = text.replace(
+        "mc = 0.788 }",
+        "mc = 0.788 }\nsnap_back = \"lower_strength\"",
+    );
+    let cpu = check_pulled("lowered_matrix", side, lowered, (&text, v));
+    let dir = out_dir("check_lowered");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("lowered.toml");
+    std::fs::write(&scene, &text).unwrap();
+    let o = impact(&["check", s(&scene)]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let report = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(!report.contains("crack_band"), "{report}");
+    // it says where it lowers: Y_T in matrix tension by sqrt(1.30 / 2.0) = 0.805
+    let line = (report.lines())
+        .find(|l| l.contains("matrix_tension: strength lowered in 1 element"))
+        .unwrap_or_else(|| panic!("no lowered strength in\n{report}"));
+    assert!(line.contains("to 0.805 to 0.805 of 62.3"), "{line}");
+    if skip_gpu("lowered strengths on the GPU") {
+        return;
+    }
+    let gpu_text = text.replace("device = \"cpu\"", "device = \"gpu\"");
+    let gpu = pull("lowered_matrix_gpu", &gpu_text, v, lowered.axis);
+    eprintln!("lowered: work cpu {:.6} gpu {:.6}", cpu.work, gpu.work);
+    assert!((gpu.work - cpu.work).abs() <= 0.02 * cpu.work, "gpu work");
+    assert!((gpu.peak - cpu.peak).abs() <= 0.01 * cpu.peak, "gpu peak");
 }
 
 #[test]

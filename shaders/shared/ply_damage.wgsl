@@ -110,10 +110,14 @@ fn index_ratios(l: DamageLaw, s_all: Voigt6) -> vec4<f32> {
     return vec4<f32>(ft, fc, mt, mc);
 }
 
-// One mode's damage at r in a band of width `band` (snap-back width `snap`).
-fn mode_damage(r: f32, snap: f32, band: f32) -> f32 {
-    let rf = max(snap / band, 1.0 + 1e-6);
-    return select(0.0, min(rf * (r - 1.0) / (r * (rf - 1.0)), D_MAX), r > 1.0);
+// One mode's damage at r in a band of width `band` (snap-back width `snap`), its strength
+// lowered to the band's where `lower` and the band is wider than `snap` (twins:
+// `material::PlyDamage::onset` and `softening_end`).
+fn mode_damage(r: f32, snap: f32, band: f32, lower: bool) -> f32 {
+    let onset2 = select(1.0, min(snap / band, 1.0), lower);
+    let ro = r / sqrt(onset2);
+    let rf = max(snap / (band * onset2), 1.0 + 1e-6);
+    return select(0.0, min(rf * (ro - 1.0) / (ro * (rf - 1.0)), D_MAX), ro > 1.0);
 }
 
 // The effective stress: each component over one minus its damage (d as damage_acting's).
@@ -132,11 +136,12 @@ fn law_step(l: DamageLaw, e: Voigt6, prev: Voigt6, old: PointState, bands: vec2<
     let d_old = damage_acting(old, fibre, matrix);
     let before = law_stiffness(l, d_old);
     let r = index_ratios(l, effective_stress(ortho_apply(before, e), d_old));
+    let lower = l.lower_strength > 0.5;
     let trial = vec4<f32>(
-        mode_damage(r.x, l.snap_ft, bands.x),
-        mode_damage(r.y, l.snap_fc, bands.x),
-        mode_damage(r.z, l.snap_mt, bands.y),
-        mode_damage(r.w, l.snap_mc, bands.y),
+        mode_damage(r.x, l.snap_ft, bands.x, lower),
+        mode_damage(r.y, l.snap_fc, bands.x, lower),
+        mode_damage(r.z, l.snap_mt, bands.y, lower),
+        mode_damage(r.w, l.snap_mc, bands.y, lower),
     );
     var st: PointState;
     st.inviscid = max(old.inviscid, trial);

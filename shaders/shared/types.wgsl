@@ -364,6 +364,7 @@ struct DamageLaw {
     snap_mt: f32,
     snap_mc: f32,
     in_plane: f32,
+    lower_strength: f32,
 }
 
 // A damageable ply's material entry: its law and its axes 1, 2, 3 as rows.

@@ -2,7 +2,9 @@
 //! the fracture energy G per unit crack area only where $l^* \le 2 E G / X^2$; a wider
 //! element's equivalent stress drops at once and dissipates its elastic energy at the
 //! strength instead, more than G ([`crate::material::damage`]). One warning per material and
-//! mode whose elements are wider, with the limit and the five widest.
+//! mode whose elements are wider, with the limit and the five widest; none for a material
+//! that lowers those elements' strengths (`snap_back = "lower_strength"`), whose bands then
+//! dissipate G.
 
 use super::Warning;
 use crate::element::{ElementKind, Elements};
@@ -13,26 +15,36 @@ use crate::model::Model;
 /// An element past a mode's limit: its global number and its band.
 type Past = (usize, f64);
 
-/// The elements of `data` whose band in a mode exceeds the mode's limit, per (law, mode),
-/// `keep` choosing which elements count.
+/// The elements of `data` whose band in a mode exceeds the mode's limit (with their widest
+/// ply's band), per (law, mode),
+/// `keep` choosing which elements count, of the laws that lower their strengths there
+/// (`lowering`) or of those that do not.
 fn past_limits(
     data: &DamageData,
     elements: &Elements,
     keep: &dyn Fn(usize, usize) -> bool,
+    lowering: bool,
 ) -> Vec<Vec<Vec<Past>>> {
-    let mut out = vec![vec![Vec::new(); 4]; data.laws.len()];
+    let mut out = vec![vec![Vec::<Past>::new(); 4]; data.laws.len()];
     for (k, b) in data.blocks.iter().enumerate() {
         let offset = elements.offset(ElementKind::ALL[k]);
         for i in 0..b.len() {
             let e = offset + b.elements[i] as usize;
             for ply in b.plies_of(i) {
                 let law = data.law_of[ply.entry as usize] as usize;
+                if data.laws[law].lower_strength != lowering {
+                    continue;
+                }
                 for (mode, past) in out[law].iter_mut().enumerate() {
                     let band = ply.bands[mode / 2];
                     let limit = data.laws[law].snap_back_width(mode);
-                    let known = past.last().is_some_and(|p: &Past| p.0 == e);
-                    if band > limit && keep(e, mode) && !known {
-                        past.push((e, band));
+                    if band <= limit || !keep(e, mode) {
+                        continue;
+                    }
+                    // an element once, with its widest ply's band
+                    match past.last_mut() {
+                        Some(p) if p.0 == e => p.1 = p.1.max(band),
+                        _ => past.push((e, band)),
                     }
                 }
             }
@@ -97,8 +109,8 @@ fn law_names(scene: &crate::scene::Scene) -> Vec<String> {
 
 /// Before a run: every damageable element past a limit.
 pub fn crack_band(scene: &crate::scene::Scene, model: &Model, data: &DamageData) -> Vec<Warning> {
-    let past = past_limits(data, &model.mesh.elements, &|_, _| true);
-    let when = "where they damage in that mode, their softening drops at once and the energy they dissipate is wrong (too large): refine them (box.refine) below the limit";
+    let past = past_limits(data, &model.mesh.elements, &|_, _| true, false);
+    let when = "where they damage in that mode, their softening drops at once and the energy they dissipate is wrong (too large): refine them (box.refine) below the limit, or give the material `snap_back = \"lower_strength\"`";
     warnings(data, past, &law_names(scene), when)
 }
 
@@ -111,7 +123,39 @@ pub fn damaged_past_limit(
     cells: &[[f64; 4]],
 ) -> Vec<Warning> {
     let keep = |e: usize, mode: usize| cells.get(e).is_some_and(|c| c[mode] > 0.0);
-    let past = past_limits(data, &model.mesh.elements, &keep);
-    let when = "they damaged in that mode, their softening dropped at once and the energy they dissipated is too large: refine them (box.refine) below the limit";
+    let past = past_limits(data, &model.mesh.elements, &keep, false);
+    let when = "they damaged in that mode, their softening dropped at once and the energy they dissipated is too large: refine them (box.refine) below the limit, or give the material `snap_back = \"lower_strength\"`";
     warnings(data, past, &law_names(scene), when)
+}
+
+/// For `impact check`: one line per material and mode whose strength is lowered in elements
+/// past its limit (`snap_back = "lower_strength"`), with how many and how far.
+pub fn lowered(scene: &crate::scene::Scene, model: &Model, data: &DamageData) -> Vec<String> {
+    let past = past_limits(data, &model.mesh.elements, &|_, _| true, true);
+    let names = law_names(scene);
+    let mut out = Vec::new();
+    for (law, modes) in past.into_iter().enumerate() {
+        for (mode, els) in modes.into_iter().enumerate() {
+            let l = &data.laws[law];
+            let onsets = els.iter().map(|&(_, band)| l.onset(mode, band));
+            let (low, high) = onsets.fold((1.0f64, 0.0f64), |(a, b), s| (a.min(s), b.max(s)));
+            if els.is_empty() {
+                continue;
+            }
+            let x = l.mode_constants(mode).1;
+            out.push(format!(
+                "material `{}`, {}: strength lowered in {} wider than the snap-back limit {}, to {} to {} of {x} (sqrt(2 E G / l*))",
+                names[law],
+                MODES[mode],
+                match els.len() {
+                    1 => "1 element".to_string(),
+                    n => format!("{n} elements"),
+                },
+                three_figures(l.snap_back_width(mode)),
+                three_figures(low),
+                three_figures(high),
+            ));
+        }
+    }
+    out
 }

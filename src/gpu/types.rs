@@ -586,7 +586,8 @@ device_struct! {
     /// undamaged stiffness's normal block and shear moduli, the compliance's normal block
     /// and shear compliances (23, 13, 12), the strengths, the fracture energies (fibre
     /// tension, compression, matrix tension, compression), the viscosity, each mode's
-    /// snap-back width $2 E G / X^2$, and whether it damages by its in-plane stresses alone.
+    /// snap-back width $2 E G / X^2$, whether it damages by its in-plane stresses alone, and
+    /// whether a band wider than a snap-back width lowers the mode's strength.
     #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
     pub struct DamageLaw {
         pub c11: f32,
@@ -620,6 +621,8 @@ device_struct! {
         pub snap_mc: f32,
         /// 1 where the ply damages by its in-plane stresses alone, else 0.
         pub in_plane: f32,
+        /// 1 where a band wider than a mode's snap-back width lowers its strength, else 0.
+        pub lower_strength: f32,
     }
 }
 
@@ -658,6 +661,7 @@ impl From<&crate::material::PlyDamage> for DamageLaw {
             snap_mt: f(l.snap_back_width(2)),
             snap_mc: f(l.snap_back_width(3)),
             in_plane: if l.in_plane { 1.0 } else { 0.0 },
+            lower_strength: if l.lower_strength { 1.0 } else { 0.0 },
         }
     }
 }

@@ -23,6 +23,7 @@ pub(crate) fn law_of_material(m: &crate::scene::Material) -> Option<PlyDamage> {
     let law = PlyDamage::new(m.elastic.voigt(), strength, d.energy, d.viscosity);
     Some(PlyDamage {
         in_plane: d.in_plane,
+        lower_strength: d.lower_strength,
         ..law
     })
 }
@@ -211,10 +212,14 @@ impl Model {
         }
     }
 
-    /// The largest sieve factor beta^2 of the plies' laws.
+    /// The largest sieve factor beta^2 of the plies' laws, each over its lowest onset
+    /// squared (the reach in those units).
     fn sieve_factor(&self, data: &DamageData, plies: &[DamagePly]) -> f64 {
         (plies.iter())
-            .map(|p| data.laws[data.law_of[p.entry as usize] as usize].sieve_factor())
+            .map(|p| {
+                let law = &data.laws[data.law_of[p.entry as usize] as usize];
+                law.sieve_factor() / law.lowest_onset(p.bands).powi(2)
+            })
             .fold(0.0, f64::max)
     }
 }

@@ -292,6 +292,9 @@ pub struct DamageSpec {
     pub viscosity: f64,
     /// `damage_stresses = "in_plane"`: the plies damage by their in-plane stresses alone.
     pub in_plane: bool,
+    /// `snap_back = "lower_strength"`: an element wider than a mode's snap-back width
+    /// starts to damage at the strength its width dissipates G with.
+    pub lower_strength: bool,
 }
 
 /// Where a body's mesh comes from.

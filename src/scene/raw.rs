@@ -119,6 +119,7 @@ pub(crate) struct RawMaterial {
     pub fracture_energy: Option<RawFractureEnergy>,
     pub damage_viscosity: Option<f64>,
     pub damage_stresses: Option<String>,
+    pub snap_back: Option<String>,
 }
 
 /// A ply's fracture energies (`fracture_energy = { ft, fc, mt, mc }`).

@@ -787,6 +787,12 @@ impl Checker<'_> {
                     "chooses the stresses that damage the plies: give the material a `fracture_energy` too",
                 ));
             }
+            if m.snap_back.is_some() {
+                return Err(self.err(
+                    key("snap_back"),
+                    "chooses how the plies' damage treats elements wider than its snap-back width: give the material a `fracture_energy` too",
+                ));
+            }
             return Ok(None);
         };
         if m.strength.is_none() {
@@ -825,10 +831,21 @@ impl Checker<'_> {
                 ))
             }
         };
+        let lower_strength = match m.snap_back.as_deref() {
+            None | Some("warn") => false,
+            Some("lower_strength") => true,
+            Some(other) => {
+                return Err(self.err(
+                    key("snap_back"),
+                    format!("must be \"warn\" or \"lower_strength\", got {other:?}"),
+                ))
+            }
+        };
         Ok(Some(DamageSpec {
             energy,
             viscosity,
             in_plane,
+            lower_strength,
         }))
     }
 
