@@ -821,26 +821,18 @@ impl Checker<'_> {
                 format!("must be a time of at least 0, got {viscosity}"),
             ));
         }
-        let in_plane = match m.damage_stresses.as_deref() {
-            None | Some("all") => false,
-            Some("in_plane") => true,
-            Some(other) => {
-                return Err(self.err(
-                    key("damage_stresses"),
-                    format!("must be \"all\" or \"in_plane\", got {other:?}"),
-                ))
-            }
-        };
-        let lower_strength = match m.snap_back.as_deref() {
-            None | Some("warn") => false,
-            Some("lower_strength") => true,
-            Some(other) => {
-                return Err(self.err(
-                    key("snap_back"),
-                    format!("must be \"warn\" or \"lower_strength\", got {other:?}"),
-                ))
-            }
-        };
+        let in_plane = self.choice(
+            &key("damage_stresses"),
+            m.damage_stresses.as_deref(),
+            false,
+            &[("all", false), ("in_plane", true)],
+        )?;
+        let lower_strength = self.choice(
+            &key("snap_back"),
+            m.snap_back.as_deref(),
+            false,
+            &[("warn", false), ("lower_strength", true)],
+        )?;
         Ok(Some(DamageSpec {
             energy,
             viscosity,
