@@ -16,9 +16,8 @@ use crate::model::Model;
 type Past = (usize, f64);
 
 /// The elements of `data` whose band in a mode exceeds the mode's limit (with their widest
-/// ply's band), per (law, mode),
-/// `keep` choosing which elements count, of the laws that lower their strengths there
-/// (`lowering`) or of those that do not.
+/// ply's band), per (law, mode), `keep` choosing which elements count, of the laws that
+/// lower their strengths there (`lowering`) or of those that do not.
 fn past_limits(
     data: &DamageData,
     elements: &Elements,
@@ -136,12 +135,12 @@ pub fn lowered(scene: &crate::scene::Scene, model: &Model, data: &DamageData) ->
     let mut out = Vec::new();
     for (law, modes) in past.into_iter().enumerate() {
         for (mode, els) in modes.into_iter().enumerate() {
-            let l = &data.laws[law];
-            let onsets = els.iter().map(|&(_, band)| l.onset(mode, band));
-            let (low, high) = onsets.fold((1.0f64, 0.0f64), |(a, b), s| (a.min(s), b.max(s)));
             if els.is_empty() {
                 continue;
             }
+            let l = &data.laws[law];
+            let onsets = els.iter().map(|&(_, band)| l.onset(mode, band));
+            let (low, high) = onsets.fold((1.0f64, 0.0f64), |(a, b), s| (a.min(s), b.max(s)));
             let x = l.mode_constants(mode).1;
             out.push(format!(
                 "material `{}`, {}: strength lowered in {} wider than the snap-back limit {}, to {} to {} of {x} (sqrt(2 E G / l*))",
