@@ -407,60 +407,33 @@ fn filtered(h: &History, w: f64) -> Vec<f64> {
         .collect()
 }
 
-/// The largest of the [`filtered`] forces.
-fn filtered_peak(h: &History, w: f64) -> f64 {
-    filtered(h, w).into_iter().fold(0.0, f64::max)
-}
-
-/// The coarse damaged coupon on the GPU resident step (the element forces, the plies'
-/// damage, the cohesive pairs and the contacts in f32 on the device) against the CPU.
-/// Filtered as the peak is, the two forces follow each other within 1e-4 of the peak
-/// through the first 0.55 ms, the plies' first damage included (6.5e-5 measured on
-/// lavapipe; a step's force alone differs by up to 4e-4 before the first damage, as the f32
-/// tup's velocity, 3,303 mm/s to 2.4e-4, takes each step's impulse to a few parts in a
-/// thousand). After it the 5 mm cells, four times the matrix modes'
-/// snap-back size, lose their stiffness at once, and which of them goes first turns on the
-/// last digits: the CPU's own run with the tup's speed changed by 1e-7 of itself (0.3 um/s)
-/// peaks 2.5% and 3.0% higher (filtered over 0.05 ms), and changed by 1e-6 it delaminates
-/// one more 5 x 5 mm pair. So the GPU is held to that spread: its filtered peak within the
-/// CPU runs' range widened by 2% of the unperturbed peak (2.0% above it measured on
-/// lavapipe, inside the range), its delaminated area within two pairs of the CPU's (7 pairs
-/// on the CPU at 1.2 ms, 9 on lavapipe).
+/// The coarse damaged coupon, its plies' damage regularised in time
+/// ([`damaged_coarse_viscous`]), on the GPU resident step (the element forces, the plies'
+/// damage, the cohesive pairs and the contacts in f32 on the device) against the CPU in f64,
+/// to 2.1 ms, a millisecond past the peak: the peak force and the delaminated area within
+/// 2% (lavapipe: 11,245.1 N against 11,252.8, -0.07%; 400 mm^2 on both), and the force,
+/// filtered over 0.05 ms as the tests filter the load cell's signal, within 1e-4 of the
+/// peak through the first 0.55 ms, the plies' first damage included (0.08 N apart).
 #[test]
 fn the_damaged_coupon_on_the_gpu_adapter_follows_the_cpu() {
     if skip_gpu("drop_weight_damaged_gpu") {
         return;
     }
-    let text = damaged_coarse(1.2e-3);
+    let text = damaged_coarse_viscous(2.1e-3);
     let (cpu, hc) = run_text_on("drop_weight_damaged_cpu", &text, Some(DeviceChoice::Cpu));
     let (gpu, hg) = run_text_on("drop_weight_damaged_gpu", &text, Some(DeviceChoice::Gpu));
     let (cpu, gpu) = (cpu.expect("cpu run"), gpu.expect("gpu run"));
     assert_eq!(gpu.status, cpu.status);
     assert_eq!(gpu.engine, "gpu resident");
     check_damage_by_kind(&gpu, &hg);
-    let (pc, pg) = (filtered_peak(&hc, 5e-5), filtered_peak(&hg, 5e-5));
-    let (ac, ag) = (peak_and_area(&hc).1, peak_and_area(&hg).1);
-    eprintln!("filtered peak {pg:.1} N on the GPU, {pc:.1} on the CPU; delaminated {ag:.1} and {ac:.1} mm^2");
-    assert!(ac > 0.0, "the CPU's coupon delaminated");
-    let speed = "velocity = [0.0, 0.0, -3303.0]";
-    let (mut low, mut high) = (pc, pc);
-    for (tag, v) in [("faster", "-3303.0003"), ("slower", "-3302.9997")] {
-        let moved = edit(&text, speed, &format!("velocity = [0.0, 0.0, {v}]"));
-        let tag = format!("drop_weight_damaged_cpu_{tag}");
-        let (s, h) = run_text_on(&tag, &moved, Some(DeviceChoice::Cpu));
-        assert_eq!(s.expect("perturbed cpu run").status, cpu.status);
-        let (p, a) = (filtered_peak(&h, 5e-5), peak_and_area(&h).1);
-        eprintln!(
-            "the CPU with the tup at {v} mm/s: filtered peak {p:.1} N, delaminated {a:.1} mm^2"
-        );
-        (low, high) = (low.min(p), high.max(p));
-    }
-    assert!(
-        pg >= low - 0.02 * pc && pg <= high + 0.02 * pc,
-        "peak {pg} against the CPU's {pc} (its runs {low} to {high})"
+    let ((pc, ac), (pg, ag)) = (peak_and_area(&hc), peak_and_area(&hg));
+    eprintln!(
+        "peak {pg:.1} N on the GPU, {pc:.1} on the CPU; delaminated {ag:.1} and {ac:.1} mm^2"
     );
+    assert!(ac > 0.0, "the CPU's coupon delaminated");
+    assert!((pg - pc).abs() <= 0.02 * pc, "peak {pg} against {pc}");
     assert!(
-        (ag - ac).abs() <= 50.0 + 1e-9,
+        (ag - ac).abs() <= 0.02 * ac,
         "delaminated {ag} against {ac}"
     );
     let early = hc.col("time").iter().filter(|&&t| t <= 5.5e-4).count();
