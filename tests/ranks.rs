@@ -473,6 +473,7 @@ fn a_restored_contact_clears_every_entry_on_its_next_step() {
         v: &mut v,
         v_half: &v_half,
         inv_mass: &inv_mass,
+        interval: 1e-6,
         planes: None,
     };
     let r = (contact.step_from_points(&model, fields, 1e-6, 1.0, Some(&[]))).unwrap();

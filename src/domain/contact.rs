@@ -154,13 +154,14 @@ impl SurfaceContact {
         }
     }
 
-    /// The contact impulses of the step on the rank's nodes (`local`, velocities changed in
-    /// place); `speed` is the fastest node's over the whole model.
+    /// The contact impulses of the step `dt` on the rank's nodes (`local`, velocities changed
+    /// in place), reported as forces over `interval` ([`ContactFields::interval`]); `speed`
+    /// is the fastest node's over the whole model.
     pub fn step(
         &mut self,
         talk: &Timed,
         local: LocalState,
-        dt: f64,
+        (dt, interval): (f64, f64),
         speed: f64,
     ) -> Result<StepReport> {
         self.step += 1;
@@ -183,6 +184,7 @@ impl SurfaceContact {
             v: &mut self.v,
             v_half: &self.v_half,
             inv_mass: &self.inv_mass,
+            interval,
             planes: Some(&present),
             spins: self.spins.any().then_some(&mut self.spins),
         };

@@ -309,7 +309,8 @@ impl<'m> DomainSolver<'m> {
             v: &mut self.v,
             v_half: &self.v_half,
         };
-        self.surface.step(&talk, local, self.dt, speed)
+        self.surface
+            .step(&talk, local, (self.dt, self.interval), speed)
     }
 
     /// Sums over the rank's owned dofs of `f(d)` for each column, then over the ranks.
@@ -454,9 +455,8 @@ impl Integrator for DomainSolver<'_> {
     }
 
     fn reports(&self) -> Vec<ContactReport> {
-        let (dt, interval) = (self.dt, self.interval);
         (self.surface.contact().interfaces.iter())
-            .map(|i| i.report.over_interval(dt, interval))
+            .map(|i| i.report)
             .collect()
     }
 

@@ -123,22 +123,6 @@ pub struct ContactReport {
     pub force: [f64; 3],
 }
 
-impl ContactReport {
-    /// The report with its forces, found as impulses over `dt`, over `interval` instead.
-    pub fn over_interval(self, dt: f64, interval: f64) -> Self {
-        if interval == dt {
-            return self;
-        }
-        let k = dt / interval;
-        ContactReport {
-            normal_force: k * self.normal_force,
-            tangential_force: k * self.tangential_force,
-            force: self.force.map(|f| k * f),
-            ..self
-        }
-    }
-}
-
 /// Whether a checkpoint's state fits this model: its dof and interface counts against the
 /// model's (`(checkpoint, model)` each).
 pub(crate) fn check_restore(

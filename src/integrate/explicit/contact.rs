@@ -92,6 +92,10 @@ pub struct ContactFields<'a> {
     pub v: &'a mut [f64],
     pub v_half: &'a [f64],
     pub inv_mass: &'a [f64],
+    /// The time the step's impulses act over, by which its reports divide them to give
+    /// forces: the step, but for a run's shortened last step
+    /// ([`impulse_interval`](crate::integrate::explicit::impulse_interval)).
+    pub interval: f64,
     /// The rigid planes' secondary nodes whose state the fields hold, where not all: a node
     /// left out is out of every plane's reach ([`plane_gap_within_reach`]).
     pub planes: Option<&'a dyn Fn(u32) -> bool>,
@@ -298,7 +302,7 @@ impl ExplicitContact {
             }
         }
         let omega = omegas(spins.as_deref());
-        self.contact_reports(f.v, &omega, dt, &jn, &jt);
+        self.contact_reports(f.v, &omega, (dt, f.interval), &jn, &jt);
         self.add_driver_work(model, (f.v, &omega), &jn, &jt);
         Ok(report)
     }
@@ -635,12 +639,13 @@ impl ExplicitContact {
         }
     }
 
-    /// Each interface's report of the step from the final impulses `jn`, `jt`.
+    /// Each interface's report of the step `dt` from the final impulses `jn`, `jt`, its
+    /// forces the impulses over `interval`.
     fn contact_reports(
         &mut self,
         v: &[f64],
         omega: &[[f64; 3]],
-        dt: f64,
+        (dt, interval): (f64, f64),
         jn: &[f64],
         jt: &[[f64; 3]],
     ) {
@@ -664,14 +669,14 @@ impl ExplicitContact {
             let r = &mut st.report;
             if jn[i] > 0.0 {
                 r.active += 1;
-                r.normal_force += jn[i] / dt;
+                r.normal_force += jn[i] / interval;
                 if c.law.is_sliding(jt[i], jn[i], 1e-9) {
                     r.sliding += 1;
                 }
             }
             for a in 0..3 {
-                force[c.interface as usize][a] += jt[i][a] / dt;
-                r.force[a] -= (jn[i] * c.normal[a] + jt[i][a]) / dt;
+                force[c.interface as usize][a] += jt[i][a] / interval;
+                r.force[a] -= (jn[i] * c.normal[a] + jt[i][a]) / interval;
             }
             // the linearised end-of-step gap
             r.max_penetration = r.max_penetration.max(c.gap - dt * rn);

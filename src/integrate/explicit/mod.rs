@@ -349,6 +349,7 @@ impl<'m> ExplicitSolver<'m> {
             v: &mut self.v,
             v_half: &self.v_half,
             inv_mass: &self.inv_mass,
+            interval: self.interval,
             planes: None,
             spins: self.spins.any().then_some(&mut self.spins),
         };
@@ -420,10 +421,7 @@ impl Integrator for ExplicitSolver<'_> {
     }
 
     fn reports(&self) -> Vec<ContactReport> {
-        let (dt, interval) = (self.dt, self.interval);
-        (self.contact.interfaces.iter())
-            .map(|i| i.report.over_interval(dt, interval))
-            .collect()
+        (self.contact.interfaces.iter()).map(|i| i.report).collect()
     }
 
     fn cohesive(&self) -> Vec<CohesiveReport> {
