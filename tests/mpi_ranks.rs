@@ -979,7 +979,7 @@ fn a_beam_delaminates_the_same_on_2_and_4_ranks_and_resumes_across_them() {
 }
 
 /// The coarse damaged drop weight that `tests/drop_weight.rs` sets on the GPU beside the
-/// CPU ([`damaged_coarse_viscous`], to 1.6 ms) on 2 ranks: one process's history (the
+/// CPU ([`damaged_coarse_viscous`], to 2.1 ms) on 2 ranks: one process's history (the
 /// state's columns bit for bit, the sums within 1e-12), so the peak force and the
 /// delaminated area within 2% and more.
 #[test]
