@@ -57,7 +57,7 @@ fn law_undamaged(l: DamageLaw) -> OrthoStiffness {
 fn law_stiffness(l: DamageLaw, d: vec4<f32>) -> OrthoStiffness {
     let ip = l.in_plane > 0.5;
     let crush = select(l.s22 * d.w / (1.0 - d.w), 0.0, ip);
-    let s22 = select(l.s22 / (1.0 - d.y) + crush, l.s22 / (1.0 - d.y - d.w), ip);
+    let s22 = select(l.s22 / (1.0 - d.y) + crush, l.s22 / ((1.0 - d.y) * (1.0 - d.w)), ip);
     let s33 = select(l.s33 / (1.0 - d.y) + crush, l.s33, ip);
     let s = mat3x3<f32>(
         vec3<f32>(l.s11 / (1.0 - d.x), l.s12, l.s13),
@@ -73,13 +73,14 @@ fn law_stiffness(l: DamageLaw, d: vec4<f32>) -> OrthoStiffness {
 }
 
 // The damage that acts, by the signs of the effective fibre stress and of the transverse
-// stresses' sum: fibre, matrix tension, shear, matrix compression (twin:
-// `material::damage::acting`).
-fn damage_acting(st: PointState, fibre: bool, matrix: bool) -> vec4<f32> {
+// stresses' sum: fibre, matrix tension, shear, matrix compression; in 3D the crushed
+// matrix's deviatoric compliance acts in tension too (twin: `PlyDamage::acting`).
+fn damage_acting(l: DamageLaw, st: PointState, fibre: bool, matrix: bool) -> vec4<f32> {
     let v = st.acting;
     let df = select(v.y, v.x, fibre);
     let ds = 1.0 - (1.0 - v.x) * (1.0 - v.y) * (1.0 - v.z) * (1.0 - v.w);
-    return vec4<f32>(df, select(0.0, v.z, matrix), min(ds, D_MAX), select(v.w, 0.0, matrix));
+    let crush = select(v.w, 0.0, matrix && l.in_plane > 0.5);
+    return vec4<f32>(df, select(0.0, v.z, matrix), min(ds, D_MAX), crush);
 }
 
 // Each mode's r of the effective stress s: sqrt of the Hashin index (fibre tension without
@@ -120,9 +121,10 @@ fn mode_damage(r: f32, snap: f32, band: f32, lower: bool) -> f32 {
     return select(0.0, min(rf * (ro - 1.0) / (ro * (rf - 1.0)), D_MAX), ro > 1.0);
 }
 
-// The effective stress: each component over one minus its damage (d as damage_acting's).
-fn effective_stress(s: Voigt6, d: vec4<f32>) -> Voigt6 {
-    let dm = d.y + d.w;
+// The effective stress: each component over one minus its damage (d as damage_acting's),
+// the transverse ones the sign's own matrix mode's (matrix: in tension).
+fn effective_stress(s: Voigt6, d: vec4<f32>, matrix: bool) -> Voigt6 {
+    let dm = select(d.w, d.y, matrix);
     return Voigt6(s.n / vec3<f32>(1.0 - d.x, 1.0 - dm, 1.0 - dm), s.s / (1.0 - d.z));
 }
 
@@ -133,9 +135,9 @@ fn law_step(l: DamageLaw, e: Voigt6, prev: Voigt6, old: PointState, bands: vec2<
     let eff = ortho_apply(c0, e);
     let fibre = eff.n.x >= 0.0;
     let matrix = eff.n.y + eff.n.z >= 0.0;
-    let d_old = damage_acting(old, fibre, matrix);
+    let d_old = damage_acting(l, old, fibre, matrix);
     let before = law_stiffness(l, d_old);
-    let r = index_ratios(l, effective_stress(ortho_apply(before, e), d_old));
+    let r = index_ratios(l, effective_stress(ortho_apply(before, e), d_old, matrix));
     let lower = l.lower_strength > 0.5;
     let trial = vec4<f32>(
         mode_damage(r.x, l.snap_ft, bands.x, lower),
@@ -151,7 +153,7 @@ fn law_step(l: DamageLaw, e: Voigt6, prev: Voigt6, old: PointState, bands: vec2<
     } else {
         st.acting = st.inviscid;
     }
-    let after = law_stiffness(l, damage_acting(st, fibre, matrix));
+    let after = law_stiffness(l, damage_acting(l, st, fibre, matrix));
     let stress = ortho_apply(after, e);
     // the damage's growth alone, both stiffnesses at this step's signs
     let dissipated = released(before, after, e, prev);
@@ -162,7 +164,7 @@ fn law_step(l: DamageLaw, e: Voigt6, prev: Voigt6, old: PointState, bands: vec2<
         fibre_part = dissipated;
         if (any(st.acting.zw != old.acting.zw)) {
             let mid = PointState(st.inviscid, vec4<f32>(st.acting.xy, old.acting.zw));
-            fibre_part = released(before, law_stiffness(l, damage_acting(mid, fibre, matrix)), e, prev);
+            fibre_part = released(before, law_stiffness(l, damage_acting(l, mid, fibre, matrix)), e, prev);
         }
     }
     return PointStep(st, stress, dissipated, fibre_part);
@@ -178,7 +180,7 @@ fn released(a: OrthoStiffness, b: OrthoStiffness, e: Voigt6, prev: Voigt6) -> f3
 // The stress of strain e with a point's damage as it is (no step).
 fn law_stress(l: DamageLaw, e: Voigt6, st: PointState) -> Voigt6 {
     let eff = ortho_apply(law_undamaged(l), e);
-    let c = law_stiffness(l, damage_acting(st, eff.n.x >= 0.0, eff.n.y + eff.n.z >= 0.0));
+    let c = law_stiffness(l, damage_acting(l, st, eff.n.x >= 0.0, eff.n.y + eff.n.z >= 0.0));
     return ortho_apply(c, e);
 }
 

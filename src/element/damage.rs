@@ -21,7 +21,7 @@
 //! crack normal to that axis cuts out of the element ([`hex_bands`], [`tet_bands`]).
 
 use super::{hex8, hex8i, tet4};
-use crate::material::damage::{acting, voigt_apply, Dissipation, PlyDamage, POINT_STATE};
+use crate::material::damage::{voigt_apply, Dissipation, PlyDamage, POINT_STATE};
 use crate::material::Rotation;
 
 /// The damage laws of a model's material entries: each entry's law (an index of `laws`,
@@ -103,7 +103,7 @@ fn point_stress(
     let old: &[f64; POINT_STATE] = (&*state).try_into().expect("a point's state");
     if !advance {
         let eff = voigt_apply(&law.c0, &e);
-        let c = law.ortho(acting(old, (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0)));
+        let c = law.ortho(law.acting(old, (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0)));
         return (axes.stress_to_global(&c.apply(&e)), Dissipation::default());
     }
     let step = law.step((&e, &axes.strain_to_material(h_prev)), old, bands, dt);
@@ -411,7 +411,7 @@ pub fn hex_damage_operated(
             }
             false => {
                 let eff = voigt_apply(&law.c0, &e);
-                let c = law.ortho(acting(&old, (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0)));
+                let c = law.ortho(law.acting(&old, (eff[0] >= 0.0, eff[1] + eff[2] >= 0.0)));
                 c.apply(&e)
             }
         };
