@@ -286,23 +286,18 @@ fn a_hex8i_cube_crushed_along_its_fibres_dissipates_their_compression_energy() {
 /// strain its undamaged stiffness back (that run's damage energy was 2.7 times its work).
 #[test]
 fn a_cube_crushed_across_its_fibres_dissipates_the_matrix_compression_energy() {
-    let in_plane = IM7.replace(
-        "mc = 0.788 }",
-        "mc = 0.788 }\ndamage_stresses = \"in_plane\"",
-    );
+    let mode = CRUSHED_MATRIX;
+    let side = 0.25;
     for (tag, element, plane) in [
         ("hex8", "hex8", false),
         ("hex8i", "hex8i", false),
         ("hex8i_in_plane", "hex8i", true),
     ] {
-        let (text, v) = pull_scene(0.25, CRUSHED_MATRIX, element, "");
-        let text = if plane {
-            text.replace(IM7, &in_plane)
-        } else {
-            text
-        };
-        let p = pull(&format!("crushed_matrix_{tag}"), &text, v, 1);
-        let (g, x) = (0.788 * 0.0625, 199.8 * 0.0625);
+        let (text, v) = pull_scene(side, mode, element, "");
+        let text = if plane { flat(text) } else { text };
+        let p = pull(&format!("crushed_matrix_{tag}"), &text, v, mode.axis);
+        let area = side * side;
+        let (g, x) = (mode.energy * area, mode.strength * area);
         eprintln!(
             "crushed matrix, {tag}: work {:+.2}% of G A, peak {:+.2}% of Y_C A, last {:.2e} of the peak, damage {:.5} of the work, drift {:.2e} of it",
             100.0 * (p.work / g - 1.0),
@@ -317,7 +312,7 @@ fn a_cube_crushed_across_its_fibres_dissipates_the_matrix_compression_energy() {
         let near = (p.damage - p.work).abs() <= 0.01 * p.work;
         assert!(near, "{tag}: damage {} work {}", p.damage, p.work);
         assert!(p.drift <= 1e-3 * p.work, "{tag}: drift {}", p.drift);
-        assert_eq!((p.matrix, p.fibre), (p.damage, 0.0), "{tag}: by kind");
+        assert_eq!(p.shares(mode), (p.damage, 0.0), "{tag}: by kind");
     }
 }
 
@@ -334,19 +329,21 @@ fn layered_hex8i_and_hex8_cubes_dissipate_the_fracture_energy() {
     check_pull("hex8_matrix", 0.5, MATRIX, "hex8", "");
 }
 
+/// The scene `text` with its plies damaging by their in-plane stresses alone.
+fn flat(text: String) -> String {
+    edit(
+        &text,
+        "mc = 0.788 }",
+        "mc = 0.788 }\ndamage_stresses = \"in_plane\"",
+    )
+}
+
 /// Plies that damage by their in-plane stresses alone (`damage_stresses = "in_plane"`):
 /// pulled across their fibres in their plane they dissipate the matrix fracture energy as
 /// before; pulled through their thickness they stay elastic, their force growing with the
 /// strain past the strength, no energy dissipated, the balance closed.
 #[test]
 fn in_plane_plies_soften_in_their_plane_and_not_through_their_thickness() {
-    let flat = |text: String| {
-        edit(
-            &text,
-            "mc = 0.788 }",
-            "mc = 0.788 }\ndamage_stresses = \"in_plane\"",
-        )
-    };
     let (text, v) = pull_scene(0.5, MATRIX, "hex8i", "");
     let p = pull("in_plane_matrix", &flat(text), v, 1);
     let g = MATRIX.energy * 0.25;
